@@ -1,0 +1,99 @@
+//! Compiles every `shaders/*.{vert,frag,comp}` to SPIR-V with glslang into `OUT_DIR`.
+//!
+//! Shared headers (`shaders/*.glsl`) are pulled in with `#include` (GL_GOOGLE_include_directive);
+//! glslang's `--depfile` tells us every file a shader read, so cargo re-runs this script when any
+//! source or header changes. A compile error fails the build with glslang's own message (file and
+//! line); a missing glslang names the Debian package to install.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+const STAGES: [&str; 3] = ["vert", "frag", "comp"];
+
+fn main() {
+    let manifest =
+        PathBuf::from(std::env::var("CARGO_MANIFEST_DIR").expect("cargo sets CARGO_MANIFEST_DIR"));
+    let out_dir = PathBuf::from(std::env::var("OUT_DIR").expect("cargo sets OUT_DIR"));
+    let shader_dir = manifest.join("shaders");
+    println!("cargo:rerun-if-changed={}", shader_dir.display());
+
+    let glslang = std::env::var("GLSLANG_VALIDATOR").unwrap_or_else(|_| "glslangValidator".into());
+    let mut sources: Vec<PathBuf> = std::fs::read_dir(&shader_dir)
+        .unwrap_or_else(|e| fail(&format!("cannot read {}: {e}", shader_dir.display())))
+        .filter_map(|entry| entry.ok().map(|e| e.path()))
+        .collect();
+    sources.sort();
+
+    let mut failures = Vec::new();
+    for source in &sources {
+        let ext = source.extension().and_then(|e| e.to_str()).unwrap_or("");
+        if source.is_file() && ext == "glsl" {
+            println!("cargo:rerun-if-changed={}", source.display());
+        }
+        if !STAGES.contains(&ext) {
+            continue;
+        }
+        println!("cargo:rerun-if-changed={}", source.display());
+        let file_name = source
+            .file_name()
+            .and_then(|n| n.to_str())
+            .expect("utf-8 shader name");
+        let spv = out_dir.join(format!("{file_name}.spv"));
+        let dep = out_dir.join(format!("{file_name}.d"));
+        let output = Command::new(&glslang)
+            .arg("-V")
+            .args(["--target-env", "vulkan1.2"])
+            .arg("-g") // debug info: names in validation messages and captures
+            .arg(format!("-I{}", shader_dir.display()))
+            .arg("--depfile")
+            .arg(&dep)
+            .arg("-o")
+            .arg(&spv)
+            .arg(source)
+            .output();
+        let output = match output {
+            Ok(output) => output,
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => fail(
+                "glslangValidator not found: install the Debian package `glslang-tools` \
+                 (sudo apt-get install glslang-tools), or set GLSLANG_VALIDATOR",
+            ),
+            Err(e) => fail(&format!("cannot run {glslang}: {e}")),
+        };
+        if !output.status.success() {
+            // glslang prints its diagnostics on stdout ("ERROR: path:line: message").
+            let mut text = String::from_utf8_lossy(&output.stdout).into_owned();
+            text.push_str(&String::from_utf8_lossy(&output.stderr));
+            failures.push(format!("{}:\n{}", source.display(), text.trim_end()));
+            continue;
+        }
+        for include in depfile_inputs(&dep) {
+            println!("cargo:rerun-if-changed={}", include.display());
+        }
+    }
+    if !failures.is_empty() {
+        fail(&format!(
+            "shader compilation failed\n{}",
+            failures.join("\n")
+        ));
+    }
+}
+
+/// Inputs listed by a make-style depfile written by glslang (`out: in1 in2 ...`).
+fn depfile_inputs(path: &Path) -> Vec<PathBuf> {
+    let Ok(text) = std::fs::read_to_string(path) else {
+        return Vec::new();
+    };
+    let joined = text.replace("\\\n", " ");
+    joined
+        .split_once(": ")
+        .map(|(_, inputs)| inputs.split_whitespace().map(PathBuf::from).collect())
+        .unwrap_or_default()
+}
+
+fn fail(message: &str) -> ! {
+    for line in message.lines() {
+        println!("cargo:warning={line}");
+    }
+    eprintln!("{message}");
+    std::process::exit(1);
+}

@@ -1,0 +1,11 @@
+// Descriptor set 0 of the scene passes (`render::scene_gpu::SceneBindings` on the Rust side).
+#ifndef MEADOW_BINDINGS_GLSL
+#define MEADOW_BINDINGS_GLSL
+#include "common.glsl"
+
+layout(set = 0, binding = BINDING_FRAME, std140) uniform Frame { FrameUniforms frame; };
+layout(set = 0, binding = BINDING_BLADES, std430) readonly buffer Blades { BladeInstance blades[]; };
+layout(set = 0, binding = BINDING_HEIGHTS, std430) readonly buffer Heights { float heights[]; };
+layout(set = 0, binding = BINDING_BLADE_ALPHA) uniform sampler2D blade_alpha;
+
+#endif

@@ -1,0 +1,35 @@
+// Shading shared by the passes.
+#ifndef MEADOW_LIGHTING_GLSL
+#define MEADOW_LIGHTING_GLSL
+
+// Belyaev et al. §2.3:  I = Ka Ia + Kd Id (max(N·L, 0) + C max(-N·L, 0)),
+// with the height terms  Ia = Ia** + l (Ia* - Ia**)  and  Id = Id* l^6  (l = 0 root, 1 tip).
+// C tints light that traverses the blade (translucency).
+vec3 blade_radiance(vec3 ka, vec3 kd, vec3 n, vec3 l_dir, float l) {
+    const vec3 ambient_tip = vec3(0.55, 0.60, 0.70);   // Ia*
+    const vec3 ambient_base = vec3(0.10, 0.12, 0.12);  // Ia**
+    const vec3 sun_tip = vec3(1.55, 1.45, 1.25);       // Id*
+    const vec3 translucency = vec3(0.55, 0.75, 0.25);  // C
+    vec3 ia = ambient_base + l * (ambient_tip - ambient_base);
+    vec3 id = sun_tip * pow(l, 6.0);
+    float ndl = dot(n, l_dir);
+    return ka * ia + kd * id * (max(ndl, 0.0) + translucency * max(-ndl, 0.0));
+}
+
+// Exponential distance fog towards the sky colour.
+vec3 apply_fog(vec3 color, vec3 world, vec4 camera_position, vec4 sky) {
+    float d = length(world - camera_position.xyz);
+    float f = exp(-sky.w * d);
+    return mix(sky.rgb, color, f);
+}
+
+// Linear -> sRGB transfer for UNORM targets.
+vec3 encode_output(vec3 linear, uint srgb) {
+    if (srgb == 0u) {
+        return linear;
+    }
+    vec3 c = clamp(linear, 0.0, 1.0);
+    return mix(c * 12.92, 1.055 * pow(c, vec3(1.0 / 2.4)) - 0.055, step(vec3(0.0031308), c));
+}
+
+#endif

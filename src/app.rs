@@ -1,0 +1,272 @@
+//! The commands behind the CLI: `render` and `devices`. `main.rs` parses arguments into these
+//! options and prints what they return.
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::time::Instant;
+
+use ash::vk;
+
+use crate::error::{Error, Result};
+use crate::render::target::{offscreen_bytes, OFFSCREEN_FORMAT};
+use crate::render::{FrameTimings, OffscreenTarget, RenderSettings, Renderer};
+use crate::scene::{blades, BladeInstance, Camera, Scene};
+use crate::vk::device::{format_bytes, DeviceInfo};
+use crate::vk::{Device, DeviceDesc, DeviceSelector, Instance, InstanceDesc};
+
+/// Options every GPU command takes.
+#[derive(Clone, Debug, Default)]
+pub struct GpuOptions {
+    /// Khronos validation with synchronization validation.
+    pub validation: bool,
+    /// Which device.
+    pub device: DeviceSelector,
+}
+
+/// Run `body` with a device, then tear everything down and count validation messages.
+///
+/// Returns the body's result and, with validation on, the number of warnings and errors the
+/// layers reported — including those emitted during teardown (leaks).
+pub fn with_device<T>(
+    options: &GpuOptions,
+    swapchain: bool,
+    body: impl FnOnce(&Arc<Device>) -> Result<T>,
+) -> (Result<T>, Option<u64>) {
+    let instance = match Instance::new(&InstanceDesc {
+        validation: options.validation,
+        extensions: &[],
+    }) {
+        Ok(instance) => Arc::new(instance),
+        Err(e) => return (Err(e), None),
+    };
+    let counter = instance.validation_counter();
+    let result = Device::new(
+        instance,
+        &DeviceDesc {
+            selector: options.device.clone(),
+            swapchain,
+        },
+    )
+    .and_then(|device| body(&device));
+    // Every Arc<Device> and Arc<Instance> is gone here: teardown messages are counted.
+    (result, counter.map(|c| c.count()))
+}
+
+/// List the physical devices.
+pub fn devices(options: &GpuOptions) -> (Result<Vec<DeviceInfo>>, Option<u64>) {
+    let instance = match Instance::new(&InstanceDesc {
+        validation: options.validation,
+        extensions: &[],
+    }) {
+        Ok(instance) => instance,
+        Err(e) => return (Err(e), None),
+    };
+    let counter = instance.validation_counter();
+    let result = crate::vk::device::list_devices(&instance);
+    drop(instance);
+    (result, counter.map(|c| c.count()))
+}
+
+/// `meadow render` options, validated by the CLI parsers.
+#[derive(Clone, Debug)]
+pub struct RenderOptions {
+    /// Blade count.
+    pub blades: u32,
+    /// Segments per blade.
+    pub segments: u32,
+    /// Picture size.
+    pub size: (u32, u32),
+    /// Scene seed.
+    pub seed: u64,
+    /// Camera; `None` for the default view.
+    pub camera: Option<Camera>,
+    /// Output PNG.
+    pub out: PathBuf,
+    /// Frames to render (the last is written; more than one gives warm timings).
+    pub frames: u32,
+}
+
+/// What `meadow render` did.
+#[derive(Clone, Debug)]
+pub struct RenderReport {
+    /// The device used.
+    pub device: DeviceInfo,
+    /// Blades drawn.
+    pub blades: u32,
+    /// Segments per blade.
+    pub segments: u32,
+    /// Field side in metres.
+    pub field_m: f32,
+    /// Triangles (blades, terrain).
+    pub triangles: (u64, u64),
+    /// Timings of every frame rendered.
+    pub frames: Vec<FrameTimings>,
+    /// CPU time to build and upload the scene and pipelines.
+    pub setup_ms: f64,
+    /// Picture written.
+    pub out: PathBuf,
+    /// Its size.
+    pub size: (u32, u32),
+}
+
+/// Check the picture size and blade count against the device before allocating anything.
+pub fn check_limits(
+    device: &Device,
+    blades: u32,
+    size: (u32, u32),
+    terrain_cells: u32,
+) -> Result<()> {
+    let limits = device.limits();
+    let max_dim = limits
+        .max_image_dimension2_d
+        .min(limits.max_framebuffer_width)
+        .min(limits.max_framebuffer_height);
+    if size.0 > max_dim || size.1 > max_dim {
+        return Err(Error::bad_input(format!(
+            "--size {}x{} exceeds the device's maxImageDimension2D/maxFramebufferWidth of {max_dim}",
+            size.0, size.1
+        )));
+    }
+    let blade_bytes = u64::from(blades) * std::mem::size_of::<BladeInstance>() as u64;
+    let max_range = u64::from(limits.max_storage_buffer_range);
+    if blade_bytes > max_range {
+        return Err(Error::bad_input(format!(
+            "--blades {blades} needs a {} blade buffer, over the device's maxStorageBufferRange of {} (at most {} blades)",
+            format_bytes(blade_bytes),
+            format_bytes(max_range),
+            max_range / std::mem::size_of::<BladeInstance>() as u64
+        )));
+    }
+    let extent = vk::Extent2D {
+        width: size.0,
+        height: size.1,
+    };
+    let total = crate::render::scene_gpu::SceneGpu::memory_bytes(
+        u64::from(blades),
+        u64::from(terrain_cells),
+    ) + offscreen_bytes(extent);
+    device.check_budget(
+        total,
+        &format!("rendering {blades} blades at {}x{}", size.0, size.1),
+    )
+}
+
+/// Check that the output can be written before doing any work.
+fn check_output(path: &Path) -> Result<()> {
+    let parent = path
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    if !parent.is_dir() {
+        return Err(Error::bad_input(format!(
+            "--out {}: directory {} does not exist",
+            path.display(),
+            parent.display()
+        )));
+    }
+    if path.is_dir() {
+        return Err(Error::bad_input(format!(
+            "--out {}: is a directory",
+            path.display()
+        )));
+    }
+    Ok(())
+}
+
+/// Write an RGBA8 readback as an RGB PNG, atomically: a temporary file renamed into place, so a
+/// failure never leaves a half-written picture.
+pub fn write_png(path: &Path, size: (u32, u32), rgba: &[u8]) -> Result<()> {
+    let rgb: Vec<u8> = rgba
+        .chunks_exact(4)
+        .flat_map(|p| [p[0], p[1], p[2]])
+        .collect();
+    let image =
+        image::RgbImage::from_raw(size.0, size.1, rgb).expect("readback holds width*height pixels");
+    let file_name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "meadow.png".into());
+    let tmp = path.with_file_name(format!(".{file_name}.{}.tmp", std::process::id()));
+    let io = |source: std::io::Error| Error::Io {
+        path: path.display().to_string(),
+        source,
+    };
+    image
+        .save_with_format(&tmp, image::ImageFormat::Png)
+        .map_err(|e| {
+            let _ = std::fs::remove_file(&tmp);
+            match e {
+                image::ImageError::IoError(source) => io(source),
+                other => io(std::io::Error::other(other.to_string())),
+            }
+        })?;
+    std::fs::rename(&tmp, path).map_err(|e| {
+        let _ = std::fs::remove_file(&tmp);
+        io(e)
+    })
+}
+
+/// `meadow render`: build the scene, render it headless, write the PNG.
+pub fn render(device: &Arc<Device>, options: &RenderOptions) -> Result<RenderReport> {
+    check_output(&options.out)?;
+    let field_m = blades::field_size(options.blades);
+    let terrain_cells = crate::scene::terrain::Terrain::cells_for(field_m);
+    check_limits(device, options.blades, options.size, terrain_cells)?;
+
+    let setup = Instant::now();
+    let scene = Scene::generate(options.blades, options.seed);
+    let camera = options
+        .camera
+        .unwrap_or_else(|| Camera::default_for(&scene.terrain));
+    let settings = RenderSettings {
+        segments: options.segments,
+        color_format: OFFSCREEN_FORMAT,
+        encode_srgb: true,
+        frames_in_flight: 1,
+    };
+    let mut renderer = Renderer::new(device.clone(), &scene, settings)?;
+    let extent = vk::Extent2D {
+        width: options.size.0,
+        height: options.size.1,
+    };
+    let mut target = OffscreenTarget::new(device, extent)?;
+    let setup_ms = setup.elapsed().as_secs_f64() * 1e3;
+
+    let result = (|| {
+        let mut frames = Vec::new();
+        for _ in 0..options.frames {
+            frames.push(renderer.render_offscreen(&mut target, &camera, 0.0)?);
+        }
+        write_png(&options.out, options.size, target.pixels())?;
+        Ok(frames)
+    })();
+    let triangles = renderer.triangles();
+    drop(renderer);
+    // SAFETY: render_offscreen waited for its fence; nothing else uses the target.
+    unsafe { target.destroy(device) };
+    Ok(RenderReport {
+        device: device.info.clone(),
+        blades: options.blades,
+        segments: options.segments,
+        field_m,
+        triangles,
+        frames: result?,
+        setup_ms,
+        out: options.out.clone(),
+        size: options.size,
+    })
+}
+
+/// Median of a slice (empty → 0).
+pub fn median(values: &mut [f64]) -> f64 {
+    if values.is_empty() {
+        return 0.0;
+    }
+    values.sort_by(f64::total_cmp);
+    let mid = values.len() / 2;
+    if values.len() % 2 == 0 {
+        0.5 * (values[mid - 1] + values[mid])
+    } else {
+        values[mid]
+    }
+}

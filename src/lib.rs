@@ -1,0 +1,14 @@
+//! meadow: a real-time grass renderer on raw Vulkan.
+//!
+//! Data flows one way: the CPU [`scene`] (terrain, blades) → GPU buffers ([`render::scene_gpu`])
+//! → passes ([`render::passes`]) → an image (offscreen or swapchain). [`vk`] is the thin Vulkan
+//! layer underneath; [`app`] holds the commands the `meadow` binary dispatches to.
+
+pub mod app;
+pub mod cli;
+pub mod error;
+pub mod render;
+pub mod scene;
+pub mod vk;
+
+pub use error::{Error, Result};

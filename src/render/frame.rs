@@ -1,0 +1,139 @@
+//! Per-frame data: the uniform block every pass reads, and the resources one frame in flight
+//! owns.
+
+use ash::vk;
+use bytemuck::{Pod, Zeroable};
+use glam::{Mat4, UVec4, Vec3, Vec4};
+
+use crate::error::Result;
+use crate::vk::commands::CommandRecorder;
+use crate::vk::query::TimestampQueries;
+use crate::vk::{sync, Buffer, BufferDesc, Device};
+
+/// Per-frame constants, std140 (`shaders/common.glsl`, struct `FrameUniforms`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct FrameUniforms {
+    /// World → clip.
+    pub view_proj: Mat4,
+    /// xyz eye position, w simulation time in seconds.
+    pub camera_position: Vec4,
+    /// xyz unit vector towards the sun.
+    pub sun_direction: Vec4,
+    /// rgb linear sky colour, w fog density per metre.
+    pub sky_color: Vec4,
+    /// x terrain grid origin, y cell size.
+    pub terrain: Vec4,
+    /// x segments, y blade count, z terrain cells per side, w 1 = shaders encode sRGB.
+    pub params: UVec4,
+}
+
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 144);
+const _: () = assert!(std::mem::offset_of!(FrameUniforms, camera_position) == 64);
+const _: () = assert!(std::mem::offset_of!(FrameUniforms, params) == 128);
+
+/// Light and atmosphere of the scene.
+pub mod look {
+    use super::*;
+
+    /// Unit vector towards the sun: low, ahead-left of the default camera, so much of the field is
+    /// back-lit and shows the translucency term.
+    pub fn sun_direction() -> Vec3 {
+        Vec3::new(-0.45, 0.5, -0.75).normalize()
+    }
+
+    /// Linear sky colour.
+    pub const SKY: Vec3 = Vec3::new(0.42, 0.60, 0.86);
+    /// Fog density per metre.
+    pub const FOG_DENSITY: f32 = 0.012;
+
+    /// sRGB transfer of one linear channel (the clear colour must match the shaders' encoding).
+    pub fn encode_srgb(linear: f32) -> f32 {
+        let c = linear.clamp(0.0, 1.0);
+        if c <= 0.003_130_8 {
+            c * 12.92
+        } else {
+            1.055 * c.powf(1.0 / 2.4) - 0.055
+        }
+    }
+}
+
+/// Everything one frame in flight owns. The fence guards all of it: the CPU waits on it before
+/// reusing the command buffer, rewriting the uniforms or reading the queries.
+pub struct Frame {
+    /// Command pool and buffer, reset each use.
+    pub recorder: CommandRecorder,
+    /// Signalled when this frame's submission completes (created signalled).
+    pub fence: vk::Fence,
+    /// Host-visible `FrameUniforms`.
+    pub uniforms: Buffer,
+    /// Set 0 of the scene passes, pointing at this frame's uniforms.
+    pub descriptor_set: vk::DescriptorSet,
+    /// Timestamps of this frame's passes.
+    pub timestamps: TimestampQueries,
+}
+
+impl Frame {
+    /// Create the resources of frame `index`.
+    pub fn new(device: &Device, index: usize, descriptor_set: vk::DescriptorSet) -> Result<Self> {
+        let recorder = CommandRecorder::new(device, &format!("frame {index} commands"))?;
+        let built = (|| {
+            let fence = sync::fence(device, true, &format!("frame {index} fence"))?;
+            let uniforms = Buffer::new(
+                device,
+                &BufferDesc::upload(
+                    &format!("frame {index} uniforms"),
+                    std::mem::size_of::<FrameUniforms>() as u64,
+                    vk::BufferUsageFlags::UNIFORM_BUFFER,
+                ),
+            );
+            let uniforms = match uniforms {
+                Ok(u) => u,
+                Err(e) => {
+                    // SAFETY: unused fence.
+                    unsafe { device.raw.destroy_fence(fence, None) };
+                    return Err(e);
+                }
+            };
+            match TimestampQueries::new(device, &format!("frame {index} timestamps"), 16) {
+                Ok(timestamps) => Ok((fence, uniforms, timestamps)),
+                Err(e) => {
+                    // SAFETY: unused.
+                    unsafe {
+                        device.raw.destroy_fence(fence, None);
+                        uniforms.destroy(device);
+                    }
+                    Err(e)
+                }
+            }
+        })();
+        match built {
+            Ok((fence, uniforms, timestamps)) => Ok(Self {
+                recorder,
+                fence,
+                uniforms,
+                descriptor_set,
+                timestamps,
+            }),
+            Err(e) => {
+                // SAFETY: never submitted.
+                unsafe { recorder.destroy(device) };
+                Err(e)
+            }
+        }
+    }
+
+    /// Destroy everything (the descriptor set goes with its pool).
+    ///
+    /// # Safety
+    /// The frame's fence must have signalled.
+    pub unsafe fn destroy(self, device: &Device) {
+        // SAFETY: per the contract.
+        unsafe {
+            self.timestamps.destroy(device);
+            self.uniforms.destroy(device);
+            device.raw.destroy_fence(self.fence, None);
+            self.recorder.destroy(device);
+        }
+    }
+}

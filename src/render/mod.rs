@@ -1,0 +1,12 @@
+//! Rendering: the scene on the GPU, per-frame data, targets, passes, and the renderer that
+//! records them. Data flows one way: CPU scene → GPU buffers → passes → image.
+
+pub mod frame;
+pub mod passes;
+pub mod renderer;
+pub mod scene_gpu;
+pub mod shaders;
+pub mod target;
+
+pub use renderer::{FrameTimings, RenderSettings, Renderer};
+pub use target::OffscreenTarget;

@@ -1,0 +1,73 @@
+//! Blade pass: every blade in one instanced draw, geometry expanded in the vertex shader
+//! (vertex pulling, thesis 4.1 Bézier strips, no vertex buffer).
+
+use ash::vk;
+
+use crate::error::Result;
+use crate::render::scene_gpu::SceneGpu;
+use crate::render::shaders;
+use crate::scene::bezier;
+use crate::vk::{pipeline, Device};
+
+/// The blade pipeline.
+pub struct BladePass {
+    pipeline: vk::Pipeline,
+}
+
+impl BladePass {
+    /// Build the pipeline for the given attachment formats. Blades are two-sided: no culling.
+    pub fn new(
+        device: &Device,
+        layout: vk::PipelineLayout,
+        color: vk::Format,
+        depth: vk::Format,
+    ) -> Result<Self> {
+        let pipeline = pipeline::graphics(
+            device,
+            &pipeline::GraphicsDesc {
+                name: "blades",
+                vertex: shaders::BLADE_VERT,
+                fragment: shaders::BLADE_FRAG,
+                topology: vk::PrimitiveTopology::TRIANGLE_STRIP,
+                cull: vk::CullModeFlags::NONE,
+                polygon: vk::PolygonMode::FILL,
+                depth_compare: vk::CompareOp::GREATER,
+                color_format: color,
+                depth_format: depth,
+                layout,
+            },
+        )?;
+        Ok(Self { pipeline })
+    }
+
+    /// One draw call for all blades: `2(S+1)` strip vertices × `blade_count` instances.
+    pub fn record(&self, device: &Device, cmd: vk::CommandBuffer, scene: &SceneGpu, segments: u32) {
+        // SAFETY: cmd is recording inside the scene's rendering instance; set 0 is bound.
+        unsafe {
+            device
+                .raw
+                .cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline);
+            device.raw.cmd_draw(
+                cmd,
+                bezier::strip_vertices(segments),
+                scene.blade_count,
+                0,
+                0,
+            );
+        }
+    }
+
+    /// Triangles drawn.
+    pub fn triangles(scene: &SceneGpu, segments: u32) -> u64 {
+        2 * u64::from(segments) * u64::from(scene.blade_count)
+    }
+
+    /// Destroy the pipeline.
+    ///
+    /// # Safety
+    /// No pending work may use it.
+    pub unsafe fn destroy(self, device: &Device) {
+        // SAFETY: per the contract.
+        unsafe { device.raw.destroy_pipeline(self.pipeline, None) };
+    }
+}

@@ -1,0 +1,8 @@
+//! Render passes, one per file. Each owns its pipeline and records its draws into the scene's
+//! rendering instance.
+
+pub mod blades;
+pub mod terrain;
+
+pub use blades::BladePass;
+pub use terrain::TerrainPass;

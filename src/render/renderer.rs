@@ -1,0 +1,403 @@
+//! The renderer: scene on the GPU, the passes, and the frames in flight. It records the same
+//! passes into any [`TargetView`] — an offscreen image for `meadow render`, a swapchain image for
+//! the viewer.
+
+use std::sync::Arc;
+use std::time::Instant;
+
+use ash::vk;
+use glam::{UVec4, Vec4};
+
+use crate::error::{Result, VkContext};
+use crate::render::frame::{look, Frame, FrameUniforms};
+use crate::render::passes::{BladePass, TerrainPass};
+use crate::render::scene_gpu::{self, SceneGpu};
+use crate::render::target::{OffscreenTarget, TargetView, DEPTH_FORMAT};
+use crate::scene::{Camera, Scene};
+use crate::vk::query::span_ms;
+use crate::vk::{commands, debug, descriptor, pipeline, sync, Access, Device};
+
+/// Blade segments allowed (thesis 4.1 levels of detail).
+pub const SEGMENTS_RANGE: std::ops::RangeInclusive<u32> = 1..=16;
+
+/// How the renderer is built.
+#[derive(Clone, Copy, Debug)]
+pub struct RenderSettings {
+    /// Quads per blade.
+    pub segments: u32,
+    /// Colour attachment format of the targets.
+    pub color_format: vk::Format,
+    /// Whether the shaders encode sRGB (UNORM targets) or the format does (`*_SRGB`).
+    pub encode_srgb: bool,
+    /// Frames in flight (1 for headless rendering).
+    pub frames_in_flight: usize,
+}
+
+/// GPU time of one pass.
+#[derive(Clone, Copy, Debug)]
+pub struct PassTime {
+    /// Pass name.
+    pub name: &'static str,
+    /// Milliseconds.
+    pub ms: f64,
+}
+
+/// What one frame cost.
+#[derive(Clone, Debug, Default)]
+pub struct FrameTimings {
+    /// CPU time to record the command buffer.
+    pub cpu_record_ms: f64,
+    /// CPU time of `vkQueueSubmit2`.
+    pub cpu_submit_ms: f64,
+    /// CPU time blocked on the frame fence.
+    pub cpu_wait_ms: f64,
+    /// GPU time from the first to the last timestamp of the frame.
+    pub gpu_ms: f64,
+    /// GPU time per pass.
+    pub passes: Vec<PassTime>,
+}
+
+/// Everything the renderer owns. Filled step by step in `new`; null handles and `None`s are
+/// skipped at destruction, so an error half-way frees exactly what exists.
+#[derive(Default)]
+struct Resources {
+    scene: Option<SceneGpu>,
+    set_layout: vk::DescriptorSetLayout,
+    pipeline_layout: vk::PipelineLayout,
+    descriptor_pool: vk::DescriptorPool,
+    frames: Vec<Frame>,
+    terrain: Option<TerrainPass>,
+    blades: Option<BladePass>,
+}
+
+/// Scene passes and frames in flight.
+pub struct Renderer {
+    device: Arc<Device>,
+    settings: RenderSettings,
+    resources: Option<Resources>,
+    frame_index: usize,
+}
+
+/// Pass names, in recording order (timestamps `i` and `i + 1` bracket pass `i`).
+const PASSES: [&str; 2] = ["terrain", "blades"];
+
+impl Renderer {
+    /// Upload `scene` and build the passes and frames.
+    pub fn new(device: Arc<Device>, scene: &Scene, settings: RenderSettings) -> Result<Self> {
+        let bindings = scene_gpu::bindings();
+        let mut renderer = Self {
+            device: device.clone(),
+            settings,
+            resources: Some(Resources::default()),
+            frame_index: 0,
+        };
+        let res = renderer.resources.as_mut().expect("just set");
+        let scene_gpu = res.scene.insert(SceneGpu::upload(&device, scene)?);
+        res.set_layout = descriptor::set_layout(&device, "scene set layout", &bindings)?;
+        res.pipeline_layout =
+            pipeline::layout(&device, "scene pipeline layout", &[res.set_layout], &[])?;
+        let (pool, sets) = descriptor::allocate_sets(
+            &device,
+            "scene sets",
+            res.set_layout,
+            &bindings,
+            settings.frames_in_flight as u32,
+        )?;
+        res.descriptor_pool = pool;
+        for (index, set) in sets.into_iter().enumerate() {
+            let frame = Frame::new(&device, index, set)?;
+            scene_gpu.write_descriptors(&device, set, &frame.uniforms);
+            res.frames.push(frame);
+        }
+        res.terrain = Some(TerrainPass::new(
+            &device,
+            res.pipeline_layout,
+            settings.color_format,
+            DEPTH_FORMAT,
+        )?);
+        res.blades = Some(BladePass::new(
+            &device,
+            res.pipeline_layout,
+            settings.color_format,
+            DEPTH_FORMAT,
+        )?);
+        Ok(renderer)
+    }
+
+    fn scene_gpu(&self) -> &SceneGpu {
+        self.resources()
+            .scene
+            .as_ref()
+            .expect("scene uploaded in new")
+    }
+
+    /// The settings the renderer was built with.
+    pub fn settings(&self) -> &RenderSettings {
+        &self.settings
+    }
+
+    fn resources(&self) -> &Resources {
+        self.resources
+            .as_ref()
+            .expect("renderer resources exist after new")
+    }
+
+    /// Number of blades drawn.
+    pub fn blade_count(&self) -> u32 {
+        self.scene_gpu().blade_count
+    }
+
+    /// Triangles of one frame: (blades, terrain).
+    pub fn triangles(&self) -> (u64, u64) {
+        let scene = self.scene_gpu();
+        (
+            BladePass::triangles(scene, self.settings.segments),
+            TerrainPass::triangles(scene),
+        )
+    }
+
+    /// The uniforms of a frame seen from `camera` at simulation time `time` into `extent`.
+    pub fn frame_uniforms(
+        &self,
+        camera: &Camera,
+        time: f32,
+        extent: vk::Extent2D,
+    ) -> FrameUniforms {
+        let scene = self.scene_gpu();
+        let aspect = extent.width as f32 / extent.height as f32;
+        FrameUniforms {
+            view_proj: camera.view_projection(aspect),
+            camera_position: camera.position.extend(time),
+            sun_direction: look::sun_direction().extend(0.0),
+            sky_color: look::SKY.extend(look::FOG_DENSITY),
+            terrain: Vec4::new(scene.terrain_origin, scene.terrain_cell_size, 0.0, 0.0),
+            params: UVec4::new(
+                self.settings.segments,
+                scene.blade_count,
+                scene.terrain_cells,
+                u32::from(self.settings.encode_srgb),
+            ),
+        }
+    }
+
+    /// Record the scene passes of `frame` into `target`, with timestamps around each pass.
+    fn record_scene(&self, frame: &mut Frame, cmd: vk::CommandBuffer, target: &TargetView) {
+        let device = &*self.device;
+        let res = self.resources();
+        frame.timestamps.reset(device, cmd);
+        frame.timestamps.write(device, cmd);
+
+        let depth_range = vk::ImageSubresourceRange {
+            aspect_mask: vk::ImageAspectFlags::DEPTH,
+            level_count: 1,
+            layer_count: 1,
+            ..Default::default()
+        };
+        let color_range = vk::ImageSubresourceRange {
+            aspect_mask: vk::ImageAspectFlags::COLOR,
+            ..depth_range
+        };
+        sync::cmd_barriers(
+            device,
+            cmd,
+            &[],
+            &[
+                sync::image_barrier(
+                    target.color,
+                    color_range,
+                    &[target.color_previous],
+                    &[Access::ColorAttachmentWrite],
+                ),
+                sync::image_barrier(
+                    target.depth,
+                    depth_range,
+                    &[target.depth_previous],
+                    &[Access::DepthAttachmentReadWrite],
+                ),
+            ],
+        );
+
+        let sky = look::SKY;
+        let clear = if self.settings.encode_srgb {
+            [
+                look::encode_srgb(sky.x),
+                look::encode_srgb(sky.y),
+                look::encode_srgb(sky.z),
+                1.0,
+            ]
+        } else {
+            [sky.x, sky.y, sky.z, 1.0]
+        };
+        let color_attachments = [vk::RenderingAttachmentInfo::default()
+            .image_view(target.color_view)
+            .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+            .load_op(vk::AttachmentLoadOp::CLEAR)
+            .store_op(vk::AttachmentStoreOp::STORE)
+            .clear_value(vk::ClearValue {
+                color: vk::ClearColorValue { float32: clear },
+            })];
+        let depth_attachment = vk::RenderingAttachmentInfo::default()
+            .image_view(target.depth_view)
+            .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
+            .load_op(vk::AttachmentLoadOp::CLEAR)
+            .store_op(vk::AttachmentStoreOp::DONT_CARE)
+            // Reversed Z: clear to the far plane, 0.
+            .clear_value(vk::ClearValue {
+                depth_stencil: vk::ClearDepthStencilValue {
+                    depth: 0.0,
+                    stencil: 0,
+                },
+            });
+        let area = vk::Rect2D {
+            offset: vk::Offset2D::default(),
+            extent: target.extent,
+        };
+        let rendering = vk::RenderingInfo::default()
+            .render_area(area)
+            .layer_count(1)
+            .color_attachments(&color_attachments)
+            .depth_attachment(&depth_attachment);
+        let viewport = vk::Viewport {
+            x: 0.0,
+            y: 0.0,
+            width: target.extent.width as f32,
+            height: target.extent.height as f32,
+            min_depth: 0.0,
+            max_depth: 1.0,
+        };
+        // SAFETY: cmd is recording; attachments are in the layouts set by the barriers above.
+        unsafe {
+            device.raw.cmd_begin_rendering(cmd, &rendering);
+            device.raw.cmd_set_viewport(cmd, 0, &[viewport]);
+            device.raw.cmd_set_scissor(cmd, 0, &[area]);
+            device.raw.cmd_bind_descriptor_sets(
+                cmd,
+                vk::PipelineBindPoint::GRAPHICS,
+                res.pipeline_layout,
+                0,
+                &[frame.descriptor_set],
+                &[],
+            );
+        }
+        debug::begin_label(device, cmd, PASSES[0], [0.5, 0.35, 0.2, 1.0]);
+        let scene = self.scene_gpu();
+        res.terrain
+            .as_ref()
+            .expect("built in new")
+            .record(device, cmd, scene);
+        debug::end_label(device, cmd);
+        frame.timestamps.write(device, cmd);
+        debug::begin_label(device, cmd, PASSES[1], [0.3, 0.7, 0.2, 1.0]);
+        res.blades.as_ref().expect("built in new").record(
+            device,
+            cmd,
+            scene,
+            self.settings.segments,
+        );
+        debug::end_label(device, cmd);
+        frame.timestamps.write(device, cmd);
+        // SAFETY: matches cmd_begin_rendering above.
+        unsafe { device.raw.cmd_end_rendering(cmd) };
+    }
+
+    /// Render one frame into `target` and copy it to the target's readback buffer; returns when
+    /// the GPU is done, so `target.pixels()` holds the picture.
+    pub fn render_offscreen(
+        &mut self,
+        target: &mut OffscreenTarget,
+        camera: &Camera,
+        time: f32,
+    ) -> Result<FrameTimings> {
+        let device = self.device.clone();
+        let index = self.frame_index;
+        self.frame_index = (self.frame_index + 1) % self.settings.frames_in_flight;
+        let uniforms = self.frame_uniforms(camera, time, target.color.extent);
+        let view = target.view();
+        let mut frame = self
+            .resources
+            .as_mut()
+            .expect("resources")
+            .frames
+            .swap_remove(index);
+        let result = (|| {
+            sync::wait_fence(&device, frame.fence)?;
+            // SAFETY: the fence signalled, nothing pending uses this frame.
+            unsafe { device.raw.reset_fences(&[frame.fence]) }.vk("vkResetFences")?;
+            frame.uniforms.write(0, &[uniforms]);
+
+            let started = Instant::now();
+            let cmd = frame.recorder.begin(&device)?;
+            self.record_scene(&mut frame, cmd, &view);
+            target.record_readback(&device, cmd);
+            frame.timestamps.write(&device, cmd);
+            frame.recorder.end(&device)?;
+            let recorded = Instant::now();
+            commands::submit(&device, cmd, &[], &[], frame.fence)?;
+            let submitted = Instant::now();
+            sync::wait_fence(&device, frame.fence)?;
+            let finished = Instant::now();
+
+            let stamps = frame.timestamps.read_ns(&device)?;
+            let passes = PASSES
+                .iter()
+                .enumerate()
+                .map(|(i, name)| PassTime {
+                    name,
+                    ms: span_ms(stamps[i], stamps[i + 1]),
+                })
+                .collect();
+            Ok(FrameTimings {
+                cpu_record_ms: (recorded - started).as_secs_f64() * 1e3,
+                cpu_submit_ms: (submitted - recorded).as_secs_f64() * 1e3,
+                cpu_wait_ms: (finished - submitted).as_secs_f64() * 1e3,
+                gpu_ms: span_ms(stamps[0], stamps[stamps.len() - 1]),
+                passes,
+            })
+        })();
+        let frames = &mut self.resources.as_mut().expect("resources").frames;
+        frames.push(frame);
+        let last = frames.len() - 1;
+        frames.swap(index, last);
+        result
+    }
+}
+
+impl Drop for Renderer {
+    fn drop(&mut self) {
+        if let Some(res) = self.resources.take() {
+            // Teardown, not a frame: waiting for the whole device is the point.
+            let _ = self.device.wait_idle();
+            // SAFETY: the device is idle.
+            unsafe { destroy_resources(&self.device, res) };
+        }
+    }
+}
+
+/// # Safety
+/// The device must be idle.
+unsafe fn destroy_resources(device: &Device, res: Resources) {
+    // SAFETY: per the contract; destroying a null handle is a no-op.
+    unsafe {
+        if let Some(blades) = res.blades {
+            blades.destroy(device);
+        }
+        if let Some(terrain) = res.terrain {
+            terrain.destroy(device);
+        }
+        for frame in res.frames {
+            frame.destroy(device);
+        }
+        device
+            .raw
+            .destroy_descriptor_pool(res.descriptor_pool, None);
+        device
+            .raw
+            .destroy_pipeline_layout(res.pipeline_layout, None);
+        device
+            .raw
+            .destroy_descriptor_set_layout(res.set_layout, None);
+        if let Some(scene) = res.scene {
+            scene.destroy(device);
+        }
+    }
+}

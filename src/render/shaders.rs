@@ -1,0 +1,18 @@
+//! SPIR-V compiled by `build.rs` from `shaders/`, embedded in the binary.
+
+macro_rules! spirv {
+    ($name:literal) => {
+        include_bytes!(concat!(env!("OUT_DIR"), "/", $name, ".spv"))
+    };
+}
+
+/// Blade vertex shader (vertex pulling, Bézier strips).
+pub const BLADE_VERT: &[u8] = spirv!("blade.vert");
+/// Blade fragment shader (alpha test, lighting).
+pub const BLADE_FRAG: &[u8] = spirv!("blade.frag");
+/// Terrain vertex shader (height-field pulling).
+pub const TERRAIN_VERT: &[u8] = spirv!("terrain.vert");
+/// Terrain fragment shader.
+pub const TERRAIN_FRAG: &[u8] = spirv!("terrain.frag");
+/// Test: reads every `BladeInstance` field back.
+pub const BLADE_READBACK_COMP: &[u8] = spirv!("blade_readback.comp");

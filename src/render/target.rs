@@ -1,0 +1,176 @@
+//! Render targets. The renderer draws into a [`TargetView`]; `OffscreenTarget` provides one for
+//! headless rendering and reads the picture back, a swapchain will provide the same view.
+
+use ash::vk;
+
+use crate::error::Result;
+use crate::vk::{sync, Access, Buffer, BufferDesc, Device, Image, ImageDesc};
+
+/// Colour format of offscreen targets: UNORM, the shaders encode sRGB themselves.
+pub const OFFSCREEN_FORMAT: vk::Format = vk::Format::R8G8B8A8_UNORM;
+/// Depth format (reversed Z).
+pub const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
+
+/// What a frame renders into, and how the colour image is used before and after.
+#[derive(Clone, Copy, Debug)]
+pub struct TargetView {
+    /// Colour image.
+    pub color: vk::Image,
+    /// Its view.
+    pub color_view: vk::ImageView,
+    /// Depth image.
+    pub depth: vk::Image,
+    /// Its view.
+    pub depth_view: vk::ImageView,
+    /// Size of both.
+    pub extent: vk::Extent2D,
+    /// How the colour image was last accessed (`Nothing` discards it).
+    pub color_previous: Access,
+    /// How the depth image was last accessed.
+    pub depth_previous: Access,
+}
+
+/// Bytes of device memory an offscreen target of `extent` needs (colour, depth, readback).
+pub fn offscreen_bytes(extent: vk::Extent2D) -> u64 {
+    3 * 4 * u64::from(extent.width) * u64::from(extent.height)
+}
+
+/// A colour + depth target with a host-visible readback buffer.
+pub struct OffscreenTarget {
+    /// RGBA8 UNORM colour.
+    pub color: Image,
+    /// D32 depth.
+    pub depth: Image,
+    /// Tightly packed RGBA8 copy of the last frame.
+    pub readback: Buffer,
+    /// Last access recorded to the depth image (Nothing before the first frame).
+    depth_last: Access,
+    /// Last access recorded to the colour image.
+    color_last: Access,
+}
+
+impl OffscreenTarget {
+    /// Create the images and the readback buffer.
+    pub fn new(device: &Device, extent: vk::Extent2D) -> Result<Self> {
+        let color = Image::new(
+            device,
+            &ImageDesc::color(
+                "offscreen colour",
+                OFFSCREEN_FORMAT,
+                extent,
+                vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC,
+            ),
+        )?;
+        let depth = match Image::new(
+            device,
+            &ImageDesc::depth("offscreen depth", DEPTH_FORMAT, extent),
+        ) {
+            Ok(depth) => depth,
+            Err(e) => {
+                // SAFETY: unused.
+                unsafe { color.destroy(device) };
+                return Err(e);
+            }
+        };
+        let bytes = 4 * u64::from(extent.width) * u64::from(extent.height);
+        match Buffer::new(
+            device,
+            &BufferDesc::readback(
+                "offscreen readback",
+                bytes,
+                vk::BufferUsageFlags::TRANSFER_DST,
+            ),
+        ) {
+            Ok(readback) => Ok(Self {
+                color,
+                depth,
+                readback,
+                depth_last: Access::Nothing,
+                color_last: Access::Nothing,
+            }),
+            Err(e) => {
+                // SAFETY: unused.
+                unsafe {
+                    color.destroy(device);
+                    depth.destroy(device);
+                }
+                Err(e)
+            }
+        }
+    }
+
+    /// The view the renderer draws into.
+    pub fn view(&self) -> TargetView {
+        TargetView {
+            color: self.color.raw,
+            color_view: self.color.view,
+            depth: self.depth.raw,
+            depth_view: self.depth.view,
+            extent: self.color.extent,
+            color_previous: self.color_last,
+            depth_previous: self.depth_last,
+        }
+    }
+
+    /// Record the copy of the rendered colour image into the readback buffer, with the barriers
+    /// colour-attachment write → transfer read and transfer write → host read.
+    pub fn record_readback(&mut self, device: &Device, cmd: vk::CommandBuffer) {
+        // The frame just recorded leaves depth as an attachment and colour as a copy source.
+        self.depth_last = Access::DepthAttachmentReadWrite;
+        self.color_last = Access::TransferRead;
+        let to_copy = sync::image_barrier(
+            self.color.raw,
+            self.color.range,
+            &[Access::ColorAttachmentWrite],
+            &[Access::TransferRead],
+        );
+        sync::cmd_barriers(device, cmd, &[], &[to_copy]);
+        let extent = self.color.extent;
+        let region = vk::BufferImageCopy::default()
+            .image_subresource(vk::ImageSubresourceLayers {
+                aspect_mask: vk::ImageAspectFlags::COLOR,
+                mip_level: 0,
+                base_array_layer: 0,
+                layer_count: 1,
+            })
+            .image_extent(vk::Extent3D {
+                width: extent.width,
+                height: extent.height,
+                depth: 1,
+            });
+        // SAFETY: the image is in TRANSFER_SRC_OPTIMAL; the buffer holds width*height*4 bytes.
+        unsafe {
+            device.raw.cmd_copy_image_to_buffer(
+                cmd,
+                self.color.raw,
+                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                self.readback.raw,
+                &[region],
+            )
+        };
+        let to_host = sync::buffer_barrier(
+            self.readback.raw,
+            &[Access::TransferWrite],
+            &[Access::HostRead],
+        );
+        sync::cmd_barriers(device, cmd, &[to_host], &[]);
+    }
+
+    /// The RGBA8 pixels of the last completed frame (call after its fence).
+    pub fn pixels(&self) -> &[u8] {
+        self.readback.mapped()
+    }
+
+    /// Free everything.
+    ///
+    /// # Safety
+    /// No pending work may use the target.
+    pub unsafe fn destroy(self, device: &Device) {
+        // SAFETY: per the contract.
+        unsafe {
+            self.readback.destroy(device);
+            self.depth.destroy(device);
+            self.color.destroy(device);
+        }
+    }
+}

@@ -1,0 +1,116 @@
+//! Blade geometry (thesis 4.1): two parallel cubic Bézier splines; S segments give S quads.
+//! The vertex shader (`shaders/blade.glsl`) evaluates exactly these functions; the CPU copy is
+//! used by tests and, with keyframes, by the pose generator.
+
+use glam::Vec3;
+
+use crate::scene::blades::BladeInstance;
+
+/// Cubic Bézier point `B(t) = (1-t)³P0 + 3(1-t)²tP1 + 3(1-t)t²P2 + t³P3`.
+pub fn point(p: &[Vec3; 4], t: f32) -> Vec3 {
+    let s = 1.0 - t;
+    p[0] * (s * s * s) + p[1] * (3.0 * s * s * t) + p[2] * (3.0 * s * t * t) + p[3] * (t * t * t)
+}
+
+/// Derivative `B'(t) = 3(1-t)²(P1-P0) + 6(1-t)t(P2-P1) + 3t²(P3-P2)`.
+pub fn tangent(p: &[Vec3; 4], t: f32) -> Vec3 {
+    let s = 1.0 - t;
+    (p[1] - p[0]) * (3.0 * s * s) + (p[2] - p[1]) * (6.0 * s * t) + (p[3] - p[2]) * (3.0 * t * t)
+}
+
+/// Neutral-pose control points of a blade in its local frame (x across the blade, y up,
+/// z along its normal). The natural lean bends the tip forward by up to 45 % of the height; the
+/// tip height keeps the chord `h` so leaning blades do not grow.
+pub fn neutral_control_points(blade: &BladeInstance) -> [Vec3; 4] {
+    let h = blade.height;
+    let lean = 0.45 * blade.variation(2) * h;
+    let tip_y = (h * h - lean * lean).sqrt();
+    [
+        Vec3::ZERO,
+        Vec3::new(0.0, 0.4 * tip_y, 0.0),
+        Vec3::new(0.0, 0.8 * tip_y, 0.35 * lean),
+        Vec3::new(0.0, tip_y, lean),
+    ]
+}
+
+/// The blade's side (across the width) and normal directions in world space.
+pub fn frame(blade: &BladeInstance) -> (Vec3, Vec3) {
+    let (s, c) = blade.facing.sin_cos();
+    (Vec3::new(c, 0.0, -s), Vec3::new(s, 0.0, c))
+}
+
+/// World-space position of strip vertex `vertex` of a blade drawn with `segments` segments:
+/// vertex `2k + side` lies on spline `side` (0 left, 1 right) at `t = k / segments`.
+pub fn strip_vertex(blade: &BladeInstance, segments: u32, vertex: u32) -> Vec3 {
+    let t = (vertex / 2) as f32 / segments as f32;
+    let side_sign = if vertex & 1 == 0 { -0.5 } else { 0.5 };
+    let (side, normal) = frame(blade);
+    let local = point(&neutral_control_points(blade), t);
+    Vec3::from(blade.position)
+        + side * (local.x + side_sign * blade.width)
+        + Vec3::Y * local.y
+        + normal * local.z
+}
+
+/// Vertices per blade for a triangle strip of `segments` quads.
+pub fn strip_vertices(segments: u32) -> u32 {
+    2 * (segments + 1)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn blade(lean_byte: u32) -> BladeInstance {
+        BladeInstance {
+            position: [1.0, 2.0, 3.0],
+            facing: 0.0,
+            height: 0.5,
+            width: 0.01,
+            stiffness: 1.0,
+            variation: lean_byte << 16,
+        }
+    }
+
+    #[test]
+    fn bezier_hits_end_points_and_matches_the_bernstein_form() {
+        let p = [
+            Vec3::ZERO,
+            Vec3::new(0.0, 1.0, 0.0),
+            Vec3::new(1.0, 2.0, 0.0),
+            Vec3::new(2.0, 2.0, 1.0),
+        ];
+        assert_eq!(point(&p, 0.0), p[0]);
+        assert_eq!(point(&p, 1.0), p[3]);
+        // t = 1/2: (P0 + 3P1 + 3P2 + P3) / 8
+        let mid = (p[0] + 3.0 * p[1] + 3.0 * p[2] + p[3]) / 8.0;
+        assert!((point(&p, 0.5) - mid).length() < 1e-6);
+        // Derivative against a central difference.
+        for t in [0.1f32, 0.5, 0.9] {
+            let numeric = (point(&p, t + 1e-3) - point(&p, t - 1e-3)) / 2e-3;
+            assert!((tangent(&p, t) - numeric).length() < 1e-2);
+        }
+    }
+
+    #[test]
+    fn straight_blade_is_vertical_and_leaning_blade_keeps_its_chord() {
+        let straight = neutral_control_points(&blade(0));
+        assert!((straight[3] - Vec3::new(0.0, 0.5, 0.0)).length() < 1e-6);
+        let leaning = neutral_control_points(&blade(255));
+        assert!((leaning[3].length() - 0.5).abs() < 1e-5);
+        assert!(leaning[3].z > 0.2, "the lean bends the tip forward");
+    }
+
+    #[test]
+    fn strip_vertices_are_parallel_splines() {
+        let b = blade(128);
+        let segments = 4;
+        assert_eq!(strip_vertices(segments), 10);
+        for k in 0..=segments {
+            let left = strip_vertex(&b, segments, 2 * k);
+            let right = strip_vertex(&b, segments, 2 * k + 1);
+            assert!(((right - left).length() - b.width).abs() < 1e-6);
+        }
+        assert!((strip_vertex(&b, segments, 0) - Vec3::new(1.0 - 0.005, 2.0, 3.0)).length() < 1e-6);
+    }
+}

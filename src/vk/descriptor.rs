@@ -1,0 +1,135 @@
+//! Descriptor set layouts, pools and writes.
+
+use ash::vk;
+
+use crate::error::{Result, VkContext};
+use crate::vk::device::Device;
+
+/// One binding of a set layout.
+#[derive(Clone, Copy, Debug)]
+pub struct Binding {
+    /// Binding number in the shader.
+    pub binding: u32,
+    /// Descriptor type.
+    pub kind: vk::DescriptorType,
+    /// Stages that read it.
+    pub stages: vk::ShaderStageFlags,
+}
+
+/// Create a named set layout from bindings (one descriptor each).
+pub fn set_layout(
+    device: &Device,
+    name: &str,
+    bindings: &[Binding],
+) -> Result<vk::DescriptorSetLayout> {
+    let raw: Vec<_> = bindings
+        .iter()
+        .map(|b| {
+            vk::DescriptorSetLayoutBinding::default()
+                .binding(b.binding)
+                .descriptor_type(b.kind)
+                .descriptor_count(1)
+                .stage_flags(b.stages)
+        })
+        .collect();
+    let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&raw);
+    // SAFETY: valid create info.
+    let layout = unsafe { device.raw.create_descriptor_set_layout(&info, None) }
+        .vk("vkCreateDescriptorSetLayout")?;
+    device.set_name(layout, name);
+    Ok(layout)
+}
+
+/// Create a pool able to hold `sets` sets of `bindings` and allocate them all with `layout`.
+pub fn allocate_sets(
+    device: &Device,
+    name: &str,
+    layout: vk::DescriptorSetLayout,
+    bindings: &[Binding],
+    sets: u32,
+) -> Result<(vk::DescriptorPool, Vec<vk::DescriptorSet>)> {
+    let mut sizes: Vec<vk::DescriptorPoolSize> = Vec::new();
+    for b in bindings {
+        match sizes.iter_mut().find(|s| s.ty == b.kind) {
+            Some(size) => size.descriptor_count += sets,
+            None => sizes.push(vk::DescriptorPoolSize {
+                ty: b.kind,
+                descriptor_count: sets,
+            }),
+        }
+    }
+    let info = vk::DescriptorPoolCreateInfo::default()
+        .max_sets(sets)
+        .pool_sizes(&sizes);
+    // SAFETY: valid create info.
+    let pool =
+        unsafe { device.raw.create_descriptor_pool(&info, None) }.vk("vkCreateDescriptorPool")?;
+    device.set_name(pool, &format!("{name} pool"));
+    let layouts = vec![layout; sets as usize];
+    let alloc = vk::DescriptorSetAllocateInfo::default()
+        .descriptor_pool(pool)
+        .set_layouts(&layouts);
+    // SAFETY: the pool was sized for these sets.
+    match unsafe { device.raw.allocate_descriptor_sets(&alloc) } {
+        Ok(sets) => {
+            for (i, set) in sets.iter().enumerate() {
+                device.set_name(*set, &format!("{name} #{i}"));
+            }
+            Ok((pool, sets))
+        }
+        Err(result) => {
+            // SAFETY: nothing allocated from it.
+            unsafe { device.raw.destroy_descriptor_pool(pool, None) };
+            Err(crate::error::Error::Vulkan {
+                call: "vkAllocateDescriptorSets",
+                result,
+            })
+        }
+    }
+}
+
+/// What one descriptor write points at.
+pub enum Resource {
+    /// A uniform or storage buffer range.
+    Buffer(vk::DescriptorBufferInfo),
+    /// A combined image sampler.
+    Image(vk::DescriptorImageInfo),
+}
+
+/// Write descriptors into `set`: `(binding, type, resource)`.
+pub fn write(
+    device: &Device,
+    set: vk::DescriptorSet,
+    writes: &[(u32, vk::DescriptorType, Resource)],
+) {
+    let buffer_infos: Vec<[vk::DescriptorBufferInfo; 1]> = writes
+        .iter()
+        .map(|(_, _, r)| match r {
+            Resource::Buffer(info) => [*info],
+            Resource::Image(_) => [vk::DescriptorBufferInfo::default()],
+        })
+        .collect();
+    let image_infos: Vec<[vk::DescriptorImageInfo; 1]> = writes
+        .iter()
+        .map(|(_, _, r)| match r {
+            Resource::Image(info) => [*info],
+            Resource::Buffer(_) => [vk::DescriptorImageInfo::default()],
+        })
+        .collect();
+    let raw: Vec<_> = writes
+        .iter()
+        .enumerate()
+        .map(|(i, (binding, kind, resource))| {
+            let w = vk::WriteDescriptorSet::default()
+                .dst_set(set)
+                .dst_binding(*binding)
+                .descriptor_type(*kind);
+            match resource {
+                Resource::Buffer(_) => w.buffer_info(&buffer_infos[i]),
+                Resource::Image(_) => w.image_info(&image_infos[i]),
+            }
+        })
+        .collect();
+    // SAFETY: the writes reference live resources and match the set's layout.
+    unsafe { device.raw.update_descriptor_sets(&raw, &[]) };
+}

@@ -1,0 +1,219 @@
+//! The Vulkan instance: loader, optional Khronos validation with synchronization validation, and
+//! the debug messenger that counts every warning and error the layers report.
+
+use std::ffi::{c_void, CStr};
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::Arc;
+
+use ash::vk;
+
+use crate::error::{Error, Result, VkContext};
+
+const VALIDATION_LAYER: &CStr = c"VK_LAYER_KHRONOS_validation";
+
+/// Counts the warnings and errors delivered to the debug messenger.
+///
+/// Shared with the callback through its user-data pointer; it outlives the instance, so messages
+/// emitted while the instance is destroyed (leak reports) are counted too.
+#[derive(Debug, Default)]
+pub struct ValidationCounter {
+    messages: AtomicU64,
+}
+
+impl ValidationCounter {
+    /// Number of warning and error messages received so far.
+    pub fn count(&self) -> u64 {
+        self.messages.load(Ordering::SeqCst)
+    }
+}
+
+/// What the instance is created with.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct InstanceDesc<'a> {
+    /// Enable `VK_LAYER_KHRONOS_validation` with synchronization validation; a missing layer is an
+    /// error, never a silent skip.
+    pub validation: bool,
+    /// Extra instance extensions (e.g. the surface extensions of a window).
+    pub extensions: &'a [*const std::ffi::c_char],
+}
+
+/// Loader entry, instance, and (with validation) the debug messenger.
+pub struct Instance {
+    /// The loaded Vulkan library.
+    pub entry: ash::Entry,
+    /// The instance handle and its function table.
+    pub raw: ash::Instance,
+    /// Debug-utils instance functions (object names, labels, messenger).
+    pub debug_utils: ash::ext::debug_utils::Instance,
+    messenger: vk::DebugUtilsMessengerEXT,
+    counter: Option<Arc<ValidationCounter>>,
+}
+
+impl Instance {
+    /// Load Vulkan and create an instance for API 1.3.
+    pub fn new(desc: &InstanceDesc) -> Result<Self> {
+        // SAFETY: loading the system Vulkan loader; its symbols are trusted to match the spec.
+        let entry = unsafe { ash::Entry::load() }.map_err(|e| {
+            Error::Environment(format!(
+                "cannot load the Vulkan loader ({e}): install libvulkan1 and a driver such as mesa-vulkan-drivers"
+            ))
+        })?;
+        // SAFETY: plain query on a valid entry.
+        let version = unsafe { entry.try_enumerate_instance_version() }
+            .vk("vkEnumerateInstanceVersion")?
+            .unwrap_or(vk::API_VERSION_1_0);
+        if version < vk::API_VERSION_1_3 {
+            return Err(Error::Environment(format!(
+                "the Vulkan loader supports API {}.{}, meadow needs 1.3",
+                vk::api_version_major(version),
+                vk::api_version_minor(version)
+            )));
+        }
+
+        let mut layers = Vec::new();
+        if desc.validation {
+            // SAFETY: plain query on a valid entry.
+            let available = unsafe { entry.enumerate_instance_layer_properties() }
+                .vk("vkEnumerateInstanceLayerProperties")?;
+            let found = available
+                .iter()
+                .any(|layer| layer.layer_name_as_c_str() == Ok(VALIDATION_LAYER));
+            if !found {
+                return Err(Error::Environment(
+                    "validation requested but VK_LAYER_KHRONOS_validation is not installed \
+                     (install the Debian package vulkan-validationlayers)"
+                        .into(),
+                ));
+            }
+            layers.push(VALIDATION_LAYER.as_ptr());
+        }
+
+        let mut extensions = desc.extensions.to_vec();
+        extensions.push(ash::ext::debug_utils::NAME.as_ptr());
+
+        let app_info = vk::ApplicationInfo::default()
+            .application_name(c"meadow")
+            .application_version(vk::make_api_version(0, 0, 1, 0))
+            .engine_name(c"meadow")
+            .api_version(vk::API_VERSION_1_3);
+
+        let counter = desc
+            .validation
+            .then(|| Arc::new(ValidationCounter::default()));
+        let mut messenger_info = counter.as_ref().map(|counter| {
+            vk::DebugUtilsMessengerCreateInfoEXT::default()
+                .message_severity(
+                    vk::DebugUtilsMessageSeverityFlagsEXT::WARNING
+                        | vk::DebugUtilsMessageSeverityFlagsEXT::ERROR,
+                )
+                .message_type(
+                    vk::DebugUtilsMessageTypeFlagsEXT::GENERAL
+                        | vk::DebugUtilsMessageTypeFlagsEXT::VALIDATION
+                        | vk::DebugUtilsMessageTypeFlagsEXT::PERFORMANCE,
+                )
+                .pfn_user_callback(Some(on_debug_message))
+                .user_data(Arc::as_ptr(counter) as *mut c_void)
+        });
+        let enabled_features = [vk::ValidationFeatureEnableEXT::SYNCHRONIZATION_VALIDATION];
+        let mut validation_features =
+            vk::ValidationFeaturesEXT::default().enabled_validation_features(&enabled_features);
+
+        let mut create_info = vk::InstanceCreateInfo::default()
+            .application_info(&app_info)
+            .enabled_layer_names(&layers)
+            .enabled_extension_names(&extensions);
+        if let Some(messenger_info) = messenger_info.as_mut() {
+            // Chained into the create info, the messenger also reports on vkCreate/DestroyInstance.
+            create_info = create_info
+                .push_next(&mut validation_features)
+                .push_next(messenger_info);
+        }
+        // SAFETY: every pointer in create_info refers to locals alive for this call.
+        let raw = unsafe { entry.create_instance(&create_info, None) }.map_err(|result| match result {
+            vk::Result::ERROR_EXTENSION_NOT_PRESENT => Error::Environment(
+                "the Vulkan loader lacks a required instance extension (VK_EXT_debug_utils or a surface extension)".into(),
+            ),
+            result => Error::Vulkan { call: "vkCreateInstance", result },
+        })?;
+        let debug_utils = ash::ext::debug_utils::Instance::new(&entry, &raw);
+        let messenger = match messenger_info {
+            // SAFETY: the counter behind user_data is kept alive by `self.counter`. The create
+            // info was chained into the instance's; unlink it before reusing it on its own.
+            Some(mut info) => match unsafe {
+                info.p_next = std::ptr::null();
+                debug_utils.create_debug_utils_messenger(&info, None)
+            } {
+                Ok(messenger) => messenger,
+                Err(result) => {
+                    // SAFETY: nothing was created from the instance yet.
+                    unsafe { raw.destroy_instance(None) };
+                    return Err(Error::Vulkan {
+                        call: "vkCreateDebugUtilsMessengerEXT",
+                        result,
+                    });
+                }
+            },
+            None => vk::DebugUtilsMessengerEXT::null(),
+        };
+        Ok(Self {
+            entry,
+            raw,
+            debug_utils,
+            messenger,
+            counter,
+        })
+    }
+
+    /// The validation counter, when validation is on. Keep a clone to read the final count after
+    /// the instance is gone.
+    pub fn validation_counter(&self) -> Option<Arc<ValidationCounter>> {
+        self.counter.clone()
+    }
+}
+
+impl Drop for Instance {
+    fn drop(&mut self) {
+        // SAFETY: owners of device objects hold an Arc to this instance, so everything created from
+        // it has been destroyed when the last reference drops.
+        unsafe {
+            if self.messenger != vk::DebugUtilsMessengerEXT::null() {
+                self.debug_utils
+                    .destroy_debug_utils_messenger(self.messenger, None);
+            }
+            self.raw.destroy_instance(None);
+        }
+    }
+}
+
+/// Debug messenger callback: print the message on stderr and count it.
+unsafe extern "system" fn on_debug_message(
+    severity: vk::DebugUtilsMessageSeverityFlagsEXT,
+    kind: vk::DebugUtilsMessageTypeFlagsEXT,
+    data: *const vk::DebugUtilsMessengerCallbackDataEXT<'_>,
+    user_data: *mut c_void,
+) -> vk::Bool32 {
+    // SAFETY: user_data is the Arc<ValidationCounter> pointer given at creation, alive while the
+    // instance is (the Instance holds a clone).
+    if let Some(counter) = unsafe { (user_data as *const ValidationCounter).as_ref() } {
+        counter.messages.fetch_add(1, Ordering::SeqCst);
+    }
+    // SAFETY: the layer passes a valid callback-data struct for the duration of the call.
+    let (id, message) = unsafe {
+        data.as_ref()
+            .map(|d| {
+                (
+                    d.message_id_name_as_c_str()
+                        .map(|s| s.to_string_lossy().into_owned()),
+                    d.message_as_c_str()
+                        .map(|s| s.to_string_lossy().into_owned()),
+                )
+            })
+            .unwrap_or_default()
+    };
+    eprintln!(
+        "validation [{severity:?} {kind:?}] {}: {}",
+        id.as_deref().unwrap_or("-"),
+        message.as_deref().unwrap_or("(no message)")
+    );
+    vk::FALSE
+}

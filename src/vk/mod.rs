@@ -1,0 +1,21 @@
+//! The thin Vulkan layer: one module per concept. Leaves (`Buffer`, `Image`, pipelines) are
+//! destroyed explicitly by their owners; owners hold an `Arc<Device>` and wait for their GPU work
+//! before destroying.
+
+pub mod buffer;
+pub mod commands;
+pub mod debug;
+pub mod descriptor;
+pub mod device;
+pub mod image;
+pub mod instance;
+pub mod pipeline;
+pub mod query;
+pub mod sync;
+pub mod upload;
+
+pub use buffer::{Buffer, BufferDesc};
+pub use device::{Device, DeviceDesc, DeviceSelector};
+pub use image::{Image, ImageDesc};
+pub use instance::{Instance, InstanceDesc, ValidationCounter};
+pub use sync::Access;

@@ -1,0 +1,170 @@
+//! Shader modules and pipelines (graphics with dynamic rendering, compute). No vertex input
+//! state: all geometry is pulled from storage buffers in the vertex shader.
+
+use ash::vk;
+
+use crate::error::{Error, Result, VkContext};
+use crate::vk::device::Device;
+
+/// Create a shader module from SPIR-V bytes (as embedded from `OUT_DIR`).
+pub fn shader_module(device: &Device, name: &str, spirv: &[u8]) -> Result<vk::ShaderModule> {
+    let words = ash::util::read_spv(&mut std::io::Cursor::new(spirv))
+        .map_err(|e| Error::Environment(format!("shader {name} is not valid SPIR-V: {e}")))?;
+    let info = vk::ShaderModuleCreateInfo::default().code(&words);
+    // SAFETY: valid SPIR-V produced by glslang at build time.
+    let module =
+        unsafe { device.raw.create_shader_module(&info, None) }.vk("vkCreateShaderModule")?;
+    device.set_name(module, name);
+    Ok(module)
+}
+
+/// Create a named pipeline layout.
+pub fn layout(
+    device: &Device,
+    name: &str,
+    sets: &[vk::DescriptorSetLayout],
+    push_constants: &[vk::PushConstantRange],
+) -> Result<vk::PipelineLayout> {
+    let info = vk::PipelineLayoutCreateInfo::default()
+        .set_layouts(sets)
+        .push_constant_ranges(push_constants);
+    // SAFETY: valid create info.
+    let layout =
+        unsafe { device.raw.create_pipeline_layout(&info, None) }.vk("vkCreatePipelineLayout")?;
+    device.set_name(layout, name);
+    Ok(layout)
+}
+
+/// Description of a graphics pipeline rendering into one colour and one depth attachment.
+#[derive(Clone, Copy, Debug)]
+pub struct GraphicsDesc<'a> {
+    /// Debug name.
+    pub name: &'a str,
+    /// Vertex shader SPIR-V.
+    pub vertex: &'a [u8],
+    /// Fragment shader SPIR-V.
+    pub fragment: &'a [u8],
+    /// Primitive topology.
+    pub topology: vk::PrimitiveTopology,
+    /// Face culling.
+    pub cull: vk::CullModeFlags,
+    /// Polygon mode (FILL, or LINE for wireframe).
+    pub polygon: vk::PolygonMode,
+    /// Depth comparison (meadow uses reversed Z: GREATER).
+    pub depth_compare: vk::CompareOp,
+    /// Colour attachment format.
+    pub color_format: vk::Format,
+    /// Depth attachment format.
+    pub depth_format: vk::Format,
+    /// Pipeline layout.
+    pub layout: vk::PipelineLayout,
+}
+
+/// Build a graphics pipeline with dynamic viewport and scissor.
+pub fn graphics(device: &Device, desc: &GraphicsDesc) -> Result<vk::Pipeline> {
+    let vs = shader_module(device, &format!("{} vs", desc.name), desc.vertex)?;
+    let fs = match shader_module(device, &format!("{} fs", desc.name), desc.fragment) {
+        Ok(fs) => fs,
+        Err(e) => {
+            // SAFETY: unused module.
+            unsafe { device.raw.destroy_shader_module(vs, None) };
+            return Err(e);
+        }
+    };
+    let stages = [
+        vk::PipelineShaderStageCreateInfo::default()
+            .stage(vk::ShaderStageFlags::VERTEX)
+            .module(vs)
+            .name(c"main"),
+        vk::PipelineShaderStageCreateInfo::default()
+            .stage(vk::ShaderStageFlags::FRAGMENT)
+            .module(fs)
+            .name(c"main"),
+    ];
+    let vertex_input = vk::PipelineVertexInputStateCreateInfo::default();
+    let input_assembly =
+        vk::PipelineInputAssemblyStateCreateInfo::default().topology(desc.topology);
+    let viewport = vk::PipelineViewportStateCreateInfo::default()
+        .viewport_count(1)
+        .scissor_count(1);
+    let raster = vk::PipelineRasterizationStateCreateInfo::default()
+        .polygon_mode(desc.polygon)
+        .cull_mode(desc.cull)
+        .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
+        .line_width(1.0);
+    let multisample = vk::PipelineMultisampleStateCreateInfo::default()
+        .rasterization_samples(vk::SampleCountFlags::TYPE_1);
+    let depth = vk::PipelineDepthStencilStateCreateInfo::default()
+        .depth_test_enable(true)
+        .depth_write_enable(true)
+        .depth_compare_op(desc.depth_compare);
+    let blend_attachments = [vk::PipelineColorBlendAttachmentState::default()
+        .color_write_mask(vk::ColorComponentFlags::RGBA)];
+    let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachments);
+    let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
+    let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
+    let color_formats = [desc.color_format];
+    let mut rendering = vk::PipelineRenderingCreateInfo::default()
+        .color_attachment_formats(&color_formats)
+        .depth_attachment_format(desc.depth_format);
+    let info = vk::GraphicsPipelineCreateInfo::default()
+        .stages(&stages)
+        .vertex_input_state(&vertex_input)
+        .input_assembly_state(&input_assembly)
+        .viewport_state(&viewport)
+        .rasterization_state(&raster)
+        .multisample_state(&multisample)
+        .depth_stencil_state(&depth)
+        .color_blend_state(&blend)
+        .dynamic_state(&dynamic)
+        .layout(desc.layout)
+        .push_next(&mut rendering);
+    // SAFETY: all state structs are alive for the call.
+    let result = unsafe {
+        device
+            .raw
+            .create_graphics_pipelines(vk::PipelineCache::null(), &[info], None)
+    };
+    // SAFETY: modules are not needed after pipeline creation.
+    unsafe {
+        device.raw.destroy_shader_module(vs, None);
+        device.raw.destroy_shader_module(fs, None);
+    }
+    let pipeline = result.map_err(|(_, result)| Error::Vulkan {
+        call: "vkCreateGraphicsPipelines",
+        result,
+    })?[0];
+    device.set_name(pipeline, desc.name);
+    Ok(pipeline)
+}
+
+/// Build a compute pipeline.
+pub fn compute(
+    device: &Device,
+    name: &str,
+    spirv: &[u8],
+    layout: vk::PipelineLayout,
+) -> Result<vk::Pipeline> {
+    let module = shader_module(device, name, spirv)?;
+    let stage = vk::PipelineShaderStageCreateInfo::default()
+        .stage(vk::ShaderStageFlags::COMPUTE)
+        .module(module)
+        .name(c"main");
+    let info = vk::ComputePipelineCreateInfo::default()
+        .stage(stage)
+        .layout(layout);
+    // SAFETY: valid create info.
+    let result = unsafe {
+        device
+            .raw
+            .create_compute_pipelines(vk::PipelineCache::null(), &[info], None)
+    };
+    // SAFETY: not needed after creation.
+    unsafe { device.raw.destroy_shader_module(module, None) };
+    let pipeline = result.map_err(|(_, result)| Error::Vulkan {
+        call: "vkCreateComputePipelines",
+        result,
+    })?[0];
+    device.set_name(pipeline, name);
+    Ok(pipeline)
+}
