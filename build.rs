@@ -11,8 +11,7 @@ use std::process::Command;
 const STAGES: [&str; 3] = ["vert", "frag", "comp"];
 
 fn main() {
-    let manifest =
-        PathBuf::from(std::env::var("CARGO_MANIFEST_DIR").expect("cargo sets CARGO_MANIFEST_DIR"));
+    let manifest = PathBuf::from(std::env::var("CARGO_MANIFEST_DIR").expect("cargo sets CARGO_MANIFEST_DIR"));
     let out_dir = PathBuf::from(std::env::var("OUT_DIR").expect("cargo sets OUT_DIR"));
     let shader_dir = manifest.join("shaders");
     println!("cargo:rerun-if-changed={}", shader_dir.display());
@@ -34,10 +33,7 @@ fn main() {
             continue;
         }
         println!("cargo:rerun-if-changed={}", source.display());
-        let file_name = source
-            .file_name()
-            .and_then(|n| n.to_str())
-            .expect("utf-8 shader name");
+        let file_name = source.file_name().and_then(|n| n.to_str()).expect("utf-8 shader name");
         let spv = out_dir.join(format!("{file_name}.spv"));
         let dep = out_dir.join(format!("{file_name}.d"));
         let output = Command::new(&glslang)
@@ -71,10 +67,7 @@ fn main() {
         }
     }
     if !failures.is_empty() {
-        fail(&format!(
-            "shader compilation failed\n{}",
-            failures.join("\n")
-        ));
+        fail(&format!("shader compilation failed\n{}", failures.join("\n")));
     }
 }
 

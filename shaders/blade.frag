@@ -28,8 +28,10 @@ void main() {
     // Memberwise product with the alpha channel: the rim is darker (thesis 4.1).
     diffuse *= mix(0.45, 1.0, alpha);
 
+    // Two-sided: light the side facing the viewer. Decided from the view vector, not from
+    // gl_FrontFacing, so the strip's triangle parity cannot flip it.
     vec3 n = normalize(in_normal);
-    n = gl_FrontFacing ? n : -n;
+    n = dot(n, frame.camera_position.xyz - in_world) < 0.0 ? -n : n;
     vec3 color = blade_radiance(diffuse, diffuse, n, frame.sun_direction.xyz, in_uv.y);
     color = apply_fog(color, in_world, frame.camera_position, frame.sky_color);
     out_color = vec4(encode_output(color, frame.params.w), 1.0);

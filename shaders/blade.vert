@@ -1,7 +1,10 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// Blades by vertex pulling: no vertex buffer. gl_InstanceIndex selects the blade, gl_VertexIndex
-// the strip vertex: vertex 2k + side lies on Bézier spline `side` at t = k / segments (thesis 4.1).
+// Blades by vertex pulling: no vertex buffer. Each instance draws `batching.x` blades as one
+// triangle strip; gl_InstanceIndex and gl_VertexIndex select the blade and its strip vertex.
+// Strip vertex 2k + side lies on Bézier spline `side` at t = k / segments (thesis 4.1). Blades in
+// an instance are joined by repeating their first and last vertices (degenerate triangles), see
+// `scene::bezier::batched_vertex`.
 #include "bindings.glsl"
 #include "bezier.glsl"
 
@@ -11,10 +14,23 @@ layout(location = 2) out vec3 out_world;
 layout(location = 3) flat out uint out_variation;
 
 void main() {
-    BladeInstance blade = blades[gl_InstanceIndex];
     uint segments = frame.params.x;
-    uint level = uint(gl_VertexIndex) >> 1;
-    float side = float(gl_VertexIndex & 1);
+    uint per_blade = frame.batching.y;
+    uint blade_index = uint(gl_InstanceIndex) * frame.batching.x + uint(gl_VertexIndex) / per_blade;
+    if (blade_index >= frame.params.y) {
+        // Tail of the last instance: a degenerate point outside the clip volume.
+        gl_Position = vec4(2.0, 2.0, 2.0, 1.0);
+        out_uv = vec2(0.0);
+        out_normal = vec3(0.0, 1.0, 0.0);
+        out_world = vec3(0.0);
+        out_variation = 0u;
+        return;
+    }
+    uint j = uint(gl_VertexIndex) % per_blade;
+    uint strip = min(uint(max(int(j) - int(frame.batching.z), 0)), 2u * segments + 1u);
+    BladeInstance blade = blades[blade_index];
+    uint level = strip >> 1;
+    float side = float(strip & 1u);
     float t = float(level) / float(segments);
 
     vec3 p[4];

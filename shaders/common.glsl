@@ -4,7 +4,7 @@
 #ifndef MEADOW_COMMON_GLSL
 #define MEADOW_COMMON_GLSL
 
-// Per-frame constants (std140, 144 bytes).
+// Per-frame constants (std140, 160 bytes).
 struct FrameUniforms {
     mat4 view_proj;         // world -> clip (reversed infinite Z, Vulkan y down)
     vec4 camera_position;   // xyz eye, w simulation time (s)
@@ -12,6 +12,7 @@ struct FrameUniforms {
     vec4 sky_color;         // rgb linear sky, w fog density (1/m)
     vec4 terrain;           // x grid origin (x = z), y cell size (m), zw unused
     uvec4 params;           // x segments, y blade count, z terrain cells per side, w 1 = encode sRGB
+    uvec4 batching;         // x blades per instance, y vertices per blade, z leading repeats, w unused
 };
 
 // One blade (std430, 32 bytes).

@@ -84,6 +84,8 @@ pub struct RenderOptions {
     pub out: PathBuf,
     /// Frames to render (the last is written; more than one gives warm timings).
     pub frames: u32,
+    /// Blades per instance of the blade draw.
+    pub blades_per_instance: u32,
 }
 
 /// What `meadow render` did.
@@ -110,12 +112,7 @@ pub struct RenderReport {
 }
 
 /// Check the picture size and blade count against the device before allocating anything.
-pub fn check_limits(
-    device: &Device,
-    blades: u32,
-    size: (u32, u32),
-    terrain_cells: u32,
-) -> Result<()> {
+pub fn check_limits(device: &Device, blades: u32, size: (u32, u32), terrain_cells: u32) -> Result<()> {
     let limits = device.limits();
     let max_dim = limits
         .max_image_dimension2_d
@@ -141,14 +138,9 @@ pub fn check_limits(
         width: size.0,
         height: size.1,
     };
-    let total = crate::render::scene_gpu::SceneGpu::memory_bytes(
-        u64::from(blades),
-        u64::from(terrain_cells),
-    ) + offscreen_bytes(extent);
-    device.check_budget(
-        total,
-        &format!("rendering {blades} blades at {}x{}", size.0, size.1),
-    )
+    let total = crate::render::scene_gpu::SceneGpu::memory_bytes(u64::from(blades), u64::from(terrain_cells))
+        + offscreen_bytes(extent);
+    device.check_budget(total, &format!("rendering {blades} blades at {}x{}", size.0, size.1))
 }
 
 /// Check that the output can be written before doing any work.
@@ -165,10 +157,7 @@ fn check_output(path: &Path) -> Result<()> {
         )));
     }
     if path.is_dir() {
-        return Err(Error::bad_input(format!(
-            "--out {}: is a directory",
-            path.display()
-        )));
+        return Err(Error::bad_input(format!("--out {}: is a directory", path.display())));
     }
     Ok(())
 }
@@ -176,12 +165,8 @@ fn check_output(path: &Path) -> Result<()> {
 /// Write an RGBA8 readback as an RGB PNG, atomically: a temporary file renamed into place, so a
 /// failure never leaves a half-written picture.
 pub fn write_png(path: &Path, size: (u32, u32), rgba: &[u8]) -> Result<()> {
-    let rgb: Vec<u8> = rgba
-        .chunks_exact(4)
-        .flat_map(|p| [p[0], p[1], p[2]])
-        .collect();
-    let image =
-        image::RgbImage::from_raw(size.0, size.1, rgb).expect("readback holds width*height pixels");
+    let rgb: Vec<u8> = rgba.chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect();
+    let image = image::RgbImage::from_raw(size.0, size.1, rgb).expect("readback holds width*height pixels");
     let file_name = path
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
@@ -191,15 +176,13 @@ pub fn write_png(path: &Path, size: (u32, u32), rgba: &[u8]) -> Result<()> {
         path: path.display().to_string(),
         source,
     };
-    image
-        .save_with_format(&tmp, image::ImageFormat::Png)
-        .map_err(|e| {
-            let _ = std::fs::remove_file(&tmp);
-            match e {
-                image::ImageError::IoError(source) => io(source),
-                other => io(std::io::Error::other(other.to_string())),
-            }
-        })?;
+    image.save_with_format(&tmp, image::ImageFormat::Png).map_err(|e| {
+        let _ = std::fs::remove_file(&tmp);
+        match e {
+            image::ImageError::IoError(source) => io(source),
+            other => io(std::io::Error::other(other.to_string())),
+        }
+    })?;
     std::fs::rename(&tmp, path).map_err(|e| {
         let _ = std::fs::remove_file(&tmp);
         io(e)
@@ -215,14 +198,13 @@ pub fn render(device: &Arc<Device>, options: &RenderOptions) -> Result<RenderRep
 
     let setup = Instant::now();
     let scene = Scene::generate(options.blades, options.seed);
-    let camera = options
-        .camera
-        .unwrap_or_else(|| Camera::default_for(&scene.terrain));
+    let camera = options.camera.unwrap_or_else(|| Camera::default_for(&scene.terrain));
     let settings = RenderSettings {
         segments: options.segments,
         color_format: OFFSCREEN_FORMAT,
         encode_srgb: true,
         frames_in_flight: 1,
+        blades_per_instance: options.blades_per_instance,
     };
     let mut renderer = Renderer::new(device.clone(), &scene, settings)?;
     let extent = vk::Extent2D {

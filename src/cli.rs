@@ -3,15 +3,12 @@
 
 use glam::Vec3;
 
-use crate::render::renderer::SEGMENTS_RANGE;
+use crate::render::renderer::{BLADES_PER_INSTANCE_RANGE, SEGMENTS_RANGE};
 use crate::scene::Camera;
 
 /// A finite `f32` (Rust's parser accepts "NaN" and "inf": they are refused here).
 pub fn finite_f32(text: &str) -> Result<f32, String> {
-    let value: f32 = text
-        .trim()
-        .parse()
-        .map_err(|_| format!("'{text}' is not a number"))?;
+    let value: f32 = text.trim().parse().map_err(|_| format!("'{text}' is not a number"))?;
     if !value.is_finite() {
         return Err(format!("'{text}' is not a finite number"));
     }
@@ -50,6 +47,22 @@ pub fn segments(text: &str) -> Result<u32, String> {
     Ok(value)
 }
 
+/// Blades per instance in `1..=1024`.
+pub fn blades_per_instance(text: &str) -> Result<u32, String> {
+    let value: u32 = text
+        .trim()
+        .parse()
+        .map_err(|_| format!("'{text}' is not a whole number"))?;
+    if !BLADES_PER_INSTANCE_RANGE.contains(&value) {
+        return Err(format!(
+            "{value} blades per instance is outside {}..={}",
+            BLADES_PER_INSTANCE_RANGE.start(),
+            BLADES_PER_INSTANCE_RANGE.end()
+        ));
+    }
+    Ok(value)
+}
+
 /// `WIDTHxHEIGHT`, both at least 1. The device's maximum is checked later.
 pub fn size(text: &str) -> Result<(u32, u32), String> {
     let (w, h) = text
@@ -63,9 +76,7 @@ pub fn size(text: &str) -> Result<(u32, u32), String> {
     };
     let (w, h) = (parse(w)?, parse(h)?);
     if w == 0 || h == 0 {
-        return Err(format!(
-            "size {w}x{h} is empty: width and height must be at least 1"
-        ));
+        return Err(format!("size {w}x{h} is empty: width and height must be at least 1"));
     }
     Ok((w, h))
 }
@@ -74,14 +85,9 @@ pub fn size(text: &str) -> Result<(u32, u32), String> {
 pub fn camera(text: &str) -> Result<Camera, String> {
     let parts: Vec<&str> = text.split(',').collect();
     if parts.len() != 5 {
-        return Err(format!(
-            "'{text}' is not X,Y,Z,YAW_DEG,PITCH_DEG (five numbers)"
-        ));
+        return Err(format!("'{text}' is not X,Y,Z,YAW_DEG,PITCH_DEG (five numbers)"));
     }
-    let values = parts
-        .iter()
-        .map(|p| finite_f32(p))
-        .collect::<Result<Vec<_>, _>>()?;
+    let values = parts.iter().map(|p| finite_f32(p)).collect::<Result<Vec<_>, _>>()?;
     if values[4].abs() > 89.0 {
         return Err(format!("pitch {}° is outside -89..=89", values[4]));
     }
@@ -109,11 +115,7 @@ mod tests {
         assert_eq!(segments("16"), Ok(16));
         assert!(size("0x0").is_err() && size("1280").is_err() && size("axb").is_err());
         assert_eq!(size("1280x720"), Ok((1280, 720)));
-        assert!(
-            camera("0,1,2,3").is_err()
-                && camera("0,NaN,2,3,4").is_err()
-                && camera("0,1,2,3,90").is_err()
-        );
+        assert!(camera("0,1,2,3").is_err() && camera("0,NaN,2,3,4").is_err() && camera("0,1,2,3,90").is_err());
         assert_eq!(camera("1,2,3,45,-10").map(|c| c.yaw_deg), Ok(45.0));
     }
 }

@@ -55,6 +55,9 @@ struct RenderArgs {
     /// Output PNG.
     #[arg(long, default_value = "meadow.png")]
     out: PathBuf,
+    /// Blades per instance of the one blade draw (1 = classic per-blade instancing).
+    #[arg(long, default_value = "1", value_parser = meadow::cli::blades_per_instance)]
+    blades_per_instance: u32,
     /// Frames to render; the last is written, timings of all are summarised.
     #[arg(long, default_value = "1", value_parser = clap::value_parser!(u32).range(1..=10_000))]
     frames: u32,
@@ -66,11 +69,7 @@ impl GpuArgs {
     fn options(&self) -> GpuOptions {
         GpuOptions {
             validation: self.validation,
-            device: self
-                .device
-                .as_deref()
-                .map(DeviceSelector::parse)
-                .unwrap_or_default(),
+            device: self.device.as_deref().map(DeviceSelector::parse).unwrap_or_default(),
         }
     }
 }
@@ -87,10 +86,7 @@ fn main() -> ExitCode {
         Err(e) => {
             // One line: clap's first line already reads "error: …".
             let text = e.to_string();
-            eprintln!(
-                "{}",
-                text.lines().next().unwrap_or("error: invalid arguments")
-            );
+            eprintln!("{}", text.lines().next().unwrap_or("error: invalid arguments"));
             return ExitCode::from(2);
         }
     };
@@ -104,14 +100,11 @@ fn main() -> ExitCode {
                 camera: args.camera,
                 out: args.out,
                 frames: args.frames,
+                blades_per_instance: args.blades_per_instance,
             };
-            let (result, validation) = app::with_device(&args.gpu.options(), false, |device| {
-                app::render(device, &options)
-            });
-            (
-                finish(result.map(|report| print_render(&report))),
-                validation,
-            )
+            let (result, validation) =
+                app::with_device(&args.gpu.options(), false, |device| app::render(device, &options));
+            (finish(result.map(|report| print_render(&report))), validation)
         }
         Command::Devices(args) => {
             let (result, validation) = app::devices(&args.options());
@@ -175,16 +168,7 @@ fn print_render(report: &RenderReport) {
     );
     if report.frames.len() > 1 {
         let mut gpu: Vec<f64> = report.frames.iter().map(|f| f.gpu_ms).collect();
-        println!(
-            "gpu median over {} frames: {:.3} ms",
-            gpu.len(),
-            app::median(&mut gpu)
-        );
+        println!("gpu median over {} frames: {:.3} ms", gpu.len(), app::median(&mut gpu));
     }
-    println!(
-        "wrote {} ({}x{})",
-        report.out.display(),
-        report.size.0,
-        report.size.1
-    );
+    println!("wrote {} ({}x{})", report.out.display(), report.size.0, report.size.1);
 }

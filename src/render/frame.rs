@@ -26,9 +26,11 @@ pub struct FrameUniforms {
     pub terrain: Vec4,
     /// x segments, y blade count, z terrain cells per side, w 1 = shaders encode sRGB.
     pub params: UVec4,
+    /// x blades per instance.
+    pub batching: UVec4,
 }
 
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 144);
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 160);
 const _: () = assert!(std::mem::offset_of!(FrameUniforms, camera_position) == 64);
 const _: () = assert!(std::mem::offset_of!(FrameUniforms, params) == 128);
 

@@ -13,6 +13,7 @@ use crate::render::frame::{look, Frame, FrameUniforms};
 use crate::render::passes::{BladePass, TerrainPass};
 use crate::render::scene_gpu::{self, SceneGpu};
 use crate::render::target::{OffscreenTarget, TargetView, DEPTH_FORMAT};
+use crate::scene::bezier::Batching;
 use crate::scene::{Camera, Scene};
 use crate::vk::query::span_ms;
 use crate::vk::{commands, debug, descriptor, pipeline, sync, Access, Device};
@@ -31,7 +32,14 @@ pub struct RenderSettings {
     pub encode_srgb: bool,
     /// Frames in flight (1 for headless rendering).
     pub frames_in_flight: usize,
+    /// Blades drawn per instance of the blade draw (see `BladePass::record`).
+    pub blades_per_instance: u32,
 }
+
+/// Blades per instance allowed.
+pub const BLADES_PER_INSTANCE_RANGE: std::ops::RangeInclusive<u32> = 1..=1024;
+/// Default blades per instance.
+pub const DEFAULT_BLADES_PER_INSTANCE: u32 = 1;
 
 /// GPU time of one pass.
 #[derive(Clone, Copy, Debug)]
@@ -81,6 +89,18 @@ pub struct Renderer {
 /// Pass names, in recording order (timestamps `i` and `i + 1` bracket pass `i`).
 const PASSES: [&str; 2] = ["terrain", "blades"];
 
+const COLOR_RANGE: vk::ImageSubresourceRange = vk::ImageSubresourceRange {
+    aspect_mask: vk::ImageAspectFlags::COLOR,
+    base_mip_level: 0,
+    level_count: 1,
+    base_array_layer: 0,
+    layer_count: 1,
+};
+const DEPTH_RANGE: vk::ImageSubresourceRange = vk::ImageSubresourceRange {
+    aspect_mask: vk::ImageAspectFlags::DEPTH,
+    ..COLOR_RANGE
+};
+
 impl Renderer {
     /// Upload `scene` and build the passes and frames.
     pub fn new(device: Arc<Device>, scene: &Scene, settings: RenderSettings) -> Result<Self> {
@@ -94,8 +114,7 @@ impl Renderer {
         let res = renderer.resources.as_mut().expect("just set");
         let scene_gpu = res.scene.insert(SceneGpu::upload(&device, scene)?);
         res.set_layout = descriptor::set_layout(&device, "scene set layout", &bindings)?;
-        res.pipeline_layout =
-            pipeline::layout(&device, "scene pipeline layout", &[res.set_layout], &[])?;
+        res.pipeline_layout = pipeline::layout(&device, "scene pipeline layout", &[res.set_layout], &[])?;
         let (pool, sets) = descriptor::allocate_sets(
             &device,
             "scene sets",
@@ -125,10 +144,7 @@ impl Renderer {
     }
 
     fn scene_gpu(&self) -> &SceneGpu {
-        self.resources()
-            .scene
-            .as_ref()
-            .expect("scene uploaded in new")
+        self.resources().scene.as_ref().expect("scene uploaded in new")
     }
 
     /// The settings the renderer was built with.
@@ -137,9 +153,7 @@ impl Renderer {
     }
 
     fn resources(&self) -> &Resources {
-        self.resources
-            .as_ref()
-            .expect("renderer resources exist after new")
+        self.resources.as_ref().expect("renderer resources exist after new")
     }
 
     /// Number of blades drawn.
@@ -157,12 +171,7 @@ impl Renderer {
     }
 
     /// The uniforms of a frame seen from `camera` at simulation time `time` into `extent`.
-    pub fn frame_uniforms(
-        &self,
-        camera: &Camera,
-        time: f32,
-        extent: vk::Extent2D,
-    ) -> FrameUniforms {
+    pub fn frame_uniforms(&self, camera: &Camera, time: f32, extent: vk::Extent2D) -> FrameUniforms {
         let scene = self.scene_gpu();
         let aspect = extent.width as f32 / extent.height as f32;
         FrameUniforms {
@@ -177,86 +186,51 @@ impl Renderer {
                 scene.terrain_cells,
                 u32::from(self.settings.encode_srgb),
             ),
+            batching: {
+                let b = Batching::new(self.settings.segments, self.settings.blades_per_instance);
+                UVec4::new(b.blades_per_instance, b.stride, b.lead, 0)
+            },
         }
     }
 
     /// Record the scene passes of `frame` into `target`, with timestamps around each pass.
+    ///
+    /// Each pass is its own rendering instance, so a binning rasteriser (lavapipe) finishes a
+    /// pass before the next timestamp and per-pass times mean what they say. Between the two, an
+    /// explicit attachment barrier orders the blade pass's loads after the terrain's stores.
     fn record_scene(&self, frame: &mut Frame, cmd: vk::CommandBuffer, target: &TargetView) {
         let device = &*self.device;
         let res = self.resources();
+        let scene = self.scene_gpu();
         frame.timestamps.reset(device, cmd);
         frame.timestamps.write(device, cmd);
+        let attachment_barriers = |previous_color: Access, previous_depth: Access| {
+            sync::cmd_barriers(
+                device,
+                cmd,
+                &[],
+                &[
+                    sync::image_barrier(
+                        target.color,
+                        COLOR_RANGE,
+                        &[previous_color],
+                        &[Access::ColorAttachmentWrite],
+                    ),
+                    sync::image_barrier(
+                        target.depth,
+                        DEPTH_RANGE,
+                        &[previous_depth],
+                        &[Access::DepthAttachmentReadWrite],
+                    ),
+                ],
+            )
+        };
+        attachment_barriers(target.color_previous, target.depth_previous);
 
-        let depth_range = vk::ImageSubresourceRange {
-            aspect_mask: vk::ImageAspectFlags::DEPTH,
-            level_count: 1,
-            layer_count: 1,
-            ..Default::default()
-        };
-        let color_range = vk::ImageSubresourceRange {
-            aspect_mask: vk::ImageAspectFlags::COLOR,
-            ..depth_range
-        };
-        sync::cmd_barriers(
-            device,
-            cmd,
-            &[],
-            &[
-                sync::image_barrier(
-                    target.color,
-                    color_range,
-                    &[target.color_previous],
-                    &[Access::ColorAttachmentWrite],
-                ),
-                sync::image_barrier(
-                    target.depth,
-                    depth_range,
-                    &[target.depth_previous],
-                    &[Access::DepthAttachmentReadWrite],
-                ),
-            ],
-        );
-
-        let sky = look::SKY;
-        let clear = if self.settings.encode_srgb {
-            [
-                look::encode_srgb(sky.x),
-                look::encode_srgb(sky.y),
-                look::encode_srgb(sky.z),
-                1.0,
-            ]
-        } else {
-            [sky.x, sky.y, sky.z, 1.0]
-        };
-        let color_attachments = [vk::RenderingAttachmentInfo::default()
-            .image_view(target.color_view)
-            .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
-            .load_op(vk::AttachmentLoadOp::CLEAR)
-            .store_op(vk::AttachmentStoreOp::STORE)
-            .clear_value(vk::ClearValue {
-                color: vk::ClearColorValue { float32: clear },
-            })];
-        let depth_attachment = vk::RenderingAttachmentInfo::default()
-            .image_view(target.depth_view)
-            .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
-            .load_op(vk::AttachmentLoadOp::CLEAR)
-            .store_op(vk::AttachmentStoreOp::DONT_CARE)
-            // Reversed Z: clear to the far plane, 0.
-            .clear_value(vk::ClearValue {
-                depth_stencil: vk::ClearDepthStencilValue {
-                    depth: 0.0,
-                    stencil: 0,
-                },
-            });
         let area = vk::Rect2D {
             offset: vk::Offset2D::default(),
             extent: target.extent,
         };
-        let rendering = vk::RenderingInfo::default()
-            .render_area(area)
-            .layer_count(1)
-            .color_attachments(&color_attachments)
-            .depth_attachment(&depth_attachment);
         let viewport = vk::Viewport {
             x: 0.0,
             y: 0.0,
@@ -265,9 +239,8 @@ impl Renderer {
             min_depth: 0.0,
             max_depth: 1.0,
         };
-        // SAFETY: cmd is recording; attachments are in the layouts set by the barriers above.
+        // SAFETY: cmd is recording; dynamic state and bound sets persist across rendering instances.
         unsafe {
-            device.raw.cmd_begin_rendering(cmd, &rendering);
             device.raw.cmd_set_viewport(cmd, 0, &[viewport]);
             device.raw.cmd_set_scissor(cmd, 0, &[area]);
             device.raw.cmd_bind_descriptor_sets(
@@ -279,25 +252,84 @@ impl Renderer {
                 &[],
             );
         }
-        debug::begin_label(device, cmd, PASSES[0], [0.5, 0.35, 0.2, 1.0]);
-        let scene = self.scene_gpu();
-        res.terrain
-            .as_ref()
-            .expect("built in new")
-            .record(device, cmd, scene);
-        debug::end_label(device, cmd);
+
+        // Terrain: clears colour to the sky and depth to the far plane (0, reversed Z).
+        self.begin_pass(cmd, target, PASSES[0], true);
+        res.terrain.as_ref().expect("built in new").record(device, cmd, scene);
+        self.end_pass(cmd);
         frame.timestamps.write(device, cmd);
-        debug::begin_label(device, cmd, PASSES[1], [0.3, 0.7, 0.2, 1.0]);
+
+        attachment_barriers(Access::ColorAttachmentWrite, Access::DepthAttachmentReadWrite);
+        self.begin_pass(cmd, target, PASSES[1], false);
         res.blades.as_ref().expect("built in new").record(
             device,
             cmd,
             scene,
             self.settings.segments,
+            self.settings.blades_per_instance,
         );
-        debug::end_label(device, cmd);
+        self.end_pass(cmd);
         frame.timestamps.write(device, cmd);
-        // SAFETY: matches cmd_begin_rendering above.
-        unsafe { device.raw.cmd_end_rendering(cmd) };
+    }
+
+    /// Open a labelled rendering instance on `target`; `clear` clears colour and depth, otherwise
+    /// both are loaded. Depth is stored only when a later pass reads it.
+    fn begin_pass(&self, cmd: vk::CommandBuffer, target: &TargetView, name: &str, clear: bool) {
+        let device = &*self.device;
+        let sky = look::SKY;
+        let clear_color = if self.settings.encode_srgb {
+            [
+                look::encode_srgb(sky.x),
+                look::encode_srgb(sky.y),
+                look::encode_srgb(sky.z),
+                1.0,
+            ]
+        } else {
+            [sky.x, sky.y, sky.z, 1.0]
+        };
+        let load = if clear {
+            vk::AttachmentLoadOp::CLEAR
+        } else {
+            vk::AttachmentLoadOp::LOAD
+        };
+        let color = [vk::RenderingAttachmentInfo::default()
+            .image_view(target.color_view)
+            .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+            .load_op(load)
+            .store_op(vk::AttachmentStoreOp::STORE)
+            .clear_value(vk::ClearValue {
+                color: vk::ClearColorValue { float32: clear_color },
+            })];
+        let depth = vk::RenderingAttachmentInfo::default()
+            .image_view(target.depth_view)
+            .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
+            .load_op(load)
+            .store_op(if clear {
+                vk::AttachmentStoreOp::STORE
+            } else {
+                vk::AttachmentStoreOp::DONT_CARE
+            })
+            .clear_value(vk::ClearValue {
+                depth_stencil: vk::ClearDepthStencilValue { depth: 0.0, stencil: 0 },
+            });
+        let rendering = vk::RenderingInfo::default()
+            .render_area(vk::Rect2D {
+                offset: vk::Offset2D::default(),
+                extent: target.extent,
+            })
+            .layer_count(1)
+            .color_attachments(&color)
+            .depth_attachment(&depth);
+        debug::begin_label(device, cmd, name, [0.3, 0.6, 0.2, 1.0]);
+        // SAFETY: cmd is recording; the attachments are in the layouts set by the barriers.
+        unsafe { device.raw.cmd_begin_rendering(cmd, &rendering) };
+    }
+
+    /// Close the rendering instance and its label.
+    fn end_pass(&self, cmd: vk::CommandBuffer) {
+        // SAFETY: matches begin_pass.
+        unsafe { self.device.raw.cmd_end_rendering(cmd) };
+        debug::end_label(&self.device, cmd);
     }
 
     /// Render one frame into `target` and copy it to the target's readback buffer; returns when
@@ -313,12 +345,7 @@ impl Renderer {
         self.frame_index = (self.frame_index + 1) % self.settings.frames_in_flight;
         let uniforms = self.frame_uniforms(camera, time, target.color.extent);
         let view = target.view();
-        let mut frame = self
-            .resources
-            .as_mut()
-            .expect("resources")
-            .frames
-            .swap_remove(index);
+        let mut frame = self.resources.as_mut().expect("resources").frames.swap_remove(index);
         let result = (|| {
             sync::wait_fence(&device, frame.fence)?;
             // SAFETY: the fence signalled, nothing pending uses this frame.
@@ -387,15 +414,9 @@ unsafe fn destroy_resources(device: &Device, res: Resources) {
         for frame in res.frames {
             frame.destroy(device);
         }
-        device
-            .raw
-            .destroy_descriptor_pool(res.descriptor_pool, None);
-        device
-            .raw
-            .destroy_pipeline_layout(res.pipeline_layout, None);
-        device
-            .raw
-            .destroy_descriptor_set_layout(res.set_layout, None);
+        device.raw.destroy_descriptor_pool(res.descriptor_pool, None);
+        device.raw.destroy_pipeline_layout(res.pipeline_layout, None);
+        device.raw.destroy_descriptor_set_layout(res.set_layout, None);
         if let Some(scene) = res.scene {
             scene.destroy(device);
         }

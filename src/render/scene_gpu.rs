@@ -103,11 +103,7 @@ impl SceneGpu {
                 },
                 vk::ImageUsageFlags::SAMPLED,
             );
-            let blade_alpha = match batch.image(
-                &desc,
-                &alpha::texels(),
-                &[Access::FragmentShaderSampledRead],
-            ) {
+            let blade_alpha = match batch.image(&desc, &alpha::texels(), &[Access::FragmentShaderSampledRead]) {
                 Ok(image) => image,
                 Err(e) => {
                     // SAFETY: never used by the GPU.

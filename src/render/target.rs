@@ -61,10 +61,7 @@ impl OffscreenTarget {
                 vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC,
             ),
         )?;
-        let depth = match Image::new(
-            device,
-            &ImageDesc::depth("offscreen depth", DEPTH_FORMAT, extent),
-        ) {
+        let depth = match Image::new(device, &ImageDesc::depth("offscreen depth", DEPTH_FORMAT, extent)) {
             Ok(depth) => depth,
             Err(e) => {
                 // SAFETY: unused.
@@ -75,11 +72,7 @@ impl OffscreenTarget {
         let bytes = 4 * u64::from(extent.width) * u64::from(extent.height);
         match Buffer::new(
             device,
-            &BufferDesc::readback(
-                "offscreen readback",
-                bytes,
-                vk::BufferUsageFlags::TRANSFER_DST,
-            ),
+            &BufferDesc::readback("offscreen readback", bytes, vk::BufferUsageFlags::TRANSFER_DST),
         ) {
             Ok(readback) => Ok(Self {
                 color,
@@ -148,11 +141,7 @@ impl OffscreenTarget {
                 &[region],
             )
         };
-        let to_host = sync::buffer_barrier(
-            self.readback.raw,
-            &[Access::TransferWrite],
-            &[Access::HostRead],
-        );
+        let to_host = sync::buffer_barrier(self.readback.raw, &[Access::TransferWrite], &[Access::HostRead]);
         sync::cmd_barriers(device, cmd, &[to_host], &[]);
     }
 

@@ -51,8 +51,6 @@ mod tests {
         assert_eq!(t.len(), (WIDTH * HEIGHT) as usize);
         // The rim is darker than the centre but still passes the alpha test somewhere.
         let row = &t[(HEIGHT / 3 * WIDTH) as usize..][..WIDTH as usize];
-        assert!(row
-            .iter()
-            .any(|&a| a > (ALPHA_CUTOFF * 255.0) as u8 && a < 250));
+        assert!(row.iter().any(|&a| a > (ALPHA_CUTOFF * 255.0) as u8 && a < 250));
     }
 }

@@ -46,15 +46,52 @@ pub fn strip_vertex(blade: &BladeInstance, segments: u32, vertex: u32) -> Vec3 {
     let side_sign = if vertex & 1 == 0 { -0.5 } else { 0.5 };
     let (side, normal) = frame(blade);
     let local = point(&neutral_control_points(blade), t);
-    Vec3::from(blade.position)
-        + side * (local.x + side_sign * blade.width)
-        + Vec3::Y * local.y
-        + normal * local.z
+    Vec3::from(blade.position) + side * (local.x + side_sign * blade.width) + Vec3::Y * local.y + normal * local.z
 }
 
 /// Vertices per blade for a triangle strip of `segments` quads.
 pub fn strip_vertices(segments: u32) -> u32 {
     2 * (segments + 1)
+}
+
+/// How blades are laid out in the vertices of one instance.
+///
+/// One blade per instance: its strip alone. Several: each blade's strip with its first and last
+/// vertex repeated, which joins neighbours with degenerate (zero-area) triangles.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Batching {
+    /// Blades per instance.
+    pub blades_per_instance: u32,
+    /// Vertices per blade.
+    pub stride: u32,
+    /// Repeats of the first vertex before the strip (0 or 1).
+    pub lead: u32,
+}
+
+impl Batching {
+    /// Layout for `blades_per_instance` blades of `segments` segments.
+    pub fn new(segments: u32, blades_per_instance: u32) -> Self {
+        let lead = u32::from(blades_per_instance > 1);
+        Self {
+            blades_per_instance,
+            stride: strip_vertices(segments) + 2 * lead,
+            lead,
+        }
+    }
+
+    /// Vertices of one instance.
+    pub fn vertices_per_instance(&self) -> u32 {
+        self.stride * self.blades_per_instance
+    }
+
+    /// Which blade of the instance, and which of its strip vertices, vertex `vertex` is.
+    pub fn vertex(&self, segments: u32, vertex: u32) -> (u32, u32) {
+        let j = vertex % self.stride;
+        (
+            vertex / self.stride,
+            j.saturating_sub(self.lead).min(strip_vertices(segments) - 1),
+        )
+    }
 }
 
 #[cfg(test)]
@@ -99,6 +136,34 @@ mod tests {
         let leaning = neutral_control_points(&blade(255));
         assert!((leaning[3].length() - 0.5).abs() < 1e-5);
         assert!(leaning[3].z > 0.2, "the lean bends the tip forward");
+    }
+
+    #[test]
+    fn batched_strips_join_blades_with_degenerate_triangles() {
+        let s = 2;
+        let single = Batching::new(s, 1);
+        assert_eq!(single.vertices_per_instance(), 6);
+        assert_eq!(
+            (0..6).map(|v| single.vertex(s, v).1).collect::<Vec<_>>(),
+            vec![0, 1, 2, 3, 4, 5]
+        );
+        let batch = Batching::new(s, 2);
+        assert_eq!(batch.vertices_per_instance(), 16);
+        let order: Vec<_> = (0..16).map(|v| batch.vertex(s, v)).collect();
+        assert_eq!(
+            &order[..8],
+            &[(0, 0), (0, 0), (0, 1), (0, 2), (0, 3), (0, 4), (0, 5), (0, 5)]
+        );
+        assert_eq!(order[8], (1, 0));
+        // Every triangle either lies in one blade's strip or repeats a vertex (zero area).
+        for w in order.windows(3) {
+            let same_blade = w[0].0 == w[1].0 && w[1].0 == w[2].0;
+            let repeats = w[0] == w[1] || w[1] == w[2] || w[0] == w[2];
+            assert!(
+                repeats || (same_blade && w[1].1 == w[0].1 + 1 && w[2].1 == w[1].1 + 1),
+                "{w:?}"
+            );
+        }
     }
 
     #[test]

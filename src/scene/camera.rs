@@ -39,11 +39,7 @@ impl Camera {
     /// Unit view direction.
     pub fn forward(&self) -> Vec3 {
         let (yaw, pitch) = (self.yaw_deg.to_radians(), self.pitch_deg.to_radians());
-        Vec3::new(
-            -yaw.sin() * pitch.cos(),
-            pitch.sin(),
-            -yaw.cos() * pitch.cos(),
-        )
+        Vec3::new(-yaw.sin() * pitch.cos(), pitch.sin(), -yaw.cos() * pitch.cos())
     }
 
     /// World → view.
@@ -77,10 +73,7 @@ mod tests {
         };
         assert!((c.forward() - Vec3::NEG_Z).length() < 1e-6);
         c.yaw_deg = 90.0;
-        assert!(
-            (c.forward() - Vec3::NEG_X).length() < 1e-6,
-            "positive yaw turns left"
-        );
+        assert!((c.forward() - Vec3::NEG_X).length() < 1e-6, "positive yaw turns left");
         c.pitch_deg = 90.0;
         assert!((c.forward() - Vec3::Y).length() < 1e-6);
     }

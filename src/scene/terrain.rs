@@ -31,18 +31,10 @@ impl Terrain {
         let mut heights = Vec::with_capacity((n * n) as usize);
         for z in 0..n {
             for x in 0..n {
-                heights.push(hills(
-                    origin + x as f32 * step,
-                    origin + z as f32 * step,
-                    seed,
-                ));
+                heights.push(hills(origin + x as f32 * step, origin + z as f32 * step, seed));
             }
         }
-        Self {
-            size,
-            cells,
-            heights,
-        }
+        Self { size, cells, heights }
     }
 
     /// Cells per side for a field of side `size` metres.
@@ -95,12 +87,7 @@ fn hills(x: f32, z: f32, seed: u64) -> f32 {
     let mut amplitude = 1.2;
     let mut wavelength = 24.0;
     for octave in 0..3u64 {
-        height += amplitude
-            * value_noise(
-                x / wavelength,
-                z / wavelength,
-                seed.wrapping_add(octave * 0x51ed),
-            );
+        height += amplitude * value_noise(x / wavelength, z / wavelength, seed.wrapping_add(octave * 0x51ed));
         amplitude *= 0.4;
         wavelength *= 0.5;
     }
@@ -139,10 +126,7 @@ mod tests {
         let e = 1e-3;
         assert!((t.height_at(x0 + e, z0) - t.height_at(x0, z0 + e)).abs() < 1e-2);
         assert!(
-            (t.height_at(t.origin() + 2.0 * step - e, z0)
-                - t.height_at(t.origin() + 2.0 * step + e, z0))
-            .abs()
-                < 1e-2
+            (t.height_at(t.origin() + 2.0 * step - e, z0) - t.height_at(t.origin() + 2.0 * step + e, z0)).abs() < 1e-2
         );
     }
 
@@ -155,10 +139,7 @@ mod tests {
         let step = t.cell_size();
         for z in 0..t.cells {
             for x in 0..t.cells {
-                assert!(
-                    (t.grid(x + 1, z) - t.grid(x, z)).abs() / step < 0.6,
-                    "slope too steep"
-                );
+                assert!((t.grid(x + 1, z) - t.grid(x, z)).abs() / step < 0.6, "slope too steep");
             }
         }
     }

@@ -115,11 +115,7 @@ impl Buffer {
     }
 
     /// Create a host-visible buffer holding `data`.
-    pub fn with_data<T: bytemuck::Pod>(
-        device: &Device,
-        desc: &BufferDesc,
-        data: &[T],
-    ) -> Result<Self> {
+    pub fn with_data<T: bytemuck::Pod>(device: &Device, desc: &BufferDesc, data: &[T]) -> Result<Self> {
         let mut buffer = Self::new(device, desc)?;
         buffer.write(0, data);
         Ok(buffer)
@@ -130,10 +126,7 @@ impl Buffer {
     /// # Panics
     /// If the buffer is not host-visible: a programming error, not an input error.
     pub fn mapped(&self) -> &[u8] {
-        let bytes = self
-            .allocation
-            .mapped_slice()
-            .expect("buffer is host-visible");
+        let bytes = self.allocation.mapped_slice().expect("buffer is host-visible");
         &bytes[..self.size as usize]
     }
 
@@ -144,10 +137,7 @@ impl Buffer {
     /// If the buffer is not host-visible or the data does not fit: programming errors.
     pub fn write<T: bytemuck::Pod>(&mut self, offset: usize, data: &[T]) {
         let bytes: &[u8] = bytemuck::cast_slice(data);
-        let mapped = self
-            .allocation
-            .mapped_slice_mut()
-            .expect("buffer is host-visible");
+        let mapped = self.allocation.mapped_slice_mut().expect("buffer is host-visible");
         mapped[offset..offset + bytes.len()].copy_from_slice(bytes);
     }
 

@@ -22,8 +22,7 @@ impl CommandRecorder {
             .queue_family_index(device.queue_family)
             .flags(vk::CommandPoolCreateFlags::TRANSIENT);
         // SAFETY: valid create info.
-        let pool =
-            unsafe { device.raw.create_command_pool(&info, None) }.vk("vkCreateCommandPool")?;
+        let pool = unsafe { device.raw.create_command_pool(&info, None) }.vk("vkCreateCommandPool")?;
         let alloc = vk::CommandBufferAllocateInfo::default()
             .command_pool(pool)
             .level(vk::CommandBufferLevel::PRIMARY)
@@ -53,8 +52,7 @@ impl CommandRecorder {
                 .raw
                 .reset_command_pool(self.pool, vk::CommandPoolResetFlags::empty())
                 .vk("vkResetCommandPool")?;
-            let begin = vk::CommandBufferBeginInfo::default()
-                .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
+            let begin = vk::CommandBufferBeginInfo::default().flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
             device
                 .raw
                 .begin_command_buffer(self.cmd, &begin)

@@ -9,9 +9,7 @@ pub fn begin_label(device: &Device, cmd: vk::CommandBuffer, name: &str, color: [
     let Ok(name) = std::ffi::CString::new(name) else {
         return;
     };
-    let label = vk::DebugUtilsLabelEXT::default()
-        .label_name(&name)
-        .color(color);
+    let label = vk::DebugUtilsLabelEXT::default().label_name(&name).color(color);
     // SAFETY: cmd is recording.
     unsafe { device.debug_utils.cmd_begin_debug_utils_label(cmd, &label) };
 }

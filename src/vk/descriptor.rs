@@ -17,11 +17,7 @@ pub struct Binding {
 }
 
 /// Create a named set layout from bindings (one descriptor each).
-pub fn set_layout(
-    device: &Device,
-    name: &str,
-    bindings: &[Binding],
-) -> Result<vk::DescriptorSetLayout> {
+pub fn set_layout(device: &Device, name: &str, bindings: &[Binding]) -> Result<vk::DescriptorSetLayout> {
     let raw: Vec<_> = bindings
         .iter()
         .map(|b| {
@@ -34,8 +30,7 @@ pub fn set_layout(
         .collect();
     let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&raw);
     // SAFETY: valid create info.
-    let layout = unsafe { device.raw.create_descriptor_set_layout(&info, None) }
-        .vk("vkCreateDescriptorSetLayout")?;
+    let layout = unsafe { device.raw.create_descriptor_set_layout(&info, None) }.vk("vkCreateDescriptorSetLayout")?;
     device.set_name(layout, name);
     Ok(layout)
 }
@@ -62,8 +57,7 @@ pub fn allocate_sets(
         .max_sets(sets)
         .pool_sizes(&sizes);
     // SAFETY: valid create info.
-    let pool =
-        unsafe { device.raw.create_descriptor_pool(&info, None) }.vk("vkCreateDescriptorPool")?;
+    let pool = unsafe { device.raw.create_descriptor_pool(&info, None) }.vk("vkCreateDescriptorPool")?;
     device.set_name(pool, &format!("{name} pool"));
     let layouts = vec![layout; sets as usize];
     let alloc = vk::DescriptorSetAllocateInfo::default()
@@ -97,11 +91,7 @@ pub enum Resource {
 }
 
 /// Write descriptors into `set`: `(binding, type, resource)`.
-pub fn write(
-    device: &Device,
-    set: vk::DescriptorSet,
-    writes: &[(u32, vk::DescriptorType, Resource)],
-) {
+pub fn write(device: &Device, set: vk::DescriptorSet, writes: &[(u32, vk::DescriptorType, Resource)]) {
     let buffer_infos: Vec<[vk::DescriptorBufferInfo; 1]> = writes
         .iter()
         .map(|(_, _, r)| match r {

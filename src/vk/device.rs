@@ -136,8 +136,7 @@ struct Candidate {
 
 fn enumerate(instance: &Instance) -> Result<Vec<Candidate>> {
     // SAFETY: valid instance.
-    let devices =
-        unsafe { instance.raw.enumerate_physical_devices() }.vk("vkEnumeratePhysicalDevices")?;
+    let devices = unsafe { instance.raw.enumerate_physical_devices() }.vk("vkEnumeratePhysicalDevices")?;
     Ok(devices
         .into_iter()
         .enumerate()
@@ -145,18 +144,10 @@ fn enumerate(instance: &Instance) -> Result<Vec<Candidate>> {
             let mut driver = vk::PhysicalDeviceDriverProperties::default();
             let mut props2 = vk::PhysicalDeviceProperties2::default().push_next(&mut driver);
             // SAFETY: raw comes from this instance; the chain points to locals.
-            unsafe {
-                instance
-                    .raw
-                    .get_physical_device_properties2(raw, &mut props2)
-            };
+            unsafe { instance.raw.get_physical_device_properties2(raw, &mut props2) };
             let props = props2.properties;
             // SAFETY: raw comes from this instance.
-            let families = unsafe {
-                instance
-                    .raw
-                    .get_physical_device_queue_family_properties(raw)
-            };
+            let families = unsafe { instance.raw.get_physical_device_queue_family_properties(raw) };
             let queue_family = families
                 .iter()
                 .position(|f| {
@@ -238,8 +229,7 @@ impl Device {
         let candidates = enumerate(&instance)?;
         if candidates.is_empty() {
             return Err(Error::Environment(
-                "no Vulkan device found: install mesa-vulkan-drivers for the lavapipe CPU device"
-                    .into(),
+                "no Vulkan device found: install mesa-vulkan-drivers for the lavapipe CPU device".into(),
             ));
         }
         let listing = || {
@@ -254,15 +244,10 @@ impl Device {
                 .iter()
                 .filter(|c| c.info.usable)
                 .min_by_key(|c| (kind_rank(c.info.kind), c.info.index))
-                .ok_or_else(|| {
-                    Error::Environment(format!("no device supports Vulkan 1.3: {}", listing()))
-                })?,
-            DeviceSelector::Index(index) => candidates.get(*index).ok_or_else(|| {
-                Error::bad_input(format!(
-                    "--device {index}: no such device (have {})",
-                    listing()
-                ))
-            })?,
+                .ok_or_else(|| Error::Environment(format!("no device supports Vulkan 1.3: {}", listing())))?,
+            DeviceSelector::Index(index) => candidates
+                .get(*index)
+                .ok_or_else(|| Error::bad_input(format!("--device {index}: no such device (have {})", listing())))?,
             DeviceSelector::Name(name) => candidates
                 .iter()
                 .find(|c| c.info.name.to_lowercase().contains(name.as_str()))
@@ -280,9 +265,7 @@ impl Device {
             )));
         }
         let physical = chosen.raw;
-        let queue_family = chosen
-            .queue_family
-            .expect("usable devices have a queue family");
+        let queue_family = chosen.queue_family.expect("usable devices have a queue family");
 
         // SAFETY: physical comes from this instance.
         let (properties, memory, supported, families) = unsafe {
@@ -290,19 +273,13 @@ impl Device {
                 instance.raw.get_physical_device_properties(physical),
                 instance.raw.get_physical_device_memory_properties(physical),
                 instance.raw.get_physical_device_features(physical),
-                instance
-                    .raw
-                    .get_physical_device_queue_family_properties(physical),
+                instance.raw.get_physical_device_queue_family_properties(physical),
             )
         };
         let mut supported13 = vk::PhysicalDeviceVulkan13Features::default();
         let mut supported2 = vk::PhysicalDeviceFeatures2::default().push_next(&mut supported13);
         // SAFETY: as above; the chain points to locals.
-        unsafe {
-            instance
-                .raw
-                .get_physical_device_features2(physical, &mut supported2)
-        };
+        unsafe { instance.raw.get_physical_device_features2(physical, &mut supported2) };
         if supported13.synchronization2 == vk::FALSE || supported13.dynamic_rendering == vk::FALSE {
             return Err(Error::Environment(format!(
                 "{} lacks synchronization2 or dynamic rendering",
@@ -337,8 +314,7 @@ impl Device {
             .enabled_extension_names(&extensions)
             .push_next(&mut features2);
         // SAFETY: every pointer in create_info refers to locals alive for this call.
-        let raw = unsafe { instance.raw.create_device(physical, &create_info, None) }
-            .vk("vkCreateDevice")?;
+        let raw = unsafe { instance.raw.create_device(physical, &create_info, None) }.vk("vkCreateDevice")?;
         // SAFETY: the family was requested with one queue.
         let queue = unsafe { raw.get_device_queue(queue_family, 0) };
         let debug_utils = ash::ext::debug_utils::Device::new(&instance.raw, &raw);
@@ -422,9 +398,7 @@ impl Device {
     /// Lock the allocator.
     pub fn allocator(&self) -> MutexGuard<'_, Allocator> {
         // A panic while holding the lock leaves the allocator consistent for freeing.
-        self.allocator
-            .lock()
-            .unwrap_or_else(|poisoned| poisoned.into_inner())
+        self.allocator.lock().unwrap_or_else(|poisoned| poisoned.into_inner())
     }
 
     /// Give a Vulkan object a debug name (shown by validation messages and captures).

@@ -25,12 +25,7 @@ pub struct ImageDesc<'a> {
 
 impl<'a> ImageDesc<'a> {
     /// A colour image of `format`.
-    pub fn color(
-        name: &'a str,
-        format: vk::Format,
-        extent: vk::Extent2D,
-        usage: vk::ImageUsageFlags,
-    ) -> Self {
+    pub fn color(name: &'a str, format: vk::Format, extent: vk::Extent2D, usage: vk::ImageUsageFlags) -> Self {
         Self {
             format,
             extent,

@@ -73,8 +73,8 @@ impl Instance {
         let mut layers = Vec::new();
         if desc.validation {
             // SAFETY: plain query on a valid entry.
-            let available = unsafe { entry.enumerate_instance_layer_properties() }
-                .vk("vkEnumerateInstanceLayerProperties")?;
+            let available =
+                unsafe { entry.enumerate_instance_layer_properties() }.vk("vkEnumerateInstanceLayerProperties")?;
             let found = available
                 .iter()
                 .any(|layer| layer.layer_name_as_c_str() == Ok(VALIDATION_LAYER));
@@ -97,14 +97,11 @@ impl Instance {
             .engine_name(c"meadow")
             .api_version(vk::API_VERSION_1_3);
 
-        let counter = desc
-            .validation
-            .then(|| Arc::new(ValidationCounter::default()));
+        let counter = desc.validation.then(|| Arc::new(ValidationCounter::default()));
         let mut messenger_info = counter.as_ref().map(|counter| {
             vk::DebugUtilsMessengerCreateInfoEXT::default()
                 .message_severity(
-                    vk::DebugUtilsMessageSeverityFlagsEXT::WARNING
-                        | vk::DebugUtilsMessageSeverityFlagsEXT::ERROR,
+                    vk::DebugUtilsMessageSeverityFlagsEXT::WARNING | vk::DebugUtilsMessageSeverityFlagsEXT::ERROR,
                 )
                 .message_type(
                     vk::DebugUtilsMessageTypeFlagsEXT::GENERAL
@@ -131,9 +128,13 @@ impl Instance {
         // SAFETY: every pointer in create_info refers to locals alive for this call.
         let raw = unsafe { entry.create_instance(&create_info, None) }.map_err(|result| match result {
             vk::Result::ERROR_EXTENSION_NOT_PRESENT => Error::Environment(
-                "the Vulkan loader lacks a required instance extension (VK_EXT_debug_utils or a surface extension)".into(),
+                "the Vulkan loader lacks a required instance extension (VK_EXT_debug_utils or a surface extension)"
+                    .into(),
             ),
-            result => Error::Vulkan { call: "vkCreateInstance", result },
+            result => Error::Vulkan {
+                call: "vkCreateInstance",
+                result,
+            },
         })?;
         let debug_utils = ash::ext::debug_utils::Instance::new(&entry, &raw);
         let messenger = match messenger_info {
@@ -177,8 +178,7 @@ impl Drop for Instance {
         // it has been destroyed when the last reference drops.
         unsafe {
             if self.messenger != vk::DebugUtilsMessengerEXT::null() {
-                self.debug_utils
-                    .destroy_debug_utils_messenger(self.messenger, None);
+                self.debug_utils.destroy_debug_utils_messenger(self.messenger, None);
             }
             self.raw.destroy_instance(None);
         }
@@ -202,10 +202,8 @@ unsafe extern "system" fn on_debug_message(
         data.as_ref()
             .map(|d| {
                 (
-                    d.message_id_name_as_c_str()
-                        .map(|s| s.to_string_lossy().into_owned()),
-                    d.message_as_c_str()
-                        .map(|s| s.to_string_lossy().into_owned()),
+                    d.message_id_name_as_c_str().map(|s| s.to_string_lossy().into_owned()),
+                    d.message_as_c_str().map(|s| s.to_string_lossy().into_owned()),
                 )
             })
             .unwrap_or_default()

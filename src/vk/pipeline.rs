@@ -12,8 +12,7 @@ pub fn shader_module(device: &Device, name: &str, spirv: &[u8]) -> Result<vk::Sh
         .map_err(|e| Error::Environment(format!("shader {name} is not valid SPIR-V: {e}")))?;
     let info = vk::ShaderModuleCreateInfo::default().code(&words);
     // SAFETY: valid SPIR-V produced by glslang at build time.
-    let module =
-        unsafe { device.raw.create_shader_module(&info, None) }.vk("vkCreateShaderModule")?;
+    let module = unsafe { device.raw.create_shader_module(&info, None) }.vk("vkCreateShaderModule")?;
     device.set_name(module, name);
     Ok(module)
 }
@@ -29,8 +28,7 @@ pub fn layout(
         .set_layouts(sets)
         .push_constant_ranges(push_constants);
     // SAFETY: valid create info.
-    let layout =
-        unsafe { device.raw.create_pipeline_layout(&info, None) }.vk("vkCreatePipelineLayout")?;
+    let layout = unsafe { device.raw.create_pipeline_layout(&info, None) }.vk("vkCreatePipelineLayout")?;
     device.set_name(layout, name);
     Ok(layout)
 }
@@ -82,8 +80,7 @@ pub fn graphics(device: &Device, desc: &GraphicsDesc) -> Result<vk::Pipeline> {
             .name(c"main"),
     ];
     let vertex_input = vk::PipelineVertexInputStateCreateInfo::default();
-    let input_assembly =
-        vk::PipelineInputAssemblyStateCreateInfo::default().topology(desc.topology);
+    let input_assembly = vk::PipelineInputAssemblyStateCreateInfo::default().topology(desc.topology);
     let viewport = vk::PipelineViewportStateCreateInfo::default()
         .viewport_count(1)
         .scissor_count(1);
@@ -92,14 +89,14 @@ pub fn graphics(device: &Device, desc: &GraphicsDesc) -> Result<vk::Pipeline> {
         .cull_mode(desc.cull)
         .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
         .line_width(1.0);
-    let multisample = vk::PipelineMultisampleStateCreateInfo::default()
-        .rasterization_samples(vk::SampleCountFlags::TYPE_1);
+    let multisample =
+        vk::PipelineMultisampleStateCreateInfo::default().rasterization_samples(vk::SampleCountFlags::TYPE_1);
     let depth = vk::PipelineDepthStencilStateCreateInfo::default()
         .depth_test_enable(true)
         .depth_write_enable(true)
         .depth_compare_op(desc.depth_compare);
-    let blend_attachments = [vk::PipelineColorBlendAttachmentState::default()
-        .color_write_mask(vk::ColorComponentFlags::RGBA)];
+    let blend_attachments =
+        [vk::PipelineColorBlendAttachmentState::default().color_write_mask(vk::ColorComponentFlags::RGBA)];
     let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachments);
     let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
     let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
@@ -139,20 +136,13 @@ pub fn graphics(device: &Device, desc: &GraphicsDesc) -> Result<vk::Pipeline> {
 }
 
 /// Build a compute pipeline.
-pub fn compute(
-    device: &Device,
-    name: &str,
-    spirv: &[u8],
-    layout: vk::PipelineLayout,
-) -> Result<vk::Pipeline> {
+pub fn compute(device: &Device, name: &str, spirv: &[u8], layout: vk::PipelineLayout) -> Result<vk::Pipeline> {
     let module = shader_module(device, name, spirv)?;
     let stage = vk::PipelineShaderStageCreateInfo::default()
         .stage(vk::ShaderStageFlags::COMPUTE)
         .module(module)
         .name(c"main");
-    let info = vk::ComputePipelineCreateInfo::default()
-        .stage(stage)
-        .layout(layout);
+    let info = vk::ComputePipelineCreateInfo::default().stage(stage).layout(layout);
     // SAFETY: valid create info.
     let result = unsafe {
         device

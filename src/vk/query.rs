@@ -48,11 +48,7 @@ impl TimestampQueries {
     /// Reset every query; record before the first `write` of a frame.
     pub fn reset(&mut self, device: &Device, cmd: vk::CommandBuffer) {
         // SAFETY: cmd is recording, outside a render pass.
-        unsafe {
-            device
-                .raw
-                .cmd_reset_query_pool(cmd, self.pool, 0, self.capacity)
-        };
+        unsafe { device.raw.cmd_reset_query_pool(cmd, self.pool, 0, self.capacity) };
         self.written = 0;
     }
 
@@ -66,12 +62,9 @@ impl TimestampQueries {
         let index = self.written;
         // SAFETY: cmd is recording; the query was reset in this command buffer.
         unsafe {
-            device.raw.cmd_write_timestamp2(
-                cmd,
-                vk::PipelineStageFlags2::ALL_COMMANDS,
-                self.pool,
-                index,
-            )
+            device
+                .raw
+                .cmd_write_timestamp2(cmd, vk::PipelineStageFlags2::ALL_COMMANDS, self.pool, index)
         };
         self.written += 1;
         index

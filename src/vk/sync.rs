@@ -60,27 +60,15 @@ impl Access {
         use vk::PipelineStageFlags2 as S;
         let (stages, access, layout) = match self {
             Access::Nothing => (S::NONE, A::NONE, L::UNDEFINED),
-            Access::TransferWrite => (
-                S::COPY | S::CLEAR,
-                A::TRANSFER_WRITE,
-                L::TRANSFER_DST_OPTIMAL,
-            ),
+            Access::TransferWrite => (S::COPY | S::CLEAR, A::TRANSFER_WRITE, L::TRANSFER_DST_OPTIMAL),
             Access::TransferRead => (S::COPY, A::TRANSFER_READ, L::TRANSFER_SRC_OPTIMAL),
             Access::HostRead => (S::HOST, A::HOST_READ, L::GENERAL),
-            Access::VertexShaderStorageRead => {
-                (S::VERTEX_SHADER, A::SHADER_STORAGE_READ, L::GENERAL)
-            }
+            Access::VertexShaderStorageRead => (S::VERTEX_SHADER, A::SHADER_STORAGE_READ, L::GENERAL),
             Access::VertexShaderUniformRead => (S::VERTEX_SHADER, A::UNIFORM_READ, L::GENERAL),
-            Access::VertexShaderSampledRead => (
-                S::VERTEX_SHADER,
-                A::SHADER_SAMPLED_READ,
-                L::SHADER_READ_ONLY_OPTIMAL,
-            ),
-            Access::FragmentShaderSampledRead => (
-                S::FRAGMENT_SHADER,
-                A::SHADER_SAMPLED_READ,
-                L::SHADER_READ_ONLY_OPTIMAL,
-            ),
+            Access::VertexShaderSampledRead => (S::VERTEX_SHADER, A::SHADER_SAMPLED_READ, L::SHADER_READ_ONLY_OPTIMAL),
+            Access::FragmentShaderSampledRead => {
+                (S::FRAGMENT_SHADER, A::SHADER_SAMPLED_READ, L::SHADER_READ_ONLY_OPTIMAL)
+            }
             Access::ComputeShaderRead => (S::COMPUTE_SHADER, A::SHADER_STORAGE_READ, L::GENERAL),
             Access::ComputeShaderWrite => (S::COMPUTE_SHADER, A::SHADER_STORAGE_WRITE, L::GENERAL),
             Access::IndirectCommandRead => (S::DRAW_INDIRECT, A::INDIRECT_COMMAND_READ, L::GENERAL),
@@ -97,11 +85,7 @@ impl Access {
             // Presentation is ordered by the semaphore; the barrier only changes the layout.
             Access::Present => (S::NONE, A::NONE, L::PRESENT_SRC_KHR),
         };
-        AccessInfo {
-            stages,
-            access,
-            layout,
-        }
+        AccessInfo { stages, access, layout }
     }
 
     /// Whether the access writes memory (only writes need to be made available).
@@ -193,11 +177,7 @@ pub fn image_barrier(
 }
 
 /// A synchronization2 buffer barrier over the whole buffer for `previous → next`.
-pub fn buffer_barrier(
-    buffer: vk::Buffer,
-    previous: &[Access],
-    next: &[Access],
-) -> vk::BufferMemoryBarrier2<'static> {
+pub fn buffer_barrier(buffer: vk::Buffer, previous: &[Access], next: &[Access]) -> vk::BufferMemoryBarrier2<'static> {
     let t = transition(previous, next);
     vk::BufferMemoryBarrier2::default()
         .src_stage_mask(t.src_stages)
@@ -249,12 +229,8 @@ pub fn fence(device: &Device, signaled: bool, name: &str) -> Result<vk::Fence> {
 /// Create a named binary semaphore.
 pub fn semaphore(device: &Device, name: &str) -> Result<vk::Semaphore> {
     // SAFETY: valid create info.
-    let semaphore = unsafe {
-        device
-            .raw
-            .create_semaphore(&vk::SemaphoreCreateInfo::default(), None)
-    }
-    .vk("vkCreateSemaphore")?;
+    let semaphore =
+        unsafe { device.raw.create_semaphore(&vk::SemaphoreCreateInfo::default(), None) }.vk("vkCreateSemaphore")?;
     device.set_name(semaphore, name);
     Ok(semaphore)
 }
@@ -276,10 +252,7 @@ mod tests {
 
     #[test]
     fn upload_then_sample_in_fragment_shader() {
-        let t = transition(
-            &[Access::TransferWrite],
-            &[Access::FragmentShaderSampledRead],
-        );
+        let t = transition(&[Access::TransferWrite], &[Access::FragmentShaderSampledRead]);
         assert_eq!(t.src_stages, S::COPY | S::CLEAR);
         assert_eq!(t.src_access, A::TRANSFER_WRITE);
         assert_eq!(t.dst_stages, S::FRAGMENT_SHADER);
@@ -299,11 +272,7 @@ mod tests {
     #[test]
     fn read_after_read_makes_nothing_available() {
         let t = transition(&[Access::VertexShaderStorageRead], &[Access::TransferWrite]);
-        assert_eq!(
-            t.src_access,
-            A::NONE,
-            "a WAR hazard needs only an execution dependency"
-        );
+        assert_eq!(t.src_access, A::NONE, "a WAR hazard needs only an execution dependency");
         assert_eq!(t.src_stages, S::VERTEX_SHADER);
     }
 
@@ -334,9 +303,6 @@ mod tests {
         );
         assert_eq!(t.src_access, A::SHADER_STORAGE_WRITE);
         assert_eq!(t.dst_stages, S::VERTEX_SHADER | S::DRAW_INDIRECT);
-        assert_eq!(
-            t.dst_access,
-            A::SHADER_STORAGE_READ | A::INDIRECT_COMMAND_READ
-        );
+        assert_eq!(t.dst_access, A::SHADER_STORAGE_READ | A::INDIRECT_COMMAND_READ);
     }
 }

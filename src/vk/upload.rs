@@ -79,12 +79,7 @@ impl<'d> UploadBatch<'d> {
     }
 
     /// Create a device-local image holding `texels` (tightly packed rows) once submitted.
-    pub fn image(
-        &mut self,
-        desc: &ImageDesc,
-        texels: &[u8],
-        next: &'static [Access],
-    ) -> Result<Image> {
+    pub fn image(&mut self, desc: &ImageDesc, texels: &[u8], next: &'static [Access]) -> Result<Image> {
         let device = self.device;
         let staging_name = format!("{} staging", desc.name);
         let staging = Buffer::with_data(
@@ -146,16 +141,8 @@ impl<'d> UploadBatch<'d> {
                             size: staging.size,
                         };
                         // SAFETY: both buffers are live and large enough.
-                        unsafe {
-                            device
-                                .raw
-                                .cmd_copy_buffer(cmd, staging.raw, *dst, &[region])
-                        };
-                        buffer_barriers.push(sync::buffer_barrier(
-                            *dst,
-                            &[Access::TransferWrite],
-                            next,
-                        ));
+                        unsafe { device.raw.cmd_copy_buffer(cmd, staging.raw, *dst, &[region]) };
+                        buffer_barriers.push(sync::buffer_barrier(*dst, &[Access::TransferWrite], next));
                     }
                     Copy::Image {
                         staging,
@@ -186,12 +173,7 @@ impl<'d> UploadBatch<'d> {
                                 &[region],
                             )
                         };
-                        image_barriers.push(sync::image_barrier(
-                            *dst,
-                            *range,
-                            &[Access::TransferWrite],
-                            next,
-                        ));
+                        image_barriers.push(sync::image_barrier(*dst, *range, &[Access::TransferWrite], next));
                     }
                 }
             }

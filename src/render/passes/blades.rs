@@ -16,12 +16,7 @@ pub struct BladePass {
 
 impl BladePass {
     /// Build the pipeline for the given attachment formats. Blades are two-sided: no culling.
-    pub fn new(
-        device: &Device,
-        layout: vk::PipelineLayout,
-        color: vk::Format,
-        depth: vk::Format,
-    ) -> Result<Self> {
+    pub fn new(device: &Device, layout: vk::PipelineLayout, color: vk::Format, depth: vk::Format) -> Result<Self> {
         let pipeline = pipeline::graphics(
             device,
             &pipeline::GraphicsDesc {
@@ -40,20 +35,26 @@ impl BladePass {
         Ok(Self { pipeline })
     }
 
-    /// One draw call for all blades: `2(S+1)` strip vertices × `blade_count` instances.
-    pub fn record(&self, device: &Device, cmd: vk::CommandBuffer, scene: &SceneGpu, segments: u32) {
-        // SAFETY: cmd is recording inside the scene's rendering instance; set 0 is bound.
+    /// One draw call for all blades: by default one instance per blade, a strip of `2(S+1)`
+    /// vertices. `--blades-per-instance K` packs K blades into each instance (strips joined by
+    /// degenerate triangles, `bezier::Batching`) to measure a driver's per-instance overhead;
+    /// the picture is the same for every K.
+    pub fn record(
+        &self,
+        device: &Device,
+        cmd: vk::CommandBuffer,
+        scene: &SceneGpu,
+        segments: u32,
+        blades_per_instance: u32,
+    ) {
+        let vertices = bezier::Batching::new(segments, blades_per_instance).vertices_per_instance();
+        let instances = scene.blade_count.div_ceil(blades_per_instance);
+        // SAFETY: cmd is recording inside the blade pass's rendering instance; set 0 is bound.
         unsafe {
             device
                 .raw
                 .cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline);
-            device.raw.cmd_draw(
-                cmd,
-                bezier::strip_vertices(segments),
-                scene.blade_count,
-                0,
-                0,
-            );
+            device.raw.cmd_draw(cmd, vertices, instances, 0, 0);
         }
     }
 

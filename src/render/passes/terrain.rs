@@ -14,12 +14,7 @@ pub struct TerrainPass {
 
 impl TerrainPass {
     /// Build the pipeline for the given attachment formats.
-    pub fn new(
-        device: &Device,
-        layout: vk::PipelineLayout,
-        color: vk::Format,
-        depth: vk::Format,
-    ) -> Result<Self> {
+    pub fn new(device: &Device, layout: vk::PipelineLayout, color: vk::Format, depth: vk::Format) -> Result<Self> {
         let pipeline = pipeline::graphics(
             device,
             &pipeline::GraphicsDesc {
