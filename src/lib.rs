@@ -7,6 +7,7 @@
 pub mod app;
 pub mod cli;
 pub mod error;
+pub mod imagediff;
 pub mod render;
 pub mod scene;
 pub mod vk;

@@ -88,15 +88,15 @@ impl Access {
         AccessInfo { stages, access, layout }
     }
 
-    /// Whether the access writes memory (only writes need to be made available).
-    pub fn is_write(self) -> bool {
+    /// The write part of the access (only writes need to be made available).
+    pub fn writes(self) -> vk::AccessFlags2 {
         use vk::AccessFlags2 as A;
         let writes = A::TRANSFER_WRITE
             | A::SHADER_STORAGE_WRITE
             | A::COLOR_ATTACHMENT_WRITE
             | A::DEPTH_STENCIL_ATTACHMENT_WRITE
             | A::HOST_WRITE;
-        self.info().access.intersects(writes)
+        self.info().access & writes
     }
 }
 
@@ -133,9 +133,7 @@ pub fn transition(previous: &[Access], next: &[Access]) -> Transition {
     for (i, access) in previous.iter().enumerate() {
         let info = access.info();
         t.src_stages |= info.stages;
-        if access.is_write() {
-            t.src_access |= info.access;
-        }
+        t.src_access |= access.writes();
         debug_assert!(
             i == 0 || t.old_layout == info.layout,
             "previous accesses disagree on the layout"

@@ -1,0 +1,24 @@
+# The two commands of the README:
+#   make run   installs what is missing, builds, and renders the default scene to meadow.png
+#   make test  installs what is missing, then fmt, clippy and the whole test suite on lavapipe
+CARGO ?= cargo
+
+.PHONY: deps run test goldens build
+
+deps:
+	@./scripts/install-deps.sh
+
+build: deps
+	$(CARGO) build --release
+
+run: build
+	./target/release/meadow render --out meadow.png
+
+test: deps
+	$(CARGO) fmt --all -- --check
+	$(CARGO) clippy --all-targets -- -D warnings
+	$(CARGO) test --release
+
+# Regenerate tests/golden/*.png from the current renderer (review the pictures before committing).
+goldens: deps
+	MEADOW_UPDATE_GOLDENS=1 $(CARGO) test --release --test golden

@@ -1,0 +1,103 @@
+//! Bad input through the real binary: exit code 2, one `error:` line naming the problem, no panic,
+//! no file written.
+
+mod support;
+
+use support::{meadow, scratch, transcript};
+
+/// Run `meadow render ARGS --out OUT` and check the refusal.
+fn refused(case: &str, args: &[&str], expect_in_message: &str) {
+    let dir = scratch(&format!("bad-{case}"));
+    let out = dir.join("out.png");
+    let mut cmd = meadow();
+    cmd.arg("render").args(args);
+    if !args.contains(&"--device") {
+        cmd.args(["--device", support::DEVICE]);
+    }
+    if !args.contains(&"--out") {
+        cmd.arg("--out").arg(&out);
+    }
+    let output = cmd.output().expect("run meadow");
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(2), "{case}: {}", transcript(&output));
+    let lines: Vec<&str> = stderr.lines().collect();
+    assert_eq!(lines.len(), 1, "{case}: one line expected: {}", transcript(&output));
+    assert!(lines[0].starts_with("error: "), "{case}: {}", lines[0]);
+    assert!(
+        lines[0].contains(expect_in_message),
+        "{case}: '{}' does not mention '{expect_in_message}'",
+        lines[0]
+    );
+    assert!(!stderr.contains("panicked"), "{case}: panic");
+    assert!(!out.exists(), "{case}: a file was written");
+    assert_eq!(
+        std::fs::read_dir(&dir).map(|d| d.count()).unwrap_or(0),
+        0,
+        "{case}: stray files"
+    );
+}
+
+#[test]
+fn zero_and_malformed_counts() {
+    refused("blades-0", &["--blades", "0"], "at least 1 blade");
+    refused("blades-text", &["--blades", "many"], "many");
+    refused("blades-huge", &["--blades", "99999999999"], "99999999999");
+    refused("segments-0", &["--segments", "0"], "outside 1..=16");
+    refused("segments-17", &["--segments", "17"], "outside 1..=16");
+    refused("per-instance-0", &["--blades-per-instance", "0"], "outside 1..=1024");
+    refused("frames-0", &["--frames", "0"], "--frames");
+}
+
+#[test]
+fn sizes() {
+    refused("size-0x0", &["--size", "0x0"], "empty");
+    refused("size-malformed", &["--size", "1280"], "WIDTHxHEIGHT");
+    refused("size-huge", &["--size", "100000x100000"], "maxImageDimension2D");
+}
+
+#[test]
+fn non_finite_camera() {
+    refused("camera-nan", &["--camera", "0,NaN,0,0,0"], "NaN");
+    refused("camera-inf", &["--camera", "0,1.7,inf,0,0"], "inf");
+    refused("camera-neg-inf", &["--camera", "-inf,1.7,0,0,0"], "-inf");
+    refused("camera-short", &["--camera", "0,1,2"], "five numbers");
+    refused("camera-pitch", &["--camera", "0,1,2,0,90"], "pitch");
+}
+
+#[test]
+fn device_limits_and_budget() {
+    // lavapipe: maxStorageBufferRange = 128 MiB, i.e. 4 194 304 blades of 32 bytes.
+    refused(
+        "blades-over-storage-range",
+        &["--blades", "5000000"],
+        "maxStorageBufferRange",
+    );
+    // 16384² RGBA colour + depth + readback = 3 GiB: over the 2 GiB heap and budget.
+    refused("target-over-budget", &["--size", "16384x16384"], "16384x16384");
+}
+
+#[test]
+fn files_and_devices() {
+    refused(
+        "out-dir-missing",
+        &["--out", "/nonexistent/dir/x.png"],
+        "does not exist",
+    );
+    refused("device-unknown", &["--device", "no-such-gpu"], "no-such-gpu");
+    refused("device-index", &["--device", "42"], "no such device");
+}
+
+#[test]
+fn missing_validation_layer_fails_instead_of_skipping() {
+    let dir = scratch("no-layer");
+    let out = dir.join("out.png");
+    let output = meadow()
+        .env("VK_LAYER_PATH", dir.join("no-layers-here"))
+        .args(["render", "--validation", "--blades", "10", "--size", "16x16", "--out"])
+        .arg(&out)
+        .output()
+        .expect("run meadow");
+    assert_eq!(output.status.code(), Some(1), "{}", transcript(&output));
+    assert!(String::from_utf8_lossy(&output.stderr).contains("VK_LAYER_KHRONOS_validation is not installed"));
+    assert!(!out.exists());
+}

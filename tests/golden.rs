@@ -1,0 +1,111 @@
+//! Golden-image tests: small fixed scenes rendered on lavapipe compared with `tests/golden/`.
+//!
+//! A pass needs ≥ 99.9 % of pixels within ±3/255 and none off by more than 32/255. On failure the
+//! actual picture and a diff are written to `tests/out/`. Goldens are regenerated only by
+//! `make goldens` (`MEADOW_UPDATE_GOLDENS=1`), never by a plain test run.
+
+mod support;
+
+use std::path::Path;
+
+use meadow::imagediff::compare_rgb;
+use support::Picture;
+
+const TOLERANCE: u8 = 3;
+const MIN_WITHIN: f64 = 0.999;
+const MAX_DIFF: u8 = 32;
+
+fn check_golden(name: &str, args: &[&str]) {
+    let dir = support::scratch(&format!("golden-{name}"));
+    let actual_path = dir.join(format!("{name}.png"));
+    support::render(args, &actual_path);
+    let golden_path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/golden")
+        .join(format!("{name}.png"));
+    if std::env::var_os("MEADOW_UPDATE_GOLDENS").is_some() {
+        std::fs::copy(&actual_path, &golden_path).expect("update golden");
+        eprintln!("updated {}", golden_path.display());
+        return;
+    }
+    assert!(
+        golden_path.exists(),
+        "missing golden {} (run `make goldens`)",
+        golden_path.display()
+    );
+    let golden = Picture::load(&golden_path);
+    let actual = Picture::load(&actual_path);
+    assert_eq!(
+        (actual.width, actual.height),
+        (golden.width, golden.height),
+        "{name}: size changed"
+    );
+    let (stats, diff) = compare_rgb(&actual.rgb, &golden.rgb, TOLERANCE);
+    if stats.within_fraction() < MIN_WITHIN || stats.max_diff > MAX_DIFF {
+        let out = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/out");
+        std::fs::create_dir_all(&out).expect("create tests/out");
+        actual.save(&out.join(format!("{name}.actual.png")));
+        Picture { rgb: diff, ..actual }.save(&out.join(format!("{name}.diff.png")));
+        panic!(
+            "{name}: {:.3} % of pixels within ±{TOLERANCE}, largest difference {}; wrote tests/out/{name}.actual.png and .diff.png",
+            100.0 * stats.within_fraction(),
+            stats.max_diff
+        );
+    }
+}
+
+#[test]
+fn default_view_small_field() {
+    check_golden(
+        "default_view",
+        &["--blades", "20000", "--size", "320x180", "--seed", "1"],
+    );
+}
+
+/// `X,Y,Z,YAW,PITCH` with Y `eye` metres above the terrain of the field `meadow render` builds for
+/// `blades` and `seed`.
+fn camera_above_ground(blades: u32, seed: u64, x: f32, z: f32, eye: f32, yaw: f32, pitch: f32) -> String {
+    let terrain = meadow::scene::Terrain::generate(meadow::scene::blades::field_size(blades), seed);
+    format!("{x},{},{z},{yaw},{pitch}", terrain.height_at(x, z) + eye)
+}
+
+#[test]
+fn one_segment_blades_close_up() {
+    let camera = camera_above_ground(4000, 7, 0.0, 1.5, 0.5, 20.0, -15.0);
+    check_golden(
+        "one_segment_close_up",
+        &[
+            "--blades",
+            "4000",
+            "--segments",
+            "1",
+            "--size",
+            "240x240",
+            "--seed",
+            "7",
+            "--camera",
+            &camera,
+        ],
+    );
+}
+
+#[test]
+fn sixteen_segments_from_above_with_batching() {
+    let camera = camera_above_ground(8000, 3, 0.5, 1.8, 1.6, -30.0, -55.0);
+    check_golden(
+        "sixteen_segments_above",
+        &[
+            "--blades",
+            "8000",
+            "--segments",
+            "16",
+            "--size",
+            "256x192",
+            "--seed",
+            "3",
+            "--camera",
+            &camera,
+            "--blades-per-instance",
+            "32",
+        ],
+    );
+}
