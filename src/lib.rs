@@ -8,6 +8,7 @@ pub mod app;
 pub mod cli;
 pub mod error;
 pub mod imagediff;
+pub mod keyframes;
 pub mod render;
 pub mod scene;
 pub mod vk;

@@ -1,0 +1,351 @@
+//! The keyframe table (thesis 3.2.3–3.2.6): poses indexed by force magnitude and by the angle
+//! between the force and the blade's normal, a quarter of them stored thanks to the mirror
+//! symmetry of fig. 3.8–3.9, and the selection and smoothing the vertex shader performs
+//! (`shaders/keyframes.glsl` mirrors `select` and `blend`).
+
+use std::f32::consts::FRAC_PI_2;
+
+use glam::Vec3;
+
+use crate::keyframes::pose::{self, BladeModel, Pose, MAX_FORCE};
+
+/// How in-between poses are made (thesis 3.2.6).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Smoothing {
+    /// The nearest stored pose (the thesis' choice with 1000 poses).
+    #[default]
+    Nearest,
+    /// Linear interpolation of displacements, eq. 3.13.
+    Linear,
+    /// Spherical linear interpolation, eq. 3.14 (keeps the blade's length).
+    Slerp,
+}
+
+impl Smoothing {
+    /// Index used by the shaders.
+    pub fn code(self) -> u32 {
+        match self {
+            Smoothing::Nearest => 0,
+            Smoothing::Linear => 1,
+            Smoothing::Slerp => 2,
+        }
+    }
+}
+
+/// Shape of the stored quarter: `magnitudes × angles` poses, angles spanning [0, π/2] from the
+/// normal towards the blade's width, magnitudes [0, MAX_FORCE].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct KeyframeLayout {
+    /// Force magnitudes sampled.
+    pub magnitudes: u32,
+    /// Angles sampled in the quarter.
+    pub angles: u32,
+}
+
+impl KeyframeLayout {
+    /// Layout for about `poses` poses over the full circle, a quarter stored: the angle count is
+    /// about √(poses/4)/1.6 (1000 poses: 25 magnitudes × 10 angles = 250 stored).
+    pub fn for_poses(poses: u32) -> Self {
+        let quarter = poses.div_ceil(4).max(1);
+        let angles = ((quarter as f32).sqrt() / 1.6).round().clamp(1.0, 64.0) as u32;
+        let magnitudes = quarter.div_ceil(angles).max(2);
+        Self { magnitudes, angles }
+    }
+
+    /// Poses stored.
+    pub fn stored(&self) -> u32 {
+        self.magnitudes * self.angles
+    }
+
+    /// Poses represented over the full circle (4 mirror images of each stored one).
+    pub fn represented(&self) -> u32 {
+        4 * self.stored()
+    }
+
+    /// Row of the pose with magnitude index `m` and angle index `a`.
+    pub fn row(&self, m: u32, a: u32) -> u32 {
+        m * self.angles + a
+    }
+
+    /// Force magnitude of magnitude index `m`.
+    pub fn magnitude(&self, m: u32) -> f32 {
+        MAX_FORCE * m as f32 / (self.magnitudes - 1) as f32
+    }
+
+    /// Angle (radians from the normal towards the width) of angle index `a`.
+    pub fn angle(&self, a: u32) -> f32 {
+        if self.angles == 1 {
+            0.0
+        } else {
+            FRAC_PI_2 * a as f32 / (self.angles - 1) as f32
+        }
+    }
+}
+
+/// One stored level of one pose: backbone displacement from the straight unit blade (xyz) and the
+/// twist of the width about +y (w, radians).
+pub type Keyframe = [f32; 4];
+
+/// Stored poses of the reference blade: `layout.stored()` rows of `segments` levels (level 0,
+/// the root, never moves and is not stored: thesis 3.3).
+#[derive(Clone, Debug)]
+pub struct KeyframeTable {
+    /// Table shape.
+    pub layout: KeyframeLayout,
+    /// Levels per pose.
+    pub segments: u32,
+    /// `stored × segments` keyframes, row-major.
+    pub frames: Vec<Keyframe>,
+}
+
+/// What the selection decided for one force: up to four stored poses with weights, and the
+/// mirror signs that map the stored quarter onto the force's quadrant.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Selection {
+    /// Rows of the poses blended.
+    pub rows: [u32; 4],
+    /// Their weights (sum 1), in (magnitude, angle) bilinear order: (m,a) (m+1,a) (m,a+1) (m+1,a+1).
+    pub weights: [f32; 4],
+    /// Magnitude blend parameter (for slerp).
+    pub t_magnitude: f32,
+    /// Angle blend parameter (for slerp).
+    pub t_angle: f32,
+    /// Sign of the force's component across the blade (x mirror).
+    pub sign_x: f32,
+    /// Sign of the force's component along the normal: front (+) or back (−), eq. 3.10–3.11.
+    pub sign_z: f32,
+}
+
+impl KeyframeTable {
+    /// Generate every stored pose with the chain solver.
+    pub fn generate(model: &BladeModel, layout: KeyframeLayout) -> Self {
+        let s = model.segments as usize;
+        let neutral = Pose::neutral(model.segments);
+        let mut frames = Vec::with_capacity(layout.stored() as usize * s);
+        for m in 0..layout.magnitudes {
+            for a in 0..layout.angles {
+                let (f, phi) = (layout.magnitude(m), layout.angle(a));
+                let pose = pose::solve(model, f * phi.sin(), f * phi.cos());
+                for level in 1..=s {
+                    let d = pose.backbone[level] - neutral.backbone[level];
+                    frames.push([d.x, d.y, d.z, pose.twist[level]]);
+                }
+            }
+        }
+        Self {
+            layout,
+            segments: model.segments,
+            frames,
+        }
+    }
+
+    /// The stored keyframe of `row` at `level` (1..=segments).
+    pub fn keyframe(&self, row: u32, level: u32) -> Keyframe {
+        self.frames[(row * self.segments + level - 1) as usize]
+    }
+
+    /// Choose the stored poses for a force `(fx, fz)` in the blade's frame, already divided by
+    /// the blade's stiffness (eq. 3.10–3.12 with the mirror symmetry of fig. 3.9).
+    pub fn select(&self, fx: f32, fz: f32, smoothing: Smoothing) -> Selection {
+        let l = self.layout;
+        let magnitude = (fx * fx + fz * fz).sqrt().min(MAX_FORCE);
+        // ω of eq. 3.12 folded into the stored quarter by the mirrors.
+        let phi = if magnitude > 0.0 { fx.abs().atan2(fz.abs()) } else { 0.0 };
+        let sign_x = if fx < 0.0 { -1.0 } else { 1.0 };
+        let sign_z = if fz < 0.0 { -1.0 } else { 1.0 };
+        let mf = magnitude / MAX_FORCE * (l.magnitudes - 1) as f32;
+        let af = if l.angles > 1 {
+            phi / FRAC_PI_2 * (l.angles - 1) as f32
+        } else {
+            0.0
+        };
+        match smoothing {
+            Smoothing::Nearest => {
+                let row = l.row(mf.round() as u32, af.round() as u32);
+                Selection {
+                    rows: [row; 4],
+                    weights: [1.0, 0.0, 0.0, 0.0],
+                    t_magnitude: 0.0,
+                    t_angle: 0.0,
+                    sign_x,
+                    sign_z,
+                }
+            }
+            Smoothing::Linear | Smoothing::Slerp => {
+                let m0 = (mf.floor() as u32).min(l.magnitudes - 2);
+                let a0 = (af.floor() as u32).min(l.angles.saturating_sub(2));
+                let a1 = (a0 + 1).min(l.angles - 1);
+                let tm = (mf - m0 as f32).clamp(0.0, 1.0);
+                let ta = if a1 > a0 { (af - a0 as f32).clamp(0.0, 1.0) } else { 0.0 };
+                Selection {
+                    rows: [l.row(m0, a0), l.row(m0 + 1, a0), l.row(m0, a1), l.row(m0 + 1, a1)],
+                    weights: [(1.0 - tm) * (1.0 - ta), tm * (1.0 - ta), (1.0 - tm) * ta, tm * ta],
+                    t_magnitude: tm,
+                    t_angle: ta,
+                    sign_x,
+                    sign_z,
+                }
+            }
+        }
+    }
+
+    /// Root-relative position and twist of `level` for a selection, mirrored into the force's
+    /// quadrant: the CPU reference of the vertex shader.
+    pub fn blend(&self, selection: &Selection, level: u32, smoothing: Smoothing) -> (Vec3, f32) {
+        let neutral = Vec3::new(0.0, level as f32 / self.segments as f32, 0.0);
+        let at = |i: usize| {
+            let k = self.keyframe(selection.rows[i], level);
+            (neutral + Vec3::new(k[0], k[1], k[2]), k[3])
+        };
+        let (position, twist) = match smoothing {
+            Smoothing::Nearest => at(0),
+            // Eq. 3.13: E_ref + Σ δ_i Δ_i.
+            Smoothing::Linear => (0..4).fold((Vec3::ZERO, 0.0), |(p, t), i| {
+                let (pi, ti) = at(i);
+                (p + pi * selection.weights[i], t + ti * selection.weights[i])
+            }),
+            // Eq. 3.14 on the root-relative vectors P0P, first along magnitude, then along angle.
+            Smoothing::Slerp => {
+                let (p0, t0) = at(0);
+                let (p1, t1) = at(1);
+                let (p2, t2) = at(2);
+                let (p3, t3) = at(3);
+                let tm = selection.t_magnitude;
+                let lo = slerp(p0, p1, tm);
+                let hi = slerp(p2, p3, tm);
+                let lerp = |a: f32, b: f32, t: f32| a + (b - a) * t;
+                (
+                    slerp(lo, hi, selection.t_angle),
+                    lerp(lerp(t0, t1, tm), lerp(t2, t3, tm), selection.t_angle),
+                )
+            }
+        };
+        (
+            Vec3::new(position.x * selection.sign_x, position.y, position.z * selection.sign_z),
+            twist * selection.sign_x * selection.sign_z,
+        )
+    }
+
+    /// The pose the table gives for a force (levels 0..=S), for tests and tools.
+    pub fn pose_for(&self, fx: f32, fz: f32, smoothing: Smoothing) -> Pose {
+        let selection = self.select(fx, fz, smoothing);
+        let mut pose = Pose::neutral(self.segments);
+        for level in 1..=self.segments {
+            let (p, t) = self.blend(&selection, level, smoothing);
+            pose.backbone[level as usize] = p;
+            pose.twist[level as usize] = t;
+        }
+        pose
+    }
+}
+
+/// Spherical linear interpolation of two vectors from the root (eq. 3.14), with the lengths
+/// interpolated linearly; falls back to a linear blend for nearly parallel vectors.
+pub fn slerp(a: Vec3, b: Vec3, t: f32) -> Vec3 {
+    let (la, lb) = (a.length(), b.length());
+    if la == 0.0 || lb == 0.0 {
+        return a.lerp(b, t);
+    }
+    let (ua, ub) = (a / la, b / lb);
+    let omega = ua.dot(ub).clamp(-1.0, 1.0).acos();
+    let direction = if omega < 1e-4 {
+        ua.lerp(ub, t).normalize()
+    } else {
+        (ua * ((1.0 - t) * omega).sin() + ub * (t * omega).sin()) / omega.sin()
+    };
+    direction * (la + (lb - la) * t)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn table(segments: u32) -> KeyframeTable {
+        KeyframeTable::generate(&BladeModel::new(segments), KeyframeLayout::for_poses(1000))
+    }
+
+    #[test]
+    fn thousand_poses_store_a_quarter() {
+        let l = KeyframeLayout::for_poses(1000);
+        assert_eq!((l.magnitudes, l.angles), (25, 10));
+        assert_eq!(l.stored(), 250);
+        assert_eq!(l.represented(), 1000);
+    }
+
+    #[test]
+    fn every_stored_pose_keeps_its_segment_lengths() {
+        let t = table(8);
+        for row in 0..t.layout.stored() {
+            let mut previous = Vec3::ZERO;
+            for level in 1..=8 {
+                let k = t.keyframe(row, level);
+                let p = Vec3::new(k[0], level as f32 / 8.0 + k[1], k[2]);
+                let length = (p - previous).length();
+                assert!((length - 0.125).abs() <= 0.125e-3, "row {row} level {level}: {length}");
+                previous = p;
+            }
+        }
+    }
+
+    #[test]
+    fn tip_displacement_grows_with_the_force_at_every_angle() {
+        let t = table(4);
+        for a in 0..t.layout.angles {
+            let mut last = -1.0;
+            for m in 0..t.layout.magnitudes {
+                let k = t.keyframe(t.layout.row(m, a), 4);
+                let tip = Vec3::new(k[0], k[1], k[2]).length();
+                assert!(tip > last || m == 0, "angle {a} magnitude {m}");
+                last = tip;
+            }
+        }
+    }
+
+    #[test]
+    fn mirrored_poses_equal_a_direct_solve_for_the_mirrored_force() {
+        let model = BladeModel::new(4);
+        let layout = KeyframeLayout::for_poses(1000);
+        let t = KeyframeTable::generate(&model, layout);
+        // A force exactly on a stored sample, mirrored into each quadrant.
+        let (f, phi) = (layout.magnitude(12), layout.angle(3));
+        for (sx, sz) in [(1.0, 1.0), (-1.0, 1.0), (1.0, -1.0), (-1.0, -1.0)] {
+            let (fx, fz) = (sx * f * phi.sin(), sz * f * phi.cos());
+            let from_table = t.pose_for(fx, fz, Smoothing::Nearest);
+            let direct = pose::solve(&model, fx, fz);
+            for level in 0..=4 {
+                assert!(
+                    (from_table.backbone[level] - direct.backbone[level]).length() < 1e-5,
+                    "quadrant ({sx}, {sz}) level {level}"
+                );
+                assert!((from_table.twist[level] - direct.twist[level]).abs() < 1e-5);
+            }
+        }
+    }
+
+    #[test]
+    fn smoothing_modes_agree_on_samples_and_slerp_keeps_length_between() {
+        let t = table(4);
+        let l = t.layout;
+        let (f, phi) = (l.magnitude(5), l.angle(2));
+        let (fx, fz) = (f * phi.sin(), f * phi.cos());
+        let nearest = t.pose_for(fx, fz, Smoothing::Nearest);
+        for smoothing in [Smoothing::Linear, Smoothing::Slerp] {
+            let p = t.pose_for(fx, fz, smoothing);
+            assert!((p.backbone[4] - nearest.backbone[4]).length() < 1e-4, "{smoothing:?}");
+        }
+        // Half-way between two distant stored magnitudes (a coarse table): slerp keeps the blade's
+        // length better than linear interpolation, which shortens it (fig. 3.6).
+        let coarse = KeyframeTable::generate(
+            &BladeModel::new(4),
+            KeyframeLayout {
+                magnitudes: 3,
+                angles: 2,
+            },
+        );
+        let length = |p: &Pose| (0..4).map(|i| p.segment_length(i)).sum::<f32>();
+        let f_mid = 0.25 * MAX_FORCE;
+        let lin = (length(&coarse.pose_for(0.0, f_mid, Smoothing::Linear)) - 1.0).abs();
+        let sl = (length(&coarse.pose_for(0.0, f_mid, Smoothing::Slerp)) - 1.0).abs();
+        assert!(sl < lin, "slerp length error {sl} vs linear {lin}");
+    }
+}
