@@ -12,5 +12,6 @@ pub mod keyframes;
 pub mod render;
 pub mod scene;
 pub mod vk;
+pub mod wind;
 
 pub use error::{Error, Result};

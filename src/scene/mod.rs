@@ -4,6 +4,7 @@ pub mod alpha;
 pub mod bezier;
 pub mod blades;
 pub mod camera;
+pub mod clusters;
 pub mod rng;
 pub mod terrain;
 
