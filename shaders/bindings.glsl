@@ -7,5 +7,11 @@ layout(set = 0, binding = BINDING_FRAME, std140) uniform Frame { FrameUniforms f
 layout(set = 0, binding = BINDING_BLADES, std430) readonly buffer Blades { BladeInstance blades[]; };
 layout(set = 0, binding = BINDING_HEIGHTS, std430) readonly buffer Heights { float heights[]; };
 layout(set = 0, binding = BINDING_BLADE_ALPHA) uniform sampler2D blade_alpha;
+layout(set = 0, binding = BINDING_CLUSTERS, std430) readonly buffer Clusters { BladeCluster clusters[]; };
+// Per frame: forces at cluster corners (xy force, z calm-area exposure), and point sources
+// (x, z, power, sigma) followed by colliders (centre x, z, radius x, z).
+layout(set = 0, binding = BINDING_CORNERS, std430) readonly buffer Corners { vec4 corners[]; };
+layout(set = 0, binding = BINDING_EMITTERS, std430) readonly buffer Emitters { vec4 emitters[]; };
+layout(set = 0, binding = BINDING_KEYFRAMES) uniform sampler2D keyframe_texture;
 
 #endif

@@ -4,7 +4,7 @@
 #ifndef MEADOW_COMMON_GLSL
 #define MEADOW_COMMON_GLSL
 
-// Per-frame constants (std140, 160 bytes).
+// Per-frame constants (std140, 192 bytes).
 struct FrameUniforms {
     mat4 view_proj;         // world -> clip (reversed infinite Z, Vulkan y down)
     vec4 camera_position;   // xyz eye, w simulation time (s)
@@ -12,7 +12,17 @@ struct FrameUniforms {
     vec4 sky_color;         // rgb linear sky, w fog density (1/m)
     vec4 terrain;           // x grid origin (x = z), y cell size (m), zw unused
     uvec4 params;           // x segments, y blade count, z terrain cells per side, w 1 = encode sRGB
-    uvec4 batching;         // x blades per instance, y vertices per blade, z leading repeats, w unused
+    uvec4 batching;         // x blades per instance, y vertices per blade, z leading repeats,
+                            // w debug view (0 none, 1 force magnitude as colour, thesis fig. 4.5/6.1c)
+    uvec4 animation;        // x mode (0 static, 1 texture), y smoothing (0 nearest, 1 linear, 2 slerp),
+                            // z encoding (0 rgba8x2, 1 unorm16, 2 float32), w attenuation (0 cluster, 1 blade)
+    uvec4 keyframes;        // x magnitudes, y angles, z point sources, w cluster corners per side
+};
+
+// Per-blade cluster record (std430, 8 bytes): eq. 3.7 weights precomputed.
+struct BladeCluster {
+    uint corner;            // corner of the cluster with the smallest x and z
+    uint weights;           // unorm8 x4: (x0,z0) (x1,z0) (x0,z1) (x1,z1)
 };
 
 // One blade (std430, 32 bytes).
@@ -29,5 +39,12 @@ struct BladeInstance {
 #define BINDING_BLADES 1
 #define BINDING_HEIGHTS 2
 #define BINDING_BLADE_ALPHA 3
+#define BINDING_CLUSTERS 4
+#define BINDING_CORNERS 5
+#define BINDING_EMITTERS 6
+#define BINDING_KEYFRAMES 7
+
+#define MODE_STATIC 0u
+#define MODE_TEXTURE 1u
 
 #endif

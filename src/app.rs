@@ -8,7 +8,11 @@ use std::time::Instant;
 use ash::vk;
 
 use crate::error::{Error, Result};
+use crate::render::animation::{AnimationSettings, KeyframeTexture};
 use crate::render::target::{offscreen_bytes, OFFSCREEN_FORMAT};
+
+/// Most cluster corners meadow computes forces for each frame.
+pub const MAX_CORNERS: u32 = 1 << 20;
 use crate::render::{FrameTimings, OffscreenTarget, RenderSettings, Renderer};
 use crate::scene::{blades, BladeInstance, Camera, Scene};
 use crate::vk::device::{format_bytes, DeviceInfo};
@@ -86,6 +90,12 @@ pub struct RenderOptions {
     pub frames: u32,
     /// Blades per instance of the blade draw.
     pub blades_per_instance: u32,
+    /// How blades are animated and by what.
+    pub animation: AnimationSettings,
+    /// Simulation time of the picture (seconds).
+    pub time: f32,
+    /// Colour blades by force magnitude.
+    pub debug_force: bool,
 }
 
 /// What `meadow render` did.
@@ -195,6 +205,14 @@ pub fn render(device: &Arc<Device>, options: &RenderOptions) -> Result<RenderRep
     let field_m = blades::field_size(options.blades);
     let terrain_cells = crate::scene::terrain::Terrain::cells_for(field_m);
     check_limits(device, options.blades, options.size, terrain_cells)?;
+    KeyframeTexture::check_limits(device, options.animation.poses)?;
+    let corners = crate::scene::clusters::ClusterGrid::new(field_m, options.animation.cluster_size).corner_count();
+    if corners > MAX_CORNERS {
+        return Err(Error::bad_input(format!(
+            "--cluster-size {} m makes {corners} cluster corners on a {field_m:.1} m field, more than the {MAX_CORNERS} the CPU updates per frame",
+            options.animation.cluster_size
+        )));
+    }
 
     let setup = Instant::now();
     let scene = Scene::generate(options.blades, options.seed);
@@ -205,8 +223,9 @@ pub fn render(device: &Arc<Device>, options: &RenderOptions) -> Result<RenderRep
         encode_srgb: true,
         frames_in_flight: 1,
         blades_per_instance: options.blades_per_instance,
+        debug_force: options.debug_force,
     };
-    let mut renderer = Renderer::new(device.clone(), &scene, settings)?;
+    let mut renderer = Renderer::new(device.clone(), &scene, settings, options.animation.clone())?;
     let extent = vk::Extent2D {
         width: options.size.0,
         height: options.size.1,
@@ -217,7 +236,7 @@ pub fn render(device: &Arc<Device>, options: &RenderOptions) -> Result<RenderRep
     let result = (|| {
         let mut frames = Vec::new();
         for _ in 0..options.frames {
-            frames.push(renderer.render_offscreen(&mut target, &camera, 0.0)?);
+            frames.push(renderer.render_offscreen(&mut target, &camera, options.time)?);
         }
         write_png(&options.out, options.size, target.pixels())?;
         Ok(frames)
@@ -251,4 +270,110 @@ pub fn median(values: &mut [f64]) -> f64 {
     } else {
         values[mid]
     }
+}
+
+/// `meadow keyframes` options.
+#[derive(Clone, Debug)]
+pub struct KeyframeOptions {
+    /// Poses over the full circle.
+    pub poses: u32,
+    /// Segments of meadow's blade.
+    pub segments: u32,
+    /// Print the compression figures.
+    pub report: bool,
+    /// Write the keyframe texture (unorm16) as a 16-bit RGBA PNG.
+    pub export: Option<PathBuf>,
+}
+
+/// `meadow keyframes`: generate the table, print its compression figures (thesis 3.3) and the
+/// measured encoding errors (4.4), optionally export the texture as a picture. CPU only.
+pub fn keyframes(options: &KeyframeOptions) -> Result<String> {
+    use crate::keyframes::compression::{BladeGeometry, CompressionReport};
+    use crate::keyframes::encoding::{self, Encoding};
+    use crate::keyframes::{BladeModel, KeyframeLayout, KeyframeTable};
+    use std::fmt::Write;
+
+    if let Some(path) = &options.export {
+        check_output(path)?;
+    }
+    let started = Instant::now();
+    let layout = KeyframeLayout::for_poses(options.poses);
+    let table = KeyframeTable::generate(&BladeModel::new(options.segments), layout);
+    let generation_ms = started.elapsed().as_secs_f64() * 1e3;
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "keyframes: {} x {} segments generated in {generation_ms:.1} ms: {} magnitudes x {} angles = {} stored, {} represented with the mirrors",
+        options.poses,
+        options.segments,
+        layout.magnitudes,
+        layout.angles,
+        layout.stored(),
+        layout.represented()
+    );
+    if options.report {
+        let _ = write!(
+            out,
+            "{}",
+            CompressionReport::new(BladeGeometry::thesis(8), options.poses)
+        );
+        let _ = write!(
+            out,
+            "{}",
+            CompressionReport::new(BladeGeometry::meadow(options.segments), options.poses)
+        );
+        let e8 = encoding::max_error(200_001, |x| encoding::d1(encoding::e1(x)));
+        let e16 = encoding::max_error(200_001, |x| encoding::decode_rgba8x2(encoding::e1(x), encoding::e2(x)));
+        let u16e = encoding::max_error(200_001, |x| encoding::decode_unorm16(encoding::encode_unorm16(x)));
+        let m1 = encoding::max_error(200_001, |x| encoding::thesis_extract1(encoding::thesis_merge(x, 0.3)));
+        let m2 = encoding::max_error(200_001, |x| encoding::thesis_extract2(encoding::thesis_merge(-0.7, x)));
+        let snorm = encoding::max_error(200_001, |x| {
+            encoding::unpack_snorm2x16(encoding::pack_snorm2x16(0.5, x)).1
+        });
+        let _ = writeln!(
+            out,
+            "measured max round-trip errors over [-1, 1] (thesis: d8 ~ 7.9125e-3, d16 ~ 3.05175e-5):"
+        );
+        let _ = writeln!(out, "  one byte (e1/d1)                   {e8:.4e}");
+        let _ = writeln!(out, "  two bytes rgba8x2 (e1,e2 / d1+d2)  {e16:.4e}");
+        let _ = writeln!(out, "  unorm16                            {u16e:.4e}");
+        let _ = writeln!(out, "  uniform merge/extract1 in f32      {m1:.4e}");
+        let m2_inner = (0..200_001)
+            .map(|i| -1.0 + 1.999 * i as f32 / 200_000.0)
+            .map(|x| (encoding::thesis_extract2(encoding::thesis_merge(-0.7, x)) - x).abs())
+            .fold(0.0f32, f32::max);
+        let _ = writeln!(
+            out,
+            "  uniform merge/extract2 in f32      {m2:.4e}  (at f2 = 1: m1(1) = 1 carries into f1)"
+        );
+        let _ = writeln!(
+            out,
+            "  uniform merge/extract2, f2 < 0.999 {m2_inner:.4e}  (not 16-bit: f32 keeps 24 significant bits)"
+        );
+        let _ = writeln!(out, "  exact snorm16x2 packing            {snorm:.4e}");
+    }
+    if let Some(path) = &options.export {
+        let (width, height, bytes) = encoding::texture_texels(&table, Encoding::Unorm16);
+        let words: Vec<u16> = bytes
+            .chunks_exact(2)
+            .map(|b| u16::from_le_bytes([b[0], b[1]]))
+            .collect();
+        let image =
+            image::ImageBuffer::<image::Rgba<u16>, _>::from_raw(width, height, words).expect("texels match the size");
+        let tmp = path.with_extension("png.tmp");
+        let io = |source: std::io::Error| Error::Io {
+            path: path.display().to_string(),
+            source,
+        };
+        image
+            .save_with_format(&tmp, image::ImageFormat::Png)
+            .map_err(|e| io(std::io::Error::other(e.to_string())))?;
+        std::fs::rename(&tmp, path).map_err(io)?;
+        let _ = writeln!(
+            out,
+            "wrote {} ({width}x{height}, RGBA16: displacement xyz, twist / (pi/2))",
+            path.display()
+        );
+    }
+    Ok(out)
 }

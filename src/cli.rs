@@ -1,7 +1,7 @@
 //! Parsers for command-line values. Each rejects what the renderer cannot use with a message
 //! naming the value; clap turns the `Err` into one `error: …` line and exit code 2.
 
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 
 use crate::render::renderer::{BLADES_PER_INSTANCE_RANGE, SEGMENTS_RANGE};
 use crate::scene::Camera;
@@ -117,5 +117,130 @@ mod tests {
         assert_eq!(size("1280x720"), Ok((1280, 720)));
         assert!(camera("0,1,2,3").is_err() && camera("0,NaN,2,3,4").is_err() && camera("0,1,2,3,90").is_err());
         assert_eq!(camera("1,2,3,45,-10").map(|c| c.yaw_deg), Ok(45.0));
+    }
+}
+
+/// Comma-separated finite numbers, `count` of them (or any count in `counts`).
+fn numbers(text: &str, counts: &[usize], shape: &str) -> Result<Vec<f32>, String> {
+    let parts: Vec<&str> = text.split(',').collect();
+    if !counts.contains(&parts.len()) {
+        return Err(format!("'{text}' is not {shape}"));
+    }
+    parts.iter().map(|p| finite_f32(p)).collect()
+}
+
+/// `DIR_DEG,STRENGTH`: direction the wind blows towards (degrees from +x towards +z), strength ≥ 0.
+pub fn wind(text: &str) -> Result<(f32, f32), String> {
+    let v = numbers(text, &[2], "DIR_DEG,STRENGTH")?;
+    if v[1] < 0.0 {
+        return Err(format!("wind strength {} is negative", v[1]));
+    }
+    Ok((v[0], v[1]))
+}
+
+/// `X,Z,POWER,SIGMA[,VX,VZ]`: a point source (eq. 4.1), optionally moving at (VX, VZ) m/s.
+pub fn source(text: &str) -> Result<crate::wind::PointSource, String> {
+    let v = numbers(text, &[4, 6], "X,Z,POWER,SIGMA[,VX,VZ]")?;
+    if v[3] < 0.0 {
+        return Err(format!("source sigma {} is negative (σ of eq. 4.1 must be ≥ 0)", v[3]));
+    }
+    if v[2] < 0.0 {
+        return Err(format!("source power {} is negative", v[2]));
+    }
+    let velocity = if v.len() == 6 {
+        Vec2::new(v[4], v[5])
+    } else {
+        Vec2::ZERO
+    };
+    Ok(crate::wind::PointSource {
+        position: Vec2::new(v[0], v[1]),
+        power: v[2],
+        sigma: v[3],
+        velocity,
+    })
+}
+
+/// `X0,Z0,X1,Z1` with X0 < X1 and Z0 < Z1.
+pub fn calm(text: &str) -> Result<crate::wind::CalmArea, String> {
+    let v = numbers(text, &[4], "X0,Z0,X1,Z1")?;
+    if v[0] >= v[2] || v[1] >= v[3] {
+        return Err(format!(
+            "calm area '{text}' is inverted or empty: need X0 < X1 and Z0 < Z1"
+        ));
+    }
+    Ok(crate::wind::CalmArea {
+        min: Vec2::new(v[0], v[1]),
+        max: Vec2::new(v[2], v[3]),
+    })
+}
+
+/// `sphere:X,Y,Z,R` or `ellipsoid:X,Y,Z,RX,RY,RZ`, radii > 0.
+pub fn collider(text: &str) -> Result<crate::wind::Collider, String> {
+    let (kind, rest) = text
+        .split_once(':')
+        .ok_or_else(|| format!("'{text}' is not sphere:X,Y,Z,R or ellipsoid:X,Y,Z,RX,RY,RZ"))?;
+    let (center, radii) = match kind {
+        "sphere" => {
+            let v = numbers(rest, &[4], "sphere:X,Y,Z,R")?;
+            (glam::Vec3::new(v[0], v[1], v[2]), glam::Vec3::splat(v[3]))
+        }
+        "ellipsoid" => {
+            let v = numbers(rest, &[6], "ellipsoid:X,Y,Z,RX,RY,RZ")?;
+            (glam::Vec3::new(v[0], v[1], v[2]), glam::Vec3::new(v[3], v[4], v[5]))
+        }
+        other => return Err(format!("unknown collider '{other}': use sphere or ellipsoid")),
+    };
+    if radii.min_element() <= 0.0 {
+        return Err(format!("collider radius in '{text}' must be positive"));
+    }
+    Ok(crate::wind::Collider { center, radii })
+}
+
+/// Keyframe poses over the full circle, 8..=1 000 000.
+pub fn poses(text: &str) -> Result<u32, String> {
+    let value: u32 = text
+        .trim()
+        .parse()
+        .map_err(|_| format!("'{text}' is not a whole number of poses"))?;
+    if !(8..=1_000_000).contains(&value) {
+        return Err(format!("{value} poses is outside 8..=1000000"));
+    }
+    Ok(value)
+}
+
+/// Cluster edge in metres, 0.05..=1000.
+pub fn cluster_size(text: &str) -> Result<f32, String> {
+    let value = finite_f32(text)?;
+    if !(0.05..=1000.0).contains(&value) {
+        return Err(format!("cluster size {value} m is outside 0.05..=1000"));
+    }
+    Ok(value)
+}
+
+/// Simulation time in seconds, finite and ≥ 0.
+pub fn time(text: &str) -> Result<f32, String> {
+    let value = finite_f32(text)?;
+    if value < 0.0 {
+        return Err(format!("time {value} is negative"));
+    }
+    Ok(value)
+}
+
+#[cfg(test)]
+mod animation_tests {
+    use super::*;
+
+    #[test]
+    fn animation_values_are_checked() {
+        assert!(wind("30,NaN").is_err() && wind("30,-1").is_err());
+        assert_eq!(wind("30,0.5"), Ok((30.0, 0.5)));
+        assert!(source("0,0,1,-1").is_err() && source("0,0,1").is_err());
+        assert_eq!(source("1,2,0.5,2,0.1,0").map(|s| s.velocity.x), Ok(0.1));
+        assert!(calm("1,0,0,1").is_err() && calm("0,0,1,1").is_ok());
+        assert!(collider("sphere:0,0,0,0").is_err() && collider("cube:0,0,0,1").is_err());
+        assert!(collider("ellipsoid:0,0.2,0,0.3,0.2,0.5").is_ok());
+        assert!(poses("0").is_err() && poses("1000").is_ok());
+        assert!(cluster_size("0").is_err() && cluster_size("inf").is_err());
+        assert!(time("-1").is_err() && time("2.5").is_ok());
     }
 }

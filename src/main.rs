@@ -3,10 +3,14 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use clap::{Args, Parser, Subcommand};
+use clap::{Args, Parser, Subcommand, ValueEnum};
 use meadow::app::{self, GpuOptions, RenderOptions, RenderReport};
+use meadow::keyframes::encoding::Encoding;
+use meadow::keyframes::Smoothing;
+use meadow::render::animation::{AnimationSettings, Mode};
 use meadow::scene::Camera;
 use meadow::vk::DeviceSelector;
+use meadow::wind::{Attenuation, GlobalWind, Wind};
 
 /// A real-time grass renderer on raw Vulkan.
 #[derive(Parser)]
@@ -22,6 +26,24 @@ enum Command {
     Render(RenderArgs),
     /// List the Vulkan devices with their drivers.
     Devices(GpuArgs),
+    /// Generate the keyframe table; report its compression figures and export it as a picture.
+    Keyframes(KeyframeArgs),
+}
+
+#[derive(Args)]
+struct KeyframeArgs {
+    /// Poses over the full circle (a quarter is stored).
+    #[arg(long, default_value = "1000", value_parser = meadow::cli::poses)]
+    poses: u32,
+    /// Segments of the blade.
+    #[arg(long, default_value = "4", value_parser = meadow::cli::segments)]
+    segments: u32,
+    /// Print raw and compressed sizes (thesis 3.3) and measured encoding errors (4.4).
+    #[arg(long)]
+    report: bool,
+    /// Write the keyframe texture as a 16-bit PNG.
+    #[arg(long, value_name = "PATH.png")]
+    export: Option<PathBuf>,
 }
 
 #[derive(Args)]
@@ -58,11 +80,128 @@ struct RenderArgs {
     /// Blades per instance of the one blade draw (1 = classic per-blade instancing).
     #[arg(long, default_value = "1", value_parser = meadow::cli::blades_per_instance)]
     blades_per_instance: u32,
+    #[command(flatten)]
+    animation: AnimationArgs,
+    /// Debug view: `force` colours blades by force magnitude (thesis fig. 4.5 / 6.1c).
+    #[arg(long, value_enum)]
+    debug_view: Option<DebugViewArg>,
     /// Frames to render; the last is written, timings of all are summarised.
     #[arg(long, default_value = "1", value_parser = clap::value_parser!(u32).range(1..=10_000))]
     frames: u32,
     #[command(flatten)]
     gpu: GpuArgs,
+}
+
+/// How blades are posed.
+#[derive(Clone, Copy, ValueEnum)]
+enum ModeArg {
+    /// Neutral blades, no forces.
+    Static,
+    /// Keyframes sampled from a texture in the vertex shader (thesis 4.4.1).
+    Texture,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum DebugViewArg {
+    /// Force magnitude as colour, green (none) to red (strongest pose).
+    Force,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum SmoothingArg {
+    Nearest,
+    Linear,
+    Slerp,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum EncodingArg {
+    Rgba8x2,
+    Unorm16,
+    Float32,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum AttenuationArg {
+    Cluster,
+    Blade,
+}
+
+#[derive(Args)]
+struct AnimationArgs {
+    /// Animation mode.
+    #[arg(long, value_enum, default_value = "texture")]
+    mode: ModeArg,
+    /// Keyframe poses over the full circle (a quarter is stored).
+    #[arg(long, default_value = "1000", value_parser = meadow::cli::poses)]
+    poses: u32,
+    /// In-between poses (thesis 3.2.6).
+    #[arg(long, value_enum, default_value = "nearest")]
+    smoothing: SmoothingArg,
+    /// Keyframe texture encoding (thesis 4.4.1).
+    #[arg(long, value_enum, default_value = "unorm16")]
+    encoding: EncodingArg,
+    /// Where point sources are attenuated (thesis 4.5): at cluster corners or per blade.
+    #[arg(long, value_enum, default_value = "cluster")]
+    attenuation: AttenuationArg,
+    /// Cluster edge in metres (thesis 3.2.2).
+    #[arg(long, default_value = "1.0", value_parser = meadow::cli::cluster_size)]
+    cluster_size: f32,
+    /// Global wind: direction it blows towards (degrees from +x towards +z) and strength.
+    #[arg(long, value_name = "DIR_DEG,STRENGTH", default_value = "30,0.3", value_parser = meadow::cli::wind, allow_hyphen_values = true)]
+    wind: (f32, f32),
+    /// Steady global wind, without gusts.
+    #[arg(long)]
+    no_gusts: bool,
+    /// Point wind source (eq. 4.1), optionally moving; repeatable.
+    #[arg(long, value_name = "X,Z,POWER,SIGMA[,VX,VZ]", value_parser = meadow::cli::source, allow_hyphen_values = true)]
+    source: Vec<meadow::wind::PointSource>,
+    /// Calm area where the wind is blocked (thesis 5.1); repeatable.
+    #[arg(long, value_name = "X0,Z0,X1,Z1", value_parser = meadow::cli::calm, allow_hyphen_values = true)]
+    calm: Vec<meadow::wind::CalmArea>,
+    /// Collider pushing blades aside (thesis 5.2): sphere:X,Y,Z,R or ellipsoid:X,Y,Z,RX,RY,RZ; repeatable.
+    #[arg(long, value_name = "SHAPE", value_parser = meadow::cli::collider, allow_hyphen_values = true)]
+    collider: Vec<meadow::wind::Collider>,
+    /// Simulation time of the picture in seconds.
+    #[arg(long, default_value = "0", value_parser = meadow::cli::time)]
+    time: f32,
+}
+
+impl AnimationArgs {
+    fn settings(&self) -> AnimationSettings {
+        AnimationSettings {
+            mode: match self.mode {
+                ModeArg::Static => Mode::Static,
+                ModeArg::Texture => Mode::Texture,
+            },
+            poses: self.poses,
+            smoothing: match self.smoothing {
+                SmoothingArg::Nearest => Smoothing::Nearest,
+                SmoothingArg::Linear => Smoothing::Linear,
+                SmoothingArg::Slerp => Smoothing::Slerp,
+            },
+            encoding: match self.encoding {
+                EncodingArg::Rgba8x2 => Encoding::Rgba8x2,
+                EncodingArg::Unorm16 => Encoding::Unorm16,
+                EncodingArg::Float32 => Encoding::Float32,
+            },
+            attenuation: match self.attenuation {
+                AttenuationArg::Cluster => Attenuation::Cluster,
+                AttenuationArg::Blade => Attenuation::Blade,
+            },
+            cluster_size: self.cluster_size,
+            wind: Wind {
+                global: Some(GlobalWind {
+                    direction_deg: self.wind.0,
+                    strength: self.wind.1,
+                    gusts: !self.no_gusts,
+                }),
+                sources: self.source.clone(),
+                calm: self.calm.clone(),
+                colliders: self.collider.clone(),
+            },
+        }
+    }
 }
 
 impl GpuArgs {
@@ -101,10 +240,22 @@ fn main() -> ExitCode {
                 out: args.out,
                 frames: args.frames,
                 blades_per_instance: args.blades_per_instance,
+                animation: args.animation.settings(),
+                time: args.animation.time,
+                debug_force: matches!(args.debug_view, Some(DebugViewArg::Force)),
             };
             let (result, validation) =
                 app::with_device(&args.gpu.options(), false, |device| app::render(device, &options));
             (finish(result.map(|report| print_render(&report))), validation)
+        }
+        Command::Keyframes(args) => {
+            let options = app::KeyframeOptions {
+                poses: args.poses,
+                segments: args.segments,
+                report: args.report,
+                export: args.export,
+            };
+            (finish(app::keyframes(&options).map(|text| print!("{text}"))), None)
         }
         Command::Devices(args) => {
             let (result, validation) = app::devices(&args.options());

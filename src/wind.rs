@@ -144,11 +144,6 @@ pub struct Wind {
 }
 
 impl Wind {
-    /// Whether nothing ever pushes a blade.
-    pub fn is_still(&self) -> bool {
-        self.global.is_none_or(|g| g.strength == 0.0) && self.sources.is_empty() && self.colliders.is_empty()
-    }
-
     /// 0 inside a calm area, 1 elsewhere.
     pub fn exposure(&self, p: Vec2) -> f32 {
         if self.calm.iter().any(|c| c.contains(p)) {

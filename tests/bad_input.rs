@@ -77,6 +77,18 @@ fn device_limits_and_budget() {
 }
 
 #[test]
+fn animation_inputs() {
+    refused("poses-0", &["--poses", "0"], "outside 8..=1000000");
+    refused("wind-nan", &["--wind", "30,NaN"], "NaN");
+    refused("source-negative-sigma", &["--source", "0,0,1,-2"], "negative");
+    refused("calm-inverted", &["--calm", "2,0,1,1"], "inverted");
+    refused("collider-radius-0", &["--collider", "sphere:0,0.2,0,0"], "radius");
+    refused("cluster-size-0", &["--cluster-size", "0"], "cluster size");
+    refused("time-inf", &["--time", "inf"], "inf");
+    refused("poses-over-texture", &["--poses", "1000000"], "maxImageDimension2D");
+}
+
+#[test]
 fn files_and_devices() {
     refused(
         "out-dir-missing",

@@ -109,3 +109,37 @@ fn sixteen_segments_from_above_with_batching() {
         ],
     );
 }
+
+#[test]
+fn windy_field_with_source_calm_area_and_collider() {
+    let camera = camera_above_ground(10000, 2, 0.0, 2.6, 1.1, 0.0, -28.0);
+    check_golden(
+        "windy_features",
+        &[
+            "--blades",
+            "10000",
+            "--size",
+            "320x200",
+            "--seed",
+            "2",
+            "--camera",
+            &camera,
+            "--wind",
+            "0,0.45",
+            "--time",
+            "2",
+            "--source",
+            "1.2,-1,0.06,2",
+            "--calm",
+            "-2.5,-2.5,-0.8,0",
+            "--collider",
+            "sphere:0.3,0.2,0.9,0.25",
+            "--attenuation",
+            "blade",
+            "--cluster-size",
+            "0.5",
+            "--debug-view",
+            "force",
+        ],
+    );
+}

@@ -116,6 +116,48 @@ pub fn max_error(samples: u32, f: impl Fn(f32) -> f32) -> f32 {
         .fold(0.0, f32::max)
 }
 
+/// The keyframe texture's texels for `table` in `encoding`: (width, height, bytes). Each row is
+/// a stored pose, each level one texel (two for `rgba8x2`) holding displacement xyz and the
+/// twist divided by π/2, all in [-1, 1].
+pub fn texture_texels(table: &crate::keyframes::KeyframeTable, encoding: Encoding) -> (u32, u32, Vec<u8>) {
+    let height = table.layout.stored();
+    let components = |k: &[f32; 4]| [k[0], k[1], k[2], k[3] / std::f32::consts::FRAC_PI_2];
+    let mut bytes = Vec::new();
+    for k in &table.frames {
+        let c = components(k);
+        match encoding {
+            Encoding::Rgba8x2 => {
+                for x in c {
+                    bytes.extend_from_slice(&[e1(x), e2(x)]);
+                }
+            }
+            Encoding::Unorm16 => {
+                for x in c {
+                    bytes.extend_from_slice(&encode_unorm16(x).to_le_bytes());
+                }
+            }
+            Encoding::Float32 => {
+                for x in c {
+                    bytes.extend_from_slice(&x.to_le_bytes());
+                }
+            }
+        }
+    }
+    let texels_per_level = if encoding == Encoding::Rgba8x2 { 2 } else { 1 };
+    (table.segments * texels_per_level, height, bytes)
+}
+
+impl Encoding {
+    /// Index used by the shaders.
+    pub fn code(self) -> u32 {
+        match self {
+            Encoding::Rgba8x2 => 0,
+            Encoding::Unorm16 => 1,
+            Encoding::Float32 => 2,
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -26,11 +26,15 @@ pub struct FrameUniforms {
     pub terrain: Vec4,
     /// x segments, y blade count, z terrain cells per side, w 1 = shaders encode sRGB.
     pub params: UVec4,
-    /// x blades per instance.
+    /// x blades per instance, y vertices per blade, z leading repeats, w debug view.
     pub batching: UVec4,
+    /// x mode, y smoothing, z encoding, w attenuation.
+    pub animation: UVec4,
+    /// x magnitudes, y angles, z point sources, w corners per side.
+    pub keyframes: UVec4,
 }
 
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 160);
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 192);
 const _: () = assert!(std::mem::offset_of!(FrameUniforms, camera_position) == 64);
 const _: () = assert!(std::mem::offset_of!(FrameUniforms, params) == 128);
 
@@ -69,6 +73,10 @@ pub struct Frame {
     pub fence: vk::Fence,
     /// Host-visible `FrameUniforms`.
     pub uniforms: Buffer,
+    /// Host-visible forces at cluster corners, written before each submission (thesis 3.2.2).
+    pub corners: Buffer,
+    /// Host-visible point sources and colliders at this frame's time.
+    pub emitters: Buffer,
     /// Set 0 of the scene passes, pointing at this frame's uniforms.
     pub descriptor_set: vk::DescriptorSet,
     /// Timestamps of this frame's passes.
@@ -76,50 +84,71 @@ pub struct Frame {
 }
 
 impl Frame {
-    /// Create the resources of frame `index`.
-    pub fn new(device: &Device, index: usize, descriptor_set: vk::DescriptorSet) -> Result<Self> {
-        let recorder = CommandRecorder::new(device, &format!("frame {index} commands"))?;
+    /// Create the resources of frame `index`, with room for `corners` corner forces and
+    /// `emitters` emitters.
+    pub fn new(
+        device: &Device,
+        index: usize,
+        descriptor_set: vk::DescriptorSet,
+        corners: u32,
+        emitters: u32,
+    ) -> Result<Self> {
+        let mut buffers: Vec<Buffer> = Vec::new();
+        let mut fence = vk::Fence::null();
+        let mut recorder = None;
         let built = (|| {
-            let fence = sync::fence(device, true, &format!("frame {index} fence"))?;
-            let uniforms = Buffer::new(
-                device,
-                &BufferDesc::upload(
-                    &format!("frame {index} uniforms"),
+            recorder = Some(CommandRecorder::new(device, &format!("frame {index} commands"))?);
+            fence = sync::fence(device, true, &format!("frame {index} fence"))?;
+            let vec4 = 16u64;
+            for (name, size, usage) in [
+                (
+                    "uniforms",
                     std::mem::size_of::<FrameUniforms>() as u64,
                     vk::BufferUsageFlags::UNIFORM_BUFFER,
                 ),
-            );
-            let uniforms = match uniforms {
-                Ok(u) => u,
-                Err(e) => {
-                    // SAFETY: unused fence.
-                    unsafe { device.raw.destroy_fence(fence, None) };
-                    return Err(e);
-                }
-            };
-            match TimestampQueries::new(device, &format!("frame {index} timestamps"), 16) {
-                Ok(timestamps) => Ok((fence, uniforms, timestamps)),
-                Err(e) => {
-                    // SAFETY: unused.
-                    unsafe {
-                        device.raw.destroy_fence(fence, None);
-                        uniforms.destroy(device);
-                    }
-                    Err(e)
-                }
+                (
+                    "corner forces",
+                    vec4 * u64::from(corners),
+                    vk::BufferUsageFlags::STORAGE_BUFFER,
+                ),
+                (
+                    "emitters",
+                    vec4 * u64::from(emitters.max(1)),
+                    vk::BufferUsageFlags::STORAGE_BUFFER,
+                ),
+            ] {
+                buffers.push(Buffer::new(
+                    device,
+                    &BufferDesc::upload(&format!("frame {index} {name}"), size, usage),
+                )?);
             }
+            TimestampQueries::new(device, &format!("frame {index} timestamps"), 16)
         })();
         match built {
-            Ok((fence, uniforms, timestamps)) => Ok(Self {
-                recorder,
-                fence,
-                uniforms,
-                descriptor_set,
-                timestamps,
-            }),
+            Ok(timestamps) => {
+                let mut buffers = buffers.into_iter();
+                let mut next = || buffers.next().expect("three buffers");
+                Ok(Self {
+                    recorder: recorder.expect("created"),
+                    fence,
+                    uniforms: next(),
+                    corners: next(),
+                    emitters: next(),
+                    descriptor_set,
+                    timestamps,
+                })
+            }
             Err(e) => {
-                // SAFETY: never submitted.
-                unsafe { recorder.destroy(device) };
+                // SAFETY: nothing was submitted; destroying a null fence is a no-op.
+                unsafe {
+                    for buffer in buffers {
+                        buffer.destroy(device);
+                    }
+                    device.raw.destroy_fence(fence, None);
+                    if let Some(recorder) = recorder {
+                        recorder.destroy(device);
+                    }
+                }
                 Err(e)
             }
         }
@@ -134,6 +163,8 @@ impl Frame {
         unsafe {
             self.timestamps.destroy(device);
             self.uniforms.destroy(device);
+            self.corners.destroy(device);
+            self.emitters.destroy(device);
             device.raw.destroy_fence(self.fence, None);
             self.recorder.destroy(device);
         }

@@ -1,6 +1,7 @@
 //! Rendering: the scene on the GPU, per-frame data, targets, passes, and the renderer that
 //! records them. Data flows one way: CPU scene → GPU buffers → passes → image.
 
+pub mod animation;
 pub mod frame;
 pub mod passes;
 pub mod renderer;

@@ -9,6 +9,7 @@ use ash::vk;
 use glam::{UVec4, Vec4};
 
 use crate::error::{Result, VkContext};
+use crate::render::animation::{self, AnimationSettings};
 use crate::render::frame::{look, Frame, FrameUniforms};
 use crate::render::passes::{BladePass, TerrainPass};
 use crate::render::scene_gpu::{self, SceneGpu};
@@ -17,6 +18,7 @@ use crate::scene::bezier::Batching;
 use crate::scene::{Camera, Scene};
 use crate::vk::query::span_ms;
 use crate::vk::{commands, debug, descriptor, pipeline, sync, Access, Device};
+use crate::wind::Attenuation;
 
 /// Blade segments allowed (thesis 4.1 levels of detail).
 pub const SEGMENTS_RANGE: std::ops::RangeInclusive<u32> = 1..=16;
@@ -34,6 +36,8 @@ pub struct RenderSettings {
     pub frames_in_flight: usize,
     /// Blades drawn per instance of the blade draw (see `BladePass::record`).
     pub blades_per_instance: u32,
+    /// Colour blades by the magnitude of their force (thesis fig. 4.5 / 6.1c).
+    pub debug_force: bool,
 }
 
 /// Blades per instance allowed.
@@ -82,6 +86,7 @@ struct Resources {
 pub struct Renderer {
     device: Arc<Device>,
     settings: RenderSettings,
+    animation: AnimationSettings,
     resources: Option<Resources>,
     frame_index: usize,
 }
@@ -103,16 +108,27 @@ const DEPTH_RANGE: vk::ImageSubresourceRange = vk::ImageSubresourceRange {
 
 impl Renderer {
     /// Upload `scene` and build the passes and frames.
-    pub fn new(device: Arc<Device>, scene: &Scene, settings: RenderSettings) -> Result<Self> {
+    pub fn new(
+        device: Arc<Device>,
+        scene: &Scene,
+        settings: RenderSettings,
+        animation: AnimationSettings,
+    ) -> Result<Self> {
         let bindings = scene_gpu::bindings();
+        let animation_copy = animation.clone();
         let mut renderer = Self {
             device: device.clone(),
             settings,
+            animation,
             resources: Some(Resources::default()),
             frame_index: 0,
         };
         let res = renderer.resources.as_mut().expect("just set");
-        let scene_gpu = res.scene.insert(SceneGpu::upload(&device, scene)?);
+        let scene_gpu = res
+            .scene
+            .insert(SceneGpu::upload(&device, scene, settings.segments, &animation_copy)?);
+        let corners = scene_gpu.grid.corner_count();
+        let emitters = (animation_copy.wind.sources.len() + animation_copy.wind.colliders.len()) as u32;
         res.set_layout = descriptor::set_layout(&device, "scene set layout", &bindings)?;
         res.pipeline_layout = pipeline::layout(&device, "scene pipeline layout", &[res.set_layout], &[])?;
         let (pool, sets) = descriptor::allocate_sets(
@@ -124,8 +140,8 @@ impl Renderer {
         )?;
         res.descriptor_pool = pool;
         for (index, set) in sets.into_iter().enumerate() {
-            let frame = Frame::new(&device, index, set)?;
-            scene_gpu.write_descriptors(&device, set, &frame.uniforms);
+            let frame = Frame::new(&device, index, set, corners, emitters)?;
+            scene_gpu.write_descriptors(&device, set, &frame);
             res.frames.push(frame);
         }
         res.terrain = Some(TerrainPass::new(
@@ -188,8 +204,28 @@ impl Renderer {
             ),
             batching: {
                 let b = Batching::new(self.settings.segments, self.settings.blades_per_instance);
-                UVec4::new(b.blades_per_instance, b.stride, b.lead, 0)
+                UVec4::new(
+                    b.blades_per_instance,
+                    b.stride,
+                    b.lead,
+                    u32::from(self.settings.debug_force),
+                )
             },
+            animation: UVec4::new(
+                self.animation.mode.code(),
+                self.animation.smoothing.code(),
+                self.animation.encoding.code(),
+                match self.animation.attenuation {
+                    Attenuation::Cluster => 0,
+                    Attenuation::Blade => 1,
+                },
+            ),
+            keyframes: UVec4::new(
+                scene.keyframes.layout.magnitudes,
+                scene.keyframes.layout.angles,
+                self.animation.wind.sources.len() as u32,
+                scene.grid.corners_per_side(),
+            ),
         }
     }
 
@@ -332,6 +368,23 @@ impl Renderer {
         debug::end_label(&self.device, cmd);
     }
 
+    /// Compute this frame's corner forces and emitters on the CPU (thesis 3.2.2) and write them
+    /// into the frame's host-visible buffers; they are visible to the GPU at submission.
+    fn write_forces(&self, frame: &mut Frame, time: f32) {
+        let grid = &self.scene_gpu().grid;
+        let wind = &self.animation.wind;
+        frame.corners.write(
+            0,
+            &animation::corner_forces(grid, wind, time, self.animation.attenuation),
+        );
+        frame.emitters.write(0, &animation::emitters(wind, time));
+    }
+
+    /// The animation the renderer was built with.
+    pub fn animation(&self) -> &AnimationSettings {
+        &self.animation
+    }
+
     /// Render one frame into `target` and copy it to the target's readback buffer; returns when
     /// the GPU is done, so `target.pixels()` holds the picture.
     pub fn render_offscreen(
@@ -351,6 +404,7 @@ impl Renderer {
             // SAFETY: the fence signalled, nothing pending uses this frame.
             unsafe { device.raw.reset_fences(&[frame.fence]) }.vk("vkResetFences")?;
             frame.uniforms.write(0, &[uniforms]);
+            self.write_forces(&mut frame, time);
 
             let started = Instant::now();
             let cmd = frame.recorder.begin(&device)?;

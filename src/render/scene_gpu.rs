@@ -4,6 +4,9 @@
 use ash::vk;
 
 use crate::error::{Result, VkContext};
+use crate::render::animation::{AnimationSettings, KeyframeTexture};
+use crate::render::frame::Frame;
+use crate::scene::clusters::{BladeCluster, ClusterGrid};
 use crate::scene::{alpha, Scene};
 use crate::vk::descriptor::{self, Binding, Resource};
 use crate::vk::upload::UploadBatch;
@@ -19,11 +22,21 @@ pub mod binding {
     pub const HEIGHTS: u32 = 2;
     /// Blade alpha texture.
     pub const BLADE_ALPHA: u32 = 3;
+    /// `BladeCluster[]` storage buffer.
+    pub const CLUSTERS: u32 = 4;
+    /// Per-frame corner forces.
+    pub const CORNERS: u32 = 5;
+    /// Per-frame point sources and colliders.
+    pub const EMITTERS: u32 = 6;
+    /// Keyframe texture.
+    pub const KEYFRAMES: u32 = 7;
 }
 
 /// Layout of set 0 shared by the scene passes.
-pub fn bindings() -> [Binding; 4] {
+pub fn bindings() -> [Binding; 8] {
+    let vs = vk::ShaderStageFlags::VERTEX;
     let vs_fs = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
+    let storage = vk::DescriptorType::STORAGE_BUFFER;
     [
         Binding {
             binding: binding::FRAME,
@@ -32,23 +45,43 @@ pub fn bindings() -> [Binding; 4] {
         },
         Binding {
             binding: binding::BLADES,
-            kind: vk::DescriptorType::STORAGE_BUFFER,
-            stages: vk::ShaderStageFlags::VERTEX,
+            kind: storage,
+            stages: vs,
         },
         Binding {
             binding: binding::HEIGHTS,
-            kind: vk::DescriptorType::STORAGE_BUFFER,
-            stages: vk::ShaderStageFlags::VERTEX,
+            kind: storage,
+            stages: vs,
         },
         Binding {
             binding: binding::BLADE_ALPHA,
             kind: vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
             stages: vk::ShaderStageFlags::FRAGMENT,
         },
+        Binding {
+            binding: binding::CLUSTERS,
+            kind: storage,
+            stages: vs,
+        },
+        Binding {
+            binding: binding::CORNERS,
+            kind: storage,
+            stages: vs,
+        },
+        Binding {
+            binding: binding::EMITTERS,
+            kind: storage,
+            stages: vs,
+        },
+        Binding {
+            binding: binding::KEYFRAMES,
+            kind: vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
+            stages: vs,
+        },
     ]
 }
 
-/// Device-local copies of the scene.
+/// Device-local copies of the scene and of its animation data.
 pub struct SceneGpu {
     /// One `BladeInstance` per blade.
     pub blades: Buffer,
@@ -66,61 +99,107 @@ pub struct SceneGpu {
     pub blade_alpha: Image,
     /// Linear, clamped sampler for the alpha texture.
     pub sampler: vk::Sampler,
+    /// One `BladeCluster` per blade.
+    pub clusters: Buffer,
+    /// The cluster grid the records refer to.
+    pub grid: ClusterGrid,
+    /// The keyframe table.
+    pub keyframes: KeyframeTexture,
+}
+
+/// Resources created so far by `upload`, freed if it fails half-way.
+#[derive(Default)]
+struct Partial {
+    blades: Option<Buffer>,
+    heights: Option<Buffer>,
+    clusters: Option<Buffer>,
+    blade_alpha: Option<Image>,
+    keyframes: Option<KeyframeTexture>,
+}
+
+impl Partial {
+    /// # Safety
+    /// No pending work may use the resources.
+    unsafe fn destroy(self, device: &Device) {
+        // SAFETY: per the contract.
+        unsafe {
+            for buffer in [self.blades, self.heights, self.clusters].into_iter().flatten() {
+                buffer.destroy(device);
+            }
+            if let Some(image) = self.blade_alpha {
+                image.destroy(device);
+            }
+            if let Some(keyframes) = self.keyframes {
+                keyframes.destroy(device);
+            }
+        }
+    }
 }
 
 impl SceneGpu {
     /// Bytes of device memory `upload` will allocate for `scene` (staging included, as it
     /// coexists with the destination during the upload).
     pub fn memory_bytes(blade_count: u64, terrain_cells: u64) -> u64 {
-        let blades = blade_count * std::mem::size_of::<crate::scene::BladeInstance>() as u64;
+        let blades = blade_count
+            * (std::mem::size_of::<crate::scene::BladeInstance>() + std::mem::size_of::<BladeCluster>()) as u64;
         let heights = (terrain_cells + 1).pow(2) * 4;
         let alpha = u64::from(alpha::WIDTH * alpha::HEIGHT);
         2 * (blades + heights + alpha)
     }
 
-    /// Upload the scene in one batch.
-    pub fn upload(device: &Device, scene: &Scene) -> Result<Self> {
-        let mut batch = UploadBatch::new(device);
-        let blades = batch.buffer(
-            "blades",
-            &scene.blades,
-            vk::BufferUsageFlags::STORAGE_BUFFER,
-            &[Access::VertexShaderStorageRead],
-        )?;
-        let rest = (|| {
-            let heights = batch.buffer(
-                "terrain heights",
-                &scene.terrain.heights,
-                vk::BufferUsageFlags::STORAGE_BUFFER,
-                &[Access::VertexShaderStorageRead],
-            )?;
-            let desc = ImageDesc::color(
-                "blade alpha",
-                vk::Format::R8_UNORM,
-                vk::Extent2D {
-                    width: alpha::WIDTH,
-                    height: alpha::HEIGHT,
-                },
-                vk::ImageUsageFlags::SAMPLED,
-            );
-            let blade_alpha = match batch.image(&desc, &alpha::texels(), &[Access::FragmentShaderSampledRead]) {
-                Ok(image) => image,
-                Err(e) => {
-                    // SAFETY: never used by the GPU.
-                    unsafe { heights.destroy(device) };
-                    return Err(e);
-                }
-            };
-            Ok((heights, blade_alpha))
-        })();
-        let (heights, blade_alpha) = match rest {
-            Ok(rest) => rest,
+    /// Upload the scene, its cluster records and the keyframe table in one batch.
+    pub fn upload(device: &Device, scene: &Scene, segments: u32, animation: &AnimationSettings) -> Result<Self> {
+        let mut partial = Partial::default();
+        let grid = ClusterGrid::new(scene.terrain.size, animation.cluster_size);
+        let result = Self::upload_into(device, scene, segments, animation, &grid, &mut partial);
+        match result {
+            Ok(sampler) => Ok(Self {
+                blades: partial.blades.take().expect("uploaded"),
+                blade_count: scene.blades.len() as u32,
+                heights: partial.heights.take().expect("uploaded"),
+                terrain_cells: scene.terrain.cells,
+                terrain_origin: scene.terrain.origin(),
+                terrain_cell_size: scene.terrain.cell_size(),
+                blade_alpha: partial.blade_alpha.take().expect("uploaded"),
+                sampler,
+                clusters: partial.clusters.take().expect("uploaded"),
+                grid,
+                keyframes: partial.keyframes.take().expect("uploaded"),
+            }),
             Err(e) => {
-                // SAFETY: never used by the GPU.
-                unsafe { blades.destroy(device) };
-                return Err(e);
+                // SAFETY: the batch waited for its submission or never submitted.
+                unsafe { partial.destroy(device) };
+                Err(e)
             }
-        };
+        }
+    }
+
+    fn upload_into(
+        device: &Device,
+        scene: &Scene,
+        segments: u32,
+        animation: &AnimationSettings,
+        grid: &ClusterGrid,
+        partial: &mut Partial,
+    ) -> Result<vk::Sampler> {
+        let mut batch = UploadBatch::new(device);
+        let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
+        let vertex_read: &'static [Access] = &[Access::VertexShaderStorageRead];
+        partial.blades = Some(batch.buffer("blades", &scene.blades, storage, vertex_read)?);
+        partial.heights = Some(batch.buffer("terrain heights", &scene.terrain.heights, storage, vertex_read)?);
+        partial.clusters = Some(batch.buffer("blade clusters", &grid.assign(&scene.blades), storage, vertex_read)?);
+        let desc = ImageDesc::color(
+            "blade alpha",
+            vk::Format::R8_UNORM,
+            vk::Extent2D {
+                width: alpha::WIDTH,
+                height: alpha::HEIGHT,
+            },
+            vk::ImageUsageFlags::SAMPLED,
+        );
+        partial.blade_alpha = Some(batch.image(&desc, &alpha::texels(), &[Access::FragmentShaderSampledRead])?);
+        partial.keyframes = Some(KeyframeTexture::new(&mut batch, segments, animation)?.0);
+        batch.submit()?;
         let sampler_info = vk::SamplerCreateInfo::default()
             .mag_filter(vk::Filter::LINEAR)
             .min_filter(vk::Filter::LINEAR)
@@ -129,37 +208,23 @@ impl SceneGpu {
             .address_mode_v(vk::SamplerAddressMode::CLAMP_TO_EDGE)
             .address_mode_w(vk::SamplerAddressMode::CLAMP_TO_EDGE)
             .max_lod(0.0);
-        let submitted = batch.submit().and_then(|()| {
-            // SAFETY: valid create info.
-            unsafe { device.raw.create_sampler(&sampler_info, None) }.vk("vkCreateSampler")
-        });
-        let sampler = match submitted {
-            Ok(sampler) => sampler,
-            Err(e) => {
-                // SAFETY: the batch waited (or the device is idle).
-                unsafe {
-                    blades.destroy(device);
-                    heights.destroy(device);
-                    blade_alpha.destroy(device);
-                }
-                return Err(e);
-            }
-        };
+        // SAFETY: valid create info.
+        let sampler = unsafe { device.raw.create_sampler(&sampler_info, None) }.vk("vkCreateSampler")?;
         device.set_name(sampler, "blade alpha sampler");
-        Ok(Self {
-            blades,
-            blade_count: scene.blades.len() as u32,
-            heights,
-            terrain_cells: scene.terrain.cells,
-            terrain_origin: scene.terrain.origin(),
-            terrain_cell_size: scene.terrain.cell_size(),
-            blade_alpha,
-            sampler,
-        })
+        Ok(sampler)
     }
 
-    /// Point `set` at the scene resources and at `uniforms`.
-    pub fn write_descriptors(&self, device: &Device, set: vk::DescriptorSet, uniforms: &Buffer) {
+    /// Point `set` at the scene resources and at one frame's uniforms, corners and emitters.
+    pub fn write_descriptors(&self, device: &Device, set: vk::DescriptorSet, frame: &Frame) {
+        let storage = vk::DescriptorType::STORAGE_BUFFER;
+        let sampled = vk::DescriptorType::COMBINED_IMAGE_SAMPLER;
+        let image = |sampler, view| {
+            Resource::Image(vk::DescriptorImageInfo {
+                sampler,
+                image_view: view,
+                image_layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+            })
+        };
         descriptor::write(
             device,
             set,
@@ -167,26 +232,26 @@ impl SceneGpu {
                 (
                     binding::FRAME,
                     vk::DescriptorType::UNIFORM_BUFFER,
-                    Resource::Buffer(uniforms.descriptor()),
+                    Resource::Buffer(frame.uniforms.descriptor()),
                 ),
-                (
-                    binding::BLADES,
-                    vk::DescriptorType::STORAGE_BUFFER,
-                    Resource::Buffer(self.blades.descriptor()),
-                ),
-                (
-                    binding::HEIGHTS,
-                    vk::DescriptorType::STORAGE_BUFFER,
-                    Resource::Buffer(self.heights.descriptor()),
-                ),
+                (binding::BLADES, storage, Resource::Buffer(self.blades.descriptor())),
+                (binding::HEIGHTS, storage, Resource::Buffer(self.heights.descriptor())),
                 (
                     binding::BLADE_ALPHA,
-                    vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
-                    Resource::Image(vk::DescriptorImageInfo {
-                        sampler: self.sampler,
-                        image_view: self.blade_alpha.view,
-                        image_layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-                    }),
+                    sampled,
+                    image(self.sampler, self.blade_alpha.view),
+                ),
+                (binding::CLUSTERS, storage, Resource::Buffer(self.clusters.descriptor())),
+                (binding::CORNERS, storage, Resource::Buffer(frame.corners.descriptor())),
+                (
+                    binding::EMITTERS,
+                    storage,
+                    Resource::Buffer(frame.emitters.descriptor()),
+                ),
+                (
+                    binding::KEYFRAMES,
+                    sampled,
+                    image(self.keyframes.sampler, self.keyframes.image.view),
                 ),
             ],
         );
@@ -200,6 +265,8 @@ impl SceneGpu {
         // SAFETY: per the contract.
         unsafe {
             device.raw.destroy_sampler(self.sampler, None);
+            self.keyframes.destroy(device);
+            self.clusters.destroy(device);
             self.blade_alpha.destroy(device);
             self.heights.destroy(device);
             self.blades.destroy(device);

@@ -42,6 +42,11 @@ impl<'d> UploadBatch<'d> {
         }
     }
 
+    /// The device the batch uploads to.
+    pub fn device(&self) -> &'d Device {
+        self.device
+    }
+
     /// Create a device-local buffer filled with `data` once the batch is submitted; `next` is how
     /// it is read afterwards.
     pub fn buffer<T: bytemuck::Pod>(

@@ -1,0 +1,111 @@
+// Keyframe selection and smoothing in the vertex shader (thesis 3.2.5–3.2.6, 4.4.1). Mirrors
+// `keyframes::table::KeyframeTable::{select, blend}`.
+#ifndef MEADOW_KEYFRAMES_GLSL
+#define MEADOW_KEYFRAMES_GLSL
+
+const float HALF_PI = 1.5707963;
+const float MAX_FORCE = 1.0; // keyframes::pose::MAX_FORCE
+
+struct KfSelection {
+    uvec4 rows;
+    vec4 weights;
+    float t_magnitude;
+    float t_angle;
+    float sign_x;
+    float sign_z;
+};
+
+// Force (fx, fz) in the blade frame, divided by the blade's stiffness. Front/back by the sign of
+// F'·N' (eq. 3.10–3.11), the angle ω of eq. 3.12 folded into the stored quarter (fig. 3.9).
+KfSelection kf_select(vec2 f) {
+    uint magnitudes = frame.keyframes.x;
+    uint angles = frame.keyframes.y;
+    float magnitude = min(length(f), MAX_FORCE);
+    float phi = magnitude > 0.0 ? atan(abs(f.x), abs(f.y)) : 0.0;
+    KfSelection s;
+    s.sign_x = f.x < 0.0 ? -1.0 : 1.0;
+    s.sign_z = f.y < 0.0 ? -1.0 : 1.0;
+    float mf = magnitude / MAX_FORCE * float(magnitudes - 1u);
+    float af = angles > 1u ? phi / HALF_PI * float(angles - 1u) : 0.0;
+    if (frame.animation.y == 0u) {
+        uint row = uint(round(mf)) * angles + uint(round(af));
+        s.rows = uvec4(row);
+        s.weights = vec4(1.0, 0.0, 0.0, 0.0);
+        s.t_magnitude = 0.0;
+        s.t_angle = 0.0;
+    } else {
+        uint m0 = min(uint(floor(mf)), magnitudes - 2u);
+        uint a0 = min(uint(floor(af)), angles > 1u ? angles - 2u : 0u);
+        uint a1 = min(a0 + 1u, angles - 1u);
+        float tm = clamp(mf - float(m0), 0.0, 1.0);
+        float ta = a1 > a0 ? clamp(af - float(a0), 0.0, 1.0) : 0.0;
+        s.rows = uvec4(m0 * angles + a0, (m0 + 1u) * angles + a0, m0 * angles + a1, (m0 + 1u) * angles + a1);
+        s.weights = vec4((1.0 - tm) * (1.0 - ta), tm * (1.0 - ta), (1.0 - tm) * ta, tm * ta);
+        s.t_magnitude = tm;
+        s.t_angle = ta;
+    }
+    return s;
+}
+
+// Stored keyframe of `row` at `level` (1..S): displacement xyz, twist w (radians), decoded.
+vec4 kf_fetch(uint row, uint level) {
+    uint encoding = frame.animation.z;
+    vec4 v;
+    if (encoding == 0u) {
+        // rgba8x2: each component in two bytes, d1 + d2 (thesis 4.4.1, channels normalised).
+        vec4 a = texelFetch(keyframe_texture, ivec2(2u * (level - 1u), row), 0);
+        vec4 b = texelFetch(keyframe_texture, ivec2(2u * (level - 1u) + 1u, row), 0);
+        v = vec4(a.x, a.z, b.x, b.z) * 2.0 - 1.0 + (vec4(a.y, a.w, b.y, b.w) * 2.0 - 1.0) / 255.0;
+    } else if (encoding == 1u) {
+        v = texelFetch(keyframe_texture, ivec2(level - 1u, row), 0) * 2.0 - 1.0;
+    } else {
+        v = texelFetch(keyframe_texture, ivec2(level - 1u, row), 0);
+    }
+    v.w *= HALF_PI;
+    return v;
+}
+
+vec3 kf_slerp(vec3 a, vec3 b, float t) {
+    float la = length(a);
+    float lb = length(b);
+    if (la == 0.0 || lb == 0.0) {
+        return mix(a, b, t);
+    }
+    vec3 ua = a / la;
+    vec3 ub = b / lb;
+    float omega = acos(clamp(dot(ua, ub), -1.0, 1.0));
+    vec3 d = omega < 1e-4 ? normalize(mix(ua, ub, t))
+                          : (ua * sin((1.0 - t) * omega) + ub * sin(t * omega)) / sin(omega);
+    return d * mix(la, lb, t);
+}
+
+// Root-relative position (xyz, unit blade) and twist (w) of `level` (0..S), mirrored.
+vec4 kf_level(KfSelection s, uint level, uint segments) {
+    if (level == 0u) {
+        return vec4(0.0);
+    }
+    vec3 straight = vec3(0.0, float(level) / float(segments), 0.0);
+    vec4 k0 = kf_fetch(s.rows.x, level);
+    vec4 r;
+    if (frame.animation.y == 0u) {
+        r = vec4(straight + k0.xyz, k0.w);
+    } else {
+        vec4 k1 = kf_fetch(s.rows.y, level);
+        vec4 k2 = kf_fetch(s.rows.z, level);
+        vec4 k3 = kf_fetch(s.rows.w, level);
+        if (frame.animation.y == 1u) {
+            // Eq. 3.13.
+            vec4 k = k0 * s.weights.x + k1 * s.weights.y + k2 * s.weights.z + k3 * s.weights.w;
+            r = vec4(straight + k.xyz, k.w);
+        } else {
+            // Eq. 3.14 on root-relative vectors, along magnitude then angle.
+            vec3 lo = kf_slerp(straight + k0.xyz, straight + k1.xyz, s.t_magnitude);
+            vec3 hi = kf_slerp(straight + k2.xyz, straight + k3.xyz, s.t_magnitude);
+            float tw = mix(mix(k0.w, k1.w, s.t_magnitude), mix(k2.w, k3.w, s.t_magnitude), s.t_angle);
+            r = vec4(kf_slerp(lo, hi, s.t_angle), tw);
+        }
+    }
+    return vec4(r.x * s.sign_x, r.y, r.z * s.sign_z, r.w * s.sign_x * s.sign_z);
+}
+
+#endif

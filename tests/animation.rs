@@ -1,0 +1,181 @@
+//! Blades under forces: the CPU mirror of the vertex shader's chain (force → blade frame →
+//! keyframe selection → tip), and renders of the keyframe paths through the real binary.
+
+mod support;
+
+use glam::{Vec2, Vec3};
+use meadow::imagediff::compare_rgb;
+use meadow::keyframes::{BladeModel, KeyframeLayout, KeyframeTable, Smoothing};
+use meadow::render::animation;
+use meadow::scene::clusters::ClusterGrid;
+use meadow::scene::{bezier, Scene};
+use meadow::wind::{Attenuation, CalmArea, Collider, GlobalWind, Wind};
+use support::Picture;
+
+/// World-space tip displacement of every blade under `wind` (height-scaled, as the shader does).
+fn tip_displacements(scene: &Scene, wind: &Wind, attenuation: Attenuation) -> Vec<Vec3> {
+    let table = KeyframeTable::generate(&BladeModel::new(4), KeyframeLayout::for_poses(1000));
+    let grid = ClusterGrid::new(scene.terrain.size, 0.5);
+    let corners = animation::corner_forces(&grid, wind, 0.0, attenuation);
+    let emitters = animation::emitters(wind, 0.0);
+    scene
+        .blades
+        .iter()
+        .map(|b| {
+            let root = Vec2::new(b.position[0], b.position[2]);
+            let force = animation::blade_force(
+                &grid,
+                &grid.locate(root.x, root.y),
+                &corners,
+                &emitters,
+                wind.sources.len(),
+                attenuation,
+                root,
+            ) / b.stiffness;
+            let (across, normal) = bezier::frame(b);
+            let pose = table.pose_for(
+                force.dot(Vec2::new(across.x, across.z)),
+                force.dot(Vec2::new(normal.x, normal.z)),
+                Smoothing::Nearest,
+            );
+            let d = pose.tip_displacement() * b.height;
+            across * d.x + Vec3::Y * d.y + normal * d.z
+        })
+        .collect()
+}
+
+#[test]
+fn wind_from_plus_x_moves_tips_towards_plus_x() {
+    let scene = Scene::generate(2000, 3);
+    let wind = Wind {
+        global: Some(GlobalWind {
+            direction_deg: 0.0,
+            strength: 0.5,
+            gusts: false,
+        }),
+        ..Default::default()
+    };
+    let tips = tip_displacements(&scene, &wind, Attenuation::Cluster);
+    for (i, d) in tips.iter().enumerate() {
+        // An oblique blade also deflects along its soft (flapping) axis, so some z is expected.
+        assert!(d.x > 0.02 && d.x > d.z.abs(), "blade {i} tip moved {d:?}");
+    }
+    let mean = tips.iter().sum::<Vec3>() / tips.len() as f32;
+    assert!(
+        mean.x > 0.1 && mean.z.abs() < 0.05 * mean.x,
+        "mean tip displacement {mean:?}"
+    );
+}
+
+#[test]
+fn blades_in_a_calm_area_stay_neutral() {
+    let scene = Scene::generate(2000, 4);
+    let calm = CalmArea {
+        min: Vec2::new(-1.5, -1.5),
+        max: Vec2::new(1.5, 1.5),
+    };
+    let wind = Wind {
+        global: Some(GlobalWind {
+            direction_deg: 45.0,
+            strength: 0.8,
+            gusts: true,
+        }),
+        calm: vec![calm],
+        ..Default::default()
+    };
+    let tips = tip_displacements(&scene, &wind, Attenuation::Cluster);
+    let mut inside = 0;
+    for (b, d) in scene.blades.iter().zip(&tips) {
+        // Well inside: every corner of its 0.5 m cluster lies in the calm area.
+        if b.position[0].abs() < 0.9 && b.position[2].abs() < 0.9 {
+            inside += 1;
+            assert!(d.length() < 2e-3 * b.height, "calm blade moved {d:?}");
+        }
+        if b.position[0].abs() > 2.2 || b.position[2].abs() > 2.2 {
+            assert!(d.length() > 0.05 * b.height, "blade in the wind did not move");
+        }
+    }
+    assert!(inside > 50);
+}
+
+#[test]
+fn blades_near_a_collider_lean_away_from_it() {
+    let scene = Scene::generate(2000, 6);
+    let center = Vec3::new(0.2, 0.3, -0.4);
+    let wind = Wind {
+        colliders: vec![Collider {
+            center,
+            radii: Vec3::splat(0.3),
+        }],
+        ..Default::default()
+    };
+    let tips = tip_displacements(&scene, &wind, Attenuation::Blade);
+    let mut near = 0;
+    for (b, d) in scene.blades.iter().zip(&tips) {
+        let away = Vec2::new(b.position[0] - center.x, b.position[2] - center.z);
+        if away.length() > 0.05 && away.length() < 0.6 {
+            near += 1;
+            assert!(
+                Vec2::new(d.x, d.z).dot(away.normalize()) > 0.3 * d.length(),
+                "blade at {away:?} leans {d:?}"
+            );
+        }
+    }
+    assert!(near > 30);
+}
+
+fn render(name: &str, args: &[&str]) -> Picture {
+    let dir = support::scratch(&format!("animation-{name}"));
+    let path = dir.join("out.png");
+    support::render(args, &path);
+    Picture::load(&path)
+}
+
+#[test]
+fn encodings_and_smoothings_give_the_same_picture() {
+    let base = [
+        "--blades",
+        "6000",
+        "--size",
+        "200x120",
+        "--wind",
+        "10,0.6",
+        "--no-gusts",
+        "--time",
+        "1",
+    ];
+    fn with<'a>(base: &[&'a str], extra: &[&'a str]) -> Vec<&'a str> {
+        [base, extra].concat()
+    }
+    let reference = render("float32", &with(&base, &["--encoding", "float32"]));
+    for (name, extra) in [
+        ("unorm16", &["--encoding", "unorm16"][..]),
+        ("rgba8x2", &["--encoding", "rgba8x2"][..]),
+    ] {
+        let other = render(name, &with(&base, extra));
+        let (stats, _) = compare_rgb(&reference.rgb, &other.rgb, 3);
+        assert!(
+            stats.within_fraction() > 0.97,
+            "{name}: {:.2} % within ±3",
+            100.0 * stats.within_fraction()
+        );
+    }
+    // Linear and spherical smoothing differ from each other far less than from no animation.
+    let linear = render("linear", &with(&base, &["--smoothing", "linear"]));
+    let slerp = render("slerp", &with(&base, &["--smoothing", "slerp"]));
+    let (stats, _) = compare_rgb(&linear.rgb, &slerp.rgb, 3);
+    eprintln!("linear vs slerp: {:.2} % within ±3", 100.0 * stats.within_fraction());
+    assert!(
+        stats.within_fraction() > 0.9,
+        "linear vs slerp: {:.2} % within ±3",
+        100.0 * stats.within_fraction()
+    );
+    // The animation is real: the static picture differs.
+    let still = render("static", &with(&base, &["--mode", "static"]));
+    let (stats, _) = compare_rgb(&reference.rgb, &still.rgb, 3);
+    assert!(
+        stats.within_fraction() < 0.8,
+        "wind changed only {:.2} % of the picture",
+        100.0 * (1.0 - stats.within_fraction())
+    );
+}
