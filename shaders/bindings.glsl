@@ -13,5 +13,15 @@ layout(set = 0, binding = BINDING_CLUSTERS, std430) readonly buffer Clusters { B
 layout(set = 0, binding = BINDING_CORNERS, std430) readonly buffer Corners { vec4 corners[]; };
 layout(set = 0, binding = BINDING_EMITTERS, std430) readonly buffer Emitters { vec4 emitters[]; };
 layout(set = 0, binding = BINDING_KEYFRAMES) uniform sampler2D keyframe_texture;
+// Keyframes as a uniform array (thesis 4.4.2): two keyframe words per uvec4 half; the array fills
+// min(maxUniformBufferRange, 64 KiB), set by the pipeline (`KeyframeUniforms::capacity`).
+layout(constant_id = 0) const uint KEYFRAME_UVEC4S = 4096u;
+layout(set = 0, binding = BINDING_KEYFRAME_WORDS, std140) uniform KeyframeWords { uvec4 keyframe_words[KEYFRAME_UVEC4S]; };
+// One pose record per blade (`--eval blade`): written by blade_pose.comp, read by blade.vert.
+#ifdef POSE_WRITER
+layout(set = 0, binding = BINDING_POSES, std430) writeonly buffer Poses { uvec4 poses[]; };
+#else
+layout(set = 0, binding = BINDING_POSES, std430) readonly buffer Poses { uvec4 poses[]; };
+#endif
 
 #endif

@@ -28,7 +28,7 @@ void main() {
     vec3 diffuse = mix(root_color, tip_color, in_uv.y) * brightness;
     // Memberwise product with the alpha channel: the rim is darker (thesis 4.1).
     diffuse *= mix(0.45, 1.0, alpha);
-    if (frame.batching.w == 1u) {
+    if ((frame.batching.w & FLAG_DEBUG_FORCE) != 0u) {
         // Debug view: force magnitude from green (none) to red (the table's strongest pose).
         diffuse = mix(vec3(0.05, 0.25, 0.03), vec3(0.8, 0.02, 0.01), clamp(in_force, 0.0, 1.0)) * mix(0.6, 1.0, in_uv.y);
     }

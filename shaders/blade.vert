@@ -14,6 +14,7 @@
 #include "bezier.glsl"
 #include "forces.glsl"
 #include "keyframes.glsl"
+#include "blade_select.glsl"
 
 layout(location = 0) out vec2 out_uv;         // u across, v root -> tip
 layout(location = 1) out vec3 out_normal;     // world space
@@ -64,9 +65,15 @@ void main() {
         local = bezier_point(p[0], p[1], p[2], p[3], t);
         local_tangent = bezier_tangent(p[0], p[1], p[2], p[3], t);
     } else {
-        vec2 force = blade_force(blade_index, blade.position.xz) / blade.stiffness;
-        out_force = length(force);
-        KfSelection sel = kf_select(vec2(dot(force, across.xz), dot(force, normal_dir.xz)));
+        float force;
+        KfSelection sel;
+        if ((frame.batching.w & FLAG_EVAL_BLADE) != 0u) {
+            // Selected once per blade by blade_pose.comp (thesis ch. 7 future work, with compute).
+            sel = kf_unpack(poses[blade_index], force);
+        } else {
+            sel = kf_select_blade(blade_index, blade, force);
+        }
+        out_force = force;
         vec4 here = deformed(p, sel, level, segments, blade.height);
         vec4 below = level > 0u ? deformed(p, sel, level - 1u, segments, blade.height) : here;
         vec4 above = level < segments ? deformed(p, sel, level + 1u, segments, blade.height) : here;

@@ -13,9 +13,10 @@ struct FrameUniforms {
     vec4 terrain;           // x grid origin (x = z), y cell size (m), zw unused
     uvec4 params;           // x segments, y blade count, z terrain cells per side, w 1 = encode sRGB
     uvec4 batching;         // x blades per instance, y vertices per blade, z leading repeats,
-                            // w debug view (0 none, 1 force magnitude as colour, thesis fig. 4.5/6.1c)
-    uvec4 animation;        // x mode (0 static, 1 texture), y smoothing (0 nearest, 1 linear, 2 slerp),
-                            // z encoding (0 rgba8x2, 1 unorm16, 2 float32), w attenuation (0 cluster, 1 blade)
+                            // w flags: FLAG_DEBUG_FORCE, FLAG_EVAL_BLADE
+    uvec4 animation;        // x mode (0 static, 1 texture, 2 uniform), y smoothing (0 nearest, 1 linear, 2 slerp),
+                            // z encoding (0 rgba8x2, 1 unorm16, 2 float32 textures; 3 thesis-merged, 4 snorm16x2
+                            // uniform words), w attenuation (0 cluster, 1 blade)
     uvec4 keyframes;        // x magnitudes, y angles, z point sources, w cluster corners per side
 };
 
@@ -43,8 +44,14 @@ struct BladeInstance {
 #define BINDING_CORNERS 5
 #define BINDING_EMITTERS 6
 #define BINDING_KEYFRAMES 7
+#define BINDING_KEYFRAME_WORDS 8
+#define BINDING_POSES 9
+
+#define FLAG_DEBUG_FORCE 1u  // colour blades by force magnitude (thesis fig. 4.5 / 6.1c)
+#define FLAG_EVAL_BLADE 2u   // poses selected once per blade by blade_pose.comp
 
 #define MODE_STATIC 0u
 #define MODE_TEXTURE 1u
+#define MODE_UNIFORM 2u
 
 #endif

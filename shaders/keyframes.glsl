@@ -47,11 +47,31 @@ KfSelection kf_select(vec2 f) {
     return s;
 }
 
+// Thesis 4.4.2: extract1(x) = round(x 2^16) / 2^15 - 1, extract2(x) = x 2^16 - round(x 2^16),
+// the latter mapped back to [-1, 1] (see keyframes::encoding::thesis_extract2).
+vec2 thesis_extract(float x) {
+    float scaled = x * 65536.0;
+    float whole = round(scaled);
+    float fraction = scaled - whole;
+    fraction = fraction < 0.0 ? fraction + 1.0 : fraction;
+    return vec2(whole / 32768.0 - 1.0, 2.0 * fraction - 1.0);
+}
+
 // Stored keyframe of `row` at `level` (1..S): displacement xyz, twist w (radians), decoded.
 vec4 kf_fetch(uint row, uint level) {
     uint encoding = frame.animation.z;
     vec4 v;
-    if (encoding == 0u) {
+    if (encoding >= 3u) {
+        // Uniform array: keyframe k is words 2k, 2k + 1; two keyframes per uvec4.
+        uint k = row * frame.params.x + level - 1u;
+        uvec4 pair = keyframe_words[k >> 1];
+        uvec2 words = (k & 1u) == 0u ? pair.xy : pair.zw;
+        if (encoding == 3u) {
+            v = vec4(thesis_extract(uintBitsToFloat(words.x)), thesis_extract(uintBitsToFloat(words.y)));
+        } else {
+            v = vec4(unpackSnorm2x16(words.x), unpackSnorm2x16(words.y));
+        }
+    } else if (encoding == 0u) {
         // rgba8x2: each component in two bytes, d1 + d2 (thesis 4.4.1, channels normalised).
         vec4 a = texelFetch(keyframe_texture, ivec2(2u * (level - 1u), row), 0);
         vec4 b = texelFetch(keyframe_texture, ivec2(2u * (level - 1u) + 1u, row), 0);
@@ -77,6 +97,28 @@ vec3 kf_slerp(vec3 a, vec3 b, float t) {
     vec3 d = omega < 1e-4 ? normalize(mix(ua, ub, t))
                           : (ua * sin((1.0 - t) * omega) + ub * sin(t * omega)) / sin(omega);
     return d * mix(la, lb, t);
+}
+
+// Pose record of one blade (`--eval blade`, 16 bytes): the four rows as u16 pairs, the blend
+// parameters as unorm16, and the signs with the force magnitude as halves.
+uvec4 kf_pack(KfSelection s, float force) {
+    return uvec4(s.rows.x | (s.rows.y << 16), s.rows.z | (s.rows.w << 16),
+                 packUnorm2x16(vec2(s.t_magnitude, s.t_angle)),
+                 packHalf2x16(vec2(s.sign_x * (1.0 + force), s.sign_z)));
+}
+
+KfSelection kf_unpack(uvec4 r, out float force) {
+    KfSelection s;
+    s.rows = uvec4(r.x & 0xffffu, r.x >> 16, r.y & 0xffffu, r.y >> 16);
+    vec2 t = unpackUnorm2x16(r.z);
+    vec2 signs = unpackHalf2x16(r.w);
+    s.t_magnitude = t.x;
+    s.t_angle = t.y;
+    s.weights = vec4((1.0 - t.x) * (1.0 - t.y), t.x * (1.0 - t.y), (1.0 - t.x) * t.y, t.x * t.y);
+    s.sign_x = signs.x < 0.0 ? -1.0 : 1.0;
+    s.sign_z = signs.y < 0.0 ? -1.0 : 1.0;
+    force = abs(signs.x) - 1.0;
+    return s;
 }
 
 // Root-relative position (xyz, unit blade) and twist (w) of `level` (0..S), mirrored.

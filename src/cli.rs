@@ -17,42 +17,28 @@ pub fn finite_f32(text: &str) -> Result<f32, String> {
 
 /// Blade count, at least 1. Device limits are checked once the device is known.
 pub fn blade_count(text: &str) -> Result<u32, String> {
-    let value: u64 = text
-        .trim()
-        .parse()
-        .map_err(|_| format!("'{text}' is not a whole number of blades"))?;
+    let value: u64 = text.trim().parse().map_err(|_| format!("'{text}' is not a whole number of blades"))?;
     match value {
         0 => Err("at least 1 blade is needed".into()),
-        v if v > u64::from(u32::MAX) => Err(format!(
-            "{v} blades is more than a draw call can instance (at most {})",
-            u32::MAX
-        )),
+        v if v > u64::from(u32::MAX) => {
+            Err(format!("{v} blades is more than a draw call can instance (at most {})", u32::MAX))
+        }
         v => Ok(v as u32),
     }
 }
 
 /// Segments per blade in `1..=16`.
 pub fn segments(text: &str) -> Result<u32, String> {
-    let value: u32 = text
-        .trim()
-        .parse()
-        .map_err(|_| format!("'{text}' is not a whole number of segments"))?;
+    let value: u32 = text.trim().parse().map_err(|_| format!("'{text}' is not a whole number of segments"))?;
     if !SEGMENTS_RANGE.contains(&value) {
-        return Err(format!(
-            "{value} segments is outside {}..={}",
-            SEGMENTS_RANGE.start(),
-            SEGMENTS_RANGE.end()
-        ));
+        return Err(format!("{value} segments is outside {}..={}", SEGMENTS_RANGE.start(), SEGMENTS_RANGE.end()));
     }
     Ok(value)
 }
 
 /// Blades per instance in `1..=1024`.
 pub fn blades_per_instance(text: &str) -> Result<u32, String> {
-    let value: u32 = text
-        .trim()
-        .parse()
-        .map_err(|_| format!("'{text}' is not a whole number"))?;
+    let value: u32 = text.trim().parse().map_err(|_| format!("'{text}' is not a whole number"))?;
     if !BLADES_PER_INSTANCE_RANGE.contains(&value) {
         return Err(format!(
             "{value} blades per instance is outside {}..={}",
@@ -65,15 +51,9 @@ pub fn blades_per_instance(text: &str) -> Result<u32, String> {
 
 /// `WIDTHxHEIGHT`, both at least 1. The device's maximum is checked later.
 pub fn size(text: &str) -> Result<(u32, u32), String> {
-    let (w, h) = text
-        .trim()
-        .split_once(['x', 'X'])
-        .ok_or_else(|| format!("'{text}' is not WIDTHxHEIGHT (e.g. 1280x720)"))?;
-    let parse = |s: &str| {
-        s.trim()
-            .parse::<u32>()
-            .map_err(|_| format!("'{text}' is not WIDTHxHEIGHT (e.g. 1280x720)"))
-    };
+    let (w, h) =
+        text.trim().split_once(['x', 'X']).ok_or_else(|| format!("'{text}' is not WIDTHxHEIGHT (e.g. 1280x720)"))?;
+    let parse = |s: &str| s.trim().parse::<u32>().map_err(|_| format!("'{text}' is not WIDTHxHEIGHT (e.g. 1280x720)"));
     let (w, h) = (parse(w)?, parse(h)?);
     if w == 0 || h == 0 {
         return Err(format!("size {w}x{h} is empty: width and height must be at least 1"));
@@ -91,11 +71,7 @@ pub fn camera(text: &str) -> Result<Camera, String> {
     if values[4].abs() > 89.0 {
         return Err(format!("pitch {}° is outside -89..=89", values[4]));
     }
-    Ok(Camera {
-        position: Vec3::new(values[0], values[1], values[2]),
-        yaw_deg: values[3],
-        pitch_deg: values[4],
-    })
+    Ok(Camera { position: Vec3::new(values[0], values[1], values[2]), yaw_deg: values[3], pitch_deg: values[4] })
 }
 
 #[cfg(test)]
@@ -147,38 +123,23 @@ pub fn source(text: &str) -> Result<crate::wind::PointSource, String> {
     if v[2] < 0.0 {
         return Err(format!("source power {} is negative", v[2]));
     }
-    let velocity = if v.len() == 6 {
-        Vec2::new(v[4], v[5])
-    } else {
-        Vec2::ZERO
-    };
-    Ok(crate::wind::PointSource {
-        position: Vec2::new(v[0], v[1]),
-        power: v[2],
-        sigma: v[3],
-        velocity,
-    })
+    let velocity = if v.len() == 6 { Vec2::new(v[4], v[5]) } else { Vec2::ZERO };
+    Ok(crate::wind::PointSource { position: Vec2::new(v[0], v[1]), power: v[2], sigma: v[3], velocity })
 }
 
 /// `X0,Z0,X1,Z1` with X0 < X1 and Z0 < Z1.
 pub fn calm(text: &str) -> Result<crate::wind::CalmArea, String> {
     let v = numbers(text, &[4], "X0,Z0,X1,Z1")?;
     if v[0] >= v[2] || v[1] >= v[3] {
-        return Err(format!(
-            "calm area '{text}' is inverted or empty: need X0 < X1 and Z0 < Z1"
-        ));
+        return Err(format!("calm area '{text}' is inverted or empty: need X0 < X1 and Z0 < Z1"));
     }
-    Ok(crate::wind::CalmArea {
-        min: Vec2::new(v[0], v[1]),
-        max: Vec2::new(v[2], v[3]),
-    })
+    Ok(crate::wind::CalmArea { min: Vec2::new(v[0], v[1]), max: Vec2::new(v[2], v[3]) })
 }
 
 /// `sphere:X,Y,Z,R` or `ellipsoid:X,Y,Z,RX,RY,RZ`, radii > 0.
 pub fn collider(text: &str) -> Result<crate::wind::Collider, String> {
-    let (kind, rest) = text
-        .split_once(':')
-        .ok_or_else(|| format!("'{text}' is not sphere:X,Y,Z,R or ellipsoid:X,Y,Z,RX,RY,RZ"))?;
+    let (kind, rest) =
+        text.split_once(':').ok_or_else(|| format!("'{text}' is not sphere:X,Y,Z,R or ellipsoid:X,Y,Z,RX,RY,RZ"))?;
     let (center, radii) = match kind {
         "sphere" => {
             let v = numbers(rest, &[4], "sphere:X,Y,Z,R")?;
@@ -198,10 +159,7 @@ pub fn collider(text: &str) -> Result<crate::wind::Collider, String> {
 
 /// Keyframe poses over the full circle, 8..=1 000 000.
 pub fn poses(text: &str) -> Result<u32, String> {
-    let value: u32 = text
-        .trim()
-        .parse()
-        .map_err(|_| format!("'{text}' is not a whole number of poses"))?;
+    let value: u32 = text.trim().parse().map_err(|_| format!("'{text}' is not a whole number of poses"))?;
     if !(8..=1_000_000).contains(&value) {
         return Err(format!("{value} poses is outside 8..=1000000"));
     }

@@ -32,11 +32,7 @@ impl DiffStats {
 pub fn compare_rgb(a: &[u8], b: &[u8], tolerance: u8) -> (DiffStats, Vec<u8>) {
     assert_eq!(a.len(), b.len(), "pictures of different sizes");
     assert_eq!(a.len() % 3, 0, "RGB8 expected");
-    let mut stats = DiffStats {
-        pixels: a.len() / 3,
-        within: 0,
-        max_diff: 0,
-    };
+    let mut stats = DiffStats { pixels: a.len() / 3, within: 0, max_diff: 0 };
     let mut diff = Vec::with_capacity(a.len());
     for (pa, pb) in a.chunks_exact(3).zip(b.chunks_exact(3)) {
         let d = pa.iter().zip(pb).map(|(x, y)| x.abs_diff(*y)).max().unwrap_or(0);
@@ -61,14 +57,7 @@ mod tests {
         let a = [10, 10, 10, 100, 100, 100, 0, 0, 0];
         let b = [12, 10, 9, 100, 140, 100, 0, 0, 3];
         let (stats, diff) = compare_rgb(&a, &b, 3);
-        assert_eq!(
-            stats,
-            DiffStats {
-                pixels: 3,
-                within: 2,
-                max_diff: 40
-            }
-        );
+        assert_eq!(stats, DiffStats { pixels: 3, within: 2, max_diff: 40 });
         assert_eq!(&diff[3..6], &[255, 0, 160]);
         assert!((stats.within_fraction() - 2.0 / 3.0).abs() < 1e-12);
     }

@@ -5,9 +5,9 @@ use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use meadow::app::{self, GpuOptions, RenderOptions, RenderReport};
-use meadow::keyframes::encoding::Encoding;
+use meadow::keyframes::encoding::{Encoding, Packing};
 use meadow::keyframes::Smoothing;
-use meadow::render::animation::{AnimationSettings, Mode};
+use meadow::render::animation::{AnimationSettings, Eval, Mode};
 use meadow::scene::Camera;
 use meadow::vk::DeviceSelector;
 use meadow::wind::{Attenuation, GlobalWind, Wind};
@@ -99,6 +99,24 @@ enum ModeArg {
     Static,
     /// Keyframes sampled from a texture in the vertex shader (thesis 4.4.1).
     Texture,
+    /// Keyframes in a uniform array, two 16-bit values per word (thesis 4.4.2).
+    Uniform,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum PackingArg {
+    /// The thesis' merge/extract in a 32-bit float.
+    Thesis,
+    /// Two snorm16 in a uint (exact).
+    Snorm,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum EvalArg {
+    /// Per vertex in the vertex shader.
+    Vertex,
+    /// Once per blade in a compute pass.
+    Blade,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -141,6 +159,12 @@ struct AnimationArgs {
     /// Keyframe texture encoding (thesis 4.4.1).
     #[arg(long, value_enum, default_value = "unorm16")]
     encoding: EncodingArg,
+    /// Uniform-array packing of two 16-bit values per word (thesis 4.4.2).
+    #[arg(long, value_enum, default_value = "snorm")]
+    packing: PackingArg,
+    /// Where the per-blade part of the animation runs: every vertex, or once per blade (compute).
+    #[arg(long, value_enum, default_value = "vertex")]
+    eval: EvalArg,
     /// Where point sources are attenuated (thesis 4.5): at cluster corners or per blade.
     #[arg(long, value_enum, default_value = "cluster")]
     attenuation: AttenuationArg,
@@ -173,6 +197,15 @@ impl AnimationArgs {
             mode: match self.mode {
                 ModeArg::Static => Mode::Static,
                 ModeArg::Texture => Mode::Texture,
+                ModeArg::Uniform => Mode::Uniform,
+            },
+            packing: match self.packing {
+                PackingArg::Thesis => Packing::Thesis,
+                PackingArg::Snorm => Packing::Snorm,
+            },
+            eval: match self.eval {
+                EvalArg::Vertex => Eval::Vertex,
+                EvalArg::Blade => Eval::Blade,
             },
             poses: self.poses,
             smoothing: match self.smoothing {
@@ -191,11 +224,7 @@ impl AnimationArgs {
             },
             cluster_size: self.cluster_size,
             wind: Wind {
-                global: Some(GlobalWind {
-                    direction_deg: self.wind.0,
-                    strength: self.wind.1,
-                    gusts: !self.no_gusts,
-                }),
+                global: Some(GlobalWind { direction_deg: self.wind.0, strength: self.wind.1, gusts: !self.no_gusts }),
                 sources: self.source.clone(),
                 calm: self.calm.clone(),
                 colliders: self.collider.clone(),
@@ -291,14 +320,8 @@ fn finish(result: meadow::Result<()>) -> u8 {
 
 fn print_render(report: &RenderReport) {
     let d = &report.device;
-    println!(
-        "device: {} ({}, driver {} [{}])",
-        d.name, d.api_version, d.driver_version, d.driver_info
-    );
-    println!(
-        "scene: {} blades x {} segments on a {:.1} m field",
-        report.blades, report.segments, report.field_m
-    );
+    println!("device: {} ({}, driver {} [{}])", d.name, d.api_version, d.driver_version, d.driver_info);
+    println!("scene: {} blades x {} segments on a {:.1} m field", report.blades, report.segments, report.field_m);
     println!(
         "triangles: {} ({} blades + {} terrain)",
         report.triangles.0 + report.triangles.1,
@@ -306,11 +329,7 @@ fn print_render(report: &RenderReport) {
         report.triangles.1
     );
     let last = report.frames.last().expect("at least one frame");
-    let passes: Vec<String> = last
-        .passes
-        .iter()
-        .map(|p| format!("{} {:.3} ms", p.name, p.ms))
-        .collect();
+    let passes: Vec<String> = last.passes.iter().map(|p| format!("{} {:.3} ms", p.name, p.ms)).collect();
     println!("gpu: {:.3} ms ({})", last.gpu_ms, passes.join(", "));
     let cpu = last.cpu_record_ms + last.cpu_submit_ms + last.cpu_wait_ms;
     println!(

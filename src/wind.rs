@@ -168,10 +168,7 @@ impl Wind {
 
     /// Sum of the point sources at `p` (eq. 4.1).
     pub fn sources_force(&self, p: Vec2, t: f32) -> Vec2 {
-        self.sources
-            .iter()
-            .map(|s| PointSource::force_from(s.position_at(t), s.power, s.sigma, p))
-            .sum()
+        self.sources.iter().map(|s| PointSource::force_from(s.position_at(t), s.power, s.sigma, p)).sum()
     }
 
     /// Sum of the collider pushes at `p`.
@@ -205,37 +202,20 @@ mod tests {
     #[test]
     fn calm_areas_block_wind_but_not_colliders() {
         let wind = Wind {
-            global: Some(GlobalWind {
-                direction_deg: 0.0,
-                strength: 0.5,
-                gusts: false,
-            }),
-            calm: vec![CalmArea {
-                min: Vec2::new(-1.0, -1.0),
-                max: Vec2::new(1.0, 1.0),
-            }],
-            colliders: vec![Collider {
-                center: Vec3::new(0.5, 0.0, 0.0),
-                radii: Vec3::splat(0.2),
-            }],
+            global: Some(GlobalWind { direction_deg: 0.0, strength: 0.5, gusts: false }),
+            calm: vec![CalmArea { min: Vec2::new(-1.0, -1.0), max: Vec2::new(1.0, 1.0) }],
+            colliders: vec![Collider { center: Vec3::new(0.5, 0.0, 0.0), radii: Vec3::splat(0.2) }],
             ..Default::default()
         };
         let inside = Vec2::new(-0.5, 0.0);
-        assert_eq!(
-            wind.corner_force(inside, 0.0, Attenuation::Cluster),
-            wind.colliders_force(inside)
-        );
+        assert_eq!(wind.corner_force(inside, 0.0, Attenuation::Cluster), wind.colliders_force(inside));
         assert!(wind.corner_force(Vec2::new(0.75, 0.0), 0.0, Attenuation::Cluster).x > 0.3);
         assert!((wind.corner_force(Vec2::new(3.0, 0.0), 0.0, Attenuation::Cluster).x - 0.5).abs() < 0.01);
     }
 
     #[test]
     fn gusts_vary_in_time_and_space_around_the_mean() {
-        let g = GlobalWind {
-            direction_deg: 90.0,
-            strength: 1.0,
-            gusts: true,
-        };
+        let g = GlobalWind { direction_deg: 90.0, strength: 1.0, gusts: true };
         let a = g.force(Vec2::ZERO, 0.0);
         let b = g.force(Vec2::ZERO, 1.0);
         let c = g.force(Vec2::new(0.0, 5.0), 0.0);

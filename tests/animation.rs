@@ -47,39 +47,23 @@ fn tip_displacements(scene: &Scene, wind: &Wind, attenuation: Attenuation) -> Ve
 #[test]
 fn wind_from_plus_x_moves_tips_towards_plus_x() {
     let scene = Scene::generate(2000, 3);
-    let wind = Wind {
-        global: Some(GlobalWind {
-            direction_deg: 0.0,
-            strength: 0.5,
-            gusts: false,
-        }),
-        ..Default::default()
-    };
+    let wind =
+        Wind { global: Some(GlobalWind { direction_deg: 0.0, strength: 0.5, gusts: false }), ..Default::default() };
     let tips = tip_displacements(&scene, &wind, Attenuation::Cluster);
     for (i, d) in tips.iter().enumerate() {
         // An oblique blade also deflects along its soft (flapping) axis, so some z is expected.
         assert!(d.x > 0.02 && d.x > d.z.abs(), "blade {i} tip moved {d:?}");
     }
     let mean = tips.iter().sum::<Vec3>() / tips.len() as f32;
-    assert!(
-        mean.x > 0.1 && mean.z.abs() < 0.05 * mean.x,
-        "mean tip displacement {mean:?}"
-    );
+    assert!(mean.x > 0.1 && mean.z.abs() < 0.05 * mean.x, "mean tip displacement {mean:?}");
 }
 
 #[test]
 fn blades_in_a_calm_area_stay_neutral() {
     let scene = Scene::generate(2000, 4);
-    let calm = CalmArea {
-        min: Vec2::new(-1.5, -1.5),
-        max: Vec2::new(1.5, 1.5),
-    };
+    let calm = CalmArea { min: Vec2::new(-1.5, -1.5), max: Vec2::new(1.5, 1.5) };
     let wind = Wind {
-        global: Some(GlobalWind {
-            direction_deg: 45.0,
-            strength: 0.8,
-            gusts: true,
-        }),
+        global: Some(GlobalWind { direction_deg: 45.0, strength: 0.8, gusts: true }),
         calm: vec![calm],
         ..Default::default()
     };
@@ -102,23 +86,14 @@ fn blades_in_a_calm_area_stay_neutral() {
 fn blades_near_a_collider_lean_away_from_it() {
     let scene = Scene::generate(2000, 6);
     let center = Vec3::new(0.2, 0.3, -0.4);
-    let wind = Wind {
-        colliders: vec![Collider {
-            center,
-            radii: Vec3::splat(0.3),
-        }],
-        ..Default::default()
-    };
+    let wind = Wind { colliders: vec![Collider { center, radii: Vec3::splat(0.3) }], ..Default::default() };
     let tips = tip_displacements(&scene, &wind, Attenuation::Blade);
     let mut near = 0;
     for (b, d) in scene.blades.iter().zip(&tips) {
         let away = Vec2::new(b.position[0] - center.x, b.position[2] - center.z);
         if away.length() > 0.05 && away.length() < 0.6 {
             near += 1;
-            assert!(
-                Vec2::new(d.x, d.z).dot(away.normalize()) > 0.3 * d.length(),
-                "blade at {away:?} leans {d:?}"
-            );
+            assert!(Vec2::new(d.x, d.z).dot(away.normalize()) > 0.3 * d.length(), "blade at {away:?} leans {d:?}");
         }
     }
     assert!(near > 30);
@@ -132,44 +107,23 @@ fn render(name: &str, args: &[&str]) -> Picture {
 }
 
 #[test]
-fn encodings_and_smoothings_give_the_same_picture() {
-    let base = [
-        "--blades",
-        "6000",
-        "--size",
-        "200x120",
-        "--wind",
-        "10,0.6",
-        "--no-gusts",
-        "--time",
-        "1",
-    ];
+fn texture_uniform_and_both_evaluation_placements_give_the_same_picture() {
+    let base = ["--blades", "6000", "--size", "200x120", "--wind", "10,0.6", "--no-gusts", "--time", "1"];
     fn with<'a>(base: &[&'a str], extra: &[&'a str]) -> Vec<&'a str> {
         [base, extra].concat()
     }
     let reference = render("float32", &with(&base, &["--encoding", "float32"]));
-    for (name, extra) in [
-        ("unorm16", &["--encoding", "unorm16"][..]),
-        ("rgba8x2", &["--encoding", "rgba8x2"][..]),
-    ] {
+    for (name, extra) in [("unorm16", &["--encoding", "unorm16"][..]), ("rgba8x2", &["--encoding", "rgba8x2"][..])] {
         let other = render(name, &with(&base, extra));
         let (stats, _) = compare_rgb(&reference.rgb, &other.rgb, 3);
-        assert!(
-            stats.within_fraction() > 0.97,
-            "{name}: {:.2} % within ±3",
-            100.0 * stats.within_fraction()
-        );
+        assert!(stats.within_fraction() > 0.97, "{name}: {:.2} % within ±3", 100.0 * stats.within_fraction());
     }
     // Linear and spherical smoothing differ from each other far less than from no animation.
     let linear = render("linear", &with(&base, &["--smoothing", "linear"]));
     let slerp = render("slerp", &with(&base, &["--smoothing", "slerp"]));
     let (stats, _) = compare_rgb(&linear.rgb, &slerp.rgb, 3);
     eprintln!("linear vs slerp: {:.2} % within ±3", 100.0 * stats.within_fraction());
-    assert!(
-        stats.within_fraction() > 0.9,
-        "linear vs slerp: {:.2} % within ±3",
-        100.0 * stats.within_fraction()
-    );
+    assert!(stats.within_fraction() > 0.9, "linear vs slerp: {:.2} % within ±3", 100.0 * stats.within_fraction());
     // The animation is real: the static picture differs.
     let still = render("static", &with(&base, &["--mode", "static"]));
     let (stats, _) = compare_rgb(&reference.rgb, &still.rgb, 3);

@@ -23,18 +23,10 @@ fn refused(case: &str, args: &[&str], expect_in_message: &str) {
     let lines: Vec<&str> = stderr.lines().collect();
     assert_eq!(lines.len(), 1, "{case}: one line expected: {}", transcript(&output));
     assert!(lines[0].starts_with("error: "), "{case}: {}", lines[0]);
-    assert!(
-        lines[0].contains(expect_in_message),
-        "{case}: '{}' does not mention '{expect_in_message}'",
-        lines[0]
-    );
+    assert!(lines[0].contains(expect_in_message), "{case}: '{}' does not mention '{expect_in_message}'", lines[0]);
     assert!(!stderr.contains("panicked"), "{case}: panic");
     assert!(!out.exists(), "{case}: a file was written");
-    assert_eq!(
-        std::fs::read_dir(&dir).map(|d| d.count()).unwrap_or(0),
-        0,
-        "{case}: stray files"
-    );
+    assert_eq!(std::fs::read_dir(&dir).map(|d| d.count()).unwrap_or(0), 0, "{case}: stray files");
 }
 
 #[test]
@@ -67,11 +59,7 @@ fn non_finite_camera() {
 #[test]
 fn device_limits_and_budget() {
     // lavapipe: maxStorageBufferRange = 128 MiB, i.e. 4 194 304 blades of 32 bytes.
-    refused(
-        "blades-over-storage-range",
-        &["--blades", "5000000"],
-        "maxStorageBufferRange",
-    );
+    refused("blades-over-storage-range", &["--blades", "5000000"], "maxStorageBufferRange");
     // 16384² RGBA colour + depth + readback = 3 GiB: over the 2 GiB heap and budget.
     refused("target-over-budget", &["--size", "16384x16384"], "16384x16384");
 }
@@ -90,11 +78,7 @@ fn animation_inputs() {
 
 #[test]
 fn files_and_devices() {
-    refused(
-        "out-dir-missing",
-        &["--out", "/nonexistent/dir/x.png"],
-        "does not exist",
-    );
+    refused("out-dir-missing", &["--out", "/nonexistent/dir/x.png"], "does not exist");
     refused("device-unknown", &["--device", "no-such-gpu"], "no-such-gpu");
     refused("device-index", &["--device", "42"], "no such device");
 }

@@ -16,10 +16,7 @@ use meadow::vk::{commands, pipeline, sync, Access, Buffer, BufferDesc, Device, D
 use meadow::wind::{Attenuation, CalmArea, Collider, GlobalWind, PointSource, Wind};
 
 fn options() -> GpuOptions {
-    GpuOptions {
-        validation: true,
-        device: DeviceSelector::parse("llvmpipe"),
-    }
+    GpuOptions { validation: true, device: DeviceSelector::parse("llvmpipe") }
 }
 
 struct Case<'a> {
@@ -45,34 +42,19 @@ fn gpu_forces(device: &Arc<Device>, case: &Case) -> meadow::Result<(Vec<Vec2>, V
         Buffer::with_data(device, &BufferDesc::upload(name, bytes.len() as u64, usage), bytes)
     };
     let mut buffers = vec![
-        upload(
-            "frame",
-            bytemuck::bytes_of(&uniforms),
-            vk::BufferUsageFlags::UNIFORM_BUFFER,
-        )?,
+        upload("frame", bytemuck::bytes_of(&uniforms), vk::BufferUsageFlags::UNIFORM_BUFFER)?,
         upload("blades", bytemuck::cast_slice(case.blades), storage)?,
         upload("clusters", bytemuck::cast_slice(&clusters), storage)?,
         upload("corners", bytemuck::cast_slice(&corners), storage)?,
         upload("emitters", bytemuck::cast_slice(&emitters), storage)?,
     ];
-    buffers.push(Buffer::new(
-        device,
-        &BufferDesc::readback("forces", 8 * case.blades.len() as u64, storage),
-    )?);
+    buffers.push(Buffer::new(device, &BufferDesc::readback("forces", 8 * case.blades.len() as u64, storage))?);
     let compute = vk::ShaderStageFlags::COMPUTE;
-    let mut bindings = vec![Binding {
-        binding: 0,
-        kind: vk::DescriptorType::UNIFORM_BUFFER,
-        stages: compute,
-    }];
-    bindings.extend((1..6).map(|b| Binding {
-        binding: b,
-        kind: vk::DescriptorType::STORAGE_BUFFER,
-        stages: compute,
-    }));
+    let mut bindings = vec![Binding { binding: 0, kind: vk::DescriptorType::UNIFORM_BUFFER, stages: compute }];
+    bindings.extend((1..6).map(|b| Binding { binding: b, kind: vk::DescriptorType::STORAGE_BUFFER, stages: compute }));
     let set_layout = descriptor::set_layout(device, "forces set layout", &bindings)?;
     let layout = pipeline::layout(device, "forces layout", &[set_layout], &[])?;
-    let pipe = pipeline::compute(device, "blade forces", shaders::BLADE_FORCES_COMP, layout)?;
+    let pipe = pipeline::compute(device, "blade forces", shaders::BLADE_FORCES_COMP, layout, &[])?;
     let (pool, sets) = descriptor::allocate_sets(device, "forces", set_layout, &bindings, 1)?;
     let writes: Vec<_> = bindings
         .iter()
@@ -86,19 +68,13 @@ fn gpu_forces(device: &Arc<Device>, case: &Case) -> meadow::Result<(Vec<Vec2>, V
         // SAFETY: all objects are live; host writes are visible at submission.
         unsafe {
             device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipe);
-            device
-                .raw
-                .cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::COMPUTE, layout, 0, &sets, &[]);
+            device.raw.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::COMPUTE, layout, 0, &sets, &[]);
             device.raw.cmd_dispatch(cmd, groups, 1, 1);
         }
         sync::cmd_barriers(
             device,
             cmd,
-            &[sync::buffer_barrier(
-                out,
-                &[Access::ComputeShaderWrite],
-                &[Access::HostRead],
-            )],
+            &[sync::buffer_barrier(out, &[Access::ComputeShaderWrite], &[Access::HostRead])],
             &[],
         );
         Ok(())
@@ -133,10 +109,7 @@ fn gpu_forces(device: &Arc<Device>, case: &Case) -> meadow::Result<(Vec<Vec2>, V
 
 fn assert_close(gpu: &[Vec2], cpu: &[Vec2], what: &str) {
     for (i, (g, c)) in gpu.iter().zip(cpu).enumerate() {
-        assert!(
-            (*g - *c).length() <= 1e-4 * (1.0 + c.length()),
-            "{what}: blade {i}: GPU {g:?} CPU {c:?}"
-        );
+        assert!((*g - *c).length() <= 1e-4 * (1.0 + c.length()), "{what}: blade {i}: GPU {g:?} CPU {c:?}");
     }
 }
 
@@ -144,25 +117,15 @@ fn assert_close(gpu: &[Vec2], cpu: &[Vec2], what: &str) {
 fn gpu_blade_forces_equal_the_cpu_reference() {
     let scene = Scene::generate(3000, 5);
     let wind = Wind {
-        global: Some(GlobalWind {
-            direction_deg: 20.0,
-            strength: 0.4,
-            gusts: true,
-        }),
+        global: Some(GlobalWind { direction_deg: 20.0, strength: 0.4, gusts: true }),
         sources: vec![PointSource {
             position: Vec2::new(0.5, -0.5),
             power: 0.3,
             sigma: 2.0,
             velocity: Vec2::new(0.1, 0.0),
         }],
-        calm: vec![CalmArea {
-            min: Vec2::new(-1.0, 0.5),
-            max: Vec2::new(0.5, 1.5),
-        }],
-        colliders: vec![Collider {
-            center: glam::Vec3::new(-1.0, 0.2, -1.0),
-            radii: glam::Vec3::new(0.3, 0.2, 0.5),
-        }],
+        calm: vec![CalmArea { min: Vec2::new(-1.0, 0.5), max: Vec2::new(0.5, 1.5) }],
+        colliders: vec![Collider { center: glam::Vec3::new(-1.0, 0.2, -1.0), radii: glam::Vec3::new(0.3, 0.2, 0.5) }],
     };
     let (result, messages) = with_device(&options(), false, |device| {
         for attenuation in [Attenuation::Cluster, Attenuation::Blade] {
@@ -187,16 +150,8 @@ fn gpu_blade_forces_equal_the_cpu_reference() {
 #[test]
 fn delayed_attenuation_removes_cluster_artefacts() {
     let scene = Scene::generate(4000, 8);
-    let source = PointSource {
-        position: Vec2::new(0.3, -0.2),
-        power: 0.05,
-        sigma: 2.0,
-        velocity: Vec2::ZERO,
-    };
-    let wind = Wind {
-        sources: vec![source],
-        ..Default::default()
-    };
+    let source = PointSource { position: Vec2::new(0.3, -0.2), power: 0.05, sigma: 2.0, velocity: Vec2::ZERO };
+    let wind = Wind { sources: vec![source], ..Default::default() };
     // Blades between 0.3 m and 1.5 m from the source, where the force changes fast.
     let near: Vec<BladeInstance> = scene
         .blades
@@ -206,17 +161,9 @@ fn delayed_attenuation_removes_cluster_artefacts() {
         .filter(|b| (Vec2::new(b.position[0], b.position[2]) - source.position).length() < 1.5)
         .collect();
     assert!(near.len() > 500);
-    let truth: Vec<Vec2> = near
-        .iter()
-        .map(|b| wind.force_at(Vec2::new(b.position[0], b.position[2]), 0.0))
-        .collect();
+    let truth: Vec<Vec2> = near.iter().map(|b| wind.force_at(Vec2::new(b.position[0], b.position[2]), 0.0)).collect();
     let mean_relative_error = |forces: &[Vec2]| {
-        forces
-            .iter()
-            .zip(&truth)
-            .map(|(f, t)| (*f - *t).length() / t.length())
-            .sum::<f32>()
-            / truth.len() as f32
+        forces.iter().zip(&truth).map(|(f, t)| (*f - *t).length() / t.length()).sum::<f32>() / truth.len() as f32
     };
     let (result, messages) = with_device(&options(), false, |device| {
         let mut cluster_errors = Vec::new();
@@ -224,21 +171,12 @@ fn delayed_attenuation_removes_cluster_artefacts() {
             let grid = ClusterGrid::new(scene.terrain.size, size);
             let mut errors = [0.0f32; 2];
             for (i, attenuation) in [Attenuation::Cluster, Attenuation::Blade].into_iter().enumerate() {
-                let case = Case {
-                    blades: &near,
-                    grid,
-                    wind: &wind,
-                    attenuation,
-                    time: 0.0,
-                };
+                let case = Case { blades: &near, grid, wind: &wind, attenuation, time: 0.0 };
                 let (gpu, cpu) = gpu_forces(device, &case)?;
                 assert_close(&gpu, &cpu, &format!("{attenuation:?} {size} m"));
                 errors[i] = mean_relative_error(&gpu);
             }
-            eprintln!(
-                "cluster {size:>4} m: cluster attenuation error {:.4}, blade {:.2e}",
-                errors[0], errors[1]
-            );
+            eprintln!("cluster {size:>4} m: cluster attenuation error {:.4}, blade {:.2e}", errors[0], errors[1]);
             assert!(errors[1] < 1e-3, "blade attenuation error {} at {size} m", errors[1]);
             cluster_errors.push(errors[0]);
         }
@@ -257,15 +195,8 @@ fn corner_forces_are_what_the_cluster_grid_interpolates() {
     // Exposure of a corner inside a calm area is 0, elsewhere 1 (the z of each corner).
     let grid = ClusterGrid::new(4.0, 1.0);
     let wind = Wind {
-        global: Some(GlobalWind {
-            direction_deg: 0.0,
-            strength: 0.5,
-            gusts: false,
-        }),
-        calm: vec![CalmArea {
-            min: Vec2::new(-2.0, -2.0),
-            max: Vec2::new(-1.0, -1.0),
-        }],
+        global: Some(GlobalWind { direction_deg: 0.0, strength: 0.5, gusts: false }),
+        calm: vec![CalmArea { min: Vec2::new(-2.0, -2.0), max: Vec2::new(-1.0, -1.0) }],
         ..Default::default()
     };
     let corners = animation::corner_forces(&grid, &wind, 0.0, Attenuation::Cluster);

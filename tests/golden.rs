@@ -19,26 +19,16 @@ fn check_golden(name: &str, args: &[&str]) {
     let dir = support::scratch(&format!("golden-{name}"));
     let actual_path = dir.join(format!("{name}.png"));
     support::render(args, &actual_path);
-    let golden_path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/golden")
-        .join(format!("{name}.png"));
+    let golden_path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/golden").join(format!("{name}.png"));
     if std::env::var_os("MEADOW_UPDATE_GOLDENS").is_some() {
         std::fs::copy(&actual_path, &golden_path).expect("update golden");
         eprintln!("updated {}", golden_path.display());
         return;
     }
-    assert!(
-        golden_path.exists(),
-        "missing golden {} (run `make goldens`)",
-        golden_path.display()
-    );
+    assert!(golden_path.exists(), "missing golden {} (run `make goldens`)", golden_path.display());
     let golden = Picture::load(&golden_path);
     let actual = Picture::load(&actual_path);
-    assert_eq!(
-        (actual.width, actual.height),
-        (golden.width, golden.height),
-        "{name}: size changed"
-    );
+    assert_eq!((actual.width, actual.height), (golden.width, golden.height), "{name}: size changed");
     let (stats, diff) = compare_rgb(&actual.rgb, &golden.rgb, TOLERANCE);
     if stats.within_fraction() < MIN_WITHIN || stats.max_diff > MAX_DIFF {
         let out = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/out");
@@ -55,10 +45,7 @@ fn check_golden(name: &str, args: &[&str]) {
 
 #[test]
 fn default_view_small_field() {
-    check_golden(
-        "default_view",
-        &["--blades", "20000", "--size", "320x180", "--seed", "1"],
-    );
+    check_golden("default_view", &["--blades", "20000", "--size", "320x180", "--seed", "1"]);
 }
 
 /// `X,Y,Z,YAW,PITCH` with Y `eye` metres above the terrain of the field `meadow render` builds for
@@ -73,18 +60,7 @@ fn one_segment_blades_close_up() {
     let camera = camera_above_ground(4000, 7, 0.0, 1.5, 0.5, 20.0, -15.0);
     check_golden(
         "one_segment_close_up",
-        &[
-            "--blades",
-            "4000",
-            "--segments",
-            "1",
-            "--size",
-            "240x240",
-            "--seed",
-            "7",
-            "--camera",
-            &camera,
-        ],
+        &["--blades", "4000", "--segments", "1", "--size", "240x240", "--seed", "7", "--camera", &camera],
     );
 }
 

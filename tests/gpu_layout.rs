@@ -10,61 +10,34 @@ use meadow::vk::descriptor::{self, Binding, Resource};
 use meadow::vk::{commands, pipeline, sync, Access, Buffer, BufferDesc, Device, DeviceSelector};
 
 fn options() -> GpuOptions {
-    GpuOptions {
-        validation: true,
-        device: DeviceSelector::parse("llvmpipe"),
-    }
+    GpuOptions { validation: true, device: DeviceSelector::parse("llvmpipe") }
 }
 
 /// Write `blades` from Rust, read every field back through `blade_readback.comp`.
 fn read_back(device: &Arc<Device>, blades: &[BladeInstance]) -> meadow::Result<Vec<u32>> {
     let input = Buffer::with_data(
         device,
-        &BufferDesc::upload(
-            "test blades",
-            std::mem::size_of_val(blades) as u64,
-            vk::BufferUsageFlags::STORAGE_BUFFER,
-        ),
+        &BufferDesc::upload("test blades", std::mem::size_of_val(blades) as u64, vk::BufferUsageFlags::STORAGE_BUFFER),
         blades,
     )?;
     let output = Buffer::new(
         device,
-        &BufferDesc::readback(
-            "test fields",
-            32 * blades.len() as u64,
-            vk::BufferUsageFlags::STORAGE_BUFFER,
-        ),
+        &BufferDesc::readback("test fields", 32 * blades.len() as u64, vk::BufferUsageFlags::STORAGE_BUFFER),
     )?;
     let bindings = [
-        Binding {
-            binding: 0,
-            kind: vk::DescriptorType::STORAGE_BUFFER,
-            stages: vk::ShaderStageFlags::COMPUTE,
-        },
-        Binding {
-            binding: 1,
-            kind: vk::DescriptorType::STORAGE_BUFFER,
-            stages: vk::ShaderStageFlags::COMPUTE,
-        },
+        Binding { binding: 0, kind: vk::DescriptorType::STORAGE_BUFFER, stages: vk::ShaderStageFlags::COMPUTE },
+        Binding { binding: 1, kind: vk::DescriptorType::STORAGE_BUFFER, stages: vk::ShaderStageFlags::COMPUTE },
     ];
     let set_layout = descriptor::set_layout(device, "readback set layout", &bindings)?;
     let layout = pipeline::layout(device, "readback layout", &[set_layout], &[])?;
-    let pipe = pipeline::compute(device, "blade readback", shaders::BLADE_READBACK_COMP, layout)?;
+    let pipe = pipeline::compute(device, "blade readback", shaders::BLADE_READBACK_COMP, layout, &[])?;
     let (pool, sets) = descriptor::allocate_sets(device, "readback", set_layout, &bindings, 1)?;
     descriptor::write(
         device,
         sets[0],
         &[
-            (
-                0,
-                vk::DescriptorType::STORAGE_BUFFER,
-                Resource::Buffer(input.descriptor()),
-            ),
-            (
-                1,
-                vk::DescriptorType::STORAGE_BUFFER,
-                Resource::Buffer(output.descriptor()),
-            ),
+            (0, vk::DescriptorType::STORAGE_BUFFER, Resource::Buffer(input.descriptor())),
+            (1, vk::DescriptorType::STORAGE_BUFFER, Resource::Buffer(output.descriptor())),
         ],
     );
     let groups = (blades.len() as u32).div_ceil(64);
@@ -72,9 +45,7 @@ fn read_back(device: &Arc<Device>, blades: &[BladeInstance]) -> meadow::Result<V
         // SAFETY: all objects are live; host writes are visible at submission.
         unsafe {
             device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipe);
-            device
-                .raw
-                .cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::COMPUTE, layout, 0, &sets, &[]);
+            device.raw.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::COMPUTE, layout, 0, &sets, &[]);
             device.raw.cmd_dispatch(cmd, groups, 1, 1);
         }
         let to_host = sync::buffer_barrier(output.raw, &[Access::ComputeShaderWrite], &[Access::HostRead]);
@@ -120,9 +91,7 @@ fn every_blade_field_reads_back_through_a_compute_shader() {
 fn validation_counts_an_invalid_call() {
     // The harness must be able to fail: a zero-sized buffer violates VUID-VkBufferCreateInfo-size-00912.
     let (result, messages) = with_device(&options(), false, |device| {
-        let info = vk::BufferCreateInfo::default()
-            .size(0)
-            .usage(vk::BufferUsageFlags::STORAGE_BUFFER);
+        let info = vk::BufferCreateInfo::default().size(0).usage(vk::BufferUsageFlags::STORAGE_BUFFER);
         // SAFETY: deliberately invalid create info; the handle (if any) is destroyed at once.
         unsafe {
             if let Ok(buffer) = device.raw.create_buffer(&info, None) {

@@ -28,26 +28,14 @@ fn default_view_is_sky_above_grass_with_vertical_blades() {
     assert_eq!((p.width, p.height), (320, 180));
 
     // Sky: the top tenth of the picture.
-    let top: Vec<_> = (0..p.height / 10)
-        .flat_map(|y| (0..p.width).map(move |x| (x, y)))
-        .collect();
+    let top: Vec<_> = (0..p.height / 10).flat_map(|y| (0..p.width).map(move |x| (x, y))).collect();
     let sky = top.iter().filter(|(x, y)| is_sky(p.pixel(*x, *y))).count();
-    assert!(
-        sky as f64 > 0.95 * top.len() as f64,
-        "sky in the top tenth: {sky}/{}",
-        top.len()
-    );
+    assert!(sky as f64 > 0.95 * top.len() as f64, "sky in the top tenth: {sky}/{}", top.len());
 
     // Grass dominates the lower 40 %.
-    let lower: Vec<_> = (p.height * 6 / 10..p.height)
-        .flat_map(|y| (0..p.width).map(move |x| (x, y)))
-        .collect();
+    let lower: Vec<_> = (p.height * 6 / 10..p.height).flat_map(|y| (0..p.width).map(move |x| (x, y))).collect();
     let grass = lower.iter().filter(|(x, y)| is_grass(p.pixel(*x, *y))).count();
-    assert!(
-        grass as f64 > 0.9 * lower.len() as f64,
-        "grass in the lower 40 %: {grass}/{}",
-        lower.len()
-    );
+    assert!(grass as f64 > 0.9 * lower.len() as f64, "grass in the lower 40 %: {grass}/{}", lower.len());
 
     // Blades are thin vertical features: across a row the brightness changes much more than
     // along a column.
@@ -63,19 +51,13 @@ fn default_view_is_sky_above_grass_with_vertical_blades() {
     // Measured on lavapipe: about 20 per pixel across rows and a ratio of 1.4; bare ground or
     // blurred grass gives a few units and a ratio near 1.
     assert!(dx / n > 8.0, "mean horizontal gradient {:.1}: no blade detail", dx / n);
-    assert!(
-        dx > 1.25 * dy,
-        "horizontal gradient {dx:.0} vs vertical {dy:.0}: no vertical blade structure"
-    );
+    assert!(dx > 1.25 * dy, "horizontal gradient {dx:.0} vs vertical {dy:.0}: no vertical blade structure");
 }
 
 #[test]
 fn blade_count_and_segments_change_the_triangle_count() {
     let dir = support::scratch("triangles");
-    let output = support::render(
-        &["--blades", "3000", "--segments", "3", "--size", "64x64"],
-        &dir.join("t.png"),
-    );
+    let output = support::render(&["--blades", "3000", "--segments", "3", "--size", "64x64"], &dir.join("t.png"));
     let stdout = String::from_utf8_lossy(&output.stdout);
     // 3000 blades × 3 segments × 2 triangles.
     assert!(stdout.contains("(18000 blades + "), "{stdout}");

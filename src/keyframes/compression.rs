@@ -22,26 +22,14 @@ impl BladeGeometry {
     /// The thesis' blade (fig. 3.4 and 3.7): every segment is its own quad, 4 vertices per
     /// segment (8 segments: 32 vertices), the root pair static, three components per vector.
     pub fn thesis(segments: u32) -> Self {
-        Self {
-            name: "thesis blade",
-            segments,
-            vertices: 4 * segments,
-            static_vertices: 2,
-            components: 3,
-        }
+        Self { name: "thesis blade", segments, vertices: 4 * segments, static_vertices: 2, components: 3 }
     }
 
     /// meadow's blade: one strip, 2(S+1) vertices shared between segments, the root pair static,
     /// and a fourth component per pair, the twist of the width (the blade turns to face a side
     /// wind), so a pair's two vertices can move differently while one record describes both.
     pub fn meadow(segments: u32) -> Self {
-        Self {
-            name: "meadow blade",
-            segments,
-            vertices: 2 * (segments + 1),
-            static_vertices: 2,
-            components: 4,
-        }
+        Self { name: "meadow blade", segments, vertices: 2 * (segments + 1), static_vertices: 2, components: 4 }
     }
 
     /// Displacement records per pose: one per rigid pair of moving vertices.
@@ -114,12 +102,7 @@ impl fmt::Display for CompressionReport {
             ("+ mirror symmetry (a quarter stored)", self.symmetric_bits),
         ];
         for (name, bits) in rows {
-            writeln!(
-                f,
-                "  {name:<38} {bits:>12} bits {:>10.2} KiB  -{:.2} %",
-                kib(bits),
-                pct(bits)
-            )?;
+            writeln!(f, "  {name:<38} {bits:>12} bits {:>10.2} KiB  -{:.2} %", kib(bits), pct(bits))?;
         }
         Ok(())
     }

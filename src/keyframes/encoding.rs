@@ -147,6 +147,36 @@ pub fn texture_texels(table: &crate::keyframes::KeyframeTable, encoding: Encodin
     (table.segments * texels_per_level, height, bytes)
 }
 
+/// How two 16-bit keyframe components share a 32-bit word of the uniform array (thesis 4.4.2).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Packing {
+    /// The thesis' merge/extract in a 32-bit float (loses precision in f32: see the report).
+    Thesis,
+    /// Two snorm16 values in a uint (`packSnorm2x16`): exact to 16 bits.
+    #[default]
+    Snorm,
+}
+
+impl Packing {
+    /// Index used by the shaders (after the texture encodings).
+    pub fn code(self) -> u32 {
+        match self {
+            Packing::Thesis => 3,
+            Packing::Snorm => 4,
+        }
+    }
+}
+
+/// The uniform array's words for `table`: two words per keyframe, (dx, dy) and
+/// (dz, twist / (π/2)), row-major like the texture.
+pub fn uniform_words(table: &crate::keyframes::KeyframeTable, packing: Packing) -> Vec<u32> {
+    let pack = |a: f32, b: f32| match packing {
+        Packing::Thesis => thesis_merge(a, b).to_bits(),
+        Packing::Snorm => pack_snorm2x16(a, b),
+    };
+    table.frames.iter().flat_map(|k| [pack(k[0], k[1]), pack(k[2], k[3] / std::f32::consts::FRAC_PI_2)]).collect()
+}
+
 impl Encoding {
     /// Index used by the shaders.
     pub fn code(self) -> u32 {
@@ -187,10 +217,7 @@ mod tests {
         // sum's rounding reaches into its last bits), the second about 8 (the merged value needs
         // 32 significant bits, a float has 24). The thesis' "full 16-bit precision" does not hold.
         assert!(first > DELTA16 && first < 1e-4, "extract1 error {first}");
-        assert!(
-            second > 1e-3,
-            "extract2 error {second}: the f32 claim of full 16-bit precision would hold"
-        );
+        assert!(second > 1e-3, "extract2 error {second}: the f32 claim of full 16-bit precision would hold");
         let exact = max_error(20_001, |x| unpack_snorm2x16(pack_snorm2x16(x, -x)).0)
             .max(max_error(20_001, |x| unpack_snorm2x16(pack_snorm2x16(0.5, x)).1));
         assert!(exact <= 1.0 / 32767.0, "snorm16 packing error {exact}");

@@ -56,11 +56,7 @@ impl BladeModel {
     }
 
     fn joint_stiffness(&self, joint: u32) -> f32 {
-        let s = if self.segments > 1 {
-            joint as f32 / (self.segments - 1) as f32
-        } else {
-            0.0
-        };
+        let s = if self.segments > 1 { joint as f32 / (self.segments - 1) as f32 } else { 0.0 };
         self.root_stiffness * (1.0 + s * (self.tip_stiffness_ratio - 1.0))
     }
 }
@@ -148,9 +144,7 @@ fn relax(model: &BladeModel, twist: &[f32], load: Vec3, l: f32, psi: &mut [Vec3]
         for joint in 0..n {
             let pivot = backbone[joint];
             // Moment of every segment load above the joint, applied at segment centres.
-            let moment: Vec3 = (joint..n)
-                .map(|j| (0.5 * (backbone[j] + backbone[j + 1]) - pivot).cross(load))
-                .sum();
+            let moment: Vec3 = (joint..n).map(|j| (0.5 * (backbone[j] + backbone[j + 1]) - pivot).cross(load)).sum();
             // Joint axes twisted with the blade: flap about the width, edge about the normal.
             let tw = 0.5 * (twist[joint] + twist[joint + 1]);
             let flap_axis = Vec3::new(tw.cos(), 0.0, -tw.sin());
@@ -186,10 +180,7 @@ mod tests {
     fn neutral_without_force_apart_from_a_slight_sag() {
         let model = BladeModel::new(4);
         let pose = solve(&model, 0.0, 0.0);
-        assert!(
-            pose.tip_displacement().length() < 1e-3,
-            "gravity alone barely moves an upright blade"
-        );
+        assert!(pose.tip_displacement().length() < 1e-3, "gravity alone barely moves an upright blade");
     }
 
     #[test]
@@ -200,10 +191,7 @@ mod tests {
             let f = step as f32 / 20.0 * MAX_FORCE;
             let pose = solve(&model, 0.0, f);
             for i in 0..8 {
-                assert!(
-                    (pose.segment_length(i) - 0.125).abs() < 1.25e-4,
-                    "segment {i} at force {f}"
-                );
+                assert!((pose.segment_length(i) - 0.125).abs() < 1.25e-4, "segment {i} at force {f}");
             }
             // The distance the tip moved grows with the force (its z alone does not once the blade
             // curls past horizontal).

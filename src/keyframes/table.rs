@@ -132,11 +132,7 @@ impl KeyframeTable {
                 }
             }
         }
-        Self {
-            layout,
-            segments: model.segments,
-            frames,
-        }
+        Self { layout, segments: model.segments, frames }
     }
 
     /// The stored keyframe of `row` at `level` (1..=segments).
@@ -154,11 +150,7 @@ impl KeyframeTable {
         let sign_x = if fx < 0.0 { -1.0 } else { 1.0 };
         let sign_z = if fz < 0.0 { -1.0 } else { 1.0 };
         let mf = magnitude / MAX_FORCE * (l.magnitudes - 1) as f32;
-        let af = if l.angles > 1 {
-            phi / FRAC_PI_2 * (l.angles - 1) as f32
-        } else {
-            0.0
-        };
+        let af = if l.angles > 1 { phi / FRAC_PI_2 * (l.angles - 1) as f32 } else { 0.0 };
         match smoothing {
             Smoothing::Nearest => {
                 let row = l.row(mf.round() as u32, af.round() as u32);
@@ -214,10 +206,7 @@ impl KeyframeTable {
                 let lo = slerp(p0, p1, tm);
                 let hi = slerp(p2, p3, tm);
                 let lerp = |a: f32, b: f32, t: f32| a + (b - a) * t;
-                (
-                    slerp(lo, hi, selection.t_angle),
-                    lerp(lerp(t0, t1, tm), lerp(t2, t3, tm), selection.t_angle),
-                )
+                (slerp(lo, hi, selection.t_angle), lerp(lerp(t0, t1, tm), lerp(t2, t3, tm), selection.t_angle))
             }
         };
         (
@@ -335,13 +324,7 @@ mod tests {
         }
         // Half-way between two distant stored magnitudes (a coarse table): slerp keeps the blade's
         // length better than linear interpolation, which shortens it (fig. 3.6).
-        let coarse = KeyframeTable::generate(
-            &BladeModel::new(4),
-            KeyframeLayout {
-                magnitudes: 3,
-                angles: 2,
-            },
-        );
+        let coarse = KeyframeTable::generate(&BladeModel::new(4), KeyframeLayout { magnitudes: 3, angles: 2 });
         let length = |p: &Pose| (0..4).map(|i| p.segment_length(i)).sum::<f32>();
         let f_mid = 0.25 * MAX_FORCE;
         let lin = (length(&coarse.pose_for(0.0, f_mid, Smoothing::Linear)) - 1.0).abs();

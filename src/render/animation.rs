@@ -5,11 +5,11 @@ use ash::vk;
 use glam::{Vec2, Vec4};
 
 use crate::error::{Error, Result, VkContext};
-use crate::keyframes::encoding::{self, Encoding};
+use crate::keyframes::encoding::{self, Encoding, Packing};
 use crate::keyframes::{BladeModel, KeyframeLayout, KeyframeTable, Smoothing};
 use crate::scene::clusters::ClusterGrid;
 use crate::vk::upload::UploadBatch;
-use crate::vk::{Access, Device, Image, ImageDesc};
+use crate::vk::{Access, Buffer, Device, Image, ImageDesc};
 use crate::wind::{Attenuation, Wind};
 
 /// How blades are posed.
@@ -20,6 +20,8 @@ pub enum Mode {
     /// Keyframes sampled from a texture in the vertex shader (thesis 4.4.1).
     #[default]
     Texture,
+    /// Keyframes in a uniform array, two 16-bit values per 32-bit word (thesis 4.4.2).
+    Uniform,
 }
 
 impl Mode {
@@ -28,8 +30,19 @@ impl Mode {
         match self {
             Mode::Static => 0,
             Mode::Texture => 1,
+            Mode::Uniform => 2,
         }
     }
+}
+
+/// Where the per-blade part of the animation runs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Eval {
+    /// In the vertex shader, for every vertex (as the thesis did on shader model 3).
+    #[default]
+    Vertex,
+    /// Once per blade in a compute pass writing a pose record.
+    Blade,
 }
 
 /// Everything about the animation a renderer is built with.
@@ -43,6 +56,10 @@ pub struct AnimationSettings {
     pub smoothing: Smoothing,
     /// Keyframe texture encoding.
     pub encoding: Encoding,
+    /// Uniform-array packing.
+    pub packing: Packing,
+    /// Per vertex or per blade.
+    pub eval: Eval,
     /// Where source magnitudes are attenuated.
     pub attenuation: Attenuation,
     /// Cluster edge in metres.
@@ -58,6 +75,8 @@ impl Default for AnimationSettings {
             poses: 1000,
             smoothing: Smoothing::Nearest,
             encoding: Encoding::Unorm16,
+            packing: Packing::Snorm,
+            eval: Eval::Vertex,
             attenuation: Attenuation::Cluster,
             cluster_size: 1.0,
             wind: Wind::default(),
@@ -110,7 +129,9 @@ impl KeyframeTexture {
             vk::Extent2D { width, height },
             vk::ImageUsageFlags::SAMPLED,
         );
-        let image = batch.image(&desc, &texels, &[Access::VertexShaderSampledRead])?;
+        // Read by the vertex shader, and by compute passes and tests that decode it.
+        let image =
+            batch.image(&desc, &texels, &[Access::VertexShaderSampledRead, Access::ComputeShaderSampledRead])?;
         let info = vk::SamplerCreateInfo::default()
             .mag_filter(vk::Filter::NEAREST)
             .min_filter(vk::Filter::NEAREST)
@@ -145,6 +166,52 @@ impl KeyframeTexture {
     }
 }
 
+/// The keyframe table as a uniform array (thesis 4.4.2): `uvec4 keyframe_words[N]` where N, a
+/// specialization constant, fills the smaller of `maxUniformBufferRange` and 64 KiB.
+pub struct KeyframeUniforms {
+    /// The uniform buffer, always `16 N` bytes.
+    pub buffer: Buffer,
+    /// N.
+    pub uvec4s: u32,
+}
+
+impl KeyframeUniforms {
+    /// `uvec4`s of the uniform array on this device.
+    pub fn capacity(device: &Device) -> u32 {
+        device.limits().max_uniform_buffer_range.min(65536) / 16
+    }
+
+    /// Check that the table for `poses` × `segments` fits the uniform array.
+    pub fn check_limits(device: &Device, poses: u32, segments: u32) -> Result<()> {
+        let bytes = u64::from(KeyframeLayout::for_poses(poses).stored()) * u64::from(segments) * 8;
+        let max = u64::from(device.limits().max_uniform_buffer_range);
+        if bytes > 16 * u64::from(Self::capacity(device)) {
+            return Err(Error::bad_input(format!(
+                "--mode uniform: {poses} poses x {segments} segments need {bytes} bytes of uniform data, over the device's maxUniformBufferRange of {max} (use --mode texture, or fewer --poses)"
+            )));
+        }
+        Ok(())
+    }
+
+    /// Add the upload of `table` packed with `packing` to `batch` (zeros when it does not fit:
+    /// only uniform mode reads it, and that mode checked the size first).
+    pub fn new(batch: &mut UploadBatch, table: &KeyframeTable, packing: Packing) -> Result<Self> {
+        let uvec4s = Self::capacity(batch.device());
+        let mut words = encoding::uniform_words(table, packing);
+        if words.len() > 4 * uvec4s as usize {
+            words.clear();
+        }
+        words.resize(4 * uvec4s as usize, 0);
+        let buffer = batch.buffer(
+            "keyframe uniforms",
+            &words,
+            vk::BufferUsageFlags::UNIFORM_BUFFER,
+            &[Access::VertexShaderUniformRead, Access::ComputeShaderUniformRead],
+        )?;
+        Ok(Self { buffer, uvec4s })
+    }
+}
+
 /// The corner forces of a frame: (fx, fz, calm-area exposure, 0) per corner.
 pub fn corner_forces(grid: &ClusterGrid, wind: &Wind, time: f32, attenuation: Attenuation) -> Vec<Vec4> {
     (0..grid.corner_count())
@@ -167,11 +234,7 @@ pub fn emitters(wind: &Wind, time: f32) -> Vec<Vec4> {
             let p = s.position_at(time);
             Vec4::new(p.x, p.y, s.power, s.sigma)
         })
-        .chain(
-            wind.colliders
-                .iter()
-                .map(|c| Vec4::new(c.center.x, c.center.z, c.radii.x, c.radii.z)),
-        )
+        .chain(wind.colliders.iter().map(|c| Vec4::new(c.center.x, c.center.z, c.radii.x, c.radii.z)))
         .collect();
     if out.is_empty() {
         out.push(Vec4::ZERO);

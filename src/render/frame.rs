@@ -81,6 +81,8 @@ pub struct Frame {
     pub descriptor_set: vk::DescriptorSet,
     /// Timestamps of this frame's passes.
     pub timestamps: TimestampQueries,
+    /// Names of the passes recorded, in order (timestamps i and i + 1 bracket pass i).
+    pub passes: Vec<&'static str>,
 }
 
 impl Frame {
@@ -101,26 +103,11 @@ impl Frame {
             fence = sync::fence(device, true, &format!("frame {index} fence"))?;
             let vec4 = 16u64;
             for (name, size, usage) in [
-                (
-                    "uniforms",
-                    std::mem::size_of::<FrameUniforms>() as u64,
-                    vk::BufferUsageFlags::UNIFORM_BUFFER,
-                ),
-                (
-                    "corner forces",
-                    vec4 * u64::from(corners),
-                    vk::BufferUsageFlags::STORAGE_BUFFER,
-                ),
-                (
-                    "emitters",
-                    vec4 * u64::from(emitters.max(1)),
-                    vk::BufferUsageFlags::STORAGE_BUFFER,
-                ),
+                ("uniforms", std::mem::size_of::<FrameUniforms>() as u64, vk::BufferUsageFlags::UNIFORM_BUFFER),
+                ("corner forces", vec4 * u64::from(corners), vk::BufferUsageFlags::STORAGE_BUFFER),
+                ("emitters", vec4 * u64::from(emitters.max(1)), vk::BufferUsageFlags::STORAGE_BUFFER),
             ] {
-                buffers.push(Buffer::new(
-                    device,
-                    &BufferDesc::upload(&format!("frame {index} {name}"), size, usage),
-                )?);
+                buffers.push(Buffer::new(device, &BufferDesc::upload(&format!("frame {index} {name}"), size, usage))?);
             }
             TimestampQueries::new(device, &format!("frame {index} timestamps"), 16)
         })();
@@ -136,6 +123,7 @@ impl Frame {
                     emitters: next(),
                     descriptor_set,
                     timestamps,
+                    passes: Vec::new(),
                 })
             }
             Err(e) => {

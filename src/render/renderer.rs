@@ -9,9 +9,9 @@ use ash::vk;
 use glam::{UVec4, Vec4};
 
 use crate::error::{Result, VkContext};
-use crate::render::animation::{self, AnimationSettings};
+use crate::render::animation::{self, AnimationSettings, Eval, KeyframeUniforms, Mode};
 use crate::render::frame::{look, Frame, FrameUniforms};
-use crate::render::passes::{BladePass, TerrainPass};
+use crate::render::passes::{BladePass, BladePosePass, TerrainPass};
 use crate::render::scene_gpu::{self, SceneGpu};
 use crate::render::target::{OffscreenTarget, TargetView, DEPTH_FORMAT};
 use crate::scene::bezier::Batching;
@@ -80,6 +80,7 @@ struct Resources {
     frames: Vec<Frame>,
     terrain: Option<TerrainPass>,
     blades: Option<BladePass>,
+    poses: Option<BladePosePass>,
 }
 
 /// Scene passes and frames in flight.
@@ -91,8 +92,9 @@ pub struct Renderer {
     frame_index: usize,
 }
 
-/// Pass names, in recording order (timestamps `i` and `i + 1` bracket pass `i`).
-const PASSES: [&str; 2] = ["terrain", "blades"];
+/// Pass names; a frame records the passes it runs in `Frame::passes`, timestamps `i` and `i + 1`
+/// bracketing pass `i`.
+const PASSES: [&str; 3] = ["blade poses", "terrain", "blades"];
 
 const COLOR_RANGE: vk::ImageSubresourceRange = vk::ImageSubresourceRange {
     aspect_mask: vk::ImageAspectFlags::COLOR,
@@ -101,10 +103,8 @@ const COLOR_RANGE: vk::ImageSubresourceRange = vk::ImageSubresourceRange {
     base_array_layer: 0,
     layer_count: 1,
 };
-const DEPTH_RANGE: vk::ImageSubresourceRange = vk::ImageSubresourceRange {
-    aspect_mask: vk::ImageAspectFlags::DEPTH,
-    ..COLOR_RANGE
-};
+const DEPTH_RANGE: vk::ImageSubresourceRange =
+    vk::ImageSubresourceRange { aspect_mask: vk::ImageAspectFlags::DEPTH, ..COLOR_RANGE };
 
 impl Renderer {
     /// Upload `scene` and build the passes and frames.
@@ -116,17 +116,10 @@ impl Renderer {
     ) -> Result<Self> {
         let bindings = scene_gpu::bindings();
         let animation_copy = animation.clone();
-        let mut renderer = Self {
-            device: device.clone(),
-            settings,
-            animation,
-            resources: Some(Resources::default()),
-            frame_index: 0,
-        };
+        let mut renderer =
+            Self { device: device.clone(), settings, animation, resources: Some(Resources::default()), frame_index: 0 };
         let res = renderer.resources.as_mut().expect("just set");
-        let scene_gpu = res
-            .scene
-            .insert(SceneGpu::upload(&device, scene, settings.segments, &animation_copy)?);
+        let scene_gpu = res.scene.insert(SceneGpu::upload(&device, scene, settings.segments, &animation_copy)?);
         let corners = scene_gpu.grid.corner_count();
         let emitters = (animation_copy.wind.sources.len() + animation_copy.wind.colliders.len()) as u32;
         res.set_layout = descriptor::set_layout(&device, "scene set layout", &bindings)?;
@@ -144,18 +137,14 @@ impl Renderer {
             scene_gpu.write_descriptors(&device, set, &frame);
             res.frames.push(frame);
         }
-        res.terrain = Some(TerrainPass::new(
-            &device,
-            res.pipeline_layout,
-            settings.color_format,
-            DEPTH_FORMAT,
-        )?);
-        res.blades = Some(BladePass::new(
-            &device,
-            res.pipeline_layout,
-            settings.color_format,
-            DEPTH_FORMAT,
-        )?);
+        // Specialization constant 0: the size of the keyframe uniform array (bindings.glsl).
+        let constants = [KeyframeUniforms::capacity(&device)];
+        let (layout, color) = (res.pipeline_layout, settings.color_format);
+        res.terrain = Some(TerrainPass::new(&device, layout, color, DEPTH_FORMAT, &constants)?);
+        res.blades = Some(BladePass::new(&device, layout, color, DEPTH_FORMAT, &constants)?);
+        if renderer.animation.eval == Eval::Blade && renderer.animation.mode != Mode::Static {
+            res.poses = Some(BladePosePass::new(&device, layout, &constants)?);
+        }
         Ok(renderer)
     }
 
@@ -180,10 +169,7 @@ impl Renderer {
     /// Triangles of one frame: (blades, terrain).
     pub fn triangles(&self) -> (u64, u64) {
         let scene = self.scene_gpu();
-        (
-            BladePass::triangles(scene, self.settings.segments),
-            TerrainPass::triangles(scene),
-        )
+        (BladePass::triangles(scene, self.settings.segments), TerrainPass::triangles(scene))
     }
 
     /// The uniforms of a frame seen from `camera` at simulation time `time` into `extent`.
@@ -204,17 +190,22 @@ impl Renderer {
             ),
             batching: {
                 let b = Batching::new(self.settings.segments, self.settings.blades_per_instance);
-                UVec4::new(
-                    b.blades_per_instance,
-                    b.stride,
-                    b.lead,
-                    u32::from(self.settings.debug_force),
-                )
+                let mut flags = 0;
+                if self.settings.debug_force {
+                    flags |= 1; // FLAG_DEBUG_FORCE
+                }
+                if self.resources().poses.is_some() {
+                    flags |= 2; // FLAG_EVAL_BLADE
+                }
+                UVec4::new(b.blades_per_instance, b.stride, b.lead, flags)
             },
             animation: UVec4::new(
                 self.animation.mode.code(),
                 self.animation.smoothing.code(),
-                self.animation.encoding.code(),
+                match self.animation.mode {
+                    Mode::Uniform => self.animation.packing.code(),
+                    _ => self.animation.encoding.code(),
+                },
                 match self.animation.attenuation {
                     Attenuation::Cluster => 0,
                     Attenuation::Blade => 1,
@@ -240,18 +231,34 @@ impl Renderer {
         let scene = self.scene_gpu();
         frame.timestamps.reset(device, cmd);
         frame.timestamps.write(device, cmd);
+        frame.passes.clear();
+        // SAFETY: cmd is recording; the set is compatible with both bind points' layouts.
+        unsafe {
+            for bind_point in [vk::PipelineBindPoint::GRAPHICS, vk::PipelineBindPoint::COMPUTE] {
+                device.raw.cmd_bind_descriptor_sets(
+                    cmd,
+                    bind_point,
+                    res.pipeline_layout,
+                    0,
+                    &[frame.descriptor_set],
+                    &[],
+                );
+            }
+        }
+        if let Some(poses) = &res.poses {
+            debug::begin_label(device, cmd, PASSES[0], [0.7, 0.5, 0.2, 1.0]);
+            poses.record(device, cmd, &scene.poses, scene.blade_count);
+            debug::end_label(device, cmd);
+            frame.timestamps.write(device, cmd);
+            frame.passes.push(PASSES[0]);
+        }
         let attachment_barriers = |previous_color: Access, previous_depth: Access| {
             sync::cmd_barriers(
                 device,
                 cmd,
                 &[],
                 &[
-                    sync::image_barrier(
-                        target.color,
-                        COLOR_RANGE,
-                        &[previous_color],
-                        &[Access::ColorAttachmentWrite],
-                    ),
+                    sync::image_barrier(target.color, COLOR_RANGE, &[previous_color], &[Access::ColorAttachmentWrite]),
                     sync::image_barrier(
                         target.depth,
                         DEPTH_RANGE,
@@ -263,10 +270,7 @@ impl Renderer {
         };
         attachment_barriers(target.color_previous, target.depth_previous);
 
-        let area = vk::Rect2D {
-            offset: vk::Offset2D::default(),
-            extent: target.extent,
-        };
+        let area = vk::Rect2D { offset: vk::Offset2D::default(), extent: target.extent };
         let viewport = vk::Viewport {
             x: 0.0,
             y: 0.0,
@@ -279,24 +283,17 @@ impl Renderer {
         unsafe {
             device.raw.cmd_set_viewport(cmd, 0, &[viewport]);
             device.raw.cmd_set_scissor(cmd, 0, &[area]);
-            device.raw.cmd_bind_descriptor_sets(
-                cmd,
-                vk::PipelineBindPoint::GRAPHICS,
-                res.pipeline_layout,
-                0,
-                &[frame.descriptor_set],
-                &[],
-            );
         }
 
         // Terrain: clears colour to the sky and depth to the far plane (0, reversed Z).
-        self.begin_pass(cmd, target, PASSES[0], true);
+        self.begin_pass(cmd, target, PASSES[1], true);
         res.terrain.as_ref().expect("built in new").record(device, cmd, scene);
         self.end_pass(cmd);
         frame.timestamps.write(device, cmd);
+        frame.passes.push(PASSES[1]);
 
         attachment_barriers(Access::ColorAttachmentWrite, Access::DepthAttachmentReadWrite);
-        self.begin_pass(cmd, target, PASSES[1], false);
+        self.begin_pass(cmd, target, PASSES[2], false);
         res.blades.as_ref().expect("built in new").record(
             device,
             cmd,
@@ -306,6 +303,7 @@ impl Renderer {
         );
         self.end_pass(cmd);
         frame.timestamps.write(device, cmd);
+        frame.passes.push(PASSES[2]);
     }
 
     /// Open a labelled rendering instance on `target`; `clear` clears colour and depth, otherwise
@@ -314,45 +312,25 @@ impl Renderer {
         let device = &*self.device;
         let sky = look::SKY;
         let clear_color = if self.settings.encode_srgb {
-            [
-                look::encode_srgb(sky.x),
-                look::encode_srgb(sky.y),
-                look::encode_srgb(sky.z),
-                1.0,
-            ]
+            [look::encode_srgb(sky.x), look::encode_srgb(sky.y), look::encode_srgb(sky.z), 1.0]
         } else {
             [sky.x, sky.y, sky.z, 1.0]
         };
-        let load = if clear {
-            vk::AttachmentLoadOp::CLEAR
-        } else {
-            vk::AttachmentLoadOp::LOAD
-        };
+        let load = if clear { vk::AttachmentLoadOp::CLEAR } else { vk::AttachmentLoadOp::LOAD };
         let color = [vk::RenderingAttachmentInfo::default()
             .image_view(target.color_view)
             .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
             .load_op(load)
             .store_op(vk::AttachmentStoreOp::STORE)
-            .clear_value(vk::ClearValue {
-                color: vk::ClearColorValue { float32: clear_color },
-            })];
+            .clear_value(vk::ClearValue { color: vk::ClearColorValue { float32: clear_color } })];
         let depth = vk::RenderingAttachmentInfo::default()
             .image_view(target.depth_view)
             .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
             .load_op(load)
-            .store_op(if clear {
-                vk::AttachmentStoreOp::STORE
-            } else {
-                vk::AttachmentStoreOp::DONT_CARE
-            })
-            .clear_value(vk::ClearValue {
-                depth_stencil: vk::ClearDepthStencilValue { depth: 0.0, stencil: 0 },
-            });
+            .store_op(if clear { vk::AttachmentStoreOp::STORE } else { vk::AttachmentStoreOp::DONT_CARE })
+            .clear_value(vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: 0.0, stencil: 0 } });
         let rendering = vk::RenderingInfo::default()
-            .render_area(vk::Rect2D {
-                offset: vk::Offset2D::default(),
-                extent: target.extent,
-            })
+            .render_area(vk::Rect2D { offset: vk::Offset2D::default(), extent: target.extent })
             .layer_count(1)
             .color_attachments(&color)
             .depth_attachment(&depth);
@@ -373,10 +351,7 @@ impl Renderer {
     fn write_forces(&self, frame: &mut Frame, time: f32) {
         let grid = &self.scene_gpu().grid;
         let wind = &self.animation.wind;
-        frame.corners.write(
-            0,
-            &animation::corner_forces(grid, wind, time, self.animation.attenuation),
-        );
+        frame.corners.write(0, &animation::corner_forces(grid, wind, time, self.animation.attenuation));
         frame.emitters.write(0, &animation::emitters(wind, time));
     }
 
@@ -419,13 +394,11 @@ impl Renderer {
             let finished = Instant::now();
 
             let stamps = frame.timestamps.read_ns(&device)?;
-            let passes = PASSES
+            let passes = frame
+                .passes
                 .iter()
                 .enumerate()
-                .map(|(i, name)| PassTime {
-                    name,
-                    ms: span_ms(stamps[i], stamps[i + 1]),
-                })
+                .map(|(i, name)| PassTime { name, ms: span_ms(stamps[i], stamps[i + 1]) })
                 .collect();
             Ok(FrameTimings {
                 cpu_record_ms: (recorded - started).as_secs_f64() * 1e3,
@@ -459,6 +432,9 @@ impl Drop for Renderer {
 unsafe fn destroy_resources(device: &Device, res: Resources) {
     // SAFETY: per the contract; destroying a null handle is a no-op.
     unsafe {
+        if let Some(poses) = res.poses {
+            poses.destroy(device);
+        }
         if let Some(blades) = res.blades {
             blades.destroy(device);
         }

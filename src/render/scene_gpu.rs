@@ -4,7 +4,7 @@
 use ash::vk;
 
 use crate::error::{Result, VkContext};
-use crate::render::animation::{AnimationSettings, KeyframeTexture};
+use crate::render::animation::{AnimationSettings, Eval, KeyframeTexture, KeyframeUniforms};
 use crate::render::frame::Frame;
 use crate::scene::clusters::{BladeCluster, ClusterGrid};
 use crate::scene::{alpha, Scene};
@@ -30,54 +30,31 @@ pub mod binding {
     pub const EMITTERS: u32 = 6;
     /// Keyframe texture.
     pub const KEYFRAMES: u32 = 7;
+    /// Keyframe uniform array.
+    pub const KEYFRAME_WORDS: u32 = 8;
+    /// Per-blade pose records written by the blade-pose compute pass (`--eval blade`).
+    pub const POSES: u32 = 9;
 }
 
-/// Layout of set 0 shared by the scene passes.
-pub fn bindings() -> [Binding; 8] {
+/// Layout of set 0 shared by the scene passes and the blade-pose compute pass.
+pub fn bindings() -> [Binding; 10] {
     let vs = vk::ShaderStageFlags::VERTEX;
-    let vs_fs = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
+    let vs_cs = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::COMPUTE;
+    let all = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT | vk::ShaderStageFlags::COMPUTE;
     let storage = vk::DescriptorType::STORAGE_BUFFER;
+    let sampled = vk::DescriptorType::COMBINED_IMAGE_SAMPLER;
+    let uniform = vk::DescriptorType::UNIFORM_BUFFER;
     [
-        Binding {
-            binding: binding::FRAME,
-            kind: vk::DescriptorType::UNIFORM_BUFFER,
-            stages: vs_fs,
-        },
-        Binding {
-            binding: binding::BLADES,
-            kind: storage,
-            stages: vs,
-        },
-        Binding {
-            binding: binding::HEIGHTS,
-            kind: storage,
-            stages: vs,
-        },
-        Binding {
-            binding: binding::BLADE_ALPHA,
-            kind: vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
-            stages: vk::ShaderStageFlags::FRAGMENT,
-        },
-        Binding {
-            binding: binding::CLUSTERS,
-            kind: storage,
-            stages: vs,
-        },
-        Binding {
-            binding: binding::CORNERS,
-            kind: storage,
-            stages: vs,
-        },
-        Binding {
-            binding: binding::EMITTERS,
-            kind: storage,
-            stages: vs,
-        },
-        Binding {
-            binding: binding::KEYFRAMES,
-            kind: vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
-            stages: vs,
-        },
+        Binding { binding: binding::FRAME, kind: uniform, stages: all },
+        Binding { binding: binding::BLADES, kind: storage, stages: vs_cs },
+        Binding { binding: binding::HEIGHTS, kind: storage, stages: vs },
+        Binding { binding: binding::BLADE_ALPHA, kind: sampled, stages: vk::ShaderStageFlags::FRAGMENT },
+        Binding { binding: binding::CLUSTERS, kind: storage, stages: vs_cs },
+        Binding { binding: binding::CORNERS, kind: storage, stages: vs_cs },
+        Binding { binding: binding::EMITTERS, kind: storage, stages: vs_cs },
+        Binding { binding: binding::KEYFRAMES, kind: sampled, stages: vs },
+        Binding { binding: binding::KEYFRAME_WORDS, kind: uniform, stages: vs },
+        Binding { binding: binding::POSES, kind: storage, stages: vs_cs },
     ]
 }
 
@@ -105,6 +82,10 @@ pub struct SceneGpu {
     pub grid: ClusterGrid,
     /// The keyframe table.
     pub keyframes: KeyframeTexture,
+    /// The keyframe table as a uniform array.
+    pub keyframe_words: KeyframeUniforms,
+    /// One 16-byte pose record per blade with `--eval blade` (a single record otherwise).
+    pub poses: Buffer,
 }
 
 /// Resources created so far by `upload`, freed if it fails half-way.
@@ -115,6 +96,8 @@ struct Partial {
     clusters: Option<Buffer>,
     blade_alpha: Option<Image>,
     keyframes: Option<KeyframeTexture>,
+    keyframe_words: Option<KeyframeUniforms>,
+    poses: Option<Buffer>,
 }
 
 impl Partial {
@@ -123,7 +106,8 @@ impl Partial {
     unsafe fn destroy(self, device: &Device) {
         // SAFETY: per the contract.
         unsafe {
-            for buffer in [self.blades, self.heights, self.clusters].into_iter().flatten() {
+            let words = self.keyframe_words.map(|w| w.buffer);
+            for buffer in [self.blades, self.heights, self.clusters, words, self.poses].into_iter().flatten() {
                 buffer.destroy(device);
             }
             if let Some(image) = self.blade_alpha {
@@ -140,8 +124,9 @@ impl SceneGpu {
     /// Bytes of device memory `upload` will allocate for `scene` (staging included, as it
     /// coexists with the destination during the upload).
     pub fn memory_bytes(blade_count: u64, terrain_cells: u64) -> u64 {
+        // Blade record, cluster record, pose record (with --eval blade).
         let blades = blade_count
-            * (std::mem::size_of::<crate::scene::BladeInstance>() + std::mem::size_of::<BladeCluster>()) as u64;
+            * (std::mem::size_of::<crate::scene::BladeInstance>() + std::mem::size_of::<BladeCluster>() + 16) as u64;
         let heights = (terrain_cells + 1).pow(2) * 4;
         let alpha = u64::from(alpha::WIDTH * alpha::HEIGHT);
         2 * (blades + heights + alpha)
@@ -165,6 +150,8 @@ impl SceneGpu {
                 clusters: partial.clusters.take().expect("uploaded"),
                 grid,
                 keyframes: partial.keyframes.take().expect("uploaded"),
+                keyframe_words: partial.keyframe_words.take().expect("uploaded"),
+                poses: partial.poses.take().expect("created"),
             }),
             Err(e) => {
                 // SAFETY: the batch waited for its submission or never submitted.
@@ -191,15 +178,19 @@ impl SceneGpu {
         let desc = ImageDesc::color(
             "blade alpha",
             vk::Format::R8_UNORM,
-            vk::Extent2D {
-                width: alpha::WIDTH,
-                height: alpha::HEIGHT,
-            },
+            vk::Extent2D { width: alpha::WIDTH, height: alpha::HEIGHT },
             vk::ImageUsageFlags::SAMPLED,
         );
         partial.blade_alpha = Some(batch.image(&desc, &alpha::texels(), &[Access::FragmentShaderSampledRead])?);
-        partial.keyframes = Some(KeyframeTexture::new(&mut batch, segments, animation)?.0);
+        let (keyframes, table) = KeyframeTexture::new(&mut batch, segments, animation)?;
+        partial.keyframes = Some(keyframes);
+        partial.keyframe_words = Some(KeyframeUniforms::new(&mut batch, &table, animation.packing)?);
         batch.submit()?;
+        let records = if animation.eval == Eval::Blade { scene.blades.len().max(1) as u64 } else { 1 };
+        partial.poses = Some(Buffer::new(
+            device,
+            &crate::vk::BufferDesc::gpu_only("blade poses", 16 * records, vk::BufferUsageFlags::STORAGE_BUFFER),
+        )?);
         let sampler_info = vk::SamplerCreateInfo::default()
             .mag_filter(vk::Filter::LINEAR)
             .min_filter(vk::Filter::LINEAR)
@@ -229,30 +220,20 @@ impl SceneGpu {
             device,
             set,
             &[
-                (
-                    binding::FRAME,
-                    vk::DescriptorType::UNIFORM_BUFFER,
-                    Resource::Buffer(frame.uniforms.descriptor()),
-                ),
+                (binding::FRAME, vk::DescriptorType::UNIFORM_BUFFER, Resource::Buffer(frame.uniforms.descriptor())),
                 (binding::BLADES, storage, Resource::Buffer(self.blades.descriptor())),
                 (binding::HEIGHTS, storage, Resource::Buffer(self.heights.descriptor())),
-                (
-                    binding::BLADE_ALPHA,
-                    sampled,
-                    image(self.sampler, self.blade_alpha.view),
-                ),
+                (binding::BLADE_ALPHA, sampled, image(self.sampler, self.blade_alpha.view)),
                 (binding::CLUSTERS, storage, Resource::Buffer(self.clusters.descriptor())),
                 (binding::CORNERS, storage, Resource::Buffer(frame.corners.descriptor())),
+                (binding::EMITTERS, storage, Resource::Buffer(frame.emitters.descriptor())),
+                (binding::KEYFRAMES, sampled, image(self.keyframes.sampler, self.keyframes.image.view)),
                 (
-                    binding::EMITTERS,
-                    storage,
-                    Resource::Buffer(frame.emitters.descriptor()),
+                    binding::KEYFRAME_WORDS,
+                    vk::DescriptorType::UNIFORM_BUFFER,
+                    Resource::Buffer(self.keyframe_words.buffer.descriptor()),
                 ),
-                (
-                    binding::KEYFRAMES,
-                    sampled,
-                    image(self.keyframes.sampler, self.keyframes.image.view),
-                ),
+                (binding::POSES, storage, Resource::Buffer(self.poses.descriptor())),
             ],
         );
     }
@@ -266,6 +247,8 @@ impl SceneGpu {
         unsafe {
             device.raw.destroy_sampler(self.sampler, None);
             self.keyframes.destroy(device);
+            self.keyframe_words.buffer.destroy(device);
+            self.poses.destroy(device);
             self.clusters.destroy(device);
             self.blade_alpha.destroy(device);
             self.heights.destroy(device);

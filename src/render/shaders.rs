@@ -18,3 +18,7 @@ pub const TERRAIN_FRAG: &[u8] = spirv!("terrain.frag");
 pub const BLADE_READBACK_COMP: &[u8] = spirv!("blade_readback.comp");
 /// Test and experiment: per-blade forces through `forces.glsl`.
 pub const BLADE_FORCES_COMP: &[u8] = spirv!("blade_forces.comp");
+/// `--eval blade`: per-blade pose records.
+pub const BLADE_POSE_COMP: &[u8] = spirv!("blade_pose.comp");
+/// Test: decodes the keyframe texture / uniform array through the vertex shader's decoder.
+pub const KEYFRAME_DECODE_COMP: &[u8] = spirv!("keyframe_decode.comp");

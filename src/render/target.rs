@@ -74,13 +74,9 @@ impl OffscreenTarget {
             device,
             &BufferDesc::readback("offscreen readback", bytes, vk::BufferUsageFlags::TRANSFER_DST),
         ) {
-            Ok(readback) => Ok(Self {
-                color,
-                depth,
-                readback,
-                depth_last: Access::Nothing,
-                color_last: Access::Nothing,
-            }),
+            Ok(readback) => {
+                Ok(Self { color, depth, readback, depth_last: Access::Nothing, color_last: Access::Nothing })
+            }
             Err(e) => {
                 // SAFETY: unused.
                 unsafe {
@@ -126,11 +122,7 @@ impl OffscreenTarget {
                 base_array_layer: 0,
                 layer_count: 1,
             })
-            .image_extent(vk::Extent3D {
-                width: extent.width,
-                height: extent.height,
-                depth: 1,
-            });
+            .image_extent(vk::Extent3D { width: extent.width, height: extent.height, depth: 1 });
         // SAFETY: the image is in TRANSFER_SRC_OPTIMAL; the buffer holds width*height*4 bytes.
         unsafe {
             device.raw.cmd_copy_image_to_buffer(

@@ -72,11 +72,7 @@ impl Batching {
     /// Layout for `blades_per_instance` blades of `segments` segments.
     pub fn new(segments: u32, blades_per_instance: u32) -> Self {
         let lead = u32::from(blades_per_instance > 1);
-        Self {
-            blades_per_instance,
-            stride: strip_vertices(segments) + 2 * lead,
-            lead,
-        }
+        Self { blades_per_instance, stride: strip_vertices(segments) + 2 * lead, lead }
     }
 
     /// Vertices of one instance.
@@ -87,10 +83,7 @@ impl Batching {
     /// Which blade of the instance, and which of its strip vertices, vertex `vertex` is.
     pub fn vertex(&self, segments: u32, vertex: u32) -> (u32, u32) {
         let j = vertex % self.stride;
-        (
-            vertex / self.stride,
-            j.saturating_sub(self.lead).min(strip_vertices(segments) - 1),
-        )
+        (vertex / self.stride, j.saturating_sub(self.lead).min(strip_vertices(segments) - 1))
     }
 }
 
@@ -111,12 +104,7 @@ mod tests {
 
     #[test]
     fn bezier_hits_end_points_and_matches_the_bernstein_form() {
-        let p = [
-            Vec3::ZERO,
-            Vec3::new(0.0, 1.0, 0.0),
-            Vec3::new(1.0, 2.0, 0.0),
-            Vec3::new(2.0, 2.0, 1.0),
-        ];
+        let p = [Vec3::ZERO, Vec3::new(0.0, 1.0, 0.0), Vec3::new(1.0, 2.0, 0.0), Vec3::new(2.0, 2.0, 1.0)];
         assert_eq!(point(&p, 0.0), p[0]);
         assert_eq!(point(&p, 1.0), p[3]);
         // t = 1/2: (P0 + 3P1 + 3P2 + P3) / 8
@@ -143,26 +131,17 @@ mod tests {
         let s = 2;
         let single = Batching::new(s, 1);
         assert_eq!(single.vertices_per_instance(), 6);
-        assert_eq!(
-            (0..6).map(|v| single.vertex(s, v).1).collect::<Vec<_>>(),
-            vec![0, 1, 2, 3, 4, 5]
-        );
+        assert_eq!((0..6).map(|v| single.vertex(s, v).1).collect::<Vec<_>>(), vec![0, 1, 2, 3, 4, 5]);
         let batch = Batching::new(s, 2);
         assert_eq!(batch.vertices_per_instance(), 16);
         let order: Vec<_> = (0..16).map(|v| batch.vertex(s, v)).collect();
-        assert_eq!(
-            &order[..8],
-            &[(0, 0), (0, 0), (0, 1), (0, 2), (0, 3), (0, 4), (0, 5), (0, 5)]
-        );
+        assert_eq!(&order[..8], &[(0, 0), (0, 0), (0, 1), (0, 2), (0, 3), (0, 4), (0, 5), (0, 5)]);
         assert_eq!(order[8], (1, 0));
         // Every triangle either lies in one blade's strip or repeats a vertex (zero area).
         for w in order.windows(3) {
             let same_blade = w[0].0 == w[1].0 && w[1].0 == w[2].0;
             let repeats = w[0] == w[1] || w[1] == w[2] || w[0] == w[2];
-            assert!(
-                repeats || (same_blade && w[1].1 == w[0].1 + 1 && w[2].1 == w[1].1 + 1),
-                "{w:?}"
-            );
+            assert!(repeats || (same_blade && w[1].1 == w[0].1 + 1 && w[2].1 == w[1].1 + 1), "{w:?}");
         }
     }
 

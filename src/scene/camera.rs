@@ -29,11 +29,7 @@ impl Camera {
     /// Standing 1.7 m above the ground at the field's edge, looking across it and slightly down.
     pub fn default_for(terrain: &Terrain) -> Self {
         let z = 0.5 * terrain.size;
-        Self {
-            position: Vec3::new(0.0, terrain.height_at(0.0, z) + EYE_HEIGHT, z),
-            yaw_deg: 0.0,
-            pitch_deg: -12.0,
-        }
+        Self { position: Vec3::new(0.0, terrain.height_at(0.0, z) + EYE_HEIGHT, z), yaw_deg: 0.0, pitch_deg: -12.0 }
     }
 
     /// Unit view direction.
@@ -66,11 +62,7 @@ mod tests {
 
     #[test]
     fn yaw_and_pitch_conventions() {
-        let mut c = Camera {
-            position: Vec3::ZERO,
-            yaw_deg: 0.0,
-            pitch_deg: 0.0,
-        };
+        let mut c = Camera { position: Vec3::ZERO, yaw_deg: 0.0, pitch_deg: 0.0 };
         assert!((c.forward() - Vec3::NEG_Z).length() < 1e-6);
         c.yaw_deg = 90.0;
         assert!((c.forward() - Vec3::NEG_X).length() < 1e-6, "positive yaw turns left");
@@ -80,19 +72,12 @@ mod tests {
 
     #[test]
     fn reversed_z_and_vulkan_y() {
-        let c = Camera {
-            position: Vec3::ZERO,
-            yaw_deg: 0.0,
-            pitch_deg: 0.0,
-        };
+        let c = Camera { position: Vec3::ZERO, yaw_deg: 0.0, pitch_deg: 0.0 };
         let vp = c.view_projection(1.0);
         let near = vp.project_point3(Vec3::new(0.0, 0.0, -NEAR));
         let far = vp.project_point3(Vec3::new(0.0, 0.0, -1000.0));
         assert!((near.z - 1.0).abs() < 1e-5 && far.z > 0.0 && far.z < 1e-3);
         let up = vp.project_point3(Vec3::new(0.0, 1.0, -5.0));
-        assert!(
-            up.y < 0.0,
-            "world up is towards the top of the image (negative y in Vulkan clip space)"
-        );
+        assert!(up.y < 0.0, "world up is towards the top of the image (negative y in Vulkan clip space)");
     }
 }

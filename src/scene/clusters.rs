@@ -42,11 +42,7 @@ impl ClusterGrid {
     /// Clusters of about `cluster_size` metres over a square field of side `field`.
     pub fn new(field: f32, cluster_size: f32) -> Self {
         let clusters = (field / cluster_size).ceil().max(1.0) as u32;
-        Self {
-            origin: -0.5 * field,
-            cluster_size: field / clusters as f32,
-            clusters,
-        }
+        Self { origin: -0.5 * field, cluster_size: field / clusters as f32, clusters }
     }
 
     /// Corners per side.
@@ -84,22 +80,14 @@ impl ClusterGrid {
         let mut bytes = areas.map(|w| (w * 255.0).round() as u8);
         // Keep the quantised weights summing to exactly 255, so a uniform wind stays uniform.
         let sum: i32 = bytes.iter().map(|b| i32::from(*b)).sum();
-        let largest = (0..4)
-            .max_by(|a, b| areas[*a].total_cmp(&areas[*b]))
-            .expect("four weights");
+        let largest = (0..4).max_by(|a, b| areas[*a].total_cmp(&areas[*b])).expect("four weights");
         bytes[largest] = (i32::from(bytes[largest]) + 255 - sum).clamp(0, 255) as u8;
-        BladeCluster {
-            corner: cz * self.corners_per_side() + cx,
-            weights: u32::from_le_bytes(bytes),
-        }
+        BladeCluster { corner: cz * self.corners_per_side() + cx, weights: u32::from_le_bytes(bytes) }
     }
 
     /// Cluster records of every blade.
     pub fn assign(&self, blades: &[BladeInstance]) -> Vec<BladeCluster> {
-        blades
-            .iter()
-            .map(|b| self.locate(b.position[0], b.position[2]))
-            .collect()
+        blades.iter().map(|b| self.locate(b.position[0], b.position[2])).collect()
     }
 
     /// Eq. 3.6: the force of a blade from its cluster record and the corner forces.

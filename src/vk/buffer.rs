@@ -24,32 +24,17 @@ pub struct BufferDesc<'a> {
 impl<'a> BufferDesc<'a> {
     /// Device-local memory, filled by transfers or shaders.
     pub fn gpu_only(name: &'a str, size: vk::DeviceSize, usage: vk::BufferUsageFlags) -> Self {
-        Self {
-            size,
-            usage,
-            location: MemoryLocation::GpuOnly,
-            name,
-        }
+        Self { size, usage, location: MemoryLocation::GpuOnly, name }
     }
 
     /// Host-visible memory written by the CPU every frame (uniforms, staging).
     pub fn upload(name: &'a str, size: vk::DeviceSize, usage: vk::BufferUsageFlags) -> Self {
-        Self {
-            size,
-            usage,
-            location: MemoryLocation::CpuToGpu,
-            name,
-        }
+        Self { size, usage, location: MemoryLocation::CpuToGpu, name }
     }
 
     /// Host-visible, cached memory the CPU reads back.
     pub fn readback(name: &'a str, size: vk::DeviceSize, usage: vk::BufferUsageFlags) -> Self {
-        Self {
-            size,
-            usage,
-            location: MemoryLocation::GpuToCpu,
-            name,
-        }
+        Self { size, usage, location: MemoryLocation::GpuToCpu, name }
     }
 }
 
@@ -85,33 +70,19 @@ impl Buffer {
             Err(source) => {
                 // SAFETY: unused buffer of this device.
                 unsafe { device.raw.destroy_buffer(raw, None) };
-                return Err(Error::Allocation {
-                    name: desc.name.into(),
-                    source,
-                });
+                return Err(Error::Allocation { name: desc.name.into(), source });
             }
         };
         // SAFETY: the allocation satisfies the buffer's requirements.
-        let bound = unsafe {
-            device
-                .raw
-                .bind_buffer_memory(raw, allocation.memory(), allocation.offset())
-        };
+        let bound = unsafe { device.raw.bind_buffer_memory(raw, allocation.memory(), allocation.offset()) };
         if let Err(result) = bound {
             let _ = device.allocator().free(allocation);
             // SAFETY: unused buffer of this device.
             unsafe { device.raw.destroy_buffer(raw, None) };
-            return Err(Error::Vulkan {
-                call: "vkBindBufferMemory",
-                result,
-            });
+            return Err(Error::Vulkan { call: "vkBindBufferMemory", result });
         }
         device.set_name(raw, desc.name);
-        Ok(Self {
-            raw,
-            size: desc.size,
-            allocation,
-        })
+        Ok(Self { raw, size: desc.size, allocation })
     }
 
     /// Create a host-visible buffer holding `data`.
@@ -143,11 +114,7 @@ impl Buffer {
 
     /// Descriptor info covering the whole buffer.
     pub fn descriptor(&self) -> vk::DescriptorBufferInfo {
-        vk::DescriptorBufferInfo {
-            buffer: self.raw,
-            offset: 0,
-            range: vk::WHOLE_SIZE,
-        }
+        vk::DescriptorBufferInfo { buffer: self.raw, offset: 0, range: vk::WHOLE_SIZE }
     }
 
     /// Free the memory and destroy the handle.

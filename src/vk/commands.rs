@@ -33,10 +33,7 @@ impl CommandRecorder {
             Err(result) => {
                 // SAFETY: unused pool.
                 unsafe { device.raw.destroy_command_pool(pool, None) };
-                return Err(crate::error::Error::Vulkan {
-                    call: "vkAllocateCommandBuffers",
-                    result,
-                });
+                return Err(crate::error::Error::Vulkan { call: "vkAllocateCommandBuffers", result });
             }
         };
         device.set_name(pool, &format!("{name} pool"));
@@ -48,15 +45,9 @@ impl CommandRecorder {
     pub fn begin(&self, device: &Device) -> Result<vk::CommandBuffer> {
         // SAFETY: the caller waited for the buffer's last submission.
         unsafe {
-            device
-                .raw
-                .reset_command_pool(self.pool, vk::CommandPoolResetFlags::empty())
-                .vk("vkResetCommandPool")?;
+            device.raw.reset_command_pool(self.pool, vk::CommandPoolResetFlags::empty()).vk("vkResetCommandPool")?;
             let begin = vk::CommandBufferBeginInfo::default().flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
-            device
-                .raw
-                .begin_command_buffer(self.cmd, &begin)
-                .vk("vkBeginCommandBuffer")?;
+            device.raw.begin_command_buffer(self.cmd, &begin).vk("vkBeginCommandBuffer")?;
         }
         Ok(self.cmd)
     }

@@ -47,22 +47,15 @@ pub fn allocate_sets(
     for b in bindings {
         match sizes.iter_mut().find(|s| s.ty == b.kind) {
             Some(size) => size.descriptor_count += sets,
-            None => sizes.push(vk::DescriptorPoolSize {
-                ty: b.kind,
-                descriptor_count: sets,
-            }),
+            None => sizes.push(vk::DescriptorPoolSize { ty: b.kind, descriptor_count: sets }),
         }
     }
-    let info = vk::DescriptorPoolCreateInfo::default()
-        .max_sets(sets)
-        .pool_sizes(&sizes);
+    let info = vk::DescriptorPoolCreateInfo::default().max_sets(sets).pool_sizes(&sizes);
     // SAFETY: valid create info.
     let pool = unsafe { device.raw.create_descriptor_pool(&info, None) }.vk("vkCreateDescriptorPool")?;
     device.set_name(pool, &format!("{name} pool"));
     let layouts = vec![layout; sets as usize];
-    let alloc = vk::DescriptorSetAllocateInfo::default()
-        .descriptor_pool(pool)
-        .set_layouts(&layouts);
+    let alloc = vk::DescriptorSetAllocateInfo::default().descriptor_pool(pool).set_layouts(&layouts);
     // SAFETY: the pool was sized for these sets.
     match unsafe { device.raw.allocate_descriptor_sets(&alloc) } {
         Ok(sets) => {
@@ -74,10 +67,7 @@ pub fn allocate_sets(
         Err(result) => {
             // SAFETY: nothing allocated from it.
             unsafe { device.raw.destroy_descriptor_pool(pool, None) };
-            Err(crate::error::Error::Vulkan {
-                call: "vkAllocateDescriptorSets",
-                result,
-            })
+            Err(crate::error::Error::Vulkan { call: "vkAllocateDescriptorSets", result })
         }
     }
 }
@@ -110,10 +100,7 @@ pub fn write(device: &Device, set: vk::DescriptorSet, writes: &[(u32, vk::Descri
         .iter()
         .enumerate()
         .map(|(i, (binding, kind, resource))| {
-            let w = vk::WriteDescriptorSet::default()
-                .dst_set(set)
-                .dst_binding(*binding)
-                .descriptor_type(*kind);
+            let w = vk::WriteDescriptorSet::default().dst_set(set).dst_binding(*binding).descriptor_type(*kind);
             match resource {
                 Resource::Buffer(_) => w.buffer_info(&buffer_infos[i]),
                 Resource::Image(_) => w.image_info(&image_infos[i]),

@@ -70,11 +70,7 @@ impl std::fmt::Display for DeviceInfo {
             self.driver_name,
             self.driver_version,
             self.driver_info,
-            if self.usable {
-                ""
-            } else {
-                " - unusable: needs Vulkan 1.3 and a graphics queue"
-            }
+            if self.usable { "" } else { " - unusable: needs Vulkan 1.3 and a graphics queue" }
         )
     }
 }
@@ -123,9 +119,7 @@ pub fn decode_driver_version(vendor_id: u32, version: u32) -> String {
 fn c_chars(raw: &[std::ffi::c_char]) -> String {
     // SAFETY: Vulkan strings in property structs are NUL-terminated within their arrays.
     let bytes: &[u8] = unsafe { std::slice::from_raw_parts(raw.as_ptr().cast(), raw.len()) };
-    CStr::from_bytes_until_nul(bytes)
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_default()
+    CStr::from_bytes_until_nul(bytes).map(|s| s.to_string_lossy().into_owned()).unwrap_or_default()
 }
 
 struct Candidate {
@@ -150,10 +144,7 @@ fn enumerate(instance: &Instance) -> Result<Vec<Candidate>> {
             let families = unsafe { instance.raw.get_physical_device_queue_family_properties(raw) };
             let queue_family = families
                 .iter()
-                .position(|f| {
-                    f.queue_flags
-                        .contains(vk::QueueFlags::GRAPHICS | vk::QueueFlags::COMPUTE)
-                })
+                .position(|f| f.queue_flags.contains(vk::QueueFlags::GRAPHICS | vk::QueueFlags::COMPUTE))
                 .map(|i| i as u32);
             let info = DeviceInfo {
                 index,
@@ -170,11 +161,7 @@ fn enumerate(instance: &Instance) -> Result<Vec<Candidate>> {
                 driver_info: c_chars(&driver.driver_info),
                 usable: props.api_version >= vk::API_VERSION_1_3 && queue_family.is_some(),
             };
-            Candidate {
-                info,
-                raw,
-                queue_family,
-            }
+            Candidate { info, raw, queue_family }
         })
         .collect())
 }
@@ -232,13 +219,7 @@ impl Device {
                 "no Vulkan device found: install mesa-vulkan-drivers for the lavapipe CPU device".into(),
             ));
         }
-        let listing = || {
-            candidates
-                .iter()
-                .map(|c| c.info.to_string())
-                .collect::<Vec<_>>()
-                .join("; ")
-        };
+        let listing = || candidates.iter().map(|c| c.info.to_string()).collect::<Vec<_>>().join("; ");
         let chosen = match &desc.selector {
             DeviceSelector::Best => candidates
                 .iter()
@@ -248,15 +229,11 @@ impl Device {
             DeviceSelector::Index(index) => candidates
                 .get(*index)
                 .ok_or_else(|| Error::bad_input(format!("--device {index}: no such device (have {})", listing())))?,
-            DeviceSelector::Name(name) => candidates
-                .iter()
-                .find(|c| c.info.name.to_lowercase().contains(name.as_str()))
-                .ok_or_else(|| {
-                    Error::bad_input(format!(
-                        "--device {name}: no device name contains it (have {})",
-                        listing()
-                    ))
-                })?,
+            DeviceSelector::Name(name) => {
+                candidates.iter().find(|c| c.info.name.to_lowercase().contains(name.as_str())).ok_or_else(|| {
+                    Error::bad_input(format!("--device {name}: no device name contains it (have {})", listing()))
+                })?
+            }
         };
         if !chosen.info.usable {
             return Err(Error::bad_input(format!(
@@ -293,18 +270,16 @@ impl Device {
             fill_mode_non_solid: supported.fill_mode_non_solid,
             ..Default::default()
         };
-        let mut features13 = vk::PhysicalDeviceVulkan13Features::default()
-            .synchronization2(true)
-            .dynamic_rendering(true);
+        let mut features13 =
+            vk::PhysicalDeviceVulkan13Features::default().synchronization2(true).dynamic_rendering(true);
         let mut features12 = vk::PhysicalDeviceVulkan12Features::default();
         let mut features2 = vk::PhysicalDeviceFeatures2::default()
             .features(features)
             .push_next(&mut features12)
             .push_next(&mut features13);
         let priorities = [1.0];
-        let queue_infos = [vk::DeviceQueueCreateInfo::default()
-            .queue_family_index(queue_family)
-            .queue_priorities(&priorities)];
+        let queue_infos =
+            [vk::DeviceQueueCreateInfo::default().queue_family_index(queue_family).queue_priorities(&priorities)];
         let mut extensions = Vec::new();
         if desc.swapchain {
             extensions.push(ash::khr::swapchain::NAME.as_ptr());
@@ -334,10 +309,7 @@ impl Device {
             Err(source) => {
                 // SAFETY: nothing was created from the device yet.
                 unsafe { raw.destroy_device(None) };
-                return Err(Error::Allocation {
-                    name: "allocator".into(),
-                    source,
-                });
+                return Err(Error::Allocation { name: "allocator".into(), source });
             }
         };
 
@@ -406,9 +378,7 @@ impl Device {
         let Ok(name) = std::ffi::CString::new(name) else {
             return;
         };
-        let info = vk::DebugUtilsObjectNameInfoEXT::default()
-            .object_handle(handle)
-            .object_name(&name);
+        let info = vk::DebugUtilsObjectNameInfoEXT::default().object_handle(handle).object_name(&name);
         // SAFETY: the handle belongs to this device; naming failure is harmless, so it is ignored.
         let _ = unsafe { self.debug_utils.set_debug_utils_object_name(&info) };
     }
@@ -456,19 +426,13 @@ mod tests {
         // NVIDIA 535.154.5.0 packed as 10.8.8.6 bits.
         let nv = (535 << 22) | (154 << 14) | (5 << 6);
         assert_eq!(decode_driver_version(0x10de, nv), "535.154.5.0");
-        assert_eq!(
-            decode_driver_version(0x10005, vk::make_api_version(0, 22, 3, 6)),
-            "22.3.6"
-        );
+        assert_eq!(decode_driver_version(0x10005, vk::make_api_version(0, 22, 3, 6)), "22.3.6");
     }
 
     #[test]
     fn selector_parses_index_or_name() {
         assert_eq!(DeviceSelector::parse("1"), DeviceSelector::Index(1));
-        assert_eq!(
-            DeviceSelector::parse("LLVMpipe"),
-            DeviceSelector::Name("llvmpipe".into())
-        );
+        assert_eq!(DeviceSelector::parse("LLVMpipe"), DeviceSelector::Name("llvmpipe".into()));
     }
 
     #[test]

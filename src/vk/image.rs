@@ -26,13 +26,7 @@ pub struct ImageDesc<'a> {
 impl<'a> ImageDesc<'a> {
     /// A colour image of `format`.
     pub fn color(name: &'a str, format: vk::Format, extent: vk::Extent2D, usage: vk::ImageUsageFlags) -> Self {
-        Self {
-            format,
-            extent,
-            usage,
-            aspect: vk::ImageAspectFlags::COLOR,
-            name,
-        }
+        Self { format, extent, usage, aspect: vk::ImageAspectFlags::COLOR, name }
     }
 
     /// A depth attachment of `format`.
@@ -79,11 +73,7 @@ impl Image {
         let info = vk::ImageCreateInfo::default()
             .image_type(vk::ImageType::TYPE_2D)
             .format(desc.format)
-            .extent(vk::Extent3D {
-                width: desc.extent.width,
-                height: desc.extent.height,
-                depth: 1,
-            })
+            .extent(vk::Extent3D { width: desc.extent.width, height: desc.extent.height, depth: 1 })
             .mip_levels(1)
             .array_layers(1)
             .samples(vk::SampleCountFlags::TYPE_1)
@@ -107,18 +97,11 @@ impl Image {
             Err(source) => {
                 // SAFETY: unused image of this device.
                 unsafe { device.raw.destroy_image(raw, None) };
-                return Err(Error::Allocation {
-                    name: desc.name.into(),
-                    source,
-                });
+                return Err(Error::Allocation { name: desc.name.into(), source });
             }
         };
         // SAFETY: the allocation satisfies the image's requirements.
-        let bound = unsafe {
-            device
-                .raw
-                .bind_image_memory(raw, allocation.memory(), allocation.offset())
-        };
+        let bound = unsafe { device.raw.bind_image_memory(raw, allocation.memory(), allocation.offset()) };
         let range = desc.range();
         let view = bound.vk("vkBindImageMemory").and_then(|()| {
             let view_info = vk::ImageViewCreateInfo::default()
@@ -140,14 +123,7 @@ impl Image {
         };
         device.set_name(raw, desc.name);
         device.set_name(view, &format!("{} view", desc.name));
-        Ok(Self {
-            raw,
-            view,
-            format: desc.format,
-            extent: desc.extent,
-            range,
-            allocation,
-        })
+        Ok(Self { raw, view, format: desc.format, extent: desc.extent, range, allocation })
     }
 
     /// Destroy the view, the image, and free the memory.

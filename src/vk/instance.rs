@@ -75,9 +75,7 @@ impl Instance {
             // SAFETY: plain query on a valid entry.
             let available =
                 unsafe { entry.enumerate_instance_layer_properties() }.vk("vkEnumerateInstanceLayerProperties")?;
-            let found = available
-                .iter()
-                .any(|layer| layer.layer_name_as_c_str() == Ok(VALIDATION_LAYER));
+            let found = available.iter().any(|layer| layer.layer_name_as_c_str() == Ok(VALIDATION_LAYER));
             if !found {
                 return Err(Error::Environment(
                     "validation requested but VK_LAYER_KHRONOS_validation is not installed \
@@ -121,9 +119,7 @@ impl Instance {
             .enabled_extension_names(&extensions);
         if let Some(messenger_info) = messenger_info.as_mut() {
             // Chained into the create info, the messenger also reports on vkCreate/DestroyInstance.
-            create_info = create_info
-                .push_next(&mut validation_features)
-                .push_next(messenger_info);
+            create_info = create_info.push_next(&mut validation_features).push_next(messenger_info);
         }
         // SAFETY: every pointer in create_info refers to locals alive for this call.
         let raw = unsafe { entry.create_instance(&create_info, None) }.map_err(|result| match result {
@@ -131,10 +127,7 @@ impl Instance {
                 "the Vulkan loader lacks a required instance extension (VK_EXT_debug_utils or a surface extension)"
                     .into(),
             ),
-            result => Error::Vulkan {
-                call: "vkCreateInstance",
-                result,
-            },
+            result => Error::Vulkan { call: "vkCreateInstance", result },
         })?;
         let debug_utils = ash::ext::debug_utils::Instance::new(&entry, &raw);
         let messenger = match messenger_info {
@@ -148,21 +141,12 @@ impl Instance {
                 Err(result) => {
                     // SAFETY: nothing was created from the instance yet.
                     unsafe { raw.destroy_instance(None) };
-                    return Err(Error::Vulkan {
-                        call: "vkCreateDebugUtilsMessengerEXT",
-                        result,
-                    });
+                    return Err(Error::Vulkan { call: "vkCreateDebugUtilsMessengerEXT", result });
                 }
             },
             None => vk::DebugUtilsMessengerEXT::null(),
         };
-        Ok(Self {
-            entry,
-            raw,
-            debug_utils,
-            messenger,
-            counter,
-        })
+        Ok(Self { entry, raw, debug_utils, messenger, counter })
     }
 
     /// The validation counter, when validation is on. Keep a clone to read the final count after

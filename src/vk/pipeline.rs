@@ -24,9 +24,7 @@ pub fn layout(
     sets: &[vk::DescriptorSetLayout],
     push_constants: &[vk::PushConstantRange],
 ) -> Result<vk::PipelineLayout> {
-    let info = vk::PipelineLayoutCreateInfo::default()
-        .set_layouts(sets)
-        .push_constant_ranges(push_constants);
+    let info = vk::PipelineLayoutCreateInfo::default().set_layouts(sets).push_constant_ranges(push_constants);
     // SAFETY: valid create info.
     let layout = unsafe { device.raw.create_pipeline_layout(&info, None) }.vk("vkCreatePipelineLayout")?;
     device.set_name(layout, name);
@@ -56,6 +54,13 @@ pub struct GraphicsDesc<'a> {
     pub depth_format: vk::Format,
     /// Pipeline layout.
     pub layout: vk::PipelineLayout,
+    /// Specialization constants of every stage: `constant_id = i` takes `constants[i]`.
+    pub constants: &'a [u32],
+}
+
+/// Map entries for `constants`: constant `i` at byte `4 i`.
+fn specialization_entries(constants: &[u32]) -> Vec<vk::SpecializationMapEntry> {
+    (0..constants.len() as u32).map(|i| vk::SpecializationMapEntry { constant_id: i, offset: 4 * i, size: 4 }).collect()
 }
 
 /// Build a graphics pipeline with dynamic viewport and scissor.
@@ -69,21 +74,24 @@ pub fn graphics(device: &Device, desc: &GraphicsDesc) -> Result<vk::Pipeline> {
             return Err(e);
         }
     };
+    let entries = specialization_entries(desc.constants);
+    let specialization =
+        vk::SpecializationInfo::default().map_entries(&entries).data(bytemuck::cast_slice(desc.constants));
     let stages = [
         vk::PipelineShaderStageCreateInfo::default()
             .stage(vk::ShaderStageFlags::VERTEX)
             .module(vs)
-            .name(c"main"),
+            .name(c"main")
+            .specialization_info(&specialization),
         vk::PipelineShaderStageCreateInfo::default()
             .stage(vk::ShaderStageFlags::FRAGMENT)
             .module(fs)
-            .name(c"main"),
+            .name(c"main")
+            .specialization_info(&specialization),
     ];
     let vertex_input = vk::PipelineVertexInputStateCreateInfo::default();
     let input_assembly = vk::PipelineInputAssemblyStateCreateInfo::default().topology(desc.topology);
-    let viewport = vk::PipelineViewportStateCreateInfo::default()
-        .viewport_count(1)
-        .scissor_count(1);
+    let viewport = vk::PipelineViewportStateCreateInfo::default().viewport_count(1).scissor_count(1);
     let raster = vk::PipelineRasterizationStateCreateInfo::default()
         .polygon_mode(desc.polygon)
         .cull_mode(desc.cull)
@@ -117,44 +125,39 @@ pub fn graphics(device: &Device, desc: &GraphicsDesc) -> Result<vk::Pipeline> {
         .layout(desc.layout)
         .push_next(&mut rendering);
     // SAFETY: all state structs are alive for the call.
-    let result = unsafe {
-        device
-            .raw
-            .create_graphics_pipelines(vk::PipelineCache::null(), &[info], None)
-    };
+    let result = unsafe { device.raw.create_graphics_pipelines(vk::PipelineCache::null(), &[info], None) };
     // SAFETY: modules are not needed after pipeline creation.
     unsafe {
         device.raw.destroy_shader_module(vs, None);
         device.raw.destroy_shader_module(fs, None);
     }
-    let pipeline = result.map_err(|(_, result)| Error::Vulkan {
-        call: "vkCreateGraphicsPipelines",
-        result,
-    })?[0];
+    let pipeline = result.map_err(|(_, result)| Error::Vulkan { call: "vkCreateGraphicsPipelines", result })?[0];
     device.set_name(pipeline, desc.name);
     Ok(pipeline)
 }
 
 /// Build a compute pipeline.
-pub fn compute(device: &Device, name: &str, spirv: &[u8], layout: vk::PipelineLayout) -> Result<vk::Pipeline> {
+pub fn compute(
+    device: &Device,
+    name: &str,
+    spirv: &[u8],
+    layout: vk::PipelineLayout,
+    constants: &[u32],
+) -> Result<vk::Pipeline> {
     let module = shader_module(device, name, spirv)?;
+    let entries = specialization_entries(constants);
+    let specialization = vk::SpecializationInfo::default().map_entries(&entries).data(bytemuck::cast_slice(constants));
     let stage = vk::PipelineShaderStageCreateInfo::default()
         .stage(vk::ShaderStageFlags::COMPUTE)
         .module(module)
-        .name(c"main");
+        .name(c"main")
+        .specialization_info(&specialization);
     let info = vk::ComputePipelineCreateInfo::default().stage(stage).layout(layout);
     // SAFETY: valid create info.
-    let result = unsafe {
-        device
-            .raw
-            .create_compute_pipelines(vk::PipelineCache::null(), &[info], None)
-    };
+    let result = unsafe { device.raw.create_compute_pipelines(vk::PipelineCache::null(), &[info], None) };
     // SAFETY: not needed after creation.
     unsafe { device.raw.destroy_shader_module(module, None) };
-    let pipeline = result.map_err(|(_, result)| Error::Vulkan {
-        call: "vkCreateComputePipelines",
-        result,
-    })?[0];
+    let pipeline = result.map_err(|(_, result)| Error::Vulkan { call: "vkCreateComputePipelines", result })?[0];
     device.set_name(pipeline, name);
     Ok(pipeline)
 }

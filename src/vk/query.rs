@@ -20,29 +20,15 @@ impl TimestampQueries {
     /// Create a pool of `capacity` timestamps; fails when the queue cannot write timestamps.
     pub fn new(device: &Device, name: &str, capacity: u32) -> Result<Self> {
         if device.timestamp_valid_bits == 0 {
-            return Err(Error::Environment(format!(
-                "{} cannot write timestamps on its queue",
-                device.info.name
-            )));
+            return Err(Error::Environment(format!("{} cannot write timestamps on its queue", device.info.name)));
         }
-        let info = vk::QueryPoolCreateInfo::default()
-            .query_type(vk::QueryType::TIMESTAMP)
-            .query_count(capacity);
+        let info = vk::QueryPoolCreateInfo::default().query_type(vk::QueryType::TIMESTAMP).query_count(capacity);
         // SAFETY: valid create info.
         let pool = unsafe { device.raw.create_query_pool(&info, None) }.vk("vkCreateQueryPool")?;
         device.set_name(pool, name);
-        let valid_mask = if device.timestamp_valid_bits >= 64 {
-            u64::MAX
-        } else {
-            (1u64 << device.timestamp_valid_bits) - 1
-        };
-        Ok(Self {
-            pool,
-            capacity,
-            written: 0,
-            period_ns: f64::from(device.limits().timestamp_period),
-            valid_mask,
-        })
+        let valid_mask =
+            if device.timestamp_valid_bits >= 64 { u64::MAX } else { (1u64 << device.timestamp_valid_bits) - 1 };
+        Ok(Self { pool, capacity, written: 0, period_ns: f64::from(device.limits().timestamp_period), valid_mask })
     }
 
     /// Reset every query; record before the first `write` of a frame.
@@ -55,17 +41,10 @@ impl TimestampQueries {
     /// Write the next timestamp once all previous commands have finished (`ALL_COMMANDS`), so a
     /// pair brackets the GPU work between them. Returns its index.
     pub fn write(&mut self, device: &Device, cmd: vk::CommandBuffer) -> u32 {
-        assert!(
-            self.written < self.capacity,
-            "timestamp pool overflow: a programming error"
-        );
+        assert!(self.written < self.capacity, "timestamp pool overflow: a programming error");
         let index = self.written;
         // SAFETY: cmd is recording; the query was reset in this command buffer.
-        unsafe {
-            device
-                .raw
-                .cmd_write_timestamp2(cmd, vk::PipelineStageFlags2::ALL_COMMANDS, self.pool, index)
-        };
+        unsafe { device.raw.cmd_write_timestamp2(cmd, vk::PipelineStageFlags2::ALL_COMMANDS, self.pool, index) };
         self.written += 1;
         index
     }
@@ -87,10 +66,7 @@ impl TimestampQueries {
             )
         }
         .vk("vkGetQueryPoolResults")?;
-        Ok(ticks
-            .iter()
-            .map(|t| (t & self.valid_mask) as f64 * self.period_ns)
-            .collect())
+        Ok(ticks.iter().map(|t| (t & self.valid_mask) as f64 * self.period_ns).collect())
     }
 
     /// Destroy the pool.

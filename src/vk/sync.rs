@@ -29,6 +29,10 @@ pub enum Access {
     FragmentShaderSampledRead,
     /// Storage buffer or image read in a compute shader.
     ComputeShaderRead,
+    /// Image sampled in a compute shader.
+    ComputeShaderSampledRead,
+    /// Uniform buffer read in a compute shader.
+    ComputeShaderUniformRead,
     /// Storage buffer or image written by a compute shader.
     ComputeShaderWrite,
     /// Indirect draw/dispatch parameters.
@@ -70,6 +74,10 @@ impl Access {
                 (S::FRAGMENT_SHADER, A::SHADER_SAMPLED_READ, L::SHADER_READ_ONLY_OPTIMAL)
             }
             Access::ComputeShaderRead => (S::COMPUTE_SHADER, A::SHADER_STORAGE_READ, L::GENERAL),
+            Access::ComputeShaderSampledRead => {
+                (S::COMPUTE_SHADER, A::SHADER_SAMPLED_READ, L::SHADER_READ_ONLY_OPTIMAL)
+            }
+            Access::ComputeShaderUniformRead => (S::COMPUTE_SHADER, A::UNIFORM_READ, L::GENERAL),
             Access::ComputeShaderWrite => (S::COMPUTE_SHADER, A::SHADER_STORAGE_WRITE, L::GENERAL),
             Access::IndirectCommandRead => (S::DRAW_INDIRECT, A::INDIRECT_COMMAND_READ, L::GENERAL),
             Access::ColorAttachmentWrite => (
@@ -134,20 +142,14 @@ pub fn transition(previous: &[Access], next: &[Access]) -> Transition {
         let info = access.info();
         t.src_stages |= info.stages;
         t.src_access |= access.writes();
-        debug_assert!(
-            i == 0 || t.old_layout == info.layout,
-            "previous accesses disagree on the layout"
-        );
+        debug_assert!(i == 0 || t.old_layout == info.layout, "previous accesses disagree on the layout");
         t.old_layout = info.layout;
     }
     for (i, access) in next.iter().enumerate() {
         let info = access.info();
         t.dst_stages |= info.stages;
         t.dst_access |= info.access;
-        debug_assert!(
-            i == 0 || t.new_layout == info.layout,
-            "next accesses disagree on the layout"
-        );
+        debug_assert!(i == 0 || t.new_layout == info.layout, "next accesses disagree on the layout");
         t.new_layout = info.layout;
     }
     t
@@ -199,27 +201,17 @@ pub fn cmd_barriers(
     if buffers.is_empty() && images.is_empty() {
         return;
     }
-    let dependency = vk::DependencyInfo::default()
-        .buffer_memory_barriers(buffers)
-        .image_memory_barriers(images);
+    let dependency = vk::DependencyInfo::default().buffer_memory_barriers(buffers).image_memory_barriers(images);
     // SAFETY: cmd is recording; barriers reference live resources.
     unsafe { device.raw.cmd_pipeline_barrier2(cmd, &dependency) };
 }
 
 /// Create a named fence.
 pub fn fence(device: &Device, signaled: bool, name: &str) -> Result<vk::Fence> {
-    let flags = if signaled {
-        vk::FenceCreateFlags::SIGNALED
-    } else {
-        vk::FenceCreateFlags::empty()
-    };
+    let flags = if signaled { vk::FenceCreateFlags::SIGNALED } else { vk::FenceCreateFlags::empty() };
     // SAFETY: valid create info.
-    let fence = unsafe {
-        device
-            .raw
-            .create_fence(&vk::FenceCreateInfo::default().flags(flags), None)
-    }
-    .vk("vkCreateFence")?;
+    let fence =
+        unsafe { device.raw.create_fence(&vk::FenceCreateInfo::default().flags(flags), None) }.vk("vkCreateFence")?;
     device.set_name(fence, name);
     Ok(fence)
 }
@@ -255,10 +247,7 @@ mod tests {
         assert_eq!(t.src_access, A::TRANSFER_WRITE);
         assert_eq!(t.dst_stages, S::FRAGMENT_SHADER);
         assert_eq!(t.dst_access, A::SHADER_SAMPLED_READ);
-        assert_eq!(
-            (t.old_layout, t.new_layout),
-            (L::TRANSFER_DST_OPTIMAL, L::SHADER_READ_ONLY_OPTIMAL)
-        );
+        assert_eq!((t.old_layout, t.new_layout), (L::TRANSFER_DST_OPTIMAL, L::SHADER_READ_ONLY_OPTIMAL));
     }
 
     #[test]
@@ -295,10 +284,8 @@ mod tests {
 
     #[test]
     fn compute_write_then_vertex_and_indirect_read() {
-        let t = transition(
-            &[Access::ComputeShaderWrite],
-            &[Access::VertexShaderStorageRead, Access::IndirectCommandRead],
-        );
+        let t =
+            transition(&[Access::ComputeShaderWrite], &[Access::VertexShaderStorageRead, Access::IndirectCommandRead]);
         assert_eq!(t.src_access, A::SHADER_STORAGE_WRITE);
         assert_eq!(t.dst_stages, S::VERTEX_SHADER | S::DRAW_INDIRECT);
         assert_eq!(t.dst_access, A::SHADER_STORAGE_READ | A::INDIRECT_COMMAND_READ);

@@ -36,10 +36,7 @@ pub struct UploadBatch<'d> {
 impl<'d> UploadBatch<'d> {
     /// An empty batch.
     pub fn new(device: &'d Device) -> Self {
-        Self {
-            device,
-            copies: Vec::new(),
-        }
+        Self { device, copies: Vec::new() }
     }
 
     /// The device the batch uploads to.
@@ -64,22 +61,16 @@ impl<'d> UploadBatch<'d> {
             &BufferDesc::upload(&staging_name, size, vk::BufferUsageFlags::TRANSFER_SRC),
             data,
         )?;
-        let dst = match Buffer::new(
-            device,
-            &BufferDesc::gpu_only(name, size, usage | vk::BufferUsageFlags::TRANSFER_DST),
-        ) {
-            Ok(dst) => dst,
-            Err(e) => {
-                // SAFETY: never used by the GPU.
-                unsafe { staging.destroy(device) };
-                return Err(e);
-            }
-        };
-        self.copies.push(Copy::Buffer {
-            staging,
-            dst: dst.raw,
-            next,
-        });
+        let dst =
+            match Buffer::new(device, &BufferDesc::gpu_only(name, size, usage | vk::BufferUsageFlags::TRANSFER_DST)) {
+                Ok(dst) => dst,
+                Err(e) => {
+                    // SAFETY: never used by the GPU.
+                    unsafe { staging.destroy(device) };
+                    return Err(e);
+                }
+            };
+        self.copies.push(Copy::Buffer { staging, dst: dst.raw, next });
         Ok(dst)
     }
 
@@ -89,11 +80,7 @@ impl<'d> UploadBatch<'d> {
         let staging_name = format!("{} staging", desc.name);
         let staging = Buffer::with_data(
             device,
-            &BufferDesc::upload(
-                &staging_name,
-                texels.len() as vk::DeviceSize,
-                vk::BufferUsageFlags::TRANSFER_SRC,
-            ),
+            &BufferDesc::upload(&staging_name, texels.len() as vk::DeviceSize, vk::BufferUsageFlags::TRANSFER_SRC),
             texels,
         )?;
         let mut desc = *desc;
@@ -106,13 +93,7 @@ impl<'d> UploadBatch<'d> {
                 return Err(e);
             }
         };
-        self.copies.push(Copy::Image {
-            staging,
-            dst: image.raw,
-            extent: image.extent,
-            range: image.range,
-            next,
-        });
+        self.copies.push(Copy::Image { staging, dst: image.raw, extent: image.extent, range: image.range, next });
         Ok(image)
     }
 
@@ -125,12 +106,9 @@ impl<'d> UploadBatch<'d> {
             let to_transfer: Vec<_> = copies
                 .iter()
                 .filter_map(|copy| match copy {
-                    Copy::Image { dst, range, .. } => Some(sync::image_barrier(
-                        *dst,
-                        *range,
-                        &[Access::Nothing],
-                        &[Access::TransferWrite],
-                    )),
+                    Copy::Image { dst, range, .. } => {
+                        Some(sync::image_barrier(*dst, *range, &[Access::Nothing], &[Access::TransferWrite]))
+                    }
                     Copy::Buffer { .. } => None,
                 })
                 .collect();
@@ -140,22 +118,12 @@ impl<'d> UploadBatch<'d> {
             for copy in &copies {
                 match copy {
                     Copy::Buffer { staging, dst, next } => {
-                        let region = vk::BufferCopy {
-                            src_offset: 0,
-                            dst_offset: 0,
-                            size: staging.size,
-                        };
+                        let region = vk::BufferCopy { src_offset: 0, dst_offset: 0, size: staging.size };
                         // SAFETY: both buffers are live and large enough.
                         unsafe { device.raw.cmd_copy_buffer(cmd, staging.raw, *dst, &[region]) };
                         buffer_barriers.push(sync::buffer_barrier(*dst, &[Access::TransferWrite], next));
                     }
-                    Copy::Image {
-                        staging,
-                        dst,
-                        extent,
-                        range,
-                        next,
-                    } => {
+                    Copy::Image { staging, dst, extent, range, next } => {
                         let region = vk::BufferImageCopy::default()
                             .image_subresource(vk::ImageSubresourceLayers {
                                 aspect_mask: range.aspect_mask,
@@ -163,11 +131,7 @@ impl<'d> UploadBatch<'d> {
                                 base_array_layer: 0,
                                 layer_count: 1,
                             })
-                            .image_extent(vk::Extent3D {
-                                width: extent.width,
-                                height: extent.height,
-                                depth: 1,
-                            });
+                            .image_extent(vk::Extent3D { width: extent.width, height: extent.height, depth: 1 });
                         // SAFETY: the image is in TRANSFER_DST_OPTIMAL after the barrier above.
                         unsafe {
                             device.raw.cmd_copy_buffer_to_image(

@@ -39,11 +39,7 @@ pub fn assert_clean(output: &Output) {
     let stdout = String::from_utf8_lossy(&output.stdout);
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert_eq!(output.status.code(), Some(0), "{}", transcript(output));
-    assert!(
-        stdout.contains("validation: 0 messages"),
-        "validation did not run:\n{}",
-        transcript(output)
-    );
+    assert!(stdout.contains("validation: 0 messages"), "validation did not run:\n{}", transcript(output));
     for text in [&stdout, &stderr] {
         assert!(
             !text.contains("Validation Error")
@@ -78,14 +74,8 @@ pub struct Picture {
 
 impl Picture {
     pub fn load(path: &Path) -> Picture {
-        let image = image::open(path)
-            .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
-            .to_rgb8();
-        Picture {
-            width: image.width(),
-            height: image.height(),
-            rgb: image.into_raw(),
-        }
+        let image = image::open(path).unwrap_or_else(|e| panic!("{}: {e}", path.display())).to_rgb8();
+        Picture { width: image.width(), height: image.height(), rgb: image.into_raw() }
     }
 
     pub fn save(&self, path: &Path) {

@@ -16,7 +16,13 @@ pub struct BladePass {
 
 impl BladePass {
     /// Build the pipeline for the given attachment formats. Blades are two-sided: no culling.
-    pub fn new(device: &Device, layout: vk::PipelineLayout, color: vk::Format, depth: vk::Format) -> Result<Self> {
+    pub fn new(
+        device: &Device,
+        layout: vk::PipelineLayout,
+        color: vk::Format,
+        depth: vk::Format,
+        constants: &[u32],
+    ) -> Result<Self> {
         let pipeline = pipeline::graphics(
             device,
             &pipeline::GraphicsDesc {
@@ -30,6 +36,7 @@ impl BladePass {
                 color_format: color,
                 depth_format: depth,
                 layout,
+                constants,
             },
         )?;
         Ok(Self { pipeline })
@@ -51,9 +58,7 @@ impl BladePass {
         let instances = scene.blade_count.div_ceil(blades_per_instance);
         // SAFETY: cmd is recording inside the blade pass's rendering instance; set 0 is bound.
         unsafe {
-            device
-                .raw
-                .cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline);
+            device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline);
             device.raw.cmd_draw(cmd, vertices, instances, 0, 0);
         }
     }

@@ -14,7 +14,13 @@ pub struct TerrainPass {
 
 impl TerrainPass {
     /// Build the pipeline for the given attachment formats.
-    pub fn new(device: &Device, layout: vk::PipelineLayout, color: vk::Format, depth: vk::Format) -> Result<Self> {
+    pub fn new(
+        device: &Device,
+        layout: vk::PipelineLayout,
+        color: vk::Format,
+        depth: vk::Format,
+        constants: &[u32],
+    ) -> Result<Self> {
         let pipeline = pipeline::graphics(
             device,
             &pipeline::GraphicsDesc {
@@ -28,6 +34,7 @@ impl TerrainPass {
                 color_format: color,
                 depth_format: depth,
                 layout,
+                constants,
             },
         )?;
         Ok(Self { pipeline })
@@ -38,9 +45,7 @@ impl TerrainPass {
         let vertices = 6 * scene.terrain_cells * scene.terrain_cells;
         // SAFETY: cmd is recording inside the scene's rendering instance.
         unsafe {
-            device
-                .raw
-                .cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline);
+            device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline);
             device.raw.cmd_draw(cmd, vertices, 1, 0, 0);
         }
     }
