@@ -10,7 +10,6 @@ layout(location = 0) in vec2 in_uv;
 layout(location = 1) in vec3 in_normal;
 layout(location = 2) in vec3 in_world;
 layout(location = 3) flat in uint in_variation;
-layout(location = 4) flat in float in_force;
 
 layout(location = 0) out vec4 out_color;
 
@@ -28,7 +27,8 @@ void main() {
     vec3 diffuse = mix(root_color, tip_color, in_uv.y) * brightness;
     // Memberwise product with the alpha channel: the rim is darker (thesis 4.1).
     diffuse *= mix(0.45, 1.0, alpha);
-    if ((frame.batching.w & FLAG_DEBUG_FORCE) != 0u) {
+    if ((RENDER_FLAGS & FLAG_DEBUG_FORCE) != 0u) {
+        float in_force = unpack_variation(in_variation, 3);
         // Debug view: force magnitude from green (none) to red (the table's strongest pose).
         diffuse = mix(vec3(0.05, 0.25, 0.03), vec3(0.8, 0.02, 0.01), clamp(in_force, 0.0, 1.0)) * mix(0.6, 1.0, in_uv.y);
     }

@@ -19,8 +19,9 @@
 layout(location = 0) out vec2 out_uv;         // u across, v root -> tip
 layout(location = 1) out vec3 out_normal;     // world space
 layout(location = 2) out vec3 out_world;
+// Per-blade variation; its spare top byte carries the force magnitude / stiffness for the debug
+// view (a separate flat varying costs ~25 % of the blade pass on llvmpipe).
 layout(location = 3) flat out uint out_variation;
-layout(location = 4) flat out float out_force;   // force magnitude / stiffness (debug view)
 
 // Local-frame point of the deformed blade at `level`: neutral Bézier point plus the keyframe
 // displacement (root-relative pose minus the straight unit blade) scaled by the height. w: twist.
@@ -42,7 +43,6 @@ void main() {
         out_normal = vec3(0.0, 1.0, 0.0);
         out_world = vec3(0.0);
         out_variation = 0u;
-        out_force = 0.0;
         return;
     }
     uint j = uint(gl_VertexIndex) % per_blade;
@@ -60,26 +60,40 @@ void main() {
     vec3 local;
     vec3 local_tangent;
     float twist = 0.0;
-    out_force = 0.0;
-    if (frame.animation.x == MODE_STATIC) {
+    float force_magnitude = 0.0;
+    if (ANIMATION_MODE == MODE_STATIC) {
         local = bezier_point(p[0], p[1], p[2], p[3], t);
         local_tangent = bezier_tangent(p[0], p[1], p[2], p[3], t);
     } else {
         float force;
         KfSelection sel;
-        if ((frame.batching.w & FLAG_EVAL_BLADE) != 0u) {
+        if ((RENDER_FLAGS & FLAG_EVAL_BLADE) != 0u) {
             // Selected once per blade by blade_pose.comp (thesis ch. 7 future work, with compute).
             sel = kf_unpack(poses[blade_index], force);
         } else {
             sel = kf_select_blade(blade_index, blade, force);
         }
-        out_force = force;
-        vec4 here = deformed(p, sel, level, segments, blade.height);
-        vec4 below = level > 0u ? deformed(p, sel, level - 1u, segments, blade.height) : here;
-        vec4 above = level < segments ? deformed(p, sel, level + 1u, segments, blade.height) : here;
-        local = here.xyz;
-        local_tangent = above.xyz - below.xyz;
-        twist = here.w;
+        force_magnitude = force;
+        if (REPRESENTATION == 1u) {
+            // Curve representation: the pose's control points displace the neutral ones; the
+            // blade is evaluated at any t, with an analytic tangent; the twist grows linearly.
+            vec4 c1 = kf_record(sel, 1u, vec3(0.0, 1.0 / 3.0, 0.0));
+            vec4 c2 = kf_record(sel, 2u, vec3(0.0, 2.0 / 3.0, 0.0));
+            vec4 c3 = kf_record(sel, 3u, vec3(0.0, 1.0, 0.0));
+            vec3 q1 = p[1] + (c1.xyz - vec3(0.0, 1.0 / 3.0, 0.0)) * blade.height;
+            vec3 q2 = p[2] + (c2.xyz - vec3(0.0, 2.0 / 3.0, 0.0)) * blade.height;
+            vec3 q3 = p[3] + (c3.xyz - vec3(0.0, 1.0, 0.0)) * blade.height;
+            local = bezier_point(p[0], q1, q2, q3, t);
+            local_tangent = bezier_tangent(p[0], q1, q2, q3, t);
+            twist = c1.w * t;
+        } else {
+            vec4 here = deformed(p, sel, level, segments, blade.height);
+            vec4 below = level > 0u ? deformed(p, sel, level - 1u, segments, blade.height) : here;
+            vec4 above = level < segments ? deformed(p, sel, level + 1u, segments, blade.height) : here;
+            local = here.xyz;
+            local_tangent = above.xyz - below.xyz;
+            twist = here.w;
+        }
     }
 
     // The width turns about +y by the twist: the blade faces the wind (Zhang Xia §3.2.5).
@@ -91,6 +105,6 @@ void main() {
     out_uv = vec2(side, t);
     out_normal = normalize(cross(width_dir, world_tangent));
     out_world = world;
-    out_variation = blade.variation;
+    out_variation = (blade.variation & 0x00ffffffu) | (uint(round(clamp(force_magnitude, 0.0, 1.0) * 255.0)) << 24);
     gl_Position = frame.view_proj * vec4(world, 1.0);
 }

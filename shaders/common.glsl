@@ -12,13 +12,22 @@ struct FrameUniforms {
     vec4 sky_color;         // rgb linear sky, w fog density (1/m)
     vec4 terrain;           // x grid origin (x = z), y cell size (m), zw unused
     uvec4 params;           // x segments, y blade count, z terrain cells per side, w 1 = encode sRGB
-    uvec4 batching;         // x blades per instance, y vertices per blade, z leading repeats,
-                            // w flags: FLAG_DEBUG_FORCE, FLAG_EVAL_BLADE
-    uvec4 animation;        // x mode (0 static, 1 texture, 2 uniform), y smoothing (0 nearest, 1 linear, 2 slerp),
-                            // z encoding (0 rgba8x2, 1 unorm16, 2 float32 textures; 3 thesis-merged, 4 snorm16x2
-                            // uniform words), w attenuation (0 cluster, 1 blade)
+    uvec4 batching;         // x blades per instance, y vertices per blade, z leading repeats, w unused
     uvec4 keyframes;        // x magnitudes, y angles, z point sources, w cluster corners per side
+    uvec4 keyframe_shape;   // x records per pose, yzw unused
 };
+
+// How the blades are animated is fixed per pipeline by specialization constants, not read from
+// uniforms: llvmpipe (and most GPUs) compile a uniform branch into masked code that pays for every
+// path, so each configuration gets its own pipeline with the other paths compiled out.
+// `render::specialization::Specialization` fills them, in this order.
+layout(constant_id = 1) const uint ANIMATION_MODE = 0u;     // 0 static, 1 texture, 2 uniform
+layout(constant_id = 2) const uint SMOOTHING = 0u;          // 0 nearest, 1 linear (eq. 3.13), 2 slerp (eq. 3.14)
+layout(constant_id = 3) const uint KEYFRAME_ENCODING = 1u;  // 0 rgba8x2, 1 unorm16, 2 float32; 3 thesis-merged,
+                                                            // 4 snorm16x2 uniform words
+layout(constant_id = 4) const uint ATTENUATION = 0u;        // 0 cluster, 1 blade (thesis 4.5)
+layout(constant_id = 5) const uint REPRESENTATION = 0u;     // 0 vertex levels, 1 Bézier curve
+layout(constant_id = 6) const uint RENDER_FLAGS = 0u;       // FLAG_DEBUG_FORCE | FLAG_EVAL_BLADE
 
 // Per-blade cluster record (std430, 8 bytes): eq. 3.7 weights precomputed.
 struct BladeCluster {
@@ -33,7 +42,7 @@ struct BladeInstance {
     float height;           // backbone length (m)
     float width;            // m
     float stiffness;        // relative joint stiffness
-    uint variation;         // unorm8 x4: hue, brightness, lean, spare
+    uint variation;         // unorm8 x4: hue, brightness, lean, spare (the debug view's force in blade.frag)
 };
 
 #define BINDING_FRAME 0

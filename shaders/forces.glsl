@@ -33,7 +33,7 @@ vec2 blade_force(uint blade_index, vec2 root) {
     vec4 f = corners[c.corner] * w.x + corners[c.corner + 1u] * w.y + corners[c.corner + n] * w.z
         + corners[c.corner + n + 1u] * w.w;
     vec2 force = f.xy;
-    if (frame.animation.w == 1u) {
+    if (ATTENUATION == 1u) {
         float exposure = f.z;
         uint sources = frame.keyframes.z;
         for (uint s = 0u; s < sources; ++s) {

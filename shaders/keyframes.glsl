@@ -27,7 +27,7 @@ KfSelection kf_select(vec2 f) {
     s.sign_z = f.y < 0.0 ? -1.0 : 1.0;
     float mf = magnitude / MAX_FORCE * float(magnitudes - 1u);
     float af = angles > 1u ? phi / HALF_PI * float(angles - 1u) : 0.0;
-    if (frame.animation.y == 0u) {
+    if (SMOOTHING == 0u) {
         uint row = uint(round(mf)) * angles + uint(round(af));
         s.rows = uvec4(row);
         s.weights = vec4(1.0, 0.0, 0.0, 0.0);
@@ -59,11 +59,11 @@ vec2 thesis_extract(float x) {
 
 // Stored keyframe of `row` at `level` (1..S): displacement xyz, twist w (radians), decoded.
 vec4 kf_fetch(uint row, uint level) {
-    uint encoding = frame.animation.z;
+    uint encoding = KEYFRAME_ENCODING;
     vec4 v;
     if (encoding >= 3u) {
         // Uniform array: keyframe k is words 2k, 2k + 1; two keyframes per uvec4.
-        uint k = row * frame.params.x + level - 1u;
+        uint k = row * frame.keyframe_shape.x + level - 1u;
         uvec4 pair = keyframe_words[k >> 1];
         uvec2 words = (k & 1u) == 0u ? pair.xy : pair.zw;
         if (encoding == 3u) {
@@ -121,21 +121,18 @@ KfSelection kf_unpack(uvec4 r, out float force) {
     return s;
 }
 
-// Root-relative position (xyz, unit blade) and twist (w) of `level` (0..S), mirrored.
-vec4 kf_level(KfSelection s, uint level, uint segments) {
-    if (level == 0u) {
-        return vec4(0.0);
-    }
-    vec3 straight = vec3(0.0, float(level) / float(segments), 0.0);
+// Root-relative position (xyz, unit blade) and w of record `level` (1-based), mirrored; `straight`
+// is where the record sits on the straight blade (a level of the chain, or a control point).
+vec4 kf_record(KfSelection s, uint level, vec3 straight) {
     vec4 k0 = kf_fetch(s.rows.x, level);
     vec4 r;
-    if (frame.animation.y == 0u) {
+    if (SMOOTHING == 0u) {
         r = vec4(straight + k0.xyz, k0.w);
     } else {
         vec4 k1 = kf_fetch(s.rows.y, level);
         vec4 k2 = kf_fetch(s.rows.z, level);
         vec4 k3 = kf_fetch(s.rows.w, level);
-        if (frame.animation.y == 1u) {
+        if (SMOOTHING == 1u) {
             // Eq. 3.13.
             vec4 k = k0 * s.weights.x + k1 * s.weights.y + k2 * s.weights.z + k3 * s.weights.w;
             r = vec4(straight + k.xyz, k.w);
@@ -148,6 +145,14 @@ vec4 kf_level(KfSelection s, uint level, uint segments) {
         }
     }
     return vec4(r.x * s.sign_x, r.y, r.z * s.sign_z, r.w * s.sign_x * s.sign_z);
+}
+
+// Root-relative position and twist of chain level `level` (0..S), vertex representation.
+vec4 kf_level(KfSelection s, uint level, uint segments) {
+    if (level == 0u) {
+        return vec4(0.0);
+    }
+    return kf_record(s, level, vec3(0.0, float(level) / float(segments), 0.0));
 }
 
 #endif

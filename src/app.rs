@@ -180,7 +180,11 @@ pub fn render(device: &Arc<Device>, options: &RenderOptions) -> Result<RenderRep
     check_limits(device, options.blades, options.size, terrain_cells)?;
     KeyframeTexture::check_limits(device, options.animation.poses)?;
     if options.animation.mode == crate::render::animation::Mode::Uniform {
-        KeyframeUniforms::check_limits(device, options.animation.poses, options.segments)?;
+        let records = match options.animation.representation {
+            crate::keyframes::Representation::Vertex => options.segments,
+            crate::keyframes::Representation::Curve => 3,
+        };
+        KeyframeUniforms::check_limits(device, options.animation.poses, records)?;
     }
     let corners = crate::scene::clusters::ClusterGrid::new(field_m, options.animation.cluster_size).corner_count();
     if corners > MAX_CORNERS {
@@ -316,6 +320,46 @@ pub fn keyframes(options: &KeyframeOptions) -> Result<String> {
             "  uniform merge/extract2 on [-1, 0.9] {m2_inner:.4e}  (not 16-bit: f32 keeps 24 significant bits)"
         );
         let _ = writeln!(out, "  exact snorm16x2 packing            {snorm:.4e}");
+        // The curve representation: 3 records per pose whatever the segment count.
+        let curve = KeyframeTable::generate_curve(layout);
+        let _ = writeln!(
+            out,
+            "curve keyframes (3 control points, 4 x 16 bit each, a quarter stored): {} bits per table for any segment count",
+            u64::from(layout.stored()) * 3 * 4 * 16
+        );
+        let fine = KeyframeTable::generate(&BladeModel::new(crate::keyframes::table::CURVE_FIT_SEGMENTS), layout);
+        for s in [4u32, 8, 16] {
+            let vertex = KeyframeTable::generate(&BladeModel::new(s), layout);
+            let mut worst = 0.0f32;
+            let mut chain_worst = 0.0f32;
+            for row in 0..layout.stored() {
+                let control: Vec<glam::Vec3> = (1..=3)
+                    .map(|r| {
+                        let k = curve.keyframe(row, r);
+                        curve.straight(r) + glam::Vec3::new(k[0], k[1], k[2])
+                    })
+                    .collect();
+                let cp = [glam::Vec3::ZERO, control[0], control[1], control[2]];
+                for level in 1..=s {
+                    let k = vertex.keyframe(row, level);
+                    let chain = vertex.straight(level) + glam::Vec3::new(k[0], k[1], k[2]);
+                    let on_curve = crate::scene::bezier::point(&cp, level as f32 / s as f32);
+                    worst = worst.max((on_curve - chain).length());
+                    // The same point of the 16-segment chain the curve was fitted to.
+                    let fine_level = level * crate::keyframes::table::CURVE_FIT_SEGMENTS / s;
+                    let f = fine.keyframe(row, fine_level);
+                    let fine_point = fine.straight(fine_level) + glam::Vec3::new(f[0], f[1], f[2]);
+                    chain_worst = chain_worst.max((fine_point - chain).length());
+                }
+            }
+            let vertex_bits = u64::from(layout.stored()) * u64::from(s) * 4 * 16;
+            let _ = writeln!(
+                out,
+                "  vs vertex keyframes at {s:>2} segments ({vertex_bits:>7} bits): largest level error {:.2} % of the blade length; that chain itself lies up to {:.2} % from the 16-segment chain the curve is fitted to",
+                100.0 * worst,
+                100.0 * chain_worst
+            );
+        }
     }
     if let Some(path) = &options.export {
         let (width, height, bytes) = encoding::texture_texels(&table, Encoding::Unorm16);

@@ -6,7 +6,7 @@ use std::process::ExitCode;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use meadow::app::{self, GpuOptions, RenderOptions, RenderReport};
 use meadow::keyframes::encoding::{Encoding, Packing};
-use meadow::keyframes::Smoothing;
+use meadow::keyframes::{Representation, Smoothing};
 use meadow::render::animation::{AnimationSettings, Eval, Mode};
 use meadow::scene::Camera;
 use meadow::vk::DeviceSelector;
@@ -112,6 +112,14 @@ enum PackingArg {
 }
 
 #[derive(Clone, Copy, ValueEnum)]
+enum RepresentationArg {
+    /// One record per vertex pair (the thesis).
+    Vertex,
+    /// Three displaced Bézier control points per pose, any segment count.
+    Curve,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
 enum EvalArg {
     /// Per vertex in the vertex shader.
     Vertex,
@@ -162,6 +170,9 @@ struct AnimationArgs {
     /// Uniform-array packing of two 16-bit values per word (thesis 4.4.2).
     #[arg(long, value_enum, default_value = "snorm")]
     packing: PackingArg,
+    /// Keyframe representation: per vertex pair (thesis) or Bézier control points.
+    #[arg(long, value_enum, default_value = "vertex")]
+    keyframes: RepresentationArg,
     /// Where the per-blade part of the animation runs: every vertex, or once per blade (compute).
     #[arg(long, value_enum, default_value = "vertex")]
     eval: EvalArg,
@@ -202,6 +213,10 @@ impl AnimationArgs {
             packing: match self.packing {
                 PackingArg::Thesis => Packing::Thesis,
                 PackingArg::Snorm => Packing::Snorm,
+            },
+            representation: match self.keyframes {
+                RepresentationArg::Vertex => Representation::Vertex,
+                RepresentationArg::Curve => Representation::Curve,
             },
             eval: match self.eval {
                 EvalArg::Vertex => Eval::Vertex,

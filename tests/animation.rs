@@ -133,3 +133,19 @@ fn texture_uniform_and_both_evaluation_placements_give_the_same_picture() {
         100.0 * (1.0 - stats.within_fraction())
     );
 }
+
+#[test]
+fn curve_keyframes_work_at_any_segment_count_and_match_vertex_keyframes() {
+    let base = ["--blades", "6000", "--size", "200x120", "--wind", "10,0.6", "--no-gusts"];
+    let vertex = render("curve-vertex-16", &[&base[..], &["--segments", "16"]].concat());
+    let curve = render("curve-16", &[&base[..], &["--segments", "16", "--keyframes", "curve"]].concat());
+    let (stats, _) = compare_rgb(&vertex.rgb, &curve.rgb, 3);
+    assert!(stats.within_fraction() > 0.9, "curve vs vertex at 16 segments: {:.2} %", 100.0 * stats.within_fraction());
+    // One table for every segment count: 2 and 7 segments render from the same curve records.
+    for segments in ["2", "7"] {
+        render(
+            &format!("curve-{segments}"),
+            &[&base[..], &["--segments", segments, "--keyframes", "curve", "--mode", "uniform"]].concat(),
+        );
+    }
+}

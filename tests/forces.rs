@@ -33,7 +33,6 @@ fn gpu_forces(device: &Arc<Device>, case: &Case) -> meadow::Result<(Vec<Vec2>, V
     let corners = animation::corner_forces(&case.grid, case.wind, case.time, case.attenuation);
     let emitters = animation::emitters(case.wind, case.time);
     let uniforms = FrameUniforms {
-        animation: UVec4::new(1, 0, 1, u32::from(case.attenuation == Attenuation::Blade)),
         keyframes: UVec4::new(0, 0, case.wind.sources.len() as u32, case.grid.corners_per_side()),
         ..bytemuck::Zeroable::zeroed()
     };
@@ -54,7 +53,15 @@ fn gpu_forces(device: &Arc<Device>, case: &Case) -> meadow::Result<(Vec<Vec2>, V
     bindings.extend((1..6).map(|b| Binding { binding: b, kind: vk::DescriptorType::STORAGE_BUFFER, stages: compute }));
     let set_layout = descriptor::set_layout(device, "forces set layout", &bindings)?;
     let layout = pipeline::layout(device, "forces layout", &[set_layout], &[])?;
-    let pipe = pipeline::compute(device, "blade forces", shaders::BLADE_FORCES_COMP, layout, &[])?;
+    // constant_id 4: attenuation (0 cluster, 1 blade), as the blade pipelines are specialised.
+    let attenuation = u32::from(case.attenuation == Attenuation::Blade);
+    let pipe = pipeline::compute(
+        device,
+        "blade forces",
+        shaders::BLADE_FORCES_COMP,
+        layout,
+        &[0, 1, 0, 1, attenuation, 0, 0],
+    )?;
     let (pool, sets) = descriptor::allocate_sets(device, "forces", set_layout, &bindings, 1)?;
     let writes: Vec<_> = bindings
         .iter()

@@ -90,12 +90,16 @@ fn decode_on_gpu(device: &Arc<Device>, source: Source) -> meadow::Result<(Keyfra
     let uniforms = FrameUniforms {
         params: UVec4::new(SEGMENTS, 0, 0, 0),
         keyframes: UVec4::new(table.layout.magnitudes, table.layout.angles, 0, 0),
-        animation: UVec4::new(1, 0, source.code(), 0),
+        keyframe_shape: UVec4::new(SEGMENTS, 0, 0, 0),
         ..bytemuck::Zeroable::zeroed()
     };
     let frame = Buffer::with_data(
         device,
-        &BufferDesc::upload("decode frame", 192, vk::BufferUsageFlags::UNIFORM_BUFFER),
+        &BufferDesc::upload(
+            "decode frame",
+            std::mem::size_of::<FrameUniforms>() as u64,
+            vk::BufferUsageFlags::UNIFORM_BUFFER,
+        ),
         bytemuck::bytes_of(&uniforms),
     )?;
     let out =
@@ -114,7 +118,8 @@ fn decode_on_gpu(device: &Arc<Device>, source: Source) -> meadow::Result<(Keyfra
         "keyframe decode",
         shaders::KEYFRAME_DECODE_COMP,
         layout,
-        &[KeyframeUniforms::capacity(device)],
+        // constant_id 0: uniform array size, 1: mode (texture), 3: encoding or packing.
+        &[KeyframeUniforms::capacity(device), 1, 0, source.code(), 0, 0, 0],
     )?;
     let (pool, sets) = descriptor::allocate_sets(device, "decode", set_layout, &bindings, 1)?;
     descriptor::write(

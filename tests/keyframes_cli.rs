@@ -19,6 +19,7 @@ fn report_reproduces_the_thesis_example_and_export_writes_the_texture() {
     assert!(thesis[4].contains(" 720000 bits"), "{stdout}");
     assert!(thesis[5].contains(" 180000 bits"), "{stdout}");
     assert!(stdout.contains("meadow blade: 4 segments, 10 vertices"), "{stdout}");
+    assert!(stdout.contains("curve keyframes (3 control points") && stdout.contains("at 16 segments"), "{stdout}");
     let picture = image::open(&png).expect("exported PNG");
     assert_eq!((picture.width(), picture.height()), (4, 250));
 }

@@ -144,7 +144,7 @@ pub fn texture_texels(table: &crate::keyframes::KeyframeTable, encoding: Encodin
         }
     }
     let texels_per_level = if encoding == Encoding::Rgba8x2 { 2 } else { 1 };
-    (table.segments * texels_per_level, height, bytes)
+    (table.records * texels_per_level, height, bytes)
 }
 
 /// How two 16-bit keyframe components share a 32-bit word of the uniform array (thesis 4.4.2).

@@ -7,4 +7,4 @@ pub mod pose;
 pub mod table;
 
 pub use pose::BladeModel;
-pub use table::{KeyframeLayout, KeyframeTable, Smoothing};
+pub use table::{KeyframeLayout, KeyframeTable, Representation, Smoothing};

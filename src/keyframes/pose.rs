@@ -26,8 +26,9 @@ pub const MAX_FORCE: f32 = 1.0;
 pub struct BladeModel {
     /// Rigid segments.
     pub segments: u32,
-    /// Flapping stiffness of the root joint (moment per radian); joints above taper linearly to
-    /// `tip_stiffness_ratio` of it.
+    /// Bending stiffness EI at the root (moment × length per radian). A joint between segments
+    /// of length l = 1/S gets k = EI / l, so the blade bends the same for every segment count;
+    /// joints above taper linearly to `tip_stiffness_ratio` of it.
     pub root_stiffness: f32,
     /// Stiffness of the top joint relative to the root.
     pub tip_stiffness_ratio: f32,
@@ -46,7 +47,7 @@ impl BladeModel {
     pub fn new(segments: u32) -> Self {
         Self {
             segments,
-            root_stiffness: 1.0,
+            root_stiffness: 0.25,
             tip_stiffness_ratio: 0.35,
             edge_ratio: 4.0,
             gravity: 0.08,
@@ -56,8 +57,9 @@ impl BladeModel {
     }
 
     fn joint_stiffness(&self, joint: u32) -> f32 {
-        let s = if self.segments > 1 { joint as f32 / (self.segments - 1) as f32 } else { 0.0 };
-        self.root_stiffness * (1.0 + s * (self.tip_stiffness_ratio - 1.0))
+        // Taper by the joint's height on the blade, so every segment count sees the same blade.
+        let s = joint as f32 / self.segments as f32;
+        self.root_stiffness * self.segments as f32 * (1.0 + s * (self.tip_stiffness_ratio - 1.0))
     }
 }
 

@@ -86,15 +86,33 @@ impl KeyframeLayout {
 /// twist of the width about +y (w, radians).
 pub type Keyframe = [f32; 4];
 
-/// Stored poses of the reference blade: `layout.stored()` rows of `segments` levels (level 0,
-/// the root, never moves and is not stored: thesis 3.3).
+/// What one stored record describes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Representation {
+    /// The thesis': one record per moving vertex pair (level 1..=S), displacement and twist.
+    #[default]
+    Vertex,
+    /// Beyond the thesis: the three displaced Bézier control points P1..P3 of the pose (P0 is
+    /// the root), the tip twist in the first record's w; usable at any segment count.
+    Curve,
+}
+
+/// Segments of the chain a curve pose is fitted to.
+pub const CURVE_FIT_SEGMENTS: u32 = 16;
+
+/// Stored poses of the reference blade: `layout.stored()` rows of `records` records each
+/// (vertex: the levels 1..=S, the root never moves and is not stored, thesis 3.3; curve: P1..P3).
 #[derive(Clone, Debug)]
 pub struct KeyframeTable {
     /// Table shape.
     pub layout: KeyframeLayout,
-    /// Levels per pose.
+    /// Segments of the chain the poses were solved with.
     pub segments: u32,
-    /// `stored × segments` keyframes, row-major.
+    /// What a record is.
+    pub representation: Representation,
+    /// Records per pose.
+    pub records: u32,
+    /// `stored × records` keyframes, row-major.
     pub frames: Vec<Keyframe>,
 }
 
@@ -117,7 +135,7 @@ pub struct Selection {
 }
 
 impl KeyframeTable {
-    /// Generate every stored pose with the chain solver.
+    /// Generate every stored pose with the chain solver (vertex representation).
     pub fn generate(model: &BladeModel, layout: KeyframeLayout) -> Self {
         let s = model.segments as usize;
         let neutral = Pose::neutral(model.segments);
@@ -132,12 +150,45 @@ impl KeyframeTable {
                 }
             }
         }
-        Self { layout, segments: model.segments, frames }
+        Self {
+            layout,
+            segments: model.segments,
+            representation: Representation::Vertex,
+            records: model.segments,
+            frames,
+        }
     }
 
-    /// The stored keyframe of `row` at `level` (1..=segments).
+    /// Generate the curve representation: each pose solved on a `CURVE_FIT_SEGMENTS` chain and
+    /// fitted with a cubic Bézier (root fixed, tip pinned to the chain's tip, P1 and P2 by least
+    /// squares at t = k/n); records are the control points' displacements from the straight
+    /// blade's (0, i/3, 0), the tip twist in the first record's w.
+    pub fn generate_curve(layout: KeyframeLayout) -> Self {
+        let model = BladeModel::new(CURVE_FIT_SEGMENTS);
+        let mut frames = Vec::with_capacity(layout.stored() as usize * 3);
+        for m in 0..layout.magnitudes {
+            for a in 0..layout.angles {
+                let (f, phi) = (layout.magnitude(m), layout.angle(a));
+                let pose = pose::solve(&model, f * phi.sin(), f * phi.cos());
+                let control = fit_bezier(&pose.backbone);
+                for (i, p) in control.iter().enumerate() {
+                    let d = *p - Vec3::new(0.0, (i + 1) as f32 / 3.0, 0.0);
+                    let w = if i == 0 { *pose.twist.last().expect("levels") } else { 0.0 };
+                    frames.push([d.x, d.y, d.z, w]);
+                }
+            }
+        }
+        Self { layout, segments: CURVE_FIT_SEGMENTS, representation: Representation::Curve, records: 3, frames }
+    }
+
+    /// Root-relative position of record `record` (1-based) on the straight blade.
+    pub fn straight(&self, record: u32) -> Vec3 {
+        Vec3::new(0.0, record as f32 / self.records as f32, 0.0)
+    }
+
+    /// The stored keyframe of `row`, record `level` (1..=records).
     pub fn keyframe(&self, row: u32, level: u32) -> Keyframe {
-        self.frames[(row * self.segments + level - 1) as usize]
+        self.frames[(row * self.records + level - 1) as usize]
     }
 
     /// Choose the stored poses for a force `(fx, fz)` in the blade's frame, already divided by
@@ -184,7 +235,7 @@ impl KeyframeTable {
     /// Root-relative position and twist of `level` for a selection, mirrored into the force's
     /// quadrant: the CPU reference of the vertex shader.
     pub fn blend(&self, selection: &Selection, level: u32, smoothing: Smoothing) -> (Vec3, f32) {
-        let neutral = Vec3::new(0.0, level as f32 / self.segments as f32, 0.0);
+        let neutral = self.straight(level);
         let at = |i: usize| {
             let k = self.keyframe(selection.rows[i], level);
             (neutral + Vec3::new(k[0], k[1], k[2]), k[3])
@@ -215,8 +266,20 @@ impl KeyframeTable {
         )
     }
 
+    /// Control points P0..P3 (root-relative, unit blade, mirrored) and tip twist a curve table
+    /// gives for a force.
+    pub fn curve_for(&self, fx: f32, fz: f32, smoothing: Smoothing) -> ([Vec3; 4], f32) {
+        assert_eq!(self.representation, Representation::Curve, "curve_for needs a curve table");
+        let selection = self.select(fx, fz, smoothing);
+        let (p1, twist) = self.blend(&selection, 1, smoothing);
+        let (p2, _) = self.blend(&selection, 2, smoothing);
+        let (p3, _) = self.blend(&selection, 3, smoothing);
+        ([Vec3::ZERO, p1, p2, p3], twist)
+    }
+
     /// The pose the table gives for a force (levels 0..=S), for tests and tools.
     pub fn pose_for(&self, fx: f32, fz: f32, smoothing: Smoothing) -> Pose {
+        assert_eq!(self.representation, Representation::Vertex, "pose_for needs a vertex table");
         let selection = self.select(fx, fz, smoothing);
         let mut pose = Pose::neutral(self.segments);
         for level in 1..=self.segments {
@@ -226,6 +289,31 @@ impl KeyframeTable {
         }
         pose
     }
+}
+
+/// Cubic Bézier through the root with its end at the chain's tip, P1 and P2 fitted by least
+/// squares to the chain's levels at uniform t: returns P1, P2, P3.
+pub fn fit_bezier(levels: &[Vec3]) -> [Vec3; 3] {
+    let n = levels.len() - 1;
+    let tip = levels[n];
+    // B(t) = b1 P1 + b2 P2 + b3 P3 with P0 = 0; minimise Σ |b1 P1 + b2 P2 − (Q − b3 P3)|².
+    let (mut a11, mut a12, mut a22) = (0.0f32, 0.0f32, 0.0f32);
+    let (mut r1, mut r2) = (Vec3::ZERO, Vec3::ZERO);
+    for (k, q) in levels.iter().enumerate() {
+        let t = k as f32 / n as f32;
+        let s = 1.0 - t;
+        let (b1, b2, b3) = (3.0 * s * s * t, 3.0 * s * t * t, t * t * t);
+        let target = *q - tip * b3;
+        a11 += b1 * b1;
+        a12 += b1 * b2;
+        a22 += b2 * b2;
+        r1 += target * b1;
+        r2 += target * b2;
+    }
+    let det = a11 * a22 - a12 * a12;
+    let p1 = (r1 * a22 - r2 * a12) / det;
+    let p2 = (r2 * a11 - r1 * a12) / det;
+    [p1, p2, tip]
 }
 
 /// Spherical linear interpolation of two vectors from the root (eq. 3.14), with the lengths
@@ -251,6 +339,23 @@ mod tests {
 
     fn table(segments: u32) -> KeyframeTable {
         KeyframeTable::generate(&BladeModel::new(segments), KeyframeLayout::for_poses(1000))
+    }
+
+    #[test]
+    fn curve_fits_the_chain_and_keeps_the_tip() {
+        let layout = KeyframeLayout::for_poses(200);
+        let curve = KeyframeTable::generate_curve(layout);
+        let vertex = KeyframeTable::generate(&BladeModel::new(CURVE_FIT_SEGMENTS), layout);
+        assert_eq!(curve.records, 3);
+        let (f, phi) = (layout.magnitude(layout.magnitudes - 1), layout.angle(1));
+        let (fx, fz) = (f * phi.sin(), -f * phi.cos());
+        let (cp, _) = curve.curve_for(fx, fz, Smoothing::Nearest);
+        let chain = vertex.pose_for(fx, fz, Smoothing::Nearest);
+        assert!((cp[3] - chain.backbone[16]).length() < 1e-5, "the tip is pinned");
+        for k in 0..=16 {
+            let p = crate::scene::bezier::point(&cp, k as f32 / 16.0);
+            assert!((p - chain.backbone[k]).length() < 0.03, "level {k}: curve {p:?} chain {:?}", chain.backbone[k]);
+        }
     }
 
     #[test]

@@ -6,7 +6,7 @@ use glam::{Vec2, Vec4};
 
 use crate::error::{Error, Result, VkContext};
 use crate::keyframes::encoding::{self, Encoding, Packing};
-use crate::keyframes::{BladeModel, KeyframeLayout, KeyframeTable, Smoothing};
+use crate::keyframes::{BladeModel, KeyframeLayout, KeyframeTable, Representation, Smoothing};
 use crate::scene::clusters::ClusterGrid;
 use crate::vk::upload::UploadBatch;
 use crate::vk::{Access, Buffer, Device, Image, ImageDesc};
@@ -60,6 +60,8 @@ pub struct AnimationSettings {
     pub packing: Packing,
     /// Per vertex or per blade.
     pub eval: Eval,
+    /// Vertex levels (thesis) or Bézier control points.
+    pub representation: Representation,
     /// Where source magnitudes are attenuated.
     pub attenuation: Attenuation,
     /// Cluster edge in metres.
@@ -77,6 +79,7 @@ impl Default for AnimationSettings {
             encoding: Encoding::Unorm16,
             packing: Packing::Snorm,
             eval: Eval::Vertex,
+            representation: Representation::Vertex,
             attenuation: Attenuation::Cluster,
             cluster_size: 1.0,
             wind: Wind::default(),
@@ -121,7 +124,10 @@ impl KeyframeTexture {
     pub fn new(batch: &mut UploadBatch, segments: u32, settings: &AnimationSettings) -> Result<(Self, KeyframeTable)> {
         let device = batch.device();
         let layout = KeyframeLayout::for_poses(settings.poses);
-        let table = KeyframeTable::generate(&BladeModel::new(segments), layout);
+        let table = match settings.representation {
+            Representation::Vertex => KeyframeTable::generate(&BladeModel::new(segments), layout),
+            Representation::Curve => KeyframeTable::generate_curve(layout),
+        };
         let (width, height, texels) = encoding::texture_texels(&table, settings.encoding);
         let desc = ImageDesc::color(
             "keyframe texture",
@@ -181,13 +187,13 @@ impl KeyframeUniforms {
         device.limits().max_uniform_buffer_range.min(65536) / 16
     }
 
-    /// Check that the table for `poses` × `segments` fits the uniform array.
-    pub fn check_limits(device: &Device, poses: u32, segments: u32) -> Result<()> {
-        let bytes = u64::from(KeyframeLayout::for_poses(poses).stored()) * u64::from(segments) * 8;
+    /// Check that the table for `poses` × `records` fits the uniform array.
+    pub fn check_limits(device: &Device, poses: u32, records: u32) -> Result<()> {
+        let bytes = u64::from(KeyframeLayout::for_poses(poses).stored()) * u64::from(records) * 8;
         let max = u64::from(device.limits().max_uniform_buffer_range);
         if bytes > 16 * u64::from(Self::capacity(device)) {
             return Err(Error::bad_input(format!(
-                "--mode uniform: {poses} poses x {segments} segments need {bytes} bytes of uniform data, over the device's maxUniformBufferRange of {max} (use --mode texture, or fewer --poses)"
+                "--mode uniform: {poses} poses x {records} records need {bytes} bytes of uniform data, over the device's maxUniformBufferRange of {max} (use --mode texture, or fewer --poses)"
             )));
         }
         Ok(())

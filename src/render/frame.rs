@@ -26,12 +26,12 @@ pub struct FrameUniforms {
     pub terrain: Vec4,
     /// x segments, y blade count, z terrain cells per side, w 1 = shaders encode sRGB.
     pub params: UVec4,
-    /// x blades per instance, y vertices per blade, z leading repeats, w debug view.
+    /// x blades per instance, y vertices per blade, z leading repeats.
     pub batching: UVec4,
-    /// x mode, y smoothing, z encoding, w attenuation.
-    pub animation: UVec4,
     /// x magnitudes, y angles, z point sources, w corners per side.
     pub keyframes: UVec4,
+    /// x records per pose.
+    pub keyframe_shape: UVec4,
 }
 
 const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 192);

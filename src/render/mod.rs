@@ -7,6 +7,7 @@ pub mod passes;
 pub mod renderer;
 pub mod scene_gpu;
 pub mod shaders;
+pub mod specialization;
 pub mod target;
 
 pub use renderer::{FrameTimings, RenderSettings, Renderer};

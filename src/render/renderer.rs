@@ -9,16 +9,17 @@ use ash::vk;
 use glam::{UVec4, Vec4};
 
 use crate::error::{Result, VkContext};
-use crate::render::animation::{self, AnimationSettings, Eval, KeyframeUniforms, Mode};
+use crate::keyframes::Representation;
+use crate::render::animation::{self, AnimationSettings};
 use crate::render::frame::{look, Frame, FrameUniforms};
 use crate::render::passes::{BladePass, BladePosePass, TerrainPass};
 use crate::render::scene_gpu::{self, SceneGpu};
+use crate::render::specialization::Specialization;
 use crate::render::target::{OffscreenTarget, TargetView, DEPTH_FORMAT};
 use crate::scene::bezier::Batching;
 use crate::scene::{Camera, Scene};
 use crate::vk::query::span_ms;
 use crate::vk::{commands, debug, descriptor, pipeline, sync, Access, Device};
-use crate::wind::Attenuation;
 
 /// Blade segments allowed (thesis 4.1 levels of detail).
 pub const SEGMENTS_RANGE: std::ops::RangeInclusive<u32> = 1..=16;
@@ -138,11 +139,12 @@ impl Renderer {
             res.frames.push(frame);
         }
         // Specialization constant 0: the size of the keyframe uniform array (bindings.glsl).
-        let constants = [KeyframeUniforms::capacity(&device)];
+        let specialization = Specialization::new(&device, &renderer.animation, settings.debug_force);
+        let constants = specialization.constants();
         let (layout, color) = (res.pipeline_layout, settings.color_format);
         res.terrain = Some(TerrainPass::new(&device, layout, color, DEPTH_FORMAT, &constants)?);
         res.blades = Some(BladePass::new(&device, layout, color, DEPTH_FORMAT, &constants)?);
-        if renderer.animation.eval == Eval::Blade && renderer.animation.mode != Mode::Static {
+        if specialization.eval_blade() {
             res.poses = Some(BladePosePass::new(&device, layout, &constants)?);
         }
         Ok(renderer)
@@ -190,32 +192,22 @@ impl Renderer {
             ),
             batching: {
                 let b = Batching::new(self.settings.segments, self.settings.blades_per_instance);
-                let mut flags = 0;
-                if self.settings.debug_force {
-                    flags |= 1; // FLAG_DEBUG_FORCE
-                }
-                if self.resources().poses.is_some() {
-                    flags |= 2; // FLAG_EVAL_BLADE
-                }
-                UVec4::new(b.blades_per_instance, b.stride, b.lead, flags)
+                UVec4::new(b.blades_per_instance, b.stride, b.lead, 0)
             },
-            animation: UVec4::new(
-                self.animation.mode.code(),
-                self.animation.smoothing.code(),
-                match self.animation.mode {
-                    Mode::Uniform => self.animation.packing.code(),
-                    _ => self.animation.encoding.code(),
-                },
-                match self.animation.attenuation {
-                    Attenuation::Cluster => 0,
-                    Attenuation::Blade => 1,
-                },
-            ),
             keyframes: UVec4::new(
                 scene.keyframes.layout.magnitudes,
                 scene.keyframes.layout.angles,
                 self.animation.wind.sources.len() as u32,
                 scene.grid.corners_per_side(),
+            ),
+            keyframe_shape: UVec4::new(
+                match self.animation.representation {
+                    Representation::Vertex => self.settings.segments,
+                    Representation::Curve => 3,
+                },
+                0,
+                0,
+                0,
             ),
         }
     }
