@@ -74,6 +74,12 @@ fn animation_inputs() {
     refused("cluster-size-0", &["--cluster-size", "0"], "cluster size");
     refused("time-inf", &["--time", "inf"], "inf");
     refused("poses-over-texture", &["--poses", "1000000"], "maxImageDimension2D");
+    // 10 000 stored poses × 16 levels × 8 bytes = 1.28 MB of uniform data: over 64 KiB.
+    refused(
+        "uniform-overflow",
+        &["--mode", "uniform", "--poses", "40000", "--segments", "16"],
+        "maxUniformBufferRange of 65536 (use --mode texture",
+    );
 }
 
 #[test]
