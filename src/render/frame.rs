@@ -83,6 +83,10 @@ pub struct Frame {
     pub timestamps: TimestampQueries,
     /// Names of the passes recorded, in order (timestamps i and i + 1 bracket pass i).
     pub passes: Vec<&'static str>,
+    /// Signalled when this frame's swapchain image is acquired (unused headless).
+    pub acquire: vk::Semaphore,
+    /// CPU record and submit milliseconds of the submission in flight, until its fence is read.
+    pub pending: Option<(f64, f64)>,
 }
 
 impl Frame {
@@ -109,10 +113,18 @@ impl Frame {
             ] {
                 buffers.push(Buffer::new(device, &BufferDesc::upload(&format!("frame {index} {name}"), size, usage))?);
             }
-            TimestampQueries::new(device, &format!("frame {index} timestamps"), 16)
+            let timestamps = TimestampQueries::new(device, &format!("frame {index} timestamps"), 16)?;
+            match sync::semaphore(device, &format!("frame {index} acquire")) {
+                Ok(acquire) => Ok((timestamps, acquire)),
+                Err(e) => {
+                    // SAFETY: never used.
+                    unsafe { timestamps.destroy(device) };
+                    Err(e)
+                }
+            }
         })();
         match built {
-            Ok(timestamps) => {
+            Ok((timestamps, acquire)) => {
                 let mut buffers = buffers.into_iter();
                 let mut next = || buffers.next().expect("three buffers");
                 Ok(Self {
@@ -124,6 +136,8 @@ impl Frame {
                     descriptor_set,
                     timestamps,
                     passes: Vec::new(),
+                    acquire,
+                    pending: None,
                 })
             }
             Err(e) => {
@@ -154,6 +168,7 @@ impl Frame {
             self.corners.destroy(device);
             self.emitters.destroy(device);
             device.raw.destroy_fence(self.fence, None);
+            device.raw.destroy_semaphore(self.acquire, None);
             self.recorder.destroy(device);
         }
     }

@@ -352,6 +352,116 @@ impl Renderer {
         &self.animation
     }
 
+    /// Wait until the next frame slot is free (its fence signalled) and return the slot with
+    /// the timings of the frame it rendered last, if any. Only that slot's fence is waited: the
+    /// other frames in flight keep running.
+    pub fn begin_frame(&mut self) -> Result<(usize, Option<FrameTimings>)> {
+        let slot = self.frame_index;
+        self.frame_index = (self.frame_index + 1) % self.settings.frames_in_flight;
+        Ok((slot, self.collect(slot)?))
+    }
+
+    /// Wait for `slot`'s fence and read the timings of its last submission, if any.
+    fn collect(&mut self, slot: usize) -> Result<Option<FrameTimings>> {
+        let device = self.device.clone();
+        let frame = &mut self.resources.as_mut().expect("resources").frames[slot];
+        let wait_started = Instant::now();
+        sync::wait_fence(&device, frame.fence)?;
+        let waited = wait_started.elapsed().as_secs_f64() * 1e3;
+        let timings = match frame.pending.take() {
+            Some((cpu_record_ms, cpu_submit_ms)) => {
+                let stamps = frame.timestamps.read_ns(&device)?;
+                let passes = frame
+                    .passes
+                    .iter()
+                    .enumerate()
+                    .map(|(i, name)| PassTime { name, ms: span_ms(stamps[i], stamps[i + 1]) })
+                    .collect();
+                Some(FrameTimings {
+                    cpu_record_ms,
+                    cpu_submit_ms,
+                    cpu_wait_ms: waited,
+                    gpu_ms: span_ms(stamps[0], stamps[stamps.len() - 1]),
+                    passes,
+                })
+            }
+            None => None,
+        };
+        Ok(timings)
+    }
+
+    /// The semaphore a swapchain image for `slot` is acquired with.
+    pub fn acquire_semaphore(&self, slot: usize) -> vk::Semaphore {
+        self.resources().frames[slot].acquire
+    }
+
+    /// Record and submit the frame of `slot` (after `begin_frame`) into `target`: uniforms and
+    /// corner forces written, passes recorded, then `finish` records whatever follows the scene
+    /// (the colour image's last barrier, a copy), and the submission waits and signals the given
+    /// semaphores (a swapchain's acquire and present) and the slot's fence.
+    pub fn submit_frame(
+        &mut self,
+        slot: usize,
+        target: &TargetView,
+        camera: &Camera,
+        time: f32,
+        sync: FrameSync,
+        finish: impl FnOnce(&Device, vk::CommandBuffer),
+    ) -> Result<()> {
+        let device = self.device.clone();
+        let uniforms = self.frame_uniforms(camera, time, target.extent);
+        let mut frame = self.resources.as_mut().expect("resources").frames.swap_remove(slot);
+        let result = (|| {
+            // SAFETY: begin_frame waited for this fence; nothing pending uses the frame.
+            unsafe { device.raw.reset_fences(&[frame.fence]) }.vk("vkResetFences")?;
+            frame.uniforms.write(0, &[uniforms]);
+            self.write_forces(&mut frame, time);
+            let started = Instant::now();
+            let cmd = frame.recorder.begin(&device)?;
+            self.record_scene(&mut frame, cmd, target);
+            finish(&device, cmd);
+            frame.timestamps.write(&device, cmd);
+            frame.recorder.end(&device)?;
+            let recorded = Instant::now();
+            let wait: Vec<_> = sync
+                .wait
+                .map(|semaphore| {
+                    vk::SemaphoreSubmitInfo::default()
+                        .semaphore(semaphore)
+                        .stage_mask(vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT)
+                })
+                .into_iter()
+                .collect();
+            let signal: Vec<_> = sync
+                .signal
+                .map(|semaphore| {
+                    vk::SemaphoreSubmitInfo::default()
+                        .semaphore(semaphore)
+                        .stage_mask(vk::PipelineStageFlags2::ALL_COMMANDS)
+                })
+                .into_iter()
+                .collect();
+            commands::submit(&device, cmd, &wait, &signal, frame.fence)?;
+            let submitted = Instant::now();
+            frame.pending =
+                Some(((recorded - started).as_secs_f64() * 1e3, (submitted - recorded).as_secs_f64() * 1e3));
+            Ok(())
+        })();
+        let frames = &mut self.resources.as_mut().expect("resources").frames;
+        frames.push(frame);
+        let last = frames.len() - 1;
+        frames.swap(slot, last);
+        result
+    }
+
+    /// Wait for every frame in flight (before rebuilding targets; never inside a frame).
+    pub fn wait_all_frames(&self) -> Result<()> {
+        for frame in &self.resources().frames {
+            sync::wait_fence(&self.device, frame.fence)?;
+        }
+        Ok(())
+    }
+
     /// Render one frame into `target` and copy it to the target's readback buffer; returns when
     /// the GPU is done, so `target.pixels()` holds the picture.
     pub fn render_offscreen(
@@ -360,52 +470,23 @@ impl Renderer {
         camera: &Camera,
         time: f32,
     ) -> Result<FrameTimings> {
-        let device = self.device.clone();
-        let index = self.frame_index;
-        self.frame_index = (self.frame_index + 1) % self.settings.frames_in_flight;
-        let uniforms = self.frame_uniforms(camera, time, target.color.extent);
+        let (slot, _) = self.begin_frame()?;
         let view = target.view();
-        let mut frame = self.resources.as_mut().expect("resources").frames.swap_remove(index);
-        let result = (|| {
-            sync::wait_fence(&device, frame.fence)?;
-            // SAFETY: the fence signalled, nothing pending uses this frame.
-            unsafe { device.raw.reset_fences(&[frame.fence]) }.vk("vkResetFences")?;
-            frame.uniforms.write(0, &[uniforms]);
-            self.write_forces(&mut frame, time);
-
-            let started = Instant::now();
-            let cmd = frame.recorder.begin(&device)?;
-            self.record_scene(&mut frame, cmd, &view);
-            target.record_readback(&device, cmd);
-            frame.timestamps.write(&device, cmd);
-            frame.recorder.end(&device)?;
-            let recorded = Instant::now();
-            commands::submit(&device, cmd, &[], &[], frame.fence)?;
-            let submitted = Instant::now();
-            sync::wait_fence(&device, frame.fence)?;
-            let finished = Instant::now();
-
-            let stamps = frame.timestamps.read_ns(&device)?;
-            let passes = frame
-                .passes
-                .iter()
-                .enumerate()
-                .map(|(i, name)| PassTime { name, ms: span_ms(stamps[i], stamps[i + 1]) })
-                .collect();
-            Ok(FrameTimings {
-                cpu_record_ms: (recorded - started).as_secs_f64() * 1e3,
-                cpu_submit_ms: (submitted - recorded).as_secs_f64() * 1e3,
-                cpu_wait_ms: (finished - submitted).as_secs_f64() * 1e3,
-                gpu_ms: span_ms(stamps[0], stamps[stamps.len() - 1]),
-                passes,
-            })
-        })();
-        let frames = &mut self.resources.as_mut().expect("resources").frames;
-        frames.push(frame);
-        let last = frames.len() - 1;
-        frames.swap(index, last);
-        result
+        self.submit_frame(slot, &view, camera, time, FrameSync::default(), |device, cmd| {
+            target.record_readback(device, cmd)
+        })?;
+        // Headless: wait right away, so the picture and the timings are ready.
+        Ok(self.collect(slot)?.expect("the frame was submitted"))
     }
+}
+
+/// Semaphores a frame's submission waits on (at colour output) and signals.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct FrameSync {
+    /// E.g. the swapchain image's acquire semaphore.
+    pub wait: Option<vk::Semaphore>,
+    /// E.g. the swapchain image's present semaphore.
+    pub signal: Option<vk::Semaphore>,
 }
 
 impl Drop for Renderer {

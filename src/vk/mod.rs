@@ -11,6 +11,7 @@ pub mod image;
 pub mod instance;
 pub mod pipeline;
 pub mod query;
+pub mod swapchain;
 pub mod sync;
 pub mod upload;
 

@@ -43,6 +43,9 @@ pub enum Access {
     DepthAttachmentReadWrite,
     /// Handed to the presentation engine.
     Present,
+    /// A swapchain image just acquired: contents discarded, and the transition starts at the
+    /// colour-output stage where the acquire semaphore is waited, so the two chain.
+    Acquired,
 }
 
 /// What one access means to synchronization2.
@@ -92,6 +95,7 @@ impl Access {
             ),
             // Presentation is ordered by the semaphore; the barrier only changes the layout.
             Access::Present => (S::NONE, A::NONE, L::PRESENT_SRC_KHR),
+            Access::Acquired => (S::COLOR_ATTACHMENT_OUTPUT, A::NONE, L::UNDEFINED),
         };
         AccessInfo { stages, access, layout }
     }
@@ -270,6 +274,17 @@ mod tests {
         assert_eq!(t.old_layout, L::UNDEFINED);
         assert_eq!(t.new_layout, L::COLOR_ATTACHMENT_OPTIMAL);
         assert!(t.dst_access.contains(A::COLOR_ATTACHMENT_WRITE));
+    }
+
+    #[test]
+    fn acquired_image_chains_with_the_acquire_semaphore() {
+        // The semaphore wait happens at COLOR_ATTACHMENT_OUTPUT: the layout transition must start
+        // there, or it could run before the presentation engine released the image.
+        let t = transition(&[Access::Acquired], &[Access::ColorAttachmentWrite]);
+        assert_eq!(t.src_stages, S::COLOR_ATTACHMENT_OUTPUT);
+        assert_eq!(t.old_layout, L::UNDEFINED);
+        let p = transition(&[Access::ColorAttachmentWrite], &[Access::Present]);
+        assert_eq!((p.src_access, p.new_layout), (A::COLOR_ATTACHMENT_WRITE, L::PRESENT_SRC_KHR));
     }
 
     #[test]

@@ -1,0 +1,237 @@
+//! Window surface and swapchain. Images are drawn by the renderer through a `TargetView`; each
+//! image has its own "render finished" semaphore for presentation (a frame in flight's semaphore
+//! could still be waited on by the presentation of an earlier image).
+
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use ash::vk;
+
+use crate::error::{Error, Result, VkContext};
+use crate::vk::{sync, Device};
+
+/// Swapchains alive right now, and the most ever alive at once (tests check ≤ 2).
+static ALIVE: AtomicUsize = AtomicUsize::new(0);
+static MAX_ALIVE: AtomicUsize = AtomicUsize::new(0);
+static CREATED: AtomicUsize = AtomicUsize::new(0);
+
+/// (created, most alive at once) over the process.
+pub fn swapchain_counts() -> (usize, usize) {
+    (CREATED.load(Ordering::SeqCst), MAX_ALIVE.load(Ordering::SeqCst))
+}
+
+/// Presentation modes `--present` accepts.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum PresentMode {
+    /// Vsync, always supported.
+    #[default]
+    Fifo,
+    /// Latest image wins, no tearing.
+    Mailbox,
+    /// No waiting, may tear.
+    Immediate,
+}
+
+impl PresentMode {
+    fn raw(self) -> vk::PresentModeKHR {
+        match self {
+            PresentMode::Fifo => vk::PresentModeKHR::FIFO,
+            PresentMode::Mailbox => vk::PresentModeKHR::MAILBOX,
+            PresentMode::Immediate => vk::PresentModeKHR::IMMEDIATE,
+        }
+    }
+}
+
+/// A surface and its swapchain.
+pub struct Swapchain {
+    surface_fn: ash::khr::surface::Instance,
+    swapchain_fn: ash::khr::swapchain::Device,
+    /// The window surface.
+    pub surface: vk::SurfaceKHR,
+    /// The swapchain (null while the window has no area).
+    pub raw: vk::SwapchainKHR,
+    /// Its images.
+    pub images: Vec<vk::Image>,
+    /// One view per image.
+    pub views: Vec<vk::ImageView>,
+    /// One present ("render finished") semaphore per image.
+    pub present_semaphores: Vec<vk::Semaphore>,
+    /// Colour format (UNORM: the shaders encode sRGB, as offscreen).
+    pub format: vk::Format,
+    /// Current extent.
+    pub extent: vk::Extent2D,
+    present_mode: vk::PresentModeKHR,
+}
+
+impl Swapchain {
+    /// Wrap `surface` (created by the caller from the window) and check the device can present
+    /// to it with `mode`.
+    pub fn new(device: &Device, surface: vk::SurfaceKHR, mode: PresentMode) -> Result<Self> {
+        let instance = &device.instance;
+        let surface_fn = ash::khr::surface::Instance::new(&instance.entry, &instance.raw);
+        let swapchain_fn = ash::khr::swapchain::Device::new(&instance.raw, &device.raw);
+        // SAFETY: valid physical device, family and surface.
+        let supported =
+            unsafe { surface_fn.get_physical_device_surface_support(device.physical, device.queue_family, surface) }
+                .vk("vkGetPhysicalDeviceSurfaceSupportKHR")?;
+        if !supported {
+            return Err(Error::Environment(format!("{} cannot present to this window", device.info.name)));
+        }
+        // SAFETY: as above.
+        let modes = unsafe { surface_fn.get_physical_device_surface_present_modes(device.physical, surface) }
+            .vk("vkGetPhysicalDeviceSurfacePresentModesKHR")?;
+        if !modes.contains(&mode.raw()) {
+            return Err(Error::bad_input(format!("--present {mode:?}: not supported here (supported: {modes:?})")));
+        }
+        // SAFETY: as above.
+        let formats = unsafe { surface_fn.get_physical_device_surface_formats(device.physical, surface) }
+            .vk("vkGetPhysicalDeviceSurfaceFormatsKHR")?;
+        let format = [vk::Format::B8G8R8A8_UNORM, vk::Format::R8G8B8A8_UNORM]
+            .into_iter()
+            .find(|f| formats.iter().any(|s| s.format == *f && s.color_space == vk::ColorSpaceKHR::SRGB_NONLINEAR))
+            .ok_or_else(|| Error::Environment(format!("the surface offers no 8-bit UNORM format: {formats:?}")))?;
+        Ok(Self {
+            surface_fn,
+            swapchain_fn,
+            surface,
+            raw: vk::SwapchainKHR::null(),
+            images: Vec::new(),
+            views: Vec::new(),
+            present_semaphores: Vec::new(),
+            format,
+            extent: vk::Extent2D::default(),
+            present_mode: mode.raw(),
+        })
+    }
+
+    /// Create (or re-create, handing over the old one) the swapchain for a window of `size`.
+    /// Returns false when the surface has no area (minimised): nothing to render into.
+    ///
+    /// The caller must have waited for all work using the old images.
+    pub fn recreate(&mut self, device: &Device, size: vk::Extent2D) -> Result<bool> {
+        // SAFETY: valid physical device and surface.
+        let caps = unsafe { self.surface_fn.get_physical_device_surface_capabilities(device.physical, self.surface) }
+            .vk("vkGetPhysicalDeviceSurfaceCapabilitiesKHR")?;
+        let extent = if caps.current_extent.width != u32::MAX {
+            caps.current_extent
+        } else {
+            vk::Extent2D {
+                width: size.width.clamp(caps.min_image_extent.width, caps.max_image_extent.width),
+                height: size.height.clamp(caps.min_image_extent.height, caps.max_image_extent.height),
+            }
+        };
+        self.destroy_views(device);
+        if extent.width == 0 || extent.height == 0 {
+            self.destroy_swapchain();
+            self.extent = extent;
+            return Ok(false);
+        }
+        let mut count = caps.min_image_count + 1;
+        if caps.max_image_count > 0 {
+            count = count.min(caps.max_image_count);
+        }
+        let old = self.raw;
+        let info = vk::SwapchainCreateInfoKHR::default()
+            .surface(self.surface)
+            .min_image_count(count)
+            .image_format(self.format)
+            .image_color_space(vk::ColorSpaceKHR::SRGB_NONLINEAR)
+            .image_extent(extent)
+            .image_array_layers(1)
+            .image_usage(vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC)
+            .image_sharing_mode(vk::SharingMode::EXCLUSIVE)
+            .pre_transform(caps.current_transform)
+            .composite_alpha(vk::CompositeAlphaFlagsKHR::OPAQUE)
+            .present_mode(self.present_mode)
+            .clipped(true)
+            .old_swapchain(old);
+        // SAFETY: valid create info; the old swapchain is retired by this call.
+        let raw = unsafe { self.swapchain_fn.create_swapchain(&info, None) }.vk("vkCreateSwapchainKHR")?;
+        let alive = ALIVE.fetch_add(1, Ordering::SeqCst) + 1;
+        MAX_ALIVE.fetch_max(alive, Ordering::SeqCst);
+        CREATED.fetch_add(1, Ordering::SeqCst);
+        self.destroy_swapchain();
+        self.raw = raw;
+        self.extent = extent;
+        device.set_name(raw, "swapchain");
+        // SAFETY: raw is valid.
+        self.images = unsafe { self.swapchain_fn.get_swapchain_images(raw) }.vk("vkGetSwapchainImagesKHR")?;
+        for (i, image) in self.images.iter().enumerate() {
+            device.set_name(*image, &format!("swapchain image {i}"));
+            let view_info = vk::ImageViewCreateInfo::default()
+                .image(*image)
+                .view_type(vk::ImageViewType::TYPE_2D)
+                .format(self.format)
+                .subresource_range(vk::ImageSubresourceRange {
+                    aspect_mask: vk::ImageAspectFlags::COLOR,
+                    base_mip_level: 0,
+                    level_count: 1,
+                    base_array_layer: 0,
+                    layer_count: 1,
+                });
+            // SAFETY: the image belongs to the swapchain.
+            let view = unsafe { device.raw.create_image_view(&view_info, None) }.vk("vkCreateImageView")?;
+            device.set_name(view, &format!("swapchain view {i}"));
+            self.views.push(view);
+            self.present_semaphores.push(sync::semaphore(device, &format!("present semaphore {i}"))?);
+        }
+        Ok(true)
+    }
+
+    /// Acquire the next image, signalling `semaphore`. `Ok(None)` means out of date: recreate.
+    pub fn acquire(&self, semaphore: vk::Semaphore) -> Result<Option<(u32, bool)>> {
+        // SAFETY: the semaphore is unsignalled with no pending wait (its frame's fence was waited).
+        match unsafe { self.swapchain_fn.acquire_next_image(self.raw, u64::MAX, semaphore, vk::Fence::null()) } {
+            Ok((index, suboptimal)) => Ok(Some((index, suboptimal))),
+            Err(vk::Result::ERROR_OUT_OF_DATE_KHR) => Ok(None),
+            Err(result) => Err(Error::Vulkan { call: "vkAcquireNextImageKHR", result }),
+        }
+    }
+
+    /// Present `index`, waiting on its present semaphore. `Ok(false)`: out of date or suboptimal.
+    pub fn present(&self, device: &Device, index: u32) -> Result<bool> {
+        let semaphores = [self.present_semaphores[index as usize]];
+        let swapchains = [self.raw];
+        let indices = [index];
+        let info =
+            vk::PresentInfoKHR::default().wait_semaphores(&semaphores).swapchains(&swapchains).image_indices(&indices);
+        // SAFETY: the image was acquired and rendered; the semaphore is signalled by that submission.
+        match unsafe { self.swapchain_fn.queue_present(device.queue, &info) } {
+            Ok(false) => Ok(true),
+            Ok(true) | Err(vk::Result::ERROR_OUT_OF_DATE_KHR) => Ok(false),
+            Err(result) => Err(Error::Vulkan { call: "vkQueuePresentKHR", result }),
+        }
+    }
+
+    fn destroy_views(&mut self, device: &Device) {
+        // SAFETY: the caller waited for all work on these views and semaphores.
+        unsafe {
+            for view in self.views.drain(..) {
+                device.raw.destroy_image_view(view, None);
+            }
+            for semaphore in self.present_semaphores.drain(..) {
+                device.raw.destroy_semaphore(semaphore, None);
+            }
+        }
+        self.images.clear();
+    }
+
+    fn destroy_swapchain(&mut self) {
+        if self.raw != vk::SwapchainKHR::null() {
+            // SAFETY: retired or unused; the caller waited for its work.
+            unsafe { self.swapchain_fn.destroy_swapchain(self.raw, None) };
+            ALIVE.fetch_sub(1, Ordering::SeqCst);
+            self.raw = vk::SwapchainKHR::null();
+        }
+    }
+
+    /// Destroy the swapchain, its views and semaphores, and the surface.
+    ///
+    /// # Safety
+    /// The device must be idle.
+    pub unsafe fn destroy(mut self, device: &Device) {
+        self.destroy_views(device);
+        self.destroy_swapchain();
+        // SAFETY: nothing uses the surface any more.
+        unsafe { self.surface_fn.destroy_surface(self.surface, None) };
+    }
+}
