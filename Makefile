@@ -1,5 +1,6 @@
 # The two commands of the README:
-#   make run   installs what is missing, builds, and renders the default scene to meadow.png
+#   make run   installs what is missing, builds, and opens the viewer when a display exists
+#              (DISPLAY or WAYLAND_DISPLAY), otherwise renders the default scene to meadow.png
 #   make test  installs what is missing, then fmt, clippy and the whole test suite on lavapipe
 CARGO ?= cargo
 
@@ -12,7 +13,11 @@ build: deps
 	$(CARGO) build --release
 
 run: build
-	./target/release/meadow render --out meadow.png
+	@if [ -n "$$DISPLAY$$WAYLAND_DISPLAY" ]; then \
+		./target/release/meadow view; \
+	else \
+		./target/release/meadow render --out meadow.png; \
+	fi
 
 test: deps
 	$(CARGO) fmt --all -- --check

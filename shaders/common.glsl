@@ -14,7 +14,7 @@ struct FrameUniforms {
     uvec4 params;           // x segments, y blade count, z terrain cells per side, w 1 = encode sRGB
     uvec4 batching;         // x blades per instance, y vertices per blade, z leading repeats, w unused
     uvec4 keyframes;        // x magnitudes, y angles, z point sources, w cluster corners per side
-    uvec4 keyframe_shape;   // x records per pose, yzw unused
+    uvec4 keyframe_shape;   // x records per pose, y colliders (emitters after the sources), zw unused
 };
 
 // How the blades are animated is fixed per pipeline by specialization constants, not read from

@@ -40,11 +40,9 @@ vec2 blade_force(uint blade_index, vec2 root) {
             vec4 e = emitters[s];
             force += exposure * source_force(e.xy, e.z, e.w, root);
         }
-        for (uint i = sources; i < uint(emitters.length()); ++i) {
+        for (uint i = sources; i < sources + frame.keyframe_shape.y; ++i) {
             vec4 e = emitters[i];
-            if (e.z > 0.0) {
-                force += collider_force(e.xy, e.zw, root);
-            }
+            force += collider_force(e.xy, e.zw, root);
         }
     }
     return force;

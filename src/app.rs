@@ -36,7 +36,17 @@ pub fn with_device<T>(
     swapchain: bool,
     body: impl FnOnce(&Arc<Device>) -> Result<T>,
 ) -> (Result<T>, Option<u64>) {
-    let instance = match Instance::new(&InstanceDesc { validation: options.validation, extensions: &[] }) {
+    with_device_extensions(options, &[], swapchain, body)
+}
+
+/// [`with_device`] with extra instance extensions (a window's surface extensions).
+pub fn with_device_extensions<T>(
+    options: &GpuOptions,
+    extensions: &[*const std::ffi::c_char],
+    swapchain: bool,
+    body: impl FnOnce(&Arc<Device>) -> Result<T>,
+) -> (Result<T>, Option<u64>) {
+    let instance = match Instance::new(&InstanceDesc { validation: options.validation, extensions }) {
         Ok(instance) => Arc::new(instance),
         Err(e) => return (Err(e), None),
     };
@@ -179,6 +189,13 @@ pub fn render(device: &Arc<Device>, options: &RenderOptions) -> Result<RenderRep
     let terrain_cells = crate::scene::terrain::Terrain::cells_for(field_m);
     check_limits(device, options.blades, options.size, terrain_cells)?;
     KeyframeTexture::check_limits(device, options.animation.poses)?;
+    let emitters = options.animation.wind.sources.len() + options.animation.wind.colliders.len();
+    if emitters > crate::render::animation::MAX_EMITTERS {
+        return Err(Error::bad_input(format!(
+            "{emitters} sources and colliders: at most {} together",
+            crate::render::animation::MAX_EMITTERS
+        )));
+    }
     if options.animation.mode == crate::render::animation::Mode::Uniform {
         let records = match options.animation.representation {
             crate::keyframes::Representation::Vertex => options.segments,
@@ -204,6 +221,7 @@ pub fn render(device: &Arc<Device>, options: &RenderOptions) -> Result<RenderRep
         frames_in_flight: 1,
         blades_per_instance: options.blades_per_instance,
         debug_force: options.debug_force,
+        wireframe: false,
     };
     let mut renderer = Renderer::new(device.clone(), &scene, settings, options.animation.clone())?;
     let extent = vk::Extent2D { width: options.size.0, height: options.size.1 };

@@ -11,6 +11,7 @@ pub mod imagediff;
 pub mod keyframes;
 pub mod render;
 pub mod scene;
+pub mod viewer;
 pub mod vk;
 pub mod wind;
 

@@ -9,6 +9,8 @@ use meadow::keyframes::encoding::{Encoding, Packing};
 use meadow::keyframes::{Representation, Smoothing};
 use meadow::render::animation::{AnimationSettings, Eval, Mode};
 use meadow::scene::Camera;
+use meadow::viewer::ViewerOptions;
+use meadow::vk::swapchain::PresentMode;
 use meadow::vk::DeviceSelector;
 use meadow::wind::{Attenuation, GlobalWind, Wind};
 
@@ -24,6 +26,8 @@ struct Cli {
 enum Command {
     /// Render the grass field headless to a PNG and print what it cost.
     Render(RenderArgs),
+    /// Open the interactive viewer (needs a display).
+    View(ViewArgs),
     /// List the Vulkan devices with their drivers.
     Devices(GpuArgs),
     /// Generate the keyframe table; report its compression figures and export it as a picture.
@@ -59,13 +63,28 @@ struct GpuArgs {
 
 #[derive(Args)]
 struct RenderArgs {
+    #[command(flatten)]
+    scene: SceneArgs,
+    /// Output PNG.
+    #[arg(long, default_value = "meadow.png")]
+    out: PathBuf,
+    /// Frames to render; the last is written, timings of all are summarised.
+    #[arg(long, default_value = "1", value_parser = clap::value_parser!(u32).range(1..=10_000))]
+    frames: u32,
+    #[command(flatten)]
+    gpu: GpuArgs,
+}
+
+/// Scene, animation and picture flags shared by `render` and `view`.
+#[derive(Args)]
+struct SceneArgs {
     /// Number of grass blades (the field grows at a fixed density).
     #[arg(long, default_value = "100000", value_parser = meadow::cli::blade_count)]
     blades: u32,
     /// Bézier segments per blade (1..=16).
     #[arg(long, default_value = "4", value_parser = meadow::cli::segments)]
     segments: u32,
-    /// Picture size.
+    /// Picture (or window) size.
     #[arg(long, default_value = "1280x720", value_name = "WxH", value_parser = meadow::cli::size)]
     size: (u32, u32),
     /// Seed of the terrain and the blade scatter.
@@ -74,9 +93,6 @@ struct RenderArgs {
     /// Camera position and orientation in degrees (default: 1.7 m above the field's edge).
     #[arg(long, value_name = "X,Y,Z,YAW_DEG,PITCH_DEG", value_parser = meadow::cli::camera, allow_hyphen_values = true)]
     camera: Option<Camera>,
-    /// Output PNG.
-    #[arg(long, default_value = "meadow.png")]
-    out: PathBuf,
     /// Blades per instance of the one blade draw (1 = classic per-blade instancing).
     #[arg(long, default_value = "1", value_parser = meadow::cli::blades_per_instance)]
     blades_per_instance: u32,
@@ -85,11 +101,57 @@ struct RenderArgs {
     /// Debug view: `force` colours blades by force magnitude (thesis fig. 4.5 / 6.1c).
     #[arg(long, value_enum)]
     debug_view: Option<DebugViewArg>,
-    /// Frames to render; the last is written, timings of all are summarised.
-    #[arg(long, default_value = "1", value_parser = clap::value_parser!(u32).range(1..=10_000))]
-    frames: u32,
+}
+
+impl SceneArgs {
+    fn options(&self, out: PathBuf, frames: u32) -> RenderOptions {
+        RenderOptions {
+            blades: self.blades,
+            segments: self.segments,
+            size: self.size,
+            seed: self.seed,
+            camera: self.camera,
+            out,
+            frames,
+            blades_per_instance: self.blades_per_instance,
+            animation: self.animation.settings(),
+            time: self.animation.time,
+            debug_force: matches!(self.debug_view, Some(DebugViewArg::Force)),
+        }
+    }
+}
+
+#[derive(Args)]
+struct ViewArgs {
+    #[command(flatten)]
+    scene: SceneArgs,
+    /// Presentation mode.
+    #[arg(long, value_enum, default_value = "fifo")]
+    present: PresentArg,
+    /// Frames in flight.
+    #[arg(long, default_value = "2", value_parser = clap::value_parser!(u32).range(1..=3))]
+    frames_in_flight: u32,
+    /// Quit after N frames.
+    #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
+    frames: Option<u64>,
+    /// Timed actions to play (see scripts/viewer/*.txt).
+    #[arg(long, value_name = "PATH")]
+    script: Option<PathBuf>,
+    /// Write the last frame to a PNG at exit.
+    #[arg(long, value_name = "PATH.png")]
+    screenshot: Option<PathBuf>,
+    /// Treat the swapchain as out of date every N frames (tests the re-create path).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
+    inject_out_of_date: Option<u32>,
     #[command(flatten)]
     gpu: GpuArgs,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum PresentArg {
+    Fifo,
+    Mailbox,
+    Immediate,
 }
 
 /// How blades are posed.
@@ -275,22 +337,43 @@ fn main() -> ExitCode {
     };
     let (code, validation) = match cli.command {
         Command::Render(args) => {
-            let options = RenderOptions {
-                blades: args.blades,
-                segments: args.segments,
-                size: args.size,
-                seed: args.seed,
-                camera: args.camera,
-                out: args.out,
-                frames: args.frames,
-                blades_per_instance: args.blades_per_instance,
-                animation: args.animation.settings(),
-                time: args.animation.time,
-                debug_force: matches!(args.debug_view, Some(DebugViewArg::Force)),
-            };
+            let options = args.scene.options(args.out.clone(), args.frames);
             let (result, validation) =
                 app::with_device(&args.gpu.options(), false, |device| app::render(device, &options));
             (finish(result.map(|report| print_render(&report))), validation)
+        }
+        Command::View(args) => {
+            let script = match args.script.as_deref().map(meadow::viewer::script::Script::load).transpose() {
+                Ok(script) => script,
+                Err(e) => {
+                    eprintln!("error: {e}");
+                    return ExitCode::from(e.exit_code() as u8);
+                }
+            };
+            let options = ViewerOptions {
+                scene: args.scene.options(PathBuf::new(), 1),
+                present: match args.present {
+                    PresentArg::Fifo => PresentMode::Fifo,
+                    PresentArg::Mailbox => PresentMode::Mailbox,
+                    PresentArg::Immediate => PresentMode::Immediate,
+                },
+                frames_in_flight: args.frames_in_flight as usize,
+                frames: args.frames,
+                script,
+                screenshot: args.screenshot,
+                inject_out_of_date: args.inject_out_of_date,
+            };
+            let (result, validation) = meadow::viewer::run(&args.gpu.options(), options);
+            let code = finish(result.map(|report| {
+                println!(
+                    "viewer: {} frames, {} swapchains created (at most {} alive at once), {} re-creations",
+                    report.frames, report.swapchains.0, report.swapchains.1, report.recreations
+                );
+                if !report.stats.is_empty() {
+                    println!("stats: {}", report.stats);
+                }
+            }));
+            (code, validation)
         }
         Command::Keyframes(args) => {
             let options = app::KeyframeOptions {

@@ -34,6 +34,7 @@ fn gpu_forces(device: &Arc<Device>, case: &Case) -> meadow::Result<(Vec<Vec2>, V
     let emitters = animation::emitters(case.wind, case.time);
     let uniforms = FrameUniforms {
         keyframes: UVec4::new(0, 0, case.wind.sources.len() as u32, case.grid.corners_per_side()),
+        keyframe_shape: UVec4::new(0, case.wind.colliders.len() as u32, 0, 0),
         ..bytemuck::Zeroable::zeroed()
     };
     let storage = vk::BufferUsageFlags::STORAGE_BUFFER;

@@ -218,6 +218,9 @@ impl KeyframeUniforms {
     }
 }
 
+/// Point sources plus colliders a renderer can hold (the per-frame emitter buffers' capacity).
+pub const MAX_EMITTERS: usize = 64;
+
 /// The corner forces of a frame: (fx, fz, calm-area exposure, 0) per corner.
 pub fn corner_forces(grid: &ClusterGrid, wind: &Wind, time: f32, attenuation: Attenuation) -> Vec<Vec4> {
     (0..grid.corner_count())
@@ -231,7 +234,7 @@ pub fn corner_forces(grid: &ClusterGrid, wind: &Wind, time: f32, attenuation: At
 
 /// The emitters of a frame: point sources at their positions at `time` as (x, z, power, sigma),
 /// then colliders as (centre x, centre z, radius x, radius z). At least one element (a buffer
-/// cannot be empty); padding has radius 0 and is skipped by the shader.
+/// cannot be empty); the shader reads only as many as the uniforms count.
 pub fn emitters(wind: &Wind, time: f32) -> Vec<Vec4> {
     let mut out: Vec<Vec4> = wind
         .sources
@@ -269,9 +272,7 @@ pub fn blade_force(
             force += f.z * crate::wind::PointSource::force_from(Vec2::new(e.x, e.y), e.z, e.w, root);
         }
         for e in &emitters[sources..] {
-            if e.z > 0.0 {
-                force += crate::wind::Collider::force(Vec2::new(e.x, e.y), Vec2::new(e.z, e.w), root);
-            }
+            force += crate::wind::Collider::force(Vec2::new(e.x, e.y), Vec2::new(e.z, e.w), root);
         }
     }
     force

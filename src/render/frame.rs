@@ -30,7 +30,7 @@ pub struct FrameUniforms {
     pub batching: UVec4,
     /// x magnitudes, y angles, z point sources, w corners per side.
     pub keyframes: UVec4,
-    /// x records per pose.
+    /// x records per pose, y colliders.
     pub keyframe_shape: UVec4,
 }
 

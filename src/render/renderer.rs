@@ -39,6 +39,8 @@ pub struct RenderSettings {
     pub blades_per_instance: u32,
     /// Colour blades by the magnitude of their force (thesis fig. 4.5 / 6.1c).
     pub debug_force: bool,
+    /// Draw triangle edges only (needs `fillModeNonSolid`).
+    pub wireframe: bool,
 }
 
 /// Blades per instance allowed.
@@ -122,7 +124,7 @@ impl Renderer {
         let res = renderer.resources.as_mut().expect("just set");
         let scene_gpu = res.scene.insert(SceneGpu::upload(&device, scene, settings.segments, &animation_copy)?);
         let corners = scene_gpu.grid.corner_count();
-        let emitters = (animation_copy.wind.sources.len() + animation_copy.wind.colliders.len()) as u32;
+        let emitters = animation::MAX_EMITTERS as u32;
         res.set_layout = descriptor::set_layout(&device, "scene set layout", &bindings)?;
         res.pipeline_layout = pipeline::layout(&device, "scene pipeline layout", &[res.set_layout], &[])?;
         let (pool, sets) = descriptor::allocate_sets(
@@ -142,8 +144,19 @@ impl Renderer {
         let specialization = Specialization::new(&device, &renderer.animation, settings.debug_force);
         let constants = specialization.constants();
         let (layout, color) = (res.pipeline_layout, settings.color_format);
-        res.terrain = Some(TerrainPass::new(&device, layout, color, DEPTH_FORMAT, &constants)?);
-        res.blades = Some(BladePass::new(&device, layout, color, DEPTH_FORMAT, &constants)?);
+        let polygon = if settings.wireframe {
+            if device.features.fill_mode_non_solid == vk::FALSE {
+                return Err(crate::error::Error::Environment(format!(
+                    "{} cannot draw wireframes (no fillModeNonSolid)",
+                    device.info.name
+                )));
+            }
+            vk::PolygonMode::LINE
+        } else {
+            vk::PolygonMode::FILL
+        };
+        res.terrain = Some(TerrainPass::new(&device, layout, color, DEPTH_FORMAT, &constants, polygon)?);
+        res.blades = Some(BladePass::new(&device, layout, color, DEPTH_FORMAT, &constants, polygon)?);
         if specialization.eval_blade() {
             res.poses = Some(BladePosePass::new(&device, layout, &constants)?);
         }
@@ -205,7 +218,7 @@ impl Renderer {
                     Representation::Vertex => self.settings.segments,
                     Representation::Curve => 3,
                 },
-                0,
+                self.animation.wind.colliders.len() as u32,
                 0,
                 0,
             ),
@@ -344,12 +357,20 @@ impl Renderer {
         let grid = &self.scene_gpu().grid;
         let wind = &self.animation.wind;
         frame.corners.write(0, &animation::corner_forces(grid, wind, time, self.animation.attenuation));
-        frame.emitters.write(0, &animation::emitters(wind, time));
+        let mut emitters = animation::emitters(wind, time);
+        emitters.truncate(animation::MAX_EMITTERS);
+        frame.emitters.write(0, &emitters);
     }
 
     /// The animation the renderer was built with.
     pub fn animation(&self) -> &AnimationSettings {
         &self.animation
+    }
+
+    /// The forces, editable between frames (they are uploaded per frame). At most
+    /// `MAX_EMITTERS` sources and colliders together are used; extra ones are ignored.
+    pub fn wind_mut(&mut self) -> &mut crate::wind::Wind {
+        &mut self.animation.wind
     }
 
     /// Wait until the next frame slot is free (its fence signalled) and return the slot with

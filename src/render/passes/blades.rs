@@ -22,6 +22,7 @@ impl BladePass {
         color: vk::Format,
         depth: vk::Format,
         constants: &[u32],
+        polygon: vk::PolygonMode,
     ) -> Result<Self> {
         let pipeline = pipeline::graphics(
             device,
@@ -31,7 +32,7 @@ impl BladePass {
                 fragment: shaders::BLADE_FRAG,
                 topology: vk::PrimitiveTopology::TRIANGLE_STRIP,
                 cull: vk::CullModeFlags::NONE,
-                polygon: vk::PolygonMode::FILL,
+                polygon,
                 depth_compare: vk::CompareOp::GREATER,
                 color_format: color,
                 depth_format: depth,

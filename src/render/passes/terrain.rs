@@ -20,6 +20,7 @@ impl TerrainPass {
         color: vk::Format,
         depth: vk::Format,
         constants: &[u32],
+        polygon: vk::PolygonMode,
     ) -> Result<Self> {
         let pipeline = pipeline::graphics(
             device,
@@ -29,7 +30,7 @@ impl TerrainPass {
                 fragment: shaders::TERRAIN_FRAG,
                 topology: vk::PrimitiveTopology::TRIANGLE_LIST,
                 cull: vk::CullModeFlags::NONE,
-                polygon: vk::PolygonMode::FILL,
+                polygon,
                 depth_compare: vk::CompareOp::GREATER,
                 color_format: color,
                 depth_format: depth,

@@ -1,0 +1,158 @@
+//! `--script PATH`: timed viewer actions, one per line, so a session is reproducible.
+//!
+//! ```text
+//! # frame  action        arguments
+//! 0        camera        0,1.7,8,0,-12      # X,Y,Z,YAW_DEG,PITCH_DEG
+//! 0        time          2.5                # set the simulation time
+//! 0        pause                            # freeze (or resume) the simulation time
+//! 10       key           w down             # hold a key (names as in the help, H)
+//! 40       key           w up
+//! 41       press         m                  # down and up
+//! 50       click         160,100            # left click at a pixel (drops a wind source)
+//! 60       resize        640x360
+//! 70       minimise
+//! 80       restore
+//! 90       screenshot    shot.png
+//! 100      quit
+//! ```
+//!
+//! Frames are counted from the first rendered frame; actions of a frame run before it renders.
+//! With a script (or `--frames`), simulation time advances by a fixed 1/60 s per frame.
+
+use crate::error::{Error, Result};
+use crate::scene::Camera;
+
+/// One scripted action.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Action {
+    /// Put the camera there.
+    Camera(Camera),
+    /// Set the simulation time.
+    Time(f32),
+    /// Toggle pause.
+    Pause,
+    /// Press (true) or release (false) a key by name.
+    Key(String, bool),
+    /// Press and release a key.
+    Press(String),
+    /// Left click at a pixel.
+    Click(f64, f64),
+    /// Ask the window for a new inner size.
+    Resize(u32, u32),
+    /// Minimise the window.
+    Minimise,
+    /// Restore it.
+    Restore,
+    /// Write the next frame to a PNG.
+    Screenshot(String),
+    /// Close the viewer.
+    Quit,
+}
+
+/// Actions sorted by frame.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Script {
+    /// (frame, action), in order.
+    pub actions: Vec<(u64, Action)>,
+}
+
+impl Script {
+    /// Read and parse a script file.
+    pub fn load(path: &std::path::Path) -> Result<Self> {
+        let text =
+            std::fs::read_to_string(path).map_err(|e| Error::bad_input(format!("--script {}: {e}", path.display())))?;
+        Self::parse(&text).map_err(|e| Error::bad_input(format!("--script {}: {e}", path.display())))
+    }
+
+    /// Parse the text of a script.
+    pub fn parse(text: &str) -> std::result::Result<Self, String> {
+        let mut actions = Vec::new();
+        for (n, raw) in text.lines().enumerate() {
+            let line = raw.split('#').next().unwrap_or("").trim();
+            if line.is_empty() {
+                continue;
+            }
+            let fail = |what: &str| format!("line {}: {what}: '{raw}'", n + 1);
+            let mut words = line.split_whitespace();
+            let frame: u64 =
+                words.next().and_then(|w| w.parse().ok()).ok_or_else(|| fail("expected a frame number"))?;
+            let verb = words.next().ok_or_else(|| fail("expected an action"))?;
+            let args: Vec<&str> = words.collect();
+            let one = |what: &str| -> std::result::Result<&str, String> {
+                match args.as_slice() {
+                    [a] => Ok(*a),
+                    _ => Err(fail(what)),
+                }
+            };
+            let action = match verb {
+                "camera" => Action::Camera(crate::cli::camera(one("camera X,Y,Z,YAW,PITCH")?).map_err(|e| fail(&e))?),
+                "time" => Action::Time(crate::cli::time(one("time SECONDS")?).map_err(|e| fail(&e))?),
+                "pause" => Action::Pause,
+                "key" => match args.as_slice() {
+                    [name, "down"] => Action::Key(name.to_string(), true),
+                    [name, "up"] => Action::Key(name.to_string(), false),
+                    _ => return Err(fail("key NAME down|up")),
+                },
+                "press" => Action::Press(one("press NAME")?.to_string()),
+                "click" => {
+                    let xy = one("click X,Y")?;
+                    let (x, y) = xy.split_once(',').ok_or_else(|| fail("click X,Y"))?;
+                    let parse = |v: &str| crate::cli::finite_f32(v).map(f64::from).map_err(|e| fail(&e));
+                    Action::Click(parse(x)?, parse(y)?)
+                }
+                "resize" => {
+                    let (w, h) = crate::cli::size(one("resize WxH")?).map_err(|e| fail(&e))?;
+                    Action::Resize(w, h)
+                }
+                "minimise" | "minimize" => Action::Minimise,
+                "restore" => Action::Restore,
+                "screenshot" => Action::Screenshot(one("screenshot PATH")?.to_string()),
+                "quit" => Action::Quit,
+                other => return Err(fail(&format!("unknown action '{other}'"))),
+            };
+            actions.push((frame, action));
+        }
+        actions.sort_by_key(|(frame, _)| *frame);
+        Ok(Self { actions })
+    }
+
+    /// Remove and return the actions due at `frame` or before.
+    pub fn due(&mut self, frame: u64) -> Vec<Action> {
+        let split = self.actions.partition_point(|(f, _)| *f <= frame);
+        self.actions.drain(..split).map(|(_, a)| a).collect()
+    }
+
+    /// Whether any action is left.
+    pub fn is_empty(&self) -> bool {
+        self.actions.is_empty()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn parses_every_action_in_frame_order() {
+        let s = Script::parse(
+            "# a comment\n10 key w down\n0 camera 0,1.7,8,0,-12\n5 resize 1x1\n7 click 10,20\n12 press F12 # inline\n99 quit\n",
+        )
+        .expect("valid");
+        assert_eq!(s.actions.len(), 6);
+        assert_eq!(s.actions[0].0, 0);
+        assert_eq!(s.actions[2].1, Action::Click(10.0, 20.0));
+        assert_eq!(s.actions[3].1, Action::Key("w".into(), true));
+        let mut s = s;
+        assert_eq!(s.due(6).len(), 2);
+        assert_eq!(s.due(6).len(), 0);
+    }
+
+    #[test]
+    fn reports_bad_lines_with_their_number() {
+        let e = Script::parse("0 camera 0,1\n").unwrap_err();
+        assert!(e.starts_with("line 1"), "{e}");
+        assert!(Script::parse("x quit\n").is_err());
+        assert!(Script::parse("3 dance\n").unwrap_err().contains("unknown action"));
+        assert!(Script::parse("3 resize 0x0\n").is_err());
+    }
+}

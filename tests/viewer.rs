@@ -1,0 +1,124 @@
+//! The viewer under Xvfb (installed by the test command), with validation and synchronization
+//! validation: a scripted fly-over whose screenshot matches the headless render of the same
+//! view, a resize storm with injected OUT_OF_DATE, every frames-in-flight count and present mode,
+//! and the no-display error.
+
+mod support;
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+use meadow::imagediff::compare_rgb;
+use support::{assert_clean, meadow, scratch, transcript, Picture};
+
+const SCENE: [&str; 6] = ["--blades", "5000", "--size", "256x160", "--device", support::DEVICE];
+
+/// `xvfb-run meadow view --validation ARGS` in `dir`.
+fn view(dir: &Path, args: &[&str]) -> Output {
+    let xvfb = which("xvfb-run").expect("xvfb-run is installed by the test command (package xvfb)");
+    Command::new(xvfb)
+        .args(["-a", "-s", "-screen 0 1280x1024x24"])
+        .arg(env!("CARGO_BIN_EXE_meadow"))
+        .args(["view", "--validation"])
+        .args(SCENE)
+        .args(args)
+        .current_dir(dir)
+        .env_remove("WAYLAND_DISPLAY")
+        .output()
+        .expect("run xvfb-run")
+}
+
+fn which(program: &str) -> Option<std::path::PathBuf> {
+    std::env::var_os("PATH")?.to_str()?.split(':').map(|d| Path::new(d).join(program)).find(|p| p.is_file())
+}
+
+fn script(name: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("scripts/viewer").join(name).display().to_string()
+}
+
+/// (swapchains created, most alive at once) from the viewer's closing line.
+fn swapchains(output: &Output) -> (u32, u32) {
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    let line = stdout.lines().find(|l| l.starts_with("viewer: ")).unwrap_or_else(|| panic!("{}", transcript(output)));
+    let numbers: Vec<u32> = line.split(|c: char| !c.is_ascii_digit()).filter_map(|w| w.parse().ok()).collect();
+    (numbers[1], numbers[2])
+}
+
+#[test]
+fn flyover_script_runs_clean_and_its_screenshot_matches_the_headless_render() {
+    let dir = scratch("viewer-flyover");
+    let output = view(&dir, &["--script", &script("flyover.txt")]);
+    assert_clean(&output);
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(stdout.contains("viewer: 121 frames"), "{}", transcript(&output));
+    // The script turns the wind to 15° and strengthens it to 0.35, then stops at this view.
+    let headless = dir.join("headless.png");
+    let rendered = meadow()
+        .arg("render")
+        .args(SCENE)
+        .args(["--camera", "0,3,3,0,-35", "--time", "0", "--wind", "15,0.35", "--out"])
+        .arg(&headless)
+        .output()
+        .expect("run meadow render");
+    assert_eq!(rendered.status.code(), Some(0), "{}", transcript(&rendered));
+    let (a, b) = (Picture::load(&dir.join("flyover.png")), Picture::load(&headless));
+    assert_eq!((a.width, a.height), (b.width, b.height));
+    let (stats, _) = compare_rgb(&a.rgb, &b.rgb, 3);
+    assert!(stats.within_fraction() > 0.999, "viewer vs headless: {:.3} % within ±3", 100.0 * stats.within_fraction());
+}
+
+#[test]
+fn resize_storm_with_injected_out_of_date_keeps_at_most_two_swapchains() {
+    let dir = scratch("viewer-resize");
+    let output = view(&dir, &["--script", &script("resize-storm.txt"), "--inject-out-of-date", "7"]);
+    assert_clean(&output);
+    let (created, alive) = swapchains(&output);
+    assert!(created > 100, "only {created} swapchains: the storm did not re-create");
+    assert!(alive <= 2, "{alive} swapchains alive at once");
+}
+
+#[test]
+fn every_frames_in_flight_count_and_present_mode_runs_clean() {
+    let dir = scratch("viewer-modes");
+    for frames_in_flight in ["1", "2", "3"] {
+        let output = view(&dir, &["--frames", "12", "--frames-in-flight", frames_in_flight]);
+        assert_clean(&output);
+    }
+    let mut ran = Vec::new();
+    for present in ["fifo", "mailbox", "immediate"] {
+        let output = view(&dir, &["--frames", "12", "--present", present]);
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        if output.status.code() == Some(2) && stderr.contains("not supported here") {
+            continue; // the device does not offer it: reported, not failed
+        }
+        assert_clean(&output);
+        ran.push(present);
+    }
+    assert!(ran.contains(&"fifo"), "FIFO is always supported");
+}
+
+#[test]
+fn live_controls_rebuild_and_edit_without_errors() {
+    let dir = scratch("viewer-controls");
+    let path = dir.join("controls.txt");
+    std::fs::write(
+        &path,
+        "0 press m\n2 press n\n4 press b\n6 press plus\n8 press minus\n10 press ]\n12 press [\n14 press v\n16 press f\n\
+         18 press f\n20 press u\n22 press c\n24 press up\n26 press left\n28 click 128,120\n30 press delete\n32 press p\n\
+         34 press g\n36 press f12\n40 quit\n",
+    )
+    .expect("write script");
+    let output = view(&dir, &["--script", path.to_str().expect("utf-8")]);
+    assert_clean(&output);
+    assert!(dir.join("meadow-screenshot-1.png").exists(), "F12 wrote no screenshot");
+}
+
+#[test]
+fn no_display_is_a_clear_error() {
+    let output = meadow().env_remove("DISPLAY").env_remove("WAYLAND_DISPLAY").arg("view").output().expect("run meadow");
+    assert_eq!(output.status.code(), Some(2), "{}", transcript(&output));
+    assert_eq!(
+        String::from_utf8_lossy(&output.stderr).trim(),
+        "error: no display (set DISPLAY or WAYLAND_DISPLAY, or run under xvfb-run)"
+    );
+}
