@@ -3,7 +3,7 @@
 #ifndef MEADOW_KEYFRAMES_GLSL
 #define MEADOW_KEYFRAMES_GLSL
 
-const float HALF_PI = 1.5707963;
+const float HALF_PI = 1.57079637; // the f32 nearest π/2, as Rust's FRAC_PI_2
 const float MAX_FORCE = 1.0; // keyframes::pose::MAX_FORCE
 
 struct KfSelection {
@@ -20,7 +20,8 @@ struct KfSelection {
 KfSelection kf_select(vec2 f) {
     uint magnitudes = frame.keyframes.x;
     uint angles = frame.keyframes.y;
-    float magnitude = min(length(f), MAX_FORCE);
+    // A non-finite force would give an undefined row: treat it as none.
+    float magnitude = isnan(length(f)) || isinf(length(f)) ? 0.0 : min(length(f), MAX_FORCE);
     float phi = magnitude > 0.0 ? atan(abs(f.x), abs(f.y)) : 0.0;
     KfSelection s;
     s.sign_x = f.x < 0.0 ? -1.0 : 1.0;
@@ -28,7 +29,8 @@ KfSelection kf_select(vec2 f) {
     float mf = magnitude / MAX_FORCE * float(magnitudes - 1u);
     float af = angles > 1u ? phi / HALF_PI * float(angles - 1u) : 0.0;
     if (SMOOTHING == 0u) {
-        uint row = uint(round(mf)) * angles + uint(round(af));
+        // floor(x + 0.5): the same tie rule as the CPU (GLSL round() leaves .5 to the driver).
+        uint row = min(uint(floor(mf + 0.5)), magnitudes - 1u) * angles + min(uint(floor(af + 0.5)), angles - 1u);
         s.rows = uvec4(row);
         s.weights = vec4(1.0, 0.0, 0.0, 0.0);
         s.t_magnitude = 0.0;

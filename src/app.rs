@@ -145,6 +145,54 @@ pub fn check_limits(device: &Device, blades: u32, size: (u32, u32), terrain_cell
     device.check_budget(total, &format!("rendering {blades} blades at {}x{}", size.0, size.1))
 }
 
+/// Every check of a scene against the device and meadow's limits, before anything is allocated:
+/// shared by `render`, the viewer (also when a control rebuilds it) and `bench`.
+pub fn check_scene(
+    device: &Device,
+    blades: u32,
+    segments: u32,
+    size: (u32, u32),
+    animation: &AnimationSettings,
+) -> Result<()> {
+    use crate::render::animation::{Eval, Mode, MAX_EMITTERS};
+    let field_m = crate::scene::blades::field_size(blades);
+    check_limits(device, blades, size, crate::scene::terrain::Terrain::cells_for(field_m))?;
+    KeyframeTexture::check_limits(device, animation.poses)?;
+    if animation.mode == Mode::Floor {
+        // Pre-expanded vertices, plus their staging copy during the upload.
+        let vertices = u64::from(blades) * u64::from(2 * segments + 4);
+        device.check_budget(2 * 12 * vertices, &format!("--mode floor with {blades} blades"))?;
+    }
+    if animation.eval == Eval::Blade && animation.mode != Mode::Static {
+        let groups = blades.div_ceil(64);
+        let max = device.limits().max_compute_work_group_count[0];
+        if groups > max {
+            return Err(Error::bad_input(format!(
+                "--eval blade with {blades} blades needs {groups} workgroups, over the device's maxComputeWorkGroupCount[0] of {max}"
+            )));
+        }
+    }
+    let emitters = animation.wind.sources.len() + animation.wind.colliders.len();
+    if emitters > MAX_EMITTERS {
+        return Err(Error::bad_input(format!("{emitters} sources and colliders: at most {MAX_EMITTERS} together")));
+    }
+    if animation.mode == Mode::Uniform {
+        let records = match animation.representation {
+            crate::keyframes::Representation::Vertex => segments,
+            crate::keyframes::Representation::Curve => 3,
+        };
+        KeyframeUniforms::check_limits(device, animation.poses, records)?;
+    }
+    let corners = crate::scene::clusters::ClusterGrid::new(field_m, animation.cluster_size).corner_count();
+    if corners > MAX_CORNERS {
+        return Err(Error::bad_input(format!(
+            "--cluster-size {} m makes {corners} cluster corners on a {field_m:.1} m field, more than the {MAX_CORNERS} the CPU updates per frame",
+            animation.cluster_size
+        )));
+    }
+    Ok(())
+}
+
 /// Check that the output can be written before doing any work.
 fn check_output(path: &Path) -> Result<()> {
     let parent = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
@@ -185,31 +233,8 @@ pub fn write_png(path: &Path, size: (u32, u32), rgba: &[u8]) -> Result<()> {
 /// `meadow render`: build the scene, render it headless, write the PNG.
 pub fn render(device: &Arc<Device>, options: &RenderOptions) -> Result<RenderReport> {
     check_output(&options.out)?;
+    check_scene(device, options.blades, options.segments, options.size, &options.animation)?;
     let field_m = blades::field_size(options.blades);
-    let terrain_cells = crate::scene::terrain::Terrain::cells_for(field_m);
-    check_limits(device, options.blades, options.size, terrain_cells)?;
-    KeyframeTexture::check_limits(device, options.animation.poses)?;
-    let emitters = options.animation.wind.sources.len() + options.animation.wind.colliders.len();
-    if emitters > crate::render::animation::MAX_EMITTERS {
-        return Err(Error::bad_input(format!(
-            "{emitters} sources and colliders: at most {} together",
-            crate::render::animation::MAX_EMITTERS
-        )));
-    }
-    if options.animation.mode == crate::render::animation::Mode::Uniform {
-        let records = match options.animation.representation {
-            crate::keyframes::Representation::Vertex => options.segments,
-            crate::keyframes::Representation::Curve => 3,
-        };
-        KeyframeUniforms::check_limits(device, options.animation.poses, records)?;
-    }
-    let corners = crate::scene::clusters::ClusterGrid::new(field_m, options.animation.cluster_size).corner_count();
-    if corners > MAX_CORNERS {
-        return Err(Error::bad_input(format!(
-            "--cluster-size {} m makes {corners} cluster corners on a {field_m:.1} m field, more than the {MAX_CORNERS} the CPU updates per frame",
-            options.animation.cluster_size
-        )));
-    }
 
     let setup = Instant::now();
     let scene = Scene::generate(options.blades, options.seed);
@@ -391,4 +416,12 @@ pub fn keyframes(options: &KeyframeOptions) -> Result<String> {
         let _ = writeln!(out, "wrote {} ({width}x{height}, RGBA16: displacement xyz, twist / (pi/2))", path.display());
     }
     Ok(out)
+}
+
+/// Write a text file atomically (temporary file renamed into place).
+pub fn write_text(path: &Path, text: &str) -> Result<()> {
+    let io = |source: std::io::Error| Error::Io { path: path.display().to_string(), source };
+    let tmp = path.with_extension("tmp");
+    std::fs::write(&tmp, text).map_err(io)?;
+    std::fs::rename(&tmp, path).map_err(io)
 }

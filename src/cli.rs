@@ -117,11 +117,11 @@ pub fn wind(text: &str) -> Result<(f32, f32), String> {
 /// `X,Z,POWER,SIGMA[,VX,VZ]`: a point source (eq. 4.1), optionally moving at (VX, VZ) m/s.
 pub fn source(text: &str) -> Result<crate::wind::PointSource, String> {
     let v = numbers(text, &[4, 6], "X,Z,POWER,SIGMA[,VX,VZ]")?;
-    if v[3] < 0.0 {
-        return Err(format!("source sigma {} is negative (σ of eq. 4.1 must be ≥ 0)", v[3]));
+    if !(0.0..=16.0).contains(&v[3]) {
+        return Err(format!("source sigma {} is outside 0..=16 (σ of eq. 4.1; negative is meaningless)", v[3]));
     }
-    if v[2] < 0.0 {
-        return Err(format!("source power {} is negative", v[2]));
+    if !(0.0..=1000.0).contains(&v[2]) {
+        return Err(format!("source power {} is outside 0..=1000", v[2]));
     }
     let velocity = if v.len() == 6 { Vec2::new(v[4], v[5]) } else { Vec2::ZERO };
     Ok(crate::wind::PointSource { position: Vec2::new(v[0], v[1]), power: v[2], sigma: v[3], velocity })

@@ -5,6 +5,7 @@
 //! layer underneath; [`app`] holds the commands the `meadow` binary dispatches to.
 
 pub mod app;
+pub mod bench;
 pub mod cli;
 pub mod error;
 pub mod imagediff;

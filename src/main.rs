@@ -163,6 +163,8 @@ enum ModeArg {
     Texture,
     /// Keyframes in a uniform array, two 16-bit values per word (thesis 4.4.2).
     Uniform,
+    /// Benchmark floor: pre-expanded static triangles, flat colour.
+    Floor,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -271,6 +273,7 @@ impl AnimationArgs {
                 ModeArg::Static => Mode::Static,
                 ModeArg::Texture => Mode::Texture,
                 ModeArg::Uniform => Mode::Uniform,
+                ModeArg::Floor => Mode::Floor,
             },
             packing: match self.packing {
                 PackingArg::Thesis => Packing::Thesis,

@@ -195,7 +195,8 @@ impl KeyframeTable {
     /// the blade's stiffness (eq. 3.10–3.12 with the mirror symmetry of fig. 3.9).
     pub fn select(&self, fx: f32, fz: f32, smoothing: Smoothing) -> Selection {
         let l = self.layout;
-        let magnitude = (fx * fx + fz * fz).sqrt().min(MAX_FORCE);
+        let magnitude = (fx * fx + fz * fz).sqrt();
+        let magnitude = if magnitude.is_finite() { magnitude.min(MAX_FORCE) } else { 0.0 };
         // ω of eq. 3.12 folded into the stored quarter by the mirrors.
         let phi = if magnitude > 0.0 { fx.abs().atan2(fz.abs()) } else { 0.0 };
         let sign_x = if fx < 0.0 { -1.0 } else { 1.0 };
@@ -204,7 +205,10 @@ impl KeyframeTable {
         let af = if l.angles > 1 { phi / FRAC_PI_2 * (l.angles - 1) as f32 } else { 0.0 };
         match smoothing {
             Smoothing::Nearest => {
-                let row = l.row(mf.round() as u32, af.round() as u32);
+                // floor(x + 0.5), as the shader: ties round up on both sides.
+                let m = ((mf + 0.5).floor() as u32).min(l.magnitudes - 1);
+                let a = ((af + 0.5).floor() as u32).min(l.angles - 1);
+                let row = l.row(m, a);
                 Selection {
                     rows: [row; 4],
                     weights: [1.0, 0.0, 0.0, 0.0],

@@ -22,6 +22,8 @@ pub enum Mode {
     Texture,
     /// Keyframes in a uniform array, two 16-bit values per 32-bit word (thesis 4.4.2).
     Uniform,
+    /// Benchmark floor: the static blades' triangles pre-expanded, transform and flat colour only.
+    Floor,
 }
 
 impl Mode {
@@ -31,6 +33,7 @@ impl Mode {
             Mode::Static => 0,
             Mode::Texture => 1,
             Mode::Uniform => 2,
+            Mode::Floor => 3,
         }
     }
 }
@@ -108,13 +111,19 @@ pub fn texture_format(encoding: Encoding) -> vk::Format {
 }
 
 impl KeyframeTexture {
-    /// Rows the table for `poses` needs, checked against the device before generating it.
+    /// Rows the table for `poses` needs, checked against the device before generating it (and
+    /// against the 16-bit row fields of `--eval blade` pose records).
     pub fn check_limits(device: &Device, poses: u32) -> Result<()> {
         let rows = KeyframeLayout::for_poses(poses).stored();
         let max = device.limits().max_image_dimension2_d;
         if rows > max {
             return Err(Error::bad_input(format!(
                 "--poses {poses} needs a keyframe texture of {rows} rows, over the device's maxImageDimension2D of {max}"
+            )));
+        }
+        if rows > 65536 {
+            return Err(Error::bad_input(format!(
+                "--poses {poses} needs {rows} stored poses, more than the 65536 a pose record can index"
             )));
         }
         Ok(())
@@ -227,6 +236,8 @@ pub fn corner_forces(grid: &ClusterGrid, wind: &Wind, time: f32, attenuation: At
         .map(|i| {
             let p = grid.corner_position(i);
             let f = wind.corner_force(p, time, attenuation);
+            // A non-finite force (overflowing eq. 4.1) would select an undefined pose: none.
+            let f = if f.is_finite() { f } else { Vec2::ZERO };
             Vec4::new(f.x, f.y, wind.exposure(p), 0.0)
         })
         .collect()

@@ -10,9 +10,10 @@ use glam::{UVec4, Vec4};
 
 use crate::error::{Result, VkContext};
 use crate::keyframes::Representation;
+use crate::render::animation::Mode;
 use crate::render::animation::{self, AnimationSettings};
 use crate::render::frame::{look, Frame, FrameUniforms};
-use crate::render::passes::{BladePass, BladePosePass, TerrainPass};
+use crate::render::passes::{BladePass, BladePosePass, FloorPass, TerrainPass};
 use crate::render::scene_gpu::{self, SceneGpu};
 use crate::render::specialization::Specialization;
 use crate::render::target::{OffscreenTarget, TargetView, DEPTH_FORMAT};
@@ -83,6 +84,7 @@ struct Resources {
     frames: Vec<Frame>,
     terrain: Option<TerrainPass>,
     blades: Option<BladePass>,
+    floor: Option<FloorPass>,
     poses: Option<BladePosePass>,
 }
 
@@ -156,7 +158,11 @@ impl Renderer {
             vk::PolygonMode::FILL
         };
         res.terrain = Some(TerrainPass::new(&device, layout, color, DEPTH_FORMAT, &constants, polygon)?);
-        res.blades = Some(BladePass::new(&device, layout, color, DEPTH_FORMAT, &constants, polygon)?);
+        if renderer.animation.mode == Mode::Floor {
+            res.floor = Some(FloorPass::new(&device, layout, color, DEPTH_FORMAT, &constants, polygon)?);
+        } else {
+            res.blades = Some(BladePass::new(&device, layout, color, DEPTH_FORMAT, &constants, polygon)?);
+        }
         if specialization.eval_blade() {
             res.poses = Some(BladePosePass::new(&device, layout, &constants)?);
         }
@@ -210,7 +216,7 @@ impl Renderer {
             keyframes: UVec4::new(
                 scene.keyframes.layout.magnitudes,
                 scene.keyframes.layout.angles,
-                self.animation.wind.sources.len() as u32,
+                self.emitter_counts().0,
                 scene.grid.corners_per_side(),
             ),
             keyframe_shape: UVec4::new(
@@ -218,7 +224,7 @@ impl Renderer {
                     Representation::Vertex => self.settings.segments,
                     Representation::Curve => 3,
                 },
-                self.animation.wind.colliders.len() as u32,
+                self.emitter_counts().1,
                 0,
                 0,
             ),
@@ -299,13 +305,13 @@ impl Renderer {
 
         attachment_barriers(Access::ColorAttachmentWrite, Access::DepthAttachmentReadWrite);
         self.begin_pass(cmd, target, PASSES[2], false);
-        res.blades.as_ref().expect("built in new").record(
-            device,
-            cmd,
-            scene,
-            self.settings.segments,
-            self.settings.blades_per_instance,
-        );
+        match (&res.blades, &res.floor, &scene.floor) {
+            (Some(blades), _, _) => {
+                blades.record(device, cmd, scene, self.settings.segments, self.settings.blades_per_instance)
+            }
+            (None, Some(floor), Some(vertices)) => floor.record(device, cmd, vertices),
+            _ => unreachable!("new builds the blade or the floor pass"),
+        }
         self.end_pass(cmd);
         frame.timestamps.write(device, cmd);
         frame.passes.push(PASSES[2]);
@@ -360,6 +366,15 @@ impl Renderer {
         let mut emitters = animation::emitters(wind, time);
         emitters.truncate(animation::MAX_EMITTERS);
         frame.emitters.write(0, &emitters);
+    }
+
+    /// Sources and colliders the shaders read: the first `MAX_EMITTERS` of them, sources first
+    /// (the emitter buffers hold no more).
+    fn emitter_counts(&self) -> (u32, u32) {
+        let max = animation::MAX_EMITTERS;
+        let sources = self.animation.wind.sources.len().min(max);
+        let colliders = self.animation.wind.colliders.len().min(max - sources);
+        (sources as u32, colliders as u32)
     }
 
     /// The animation the renderer was built with.
@@ -433,8 +448,6 @@ impl Renderer {
         let uniforms = self.frame_uniforms(camera, time, target.extent);
         let mut frame = self.resources.as_mut().expect("resources").frames.swap_remove(slot);
         let result = (|| {
-            // SAFETY: begin_frame waited for this fence; nothing pending uses the frame.
-            unsafe { device.raw.reset_fences(&[frame.fence]) }.vk("vkResetFences")?;
             frame.uniforms.write(0, &[uniforms]);
             self.write_forces(&mut frame, time);
             let started = Instant::now();
@@ -462,6 +475,9 @@ impl Renderer {
                 })
                 .into_iter()
                 .collect();
+            // Reset only now: if recording failed, the fence stays signalled and nobody waits forever.
+            // SAFETY: begin_frame waited for this fence; nothing pending uses the frame.
+            unsafe { device.raw.reset_fences(&[frame.fence]) }.vk("vkResetFences")?;
             commands::submit(&device, cmd, &wait, &signal, frame.fence)?;
             let submitted = Instant::now();
             frame.pending =
@@ -528,6 +544,9 @@ unsafe fn destroy_resources(device: &Device, res: Resources) {
     unsafe {
         if let Some(poses) = res.poses {
             poses.destroy(device);
+        }
+        if let Some(floor) = res.floor {
+            floor.destroy(device);
         }
         if let Some(blades) = res.blades {
             blades.destroy(device);

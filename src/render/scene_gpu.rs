@@ -86,6 +86,8 @@ pub struct SceneGpu {
     pub keyframe_words: KeyframeUniforms,
     /// One 16-byte pose record per blade with `--eval blade` (a single record otherwise).
     pub poses: Buffer,
+    /// Pre-expanded blade vertices (`--mode floor` only).
+    pub floor: Option<Buffer>,
 }
 
 /// Resources created so far by `upload`, freed if it fails half-way.
@@ -98,6 +100,7 @@ struct Partial {
     keyframes: Option<KeyframeTexture>,
     keyframe_words: Option<KeyframeUniforms>,
     poses: Option<Buffer>,
+    floor: Option<Buffer>,
 }
 
 impl Partial {
@@ -107,7 +110,9 @@ impl Partial {
         // SAFETY: per the contract.
         unsafe {
             let words = self.keyframe_words.map(|w| w.buffer);
-            for buffer in [self.blades, self.heights, self.clusters, words, self.poses].into_iter().flatten() {
+            for buffer in
+                [self.blades, self.heights, self.clusters, words, self.poses, self.floor].into_iter().flatten()
+            {
                 buffer.destroy(device);
             }
             if let Some(image) = self.blade_alpha {
@@ -152,6 +157,7 @@ impl SceneGpu {
                 keyframes: partial.keyframes.take().expect("uploaded"),
                 keyframe_words: partial.keyframe_words.take().expect("uploaded"),
                 poses: partial.poses.take().expect("created"),
+                floor: partial.floor.take(),
             }),
             Err(e) => {
                 // SAFETY: the batch waited for its submission or never submitted.
@@ -172,9 +178,12 @@ impl SceneGpu {
         let mut batch = UploadBatch::new(device);
         let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
         let vertex_read: &'static [Access] = &[Access::VertexShaderStorageRead];
-        partial.blades = Some(batch.buffer("blades", &scene.blades, storage, vertex_read)?);
+        // Blades and clusters are also read by the blade-pose compute pass.
+        let vertex_compute_read: &'static [Access] = &[Access::VertexShaderStorageRead, Access::ComputeShaderRead];
+        partial.blades = Some(batch.buffer("blades", &scene.blades, storage, vertex_compute_read)?);
         partial.heights = Some(batch.buffer("terrain heights", &scene.terrain.heights, storage, vertex_read)?);
-        partial.clusters = Some(batch.buffer("blade clusters", &grid.assign(&scene.blades), storage, vertex_read)?);
+        let clusters = grid.assign(&scene.blades);
+        partial.clusters = Some(batch.buffer("blade clusters", &clusters, storage, vertex_compute_read)?);
         let desc = ImageDesc::color(
             "blade alpha",
             vk::Format::R8_UNORM,
@@ -182,6 +191,15 @@ impl SceneGpu {
             vk::ImageUsageFlags::SAMPLED,
         );
         partial.blade_alpha = Some(batch.image(&desc, &alpha::texels(), &[Access::FragmentShaderSampledRead])?);
+        if animation.mode == crate::render::animation::Mode::Floor {
+            let vertices = crate::render::passes::floor::expand(&scene.blades, segments);
+            partial.floor = Some(batch.buffer(
+                "floor vertices",
+                &vertices,
+                vk::BufferUsageFlags::VERTEX_BUFFER,
+                &[Access::VertexAttributeRead],
+            )?);
+        }
         let (keyframes, table) = KeyframeTexture::new(&mut batch, segments, animation)?;
         partial.keyframes = Some(keyframes);
         partial.keyframe_words = Some(KeyframeUniforms::new(&mut batch, &table, animation.packing)?);
@@ -249,6 +267,9 @@ impl SceneGpu {
             self.keyframes.destroy(device);
             self.keyframe_words.buffer.destroy(device);
             self.poses.destroy(device);
+            if let Some(floor) = self.floor {
+                floor.destroy(device);
+            }
             self.clusters.destroy(device);
             self.blade_alpha.destroy(device);
             self.heights.destroy(device);

@@ -76,7 +76,7 @@ meadow viewer controls
   W A S D / Q E   move / down, up       right mouse drag  look
   Shift           faster                 wheel             speed
   G               walk on the ground     H                 this help
-  M               mode static/texture/uniform    N  smoothing nearest/linear/slerp
+  M               mode static/texture/uniform/floor   N  smoothing nearest/linear/slerp
   B               evaluation per vertex / per blade (compute)
   + / -           segments               [ / ]             blades / 2, x 2
   J / L           wind direction -/+15   I / K             wind strength +/-
@@ -303,19 +303,14 @@ impl Viewer {
         event_loop.exit();
     }
 
-    /// Build (or rebuild after a mode change) the renderer; waits for the old one's frames.
-    fn build_renderer(&mut self) -> Result<()> {
-        let animation = match self.renderer.take() {
-            Some(old) => old.animation().clone(),
-            None => self.options.scene.animation.clone(),
-        };
-        if animation.mode == Mode::Uniform {
-            let records = match animation.representation {
-                crate::keyframes::Representation::Vertex => self.settings.segments,
-                crate::keyframes::Representation::Curve => 3,
-            };
-            crate::render::animation::KeyframeUniforms::check_limits(&self.device, animation.poses, records)?;
-        }
+    /// Build the renderer for `animation` and the current settings, after the shared checks.
+    fn build_renderer(&mut self, animation: crate::render::animation::AnimationSettings) -> Result<()> {
+        let size = self
+            .surface
+            .as_ref()
+            .map_or(self.options.scene.size, |s| (s.swapchain.extent.width.max(1), s.swapchain.extent.height.max(1)));
+        let blades = self.scene.blades.len() as u32;
+        crate::app::check_scene(&self.device, blades, self.settings.segments, size, &animation)?;
         self.renderer = Some(Renderer::new(self.device.clone(), &self.scene, self.settings, animation)?);
         Ok(())
     }
@@ -343,7 +338,7 @@ impl Viewer {
         self.settings.color_format = swapchain.format;
         self.surface = Some(Surface { swapchain, depth: None, depth_used: false, window });
         self.recreate()?;
-        self.build_renderer()
+        self.build_renderer(self.options.scene.animation.clone())
     }
 
     /// (Re)create the swapchain and depth image at the window's size. Waits for the frames in
@@ -387,15 +382,50 @@ impl Viewer {
                 return Ok(());
             }
         }
+        // Allocated before the image is acquired: a failure must not strand an acquired image.
+        let readback = match (&self.screenshot, &self.surface) {
+            (Some(path), Some(surface)) if !surface.swapchain.screenshots => {
+                return Err(Error::Environment(format!(
+                    "screenshot {}: this surface's images cannot be copied (no TRANSFER_SRC usage)",
+                    path.display()
+                )));
+            }
+            (Some(_), Some(surface)) => {
+                let e = surface.swapchain.extent;
+                Some(Buffer::new(
+                    &self.device,
+                    &BufferDesc::readback(
+                        "screenshot",
+                        4 * u64::from(e.width) * u64::from(e.height),
+                        vk::BufferUsageFlags::TRANSFER_DST,
+                    ),
+                )?)
+            }
+            _ => None,
+        };
         let renderer = self.renderer.as_mut().expect("renderer built");
-        let (slot, timings) = renderer.begin_frame()?;
+        let (slot, timings) = match renderer.begin_frame() {
+            Ok(frame) => frame,
+            Err(e) => {
+                if let Some(buffer) = readback {
+                    // SAFETY: never used by the GPU.
+                    unsafe { buffer.destroy(&self.device) };
+                }
+                return Err(e);
+            }
+        };
         if let Some(t) = timings {
             self.stats.add(&t);
         }
         let surface = self.surface.as_mut().expect("surface exists");
-        let Some((index, suboptimal)) = surface.swapchain.acquire(renderer.acquire_semaphore(slot))? else {
+        let acquired = surface.swapchain.acquire(renderer.acquire_semaphore(slot));
+        let Ok(Some((index, suboptimal))) = acquired else {
+            if let Some(buffer) = readback {
+                // SAFETY: never used by the GPU.
+                unsafe { buffer.destroy(&self.device) };
+            }
             self.needs_recreate = true;
-            return Ok(());
+            return acquired.map(|_| ());
         };
         let extent = surface.swapchain.extent;
         let image = surface.swapchain.images[index as usize];
@@ -410,17 +440,6 @@ impl Viewer {
             depth_previous: if surface.depth_used { Access::DepthAttachmentReadWrite } else { Access::Nothing },
         };
         surface.depth_used = true;
-        let readback = match &self.screenshot {
-            Some(_) => Some(Buffer::new(
-                &self.device,
-                &BufferDesc::readback(
-                    "screenshot",
-                    4 * u64::from(extent.width) * u64::from(extent.height),
-                    vk::BufferUsageFlags::TRANSFER_DST,
-                ),
-            )?),
-            None => None,
-        };
         let sync = crate::render::renderer::FrameSync {
             wait: Some(renderer.acquire_semaphore(slot)),
             signal: Some(surface.swapchain.present_semaphores[index as usize]),
@@ -567,16 +586,22 @@ impl Viewer {
         Ok(())
     }
 
-    /// Apply a control that changes pipelines or the scene, and rebuild the renderer.
+    /// Apply a control that changes pipelines or the scene, and rebuild the renderer. A change the
+    /// device cannot take is reported and undone; the viewer carries on with what it had.
     fn rebuild_for(&mut self, name: &str) -> Result<()> {
-        let renderer = self.renderer.as_mut().expect("renderer built");
-        let mut animation = renderer.animation().clone();
+        let renderer = self.renderer.as_ref().expect("renderer built");
+        let old_animation = renderer.animation().clone();
+        let old_settings = self.settings;
+        let old_blades = self.scene.blades.len() as u32;
+        let mut animation = old_animation.clone();
+        let mut blades = old_blades;
         match name {
             "m" => {
                 animation.mode = match animation.mode {
                     Mode::Static => Mode::Texture,
                     Mode::Texture => Mode::Uniform,
-                    Mode::Uniform => Mode::Static,
+                    Mode::Uniform => Mode::Floor,
+                    Mode::Floor => Mode::Static,
                 }
             }
             "n" => {
@@ -591,50 +616,45 @@ impl Viewer {
             "f" => self.settings.wireframe = !self.settings.wireframe,
             "plus" => self.settings.segments = (self.settings.segments + 1).min(16),
             "minus" => self.settings.segments = self.settings.segments.saturating_sub(1).max(1),
-            "[" | "]" => {
-                let count = self.scene.blades.len() as u32;
-                let count = if name == "[" { (count / 2).max(1) } else { count.saturating_mul(2) };
-                let size = self.surface.as_ref().map_or(self.options.scene.size, |s| {
-                    (s.swapchain.extent.width.max(1), s.swapchain.extent.height.max(1))
-                });
-                let cells = crate::scene::Terrain::cells_for(crate::scene::blades::field_size(count));
-                if let Err(e) = crate::app::check_limits(&self.device, count, size, cells) {
-                    println!("blades: {e}");
-                    return Ok(());
-                }
-                self.renderer = None; // frees the old scene before building the new one
-                self.scene = Scene::generate(count, self.options.scene.seed);
-            }
+            "[" => blades = (blades / 2).max(1),
+            "]" => blades = blades.saturating_mul(2),
             _ => {}
         }
-        if let Some(renderer) = self.renderer.take() {
-            drop(renderer); // waits for its frames
+        // The old renderer's frames finish and its memory is freed before the new one is built.
+        self.renderer = None;
+        if blades != old_blades {
+            self.scene = Scene::generate(blades, self.options.scene.seed);
         }
-        let kept = std::mem::replace(&mut self.options.scene.animation, animation);
-        let built = self.build_renderer();
-        if built.is_err() {
-            self.options.scene.animation = kept;
+        if let Err(e) = self.build_renderer(animation) {
+            println!("cannot apply '{name}': {e}");
+            self.settings = old_settings;
+            if blades != old_blades {
+                self.scene = Scene::generate(old_blades, self.options.scene.seed);
+            }
+            return self.build_renderer(old_animation);
         }
-        if built.is_ok() {
-            let a = self.renderer.as_ref().expect("built").animation();
-            println!(
-                "mode {:?}, smoothing {:?}, eval {:?}, {} segments, {} blades{}{}",
-                a.mode,
-                a.smoothing,
-                a.eval,
-                self.settings.segments,
-                self.scene.blades.len(),
-                if self.settings.debug_force { ", force view" } else { "" },
-                if self.settings.wireframe { ", wireframe" } else { "" },
-            );
-        }
-        built
+        let a = self.renderer.as_ref().expect("built").animation();
+        println!(
+            "mode {:?}, smoothing {:?}, eval {:?}, {} segments, {} blades{}{}",
+            a.mode,
+            a.smoothing,
+            a.eval,
+            self.settings.segments,
+            self.scene.blades.len(),
+            if self.settings.debug_force { ", force view" } else { "" },
+            if self.settings.wireframe { ", wireframe" } else { "" },
+        );
+        Ok(())
     }
 
     /// Left click at a pixel: drop a wind source where the ray hits the terrain.
     fn click(&mut self, x: f64, y: f64) {
         if let Some(hit) = self.pick(x, y) {
             let wind = self.renderer.as_mut().expect("renderer built").wind_mut();
+            if wind.sources.len() + wind.colliders.len() >= crate::render::animation::MAX_EMITTERS {
+                println!("at most {} sources and colliders", crate::render::animation::MAX_EMITTERS);
+                return;
+            }
             wind.sources.push(PointSource { position: hit, power: 0.12, sigma: 2.0, velocity: Vec2::ZERO });
             self.dragging = true;
             println!("wind source at {:.1}, {:.1}", hit.x, hit.y);
@@ -729,6 +749,14 @@ impl Viewer {
             Action::Quit => self.quit = true,
         }
         Ok(())
+    }
+}
+
+impl Drop for Viewer {
+    /// Every exit path (an event-loop error included) releases the swapchain, surface and depth
+    /// image before the device goes.
+    fn drop(&mut self) {
+        self.teardown();
     }
 }
 
@@ -851,8 +879,15 @@ impl ApplicationHandler for Viewer {
         if self.quit {
             if let Some(path) = self.options.screenshot.take() {
                 // The exit screenshot: one more frame, written to the file.
-                self.screenshot = Some(path);
-                if let Err(e) = self.render() {
+                self.screenshot = Some(path.clone());
+                let rendered = self.render().and_then(|()| match self.screenshot {
+                    Some(_) => Err(Error::Environment(format!(
+                        "--screenshot {}: the window has no area (minimised), nothing to capture",
+                        path.display()
+                    ))),
+                    None => Ok(()),
+                });
+                if let Err(e) = rendered {
                     self.fail(event_loop, e);
                     return;
                 }

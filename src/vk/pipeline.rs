@@ -56,6 +56,8 @@ pub struct GraphicsDesc<'a> {
     pub layout: vk::PipelineLayout,
     /// Specialization constants of every stage: `constant_id = i` takes `constants[i]`.
     pub constants: &'a [u32],
+    /// Stride of a vertex buffer with one `vec3` at location 0, or 0 for none (vertex pulling).
+    pub vertex_stride: u32,
 }
 
 /// Map entries for `constants`: constant `i` at byte `4 i`.
@@ -89,7 +91,24 @@ pub fn graphics(device: &Device, desc: &GraphicsDesc) -> Result<vk::Pipeline> {
             .name(c"main")
             .specialization_info(&specialization),
     ];
-    let vertex_input = vk::PipelineVertexInputStateCreateInfo::default();
+    let bindings = [vk::VertexInputBindingDescription {
+        binding: 0,
+        stride: desc.vertex_stride,
+        input_rate: vk::VertexInputRate::VERTEX,
+    }];
+    let attributes = [vk::VertexInputAttributeDescription {
+        location: 0,
+        binding: 0,
+        format: vk::Format::R32G32B32_SFLOAT,
+        offset: 0,
+    }];
+    let vertex_input = if desc.vertex_stride == 0 {
+        vk::PipelineVertexInputStateCreateInfo::default()
+    } else {
+        vk::PipelineVertexInputStateCreateInfo::default()
+            .vertex_binding_descriptions(&bindings)
+            .vertex_attribute_descriptions(&attributes)
+    };
     let input_assembly = vk::PipelineInputAssemblyStateCreateInfo::default().topology(desc.topology);
     let viewport = vk::PipelineViewportStateCreateInfo::default().viewport_count(1).scissor_count(1);
     let raster = vk::PipelineRasterizationStateCreateInfo::default()

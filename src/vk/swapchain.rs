@@ -59,6 +59,8 @@ pub struct Swapchain {
     pub format: vk::Format,
     /// Current extent.
     pub extent: vk::Extent2D,
+    /// Whether images can be copied out (TRANSFER_SRC supported).
+    pub screenshots: bool,
     present_mode: vk::PresentModeKHR,
 }
 
@@ -99,6 +101,7 @@ impl Swapchain {
             present_semaphores: Vec::new(),
             format,
             extent: vk::Extent2D::default(),
+            screenshots: false,
             present_mode: mode.raw(),
         })
     }
@@ -130,6 +133,20 @@ impl Swapchain {
             count = count.min(caps.max_image_count);
         }
         let old = self.raw;
+        // Screenshots copy from the image: ask for TRANSFER_SRC only where the surface allows it.
+        let mut usage = vk::ImageUsageFlags::COLOR_ATTACHMENT;
+        if caps.supported_usage_flags.contains(vk::ImageUsageFlags::TRANSFER_SRC) {
+            usage |= vk::ImageUsageFlags::TRANSFER_SRC;
+        }
+        self.screenshots = usage.contains(vk::ImageUsageFlags::TRANSFER_SRC);
+        let alpha = [
+            vk::CompositeAlphaFlagsKHR::OPAQUE,
+            vk::CompositeAlphaFlagsKHR::INHERIT,
+            vk::CompositeAlphaFlagsKHR::PRE_MULTIPLIED,
+        ]
+        .into_iter()
+        .find(|a| caps.supported_composite_alpha.contains(*a))
+        .unwrap_or(vk::CompositeAlphaFlagsKHR::POST_MULTIPLIED);
         let info = vk::SwapchainCreateInfoKHR::default()
             .surface(self.surface)
             .min_image_count(count)
@@ -137,10 +154,10 @@ impl Swapchain {
             .image_color_space(vk::ColorSpaceKHR::SRGB_NONLINEAR)
             .image_extent(extent)
             .image_array_layers(1)
-            .image_usage(vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC)
+            .image_usage(usage)
             .image_sharing_mode(vk::SharingMode::EXCLUSIVE)
             .pre_transform(caps.current_transform)
-            .composite_alpha(vk::CompositeAlphaFlagsKHR::OPAQUE)
+            .composite_alpha(alpha)
             .present_mode(self.present_mode)
             .clipped(true)
             .old_swapchain(old);

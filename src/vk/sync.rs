@@ -37,6 +37,8 @@ pub enum Access {
     ComputeShaderWrite,
     /// Indirect draw/dispatch parameters.
     IndirectCommandRead,
+    /// Vertex buffer read by fixed-function vertex input.
+    VertexAttributeRead,
     /// Written as a colour attachment.
     ColorAttachmentWrite,
     /// Read and written as a depth attachment (test and write).
@@ -83,6 +85,7 @@ impl Access {
             Access::ComputeShaderUniformRead => (S::COMPUTE_SHADER, A::UNIFORM_READ, L::GENERAL),
             Access::ComputeShaderWrite => (S::COMPUTE_SHADER, A::SHADER_STORAGE_WRITE, L::GENERAL),
             Access::IndirectCommandRead => (S::DRAW_INDIRECT, A::INDIRECT_COMMAND_READ, L::GENERAL),
+            Access::VertexAttributeRead => (S::VERTEX_ATTRIBUTE_INPUT, A::VERTEX_ATTRIBUTE_READ, L::GENERAL),
             Access::ColorAttachmentWrite => (
                 S::COLOR_ATTACHMENT_OUTPUT,
                 A::COLOR_ATTACHMENT_WRITE | A::COLOR_ATTACHMENT_READ,

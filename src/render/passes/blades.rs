@@ -38,6 +38,7 @@ impl BladePass {
                 depth_format: depth,
                 layout,
                 constants,
+                vertex_stride: 0,
             },
         )?;
         Ok(Self { pipeline })

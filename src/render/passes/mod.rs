@@ -3,8 +3,10 @@
 
 pub mod blade_pose;
 pub mod blades;
+pub mod floor;
 pub mod terrain;
 
 pub use blade_pose::BladePosePass;
 pub use blades::BladePass;
+pub use floor::FloorPass;
 pub use terrain::TerrainPass;

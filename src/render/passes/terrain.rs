@@ -36,6 +36,7 @@ impl TerrainPass {
                 depth_format: depth,
                 layout,
                 constants,
+                vertex_stride: 0,
             },
         )?;
         Ok(Self { pipeline })
