@@ -16,6 +16,13 @@ fn main() {
     let shader_dir = manifest.join("shaders");
     println!("cargo:rerun-if-changed={}", shader_dir.display());
 
+    // The commit goes into bench.json; a build outside git says "unknown".
+    if let Ok(out) = Command::new("git").args(["rev-parse", "HEAD"]).current_dir(&manifest).output() {
+        if out.status.success() {
+            println!("cargo:rustc-env=MEADOW_GIT_COMMIT={}", String::from_utf8_lossy(&out.stdout).trim());
+        }
+    }
+    println!("cargo:rerun-if-changed={}", manifest.join(".git/HEAD").display());
     let glslang = std::env::var("GLSLANG_VALIDATOR").unwrap_or_else(|_| "glslangValidator".into());
     let mut sources: Vec<PathBuf> = std::fs::read_dir(&shader_dir)
         .unwrap_or_else(|e| fail(&format!("cannot read {}: {e}", shader_dir.display())))

@@ -28,6 +28,8 @@ enum Command {
     Render(RenderArgs),
     /// Open the interactive viewer (needs a display).
     View(ViewArgs),
+    /// Measure static / texture / uniform / floor side by side (thesis Table 6.2), or compare runs.
+    Bench(BenchArgs),
     /// List the Vulkan devices with their drivers.
     Devices(GpuArgs),
     /// Generate the keyframe table; report its compression figures and export it as a picture.
@@ -145,6 +147,51 @@ struct ViewArgs {
     inject_out_of_date: Option<u32>,
     #[command(flatten)]
     gpu: GpuArgs,
+}
+
+#[derive(Args)]
+struct BenchArgs {
+    /// thesis: the 15 rows of Table 6.2 at 1280x720; quick: a small smoke matrix.
+    #[arg(long, value_enum, default_value = "quick")]
+    preset: PresetArg,
+    /// Blade counts (comma-separated), replacing the preset's.
+    #[arg(long, value_delimiter = ',', value_parser = meadow::cli::blade_count)]
+    blades: Vec<u32>,
+    /// Segment counts (comma-separated), replacing the preset's.
+    #[arg(long, value_delimiter = ',', value_parser = meadow::cli::segments)]
+    segments: Vec<u32>,
+    /// Modes (comma-separated).
+    #[arg(long, value_delimiter = ',', value_enum)]
+    modes: Vec<ModeArg>,
+    /// Evaluation placements of the keyframed modes (comma-separated).
+    #[arg(long, value_delimiter = ',', value_enum)]
+    eval: Vec<EvalArg>,
+    /// Picture size, replacing the preset's.
+    #[arg(long, value_name = "WxH", value_parser = meadow::cli::size)]
+    size: Option<(u32, u32)>,
+    /// Frames per variant discarded first.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(0..=1000))]
+    warmup: Option<u32>,
+    /// Frames per variant measured.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=10_000))]
+    frames: Option<u32>,
+    /// Directory for bench.json and bench.csv.
+    #[arg(long, default_value = "bench-out")]
+    out: PathBuf,
+    /// Compare two bench.json files instead of measuring; exit 1 on a regression.
+    #[arg(long, num_args = 2, value_names = ["OLD.json", "NEW.json"])]
+    compare: Vec<PathBuf>,
+    /// Noise threshold of --compare, in percent.
+    #[arg(long, default_value = "10", value_parser = meadow::cli::finite_f32)]
+    threshold: f32,
+    #[command(flatten)]
+    gpu: GpuArgs,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum PresetArg {
+    Thesis,
+    Quick,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -378,6 +425,13 @@ fn main() -> ExitCode {
             }));
             (code, validation)
         }
+        Command::Bench(args) => match bench(args) {
+            Ok((code, validation)) => (code, validation),
+            Err(e) => {
+                eprintln!("error: {e}");
+                return ExitCode::from(e.exit_code() as u8);
+            }
+        },
         Command::Keyframes(args) => {
             let options = app::KeyframeOptions {
                 poses: args.poses,
@@ -407,6 +461,80 @@ fn main() -> ExitCode {
         }
         None => ExitCode::from(code),
     }
+}
+
+/// `meadow bench`: measure, or compare two runs. Returns the exit code and validation count.
+fn bench(args: BenchArgs) -> meadow::Result<(u8, Option<u64>)> {
+    use meadow::bench;
+    if let [old, new] = args.compare.as_slice() {
+        let (report, regressed) = bench::compare(&bench::load(old)?, &bench::load(new)?, f64::from(args.threshold));
+        print!("{report}");
+        return Ok((u8::from(regressed), None));
+    }
+    let mut options = match args.preset {
+        PresetArg::Thesis => bench::BenchOptions::thesis(args.out.clone()),
+        PresetArg::Quick => bench::BenchOptions::quick(args.out.clone()),
+    };
+    let preset_blades: Vec<u32> = options.rows.iter().map(|r| r.0).collect();
+    let preset_segments: Vec<u32> = options.rows.iter().map(|r| r.1).collect();
+    if !args.blades.is_empty() || !args.segments.is_empty() {
+        let blades = if args.blades.is_empty() { dedup(preset_blades) } else { args.blades.clone() };
+        let segments = if args.segments.is_empty() { dedup(preset_segments) } else { args.segments.clone() };
+        options.rows = segments.iter().flat_map(|s| blades.iter().map(move |b| (*b, *s))).collect();
+    }
+    if !args.modes.is_empty() {
+        options.modes = args
+            .modes
+            .iter()
+            .map(|m| match m {
+                ModeArg::Static => Mode::Static,
+                ModeArg::Texture => Mode::Texture,
+                ModeArg::Uniform => Mode::Uniform,
+                ModeArg::Floor => Mode::Floor,
+            })
+            .collect();
+    }
+    if !args.eval.is_empty() {
+        options.evals =
+            args.eval.iter().map(|e| if matches!(e, EvalArg::Blade) { Eval::Blade } else { Eval::Vertex }).collect();
+    }
+    options.size = args.size.unwrap_or(options.size);
+    options.warmup = args.warmup.unwrap_or(options.warmup);
+    options.frames = args.frames.unwrap_or(options.frames);
+    let progress = if std::io::IsTerminal::is_terminal(&std::io::stderr()) {
+        let bar = indicatif::ProgressBar::new(0);
+        bar.set_style(
+            indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} frames, {elapsed} elapsed, ETA {eta}")
+                .expect("valid template"),
+        );
+        Some(bar)
+    } else {
+        None
+    };
+    let (result, validation) = app::with_device(&args.gpu.options(), false, |device| {
+        let doc = bench::run(device, &options, |done, total| {
+            if let Some(bar) = &progress {
+                bar.set_length(total);
+                bar.set_position(done);
+            }
+        })?;
+        bench::write(&doc, &options.out)?;
+        Ok(doc)
+    });
+    if let Some(bar) = progress {
+        bar.finish_and_clear();
+    }
+    let code = finish(result.map(|doc| {
+        print!("{}", bench::table(&doc));
+        println!("wrote {}/bench.json and bench.csv", options.out.display());
+    }));
+    Ok((code, validation))
+}
+
+fn dedup(mut values: Vec<u32>) -> Vec<u32> {
+    values.sort_unstable();
+    values.dedup();
+    values
 }
 
 fn finish(result: meadow::Result<()>) -> u8 {

@@ -1,0 +1,95 @@
+//! The benchmark harness, fast: a tiny matrix under validation; the JSON has its schema, the CSV
+//! parses, numbers are positive; `--compare` flags an injected regression; bad arguments exit 2.
+
+mod support;
+
+use serde_json::Value;
+use support::{assert_clean, meadow, scratch, transcript};
+
+#[test]
+fn tiny_matrix_writes_json_csv_and_a_table() {
+    let dir = scratch("bench-tiny");
+    let output = meadow()
+        .args(["bench", "--validation", "--device", support::DEVICE, "--blades", "3000", "--segments", "2,4"])
+        .args(["--frames", "2", "--warmup", "1", "--size", "64x48", "--out"])
+        .arg(&dir)
+        .output()
+        .expect("run meadow bench");
+    assert_clean(&output);
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(stdout.contains("FPS N") && stdout.contains("N/floor"), "{stdout}");
+
+    let doc: Value = serde_json::from_str(&std::fs::read_to_string(dir.join("bench.json")).expect("bench.json"))
+        .expect("valid JSON");
+    assert_eq!(doc["schema_version"], 1);
+    for key in ["device", "driver", "driver_info", "build_profile", "git_commit", "resolution", "rows"] {
+        assert!(!doc[key].is_null(), "missing {key}");
+    }
+    let rows = doc["rows"].as_array().expect("rows");
+    assert_eq!(rows.len(), 2);
+    let variants: Vec<&str> =
+        rows[0]["variants"].as_array().expect("variants").iter().filter_map(|v| v["variant"].as_str()).collect();
+    assert_eq!(variants, ["static", "texture/vertex", "texture/blade", "uniform/vertex", "uniform/blade", "floor"]);
+    for row in rows {
+        for v in row["variants"].as_array().expect("variants") {
+            let frames = v["frames"].as_array().expect("frames");
+            assert_eq!(frames.len(), 2, "measured frames per variant");
+            for f in frames {
+                assert!(f["gpu_ms"].as_f64().expect("gpu_ms") > 0.0);
+                assert!(f["passes_ms"]["blades"].as_f64().expect("blade pass") > 0.0);
+            }
+            let s = &v["gpu_ms"];
+            assert!(s["p5"].as_f64() <= s["median"].as_f64() && s["median"].as_f64() <= s["p99"].as_f64());
+        }
+    }
+    let csv = std::fs::read_to_string(dir.join("bench.csv")).expect("bench.csv");
+    let mut lines = csv.lines();
+    assert_eq!(lines.next(), Some("blades,segments,variant,frame,gpu_ms,cpu_record_ms,cpu_submit_ms,cpu_wait_ms"));
+    let body: Vec<&str> = lines.collect();
+    assert_eq!(body.len(), 2 * 6 * 2, "rows x variants x frames");
+    for line in body {
+        let fields: Vec<&str> = line.split(',').collect();
+        assert_eq!(fields.len(), 8, "{line}");
+        assert!(fields[4].parse::<f64>().expect("gpu_ms") > 0.0);
+    }
+
+    // --compare: identical runs pass; doubling the texture times is a regression.
+    let same = meadow()
+        .arg("bench")
+        .arg("--compare")
+        .arg(dir.join("bench.json"))
+        .arg(dir.join("bench.json"))
+        .output()
+        .expect("run");
+    assert_eq!(same.status.code(), Some(0), "{}", transcript(&same));
+    let mut slower = doc.clone();
+    for row in slower["rows"].as_array_mut().expect("rows") {
+        for v in row["variants"].as_array_mut().expect("variants") {
+            if v["variant"] == "texture/vertex" {
+                let m = v["gpu_ms"]["median"].as_f64().expect("median");
+                v["gpu_ms"]["median"] = Value::from(2.0 * m);
+            }
+        }
+    }
+    let slower_path = dir.join("slower.json");
+    std::fs::write(&slower_path, serde_json::to_string(&slower).expect("serialise")).expect("write");
+    let flagged =
+        meadow().arg("bench").arg("--compare").arg(dir.join("bench.json")).arg(&slower_path).output().expect("run");
+    assert_eq!(flagged.status.code(), Some(1), "{}", transcript(&flagged));
+    assert!(String::from_utf8_lossy(&flagged.stdout).contains("REGRESSION"));
+}
+
+#[test]
+fn bad_bench_arguments_exit_2() {
+    for args in [
+        &["bench", "--frames", "0"][..],
+        &["bench", "--blades", "0"][..],
+        &["bench", "--segments", "17"][..],
+        &["bench", "--compare", "/nonexistent/a.json", "/nonexistent/b.json"][..],
+    ] {
+        let output = meadow().args(args).output().expect("run");
+        assert_eq!(output.status.code(), Some(2), "{args:?}: {}", transcript(&output));
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert!(stderr.starts_with("error: ") && stderr.lines().count() == 1, "{args:?}: {stderr}");
+    }
+}
