@@ -30,6 +30,41 @@ pub struct TargetView {
     pub depth_previous: Access,
 }
 
+/// Record the copy of a whole colour image (last accessed as `previous`) into a host-visible
+/// buffer, with the barriers `previous → transfer read` on the image and `transfer write → host
+/// read` on the buffer. The image is left as a transfer source (`Access::TransferRead`).
+pub fn record_copy_to_host(
+    device: &Device,
+    cmd: vk::CommandBuffer,
+    image: vk::Image,
+    extent: vk::Extent2D,
+    previous: Access,
+    buffer: &Buffer,
+) {
+    let range = vk::ImageSubresourceRange {
+        aspect_mask: vk::ImageAspectFlags::COLOR,
+        base_mip_level: 0,
+        level_count: 1,
+        base_array_layer: 0,
+        layer_count: 1,
+    };
+    sync::cmd_barriers(device, cmd, &[], &[sync::image_barrier(image, range, &[previous], &[Access::TransferRead])]);
+    let region = vk::BufferImageCopy::default()
+        .image_subresource(vk::ImageSubresourceLayers {
+            aspect_mask: vk::ImageAspectFlags::COLOR,
+            mip_level: 0,
+            base_array_layer: 0,
+            layer_count: 1,
+        })
+        .image_extent(vk::Extent3D { width: extent.width, height: extent.height, depth: 1 });
+    // SAFETY: the image is a transfer source now; the buffer holds width × height × 4 bytes.
+    unsafe {
+        device.raw.cmd_copy_image_to_buffer(cmd, image, vk::ImageLayout::TRANSFER_SRC_OPTIMAL, buffer.raw, &[region])
+    };
+    let to_host = sync::buffer_barrier(buffer.raw, &[Access::TransferWrite], &[Access::HostRead]);
+    sync::cmd_barriers(device, cmd, &[to_host], &[]);
+}
+
 /// Bytes of device memory an offscreen target of `extent` needs (colour, depth, readback).
 pub fn offscreen_bytes(extent: vk::Extent2D) -> u64 {
     3 * 4 * u64::from(extent.width) * u64::from(extent.height)
@@ -107,34 +142,14 @@ impl OffscreenTarget {
         // The frame just recorded leaves depth as an attachment and colour as a copy source.
         self.depth_last = Access::DepthAttachmentReadWrite;
         self.color_last = Access::TransferRead;
-        let to_copy = sync::image_barrier(
+        record_copy_to_host(
+            device,
+            cmd,
             self.color.raw,
-            self.color.range,
-            &[Access::ColorAttachmentWrite],
-            &[Access::TransferRead],
+            self.color.extent,
+            Access::ColorAttachmentWrite,
+            &self.readback,
         );
-        sync::cmd_barriers(device, cmd, &[], &[to_copy]);
-        let extent = self.color.extent;
-        let region = vk::BufferImageCopy::default()
-            .image_subresource(vk::ImageSubresourceLayers {
-                aspect_mask: vk::ImageAspectFlags::COLOR,
-                mip_level: 0,
-                base_array_layer: 0,
-                layer_count: 1,
-            })
-            .image_extent(vk::Extent3D { width: extent.width, height: extent.height, depth: 1 });
-        // SAFETY: the image is in TRANSFER_SRC_OPTIMAL; the buffer holds width*height*4 bytes.
-        unsafe {
-            device.raw.cmd_copy_image_to_buffer(
-                cmd,
-                self.color.raw,
-                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                self.readback.raw,
-                &[region],
-            )
-        };
-        let to_host = sync::buffer_barrier(self.readback.raw, &[Access::TransferWrite], &[Access::HostRead]);
-        sync::cmd_barriers(device, cmd, &[to_host], &[]);
     }
 
     /// The RGBA8 pixels of the last completed frame (call after its fence).

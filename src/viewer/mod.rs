@@ -24,7 +24,7 @@ use crate::app::{self, GpuOptions, RenderOptions};
 use crate::error::{Error, Result, VkContext};
 use crate::keyframes::Smoothing;
 use crate::render::animation::{Eval, Mode};
-use crate::render::target::{TargetView, DEPTH_FORMAT};
+use crate::render::target::{record_copy_to_host, TargetView, DEPTH_FORMAT};
 use crate::render::{FrameTimings, RenderSettings, Renderer};
 use crate::scene::{Camera, Scene};
 use crate::vk::swapchain::{swapchain_counts, PresentMode, Swapchain};
@@ -454,32 +454,7 @@ impl Viewer {
             };
             let mut last = Access::ColorAttachmentWrite;
             if let Some(buffer) = &readback {
-                sync::cmd_barriers(
-                    device,
-                    cmd,
-                    &[],
-                    &[sync::image_barrier(image, range, &[last], &[Access::TransferRead])],
-                );
-                let region = vk::BufferImageCopy::default()
-                    .image_subresource(vk::ImageSubresourceLayers {
-                        aspect_mask: vk::ImageAspectFlags::COLOR,
-                        mip_level: 0,
-                        base_array_layer: 0,
-                        layer_count: 1,
-                    })
-                    .image_extent(vk::Extent3D { width: extent.width, height: extent.height, depth: 1 });
-                // SAFETY: the image is a transfer source now; the buffer holds the whole image.
-                unsafe {
-                    device.raw.cmd_copy_image_to_buffer(
-                        cmd,
-                        image,
-                        vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                        buffer.raw,
-                        &[region],
-                    )
-                };
-                let to_host = sync::buffer_barrier(buffer.raw, &[Access::TransferWrite], &[Access::HostRead]);
-                sync::cmd_barriers(device, cmd, &[to_host], &[]);
+                record_copy_to_host(device, cmd, image, extent, last, buffer);
                 last = Access::TransferRead;
             }
             sync::cmd_barriers(device, cmd, &[], &[sync::image_barrier(image, range, &[last], &[Access::Present])]);
