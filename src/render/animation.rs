@@ -4,10 +4,11 @@
 use ash::vk;
 use glam::{Vec2, Vec4};
 
-use crate::error::{Error, Result, VkContext};
+use crate::error::{Error, Result};
 use crate::keyframes::encoding::{self, Encoding, Packing};
 use crate::keyframes::{BladeModel, KeyframeLayout, KeyframeTable, Representation, Smoothing};
 use crate::scene::clusters::ClusterGrid;
+use crate::vk::image;
 use crate::vk::upload::UploadBatch;
 use crate::vk::{Access, Buffer, Device, Image, ImageDesc};
 use crate::wind::{Attenuation, Wind};
@@ -147,16 +148,8 @@ impl KeyframeTexture {
         // Read by the vertex shader, and by compute passes and tests that decode it.
         let image =
             batch.image(&desc, &texels, &[Access::VertexShaderSampledRead, Access::ComputeShaderSampledRead])?;
-        let info = vk::SamplerCreateInfo::default()
-            .mag_filter(vk::Filter::NEAREST)
-            .min_filter(vk::Filter::NEAREST)
-            .mipmap_mode(vk::SamplerMipmapMode::NEAREST)
-            .address_mode_u(vk::SamplerAddressMode::CLAMP_TO_EDGE)
-            .address_mode_v(vk::SamplerAddressMode::CLAMP_TO_EDGE)
-            .address_mode_w(vk::SamplerAddressMode::CLAMP_TO_EDGE)
-            .max_lod(0.0);
-        // SAFETY: valid create info.
-        let sampler = match unsafe { device.raw.create_sampler(&info, None) }.vk("vkCreateSampler") {
+        // texelFetch ignores filtering; the combined-image-sampler descriptor still needs one.
+        let sampler = match image::clamped_sampler(device, vk::Filter::NEAREST, "keyframe sampler") {
             Ok(sampler) => sampler,
             Err(e) => {
                 // SAFETY: the upload was not submitted; the batch still owns only staging.
@@ -164,7 +157,6 @@ impl KeyframeTexture {
                 return Err(e);
             }
         };
-        device.set_name(sampler, "keyframe sampler");
         Ok((Self { image, sampler, layout }, table))
     }
 

@@ -19,6 +19,7 @@ use crate::render::specialization::Specialization;
 use crate::render::target::{OffscreenTarget, TargetView, DEPTH_FORMAT};
 use crate::scene::bezier::Batching;
 use crate::scene::{Camera, Scene};
+use crate::vk::image::{COLOR_RANGE, DEPTH_RANGE};
 use crate::vk::query::span_ms;
 use crate::vk::{commands, debug, descriptor, pipeline, sync, Access, Device};
 
@@ -101,16 +102,6 @@ pub struct Renderer {
 /// bracketing pass `i`.
 const PASSES: [&str; 3] = ["blade poses", "terrain", "blades"];
 
-const COLOR_RANGE: vk::ImageSubresourceRange = vk::ImageSubresourceRange {
-    aspect_mask: vk::ImageAspectFlags::COLOR,
-    base_mip_level: 0,
-    level_count: 1,
-    base_array_layer: 0,
-    layer_count: 1,
-};
-const DEPTH_RANGE: vk::ImageSubresourceRange =
-    vk::ImageSubresourceRange { aspect_mask: vk::ImageAspectFlags::DEPTH, ..COLOR_RANGE };
-
 impl Renderer {
     /// Upload `scene` and build the passes and frames.
     pub fn new(
@@ -120,11 +111,10 @@ impl Renderer {
         animation: AnimationSettings,
     ) -> Result<Self> {
         let bindings = scene_gpu::bindings();
-        let animation_copy = animation.clone();
         let mut renderer =
             Self { device: device.clone(), settings, animation, resources: Some(Resources::default()), frame_index: 0 };
         let res = renderer.resources.as_mut().expect("just set");
-        let scene_gpu = res.scene.insert(SceneGpu::upload(&device, scene, settings.segments, &animation_copy)?);
+        let scene_gpu = res.scene.insert(SceneGpu::upload(&device, scene, settings.segments, &renderer.animation)?);
         let corners = scene_gpu.grid.corner_count();
         let emitters = animation::MAX_EMITTERS as u32;
         res.set_layout = descriptor::set_layout(&device, "scene set layout", &bindings)?;
@@ -457,24 +447,12 @@ impl Renderer {
             frame.timestamps.write(&device, cmd);
             frame.recorder.end(&device)?;
             let recorded = Instant::now();
-            let wait: Vec<_> = sync
-                .wait
-                .map(|semaphore| {
-                    vk::SemaphoreSubmitInfo::default()
-                        .semaphore(semaphore)
-                        .stage_mask(vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT)
-                })
-                .into_iter()
-                .collect();
-            let signal: Vec<_> = sync
-                .signal
-                .map(|semaphore| {
-                    vk::SemaphoreSubmitInfo::default()
-                        .semaphore(semaphore)
-                        .stage_mask(vk::PipelineStageFlags2::ALL_COMMANDS)
-                })
-                .into_iter()
-                .collect();
+            let info = |semaphore: Option<vk::Semaphore>, stage| {
+                semaphore.map(|s| vk::SemaphoreSubmitInfo::default().semaphore(s).stage_mask(stage))
+            };
+            // The acquire semaphore is waited where the image is first written.
+            let wait: Vec<_> = info(sync.wait, vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT).into_iter().collect();
+            let signal: Vec<_> = info(sync.signal, vk::PipelineStageFlags2::ALL_COMMANDS).into_iter().collect();
             // Reset only now: if recording failed, the fence stays signalled and nobody waits forever.
             // SAFETY: begin_frame waited for this fence; nothing pending uses the frame.
             unsafe { device.raw.reset_fences(&[frame.fence]) }.vk("vkResetFences")?;

@@ -3,7 +3,7 @@
 
 use ash::vk;
 
-use crate::error::{Result, VkContext};
+use crate::error::Result;
 use crate::render::animation::{AnimationSettings, Eval, KeyframeTexture, KeyframeUniforms};
 use crate::render::frame::Frame;
 use crate::scene::clusters::{BladeCluster, ClusterGrid};
@@ -209,17 +209,7 @@ impl SceneGpu {
             device,
             &crate::vk::BufferDesc::gpu_only("blade poses", 16 * records, vk::BufferUsageFlags::STORAGE_BUFFER),
         )?);
-        let sampler_info = vk::SamplerCreateInfo::default()
-            .mag_filter(vk::Filter::LINEAR)
-            .min_filter(vk::Filter::LINEAR)
-            .mipmap_mode(vk::SamplerMipmapMode::NEAREST)
-            .address_mode_u(vk::SamplerAddressMode::CLAMP_TO_EDGE)
-            .address_mode_v(vk::SamplerAddressMode::CLAMP_TO_EDGE)
-            .address_mode_w(vk::SamplerAddressMode::CLAMP_TO_EDGE)
-            .max_lod(0.0);
-        // SAFETY: valid create info.
-        let sampler = unsafe { device.raw.create_sampler(&sampler_info, None) }.vk("vkCreateSampler")?;
-        device.set_name(sampler, "blade alpha sampler");
+        let sampler = crate::vk::image::clamped_sampler(device, vk::Filter::LINEAR, "blade alpha sampler")?;
         Ok(sampler)
     }
 

@@ -4,6 +4,7 @@
 use ash::vk;
 
 use crate::error::Result;
+use crate::vk::image::COLOR_RANGE;
 use crate::vk::{sync, Access, Buffer, BufferDesc, Device, Image, ImageDesc};
 
 /// Colour format of offscreen targets: UNORM, the shaders encode sRGB themselves.
@@ -41,14 +42,8 @@ pub fn record_copy_to_host(
     previous: Access,
     buffer: &Buffer,
 ) {
-    let range = vk::ImageSubresourceRange {
-        aspect_mask: vk::ImageAspectFlags::COLOR,
-        base_mip_level: 0,
-        level_count: 1,
-        base_array_layer: 0,
-        layer_count: 1,
-    };
-    sync::cmd_barriers(device, cmd, &[], &[sync::image_barrier(image, range, &[previous], &[Access::TransferRead])]);
+    let to_copy = sync::image_barrier(image, COLOR_RANGE, &[previous], &[Access::TransferRead]);
+    sync::cmd_barriers(device, cmd, &[], &[to_copy]);
     let region = vk::BufferImageCopy::default()
         .image_subresource(vk::ImageSubresourceLayers {
             aspect_mask: vk::ImageAspectFlags::COLOR,

@@ -27,6 +27,7 @@ use crate::render::animation::{Eval, Mode};
 use crate::render::target::{record_copy_to_host, TargetView, DEPTH_FORMAT};
 use crate::render::{FrameTimings, RenderSettings, Renderer};
 use crate::scene::{Camera, Scene};
+use crate::vk::image::COLOR_RANGE;
 use crate::vk::swapchain::{swapchain_counts, PresentMode, Swapchain};
 use crate::vk::{sync, Access, Buffer, BufferDesc, Device, Image, ImageDesc};
 use crate::wind::{CalmArea, Collider, PointSource};
@@ -445,19 +446,17 @@ impl Viewer {
             signal: Some(surface.swapchain.present_semaphores[index as usize]),
         };
         let submitted = renderer.submit_frame(slot, &view, &self.control.camera, self.time, sync, |device, cmd| {
-            let range = vk::ImageSubresourceRange {
-                aspect_mask: vk::ImageAspectFlags::COLOR,
-                base_mip_level: 0,
-                level_count: 1,
-                base_array_layer: 0,
-                layer_count: 1,
-            };
             let mut last = Access::ColorAttachmentWrite;
             if let Some(buffer) = &readback {
                 record_copy_to_host(device, cmd, image, extent, last, buffer);
                 last = Access::TransferRead;
             }
-            sync::cmd_barriers(device, cmd, &[], &[sync::image_barrier(image, range, &[last], &[Access::Present])]);
+            sync::cmd_barriers(
+                device,
+                cmd,
+                &[],
+                &[sync::image_barrier(image, COLOR_RANGE, &[last], &[Access::Present])],
+            );
         });
         let result = submitted.and_then(|()| surface.swapchain.present(&self.device, index));
         if let (Some(buffer), Some(path)) = (readback, self.screenshot.take()) {

@@ -42,14 +42,37 @@ impl<'a> ImageDesc<'a> {
 
     /// Subresource range of the whole image.
     pub fn range(&self) -> vk::ImageSubresourceRange {
-        vk::ImageSubresourceRange {
-            aspect_mask: self.aspect,
-            base_mip_level: 0,
-            level_count: 1,
-            base_array_layer: 0,
-            layer_count: 1,
-        }
+        vk::ImageSubresourceRange { aspect_mask: self.aspect, ..COLOR_RANGE }
     }
+}
+
+/// The one mip level and layer of a colour image (also a swapchain image).
+pub const COLOR_RANGE: vk::ImageSubresourceRange = vk::ImageSubresourceRange {
+    aspect_mask: vk::ImageAspectFlags::COLOR,
+    base_mip_level: 0,
+    level_count: 1,
+    base_array_layer: 0,
+    layer_count: 1,
+};
+
+/// The one mip level and layer of a depth image.
+pub const DEPTH_RANGE: vk::ImageSubresourceRange =
+    vk::ImageSubresourceRange { aspect_mask: vk::ImageAspectFlags::DEPTH, ..COLOR_RANGE };
+
+/// A clamped sampler with `filter` for magnification and minification, no mipmaps.
+pub fn clamped_sampler(device: &Device, filter: vk::Filter, name: &str) -> Result<vk::Sampler> {
+    let info = vk::SamplerCreateInfo::default()
+        .mag_filter(filter)
+        .min_filter(filter)
+        .mipmap_mode(vk::SamplerMipmapMode::NEAREST)
+        .address_mode_u(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+        .address_mode_v(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+        .address_mode_w(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+        .max_lod(0.0);
+    // SAFETY: valid create info.
+    let sampler = unsafe { device.raw.create_sampler(&info, None) }.vk("vkCreateSampler")?;
+    device.set_name(sampler, name);
+    Ok(sampler)
 }
 
 /// A device-local 2D image with one mip level and its view.

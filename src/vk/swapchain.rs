@@ -178,13 +178,7 @@ impl Swapchain {
                 .image(*image)
                 .view_type(vk::ImageViewType::TYPE_2D)
                 .format(self.format)
-                .subresource_range(vk::ImageSubresourceRange {
-                    aspect_mask: vk::ImageAspectFlags::COLOR,
-                    base_mip_level: 0,
-                    level_count: 1,
-                    base_array_layer: 0,
-                    layer_count: 1,
-                });
+                .subresource_range(crate::vk::image::COLOR_RANGE);
             // SAFETY: the image belongs to the swapchain.
             let view = unsafe { device.raw.create_image_view(&view_info, None) }.vk("vkCreateImageView")?;
             device.set_name(view, &format!("swapchain view {i}"));
