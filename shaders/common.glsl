@@ -28,6 +28,12 @@ layout(constant_id = 3) const uint KEYFRAME_ENCODING = 1u;  // 0 rgba8x2, 1 unor
 layout(constant_id = 4) const uint ATTENUATION = 0u;        // 0 cluster, 1 blade (thesis 4.5)
 layout(constant_id = 5) const uint REPRESENTATION = 0u;     // 0 vertex levels, 1 Bézier curve
 layout(constant_id = 6) const uint RENDER_FLAGS = 0u;       // FLAG_DEBUG_FORCE | FLAG_EVAL_BLADE
+// Blade geometry (`scene::bezier::Batching`): with constants, the vertex shader's divisions by
+// the strip length become multiplications, and one blade per instance needs none at all.
+layout(constant_id = 7) const uint SEGMENTS = 4u;
+layout(constant_id = 8) const uint BLADES_PER_INSTANCE = 1u;
+const uint STRIP_LEAD = BLADES_PER_INSTANCE > 1u ? 1u : 0u;     // repeats of a strip's first vertex
+const uint STRIP_STRIDE = 2u * (SEGMENTS + 1u) + 2u * STRIP_LEAD; // vertices per blade
 
 // Per-blade cluster record (std430, 8 bytes): eq. 3.7 weights precomputed.
 struct BladeCluster {

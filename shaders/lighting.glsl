@@ -11,16 +11,20 @@ vec3 blade_radiance(vec3 ka, vec3 kd, vec3 n, vec3 l_dir, float l) {
     const vec3 sun_tip = vec3(1.55, 1.45, 1.25);       // Id*
     const vec3 translucency = vec3(0.55, 0.75, 0.25);  // C
     vec3 ia = ambient_base + l * (ambient_tip - ambient_base);
-    vec3 id = sun_tip * pow(l, 6.0);
+    float l2 = l * l;
+    vec3 id = sun_tip * (l2 * l2 * l2);
     float ndl = dot(n, l_dir);
     return ka * ia + kd * id * (max(ndl, 0.0) + translucency * max(-ndl, 0.0));
 }
 
+// Exponential distance fog: the fraction of a surface's colour that reaches the eye.
+float fog_transmittance(vec3 world, vec4 camera_position, vec4 sky) {
+    return exp(-sky.w * length(world - camera_position.xyz));
+}
+
 // Exponential distance fog towards the sky colour.
 vec3 apply_fog(vec3 color, vec3 world, vec4 camera_position, vec4 sky) {
-    float d = length(world - camera_position.xyz);
-    float f = exp(-sky.w * d);
-    return mix(sky.rgb, color, f);
+    return mix(sky.rgb, color, fog_transmittance(world, camera_position, sky));
 }
 
 // Linear -> sRGB transfer for UNORM targets.

@@ -247,6 +247,7 @@ pub fn render(device: &Arc<Device>, options: &RenderOptions) -> Result<RenderRep
         blades_per_instance: options.blades_per_instance,
         debug_force: options.debug_force,
         wireframe: false,
+        pipeline_statistics: true,
     };
     let mut renderer = Renderer::new(device.clone(), &scene, settings, options.animation.clone())?;
     let extent = vk::Extent2D { width: options.size.0, height: options.size.1 };

@@ -176,6 +176,7 @@ pub fn run(device: &Arc<Device>, options: &BenchOptions, mut progress: impl FnMu
                     blades_per_instance: 1,
                     debug_force: false,
                     wireframe: false,
+                    pipeline_statistics: true,
                 };
                 Renderer::new(device.clone(), &scene, settings, animation)
             })
@@ -203,6 +204,7 @@ pub fn run(device: &Arc<Device>, options: &BenchOptions, mut progress: impl FnMu
                         samples[i].push(json!({
                             "gpu_ms": t.gpu_ms,
                             "passes_ms": passes,
+                            "pipeline_statistics": statistics_json(&t.passes),
                             "cpu_record_ms": t.cpu_record_ms,
                             "cpu_submit_ms": t.cpu_submit_ms,
                             "cpu_wait_ms": t.cpu_wait_ms,
@@ -231,6 +233,9 @@ pub fn run(device: &Arc<Device>, options: &BenchOptions, mut progress: impl FnMu
                     "variant": v.name(),
                     "gpu_ms": summary(&field("gpu_ms")),
                     "cpu_record_submit_ms": summary(&cpu),
+                    "cpu_wait_ms": summary(&field("cpu_wait_ms")),
+                    // The counts are the same every frame (fixed scene and camera): the last frame's.
+                    "pipeline_statistics": frames.last().map_or(Value::Null, |f| f["pipeline_statistics"].clone()),
                     "frames": frames,
                 })
             })
@@ -252,6 +257,54 @@ pub fn run(device: &Arc<Device>, options: &BenchOptions, mut progress: impl FnMu
         "memory_per_row_bytes": offscreen_bytes(extent),
         "rows": rows,
     }))
+}
+
+/// Per pass, the pipeline statistics of a frame (`{}` when the device has none).
+pub fn statistics_json(passes: &[crate::render::PassTime]) -> Value {
+    let map: serde_json::Map<String, Value> = passes
+        .iter()
+        .filter_map(|p| {
+            let s = p.statistics?;
+            let fields: serde_json::Map<String, Value> =
+                s.fields().iter().map(|(name, value)| (name.to_string(), json!(value))).collect();
+            Some((p.name.to_string(), Value::Object(fields)))
+        })
+        .collect();
+    Value::Object(map)
+}
+
+/// Pipeline statistics of the blade (or floor) pass per row and variant: what the driver was
+/// asked to do, to read the frame times against.
+pub fn statistics_table(doc: &Value) -> String {
+    let mut out = format!(
+        "{:>9} {:>4} {:<16} {:>12} {:>12} {:>12} {:>14} {:>9}\n",
+        "blades", "seg", "variant", "VS invoc.", "clip prims", "FS invoc.", "FS/pixel", "ns/vertex"
+    );
+    let pixels =
+        doc["resolution"].as_array().map_or(1.0, |r| r.iter().filter_map(Value::as_f64).product::<f64>().max(1.0));
+    for row in doc["rows"].as_array().into_iter().flatten() {
+        for v in row["variants"].as_array().into_iter().flatten() {
+            let s = &v["pipeline_statistics"]["blades"];
+            let Some(vs) = s["vertex_invocations"].as_u64() else { continue };
+            let fs = s["fragment_invocations"].as_u64().unwrap_or(0);
+            let ms = v["gpu_ms"]["median"].as_f64().unwrap_or(0.0);
+            out.push_str(&format!(
+                "{:>9} {:>4} {:<16} {:>12} {:>12} {:>12} {:>14.2} {:>9.1}\n",
+                row["blades"].as_u64().unwrap_or(0),
+                row["segments"].as_u64().unwrap_or(0),
+                v["variant"].as_str().unwrap_or(""),
+                vs,
+                s["clipping_primitives"].as_u64().unwrap_or(0),
+                fs,
+                fs as f64 / pixels,
+                if vs > 0 { ms * 1e6 / vs as f64 } else { 0.0 },
+            ));
+        }
+    }
+    out.push_str(
+        "blade-pass counts from pipeline statistics queries; ns/vertex: median frame time per vertex invocation\n",
+    );
+    out
 }
 
 /// Median GPU ms of `variant` in a row of the JSON document.
@@ -313,12 +366,19 @@ pub fn table(doc: &Value) -> String {
 
 /// Tidy CSV: one line per measured frame.
 pub fn csv(doc: &Value) -> String {
-    let mut out = String::from("blades,segments,variant,frame,gpu_ms,cpu_record_ms,cpu_submit_ms,cpu_wait_ms\n");
+    let mut out = String::from(
+        "blades,segments,variant,frame,gpu_ms,cpu_record_ms,cpu_submit_ms,cpu_wait_ms,\
+         vertex_invocations,clipping_primitives,fragment_invocations\n",
+    );
     for row in doc["rows"].as_array().into_iter().flatten() {
         for v in row["variants"].as_array().into_iter().flatten() {
             for (i, f) in v["frames"].as_array().into_iter().flatten().enumerate() {
+                // Statistics columns: the blade (or floor) pass; empty without statistics.
+                let stat = |name: &str| {
+                    f["pipeline_statistics"]["blades"][name].as_u64().map_or(String::new(), |v| v.to_string())
+                };
                 out.push_str(&format!(
-                    "{},{},{},{},{},{},{},{}\n",
+                    "{},{},{},{},{},{},{},{},{},{},{}\n",
                     row["blades"],
                     row["segments"],
                     v["variant"].as_str().unwrap_or(""),
@@ -326,7 +386,10 @@ pub fn csv(doc: &Value) -> String {
                     f["gpu_ms"],
                     f["cpu_record_ms"],
                     f["cpu_submit_ms"],
-                    f["cpu_wait_ms"]
+                    f["cpu_wait_ms"],
+                    stat("vertex_invocations"),
+                    stat("clipping_primitives"),
+                    stat("fragment_invocations"),
                 ));
             }
         }

@@ -526,6 +526,7 @@ fn bench(args: BenchArgs) -> meadow::Result<(u8, Option<u64>)> {
     }
     let code = finish(result.map(|doc| {
         print!("{}", bench::table(&doc));
+        print!("\n{}", bench::statistics_table(&doc));
         println!("wrote {}/bench.json and bench.csv", options.out.display());
     }));
     Ok((code, validation))

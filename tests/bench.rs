@@ -40,16 +40,34 @@ fn tiny_matrix_writes_json_csv_and_a_table() {
             }
             let s = &v["gpu_ms"];
             assert!(s["p5"].as_f64() <= s["median"].as_f64() && s["median"].as_f64() <= s["p99"].as_f64());
+            // Pipeline statistics: every blade vertex shaded once (strip of 2 (segments + 1)
+            // vertices; the floor's strip repeats each blade's first and last vertex), some
+            // primitives rasterised, fragments shaded. The floor is one long strip, which the
+            // driver splits into batches that re-shade the two vertices they share.
+            let stats = &v["pipeline_statistics"]["blades"];
+            let segments = row["segments"].as_u64().expect("segments");
+            let invocations = stats["vertex_invocations"].as_u64().expect("vertex invocations");
+            if v["variant"] == "floor" {
+                let vertices = 3000 * (2 * (segments + 1) + 2);
+                assert!((vertices..vertices + vertices / 100).contains(&invocations), "floor: {invocations}");
+            } else {
+                assert_eq!(invocations, 3000 * 2 * (segments + 1), "{}", v["variant"]);
+            }
+            assert!(stats["clipping_primitives"].as_u64().expect("clipping primitives") > 0);
+            assert!(stats["fragment_invocations"].as_u64().expect("fragment invocations") > 0);
         }
     }
     let csv = std::fs::read_to_string(dir.join("bench.csv")).expect("bench.csv");
     let mut lines = csv.lines();
-    assert_eq!(lines.next(), Some("blades,segments,variant,frame,gpu_ms,cpu_record_ms,cpu_submit_ms,cpu_wait_ms"));
+    assert_eq!(
+        lines.next(),
+        Some("blades,segments,variant,frame,gpu_ms,cpu_record_ms,cpu_submit_ms,cpu_wait_ms,vertex_invocations,clipping_primitives,fragment_invocations")
+    );
     let body: Vec<&str> = lines.collect();
     assert_eq!(body.len(), 2 * 6 * 2, "rows x variants x frames");
     for line in body {
         let fields: Vec<&str> = line.split(',').collect();
-        assert_eq!(fields.len(), 8, "{line}");
+        assert_eq!(fields.len(), 11, "{line}");
         assert!(fields[4].parse::<f64>().expect("gpu_ms") > 0.0);
     }
 

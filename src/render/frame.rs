@@ -7,7 +7,7 @@ use glam::{Mat4, UVec4, Vec3, Vec4};
 
 use crate::error::Result;
 use crate::vk::commands::CommandRecorder;
-use crate::vk::query::TimestampQueries;
+use crate::vk::query::{StatisticsQueries, TimestampQueries};
 use crate::vk::{sync, Buffer, BufferDesc, Device};
 
 /// Per-frame constants, std140 (`shaders/common.glsl`, struct `FrameUniforms`).
@@ -81,6 +81,8 @@ pub struct Frame {
     pub descriptor_set: vk::DescriptorSet,
     /// Timestamps of this frame's passes.
     pub timestamps: TimestampQueries,
+    /// Pipeline statistics of this frame's passes, when asked for and supported.
+    pub statistics: Option<StatisticsQueries>,
     /// Names of the passes recorded, in order (timestamps i and i + 1 bracket pass i).
     pub passes: Vec<&'static str>,
     /// Signalled when this frame's swapchain image is acquired (unused headless).
@@ -98,6 +100,7 @@ impl Frame {
         descriptor_set: vk::DescriptorSet,
         corners: u32,
         emitters: u32,
+        statistics: bool,
     ) -> Result<Self> {
         let mut buffers: Vec<Buffer> = Vec::new();
         let mut fence = vk::Fence::null();
@@ -114,17 +117,34 @@ impl Frame {
                 buffers.push(Buffer::new(device, &BufferDesc::upload(&format!("frame {index} {name}"), size, usage))?);
             }
             let timestamps = TimestampQueries::new(device, &format!("frame {index} timestamps"), 16)?;
-            match sync::semaphore(device, &format!("frame {index} acquire")) {
-                Ok(acquire) => Ok((timestamps, acquire)),
+            let statistics = match statistics {
+                true => StatisticsQueries::new(device, &format!("frame {index} statistics"), 8),
+                false => Ok(None),
+            };
+            let statistics = match statistics {
+                Ok(statistics) => statistics,
                 Err(e) => {
                     // SAFETY: never used.
                     unsafe { timestamps.destroy(device) };
+                    return Err(e);
+                }
+            };
+            match sync::semaphore(device, &format!("frame {index} acquire")) {
+                Ok(acquire) => Ok((timestamps, statistics, acquire)),
+                Err(e) => {
+                    // SAFETY: never used.
+                    unsafe {
+                        timestamps.destroy(device);
+                        if let Some(statistics) = statistics {
+                            statistics.destroy(device);
+                        }
+                    }
                     Err(e)
                 }
             }
         })();
         match built {
-            Ok((timestamps, acquire)) => {
+            Ok((timestamps, statistics, acquire)) => {
                 let mut buffers = buffers.into_iter();
                 let mut next = || buffers.next().expect("three buffers");
                 Ok(Self {
@@ -135,6 +155,7 @@ impl Frame {
                     emitters: next(),
                     descriptor_set,
                     timestamps,
+                    statistics,
                     passes: Vec::new(),
                     acquire,
                     pending: None,
@@ -164,6 +185,9 @@ impl Frame {
         // SAFETY: per the contract.
         unsafe {
             self.timestamps.destroy(device);
+            if let Some(statistics) = self.statistics {
+                statistics.destroy(device);
+            }
             self.uniforms.destroy(device);
             self.corners.destroy(device);
             self.emitters.destroy(device);

@@ -10,5 +10,5 @@ pub mod shaders;
 pub mod specialization;
 pub mod target;
 
-pub use renderer::{FrameTimings, RenderSettings, Renderer};
+pub use renderer::{FrameTimings, PassTime, RenderSettings, Renderer};
 pub use target::OffscreenTarget;

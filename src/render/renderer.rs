@@ -20,7 +20,7 @@ use crate::render::target::{OffscreenTarget, TargetView, DEPTH_FORMAT};
 use crate::scene::bezier::Batching;
 use crate::scene::{Camera, Scene};
 use crate::vk::image::{COLOR_RANGE, DEPTH_RANGE};
-use crate::vk::query::span_ms;
+use crate::vk::query::{span_ms, PipelineStatistics};
 use crate::vk::{commands, debug, descriptor, pipeline, sync, Access, Device};
 
 /// Blade segments allowed (thesis 4.1 levels of detail).
@@ -43,6 +43,8 @@ pub struct RenderSettings {
     pub debug_force: bool,
     /// Draw triangle edges only (needs `fillModeNonSolid`).
     pub wireframe: bool,
+    /// Count pipeline statistics per pass (when the device has `pipelineStatisticsQuery`).
+    pub pipeline_statistics: bool,
 }
 
 /// Blades per instance allowed.
@@ -57,6 +59,8 @@ pub struct PassTime {
     pub name: &'static str,
     /// Milliseconds.
     pub ms: f64,
+    /// What the pass made the pipeline do, when statistics were asked for and supported.
+    pub statistics: Option<PipelineStatistics>,
 }
 
 /// What one frame cost.
@@ -128,12 +132,18 @@ impl Renderer {
         )?;
         res.descriptor_pool = pool;
         for (index, set) in sets.into_iter().enumerate() {
-            let frame = Frame::new(&device, index, set, corners, emitters)?;
+            let frame = Frame::new(&device, index, set, corners, emitters, settings.pipeline_statistics)?;
             scene_gpu.write_descriptors(&device, set, &frame);
             res.frames.push(frame);
         }
         // Specialization constant 0: the size of the keyframe uniform array (bindings.glsl).
-        let specialization = Specialization::new(&device, &renderer.animation, settings.debug_force);
+        let specialization = Specialization::new(
+            &device,
+            &renderer.animation,
+            settings.debug_force,
+            settings.segments,
+            settings.blades_per_instance,
+        );
         let constants = specialization.constants();
         let (layout, color) = (res.pipeline_layout, settings.color_format);
         let polygon = if settings.wireframe {
@@ -231,8 +241,26 @@ impl Renderer {
         let res = self.resources();
         let scene = self.scene_gpu();
         frame.timestamps.reset(device, cmd);
+        if let Some(statistics) = &mut frame.statistics {
+            statistics.reset(device, cmd);
+        }
         frame.timestamps.write(device, cmd);
         frame.passes.clear();
+        // Statistics queries bracket each pass outside its rendering instance, like the timestamps.
+        // The pass's pipeline is bound first: lavapipe (Mesa 22.3) emits the bound graphics state
+        // at vkCmdBeginQuery and crashes when there is none yet.
+        let begin_statistics = |frame: &mut Frame, pipeline: vk::Pipeline| {
+            frame.statistics.as_mut().map(|s| {
+                // SAFETY: cmd is recording, outside a rendering instance.
+                unsafe { device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline) };
+                s.begin(device, cmd)
+            })
+        };
+        let end_statistics = |frame: &Frame, query: Option<u32>| {
+            if let (Some(statistics), Some(query)) = (&frame.statistics, query) {
+                statistics.end(device, cmd, query);
+            }
+        };
         // SAFETY: cmd is recording; the set is compatible with both bind points' layouts.
         unsafe {
             for bind_point in [vk::PipelineBindPoint::GRAPHICS, vk::PipelineBindPoint::COMPUTE] {
@@ -287,13 +315,22 @@ impl Renderer {
         }
 
         // Terrain: clears colour to the sky and depth to the far plane (0, reversed Z).
+        let terrain = res.terrain.as_ref().expect("built in new");
+        let query = begin_statistics(frame, terrain.pipeline());
         self.begin_pass(cmd, target, PASSES[1], true);
-        res.terrain.as_ref().expect("built in new").record(device, cmd, scene);
+        terrain.record(device, cmd, scene);
         self.end_pass(cmd);
+        end_statistics(frame, query);
         frame.timestamps.write(device, cmd);
         frame.passes.push(PASSES[1]);
 
         attachment_barriers(Access::ColorAttachmentWrite, Access::DepthAttachmentReadWrite);
+        let pipeline = match (&res.blades, &res.floor) {
+            (Some(blades), _) => blades.pipeline(),
+            (None, Some(floor)) => floor.pipeline(),
+            _ => unreachable!("new builds the blade or the floor pass"),
+        };
+        let query = begin_statistics(frame, pipeline);
         self.begin_pass(cmd, target, PASSES[2], false);
         match (&res.blades, &res.floor, &scene.floor) {
             (Some(blades), _, _) => {
@@ -303,6 +340,7 @@ impl Renderer {
             _ => unreachable!("new builds the blade or the floor pass"),
         }
         self.end_pass(cmd);
+        end_statistics(frame, query);
         frame.timestamps.write(device, cmd);
         frame.passes.push(PASSES[2]);
     }
@@ -397,11 +435,19 @@ impl Renderer {
         let timings = match frame.pending.take() {
             Some((cpu_record_ms, cpu_submit_ms)) => {
                 let stamps = frame.timestamps.read_ns(&device)?;
+                let statistics = match &frame.statistics {
+                    Some(queries) => queries.read(&device)?,
+                    None => Vec::new(),
+                };
                 let passes = frame
                     .passes
                     .iter()
                     .enumerate()
-                    .map(|(i, name)| PassTime { name, ms: span_ms(stamps[i], stamps[i + 1]) })
+                    .map(|(i, name)| PassTime {
+                        name,
+                        ms: span_ms(stamps[i], stamps[i + 1]),
+                        statistics: statistics_of(&frame.passes, &statistics, i),
+                    })
                     .collect();
                 Some(FrameTimings {
                     cpu_record_ms,
@@ -493,6 +539,16 @@ impl Renderer {
         // Headless: wait right away, so the picture and the timings are ready.
         Ok(self.collect(slot)?.expect("the frame was submitted"))
     }
+}
+
+/// The statistics of pass `i`: graphics passes have a query each, in order; the compute pass
+/// (blade poses) has none.
+fn statistics_of(passes: &[&str], statistics: &[PipelineStatistics], i: usize) -> Option<PipelineStatistics> {
+    if passes[i] == PASSES[0] {
+        return None;
+    }
+    let graphics_before = passes[..i].iter().filter(|p| **p != PASSES[0]).count();
+    statistics.get(graphics_before).copied()
 }
 
 /// Semaphores a frame's submission waits on (at colour output) and signals.

@@ -29,11 +29,23 @@ pub struct Specialization {
     pub representation: u32,
     /// 6: `FLAG_*` bits.
     pub flags: u32,
+    /// 7: segments per blade.
+    pub segments: u32,
+    /// 8: blades per instance (1: the strip alone, no degenerate joins, no tail test).
+    pub blades_per_instance: u32,
 }
 
 impl Specialization {
     /// The constants for an animation on `device`.
-    pub fn new(device: &Device, animation: &AnimationSettings, debug_force: bool) -> Self {
+    /// The blade geometry (segments, blades per instance) is compiled in too: the vertex shader's
+    /// index arithmetic then divides by constants, which llvmpipe would otherwise do lane by lane.
+    pub fn new(
+        device: &Device,
+        animation: &AnimationSettings,
+        debug_force: bool,
+        segments: u32,
+        blades_per_instance: u32,
+    ) -> Self {
         let mut flags = 0;
         if debug_force {
             flags |= FLAG_DEBUG_FORCE;
@@ -55,6 +67,8 @@ impl Specialization {
             },
             representation: u32::from(animation.representation == Representation::Curve),
             flags,
+            segments,
+            blades_per_instance,
         }
     }
 
@@ -64,7 +78,7 @@ impl Specialization {
     }
 
     /// The values in `constant_id` order.
-    pub fn constants(&self) -> [u32; 7] {
+    pub fn constants(&self) -> [u32; 9] {
         [
             self.keyframe_uvec4s,
             self.mode,
@@ -73,6 +87,8 @@ impl Specialization {
             self.attenuation,
             self.representation,
             self.flags,
+            self.segments,
+            self.blades_per_instance,
         ]
     }
 }

@@ -231,6 +231,7 @@ impl Viewer {
             blades_per_instance: o.blades_per_instance,
             debug_force: o.debug_force,
             wireframe: false,
+            pipeline_statistics: false,
         };
         let fixed_step = options.script.is_some() || options.frames.is_some();
         Ok(Self {

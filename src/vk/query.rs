@@ -1,5 +1,6 @@
-//! Timestamp queries: a pool per frame, written around passes, read after the frame's fence,
-//! masked to `timestampValidBits` and scaled by `timestampPeriod`.
+//! GPU queries read after a frame's fence. Timestamps: a pool per frame, written around passes,
+//! masked to `timestampValidBits` and scaled by `timestampPeriod`. Pipeline statistics: one query
+//! per pass (`pipelineStatisticsQuery`), counting what the pass made the pipeline do.
 
 use ash::vk;
 
@@ -83,4 +84,136 @@ impl TimestampQueries {
 /// valid bits being already masked (a negative span reads as zero).
 pub fn span_ms(start_ns: f64, end_ns: f64) -> f64 {
     ((end_ns - start_ns) / 1.0e6).max(0.0)
+}
+
+/// What one pipeline-statistics query counted.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct PipelineStatistics {
+    /// Vertices the input assembler fetched.
+    pub input_vertices: u64,
+    /// Primitives the input assembler formed.
+    pub input_primitives: u64,
+    /// Vertex shader invocations.
+    pub vertex_invocations: u64,
+    /// Primitives that reached the clipping stage.
+    pub clipping_invocations: u64,
+    /// Primitives that left it (what was rasterised).
+    pub clipping_primitives: u64,
+    /// Fragment shader invocations.
+    pub fragment_invocations: u64,
+}
+
+impl PipelineStatistics {
+    /// The counters, in the order Vulkan writes them (increasing flag bits). Graphics only:
+    /// with `COMPUTE_SHADER_INVOCATIONS` in the pool, lavapipe (Mesa 22.3) binds the compute
+    /// state at `vkCmdBeginQuery` and crashes when no compute pipeline is bound.
+    const FLAGS: [vk::QueryPipelineStatisticFlags; 6] = [
+        vk::QueryPipelineStatisticFlags::INPUT_ASSEMBLY_VERTICES,
+        vk::QueryPipelineStatisticFlags::INPUT_ASSEMBLY_PRIMITIVES,
+        vk::QueryPipelineStatisticFlags::VERTEX_SHADER_INVOCATIONS,
+        vk::QueryPipelineStatisticFlags::CLIPPING_INVOCATIONS,
+        vk::QueryPipelineStatisticFlags::CLIPPING_PRIMITIVES,
+        vk::QueryPipelineStatisticFlags::FRAGMENT_SHADER_INVOCATIONS,
+    ];
+
+    fn from_words(w: &[u64]) -> Self {
+        Self {
+            input_vertices: w[0],
+            input_primitives: w[1],
+            vertex_invocations: w[2],
+            clipping_invocations: w[3],
+            clipping_primitives: w[4],
+            fragment_invocations: w[5],
+        }
+    }
+
+    /// `(name, value)` pairs, for reports.
+    pub fn fields(&self) -> [(&'static str, u64); 6] {
+        [
+            ("input_vertices", self.input_vertices),
+            ("input_primitives", self.input_primitives),
+            ("vertex_invocations", self.vertex_invocations),
+            ("clipping_invocations", self.clipping_invocations),
+            ("clipping_primitives", self.clipping_primitives),
+            ("fragment_invocations", self.fragment_invocations),
+        ]
+    }
+}
+
+/// A pool of `capacity` pipeline-statistics queries, begun and ended around passes.
+pub struct StatisticsQueries {
+    /// The pool.
+    pub pool: vk::QueryPool,
+    capacity: u32,
+    used: u32,
+}
+
+impl StatisticsQueries {
+    /// Create a pool, or `None` when the device lacks `pipelineStatisticsQuery`.
+    pub fn new(device: &Device, name: &str, capacity: u32) -> Result<Option<Self>> {
+        if device.features.pipeline_statistics_query == vk::FALSE {
+            return Ok(None);
+        }
+        let flags = PipelineStatistics::FLAGS.iter().fold(vk::QueryPipelineStatisticFlags::empty(), |a, b| a | *b);
+        let info = vk::QueryPoolCreateInfo::default()
+            .query_type(vk::QueryType::PIPELINE_STATISTICS)
+            .query_count(capacity)
+            .pipeline_statistics(flags);
+        // SAFETY: valid create info; the feature is enabled.
+        let pool = unsafe { device.raw.create_query_pool(&info, None) }.vk("vkCreateQueryPool")?;
+        device.set_name(pool, name);
+        Ok(Some(Self { pool, capacity, used: 0 }))
+    }
+
+    /// Reset every query; record before the first `begin` of a frame, outside a render pass.
+    pub fn reset(&mut self, device: &Device, cmd: vk::CommandBuffer) {
+        // SAFETY: cmd is recording, outside a render pass.
+        unsafe { device.raw.cmd_reset_query_pool(cmd, self.pool, 0, self.capacity) };
+        self.used = 0;
+    }
+
+    /// Begin the next query (outside a rendering instance; end it outside too). Returns its index.
+    pub fn begin(&mut self, device: &Device, cmd: vk::CommandBuffer) -> u32 {
+        assert!(self.used < self.capacity, "statistics pool overflow: a programming error");
+        let index = self.used;
+        // SAFETY: cmd is recording; the query was reset in this command buffer.
+        unsafe { device.raw.cmd_begin_query(cmd, self.pool, index, vk::QueryControlFlags::empty()) };
+        self.used += 1;
+        index
+    }
+
+    /// End the query `begin` returned.
+    pub fn end(&self, device: &Device, cmd: vk::CommandBuffer, index: u32) {
+        // SAFETY: the query is active in cmd.
+        unsafe { device.raw.cmd_end_query(cmd, self.pool, index) };
+    }
+
+    /// Read the queries of the last recording. Call after the frame's fence signalled.
+    pub fn read(&self, device: &Device) -> Result<Vec<PipelineStatistics>> {
+        let mut results = vec![[0u64; PipelineStatistics::FLAGS.len()]; self.used as usize];
+        if results.is_empty() {
+            return Ok(Vec::new());
+        }
+        // SAFETY: the queries were ended by a completed submission; one result of all counters
+        // per query, 64-bit each, which is the element type's stride.
+        unsafe {
+            device.raw.get_query_pool_results(
+                self.pool,
+                0,
+                &mut results,
+                vk::QueryResultFlags::TYPE_64 | vk::QueryResultFlags::WAIT,
+            )
+        }
+        .vk("vkGetQueryPoolResults")?;
+        Ok(results.iter().map(|w| PipelineStatistics::from_words(w)).collect())
+    }
+
+    /// Destroy the pool.
+    ///
+    /// # Safety
+    /// No pending work may use it.
+    pub unsafe fn destroy(self, device: &Device) {
+        // SAFETY: per the contract.
+        unsafe { device.raw.destroy_query_pool(self.pool, None) };
+    }
 }

@@ -44,6 +44,11 @@ impl BladePass {
         Ok(Self { pipeline })
     }
 
+    /// The blade pipeline, bound by `record`.
+    pub fn pipeline(&self) -> vk::Pipeline {
+        self.pipeline
+    }
+
     /// One draw call for all blades: by default one instance per blade, a strip of `2(S+1)`
     /// vertices. `--blades-per-instance K` packs K blades into each instance (strips joined by
     /// degenerate triangles, `bezier::Batching`) to measure a driver's per-instance overhead;

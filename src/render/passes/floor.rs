@@ -59,6 +59,11 @@ impl FloorPass {
         Ok(Self { pipeline })
     }
 
+    /// The floor pipeline, bound by `record`.
+    pub fn pipeline(&self) -> vk::Pipeline {
+        self.pipeline
+    }
+
     /// One draw of the whole strip.
     pub fn record(&self, device: &Device, cmd: vk::CommandBuffer, vertices: &Buffer) {
         // SAFETY: cmd is recording inside the blade pass's rendering instance.

@@ -42,6 +42,11 @@ impl TerrainPass {
         Ok(Self { pipeline })
     }
 
+    /// The terrain pipeline, bound by `record`.
+    pub fn pipeline(&self) -> vk::Pipeline {
+        self.pipeline
+    }
+
     /// Draw the terrain; set 0 must be bound.
     pub fn record(&self, device: &Device, cmd: vk::CommandBuffer, scene: &SceneGpu) {
         let vertices = 6 * scene.terrain_cells * scene.terrain_cells;
