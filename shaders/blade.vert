@@ -21,6 +21,12 @@
 // same across its width, so the fragment shader only adds the alpha-tested rim. Every varying
 // costs llvmpipe setup and interpolation per triangle: four floats of light and fog replace the
 // normal, world position and flat variation (ten components, 1.3-1.5x the floor's frame time).
+// Per-cluster draws (`render::submission::ClusterPush`, Pelzer §7.4.2): the cluster's first
+// blade; instance i of the draw is blade first_blade + i.
+layout(push_constant) uniform ClusterPush {
+    uint first_blade;
+} cluster_push;
+
 layout(location = 0) out vec2 out_uv;         // u across, v root -> tip
 layout(location = 1) out vec4 out_lit;        // rgb: lit, fogged blade colour before the rim; a: fog transmittance
 
@@ -36,6 +42,9 @@ vec4 deformed(vec3 p[4], KfSelection sel, uint level, uint segments, float heigh
 void main() {
     const uint segments = SEGMENTS;
     uint blade_index = uint(gl_InstanceIndex) * BLADES_PER_INSTANCE + uint(gl_VertexIndex) / STRIP_STRIDE;
+    if ((RENDER_FLAGS & FLAG_CLUSTER_PUSH) != 0u) {
+        blade_index += cluster_push.first_blade;
+    }
     if (BLADES_PER_INSTANCE > 1u && blade_index >= frame.params.y) {
         // Tail of the last instance: a degenerate point outside the clip volume.
         gl_Position = vec4(2.0, 2.0, 2.0, 1.0);

@@ -27,7 +27,7 @@ layout(constant_id = 3) const uint KEYFRAME_ENCODING = 1u;  // 0 rgba8x2, 1 unor
                                                             // 4 snorm16x2 uniform words
 layout(constant_id = 4) const uint ATTENUATION = 0u;        // 0 cluster, 1 blade (thesis 4.5)
 layout(constant_id = 5) const uint REPRESENTATION = 0u;     // 0 vertex levels, 1 Bézier curve
-layout(constant_id = 6) const uint RENDER_FLAGS = 0u;       // FLAG_DEBUG_FORCE | FLAG_EVAL_BLADE
+layout(constant_id = 6) const uint RENDER_FLAGS = 0u;       // FLAG_DEBUG_FORCE | FLAG_EVAL_BLADE | FLAG_CLUSTER_PUSH
 // Blade geometry (`scene::bezier::Batching`): with constants, the vertex shader's divisions by
 // the strip length become multiplications, and one blade per instance needs none at all.
 layout(constant_id = 7) const uint SEGMENTS = 4u;
@@ -64,6 +64,7 @@ struct BladeInstance {
 
 #define FLAG_DEBUG_FORCE 1u  // colour blades by force magnitude (thesis fig. 4.5 / 6.1c)
 #define FLAG_EVAL_BLADE 2u   // poses selected once per blade by blade_pose.comp
+#define FLAG_CLUSTER_PUSH 4u // per-cluster draws: the first blade is a push constant (`meadow overhead`)
 
 #define MODE_STATIC 0u
 #define MODE_TEXTURE 1u

@@ -94,6 +94,8 @@ pub struct RenderOptions {
     pub time: f32,
     /// Colour blades by force magnitude.
     pub debug_force: bool,
+    /// How the blade draws are submitted.
+    pub submission: crate::render::submission::Submission,
 }
 
 /// What `meadow render` did.
@@ -234,6 +236,12 @@ pub fn write_png(path: &Path, size: (u32, u32), rgba: &[u8]) -> Result<()> {
 pub fn render(device: &Arc<Device>, options: &RenderOptions) -> Result<RenderReport> {
     check_output(&options.out)?;
     check_scene(device, options.blades, options.segments, options.size, &options.animation)?;
+    if options.submission.clusters > options.blades {
+        return Err(Error::bad_input(format!(
+            "--clusters {} exceeds --blades {}: a cluster holds a blade at least",
+            options.submission.clusters, options.blades
+        )));
+    }
     let field_m = blades::field_size(options.blades);
 
     let setup = Instant::now();
@@ -248,6 +256,7 @@ pub fn render(device: &Arc<Device>, options: &RenderOptions) -> Result<RenderRep
         debug_force: options.debug_force,
         wireframe: false,
         pipeline_statistics: true,
+        submission: options.submission,
     };
     let mut renderer = Renderer::new(device.clone(), &scene, settings, options.animation.clone())?;
     let extent = vk::Extent2D { width: options.size.0, height: options.size.1 };

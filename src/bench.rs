@@ -177,6 +177,7 @@ pub fn run(device: &Arc<Device>, options: &BenchOptions, mut progress: impl FnMu
                     debug_force: false,
                     wireframe: false,
                     pipeline_statistics: true,
+                    submission: Default::default(),
                 };
                 Renderer::new(device.clone(), &scene, settings, animation)
             })

@@ -202,3 +202,22 @@ mod animation_tests {
         assert!(time("-1").is_err() && time("2.5").is_ok());
     }
 }
+
+/// A submission strategy of `meadow overhead` (`render::submission::Strategy`).
+pub fn strategy(text: &str) -> Result<crate::render::submission::Strategy, String> {
+    use crate::render::submission::Strategy;
+    Strategy::parse(text.trim()).ok_or_else(|| {
+        let names: Vec<&str> = Strategy::ALL.iter().map(|s| s.name()).collect();
+        format!("'{text}' is not a strategy (one of {})", names.join(", "))
+    })
+}
+
+/// Clusters (draws) of `meadow overhead`: `1..=1_000_000`.
+pub fn clusters(text: &str) -> Result<u32, String> {
+    let value: u64 = text.trim().parse().map_err(|_| format!("'{text}' is not a whole number of clusters"))?;
+    match value {
+        0 => Err("at least 1 cluster is needed".into()),
+        v if v > 1_000_000 => Err(format!("{v} clusters is more than the 1000000 draws meadow records per frame")),
+        v => Ok(v as u32),
+    }
+}

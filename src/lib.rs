@@ -10,6 +10,7 @@ pub mod cli;
 pub mod error;
 pub mod imagediff;
 pub mod keyframes;
+pub mod overhead;
 pub mod render;
 pub mod scene;
 pub mod viewer;

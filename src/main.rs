@@ -30,6 +30,9 @@ enum Command {
     View(ViewArgs),
     /// Measure static / texture / uniform / floor side by side (thesis Table 6.2), or compare runs.
     Bench(BenchArgs),
+    /// Measure draw-submission overhead: the same blades drawn instanced, per cluster, indirectly,
+    /// from secondaries recorded on threads, or pre-recorded.
+    Overhead(OverheadArgs),
     /// List the Vulkan devices with their drivers.
     Devices(GpuArgs),
     /// Generate the keyframe table; report its compression figures and export it as a picture.
@@ -73,6 +76,12 @@ struct RenderArgs {
     /// Frames to render; the last is written, timings of all are summarised.
     #[arg(long, default_value = "1", value_parser = clap::value_parser!(u32).range(1..=10_000))]
     frames: u32,
+    /// How the blade draws are submitted (see `meadow overhead`); the picture is the same.
+    #[arg(long, default_value = "instanced", value_parser = meadow::cli::strategy)]
+    submission: meadow::render::submission::Strategy,
+    /// Clusters (draws) of the per-cluster, indirect and secondary submissions.
+    #[arg(long, default_value = "64", value_parser = meadow::cli::clusters)]
+    clusters: u32,
     #[command(flatten)]
     gpu: GpuArgs,
 }
@@ -119,6 +128,7 @@ impl SceneArgs {
             animation: self.animation.settings(),
             time: self.animation.time,
             debug_force: matches!(self.debug_view, Some(DebugViewArg::Force)),
+            submission: Default::default(),
         }
     }
 }
@@ -184,6 +194,41 @@ struct BenchArgs {
     /// Noise threshold of --compare, in percent.
     #[arg(long, default_value = "10", value_parser = meadow::cli::finite_f32)]
     threshold: f32,
+    #[command(flatten)]
+    gpu: GpuArgs,
+}
+
+#[derive(Args)]
+struct OverheadArgs {
+    /// Blades of the scene.
+    #[arg(long, default_value = "100000", value_parser = meadow::cli::blade_count)]
+    blades: u32,
+    /// Segments per blade.
+    #[arg(long, default_value = "2", value_parser = meadow::cli::segments)]
+    segments: u32,
+    /// Cluster counts (comma-separated): the draws of the per-cluster strategies.
+    #[arg(long, value_delimiter = ',', default_value = "1,100,1000,10000", value_parser = meadow::cli::clusters)]
+    clusters: Vec<u32>,
+    /// Strategies (comma-separated): instanced, per-cluster, indirect, mdi, mdi-count, secondary, prerecorded.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "instanced,per-cluster,indirect,mdi,mdi-count,secondary,prerecorded",
+        value_parser = meadow::cli::strategy
+    )]
+    strategies: Vec<meadow::render::submission::Strategy>,
+    /// Picture size.
+    #[arg(long, value_name = "WxH", default_value = "320x180", value_parser = meadow::cli::size)]
+    size: (u32, u32),
+    /// Frames per strategy discarded first.
+    #[arg(long, default_value = "3", value_parser = clap::value_parser!(u32).range(0..=1000))]
+    warmup: u32,
+    /// Frames per strategy measured.
+    #[arg(long, default_value = "20", value_parser = clap::value_parser!(u32).range(1..=10_000))]
+    frames: u32,
+    /// Directory for overhead.json, overhead.csv and overhead.png.
+    #[arg(long, default_value = "overhead-out")]
+    out: PathBuf,
     #[command(flatten)]
     gpu: GpuArgs,
 }
@@ -387,7 +432,9 @@ fn main() -> ExitCode {
     };
     let (code, validation) = match cli.command {
         Command::Render(args) => {
-            let options = args.scene.options(args.out.clone(), args.frames);
+            let mut options = args.scene.options(args.out.clone(), args.frames);
+            options.submission =
+                meadow::render::submission::Submission { strategy: args.submission, clusters: args.clusters };
             let (result, validation) =
                 app::with_device(&args.gpu.options(), false, |device| app::render(device, &options));
             (finish(result.map(|report| print_render(&report))), validation)
@@ -441,6 +488,7 @@ fn main() -> ExitCode {
             };
             (finish(app::keyframes(&options).map(|text| print!("{text}"))), None)
         }
+        Command::Overhead(args) => overhead(args),
         Command::Devices(args) => {
             let (result, validation) = app::devices(&args.options());
             let code = finish(result.map(|devices| {
@@ -461,6 +509,58 @@ fn main() -> ExitCode {
         }
         None => ExitCode::from(code),
     }
+}
+
+/// A progress bar with ETA on a terminal; none otherwise.
+fn progress_bar(unit: &str) -> Option<indicatif::ProgressBar> {
+    if !std::io::IsTerminal::is_terminal(&std::io::stderr()) {
+        return None;
+    }
+    let bar = indicatif::ProgressBar::new(0);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template(&format!(
+            "{{bar:40}} {{pos}}/{{len}} {unit}, {{elapsed}} elapsed, ETA {{eta}}"
+        ))
+        .expect("valid template"),
+    );
+    Some(bar)
+}
+
+/// Advance `bar` to `done` of `total`.
+fn advance(bar: &Option<indicatif::ProgressBar>, done: u64, total: u64) {
+    if let Some(bar) = bar {
+        bar.set_length(total);
+        bar.set_position(done);
+    }
+}
+
+/// `meadow overhead`. Returns the exit code and validation count.
+fn overhead(args: OverheadArgs) -> (u8, Option<u64>) {
+    use meadow::overhead::{self, OverheadOptions};
+    let options = OverheadOptions {
+        blades: args.blades,
+        segments: args.segments,
+        clusters: args.clusters,
+        strategies: args.strategies,
+        size: args.size,
+        warmup: args.warmup,
+        frames: args.frames,
+        out: args.out,
+    };
+    let progress = progress_bar("frames");
+    let (result, validation) = app::with_device(&args.gpu.options(), false, |device| {
+        let doc = overhead::run(device, &options, |done, total| advance(&progress, done, total))?;
+        overhead::write(&doc, &options.out)?;
+        Ok(doc)
+    });
+    if let Some(bar) = progress {
+        bar.finish_and_clear();
+    }
+    let code = finish(result.map(|doc| {
+        print!("{}", overhead::table(&doc));
+        println!("wrote {}/overhead.json and overhead.csv", options.out.display());
+    }));
+    (code, validation)
 }
 
 /// `meadow bench`: measure, or compare two runs. Returns the exit code and validation count.
@@ -501,23 +601,9 @@ fn bench(args: BenchArgs) -> meadow::Result<(u8, Option<u64>)> {
     options.size = args.size.unwrap_or(options.size);
     options.warmup = args.warmup.unwrap_or(options.warmup);
     options.frames = args.frames.unwrap_or(options.frames);
-    let progress = if std::io::IsTerminal::is_terminal(&std::io::stderr()) {
-        let bar = indicatif::ProgressBar::new(0);
-        bar.set_style(
-            indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} frames, {elapsed} elapsed, ETA {eta}")
-                .expect("valid template"),
-        );
-        Some(bar)
-    } else {
-        None
-    };
+    let progress = progress_bar("frames");
     let (result, validation) = app::with_device(&args.gpu.options(), false, |device| {
-        let doc = bench::run(device, &options, |done, total| {
-            if let Some(bar) = &progress {
-                bar.set_length(total);
-                bar.set_position(done);
-            }
-        })?;
+        let doc = bench::run(device, &options, |done, total| advance(&progress, done, total))?;
         bench::write(&doc, &options.out)?;
         Ok(doc)
     });

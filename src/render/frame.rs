@@ -6,6 +6,7 @@ use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, UVec4, Vec3, Vec4};
 
 use crate::error::Result;
+use crate::render::submission::SecondaryRecorders;
 use crate::vk::commands::CommandRecorder;
 use crate::vk::query::{StatisticsQueries, TimestampQueries};
 use crate::vk::{sync, Buffer, BufferDesc, Device};
@@ -89,6 +90,11 @@ pub struct Frame {
     pub acquire: vk::Semaphore,
     /// CPU record and submit milliseconds of the submission in flight, until its fence is read.
     pub pending: Option<(f64, f64)>,
+    /// Worker command buffers of the `Secondary` submission strategy.
+    pub secondaries: Option<SecondaryRecorders>,
+    /// `Prerecorded` strategy: the colour image the command buffer was recorded for, if it is
+    /// still valid (submitted again as is).
+    pub recorded_for: Option<vk::Image>,
 }
 
 impl Frame {
@@ -159,6 +165,8 @@ impl Frame {
                     passes: Vec::new(),
                     acquire,
                     pending: None,
+                    secondaries: None,
+                    recorded_for: None,
                 })
             }
             Err(e) => {
@@ -194,6 +202,9 @@ impl Frame {
             device.raw.destroy_fence(self.fence, None);
             device.raw.destroy_semaphore(self.acquire, None);
             self.recorder.destroy(device);
+            if let Some(mut secondaries) = self.secondaries {
+                secondaries.destroy(device);
+            }
         }
     }
 }

@@ -8,6 +8,7 @@ pub mod renderer;
 pub mod scene_gpu;
 pub mod shaders;
 pub mod specialization;
+pub mod submission;
 pub mod target;
 
 pub use renderer::{FrameTimings, PassTime, RenderSettings, Renderer};

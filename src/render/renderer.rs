@@ -16,11 +16,13 @@ use crate::render::frame::{look, Frame, FrameUniforms};
 use crate::render::passes::{BladePass, BladePosePass, FloorPass, TerrainPass};
 use crate::render::scene_gpu::{self, SceneGpu};
 use crate::render::specialization::Specialization;
+use crate::render::submission::{self, BladeDraws, IndirectDraws, SecondaryRecorders, Strategy, Submission};
 use crate::render::target::{OffscreenTarget, TargetView, DEPTH_FORMAT};
-use crate::scene::bezier::Batching;
+use crate::scene::bezier::{self, Batching};
 use crate::scene::{Camera, Scene};
 use crate::vk::image::{COLOR_RANGE, DEPTH_RANGE};
 use crate::vk::query::{span_ms, PipelineStatistics};
+use crate::vk::upload::UploadBatch;
 use crate::vk::{commands, debug, descriptor, pipeline, sync, Access, Device};
 
 /// Blade segments allowed (thesis 4.1 levels of detail).
@@ -45,6 +47,8 @@ pub struct RenderSettings {
     pub wireframe: bool,
     /// Count pipeline statistics per pass (when the device has `pipelineStatisticsQuery`).
     pub pipeline_statistics: bool,
+    /// How the blade pass submits its draws (`meadow overhead`); the floor ignores it.
+    pub submission: Submission,
 }
 
 /// Blades per instance allowed.
@@ -91,6 +95,10 @@ struct Resources {
     blades: Option<BladePass>,
     floor: Option<FloorPass>,
     poses: Option<BladePosePass>,
+    /// Blade ranges of the per-cluster and secondary strategies.
+    ranges: Vec<(u32, u32)>,
+    /// Commands of the indirect strategies.
+    indirect: Option<IndirectDraws>,
 }
 
 /// Scene passes and frames in flight.
@@ -122,7 +130,12 @@ impl Renderer {
         let corners = scene_gpu.grid.corner_count();
         let emitters = animation::MAX_EMITTERS as u32;
         res.set_layout = descriptor::set_layout(&device, "scene set layout", &bindings)?;
-        res.pipeline_layout = pipeline::layout(&device, "scene pipeline layout", &[res.set_layout], &[])?;
+        res.pipeline_layout = pipeline::layout(
+            &device,
+            "scene pipeline layout",
+            &[res.set_layout],
+            &[submission::push_constant_range()],
+        )?;
         let (pool, sets) = descriptor::allocate_sets(
             &device,
             "scene sets",
@@ -143,6 +156,7 @@ impl Renderer {
             settings.debug_force,
             settings.segments,
             settings.blades_per_instance,
+            settings.submission.strategy.pushes_first_blade(),
         );
         let constants = specialization.constants();
         let (layout, color) = (res.pipeline_layout, settings.color_format);
@@ -165,6 +179,35 @@ impl Renderer {
         }
         if specialization.eval_blade() {
             res.poses = Some(BladePosePass::new(&device, layout, &constants)?);
+        }
+        let Submission { strategy, clusters } = settings.submission;
+        if strategy != Strategy::Instanced && renderer.animation.mode != Mode::Floor {
+            if let Some(why) = strategy.unsupported(&device, clusters) {
+                return Err(crate::error::Error::Environment(format!(
+                    "{} cannot submit `{}`: {why}",
+                    device.info.name,
+                    strategy.name()
+                )));
+            }
+            if settings.blades_per_instance != 1 {
+                return Err(crate::error::Error::bad_input(
+                    "submission strategies draw one blade per instance: drop --blades-per-instance",
+                ));
+            }
+            res.ranges = submission::ranges(scene.blades.len() as u32, clusters);
+            if matches!(strategy, Strategy::Indirect | Strategy::Mdi | Strategy::MdiCount) {
+                let mut batch = UploadBatch::new(&device);
+                let vertices = bezier::strip_vertices(settings.segments);
+                res.indirect = Some(IndirectDraws::upload(&mut batch, &res.ranges, vertices)?);
+                batch.submit()?;
+            }
+            if strategy == Strategy::Secondary {
+                let workers = std::thread::available_parallelism().map_or(2, |n| n.get()).min(res.ranges.len());
+                for (i, frame) in res.frames.iter_mut().enumerate() {
+                    frame.secondaries =
+                        Some(SecondaryRecorders::new(&device, &format!("frame {i} secondary"), workers)?);
+                }
+            }
         }
         Ok(renderer)
     }
@@ -273,6 +316,15 @@ impl Renderer {
                     &[],
                 );
             }
+            // Defined for every draw: per-cluster draws push their own first blade.
+            let push = submission::ClusterPush { first_blade: 0 };
+            device.raw.cmd_push_constants(
+                cmd,
+                res.pipeline_layout,
+                vk::ShaderStageFlags::VERTEX,
+                0,
+                bytemuck::bytes_of(&push),
+            );
         }
         if let Some(poses) = &res.poses {
             debug::begin_label(device, cmd, PASSES[0], [0.7, 0.5, 0.2, 1.0]);
@@ -300,14 +352,7 @@ impl Renderer {
         attachment_barriers(target.color_previous, target.depth_previous);
 
         let area = vk::Rect2D { offset: vk::Offset2D::default(), extent: target.extent };
-        let viewport = vk::Viewport {
-            x: 0.0,
-            y: 0.0,
-            width: target.extent.width as f32,
-            height: target.extent.height as f32,
-            min_depth: 0.0,
-            max_depth: 1.0,
-        };
+        let viewport = full_viewport(target.extent);
         // SAFETY: cmd is recording; dynamic state and bound sets persist across rendering instances.
         unsafe {
             device.raw.cmd_set_viewport(cmd, 0, &[viewport]);
@@ -317,7 +362,7 @@ impl Renderer {
         // Terrain: clears colour to the sky and depth to the far plane (0, reversed Z).
         let terrain = res.terrain.as_ref().expect("built in new");
         let query = begin_statistics(frame, terrain.pipeline());
-        self.begin_pass(cmd, target, PASSES[1], true);
+        self.begin_pass(cmd, target, PASSES[1], true, false);
         terrain.record(device, cmd, scene);
         self.end_pass(cmd);
         end_statistics(frame, query);
@@ -325,17 +370,19 @@ impl Renderer {
         frame.passes.push(PASSES[1]);
 
         attachment_barriers(Access::ColorAttachmentWrite, Access::DepthAttachmentReadWrite);
+        let secondary = frame.secondaries.is_some() && res.blades.is_some();
         let pipeline = match (&res.blades, &res.floor) {
             (Some(blades), _) => blades.pipeline(),
             (None, Some(floor)) => floor.pipeline(),
             _ => unreachable!("new builds the blade or the floor pass"),
         };
-        let query = begin_statistics(frame, pipeline);
-        self.begin_pass(cmd, target, PASSES[2], false);
+        // Secondary command buffers would need `inheritedQueries` to run inside a statistics
+        // query: that pass goes uncounted.
+        let query = if secondary { None } else { begin_statistics(frame, pipeline) };
+        self.begin_pass(cmd, target, PASSES[2], false, secondary);
         match (&res.blades, &res.floor, &scene.floor) {
-            (Some(blades), _, _) => {
-                blades.record(device, cmd, scene, self.settings.segments, self.settings.blades_per_instance)
-            }
+            (Some(_), _, _) if secondary => self.record_secondary_blades(frame, cmd, target),
+            (Some(blades), _, _) => blades.record(device, cmd, &self.blade_draws()),
             (None, Some(floor), Some(vertices)) => floor.record(device, cmd, vertices),
             _ => unreachable!("new builds the blade or the floor pass"),
         }
@@ -345,9 +392,104 @@ impl Renderer {
         frame.passes.push(PASSES[2]);
     }
 
+    /// The blade draws of the submission strategy (all but `Secondary`, which records
+    /// per-cluster draws on worker threads).
+    fn blade_draws(&self) -> BladeDraws<'_> {
+        let res = self.resources();
+        let scene = self.scene_gpu();
+        let vertices = Batching::new(self.settings.segments, self.settings.blades_per_instance).vertices_per_instance();
+        let indirect = || res.indirect.as_ref().expect("built in new for the indirect strategies");
+        match self.settings.submission.strategy {
+            Strategy::Instanced | Strategy::Prerecorded => BladeDraws::Instanced {
+                vertices,
+                instances: scene.blade_count.div_ceil(self.settings.blades_per_instance),
+            },
+            Strategy::PerCluster | Strategy::Secondary => {
+                BladeDraws::PerCluster { vertices, ranges: &res.ranges, layout: res.pipeline_layout }
+            }
+            Strategy::Indirect => BladeDraws::IndirectLoop(indirect()),
+            Strategy::Mdi => BladeDraws::MultiDraw(indirect()),
+            Strategy::MdiCount => BladeDraws::MultiDrawCount(indirect()),
+        }
+    }
+
+    /// The blade pass as secondary command buffers, one per worker thread, each drawing a share
+    /// of the clusters with push constants, executed by `cmd` (inside a rendering instance begun
+    /// for secondary contents). Threads are scoped to the call: their start-up is part of the
+    /// measured recording time.
+    fn record_secondary_blades(&self, frame: &Frame, cmd: vk::CommandBuffer, target: &TargetView) {
+        let device = &*self.device;
+        let res = self.resources();
+        let workers = &frame.secondaries.as_ref().expect("checked by the caller").workers;
+        let pipeline = res.blades.as_ref().expect("checked by the caller").pipeline();
+        let vertices = bezier::strip_vertices(self.settings.segments);
+        let per_worker = res.ranges.len().div_ceil(workers.len());
+        let formats = [self.settings.color_format];
+        let area = vk::Rect2D { offset: vk::Offset2D::default(), extent: target.extent };
+        let viewport = full_viewport(target.extent);
+        let results: Vec<Result<vk::CommandBuffer>> = std::thread::scope(|scope| {
+            let handles: Vec<_> = workers
+                .iter()
+                .zip(res.ranges.chunks(per_worker))
+                .map(|(&(pool, secondary), ranges)| {
+                    scope.spawn(move || {
+                        let mut rendering = vk::CommandBufferInheritanceRenderingInfo::default()
+                            .color_attachment_formats(&formats)
+                            .depth_attachment_format(DEPTH_FORMAT)
+                            .rasterization_samples(vk::SampleCountFlags::TYPE_1);
+                        let inheritance = vk::CommandBufferInheritanceInfo::default().push_next(&mut rendering);
+                        let begin = vk::CommandBufferBeginInfo::default()
+                            .flags(
+                                vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT
+                                    | vk::CommandBufferUsageFlags::RENDER_PASS_CONTINUE,
+                            )
+                            .inheritance_info(&inheritance);
+                        // SAFETY: each worker owns its pool; the frame's fence was waited, so
+                        // the previous recording is not pending. Dynamic state and bindings are
+                        // not inherited: each secondary sets its own.
+                        unsafe {
+                            device
+                                .raw
+                                .reset_command_pool(pool, vk::CommandPoolResetFlags::empty())
+                                .vk("vkResetCommandPool")?;
+                            device.raw.begin_command_buffer(secondary, &begin).vk("vkBeginCommandBuffer")?;
+                            device.raw.cmd_set_viewport(secondary, 0, &[viewport]);
+                            device.raw.cmd_set_scissor(secondary, 0, &[area]);
+                            device.raw.cmd_bind_descriptor_sets(
+                                secondary,
+                                vk::PipelineBindPoint::GRAPHICS,
+                                res.pipeline_layout,
+                                0,
+                                &[frame.descriptor_set],
+                                &[],
+                            );
+                            device.raw.cmd_bind_pipeline(secondary, vk::PipelineBindPoint::GRAPHICS, pipeline);
+                        }
+                        let draws = BladeDraws::PerCluster { vertices, ranges, layout: res.pipeline_layout };
+                        submission::record_draws(device, secondary, &draws);
+                        // SAFETY: recording.
+                        unsafe { device.raw.end_command_buffer(secondary) }.vk("vkEndCommandBuffer")?;
+                        Ok(secondary)
+                    })
+                })
+                .collect();
+            handles.into_iter().map(|h| h.join().expect("a recording thread panicked")).collect()
+        });
+        let secondaries: Result<Vec<vk::CommandBuffer>> = results.into_iter().collect();
+        match secondaries {
+            // SAFETY: cmd is inside a rendering instance begun for secondary command buffers
+            // with the formats the secondaries inherit.
+            Ok(secondaries) => unsafe { device.raw.cmd_execute_commands(cmd, &secondaries) },
+            // A failed secondary leaves this frame without blades; the error is logged, the
+            // frame still completes (recording cannot return errors mid-pass).
+            Err(e) => log::error!("secondary blade recording failed: {e}"),
+        }
+    }
+
     /// Open a labelled rendering instance on `target`; `clear` clears colour and depth, otherwise
-    /// both are loaded. Depth is stored only when a later pass reads it.
-    fn begin_pass(&self, cmd: vk::CommandBuffer, target: &TargetView, name: &str, clear: bool) {
+    /// both are loaded. Depth is stored only when a later pass reads it. `secondary`: the
+    /// contents come from secondary command buffers.
+    fn begin_pass(&self, cmd: vk::CommandBuffer, target: &TargetView, name: &str, clear: bool, secondary: bool) {
         let device = &*self.device;
         let sky = look::SKY;
         let clear_color = if self.settings.encode_srgb {
@@ -368,7 +510,13 @@ impl Renderer {
             .load_op(load)
             .store_op(if clear { vk::AttachmentStoreOp::STORE } else { vk::AttachmentStoreOp::DONT_CARE })
             .clear_value(vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: 0.0, stencil: 0 } });
+        let flags = if secondary {
+            vk::RenderingFlags::CONTENTS_SECONDARY_COMMAND_BUFFERS
+        } else {
+            vk::RenderingFlags::empty()
+        };
         let rendering = vk::RenderingInfo::default()
+            .flags(flags)
             .render_area(vk::Rect2D { offset: vk::Offset2D::default(), extent: target.extent })
             .layer_count(1)
             .color_attachments(&color)
@@ -487,11 +635,27 @@ impl Renderer {
             frame.uniforms.write(0, &[uniforms]);
             self.write_forces(&mut frame, time);
             let started = Instant::now();
-            let cmd = frame.recorder.begin(&device)?;
-            self.record_scene(&mut frame, cmd, target);
-            finish(&device, cmd);
-            frame.timestamps.write(&device, cmd);
-            frame.recorder.end(&device)?;
+            let prerecorded = self.settings.submission.strategy == Strategy::Prerecorded;
+            let cmd = if prerecorded && frame.recorded_for == Some(target.color) {
+                // Recorded once for this target: uniforms and forces live in buffers written
+                // above, so the same commands render this frame.
+                frame.recorder.cmd
+            } else {
+                frame.recorded_for = None;
+                let cmd = if prerecorded {
+                    frame.recorder.begin_reusable(&device)?
+                } else {
+                    frame.recorder.begin(&device)?
+                };
+                self.record_scene(&mut frame, cmd, target);
+                finish(&device, cmd);
+                frame.timestamps.write(&device, cmd);
+                frame.recorder.end(&device)?;
+                if prerecorded {
+                    frame.recorded_for = Some(target.color);
+                }
+                cmd
+            };
             let recorded = Instant::now();
             let info = |semaphore: Option<vk::Semaphore>, stage| {
                 semaphore.map(|s| vk::SemaphoreSubmitInfo::default().semaphore(s).stage_mask(stage))
@@ -541,6 +705,18 @@ impl Renderer {
     }
 }
 
+/// The viewport covering `extent`, depth 0..1.
+fn full_viewport(extent: vk::Extent2D) -> vk::Viewport {
+    vk::Viewport {
+        x: 0.0,
+        y: 0.0,
+        width: extent.width as f32,
+        height: extent.height as f32,
+        min_depth: 0.0,
+        max_depth: 1.0,
+    }
+}
+
 /// The statistics of pass `i`: graphics passes have a query each, in order; the compute pass
 /// (blade poses) has none.
 fn statistics_of(passes: &[&str], statistics: &[PipelineStatistics], i: usize) -> Option<PipelineStatistics> {
@@ -587,6 +763,9 @@ unsafe fn destroy_resources(device: &Device, res: Resources) {
         }
         if let Some(terrain) = res.terrain {
             terrain.destroy(device);
+        }
+        if let Some(indirect) = res.indirect {
+            indirect.destroy(device);
         }
         for frame in res.frames {
             frame.destroy(device);

@@ -11,6 +11,8 @@ use crate::wind::Attenuation;
 pub const FLAG_DEBUG_FORCE: u32 = 1;
 /// `RENDER_FLAGS` bit: pose records come from the blade-pose compute pass.
 pub const FLAG_EVAL_BLADE: u32 = 2;
+/// `RENDER_FLAGS` bit: per-cluster draws push their first blade.
+pub const FLAG_CLUSTER_PUSH: u32 = 4;
 
 /// The constants, by `constant_id`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -45,10 +47,14 @@ impl Specialization {
         debug_force: bool,
         segments: u32,
         blades_per_instance: u32,
+        cluster_push: bool,
     ) -> Self {
         let mut flags = 0;
         if debug_force {
             flags |= FLAG_DEBUG_FORCE;
+        }
+        if cluster_push {
+            flags |= FLAG_CLUSTER_PUSH;
         }
         if animation.eval == Eval::Blade && animation.mode != Mode::Static {
             flags |= FLAG_EVAL_BLADE;

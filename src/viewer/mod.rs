@@ -232,6 +232,7 @@ impl Viewer {
             debug_force: o.debug_force,
             wireframe: false,
             pipeline_statistics: false,
+            submission: Default::default(),
         };
         let fixed_step = options.script.is_some() || options.frames.is_some();
         Ok(Self {

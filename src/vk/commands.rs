@@ -52,6 +52,18 @@ impl CommandRecorder {
         Ok(self.cmd)
     }
 
+    /// Reset the pool and begin a recording that may be submitted again and again (each
+    /// submission after the previous one completed).
+    pub fn begin_reusable(&self, device: &Device) -> Result<vk::CommandBuffer> {
+        // SAFETY: the caller waited for the buffer's last submission.
+        unsafe {
+            device.raw.reset_command_pool(self.pool, vk::CommandPoolResetFlags::empty()).vk("vkResetCommandPool")?;
+            let begin = vk::CommandBufferBeginInfo::default();
+            device.raw.begin_command_buffer(self.cmd, &begin).vk("vkBeginCommandBuffer")?;
+        }
+        Ok(self.cmd)
+    }
+
     /// End the recording.
     pub fn end(&self, device: &Device) -> Result<()> {
         // SAFETY: the buffer is recording.

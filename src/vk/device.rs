@@ -195,8 +195,11 @@ pub struct Device {
     pub properties: vk::PhysicalDeviceProperties,
     /// Memory heaps and types.
     pub memory: vk::PhysicalDeviceMemoryProperties,
-    /// Enabled core features (pipeline statistics, multi-draw-indirect when supported).
+    /// Enabled core features (pipeline statistics, multi-draw-indirect, first instance in
+    /// indirect draws, non-solid fill, when supported).
     pub features: vk::PhysicalDeviceFeatures,
+    /// `drawIndirectCount` (Vulkan 1.2) enabled: `vkCmdDrawIndirectCount` may be used.
+    pub draw_indirect_count: bool,
     /// The logical device and its function table.
     pub raw: ash::Device,
     /// Debug-utils device functions (object names, labels).
@@ -254,7 +257,9 @@ impl Device {
             )
         };
         let mut supported13 = vk::PhysicalDeviceVulkan13Features::default();
-        let mut supported2 = vk::PhysicalDeviceFeatures2::default().push_next(&mut supported13);
+        let mut supported12 = vk::PhysicalDeviceVulkan12Features::default();
+        let mut supported2 =
+            vk::PhysicalDeviceFeatures2::default().push_next(&mut supported13).push_next(&mut supported12);
         // SAFETY: as above; the chain points to locals.
         unsafe { instance.raw.get_physical_device_features2(physical, &mut supported2) };
         if supported13.synchronization2 == vk::FALSE || supported13.dynamic_rendering == vk::FALSE {
@@ -267,12 +272,14 @@ impl Device {
         let features = vk::PhysicalDeviceFeatures {
             pipeline_statistics_query: supported.pipeline_statistics_query,
             multi_draw_indirect: supported.multi_draw_indirect,
+            draw_indirect_first_instance: supported.draw_indirect_first_instance,
             fill_mode_non_solid: supported.fill_mode_non_solid,
             ..Default::default()
         };
         let mut features13 =
             vk::PhysicalDeviceVulkan13Features::default().synchronization2(true).dynamic_rendering(true);
-        let mut features12 = vk::PhysicalDeviceVulkan12Features::default();
+        let draw_indirect_count = supported12.draw_indirect_count == vk::TRUE;
+        let mut features12 = vk::PhysicalDeviceVulkan12Features::default().draw_indirect_count(draw_indirect_count);
         let mut features2 = vk::PhysicalDeviceFeatures2::default()
             .features(features)
             .push_next(&mut features12)
@@ -320,6 +327,7 @@ impl Device {
             properties,
             memory,
             features,
+            draw_indirect_count,
             raw,
             debug_utils,
             queue,

@@ -6,7 +6,7 @@ use ash::vk;
 use crate::error::Result;
 use crate::render::scene_gpu::SceneGpu;
 use crate::render::shaders;
-use crate::scene::bezier;
+use crate::render::submission::{self, BladeDraws};
 use crate::vk::{pipeline, Device};
 
 /// The blade pipeline.
@@ -49,25 +49,15 @@ impl BladePass {
         self.pipeline
     }
 
-    /// One draw call for all blades: by default one instance per blade, a strip of `2(S+1)`
-    /// vertices. `--blades-per-instance K` packs K blades into each instance (strips joined by
-    /// degenerate triangles, `bezier::Batching`) to measure a driver's per-instance overhead;
-    /// the picture is the same for every K.
-    pub fn record(
-        &self,
-        device: &Device,
-        cmd: vk::CommandBuffer,
-        scene: &SceneGpu,
-        segments: u32,
-        blades_per_instance: u32,
-    ) {
-        let vertices = bezier::Batching::new(segments, blades_per_instance).vertices_per_instance();
-        let instances = scene.blade_count.div_ceil(blades_per_instance);
+    /// Bind the pipeline and record `draws`: by default one draw call for all blades, one
+    /// instance per blade, a strip of `2(S+1)` vertices. `--blades-per-instance K` packs K blades
+    /// into each instance (strips joined by degenerate triangles, `bezier::Batching`) to measure
+    /// a driver's per-instance overhead; the picture is the same for every K. `meadow overhead`
+    /// submits the same blades per cluster, indirectly or from secondaries (`submission`).
+    pub fn record(&self, device: &Device, cmd: vk::CommandBuffer, draws: &BladeDraws) {
         // SAFETY: cmd is recording inside the blade pass's rendering instance; set 0 is bound.
-        unsafe {
-            device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline);
-            device.raw.cmd_draw(cmd, vertices, instances, 0, 0);
-        }
+        unsafe { device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline) };
+        submission::record_draws(device, cmd, draws);
     }
 
     /// Triangles drawn.

@@ -1,0 +1,218 @@
+//! `meadow overhead`: the cost of submitting the same blades in different ways. For each cluster
+//! count, every submission strategy (`render::submission::Strategy`) renders the same static
+//! scene, interleaved frame by frame like `meadow bench`; per frame the CPU time to record the
+//! command buffer and to submit it, and the GPU time. Reported per (clusters, strategy): CPU µs
+//! to record and to submit, ns of recording per draw the GPU executes, draws per second of CPU
+//! time, GPU ms. Strategies the device cannot run are reported as unsupported.
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use ash::vk;
+use serde_json::{json, Value};
+
+use crate::app::write_text;
+use crate::bench::{percentile, SCHEMA_VERSION};
+use crate::error::{Error, Result};
+use crate::render::animation::{AnimationSettings, Mode};
+use crate::render::submission::{Strategy, Submission};
+use crate::render::target::OFFSCREEN_FORMAT;
+use crate::render::{OffscreenTarget, RenderSettings, Renderer};
+use crate::scene::{Camera, Scene};
+use crate::vk::Device;
+
+/// What to measure.
+#[derive(Clone, Debug)]
+pub struct OverheadOptions {
+    /// Blades of the scene.
+    pub blades: u32,
+    /// Segments per blade.
+    pub segments: u32,
+    /// Cluster counts (draws of the per-cluster strategies).
+    pub clusters: Vec<u32>,
+    /// Strategies.
+    pub strategies: Vec<Strategy>,
+    /// Picture size.
+    pub size: (u32, u32),
+    /// Frames per strategy discarded first.
+    pub warmup: u32,
+    /// Frames per strategy measured.
+    pub frames: u32,
+    /// Output directory.
+    pub out: PathBuf,
+}
+
+/// Median of unsorted values.
+fn median(values: &[f64]) -> f64 {
+    let mut sorted = values.to_vec();
+    sorted.sort_by(f64::total_cmp);
+    percentile(&sorted, 50.0)
+}
+
+/// Run the measurement; `progress(done, total)` after every frame. Returns the JSON document.
+pub fn run(device: &Arc<Device>, options: &OverheadOptions, mut progress: impl FnMut(u64, u64)) -> Result<Value> {
+    if options.strategies.is_empty() || options.clusters.is_empty() {
+        return Err(Error::bad_input("nothing to measure: give at least one strategy and one cluster count"));
+    }
+    if let Some(c) = options.clusters.iter().find(|c| **c > options.blades) {
+        return Err(Error::bad_input(format!(
+            "--clusters {c} exceeds --blades {}: a cluster holds a blade at least",
+            options.blades
+        )));
+    }
+    std::fs::create_dir_all(&options.out)
+        .map_err(|source| Error::Io { path: options.out.display().to_string(), source })?;
+    let cells = crate::scene::Terrain::cells_for(crate::scene::blades::field_size(options.blades));
+    crate::app::check_limits(device, options.blades, options.size, cells)?;
+    let scene = Scene::generate(options.blades, 1);
+    let camera = Camera::default_for(&scene.terrain);
+    let extent = vk::Extent2D { width: options.size.0, height: options.size.1 };
+    let total = (options.clusters.len() * options.strategies.len()) as u64 * u64::from(options.warmup + options.frames);
+    let mut done = 0;
+    let mut rows = Vec::new();
+    let mut target = OffscreenTarget::new(device, extent)?;
+    let result = (|| {
+        for &clusters in &options.clusters {
+            // Build what the device supports; the rest is reported.
+            let mut renderers = Vec::new();
+            for &strategy in &options.strategies {
+                if let Some(why) = strategy.unsupported(device, clusters) {
+                    rows.push(json!({ "clusters": clusters, "strategy": strategy.name(), "unsupported": why }));
+                    done += u64::from(options.warmup + options.frames);
+                    continue;
+                }
+                let settings = RenderSettings {
+                    segments: options.segments,
+                    color_format: OFFSCREEN_FORMAT,
+                    encode_srgb: true,
+                    frames_in_flight: 1,
+                    blades_per_instance: 1,
+                    debug_force: false,
+                    wireframe: false,
+                    pipeline_statistics: false,
+                    submission: Submission { strategy, clusters },
+                };
+                let animation = AnimationSettings { mode: Mode::Static, ..Default::default() };
+                renderers.push((strategy, Renderer::new(device.clone(), &scene, settings, animation)?));
+            }
+            let mut frames: Vec<Vec<[f64; 3]>> = vec![Vec::new(); renderers.len()];
+            for round in 0..options.warmup + options.frames {
+                for (i, (_, renderer)) in renderers.iter_mut().enumerate() {
+                    let t = renderer.render_offscreen(&mut target, &camera, 0.0)?;
+                    done += 1;
+                    progress(done, total);
+                    if round >= options.warmup {
+                        frames[i].push([t.cpu_record_ms * 1e3, t.cpu_submit_ms * 1e3, t.gpu_ms]);
+                    }
+                }
+            }
+            for ((strategy, _), frames) in renderers.iter().zip(&frames) {
+                let column = |k: usize| -> Vec<f64> { frames.iter().map(|f| f[k]).collect() };
+                let (record_us, submit_us, gpu_ms) = (median(&column(0)), median(&column(1)), median(&column(2)));
+                let cpu_draws = strategy.blade_draws(clusters);
+                let gpu_draws = strategy.gpu_draws(clusters);
+                let cpu_s = (record_us + submit_us) * 1e-6;
+                rows.push(json!({
+                    "clusters": clusters,
+                    "strategy": strategy.name(),
+                    "draw_calls_recorded": cpu_draws,
+                    "draws_executed": gpu_draws,
+                    "cpu_record_us": record_us,
+                    "cpu_submit_us": submit_us,
+                    "cpu_record_us_p95": percentile(&sorted(column(0)), 95.0),
+                    "ns_per_draw": record_us * 1e3 / f64::from(gpu_draws),
+                    "draws_per_second": if cpu_s > 0.0 { f64::from(gpu_draws) / cpu_s } else { 0.0 },
+                    "gpu_ms": gpu_ms,
+                    "frames": frames.iter().map(|f| json!({"cpu_record_us": f[0], "cpu_submit_us": f[1], "gpu_ms": f[2]})).collect::<Vec<_>>(),
+                }));
+            }
+        }
+        Ok::<(), Error>(())
+    })();
+    // SAFETY: every renderer waited for its frames when dropped (they are gone by now).
+    unsafe { target.destroy(device) };
+    result?;
+    let info = &device.info;
+    Ok(json!({
+        "schema_version": SCHEMA_VERSION,
+        "kind": "overhead",
+        "device": info.name,
+        "driver": format!("{} {}", info.driver_name, info.driver_version),
+        "driver_info": info.driver_info,
+        "resolution": [options.size.0, options.size.1],
+        "build_profile": if cfg!(debug_assertions) { "debug" } else { "release" },
+        "git_commit": option_env!("MEADOW_GIT_COMMIT").unwrap_or("unknown"),
+        "lp_num_threads": std::env::var("LP_NUM_THREADS").ok(),
+        "worker_threads": std::thread::available_parallelism().map_or(2, |n| n.get()),
+        "blades": options.blades,
+        "segments": options.segments,
+        "warmup": options.warmup,
+        "frames_per_strategy": options.frames,
+        "rows": rows,
+    }))
+}
+
+fn sorted(mut values: Vec<f64>) -> Vec<f64> {
+    values.sort_by(f64::total_cmp);
+    values
+}
+
+/// The report table.
+pub fn table(doc: &Value) -> String {
+    let mut out = format!(
+        "{:>8} {:<12} {:>7} {:>7} {:>11} {:>11} {:>10} {:>12} {:>9}\n",
+        "clusters", "strategy", "calls", "draws", "record µs", "submit µs", "ns/draw", "draws/s", "GPU ms"
+    );
+    for row in doc["rows"].as_array().into_iter().flatten() {
+        let clusters = row["clusters"].as_u64().unwrap_or(0);
+        let strategy = row["strategy"].as_str().unwrap_or("");
+        if let Some(why) = row["unsupported"].as_str() {
+            out.push_str(&format!("{clusters:>8} {strategy:<12} unsupported: {why}\n"));
+            continue;
+        }
+        let f = |k: &str| row[k].as_f64().unwrap_or(0.0);
+        out.push_str(&format!(
+            "{:>8} {:<12} {:>7} {:>7} {:>11.1} {:>11.1} {:>10.1} {:>12.3e} {:>9.2}\n",
+            clusters,
+            strategy,
+            row["draw_calls_recorded"].as_u64().unwrap_or(0),
+            row["draws_executed"].as_u64().unwrap_or(0),
+            f("cpu_record_us"),
+            f("cpu_submit_us"),
+            f("ns_per_draw"),
+            f("draws_per_second"),
+            f("gpu_ms"),
+        ));
+    }
+    out.push_str(
+        "record µs: whole frame (terrain, barriers, readback copy included); ns/draw: recording per draw executed; \
+         draws/s: draws executed per second of record + submit\n",
+    );
+    out
+}
+
+/// Tidy CSV: one line per measured frame.
+pub fn csv(doc: &Value) -> String {
+    let mut out = String::from("clusters,strategy,frame,cpu_record_us,cpu_submit_us,gpu_ms\n");
+    for row in doc["rows"].as_array().into_iter().flatten() {
+        for (i, f) in row["frames"].as_array().into_iter().flatten().enumerate() {
+            out.push_str(&format!(
+                "{},{},{},{},{},{}\n",
+                row["clusters"],
+                row["strategy"].as_str().unwrap_or(""),
+                i,
+                f["cpu_record_us"],
+                f["cpu_submit_us"],
+                f["gpu_ms"]
+            ));
+        }
+    }
+    out
+}
+
+/// Write overhead.json and overhead.csv into `dir`.
+pub fn write(doc: &Value, dir: &Path) -> Result<()> {
+    let text = serde_json::to_string_pretty(doc).expect("a JSON value serialises");
+    write_text(&dir.join("overhead.json"), &text)?;
+    write_text(&dir.join("overhead.csv"), &csv(doc))
+}
