@@ -88,8 +88,9 @@ pub struct Frame {
     pub passes: Vec<&'static str>,
     /// Signalled when this frame's swapchain image is acquired (unused headless).
     pub acquire: vk::Semaphore,
-    /// CPU record and submit milliseconds of the submission in flight, until its fence is read.
-    pub pending: Option<(f64, f64)>,
+    /// When recording of the submission in flight started, ended, and when its submission
+    /// returned, until its fence is read.
+    pub pending: Option<[std::time::Instant; 3]>,
     /// Worker command buffers of the `Secondary` submission strategy.
     pub secondaries: Option<SecondaryRecorders>,
     /// `Prerecorded` strategy: the colour image the command buffer was recorded for, if it is

@@ -63,6 +63,8 @@ pub struct PassTime {
     pub name: &'static str,
     /// Milliseconds.
     pub ms: f64,
+    /// Start, in nanoseconds of the device's timestamp clock (masked, scaled).
+    pub start_ns: f64,
     /// What the pass made the pipeline do, when statistics were asked for and supported.
     pub statistics: Option<PipelineStatistics>,
 }
@@ -80,6 +82,12 @@ pub struct FrameTimings {
     pub gpu_ms: f64,
     /// GPU time per pass.
     pub passes: Vec<PassTime>,
+    /// First and last timestamp of the frame, in nanoseconds of the device's timestamp clock.
+    pub gpu_span_ns: (f64, f64),
+    /// When recording started, ended, and submission returned (`None` only in `Default`).
+    pub cpu_spans: Option<[Instant; 3]>,
+    /// When the fence wait before reading these timings started and ended.
+    pub cpu_wait: Option<[Instant; 2]>,
 }
 
 /// Everything the renderer owns. Filled step by step in `new`; null handles and `None`s are
@@ -579,9 +587,10 @@ impl Renderer {
         let frame = &mut self.resources.as_mut().expect("resources").frames[slot];
         let wait_started = Instant::now();
         sync::wait_fence(&device, frame.fence)?;
-        let waited = wait_started.elapsed().as_secs_f64() * 1e3;
+        let wait_ended = Instant::now();
+        let waited = (wait_ended - wait_started).as_secs_f64() * 1e3;
         let timings = match frame.pending.take() {
-            Some((cpu_record_ms, cpu_submit_ms)) => {
+            Some(spans @ [started, recorded, submitted]) => {
                 let stamps = frame.timestamps.read_ns(&device)?;
                 let statistics = match &frame.statistics {
                     Some(queries) => queries.read(&device)?,
@@ -594,15 +603,19 @@ impl Renderer {
                     .map(|(i, name)| PassTime {
                         name,
                         ms: span_ms(stamps[i], stamps[i + 1]),
+                        start_ns: stamps[i],
                         statistics: statistics_of(&frame.passes, &statistics, i),
                     })
                     .collect();
                 Some(FrameTimings {
-                    cpu_record_ms,
-                    cpu_submit_ms,
+                    cpu_record_ms: (recorded - started).as_secs_f64() * 1e3,
+                    cpu_submit_ms: (submitted - recorded).as_secs_f64() * 1e3,
                     cpu_wait_ms: waited,
                     gpu_ms: span_ms(stamps[0], stamps[stamps.len() - 1]),
                     passes,
+                    gpu_span_ns: (stamps[0], stamps[stamps.len() - 1]),
+                    cpu_spans: Some(spans),
+                    cpu_wait: Some([wait_started, wait_ended]),
                 })
             }
             None => None,
@@ -668,8 +681,7 @@ impl Renderer {
             unsafe { device.raw.reset_fences(&[frame.fence]) }.vk("vkResetFences")?;
             commands::submit(&device, cmd, &wait, &signal, frame.fence)?;
             let submitted = Instant::now();
-            frame.pending =
-                Some(((recorded - started).as_secs_f64() * 1e3, (submitted - recorded).as_secs_f64() * 1e3));
+            frame.pending = Some([started, recorded, submitted]);
             Ok(())
         })();
         let frames = &mut self.resources.as_mut().expect("resources").frames;

@@ -200,6 +200,8 @@ pub struct Device {
     pub features: vk::PhysicalDeviceFeatures,
     /// `drawIndirectCount` (Vulkan 1.2) enabled: `vkCmdDrawIndirectCount` may be used.
     pub draw_indirect_count: bool,
+    /// `VK_EXT_calibrated_timestamps` with the device and CLOCK_MONOTONIC domains, if enabled.
+    pub calibrated_timestamps: Option<ash::ext::calibrated_timestamps::Device>,
     /// The logical device and its function table.
     pub raw: ash::Device,
     /// Debug-utils device functions (object names, labels).
@@ -291,6 +293,25 @@ impl Device {
         if desc.swapchain {
             extensions.push(ash::khr::swapchain::NAME.as_ptr());
         }
+        // VK_EXT_calibrated_timestamps, when the device can correlate its timestamps with
+        // CLOCK_MONOTONIC (what `std::time::Instant` reads on Linux): `meadow timing` puts CPU
+        // and GPU spans on one timeline with it.
+        let calibrated = {
+            // SAFETY: physical comes from this instance.
+            let available = unsafe { instance.raw.enumerate_device_extension_properties(physical) }.unwrap_or_default();
+            let has = available.iter().any(|e| e.extension_name_as_c_str() == Ok(ash::ext::calibrated_timestamps::NAME));
+            let domains = if has {
+                let ext = ash::ext::calibrated_timestamps::Instance::new(&instance.entry, &instance.raw);
+                // SAFETY: the device supports the extension.
+                unsafe { ext.get_physical_device_calibrateable_time_domains(physical) }.unwrap_or_default()
+            } else {
+                Vec::new()
+            };
+            has && domains.contains(&vk::TimeDomainEXT::DEVICE) && domains.contains(&vk::TimeDomainEXT::CLOCK_MONOTONIC)
+        };
+        if calibrated {
+            extensions.push(ash::ext::calibrated_timestamps::NAME.as_ptr());
+        }
         let create_info = vk::DeviceCreateInfo::default()
             .queue_create_infos(&queue_infos)
             .enabled_extension_names(&extensions)
@@ -300,6 +321,7 @@ impl Device {
         // SAFETY: the family was requested with one queue.
         let queue = unsafe { raw.get_device_queue(queue_family, 0) };
         let debug_utils = ash::ext::debug_utils::Device::new(&instance.raw, &raw);
+        let calibrated_timestamps = calibrated.then(|| ash::ext::calibrated_timestamps::Device::new(&instance.raw, &raw));
 
         let mut debug_settings = gpu_allocator::AllocatorDebugSettings::default();
         debug_settings.log_leaks_on_shutdown = true;
@@ -328,6 +350,7 @@ impl Device {
             memory,
             features,
             draw_indirect_count,
+            calibrated_timestamps,
             raw,
             debug_utils,
             queue,
