@@ -715,6 +715,32 @@ impl Renderer {
         // Headless: wait right away, so the picture and the timings are ready.
         Ok(self.collect(slot)?.expect("the frame was submitted"))
     }
+
+    /// The CPU side of one frame without its submission, for benchmarks (`benches/recording.rs`):
+    /// take the next slot (`begin_frame`), write its uniforms and corner forces, and record the
+    /// scene passes into `target` with the slot's recorder as `submit_frame` does (nothing
+    /// follows the scene). The command buffer is left executable and is never submitted: nothing
+    /// is pending, the slot's fence stays signalled and the slot's next `begin` resets the buffer.
+    /// The timings of a frame the slot still had in flight are waited for and dropped.
+    pub fn record_only(&mut self, target: &TargetView, camera: &Camera, time: f32) -> Result<()> {
+        let (slot, _) = self.begin_frame()?;
+        let device = self.device.clone();
+        let uniforms = self.frame_uniforms(camera, time, target.extent);
+        let mut frame = self.resources.as_mut().expect("resources").frames.swap_remove(slot);
+        let result = (|| {
+            frame.uniforms.write(0, &[uniforms]);
+            self.write_forces(&mut frame, time);
+            let cmd = frame.recorder.begin(&device)?;
+            self.record_scene(&mut frame, cmd, target);
+            frame.timestamps.write(&device, cmd);
+            frame.recorder.end(&device)
+        })();
+        let frames = &mut self.resources.as_mut().expect("resources").frames;
+        frames.push(frame);
+        let last = frames.len() - 1;
+        frames.swap(slot, last);
+        result
+    }
 }
 
 /// The viewport covering `extent`, depth 0..1.
