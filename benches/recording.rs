@@ -58,6 +58,8 @@ fn bench_variants(c: &mut Criterion, device: &std::sync::Arc<Device>) -> meadow:
                 blades_per_instance,
                 debug_force: false,
                 wireframe: false,
+                pipeline_statistics: false,
+                submission: Default::default(),
             };
             let mut renderer = Renderer::new(device.clone(), &scene, settings, animation)?;
             let mut failure = None;

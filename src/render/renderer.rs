@@ -628,6 +628,39 @@ impl Renderer {
         self.resources().frames[slot].acquire
     }
 
+    /// The CPU side of a frame in `frame`: uniforms and corner forces written, then the command
+    /// buffer recorded (passes, `finish`, the closing timestamp) or, for a pre-recorded
+    /// submission already recorded for `target`, reused as is. Returns it and when recording began.
+    fn prepare_frame(
+        &self,
+        frame: &mut Frame,
+        target: &TargetView,
+        camera: &Camera,
+        time: f32,
+        finish: impl FnOnce(&Device, vk::CommandBuffer),
+    ) -> Result<(vk::CommandBuffer, Instant)> {
+        let device = &*self.device;
+        frame.uniforms.write(0, &[self.frame_uniforms(camera, time, target.extent)]);
+        self.write_forces(frame, time);
+        let started = Instant::now();
+        let prerecorded = self.settings.submission.strategy == Strategy::Prerecorded;
+        if prerecorded && frame.recorded_for == Some(target.color) {
+            // Recorded once for this target: uniforms and forces live in buffers written above,
+            // so the same commands render this frame.
+            return Ok((frame.recorder.cmd, started));
+        }
+        frame.recorded_for = None;
+        let cmd = if prerecorded { frame.recorder.begin_reusable(device)? } else { frame.recorder.begin(device)? };
+        self.record_scene(frame, cmd, target);
+        finish(device, cmd);
+        frame.timestamps.write(device, cmd);
+        frame.recorder.end(device)?;
+        if prerecorded {
+            frame.recorded_for = Some(target.color);
+        }
+        Ok((cmd, started))
+    }
+
     /// Record and submit the frame of `slot` (after `begin_frame`) into `target`: uniforms and
     /// corner forces written, passes recorded, then `finish` records whatever follows the scene
     /// (the colour image's last barrier, a copy), and the submission waits and signals the given
@@ -642,33 +675,9 @@ impl Renderer {
         finish: impl FnOnce(&Device, vk::CommandBuffer),
     ) -> Result<()> {
         let device = self.device.clone();
-        let uniforms = self.frame_uniforms(camera, time, target.extent);
         let mut frame = self.resources.as_mut().expect("resources").frames.swap_remove(slot);
         let result = (|| {
-            frame.uniforms.write(0, &[uniforms]);
-            self.write_forces(&mut frame, time);
-            let started = Instant::now();
-            let prerecorded = self.settings.submission.strategy == Strategy::Prerecorded;
-            let cmd = if prerecorded && frame.recorded_for == Some(target.color) {
-                // Recorded once for this target: uniforms and forces live in buffers written
-                // above, so the same commands render this frame.
-                frame.recorder.cmd
-            } else {
-                frame.recorded_for = None;
-                let cmd = if prerecorded {
-                    frame.recorder.begin_reusable(&device)?
-                } else {
-                    frame.recorder.begin(&device)?
-                };
-                self.record_scene(&mut frame, cmd, target);
-                finish(&device, cmd);
-                frame.timestamps.write(&device, cmd);
-                frame.recorder.end(&device)?;
-                if prerecorded {
-                    frame.recorded_for = Some(target.color);
-                }
-                cmd
-            };
+            let (cmd, started) = self.prepare_frame(&mut frame, target, camera, time, finish)?;
             let recorded = Instant::now();
             let info = |semaphore: Option<vk::Semaphore>, stage| {
                 semaphore.map(|s| vk::SemaphoreSubmitInfo::default().semaphore(s).stage_mask(stage))
@@ -724,17 +733,8 @@ impl Renderer {
     /// The timings of a frame the slot still had in flight are waited for and dropped.
     pub fn record_only(&mut self, target: &TargetView, camera: &Camera, time: f32) -> Result<()> {
         let (slot, _) = self.begin_frame()?;
-        let device = self.device.clone();
-        let uniforms = self.frame_uniforms(camera, time, target.extent);
         let mut frame = self.resources.as_mut().expect("resources").frames.swap_remove(slot);
-        let result = (|| {
-            frame.uniforms.write(0, &[uniforms]);
-            self.write_forces(&mut frame, time);
-            let cmd = frame.recorder.begin(&device)?;
-            self.record_scene(&mut frame, cmd, target);
-            frame.timestamps.write(&device, cmd);
-            frame.recorder.end(&device)
-        })();
+        let result = self.prepare_frame(&mut frame, target, camera, time, |_, _| {}).map(|_| ());
         let frames = &mut self.resources.as_mut().expect("resources").frames;
         frames.push(frame);
         let last = frames.len() - 1;

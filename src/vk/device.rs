@@ -299,7 +299,8 @@ impl Device {
         let calibrated = {
             // SAFETY: physical comes from this instance.
             let available = unsafe { instance.raw.enumerate_device_extension_properties(physical) }.unwrap_or_default();
-            let has = available.iter().any(|e| e.extension_name_as_c_str() == Ok(ash::ext::calibrated_timestamps::NAME));
+            let has =
+                available.iter().any(|e| e.extension_name_as_c_str() == Ok(ash::ext::calibrated_timestamps::NAME));
             let domains = if has {
                 let ext = ash::ext::calibrated_timestamps::Instance::new(&instance.entry, &instance.raw);
                 // SAFETY: the device supports the extension.
@@ -321,7 +322,8 @@ impl Device {
         // SAFETY: the family was requested with one queue.
         let queue = unsafe { raw.get_device_queue(queue_family, 0) };
         let debug_utils = ash::ext::debug_utils::Device::new(&instance.raw, &raw);
-        let calibrated_timestamps = calibrated.then(|| ash::ext::calibrated_timestamps::Device::new(&instance.raw, &raw));
+        let calibrated_timestamps =
+            calibrated.then(|| ash::ext::calibrated_timestamps::Device::new(&instance.raw, &raw));
 
         let mut debug_settings = gpu_allocator::AllocatorDebugSettings::default();
         debug_settings.log_leaks_on_shutdown = true;
