@@ -13,6 +13,7 @@ pub mod keyframes;
 pub mod overhead;
 pub mod render;
 pub mod scene;
+pub mod timing;
 pub mod viewer;
 pub mod vk;
 pub mod wind;

@@ -33,6 +33,9 @@ enum Command {
     /// Measure draw-submission overhead: the same blades drawn instanced, per cluster, indirectly,
     /// from secondaries recorded on threads, or pre-recorded.
     Overhead(OverheadArgs),
+    /// Study a frame's GPU and CPU timing: per-pass percentiles, pipeline statistics, 1/2/3
+    /// frames in flight, a frame-time histogram and a Chrome/Perfetto trace.
+    Timing(TimingArgs),
     /// List the Vulkan devices with their drivers.
     Devices(GpuArgs),
     /// Generate the keyframe table; report its compression figures and export it as a picture.
@@ -194,6 +197,32 @@ struct BenchArgs {
     /// Noise threshold of --compare, in percent.
     #[arg(long, default_value = "10", value_parser = meadow::cli::finite_f32)]
     threshold: f32,
+    #[command(flatten)]
+    gpu: GpuArgs,
+}
+
+#[derive(Args)]
+struct TimingArgs {
+    #[command(flatten)]
+    scene: SceneArgs,
+    /// Frames measured per run (one run each with 1, 2 and 3 frames in flight).
+    #[arg(long, default_value = "30", value_parser = clap::value_parser!(u32).range(1..=10_000))]
+    frames: u32,
+    /// Frames discarded at the start of each run.
+    #[arg(long, default_value = "2", value_parser = clap::value_parser!(u32).range(0..=1000))]
+    warmup: u32,
+    /// Write a Chrome-trace / Perfetto JSON of CPU and GPU spans on one timeline.
+    #[arg(long, value_name = "PATH.json")]
+    trace: Option<PathBuf>,
+    /// Directory for timing.json and the frame-time histogram.
+    #[arg(long, default_value = "timing-out")]
+    out: PathBuf,
+    /// How the blade draws are submitted (see `meadow overhead`).
+    #[arg(long, default_value = "instanced", value_parser = meadow::cli::strategy)]
+    submission: meadow::render::submission::Strategy,
+    /// Clusters (draws) of the per-cluster, indirect and secondary submissions.
+    #[arg(long, default_value = "64", value_parser = meadow::cli::clusters)]
+    clusters: u32,
     #[command(flatten)]
     gpu: GpuArgs,
 }
@@ -489,6 +518,7 @@ fn main() -> ExitCode {
             (finish(app::keyframes(&options).map(|text| print!("{text}"))), None)
         }
         Command::Overhead(args) => overhead(args),
+        Command::Timing(args) => timing(args),
         Command::Devices(args) => {
             let (result, validation) = app::devices(&args.options());
             let code = finish(result.map(|devices| {
@@ -532,6 +562,31 @@ fn advance(bar: &Option<indicatif::ProgressBar>, done: u64, total: u64) {
         bar.set_length(total);
         bar.set_position(done);
     }
+}
+
+/// `meadow timing`. Returns the exit code and validation count.
+fn timing(args: TimingArgs) -> (u8, Option<u64>) {
+    use meadow::timing::{self, TimingOptions};
+    let mut render = args.scene.options(PathBuf::new(), args.frames);
+    render.submission = meadow::render::submission::Submission { strategy: args.submission, clusters: args.clusters };
+    let options = TimingOptions { render, warmup: args.warmup, trace: args.trace, out: args.out };
+    let progress = progress_bar("runs");
+    let (result, validation) = app::with_device(&args.gpu.options(), false, |device| {
+        let (doc, intervals) = timing::run(device, &options, |done, total| advance(&progress, done, total))?;
+        timing::write(&doc, &intervals, &options.out)?;
+        Ok(doc)
+    });
+    if let Some(bar) = progress {
+        bar.finish_and_clear();
+    }
+    let code = finish(result.map(|doc| {
+        print!("{}", timing::report(&doc));
+        if let Some(trace) = &options.trace {
+            println!("wrote {}", trace.display());
+        }
+        println!("wrote {}/timing.json", options.out.display());
+    }));
+    (code, validation)
 }
 
 /// `meadow overhead`. Returns the exit code and validation count.

@@ -65,6 +65,13 @@ pub mod look {
     }
 }
 
+/// Timestamps per frame (two per pass and one at the end).
+const TIMESTAMPS: u32 = 16;
+/// Pipeline-statistics queries per frame (one per graphics pass).
+const STATISTICS: u32 = 8;
+/// Bytes of a frame's query results: 64-bit timestamps, then six 64-bit counters per query.
+const QUERY_RESULT_BYTES: u64 = 8 * TIMESTAMPS as u64 + 48 * STATISTICS as u64;
+
 /// Everything one frame in flight owns. The fence guards all of it: the CPU waits on it before
 /// reusing the command buffer, rewriting the uniforms or reading the queries.
 pub struct Frame {
@@ -84,6 +91,11 @@ pub struct Frame {
     pub timestamps: TimestampQueries,
     /// Pipeline statistics of this frame's passes, when asked for and supported.
     pub statistics: Option<StatisticsQueries>,
+    /// Host-visible copy of the timestamps (from 0) and statistics (from `statistics_offset`),
+    /// written by the frame's last commands.
+    pub query_results: Buffer,
+    /// Offset of the statistics in `query_results`.
+    pub statistics_offset: u64,
     /// Names of the passes recorded, in order (timestamps i and i + 1 bracket pass i).
     pub passes: Vec<&'static str>,
     /// Signalled when this frame's swapchain image is acquired (unused headless).
@@ -123,9 +135,12 @@ impl Frame {
             ] {
                 buffers.push(Buffer::new(device, &BufferDesc::upload(&format!("frame {index} {name}"), size, usage))?);
             }
-            let timestamps = TimestampQueries::new(device, &format!("frame {index} timestamps"), 16)?;
+            let name = format!("frame {index} query results");
+            let results = BufferDesc::readback(&name, QUERY_RESULT_BYTES, vk::BufferUsageFlags::TRANSFER_DST);
+            buffers.push(Buffer::new(device, &results)?);
+            let timestamps = TimestampQueries::new(device, &format!("frame {index} timestamps"), TIMESTAMPS)?;
             let statistics = match statistics {
-                true => StatisticsQueries::new(device, &format!("frame {index} statistics"), 8),
+                true => StatisticsQueries::new(device, &format!("frame {index} statistics"), STATISTICS),
                 false => Ok(None),
             };
             let statistics = match statistics {
@@ -153,13 +168,15 @@ impl Frame {
         match built {
             Ok((timestamps, statistics, acquire)) => {
                 let mut buffers = buffers.into_iter();
-                let mut next = || buffers.next().expect("three buffers");
+                let mut next = || buffers.next().expect("four buffers");
                 Ok(Self {
                     recorder: recorder.expect("created"),
                     fence,
                     uniforms: next(),
                     corners: next(),
                     emitters: next(),
+                    query_results: next(),
+                    statistics_offset: 8 * u64::from(TIMESTAMPS),
                     descriptor_set,
                     timestamps,
                     statistics,
@@ -200,6 +217,7 @@ impl Frame {
             self.uniforms.destroy(device);
             self.corners.destroy(device);
             self.emitters.destroy(device);
+            self.query_results.destroy(device);
             device.raw.destroy_fence(self.fence, None);
             device.raw.destroy_semaphore(self.acquire, None);
             self.recorder.destroy(device);

@@ -591,9 +591,10 @@ impl Renderer {
         let waited = (wait_ended - wait_started).as_secs_f64() * 1e3;
         let timings = match frame.pending.take() {
             Some(spans @ [started, recorded, submitted]) => {
-                let stamps = frame.timestamps.read_ns(&device)?;
+                let copied = frame.query_results.mapped();
+                let stamps = frame.timestamps.read_ns(copied);
                 let statistics = match &frame.statistics {
-                    Some(queries) => queries.read(&device)?,
+                    Some(queries) => queries.read(&copied[frame.statistics_offset as usize..]),
                     None => Vec::new(),
                 };
                 let passes = frame
@@ -654,6 +655,14 @@ impl Renderer {
         self.record_scene(frame, cmd, target);
         finish(device, cmd);
         frame.timestamps.write(device, cmd);
+        // The queries' results, copied on the GPU for the host to read after the fence.
+        let results = frame.query_results.raw;
+        frame.timestamps.record_copy(device, cmd, results, 0);
+        if let Some(statistics) = &frame.statistics {
+            statistics.record_copy(device, cmd, results, frame.statistics_offset);
+        }
+        let to_host = sync::buffer_barrier(results, &[Access::TransferWrite], &[Access::HostRead]);
+        sync::cmd_barriers(device, cmd, &[to_host], &[]);
         frame.recorder.end(device)?;
         if prerecorded {
             frame.recorded_for = Some(target.color);

@@ -50,24 +50,34 @@ impl TimestampQueries {
         index
     }
 
-    /// Read the timestamps written in the last recording, in nanoseconds. Call after the
-    /// frame's fence signalled.
-    pub fn read_ns(&self, device: &Device) -> Result<Vec<f64>> {
-        let mut ticks = vec![0u64; self.written as usize];
-        if ticks.is_empty() {
-            return Ok(Vec::new());
+    /// Bytes `record_copy` writes at most.
+    pub fn copy_size(&self) -> u64 {
+        8 * u64::from(self.capacity)
+    }
+
+    /// Copy the timestamps written so far into `buffer` at `offset` (64-bit each), once they are
+    /// available. Record after the last `write`, outside a render pass; the copy is a transfer
+    /// write to make visible to the host.
+    pub fn record_copy(&self, device: &Device, cmd: vk::CommandBuffer, buffer: vk::Buffer, offset: u64) {
+        if self.written == 0 {
+            return;
         }
-        // SAFETY: the queries were written by a completed submission.
-        unsafe {
-            device.raw.get_query_pool_results(
-                self.pool,
-                0,
-                &mut ticks,
-                vk::QueryResultFlags::TYPE_64 | vk::QueryResultFlags::WAIT,
-            )
-        }
-        .vk("vkGetQueryPoolResults")?;
-        Ok(ticks.iter().map(|t| (t & self.valid_mask) as f64 * self.period_ns).collect())
+        let flags = vk::QueryResultFlags::TYPE_64 | vk::QueryResultFlags::WAIT;
+        // SAFETY: cmd is recording outside a render pass; the buffer holds `copy_size` bytes from
+        // `offset`.
+        unsafe { device.raw.cmd_copy_query_pool_results(cmd, self.pool, 0, self.written, buffer, offset, 8, flags) };
+    }
+
+    /// The timestamps of the last recording, in nanoseconds, from the bytes `record_copy` wrote
+    /// (read after the frame's fence). Queries are copied on the GPU rather than read with
+    /// `vkGetQueryPoolResults`, which lavapipe (Mesa 22.3) implements by draining its whole
+    /// queue: with frames in flight that would serialise the CPU with every frame.
+    pub fn read_ns(&self, copied: &[u8]) -> Vec<f64> {
+        copied[..8 * self.written as usize]
+            .chunks_exact(8)
+            .map(|b| u64::from_le_bytes(b.try_into().expect("8 bytes")))
+            .map(|t| (t & self.valid_mask) as f64 * self.period_ns)
+            .collect()
     }
 
     /// Destroy the pool.
@@ -188,24 +198,31 @@ impl StatisticsQueries {
         unsafe { device.raw.cmd_end_query(cmd, self.pool, index) };
     }
 
-    /// Read the queries of the last recording. Call after the frame's fence signalled.
-    pub fn read(&self, device: &Device) -> Result<Vec<PipelineStatistics>> {
-        let mut results = vec![[0u64; PipelineStatistics::FLAGS.len()]; self.used as usize];
-        if results.is_empty() {
-            return Ok(Vec::new());
+    /// Bytes `record_copy` writes at most.
+    pub fn copy_size(&self) -> u64 {
+        (8 * PipelineStatistics::FLAGS.len() as u64) * u64::from(self.capacity)
+    }
+
+    /// Copy the results of the queries used so far into `buffer` at `offset`, once available
+    /// (record after the last `end`, outside a render pass).
+    pub fn record_copy(&self, device: &Device, cmd: vk::CommandBuffer, buffer: vk::Buffer, offset: u64) {
+        if self.used == 0 {
+            return;
         }
-        // SAFETY: the queries were ended by a completed submission; one result of all counters
-        // per query, 64-bit each, which is the element type's stride.
-        unsafe {
-            device.raw.get_query_pool_results(
-                self.pool,
-                0,
-                &mut results,
-                vk::QueryResultFlags::TYPE_64 | vk::QueryResultFlags::WAIT,
-            )
-        }
-        .vk("vkGetQueryPoolResults")?;
-        Ok(results.iter().map(|w| PipelineStatistics::from_words(w)).collect())
+        let stride = 8 * PipelineStatistics::FLAGS.len() as u64;
+        let flags = vk::QueryResultFlags::TYPE_64 | vk::QueryResultFlags::WAIT;
+        // SAFETY: as TimestampQueries::record_copy.
+        unsafe { device.raw.cmd_copy_query_pool_results(cmd, self.pool, 0, self.used, buffer, offset, stride, flags) };
+    }
+
+    /// The statistics of the last recording from the bytes `record_copy` wrote.
+    pub fn read(&self, copied: &[u8]) -> Vec<PipelineStatistics> {
+        let per = PipelineStatistics::FLAGS.len();
+        let words: Vec<u64> = copied[..8 * per * self.used as usize]
+            .chunks_exact(8)
+            .map(|b| u64::from_le_bytes(b.try_into().expect("8 bytes")))
+            .collect();
+        words.chunks_exact(per).map(PipelineStatistics::from_words).collect()
     }
 
     /// Destroy the pool.

@@ -1,0 +1,439 @@
+//! `meadow timing`: where a frame's time goes. The scene of `meadow render` is rendered with 1,
+//! 2 and 3 frames in flight; for every frame the CPU spans (record, submit, fence wait) and the
+//! GPU spans (each pass, from timestamps) are kept. Reported: per-pass GPU percentiles and
+//! pipeline statistics, a frame-interval histogram, throughput and CPU–GPU overlap per number of
+//! frames in flight, and a Chrome-trace / Perfetto JSON with CPU and GPU spans on one timeline.
+//!
+//! The timeline: with `VK_EXT_calibrated_timestamps` (device and CLOCK_MONOTONIC domains) the
+//! GPU clock is mapped to the CPU's by a calibration taken before each run, and the mapping's
+//! maximum deviation is reported. Without it, the offset is estimated from the first frame:
+//! its last GPU timestamp cannot be later than the CPU's return from its fence wait, which
+//! gives an upper bound, reported as such.
+
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::time::Instant;
+
+use ash::vk;
+use serde_json::{json, Value};
+
+use crate::app::RenderOptions;
+use crate::bench::{percentile, statistics_json, SCHEMA_VERSION};
+use crate::error::{Error, Result, VkContext};
+use crate::render::renderer::FrameSync;
+use crate::render::target::OFFSCREEN_FORMAT;
+use crate::render::{FrameTimings, OffscreenTarget, RenderSettings, Renderer};
+use crate::scene::{Camera, Scene};
+use crate::vk::{Access, Device};
+
+/// What to measure.
+#[derive(Clone, Debug)]
+pub struct TimingOptions {
+    /// The scene, as `meadow render` builds it (`frames` is the frames per run).
+    pub render: RenderOptions,
+    /// Frames discarded at the start of each run.
+    pub warmup: u32,
+    /// Chrome-trace JSON to write, if any.
+    pub trace: Option<PathBuf>,
+    /// Directory for timing.json and the histogram.
+    pub out: PathBuf,
+}
+
+/// How GPU timestamps map to CPU time.
+#[derive(Clone, Copy, Debug)]
+pub struct ClockMapping {
+    /// CPU instant of GPU time `gpu_ns`.
+    pub cpu: Instant,
+    /// GPU timestamp (ns, masked and scaled) at `cpu`.
+    pub gpu_ns: f64,
+    /// Uncertainty of the mapping (ns): the calibration's maximum deviation plus the time the
+    /// CPU clock reads took; or, estimated, how late the bound may be.
+    pub deviation_ns: f64,
+    /// `calibrated` (VK_EXT_calibrated_timestamps) or `estimated` (fence-return bound).
+    pub method: &'static str,
+}
+
+impl ClockMapping {
+    /// Seconds from `anchor` at which GPU time `gpu_ns` happened.
+    pub fn seconds_since(&self, anchor: Instant, gpu_ns: f64) -> f64 {
+        let base =
+            if self.cpu >= anchor { (self.cpu - anchor).as_secs_f64() } else { -(anchor - self.cpu).as_secs_f64() };
+        base + (gpu_ns - self.gpu_ns) * 1e-9
+    }
+}
+
+/// Sample the device clock and CLOCK_MONOTONIC together (VK_EXT_calibrated_timestamps), and
+/// `Instant` around the call; `None` without the extension.
+pub fn calibrate(device: &Device) -> Result<Option<ClockMapping>> {
+    let Some(ext) = &device.calibrated_timestamps else { return Ok(None) };
+    let infos = [
+        vk::CalibratedTimestampInfoEXT::default().time_domain(vk::TimeDomainEXT::DEVICE),
+        vk::CalibratedTimestampInfoEXT::default().time_domain(vk::TimeDomainEXT::CLOCK_MONOTONIC),
+    ];
+    let before = Instant::now();
+    // SAFETY: the extension is enabled and both domains are calibrateable (checked at creation).
+    let (stamps, deviation) = unsafe { ext.get_calibrated_timestamps(&infos) }.vk("vkGetCalibratedTimestampsEXT")?;
+    let after = Instant::now();
+    let valid = device.timestamp_valid_bits;
+    let mask = if valid >= 64 { u64::MAX } else { (1u64 << valid) - 1 };
+    let gpu_ns = (stamps[0] & mask) as f64 * f64::from(device.limits().timestamp_period);
+    // `Instant` reads CLOCK_MONOTONIC on Linux but hides its value: the midpoint of the two reads
+    // around the call stands for the calibrated sample, within half their distance.
+    let half = (after - before) / 2;
+    Ok(Some(ClockMapping {
+        cpu: before + half,
+        gpu_ns,
+        deviation_ns: deviation as f64 + half.as_secs_f64() * 1e9,
+        method: "calibrated",
+    }))
+}
+
+/// One frame of a run.
+struct Frame {
+    index: u32,
+    timings: FrameTimings,
+}
+
+/// A run with `frames_in_flight` frames in flight.
+struct Run {
+    frames_in_flight: usize,
+    frames: Vec<Frame>,
+    mapping: ClockMapping,
+    started: Instant,
+    ended: Instant,
+}
+
+fn summary(values: &[f64]) -> Value {
+    let mut sorted = values.to_vec();
+    sorted.sort_by(f64::total_cmp);
+    json!({
+        "median": percentile(&sorted, 50.0),
+        "p5": percentile(&sorted, 5.0),
+        "p95": percentile(&sorted, 95.0),
+        "p99": percentile(&sorted, 99.0),
+        "max": sorted.last().copied().unwrap_or(0.0),
+    })
+}
+
+/// Render `frames` frames with `frames_in_flight` in flight into one offscreen target. Each
+/// frame's first barrier waits for the previous frame's attachment writes (same queue).
+fn run_one(device: &Arc<Device>, scene: &Scene, options: &TimingOptions, frames_in_flight: usize) -> Result<Run> {
+    let render = &options.render;
+    let settings = RenderSettings {
+        segments: render.segments,
+        color_format: OFFSCREEN_FORMAT,
+        encode_srgb: true,
+        frames_in_flight,
+        blades_per_instance: render.blades_per_instance,
+        debug_force: render.debug_force,
+        wireframe: false,
+        pipeline_statistics: true,
+        submission: render.submission,
+    };
+    let mut renderer = Renderer::new(device.clone(), scene, settings, render.animation.clone())?;
+    let extent = vk::Extent2D { width: render.size.0, height: render.size.1 };
+    let target = OffscreenTarget::new(device, extent)?;
+    let camera = render.camera.unwrap_or_else(|| Camera::default_for(&scene.terrain));
+    let result = (|| {
+        let calibrated = calibrate(device)?;
+        let total = options.warmup + render.frames;
+        let mut frames = Vec::new();
+        let mut in_flight: Vec<Option<u32>> = vec![None; frames_in_flight];
+        let started = Instant::now();
+        let mut view = target.view();
+        for index in 0..total {
+            let (slot, done) = renderer.begin_frame()?;
+            if let (Some(timings), Some(done_index)) = (done, in_flight[slot].take()) {
+                frames.push(Frame { index: done_index, timings });
+            }
+            // Fixed simulation step: frame n shows time n / 60 s.
+            let time = render.time + index as f32 / 60.0;
+            renderer.submit_frame(slot, &view, &camera, time, FrameSync::default(), |_, _| {})?;
+            in_flight[slot] = Some(index);
+            view.color_previous = Access::ColorAttachmentWrite;
+            view.depth_previous = Access::DepthAttachmentReadWrite;
+        }
+        // Drain: each slot's last frame.
+        for _ in 0..frames_in_flight {
+            let (slot, done) = renderer.begin_frame()?;
+            if let (Some(timings), Some(done_index)) = (done, in_flight[slot].take()) {
+                frames.push(Frame { index: done_index, timings });
+            }
+        }
+        let ended = Instant::now();
+        frames.sort_by_key(|f| f.index);
+        let mapping = match calibrated {
+            Some(mapping) => mapping,
+            None => {
+                // Upper bound: the first frame's GPU end happened before its fence wait returned.
+                let first = frames.first().ok_or_else(|| Error::bad_input("no frame rendered"))?;
+                let returned = first.timings.cpu_wait.map_or(ended, |w| w[1]);
+                let wait = first.timings.cpu_wait.map_or(0.0, |w| (w[1] - w[0]).as_secs_f64() * 1e9);
+                ClockMapping {
+                    cpu: returned,
+                    gpu_ns: first.timings.gpu_span_ns.1,
+                    deviation_ns: wait,
+                    method: "estimated",
+                }
+            }
+        };
+        frames.retain(|f| f.index >= options.warmup);
+        Ok(Run { frames_in_flight, frames, mapping, started, ended })
+    })();
+    drop(renderer);
+    // SAFETY: the renderer waited for its frames when dropped.
+    unsafe { target.destroy(device) };
+    result
+}
+
+/// Intersection length of two sorted lists of disjoint intervals.
+fn overlap(a: &[(f64, f64)], b: &[(f64, f64)]) -> f64 {
+    let (mut i, mut j, mut total) = (0, 0, 0.0);
+    while i < a.len() && j < b.len() {
+        let start = a[i].0.max(b[j].0);
+        let end = a[i].1.min(b[j].1);
+        if end > start {
+            total += end - start;
+        }
+        if a[i].1 < b[j].1 {
+            i += 1;
+        } else {
+            j += 1;
+        }
+    }
+    total
+}
+
+/// What a run did, on the CPU timeline (seconds since `anchor`).
+struct Spans {
+    cpu: Vec<(f64, f64)>,
+    gpu: Vec<(f64, f64)>,
+}
+
+fn spans(run: &Run, anchor: Instant) -> Spans {
+    let since = |t: Instant| (t - anchor).as_secs_f64();
+    let mut cpu = Vec::new();
+    let mut gpu = Vec::new();
+    for f in &run.frames {
+        if let Some([started, _, submitted]) = f.timings.cpu_spans {
+            cpu.push((since(started), since(submitted)));
+        }
+        let (a, b) = f.timings.gpu_span_ns;
+        gpu.push((run.mapping.seconds_since(anchor, a), run.mapping.seconds_since(anchor, b)));
+    }
+    Spans { cpu, gpu }
+}
+
+/// Run the measurement. Returns the JSON document and the frame intervals (ms) of the 2-in-flight
+/// run, for the histogram.
+pub fn run(
+    device: &Arc<Device>,
+    options: &TimingOptions,
+    mut progress: impl FnMut(u64, u64),
+) -> Result<(Value, Vec<f64>)> {
+    let render = &options.render;
+    crate::app::check_scene(device, render.blades, render.segments, render.size, &render.animation)?;
+    std::fs::create_dir_all(&options.out)
+        .map_err(|source| Error::Io { path: options.out.display().to_string(), source })?;
+    let scene = Scene::generate(render.blades, render.seed);
+    let mut runs = Vec::new();
+    for (i, fif) in [1usize, 2, 3].into_iter().enumerate() {
+        runs.push(run_one(device, &scene, options, fif)?);
+        progress(i as u64 + 1, 3);
+    }
+    let anchor = runs[0].started;
+    let mut comparison = Vec::new();
+    let mut intervals_2 = Vec::new();
+    for run in &runs {
+        let s = spans(run, anchor);
+        let wall = (run.ended - run.started).as_secs_f64();
+        let measured = s.gpu.last().map_or(0.0, |g| g.1) - s.cpu.first().map_or(0.0, |c| c.0);
+        let gpu_busy: f64 = s.gpu.iter().map(|g| g.1 - g.0).sum();
+        let cpu_busy: f64 = s.cpu.iter().map(|c| c.1 - c.0).sum();
+        let both = overlap(&s.cpu, &s.gpu);
+        let waits: Vec<f64> = run.frames.iter().map(|f| f.timings.cpu_wait_ms).collect();
+        // Frame interval: between consecutive GPU frame ends, what a viewer would see.
+        let intervals: Vec<f64> = s.gpu.windows(2).map(|w| (w[1].1 - w[0].1) * 1e3).collect();
+        if run.frames_in_flight == 2 {
+            intervals_2.clone_from(&intervals);
+        }
+        comparison.push(json!({
+            "frames_in_flight": run.frames_in_flight,
+            "frames": run.frames.len(),
+            "fps": if measured > 0.0 { run.frames.len() as f64 / measured } else { 0.0 },
+            "wall_s": wall,
+            "gpu_busy_fraction": if measured > 0.0 { gpu_busy / measured } else { 0.0 },
+            "cpu_work_ms_per_frame": cpu_busy * 1e3 / run.frames.len().max(1) as f64,
+            "cpu_gpu_overlap_fraction": if cpu_busy > 0.0 { both / cpu_busy } else { 0.0 },
+            "cpu_wait_ms": summary(&waits),
+            "frame_interval_ms": summary(&intervals),
+            "clock": { "method": run.mapping.method, "deviation_ns": run.mapping.deviation_ns },
+        }));
+    }
+    // Per-pass percentiles and statistics: the 1-in-flight run, where frames do not queue.
+    let base = &runs[0];
+    let mut names: Vec<&str> = Vec::new();
+    for f in &base.frames {
+        for p in &f.timings.passes {
+            if !names.contains(&p.name) {
+                names.push(p.name);
+            }
+        }
+    }
+    let passes: Vec<Value> = names
+        .iter()
+        .map(|name| {
+            let ms: Vec<f64> = base
+                .frames
+                .iter()
+                .flat_map(|f| f.timings.passes.iter().filter(|p| p.name == *name).map(|p| p.ms))
+                .collect();
+            json!({ "pass": name, "gpu_ms": summary(&ms) })
+        })
+        .collect();
+    let gpu: Vec<f64> = base.frames.iter().map(|f| f.timings.gpu_ms).collect();
+    let record: Vec<f64> = base.frames.iter().map(|f| f.timings.cpu_record_ms).collect();
+    let submit: Vec<f64> = base.frames.iter().map(|f| f.timings.cpu_submit_ms).collect();
+    let statistics = base.frames.last().map_or(Value::Null, |f| statistics_json(&f.timings.passes));
+    let info = &device.info;
+    let doc = json!({
+        "schema_version": SCHEMA_VERSION,
+        "kind": "timing",
+        "device": info.name,
+        "driver": format!("{} {}", info.driver_name, info.driver_version),
+        "driver_info": info.driver_info,
+        "resolution": [render.size.0, render.size.1],
+        "build_profile": if cfg!(debug_assertions) { "debug" } else { "release" },
+        "git_commit": option_env!("MEADOW_GIT_COMMIT").unwrap_or("unknown"),
+        "lp_num_threads": std::env::var("LP_NUM_THREADS").ok(),
+        "blades": render.blades,
+        "segments": render.segments,
+        "mode": format!("{:?}", render.animation.mode).to_lowercase(),
+        "warmup": options.warmup,
+        "frames_per_run": render.frames,
+        "timestamp_period_ns": device.limits().timestamp_period,
+        "timestamp_valid_bits": device.timestamp_valid_bits,
+        "calibrated_timestamps": device.calibrated_timestamps.is_some(),
+        "gpu_frame_ms": summary(&gpu),
+        "cpu_record_ms": summary(&record),
+        "cpu_submit_ms": summary(&submit),
+        "passes": passes,
+        "pipeline_statistics": statistics,
+        "frames_in_flight": comparison,
+    });
+    if let Some(path) = &options.trace {
+        crate::app::write_text(path, &serde_json::to_string(&trace(&runs, anchor)).expect("serialises"))?;
+    }
+    Ok((doc, intervals_2))
+}
+
+/// Chrome trace-event JSON (chrome://tracing, ui.perfetto.dev): process 1 is the CPU (record,
+/// submit, fence wait per frame), process 2 the GPU (frame and passes); one thread per run.
+fn trace(runs: &[Run], anchor: Instant) -> Value {
+    let us = |s: f64| s * 1e6;
+    let mut events = vec![
+        json!({"ph": "M", "pid": 1, "name": "process_name", "args": {"name": "CPU"}}),
+        json!({"ph": "M", "pid": 2, "name": "process_name", "args": {"name": "GPU (queue)"}}),
+    ];
+    for run in runs {
+        let tid = run.frames_in_flight;
+        let label = format!("{} frame(s) in flight", run.frames_in_flight);
+        for pid in [1, 2] {
+            events.push(json!({"ph": "M", "pid": pid, "tid": tid, "name": "thread_name", "args": {"name": label}}));
+        }
+        let since = |t: Instant| (t - anchor).as_secs_f64();
+        for f in &run.frames {
+            let t = &f.timings;
+            let frame = format!("frame {}", f.index);
+            if let Some([started, recorded, submitted]) = t.cpu_spans {
+                events.push(json!({"ph": "X", "pid": 1, "tid": tid, "name": "record", "ts": us(since(started)),
+                    "dur": us((recorded - started).as_secs_f64()), "args": {"frame": frame}}));
+                events.push(json!({"ph": "X", "pid": 1, "tid": tid, "name": "submit", "ts": us(since(recorded)),
+                    "dur": us((submitted - recorded).as_secs_f64()), "args": {"frame": frame}}));
+            }
+            if let Some([a, b]) = t.cpu_wait {
+                events.push(json!({"ph": "X", "pid": 1, "tid": tid, "name": "fence wait", "ts": us(since(a)),
+                    "dur": us((b - a).as_secs_f64()), "args": {"frame": frame}}));
+            }
+            let at = |ns: f64| us(run.mapping.seconds_since(anchor, ns));
+            events.push(json!({"ph": "X", "pid": 2, "tid": tid, "name": frame, "ts": at(t.gpu_span_ns.0),
+                "dur": (t.gpu_span_ns.1 - t.gpu_span_ns.0) * 1e-3,
+                "args": {"clock": run.mapping.method, "deviation_ns": run.mapping.deviation_ns}}));
+            for p in &t.passes {
+                let mut args = json!({"frame": frame});
+                if let Some(s) = p.statistics {
+                    for (k, v) in s.fields() {
+                        args[k] = json!(v);
+                    }
+                }
+                events.push(json!({"ph": "X", "pid": 2, "tid": tid, "name": p.name, "ts": at(p.start_ns),
+                    "dur": p.ms * 1e3, "args": args}));
+            }
+        }
+    }
+    json!({ "traceEvents": events, "displayTimeUnit": "ms" })
+}
+
+/// The report printed by `meadow timing`.
+pub fn report(doc: &Value) -> String {
+    let mut out = String::new();
+    let f = |v: &Value, k: &str| v[k].as_f64().unwrap_or(0.0);
+    out.push_str(&format!(
+        "{:<14} {:>9} {:>9} {:>9} {:>9}   (1 frame in flight, {} frames)\n",
+        "GPU ms", "median", "p5", "p95", "p99", doc["frames_per_run"]
+    ));
+    let line = |name: &str, s: &Value| {
+        format!("{:<14} {:>9.3} {:>9.3} {:>9.3} {:>9.3}\n", name, f(s, "median"), f(s, "p5"), f(s, "p95"), f(s, "p99"))
+    };
+    out.push_str(&line("frame", &doc["gpu_frame_ms"]));
+    for p in doc["passes"].as_array().into_iter().flatten() {
+        out.push_str(&line(p["pass"].as_str().unwrap_or(""), &p["gpu_ms"]));
+    }
+    out.push_str(&line("cpu record", &doc["cpu_record_ms"]));
+    out.push_str(&line("cpu submit", &doc["cpu_submit_ms"]));
+    out.push_str(&format!(
+        "\n{:<14} {:>12} {:>12} {:>12} {:>12}\n",
+        "statistics", "vertices", "VS invoc.", "clip prims", "FS invoc."
+    ));
+    if let Some(map) = doc["pipeline_statistics"].as_object() {
+        for (pass, s) in map {
+            let g = |k: &str| s[k].as_u64().unwrap_or(0);
+            out.push_str(&format!(
+                "{:<14} {:>12} {:>12} {:>12} {:>12}\n",
+                pass,
+                g("input_vertices"),
+                g("vertex_invocations"),
+                g("clipping_primitives"),
+                g("fragment_invocations")
+            ));
+        }
+    }
+    out.push_str(&format!(
+        "\n{:>9} {:>8} {:>9} {:>11} {:>12} {:>11} {:>14}  clock\n",
+        "in flight", "fps", "GPU busy", "CPU ms/fr", "CPU∩GPU", "wait ms", "interval p95"
+    ));
+    for r in doc["frames_in_flight"].as_array().into_iter().flatten() {
+        out.push_str(&format!(
+            "{:>9} {:>8.2} {:>8.1}% {:>11.3} {:>11.1}% {:>11.2} {:>14.2}  {} ±{:.1} µs\n",
+            r["frames_in_flight"],
+            f(r, "fps"),
+            100.0 * f(r, "gpu_busy_fraction"),
+            f(r, "cpu_work_ms_per_frame"),
+            100.0 * f(r, "cpu_gpu_overlap_fraction"),
+            f(&r["cpu_wait_ms"], "median"),
+            f(&r["frame_interval_ms"], "p95"),
+            r["clock"]["method"].as_str().unwrap_or(""),
+            f(&r["clock"], "deviation_ns") * 1e-3,
+        ));
+    }
+    out.push_str(
+        "GPU busy: GPU frame spans over the run; CPU∩GPU: share of the CPU's record + submit time \
+         during which the GPU was rendering (0 % with one frame in flight: it waits for every frame)\n",
+    );
+    out
+}
+
+/// Write timing.json into `dir` (the histogram of `intervals` comes with the plots).
+pub fn write(doc: &Value, _intervals: &[f64], dir: &std::path::Path) -> Result<()> {
+    crate::app::write_text(&dir.join("timing.json"), &serde_json::to_string_pretty(doc).expect("serialises"))
+}
