@@ -2,7 +2,8 @@
 //!
 //! Data flows one way: the CPU [`scene`] (terrain, blades) → GPU buffers ([`render::scene_gpu`])
 //! → passes ([`render::passes`]) → an image (offscreen or swapchain). [`vk`] is the thin Vulkan
-//! layer underneath; [`app`] holds the commands the `meadow` binary dispatches to.
+//! layer underneath; [`app`] holds the commands the `meadow` binary dispatches to, and [`plot`]
+//! draws their benchmark charts.
 
 pub mod app;
 pub mod bench;
@@ -10,6 +11,7 @@ pub mod cli;
 pub mod error;
 pub mod imagediff;
 pub mod keyframes;
+pub mod plot;
 pub mod render;
 pub mod scene;
 pub mod viewer;
