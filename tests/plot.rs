@@ -138,9 +138,10 @@ fn rewriting_replaces_the_file_and_leaves_no_temp_files() {
 
 #[test]
 fn missing_directory_is_an_io_error() {
-    let out = scratch("missing").join("no/such/dir/x.png");
-    let err = plot::line_panels(&out, (600, 400), "t", &three_series()[..1], 1).unwrap_err();
+    let dir = scratch("missing");
+    let err = plot::line_panels(&dir.join("no/such/dir/x.png"), (600, 400), "t", &three_series()[..1], 1).unwrap_err();
     assert!(matches!(err, Error::Io { .. }), "{err:?}");
+    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// Assert `result` is `BadInput` mentioning `needle` and that `dir` stayed empty.
