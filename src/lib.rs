@@ -2,7 +2,8 @@
 //!
 //! Data flows one way: the CPU [`scene`] (terrain, blades) → GPU buffers ([`render::scene_gpu`])
 //! → passes ([`render::passes`]) → an image (offscreen or swapchain). [`vk`] is the thin Vulkan
-//! layer underneath; [`app`] holds the commands the `meadow` binary dispatches to.
+//! layer underneath; [`app`] holds the commands the `meadow` binary dispatches to, and [`plot`]
+//! draws their benchmark charts.
 
 pub mod app;
 pub mod bench;
@@ -11,6 +12,7 @@ pub mod error;
 pub mod imagediff;
 pub mod keyframes;
 pub mod overhead;
+pub mod plot;
 pub mod render;
 pub mod scene;
 pub mod timing;
