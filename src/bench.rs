@@ -398,11 +398,83 @@ pub fn csv(doc: &Value) -> String {
     out
 }
 
-/// Write bench.json and bench.csv into `dir`.
+/// Write bench.json, bench.csv and bench.png into `dir`.
 pub fn write(doc: &Value, dir: &Path) -> Result<()> {
     let text = serde_json::to_string_pretty(doc).expect("a JSON value serialises");
     write_text(&dir.join("bench.json"), &text)?;
-    write_text(&dir.join("bench.csv"), &csv(doc))
+    write_text(&dir.join("bench.csv"), &csv(doc))?;
+    plot(doc, &dir.join("bench.png"))
+}
+
+/// `bench.png`: per segment count, the median frame time of every variant against the blade
+/// count (top row), and each variant's ratio to static (bottom row).
+pub fn plot(doc: &Value, path: &Path) -> Result<()> {
+    use crate::plot::{line_panels, Panel, Scale, Series};
+    let rows: Vec<&Value> = doc["rows"].as_array().into_iter().flatten().collect();
+    let mut segments: Vec<u64> = rows.iter().filter_map(|r| r["segments"].as_u64()).collect();
+    segments.sort_unstable();
+    segments.dedup();
+    let mut names: Vec<String> = Vec::new();
+    for row in &rows {
+        for v in row["variants"].as_array().into_iter().flatten() {
+            let name = v["variant"].as_str().unwrap_or("").to_string();
+            if !names.contains(&name) {
+                names.push(name);
+            }
+        }
+    }
+    // Every variant in both rows, so a variant keeps its colour (static is 1 in the ratio row).
+    let series = |seg: u64, value: &dyn Fn(&Value, &str) -> Option<f64>| -> Vec<Series> {
+        names
+            .iter()
+            .map(|name| Series {
+                label: name.clone(),
+                points: rows
+                    .iter()
+                    .filter(|r| r["segments"].as_u64() == Some(seg))
+                    .filter_map(|r| Some((r["blades"].as_f64()?, value(r, name)?)))
+                    .filter(|p| p.1 > 0.0)
+                    .collect(),
+            })
+            .filter(|s| !s.points.is_empty())
+            .collect()
+    };
+    let many = rows.iter().filter(|r| r["segments"].as_u64() == segments.first().copied()).count() > 1;
+    let x_scale = if many { Scale::Log } else { Scale::Linear };
+    let mut panels = Vec::new();
+    for &seg in &segments {
+        panels.push(Panel {
+            title: format!("{seg} segments: frame time"),
+            x_label: "blades".into(),
+            y_label: "GPU ms (median)".into(),
+            x_scale,
+            y_scale: Scale::Log,
+            series: series(seg, &|r, n| median(r, n)),
+        });
+    }
+    for &seg in &segments {
+        panels.push(Panel {
+            title: format!("{seg} segments: ratio to static"),
+            x_label: "blades".into(),
+            y_label: "frame time / static".into(),
+            x_scale,
+            y_scale: Scale::Linear,
+            series: series(seg, &|r, n| Some(median(r, n)? / median(r, "static")?)),
+        });
+    }
+    panels.retain(|p| !p.series.is_empty());
+    if panels.is_empty() {
+        return Ok(());
+    }
+    let columns = segments.len().max(1);
+    let size = (560 * columns as u32, 900);
+    let title = format!(
+        "meadow bench: {} at {}x{}",
+        doc["device"].as_str().unwrap_or("?"),
+        doc["resolution"][0],
+        doc["resolution"][1]
+    );
+    line_panels(path, size, &title, &panels, columns)
 }
 
 /// Read a bench.json.

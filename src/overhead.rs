@@ -210,9 +210,73 @@ pub fn csv(doc: &Value) -> String {
     out
 }
 
-/// Write overhead.json and overhead.csv into `dir`.
+/// Write overhead.json, overhead.csv and overhead.png into `dir`.
 pub fn write(doc: &Value, dir: &Path) -> Result<()> {
     let text = serde_json::to_string_pretty(doc).expect("a JSON value serialises");
     write_text(&dir.join("overhead.json"), &text)?;
-    write_text(&dir.join("overhead.csv"), &csv(doc))
+    write_text(&dir.join("overhead.csv"), &csv(doc))?;
+    plot(doc, &dir.join("overhead.png"))
+}
+
+/// `overhead.png`: CPU record + submit per frame, recording ns per draw and GPU ms against the
+/// cluster count, one series per strategy.
+pub fn plot(doc: &Value, path: &Path) -> Result<()> {
+    use crate::plot::{line_panels, Panel, Scale, Series};
+    let rows: Vec<&Value> =
+        doc["rows"].as_array().into_iter().flatten().filter(|r| r["unsupported"].is_null()).collect();
+    let mut strategies: Vec<&str> = Vec::new();
+    for r in &rows {
+        let s = r["strategy"].as_str().unwrap_or("");
+        if !strategies.contains(&s) {
+            strategies.push(s);
+        }
+    }
+    let clusters: std::collections::BTreeSet<u64> = rows.iter().filter_map(|r| r["clusters"].as_u64()).collect();
+    let x_scale = if clusters.len() > 1 { Scale::Log } else { Scale::Linear };
+    let series = |value: &dyn Fn(&Value) -> f64| -> Vec<Series> {
+        strategies
+            .iter()
+            .map(|s| Series {
+                label: s.to_string(),
+                points: rows
+                    .iter()
+                    .filter(|r| r["strategy"] == *s)
+                    .filter_map(|r| Some((r["clusters"].as_f64()?, value(r))))
+                    .filter(|p| p.1 > 0.0 && p.1.is_finite())
+                    .collect(),
+            })
+            .filter(|s| !s.points.is_empty())
+            .collect()
+    };
+    let f = |r: &Value, k: &str| r[k].as_f64().unwrap_or(0.0);
+    let panel = |title: &str, y: &str, series: Vec<Series>| Panel {
+        title: title.into(),
+        x_label: "clusters (draws)".into(),
+        y_label: y.into(),
+        x_scale,
+        y_scale: Scale::Log,
+        series,
+    };
+    let panels: Vec<Panel> = [
+        panel(
+            "CPU record + submit per frame",
+            "µs (median)",
+            series(&|r| f(r, "cpu_record_us") + f(r, "cpu_submit_us")),
+        ),
+        panel("Recording per draw executed", "ns per draw", series(&|r| f(r, "ns_per_draw"))),
+        panel("GPU time per frame", "GPU ms (median)", series(&|r| f(r, "gpu_ms"))),
+    ]
+    .into_iter()
+    .filter(|p| !p.series.is_empty())
+    .collect();
+    if panels.is_empty() {
+        return Ok(());
+    }
+    let title = format!(
+        "meadow overhead: {} blades x {} segments on {}",
+        doc["blades"],
+        doc["segments"],
+        doc["device"].as_str().unwrap_or("?")
+    );
+    line_panels(path, (560 * panels.len() as u32, 480), &title, &panels, panels.len())
 }

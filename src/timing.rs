@@ -433,7 +433,19 @@ pub fn report(doc: &Value) -> String {
     out
 }
 
-/// Write timing.json into `dir` (the histogram of `intervals` comes with the plots).
-pub fn write(doc: &Value, _intervals: &[f64], dir: &std::path::Path) -> Result<()> {
-    crate::app::write_text(&dir.join("timing.json"), &serde_json::to_string_pretty(doc).expect("serialises"))
+/// Write timing.json and timing.png (histogram of the frame intervals with 2 frames in flight)
+/// into `dir`.
+pub fn write(doc: &Value, intervals: &[f64], dir: &std::path::Path) -> Result<()> {
+    crate::app::write_text(&dir.join("timing.json"), &serde_json::to_string_pretty(doc).expect("serialises"))?;
+    if intervals.is_empty() {
+        return Ok(());
+    }
+    let title = format!(
+        "Frame intervals, 2 in flight: {} blades x {} seg, {}",
+        doc["blades"],
+        doc["segments"],
+        doc["mode"].as_str().unwrap_or("?")
+    );
+    let bins = (intervals.len() / 3).clamp(5, 40);
+    crate::plot::histogram(&dir.join("timing.png"), (1000, 560), &title, "ms between GPU frame ends", intervals, bins)
 }
