@@ -1,0 +1,123 @@
+//! GPU timing: timestamps bracket what they should (an empty span reads near zero, a known
+//! workload does not), and `meadow timing` reports passes, statistics, frames in flight, a
+//! histogram and a trace whose GPU spans nest, under validation; bad arguments exit 2.
+
+mod support;
+
+use ash::vk;
+use meadow::app::{with_device, GpuOptions};
+use meadow::vk::query::{span_ms, TimestampQueries};
+use meadow::vk::{commands, sync, Access, Buffer, BufferDesc, DeviceSelector};
+use serde_json::Value;
+use support::{assert_clean, meadow, scratch, transcript};
+
+#[test]
+fn timestamps_of_an_empty_span_are_near_zero_and_of_a_fill_are_not() {
+    let options = GpuOptions { validation: true, device: DeviceSelector::Name(support::DEVICE.into()) };
+    let (result, validation) = with_device(&options, false, |device| {
+        let size = 64 << 20;
+        let target =
+            Buffer::new(device, &BufferDesc::gpu_only("fill target", size, vk::BufferUsageFlags::TRANSFER_DST))?;
+        let results = Buffer::new(device, &BufferDesc::readback("stamps", 64, vk::BufferUsageFlags::TRANSFER_DST))?;
+        let mut stamps = TimestampQueries::new(device, "test stamps", 4)?;
+        let spans = commands::submit_and_wait(device, "timestamps", |cmd| {
+            stamps.reset(device, cmd);
+            stamps.write(device, cmd);
+            stamps.write(device, cmd); // nothing between: an empty span
+                                       // SAFETY: cmd is recording; the buffer is TRANSFER_DST and `size` bytes.
+            unsafe { device.raw.cmd_fill_buffer(cmd, target.raw, 0, size, 0x3f80_0000) };
+            stamps.write(device, cmd); // after 64 MiB written
+            stamps.record_copy(device, cmd, results.raw, 0);
+            let to_host = sync::buffer_barrier(results.raw, &[Access::TransferWrite], &[Access::HostRead]);
+            sync::cmd_barriers(device, cmd, &[to_host], &[]);
+            Ok(())
+        })
+        .map(|()| {
+            let ns = stamps.read_ns(results.mapped());
+            (span_ms(ns[0], ns[1]), span_ms(ns[1], ns[2]))
+        });
+        // SAFETY: submit_and_wait waited for the GPU.
+        unsafe {
+            stamps.destroy(device);
+            target.destroy(device);
+            results.destroy(device);
+        }
+        spans
+    });
+    let (empty, fill) = result.expect("timestamps");
+    assert_eq!(validation, Some(0), "validation messages");
+    assert!(empty < 0.5, "empty span {empty} ms");
+    assert!(fill > 0.0 && fill > empty, "64 MiB fill {fill} ms vs empty {empty} ms");
+}
+
+#[test]
+fn timing_reports_passes_frames_in_flight_and_a_trace() {
+    let dir = scratch("timing-tiny");
+    let trace = dir.join("trace.json");
+    let output = meadow()
+        .args(["timing", "--validation", "--device", support::DEVICE, "--blades", "2000", "--segments", "4"])
+        .args(["--size", "64x48", "--frames", "4", "--warmup", "1", "--out"])
+        .arg(&dir)
+        .arg("--trace")
+        .arg(&trace)
+        .output()
+        .expect("run meadow timing");
+    assert_clean(&output);
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(stdout.contains("in flight") && stdout.contains("blades"), "{stdout}");
+
+    let doc: Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("timing.json")).expect("timing.json")).expect("JSON");
+    assert_eq!(doc["kind"], "timing");
+    let passes: Vec<&str> =
+        doc["passes"].as_array().expect("passes").iter().filter_map(|p| p["pass"].as_str()).collect();
+    assert_eq!(passes, ["terrain", "blades"]);
+    for p in doc["passes"].as_array().expect("passes") {
+        assert!(p["gpu_ms"]["median"].as_f64().expect("median") > 0.0, "{p}");
+    }
+    assert_eq!(doc["pipeline_statistics"]["blades"]["vertex_invocations"], 2000 * 10);
+    let runs = doc["frames_in_flight"].as_array().expect("runs");
+    assert_eq!(runs.iter().map(|r| r["frames_in_flight"].as_u64().unwrap_or(0)).collect::<Vec<_>>(), [1, 2, 3]);
+    for r in runs {
+        assert_eq!(r["frames"], 4, "warm-up frames are dropped: {r}");
+        assert!(r["fps"].as_f64().expect("fps") > 0.0);
+        let busy = r["gpu_busy_fraction"].as_f64().expect("busy");
+        assert!(busy > 0.0 && busy <= 1.0 + 1e-6, "{r}");
+    }
+    assert_eq!(runs[0]["cpu_gpu_overlap_fraction"], 0.0, "one frame in flight cannot overlap");
+    let histogram = image::open(dir.join("timing.png")).expect("timing.png decodes");
+    assert!(histogram.width() > 100 && histogram.height() > 100);
+
+    // The trace: CPU and GPU processes; every pass lies within its frame's GPU span.
+    let trace: Value = serde_json::from_str(&std::fs::read_to_string(&trace).expect("trace")).expect("trace JSON");
+    let events = trace["traceEvents"].as_array().expect("events");
+    let spans: Vec<&Value> = events.iter().filter(|e| e["ph"] == "X").collect();
+    assert!(spans.iter().any(|e| e["pid"] == 1 && e["name"] == "record"));
+    let frames: Vec<&&Value> =
+        spans.iter().filter(|e| e["pid"] == 2 && e["name"].as_str().unwrap_or("").starts_with("frame")).collect();
+    assert_eq!(frames.len(), 3 * 4);
+    for pass in spans.iter().filter(|e| e["pid"] == 2 && (e["name"] == "terrain" || e["name"] == "blades")) {
+        let frame = frames
+            .iter()
+            .find(|f| f["tid"] == pass["tid"] && f["name"] == pass["args"]["frame"])
+            .expect("the pass's frame");
+        let (fs, fd) = (frame["ts"].as_f64().unwrap(), frame["dur"].as_f64().unwrap());
+        let (ps, pd) = (pass["ts"].as_f64().unwrap(), pass["dur"].as_f64().unwrap());
+        assert!(ps >= fs - 1e-3 && ps + pd <= fs + fd + 1e-3, "{pass} outside {frame}");
+    }
+}
+
+#[test]
+fn bad_timing_arguments_exit_2() {
+    for args in [
+        &["timing", "--frames", "0"][..],
+        &["timing", "--blades", "0"][..],
+        &["timing", "--size", "0x10"][..],
+        &["timing", "--submission", "mesh"][..],
+    ] {
+        let output = meadow().args(args).output().expect("run");
+        assert_eq!(output.status.code(), Some(2), "{args:?}: {}", transcript(&output));
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert!(stderr.starts_with("error: ") && stderr.lines().count() == 1, "{args:?}: {stderr}");
+    }
+}
