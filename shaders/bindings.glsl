@@ -17,11 +17,16 @@ layout(set = 0, binding = BINDING_KEYFRAMES) uniform sampler2D keyframe_texture;
 // min(maxUniformBufferRange, 64 KiB), set by the pipeline (`KeyframeUniforms::capacity`).
 layout(constant_id = 0) const uint KEYFRAME_UVEC4S = 4096u;
 layout(set = 0, binding = BINDING_KEYFRAME_WORDS, std140) uniform KeyframeWords { uvec4 keyframe_words[KEYFRAME_UVEC4S]; };
-// One pose record per blade (`--eval blade`): written by blade_pose.comp, read by blade.vert.
+// `--eval blade`: the evaluated blade, written by blade_pose.comp and read by blade.vert:
+// POSE_WORDS words per level, SEGMENTS + 1 levels per blade: the local-frame point divided by
+// the blade's height and by POSE_SCALE (snorm16 x y | z, and the twist's cos and sin as snorm8),
+// then the unit tangent and the force magnitude for the debug view (snorm8 x4).
 #ifdef POSE_WRITER
-layout(set = 0, binding = BINDING_POSES, std430) writeonly buffer Poses { uvec4 poses[]; };
+layout(set = 0, binding = BINDING_POSES, std430) writeonly buffer Poses { uint poses[]; };
 #else
-layout(set = 0, binding = BINDING_POSES, std430) readonly buffer Poses { uvec4 poses[]; };
+layout(set = 0, binding = BINDING_POSES, std430) readonly buffer Poses { uint poses[]; };
 #endif
+const uint POSE_WORDS = 3u;
+const float POSE_SCALE = 2.0; // local point / height lies within ±POSE_SCALE
 
 #endif

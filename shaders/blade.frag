@@ -19,5 +19,5 @@ void main() {
     }
     // Memberwise product with the alpha channel: the rim is darker (thesis 4.1).
     vec3 color = in_lit.rgb * mix(0.45, 1.0, alpha) + frame.sky_color.rgb * (1.0 - in_lit.a);
-    out_color = vec4(encode_output(color, frame.params.w), 1.0);
+    out_color = vec4(encode_output(color), 1.0);
 }

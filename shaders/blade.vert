@@ -30,14 +30,6 @@ layout(push_constant) uniform ClusterPush {
 layout(location = 0) out vec2 out_uv;         // u across, v root -> tip
 layout(location = 1) out vec4 out_lit;        // rgb: lit, fogged blade colour before the rim; a: fog transmittance
 
-// Local-frame point of the deformed blade at `level`: neutral Bézier point plus the keyframe
-// displacement (root-relative pose minus the straight unit blade) scaled by the height. w: twist.
-vec4 deformed(vec3 p[4], KfSelection sel, uint level, uint segments, float height) {
-    float t = float(level) / float(segments);
-    vec4 pose = kf_level(sel, level, segments);
-    vec3 displacement = pose.xyz - vec3(0.0, t, 0.0);
-    return vec4(bezier_point(p[0], p[1], p[2], p[3], t) + displacement * height, pose.w);
-}
 
 void main() {
     const uint segments = SEGMENTS;
@@ -66,45 +58,45 @@ void main() {
 
     vec3 local;
     vec3 local_tangent;
-    float twist = 0.0;
+    vec2 twist_cs = vec2(1.0, 0.0); // cos, sin of the twist
     float force_magnitude = 0.0;
     if (ANIMATION_MODE == MODE_STATIC) {
         local = bezier_point(p[0], p[1], p[2], p[3], t);
         local_tangent = bezier_tangent(p[0], p[1], p[2], p[3], t);
+    } else if ((RENDER_FLAGS & FLAG_EVAL_BLADE) != 0u) {
+        // Evaluated once per blade and level by blade_pose.comp (thesis ch. 7 future work, with
+        // compute): point, tangent and twist of this level in three words, no keyframe fetch.
+        uint at = (blade_index * (SEGMENTS + 1u) + level) * POSE_WORDS;
+        uint w1 = poses[at + 1u];
+        vec4 tangent_force = unpackSnorm4x8(poses[at + 2u]);
+        local = vec3(unpackSnorm2x16(poses[at]), unpackSnorm2x16(w1 & 0xffffu).x) * (POSE_SCALE * blade.height);
+        local_tangent = tangent_force.xyz;
+        twist_cs = unpackSnorm4x8(w1).zw;
+        force_magnitude = tangent_force.w;
     } else {
         float force;
-        KfSelection sel;
-        if ((RENDER_FLAGS & FLAG_EVAL_BLADE) != 0u) {
-            // Selected once per blade by blade_pose.comp (thesis ch. 7 future work, with compute).
-            sel = kf_unpack(poses[blade_index], force);
-        } else {
-            sel = kf_select_blade(blade_index, blade, force);
-        }
+        KfSelection sel = kf_select_blade(blade_index, blade, force);
         force_magnitude = force;
         if (REPRESENTATION == 1u) {
-            // Curve representation: the pose's control points displace the neutral ones; the
-            // blade is evaluated at any t, with an analytic tangent; the twist grows linearly.
-            vec4 c1 = kf_record(sel, 1u, vec3(0.0, 1.0 / 3.0, 0.0));
-            vec4 c2 = kf_record(sel, 2u, vec3(0.0, 2.0 / 3.0, 0.0));
-            vec4 c3 = kf_record(sel, 3u, vec3(0.0, 1.0, 0.0));
-            vec3 q1 = p[1] + (c1.xyz - vec3(0.0, 1.0 / 3.0, 0.0)) * blade.height;
-            vec3 q2 = p[2] + (c2.xyz - vec3(0.0, 2.0 / 3.0, 0.0)) * blade.height;
-            vec3 q3 = p[3] + (c3.xyz - vec3(0.0, 1.0, 0.0)) * blade.height;
-            local = bezier_point(p[0], q1, q2, q3, t);
-            local_tangent = bezier_tangent(p[0], q1, q2, q3, t);
-            twist = c1.w * t;
+            vec4 c1;
+            vec4 c2;
+            vec4 c3;
+            curve_controls(sel, p, blade.height, c1, c2, c3);
+            local = bezier_point(p[0], c1.xyz, c2.xyz, c3.xyz, t);
+            local_tangent = bezier_tangent(p[0], c1.xyz, c2.xyz, c3.xyz, t);
+            twist_cs = vec2(cos(c1.w * t), sin(c1.w * t));
         } else {
             vec4 here = deformed(p, sel, level, segments, blade.height);
             vec4 below = level > 0u ? deformed(p, sel, level - 1u, segments, blade.height) : here;
             vec4 above = level < segments ? deformed(p, sel, level + 1u, segments, blade.height) : here;
             local = here.xyz;
             local_tangent = above.xyz - below.xyz;
-            twist = here.w;
+            twist_cs = vec2(cos(here.w), sin(here.w));
         }
     }
 
     // The width turns about +y by the twist: the blade faces the wind (Zhang Xia §3.2.5).
-    vec3 width_dir = across * cos(twist) - normal_dir * sin(twist);
+    vec3 width_dir = across * twist_cs.x - normal_dir * twist_cs.y;
     vec3 world = blade.position + across * local.x + vec3(0.0, local.y, 0.0) + normal_dir * local.z
         + width_dir * ((side - 0.5) * blade.width);
     vec3 world_tangent = across * local_tangent.x + vec3(0.0, local_tangent.y, 0.0) + normal_dir * local_tangent.z;

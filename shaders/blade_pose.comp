@@ -1,11 +1,13 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // `--eval blade`: the per-blade half of the animation — force interpolation (eq. 3.6), delayed
-// attenuation (4.5), the blade frame and the keyframe selection (eq. 3.10–3.12) — done once per
-// blade instead of once per vertex, written as a 16-byte pose record blade.vert reads. The
-// thesis' chapter 7 future work, with a compute pass.
+// attenuation (4.5), the blade frame, the keyframe selection (eq. 3.10–3.12) and the blend of
+// every chain level (eq. 3.13/3.14) — done once per blade instead of once per vertex (three
+// times per vertex, for the tangent). The evaluated levels go to the pose records blade.vert
+// reads (bindings.glsl). The thesis' chapter 7 future work, with a compute pass.
 #define POSE_WRITER
 #include "bindings.glsl"
+#include "bezier.glsl"
 #include "forces.glsl"
 #include "keyframes.glsl"
 #include "blade_select.glsl"
@@ -17,7 +19,38 @@ void main() {
     if (i >= frame.params.y) {
         return;
     }
+    BladeInstance blade = blades[i];
     float force;
-    KfSelection s = kf_select_blade(i, blades[i], force);
-    poses[i] = kf_pack(s, force);
+    KfSelection sel = kf_select_blade(i, blade, force);
+    vec3 p[4];
+    neutral_control_points(blade.height, unpack_variation(blade.variation, 2), p);
+    uint base = i * (SEGMENTS + 1u) * POSE_WORDS;
+    vec4 c1;
+    vec4 c2;
+    vec4 c3;
+    if (REPRESENTATION == 1u) {
+        curve_controls(sel, p, blade.height, c1, c2, c3);
+    }
+    // Points of every level first (the tangent of a level needs its neighbours).
+    vec4 points[SEGMENTS + 1u];
+    points[0] = vec4(0.0);
+    for (uint level = 1u; level <= SEGMENTS; level++) {
+        float t = float(level) / float(SEGMENTS);
+        points[level] = REPRESENTATION == 1u
+            ? vec4(bezier_point(p[0], c1.xyz, c2.xyz, c3.xyz, t), c1.w * t)
+            : deformed(p, sel, level, SEGMENTS, blade.height);
+    }
+    float inv = 1.0 / (POSE_SCALE * max(blade.height, 1e-6));
+    for (uint level = 0u; level <= SEGMENTS; level++) {
+        vec3 tangent = points[min(level + 1u, SEGMENTS)].xyz - points[level > 0u ? level - 1u : 0u].xyz;
+        tangent = length(tangent) > 0.0 ? normalize(tangent) : vec3(0.0, 1.0, 0.0);
+        vec3 unit = points[level].xyz * inv;
+        float twist = points[level].w;
+        uint at = base + level * POSE_WORDS;
+        poses[at] = packSnorm2x16(unit.xy);
+        // z as snorm16 in the low half, cos and sin of the twist as snorm8 in the high half.
+        poses[at + 1u] = (packSnorm2x16(vec2(unit.z, 0.0)) & 0xffffu)
+            | (packSnorm4x8(vec4(0.0, 0.0, cos(twist), sin(twist))) & 0xffff0000u);
+        poses[at + 2u] = packSnorm4x8(vec4(tangent, clamp(force, 0.0, 1.0)));
+    }
 }

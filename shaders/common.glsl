@@ -11,7 +11,7 @@ struct FrameUniforms {
     vec4 sun_direction;     // xyz unit vector towards the sun, w unused
     vec4 sky_color;         // rgb linear sky, w fog density (1/m)
     vec4 terrain;           // x grid origin (x = z), y cell size (m), zw unused
-    uvec4 params;           // x segments, y blade count, z terrain cells per side, w 1 = encode sRGB
+    uvec4 params;           // x segments, y blade count, z terrain cells per side, w 1 = encode sRGB (mirrors ENCODE_SRGB)
     uvec4 batching;         // x blades per instance, y vertices per blade, z leading repeats, w unused
     uvec4 keyframes;        // x magnitudes, y angles, z point sources, w cluster corners per side
     uvec4 keyframe_shape;   // x records per pose, y colliders (emitters after the sources), zw unused
@@ -32,6 +32,8 @@ layout(constant_id = 6) const uint RENDER_FLAGS = 0u;       // FLAG_DEBUG_FORCE 
 // the strip length become multiplications, and one blade per instance needs none at all.
 layout(constant_id = 7) const uint SEGMENTS = 4u;
 layout(constant_id = 8) const uint BLADES_PER_INSTANCE = 1u;
+// 1: the shaders encode sRGB (UNORM targets); 0: the target's *_SRGB format does.
+layout(constant_id = 9) const uint ENCODE_SRGB = 1u;
 const uint STRIP_LEAD = BLADES_PER_INSTANCE > 1u ? 1u : 0u;     // repeats of a strip's first vertex
 const uint STRIP_STRIDE = 2u * (SEGMENTS + 1u) + 2u * STRIP_LEAD; // vertices per blade
 
@@ -65,6 +67,8 @@ struct BladeInstance {
 #define FLAG_DEBUG_FORCE 1u  // colour blades by force magnitude (thesis fig. 4.5 / 6.1c)
 #define FLAG_EVAL_BLADE 2u   // poses selected once per blade by blade_pose.comp
 #define FLAG_CLUSTER_PUSH 4u // per-cluster draws: the first blade is a push constant (`meadow overhead`)
+
+const float PI = 3.14159265;
 
 #define MODE_STATIC 0u
 #define MODE_TEXTURE 1u

@@ -101,28 +101,6 @@ vec3 kf_slerp(vec3 a, vec3 b, float t) {
     return d * mix(la, lb, t);
 }
 
-// Pose record of one blade (`--eval blade`, 16 bytes): the four rows as u16 pairs, the blend
-// parameters as unorm16, and the signs with the force magnitude as halves.
-uvec4 kf_pack(KfSelection s, float force) {
-    return uvec4(s.rows.x | (s.rows.y << 16), s.rows.z | (s.rows.w << 16),
-                 packUnorm2x16(vec2(s.t_magnitude, s.t_angle)),
-                 packHalf2x16(vec2(s.sign_x * (1.0 + force), s.sign_z)));
-}
-
-KfSelection kf_unpack(uvec4 r, out float force) {
-    KfSelection s;
-    s.rows = uvec4(r.x & 0xffffu, r.x >> 16, r.y & 0xffffu, r.y >> 16);
-    vec2 t = unpackUnorm2x16(r.z);
-    vec2 signs = unpackHalf2x16(r.w);
-    s.t_magnitude = t.x;
-    s.t_angle = t.y;
-    s.weights = vec4((1.0 - t.x) * (1.0 - t.y), t.x * (1.0 - t.y), (1.0 - t.x) * t.y, t.x * t.y);
-    s.sign_x = signs.x < 0.0 ? -1.0 : 1.0;
-    s.sign_z = signs.y < 0.0 ? -1.0 : 1.0;
-    force = abs(signs.x) - 1.0;
-    return s;
-}
-
 // Root-relative position (xyz, unit blade) and w of record `level` (1-based), mirrored; `straight`
 // is where the record sits on the straight blade (a level of the chain, or a control point).
 vec4 kf_record(KfSelection s, uint level, vec3 straight) {

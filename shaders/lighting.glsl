@@ -27,9 +27,9 @@ vec3 apply_fog(vec3 color, vec3 world, vec4 camera_position, vec4 sky) {
     return mix(sky.rgb, color, fog_transmittance(world, camera_position, sky));
 }
 
-// Linear -> sRGB transfer for UNORM targets.
-vec3 encode_output(vec3 linear, uint srgb) {
-    if (srgb == 0u) {
+// Linear -> sRGB transfer for UNORM targets (a specialization constant: no cost on *_SRGB ones).
+vec3 encode_output(vec3 linear) {
+    if (ENCODE_SRGB == 0u) {
         return linear;
     }
     vec3 c = clamp(linear, 0.0, 1.0);

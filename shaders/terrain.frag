@@ -15,5 +15,5 @@ void main() {
     float lambert = max(dot(n, frame.sun_direction.xyz), 0.0);
     vec3 color = albedo * (vec3(0.35, 0.38, 0.45) + vec3(1.2, 1.1, 0.95) * lambert);
     color = apply_fog(color, in_world, frame.camera_position, frame.sky_color);
-    out_color = vec4(encode_output(color, frame.params.w), 1.0);
+    out_color = vec4(encode_output(color), 1.0);
 }

@@ -173,6 +173,16 @@ pub fn check_scene(
                 "--eval blade with {blades} blades needs {groups} workgroups, over the device's maxComputeWorkGroupCount[0] of {max}"
             )));
         }
+        let bytes = crate::render::scene_gpu::pose_bytes(blades, segments);
+        let range = u64::from(device.limits().max_storage_buffer_range);
+        if bytes > range {
+            return Err(Error::bad_input(format!(
+                "--eval blade with {blades} blades x {segments} segments needs {} MiB of evaluated levels, over the device's maxStorageBufferRange of {} MiB: use --eval vertex",
+                bytes >> 20,
+                range >> 20
+            )));
+        }
+        device.check_budget(bytes, &format!("--eval blade with {blades} blades x {segments} segments"))?;
     }
     let emitters = animation.wind.sources.len() + animation.wind.colliders.len();
     if emitters > MAX_EMITTERS {

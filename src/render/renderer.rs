@@ -165,6 +165,7 @@ impl Renderer {
             settings.segments,
             settings.blades_per_instance,
             settings.submission.strategy.pushes_first_blade(),
+            settings.encode_srgb,
         );
         let constants = specialization.constants();
         let (layout, color) = (res.pipeline_layout, settings.color_format);

@@ -12,6 +12,12 @@ use crate::vk::descriptor::{self, Binding, Resource};
 use crate::vk::upload::UploadBatch;
 use crate::vk::{Access, Buffer, Device, Image, ImageDesc};
 
+/// Bytes of the `--eval blade` pose records: `segments + 1` records of 12 bytes per blade
+/// (`shaders/bindings.glsl`).
+pub fn pose_bytes(blades: u32, segments: u32) -> u64 {
+    12 * u64::from(blades.max(1)) * u64::from(segments + 1)
+}
+
 /// Binding numbers of set 0 (`shaders/common.glsl`).
 pub mod binding {
     /// `FrameUniforms` uniform buffer.
@@ -52,8 +58,8 @@ pub fn bindings() -> [Binding; 10] {
         Binding { binding: binding::CLUSTERS, kind: storage, stages: vs_cs },
         Binding { binding: binding::CORNERS, kind: storage, stages: vs_cs },
         Binding { binding: binding::EMITTERS, kind: storage, stages: vs_cs },
-        Binding { binding: binding::KEYFRAMES, kind: sampled, stages: vs },
-        Binding { binding: binding::KEYFRAME_WORDS, kind: uniform, stages: vs },
+        Binding { binding: binding::KEYFRAMES, kind: sampled, stages: vs_cs },
+        Binding { binding: binding::KEYFRAME_WORDS, kind: uniform, stages: vs_cs },
         Binding { binding: binding::POSES, kind: storage, stages: vs_cs },
     ]
 }
@@ -204,10 +210,10 @@ impl SceneGpu {
         partial.keyframes = Some(keyframes);
         partial.keyframe_words = Some(KeyframeUniforms::new(&mut batch, &table, animation.packing)?);
         batch.submit()?;
-        let records = if animation.eval == Eval::Blade { scene.blades.len().max(1) as u64 } else { 1 };
+        let bytes = if animation.eval == Eval::Blade { pose_bytes(scene.blades.len() as u32, segments) } else { 8 };
         partial.poses = Some(Buffer::new(
             device,
-            &crate::vk::BufferDesc::gpu_only("blade poses", 16 * records, vk::BufferUsageFlags::STORAGE_BUFFER),
+            &crate::vk::BufferDesc::gpu_only("blade poses", bytes, vk::BufferUsageFlags::STORAGE_BUFFER),
         )?);
         let sampler = crate::vk::image::clamped_sampler(device, vk::Filter::LINEAR, "blade alpha sampler")?;
         Ok(sampler)

@@ -35,6 +35,8 @@ pub struct Specialization {
     pub segments: u32,
     /// 8: blades per instance (1: the strip alone, no degenerate joins, no tail test).
     pub blades_per_instance: u32,
+    /// 9: 1 when the shaders encode sRGB (UNORM targets), 0 when the format does.
+    pub encode_srgb: u32,
 }
 
 impl Specialization {
@@ -48,6 +50,7 @@ impl Specialization {
         segments: u32,
         blades_per_instance: u32,
         cluster_push: bool,
+        encode_srgb: bool,
     ) -> Self {
         let mut flags = 0;
         if debug_force {
@@ -75,6 +78,7 @@ impl Specialization {
             flags,
             segments,
             blades_per_instance,
+            encode_srgb: u32::from(encode_srgb),
         }
     }
 
@@ -84,7 +88,7 @@ impl Specialization {
     }
 
     /// The values in `constant_id` order.
-    pub fn constants(&self) -> [u32; 9] {
+    pub fn constants(&self) -> [u32; 10] {
         [
             self.keyframe_uvec4s,
             self.mode,
@@ -95,6 +99,7 @@ impl Specialization {
             self.flags,
             self.segments,
             self.blades_per_instance,
+            self.encode_srgb,
         ]
     }
 }
