@@ -252,21 +252,39 @@ pub fn run(device: &Arc<Device>, options: &BenchOptions, mut progress: impl FnMu
         variant_json.extend(unsupported);
         rows.push(json!({ "blades": blades, "segments": segments, "triangles": triangles, "variants": variant_json }));
     }
+    Ok(document(
+        device,
+        "bench",
+        options.size,
+        json!({
+            "warmup": options.warmup,
+            "frames_per_variant": options.frames,
+            "memory_per_row_bytes": offscreen_bytes(extent),
+            "rows": rows,
+        }),
+    ))
+}
+
+/// A JSON document of `kind` (`bench`, `overhead`, `timing`): the fields every one carries —
+/// schema version, device, driver, Mesa/LLVM string, resolution, build profile, git commit,
+/// `LP_NUM_THREADS` — followed by `fields`.
+pub fn document(device: &Device, kind: &str, resolution: (u32, u32), fields: Value) -> Value {
     let info = &device.info;
-    Ok(json!({
+    let mut doc = json!({
         "schema_version": SCHEMA_VERSION,
+        "kind": kind,
         "device": info.name,
         "driver": format!("{} {}", info.driver_name, info.driver_version),
         "driver_info": info.driver_info,
-        "resolution": [options.size.0, options.size.1],
+        "resolution": [resolution.0, resolution.1],
         "build_profile": if cfg!(debug_assertions) { "debug" } else { "release" },
         "git_commit": option_env!("MEADOW_GIT_COMMIT").unwrap_or("unknown"),
         "lp_num_threads": std::env::var("LP_NUM_THREADS").ok(),
-        "warmup": options.warmup,
-        "frames_per_variant": options.frames,
-        "memory_per_row_bytes": offscreen_bytes(extent),
-        "rows": rows,
-    }))
+    });
+    if let (Some(out), Value::Object(more)) = (doc.as_object_mut(), fields) {
+        out.extend(more);
+    }
+    doc
 }
 
 /// Per pass, the pipeline statistics of a frame (`{}` when the device has none).

@@ -541,27 +541,33 @@ fn main() -> ExitCode {
     }
 }
 
-/// A progress bar with ETA on a terminal; none otherwise.
-fn progress_bar(unit: &str) -> Option<indicatif::ProgressBar> {
-    if !std::io::IsTerminal::is_terminal(&std::io::stderr()) {
-        return None;
-    }
-    let bar = indicatif::ProgressBar::new(0);
-    bar.set_style(
-        indicatif::ProgressStyle::with_template(&format!(
-            "{{bar:40}} {{pos}}/{{len}} {unit}, {{elapsed}} elapsed, ETA {{eta}}"
-        ))
-        .expect("valid template"),
-    );
-    Some(bar)
-}
-
-/// Advance `bar` to `done` of `total`.
-fn advance(bar: &Option<indicatif::ProgressBar>, done: u64, total: u64) {
+/// Run a measuring command on the device of `gpu`: a progress bar with ETA on a terminal (none
+/// otherwise) fed by `run`'s `progress(done, total)`, then `report` of its result. Returns the
+/// exit code and the validation count.
+fn measure<T>(
+    gpu: &GpuArgs,
+    unit: &str,
+    run: impl FnOnce(&std::sync::Arc<meadow::vk::Device>, &mut dyn FnMut(u64, u64)) -> meadow::Result<T>,
+    report: impl FnOnce(T),
+) -> (u8, Option<u64>) {
+    let bar = std::io::IsTerminal::is_terminal(&std::io::stderr()).then(|| {
+        let bar = indicatif::ProgressBar::new(0);
+        let template = format!("{{bar:40}} {{pos}}/{{len}} {unit}, {{elapsed}} elapsed, ETA {{eta}}");
+        bar.set_style(indicatif::ProgressStyle::with_template(&template).expect("valid template"));
+        bar
+    });
+    let (result, validation) = app::with_device(&gpu.options(), false, |device| {
+        run(device, &mut |done, total| {
+            if let Some(bar) = &bar {
+                bar.set_length(total);
+                bar.set_position(done);
+            }
+        })
+    });
     if let Some(bar) = bar {
-        bar.set_length(total);
-        bar.set_position(done);
+        bar.finish_and_clear();
     }
+    (finish(result.map(report)), validation)
 }
 
 /// `meadow timing`. Returns the exit code and validation count.
@@ -570,23 +576,22 @@ fn timing(args: TimingArgs) -> (u8, Option<u64>) {
     let mut render = args.scene.options(PathBuf::new(), args.frames);
     render.submission = meadow::render::submission::Submission { strategy: args.submission, clusters: args.clusters };
     let options = TimingOptions { render, warmup: args.warmup, trace: args.trace, out: args.out };
-    let progress = progress_bar("runs");
-    let (result, validation) = app::with_device(&args.gpu.options(), false, |device| {
-        let (doc, intervals) = timing::run(device, &options, |done, total| advance(&progress, done, total))?;
-        timing::write(&doc, &intervals, &options.out)?;
-        Ok(doc)
-    });
-    if let Some(bar) = progress {
-        bar.finish_and_clear();
-    }
-    let code = finish(result.map(|doc| {
-        print!("{}", timing::report(&doc));
-        if let Some(trace) = &options.trace {
-            println!("wrote {}", trace.display());
-        }
-        println!("wrote {}/timing.json", options.out.display());
-    }));
-    (code, validation)
+    measure(
+        &args.gpu,
+        "runs",
+        |device, progress| {
+            let (doc, intervals) = timing::run(device, &options, progress)?;
+            timing::write(&doc, &intervals, &options.out)?;
+            Ok(doc)
+        },
+        |doc| {
+            print!("{}", timing::report(&doc));
+            if let Some(trace) = &options.trace {
+                println!("wrote {}", trace.display());
+            }
+            println!("wrote {}/timing.json and timing.png", options.out.display());
+        },
+    )
 }
 
 /// `meadow overhead`. Returns the exit code and validation count.
@@ -602,20 +607,19 @@ fn overhead(args: OverheadArgs) -> (u8, Option<u64>) {
         frames: args.frames,
         out: args.out,
     };
-    let progress = progress_bar("frames");
-    let (result, validation) = app::with_device(&args.gpu.options(), false, |device| {
-        let doc = overhead::run(device, &options, |done, total| advance(&progress, done, total))?;
-        overhead::write(&doc, &options.out)?;
-        Ok(doc)
-    });
-    if let Some(bar) = progress {
-        bar.finish_and_clear();
-    }
-    let code = finish(result.map(|doc| {
-        print!("{}", overhead::table(&doc));
-        println!("wrote {}/overhead.json and overhead.csv", options.out.display());
-    }));
-    (code, validation)
+    measure(
+        &args.gpu,
+        "frames",
+        |device, progress| {
+            let doc = overhead::run(device, &options, progress)?;
+            overhead::write(&doc, &options.out)?;
+            Ok(doc)
+        },
+        |doc| {
+            print!("{}", overhead::table(&doc));
+            println!("wrote {}/overhead.json, overhead.csv and overhead.png", options.out.display());
+        },
+    )
 }
 
 /// `meadow bench`: measure, or compare two runs. Returns the exit code and validation count.
@@ -656,21 +660,20 @@ fn bench(args: BenchArgs) -> meadow::Result<(u8, Option<u64>)> {
     options.size = args.size.unwrap_or(options.size);
     options.warmup = args.warmup.unwrap_or(options.warmup);
     options.frames = args.frames.unwrap_or(options.frames);
-    let progress = progress_bar("frames");
-    let (result, validation) = app::with_device(&args.gpu.options(), false, |device| {
-        let doc = bench::run(device, &options, |done, total| advance(&progress, done, total))?;
-        bench::write(&doc, &options.out)?;
-        Ok(doc)
-    });
-    if let Some(bar) = progress {
-        bar.finish_and_clear();
-    }
-    let code = finish(result.map(|doc| {
-        print!("{}", bench::table(&doc));
-        print!("\n{}", bench::statistics_table(&doc));
-        println!("wrote {}/bench.json and bench.csv", options.out.display());
-    }));
-    Ok((code, validation))
+    Ok(measure(
+        &args.gpu,
+        "frames",
+        |device, progress| {
+            let doc = bench::run(device, &options, progress)?;
+            bench::write(&doc, &options.out)?;
+            Ok(doc)
+        },
+        |doc| {
+            print!("{}", bench::table(&doc));
+            print!("\n{}", bench::statistics_table(&doc));
+            println!("wrote {}/bench.json, bench.csv and bench.png", options.out.display());
+        },
+    ))
 }
 
 fn dedup(mut values: Vec<u32>) -> Vec<u32> {

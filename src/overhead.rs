@@ -12,7 +12,7 @@ use ash::vk;
 use serde_json::{json, Value};
 
 use crate::app::write_text;
-use crate::bench::{percentile, SCHEMA_VERSION};
+use crate::bench::percentile;
 use crate::error::{Error, Result};
 use crate::render::animation::{AnimationSettings, Mode};
 use crate::render::submission::{Strategy, Submission};
@@ -132,24 +132,19 @@ pub fn run(device: &Arc<Device>, options: &OverheadOptions, mut progress: impl F
     // SAFETY: every renderer waited for its frames when dropped (they are gone by now).
     unsafe { target.destroy(device) };
     result?;
-    let info = &device.info;
-    Ok(json!({
-        "schema_version": SCHEMA_VERSION,
-        "kind": "overhead",
-        "device": info.name,
-        "driver": format!("{} {}", info.driver_name, info.driver_version),
-        "driver_info": info.driver_info,
-        "resolution": [options.size.0, options.size.1],
-        "build_profile": if cfg!(debug_assertions) { "debug" } else { "release" },
-        "git_commit": option_env!("MEADOW_GIT_COMMIT").unwrap_or("unknown"),
-        "lp_num_threads": std::env::var("LP_NUM_THREADS").ok(),
+    Ok(crate::bench::document(
+        device,
+        "overhead",
+        options.size,
+        json!({
         "worker_threads": std::thread::available_parallelism().map_or(2, |n| n.get()),
         "blades": options.blades,
         "segments": options.segments,
         "warmup": options.warmup,
         "frames_per_strategy": options.frames,
         "rows": rows,
-    }))
+        }),
+    ))
 }
 
 fn sorted(mut values: Vec<f64>) -> Vec<f64> {

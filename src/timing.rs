@@ -18,7 +18,7 @@ use ash::vk;
 use serde_json::{json, Value};
 
 use crate::app::RenderOptions;
-use crate::bench::{percentile, statistics_json, SCHEMA_VERSION};
+use crate::bench::{percentile, statistics_json};
 use crate::error::{Error, Result, VkContext};
 use crate::render::renderer::FrameSync;
 use crate::render::target::OFFSCREEN_FORMAT;
@@ -295,17 +295,11 @@ pub fn run(
     let record: Vec<f64> = base.frames.iter().map(|f| f.timings.cpu_record_ms).collect();
     let submit: Vec<f64> = base.frames.iter().map(|f| f.timings.cpu_submit_ms).collect();
     let statistics = base.frames.last().map_or(Value::Null, |f| statistics_json(&f.timings.passes));
-    let info = &device.info;
-    let doc = json!({
-        "schema_version": SCHEMA_VERSION,
-        "kind": "timing",
-        "device": info.name,
-        "driver": format!("{} {}", info.driver_name, info.driver_version),
-        "driver_info": info.driver_info,
-        "resolution": [render.size.0, render.size.1],
-        "build_profile": if cfg!(debug_assertions) { "debug" } else { "release" },
-        "git_commit": option_env!("MEADOW_GIT_COMMIT").unwrap_or("unknown"),
-        "lp_num_threads": std::env::var("LP_NUM_THREADS").ok(),
+    let doc = crate::bench::document(
+        device,
+        "timing",
+        render.size,
+        json!({
         "blades": render.blades,
         "segments": render.segments,
         "mode": format!("{:?}", render.animation.mode).to_lowercase(),
@@ -320,7 +314,8 @@ pub fn run(
         "passes": passes,
         "pipeline_statistics": statistics,
         "frames_in_flight": comparison,
-    });
+        }),
+    );
     if let Some(path) = &options.trace {
         crate::app::write_text(path, &serde_json::to_string(&trace(&runs, anchor)).expect("serialises"))?;
     }
