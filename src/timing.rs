@@ -410,7 +410,7 @@ pub fn report(doc: &Value) -> String {
     for r in doc["frames_in_flight"].as_array().into_iter().flatten() {
         out.push_str(&format!(
             "{:>9} {:>8.2} {:>8.1}% {:>11.3} {:>11.1}% {:>11.2} {:>14.2}  {} ±{:.1} µs\n",
-            r["frames_in_flight"],
+            r["frames_in_flight"].as_u64().unwrap_or(0),
             f(r, "fps"),
             100.0 * f(r, "gpu_busy_fraction"),
             f(r, "cpu_work_ms_per_frame"),

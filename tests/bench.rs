@@ -22,6 +22,15 @@ fn tiny_matrix_writes_json_csv_and_a_table() {
     let doc: Value = serde_json::from_str(&std::fs::read_to_string(dir.join("bench.json")).expect("bench.json"))
         .expect("valid JSON");
     assert_eq!(doc["schema_version"], 1);
+    let schema_path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/bench.schema.json");
+    let schema: Value =
+        serde_json::from_str(&std::fs::read_to_string(schema_path).expect("schema")).expect("schema JSON");
+    let violations = support::schema::validate(&schema, &doc);
+    assert!(violations.is_empty(), "bench.json against docs/bench.schema.json: {violations:#?}");
+    // The validator does catch a violation.
+    let mut broken = doc.clone();
+    broken["rows"][0]["variants"][0]["gpu_ms"]["median"] = Value::from("fast");
+    assert!(!support::schema::validate(&schema, &broken).is_empty(), "a string median must be refused");
     for key in ["device", "driver", "driver_info", "build_profile", "git_commit", "resolution", "rows"] {
         assert!(!doc[key].is_null(), "missing {key}");
     }
@@ -110,4 +119,14 @@ fn bad_bench_arguments_exit_2() {
         let stderr = String::from_utf8_lossy(&output.stderr);
         assert!(stderr.starts_with("error: ") && stderr.lines().count() == 1, "{args:?}: {stderr}");
     }
+}
+
+#[test]
+fn committed_thesis_results_follow_the_schema() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let read = |p: &str| -> Value { serde_json::from_str(&std::fs::read_to_string(root.join(p)).expect(p)).expect(p) };
+    let (schema, doc) = (read("docs/bench.schema.json"), read("docs/bench-thesis/bench.json"));
+    let violations = support::schema::validate(&schema, &doc);
+    assert!(violations.is_empty(), "docs/bench-thesis/bench.json: {violations:#?}");
+    assert_eq!(doc["rows"].as_array().map(Vec::len), Some(15), "the 15 rows of Table 6.2");
 }

@@ -2,6 +2,8 @@
 //! validation and synchronization validation, and fail on any validation message.
 #![allow(dead_code)] // each test crate uses a different subset of these helpers
 
+pub mod schema;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
