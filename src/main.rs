@@ -308,7 +308,7 @@ enum RepresentationArg {
 enum EvalArg {
     /// Per vertex in the vertex shader.
     Vertex,
-    /// Once per blade in a compute pass.
+    /// Once per blade in a compute pass that evaluates every level.
     Blade,
 }
 

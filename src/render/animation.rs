@@ -45,7 +45,8 @@ pub enum Eval {
     /// In the vertex shader, for every vertex (as the thesis did on shader model 3).
     #[default]
     Vertex,
-    /// Once per blade in a compute pass writing a pose record.
+    /// Once per blade in a compute pass that evaluates every level (point, tangent, twist) into
+    /// records the vertex shader reads (`shaders/blade_pose.comp`).
     Blade,
 }
 

@@ -90,7 +90,7 @@ pub struct SceneGpu {
     pub keyframes: KeyframeTexture,
     /// The keyframe table as a uniform array.
     pub keyframe_words: KeyframeUniforms,
-    /// One 16-byte pose record per blade with `--eval blade` (a single record otherwise).
+    /// `--eval blade`: 12 bytes per level per blade (`pose_bytes`); 8 bytes otherwise.
     pub poses: Buffer,
     /// Pre-expanded blade vertices (`--mode floor` only).
     pub floor: Option<Buffer>,

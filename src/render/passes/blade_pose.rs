@@ -1,6 +1,7 @@
 //! Blade-pose pass (`--eval blade`): a compute dispatch, one invocation per blade, that does the
-//! per-blade part of the animation once instead of once per vertex and writes a 16-byte pose
-//! record per blade for the blade pass (`shaders/blade_pose.comp`).
+//! animation once per blade instead of once per vertex — force, keyframe selection, the blend of
+//! every level — and writes each level's point, tangent and twist (12 bytes) for the blade pass
+//! (`shaders/blade_pose.comp`, `render::scene_gpu::pose_bytes`).
 
 use ash::vk;
 
