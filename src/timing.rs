@@ -47,7 +47,8 @@ pub struct ClockMapping {
     /// GPU timestamp (ns, masked and scaled) at `cpu`.
     pub gpu_ns: f64,
     /// Uncertainty of the mapping (ns): the calibration's maximum deviation plus the time the
-    /// CPU clock reads took; or, estimated, how late the bound may be.
+    /// CPU clock reads took; or, estimated, the length of the chosen frame's fence wait (when it
+    /// blocked, the GPU finished within it; when it did not, the bound is looser than this says).
     pub deviation_ns: f64,
     /// `calibrated` (VK_EXT_calibrated_timestamps) or `estimated` (fence-return bound).
     pub method: &'static str,
@@ -165,13 +166,23 @@ fn run_one(device: &Arc<Device>, scene: &Scene, options: &TimingOptions, frames_
         let mapping = match calibrated {
             Some(mapping) => mapping,
             None => {
-                // Upper bound: the first frame's GPU end happened before its fence wait returned.
+                // Each frame's GPU end happened before its fence wait returned: an upper bound of
+                // the offset per frame. The tightest is the frame whose wait returned soonest after
+                // its GPU end (with frames in flight, a wait may start long after that frame ended).
                 let first = frames.first().ok_or_else(|| Error::bad_input("no frame rendered"))?;
-                let returned = first.timings.cpu_wait.map_or(ended, |w| w[1]);
-                let wait = first.timings.cpu_wait.map_or(0.0, |w| (w[1] - w[0]).as_secs_f64() * 1e9);
+                let reference = first.timings.gpu_span_ns.1;
+                let best =
+                    frames.iter().filter_map(|f| Some((f, f.timings.cpu_wait?[1]))).min_by(|(a, ra), (b, rb)| {
+                        let bound = |f: &Frame, r: &Instant| {
+                            (*r - started).as_secs_f64() - (f.timings.gpu_span_ns.1 - reference) * 1e-9
+                        };
+                        bound(a, ra).total_cmp(&bound(b, rb))
+                    });
+                let (frame, returned) = best.map_or((first, ended), |(f, r)| (f, r));
+                let wait = frame.timings.cpu_wait.map_or(0.0, |w| (w[1] - w[0]).as_secs_f64() * 1e9);
                 ClockMapping {
                     cpu: returned,
-                    gpu_ns: first.timings.gpu_span_ns.1,
+                    gpu_ns: frame.timings.gpu_span_ns.1,
                     deviation_ns: wait,
                     method: "estimated",
                 }
@@ -204,24 +215,29 @@ fn overlap(a: &[(f64, f64)], b: &[(f64, f64)]) -> f64 {
     total
 }
 
-/// What a run did, on the CPU timeline (seconds since `anchor`).
+/// What a run did, on the CPU timeline (seconds since `anchor`): per frame the CPU's record +
+/// submit span, its recording alone (which cannot overlap its own frame's GPU work, unlike the
+/// submission, during which the queue may already start), and the GPU span.
 struct Spans {
     cpu: Vec<(f64, f64)>,
+    recording: Vec<(f64, f64)>,
     gpu: Vec<(f64, f64)>,
 }
 
 fn spans(run: &Run, anchor: Instant) -> Spans {
     let since = |t: Instant| (t - anchor).as_secs_f64();
     let mut cpu = Vec::new();
+    let mut recording = Vec::new();
     let mut gpu = Vec::new();
     for f in &run.frames {
-        if let Some([started, _, submitted]) = f.timings.cpu_spans {
+        if let Some([started, recorded, submitted]) = f.timings.cpu_spans {
             cpu.push((since(started), since(submitted)));
+            recording.push((since(started), since(recorded)));
         }
         let (a, b) = f.timings.gpu_span_ns;
         gpu.push((run.mapping.seconds_since(anchor, a), run.mapping.seconds_since(anchor, b)));
     }
-    Spans { cpu, gpu }
+    Spans { cpu, recording, gpu }
 }
 
 /// Run the measurement. Returns the JSON document and the frame intervals (ms) of the 2-in-flight
@@ -250,7 +266,8 @@ pub fn run(
         let measured = s.gpu.last().map_or(0.0, |g| g.1) - s.cpu.first().map_or(0.0, |c| c.0);
         let gpu_busy: f64 = s.gpu.iter().map(|g| g.1 - g.0).sum();
         let cpu_busy: f64 = s.cpu.iter().map(|c| c.1 - c.0).sum();
-        let both = overlap(&s.cpu, &s.gpu);
+        let recording: f64 = s.recording.iter().map(|c| c.1 - c.0).sum();
+        let both = overlap(&s.recording, &s.gpu);
         let waits: Vec<f64> = run.frames.iter().map(|f| f.timings.cpu_wait_ms).collect();
         // Frame interval: between consecutive GPU frame ends, what a viewer would see.
         let intervals: Vec<f64> = s.gpu.windows(2).map(|w| (w[1].1 - w[0].1) * 1e3).collect();
@@ -264,7 +281,7 @@ pub fn run(
             "wall_s": wall,
             "gpu_busy_fraction": if measured > 0.0 { gpu_busy / measured } else { 0.0 },
             "cpu_work_ms_per_frame": cpu_busy * 1e3 / run.frames.len().max(1) as f64,
-            "cpu_gpu_overlap_fraction": if cpu_busy > 0.0 { both / cpu_busy } else { 0.0 },
+            "cpu_gpu_overlap_fraction": if recording > 0.0 { both / recording } else { 0.0 },
             "cpu_wait_ms": summary(&waits),
             "frame_interval_ms": summary(&intervals),
             "clock": { "method": run.mapping.method, "deviation_ns": run.mapping.deviation_ns },
@@ -422,8 +439,8 @@ pub fn report(doc: &Value) -> String {
         ));
     }
     out.push_str(
-        "GPU busy: GPU frame spans over the run; CPU∩GPU: share of the CPU's record + submit time \
-         during which the GPU was rendering (0 % with one frame in flight: it waits for every frame)\n",
+        "GPU busy: GPU frame spans over the run; CPU∩GPU: share of the CPU's recording time during \
+         which the GPU was rendering an earlier frame (~0 % with one frame in flight: it waits for each)\n",
     );
     out
 }

@@ -9,7 +9,7 @@ use crate::error::Result;
 use crate::render::submission::SecondaryRecorders;
 use crate::vk::commands::CommandRecorder;
 use crate::vk::query::{StatisticsQueries, TimestampQueries};
-use crate::vk::{sync, Buffer, BufferDesc, Device};
+use crate::vk::{sync, Access, Buffer, BufferDesc, Device};
 
 /// Per-frame constants, std140 (`shaders/common.glsl`, struct `FrameUniforms`).
 #[repr(C)]
@@ -105,9 +105,10 @@ pub struct Frame {
     pub pending: Option<[std::time::Instant; 3]>,
     /// Worker command buffers of the `Secondary` submission strategy.
     pub secondaries: Option<SecondaryRecorders>,
-    /// `Prerecorded` strategy: the colour image the command buffer was recorded for, if it is
-    /// still valid (submitted again as is).
-    pub recorded_for: Option<vk::Image>,
+    /// `Prerecorded` strategy: the colour view and size the command buffer was recorded for, with the
+    /// previous colour and depth accesses its first barriers assume; while they hold, it is
+    /// submitted again as is.
+    pub recorded_for: Option<(vk::ImageView, vk::Extent2D, Access, Access)>,
 }
 
 impl Frame {

@@ -288,7 +288,7 @@ impl Renderer {
     /// Each pass is its own rendering instance, so a binning rasteriser (lavapipe) finishes a
     /// pass before the next timestamp and per-pass times mean what they say. Between the two, an
     /// explicit attachment barrier orders the blade pass's loads after the terrain's stores.
-    fn record_scene(&self, frame: &mut Frame, cmd: vk::CommandBuffer, target: &TargetView) {
+    fn record_scene(&self, frame: &mut Frame, cmd: vk::CommandBuffer, target: &TargetView) -> Result<()> {
         let device = &*self.device;
         let res = self.resources();
         let scene = self.scene_gpu();
@@ -389,8 +389,11 @@ impl Renderer {
         // query: that pass goes uncounted.
         let query = if secondary { None } else { begin_statistics(frame, pipeline) };
         self.begin_pass(cmd, target, PASSES[2], false, secondary);
+        // A failed secondary recording fails the frame (after the rendering instance is closed):
+        // a frame without its blades must not be measured.
+        let mut recorded = Ok(());
         match (&res.blades, &res.floor, &scene.floor) {
-            (Some(_), _, _) if secondary => self.record_secondary_blades(frame, cmd, target),
+            (Some(_), _, _) if secondary => recorded = self.record_secondary_blades(frame, cmd, target),
             (Some(blades), _, _) => blades.record(device, cmd, &self.blade_draws()),
             (None, Some(floor), Some(vertices)) => floor.record(device, cmd, vertices),
             _ => unreachable!("new builds the blade or the floor pass"),
@@ -399,6 +402,7 @@ impl Renderer {
         end_statistics(frame, query);
         frame.timestamps.write(device, cmd);
         frame.passes.push(PASSES[2]);
+        recorded
     }
 
     /// The blade draws of the submission strategy (all but `Secondary`, which records
@@ -426,7 +430,7 @@ impl Renderer {
     /// of the clusters with push constants, executed by `cmd` (inside a rendering instance begun
     /// for secondary contents). Threads are scoped to the call: their start-up is part of the
     /// measured recording time.
-    fn record_secondary_blades(&self, frame: &Frame, cmd: vk::CommandBuffer, target: &TargetView) {
+    fn record_secondary_blades(&self, frame: &Frame, cmd: vk::CommandBuffer, target: &TargetView) -> Result<()> {
         let device = &*self.device;
         let res = self.resources();
         let workers = &frame.secondaries.as_ref().expect("checked by the caller").workers;
@@ -484,15 +488,11 @@ impl Renderer {
                 .collect();
             handles.into_iter().map(|h| h.join().expect("a recording thread panicked")).collect()
         });
-        let secondaries: Result<Vec<vk::CommandBuffer>> = results.into_iter().collect();
-        match secondaries {
-            // SAFETY: cmd is inside a rendering instance begun for secondary command buffers
-            // with the formats the secondaries inherit.
-            Ok(secondaries) => unsafe { device.raw.cmd_execute_commands(cmd, &secondaries) },
-            // A failed secondary leaves this frame without blades; the error is logged, the
-            // frame still completes (recording cannot return errors mid-pass).
-            Err(e) => log::error!("secondary blade recording failed: {e}"),
-        }
+        let secondaries: Vec<vk::CommandBuffer> = results.into_iter().collect::<Result<_>>()?;
+        // SAFETY: cmd is inside a rendering instance begun for secondary command buffers with
+        // the formats the secondaries inherit.
+        unsafe { device.raw.cmd_execute_commands(cmd, &secondaries) };
+        Ok(())
     }
 
     /// Open a labelled rendering instance on `target`; `clear` clears colour and depth, otherwise
@@ -646,14 +646,18 @@ impl Renderer {
         self.write_forces(frame, time);
         let started = Instant::now();
         let prerecorded = self.settings.submission.strategy == Strategy::Prerecorded;
-        if prerecorded && frame.recorded_for == Some(target.color) {
+        // The recording's first barriers assume how the target was last accessed: reuse it only
+        // for the same image in the same state (e.g. not for frame 0's discard once frames queue
+        // up behind each other on one image).
+        let key = (target.color_view, target.extent, target.color_previous, target.depth_previous);
+        if prerecorded && frame.recorded_for == Some(key) {
             // Recorded once for this target: uniforms and forces live in buffers written above,
             // so the same commands render this frame.
             return Ok((frame.recorder.cmd, started));
         }
         frame.recorded_for = None;
         let cmd = if prerecorded { frame.recorder.begin_reusable(device)? } else { frame.recorder.begin(device)? };
-        self.record_scene(frame, cmd, target);
+        self.record_scene(frame, cmd, target)?;
         finish(device, cmd);
         frame.timestamps.write(device, cmd);
         // The queries' results, copied on the GPU for the host to read after the fence.
@@ -666,7 +670,7 @@ impl Renderer {
         sync::cmd_barriers(device, cmd, &[to_host], &[]);
         frame.recorder.end(device)?;
         if prerecorded {
-            frame.recorded_for = Some(target.color);
+            frame.recorded_for = Some(key);
         }
         Ok((cmd, started))
     }

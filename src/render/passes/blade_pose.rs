@@ -27,7 +27,13 @@ impl BladePosePass {
         sync::cmd_barriers(
             device,
             cmd,
-            &[sync::buffer_barrier(poses.raw, &[Access::VertexShaderStorageRead], &[Access::ComputeShaderWrite])],
+            // The previous frame read the records in its vertex shader (WAR) and wrote them here
+            // (WAW: a memory dependency, not only the execution chain through the reads).
+            &[sync::buffer_barrier(
+                poses.raw,
+                &[Access::VertexShaderStorageRead, Access::ComputeShaderWrite],
+                &[Access::ComputeShaderWrite],
+            )],
             &[],
         );
         // SAFETY: cmd is recording outside a rendering instance.
