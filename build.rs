@@ -22,7 +22,16 @@ fn main() {
             println!("cargo:rustc-env=MEADOW_GIT_COMMIT={}", String::from_utf8_lossy(&out.stdout).trim());
         }
     }
-    println!("cargo:rerun-if-changed={}", manifest.join(".git/HEAD").display());
+    // HEAD names a branch; a commit moves the branch's ref (loose or packed), not HEAD, so watch
+    // those too, or the embedded commit goes stale after the first build.
+    let git = manifest.join(".git");
+    println!("cargo:rerun-if-changed={}", git.join("HEAD").display());
+    println!("cargo:rerun-if-changed={}", git.join("packed-refs").display());
+    if let Ok(head) = std::fs::read_to_string(git.join("HEAD")) {
+        if let Some(reference) = head.trim().strip_prefix("ref: ") {
+            println!("cargo:rerun-if-changed={}", git.join(reference).display());
+        }
+    }
     let glslang = std::env::var("GLSLANG_VALIDATOR").unwrap_or_else(|_| "glslangValidator".into());
     let mut sources: Vec<PathBuf> = std::fs::read_dir(&shader_dir)
         .unwrap_or_else(|e| fail(&format!("cannot read {}: {e}", shader_dir.display())))
