@@ -1,6 +1,6 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// Blades by vertex pulling: no vertex buffer. Each instance draws `batching.x` blades as one
+// Blades by vertex pulling: no vertex buffer. Each instance draws BLADES_PER_INSTANCE blades as one
 // triangle strip; gl_InstanceIndex and gl_VertexIndex select the blade and its strip vertex.
 // Strip vertex 2k + side lies on Bézier spline `side` at t = k / segments (thesis 4.1). Blades in
 // an instance are joined by repeating their first and last vertices (degenerate triangles), see

@@ -4,15 +4,14 @@
 #ifndef MEADOW_COMMON_GLSL
 #define MEADOW_COMMON_GLSL
 
-// Per-frame constants (std140, 192 bytes).
+// Per-frame constants (std140, 176 bytes).
 struct FrameUniforms {
     mat4 view_proj;         // world -> clip (reversed infinite Z, Vulkan y down)
     vec4 camera_position;   // xyz eye, w simulation time (s)
     vec4 sun_direction;     // xyz unit vector towards the sun, w unused
     vec4 sky_color;         // rgb linear sky, w fog density (1/m)
     vec4 terrain;           // x grid origin (x = z), y cell size (m), zw unused
-    uvec4 params;           // x segments, y blade count, z terrain cells per side, w 1 = encode sRGB (mirrors ENCODE_SRGB)
-    uvec4 batching;         // x blades per instance, y vertices per blade, z leading repeats, w unused
+    uvec4 params;           // x segments, y blade count, z terrain cells per side, w unused
     uvec4 keyframes;        // x magnitudes, y angles, z point sources, w cluster corners per side
     uvec4 keyframe_shape;   // x records per pose, y colliders (emitters after the sources), zw unused
 };

@@ -128,7 +128,9 @@ pub fn percentile(sorted: &[f64], p: f64) -> f64 {
     sorted[rank.min(sorted.len()) - 1]
 }
 
-fn summary(values: &[f64]) -> Value {
+/// Median, p5, p95, p99 and maximum of unsorted values (nearest rank), as the JSON documents
+/// of `bench`, `overhead` and `timing` report them.
+pub fn summary(values: &[f64]) -> Value {
     let mut sorted = values.to_vec();
     sorted.sort_by(f64::total_cmp);
     json!({
@@ -136,6 +138,7 @@ fn summary(values: &[f64]) -> Value {
         "p5": percentile(&sorted, 5.0),
         "p95": percentile(&sorted, 95.0),
         "p99": percentile(&sorted, 99.0),
+        "max": sorted.last().copied().unwrap_or(0.0),
     })
 }
 

@@ -79,14 +79,27 @@ struct RenderArgs {
     /// Frames to render; the last is written, timings of all are summarised.
     #[arg(long, default_value = "1", value_parser = clap::value_parser!(u32).range(1..=10_000))]
     frames: u32,
+    #[command(flatten)]
+    submission: SubmissionArgs,
+    #[command(flatten)]
+    gpu: GpuArgs,
+}
+
+/// How the blade draws are submitted, for `render` and `timing`.
+#[derive(Args)]
+struct SubmissionArgs {
     /// How the blade draws are submitted (see `meadow overhead`); the picture is the same.
     #[arg(long, default_value = "instanced", value_parser = meadow::cli::strategy)]
     submission: meadow::render::submission::Strategy,
     /// Clusters (draws) of the per-cluster, indirect and secondary submissions.
     #[arg(long, default_value = "64", value_parser = meadow::cli::clusters)]
     clusters: u32,
-    #[command(flatten)]
-    gpu: GpuArgs,
+}
+
+impl SubmissionArgs {
+    fn submission(&self) -> meadow::render::submission::Submission {
+        meadow::render::submission::Submission { strategy: self.submission, clusters: self.clusters }
+    }
 }
 
 /// Scene, animation and picture flags shared by `render` and `view`.
@@ -217,12 +230,8 @@ struct TimingArgs {
     /// Directory for timing.json and the frame-time histogram.
     #[arg(long, default_value = "timing-out")]
     out: PathBuf,
-    /// How the blade draws are submitted (see `meadow overhead`).
-    #[arg(long, default_value = "instanced", value_parser = meadow::cli::strategy)]
-    submission: meadow::render::submission::Strategy,
-    /// Clusters (draws) of the per-cluster, indirect and secondary submissions.
-    #[arg(long, default_value = "64", value_parser = meadow::cli::clusters)]
-    clusters: u32,
+    #[command(flatten)]
+    submission: SubmissionArgs,
     #[command(flatten)]
     gpu: GpuArgs,
 }
@@ -462,8 +471,7 @@ fn main() -> ExitCode {
     let (code, validation) = match cli.command {
         Command::Render(args) => {
             let mut options = args.scene.options(args.out.clone(), args.frames);
-            options.submission =
-                meadow::render::submission::Submission { strategy: args.submission, clusters: args.clusters };
+            options.submission = args.submission.submission();
             let (result, validation) =
                 app::with_device(&args.gpu.options(), false, |device| app::render(device, &options));
             (finish(result.map(|report| print_render(&report))), validation)
@@ -574,7 +582,7 @@ fn measure<T>(
 fn timing(args: TimingArgs) -> (u8, Option<u64>) {
     use meadow::timing::{self, TimingOptions};
     let mut render = args.scene.options(PathBuf::new(), args.frames);
-    render.submission = meadow::render::submission::Submission { strategy: args.submission, clusters: args.clusters };
+    render.submission = args.submission.submission();
     let options = TimingOptions { render, warmup: args.warmup, trace: args.trace, out: args.out };
     measure(
         &args.gpu,

@@ -12,7 +12,7 @@ use ash::vk;
 use serde_json::{json, Value};
 
 use crate::app::write_text;
-use crate::bench::percentile;
+use crate::bench::summary;
 use crate::error::{Error, Result};
 use crate::render::animation::{AnimationSettings, Mode};
 use crate::render::submission::{Strategy, Submission};
@@ -40,13 +40,6 @@ pub struct OverheadOptions {
     pub frames: u32,
     /// Output directory.
     pub out: PathBuf,
-}
-
-/// Median of unsorted values.
-fn median(values: &[f64]) -> f64 {
-    let mut sorted = values.to_vec();
-    sorted.sort_by(f64::total_cmp);
-    percentile(&sorted, 50.0)
 }
 
 /// Run the measurement; `progress(done, total)` after every frame. Returns the JSON document.
@@ -107,8 +100,10 @@ pub fn run(device: &Arc<Device>, options: &OverheadOptions, mut progress: impl F
                 }
             }
             for ((strategy, _), frames) in renderers.iter().zip(&frames) {
-                let column = |k: usize| -> Vec<f64> { frames.iter().map(|f| f[k]).collect() };
-                let (record_us, submit_us, gpu_ms) = (median(&column(0)), median(&column(1)), median(&column(2)));
+                let column = |k: usize| summary(&frames.iter().map(|f| f[k]).collect::<Vec<f64>>());
+                let (record, submit, gpu) = (column(0), column(1), column(2));
+                let median = |s: &Value| s["median"].as_f64().unwrap_or(0.0);
+                let (record_us, submit_us, gpu_ms) = (median(&record), median(&submit), median(&gpu));
                 let cpu_draws = strategy.blade_draws(clusters);
                 let gpu_draws = strategy.gpu_draws(clusters);
                 let cpu_s = (record_us + submit_us) * 1e-6;
@@ -119,7 +114,7 @@ pub fn run(device: &Arc<Device>, options: &OverheadOptions, mut progress: impl F
                     "draws_executed": gpu_draws,
                     "cpu_record_us": record_us,
                     "cpu_submit_us": submit_us,
-                    "cpu_record_us_p95": percentile(&sorted(column(0)), 95.0),
+                    "cpu_record_us_p95": record["p95"],
                     "ns_per_draw": record_us * 1e3 / f64::from(gpu_draws),
                     "draws_per_second": if cpu_s > 0.0 { f64::from(gpu_draws) / cpu_s } else { 0.0 },
                     "gpu_ms": gpu_ms,
@@ -145,11 +140,6 @@ pub fn run(device: &Arc<Device>, options: &OverheadOptions, mut progress: impl F
         "rows": rows,
         }),
     ))
-}
-
-fn sorted(mut values: Vec<f64>) -> Vec<f64> {
-    values.sort_by(f64::total_cmp);
-    values
 }
 
 /// The report table.

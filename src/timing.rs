@@ -18,7 +18,7 @@ use ash::vk;
 use serde_json::{json, Value};
 
 use crate::app::RenderOptions;
-use crate::bench::{percentile, statistics_json};
+use crate::bench::{statistics_json, summary};
 use crate::error::{Error, Result, VkContext};
 use crate::render::renderer::FrameSync;
 use crate::render::target::OFFSCREEN_FORMAT;
@@ -102,18 +102,6 @@ struct Run {
     mapping: ClockMapping,
     started: Instant,
     ended: Instant,
-}
-
-fn summary(values: &[f64]) -> Value {
-    let mut sorted = values.to_vec();
-    sorted.sort_by(f64::total_cmp);
-    json!({
-        "median": percentile(&sorted, 50.0),
-        "p5": percentile(&sorted, 5.0),
-        "p95": percentile(&sorted, 95.0),
-        "p99": percentile(&sorted, 99.0),
-        "max": sorted.last().copied().unwrap_or(0.0),
-    })
 }
 
 /// Render `frames` frames with `frames_in_flight` in flight into one offscreen target. Each

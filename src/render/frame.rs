@@ -25,17 +25,16 @@ pub struct FrameUniforms {
     pub sky_color: Vec4,
     /// x terrain grid origin, y cell size.
     pub terrain: Vec4,
-    /// x segments, y blade count, z terrain cells per side, w 1 = shaders encode sRGB.
+    /// x segments, y blade count, z terrain cells per side, w unused. (The blade geometry and
+    /// the sRGB encoding are specialization constants, `render::specialization`.)
     pub params: UVec4,
-    /// x blades per instance, y vertices per blade, z leading repeats.
-    pub batching: UVec4,
     /// x magnitudes, y angles, z point sources, w corners per side.
     pub keyframes: UVec4,
     /// x records per pose, y colliders.
     pub keyframe_shape: UVec4,
 }
 
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 192);
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 176);
 const _: () = assert!(std::mem::offset_of!(FrameUniforms, camera_position) == 64);
 const _: () = assert!(std::mem::offset_of!(FrameUniforms, params) == 128);
 
@@ -96,8 +95,9 @@ pub struct Frame {
     pub query_results: Buffer,
     /// Offset of the statistics in `query_results`.
     pub statistics_offset: u64,
-    /// Names of the passes recorded, in order (timestamps i and i + 1 bracket pass i).
-    pub passes: Vec<&'static str>,
+    /// The passes recorded, in order (timestamps i and i + 1 bracket pass i), with the
+    /// pipeline-statistics query each one used, if any.
+    pub passes: Vec<(&'static str, Option<u32>)>,
     /// Signalled when this frame's swapchain image is acquired (unused headless).
     pub acquire: vk::Semaphore,
     /// When recording of the submission in flight started, ended, and when its submission

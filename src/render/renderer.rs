@@ -255,16 +255,7 @@ impl Renderer {
             sun_direction: look::sun_direction().extend(0.0),
             sky_color: look::SKY.extend(look::FOG_DENSITY),
             terrain: Vec4::new(scene.terrain_origin, scene.terrain_cell_size, 0.0, 0.0),
-            params: UVec4::new(
-                self.settings.segments,
-                scene.blade_count,
-                scene.terrain_cells,
-                u32::from(self.settings.encode_srgb),
-            ),
-            batching: {
-                let b = Batching::new(self.settings.segments, self.settings.blades_per_instance);
-                UVec4::new(b.blades_per_instance, b.stride, b.lead, 0)
-            },
+            params: UVec4::new(self.settings.segments, scene.blade_count, scene.terrain_cells, 0),
             keyframes: UVec4::new(
                 scene.keyframes.layout.magnitudes,
                 scene.keyframes.layout.angles,
@@ -340,7 +331,7 @@ impl Renderer {
             poses.record(device, cmd, &scene.poses, scene.blade_count);
             debug::end_label(device, cmd);
             frame.timestamps.write(device, cmd);
-            frame.passes.push(PASSES[0]);
+            frame.passes.push((PASSES[0], None));
         }
         let attachment_barriers = |previous_color: Access, previous_depth: Access| {
             sync::cmd_barriers(
@@ -376,7 +367,7 @@ impl Renderer {
         self.end_pass(cmd);
         end_statistics(frame, query);
         frame.timestamps.write(device, cmd);
-        frame.passes.push(PASSES[1]);
+        frame.passes.push((PASSES[1], query));
 
         attachment_barriers(Access::ColorAttachmentWrite, Access::DepthAttachmentReadWrite);
         let secondary = frame.secondaries.is_some() && res.blades.is_some();
@@ -401,7 +392,7 @@ impl Renderer {
         self.end_pass(cmd);
         end_statistics(frame, query);
         frame.timestamps.write(device, cmd);
-        frame.passes.push(PASSES[2]);
+        frame.passes.push((PASSES[2], query));
         recorded
     }
 
@@ -602,11 +593,11 @@ impl Renderer {
                     .passes
                     .iter()
                     .enumerate()
-                    .map(|(i, name)| PassTime {
+                    .map(|(i, &(name, query))| PassTime {
                         name,
                         ms: span_ms(stamps[i], stamps[i + 1]),
                         start_ns: stamps[i],
-                        statistics: statistics_of(&frame.passes, &statistics, i),
+                        statistics: query.and_then(|q| statistics.get(q as usize).copied()),
                     })
                     .collect();
                 Some(FrameTimings {
@@ -767,16 +758,6 @@ fn full_viewport(extent: vk::Extent2D) -> vk::Viewport {
         min_depth: 0.0,
         max_depth: 1.0,
     }
-}
-
-/// The statistics of pass `i`: graphics passes have a query each, in order; the compute pass
-/// (blade poses) has none.
-fn statistics_of(passes: &[&str], statistics: &[PipelineStatistics], i: usize) -> Option<PipelineStatistics> {
-    if passes[i] == PASSES[0] {
-        return None;
-    }
-    let graphics_before = passes[..i].iter().filter(|p| **p != PASSES[0]).count();
-    statistics.get(graphics_before).copied()
 }
 
 /// Semaphores a frame's submission waits on (at colour output) and signals.
