@@ -60,6 +60,7 @@ fn bench_variants(c: &mut Criterion, device: &std::sync::Arc<Device>) -> meadow:
                 wireframe: false,
                 pipeline_statistics: false,
                 submission: Default::default(),
+                debug_bounds: false,
             };
             let mut renderer = Renderer::new(device.clone(), &scene, settings, animation)?;
             let mut failure = None;

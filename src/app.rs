@@ -267,6 +267,7 @@ pub fn render(device: &Arc<Device>, options: &RenderOptions) -> Result<RenderRep
         wireframe: false,
         pipeline_statistics: true,
         submission: options.submission,
+        debug_bounds: false,
     };
     let mut renderer = Renderer::new(device.clone(), &scene, settings, options.animation.clone())?;
     let extent = vk::Extent2D { width: options.size.0, height: options.size.1 };

@@ -189,6 +189,7 @@ pub fn run(device: &Arc<Device>, options: &BenchOptions, mut progress: impl FnMu
                     wireframe: false,
                     pipeline_statistics: true,
                     submission: Default::default(),
+                    debug_bounds: false,
                 };
                 Renderer::new(device.clone(), &scene, settings, animation)
             })

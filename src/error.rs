@@ -29,6 +29,10 @@ pub enum Error {
     /// The environment lacks something meadow needs (loader, layer, device, feature).
     #[error("{0}")]
     Environment(String),
+    /// A broken invariant of the renderer itself (e.g. a pass declaring an image it never
+    /// imported): a bug, reported rather than panicking.
+    #[error("internal error: {0}")]
+    Internal(String),
     /// Drawing a chart failed (see [`crate::plot`]).
     #[error("plot: {0}")]
     Plot(String),

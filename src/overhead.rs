@@ -84,6 +84,7 @@ pub fn run(device: &Arc<Device>, options: &OverheadOptions, mut progress: impl F
                     wireframe: false,
                     pipeline_statistics: false,
                     submission: Submission { strategy, clusters },
+                    debug_bounds: false,
                 };
                 let animation = AnimationSettings { mode: Mode::Static, ..Default::default() };
                 renderers.push((strategy, Renderer::new(device.clone(), &scene, settings, animation)?));

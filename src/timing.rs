@@ -20,6 +20,7 @@ use serde_json::{json, Value};
 use crate::app::RenderOptions;
 use crate::bench::{statistics_json, summary};
 use crate::error::{Error, Result, VkContext};
+use crate::render::graph::Outputs;
 use crate::render::renderer::FrameSync;
 use crate::render::target::OFFSCREEN_FORMAT;
 use crate::render::{FrameTimings, OffscreenTarget, RenderSettings, Renderer};
@@ -118,6 +119,7 @@ fn run_one(device: &Arc<Device>, scene: &Scene, options: &TimingOptions, frames_
         wireframe: false,
         pipeline_statistics: true,
         submission: render.submission,
+        debug_bounds: false,
     };
     let mut renderer = Renderer::new(device.clone(), scene, settings, render.animation.clone())?;
     let extent = vk::Extent2D { width: render.size.0, height: render.size.1 };
@@ -137,7 +139,7 @@ fn run_one(device: &Arc<Device>, scene: &Scene, options: &TimingOptions, frames_
             }
             // Fixed simulation step: frame n shows time n / 60 s.
             let time = render.time + index as f32 / 60.0;
-            renderer.submit_frame(slot, &view, &camera, time, FrameSync::default(), |_, _| {})?;
+            renderer.submit_frame(slot, &view, &camera, time, FrameSync::default(), Outputs::default())?;
             in_flight[slot] = Some(index);
             view.color_previous = Access::ColorAttachmentWrite;
             view.depth_previous = Access::DepthAttachmentReadWrite;

@@ -3,6 +3,7 @@
 
 pub mod animation;
 pub mod frame;
+pub mod graph;
 pub mod passes;
 pub mod renderer;
 pub mod scene_gpu;
@@ -10,6 +11,7 @@ pub mod shaders;
 pub mod specialization;
 pub mod submission;
 pub mod target;
+pub mod uniforms;
 
 pub use renderer::{FrameTimings, PassTime, RenderSettings, Renderer};
 pub use target::OffscreenTarget;

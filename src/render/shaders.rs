@@ -26,3 +26,7 @@ pub const KEYFRAME_DECODE_COMP: &[u8] = spirv!("keyframe_decode.comp");
 pub const FLOOR_VERT: &[u8] = spirv!("floor.vert");
 /// Floor reference: flat colour.
 pub const FLOOR_FRAG: &[u8] = spirv!("floor.frag");
+/// Debug view: the cluster grid as lines (`--debug-view bounds`).
+pub const CLUSTER_BOUNDS_VERT: &[u8] = spirv!("cluster_bounds.vert");
+/// Debug view: line colour.
+pub const CLUSTER_BOUNDS_FRAG: &[u8] = spirv!("cluster_bounds.frag");

@@ -4,8 +4,7 @@
 use ash::vk;
 
 use crate::error::Result;
-use crate::vk::image::COLOR_RANGE;
-use crate::vk::{sync, Access, Buffer, BufferDesc, Device, Image, ImageDesc};
+use crate::vk::{Access, Buffer, BufferDesc, Device, Image, ImageDesc};
 
 /// Colour format of offscreen targets: UNORM, the shaders encode sRGB themselves.
 pub const OFFSCREEN_FORMAT: vk::Format = vk::Format::R8G8B8A8_UNORM;
@@ -29,35 +28,6 @@ pub struct TargetView {
     pub color_previous: Access,
     /// How the depth image was last accessed.
     pub depth_previous: Access,
-}
-
-/// Record the copy of a whole colour image (last accessed as `previous`) into a host-visible
-/// buffer, with the barriers `previous → transfer read` on the image and `transfer write → host
-/// read` on the buffer. The image is left as a transfer source (`Access::TransferRead`).
-pub fn record_copy_to_host(
-    device: &Device,
-    cmd: vk::CommandBuffer,
-    image: vk::Image,
-    extent: vk::Extent2D,
-    previous: Access,
-    buffer: &Buffer,
-) {
-    let to_copy = sync::image_barrier(image, COLOR_RANGE, &[previous], &[Access::TransferRead]);
-    sync::cmd_barriers(device, cmd, &[], &[to_copy]);
-    let region = vk::BufferImageCopy::default()
-        .image_subresource(vk::ImageSubresourceLayers {
-            aspect_mask: vk::ImageAspectFlags::COLOR,
-            mip_level: 0,
-            base_array_layer: 0,
-            layer_count: 1,
-        })
-        .image_extent(vk::Extent3D { width: extent.width, height: extent.height, depth: 1 });
-    // SAFETY: the image is a transfer source now; the buffer holds width × height × 4 bytes.
-    unsafe {
-        device.raw.cmd_copy_image_to_buffer(cmd, image, vk::ImageLayout::TRANSFER_SRC_OPTIMAL, buffer.raw, &[region])
-    };
-    let to_host = sync::buffer_barrier(buffer.raw, &[Access::TransferWrite], &[Access::HostRead]);
-    sync::cmd_barriers(device, cmd, &[to_host], &[]);
 }
 
 /// Bytes of device memory an offscreen target of `extent` needs (colour, depth, readback).
@@ -131,20 +101,11 @@ impl OffscreenTarget {
         }
     }
 
-    /// Record the copy of the rendered colour image into the readback buffer, with the barriers
-    /// colour-attachment write → transfer read and transfer write → host read.
-    pub fn record_readback(&mut self, device: &Device, cmd: vk::CommandBuffer) {
-        // The frame just recorded leaves depth as an attachment and colour as a copy source.
+    /// Note that a frame was recorded into the target with a readback: it leaves depth as an
+    /// attachment and colour as a copy source (the next frame's first barriers start there).
+    pub fn rendered(&mut self) {
         self.depth_last = Access::DepthAttachmentReadWrite;
         self.color_last = Access::TransferRead;
-        record_copy_to_host(
-            device,
-            cmd,
-            self.color.raw,
-            self.color.extent,
-            Access::ColorAttachmentWrite,
-            &self.readback,
-        );
     }
 
     /// The RGBA8 pixels of the last completed frame (call after its fence).

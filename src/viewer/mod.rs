@@ -24,12 +24,12 @@ use crate::app::{self, GpuOptions, RenderOptions};
 use crate::error::{Error, Result, VkContext};
 use crate::keyframes::Smoothing;
 use crate::render::animation::{Eval, Mode};
-use crate::render::target::{record_copy_to_host, TargetView, DEPTH_FORMAT};
+use crate::render::graph::Outputs;
+use crate::render::target::{TargetView, DEPTH_FORMAT};
 use crate::render::{FrameTimings, RenderSettings, Renderer};
 use crate::scene::{Camera, Scene};
-use crate::vk::image::COLOR_RANGE;
 use crate::vk::swapchain::{swapchain_counts, PresentMode, Swapchain};
-use crate::vk::{sync, Access, Buffer, BufferDesc, Device, Image, ImageDesc};
+use crate::vk::{Access, Buffer, BufferDesc, Device, Image, ImageDesc};
 use crate::wind::{CalmArea, Collider, PointSource};
 use controls::CameraControl;
 use script::{Action, Script};
@@ -233,6 +233,7 @@ impl Viewer {
             wireframe: false,
             pipeline_statistics: false,
             submission: Default::default(),
+            debug_bounds: false,
         };
         let fixed_step = options.script.is_some() || options.frames.is_some();
         Ok(Self {
@@ -281,7 +282,7 @@ impl Viewer {
     }
 
     fn teardown(&mut self) {
-        if let Some(renderer) = &self.renderer {
+        if let Some(renderer) = &mut self.renderer {
             let _ = renderer.wait_all_frames();
         }
         // SAFETY: queue idle: every frame and presentation using the swapchain is done.
@@ -347,7 +348,7 @@ impl Viewer {
     /// (Re)create the swapchain and depth image at the window's size. Waits for the frames in
     /// flight and the queue (presentation included) first: the old images may still be in use.
     fn recreate(&mut self) -> Result<()> {
-        if let Some(renderer) = &self.renderer {
+        if let Some(renderer) = &mut self.renderer {
             renderer.wait_all_frames()?;
         }
         // SAFETY: valid queue.
@@ -447,19 +448,8 @@ impl Viewer {
             wait: Some(renderer.acquire_semaphore(slot)),
             signal: Some(surface.swapchain.present_semaphores[index as usize]),
         };
-        let submitted = renderer.submit_frame(slot, &view, &self.control.camera, self.time, sync, |device, cmd| {
-            let mut last = Access::ColorAttachmentWrite;
-            if let Some(buffer) = &readback {
-                record_copy_to_host(device, cmd, image, extent, last, buffer);
-                last = Access::TransferRead;
-            }
-            sync::cmd_barriers(
-                device,
-                cmd,
-                &[],
-                &[sync::image_barrier(image, COLOR_RANGE, &[last], &[Access::Present])],
-            );
-        });
+        let outputs = Outputs { readback: readback.as_ref().map(|b| b.raw), present: true };
+        let submitted = renderer.submit_frame(slot, &view, &self.control.camera, self.time, sync, outputs);
         let result = submitted.and_then(|()| surface.swapchain.present(&self.device, index));
         if let (Some(buffer), Some(path)) = (readback, self.screenshot.take()) {
             // A screenshot is rare: wait for this frame, then write the picture.

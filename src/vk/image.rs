@@ -55,6 +55,30 @@ pub const COLOR_RANGE: vk::ImageSubresourceRange = vk::ImageSubresourceRange {
     layer_count: 1,
 };
 
+/// Record the copy of a whole single-mip colour image (a transfer source now) into `buffer`,
+/// tightly packed. The barriers around it are the caller's (`render::graph` derives them).
+pub fn record_copy_to_buffer(
+    device: &Device,
+    cmd: vk::CommandBuffer,
+    image: vk::Image,
+    extent: vk::Extent2D,
+    buffer: vk::Buffer,
+) {
+    let region = vk::BufferImageCopy::default()
+        .image_subresource(vk::ImageSubresourceLayers {
+            aspect_mask: vk::ImageAspectFlags::COLOR,
+            mip_level: 0,
+            base_array_layer: 0,
+            layer_count: 1,
+        })
+        .image_extent(vk::Extent3D { width: extent.width, height: extent.height, depth: 1 });
+    // SAFETY: cmd is recording outside a rendering instance; the image is in TRANSFER_SRC_OPTIMAL
+    // and the buffer holds width × height texels.
+    unsafe {
+        device.raw.cmd_copy_image_to_buffer(cmd, image, vk::ImageLayout::TRANSFER_SRC_OPTIMAL, buffer, &[region])
+    };
+}
+
 /// The one mip level and layer of a depth image.
 pub const DEPTH_RANGE: vk::ImageSubresourceRange =
     vk::ImageSubresourceRange { aspect_mask: vk::ImageAspectFlags::DEPTH, ..COLOR_RANGE };

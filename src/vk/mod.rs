@@ -13,6 +13,7 @@ pub mod pipeline;
 pub mod query;
 pub mod swapchain;
 pub mod sync;
+pub mod tracker;
 pub mod upload;
 
 pub use buffer::{Buffer, BufferDesc};
@@ -20,3 +21,4 @@ pub use device::{Device, DeviceDesc, DeviceSelector};
 pub use image::{Image, ImageDesc};
 pub use instance::{Instance, InstanceDesc, ValidationCounter};
 pub use sync::Access;
+pub use tracker::{Resource, ResourceStates};

@@ -134,8 +134,8 @@ pub struct Transition {
 
 /// The one function that turns accesses into a barrier.
 ///
-/// Images must have a single layout on each side: mixing accesses with different layouts on one
-/// side is a programming error.
+/// The layouts are those of the last access on each side; for an image all accesses of a side
+/// must agree (`image_barrier` checks), for a buffer they mean nothing.
 pub fn transition(previous: &[Access], next: &[Access]) -> Transition {
     let mut t = Transition {
         src_stages: vk::PipelineStageFlags2::NONE,
@@ -145,21 +145,24 @@ pub fn transition(previous: &[Access], next: &[Access]) -> Transition {
         old_layout: vk::ImageLayout::UNDEFINED,
         new_layout: vk::ImageLayout::UNDEFINED,
     };
-    for (i, access) in previous.iter().enumerate() {
+    for access in previous {
         let info = access.info();
         t.src_stages |= info.stages;
         t.src_access |= access.writes();
-        debug_assert!(i == 0 || t.old_layout == info.layout, "previous accesses disagree on the layout");
         t.old_layout = info.layout;
     }
-    for (i, access) in next.iter().enumerate() {
+    for access in next {
         let info = access.info();
         t.dst_stages |= info.stages;
         t.dst_access |= info.access;
-        debug_assert!(i == 0 || t.new_layout == info.layout, "next accesses disagree on the layout");
         t.new_layout = info.layout;
     }
     t
+}
+
+/// Whether all `accesses` use one image layout.
+pub fn one_layout(accesses: &[Access]) -> bool {
+    accesses.windows(2).all(|w| w[0].info().layout == w[1].info().layout)
 }
 
 /// A synchronization2 image barrier over `range` for the transition `previous → next`.
@@ -169,6 +172,8 @@ pub fn image_barrier(
     previous: &[Access],
     next: &[Access],
 ) -> vk::ImageMemoryBarrier2<'static> {
+    debug_assert!(one_layout(previous), "previous accesses disagree on the layout: {previous:?}");
+    debug_assert!(one_layout(next), "next accesses disagree on the layout: {next:?}");
     let t = transition(previous, next);
     vk::ImageMemoryBarrier2::default()
         .src_stage_mask(t.src_stages)

@@ -1,59 +1,69 @@
 //! Blade-pose pass (`--eval blade`): a compute dispatch, one invocation per blade, that does the
 //! animation once per blade instead of once per vertex — force, keyframe selection, the blend of
 //! every level — and writes each level's point, tangent and twist (12 bytes) for the blade pass
-//! (`shaders/blade_pose.comp`, `render::scene_gpu::pose_bytes`).
+//! (`shaders/blade_pose.comp`, `render::scene_gpu::pose_bytes`). Its records are written here
+//! and read by the blade pass's vertex shader; the graph orders the two, and this frame's write
+//! after the previous frame's reads.
 
 use ash::vk;
 
 use crate::error::Result;
+use crate::render::graph::{Declaration, Pass, PassContext};
+use crate::render::passes;
+use crate::render::scene_gpu::SceneGpu;
 use crate::render::shaders;
-use crate::vk::{pipeline, sync, Access, Buffer, Device};
+use crate::vk::{pipeline, Access, Device, Resource};
 
-/// The compute pipeline.
+/// The compute pipeline and the buffers it touches.
 pub struct BladePosePass {
     pipeline: vk::Pipeline,
+    layout: vk::PipelineLayout,
+    poses: vk::Buffer,
+    blade_count: u32,
+    reads: [vk::Buffer; 2],
+    keyframes: vk::Image,
 }
 
 impl BladePosePass {
     /// Build the pipeline on the scene's pipeline layout.
-    pub fn new(device: &Device, layout: vk::PipelineLayout, constants: &[u32]) -> Result<Self> {
-        Ok(Self { pipeline: pipeline::compute(device, "blade poses", shaders::BLADE_POSE_COMP, layout, constants)? })
+    pub fn new(device: &Device, layout: vk::PipelineLayout, constants: &[u32], scene: &SceneGpu) -> Result<Self> {
+        Ok(Self {
+            pipeline: pipeline::compute(device, "blade poses", shaders::BLADE_POSE_COMP, layout, constants)?,
+            layout,
+            poses: scene.poses.raw,
+            blade_count: scene.blade_count,
+            reads: [scene.blades.raw, scene.clusters.raw],
+            keyframes: scene.keyframes.image.raw,
+        })
+    }
+}
+
+impl Pass for BladePosePass {
+    fn name(&self) -> &'static str {
+        "blade poses"
     }
 
-    /// Record the dispatch with its barriers: the previous frame's vertex-shader reads of the
-    /// records finish before they are overwritten, and the new records are visible to the vertex
-    /// shader of this frame. Set 0 must be bound at the compute bind point.
-    pub fn record(&self, device: &Device, cmd: vk::CommandBuffer, poses: &Buffer, blade_count: u32) {
-        sync::cmd_barriers(
-            device,
-            cmd,
-            // The previous frame read the records in its vertex shader (WAR) and wrote them here
-            // (WAW: a memory dependency, not only the execution chain through the reads).
-            &[sync::buffer_barrier(
-                poses.raw,
-                &[Access::VertexShaderStorageRead, Access::ComputeShaderWrite],
-                &[Access::ComputeShaderWrite],
-            )],
-            &[],
-        );
-        // SAFETY: cmd is recording outside a rendering instance.
+    fn declare(&self, _: &PassContext) -> Option<Declaration> {
+        let declaration = Declaration::compute()
+            .buffer(self.poses, Access::ComputeShaderWrite)
+            .buffer(self.reads[0], Access::ComputeShaderRead)
+            .buffer(self.reads[1], Access::ComputeShaderRead)
+            .uses(Resource::color(self.keyframes), Access::ComputeShaderSampledRead);
+        Some(declaration)
+    }
+
+    fn record(&self, ctx: &PassContext, cmd: vk::CommandBuffer) -> Result<()> {
+        let device = ctx.device;
+        passes::bind_scene_set(device, ctx, cmd, self.layout, vk::PipelineBindPoint::COMPUTE);
+        // SAFETY: cmd is recording outside a rendering instance; set 0 is bound.
         unsafe {
             device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipeline);
-            device.raw.cmd_dispatch(cmd, blade_count.div_ceil(64), 1, 1);
+            device.raw.cmd_dispatch(cmd, self.blade_count.div_ceil(64), 1, 1);
         }
-        sync::cmd_barriers(
-            device,
-            cmd,
-            &[sync::buffer_barrier(poses.raw, &[Access::ComputeShaderWrite], &[Access::VertexShaderStorageRead])],
-            &[],
-        );
+        Ok(())
     }
 
-    /// Destroy the pipeline.
-    ///
-    /// # Safety
-    /// No pending work may use it.
-    pub unsafe fn destroy(self, device: &Device) {
+    unsafe fn destroy(self: Box<Self>, device: &Device) {
         // SAFETY: per the contract.
         unsafe { device.raw.destroy_pipeline(self.pipeline, None) };
     }

@@ -1,29 +1,65 @@
-//! Blade pass: every blade in one instanced draw, geometry expanded in the vertex shader
-//! (vertex pulling, thesis 4.1 Bézier strips, no vertex buffer).
+//! Blade pass: every blade's strip expanded in the vertex shader (vertex pulling, thesis 4.1
+//! Bézier strips, no vertex buffer), drawn with the submission strategy of `meadow overhead`: one
+//! instanced draw by default, or per cluster, indirectly, or from secondary command buffers
+//! recorded on worker threads (`render::submission`).
 
 use ash::vk;
 
-use crate::error::Result;
+use crate::error::{Result, VkContext};
+use crate::render::graph::{Declaration, Pass, PassContext};
+use crate::render::passes::{self, PipelineTarget};
 use crate::render::scene_gpu::SceneGpu;
 use crate::render::shaders;
-use crate::render::submission::{self, BladeDraws};
-use crate::vk::{pipeline, Device};
+use crate::render::submission::{self, BladeDraws, IndirectDraws, SecondaryRecorders, Strategy};
+use crate::render::target::DEPTH_FORMAT;
+use crate::scene::bezier::{self, Batching};
+use crate::vk::upload::UploadBatch;
+use crate::vk::{pipeline, Access, Device};
 
-/// The blade pipeline.
+/// The blade pipeline and its draws.
 pub struct BladePass {
     pipeline: vk::Pipeline,
+    layout: vk::PipelineLayout,
+    color_format: vk::Format,
+    strategy: Strategy,
+    /// Vertices per instance (a strip, or K strips joined by degenerate triangles).
+    vertices: u32,
+    /// Instances of the instanced draw.
+    instances: u32,
+    /// Strip vertices of one blade.
+    strip: u32,
+    /// Blade ranges of the per-cluster and secondary strategies.
+    ranges: Vec<(u32, u32)>,
+    /// Commands of the indirect strategies.
+    indirect: Option<IndirectDraws>,
+    /// Worker command buffers of the `Secondary` strategy, one set per frame in flight.
+    secondaries: Vec<SecondaryRecorders>,
+    /// Buffers the vertex shader reads (for the declaration).
+    reads: Vec<(vk::Buffer, Access)>,
+}
+
+/// How the blade pass is built.
+pub struct BladeSetup<'a> {
+    /// Layout and formats.
+    pub target: PipelineTarget,
+    /// Specialization constants.
+    pub constants: &'a [u32],
+    /// Segments per blade.
+    pub segments: u32,
+    /// Blades per instance of the instanced draw.
+    pub blades_per_instance: u32,
+    /// The submission strategy and its clusters.
+    pub submission: submission::Submission,
+    /// Frames in flight (the secondary strategy records per frame).
+    pub frames_in_flight: usize,
+    /// Whether the vertex shader reads pose records (`--eval blade`).
+    pub reads_poses: bool,
 }
 
 impl BladePass {
-    /// Build the pipeline for the given attachment formats. Blades are two-sided: no culling.
-    pub fn new(
-        device: &Device,
-        layout: vk::PipelineLayout,
-        color: vk::Format,
-        depth: vk::Format,
-        constants: &[u32],
-        polygon: vk::PolygonMode,
-    ) -> Result<Self> {
+    /// Build the pipeline (two-sided blades: no culling) and the draws of the strategy.
+    pub fn new(device: &Device, scene: &SceneGpu, setup: &BladeSetup) -> Result<Self> {
+        let target = setup.target;
         let pipeline = pipeline::graphics(
             device,
             &pipeline::GraphicsDesc {
@@ -32,32 +68,70 @@ impl BladePass {
                 fragment: shaders::BLADE_FRAG,
                 topology: vk::PrimitiveTopology::TRIANGLE_STRIP,
                 cull: vk::CullModeFlags::NONE,
-                polygon,
+                polygon: target.polygon,
                 depth_compare: vk::CompareOp::GREATER,
-                color_format: color,
-                depth_format: depth,
-                layout,
-                constants,
+                color_format: target.color,
+                depth_format: target.depth,
+                layout: target.layout,
+                constants: setup.constants,
                 vertex_stride: 0,
             },
         )?;
-        Ok(Self { pipeline })
+        let mut reads = vec![
+            (scene.blades.raw, Access::VertexShaderStorageRead),
+            (scene.clusters.raw, Access::VertexShaderStorageRead),
+        ];
+        if setup.reads_poses {
+            reads.push((scene.poses.raw, Access::VertexShaderStorageRead));
+        }
+        let mut pass = Self {
+            pipeline,
+            layout: target.layout,
+            color_format: target.color,
+            strategy: setup.submission.strategy,
+            vertices: Batching::new(setup.segments, setup.blades_per_instance).vertices_per_instance(),
+            instances: scene.blade_count.div_ceil(setup.blades_per_instance),
+            strip: bezier::strip_vertices(setup.segments),
+            ranges: Vec::new(),
+            indirect: None,
+            secondaries: Vec::new(),
+            reads,
+        };
+        if let Err(e) = pass.build_submission(device, scene.blade_count, setup) {
+            // SAFETY: nothing was submitted with the pass.
+            unsafe { Box::new(pass).destroy(device) };
+            return Err(e);
+        }
+        Ok(pass)
     }
 
-    /// The blade pipeline, bound by `record`.
+    /// The ranges, indirect commands and secondary recorders of a non-instanced strategy.
+    fn build_submission(&mut self, device: &Device, blades: u32, setup: &BladeSetup) -> Result<()> {
+        if matches!(self.strategy, Strategy::Instanced | Strategy::Prerecorded) {
+            return Ok(());
+        }
+        self.ranges = submission::ranges(blades, setup.submission.clusters);
+        if matches!(self.strategy, Strategy::Indirect | Strategy::Mdi | Strategy::MdiCount) {
+            let mut batch = UploadBatch::new(device);
+            let indirect = IndirectDraws::upload(&mut batch, &self.ranges, self.strip)?;
+            self.reads.push((indirect.commands.raw, Access::IndirectCommandRead));
+            self.reads.push((indirect.count.raw, Access::IndirectCommandRead));
+            self.indirect = Some(indirect);
+            batch.submit()?;
+        }
+        if self.strategy == Strategy::Secondary {
+            let workers = std::thread::available_parallelism().map_or(2, |n| n.get()).min(self.ranges.len());
+            for i in 0..setup.frames_in_flight {
+                let name = format!("frame {i} secondary");
+                self.secondaries.push(SecondaryRecorders::new(device, &name, workers)?);
+            }
+        }
+        Ok(())
+    }
+
+    /// The pipeline, for tests and statistics.
     pub fn pipeline(&self) -> vk::Pipeline {
         self.pipeline
-    }
-
-    /// Bind the pipeline and record `draws`: by default one draw call for all blades, one
-    /// instance per blade, a strip of `2(S+1)` vertices. `--blades-per-instance K` packs K blades
-    /// into each instance (strips joined by degenerate triangles, `bezier::Batching`) to measure
-    /// a driver's per-instance overhead; the picture is the same for every K. `meadow overhead`
-    /// submits the same blades per cluster, indirectly or from secondaries (`submission`).
-    pub fn record(&self, device: &Device, cmd: vk::CommandBuffer, draws: &BladeDraws) {
-        // SAFETY: cmd is recording inside the blade pass's rendering instance; set 0 is bound.
-        unsafe { device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline) };
-        submission::record_draws(device, cmd, draws);
     }
 
     /// Triangles drawn.
@@ -65,12 +139,122 @@ impl BladePass {
         2 * u64::from(segments) * u64::from(scene.blade_count)
     }
 
-    /// Destroy the pipeline.
-    ///
-    /// # Safety
-    /// No pending work may use it.
-    pub unsafe fn destroy(self, device: &Device) {
+    /// The draws of the strategy (all but `Secondary`, recorded on worker threads).
+    fn draws(&self) -> BladeDraws<'_> {
+        let indirect = || self.indirect.as_ref().expect("built in new for the indirect strategies");
+        match self.strategy {
+            Strategy::Instanced | Strategy::Prerecorded => {
+                BladeDraws::Instanced { vertices: self.vertices, instances: self.instances }
+            }
+            Strategy::PerCluster | Strategy::Secondary => {
+                BladeDraws::PerCluster { vertices: self.strip, ranges: &self.ranges, layout: self.layout }
+            }
+            Strategy::Indirect => BladeDraws::IndirectLoop(indirect()),
+            Strategy::Mdi => BladeDraws::MultiDraw(indirect()),
+            Strategy::MdiCount => BladeDraws::MultiDrawCount(indirect()),
+        }
+    }
+
+    /// The per-cluster draws as secondary command buffers, one per worker thread, executed by
+    /// `cmd` (inside a rendering instance begun for secondary contents). Threads are scoped to the
+    /// call: their start-up is part of the measured recording time.
+    fn record_secondaries(&self, ctx: &PassContext, cmd: vk::CommandBuffer) -> Result<()> {
+        let device = ctx.device;
+        let workers = &self.secondaries[ctx.slot].workers;
+        let per_worker = self.ranges.len().div_ceil(workers.len());
+        let results: Vec<Result<vk::CommandBuffer>> = std::thread::scope(|scope| {
+            let handles: Vec<_> = workers
+                .iter()
+                .zip(self.ranges.chunks(per_worker))
+                .map(|(&(pool, secondary), ranges)| {
+                    scope.spawn(move || self.record_worker(ctx, pool, secondary, ranges))
+                })
+                .collect();
+            handles.into_iter().map(|h| h.join().expect("a recording thread panicked")).collect()
+        });
+        let secondaries: Vec<vk::CommandBuffer> = results.into_iter().collect::<Result<_>>()?;
+        // SAFETY: cmd is inside a rendering instance begun for secondary command buffers with the
+        // formats the secondaries inherit.
+        unsafe { device.raw.cmd_execute_commands(cmd, &secondaries) };
+        Ok(())
+    }
+
+    /// One worker's secondary command buffer: its share of the per-cluster draws.
+    fn record_worker(
+        &self,
+        ctx: &PassContext,
+        pool: vk::CommandPool,
+        secondary: vk::CommandBuffer,
+        ranges: &[(u32, u32)],
+    ) -> Result<vk::CommandBuffer> {
+        let device = ctx.device;
+        let formats = [self.color_format];
+        let mut rendering = vk::CommandBufferInheritanceRenderingInfo::default()
+            .color_attachment_formats(&formats)
+            .depth_attachment_format(DEPTH_FORMAT)
+            .rasterization_samples(vk::SampleCountFlags::TYPE_1);
+        let inheritance = vk::CommandBufferInheritanceInfo::default().push_next(&mut rendering);
+        let begin = vk::CommandBufferBeginInfo::default()
+            .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT | vk::CommandBufferUsageFlags::RENDER_PASS_CONTINUE)
+            .inheritance_info(&inheritance);
+        // SAFETY: each worker owns its pool; the frame's fence was waited, so the previous
+        // recording is not pending. Dynamic state and bindings are not inherited: each secondary
+        // sets its own.
+        unsafe {
+            device.raw.reset_command_pool(pool, vk::CommandPoolResetFlags::empty()).vk("vkResetCommandPool")?;
+            device.raw.begin_command_buffer(secondary, &begin).vk("vkBeginCommandBuffer")?;
+        }
+        passes::set_full_viewport(device, secondary, ctx.target.extent);
+        passes::bind_scene_set(device, ctx, secondary, self.layout, vk::PipelineBindPoint::GRAPHICS);
+        // SAFETY: recording.
+        unsafe { device.raw.cmd_bind_pipeline(secondary, vk::PipelineBindPoint::GRAPHICS, self.pipeline) };
+        let draws = BladeDraws::PerCluster { vertices: self.strip, ranges, layout: self.layout };
+        submission::record_draws(device, secondary, &draws);
+        // SAFETY: recording.
+        unsafe { device.raw.end_command_buffer(secondary) }.vk("vkEndCommandBuffer")?;
+        Ok(secondary)
+    }
+}
+
+impl Pass for BladePass {
+    fn name(&self) -> &'static str {
+        "blades"
+    }
+
+    fn declare(&self, ctx: &PassContext) -> Option<Declaration> {
+        let secondary = self.strategy == Strategy::Secondary;
+        let rendering = passes::scene_rendering(ctx, self.pipeline, false, secondary);
+        Some(self.reads.iter().fold(Declaration::graphics(rendering), |d, &(b, a)| d.buffer(b, a)))
+    }
+
+    fn record(&self, ctx: &PassContext, cmd: vk::CommandBuffer) -> Result<()> {
+        if self.strategy == Strategy::Secondary {
+            return self.record_secondaries(ctx, cmd);
+        }
+        let device = ctx.device;
+        passes::bind_scene_set(device, ctx, cmd, self.layout, vk::PipelineBindPoint::GRAPHICS);
+        passes::set_full_viewport(device, cmd, ctx.target.extent);
+        // Defined for every draw: per-cluster draws push their own first blade.
+        let push = submission::ClusterPush { first_blade: 0 };
+        // SAFETY: cmd is recording inside this pass's rendering instance; set 0 is bound.
+        unsafe {
+            device.raw.cmd_push_constants(cmd, self.layout, vk::ShaderStageFlags::VERTEX, 0, bytemuck::bytes_of(&push));
+            device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline);
+        }
+        submission::record_draws(device, cmd, &self.draws());
+        Ok(())
+    }
+
+    unsafe fn destroy(mut self: Box<Self>, device: &Device) {
         // SAFETY: per the contract.
-        unsafe { device.raw.destroy_pipeline(self.pipeline, None) };
+        unsafe {
+            for mut recorders in self.secondaries.drain(..) {
+                recorders.destroy(device);
+            }
+            if let Some(indirect) = self.indirect.take() {
+                indirect.destroy(device);
+            }
+            device.raw.destroy_pipeline(self.pipeline, None);
+        }
     }
 }

@@ -5,14 +5,19 @@
 use ash::vk;
 
 use crate::error::Result;
+use crate::render::graph::{Declaration, Pass, PassContext};
+use crate::render::passes::{self, PipelineTarget};
 use crate::render::shaders;
 use crate::scene::bezier::{self, Batching};
 use crate::scene::BladeInstance;
-use crate::vk::{pipeline, Buffer, Device};
+use crate::vk::{pipeline, Access, Buffer, Device};
 
-/// The floor pipeline.
+/// The floor pipeline and its pre-expanded vertices.
 pub struct FloorPass {
     pipeline: vk::Pipeline,
+    layout: vk::PipelineLayout,
+    vertices: vk::Buffer,
+    count: u32,
 }
 
 /// The pre-expanded positions of every blade vertex, in the batched strip order.
@@ -31,14 +36,7 @@ pub fn expand(blades: &[BladeInstance], segments: u32) -> Vec<[f32; 3]> {
 
 impl FloorPass {
     /// Build the pipeline.
-    pub fn new(
-        device: &Device,
-        layout: vk::PipelineLayout,
-        color: vk::Format,
-        depth: vk::Format,
-        constants: &[u32],
-        polygon: vk::PolygonMode,
-    ) -> Result<Self> {
+    pub fn new(device: &Device, target: PipelineTarget, constants: &[u32], vertices: &Buffer) -> Result<Self> {
         let pipeline = pipeline::graphics(
             device,
             &pipeline::GraphicsDesc {
@@ -47,38 +45,45 @@ impl FloorPass {
                 fragment: shaders::FLOOR_FRAG,
                 topology: vk::PrimitiveTopology::TRIANGLE_STRIP,
                 cull: vk::CullModeFlags::NONE,
-                polygon,
+                polygon: target.polygon,
                 depth_compare: vk::CompareOp::GREATER,
-                color_format: color,
-                depth_format: depth,
-                layout,
+                color_format: target.color,
+                depth_format: target.depth,
+                layout: target.layout,
                 constants,
                 vertex_stride: 12,
             },
         )?;
-        Ok(Self { pipeline })
+        Ok(Self { pipeline, layout: target.layout, vertices: vertices.raw, count: (vertices.size / 12) as u32 })
+    }
+}
+
+impl Pass for FloorPass {
+    /// The floor stands in for the blades in reports (`bench` reads the "blades" pass).
+    fn name(&self) -> &'static str {
+        "blades"
     }
 
-    /// The floor pipeline, bound by `record`.
-    pub fn pipeline(&self) -> vk::Pipeline {
-        self.pipeline
+    fn declare(&self, ctx: &PassContext) -> Option<Declaration> {
+        let rendering = passes::scene_rendering(ctx, self.pipeline, false, false);
+        Some(Declaration::graphics(rendering).buffer(self.vertices, Access::VertexAttributeRead))
     }
 
     /// One draw of the whole strip.
-    pub fn record(&self, device: &Device, cmd: vk::CommandBuffer, vertices: &Buffer) {
-        // SAFETY: cmd is recording inside the blade pass's rendering instance.
+    fn record(&self, ctx: &PassContext, cmd: vk::CommandBuffer) -> Result<()> {
+        let device = ctx.device;
+        passes::bind_scene_set(device, ctx, cmd, self.layout, vk::PipelineBindPoint::GRAPHICS);
+        passes::set_full_viewport(device, cmd, ctx.target.extent);
+        // SAFETY: cmd is recording inside this pass's rendering instance; set 0 is bound.
         unsafe {
             device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline);
-            device.raw.cmd_bind_vertex_buffers(cmd, 0, &[vertices.raw], &[0]);
-            device.raw.cmd_draw(cmd, (vertices.size / 12) as u32, 1, 0, 0);
+            device.raw.cmd_bind_vertex_buffers(cmd, 0, &[self.vertices], &[0]);
+            device.raw.cmd_draw(cmd, self.count, 1, 0, 0);
         }
+        Ok(())
     }
 
-    /// Destroy the pipeline.
-    ///
-    /// # Safety
-    /// No pending work may use it.
-    pub unsafe fn destroy(self, device: &Device) {
+    unsafe fn destroy(self: Box<Self>, device: &Device) {
         // SAFETY: per the contract.
         unsafe { device.raw.destroy_pipeline(self.pipeline, None) };
     }

@@ -1,12 +1,76 @@
-//! Render passes, one per file. Each owns its pipeline and records its draws into the scene's
-//! rendering instance.
+//! Render passes, one per file. Each implements `graph::Pass`: it owns its pipelines, declares
+//! what it reads and writes, and records its own binds and draws or dispatches; the graph adds the
+//! barriers, the rendering instance, the label and the GPU scopes.
 
 pub mod blade_pose;
 pub mod blades;
+pub mod cluster_bounds;
 pub mod floor;
 pub mod terrain;
 
 pub use blade_pose::BladePosePass;
 pub use blades::BladePass;
+pub use cluster_bounds::ClusterBoundsPass;
 pub use floor::FloorPass;
 pub use terrain::TerrainPass;
+
+use ash::vk;
+
+use crate::render::graph::{Attachment, Load, PassContext, Rendering};
+use crate::vk::Device;
+
+/// The pipeline layout and attachment formats every scene pipeline is built for.
+#[derive(Clone, Copy, Debug)]
+pub struct PipelineTarget {
+    /// Set 0 (scene and frame) and the push-constant range.
+    pub layout: vk::PipelineLayout,
+    /// Colour attachment format.
+    pub color: vk::Format,
+    /// Depth attachment format.
+    pub depth: vk::Format,
+    /// Fill or wireframe.
+    pub polygon: vk::PolygonMode,
+}
+
+/// Bind the frame's set 0 at `bind_point`.
+pub fn bind_scene_set(
+    device: &Device,
+    ctx: &PassContext,
+    cmd: vk::CommandBuffer,
+    layout: vk::PipelineLayout,
+    bind_point: vk::PipelineBindPoint,
+) {
+    // SAFETY: cmd is recording; the set matches the layout's set 0.
+    unsafe { device.raw.cmd_bind_descriptor_sets(cmd, bind_point, layout, 0, &[ctx.descriptor_set], &[]) };
+}
+
+/// Set the viewport and scissor to the whole target (dynamic state of every scene pipeline).
+pub fn set_full_viewport(device: &Device, cmd: vk::CommandBuffer, extent: vk::Extent2D) {
+    let viewport = vk::Viewport {
+        x: 0.0,
+        y: 0.0,
+        width: extent.width as f32,
+        height: extent.height as f32,
+        min_depth: 0.0,
+        max_depth: 1.0,
+    };
+    let area = vk::Rect2D { offset: vk::Offset2D::default(), extent };
+    // SAFETY: cmd is recording.
+    unsafe {
+        device.raw.cmd_set_viewport(cmd, 0, &[viewport]);
+        device.raw.cmd_set_scissor(cmd, 0, &[area]);
+    }
+}
+
+/// The rendering instance of a scene pass drawing over what the previous passes left in the
+/// target (colour and depth loaded; depth stored when `store_depth`).
+pub fn scene_rendering(ctx: &PassContext, pipeline: vk::Pipeline, store_depth: bool, secondary: bool) -> Rendering {
+    let target = ctx.target;
+    Rendering {
+        extent: target.extent,
+        color: Some(Attachment { image: target.color, view: target.color_view, load: Load::Keep, store: true }),
+        depth: Some(Attachment { image: target.depth, view: target.depth_view, load: Load::Keep, store: store_depth }),
+        pipeline,
+        secondary,
+    }
+}

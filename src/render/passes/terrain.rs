@@ -1,26 +1,32 @@
-//! Terrain pass: the height field, 6 vertices per cell pulled from the heights buffer.
+//! Terrain pass: the height field, 6 vertices per cell pulled from the heights buffer. The first
+//! pass of a frame: it clears colour to the sky and depth to the far plane (0, reversed Z).
 
 use ash::vk;
 
 use crate::error::Result;
+use crate::render::graph::{Declaration, Load, Pass, PassContext};
+use crate::render::passes::{self, PipelineTarget};
 use crate::render::scene_gpu::SceneGpu;
 use crate::render::shaders;
-use crate::vk::{pipeline, Device};
+use crate::vk::{pipeline, Access, Device};
 
-/// The terrain pipeline.
+/// The terrain pipeline and what it draws.
 pub struct TerrainPass {
     pipeline: vk::Pipeline,
+    layout: vk::PipelineLayout,
+    heights: vk::Buffer,
+    cells: u32,
+    sky: [f32; 4],
 }
 
 impl TerrainPass {
-    /// Build the pipeline for the given attachment formats.
+    /// Build the pipeline; `sky` is the clear colour as the target stores it.
     pub fn new(
         device: &Device,
-        layout: vk::PipelineLayout,
-        color: vk::Format,
-        depth: vk::Format,
+        target: PipelineTarget,
         constants: &[u32],
-        polygon: vk::PolygonMode,
+        scene: &SceneGpu,
+        sky: [f32; 4],
     ) -> Result<Self> {
         let pipeline = pipeline::graphics(
             device,
@@ -30,43 +36,51 @@ impl TerrainPass {
                 fragment: shaders::TERRAIN_FRAG,
                 topology: vk::PrimitiveTopology::TRIANGLE_LIST,
                 cull: vk::CullModeFlags::NONE,
-                polygon,
+                polygon: target.polygon,
                 depth_compare: vk::CompareOp::GREATER,
-                color_format: color,
-                depth_format: depth,
-                layout,
+                color_format: target.color,
+                depth_format: target.depth,
+                layout: target.layout,
                 constants,
                 vertex_stride: 0,
             },
         )?;
-        Ok(Self { pipeline })
-    }
-
-    /// The terrain pipeline, bound by `record`.
-    pub fn pipeline(&self) -> vk::Pipeline {
-        self.pipeline
-    }
-
-    /// Draw the terrain; set 0 must be bound.
-    pub fn record(&self, device: &Device, cmd: vk::CommandBuffer, scene: &SceneGpu) {
-        let vertices = 6 * scene.terrain_cells * scene.terrain_cells;
-        // SAFETY: cmd is recording inside the scene's rendering instance.
-        unsafe {
-            device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline);
-            device.raw.cmd_draw(cmd, vertices, 1, 0, 0);
-        }
+        Ok(Self { pipeline, layout: target.layout, heights: scene.heights.raw, cells: scene.terrain_cells, sky })
     }
 
     /// Triangles drawn.
     pub fn triangles(scene: &SceneGpu) -> u64 {
         2 * u64::from(scene.terrain_cells).pow(2)
     }
+}
 
-    /// Destroy the pipeline.
-    ///
-    /// # Safety
-    /// No pending work may use it.
-    pub unsafe fn destroy(self, device: &Device) {
+impl Pass for TerrainPass {
+    fn name(&self) -> &'static str {
+        "terrain"
+    }
+
+    fn declare(&self, ctx: &PassContext) -> Option<Declaration> {
+        let mut rendering = passes::scene_rendering(ctx, self.pipeline, true, false);
+        let clear_color = vk::ClearValue { color: vk::ClearColorValue { float32: self.sky } };
+        let clear_depth = vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: 0.0, stencil: 0 } };
+        rendering.color.as_mut().expect("scene colour").load = Load::Clear(clear_color);
+        rendering.depth.as_mut().expect("scene depth").load = Load::Clear(clear_depth);
+        Some(Declaration::graphics(rendering).buffer(self.heights, Access::VertexShaderStorageRead))
+    }
+
+    fn record(&self, ctx: &PassContext, cmd: vk::CommandBuffer) -> Result<()> {
+        let device = ctx.device;
+        passes::bind_scene_set(device, ctx, cmd, self.layout, vk::PipelineBindPoint::GRAPHICS);
+        passes::set_full_viewport(device, cmd, ctx.target.extent);
+        // SAFETY: cmd is recording inside this pass's rendering instance; set 0 is bound.
+        unsafe {
+            device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline);
+            device.raw.cmd_draw(cmd, 6 * self.cells * self.cells, 1, 0, 0);
+        }
+        Ok(())
+    }
+
+    unsafe fn destroy(self: Box<Self>, device: &Device) {
         // SAFETY: per the contract.
         unsafe { device.raw.destroy_pipeline(self.pipeline, None) };
     }

@@ -1,0 +1,118 @@
+//! Cluster-bounds debug view (`--debug-view bounds`): the edges of every force cluster (thesis
+//! 3.2.2) drawn as lines over the finished picture, each corner coloured by this frame's force
+//! there (`shaders/cluster_bounds.vert`). A pass of its own pipeline layout (set 0 and a push
+//! constant with the grid), added to the graph with one line.
+
+use ash::vk;
+use bytemuck::{Pod, Zeroable};
+
+use crate::error::Result;
+use crate::render::graph::{Declaration, Pass, PassContext};
+use crate::render::passes::{self, PipelineTarget};
+use crate::render::scene_gpu::SceneGpu;
+use crate::render::shaders;
+use crate::vk::{pipeline, Access, Device};
+
+/// The push constant of `cluster_bounds.vert`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+struct Grid {
+    origin: f32,
+    cluster_size: f32,
+    corners: u32,
+    lift: f32,
+}
+
+/// The line pipeline and the grid it draws.
+pub struct ClusterBoundsPass {
+    pipeline: vk::Pipeline,
+    layout: vk::PipelineLayout,
+    grid: Grid,
+    heights: vk::Buffer,
+}
+
+impl ClusterBoundsPass {
+    /// Build the pipeline on a layout of its own: the scene's set 0 and the grid push constant.
+    pub fn new(
+        device: &Device,
+        set_layout: vk::DescriptorSetLayout,
+        target: PipelineTarget,
+        constants: &[u32],
+        scene: &SceneGpu,
+    ) -> Result<Self> {
+        let range = vk::PushConstantRange {
+            stage_flags: vk::ShaderStageFlags::VERTEX,
+            offset: 0,
+            size: std::mem::size_of::<Grid>() as u32,
+        };
+        let layout = pipeline::layout(device, "cluster bounds layout", &[set_layout], &[range])?;
+        let built = pipeline::graphics(
+            device,
+            &pipeline::GraphicsDesc {
+                name: "cluster bounds",
+                vertex: shaders::CLUSTER_BOUNDS_VERT,
+                fragment: shaders::CLUSTER_BOUNDS_FRAG,
+                topology: vk::PrimitiveTopology::LINE_LIST,
+                cull: vk::CullModeFlags::NONE,
+                polygon: vk::PolygonMode::FILL,
+                // An overlay: drawn over the grass that would hide most of it.
+                depth_compare: vk::CompareOp::ALWAYS,
+                color_format: target.color,
+                depth_format: target.depth,
+                layout,
+                constants,
+                vertex_stride: 0,
+            },
+        );
+        let pipeline = match built {
+            Ok(pipeline) => pipeline,
+            Err(e) => {
+                // SAFETY: unused layout.
+                unsafe { device.raw.destroy_pipeline_layout(layout, None) };
+                return Err(e);
+            }
+        };
+        let g = &scene.grid;
+        let grid = Grid { origin: g.origin, cluster_size: g.cluster_size, corners: g.corners_per_side(), lift: 0.05 };
+        Ok(Self { pipeline, layout, grid, heights: scene.heights.raw })
+    }
+
+    /// Vertices drawn: two per edge between neighbouring corners, along x and along z.
+    fn vertices(&self) -> u32 {
+        let n = self.grid.corners;
+        2 * 2 * n * (n - 1)
+    }
+}
+
+impl Pass for ClusterBoundsPass {
+    fn name(&self) -> &'static str {
+        "cluster bounds"
+    }
+
+    fn declare(&self, ctx: &PassContext) -> Option<Declaration> {
+        let rendering = passes::scene_rendering(ctx, self.pipeline, false, false);
+        Some(Declaration::graphics(rendering).buffer(self.heights, Access::VertexShaderStorageRead))
+    }
+
+    fn record(&self, ctx: &PassContext, cmd: vk::CommandBuffer) -> Result<()> {
+        let device = ctx.device;
+        passes::bind_scene_set(device, ctx, cmd, self.layout, vk::PipelineBindPoint::GRAPHICS);
+        passes::set_full_viewport(device, cmd, ctx.target.extent);
+        // SAFETY: cmd is recording inside this pass's rendering instance; set 0 is bound.
+        unsafe {
+            device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline);
+            let grid = bytemuck::bytes_of(&self.grid);
+            device.raw.cmd_push_constants(cmd, self.layout, vk::ShaderStageFlags::VERTEX, 0, grid);
+            device.raw.cmd_draw(cmd, self.vertices(), 1, 0, 0);
+        }
+        Ok(())
+    }
+
+    unsafe fn destroy(self: Box<Self>, device: &Device) {
+        // SAFETY: per the contract.
+        unsafe {
+            device.raw.destroy_pipeline(self.pipeline, None);
+            device.raw.destroy_pipeline_layout(self.layout, None);
+        }
+    }
+}

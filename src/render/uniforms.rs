@@ -1,0 +1,58 @@
+//! The uniform block every pass reads (`FrameUniforms`, std140, mirrored in
+//! `shaders/common.glsl`), and the light and atmosphere it carries.
+
+use bytemuck::{Pod, Zeroable};
+use glam::{Mat4, UVec4, Vec3, Vec4};
+
+/// Per-frame constants, std140 (`shaders/common.glsl`, struct `FrameUniforms`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct FrameUniforms {
+    /// World → clip.
+    pub view_proj: Mat4,
+    /// xyz eye position, w simulation time in seconds.
+    pub camera_position: Vec4,
+    /// xyz unit vector towards the sun.
+    pub sun_direction: Vec4,
+    /// rgb linear sky colour, w fog density per metre.
+    pub sky_color: Vec4,
+    /// x terrain grid origin, y cell size.
+    pub terrain: Vec4,
+    /// x segments, y blade count, z terrain cells per side, w unused. (The blade geometry and
+    /// the sRGB encoding are specialization constants, `render::specialization`.)
+    pub params: UVec4,
+    /// x magnitudes, y angles, z point sources, w corners per side.
+    pub keyframes: UVec4,
+    /// x records per pose, y colliders.
+    pub keyframe_shape: UVec4,
+}
+
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 176);
+const _: () = assert!(std::mem::offset_of!(FrameUniforms, camera_position) == 64);
+const _: () = assert!(std::mem::offset_of!(FrameUniforms, params) == 128);
+
+/// Light and atmosphere of the scene.
+pub mod look {
+    use super::*;
+
+    /// Unit vector towards the sun: low, ahead-left of the default camera, so much of the field is
+    /// back-lit and shows the translucency term.
+    pub fn sun_direction() -> Vec3 {
+        Vec3::new(-0.45, 0.5, -0.75).normalize()
+    }
+
+    /// Linear sky colour.
+    pub const SKY: Vec3 = Vec3::new(0.42, 0.60, 0.86);
+    /// Fog density per metre.
+    pub const FOG_DENSITY: f32 = 0.012;
+
+    /// sRGB transfer of one linear channel (the clear colour must match the shaders' encoding).
+    pub fn encode_srgb(linear: f32) -> f32 {
+        let c = linear.clamp(0.0, 1.0);
+        if c <= 0.003_130_8 {
+            c * 12.92
+        } else {
+            1.055 * c.powf(1.0 / 2.4) - 0.055
+        }
+    }
+}

@@ -1,0 +1,264 @@
+//! Access tracking: what each resource was last used for, so the next use's barrier can be
+//! derived instead of written by hand. One [`ResourceState`] per buffer or image records the
+//! accesses a later write must wait for; [`ResourceState::access`] turns the next use into the
+//! `previous → next` pair `sync::transition` makes a barrier of, or into nothing when there is no
+//! hazard (a read of data already made visible to that read).
+//!
+//! The rules, after vk-sync-rs and kajiya's render graph:
+//! - a write (or any layout change) waits for every access since the last write, and for that
+//!   write (WAR and WAW, the write made available);
+//! - a read waits for the last write, once per kind of read (RAW); reads of data nobody wrote
+//!   since it was imported need nothing;
+//! - an image's layout is the one its last barrier left; reading it in another layout is a
+//!   transition like a write.
+
+use std::collections::HashMap;
+
+use ash::vk;
+
+use crate::vk::image::{COLOR_RANGE, DEPTH_RANGE};
+use crate::vk::sync::{self, Access};
+
+/// A resource whose accesses are tracked: a whole buffer, or mips of one aspect of an image.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Resource {
+    /// A whole buffer.
+    Buffer(vk::Buffer),
+    /// Mips `base_mip .. base_mip + mips` of one aspect of a single-layer image.
+    Image {
+        /// The image.
+        raw: vk::Image,
+        /// Colour or depth.
+        aspect: vk::ImageAspectFlags,
+        /// First mip.
+        base_mip: u32,
+        /// Number of mips.
+        mips: u32,
+    },
+}
+
+impl Resource {
+    /// A whole colour image with one mip.
+    pub fn color(raw: vk::Image) -> Self {
+        Resource::Image { raw, aspect: vk::ImageAspectFlags::COLOR, base_mip: 0, mips: 1 }
+    }
+
+    /// A whole depth image with one mip.
+    pub fn depth(raw: vk::Image) -> Self {
+        Resource::Image { raw, aspect: vk::ImageAspectFlags::DEPTH, base_mip: 0, mips: 1 }
+    }
+
+    /// Whether this is an image (whose accesses carry layouts).
+    pub fn is_image(self) -> bool {
+        matches!(self, Resource::Image { .. })
+    }
+
+    /// The subresource range of an image resource.
+    pub fn range(self) -> vk::ImageSubresourceRange {
+        match self {
+            Resource::Image { aspect, base_mip, mips, .. } => {
+                let whole = if aspect == vk::ImageAspectFlags::DEPTH { DEPTH_RANGE } else { COLOR_RANGE };
+                vk::ImageSubresourceRange { aspect_mask: aspect, base_mip_level: base_mip, level_count: mips, ..whole }
+            }
+            Resource::Buffer(_) => COLOR_RANGE,
+        }
+    }
+}
+
+/// What a resource was last used for.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct ResourceState {
+    /// The last write (or layout-defining event such as an acquire), with every access of the
+    /// same use; empty when nothing wrote the resource since it was imported.
+    write: Vec<Access>,
+    /// Reads since `write`, each already made visible (no barrier needed to repeat one).
+    reads: Vec<Access>,
+    /// Current image layout (UNDEFINED for buffers and unwritten images).
+    layout: vk::ImageLayout,
+    /// Whether the state came from an import (images must be imported before use).
+    imported: bool,
+}
+
+/// The transition a use needs: previous accesses → next accesses.
+pub type Hazard = (Vec<Access>, Vec<Access>);
+
+impl ResourceState {
+    /// The state of a resource last accessed by `accesses` (e.g. `Nothing` to discard an image,
+    /// `Acquired` for a swapchain image, the read accesses an upload made it visible to).
+    pub fn imported(accesses: &[Access]) -> Self {
+        let (write, reads): (Vec<Access>, Vec<Access>) =
+            accesses.iter().partition(|a| a.writes() != vk::AccessFlags2::NONE);
+        let layout = accesses.first().map_or(vk::ImageLayout::UNDEFINED, |a| a.info().layout);
+        Self { write, reads, layout, imported: true }
+    }
+
+    /// Whether the state came from an import rather than from a default.
+    pub fn is_imported(&self) -> bool {
+        self.imported
+    }
+
+    /// Record that the resource is used by `next` (one use: all of them happen together, and on an
+    /// image they share one layout), returning the transition it needs, if any.
+    pub fn access(&mut self, next: &[Access], image: bool) -> Option<Hazard> {
+        let layout = next.first().map_or(vk::ImageLayout::UNDEFINED, |a| a.info().layout);
+        let writes = next.iter().any(|a| a.writes() != vk::AccessFlags2::NONE);
+        // Accesses without stages (presentation) are layout changes only.
+        let relayout = image && (layout != self.layout || next.iter().any(|a| a.info().stages.is_empty()));
+        if writes || relayout {
+            let mut previous = self.reads.clone();
+            previous.extend(&self.write);
+            if image && previous.is_empty() {
+                previous.push(Access::Nothing);
+            }
+            *self = if writes {
+                Self { write: next.to_vec(), reads: Vec::new(), layout, imported: self.imported }
+            } else {
+                // The layout transition made the last write available; later writes chain through
+                // these reads.
+                Self { write: Vec::new(), reads: next.to_vec(), layout, imported: self.imported }
+            };
+            // A buffer nobody used yet needs no barrier before its first write.
+            return (!previous.is_empty()).then(|| (previous, next.to_vec()));
+        }
+        if next.iter().all(|a| self.reads.contains(a)) {
+            return None;
+        }
+        for a in next {
+            if !self.reads.contains(a) {
+                self.reads.push(*a);
+            }
+        }
+        (!self.write.is_empty()).then(|| (self.write.clone(), next.to_vec()))
+    }
+}
+
+/// The states of every tracked resource, carried from frame to frame (one queue: the order of
+/// recording is the order of execution).
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct ResourceStates {
+    states: HashMap<Resource, ResourceState>,
+}
+
+impl ResourceStates {
+    /// Set `resource`'s state to "last accessed by `accesses`".
+    pub fn import(&mut self, resource: Resource, accesses: &[Access]) {
+        self.states.insert(resource, ResourceState::imported(accesses));
+    }
+
+    /// Forget `resource` (destroyed, or its handle may be reused).
+    pub fn forget(&mut self, resource: Resource) {
+        self.states.remove(&resource);
+    }
+
+    /// The state of `resource` (default for one never seen).
+    pub fn get(&self, resource: Resource) -> Option<&ResourceState> {
+        self.states.get(&resource)
+    }
+
+    /// Record the use of `resource` by `next`; returns its transition, if it needs one.
+    pub fn access(&mut self, resource: Resource, next: &[Access]) -> Option<Hazard> {
+        self.states.entry(resource).or_default().access(next, resource.is_image())
+    }
+}
+
+/// The barriers of a batch of uses, built through `sync`.
+#[derive(Default)]
+pub struct Barriers {
+    /// Buffer barriers.
+    pub buffers: Vec<vk::BufferMemoryBarrier2<'static>>,
+    /// Image barriers.
+    pub images: Vec<vk::ImageMemoryBarrier2<'static>>,
+}
+
+impl Barriers {
+    /// Add the barrier of `hazard` on `resource`.
+    pub fn push(&mut self, resource: Resource, (previous, next): &Hazard) {
+        match resource {
+            Resource::Buffer(raw) => self.buffers.push(sync::buffer_barrier(raw, previous, next)),
+            Resource::Image { raw, .. } => {
+                self.images.push(sync::image_barrier(raw, resource.range(), previous, next));
+            }
+        }
+    }
+
+    /// Whether there is nothing to record.
+    pub fn is_empty(&self) -> bool {
+        self.buffers.is_empty() && self.images.is_empty()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const IMAGE: bool = true;
+    const BUFFER: bool = false;
+
+    #[test]
+    fn compute_then_vertex_read_then_next_frame_write() {
+        // The blade-pose records: written in compute, read by the vertex shader, written again
+        // by the next frame (WAR on the reads, WAW on the write).
+        let mut s = ResourceState::default();
+        assert_eq!(s.access(&[Access::ComputeShaderWrite], BUFFER), None, "first write: nothing to wait for");
+        let raw = s.access(&[Access::VertexShaderStorageRead], BUFFER);
+        assert_eq!(raw, Some((vec![Access::ComputeShaderWrite], vec![Access::VertexShaderStorageRead])));
+        assert_eq!(s.access(&[Access::VertexShaderStorageRead], BUFFER), None, "already visible");
+        let war = s.access(&[Access::ComputeShaderWrite], BUFFER).expect("a hazard");
+        assert_eq!(war.0, vec![Access::VertexShaderStorageRead, Access::ComputeShaderWrite]);
+    }
+
+    #[test]
+    fn a_new_kind_of_read_waits_for_the_write_again() {
+        let mut s = ResourceState::default();
+        s.access(&[Access::ComputeShaderWrite], BUFFER);
+        s.access(&[Access::VertexShaderStorageRead], BUFFER);
+        let indirect = s.access(&[Access::IndirectCommandRead], BUFFER);
+        assert_eq!(indirect, Some((vec![Access::ComputeShaderWrite], vec![Access::IndirectCommandRead])));
+    }
+
+    #[test]
+    fn uploaded_data_read_as_imported_needs_no_barrier() {
+        let mut s = ResourceState::imported(&[Access::VertexShaderSampledRead, Access::ComputeShaderSampledRead]);
+        assert_eq!(s.access(&[Access::VertexShaderSampledRead], IMAGE), None);
+        assert_eq!(s.access(&[Access::ComputeShaderSampledRead], IMAGE), None);
+    }
+
+    #[test]
+    fn acquired_image_is_transitioned_then_presented() {
+        let mut s = ResourceState::imported(&[Access::Acquired]);
+        let first = s.access(&[Access::ColorAttachmentWrite], IMAGE).expect("layout change");
+        assert_eq!(first.0, vec![Access::Acquired]);
+        let t = sync::transition(&first.0, &first.1);
+        assert_eq!(
+            (t.old_layout, t.new_layout),
+            (vk::ImageLayout::UNDEFINED, vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+        );
+        // A second pass loading the same attachment: write after write, same layout.
+        let second = s.access(&[Access::ColorAttachmentWrite], IMAGE).expect("WAW");
+        assert_eq!(second.0, vec![Access::ColorAttachmentWrite]);
+        let present = s.access(&[Access::Present], IMAGE).expect("layout change");
+        assert_eq!(sync::transition(&present.0, &present.1).new_layout, vk::ImageLayout::PRESENT_SRC_KHR);
+    }
+
+    #[test]
+    fn unimported_image_discards_and_reading_in_a_new_layout_transitions() {
+        let mut s = ResourceState::default();
+        let first = s.access(&[Access::ColorAttachmentWrite], IMAGE).expect("layout change");
+        assert_eq!(first.0, vec![Access::Nothing]);
+        let copy = s.access(&[Access::TransferRead], IMAGE).expect("layout change");
+        assert_eq!(copy.0, vec![Access::ColorAttachmentWrite]);
+        assert_eq!(s.access(&[Access::TransferRead], IMAGE), None);
+        // The next frame writes it again: waits for the copy.
+        let again = s.access(&[Access::ColorAttachmentWrite], IMAGE).expect("WAR + layout");
+        assert_eq!(again.0, vec![Access::TransferRead]);
+    }
+
+    #[test]
+    fn states_persist_per_resource() {
+        let mut states = ResourceStates::default();
+        let a = Resource::Buffer(vk::Buffer::null());
+        states.access(a, &[Access::TransferWrite]);
+        assert!(states.access(a, &[Access::HostRead]).is_some());
+        assert!(states.access(Resource::color(vk::Image::null()), &[Access::ColorAttachmentWrite]).is_some());
+    }
+}
