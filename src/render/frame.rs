@@ -415,6 +415,18 @@ impl FrameRing {
         }
     }
 
+    /// Wait for the frames that have deletions queued behind them, and run those deletions (e.g.
+    /// before retiring a second swapchain while the first is still queued). Other frames keep
+    /// running.
+    pub fn flush_deletions(&mut self, device: &Device) -> Result<()> {
+        for slot in 0..self.frames.len() {
+            if !self.frames[slot].deletions.is_empty() {
+                self.wait(device, slot)?;
+            }
+        }
+        Ok(())
+    }
+
     /// Destroy `deletion` once `frames` more frames have completed (for what the presentation
     /// engine may hold, which no fence covers).
     pub fn defer_frames(&mut self, frames: u64, deletion: Deletion) {

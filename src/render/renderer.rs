@@ -259,6 +259,12 @@ impl Renderer {
         self.ring.defer(&self.device, deletion);
     }
 
+    /// Wait for the frames holding deferred deletions and run them (without waiting for the
+    /// queue or the other frames).
+    pub fn flush_deletions(&mut self) -> Result<()> {
+        self.ring.flush_deletions(&self.device)
+    }
+
     /// Destroy `deletion` once `frames` more frames have completed (what the presentation engine
     /// may still hold: an old swapchain, its views and present semaphores).
     pub fn defer_frames(&mut self, frames: u64, deletion: Deletion) {

@@ -345,24 +345,56 @@ impl Viewer {
         self.build_renderer(self.options.scene.animation.clone())
     }
 
-    /// (Re)create the swapchain and depth image at the window's size. Waits for the frames in
-    /// flight and the queue (presentation included) first: the old images may still be in use.
+    /// (Re)create the swapchain and depth image at the window's size, without waiting for the
+    /// queue: the old swapchain, its views and the old depth image are destroyed once the frames
+    /// submitted before have finished, and its present semaphores once enough later frames have
+    /// completed (`vk::swapchain::Retired`). A second re-creation while the first one's objects
+    /// are still queued waits for the frame holding them (at most two swapchains exist).
     fn recreate(&mut self) -> Result<()> {
-        if let Some(renderer) = &mut self.renderer {
-            renderer.wait_all_frames()?;
+        if let Some(renderer) = self.renderer.as_mut() {
+            renderer.flush_deletions()?;
         }
-        // SAFETY: valid queue.
-        unsafe { self.device.raw.queue_wait_idle(self.device.queue) }.vk("vkQueueWaitIdle")?;
         let surface = self.surface.as_mut().expect("surface exists");
         let size = surface.window.inner_size();
-        if let Some(depth) = surface.depth.take() {
-            // SAFETY: the queue is idle.
-            unsafe { depth.destroy(&self.device) };
-        }
-        let has_area =
+        let old_depth = surface.depth.take();
+        let (has_area, retired) =
             surface.swapchain.recreate(&self.device, vk::Extent2D { width: size.width, height: size.height })?;
+        let (images, semaphores) = (retired.images() as u64, retired.split());
+        let (old_images, old_semaphores) = semaphores;
+        let in_flight = self.settings.frames_in_flight as u64;
+        match self.renderer.as_mut() {
+            Some(renderer) => {
+                renderer.defer(Box::new(move |device| {
+                    // SAFETY: the frames submitted before the re-creation have finished.
+                    unsafe {
+                        old_images.destroy(device);
+                        if let Some(depth) = old_depth {
+                            depth.destroy(device);
+                        }
+                    }
+                }));
+                // SAFETY (when run): presentations queued before were followed by `images +
+                // in_flight` completed frames.
+                renderer.defer_frames(
+                    images + in_flight,
+                    Box::new(move |device| unsafe { old_semaphores.destroy(device) }),
+                );
+            }
+            None => {
+                // No renderer: nothing was ever submitted with them.
+                // SAFETY: unused.
+                unsafe {
+                    old_images.destroy(&self.device);
+                    old_semaphores.destroy(&self.device);
+                    if let Some(depth) = old_depth {
+                        depth.destroy(&self.device);
+                    }
+                }
+            }
+        }
         self.minimised = !has_area;
         if has_area {
+            let surface = self.surface.as_mut().expect("surface exists");
             let extent = surface.swapchain.extent;
             surface.depth = Some(Image::new(&self.device, &ImageDesc::depth("swapchain depth", DEPTH_FORMAT, extent))?);
             surface.depth_used = false;

@@ -109,8 +109,9 @@ impl Swapchain {
     /// Create (or re-create, handing over the old one) the swapchain for a window of `size`.
     /// Returns false when the surface has no area (minimised): nothing to render into.
     ///
-    /// The caller must have waited for all work using the old images.
-    pub fn recreate(&mut self, device: &Device, size: vk::Extent2D) -> Result<bool> {
+    /// The old swapchain, its views and present semaphores are handed back, not destroyed: frames
+    /// in flight and the presentation engine may still use them (see [`Retired`]).
+    pub fn recreate(&mut self, device: &Device, size: vk::Extent2D) -> Result<(bool, Retired)> {
         // SAFETY: valid physical device and surface.
         let caps = unsafe { self.surface_fn.get_physical_device_surface_capabilities(device.physical, self.surface) }
             .vk("vkGetPhysicalDeviceSurfaceCapabilitiesKHR")?;
@@ -122,11 +123,11 @@ impl Swapchain {
                 height: size.height.clamp(caps.min_image_extent.height, caps.max_image_extent.height),
             }
         };
-        self.destroy_views(device);
+        let mut retired = self.retire();
         if extent.width == 0 || extent.height == 0 {
-            self.destroy_swapchain();
+            retired.raw = std::mem::take(&mut self.raw);
             self.extent = extent;
-            return Ok(false);
+            return Ok((false, retired));
         }
         let mut count = caps.min_image_count + 1;
         if caps.max_image_count > 0 {
@@ -166,7 +167,7 @@ impl Swapchain {
         let alive = ALIVE.fetch_add(1, Ordering::SeqCst) + 1;
         MAX_ALIVE.fetch_max(alive, Ordering::SeqCst);
         CREATED.fetch_add(1, Ordering::SeqCst);
-        self.destroy_swapchain();
+        retired.raw = old;
         self.raw = raw;
         self.extent = extent;
         device.set_name(raw, "swapchain");
@@ -185,7 +186,19 @@ impl Swapchain {
             self.views.push(view);
             self.present_semaphores.push(sync::semaphore(device, &format!("present semaphore {i}"))?);
         }
-        Ok(true)
+        Ok((true, retired))
+    }
+
+    /// Take the views and present semaphores out, to be destroyed later (the swapchain handle
+    /// is added by `recreate` once the new swapchain exists).
+    fn retire(&mut self) -> Retired {
+        self.images.clear();
+        Retired {
+            swapchain_fn: self.swapchain_fn.clone(),
+            raw: vk::SwapchainKHR::null(),
+            views: std::mem::take(&mut self.views),
+            present_semaphores: std::mem::take(&mut self.present_semaphores),
+        }
     }
 
     /// Acquire the next image, signalling `semaphore`. `Ok(None)` means out of date: recreate.
@@ -227,12 +240,7 @@ impl Swapchain {
     }
 
     fn destroy_swapchain(&mut self) {
-        if self.raw != vk::SwapchainKHR::null() {
-            // SAFETY: retired or unused; the caller waited for its work.
-            unsafe { self.swapchain_fn.destroy_swapchain(self.raw, None) };
-            ALIVE.fetch_sub(1, Ordering::SeqCst);
-            self.raw = vk::SwapchainKHR::null();
-        }
+        destroy_swapchain(&self.swapchain_fn, std::mem::take(&mut self.raw));
     }
 
     /// Destroy the swapchain, its views and semaphores, and the surface.
@@ -244,5 +252,82 @@ impl Swapchain {
         self.destroy_swapchain();
         // SAFETY: nothing uses the surface any more.
         unsafe { self.surface_fn.destroy_surface(self.surface, None) };
+    }
+}
+
+/// Destroy a swapchain (null: nothing) and count it.
+fn destroy_swapchain(swapchain_fn: &ash::khr::swapchain::Device, raw: vk::SwapchainKHR) {
+    if raw != vk::SwapchainKHR::null() {
+        // SAFETY: the callers' contracts: no pending work uses its images.
+        unsafe { swapchain_fn.destroy_swapchain(raw, None) };
+        ALIVE.fetch_sub(1, Ordering::SeqCst);
+    }
+}
+
+/// What a re-creation replaced. Two lifetimes, two rules:
+/// - the swapchain and its views are used by the command buffers of the frames in flight:
+///   destroy them once the last frame submitted before the re-creation has finished (its fence);
+/// - the present semaphores are waited by the presentation engine, which no fence covers without
+///   `VK_EXT_swapchain_maintenance1`: destroy them once as many frames as there are images, plus
+///   the frames in flight, have completed since — by then every presentation queued before the
+///   re-creation has been replaced by a later one.
+pub struct Retired {
+    swapchain_fn: ash::khr::swapchain::Device,
+    raw: vk::SwapchainKHR,
+    views: Vec<vk::ImageView>,
+    present_semaphores: Vec<vk::Semaphore>,
+}
+
+impl Retired {
+    /// Number of present semaphores retired (the images of the old swapchain).
+    pub fn images(&self) -> usize {
+        self.present_semaphores.len()
+    }
+
+    /// Split into the swapchain with its views, and the present semaphores.
+    pub fn split(self) -> (RetiredImages, RetiredSemaphores) {
+        (
+            RetiredImages { swapchain_fn: self.swapchain_fn, raw: self.raw, views: self.views },
+            RetiredSemaphores { semaphores: self.present_semaphores },
+        )
+    }
+}
+
+/// A retired swapchain and its views.
+pub struct RetiredImages {
+    swapchain_fn: ash::khr::swapchain::Device,
+    raw: vk::SwapchainKHR,
+    views: Vec<vk::ImageView>,
+}
+
+impl RetiredImages {
+    /// Destroy the views and the swapchain.
+    ///
+    /// # Safety
+    /// No command buffer using them may be pending.
+    pub unsafe fn destroy(self, device: &Device) {
+        for view in self.views {
+            // SAFETY: per the contract.
+            unsafe { device.raw.destroy_image_view(view, None) };
+        }
+        destroy_swapchain(&self.swapchain_fn, self.raw);
+    }
+}
+
+/// Retired present semaphores.
+pub struct RetiredSemaphores {
+    semaphores: Vec<vk::Semaphore>,
+}
+
+impl RetiredSemaphores {
+    /// Destroy them.
+    ///
+    /// # Safety
+    /// No presentation may still wait on them.
+    pub unsafe fn destroy(self, device: &Device) {
+        for semaphore in self.semaphores {
+            // SAFETY: per the contract.
+            unsafe { device.raw.destroy_semaphore(semaphore, None) };
+        }
     }
 }
