@@ -3,6 +3,7 @@
 
 pub mod animation;
 pub mod frame;
+pub mod gpu_constants;
 pub mod passes;
 pub mod renderer;
 pub mod scene_gpu;

@@ -26,7 +26,7 @@ use crate::vk::upload::UploadBatch;
 use crate::vk::{commands, debug, descriptor, pipeline, sync, Access, Device};
 
 /// Blade segments allowed (thesis 4.1 levels of detail).
-pub const SEGMENTS_RANGE: std::ops::RangeInclusive<u32> = 1..=16;
+pub const SEGMENTS_RANGE: std::ops::RangeInclusive<u32> = 1..=crate::render::gpu_constants::MAX_SEGMENTS;
 
 /// How the renderer is built.
 #[derive(Clone, Copy, Debug)]
