@@ -24,22 +24,7 @@ fn main() {
     let shader_dir = manifest.join("shaders");
     println!("cargo:rerun-if-changed={}", shader_dir.display());
 
-    // The commit goes into bench.json; a build outside git says "unknown".
-    if let Ok(out) = Command::new("git").args(["rev-parse", "HEAD"]).current_dir(&manifest).output() {
-        if out.status.success() {
-            println!("cargo:rustc-env=MEADOW_GIT_COMMIT={}", String::from_utf8_lossy(&out.stdout).trim());
-        }
-    }
-    // HEAD names a branch; a commit moves the branch's ref (loose or packed), not HEAD, so watch
-    // those too, or the embedded commit goes stale after the first build.
-    let git = manifest.join(".git");
-    println!("cargo:rerun-if-changed={}", git.join("HEAD").display());
-    println!("cargo:rerun-if-changed={}", git.join("packed-refs").display());
-    if let Ok(head) = std::fs::read_to_string(git.join("HEAD")) {
-        if let Some(reference) = head.trim().strip_prefix("ref: ") {
-            println!("cargo:rerun-if-changed={}", git.join(reference).display());
-        }
-    }
+    embed_git_commit(&manifest);
     let shared = shader_dir.join("shared.glsl");
     let constants = std::fs::read_to_string(&shared)
         .map_err(|e| format!("cannot read {}: {e}", shared.display()))
@@ -100,6 +85,26 @@ fn main() {
     }
     if !failures.is_empty() {
         fail(&format!("shader compilation failed\n{}", failures.join("\n")));
+    }
+}
+
+/// Set `MEADOW_GIT_COMMIT` to the checked-out commit, and rebuild when it moves.
+fn embed_git_commit(manifest: &Path) {
+    // The commit goes into bench.json; a build outside git says "unknown".
+    if let Ok(out) = Command::new("git").args(["rev-parse", "HEAD"]).current_dir(manifest).output() {
+        if out.status.success() {
+            println!("cargo:rustc-env=MEADOW_GIT_COMMIT={}", String::from_utf8_lossy(&out.stdout).trim());
+        }
+    }
+    // HEAD names a branch; a commit moves the branch's ref (loose or packed), not HEAD, so watch
+    // those too, or the embedded commit goes stale after the first build.
+    let git = manifest.join(".git");
+    println!("cargo:rerun-if-changed={}", git.join("HEAD").display());
+    println!("cargo:rerun-if-changed={}", git.join("packed-refs").display());
+    if let Ok(head) = std::fs::read_to_string(git.join("HEAD")) {
+        if let Some(reference) = head.trim().strip_prefix("ref: ") {
+            println!("cargo:rerun-if-changed={}", git.join(reference).display());
+        }
     }
 }
 
