@@ -4,9 +4,17 @@
 //! glslang's `--depfile` tells us every file a shader read, so cargo re-runs this script when any
 //! source or header changes. A compile error fails the build with glslang's own message (file and
 //! line); a missing glslang names the Debian package to install.
+//!
+//! It also writes `OUT_DIR/gpu_constants.rs` from `shaders/shared.glsl`, the one source of truth
+//! for the integer constants both sides use (bindings, specialization-constant ids, flag bits,
+//! limits); `render::gpu_constants` includes it. The parser is strict: a line it does not
+//! understand fails the build with its file and line.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
+
+#[path = "build/shared_glsl.rs"]
+mod shared_glsl;
 
 const STAGES: [&str; 3] = ["vert", "frag", "comp"];
 
@@ -16,22 +24,15 @@ fn main() {
     let shader_dir = manifest.join("shaders");
     println!("cargo:rerun-if-changed={}", shader_dir.display());
 
-    // The commit goes into bench.json; a build outside git says "unknown".
-    if let Ok(out) = Command::new("git").args(["rev-parse", "HEAD"]).current_dir(&manifest).output() {
-        if out.status.success() {
-            println!("cargo:rustc-env=MEADOW_GIT_COMMIT={}", String::from_utf8_lossy(&out.stdout).trim());
-        }
-    }
-    // HEAD names a branch; a commit moves the branch's ref (loose or packed), not HEAD, so watch
-    // those too, or the embedded commit goes stale after the first build.
-    let git = manifest.join(".git");
-    println!("cargo:rerun-if-changed={}", git.join("HEAD").display());
-    println!("cargo:rerun-if-changed={}", git.join("packed-refs").display());
-    if let Ok(head) = std::fs::read_to_string(git.join("HEAD")) {
-        if let Some(reference) = head.trim().strip_prefix("ref: ") {
-            println!("cargo:rerun-if-changed={}", git.join(reference).display());
-        }
-    }
+    embed_git_commit(&manifest);
+    let shared = shader_dir.join("shared.glsl");
+    let constants = std::fs::read_to_string(&shared)
+        .map_err(|e| format!("cannot read {}: {e}", shared.display()))
+        .and_then(|text| shared_glsl::rust_constants(&shared, &text))
+        .unwrap_or_else(|e| fail(&e));
+    std::fs::write(out_dir.join("gpu_constants.rs"), constants)
+        .unwrap_or_else(|e| fail(&format!("cannot write gpu_constants.rs: {e}")));
+
     let glslang = std::env::var("GLSLANG_VALIDATOR").unwrap_or_else(|_| "glslangValidator".into());
     let mut sources: Vec<PathBuf> = std::fs::read_dir(&shader_dir)
         .unwrap_or_else(|e| fail(&format!("cannot read {}: {e}", shader_dir.display())))
@@ -84,6 +85,26 @@ fn main() {
     }
     if !failures.is_empty() {
         fail(&format!("shader compilation failed\n{}", failures.join("\n")));
+    }
+}
+
+/// Set `MEADOW_GIT_COMMIT` to the checked-out commit, and rebuild when it moves.
+fn embed_git_commit(manifest: &Path) {
+    // The commit goes into bench.json; a build outside git says "unknown".
+    if let Ok(out) = Command::new("git").args(["rev-parse", "HEAD"]).current_dir(manifest).output() {
+        if out.status.success() {
+            println!("cargo:rustc-env=MEADOW_GIT_COMMIT={}", String::from_utf8_lossy(&out.stdout).trim());
+        }
+    }
+    // HEAD names a branch; a commit moves the branch's ref (loose or packed), not HEAD, so watch
+    // those too, or the embedded commit goes stale after the first build.
+    let git = manifest.join(".git");
+    println!("cargo:rerun-if-changed={}", git.join("HEAD").display());
+    println!("cargo:rerun-if-changed={}", git.join("packed-refs").display());
+    if let Ok(head) = std::fs::read_to_string(git.join("HEAD")) {
+        if let Some(reference) = head.trim().strip_prefix("ref: ") {
+            println!("cargo:rerun-if-changed={}", git.join(reference).display());
+        }
     }
 }
 

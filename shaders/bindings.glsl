@@ -1,4 +1,5 @@
-// Descriptor set 0 of the scene passes (`render::scene_gpu::SceneBindings` on the Rust side).
+// Descriptor set 0 of the scene passes (`render::scene_gpu::bindings` on the Rust side; the
+// binding numbers are in shared.glsl).
 #ifndef MEADOW_BINDINGS_GLSL
 #define MEADOW_BINDINGS_GLSL
 #include "common.glsl"
@@ -14,8 +15,10 @@ layout(set = 0, binding = BINDING_CORNERS, std430) readonly buffer Corners { vec
 layout(set = 0, binding = BINDING_EMITTERS, std430) readonly buffer Emitters { vec4 emitters[]; };
 layout(set = 0, binding = BINDING_KEYFRAMES) uniform sampler2D keyframe_texture;
 // Keyframes as a uniform array (thesis 4.4.2): two keyframe words per uvec4 half; the array fills
-// min(maxUniformBufferRange, 64 KiB), set by the pipeline (`KeyframeUniforms::capacity`).
-layout(constant_id = 0) const uint KEYFRAME_UVEC4S = 4096u;
+// min(maxUniformBufferRange, 64 KiB), set by the pipeline (`render::animation::KeyframeUniforms::capacity`).
+// A buffer block, so sizing it by a specialization constant is fine; arrays in shader code are
+// sized by the fixed limits of shared.glsl.
+layout(constant_id = SPEC_KEYFRAME_UVEC4S) const uint KEYFRAME_UVEC4S = 4096u;
 layout(set = 0, binding = BINDING_KEYFRAME_WORDS, std140) uniform KeyframeWords { uvec4 keyframe_words[KEYFRAME_UVEC4S]; };
 // `--eval blade`: the evaluated blade, written by blade_pose.comp and read by blade.vert:
 // POSE_WORDS words per level, SEGMENTS + 1 levels per blade: the local-frame point divided by
@@ -26,7 +29,6 @@ layout(set = 0, binding = BINDING_POSES, std430) writeonly buffer Poses { uint p
 #else
 layout(set = 0, binding = BINDING_POSES, std430) readonly buffer Poses { uint poses[]; };
 #endif
-const uint POSE_WORDS = 3u;
 const float POSE_SCALE = 2.0; // local point / height lies within ±POSE_SCALE
 
 #endif

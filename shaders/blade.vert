@@ -77,7 +77,7 @@ void main() {
         float force;
         KfSelection sel = kf_select_blade(blade_index, blade, force);
         force_magnitude = force;
-        if (REPRESENTATION == 1u) {
+        if (REPRESENTATION == REPRESENTATION_CURVE) {
             vec4 c1;
             vec4 c2;
             vec4 c3;

@@ -28,15 +28,15 @@ void main() {
     vec4 c1;
     vec4 c2;
     vec4 c3;
-    if (REPRESENTATION == 1u) {
+    if (REPRESENTATION == REPRESENTATION_CURVE) {
         curve_controls(sel, p, blade.height, c1, c2, c3);
     }
     // Points of every level first (the tangent of a level needs its neighbours).
-    vec4 points[SEGMENTS + 1u];
+    vec4 points[MAX_SEGMENTS + 1u];
     points[0] = vec4(0.0);
     for (uint level = 1u; level <= SEGMENTS; level++) {
         float t = float(level) / float(SEGMENTS);
-        points[level] = REPRESENTATION == 1u
+        points[level] = REPRESENTATION == REPRESENTATION_CURVE
             ? vec4(bezier_point(p[0], c1.xyz, c2.xyz, c3.xyz, t), c1.w * t)
             : deformed(p, sel, level, SEGMENTS, blade.height);
     }

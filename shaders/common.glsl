@@ -16,23 +16,24 @@ struct FrameUniforms {
     uvec4 keyframe_shape;   // x records per pose, y colliders (emitters after the sources), zw unused
 };
 
+#include "shared.glsl"
+
 // How the blades are animated is fixed per pipeline by specialization constants, not read from
 // uniforms: llvmpipe (and most GPUs) compile a uniform branch into masked code that pays for every
 // path, so each configuration gets its own pipeline with the other paths compiled out.
-// `render::specialization::Specialization` fills them, in this order.
-layout(constant_id = 1) const uint ANIMATION_MODE = 0u;     // 0 static, 1 texture, 2 uniform
-layout(constant_id = 2) const uint SMOOTHING = 0u;          // 0 nearest, 1 linear (eq. 3.13), 2 slerp (eq. 3.14)
-layout(constant_id = 3) const uint KEYFRAME_ENCODING = 1u;  // 0 rgba8x2, 1 unorm16, 2 float32; 3 thesis-merged,
-                                                            // 4 snorm16x2 uniform words
-layout(constant_id = 4) const uint ATTENUATION = 0u;        // 0 cluster, 1 blade (thesis 4.5)
-layout(constant_id = 5) const uint REPRESENTATION = 0u;     // 0 vertex levels, 1 Bézier curve
-layout(constant_id = 6) const uint RENDER_FLAGS = 0u;       // FLAG_DEBUG_FORCE | FLAG_EVAL_BLADE | FLAG_CLUSTER_PUSH
+// `render::specialization::Specialization` fills them; the ids and codes are in shared.glsl.
+layout(constant_id = SPEC_ANIMATION_MODE) const uint ANIMATION_MODE = MODE_STATIC;
+layout(constant_id = SPEC_SMOOTHING) const uint SMOOTHING = 0u;
+layout(constant_id = SPEC_KEYFRAME_ENCODING) const uint KEYFRAME_ENCODING = 1u;
+layout(constant_id = SPEC_ATTENUATION) const uint ATTENUATION = ATTENUATION_CLUSTER;
+layout(constant_id = SPEC_REPRESENTATION) const uint REPRESENTATION = REPRESENTATION_LEVELS;
+layout(constant_id = SPEC_RENDER_FLAGS) const uint RENDER_FLAGS = 0u; // FLAG_* bits
 // Blade geometry (`scene::bezier::Batching`): with constants, the vertex shader's divisions by
 // the strip length become multiplications, and one blade per instance needs none at all.
-layout(constant_id = 7) const uint SEGMENTS = 4u;
-layout(constant_id = 8) const uint BLADES_PER_INSTANCE = 1u;
-// 1: the shaders encode sRGB (UNORM targets); 0: the target's *_SRGB format does.
-layout(constant_id = 9) const uint ENCODE_SRGB = 1u;
+// Arrays of levels are sized by MAX_SEGMENTS + 1, never by SEGMENTS.
+layout(constant_id = SPEC_SEGMENTS) const uint SEGMENTS = 4u;
+layout(constant_id = SPEC_BLADES_PER_INSTANCE) const uint BLADES_PER_INSTANCE = 1u;
+layout(constant_id = SPEC_ENCODE_SRGB) const uint ENCODE_SRGB = 1u;
 const uint STRIP_LEAD = BLADES_PER_INSTANCE > 1u ? 1u : 0u;     // repeats of a strip's first vertex
 const uint STRIP_STRIDE = 2u * (SEGMENTS + 1u) + 2u * STRIP_LEAD; // vertices per blade
 
@@ -52,25 +53,6 @@ struct BladeInstance {
     uint variation;         // unorm8 x4: hue, brightness, lean, spare (the debug view's force in blade.frag)
 };
 
-#define BINDING_FRAME 0
-#define BINDING_BLADES 1
-#define BINDING_HEIGHTS 2
-#define BINDING_BLADE_ALPHA 3
-#define BINDING_CLUSTERS 4
-#define BINDING_CORNERS 5
-#define BINDING_EMITTERS 6
-#define BINDING_KEYFRAMES 7
-#define BINDING_KEYFRAME_WORDS 8
-#define BINDING_POSES 9
-
-#define FLAG_DEBUG_FORCE 1u  // colour blades by force magnitude (thesis fig. 4.5 / 6.1c)
-#define FLAG_EVAL_BLADE 2u   // poses selected once per blade by blade_pose.comp
-#define FLAG_CLUSTER_PUSH 4u // per-cluster draws: the first blade is a push constant (`meadow overhead`)
-
 const float PI = 3.14159265;
-
-#define MODE_STATIC 0u
-#define MODE_TEXTURE 1u
-#define MODE_UNIFORM 2u
 
 #endif

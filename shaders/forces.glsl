@@ -1,6 +1,6 @@
 // The external force on a blade (thesis 3.2.2, 4.5): corner forces interpolated with the blade's
 // precomputed weights (eq. 3.6/3.8), plus, with delayed attenuation, every point source (eq. 4.1)
-// and collider evaluated at the blade itself. Mirrors `render::forces::blade_force` on the CPU.
+// and collider evaluated at the blade itself. Mirrors `render::animation::blade_force` on the CPU.
 #ifndef MEADOW_FORCES_GLSL
 #define MEADOW_FORCES_GLSL
 
@@ -33,7 +33,7 @@ vec2 blade_force(uint blade_index, vec2 root) {
     vec4 f = corners[c.corner] * w.x + corners[c.corner + 1u] * w.y + corners[c.corner + n] * w.z
         + corners[c.corner + n + 1u] * w.w;
     vec2 force = f.xy;
-    if (ATTENUATION == 1u) {
+    if (ATTENUATION == ATTENUATION_BLADE) {
         float exposure = f.z;
         uint sources = frame.keyframes.z;
         for (uint s = 0u; s < sources; ++s) {

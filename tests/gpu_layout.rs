@@ -3,8 +3,12 @@
 use std::sync::Arc;
 
 use ash::vk;
+use glam::{Mat4, UVec4, Vec4};
 use meadow::app::{with_device, GpuOptions};
+use meadow::render::frame::FrameUniforms;
+use meadow::render::gpu_constants as gpu;
 use meadow::render::shaders;
+use meadow::render::specialization::{self, Specialization};
 use meadow::scene::{BladeInstance, Scene};
 use meadow::vk::descriptor::{self, Binding, Resource};
 use meadow::vk::{commands, pipeline, sync, Access, Buffer, BufferDesc, Device, DeviceSelector};
@@ -13,34 +17,41 @@ fn options() -> GpuOptions {
     GpuOptions { validation: true, device: DeviceSelector::parse("llvmpipe") }
 }
 
-/// Write `blades` from Rust, read every field back through `blade_readback.comp`.
-fn read_back(device: &Arc<Device>, blades: &[BladeInstance]) -> meadow::Result<Vec<u32>> {
-    let input = Buffer::with_data(
-        device,
-        &BufferDesc::upload("test blades", std::mem::size_of_val(blades) as u64, vk::BufferUsageFlags::STORAGE_BUFFER),
-        blades,
-    )?;
+/// Run `spirv` once over `groups` workgroups with `input` at binding 0 (of `kind`) and a
+/// `words`-word storage buffer at binding 1, and return that buffer.
+fn run_compute(
+    device: &Arc<Device>,
+    spirv: &[u8],
+    constants: &[u32],
+    (kind, input): (vk::DescriptorType, &[u8]),
+    words: usize,
+    groups: u32,
+) -> meadow::Result<Vec<u32>> {
+    let usage = match kind {
+        vk::DescriptorType::UNIFORM_BUFFER => vk::BufferUsageFlags::UNIFORM_BUFFER,
+        _ => vk::BufferUsageFlags::STORAGE_BUFFER,
+    };
+    let input = Buffer::with_data(device, &BufferDesc::upload("test input", input.len() as u64, usage), input)?;
     let output = Buffer::new(
         device,
-        &BufferDesc::readback("test fields", 32 * blades.len() as u64, vk::BufferUsageFlags::STORAGE_BUFFER),
+        &BufferDesc::readback("test fields", 4 * words as u64, vk::BufferUsageFlags::STORAGE_BUFFER),
     )?;
     let bindings = [
-        Binding { binding: 0, kind: vk::DescriptorType::STORAGE_BUFFER, stages: vk::ShaderStageFlags::COMPUTE },
+        Binding { binding: 0, kind, stages: vk::ShaderStageFlags::COMPUTE },
         Binding { binding: 1, kind: vk::DescriptorType::STORAGE_BUFFER, stages: vk::ShaderStageFlags::COMPUTE },
     ];
     let set_layout = descriptor::set_layout(device, "readback set layout", &bindings)?;
     let layout = pipeline::layout(device, "readback layout", &[set_layout], &[])?;
-    let pipe = pipeline::compute(device, "blade readback", shaders::BLADE_READBACK_COMP, layout, &[])?;
+    let pipe = pipeline::compute(device, "readback", spirv, layout, constants)?;
     let (pool, sets) = descriptor::allocate_sets(device, "readback", set_layout, &bindings, 1)?;
     descriptor::write(
         device,
         sets[0],
         &[
-            (0, vk::DescriptorType::STORAGE_BUFFER, Resource::Buffer(input.descriptor())),
+            (0, kind, Resource::Buffer(input.descriptor())),
             (1, vk::DescriptorType::STORAGE_BUFFER, Resource::Buffer(output.descriptor())),
         ],
     );
-    let groups = (blades.len() as u32).div_ceil(64);
     let submitted = commands::submit_and_wait(device, "readback", |cmd| {
         // SAFETY: all objects are live; host writes are visible at submission.
         unsafe {
@@ -65,6 +76,13 @@ fn read_back(device: &Arc<Device>, blades: &[BladeInstance]) -> meadow::Result<V
     submitted.map(|()| words)
 }
 
+/// Write `blades` from Rust, read every field back through `blade_readback.comp`.
+fn read_back(device: &Arc<Device>, blades: &[BladeInstance]) -> meadow::Result<Vec<u32>> {
+    let input = (vk::DescriptorType::STORAGE_BUFFER, bytemuck::cast_slice(blades));
+    let groups = (blades.len() as u32).div_ceil(64);
+    run_compute(device, shaders::BLADE_READBACK_COMP, &[], input, 8 * blades.len(), groups)
+}
+
 #[test]
 fn every_blade_field_reads_back_through_a_compute_shader() {
     let mut blades = Scene::generate(1000, 99).blades;
@@ -85,6 +103,64 @@ fn every_blade_field_reads_back_through_a_compute_shader() {
         let expected: [u32; 8] = bytemuck::cast(*blade);
         assert_eq!(&words[8 * i..8 * i + 8], &expected, "blade {i}");
     }
+}
+
+/// Words `frame_readback.comp` writes: the uniforms, one per `SPEC_*` id, six shared constants.
+const FRAME_WORDS: usize = 44;
+const READBACK_WORDS: usize = FRAME_WORDS + specialization::COUNT + 6;
+
+#[test]
+fn every_frame_uniform_and_specialization_constant_reads_back_through_a_compute_shader() {
+    // Distinct values in every field (no two words alike), so a swapped or shifted field shows.
+    let f = |i: u32| 1.0 + i as f32 * 0.125;
+    let uniforms = FrameUniforms {
+        view_proj: Mat4::from_cols_array(&std::array::from_fn(|i| f(i as u32))),
+        camera_position: Vec4::new(f(16), f(17), f(18), f(19)),
+        sun_direction: Vec4::new(f(20), f(21), f(22), f(23)),
+        sky_color: Vec4::new(f(24), f(25), f(26), f(27)),
+        terrain: Vec4::new(f(28), f(29), f(30), f(31)),
+        params: UVec4::new(1001, 1002, 1003, 1004),
+        keyframes: UVec4::new(1005, 1006, 1007, 1008),
+        keyframe_shape: UVec4::new(1009, 1010, 1011, 1012),
+    };
+    let spec = Specialization {
+        keyframe_uvec4s: 2000,
+        mode: 2001,
+        smoothing: 2002,
+        encoding: 2003,
+        attenuation: 2004,
+        representation: 2005,
+        flags: 2006,
+        segments: 2007,
+        blades_per_instance: 2008,
+        encode_srgb: 2009,
+    };
+    let input = (vk::DescriptorType::UNIFORM_BUFFER, bytemuck::bytes_of(&uniforms));
+    let (result, messages) = with_device(&options(), false, |device| {
+        run_compute(device, shaders::FRAME_READBACK_COMP, &spec.constants(), input, READBACK_WORDS, 1)
+    });
+    let words = result.expect("readback ran");
+    assert_eq!(messages, Some(0), "validation messages");
+    let expected: &[u32] = bytemuck::cast_slice(std::slice::from_ref(&uniforms));
+    assert_eq!(expected.len(), FRAME_WORDS);
+    assert_eq!(&words[..FRAME_WORDS], expected, "FrameUniforms");
+    // Each named constant of the shaders holds the Specialization field of the same name.
+    let seen = |id: u32| words[FRAME_WORDS + id as usize];
+    assert_eq!(seen(gpu::SPEC_KEYFRAME_UVEC4S), spec.keyframe_uvec4s, "KEYFRAME_UVEC4S");
+    assert_eq!(seen(gpu::SPEC_ANIMATION_MODE), spec.mode, "ANIMATION_MODE");
+    assert_eq!(seen(gpu::SPEC_SMOOTHING), spec.smoothing, "SMOOTHING");
+    assert_eq!(seen(gpu::SPEC_KEYFRAME_ENCODING), spec.encoding, "KEYFRAME_ENCODING");
+    assert_eq!(seen(gpu::SPEC_ATTENUATION), spec.attenuation, "ATTENUATION");
+    assert_eq!(seen(gpu::SPEC_REPRESENTATION), spec.representation, "REPRESENTATION");
+    assert_eq!(seen(gpu::SPEC_RENDER_FLAGS), spec.flags, "RENDER_FLAGS");
+    assert_eq!(seen(gpu::SPEC_SEGMENTS), spec.segments, "SEGMENTS");
+    assert_eq!(seen(gpu::SPEC_BLADES_PER_INSTANCE), spec.blades_per_instance, "BLADES_PER_INSTANCE");
+    assert_eq!(seen(gpu::SPEC_ENCODE_SRGB), spec.encode_srgb, "ENCODE_SRGB");
+    // The shaders see the constants build.rs generated for Rust.
+    let shared = &words[FRAME_WORDS + specialization::COUNT..];
+    let flags = gpu::FLAG_DEBUG_FORCE | gpu::FLAG_EVAL_BLADE | gpu::FLAG_CLUSTER_PUSH;
+    let generated = [gpu::MAX_SEGMENTS, gpu::MAX_EMITTERS, gpu::POSE_WORDS, flags, gpu::BINDING_POSES, gpu::MODE_FLOOR];
+    assert_eq!(shared, &generated, "MAX_SEGMENTS, MAX_EMITTERS, POSE_WORDS, FLAG_*, BINDING_POSES, MODE_FLOOR");
 }
 
 #[test]

@@ -7,6 +7,7 @@ use glam::{Vec2, Vec4};
 use crate::error::{Error, Result};
 use crate::keyframes::encoding::{self, Encoding, Packing};
 use crate::keyframes::{BladeModel, KeyframeLayout, KeyframeTable, Representation, Smoothing};
+use crate::render::gpu_constants;
 use crate::scene::clusters::ClusterGrid;
 use crate::vk::image;
 use crate::vk::upload::UploadBatch;
@@ -31,10 +32,10 @@ impl Mode {
     /// Index used by the shaders.
     pub fn code(self) -> u32 {
         match self {
-            Mode::Static => 0,
-            Mode::Texture => 1,
-            Mode::Uniform => 2,
-            Mode::Floor => 3,
+            Mode::Static => gpu_constants::MODE_STATIC,
+            Mode::Texture => gpu_constants::MODE_TEXTURE,
+            Mode::Uniform => gpu_constants::MODE_UNIFORM,
+            Mode::Floor => gpu_constants::MODE_FLOOR,
         }
     }
 }
@@ -221,7 +222,7 @@ impl KeyframeUniforms {
 }
 
 /// Point sources plus colliders a renderer can hold (the per-frame emitter buffers' capacity).
-pub const MAX_EMITTERS: usize = 64;
+pub const MAX_EMITTERS: usize = crate::render::gpu_constants::MAX_EMITTERS as usize;
 
 /// The corner forces of a frame: (fx, fz, calm-area exposure, 0) per corner.
 pub fn corner_forces(grid: &ClusterGrid, wind: &Wind, time: f32, attenuation: Attenuation) -> Vec<Vec4> {

@@ -3,6 +3,7 @@
 
 pub mod animation;
 pub mod frame;
+pub mod gpu_constants;
 pub mod graph;
 pub mod passes;
 pub mod renderer;

@@ -27,7 +27,7 @@ use crate::scene::{Camera, Scene};
 use crate::vk::{descriptor, pipeline, Access, Device, Resource};
 
 /// Blade segments allowed (thesis 4.1 levels of detail).
-pub const SEGMENTS_RANGE: std::ops::RangeInclusive<u32> = 1..=16;
+pub const SEGMENTS_RANGE: std::ops::RangeInclusive<u32> = 1..=crate::render::gpu_constants::MAX_SEGMENTS;
 
 /// How the renderer is built.
 #[derive(Clone, Copy, Debug)]

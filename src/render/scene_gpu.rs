@@ -6,40 +6,43 @@ use ash::vk;
 use crate::error::Result;
 use crate::render::animation::{AnimationSettings, Eval, KeyframeTexture, KeyframeUniforms};
 use crate::render::frame::Frame;
+use crate::render::gpu_constants;
 use crate::scene::clusters::{BladeCluster, ClusterGrid};
 use crate::scene::{alpha, Scene};
 use crate::vk::descriptor::{self, Binding, Resource};
 use crate::vk::upload::UploadBatch;
 use crate::vk::{Access, Buffer, Device, Image, ImageDesc};
 
-/// Bytes of the `--eval blade` pose records: `segments + 1` records of 12 bytes per blade
-/// (`shaders/bindings.glsl`).
+/// Bytes of the `--eval blade` pose records: `segments + 1` records of `POSE_WORDS` words per
+/// blade (`shaders/bindings.glsl`).
 pub fn pose_bytes(blades: u32, segments: u32) -> u64 {
-    12 * u64::from(blades.max(1)) * u64::from(segments + 1)
+    4 * u64::from(gpu_constants::POSE_WORDS) * u64::from(blades.max(1)) * u64::from(segments + 1)
 }
 
-/// Binding numbers of set 0 (`shaders/common.glsl`).
+/// Binding numbers of set 0, generated from `shaders/shared.glsl` (`BINDING_*`).
 pub mod binding {
+    use crate::render::gpu_constants as gpu;
+
     /// `FrameUniforms` uniform buffer.
-    pub const FRAME: u32 = 0;
+    pub const FRAME: u32 = gpu::BINDING_FRAME;
     /// `BladeInstance[]` storage buffer.
-    pub const BLADES: u32 = 1;
+    pub const BLADES: u32 = gpu::BINDING_BLADES;
     /// Terrain heights storage buffer.
-    pub const HEIGHTS: u32 = 2;
+    pub const HEIGHTS: u32 = gpu::BINDING_HEIGHTS;
     /// Blade alpha texture.
-    pub const BLADE_ALPHA: u32 = 3;
+    pub const BLADE_ALPHA: u32 = gpu::BINDING_BLADE_ALPHA;
     /// `BladeCluster[]` storage buffer.
-    pub const CLUSTERS: u32 = 4;
+    pub const CLUSTERS: u32 = gpu::BINDING_CLUSTERS;
     /// Per-frame corner forces.
-    pub const CORNERS: u32 = 5;
+    pub const CORNERS: u32 = gpu::BINDING_CORNERS;
     /// Per-frame point sources and colliders.
-    pub const EMITTERS: u32 = 6;
+    pub const EMITTERS: u32 = gpu::BINDING_EMITTERS;
     /// Keyframe texture.
-    pub const KEYFRAMES: u32 = 7;
+    pub const KEYFRAMES: u32 = gpu::BINDING_KEYFRAMES;
     /// Keyframe uniform array.
-    pub const KEYFRAME_WORDS: u32 = 8;
+    pub const KEYFRAME_WORDS: u32 = gpu::BINDING_KEYFRAME_WORDS;
     /// Per-blade pose records written by the blade-pose compute pass (`--eval blade`).
-    pub const POSES: u32 = 9;
+    pub const POSES: u32 = gpu::BINDING_POSES;
 }
 
 /// Layout of set 0 shared by the scene passes and the blade-pose compute pass.

@@ -16,6 +16,8 @@ pub const TERRAIN_VERT: &[u8] = spirv!("terrain.vert");
 pub const TERRAIN_FRAG: &[u8] = spirv!("terrain.frag");
 /// Test: reads every `BladeInstance` field back.
 pub const BLADE_READBACK_COMP: &[u8] = spirv!("blade_readback.comp");
+/// Test: reads every `FrameUniforms` field and the specialization constants back.
+pub const FRAME_READBACK_COMP: &[u8] = spirv!("frame_readback.comp");
 /// Test and experiment: per-blade forces through `forces.glsl`.
 pub const BLADE_FORCES_COMP: &[u8] = spirv!("blade_forces.comp");
 /// `--eval blade`: per-blade pose records.

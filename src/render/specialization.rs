@@ -4,38 +4,38 @@
 
 use crate::keyframes::Representation;
 use crate::render::animation::{AnimationSettings, Eval, KeyframeUniforms, Mode};
+use crate::render::gpu_constants as gpu;
 use crate::vk::Device;
 use crate::wind::Attenuation;
 
-/// `RENDER_FLAGS` bit: colour blades by force magnitude.
-pub const FLAG_DEBUG_FORCE: u32 = 1;
-/// `RENDER_FLAGS` bit: pose records come from the blade-pose compute pass.
-pub const FLAG_EVAL_BLADE: u32 = 2;
-/// `RENDER_FLAGS` bit: per-cluster draws push their first blade.
-pub const FLAG_CLUSTER_PUSH: u32 = 4;
+/// `RENDER_FLAGS` bits, generated from `shaders/shared.glsl`.
+pub use crate::render::gpu_constants::{FLAG_CLUSTER_PUSH, FLAG_DEBUG_FORCE, FLAG_EVAL_BLADE};
 
-/// The constants, by `constant_id`.
+/// Number of specialization constants, one per `SPEC_*` id of `shaders/shared.glsl`.
+pub const COUNT: usize = 10;
+
+/// The constants; each field's `constant_id` is the `SPEC_*` named in its doc (`Self::pairs`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Specialization {
-    /// 0: `uvec4`s of the keyframe uniform array.
+    /// `SPEC_KEYFRAME_UVEC4S`: `uvec4`s of the keyframe uniform array.
     pub keyframe_uvec4s: u32,
-    /// 1: 0 static, 1 texture, 2 uniform.
+    /// `SPEC_ANIMATION_MODE`: a `MODE_*` code.
     pub mode: u32,
-    /// 2: 0 nearest, 1 linear, 2 slerp.
+    /// `SPEC_SMOOTHING`: 0 nearest, 1 linear, 2 slerp.
     pub smoothing: u32,
-    /// 3: texture encoding (0..=2) or uniform packing (3, 4).
+    /// `SPEC_KEYFRAME_ENCODING`: texture encoding (0..=2) or uniform packing (3, 4).
     pub encoding: u32,
-    /// 4: 0 cluster, 1 blade.
+    /// `SPEC_ATTENUATION`: an `ATTENUATION_*` code.
     pub attenuation: u32,
-    /// 5: 0 vertex levels, 1 curve.
+    /// `SPEC_REPRESENTATION`: a `REPRESENTATION_*` code.
     pub representation: u32,
-    /// 6: `FLAG_*` bits.
+    /// `SPEC_RENDER_FLAGS`: `FLAG_*` bits.
     pub flags: u32,
-    /// 7: segments per blade.
+    /// `SPEC_SEGMENTS`: segments per blade.
     pub segments: u32,
-    /// 8: blades per instance (1: the strip alone, no degenerate joins, no tail test).
+    /// `SPEC_BLADES_PER_INSTANCE`: blades per instance (1: the strip alone, no degenerate joins, no tail test).
     pub blades_per_instance: u32,
-    /// 9: 1 when the shaders encode sRGB (UNORM targets), 0 when the format does.
+    /// `SPEC_ENCODE_SRGB`: 1 when the shaders encode sRGB (UNORM targets), 0 when the format does.
     pub encode_srgb: u32,
 }
 
@@ -71,10 +71,13 @@ impl Specialization {
                 _ => animation.encoding.code(),
             },
             attenuation: match animation.attenuation {
-                Attenuation::Cluster => 0,
-                Attenuation::Blade => 1,
+                Attenuation::Cluster => gpu::ATTENUATION_CLUSTER,
+                Attenuation::Blade => gpu::ATTENUATION_BLADE,
             },
-            representation: u32::from(animation.representation == Representation::Curve),
+            representation: match animation.representation {
+                Representation::Curve => gpu::REPRESENTATION_CURVE,
+                Representation::Vertex => gpu::REPRESENTATION_LEVELS,
+            },
             flags,
             segments,
             blades_per_instance,
@@ -87,19 +90,89 @@ impl Specialization {
         self.flags & FLAG_EVAL_BLADE != 0
     }
 
-    /// The values in `constant_id` order.
-    pub fn constants(&self) -> [u32; 10] {
+    /// Every constant as `(constant_id, value)`, the ids generated from `shaders/shared.glsl`.
+    pub fn pairs(&self) -> [(u32, u32); COUNT] {
         [
-            self.keyframe_uvec4s,
-            self.mode,
-            self.smoothing,
-            self.encoding,
-            self.attenuation,
-            self.representation,
-            self.flags,
-            self.segments,
-            self.blades_per_instance,
-            self.encode_srgb,
+            (gpu::SPEC_KEYFRAME_UVEC4S, self.keyframe_uvec4s),
+            (gpu::SPEC_ANIMATION_MODE, self.mode),
+            (gpu::SPEC_SMOOTHING, self.smoothing),
+            (gpu::SPEC_KEYFRAME_ENCODING, self.encoding),
+            (gpu::SPEC_ATTENUATION, self.attenuation),
+            (gpu::SPEC_REPRESENTATION, self.representation),
+            (gpu::SPEC_RENDER_FLAGS, self.flags),
+            (gpu::SPEC_SEGMENTS, self.segments),
+            (gpu::SPEC_BLADES_PER_INSTANCE, self.blades_per_instance),
+            (gpu::SPEC_ENCODE_SRGB, self.encode_srgb),
         ]
+    }
+
+    /// The values indexed by `constant_id`, as `vk::pipeline` takes them (`constants[i]` is
+    /// `constant_id = i`). The ids of `pairs` are `0..COUNT` in some order (asserted at compile
+    /// time below), so every slot is written exactly once.
+    pub fn constants(&self) -> [u32; COUNT] {
+        let mut values = [0; COUNT];
+        for (id, value) in self.pairs() {
+            values[id as usize] = value;
+        }
+        values
+    }
+}
+
+/// The `SPEC_*` ids, in `Specialization::pairs` order.
+const IDS: [u32; COUNT] = [
+    gpu::SPEC_KEYFRAME_UVEC4S,
+    gpu::SPEC_ANIMATION_MODE,
+    gpu::SPEC_SMOOTHING,
+    gpu::SPEC_KEYFRAME_ENCODING,
+    gpu::SPEC_ATTENUATION,
+    gpu::SPEC_REPRESENTATION,
+    gpu::SPEC_RENDER_FLAGS,
+    gpu::SPEC_SEGMENTS,
+    gpu::SPEC_BLADES_PER_INSTANCE,
+    gpu::SPEC_ENCODE_SRGB,
+];
+
+/// Whether `ids` is a permutation of `0..COUNT`: dense, so `constants()` fills every slot.
+const fn dense(ids: &[u32; COUNT]) -> bool {
+    let mut seen = [false; COUNT];
+    let mut i = 0;
+    while i < COUNT {
+        let id = ids[i] as usize;
+        if id >= COUNT || seen[id] {
+            return false;
+        }
+        seen[id] = true;
+        i += 1;
+    }
+    true
+}
+
+const _: () = assert!(dense(&IDS), "the SPEC_* ids of shaders/shared.glsl must be 0..COUNT, each once");
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn pairs_use_the_generated_ids_in_order() {
+        let spec = Specialization {
+            keyframe_uvec4s: 100,
+            mode: 101,
+            smoothing: 102,
+            encoding: 103,
+            attenuation: 104,
+            representation: 105,
+            flags: 106,
+            segments: 107,
+            blades_per_instance: 108,
+            encode_srgb: 109,
+        };
+        assert_eq!(spec.pairs().map(|(id, _)| id), IDS);
+        let constants = spec.constants();
+        for (id, value) in spec.pairs() {
+            assert_eq!(constants[id as usize], value);
+        }
+        assert_eq!(constants[gpu::SPEC_SEGMENTS as usize], 107);
+        assert_eq!(constants[gpu::SPEC_KEYFRAME_UVEC4S as usize], 100);
     }
 }

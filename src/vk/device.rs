@@ -215,127 +215,165 @@ pub struct Device {
     allocator: ManuallyDrop<Mutex<Allocator>>,
 }
 
+/// The candidate `selector` names, if meadow can run on it.
+fn select<'a>(candidates: &'a [Candidate], selector: &DeviceSelector) -> Result<&'a Candidate> {
+    if candidates.is_empty() {
+        return Err(Error::Environment(
+            "no Vulkan device found: install mesa-vulkan-drivers for the lavapipe CPU device".into(),
+        ));
+    }
+    let listing = || candidates.iter().map(|c| c.info.to_string()).collect::<Vec<_>>().join("; ");
+    let chosen = match selector {
+        DeviceSelector::Best => candidates
+            .iter()
+            .filter(|c| c.info.usable)
+            .min_by_key(|c| (kind_rank(c.info.kind), c.info.index))
+            .ok_or_else(|| Error::Environment(format!("no device supports Vulkan 1.3: {}", listing())))?,
+        DeviceSelector::Index(index) => candidates
+            .get(*index)
+            .ok_or_else(|| Error::bad_input(format!("--device {index}: no such device (have {})", listing())))?,
+        DeviceSelector::Name(name) => {
+            candidates.iter().find(|c| c.info.name.to_lowercase().contains(name.as_str())).ok_or_else(|| {
+                Error::bad_input(format!("--device {name}: no device name contains it (have {})", listing()))
+            })?
+        }
+    };
+    if !chosen.info.usable {
+        return Err(Error::bad_input(format!(
+            "--device: {} cannot run meadow (needs Vulkan 1.3 and a graphics+compute queue)",
+            chosen.info.name
+        )));
+    }
+    Ok(chosen)
+}
+
+/// The features meadow enables on `physical`.
+struct EnabledFeatures {
+    /// Optional core features, enabled when supported.
+    core: vk::PhysicalDeviceFeatures,
+    /// `drawIndirectCount` (Vulkan 1.2).
+    draw_indirect_count: bool,
+}
+
+/// Query what `physical` supports: synchronization2 and dynamic rendering are required, the
+/// optional core features and `drawIndirectCount` are enabled when present.
+fn enabled_features(instance: &Instance, physical: vk::PhysicalDevice, name: &str) -> Result<EnabledFeatures> {
+    // SAFETY: physical comes from this instance.
+    let supported = unsafe { instance.raw.get_physical_device_features(physical) };
+    let mut supported13 = vk::PhysicalDeviceVulkan13Features::default();
+    let mut supported12 = vk::PhysicalDeviceVulkan12Features::default();
+    let mut supported2 = vk::PhysicalDeviceFeatures2::default().push_next(&mut supported13).push_next(&mut supported12);
+    // SAFETY: as above; the chain points to locals.
+    unsafe { instance.raw.get_physical_device_features2(physical, &mut supported2) };
+    if supported13.synchronization2 == vk::FALSE || supported13.dynamic_rendering == vk::FALSE {
+        return Err(Error::Environment(format!("{name} lacks synchronization2 or dynamic rendering")));
+    }
+    let core = vk::PhysicalDeviceFeatures {
+        pipeline_statistics_query: supported.pipeline_statistics_query,
+        multi_draw_indirect: supported.multi_draw_indirect,
+        draw_indirect_first_instance: supported.draw_indirect_first_instance,
+        fill_mode_non_solid: supported.fill_mode_non_solid,
+        ..Default::default()
+    };
+    Ok(EnabledFeatures { core, draw_indirect_count: supported12.draw_indirect_count == vk::TRUE })
+}
+
+/// Whether `physical` has VK_EXT_calibrated_timestamps and can correlate its timestamps with
+/// CLOCK_MONOTONIC (what `std::time::Instant` reads on Linux): `meadow timing` puts CPU and GPU
+/// spans on one timeline with it.
+fn supports_calibrated_timestamps(instance: &Instance, physical: vk::PhysicalDevice) -> bool {
+    // SAFETY: physical comes from this instance.
+    let available = unsafe { instance.raw.enumerate_device_extension_properties(physical) }.unwrap_or_default();
+    let has = available.iter().any(|e| e.extension_name_as_c_str() == Ok(ash::ext::calibrated_timestamps::NAME));
+    let domains = if has {
+        let ext = ash::ext::calibrated_timestamps::Instance::new(&instance.entry, &instance.raw);
+        // SAFETY: the device supports the extension.
+        unsafe { ext.get_physical_device_calibrateable_time_domains(physical) }.unwrap_or_default()
+    } else {
+        Vec::new()
+    };
+    has && domains.contains(&vk::TimeDomainEXT::DEVICE) && domains.contains(&vk::TimeDomainEXT::CLOCK_MONOTONIC)
+}
+
+/// Create the logical device with one queue of `queue_family`, `features` (plus
+/// synchronization2 and dynamic rendering) and `extensions`.
+fn create_logical(
+    instance: &Instance,
+    physical: vk::PhysicalDevice,
+    queue_family: u32,
+    features: &EnabledFeatures,
+    extensions: &[*const std::ffi::c_char],
+) -> Result<ash::Device> {
+    let mut features13 = vk::PhysicalDeviceVulkan13Features::default().synchronization2(true).dynamic_rendering(true);
+    let mut features12 =
+        vk::PhysicalDeviceVulkan12Features::default().draw_indirect_count(features.draw_indirect_count);
+    let mut features2 = vk::PhysicalDeviceFeatures2::default()
+        .features(features.core)
+        .push_next(&mut features12)
+        .push_next(&mut features13);
+    let priorities = [1.0];
+    let queue_infos =
+        [vk::DeviceQueueCreateInfo::default().queue_family_index(queue_family).queue_priorities(&priorities)];
+    let create_info = vk::DeviceCreateInfo::default()
+        .queue_create_infos(&queue_infos)
+        .enabled_extension_names(extensions)
+        .push_next(&mut features2);
+    // SAFETY: every pointer in create_info refers to locals (or to `extensions`, static
+    // extension names) alive for this call.
+    unsafe { instance.raw.create_device(physical, &create_info, None) }.vk("vkCreateDevice")
+}
+
+/// The allocator every GPU allocation comes from; it logs leaks when dropped.
+fn create_allocator(
+    instance: &Instance,
+    raw: &ash::Device,
+    physical: vk::PhysicalDevice,
+) -> gpu_allocator::Result<Allocator> {
+    let mut debug_settings = gpu_allocator::AllocatorDebugSettings::default();
+    debug_settings.log_leaks_on_shutdown = true;
+    Allocator::new(&AllocatorCreateDesc {
+        instance: instance.raw.clone(),
+        device: raw.clone(),
+        physical_device: physical,
+        debug_settings,
+        buffer_device_address: false,
+        allocation_sizes: Default::default(),
+    })
+}
+
 impl Device {
     /// Select a physical device and create the logical device on it.
     pub fn new(instance: Arc<Instance>, desc: &DeviceDesc) -> Result<Arc<Self>> {
         let candidates = enumerate(&instance)?;
-        if candidates.is_empty() {
-            return Err(Error::Environment(
-                "no Vulkan device found: install mesa-vulkan-drivers for the lavapipe CPU device".into(),
-            ));
-        }
-        let listing = || candidates.iter().map(|c| c.info.to_string()).collect::<Vec<_>>().join("; ");
-        let chosen = match &desc.selector {
-            DeviceSelector::Best => candidates
-                .iter()
-                .filter(|c| c.info.usable)
-                .min_by_key(|c| (kind_rank(c.info.kind), c.info.index))
-                .ok_or_else(|| Error::Environment(format!("no device supports Vulkan 1.3: {}", listing())))?,
-            DeviceSelector::Index(index) => candidates
-                .get(*index)
-                .ok_or_else(|| Error::bad_input(format!("--device {index}: no such device (have {})", listing())))?,
-            DeviceSelector::Name(name) => {
-                candidates.iter().find(|c| c.info.name.to_lowercase().contains(name.as_str())).ok_or_else(|| {
-                    Error::bad_input(format!("--device {name}: no device name contains it (have {})", listing()))
-                })?
-            }
-        };
-        if !chosen.info.usable {
-            return Err(Error::bad_input(format!(
-                "--device: {} cannot run meadow (needs Vulkan 1.3 and a graphics+compute queue)",
-                chosen.info.name
-            )));
-        }
+        let chosen = select(&candidates, &desc.selector)?;
         let physical = chosen.raw;
         let queue_family = chosen.queue_family.expect("usable devices have a queue family");
 
         // SAFETY: physical comes from this instance.
-        let (properties, memory, supported, families) = unsafe {
+        let (properties, memory, families) = unsafe {
             (
                 instance.raw.get_physical_device_properties(physical),
                 instance.raw.get_physical_device_memory_properties(physical),
-                instance.raw.get_physical_device_features(physical),
                 instance.raw.get_physical_device_queue_family_properties(physical),
             )
         };
-        let mut supported13 = vk::PhysicalDeviceVulkan13Features::default();
-        let mut supported12 = vk::PhysicalDeviceVulkan12Features::default();
-        let mut supported2 =
-            vk::PhysicalDeviceFeatures2::default().push_next(&mut supported13).push_next(&mut supported12);
-        // SAFETY: as above; the chain points to locals.
-        unsafe { instance.raw.get_physical_device_features2(physical, &mut supported2) };
-        if supported13.synchronization2 == vk::FALSE || supported13.dynamic_rendering == vk::FALSE {
-            return Err(Error::Environment(format!(
-                "{} lacks synchronization2 or dynamic rendering",
-                chosen.info.name
-            )));
-        }
-
-        let features = vk::PhysicalDeviceFeatures {
-            pipeline_statistics_query: supported.pipeline_statistics_query,
-            multi_draw_indirect: supported.multi_draw_indirect,
-            draw_indirect_first_instance: supported.draw_indirect_first_instance,
-            fill_mode_non_solid: supported.fill_mode_non_solid,
-            ..Default::default()
-        };
-        let mut features13 =
-            vk::PhysicalDeviceVulkan13Features::default().synchronization2(true).dynamic_rendering(true);
-        let draw_indirect_count = supported12.draw_indirect_count == vk::TRUE;
-        let mut features12 = vk::PhysicalDeviceVulkan12Features::default().draw_indirect_count(draw_indirect_count);
-        let mut features2 = vk::PhysicalDeviceFeatures2::default()
-            .features(features)
-            .push_next(&mut features12)
-            .push_next(&mut features13);
-        let priorities = [1.0];
-        let queue_infos =
-            [vk::DeviceQueueCreateInfo::default().queue_family_index(queue_family).queue_priorities(&priorities)];
+        let features = enabled_features(&instance, physical, &chosen.info.name)?;
         let mut extensions = Vec::new();
         if desc.swapchain {
             extensions.push(ash::khr::swapchain::NAME.as_ptr());
         }
-        // VK_EXT_calibrated_timestamps, when the device can correlate its timestamps with
-        // CLOCK_MONOTONIC (what `std::time::Instant` reads on Linux): `meadow timing` puts CPU
-        // and GPU spans on one timeline with it.
-        let calibrated = {
-            // SAFETY: physical comes from this instance.
-            let available = unsafe { instance.raw.enumerate_device_extension_properties(physical) }.unwrap_or_default();
-            let has =
-                available.iter().any(|e| e.extension_name_as_c_str() == Ok(ash::ext::calibrated_timestamps::NAME));
-            let domains = if has {
-                let ext = ash::ext::calibrated_timestamps::Instance::new(&instance.entry, &instance.raw);
-                // SAFETY: the device supports the extension.
-                unsafe { ext.get_physical_device_calibrateable_time_domains(physical) }.unwrap_or_default()
-            } else {
-                Vec::new()
-            };
-            has && domains.contains(&vk::TimeDomainEXT::DEVICE) && domains.contains(&vk::TimeDomainEXT::CLOCK_MONOTONIC)
-        };
+        let calibrated = supports_calibrated_timestamps(&instance, physical);
         if calibrated {
             extensions.push(ash::ext::calibrated_timestamps::NAME.as_ptr());
         }
-        let create_info = vk::DeviceCreateInfo::default()
-            .queue_create_infos(&queue_infos)
-            .enabled_extension_names(&extensions)
-            .push_next(&mut features2);
-        // SAFETY: every pointer in create_info refers to locals alive for this call.
-        let raw = unsafe { instance.raw.create_device(physical, &create_info, None) }.vk("vkCreateDevice")?;
+        let raw = create_logical(&instance, physical, queue_family, &features, &extensions)?;
         // SAFETY: the family was requested with one queue.
         let queue = unsafe { raw.get_device_queue(queue_family, 0) };
         let debug_utils = ash::ext::debug_utils::Device::new(&instance.raw, &raw);
         let calibrated_timestamps =
             calibrated.then(|| ash::ext::calibrated_timestamps::Device::new(&instance.raw, &raw));
 
-        let mut debug_settings = gpu_allocator::AllocatorDebugSettings::default();
-        debug_settings.log_leaks_on_shutdown = true;
-        let allocator = Allocator::new(&AllocatorCreateDesc {
-            instance: instance.raw.clone(),
-            device: raw.clone(),
-            physical_device: physical,
-            debug_settings,
-            buffer_device_address: false,
-            allocation_sizes: Default::default(),
-        });
-        let allocator = match allocator {
+        let allocator = match create_allocator(&instance, &raw, physical) {
             Ok(allocator) => allocator,
             Err(source) => {
                 // SAFETY: nothing was created from the device yet.
@@ -350,8 +388,8 @@ impl Device {
             physical,
             properties,
             memory,
-            features,
-            draw_indirect_count,
+            features: features.core,
+            draw_indirect_count: features.draw_indirect_count,
             calibrated_timestamps,
             raw,
             debug_utils,

@@ -49,42 +49,65 @@ pub struct Instance {
     counter: Option<Arc<ValidationCounter>>,
 }
 
+/// Load the Vulkan loader and check that it supports API 1.3.
+fn load_entry() -> Result<ash::Entry> {
+    // SAFETY: loading the system Vulkan loader; its symbols are trusted to match the spec.
+    let entry = unsafe { ash::Entry::load() }.map_err(|e| {
+        Error::Environment(format!(
+            "cannot load the Vulkan loader ({e}): install libvulkan1 and a driver such as mesa-vulkan-drivers"
+        ))
+    })?;
+    // SAFETY: plain query on a valid entry.
+    let version = unsafe { entry.try_enumerate_instance_version() }
+        .vk("vkEnumerateInstanceVersion")?
+        .unwrap_or(vk::API_VERSION_1_0);
+    if version < vk::API_VERSION_1_3 {
+        return Err(Error::Environment(format!(
+            "the Vulkan loader supports API {}.{}, meadow needs 1.3",
+            vk::api_version_major(version),
+            vk::api_version_minor(version)
+        )));
+    }
+    Ok(entry)
+}
+
+/// The layers to enable: the Khronos validation layer with `validation` (an error if it is not
+/// installed), none otherwise.
+fn layers(entry: &ash::Entry, validation: bool) -> Result<Vec<*const std::ffi::c_char>> {
+    if !validation {
+        return Ok(Vec::new());
+    }
+    // SAFETY: plain query on a valid entry.
+    let available = unsafe { entry.enumerate_instance_layer_properties() }.vk("vkEnumerateInstanceLayerProperties")?;
+    if !available.iter().any(|layer| layer.layer_name_as_c_str() == Ok(VALIDATION_LAYER)) {
+        return Err(Error::Environment(
+            "validation requested but VK_LAYER_KHRONOS_validation is not installed \
+             (install the Debian package vulkan-validationlayers)"
+                .into(),
+        ));
+    }
+    Ok(vec![VALIDATION_LAYER.as_ptr()])
+}
+
+/// A messenger for warnings and errors of every type, counted into `counter` by
+/// `on_debug_message` (its user data is `counter`'s address).
+fn messenger_info(counter: &Arc<ValidationCounter>) -> vk::DebugUtilsMessengerCreateInfoEXT<'static> {
+    vk::DebugUtilsMessengerCreateInfoEXT::default()
+        .message_severity(vk::DebugUtilsMessageSeverityFlagsEXT::WARNING | vk::DebugUtilsMessageSeverityFlagsEXT::ERROR)
+        .message_type(
+            vk::DebugUtilsMessageTypeFlagsEXT::GENERAL
+                | vk::DebugUtilsMessageTypeFlagsEXT::VALIDATION
+                | vk::DebugUtilsMessageTypeFlagsEXT::PERFORMANCE,
+        )
+        .pfn_user_callback(Some(on_debug_message))
+        .user_data(Arc::as_ptr(counter) as *mut c_void)
+}
+
 impl Instance {
     /// Load Vulkan and create an instance for API 1.3.
     pub fn new(desc: &InstanceDesc) -> Result<Self> {
-        // SAFETY: loading the system Vulkan loader; its symbols are trusted to match the spec.
-        let entry = unsafe { ash::Entry::load() }.map_err(|e| {
-            Error::Environment(format!(
-                "cannot load the Vulkan loader ({e}): install libvulkan1 and a driver such as mesa-vulkan-drivers"
-            ))
-        })?;
-        // SAFETY: plain query on a valid entry.
-        let version = unsafe { entry.try_enumerate_instance_version() }
-            .vk("vkEnumerateInstanceVersion")?
-            .unwrap_or(vk::API_VERSION_1_0);
-        if version < vk::API_VERSION_1_3 {
-            return Err(Error::Environment(format!(
-                "the Vulkan loader supports API {}.{}, meadow needs 1.3",
-                vk::api_version_major(version),
-                vk::api_version_minor(version)
-            )));
-        }
-
-        let mut layers = Vec::new();
-        if desc.validation {
-            // SAFETY: plain query on a valid entry.
-            let available =
-                unsafe { entry.enumerate_instance_layer_properties() }.vk("vkEnumerateInstanceLayerProperties")?;
-            let found = available.iter().any(|layer| layer.layer_name_as_c_str() == Ok(VALIDATION_LAYER));
-            if !found {
-                return Err(Error::Environment(
-                    "validation requested but VK_LAYER_KHRONOS_validation is not installed \
-                     (install the Debian package vulkan-validationlayers)"
-                        .into(),
-                ));
-            }
-            layers.push(VALIDATION_LAYER.as_ptr());
-        }
+        let entry = load_entry()?;
+        let layers = layers(&entry, desc.validation)?;
 
         let mut extensions = desc.extensions.to_vec();
         extensions.push(ash::ext::debug_utils::NAME.as_ptr());
@@ -96,19 +119,7 @@ impl Instance {
             .api_version(vk::API_VERSION_1_3);
 
         let counter = desc.validation.then(|| Arc::new(ValidationCounter::default()));
-        let mut messenger_info = counter.as_ref().map(|counter| {
-            vk::DebugUtilsMessengerCreateInfoEXT::default()
-                .message_severity(
-                    vk::DebugUtilsMessageSeverityFlagsEXT::WARNING | vk::DebugUtilsMessageSeverityFlagsEXT::ERROR,
-                )
-                .message_type(
-                    vk::DebugUtilsMessageTypeFlagsEXT::GENERAL
-                        | vk::DebugUtilsMessageTypeFlagsEXT::VALIDATION
-                        | vk::DebugUtilsMessageTypeFlagsEXT::PERFORMANCE,
-                )
-                .pfn_user_callback(Some(on_debug_message))
-                .user_data(Arc::as_ptr(counter) as *mut c_void)
-        });
+        let mut messenger_info = counter.as_ref().map(messenger_info);
         let enabled_features = [vk::ValidationFeatureEnableEXT::SYNCHRONIZATION_VALIDATION];
         let mut validation_features =
             vk::ValidationFeaturesEXT::default().enabled_validation_features(&enabled_features);

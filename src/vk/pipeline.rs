@@ -65,17 +65,35 @@ fn specialization_entries(constants: &[u32]) -> Vec<vk::SpecializationMapEntry> 
     (0..constants.len() as u32).map(|i| vk::SpecializationMapEntry { constant_id: i, offset: 4 * i, size: 4 }).collect()
 }
 
-/// Build a graphics pipeline with dynamic viewport and scissor.
-pub fn graphics(device: &Device, desc: &GraphicsDesc) -> Result<vk::Pipeline> {
+/// The vertex buffer binding and its one `vec3` attribute at location 0 for `stride` (unused
+/// when `stride` is 0: vertex pulling).
+fn vertex_input(stride: u32) -> ([vk::VertexInputBindingDescription; 1], [vk::VertexInputAttributeDescription; 1]) {
+    let bindings = [vk::VertexInputBindingDescription { binding: 0, stride, input_rate: vk::VertexInputRate::VERTEX }];
+    let attributes = [vk::VertexInputAttributeDescription {
+        location: 0,
+        binding: 0,
+        format: vk::Format::R32G32B32_SFLOAT,
+        offset: 0,
+    }];
+    (bindings, attributes)
+}
+
+/// Vertex and fragment modules of `desc`; neither is left behind if one fails.
+fn graphics_modules(device: &Device, desc: &GraphicsDesc) -> Result<(vk::ShaderModule, vk::ShaderModule)> {
     let vs = shader_module(device, &format!("{} vs", desc.name), desc.vertex)?;
-    let fs = match shader_module(device, &format!("{} fs", desc.name), desc.fragment) {
-        Ok(fs) => fs,
+    match shader_module(device, &format!("{} fs", desc.name), desc.fragment) {
+        Ok(fs) => Ok((vs, fs)),
         Err(e) => {
             // SAFETY: unused module.
             unsafe { device.raw.destroy_shader_module(vs, None) };
-            return Err(e);
+            Err(e)
         }
-    };
+    }
+}
+
+/// Build a graphics pipeline with dynamic viewport and scissor.
+pub fn graphics(device: &Device, desc: &GraphicsDesc) -> Result<vk::Pipeline> {
+    let (vs, fs) = graphics_modules(device, desc)?;
     let entries = specialization_entries(desc.constants);
     let specialization =
         vk::SpecializationInfo::default().map_entries(&entries).data(bytemuck::cast_slice(desc.constants));
@@ -91,17 +109,7 @@ pub fn graphics(device: &Device, desc: &GraphicsDesc) -> Result<vk::Pipeline> {
             .name(c"main")
             .specialization_info(&specialization),
     ];
-    let bindings = [vk::VertexInputBindingDescription {
-        binding: 0,
-        stride: desc.vertex_stride,
-        input_rate: vk::VertexInputRate::VERTEX,
-    }];
-    let attributes = [vk::VertexInputAttributeDescription {
-        location: 0,
-        binding: 0,
-        format: vk::Format::R32G32B32_SFLOAT,
-        offset: 0,
-    }];
+    let (bindings, attributes) = vertex_input(desc.vertex_stride);
     let vertex_input = if desc.vertex_stride == 0 {
         vk::PipelineVertexInputStateCreateInfo::default()
     } else {
