@@ -1,4 +1,4 @@
-// Shared GPU data layout. The Rust mirrors are `render::frame::FrameUniforms` and
+// Shared GPU data layout. The Rust mirrors are `render::uniforms::FrameUniforms` and
 // `scene::blades::BladeInstance`; their sizes and offsets are asserted at compile time in Rust and
 // read back through `blade_readback.comp` in the tests.
 #ifndef MEADOW_COMMON_GLSL

@@ -7,7 +7,7 @@ use ash::vk;
 use glam::{UVec4, Vec2, Vec4};
 use meadow::app::{with_device, GpuOptions};
 use meadow::render::animation;
-use meadow::render::frame::FrameUniforms;
+use meadow::render::uniforms::FrameUniforms;
 use meadow::render::shaders;
 use meadow::scene::clusters::ClusterGrid;
 use meadow::scene::{BladeInstance, Scene};

@@ -5,7 +5,7 @@ use std::sync::Arc;
 use ash::vk;
 use glam::{Mat4, UVec4, Vec4};
 use meadow::app::{with_device, GpuOptions};
-use meadow::render::frame::FrameUniforms;
+use meadow::render::uniforms::FrameUniforms;
 use meadow::render::gpu_constants as gpu;
 use meadow::render::shaders;
 use meadow::render::specialization::{self, Specialization};

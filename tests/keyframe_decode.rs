@@ -11,7 +11,7 @@ use meadow::app::{with_device, GpuOptions};
 use meadow::keyframes::encoding::{self as enc, Encoding, Packing};
 use meadow::keyframes::KeyframeTable;
 use meadow::render::animation::{AnimationSettings, KeyframeTexture, KeyframeUniforms};
-use meadow::render::frame::FrameUniforms;
+use meadow::render::uniforms::FrameUniforms;
 use meadow::render::shaders;
 use meadow::vk::descriptor::{self, Binding, Resource};
 use meadow::vk::upload::UploadBatch;
