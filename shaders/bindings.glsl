@@ -1,33 +1,34 @@
-// Descriptor set 0 of the scene passes (`render::scene_gpu::bindings` on the Rust side; the
-// binding numbers are in shared.glsl).
+// The descriptor sets of the scene pipelines: the scene and this frame's uniforms and forces
+// (`SET_SCENE`, `render::scene_gpu::bindings`), then the animation model's resources
+// (`SET_ANIMATION`, `render::animation::model::bindings`). Numbers are in shared.glsl.
 #ifndef MEADOW_BINDINGS_GLSL
 #define MEADOW_BINDINGS_GLSL
 #include "common.glsl"
 
-layout(set = 0, binding = BINDING_FRAME, std140) uniform Frame { FrameUniforms frame; };
-layout(set = 0, binding = BINDING_BLADES, std430) readonly buffer Blades { BladeInstance blades[]; };
-layout(set = 0, binding = BINDING_HEIGHTS, std430) readonly buffer Heights { float heights[]; };
-layout(set = 0, binding = BINDING_BLADE_ALPHA) uniform sampler2D blade_alpha;
-layout(set = 0, binding = BINDING_CLUSTERS, std430) readonly buffer Clusters { BladeCluster clusters[]; };
+layout(set = SET_SCENE, binding = BINDING_FRAME, std140) uniform Frame { FrameUniforms frame; };
+layout(set = SET_SCENE, binding = BINDING_BLADES, std430) readonly buffer Blades { BladeInstance blades[]; };
+layout(set = SET_SCENE, binding = BINDING_HEIGHTS, std430) readonly buffer Heights { float heights[]; };
+layout(set = SET_SCENE, binding = BINDING_BLADE_ALPHA) uniform sampler2D blade_alpha;
+layout(set = SET_SCENE, binding = BINDING_CLUSTERS, std430) readonly buffer Clusters { BladeCluster clusters[]; };
 // Per frame: forces at cluster corners (xy force, z calm-area exposure), and point sources
 // (x, z, power, sigma) followed by colliders (centre x, z, radius x, z).
-layout(set = 0, binding = BINDING_CORNERS, std430) readonly buffer Corners { vec4 corners[]; };
-layout(set = 0, binding = BINDING_EMITTERS, std430) readonly buffer Emitters { vec4 emitters[]; };
-layout(set = 0, binding = BINDING_KEYFRAMES) uniform sampler2D keyframe_texture;
+layout(set = SET_SCENE, binding = BINDING_CORNERS, std430) readonly buffer Corners { vec4 corners[]; };
+layout(set = SET_SCENE, binding = BINDING_EMITTERS, std430) readonly buffer Emitters { vec4 emitters[]; };
+layout(set = SET_ANIMATION, binding = BINDING_KEYFRAMES) uniform sampler2D keyframe_texture;
 // Keyframes as a uniform array (thesis 4.4.2): two keyframe words per uvec4 half; the array fills
 // min(maxUniformBufferRange, 64 KiB), set by the pipeline (`render::animation::KeyframeUniforms::capacity`).
 // A buffer block, so sizing it by a specialization constant is fine; arrays in shader code are
 // sized by the fixed limits of shared.glsl.
 layout(constant_id = SPEC_KEYFRAME_UVEC4S) const uint KEYFRAME_UVEC4S = 4096u;
-layout(set = 0, binding = BINDING_KEYFRAME_WORDS, std140) uniform KeyframeWords { uvec4 keyframe_words[KEYFRAME_UVEC4S]; };
+layout(set = SET_ANIMATION, binding = BINDING_KEYFRAME_WORDS, std140) uniform KeyframeWords { uvec4 keyframe_words[KEYFRAME_UVEC4S]; };
 // `--eval blade`: the evaluated blade, written by blade_pose.comp and read by blade.vert:
 // POSE_WORDS words per level, SEGMENTS + 1 levels per blade: the local-frame point divided by
 // the blade's height and by POSE_SCALE (snorm16 x y | z, and the twist's cos and sin as snorm8),
 // then the unit tangent and the force magnitude for the debug view (snorm8 x4).
 #ifdef POSE_WRITER
-layout(set = 0, binding = BINDING_POSES, std430) writeonly buffer Poses { uint poses[]; };
+layout(set = SET_ANIMATION, binding = BINDING_POSES, std430) writeonly buffer Poses { uint poses[]; };
 #else
-layout(set = 0, binding = BINDING_POSES, std430) readonly buffer Poses { uint poses[]; };
+layout(set = SET_ANIMATION, binding = BINDING_POSES, std430) readonly buffer Poses { uint poses[]; };
 #endif
 const float POSE_SCALE = 2.0; // local point / height lies within ±POSE_SCALE
 

@@ -59,5 +59,5 @@ void main() {
     fields[s + 2u] = POSE_WORDS;
     fields[s + 3u] = FLAG_DEBUG_FORCE | FLAG_EVAL_BLADE | FLAG_CLUSTER_PUSH;
     fields[s + 4u] = BINDING_POSES;
-    fields[s + 5u] = MODE_FLOOR;
+    fields[s + 5u] = SET_ANIMATION;
 }

@@ -7,7 +7,11 @@
 #ifndef MEADOW_SHARED_GLSL
 #define MEADOW_SHARED_GLSL
 
-// Descriptor set 0 of the scene passes (`render::scene_gpu::bindings`, `bindings.glsl`).
+// Descriptor sets of the scene pipelines.
+#define SET_SCENE 0 // The scene and this frame's uniforms and forces (`render::scene_gpu::bindings`).
+#define SET_ANIMATION 1 // The animation model's resources (`render::animation::model::bindings`).
+
+// Set `SET_SCENE`.
 #define BINDING_FRAME 0 // `FrameUniforms` uniform buffer.
 #define BINDING_BLADES 1 // `BladeInstance[]` storage buffer.
 #define BINDING_HEIGHTS 2 // Terrain heights storage buffer.
@@ -15,9 +19,11 @@
 #define BINDING_CLUSTERS 4 // `BladeCluster[]` storage buffer.
 #define BINDING_CORNERS 5 // Per-frame corner forces.
 #define BINDING_EMITTERS 6 // Per-frame point sources and colliders.
-#define BINDING_KEYFRAMES 7 // Keyframe texture.
-#define BINDING_KEYFRAME_WORDS 8 // Keyframe uniform array.
-#define BINDING_POSES 9 // Per-blade pose records written by the blade-pose compute pass (`--eval blade`).
+
+// Set `SET_ANIMATION`: every model fills all three (the blade shaders declare them all).
+#define BINDING_KEYFRAMES 0 // Keyframe texture.
+#define BINDING_KEYFRAME_WORDS 1 // Keyframe uniform array.
+#define BINDING_POSES 2 // Per-blade pose records written by a model's compute pass (`--eval blade`).
 
 // Specialization-constant ids (`layout(constant_id = SPEC_*)`), filled by
 // `render::specialization::Specialization`.
@@ -41,7 +47,6 @@
 #define MODE_STATIC 0u // No animation.
 #define MODE_TEXTURE 1u // Keyframes from the keyframe texture.
 #define MODE_UNIFORM 2u // Keyframes from the keyframe uniform array (thesis 4.4.2).
-#define MODE_FLOOR 3u // Pre-expanded vertices, transform only (the floor reference).
 
 // `SPEC_ATTENUATION` codes (thesis 4.5).
 #define ATTENUATION_CLUSTER 0u // Point sources attenuated at the cluster corners.

@@ -5,10 +5,10 @@ use std::sync::Arc;
 use ash::vk;
 use glam::{Mat4, UVec4, Vec4};
 use meadow::app::{with_device, GpuOptions};
-use meadow::render::uniforms::FrameUniforms;
 use meadow::render::gpu_constants as gpu;
 use meadow::render::shaders;
 use meadow::render::specialization::{self, Specialization};
+use meadow::render::uniforms::FrameUniforms;
 use meadow::scene::{BladeInstance, Scene};
 use meadow::vk::descriptor::{self, Binding, Resource};
 use meadow::vk::{commands, pipeline, sync, Access, Buffer, BufferDesc, Device, DeviceSelector};
@@ -159,8 +159,9 @@ fn every_frame_uniform_and_specialization_constant_reads_back_through_a_compute_
     // The shaders see the constants build.rs generated for Rust.
     let shared = &words[FRAME_WORDS + specialization::COUNT..];
     let flags = gpu::FLAG_DEBUG_FORCE | gpu::FLAG_EVAL_BLADE | gpu::FLAG_CLUSTER_PUSH;
-    let generated = [gpu::MAX_SEGMENTS, gpu::MAX_EMITTERS, gpu::POSE_WORDS, flags, gpu::BINDING_POSES, gpu::MODE_FLOOR];
-    assert_eq!(shared, &generated, "MAX_SEGMENTS, MAX_EMITTERS, POSE_WORDS, FLAG_*, BINDING_POSES, MODE_FLOOR");
+    let generated =
+        [gpu::MAX_SEGMENTS, gpu::MAX_EMITTERS, gpu::POSE_WORDS, flags, gpu::BINDING_POSES, gpu::SET_ANIMATION];
+    assert_eq!(shared, &generated, "MAX_SEGMENTS, MAX_EMITTERS, POSE_WORDS, FLAG_*, BINDING_POSES, SET_ANIMATION");
 }
 
 #[test]

@@ -200,6 +200,11 @@ impl Graph {
         self.passes.push(Box::new(pass));
     }
 
+    /// Append a pass built elsewhere (an animation model's compute passes).
+    pub fn add_boxed(&mut self, pass: Box<dyn Pass>) {
+        self.passes.push(pass);
+    }
+
     /// The names of the passes, in order.
     pub fn pass_names(&self) -> Vec<&'static str> {
         self.passes.iter().map(|p| p.name()).collect()

@@ -12,13 +12,13 @@ use ash::vk;
 use glam::{UVec4, Vec4};
 
 use crate::error::{Error, Result};
-use crate::keyframes::Representation;
-use crate::render::animation::{self, AnimationSettings, Mode};
+use crate::render::animation::model::{self, AnimationModel, FrameInput, PassSetup};
+use crate::render::animation::{self, AnimationSettings};
 use crate::render::frame::{look, Frame, FrameRing, FrameUniforms, Replay};
 pub use crate::render::frame::{Deletion, FrameSync, FrameTimings, PassTime};
 use crate::render::graph::{Graph, Outputs, PassContext};
 use crate::render::passes::blades::BladeSetup;
-use crate::render::passes::{BladePass, BladePosePass, ClusterBoundsPass, FloorPass, PipelineTarget, TerrainPass};
+use crate::render::passes::{BladePass, ClusterBoundsPass, FloorPass, PipelineTarget, TerrainPass};
 use crate::render::scene_gpu::{self, SceneGpu};
 use crate::render::specialization::Specialization;
 use crate::render::submission::{self, Strategy, Submission};
@@ -52,6 +52,10 @@ pub struct RenderSettings {
     pub submission: Submission,
     /// Draw the cluster grid over the picture (`--debug-view bounds`).
     pub debug_bounds: bool,
+    /// Draw the benchmark floor instead of the blades: the static blades' triangles pre-expanded
+    /// on the CPU, transform and flat colour only (`--mode floor`; a reference pass, not an
+    /// animation).
+    pub floor: bool,
 }
 
 /// Blades per instance allowed.
@@ -59,11 +63,12 @@ pub const BLADES_PER_INSTANCE_RANGE: std::ops::RangeInclusive<u32> = 1..=1024;
 /// Default blades per instance.
 pub const DEFAULT_BLADES_PER_INSTANCE: u32 = 1;
 
-/// Set 0 of every scene pass: its layout, the pipeline layout the scene pipelines share, and the
-/// pool of the per-frame sets.
+/// The descriptor-set layouts of the scene pipelines (`SET_SCENE`, `SET_ANIMATION`), the
+/// pipeline layout they share, and the pool of the per-frame scene sets.
 #[derive(Default)]
 struct SceneLayouts {
     set_layout: vk::DescriptorSetLayout,
+    animation_layout: vk::DescriptorSetLayout,
     pipeline_layout: vk::PipelineLayout,
     pool: vk::DescriptorPool,
 }
@@ -75,6 +80,7 @@ pub struct Renderer {
     settings: RenderSettings,
     animation: AnimationSettings,
     scene: Option<SceneGpu>,
+    model: Option<Box<dyn AnimationModel>>,
     layouts: SceneLayouts,
     graph: Graph,
     ring: FrameRing,
@@ -89,40 +95,45 @@ impl Renderer {
         animation: AnimationSettings,
     ) -> Result<Self> {
         let polygon = polygon_mode(&device, settings.wireframe)?;
-        check_submission(&device, &settings, &animation)?;
+        check_submission(&device, &settings)?;
         let mut renderer = Self {
             device: device.clone(),
             settings,
             animation,
             scene: None,
+            model: None,
             layouts: SceneLayouts::default(),
             graph: Graph::new(),
             ring: FrameRing::new(Vec::new()),
         };
-        let scene_gpu = SceneGpu::upload(&device, scene, settings.segments, &renderer.animation)?;
+        let scene_gpu = SceneGpu::upload(&device, scene, renderer.animation.cluster_size)?;
         let scene_gpu = renderer.scene.insert(scene_gpu);
         renderer.layouts = scene_layouts(&device)?;
         let frames = build_frames(&device, &mut renderer.layouts, scene_gpu, &settings)?;
         renderer.ring = FrameRing::new(frames);
-        renderer.build_graph(polygon)?;
+        let (layout, blades) = (renderer.layouts.animation_layout, scene_gpu.blade_count);
+        renderer.model = Some(model::build(&device, layout, &renderer.animation, settings.segments, blades)?);
+        renderer.build_graph(scene, polygon)?;
         Ok(renderer)
     }
 
-    /// The passes, in order: the animation's compute passes, terrain, blades (or the floor), and
-    /// the debug views asked for.
-    fn build_graph(&mut self, polygon: vk::PolygonMode) -> Result<()> {
+    /// The passes, in order: the animation model's compute passes, terrain, blades (or the
+    /// floor), and the debug views asked for.
+    fn build_graph(&mut self, cpu_scene: &Scene, polygon: vk::PolygonMode) -> Result<()> {
         let device = &*self.device;
         let settings = &self.settings;
         let scene = self.scene.as_ref().expect("uploaded");
-        let specialization = Specialization::new(
-            device,
-            &self.animation,
+        let model = self.model.as_deref().expect("built");
+        let mut specialization = Specialization::new(
             settings.debug_force,
             settings.segments,
             settings.blades_per_instance,
             settings.submission.strategy.pushes_first_blade(),
             settings.encode_srgb,
         );
+        if !settings.floor {
+            model.specialize(&mut specialization);
+        }
         let constants = specialization.constants();
         let target = PipelineTarget {
             layout: self.layouts.pipeline_layout,
@@ -132,17 +143,18 @@ impl Renderer {
         };
         // Uploaded images, as the upload left them.
         self.graph.import(Resource::color(scene.blade_alpha.raw), &[Access::FragmentShaderSampledRead]);
-        self.graph.import(
-            Resource::color(scene.keyframes.image.raw),
-            &[Access::VertexShaderSampledRead, Access::ComputeShaderSampledRead],
-        );
-        if specialization.eval_blade() {
-            self.graph.add(BladePosePass::new(device, target.layout, &constants, scene)?);
-        }
-        self.graph.add(TerrainPass::new(device, target, &constants, scene, sky_clear_color(settings.encode_srgb))?);
-        if let (Mode::Floor, Some(vertices)) = (self.animation.mode, &scene.floor) {
-            self.graph.add(FloorPass::new(device, target, &constants, vertices)?);
+        let (keyframes, uploaded) = model.resources().keyframe_import();
+        self.graph.import(keyframes, &uploaded);
+        if settings.floor {
+            let sky = sky_clear_color(settings.encode_srgb);
+            self.graph.add(TerrainPass::new(device, target, &constants, scene, sky)?);
+            self.graph.add(FloorPass::new(device, target, &constants, &cpu_scene.blades, settings.segments)?);
         } else {
+            let setup = PassSetup { layout: target.layout, constants: &constants, scene };
+            for pass in model.passes(device, &setup)? {
+                self.graph.add_boxed(pass);
+            }
+            self.graph.add(TerrainPass::new(device, target, &constants, scene, sky_clear_color(settings.encode_srgb))?);
             let setup = BladeSetup {
                 target,
                 constants: &constants,
@@ -150,7 +162,8 @@ impl Renderer {
                 blades_per_instance: settings.blades_per_instance,
                 submission: settings.submission,
                 frames_in_flight: settings.frames_in_flight,
-                reads_poses: specialization.eval_blade(),
+                input: model.blade_input(),
+                animation: model.resources().set,
             };
             self.graph.add(BladePass::new(device, scene, &setup)?);
         }
@@ -191,34 +204,30 @@ impl Renderer {
         let scene = self.scene_gpu();
         let aspect = extent.width as f32 / extent.height as f32;
         let (sources, colliders) = self.emitter_counts();
-        let records = match self.animation.representation {
-            Representation::Vertex => self.settings.segments,
-            Representation::Curve => 3,
-        };
-        let layout = scene.keyframes.layout;
-        FrameUniforms {
+        let mut uniforms = FrameUniforms {
             view_proj: camera.view_projection(aspect),
             camera_position: camera.position.extend(time),
             sun_direction: look::sun_direction().extend(0.0),
             sky_color: look::SKY.extend(look::FOG_DENSITY),
             terrain: Vec4::new(scene.terrain_origin, scene.terrain_cell_size, 0.0, 0.0),
             params: UVec4::new(self.settings.segments, scene.blade_count, scene.terrain_cells, 0),
-            keyframes: UVec4::new(layout.magnitudes, layout.angles, sources, scene.grid.corners_per_side()),
-            keyframe_shape: UVec4::new(records, colliders, 0, 0),
-        }
+            keyframes: UVec4::new(0, 0, sources, scene.grid.corners_per_side()),
+            keyframe_shape: UVec4::new(0, colliders, 0, 0),
+        };
+        self.model.as_deref().expect("built").fill_uniforms(&mut uniforms);
+        uniforms
     }
 
-    /// Compute this frame's corner forces and emitters on the CPU (thesis 3.2.2) and write them
-    /// into the frame's host-visible buffers; they are visible to the GPU at submission.
-    fn write_forces(&mut self, slot: usize, time: f32) {
-        let grid = &self.scene.as_ref().expect("uploaded").grid;
-        let wind = &self.animation.wind;
-        let corners = animation::corner_forces(grid, wind, time, self.animation.attenuation);
-        let mut emitters = animation::emitters(wind, time);
-        emitters.truncate(animation::MAX_EMITTERS);
-        let frame = self.ring.frame_mut(slot);
-        frame.corners.write(0, &corners);
-        frame.emitters.write(0, &emitters);
+    /// The model's per-frame CPU update (the thesis' corner forces and emitters, 3.2.2) into the
+    /// frame's host-visible buffers; they are visible to the GPU at submission.
+    fn update_model(&mut self, slot: usize, time: f32) {
+        let input = FrameInput {
+            grid: &self.scene.as_ref().expect("uploaded").grid,
+            wind: &self.animation.wind,
+            attenuation: self.animation.attenuation,
+            time,
+        };
+        self.model.as_deref().expect("built").update(self.ring.frame_mut(slot), &input);
     }
 
     /// Sources and colliders the shaders read: the first `MAX_EMITTERS` of them, sources first
@@ -333,7 +342,7 @@ impl Renderer {
     fn prepare_frame(&mut self, slot: usize, target: &TargetView, camera: &Camera, time: f32) {
         let uniforms = self.frame_uniforms(camera, time, target.extent);
         self.ring.frame_mut(slot).uniforms.write(0, &[uniforms]);
-        self.write_forces(slot, time);
+        self.update_model(slot, time);
     }
 
     /// Wait for every frame in flight (before reading a screenshot; never inside a frame).
@@ -392,9 +401,9 @@ fn polygon_mode(device: &Device, wireframe: bool) -> Result<vk::PolygonMode> {
 }
 
 /// Refuse a submission strategy the device cannot run, or combined with blades per instance.
-fn check_submission(device: &Device, settings: &RenderSettings, animation: &AnimationSettings) -> Result<()> {
+fn check_submission(device: &Device, settings: &RenderSettings) -> Result<()> {
     let Submission { strategy, clusters } = settings.submission;
-    if strategy == Strategy::Instanced || animation.mode == Mode::Floor {
+    if strategy == Strategy::Instanced || settings.floor {
         return Ok(());
     }
     if let Some(why) = strategy.unsupported(device, clusters) {
@@ -411,10 +420,12 @@ fn scene_layouts(device: &Device) -> Result<SceneLayouts> {
     let mut layouts = SceneLayouts::default();
     let built = (|| {
         layouts.set_layout = descriptor::set_layout(device, "scene set layout", &scene_gpu::bindings())?;
+        layouts.animation_layout = descriptor::set_layout(device, "animation set layout", &model::bindings())?;
+        // Sets in `SET_SCENE`, `SET_ANIMATION` order.
         layouts.pipeline_layout = pipeline::layout(
             device,
             "scene pipeline layout",
-            &[layouts.set_layout],
+            &[layouts.set_layout, layouts.animation_layout],
             &[submission::push_constant_range()],
         )?;
         Ok(())
@@ -437,6 +448,7 @@ impl SceneLayouts {
         unsafe {
             device.raw.destroy_descriptor_pool(self.pool, None);
             device.raw.destroy_pipeline_layout(self.pipeline_layout, None);
+            device.raw.destroy_descriptor_set_layout(self.animation_layout, None);
             device.raw.destroy_descriptor_set_layout(self.set_layout, None);
         }
     }
@@ -483,6 +495,9 @@ impl Drop for Renderer {
         unsafe {
             std::mem::take(&mut self.graph).destroy(device);
             std::mem::replace(&mut self.ring, FrameRing::new(Vec::new())).destroy(device);
+            if let Some(model) = self.model.take() {
+                model.destroy(device);
+            }
             self.layouts.destroy(device);
             if let Some(scene) = self.scene.take() {
                 scene.destroy(device);

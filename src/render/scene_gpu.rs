@@ -1,10 +1,11 @@
-//! The scene on the GPU: blade storage buffer, terrain heights, the blade alpha texture and its
-//! sampler, uploaded once through staging. Also the descriptor bindings the scene passes share.
+//! The scene on the GPU: blade storage buffer, terrain heights, cluster records, the blade alpha
+//! texture and its sampler, uploaded once through staging; and set `SET_SCENE` that every scene
+//! pass binds (the scene and one frame's uniforms and forces). What animates the blades is the
+//! animation model's (`render::animation::model`).
 
 use ash::vk;
 
 use crate::error::Result;
-use crate::render::animation::{AnimationSettings, Eval, KeyframeTexture, KeyframeUniforms};
 use crate::render::frame::Frame;
 use crate::render::gpu_constants;
 use crate::scene::clusters::{BladeCluster, ClusterGrid};
@@ -37,16 +38,10 @@ pub mod binding {
     pub const CORNERS: u32 = gpu::BINDING_CORNERS;
     /// Per-frame point sources and colliders.
     pub const EMITTERS: u32 = gpu::BINDING_EMITTERS;
-    /// Keyframe texture.
-    pub const KEYFRAMES: u32 = gpu::BINDING_KEYFRAMES;
-    /// Keyframe uniform array.
-    pub const KEYFRAME_WORDS: u32 = gpu::BINDING_KEYFRAME_WORDS;
-    /// Per-blade pose records written by the blade-pose compute pass (`--eval blade`).
-    pub const POSES: u32 = gpu::BINDING_POSES;
 }
 
-/// Layout of set 0 shared by the scene passes and the blade-pose compute pass.
-pub fn bindings() -> [Binding; 10] {
+/// Layout of set `SET_SCENE`, shared by the scene passes and the animation's compute passes.
+pub fn bindings() -> [Binding; 7] {
     let vs = vk::ShaderStageFlags::VERTEX;
     let vs_cs = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::COMPUTE;
     let all = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT | vk::ShaderStageFlags::COMPUTE;
@@ -61,9 +56,6 @@ pub fn bindings() -> [Binding; 10] {
         Binding { binding: binding::CLUSTERS, kind: storage, stages: vs_cs },
         Binding { binding: binding::CORNERS, kind: storage, stages: vs_cs },
         Binding { binding: binding::EMITTERS, kind: storage, stages: vs_cs },
-        Binding { binding: binding::KEYFRAMES, kind: sampled, stages: vs_cs },
-        Binding { binding: binding::KEYFRAME_WORDS, kind: uniform, stages: vs_cs },
-        Binding { binding: binding::POSES, kind: storage, stages: vs_cs },
     ]
 }
 
@@ -89,14 +81,6 @@ pub struct SceneGpu {
     pub clusters: Buffer,
     /// The cluster grid the records refer to.
     pub grid: ClusterGrid,
-    /// The keyframe table.
-    pub keyframes: KeyframeTexture,
-    /// The keyframe table as a uniform array.
-    pub keyframe_words: KeyframeUniforms,
-    /// `--eval blade`: 12 bytes per level per blade (`pose_bytes`); 8 bytes otherwise.
-    pub poses: Buffer,
-    /// Pre-expanded blade vertices (`--mode floor` only).
-    pub floor: Option<Buffer>,
 }
 
 /// Resources created so far by `upload`, freed if it fails half-way.
@@ -106,10 +90,6 @@ struct Partial {
     heights: Option<Buffer>,
     clusters: Option<Buffer>,
     blade_alpha: Option<Image>,
-    keyframes: Option<KeyframeTexture>,
-    keyframe_words: Option<KeyframeUniforms>,
-    poses: Option<Buffer>,
-    floor: Option<Buffer>,
 }
 
 impl Partial {
@@ -118,17 +98,11 @@ impl Partial {
     unsafe fn destroy(self, device: &Device) {
         // SAFETY: per the contract.
         unsafe {
-            let words = self.keyframe_words.map(|w| w.buffer);
-            for buffer in
-                [self.blades, self.heights, self.clusters, words, self.poses, self.floor].into_iter().flatten()
-            {
+            for buffer in [self.blades, self.heights, self.clusters].into_iter().flatten() {
                 buffer.destroy(device);
             }
             if let Some(image) = self.blade_alpha {
                 image.destroy(device);
-            }
-            if let Some(keyframes) = self.keyframes {
-                keyframes.destroy(device);
             }
         }
     }
@@ -146,11 +120,12 @@ impl SceneGpu {
         2 * (blades + heights + alpha)
     }
 
-    /// Upload the scene, its cluster records and the keyframe table in one batch.
-    pub fn upload(device: &Device, scene: &Scene, segments: u32, animation: &AnimationSettings) -> Result<Self> {
+    /// Upload the scene and its cluster records (clusters of about `cluster_size` metres) in one
+    /// batch.
+    pub fn upload(device: &Device, scene: &Scene, cluster_size: f32) -> Result<Self> {
         let mut partial = Partial::default();
-        let grid = ClusterGrid::new(scene.terrain.size, animation.cluster_size);
-        let result = Self::upload_into(device, scene, segments, animation, &grid, &mut partial);
+        let grid = ClusterGrid::new(scene.terrain.size, cluster_size);
+        let result = Self::upload_into(device, scene, &grid, &mut partial);
         match result {
             Ok(sampler) => Ok(Self {
                 blades: partial.blades.take().expect("uploaded"),
@@ -163,10 +138,6 @@ impl SceneGpu {
                 sampler,
                 clusters: partial.clusters.take().expect("uploaded"),
                 grid,
-                keyframes: partial.keyframes.take().expect("uploaded"),
-                keyframe_words: partial.keyframe_words.take().expect("uploaded"),
-                poses: partial.poses.take().expect("created"),
-                floor: partial.floor.take(),
             }),
             Err(e) => {
                 // SAFETY: the batch waited for its submission or never submitted.
@@ -176,14 +147,7 @@ impl SceneGpu {
         }
     }
 
-    fn upload_into(
-        device: &Device,
-        scene: &Scene,
-        segments: u32,
-        animation: &AnimationSettings,
-        grid: &ClusterGrid,
-        partial: &mut Partial,
-    ) -> Result<vk::Sampler> {
+    fn upload_into(device: &Device, scene: &Scene, grid: &ClusterGrid, partial: &mut Partial) -> Result<vk::Sampler> {
         let mut batch = UploadBatch::new(device);
         let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
         let vertex_read: &'static [Access] = &[Access::VertexShaderStorageRead];
@@ -200,24 +164,7 @@ impl SceneGpu {
             vk::ImageUsageFlags::SAMPLED,
         );
         partial.blade_alpha = Some(batch.image(&desc, &alpha::texels(), &[Access::FragmentShaderSampledRead])?);
-        if animation.mode == crate::render::animation::Mode::Floor {
-            let vertices = crate::render::passes::floor::expand(&scene.blades, segments);
-            partial.floor = Some(batch.buffer(
-                "floor vertices",
-                &vertices,
-                vk::BufferUsageFlags::VERTEX_BUFFER,
-                &[Access::VertexAttributeRead],
-            )?);
-        }
-        let (keyframes, table) = KeyframeTexture::new(&mut batch, segments, animation)?;
-        partial.keyframes = Some(keyframes);
-        partial.keyframe_words = Some(KeyframeUniforms::new(&mut batch, &table, animation.packing)?);
         batch.submit()?;
-        let bytes = if animation.eval == Eval::Blade { pose_bytes(scene.blades.len() as u32, segments) } else { 8 };
-        partial.poses = Some(Buffer::new(
-            device,
-            &crate::vk::BufferDesc::gpu_only("blade poses", bytes, vk::BufferUsageFlags::STORAGE_BUFFER),
-        )?);
         let sampler = crate::vk::image::clamped_sampler(device, vk::Filter::LINEAR, "blade alpha sampler")?;
         Ok(sampler)
     }
@@ -226,10 +173,10 @@ impl SceneGpu {
     pub fn write_descriptors(&self, device: &Device, set: vk::DescriptorSet, frame: &Frame) {
         let storage = vk::DescriptorType::STORAGE_BUFFER;
         let sampled = vk::DescriptorType::COMBINED_IMAGE_SAMPLER;
-        let image = |sampler, view| {
+        let image = |sampler, image_view| {
             Resource::Image(vk::DescriptorImageInfo {
                 sampler,
-                image_view: view,
+                image_view,
                 image_layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
             })
         };
@@ -244,13 +191,6 @@ impl SceneGpu {
                 (binding::CLUSTERS, storage, Resource::Buffer(self.clusters.descriptor())),
                 (binding::CORNERS, storage, Resource::Buffer(frame.corners.descriptor())),
                 (binding::EMITTERS, storage, Resource::Buffer(frame.emitters.descriptor())),
-                (binding::KEYFRAMES, sampled, image(self.keyframes.sampler, self.keyframes.image.view)),
-                (
-                    binding::KEYFRAME_WORDS,
-                    vk::DescriptorType::UNIFORM_BUFFER,
-                    Resource::Buffer(self.keyframe_words.buffer.descriptor()),
-                ),
-                (binding::POSES, storage, Resource::Buffer(self.poses.descriptor())),
             ],
         );
     }
@@ -263,12 +203,6 @@ impl SceneGpu {
         // SAFETY: per the contract.
         unsafe {
             device.raw.destroy_sampler(self.sampler, None);
-            self.keyframes.destroy(device);
-            self.keyframe_words.buffer.destroy(device);
-            self.poses.destroy(device);
-            if let Some(floor) = self.floor {
-                floor.destroy(device);
-            }
             self.clusters.destroy(device);
             self.blade_alpha.destroy(device);
             self.heights.destroy(device);

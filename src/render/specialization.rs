@@ -2,11 +2,7 @@
 //! the blades are animated is compiled into each pipeline, so a configuration pays only for its
 //! own path (llvmpipe, like most GPUs, runs both sides of a uniform branch as masked code).
 
-use crate::keyframes::Representation;
-use crate::render::animation::{AnimationSettings, Eval, KeyframeUniforms, Mode};
 use crate::render::gpu_constants as gpu;
-use crate::vk::Device;
-use crate::wind::Attenuation;
 
 /// `RENDER_FLAGS` bits, generated from `shaders/shared.glsl`.
 pub use crate::render::gpu_constants::{FLAG_CLUSTER_PUSH, FLAG_DEBUG_FORCE, FLAG_EVAL_BLADE};
@@ -40,12 +36,11 @@ pub struct Specialization {
 }
 
 impl Specialization {
-    /// The constants for an animation on `device`.
+    /// The constants of the blade geometry, the target and the debug view, for static blades;
+    /// the animation model then sets its own (`AnimationModel::specialize`).
     /// The blade geometry (segments, blades per instance) is compiled in too: the vertex shader's
     /// index arithmetic then divides by constants, which llvmpipe would otherwise do lane by lane.
     pub fn new(
-        device: &Device,
-        animation: &AnimationSettings,
         debug_force: bool,
         segments: u32,
         blades_per_instance: u32,
@@ -59,25 +54,13 @@ impl Specialization {
         if cluster_push {
             flags |= FLAG_CLUSTER_PUSH;
         }
-        if animation.eval == Eval::Blade && animation.mode != Mode::Static {
-            flags |= FLAG_EVAL_BLADE;
-        }
         Self {
-            keyframe_uvec4s: KeyframeUniforms::capacity(device),
-            mode: animation.mode.code(),
-            smoothing: animation.smoothing.code(),
-            encoding: match animation.mode {
-                Mode::Uniform => animation.packing.code(),
-                _ => animation.encoding.code(),
-            },
-            attenuation: match animation.attenuation {
-                Attenuation::Cluster => gpu::ATTENUATION_CLUSTER,
-                Attenuation::Blade => gpu::ATTENUATION_BLADE,
-            },
-            representation: match animation.representation {
-                Representation::Curve => gpu::REPRESENTATION_CURVE,
-                Representation::Vertex => gpu::REPRESENTATION_LEVELS,
-            },
+            keyframe_uvec4s: 1,
+            mode: gpu::MODE_STATIC,
+            smoothing: 0,
+            encoding: 0,
+            attenuation: gpu::ATTENUATION_CLUSTER,
+            representation: gpu::REPRESENTATION_LEVELS,
             flags,
             segments,
             blades_per_instance,

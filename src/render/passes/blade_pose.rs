@@ -8,9 +8,9 @@
 use ash::vk;
 
 use crate::error::Result;
+use crate::render::animation::model::{AnimationSet, PassSetup};
 use crate::render::graph::{Declaration, Pass, PassContext};
 use crate::render::passes;
-use crate::render::scene_gpu::SceneGpu;
 use crate::render::shaders;
 use crate::vk::{pipeline, Access, Device, Resource};
 
@@ -18,6 +18,7 @@ use crate::vk::{pipeline, Access, Device, Resource};
 pub struct BladePosePass {
     pipeline: vk::Pipeline,
     layout: vk::PipelineLayout,
+    animation: vk::DescriptorSet,
     poses: vk::Buffer,
     blade_count: u32,
     reads: [vk::Buffer; 2],
@@ -25,15 +26,23 @@ pub struct BladePosePass {
 }
 
 impl BladePosePass {
-    /// Build the pipeline on the scene's pipeline layout.
-    pub fn new(device: &Device, layout: vk::PipelineLayout, constants: &[u32], scene: &SceneGpu) -> Result<Self> {
+    /// Build the pipeline on the scene's pipeline layout, writing the records of `set`.
+    pub fn new(device: &Device, setup: &PassSetup, set: &AnimationSet) -> Result<Self> {
+        let scene = setup.scene;
         Ok(Self {
-            pipeline: pipeline::compute(device, "blade poses", shaders::BLADE_POSE_COMP, layout, constants)?,
-            layout,
-            poses: scene.poses.raw,
+            pipeline: pipeline::compute(
+                device,
+                "blade poses",
+                shaders::BLADE_POSE_COMP,
+                setup.layout,
+                setup.constants,
+            )?,
+            layout: setup.layout,
+            animation: set.set,
+            poses: set.poses.raw,
             blade_count: scene.blade_count,
             reads: [scene.blades.raw, scene.clusters.raw],
-            keyframes: scene.keyframes.image.raw,
+            keyframes: set.keyframes.image.raw,
         })
     }
 }
@@ -55,6 +64,7 @@ impl Pass for BladePosePass {
     fn record(&self, ctx: &PassContext, cmd: vk::CommandBuffer) -> Result<()> {
         let device = ctx.device;
         passes::bind_scene_set(device, ctx, cmd, self.layout, vk::PipelineBindPoint::COMPUTE);
+        passes::bind_animation_set(device, cmd, self.layout, vk::PipelineBindPoint::COMPUTE, self.animation);
         // SAFETY: cmd is recording outside a rendering instance; set 0 is bound.
         unsafe {
             device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipeline);

@@ -6,6 +6,7 @@
 use ash::vk;
 
 use crate::error::{Result, VkContext};
+use crate::render::animation::BladeInput;
 use crate::render::graph::{Declaration, Pass, PassContext};
 use crate::render::passes::{self, PipelineTarget};
 use crate::render::scene_gpu::SceneGpu;
@@ -36,6 +37,8 @@ pub struct BladePass {
     secondaries: Vec<SecondaryRecorders>,
     /// Buffers the vertex shader reads (for the declaration).
     reads: Vec<(vk::Buffer, Access)>,
+    /// The animation model's set.
+    animation: vk::DescriptorSet,
 }
 
 /// How the blade pass is built.
@@ -52,8 +55,10 @@ pub struct BladeSetup<'a> {
     pub submission: submission::Submission,
     /// Frames in flight (the secondary strategy records per frame).
     pub frames_in_flight: usize,
-    /// Whether the vertex shader reads pose records (`--eval blade`).
-    pub reads_poses: bool,
+    /// How the animation model poses a blade.
+    pub input: BladeInput,
+    /// The animation model's set.
+    pub animation: vk::DescriptorSet,
 }
 
 impl BladePass {
@@ -81,8 +86,8 @@ impl BladePass {
             (scene.blades.raw, Access::VertexShaderStorageRead),
             (scene.clusters.raw, Access::VertexShaderStorageRead),
         ];
-        if setup.reads_poses {
-            reads.push((scene.poses.raw, Access::VertexShaderStorageRead));
+        if let BladeInput::PoseRecords(poses) = setup.input {
+            reads.push((poses, Access::VertexShaderStorageRead));
         }
         let mut pass = Self {
             pipeline,
@@ -96,6 +101,7 @@ impl BladePass {
             indirect: None,
             secondaries: Vec::new(),
             reads,
+            animation: setup.animation,
         };
         if let Err(e) = pass.build_submission(device, scene.blade_count, setup) {
             // SAFETY: nothing was submitted with the pass.
@@ -206,6 +212,7 @@ impl BladePass {
         }
         passes::set_full_viewport(device, secondary, ctx.target.extent);
         passes::bind_scene_set(device, ctx, secondary, self.layout, vk::PipelineBindPoint::GRAPHICS);
+        passes::bind_animation_set(device, secondary, self.layout, vk::PipelineBindPoint::GRAPHICS, self.animation);
         // SAFETY: recording.
         unsafe { device.raw.cmd_bind_pipeline(secondary, vk::PipelineBindPoint::GRAPHICS, self.pipeline) };
         let draws = BladeDraws::PerCluster { vertices: self.strip, ranges, layout: self.layout };
@@ -233,6 +240,7 @@ impl Pass for BladePass {
         }
         let device = ctx.device;
         passes::bind_scene_set(device, ctx, cmd, self.layout, vk::PipelineBindPoint::GRAPHICS);
+        passes::bind_animation_set(device, cmd, self.layout, vk::PipelineBindPoint::GRAPHICS, self.animation);
         passes::set_full_viewport(device, cmd, ctx.target.extent);
         // Defined for every draw: per-cluster draws push their own first blade.
         let push = submission::ClusterPush { first_blade: 0 };

@@ -1,4 +1,4 @@
-//! Floor reference pass (`--mode floor`): the blades' triangles pre-expanded on the CPU into one
+//! Floor reference pass (`--mode floor`, `RenderSettings::floor`): the blades' triangles pre-expanded on the CPU into one
 //! vertex buffer (one strip, blades joined by degenerate triangles), transformed and filled with a
 //! flat colour. Every other mode's cost can be read as a ratio to this one.
 
@@ -10,13 +10,14 @@ use crate::render::passes::{self, PipelineTarget};
 use crate::render::shaders;
 use crate::scene::bezier::{self, Batching};
 use crate::scene::BladeInstance;
+use crate::vk::upload::UploadBatch;
 use crate::vk::{pipeline, Access, Buffer, Device};
 
 /// The floor pipeline and its pre-expanded vertices.
 pub struct FloorPass {
     pipeline: vk::Pipeline,
     layout: vk::PipelineLayout,
-    vertices: vk::Buffer,
+    vertices: Buffer,
     count: u32,
 }
 
@@ -35,9 +36,24 @@ pub fn expand(blades: &[BladeInstance], segments: u32) -> Vec<[f32; 3]> {
 }
 
 impl FloorPass {
-    /// Build the pipeline.
-    pub fn new(device: &Device, target: PipelineTarget, constants: &[u32], vertices: &Buffer) -> Result<Self> {
-        let pipeline = pipeline::graphics(
+    /// Expand and upload the blades of `scene` (`segments` per blade) and build the pipeline.
+    pub fn new(
+        device: &Device,
+        target: PipelineTarget,
+        constants: &[u32],
+        blades: &[BladeInstance],
+        segments: u32,
+    ) -> Result<Self> {
+        let mut batch = UploadBatch::new(device);
+        let usage = vk::BufferUsageFlags::VERTEX_BUFFER;
+        let vertices =
+            batch.buffer("floor vertices", &expand(blades, segments), usage, &[Access::VertexAttributeRead])?;
+        if let Err(e) = batch.submit() {
+            // SAFETY: the batch waited for its submission, or never submitted.
+            unsafe { vertices.destroy(device) };
+            return Err(e);
+        }
+        let built = pipeline::graphics(
             device,
             &pipeline::GraphicsDesc {
                 name: "floor",
@@ -53,8 +69,18 @@ impl FloorPass {
                 constants,
                 vertex_stride: 12,
             },
-        )?;
-        Ok(Self { pipeline, layout: target.layout, vertices: vertices.raw, count: (vertices.size / 12) as u32 })
+        );
+        match built {
+            Ok(pipeline) => {
+                let count = (vertices.size / 12) as u32;
+                Ok(Self { pipeline, layout: target.layout, vertices, count })
+            }
+            Err(e) => {
+                // SAFETY: the upload completed; nothing else uses the buffer.
+                unsafe { vertices.destroy(device) };
+                Err(e)
+            }
+        }
     }
 }
 
@@ -66,7 +92,7 @@ impl Pass for FloorPass {
 
     fn declare(&self, ctx: &PassContext) -> Option<Declaration> {
         let rendering = passes::scene_rendering(ctx, self.pipeline, false, false);
-        Some(Declaration::graphics(rendering).buffer(self.vertices, Access::VertexAttributeRead))
+        Some(Declaration::graphics(rendering).buffer(self.vertices.raw, Access::VertexAttributeRead))
     }
 
     /// One draw of the whole strip.
@@ -77,7 +103,7 @@ impl Pass for FloorPass {
         // SAFETY: cmd is recording inside this pass's rendering instance; set 0 is bound.
         unsafe {
             device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline);
-            device.raw.cmd_bind_vertex_buffers(cmd, 0, &[self.vertices], &[0]);
+            device.raw.cmd_bind_vertex_buffers(cmd, 0, &[self.vertices.raw], &[0]);
             device.raw.cmd_draw(cmd, self.count, 1, 0, 0);
         }
         Ok(())
@@ -85,7 +111,10 @@ impl Pass for FloorPass {
 
     unsafe fn destroy(self: Box<Self>, device: &Device) {
         // SAFETY: per the contract.
-        unsafe { device.raw.destroy_pipeline(self.pipeline, None) };
+        unsafe {
+            device.raw.destroy_pipeline(self.pipeline, None);
+            self.vertices.destroy(device);
+        }
     }
 }
 

@@ -16,13 +16,14 @@ pub use terrain::TerrainPass;
 
 use ash::vk;
 
+use crate::render::gpu_constants as gpu;
 use crate::render::graph::{Attachment, Load, PassContext, Rendering};
 use crate::vk::Device;
 
 /// The pipeline layout and attachment formats every scene pipeline is built for.
 #[derive(Clone, Copy, Debug)]
 pub struct PipelineTarget {
-    /// Set 0 (scene and frame) and the push-constant range.
+    /// Sets `SET_SCENE` and `SET_ANIMATION`, and the push-constant range.
     pub layout: vk::PipelineLayout,
     /// Colour attachment format.
     pub color: vk::Format,
@@ -32,7 +33,19 @@ pub struct PipelineTarget {
     pub polygon: vk::PolygonMode,
 }
 
-/// Bind the frame's set 0 at `bind_point`.
+/// Bind the animation model's set (`SET_ANIMATION`) at `bind_point`.
+pub fn bind_animation_set(
+    device: &Device,
+    cmd: vk::CommandBuffer,
+    layout: vk::PipelineLayout,
+    bind_point: vk::PipelineBindPoint,
+    set: vk::DescriptorSet,
+) {
+    // SAFETY: cmd is recording; the set matches the layout's animation set.
+    unsafe { device.raw.cmd_bind_descriptor_sets(cmd, bind_point, layout, gpu::SET_ANIMATION, &[set], &[]) };
+}
+
+/// Bind the frame's set (`SET_SCENE`) at `bind_point`.
 pub fn bind_scene_set(
     device: &Device,
     ctx: &PassContext,
@@ -40,8 +53,8 @@ pub fn bind_scene_set(
     layout: vk::PipelineLayout,
     bind_point: vk::PipelineBindPoint,
 ) {
-    // SAFETY: cmd is recording; the set matches the layout's set 0.
-    unsafe { device.raw.cmd_bind_descriptor_sets(cmd, bind_point, layout, 0, &[ctx.descriptor_set], &[]) };
+    // SAFETY: cmd is recording; the set matches the layout's scene set.
+    unsafe { device.raw.cmd_bind_descriptor_sets(cmd, bind_point, layout, gpu::SET_SCENE, &[ctx.descriptor_set], &[]) };
 }
 
 /// Set the viewport and scissor to the whole target (dynamic state of every scene pipeline).

@@ -1,97 +1,15 @@
-//! What animates the blades: the keyframe texture on the GPU, and the per-frame external forces
-//! the CPU computes at cluster corners (thesis 3.2.2) and for the point emitters.
+//! The keyframe table on the GPU (thesis 4.4): as a texture sampled with `texelFetch`
+//! (`KeyframeTexture`, 4.4.1) or packed into a uniform array (`KeyframeUniforms`, 4.4.2).
 
 use ash::vk;
-use glam::{Vec2, Vec4};
 
 use crate::error::{Error, Result};
 use crate::keyframes::encoding::{self, Encoding, Packing};
-use crate::keyframes::{BladeModel, KeyframeLayout, KeyframeTable, Representation, Smoothing};
-use crate::render::gpu_constants;
-use crate::scene::clusters::ClusterGrid;
+use crate::keyframes::{BladeModel, KeyframeLayout, KeyframeTable, Representation};
+use crate::render::animation::AnimationSettings;
 use crate::vk::image;
 use crate::vk::upload::UploadBatch;
 use crate::vk::{Access, Buffer, Device, Image, ImageDesc};
-use crate::wind::{Attenuation, Wind};
-
-/// How blades are posed.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
-pub enum Mode {
-    /// Neutral Bézier blades, no forces.
-    Static,
-    /// Keyframes sampled from a texture in the vertex shader (thesis 4.4.1).
-    #[default]
-    Texture,
-    /// Keyframes in a uniform array, two 16-bit values per 32-bit word (thesis 4.4.2).
-    Uniform,
-    /// Benchmark floor: the static blades' triangles pre-expanded, transform and flat colour only.
-    Floor,
-}
-
-impl Mode {
-    /// Index used by the shaders.
-    pub fn code(self) -> u32 {
-        match self {
-            Mode::Static => gpu_constants::MODE_STATIC,
-            Mode::Texture => gpu_constants::MODE_TEXTURE,
-            Mode::Uniform => gpu_constants::MODE_UNIFORM,
-            Mode::Floor => gpu_constants::MODE_FLOOR,
-        }
-    }
-}
-
-/// Where the per-blade part of the animation runs.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
-pub enum Eval {
-    /// In the vertex shader, for every vertex (as the thesis did on shader model 3).
-    #[default]
-    Vertex,
-    /// Once per blade in a compute pass that evaluates every level (point, tangent, twist) into
-    /// records the vertex shader reads (`shaders/blade_pose.comp`).
-    Blade,
-}
-
-/// Everything about the animation a renderer is built with.
-#[derive(Clone, Debug, PartialEq)]
-pub struct AnimationSettings {
-    /// Static or keyframed.
-    pub mode: Mode,
-    /// Poses over the full circle (a quarter is stored).
-    pub poses: u32,
-    /// In-between poses.
-    pub smoothing: Smoothing,
-    /// Keyframe texture encoding.
-    pub encoding: Encoding,
-    /// Uniform-array packing.
-    pub packing: Packing,
-    /// Per vertex or per blade.
-    pub eval: Eval,
-    /// Vertex levels (thesis) or Bézier control points.
-    pub representation: Representation,
-    /// Where source magnitudes are attenuated.
-    pub attenuation: Attenuation,
-    /// Cluster edge in metres.
-    pub cluster_size: f32,
-    /// The forces.
-    pub wind: Wind,
-}
-
-impl Default for AnimationSettings {
-    fn default() -> Self {
-        Self {
-            mode: Mode::Texture,
-            poses: 1000,
-            smoothing: Smoothing::Nearest,
-            encoding: Encoding::Unorm16,
-            packing: Packing::Snorm,
-            eval: Eval::Vertex,
-            representation: Representation::Vertex,
-            attenuation: Attenuation::Cluster,
-            cluster_size: 1.0,
-            wind: Wind::default(),
-        }
-    }
-}
 
 /// The keyframe table on the GPU: one row per stored pose, one texel per level (two for
 /// rgba8x2), sampled with `texelFetch` in the vertex shader.
@@ -162,6 +80,26 @@ impl KeyframeTexture {
         Ok((Self { image, sampler, layout }, table))
     }
 
+    /// A 1×1 stand-in for models without keyframes (the blade shaders declare the binding).
+    pub fn stand_in(batch: &mut UploadBatch) -> Result<Self> {
+        let desc = ImageDesc::color(
+            "keyframe texture stand-in",
+            vk::Format::R8G8B8A8_UNORM,
+            vk::Extent2D { width: 1, height: 1 },
+            vk::ImageUsageFlags::SAMPLED,
+        );
+        let image =
+            batch.image(&desc, &[0; 4], &[Access::VertexShaderSampledRead, Access::ComputeShaderSampledRead])?;
+        match image::clamped_sampler(batch.device(), vk::Filter::NEAREST, "keyframe sampler") {
+            Ok(sampler) => Ok(Self { image, sampler, layout: KeyframeLayout { magnitudes: 0, angles: 0 } }),
+            Err(e) => {
+                // SAFETY: the upload was not submitted.
+                unsafe { image.destroy(batch.device()) };
+                Err(e)
+            }
+        }
+    }
+
     /// Free the image and sampler.
     ///
     /// # Safety
@@ -221,64 +159,15 @@ impl KeyframeUniforms {
     }
 }
 
-/// Point sources plus colliders a renderer can hold (the per-frame emitter buffers' capacity).
-pub const MAX_EMITTERS: usize = crate::render::gpu_constants::MAX_EMITTERS as usize;
-
-/// The corner forces of a frame: (fx, fz, calm-area exposure, 0) per corner.
-pub fn corner_forces(grid: &ClusterGrid, wind: &Wind, time: f32, attenuation: Attenuation) -> Vec<Vec4> {
-    (0..grid.corner_count())
-        .map(|i| {
-            let p = grid.corner_position(i);
-            let f = wind.corner_force(p, time, attenuation);
-            // A non-finite force (overflowing eq. 4.1) would select an undefined pose: none.
-            let f = if f.is_finite() { f } else { Vec2::ZERO };
-            Vec4::new(f.x, f.y, wind.exposure(p), 0.0)
-        })
-        .collect()
-}
-
-/// The emitters of a frame: point sources at their positions at `time` as (x, z, power, sigma),
-/// then colliders as (centre x, centre z, radius x, radius z). At least one element (a buffer
-/// cannot be empty); the shader reads only as many as the uniforms count.
-pub fn emitters(wind: &Wind, time: f32) -> Vec<Vec4> {
-    let mut out: Vec<Vec4> = wind
-        .sources
-        .iter()
-        .map(|s| {
-            let p = s.position_at(time);
-            Vec4::new(p.x, p.y, s.power, s.sigma)
-        })
-        .chain(wind.colliders.iter().map(|c| Vec4::new(c.center.x, c.center.z, c.radii.x, c.radii.z)))
-        .collect();
-    if out.is_empty() {
-        out.push(Vec4::ZERO);
+impl KeyframeUniforms {
+    /// A one-`uvec4` stand-in for models without keyframes (their pipelines size the array to 1).
+    pub fn stand_in(batch: &mut UploadBatch) -> Result<Self> {
+        let buffer = batch.buffer(
+            "keyframe uniforms stand-in",
+            &[0u32; 4],
+            vk::BufferUsageFlags::UNIFORM_BUFFER,
+            &[Access::VertexShaderUniformRead, Access::ComputeShaderUniformRead],
+        )?;
+        Ok(Self { buffer, uvec4s: 1 })
     }
-    out
-}
-
-/// The force the vertex shader computes for a blade (`shaders/forces.glsl`), on the CPU: the
-/// reference for GPU read-back tests.
-pub fn blade_force(
-    grid: &ClusterGrid,
-    cluster: &crate::scene::clusters::BladeCluster,
-    corners: &[Vec4],
-    emitters: &[Vec4],
-    sources: usize,
-    attenuation: Attenuation,
-    root: Vec2,
-) -> Vec2 {
-    let n = grid.corners_per_side() as usize;
-    let w = cluster.unpacked_weights();
-    let c = cluster.corner as usize;
-    let f = corners[c] * w[0] + corners[c + 1] * w[1] + corners[c + n] * w[2] + corners[c + n + 1] * w[3];
-    let mut force = Vec2::new(f.x, f.y);
-    if attenuation == Attenuation::Blade {
-        for e in &emitters[..sources] {
-            force += f.z * crate::wind::PointSource::force_from(Vec2::new(e.x, e.y), e.z, e.w, root);
-        }
-        for e in &emitters[sources..] {
-            force += crate::wind::Collider::force(Vec2::new(e.x, e.y), Vec2::new(e.z, e.w), root);
-        }
-    }
-    force
 }

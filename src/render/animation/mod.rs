@@ -1,0 +1,159 @@
+//! What animates the blades. The settings a renderer is built with, the per-frame external
+//! forces the CPU computes at cluster corners (thesis 3.2.2) and for the point emitters, and the
+//! seam every animation model plugs into (`model::AnimationModel`): today's static blades
+//! (`still`) and keyframes from a texture or a uniform array, per vertex or per blade
+//! (`keyframed`, thesis ch. 3–4), with their GPU tables (`keyframe_gpu`).
+
+pub mod keyframe_gpu;
+pub mod keyframed;
+pub mod model;
+pub mod still;
+
+pub use keyframe_gpu::{texture_format, KeyframeTexture, KeyframeUniforms};
+pub use model::{AnimationModel, BladeInput};
+
+use glam::{Vec2, Vec4};
+
+use crate::keyframes::encoding::{Encoding, Packing};
+use crate::keyframes::{Representation, Smoothing};
+use crate::render::gpu_constants;
+use crate::scene::clusters::ClusterGrid;
+use crate::wind::{Attenuation, Wind};
+
+/// How blades are posed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Mode {
+    /// Neutral Bézier blades, no forces.
+    Static,
+    /// Keyframes sampled from a texture in the vertex shader (thesis 4.4.1).
+    #[default]
+    Texture,
+    /// Keyframes in a uniform array, two 16-bit values per 32-bit word (thesis 4.4.2).
+    Uniform,
+}
+
+impl Mode {
+    /// Index used by the shaders.
+    pub fn code(self) -> u32 {
+        match self {
+            Mode::Static => gpu_constants::MODE_STATIC,
+            Mode::Texture => gpu_constants::MODE_TEXTURE,
+            Mode::Uniform => gpu_constants::MODE_UNIFORM,
+        }
+    }
+}
+
+/// Where the per-blade part of the animation runs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Eval {
+    /// In the vertex shader, for every vertex (as the thesis did on shader model 3).
+    #[default]
+    Vertex,
+    /// Once per blade in a compute pass that evaluates every level (point, tangent, twist) into
+    /// records the vertex shader reads (`shaders/blade_pose.comp`).
+    Blade,
+}
+
+/// Everything about the animation a renderer is built with.
+#[derive(Clone, Debug, PartialEq)]
+pub struct AnimationSettings {
+    /// Static or keyframed.
+    pub mode: Mode,
+    /// Poses over the full circle (a quarter is stored).
+    pub poses: u32,
+    /// In-between poses.
+    pub smoothing: Smoothing,
+    /// Keyframe texture encoding.
+    pub encoding: Encoding,
+    /// Uniform-array packing.
+    pub packing: Packing,
+    /// Per vertex or per blade.
+    pub eval: Eval,
+    /// Vertex levels (thesis) or Bézier control points.
+    pub representation: Representation,
+    /// Where source magnitudes are attenuated.
+    pub attenuation: Attenuation,
+    /// Cluster edge in metres.
+    pub cluster_size: f32,
+    /// The forces.
+    pub wind: Wind,
+}
+
+impl Default for AnimationSettings {
+    fn default() -> Self {
+        Self {
+            mode: Mode::Texture,
+            poses: 1000,
+            smoothing: Smoothing::Nearest,
+            encoding: Encoding::Unorm16,
+            packing: Packing::Snorm,
+            eval: Eval::Vertex,
+            representation: Representation::Vertex,
+            attenuation: Attenuation::Cluster,
+            cluster_size: 1.0,
+            wind: Wind::default(),
+        }
+    }
+}
+
+/// Point sources plus colliders a renderer can hold (the per-frame emitter buffers' capacity).
+pub const MAX_EMITTERS: usize = crate::render::gpu_constants::MAX_EMITTERS as usize;
+
+/// The corner forces of a frame: (fx, fz, calm-area exposure, 0) per corner.
+pub fn corner_forces(grid: &ClusterGrid, wind: &Wind, time: f32, attenuation: Attenuation) -> Vec<Vec4> {
+    (0..grid.corner_count())
+        .map(|i| {
+            let p = grid.corner_position(i);
+            let f = wind.corner_force(p, time, attenuation);
+            // A non-finite force (overflowing eq. 4.1) would select an undefined pose: none.
+            let f = if f.is_finite() { f } else { Vec2::ZERO };
+            Vec4::new(f.x, f.y, wind.exposure(p), 0.0)
+        })
+        .collect()
+}
+
+/// The emitters of a frame: point sources at their positions at `time` as (x, z, power, sigma),
+/// then colliders as (centre x, centre z, radius x, radius z). At least one element (a buffer
+/// cannot be empty); the shader reads only as many as the uniforms count.
+pub fn emitters(wind: &Wind, time: f32) -> Vec<Vec4> {
+    let mut out: Vec<Vec4> = wind
+        .sources
+        .iter()
+        .map(|s| {
+            let p = s.position_at(time);
+            Vec4::new(p.x, p.y, s.power, s.sigma)
+        })
+        .chain(wind.colliders.iter().map(|c| Vec4::new(c.center.x, c.center.z, c.radii.x, c.radii.z)))
+        .collect();
+    if out.is_empty() {
+        out.push(Vec4::ZERO);
+    }
+    out
+}
+
+/// The force the vertex shader computes for a blade (`shaders/forces.glsl`), on the CPU: the
+/// reference for GPU read-back tests.
+pub fn blade_force(
+    grid: &ClusterGrid,
+    cluster: &crate::scene::clusters::BladeCluster,
+    corners: &[Vec4],
+    emitters: &[Vec4],
+    sources: usize,
+    attenuation: Attenuation,
+    root: Vec2,
+) -> Vec2 {
+    let n = grid.corners_per_side() as usize;
+    let w = cluster.unpacked_weights();
+    let c = cluster.corner as usize;
+    let f = corners[c] * w[0] + corners[c + 1] * w[1] + corners[c + n] * w[2] + corners[c + n + 1] * w[3];
+    let mut force = Vec2::new(f.x, f.y);
+    if attenuation == Attenuation::Blade {
+        for e in &emitters[..sources] {
+            force += f.z * crate::wind::PointSource::force_from(Vec2::new(e.x, e.y), e.z, e.w, root);
+        }
+        for e in &emitters[sources..] {
+            force += crate::wind::Collider::force(Vec2::new(e.x, e.y), Vec2::new(e.z, e.w), root);
+        }
+    }
+    force
+}

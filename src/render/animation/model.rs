@@ -1,0 +1,208 @@
+//! The seam every animation model plugs into. A model owns its GPU resources (descriptor set
+//! `SET_ANIMATION`: a keyframe texture, a keyframe uniform array, pose records), sets its
+//! specialization constants and its part of the frame uniforms, runs its per-frame CPU update,
+//! adds its compute passes to the graph, and tells the blade pass how to pose a blade: through
+//! the model's own per-vertex shader path (the thesis' per-vertex keyframe evaluation, kept for
+//! the benchmark), or from pose records its passes wrote (the `--eval blade` format, the path
+//! physics and wind-field models write into).
+//!
+//! Models today: `still::StaticModel` and `keyframed::KeyframeModel` (texture or uniform array,
+//! per vertex or per blade).
+
+use ash::vk;
+
+use crate::error::Result;
+use crate::render::animation::{self, AnimationSettings, KeyframeTexture, KeyframeUniforms, Mode};
+use crate::render::frame::Frame;
+use crate::render::gpu_constants as gpu;
+use crate::render::graph::Pass;
+use crate::render::scene_gpu::SceneGpu;
+use crate::render::specialization::Specialization;
+use crate::render::uniforms::FrameUniforms;
+use crate::scene::clusters::ClusterGrid;
+use crate::vk::descriptor::{self, Binding, Resource as Descriptor};
+use crate::vk::{Access, Buffer, Device, Resource};
+use crate::wind::{Attenuation, Wind};
+
+/// How the blade pass poses a blade.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BladeInput {
+    /// The model's per-vertex path in `blade.vert`, chosen by its specialization constants.
+    PerVertex,
+    /// Pose records in this buffer (`POSE_WORDS` words per level, written by the model's passes
+    /// before the blade pass).
+    PoseRecords(vk::Buffer),
+}
+
+/// What a model's per-frame update reads.
+pub struct FrameInput<'a> {
+    /// The cluster grid whose corners carry the forces.
+    pub grid: &'a ClusterGrid,
+    /// The forces.
+    pub wind: &'a Wind,
+    /// Where point sources are attenuated.
+    pub attenuation: Attenuation,
+    /// Simulation time in seconds.
+    pub time: f32,
+}
+
+/// What a model's compute passes are built with.
+pub struct PassSetup<'a> {
+    /// The scene pipeline layout (sets `SET_SCENE` and `SET_ANIMATION`).
+    pub layout: vk::PipelineLayout,
+    /// The specialization constants of the scene pipelines.
+    pub constants: &'a [u32],
+    /// The scene on the GPU.
+    pub scene: &'a SceneGpu,
+}
+
+/// An animation model.
+pub trait AnimationModel {
+    /// Name in reports.
+    fn name(&self) -> &'static str;
+
+    /// Set the constants that choose the model's shader path (mode, smoothing, encoding,
+    /// attenuation, representation, `FLAG_EVAL_BLADE`, the uniform array's size).
+    fn specialize(&self, specialization: &mut Specialization);
+
+    /// Fill the model's part of the frame uniforms (the keyframe table's shape).
+    fn fill_uniforms(&self, uniforms: &mut FrameUniforms);
+
+    /// The model's resources: set `SET_ANIMATION`.
+    fn resources(&self) -> &AnimationSet;
+
+    /// Write this frame's forces into the frame's host-visible buffers. By default the thesis'
+    /// forces: the wind at the cluster corners and the point emitters (3.2.2).
+    fn update(&self, frame: &mut Frame, input: &FrameInput) {
+        write_wind_forces(frame, input);
+    }
+
+    /// How the blade pass poses a blade.
+    fn blade_input(&self) -> BladeInput;
+
+    /// The compute passes that run before the blade pass.
+    fn passes(&self, device: &Device, setup: &PassSetup) -> Result<Vec<Box<dyn Pass>>>;
+
+    /// Destroy the model's resources.
+    ///
+    /// # Safety
+    /// No pending GPU work may use them.
+    unsafe fn destroy(self: Box<Self>, device: &Device);
+}
+
+/// Build the model `settings` asks for (`segments` per blade, `blades` blades).
+pub fn build(
+    device: &Device,
+    set_layout: vk::DescriptorSetLayout,
+    settings: &AnimationSettings,
+    segments: u32,
+    blades: u32,
+) -> Result<Box<dyn AnimationModel>> {
+    Ok(match settings.mode {
+        Mode::Static => Box::new(super::still::StaticModel::new(device, set_layout)?),
+        Mode::Texture | Mode::Uniform => {
+            Box::new(super::keyframed::KeyframeModel::new(device, set_layout, settings, segments, blades)?)
+        }
+    })
+}
+
+/// The thesis' per-frame forces: the wind at the cluster corners (eq. 4.1 sources, calm areas)
+/// and the point sources and colliders, at most `MAX_EMITTERS`, sources first.
+pub fn write_wind_forces(frame: &mut Frame, input: &FrameInput) {
+    let corners = animation::corner_forces(input.grid, input.wind, input.time, input.attenuation);
+    let mut emitters = animation::emitters(input.wind, input.time);
+    emitters.truncate(animation::MAX_EMITTERS);
+    frame.corners.write(0, &corners);
+    frame.emitters.write(0, &emitters);
+}
+
+/// Layout of set `SET_ANIMATION`, the same for every model (the blade shaders declare it all).
+pub fn bindings() -> [Binding; 3] {
+    let vs_cs = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::COMPUTE;
+    [
+        Binding { binding: gpu::BINDING_KEYFRAMES, kind: vk::DescriptorType::COMBINED_IMAGE_SAMPLER, stages: vs_cs },
+        Binding { binding: gpu::BINDING_KEYFRAME_WORDS, kind: vk::DescriptorType::UNIFORM_BUFFER, stages: vs_cs },
+        Binding { binding: gpu::BINDING_POSES, kind: vk::DescriptorType::STORAGE_BUFFER, stages: vs_cs },
+    ]
+}
+
+/// A model's resources, bound as set `SET_ANIMATION`: the keyframe table as a texture and as a
+/// uniform array, and the pose records.
+pub struct AnimationSet {
+    /// The keyframe texture (a 1×1 stand-in for models without keyframes).
+    pub keyframes: KeyframeTexture,
+    /// The keyframe uniform array (a stand-in of one `uvec4` for models without keyframes).
+    pub words: KeyframeUniforms,
+    /// Pose records (a stand-in of one level without `--eval blade`).
+    pub poses: Buffer,
+    pool: vk::DescriptorPool,
+    /// The set.
+    pub set: vk::DescriptorSet,
+}
+
+impl AnimationSet {
+    /// Allocate the set and point it at the three resources (destroyed with the set on failure).
+    pub fn new(
+        device: &Device,
+        set_layout: vk::DescriptorSetLayout,
+        keyframes: KeyframeTexture,
+        words: KeyframeUniforms,
+        poses: Buffer,
+    ) -> Result<Self> {
+        let (pool, sets) = match descriptor::allocate_sets(device, "animation set", set_layout, &bindings(), 1) {
+            Ok(allocated) => allocated,
+            Err(e) => {
+                // SAFETY: nothing was submitted with them.
+                unsafe {
+                    keyframes.destroy(device);
+                    words.buffer.destroy(device);
+                    poses.destroy(device);
+                }
+                return Err(e);
+            }
+        };
+        let resources = Self { keyframes, words, poses, pool, set: sets[0] };
+        let image = vk::DescriptorImageInfo {
+            sampler: resources.keyframes.sampler,
+            image_view: resources.keyframes.image.view,
+            image_layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+        };
+        descriptor::write(
+            device,
+            resources.set,
+            &[
+                (gpu::BINDING_KEYFRAMES, vk::DescriptorType::COMBINED_IMAGE_SAMPLER, Descriptor::Image(image)),
+                (
+                    gpu::BINDING_KEYFRAME_WORDS,
+                    vk::DescriptorType::UNIFORM_BUFFER,
+                    Descriptor::Buffer(resources.words.buffer.descriptor()),
+                ),
+                (
+                    gpu::BINDING_POSES,
+                    vk::DescriptorType::STORAGE_BUFFER,
+                    Descriptor::Buffer(resources.poses.descriptor()),
+                ),
+            ],
+        );
+        Ok(resources)
+    }
+
+    /// The keyframe texture as the graph tracks it, with the accesses its upload left.
+    pub fn keyframe_import(&self) -> (Resource, [Access; 2]) {
+        (Resource::color(self.keyframes.image.raw), [Access::VertexShaderSampledRead, Access::ComputeShaderSampledRead])
+    }
+
+    /// Destroy the resources and the set's pool.
+    ///
+    /// # Safety
+    /// No pending GPU work may use them.
+    pub unsafe fn destroy(self, device: &Device) {
+        // SAFETY: per the contract.
+        unsafe {
+            device.raw.destroy_descriptor_pool(self.pool, None);
+            self.keyframes.destroy(device);
+            self.words.buffer.destroy(device);
+            self.poses.destroy(device);
+        }
+    }
+}

@@ -1,0 +1,85 @@
+//! The static model: neutral Bézier blades, no forces on them (thesis 4.1). It needs no table
+//! and no pass: stand-ins fill its descriptor set, and the forces are still computed each frame
+//! (the debug views show them).
+
+use ash::vk;
+
+use crate::error::Result;
+use crate::render::animation::model::{AnimationModel, AnimationSet, BladeInput, PassSetup};
+use crate::render::animation::{KeyframeTexture, KeyframeUniforms};
+use crate::render::gpu_constants as gpu;
+use crate::render::graph::Pass;
+use crate::render::specialization::Specialization;
+use crate::render::uniforms::FrameUniforms;
+use crate::vk::upload::UploadBatch;
+use crate::vk::{Buffer, BufferDesc, Device};
+
+/// Static blades.
+pub struct StaticModel {
+    set: AnimationSet,
+}
+
+impl StaticModel {
+    /// Upload the stand-ins and fill the set.
+    pub fn new(device: &Device, set_layout: vk::DescriptorSetLayout) -> Result<Self> {
+        let mut batch = UploadBatch::new(device);
+        let keyframes = KeyframeTexture::stand_in(&mut batch)?;
+        let words = match KeyframeUniforms::stand_in(&mut batch) {
+            Ok(words) => words,
+            Err(e) => {
+                // SAFETY: not submitted.
+                unsafe { keyframes.destroy(device) };
+                return Err(e);
+            }
+        };
+        let poses = batch.submit().and_then(|()| {
+            let bytes = 4 * u64::from(gpu::POSE_WORDS);
+            Buffer::new(
+                device,
+                &BufferDesc::gpu_only("pose records stand-in", bytes, vk::BufferUsageFlags::STORAGE_BUFFER),
+            )
+        });
+        let poses = match poses {
+            Ok(poses) => poses,
+            Err(e) => {
+                // SAFETY: the batch waited for its submission, or never submitted.
+                unsafe {
+                    keyframes.destroy(device);
+                    words.buffer.destroy(device);
+                }
+                return Err(e);
+            }
+        };
+        Ok(Self { set: AnimationSet::new(device, set_layout, keyframes, words, poses)? })
+    }
+}
+
+impl AnimationModel for StaticModel {
+    fn name(&self) -> &'static str {
+        "static"
+    }
+
+    fn specialize(&self, specialization: &mut Specialization) {
+        specialization.mode = gpu::MODE_STATIC;
+        specialization.keyframe_uvec4s = self.set.words.uvec4s;
+    }
+
+    fn fill_uniforms(&self, _: &mut FrameUniforms) {}
+
+    fn resources(&self) -> &AnimationSet {
+        &self.set
+    }
+
+    fn blade_input(&self) -> BladeInput {
+        BladeInput::PerVertex
+    }
+
+    fn passes(&self, _: &Device, _: &PassSetup) -> Result<Vec<Box<dyn Pass>>> {
+        Ok(Vec::new())
+    }
+
+    unsafe fn destroy(self: Box<Self>, device: &Device) {
+        // SAFETY: per the contract.
+        unsafe { self.set.destroy(device) };
+    }
+}
