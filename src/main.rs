@@ -580,7 +580,7 @@ fn measure<T>(
 
 /// `meadow timing`. Returns the exit code and validation count.
 fn timing(args: TimingArgs) -> (u8, Option<u64>) {
-    use meadow::timing::{self, TimingOptions};
+    use meadow::harness::timing::{self, TimingOptions};
     let mut render = args.scene.options(PathBuf::new(), args.frames);
     render.submission = args.submission.submission();
     let options = TimingOptions { render, warmup: args.warmup, trace: args.trace, out: args.out };
@@ -604,7 +604,7 @@ fn timing(args: TimingArgs) -> (u8, Option<u64>) {
 
 /// `meadow overhead`. Returns the exit code and validation count.
 fn overhead(args: OverheadArgs) -> (u8, Option<u64>) {
-    use meadow::overhead::{self, OverheadOptions};
+    use meadow::harness::overhead::{self, OverheadOptions};
     let options = OverheadOptions {
         blades: args.blades,
         segments: args.segments,
@@ -632,7 +632,7 @@ fn overhead(args: OverheadArgs) -> (u8, Option<u64>) {
 
 /// `meadow bench`: measure, or compare two runs. Returns the exit code and validation count.
 fn bench(args: BenchArgs) -> meadow::Result<(u8, Option<u64>)> {
-    use meadow::bench;
+    use meadow::harness::bench;
     if let [old, new] = args.compare.as_slice() {
         let (report, regressed) = bench::compare(&bench::load(old)?, &bench::load(new)?, f64::from(args.threshold));
         print!("{report}");

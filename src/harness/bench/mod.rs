@@ -452,7 +452,7 @@ pub fn write(doc: &Value, dir: &Path) -> Result<()> {
 /// `bench.png`: per segment count, the median frame time of every variant against the blade
 /// count (top row), and each variant's ratio to static (bottom row).
 pub fn plot(doc: &Value, path: &Path) -> Result<()> {
-    use crate::plot::{line_panels, Panel, Scale, Series};
+    use crate::harness::plot::{line_panels, Panel, Scale, Series};
     let rows: Vec<&Value> = doc["rows"].as_array().into_iter().flatten().collect();
     let mut segments: Vec<u64> = rows.iter().filter_map(|r| r["segments"].as_u64()).collect();
     segments.sort_unstable();

@@ -12,8 +12,8 @@ use ash::vk;
 use serde_json::{json, Value};
 
 use crate::app::write_text;
-use crate::bench::summary;
 use crate::error::{Error, Result};
+use crate::harness::bench::summary;
 use crate::render::animation::{AnimationSettings, Mode};
 use crate::render::submission::{Strategy, Submission};
 use crate::render::target::OFFSCREEN_FORMAT;
@@ -127,7 +127,7 @@ pub fn run(device: &Arc<Device>, options: &OverheadOptions, mut progress: impl F
     // SAFETY: every renderer waited for its frames when dropped (they are gone by now).
     unsafe { target.destroy(device) };
     result?;
-    Ok(crate::bench::document(
+    Ok(crate::harness::bench::document(
         device,
         "overhead",
         options.size,
@@ -206,7 +206,7 @@ pub fn write(doc: &Value, dir: &Path) -> Result<()> {
 /// `overhead.png`: CPU record + submit per frame, recording ns per draw and GPU ms against the
 /// cluster count, one series per strategy.
 pub fn plot(doc: &Value, path: &Path) -> Result<()> {
-    use crate::plot::{line_panels, Panel, Scale, Series};
+    use crate::harness::plot::{line_panels, Panel, Scale, Series};
     let rows: Vec<&Value> =
         doc["rows"].as_array().into_iter().flatten().filter(|r| r["unsupported"].is_null()).collect();
     let mut strategies: Vec<&str> = Vec::new();

@@ -327,7 +327,7 @@ impl Ranged for Categories {
 /// (so plotters' own text metrics agree with [`Canvas`], which does the drawing).
 fn font() -> Result<&'static FontRef<'static>> {
     static FONT_REF: OnceLock<Option<FontRef<'static>>> = OnceLock::new();
-    static DEJAVU: &[u8] = include_bytes!("../assets/fonts/DejaVuSans.ttf");
+    static DEJAVU: &[u8] = include_bytes!("../../../assets/fonts/DejaVuSans.ttf");
     FONT_REF
         .get_or_init(|| {
             register_font(FONT, FontStyle::Normal, DEJAVU).ok()?;

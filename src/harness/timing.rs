@@ -18,8 +18,8 @@ use ash::vk;
 use serde_json::{json, Value};
 
 use crate::app::RenderOptions;
-use crate::bench::{statistics_json, summary};
 use crate::error::{Error, Result, VkContext};
+use crate::harness::bench::{statistics_json, summary};
 use crate::render::renderer::FrameSync;
 use crate::render::target::OFFSCREEN_FORMAT;
 use crate::render::{FrameTimings, OffscreenTarget, RenderSettings, Renderer};
@@ -300,7 +300,7 @@ pub fn run(
     let record: Vec<f64> = base.frames.iter().map(|f| f.timings.cpu_record_ms).collect();
     let submit: Vec<f64> = base.frames.iter().map(|f| f.timings.cpu_submit_ms).collect();
     let statistics = base.frames.last().map_or(Value::Null, |f| statistics_json(&f.timings.passes));
-    let doc = crate::bench::document(
+    let doc = crate::harness::bench::document(
         device,
         "timing",
         render.size,
@@ -447,5 +447,12 @@ pub fn write(doc: &Value, intervals: &[f64], dir: &std::path::Path) -> Result<()
         doc["mode"].as_str().unwrap_or("?")
     );
     let bins = (intervals.len() / 3).clamp(5, 40);
-    crate::plot::histogram(&dir.join("timing.png"), (1000, 560), &title, "ms between GPU frame ends", intervals, bins)
+    crate::harness::plot::histogram(
+        &dir.join("timing.png"),
+        (1000, 560),
+        &title,
+        "ms between GPU frame ends",
+        intervals,
+        bins,
+    )
 }
