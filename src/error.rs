@@ -29,7 +29,7 @@ pub enum Error {
     /// The environment lacks something meadow needs (loader, layer, device, feature).
     #[error("{0}")]
     Environment(String),
-    /// Drawing a chart failed (see [`crate::harness::plot`]).
+    /// Drawing a chart failed (the measuring harness draws PNG charts).
     #[error("plot: {0}")]
     Plot(String),
     /// Reading or writing a file failed.

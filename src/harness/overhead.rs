@@ -13,7 +13,7 @@ use serde_json::{json, Value};
 
 use crate::app::write_text;
 use crate::error::{Error, Result};
-use crate::harness::bench::summary;
+use crate::harness::document::summary;
 use crate::render::animation::{AnimationSettings, Mode};
 use crate::render::submission::{Strategy, Submission};
 use crate::render::target::OFFSCREEN_FORMAT;
@@ -127,7 +127,7 @@ pub fn run(device: &Arc<Device>, options: &OverheadOptions, mut progress: impl F
     // SAFETY: every renderer waited for its frames when dropped (they are gone by now).
     unsafe { target.destroy(device) };
     result?;
-    Ok(crate::harness::bench::document(
+    Ok(crate::harness::document::document(
         device,
         "overhead",
         options.size,

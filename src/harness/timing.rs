@@ -19,7 +19,7 @@ use serde_json::{json, Value};
 
 use crate::app::RenderOptions;
 use crate::error::{Error, Result, VkContext};
-use crate::harness::bench::{statistics_json, summary};
+use crate::harness::document::{statistics_json, summary};
 use crate::render::renderer::FrameSync;
 use crate::render::target::OFFSCREEN_FORMAT;
 use crate::render::{FrameTimings, OffscreenTarget, RenderSettings, Renderer};
@@ -300,7 +300,7 @@ pub fn run(
     let record: Vec<f64> = base.frames.iter().map(|f| f.timings.cpu_record_ms).collect();
     let submit: Vec<f64> = base.frames.iter().map(|f| f.timings.cpu_submit_ms).collect();
     let statistics = base.frames.last().map_or(Value::Null, |f| statistics_json(&f.timings.passes));
-    let doc = crate::harness::bench::document(
+    let doc = crate::harness::document::document(
         device,
         "timing",
         render.size,
