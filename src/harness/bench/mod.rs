@@ -21,6 +21,7 @@ mod report;
 pub use report::{best, compare, csv, load, median, plot, statistics_table, table, write};
 
 use crate::harness::document::{document, statistics_json, summary};
+use crate::harness::Progress;
 
 /// Thesis Table 6.2: (blades, segments, FPS N, FPS T, FPS U) on a GeForce 8800 GTS.
 pub const THESIS_TABLE: [(u32, u32, f64, f64, f64); 15] = [
@@ -131,108 +132,10 @@ pub fn run(device: &Arc<Device>, options: &BenchOptions, mut progress: impl FnMu
         .map_err(|source| Error::Io { path: options.out.display().to_string(), source })?;
     let extent = vk::Extent2D { width: options.size.0, height: options.size.1 };
     let total = (options.rows.len() * variants.len()) as u64 * u64::from(options.warmup + options.frames);
-    let mut done = 0;
+    let mut frames = Progress::new(total, &mut progress);
     let mut rows = Vec::new();
     for &(blades, segments) in &options.rows {
-        let cells = crate::scene::Terrain::cells_for(crate::scene::blades::field_size(blades));
-        crate::app::check_limits(device, blades, options.size, cells)?;
-        let scene = Scene::generate(blades, 1);
-        let camera = Camera::default_for(&scene.terrain);
-        let mut target = OffscreenTarget::new(device, extent)?;
-        // A variant the device cannot hold at this size (e.g. `--eval blade`'s records over
-        // maxStorageBufferRange) is reported as unsupported for the row, not failed.
-        let mut unsupported = Vec::new();
-        let runnable: Vec<Variant> = variants
-            .iter()
-            .copied()
-            .filter(|v| match crate::app::check_scene(device, blades, segments, options.size, &animation_of(v)) {
-                Err(Error::BadInput(why)) => {
-                    unsupported.push(json!({ "variant": v.name(), "unsupported": why }));
-                    done += u64::from(options.warmup + options.frames);
-                    false
-                }
-                _ => true,
-            })
-            .collect();
-        let built: Result<Vec<Renderer>> = runnable
-            .iter()
-            .map(|v| {
-                let animation = animation_of(v);
-                let settings = RenderSettings {
-                    segments,
-                    color_format: OFFSCREEN_FORMAT,
-                    encode_srgb: true,
-                    frames_in_flight: 1,
-                    blades_per_instance: 1,
-                    debug_force: false,
-                    wireframe: false,
-                    pipeline_statistics: true,
-                    submission: Default::default(),
-                };
-                Renderer::new(device.clone(), &scene, settings, animation)
-            })
-            .collect();
-        let mut renderers = match built {
-            Ok(r) => r,
-            Err(e) => {
-                // SAFETY: nothing was rendered into the target.
-                unsafe { target.destroy(device) };
-                return Err(e);
-            }
-        };
-        let mut samples: Vec<Vec<Value>> = vec![Vec::new(); runnable.len()];
-        let measured = (|| {
-            // Interleaved: one frame of each variant per round; fixed simulation time step.
-            for round in 0..options.warmup + options.frames {
-                let time = round as f32 / 60.0;
-                for (i, renderer) in renderers.iter_mut().enumerate() {
-                    let t = renderer.render_offscreen(&mut target, &camera, time)?;
-                    done += 1;
-                    progress(done, total);
-                    if round >= options.warmup {
-                        let passes: serde_json::Map<String, Value> =
-                            t.passes.iter().map(|p| (p.name.to_string(), json!(p.ms))).collect();
-                        samples[i].push(json!({
-                            "gpu_ms": t.gpu_ms,
-                            "passes_ms": passes,
-                            "pipeline_statistics": statistics_json(&t.passes),
-                            "cpu_record_ms": t.cpu_record_ms,
-                            "cpu_submit_ms": t.cpu_submit_ms,
-                            "cpu_wait_ms": t.cpu_wait_ms,
-                        }));
-                    }
-                }
-            }
-            Ok::<(), Error>(())
-        })();
-        let triangles = renderers.first().map_or(0, |r| r.triangles().0);
-        drop(renderers);
-        // SAFETY: every renderer waited for its frames when dropped.
-        unsafe { target.destroy(device) };
-        measured?;
-        let mut variant_json: Vec<Value> = runnable
-            .iter()
-            .zip(&samples)
-            .map(|(v, frames)| {
-                let field =
-                    |name: &str| -> Vec<f64> { frames.iter().map(|f| f[name].as_f64().unwrap_or(0.0)).collect() };
-                let cpu: Vec<f64> = frames
-                    .iter()
-                    .map(|f| f["cpu_record_ms"].as_f64().unwrap_or(0.0) + f["cpu_submit_ms"].as_f64().unwrap_or(0.0))
-                    .collect();
-                json!({
-                    "variant": v.name(),
-                    "gpu_ms": summary(&field("gpu_ms")),
-                    "cpu_record_submit_ms": summary(&cpu),
-                    "cpu_wait_ms": summary(&field("cpu_wait_ms")),
-                    // The counts are the same every frame (fixed scene and camera): the last frame's.
-                    "pipeline_statistics": frames.last().map_or(Value::Null, |f| f["pipeline_statistics"].clone()),
-                    "frames": frames,
-                })
-            })
-            .collect();
-        variant_json.extend(unsupported);
-        rows.push(json!({ "blades": blades, "segments": segments, "triangles": triangles, "variants": variant_json }));
+        rows.push(measure_row(device, options, &variants, (blades, segments), &mut frames)?);
     }
     Ok(document(
         device,
@@ -245,6 +148,127 @@ pub fn run(device: &Arc<Device>, options: &BenchOptions, mut progress: impl FnMu
             "rows": rows,
         }),
     ))
+}
+
+/// One row of the table: every variant the device supports at (`blades`, `segments`) built, then
+/// rendered interleaved. Returns the row's JSON, unsupported variants included with the reason.
+fn measure_row(
+    device: &Arc<Device>,
+    options: &BenchOptions,
+    variants: &[Variant],
+    (blades, segments): (u32, u32),
+    frames: &mut Progress,
+) -> Result<Value> {
+    let cells = crate::scene::Terrain::cells_for(crate::scene::blades::field_size(blades));
+    crate::app::check_limits(device, blades, options.size, cells)?;
+    let scene = Scene::generate(blades, 1);
+    let camera = Camera::default_for(&scene.terrain);
+    let extent = vk::Extent2D { width: options.size.0, height: options.size.1 };
+    let mut target = OffscreenTarget::new(device, extent)?;
+    // A variant the device cannot hold at this size (e.g. `--eval blade`'s records over
+    // maxStorageBufferRange) is reported as unsupported for the row, not failed.
+    let mut unsupported = Vec::new();
+    let runnable: Vec<Variant> = variants
+        .iter()
+        .copied()
+        .filter(|v| match crate::app::check_scene(device, blades, segments, options.size, &animation_of(v)) {
+            Err(Error::BadInput(why)) => {
+                unsupported.push(json!({ "variant": v.name(), "unsupported": why }));
+                frames.skipped(u64::from(options.warmup + options.frames));
+                false
+            }
+            _ => true,
+        })
+        .collect();
+    let mut renderers = match build_renderers(device, &scene, segments, &runnable) {
+        Ok(r) => r,
+        Err(e) => {
+            // SAFETY: nothing was rendered into the target.
+            unsafe { target.destroy(device) };
+            return Err(e);
+        }
+    };
+    let measured = render_interleaved(&mut renderers, &mut target, &camera, options, frames);
+    let triangles = renderers.first().map_or(0, |r| r.triangles().0);
+    drop(renderers);
+    // SAFETY: every renderer waited for its frames when dropped.
+    unsafe { target.destroy(device) };
+    let samples = measured?;
+    let mut variant_json: Vec<Value> = runnable.iter().zip(&samples).map(|(v, f)| variant_json(v, f)).collect();
+    variant_json.extend(unsupported);
+    Ok(json!({ "blades": blades, "segments": segments, "triangles": triangles, "variants": variant_json }))
+}
+
+/// A renderer per variant, all into the offscreen format with pipeline statistics.
+fn build_renderers(device: &Arc<Device>, scene: &Scene, segments: u32, variants: &[Variant]) -> Result<Vec<Renderer>> {
+    variants
+        .iter()
+        .map(|v| {
+            let animation = animation_of(v);
+            let settings = RenderSettings {
+                segments,
+                color_format: OFFSCREEN_FORMAT,
+                encode_srgb: true,
+                frames_in_flight: 1,
+                blades_per_instance: 1,
+                debug_force: false,
+                wireframe: false,
+                pipeline_statistics: true,
+                submission: Default::default(),
+            };
+            Renderer::new(device.clone(), scene, settings, animation)
+        })
+        .collect()
+}
+
+/// Warm-up and measured rounds of one frame of each renderer, at a fixed simulation time step.
+/// Returns the measured frames (JSON) of each renderer.
+fn render_interleaved(
+    renderers: &mut [Renderer],
+    target: &mut OffscreenTarget,
+    camera: &Camera,
+    options: &BenchOptions,
+    frames: &mut Progress,
+) -> Result<Vec<Vec<Value>>> {
+    let mut samples: Vec<Vec<Value>> = vec![Vec::new(); renderers.len()];
+    for round in 0..options.warmup + options.frames {
+        let time = round as f32 / 60.0;
+        for (i, renderer) in renderers.iter_mut().enumerate() {
+            let t = renderer.render_offscreen(target, camera, time)?;
+            frames.rendered();
+            if round >= options.warmup {
+                let passes: serde_json::Map<String, Value> =
+                    t.passes.iter().map(|p| (p.name.to_string(), json!(p.ms))).collect();
+                samples[i].push(json!({
+                    "gpu_ms": t.gpu_ms,
+                    "passes_ms": passes,
+                    "pipeline_statistics": statistics_json(&t.passes),
+                    "cpu_record_ms": t.cpu_record_ms,
+                    "cpu_submit_ms": t.cpu_submit_ms,
+                    "cpu_wait_ms": t.cpu_wait_ms,
+                }));
+            }
+        }
+    }
+    Ok(samples)
+}
+
+/// A variant's entry of a row: summaries of its measured `frames`, and the frames themselves.
+fn variant_json(v: &Variant, frames: &[Value]) -> Value {
+    let field = |name: &str| -> Vec<f64> { frames.iter().map(|f| f[name].as_f64().unwrap_or(0.0)).collect() };
+    let cpu: Vec<f64> = frames
+        .iter()
+        .map(|f| f["cpu_record_ms"].as_f64().unwrap_or(0.0) + f["cpu_submit_ms"].as_f64().unwrap_or(0.0))
+        .collect();
+    json!({
+        "variant": v.name(),
+        "gpu_ms": summary(&field("gpu_ms")),
+        "cpu_record_submit_ms": summary(&cpu),
+        "cpu_wait_ms": summary(&field("cpu_wait_ms")),
+        // The counts are the same every frame (fixed scene and camera): the last frame's.
+        "pipeline_statistics": frames.last().map_or(Value::Null, |f| f["pipeline_statistics"].clone()),
+        "frames": frames,
+    })
 }
 
 /// The animation of a variant: the CLI's default wind (30°, strength 0.3, gusts).
