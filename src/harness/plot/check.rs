@@ -64,3 +64,18 @@ pub(super) fn check_values(context: &str, values: impl Iterator<Item = f64>, sca
     }
     Ok(())
 }
+
+/// Reject bars without categories or groups, or a group without one finite value per category.
+pub(super) fn check_bars(categories: &[String], groups: &[(String, Vec<f64>)]) -> Result<()> {
+    if categories.is_empty() || groups.is_empty() {
+        return Err(Error::bad_input("bars: need at least one category and one group"));
+    }
+    for (name, values) in groups {
+        if values.len() != categories.len() {
+            let (got, want) = (values.len(), categories.len());
+            return Err(Error::bad_input(format!("bars: group `{name}` has {got} values for {want} categories")));
+        }
+        check_values(&format!("bars: group `{name}`"), values.iter().copied(), Scale::Linear)?;
+    }
+    Ok(())
+}

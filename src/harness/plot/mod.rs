@@ -27,7 +27,7 @@ use plotters::style::text_anchor::{HPos, Pos, VPos};
 use crate::error::{Error, Result};
 use axis::{axis_range, label_count, log_axis, log_ticks, normalize, tick_formatter, value_text};
 use canvas::{font, text_width, Canvas};
-use check::{check_panel, check_size, check_values};
+use check::{check_bars, check_panel, check_size, check_values};
 use layout::{chart_builder, emptiest_corner, legend, mesh, plot_error, stroke, swatch, text_scale, tick_width};
 
 /// One named line of a [`Panel`]: `(x, y)` points, connected in the given order.
@@ -207,27 +207,10 @@ pub fn bars(
     categories: &[String],
     groups: &[(String, Vec<f64>)],
 ) -> Result<()> {
-    if categories.is_empty() || groups.is_empty() {
-        return Err(Error::bad_input("bars: need at least one category and one group"));
-    }
-    for (name, values) in groups {
-        if values.len() != categories.len() {
-            let (got, want) = (values.len(), categories.len());
-            return Err(Error::bad_input(format!("bars: group `{name}` has {got} values for {want} categories")));
-        }
-        check_values(&format!("bars: group `{name}`"), values.iter().copied(), Scale::Linear)?;
-    }
+    check_bars(categories, groups)?;
     check_size(size, (1, 1))?;
     let (n, g) = (categories.len(), groups.len());
-    let (min, max) =
-        groups.iter().flat_map(|(_, v)| v.iter().copied()).fold((0.0f64, 0.0f64), |(lo, hi), v| (lo.min(v), hi.max(v)));
-    // Zero stays on the axis; the far side of each sign gets room for the value labels.
-    let room = 0.18 * (max - min);
-    let x = if max > min {
-        min - if min < 0.0 { room } else { 0.0 }..max + if max > 0.0 { room } else { 0.0 }
-    } else {
-        0.0..1.0
-    };
+    let x = bar_range(groups);
     let y = Categories(n).range();
     let band = 0.8 / g as f64;
     let show_legend = g > 1 || !groups[0].0.is_empty();
@@ -259,15 +242,7 @@ pub fn bars(
                 .enumerate()
                 .map(|(i, &v)| (v, (n - 1 - i) as f64 + 0.4 - band * (j as f64 + 0.5)))
                 .collect();
-            for &(v, c) in &rows {
-                let (y0, y1) =
-                    (normalize(c - band * 0.5, &y, Scale::Linear), normalize(c + band * 0.5, &y, Scale::Linear));
-                occupied.extend(
-                    (0..=8).flat_map(|k| [y0, y1].map(|yy| (normalize(v * f64::from(k) / 8.0, &x, Scale::Linear), yy))),
-                );
-                let end = normalize(v, &x, Scale::Linear) + (if v < 0.0 { -0.08 } else { 0.08 });
-                occupied.push((end, 0.5 * (y0 + y1)));
-            }
+            occupied.extend(bar_footprint(&rows, band, &x, &y));
             let series = chart
                 .draw_series(
                     rows.iter()
@@ -294,6 +269,33 @@ pub fn bars(
         }
         Ok(())
     })
+}
+
+/// The value axis of [`bars`]: zero stays on it, and the far side of each sign gets room for
+/// the value labels.
+fn bar_range(groups: &[(String, Vec<f64>)]) -> Range<f64> {
+    let (min, max) =
+        groups.iter().flat_map(|(_, v)| v.iter().copied()).fold((0.0f64, 0.0f64), |(lo, hi), v| (lo.min(v), hi.max(v)));
+    let room = 0.18 * (max - min);
+    if max > min {
+        min - if min < 0.0 { room } else { 0.0 }..max + if max > 0.0 { room } else { 0.0 }
+    } else {
+        0.0..1.0
+    }
+}
+
+/// The points (normalised 0..1) covered by bars `(value, centre)` of height `band` and by their
+/// value labels, for placing the legend of [`bars`].
+fn bar_footprint(rows: &[(f64, f64)], band: f64, x: &Range<f64>, y: &Range<f64>) -> Vec<(f64, f64)> {
+    let mut occupied = Vec::new();
+    for &(v, c) in rows {
+        let (y0, y1) = (normalize(c - band * 0.5, y, Scale::Linear), normalize(c + band * 0.5, y, Scale::Linear));
+        occupied
+            .extend((0..=8).flat_map(|k| [y0, y1].map(|yy| (normalize(v * f64::from(k) / 8.0, x, Scale::Linear), yy))));
+        let end = normalize(v, x, Scale::Linear) + (if v < 0.0 { -0.08 } else { 0.08 });
+        occupied.push((end, 0.5 * (y0 + y1)));
+    }
+    occupied
 }
 
 /// The category axis of [`bars`]: category `i` of `n` sits at value `n - 1 - i` (first on top),
