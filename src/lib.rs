@@ -11,7 +11,7 @@
 //!   keyframe table, and the device and limit checks they share), [`harness`] (the measuring
 //!   commands `bench`, `overhead`, `timing` and their charts), [`viewer`] (the interactive
 //!   window) and [`cli`] (the command line of the `meadow` binary, which only calls
-//!   [`cli::parse`] and [`cli::run`]).
+//!   [`cli::parse()`] and [`cli::run()`]).
 
 pub mod app;
 pub mod cli;

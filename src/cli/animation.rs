@@ -3,7 +3,7 @@
 
 use clap::{Args, ValueEnum};
 
-use super::parse;
+use super::values;
 use crate::keyframes::encoding::{Encoding, Packing};
 use crate::keyframes::{Representation, Smoothing};
 use crate::render::animation::{AnimationSettings, Eval, Mode};
@@ -77,7 +77,7 @@ pub(crate) struct AnimationArgs {
     #[arg(long, value_enum, default_value = "texture")]
     pub(crate) mode: ModeArg,
     /// Keyframe poses over the full circle (a quarter is stored).
-    #[arg(long, default_value = "1000", value_parser = parse::poses)]
+    #[arg(long, default_value = "1000", value_parser = values::poses)]
     pub(crate) poses: u32,
     /// In-between poses (thesis 3.2.6).
     #[arg(long, value_enum, default_value = "nearest")]
@@ -98,25 +98,25 @@ pub(crate) struct AnimationArgs {
     #[arg(long, value_enum, default_value = "cluster")]
     pub(crate) attenuation: AttenuationArg,
     /// Cluster edge in metres (thesis 3.2.2).
-    #[arg(long, default_value = "1.0", value_parser = parse::cluster_size)]
+    #[arg(long, default_value = "1.0", value_parser = values::cluster_size)]
     pub(crate) cluster_size: f32,
     /// Global wind: direction it blows towards (degrees from +x towards +z) and strength.
-    #[arg(long, value_name = "DIR_DEG,STRENGTH", default_value = "30,0.3", value_parser = parse::wind, allow_hyphen_values = true)]
+    #[arg(long, value_name = "DIR_DEG,STRENGTH", default_value = "30,0.3", value_parser = values::wind, allow_hyphen_values = true)]
     pub(crate) wind: (f32, f32),
     /// Steady global wind, without gusts.
     #[arg(long)]
     pub(crate) no_gusts: bool,
     /// Point wind source (eq. 4.1), optionally moving; repeatable.
-    #[arg(long, value_name = "X,Z,POWER,SIGMA[,VX,VZ]", value_parser = parse::source, allow_hyphen_values = true)]
+    #[arg(long, value_name = "X,Z,POWER,SIGMA[,VX,VZ]", value_parser = values::source, allow_hyphen_values = true)]
     pub(crate) source: Vec<crate::wind::PointSource>,
     /// Calm area where the wind is blocked (thesis 5.1); repeatable.
-    #[arg(long, value_name = "X0,Z0,X1,Z1", value_parser = parse::calm, allow_hyphen_values = true)]
+    #[arg(long, value_name = "X0,Z0,X1,Z1", value_parser = values::calm, allow_hyphen_values = true)]
     pub(crate) calm: Vec<crate::wind::CalmArea>,
     /// Collider pushing blades aside (thesis 5.2): sphere:X,Y,Z,R or ellipsoid:X,Y,Z,RX,RY,RZ; repeatable.
-    #[arg(long, value_name = "SHAPE", value_parser = parse::collider, allow_hyphen_values = true)]
+    #[arg(long, value_name = "SHAPE", value_parser = values::collider, allow_hyphen_values = true)]
     pub(crate) collider: Vec<crate::wind::Collider>,
     /// Simulation time of the picture in seconds.
-    #[arg(long, default_value = "0", value_parser = parse::time)]
+    #[arg(long, default_value = "0", value_parser = values::time)]
     pub(crate) time: f32,
 }
 

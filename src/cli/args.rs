@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use clap::{Args, ValueEnum};
 
 use super::animation::{AnimationArgs, DebugViewArg, EvalArg, ModeArg};
-use super::parse;
+use super::values;
 use crate::app::{GpuOptions, RenderOptions};
 use crate::scene::Camera;
 use crate::vk::swapchain::PresentMode;
@@ -15,10 +15,10 @@ use crate::vk::DeviceSelector;
 #[derive(Args)]
 pub(crate) struct KeyframeArgs {
     /// Poses over the full circle (a quarter is stored).
-    #[arg(long, default_value = "1000", value_parser = parse::poses)]
+    #[arg(long, default_value = "1000", value_parser = values::poses)]
     pub(crate) poses: u32,
     /// Segments of the blade.
-    #[arg(long, default_value = "4", value_parser = parse::segments)]
+    #[arg(long, default_value = "4", value_parser = values::segments)]
     pub(crate) segments: u32,
     /// Print raw and compressed sizes (thesis 3.3) and measured encoding errors (4.4).
     #[arg(long)]
@@ -59,10 +59,10 @@ pub(crate) struct RenderArgs {
 #[derive(Args)]
 pub(crate) struct SubmissionArgs {
     /// How the blade draws are submitted (see `meadow overhead`); the picture is the same.
-    #[arg(long, default_value = "instanced", value_parser = parse::strategy)]
+    #[arg(long, default_value = "instanced", value_parser = values::strategy)]
     pub(crate) submission: crate::render::submission::Strategy,
     /// Clusters (draws) of the per-cluster, indirect and secondary submissions.
-    #[arg(long, default_value = "64", value_parser = parse::clusters)]
+    #[arg(long, default_value = "64", value_parser = values::clusters)]
     pub(crate) clusters: u32,
 }
 
@@ -76,22 +76,22 @@ impl SubmissionArgs {
 #[derive(Args)]
 pub(crate) struct SceneArgs {
     /// Number of grass blades (the field grows at a fixed density).
-    #[arg(long, default_value = "100000", value_parser = parse::blade_count)]
+    #[arg(long, default_value = "100000", value_parser = values::blade_count)]
     pub(crate) blades: u32,
     /// Bézier segments per blade (1..=16).
-    #[arg(long, default_value = "4", value_parser = parse::segments)]
+    #[arg(long, default_value = "4", value_parser = values::segments)]
     pub(crate) segments: u32,
     /// Picture (or window) size.
-    #[arg(long, default_value = "1280x720", value_name = "WxH", value_parser = parse::size)]
+    #[arg(long, default_value = "1280x720", value_name = "WxH", value_parser = values::size)]
     pub(crate) size: (u32, u32),
     /// Seed of the terrain and the blade scatter.
     #[arg(long, default_value = "1")]
     pub(crate) seed: u64,
     /// Camera position and orientation in degrees (default: 1.7 m above the field's edge).
-    #[arg(long, value_name = "X,Y,Z,YAW_DEG,PITCH_DEG", value_parser = parse::camera, allow_hyphen_values = true)]
+    #[arg(long, value_name = "X,Y,Z,YAW_DEG,PITCH_DEG", value_parser = values::camera, allow_hyphen_values = true)]
     pub(crate) camera: Option<Camera>,
     /// Blades per instance of the one blade draw (1 = classic per-blade instancing).
-    #[arg(long, default_value = "1", value_parser = parse::blades_per_instance)]
+    #[arg(long, default_value = "1", value_parser = values::blades_per_instance)]
     pub(crate) blades_per_instance: u32,
     #[command(flatten)]
     pub(crate) animation: AnimationArgs,
@@ -151,10 +151,10 @@ pub(crate) struct BenchArgs {
     #[arg(long, value_enum, default_value = "quick")]
     pub(crate) preset: PresetArg,
     /// Blade counts (comma-separated), replacing the preset's.
-    #[arg(long, value_delimiter = ',', value_parser = parse::blade_count)]
+    #[arg(long, value_delimiter = ',', value_parser = values::blade_count)]
     pub(crate) blades: Vec<u32>,
     /// Segment counts (comma-separated), replacing the preset's.
-    #[arg(long, value_delimiter = ',', value_parser = parse::segments)]
+    #[arg(long, value_delimiter = ',', value_parser = values::segments)]
     pub(crate) segments: Vec<u32>,
     /// Modes (comma-separated).
     #[arg(long, value_delimiter = ',', value_enum)]
@@ -163,7 +163,7 @@ pub(crate) struct BenchArgs {
     #[arg(long, value_delimiter = ',', value_enum)]
     pub(crate) eval: Vec<EvalArg>,
     /// Picture size, replacing the preset's.
-    #[arg(long, value_name = "WxH", value_parser = parse::size)]
+    #[arg(long, value_name = "WxH", value_parser = values::size)]
     pub(crate) size: Option<(u32, u32)>,
     /// Frames per variant discarded first.
     #[arg(long, value_parser = clap::value_parser!(u32).range(0..=1000))]
@@ -178,7 +178,7 @@ pub(crate) struct BenchArgs {
     #[arg(long, num_args = 2, value_names = ["OLD.json", "NEW.json"])]
     pub(crate) compare: Vec<PathBuf>,
     /// Noise threshold of --compare, in percent.
-    #[arg(long, default_value = "10", value_parser = parse::finite_f32)]
+    #[arg(long, default_value = "10", value_parser = values::finite_f32)]
     pub(crate) threshold: f32,
     #[command(flatten)]
     pub(crate) gpu: GpuArgs,
@@ -209,24 +209,24 @@ pub(crate) struct TimingArgs {
 #[derive(Args)]
 pub(crate) struct OverheadArgs {
     /// Blades of the scene.
-    #[arg(long, default_value = "100000", value_parser = parse::blade_count)]
+    #[arg(long, default_value = "100000", value_parser = values::blade_count)]
     pub(crate) blades: u32,
     /// Segments per blade.
-    #[arg(long, default_value = "2", value_parser = parse::segments)]
+    #[arg(long, default_value = "2", value_parser = values::segments)]
     pub(crate) segments: u32,
     /// Cluster counts (comma-separated): the draws of the per-cluster strategies.
-    #[arg(long, value_delimiter = ',', default_value = "1,100,1000,10000", value_parser = parse::clusters)]
+    #[arg(long, value_delimiter = ',', default_value = "1,100,1000,10000", value_parser = values::clusters)]
     pub(crate) clusters: Vec<u32>,
     /// Strategies (comma-separated): instanced, per-cluster, indirect, mdi, mdi-count, secondary, prerecorded.
     #[arg(
         long,
         value_delimiter = ',',
         default_value = "instanced,per-cluster,indirect,mdi,mdi-count,secondary,prerecorded",
-        value_parser = parse::strategy
+        value_parser = values::strategy
     )]
     pub(crate) strategies: Vec<crate::render::submission::Strategy>,
     /// Picture size.
-    #[arg(long, value_name = "WxH", default_value = "320x180", value_parser = parse::size)]
+    #[arg(long, value_name = "WxH", default_value = "320x180", value_parser = values::size)]
     pub(crate) size: (u32, u32),
     /// Frames per strategy discarded first.
     #[arg(long, default_value = "3", value_parser = clap::value_parser!(u32).range(0..=1000))]

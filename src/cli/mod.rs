@@ -1,13 +1,13 @@
 //! The command line of the `meadow` binary: clap's types ([`args`], [`animation`]), the value
-//! parsers ([`parse`]) and the dispatch of each subcommand to [`crate::app`], [`crate::harness`]
-//! or [`crate::viewer`] ([`commands`], [`measure`]). `src/main.rs` only calls [`parse`] and
+//! parsers ([`values`]) and the dispatch of each subcommand to [`crate::app`], [`crate::harness`]
+//! or [`crate::viewer`] ([`commands`], [`measure`]). `src/main.rs` only calls [`parse()`] and
 //! [`run`].
 
 pub mod animation;
 pub mod args;
 pub mod commands;
 pub mod measure;
-pub mod parse;
+pub mod values;
 
 use std::process::ExitCode;
 

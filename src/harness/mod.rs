@@ -1,4 +1,4 @@
-//! The measuring harness built on the renderer: `meadow bench` ([`bench`]), `meadow overhead`
+//! The measuring harness built on the renderer: `meadow bench` ([`bench`](mod@bench)), `meadow overhead`
 //! ([`overhead`]) and `meadow timing` ([`timing`]) run the renderer under controlled conditions
 //! and write versioned JSON documents ([`document`]), CSV, tables and PNG charts ([`plot`]).
 //!
