@@ -1,18 +1,21 @@
 //! The viewer's event loop: window events, one tick per loop iteration (script actions, camera,
 //! a frame) and the exit screenshot.
 
-use super::script::Action;
-use super::{key_name, Viewer, HELP, INTERRUPTED};
-use crate::error::{Error, Result};
 use std::path::PathBuf;
 use std::sync::atomic::Ordering;
 use std::time::{Duration, Instant};
+
 use winit::application::ApplicationHandler;
 use winit::dpi::PhysicalSize;
 use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
 use winit::event_loop::{ActiveEventLoop, ControlFlow};
 use winit::keyboard::PhysicalKey;
 use winit::window::WindowId;
+
+use super::keys::key_name;
+use super::script::Action;
+use super::{Viewer, HELP, INTERRUPTED};
+use crate::error::{Error, Result};
 
 impl Viewer {
     /// One loop iteration: script actions, camera, and a frame unless minimised.

@@ -1,15 +1,17 @@
 //! The viewer's keys and mouse clicks: named keys (from the window or a script) change the
 //! camera, wind, sources, colliders and render settings; a click drops a wind source.
 
+use std::path::PathBuf;
+
+use glam::{Vec2, Vec3, Vec4};
+use winit::keyboard::KeyCode;
+
 use super::{Viewer, HELP};
 use crate::error::Result;
 use crate::keyframes::Smoothing;
 use crate::render::animation::{Eval, Mode};
 use crate::scene::Scene;
 use crate::wind::{Collider, PointSource};
-use glam::{Vec2, Vec3, Vec4};
-use std::path::PathBuf;
-use winit::keyboard::KeyCode;
 
 impl Viewer {
     /// A named key went down or up (from the window or a script).

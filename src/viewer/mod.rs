@@ -29,7 +29,6 @@ use crate::vk::swapchain::{swapchain_counts, PresentMode, Swapchain};
 use crate::vk::{sync, Access, Buffer, BufferDesc, Device, Image, ImageDesc};
 use crate::wind::CalmArea;
 use controls::CameraControl;
-use keys::key_name;
 use script::Script;
 use stats::Stats;
 

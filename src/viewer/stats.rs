@@ -1,9 +1,11 @@
 //! The viewer's frame statistics: averaged per half second into the window title and every
 //! few seconds onto stdout.
 
-use crate::render::FrameTimings;
 use std::time::{Duration, Instant};
+
 use winit::window::Window;
+
+use crate::render::FrameTimings;
 
 /// Frame statistics, reported twice a second in the title and every few seconds on stdout.
 pub(super) struct Stats {

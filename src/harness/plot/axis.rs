@@ -1,9 +1,11 @@
 //! Axes of the charts: value ranges, log-axis ticks and the formatting of tick and value labels.
 
-use super::Scale;
+use std::ops::Range;
+
 use plotters::coord::combinators::WithKeyPoints;
 use plotters::prelude::*;
-use std::ops::Range;
+
+use super::Scale;
 
 /// Axis range covering `values` with a 5 % margin; a degenerate span is widened (to ±10 % of the
 /// value on a linear axis, to at least a factor of two on a log axis).

@@ -1,14 +1,16 @@
 //! The drawing surface of the charts: an RGB bitmap whose text is laid out with the embedded
 //! DejaVu Sans through `ab_glyph`.
 
-use super::FONT;
-use crate::error::{Error, Result};
+use std::sync::OnceLock;
+
 use ab_glyph::{Font, FontRef, ScaleFont};
 use plotters::prelude::*;
 use plotters::style::register_font;
 use plotters::style::text_anchor::{HPos, VPos};
 use plotters_backend::{BackendColor, BackendCoord, BackendTextStyle, DrawingErrorKind};
-use std::sync::OnceLock;
+
+use super::FONT;
+use crate::error::{Error, Result};
 
 /// The embedded DejaVu Sans, parsed once and registered with plotters as its `sans-serif` family
 /// (so plotters' own text metrics agree with [`Canvas`], which does the drawing).

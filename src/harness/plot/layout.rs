@@ -1,13 +1,17 @@
 //! Chart layout shared by every chart kind: text scale, strokes, label areas, the mesh and the
 //! legend (placed in the emptiest corner).
 
-use super::{log_ticks, text_width, tick_formatter, Scale, FONT, INK};
-use crate::error::{Error, Result};
+use std::ops::Range;
+
 use plotters::chart::MeshStyle;
 use plotters::coord::ranged1d::ValueFormatter;
 use plotters::coord::Shift;
 use plotters::prelude::*;
-use std::ops::Range;
+
+use super::axis::{log_ticks, tick_formatter};
+use super::canvas::text_width;
+use super::{Scale, FONT, INK};
+use crate::error::{Error, Result};
 
 /// The legend corner covering the fewest `occupied` points (normalised 0..1, y up), for a legend
 /// of `labels` in a plot of `plot_px` pixels at scale `s`.

@@ -25,7 +25,7 @@ use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use crate::error::{Error, Result};
-use axis::{axis_range, label_count, log_axis, log_ticks, normalize, tick_formatter, value_text};
+use axis::{axis_range, label_count, log_axis, normalize, tick_formatter, value_text};
 use canvas::{font, text_width, Canvas};
 use check::{check_bars, check_panel, check_size, check_values};
 use layout::{chart_builder, emptiest_corner, legend, mesh, plot_error, stroke, swatch, text_scale, tick_width};
