@@ -49,7 +49,7 @@ fn bench_variants(c: &mut Criterion, device: &std::sync::Arc<Device>) -> meadow:
             let global = windy.then_some(GlobalWind { direction_deg: 30.0, strength: 0.3, gusts: true });
             let animation =
                 AnimationSettings { mode, eval, wind: Wind { global, ..Default::default() }, ..Default::default() };
-            check_scene(device, BLADES, SEGMENTS, SIZE, &animation)?;
+            check_scene(device, BLADES, SEGMENTS, SIZE, &animation, false)?;
             let settings = RenderSettings {
                 segments: SEGMENTS,
                 color_format: OFFSCREEN_FORMAT,
@@ -61,6 +61,7 @@ fn bench_variants(c: &mut Criterion, device: &std::sync::Arc<Device>) -> meadow:
                 pipeline_statistics: false,
                 submission: Default::default(),
                 debug_bounds: false,
+                floor: false,
             };
             let mut renderer = Renderer::new(device.clone(), &scene, settings, animation)?;
             let mut failure = None;

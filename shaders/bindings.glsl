@@ -16,7 +16,7 @@ layout(set = SET_SCENE, binding = BINDING_CORNERS, std430) readonly buffer Corne
 layout(set = SET_SCENE, binding = BINDING_EMITTERS, std430) readonly buffer Emitters { vec4 emitters[]; };
 layout(set = SET_ANIMATION, binding = BINDING_KEYFRAMES) uniform sampler2D keyframe_texture;
 // Keyframes as a uniform array (thesis 4.4.2): two keyframe words per uvec4 half; the array fills
-// min(maxUniformBufferRange, 64 KiB), set by the pipeline (`render::animation::KeyframeUniforms::capacity`).
+// min(maxUniformBufferRange, 64 KiB), set by the pipeline (`render::animation::keyframe_gpu::KeyframeUniforms::capacity`).
 // A buffer block, so sizing it by a specialization constant is fine; arrays in shader code are
 // sized by the fixed limits of shared.glsl.
 layout(constant_id = SPEC_KEYFRAME_UVEC4S) const uint KEYFRAME_UVEC4S = 4096u;

@@ -1,5 +1,11 @@
-//! The commands behind the CLI: `render` and `devices`. `main.rs` parses arguments into these
-//! options and prints what they return.
+//! The commands behind the CLI: `render`, `devices` and `keyframes` ([`keyframes`]), and what the
+//! other tools share: opening a device ([`with_device`]), the limit and scene checks, and writing
+//! PNG and text files atomically. [`crate::cli`] parses arguments into these options and prints
+//! what they return.
+
+mod keyframe_report;
+
+pub use keyframe_report::{keyframes, KeyframeOptions};
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -10,13 +16,13 @@ use ash::vk;
 use crate::error::{Error, Result};
 use crate::render::animation::{AnimationSettings, KeyframeTexture, KeyframeUniforms};
 use crate::render::target::{offscreen_bytes, OFFSCREEN_FORMAT};
-
-/// Most cluster corners meadow computes forces for each frame.
-pub const MAX_CORNERS: u32 = 1 << 20;
 use crate::render::{FrameTimings, OffscreenTarget, RenderSettings, Renderer};
 use crate::scene::{blades, BladeInstance, Camera, Scene};
 use crate::vk::device::{format_bytes, DeviceInfo};
 use crate::vk::{Device, DeviceDesc, DeviceSelector, Instance, InstanceDesc};
+
+/// Most cluster corners meadow computes forces for each frame.
+pub const MAX_CORNERS: u32 = 1 << 20;
 
 /// Options every GPU command takes.
 #[derive(Clone, Debug, Default)]
@@ -94,6 +100,10 @@ pub struct RenderOptions {
     pub time: f32,
     /// Colour blades by force magnitude.
     pub debug_force: bool,
+    /// Draw the force clusters' edges over the picture.
+    pub debug_bounds: bool,
+    /// Draw the benchmark floor instead of the blades (`--mode floor`).
+    pub floor: bool,
     /// How the blade draws are submitted.
     pub submission: crate::render::submission::Submission,
 }
@@ -155,12 +165,13 @@ pub fn check_scene(
     segments: u32,
     size: (u32, u32),
     animation: &AnimationSettings,
+    floor: bool,
 ) -> Result<()> {
     use crate::render::animation::{Eval, Mode, MAX_EMITTERS};
     let field_m = crate::scene::blades::field_size(blades);
     check_limits(device, blades, size, crate::scene::terrain::Terrain::cells_for(field_m))?;
     KeyframeTexture::check_limits(device, animation.poses)?;
-    if animation.mode == Mode::Floor {
+    if floor {
         // Pre-expanded vertices, plus their staging copy during the upload.
         let vertices = u64::from(blades) * u64::from(2 * segments + 4);
         device.check_budget(2 * 12 * vertices, &format!("--mode floor with {blades} blades"))?;
@@ -245,7 +256,7 @@ pub fn write_png(path: &Path, size: (u32, u32), rgba: &[u8]) -> Result<()> {
 /// `meadow render`: build the scene, render it headless, write the PNG.
 pub fn render(device: &Arc<Device>, options: &RenderOptions) -> Result<RenderReport> {
     check_output(&options.out)?;
-    check_scene(device, options.blades, options.segments, options.size, &options.animation)?;
+    check_scene(device, options.blades, options.segments, options.size, &options.animation, options.floor)?;
     if options.submission.clusters > options.blades {
         return Err(Error::bad_input(format!(
             "--clusters {} exceeds --blades {}: a cluster holds a blade at least",
@@ -264,10 +275,11 @@ pub fn render(device: &Arc<Device>, options: &RenderOptions) -> Result<RenderRep
         frames_in_flight: 1,
         blades_per_instance: options.blades_per_instance,
         debug_force: options.debug_force,
+        debug_bounds: options.debug_bounds,
+        floor: options.floor,
         wireframe: false,
         pipeline_statistics: true,
         submission: options.submission,
-        debug_bounds: false,
     };
     let mut renderer = Renderer::new(device.clone(), &scene, settings, options.animation.clone())?;
     let extent = vk::Extent2D { width: options.size.0, height: options.size.1 };
@@ -311,132 +323,6 @@ pub fn median(values: &mut [f64]) -> f64 {
     } else {
         values[mid]
     }
-}
-
-/// `meadow keyframes` options.
-#[derive(Clone, Debug)]
-pub struct KeyframeOptions {
-    /// Poses over the full circle.
-    pub poses: u32,
-    /// Segments of meadow's blade.
-    pub segments: u32,
-    /// Print the compression figures.
-    pub report: bool,
-    /// Write the keyframe texture (unorm16) as a 16-bit RGBA PNG.
-    pub export: Option<PathBuf>,
-}
-
-/// `meadow keyframes`: generate the table, print its compression figures (thesis 3.3) and the
-/// measured encoding errors (4.4), optionally export the texture as a picture. CPU only.
-pub fn keyframes(options: &KeyframeOptions) -> Result<String> {
-    use crate::keyframes::compression::{BladeGeometry, CompressionReport};
-    use crate::keyframes::encoding::{self, Encoding};
-    use crate::keyframes::{BladeModel, KeyframeLayout, KeyframeTable};
-    use std::fmt::Write;
-
-    if let Some(path) = &options.export {
-        check_output(path)?;
-    }
-    let started = Instant::now();
-    let layout = KeyframeLayout::for_poses(options.poses);
-    let table = KeyframeTable::generate(&BladeModel::new(options.segments), layout);
-    let generation_ms = started.elapsed().as_secs_f64() * 1e3;
-    let mut out = String::new();
-    let _ = writeln!(
-        out,
-        "keyframes: {} x {} segments generated in {generation_ms:.1} ms: {} magnitudes x {} angles = {} stored, {} represented with the mirrors",
-        options.poses,
-        options.segments,
-        layout.magnitudes,
-        layout.angles,
-        layout.stored(),
-        layout.represented()
-    );
-    if options.report {
-        let _ = write!(out, "{}", CompressionReport::new(BladeGeometry::thesis(8), options.poses));
-        let _ = write!(out, "{}", CompressionReport::new(BladeGeometry::meadow(options.segments), options.poses));
-        let e8 = encoding::max_error(200_001, |x| encoding::d1(encoding::e1(x)));
-        let e16 = encoding::max_error(200_001, |x| encoding::decode_rgba8x2(encoding::e1(x), encoding::e2(x)));
-        let u16e = encoding::max_error(200_001, |x| encoding::decode_unorm16(encoding::encode_unorm16(x)));
-        let m1 = encoding::max_error(200_001, |x| encoding::thesis_extract1(encoding::thesis_merge(x, 0.3)));
-        let m2 = encoding::max_error(200_001, |x| encoding::thesis_extract2(encoding::thesis_merge(-0.7, x)));
-        let snorm = encoding::max_error(200_001, |x| encoding::unpack_snorm2x16(encoding::pack_snorm2x16(0.5, x)).1);
-        let _ =
-            writeln!(out, "measured max round-trip errors over [-1, 1] (thesis: d8 ~ 7.9125e-3, d16 ~ 3.05175e-5):");
-        let _ = writeln!(out, "  one byte (e1/d1)                   {e8:.4e}");
-        let _ = writeln!(out, "  two bytes rgba8x2 (e1,e2 / d1+d2)  {e16:.4e}");
-        let _ = writeln!(out, "  unorm16                            {u16e:.4e}");
-        let _ = writeln!(out, "  uniform merge/extract1 in f32      {m1:.4e}");
-        // Worst case over both values in [-1, 0.9], away from the wrap-around near 1: there the
-        // rounding of the merged float (ulp up to 2^-22) carries f2 into f1 and f2 reads as -1.
-        let m2_inner = (0..=40)
-            .map(|j| -1.0 + 1.9 * j as f32 / 40.0)
-            .flat_map(|f1| {
-                (0..5001).map(move |i| {
-                    let x = -1.0 + 1.9 * i as f32 / 5000.0;
-                    (encoding::thesis_extract2(encoding::thesis_merge(f1, x)) - x).abs()
-                })
-            })
-            .fold(0.0f32, f32::max);
-        let _ = writeln!(out, "  uniform merge/extract2 in f32      {m2:.4e}  (wraps near 1: the merged float's rounding carries f2 into f1)");
-        let _ = writeln!(
-            out,
-            "  uniform merge/extract2 on [-1, 0.9] {m2_inner:.4e}  (not 16-bit: f32 keeps 24 significant bits)"
-        );
-        let _ = writeln!(out, "  exact snorm16x2 packing            {snorm:.4e}");
-        // The curve representation: 3 records per pose whatever the segment count.
-        let curve = KeyframeTable::generate_curve(layout);
-        let _ = writeln!(
-            out,
-            "curve keyframes (3 control points, 4 x 16 bit each, a quarter stored): {} bits per table for any segment count",
-            u64::from(layout.stored()) * 3 * 4 * 16
-        );
-        let fine = KeyframeTable::generate(&BladeModel::new(crate::keyframes::table::CURVE_FIT_SEGMENTS), layout);
-        for s in [4u32, 8, 16] {
-            let vertex = KeyframeTable::generate(&BladeModel::new(s), layout);
-            let mut worst = 0.0f32;
-            let mut chain_worst = 0.0f32;
-            for row in 0..layout.stored() {
-                let control: Vec<glam::Vec3> = (1..=3)
-                    .map(|r| {
-                        let k = curve.keyframe(row, r);
-                        curve.straight(r) + glam::Vec3::new(k[0], k[1], k[2])
-                    })
-                    .collect();
-                let cp = [glam::Vec3::ZERO, control[0], control[1], control[2]];
-                for level in 1..=s {
-                    let k = vertex.keyframe(row, level);
-                    let chain = vertex.straight(level) + glam::Vec3::new(k[0], k[1], k[2]);
-                    let on_curve = crate::scene::bezier::point(&cp, level as f32 / s as f32);
-                    worst = worst.max((on_curve - chain).length());
-                    // The same point of the 16-segment chain the curve was fitted to.
-                    let fine_level = level * crate::keyframes::table::CURVE_FIT_SEGMENTS / s;
-                    let f = fine.keyframe(row, fine_level);
-                    let fine_point = fine.straight(fine_level) + glam::Vec3::new(f[0], f[1], f[2]);
-                    chain_worst = chain_worst.max((fine_point - chain).length());
-                }
-            }
-            let vertex_bits = u64::from(layout.stored()) * u64::from(s) * 4 * 16;
-            let _ = writeln!(
-                out,
-                "  vs vertex keyframes at {s:>2} segments ({vertex_bits:>7} bits): largest level error {:.2} % of the blade length; that chain itself lies up to {:.2} % from the 16-segment chain the curve is fitted to",
-                100.0 * worst,
-                100.0 * chain_worst
-            );
-        }
-    }
-    if let Some(path) = &options.export {
-        let (width, height, bytes) = encoding::texture_texels(&table, Encoding::Unorm16);
-        let words: Vec<u16> = bytes.chunks_exact(2).map(|b| u16::from_le_bytes([b[0], b[1]])).collect();
-        let image =
-            image::ImageBuffer::<image::Rgba<u16>, _>::from_raw(width, height, words).expect("texels match the size");
-        let tmp = path.with_extension("png.tmp");
-        let io = |source: std::io::Error| Error::Io { path: path.display().to_string(), source };
-        image.save_with_format(&tmp, image::ImageFormat::Png).map_err(|e| io(std::io::Error::other(e.to_string())))?;
-        std::fs::rename(&tmp, path).map_err(io)?;
-        let _ = writeln!(out, "wrote {} ({width}x{height}, RGBA16: displacement xyz, twist / (pi/2))", path.display());
-    }
-    Ok(out)
 }
 
 /// Write a text file atomically (temporary file renamed into place).

@@ -33,7 +33,7 @@ pub enum Error {
     /// imported): a bug, reported rather than panicking.
     #[error("internal error: {0}")]
     Internal(String),
-    /// Drawing a chart failed (see [`crate::plot`]).
+    /// Drawing a chart failed (the measuring harness draws PNG charts).
     #[error("plot: {0}")]
     Plot(String),
     /// Reading or writing a file failed.

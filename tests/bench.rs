@@ -21,11 +21,20 @@ fn tiny_matrix_writes_json_csv_and_a_table() {
 
     let doc: Value = serde_json::from_str(&std::fs::read_to_string(dir.join("bench.json")).expect("bench.json"))
         .expect("valid JSON");
+    assert_follows_schema(&doc);
+    assert_rows_measured(&doc);
+    assert_csv_is_tidy(&dir);
+    assert_compare_flags_a_regression(&dir, &doc);
+}
+
+/// The document has the schema version, follows docs/bench.schema.json (whose validator does
+/// catch a violation) and carries the fields every document does.
+fn assert_follows_schema(doc: &Value) {
     assert_eq!(doc["schema_version"], 1);
     let schema_path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/bench.schema.json");
     let schema: Value =
         serde_json::from_str(&std::fs::read_to_string(schema_path).expect("schema")).expect("schema JSON");
-    let violations = support::schema::validate(&schema, &doc);
+    let violations = support::schema::validate(&schema, doc);
     assert!(violations.is_empty(), "bench.json against docs/bench.schema.json: {violations:#?}");
     // The validator does catch a violation.
     let mut broken = doc.clone();
@@ -34,6 +43,11 @@ fn tiny_matrix_writes_json_csv_and_a_table() {
     for key in ["device", "driver", "driver_info", "build_profile", "git_commit", "resolution", "rows"] {
         assert!(!doc[key].is_null(), "missing {key}");
     }
+}
+
+/// Two rows of six variants, each with two measured frames of positive times and the pipeline
+/// statistics of the blade pass.
+fn assert_rows_measured(doc: &Value) {
     let rows = doc["rows"].as_array().expect("rows");
     assert_eq!(rows.len(), 2);
     let variants: Vec<&str> =
@@ -66,6 +80,10 @@ fn tiny_matrix_writes_json_csv_and_a_table() {
             assert!(stats["fragment_invocations"].as_u64().expect("fragment invocations") > 0);
         }
     }
+}
+
+/// bench.csv: the header, then one line of 11 fields per row x variant x frame.
+fn assert_csv_is_tidy(dir: &std::path::Path) {
     let csv = std::fs::read_to_string(dir.join("bench.csv")).expect("bench.csv");
     let mut lines = csv.lines();
     assert_eq!(
@@ -79,8 +97,10 @@ fn tiny_matrix_writes_json_csv_and_a_table() {
         assert_eq!(fields.len(), 11, "{line}");
         assert!(fields[4].parse::<f64>().expect("gpu_ms") > 0.0);
     }
+}
 
-    // --compare: identical runs pass; doubling the texture times is a regression.
+/// --compare: identical runs pass; doubling the texture times is a regression.
+fn assert_compare_flags_a_regression(dir: &std::path::Path, doc: &Value) {
     let same = meadow()
         .arg("bench")
         .arg("--compare")

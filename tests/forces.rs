@@ -9,7 +9,7 @@ use meadow::app::{with_device, GpuOptions};
 use meadow::render::animation;
 use meadow::render::shaders;
 use meadow::render::uniforms::FrameUniforms;
-use meadow::scene::clusters::ClusterGrid;
+use meadow::scene::clusters::{BladeCluster, ClusterGrid};
 use meadow::scene::{BladeInstance, Scene};
 use meadow::vk::descriptor::{self, Binding, Resource};
 use meadow::vk::{commands, pipeline, sync, Access, Buffer, BufferDesc, Device, DeviceSelector};
@@ -32,23 +32,7 @@ fn gpu_forces(device: &Arc<Device>, case: &Case) -> meadow::Result<(Vec<Vec2>, V
     let clusters = case.grid.assign(case.blades);
     let corners = animation::corner_forces(&case.grid, case.wind, case.time, case.attenuation);
     let emitters = animation::emitters(case.wind, case.time);
-    let uniforms = FrameUniforms {
-        keyframes: UVec4::new(0, 0, case.wind.sources.len() as u32, case.grid.corners_per_side()),
-        keyframe_shape: UVec4::new(0, case.wind.colliders.len() as u32, 0, 0),
-        ..bytemuck::Zeroable::zeroed()
-    };
-    let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
-    let upload = |name: &str, bytes: &[u8], usage| {
-        Buffer::with_data(device, &BufferDesc::upload(name, bytes.len() as u64, usage), bytes)
-    };
-    let mut buffers = vec![
-        upload("frame", bytemuck::bytes_of(&uniforms), vk::BufferUsageFlags::UNIFORM_BUFFER)?,
-        upload("blades", bytemuck::cast_slice(case.blades), storage)?,
-        upload("clusters", bytemuck::cast_slice(&clusters), storage)?,
-        upload("corners", bytemuck::cast_slice(&corners), storage)?,
-        upload("emitters", bytemuck::cast_slice(&emitters), storage)?,
-    ];
-    buffers.push(Buffer::new(device, &BufferDesc::readback("forces", 8 * case.blades.len() as u64, storage))?);
+    let buffers = buffers(device, case, &clusters, &corners, &emitters)?;
     let compute = vk::ShaderStageFlags::COMPUTE;
     let mut bindings = vec![Binding { binding: 0, kind: vk::DescriptorType::UNIFORM_BUFFER, stages: compute }];
     bindings.extend((1..6).map(|b| Binding { binding: b, kind: vk::DescriptorType::STORAGE_BUFFER, stages: compute }));
@@ -102,17 +86,50 @@ fn gpu_forces(device: &Arc<Device>, case: &Case) -> meadow::Result<(Vec<Vec2>, V
         }
     }
     submitted?;
+    let cpu = cpu_forces(case, &clusters, &corners, &emitters);
+    Ok((gpu, cpu))
+}
+
+/// The shader's inputs (frame uniforms, blades, their clusters, corner forces, emitters) and its
+/// host-visible output, in binding order.
+fn buffers(
+    device: &Arc<Device>,
+    case: &Case,
+    clusters: &[BladeCluster],
+    corners: &[Vec4],
+    emitters: &[Vec4],
+) -> meadow::Result<Vec<Buffer>> {
+    let uniforms = FrameUniforms {
+        keyframes: UVec4::new(0, 0, case.wind.sources.len() as u32, case.grid.corners_per_side()),
+        keyframe_shape: UVec4::new(0, case.wind.colliders.len() as u32, 0, 0),
+        ..bytemuck::Zeroable::zeroed()
+    };
+    let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
+    let upload = |name: &str, bytes: &[u8], usage| {
+        Buffer::with_data(device, &BufferDesc::upload(name, bytes.len() as u64, usage), bytes)
+    };
+    let mut buffers = vec![
+        upload("frame", bytemuck::bytes_of(&uniforms), vk::BufferUsageFlags::UNIFORM_BUFFER)?,
+        upload("blades", bytemuck::cast_slice(case.blades), storage)?,
+        upload("clusters", bytemuck::cast_slice(clusters), storage)?,
+        upload("corners", bytemuck::cast_slice(corners), storage)?,
+        upload("emitters", bytemuck::cast_slice(emitters), storage)?,
+    ];
+    buffers.push(Buffer::new(device, &BufferDesc::readback("forces", 8 * case.blades.len() as u64, storage))?);
+    Ok(buffers)
+}
+
+/// The CPU reference of every blade's force.
+fn cpu_forces(case: &Case, clusters: &[BladeCluster], corners: &[Vec4], emitters: &[Vec4]) -> Vec<Vec2> {
     let sources = case.wind.sources.len();
-    let cpu = case
-        .blades
+    case.blades
         .iter()
-        .zip(&clusters)
+        .zip(clusters)
         .map(|(b, c)| {
             let root = Vec2::new(b.position[0], b.position[2]);
-            animation::blade_force(&case.grid, c, &corners, &emitters, sources, case.attenuation, root)
+            animation::blade_force(&case.grid, c, corners, emitters, sources, case.attenuation, root)
         })
-        .collect();
-    Ok((gpu, cpu))
+        .collect()
 }
 
 fn assert_close(gpu: &[Vec2], cpu: &[Vec2], what: &str) {

@@ -239,6 +239,7 @@ fn after_a_failed_submission_every_slot_can_be_waited_and_reused() {
             pipeline_statistics: false,
             submission: Default::default(),
             debug_bounds: false,
+            floor: false,
         };
         let mut renderer = Renderer::new(device.clone(), &scene, settings, Default::default())?;
         let mut target = OffscreenTarget::new(device, vk::Extent2D { width: 16, height: 16 })?;

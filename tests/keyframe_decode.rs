@@ -87,21 +87,7 @@ fn decode_on_gpu(device: &Arc<Device>, source: Source) -> meadow::Result<(Keyfra
     let words = KeyframeUniforms::new(&mut batch, &table, packing)?;
     batch.submit()?;
     let count = table.frames.len();
-    let uniforms = FrameUniforms {
-        params: UVec4::new(SEGMENTS, 0, 0, 0),
-        keyframes: UVec4::new(table.layout.magnitudes, table.layout.angles, 0, 0),
-        keyframe_shape: UVec4::new(SEGMENTS, 0, 0, 0),
-        ..bytemuck::Zeroable::zeroed()
-    };
-    let frame = Buffer::with_data(
-        device,
-        &BufferDesc::upload(
-            "decode frame",
-            std::mem::size_of::<FrameUniforms>() as u64,
-            vk::BufferUsageFlags::UNIFORM_BUFFER,
-        ),
-        bytemuck::bytes_of(&uniforms),
-    )?;
+    let frame = frame_buffer(device, &table)?;
     let out =
         Buffer::new(device, &BufferDesc::readback("decoded", 16 * count as u64, vk::BufferUsageFlags::STORAGE_BUFFER))?;
     let cs = vk::ShaderStageFlags::COMPUTE;
@@ -140,21 +126,7 @@ fn decode_on_gpu(device: &Arc<Device>, source: Source) -> meadow::Result<(Keyfra
             (3, vk::DescriptorType::STORAGE_BUFFER, Resource::Buffer(out.descriptor())),
         ],
     );
-    let submitted = commands::submit_and_wait(device, "decode", |cmd| {
-        // SAFETY: all objects are live.
-        unsafe {
-            device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipe);
-            device.raw.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::COMPUTE, layout, 0, &sets, &[]);
-            device.raw.cmd_dispatch(cmd, (count as u32).div_ceil(64), 1, 1);
-        }
-        sync::cmd_barriers(
-            device,
-            cmd,
-            &[sync::buffer_barrier(out.raw, &[Access::ComputeShaderWrite], &[Access::HostRead])],
-            &[],
-        );
-        Ok(())
-    });
+    let submitted = dispatch(device, pipe, layout, &sets, count, out.raw);
     let decoded = bytemuck::cast_slice::<u8, [f32; 4]>(out.mapped()).to_vec();
     // SAFETY: submit_and_wait waited.
     unsafe {
@@ -168,6 +140,51 @@ fn decode_on_gpu(device: &Arc<Device>, source: Source) -> meadow::Result<(Keyfra
         texture.destroy(device);
     }
     submitted.map(|()| (table, decoded))
+}
+
+/// The frame uniforms the decode shader reads: the segment count and the table's layout.
+fn frame_buffer(device: &Arc<Device>, table: &KeyframeTable) -> meadow::Result<Buffer> {
+    let uniforms = FrameUniforms {
+        params: UVec4::new(SEGMENTS, 0, 0, 0),
+        keyframes: UVec4::new(table.layout.magnitudes, table.layout.angles, 0, 0),
+        keyframe_shape: UVec4::new(SEGMENTS, 0, 0, 0),
+        ..bytemuck::Zeroable::zeroed()
+    };
+    Buffer::with_data(
+        device,
+        &BufferDesc::upload(
+            "decode frame",
+            std::mem::size_of::<FrameUniforms>() as u64,
+            vk::BufferUsageFlags::UNIFORM_BUFFER,
+        ),
+        bytemuck::bytes_of(&uniforms),
+    )
+}
+
+/// Run the decode shader over `count` keyframes and make its output visible to the host.
+fn dispatch(
+    device: &Arc<Device>,
+    pipe: vk::Pipeline,
+    layout: vk::PipelineLayout,
+    sets: &[vk::DescriptorSet],
+    count: usize,
+    out: vk::Buffer,
+) -> meadow::Result<()> {
+    commands::submit_and_wait(device, "decode", |cmd| {
+        // SAFETY: all objects are live.
+        unsafe {
+            device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipe);
+            device.raw.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::COMPUTE, layout, 0, sets, &[]);
+            device.raw.cmd_dispatch(cmd, (count as u32).div_ceil(64), 1, 1);
+        }
+        sync::cmd_barriers(
+            device,
+            cmd,
+            &[sync::buffer_barrier(out, &[Access::ComputeShaderWrite], &[Access::HostRead])],
+            &[],
+        );
+        Ok(())
+    })
 }
 
 #[test]

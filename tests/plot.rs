@@ -1,9 +1,9 @@
-//! `meadow::plot` without a GPU: every chart kind writes a decodable PNG of the requested size
+//! `meadow::harness::plot` without a GPU: every chart kind writes a decodable PNG of the requested size
 //! that shows the series colours; bad input is refused as `Error::BadInput` and writes nothing.
 
 use std::path::{Path, PathBuf};
 
-use meadow::plot::{self, Panel, Scale, Series};
+use meadow::harness::plot::{self, Panel, Scale, Series};
 use meadow::Error;
 
 /// The first palette colours of `plot` (Tableau 10), in series order.

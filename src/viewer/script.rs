@@ -85,8 +85,10 @@ impl Script {
                 }
             };
             let action = match verb {
-                "camera" => Action::Camera(crate::cli::camera(one("camera X,Y,Z,YAW,PITCH")?).map_err(|e| fail(&e))?),
-                "time" => Action::Time(crate::cli::time(one("time SECONDS")?).map_err(|e| fail(&e))?),
+                "camera" => {
+                    Action::Camera(crate::cli::values::camera(one("camera X,Y,Z,YAW,PITCH")?).map_err(|e| fail(&e))?)
+                }
+                "time" => Action::Time(crate::cli::values::time(one("time SECONDS")?).map_err(|e| fail(&e))?),
                 "pause" => Action::Pause,
                 "key" => match args.as_slice() {
                     [name, "down"] => Action::Key(name.to_string(), true),
@@ -97,11 +99,11 @@ impl Script {
                 "click" => {
                     let xy = one("click X,Y")?;
                     let (x, y) = xy.split_once(',').ok_or_else(|| fail("click X,Y"))?;
-                    let parse = |v: &str| crate::cli::finite_f32(v).map(f64::from).map_err(|e| fail(&e));
+                    let parse = |v: &str| crate::cli::values::finite_f32(v).map(f64::from).map_err(|e| fail(&e));
                     Action::Click(parse(x)?, parse(y)?)
                 }
                 "resize" => {
-                    let (w, h) = crate::cli::size(one("resize WxH")?).map_err(|e| fail(&e))?;
+                    let (w, h) = crate::cli::values::size(one("resize WxH")?).map_err(|e| fail(&e))?;
                     Action::Resize(w, h)
                 }
                 "minimise" | "minimize" => Action::Minimise,

@@ -12,8 +12,9 @@ use ash::vk;
 use serde_json::{json, Value};
 
 use crate::app::write_text;
-use crate::bench::summary;
 use crate::error::{Error, Result};
+use crate::harness::document::summary;
+use crate::harness::Progress;
 use crate::render::animation::{AnimationSettings, Mode};
 use crate::render::submission::{Strategy, Submission};
 use crate::render::target::OFFSCREEN_FORMAT;
@@ -44,91 +45,27 @@ pub struct OverheadOptions {
 
 /// Run the measurement; `progress(done, total)` after every frame. Returns the JSON document.
 pub fn run(device: &Arc<Device>, options: &OverheadOptions, mut progress: impl FnMut(u64, u64)) -> Result<Value> {
-    if options.strategies.is_empty() || options.clusters.is_empty() {
-        return Err(Error::bad_input("nothing to measure: give at least one strategy and one cluster count"));
-    }
-    if let Some(c) = options.clusters.iter().find(|c| **c > options.blades) {
-        return Err(Error::bad_input(format!(
-            "--clusters {c} exceeds --blades {}: a cluster holds a blade at least",
-            options.blades
-        )));
-    }
+    check(options)?;
     std::fs::create_dir_all(&options.out)
         .map_err(|source| Error::Io { path: options.out.display().to_string(), source })?;
     let cells = crate::scene::Terrain::cells_for(crate::scene::blades::field_size(options.blades));
     crate::app::check_limits(device, options.blades, options.size, cells)?;
     let scene = Scene::generate(options.blades, 1);
     let camera = Camera::default_for(&scene.terrain);
+    let setup = Setup { device, camera, scene, options };
     let extent = vk::Extent2D { width: options.size.0, height: options.size.1 };
     let total = (options.clusters.len() * options.strategies.len()) as u64 * u64::from(options.warmup + options.frames);
-    let mut done = 0;
+    let mut progress = Progress::new(total, &mut progress);
     let mut rows = Vec::new();
     let mut target = OffscreenTarget::new(device, extent)?;
-    let result = (|| {
-        for &clusters in &options.clusters {
-            // Build what the device supports; the rest is reported.
-            let mut renderers = Vec::new();
-            for &strategy in &options.strategies {
-                if let Some(why) = strategy.unsupported(device, clusters) {
-                    rows.push(json!({ "clusters": clusters, "strategy": strategy.name(), "unsupported": why }));
-                    done += u64::from(options.warmup + options.frames);
-                    continue;
-                }
-                let settings = RenderSettings {
-                    segments: options.segments,
-                    color_format: OFFSCREEN_FORMAT,
-                    encode_srgb: true,
-                    frames_in_flight: 1,
-                    blades_per_instance: 1,
-                    debug_force: false,
-                    wireframe: false,
-                    pipeline_statistics: false,
-                    submission: Submission { strategy, clusters },
-                    debug_bounds: false,
-                };
-                let animation = AnimationSettings { mode: Mode::Static, ..Default::default() };
-                renderers.push((strategy, Renderer::new(device.clone(), &scene, settings, animation)?));
-            }
-            let mut frames: Vec<Vec<[f64; 3]>> = vec![Vec::new(); renderers.len()];
-            for round in 0..options.warmup + options.frames {
-                for (i, (_, renderer)) in renderers.iter_mut().enumerate() {
-                    let t = renderer.render_offscreen(&mut target, &camera, 0.0)?;
-                    done += 1;
-                    progress(done, total);
-                    if round >= options.warmup {
-                        frames[i].push([t.cpu_record_ms * 1e3, t.cpu_submit_ms * 1e3, t.gpu_ms]);
-                    }
-                }
-            }
-            for ((strategy, _), frames) in renderers.iter().zip(&frames) {
-                let column = |k: usize| summary(&frames.iter().map(|f| f[k]).collect::<Vec<f64>>());
-                let (record, submit, gpu) = (column(0), column(1), column(2));
-                let median = |s: &Value| s["median"].as_f64().unwrap_or(0.0);
-                let (record_us, submit_us, gpu_ms) = (median(&record), median(&submit), median(&gpu));
-                let cpu_draws = strategy.blade_draws(clusters);
-                let gpu_draws = strategy.gpu_draws(clusters);
-                let cpu_s = (record_us + submit_us) * 1e-6;
-                rows.push(json!({
-                    "clusters": clusters,
-                    "strategy": strategy.name(),
-                    "draw_calls_recorded": cpu_draws,
-                    "draws_executed": gpu_draws,
-                    "cpu_record_us": record_us,
-                    "cpu_submit_us": submit_us,
-                    "cpu_record_us_p95": record["p95"],
-                    "ns_per_draw": record_us * 1e3 / f64::from(gpu_draws),
-                    "draws_per_second": if cpu_s > 0.0 { f64::from(gpu_draws) / cpu_s } else { 0.0 },
-                    "gpu_ms": gpu_ms,
-                    "frames": frames.iter().map(|f| json!({"cpu_record_us": f[0], "cpu_submit_us": f[1], "gpu_ms": f[2]})).collect::<Vec<_>>(),
-                }));
-            }
-        }
-        Ok::<(), Error>(())
-    })();
+    let result = options
+        .clusters
+        .iter()
+        .try_for_each(|&clusters| measure_clusters(&setup, &mut target, clusters, &mut progress, &mut rows));
     // SAFETY: every renderer waited for its frames when dropped (they are gone by now).
     unsafe { target.destroy(device) };
     result?;
-    Ok(crate::bench::document(
+    Ok(crate::harness::document::document(
         device,
         "overhead",
         options.size,
@@ -141,6 +78,101 @@ pub fn run(device: &Arc<Device>, options: &OverheadOptions, mut progress: impl F
         "rows": rows,
         }),
     ))
+}
+
+/// Refuse options with nothing to measure, or clusters without blades.
+fn check(options: &OverheadOptions) -> Result<()> {
+    if options.strategies.is_empty() || options.clusters.is_empty() {
+        return Err(Error::bad_input("nothing to measure: give at least one strategy and one cluster count"));
+    }
+    if let Some(c) = options.clusters.iter().find(|c| **c > options.blades) {
+        return Err(Error::bad_input(format!(
+            "--clusters {c} exceeds --blades {}: a cluster holds a blade at least",
+            options.blades
+        )));
+    }
+    Ok(())
+}
+
+/// What every cluster count is measured with: the device, the one static scene and its camera.
+struct Setup<'a> {
+    device: &'a Arc<Device>,
+    scene: Scene,
+    camera: Camera,
+    options: &'a OverheadOptions,
+}
+
+/// Every strategy at `clusters`: a row per strategy onto `rows`, unsupported ones with the reason.
+fn measure_clusters(
+    setup: &Setup,
+    target: &mut OffscreenTarget,
+    clusters: u32,
+    progress: &mut Progress,
+    rows: &mut Vec<Value>,
+) -> Result<()> {
+    let options = setup.options;
+    // Build what the device supports; the rest is reported.
+    let mut renderers = Vec::new();
+    for &strategy in &options.strategies {
+        if let Some(why) = strategy.unsupported(setup.device, clusters) {
+            rows.push(json!({ "clusters": clusters, "strategy": strategy.name(), "unsupported": why }));
+            progress.skipped(u64::from(options.warmup + options.frames));
+            continue;
+        }
+        let settings = RenderSettings {
+            segments: options.segments,
+            color_format: OFFSCREEN_FORMAT,
+            encode_srgb: true,
+            frames_in_flight: 1,
+            blades_per_instance: 1,
+            debug_force: false,
+            wireframe: false,
+            pipeline_statistics: false,
+            submission: Submission { strategy, clusters },
+            debug_bounds: false,
+            floor: false,
+        };
+        let animation = AnimationSettings { mode: Mode::Static, ..Default::default() };
+        renderers.push((strategy, Renderer::new(setup.device.clone(), &setup.scene, settings, animation)?));
+    }
+    let mut frames: Vec<Vec<[f64; 3]>> = vec![Vec::new(); renderers.len()];
+    for round in 0..options.warmup + options.frames {
+        for (i, (_, renderer)) in renderers.iter_mut().enumerate() {
+            let t = renderer.render_offscreen(target, &setup.camera, 0.0)?;
+            progress.rendered();
+            if round >= options.warmup {
+                frames[i].push([t.cpu_record_ms * 1e3, t.cpu_submit_ms * 1e3, t.gpu_ms]);
+            }
+        }
+    }
+    for ((strategy, _), frames) in renderers.iter().zip(&frames) {
+        rows.push(strategy_row(*strategy, clusters, frames));
+    }
+    Ok(())
+}
+
+/// The row of `strategy` at `clusters` from its measured frames (record µs, submit µs, GPU ms).
+fn strategy_row(strategy: Strategy, clusters: u32, frames: &[[f64; 3]]) -> Value {
+    let column = |k: usize| summary(&frames.iter().map(|f| f[k]).collect::<Vec<f64>>());
+    let (record, submit, gpu) = (column(0), column(1), column(2));
+    let median = |s: &Value| s["median"].as_f64().unwrap_or(0.0);
+    let (record_us, submit_us, gpu_ms) = (median(&record), median(&submit), median(&gpu));
+    let cpu_draws = strategy.blade_draws(clusters);
+    let gpu_draws = strategy.gpu_draws(clusters);
+    let cpu_s = (record_us + submit_us) * 1e-6;
+    json!({
+        "clusters": clusters,
+        "strategy": strategy.name(),
+        "draw_calls_recorded": cpu_draws,
+        "draws_executed": gpu_draws,
+        "cpu_record_us": record_us,
+        "cpu_submit_us": submit_us,
+        "cpu_record_us_p95": record["p95"],
+        "ns_per_draw": record_us * 1e3 / f64::from(gpu_draws),
+        "draws_per_second": if cpu_s > 0.0 { f64::from(gpu_draws) / cpu_s } else { 0.0 },
+        "gpu_ms": gpu_ms,
+        "frames": frames.iter().map(|f| json!({"cpu_record_us": f[0], "cpu_submit_us": f[1], "gpu_ms": f[2]})).collect::<Vec<_>>(),
+    })
 }
 
 /// The report table.
@@ -207,7 +239,7 @@ pub fn write(doc: &Value, dir: &Path) -> Result<()> {
 /// `overhead.png`: CPU record + submit per frame, recording ns per draw and GPU ms against the
 /// cluster count, one series per strategy.
 pub fn plot(doc: &Value, path: &Path) -> Result<()> {
-    use crate::plot::{line_panels, Panel, Scale, Series};
+    use crate::harness::plot::{line_panels, Panel, Scale, Series};
     let rows: Vec<&Value> =
         doc["rows"].as_array().into_iter().flatten().filter(|r| r["unsupported"].is_null()).collect();
     let mut strategies: Vec<&str> = Vec::new();

@@ -18,8 +18,8 @@ use ash::vk;
 use serde_json::{json, Value};
 
 use crate::app::RenderOptions;
-use crate::bench::{statistics_json, summary};
 use crate::error::{Error, Result, VkContext};
+use crate::harness::document::{statistics_json, summary};
 use crate::render::graph::Outputs;
 use crate::render::renderer::FrameSync;
 use crate::render::target::OFFSCREEN_FORMAT;
@@ -116,10 +116,11 @@ fn run_one(device: &Arc<Device>, scene: &Scene, options: &TimingOptions, frames_
         frames_in_flight,
         blades_per_instance: render.blades_per_instance,
         debug_force: render.debug_force,
+        debug_bounds: render.debug_bounds,
+        floor: render.floor,
         wireframe: false,
         pipeline_statistics: true,
         submission: render.submission,
-        debug_bounds: false,
     };
     let mut renderer = Renderer::new(device.clone(), scene, settings, render.animation.clone())?;
     let extent = vk::Extent2D { width: render.size.0, height: render.size.1 };
@@ -238,7 +239,7 @@ pub fn run(
     mut progress: impl FnMut(u64, u64),
 ) -> Result<(Value, Vec<f64>)> {
     let render = &options.render;
-    crate::app::check_scene(device, render.blades, render.segments, render.size, &render.animation)?;
+    crate::app::check_scene(device, render.blades, render.segments, render.size, &render.animation, render.floor)?;
     std::fs::create_dir_all(&options.out)
         .map_err(|source| Error::Io { path: options.out.display().to_string(), source })?;
     let scene = Scene::generate(render.blades, render.seed);
@@ -251,65 +252,27 @@ pub fn run(
     let mut comparison = Vec::new();
     let mut intervals_2 = Vec::new();
     for run in &runs {
-        let s = spans(run, anchor);
-        let wall = (run.ended - run.started).as_secs_f64();
-        let measured = s.gpu.last().map_or(0.0, |g| g.1) - s.cpu.first().map_or(0.0, |c| c.0);
-        let gpu_busy: f64 = s.gpu.iter().map(|g| g.1 - g.0).sum();
-        let cpu_busy: f64 = s.cpu.iter().map(|c| c.1 - c.0).sum();
-        let recording: f64 = s.recording.iter().map(|c| c.1 - c.0).sum();
-        let both = overlap(&s.recording, &s.gpu);
-        let waits: Vec<f64> = run.frames.iter().map(|f| f.timings.cpu_wait_ms).collect();
-        // Frame interval: between consecutive GPU frame ends, what a viewer would see.
-        let intervals: Vec<f64> = s.gpu.windows(2).map(|w| (w[1].1 - w[0].1) * 1e3).collect();
+        let (entry, intervals) = compare_run(run, anchor);
         if run.frames_in_flight == 2 {
-            intervals_2.clone_from(&intervals);
+            intervals_2 = intervals;
         }
-        comparison.push(json!({
-            "frames_in_flight": run.frames_in_flight,
-            "frames": run.frames.len(),
-            "fps": if measured > 0.0 { run.frames.len() as f64 / measured } else { 0.0 },
-            "wall_s": wall,
-            "gpu_busy_fraction": if measured > 0.0 { gpu_busy / measured } else { 0.0 },
-            "cpu_work_ms_per_frame": cpu_busy * 1e3 / run.frames.len().max(1) as f64,
-            "cpu_gpu_overlap_fraction": if recording > 0.0 { both / recording } else { 0.0 },
-            "cpu_wait_ms": summary(&waits),
-            "frame_interval_ms": summary(&intervals),
-            "clock": { "method": run.mapping.method, "deviation_ns": run.mapping.deviation_ns },
-        }));
+        comparison.push(entry);
     }
     // Per-pass percentiles and statistics: the 1-in-flight run, where frames do not queue.
     let base = &runs[0];
-    let mut names: Vec<&str> = Vec::new();
-    for f in &base.frames {
-        for p in &f.timings.passes {
-            if !names.contains(&p.name) {
-                names.push(p.name);
-            }
-        }
-    }
-    let passes: Vec<Value> = names
-        .iter()
-        .map(|name| {
-            let ms: Vec<f64> = base
-                .frames
-                .iter()
-                .flat_map(|f| f.timings.passes.iter().filter(|p| p.name == *name).map(|p| p.ms))
-                .collect();
-            json!({ "pass": name, "gpu_ms": summary(&ms) })
-        })
-        .collect();
+    let passes = pass_percentiles(base);
     let gpu: Vec<f64> = base.frames.iter().map(|f| f.timings.gpu_ms).collect();
     let record: Vec<f64> = base.frames.iter().map(|f| f.timings.cpu_record_ms).collect();
     let submit: Vec<f64> = base.frames.iter().map(|f| f.timings.cpu_submit_ms).collect();
     let statistics = base.frames.last().map_or(Value::Null, |f| statistics_json(&f.timings.passes));
-    let doc = crate::bench::document(
+    let doc = crate::harness::document::document(
         device,
         "timing",
         render.size,
         json!({
         "blades": render.blades,
         "segments": render.segments,
-        "mode": format!("{:?}", render.animation.mode).to_lowercase(),
+        "mode": if render.floor { "floor".into() } else { format!("{:?}", render.animation.mode).to_lowercase() },
         "warmup": options.warmup,
         "frames_per_run": render.frames,
         "timestamp_period_ns": device.limits().timestamp_period,
@@ -327,6 +290,57 @@ pub fn run(
         crate::app::write_text(path, &serde_json::to_string(&trace(&runs, anchor)).expect("serialises"))?;
     }
     Ok((doc, intervals_2))
+}
+
+/// A run's entry of the frames-in-flight comparison, and its frame intervals (ms between
+/// consecutive GPU frame ends).
+fn compare_run(run: &Run, anchor: Instant) -> (Value, Vec<f64>) {
+    let s = spans(run, anchor);
+    let wall = (run.ended - run.started).as_secs_f64();
+    let measured = s.gpu.last().map_or(0.0, |g| g.1) - s.cpu.first().map_or(0.0, |c| c.0);
+    let gpu_busy: f64 = s.gpu.iter().map(|g| g.1 - g.0).sum();
+    let cpu_busy: f64 = s.cpu.iter().map(|c| c.1 - c.0).sum();
+    let recording: f64 = s.recording.iter().map(|c| c.1 - c.0).sum();
+    let both = overlap(&s.recording, &s.gpu);
+    let waits: Vec<f64> = run.frames.iter().map(|f| f.timings.cpu_wait_ms).collect();
+    // Frame interval: between consecutive GPU frame ends, what a viewer would see.
+    let intervals: Vec<f64> = s.gpu.windows(2).map(|w| (w[1].1 - w[0].1) * 1e3).collect();
+    let entry = json!({
+        "frames_in_flight": run.frames_in_flight,
+        "frames": run.frames.len(),
+        "fps": if measured > 0.0 { run.frames.len() as f64 / measured } else { 0.0 },
+        "wall_s": wall,
+        "gpu_busy_fraction": if measured > 0.0 { gpu_busy / measured } else { 0.0 },
+        "cpu_work_ms_per_frame": cpu_busy * 1e3 / run.frames.len().max(1) as f64,
+        "cpu_gpu_overlap_fraction": if recording > 0.0 { both / recording } else { 0.0 },
+        "cpu_wait_ms": summary(&waits),
+        "frame_interval_ms": summary(&intervals),
+        "clock": { "method": run.mapping.method, "deviation_ns": run.mapping.deviation_ns },
+    });
+    (entry, intervals)
+}
+
+/// Per pass (in order of first appearance), the summary of its GPU times over the frames of `base`.
+fn pass_percentiles(base: &Run) -> Vec<Value> {
+    let mut names: Vec<&str> = Vec::new();
+    for f in &base.frames {
+        for p in &f.timings.passes {
+            if !names.contains(&p.name) {
+                names.push(p.name);
+            }
+        }
+    }
+    names
+        .iter()
+        .map(|name| {
+            let ms: Vec<f64> = base
+                .frames
+                .iter()
+                .flat_map(|f| f.timings.passes.iter().filter(|p| p.name == *name).map(|p| p.ms))
+                .collect();
+            json!({ "pass": name, "gpu_ms": summary(&ms) })
+        })
+        .collect()
 }
 
 /// Chrome trace-event JSON (chrome://tracing, ui.perfetto.dev): process 1 is the CPU (record,
@@ -449,5 +463,12 @@ pub fn write(doc: &Value, intervals: &[f64], dir: &std::path::Path) -> Result<()
         doc["mode"].as_str().unwrap_or("?")
     );
     let bins = (intervals.len() / 3).clamp(5, 40);
-    crate::plot::histogram(&dir.join("timing.png"), (1000, 560), &title, "ms between GPU frame ends", intervals, bins)
+    crate::harness::plot::histogram(
+        &dir.join("timing.png"),
+        (1000, 560),
+        &title,
+        "ms between GPU frame ends",
+        intervals,
+        bins,
+    )
 }

@@ -1,0 +1,197 @@
+//! The animation flags shared by `render`, `view` and `timing` (mode, keyframes, wind, sources,
+//! calm areas, colliders) and their conversion into [`AnimationSettings`].
+
+use clap::{Args, ValueEnum};
+
+use super::values;
+use crate::harness::bench::Column;
+use crate::keyframes::encoding::{Encoding, Packing};
+use crate::keyframes::{Representation, Smoothing};
+use crate::render::animation::{AnimationSettings, Eval, Mode};
+use crate::wind::{Attenuation, GlobalWind, Wind};
+
+#[derive(Clone, Copy, ValueEnum)]
+pub(crate) enum ModeArg {
+    /// Neutral blades, no forces.
+    Static,
+    /// Keyframes sampled from a texture in the vertex shader (thesis 4.4.1).
+    Texture,
+    /// Keyframes in a uniform array, two 16-bit values per word (thesis 4.4.2).
+    Uniform,
+    /// Benchmark floor: pre-expanded static triangles, flat colour.
+    Floor,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+pub(crate) enum PackingArg {
+    /// The thesis' merge/extract in a 32-bit float.
+    Thesis,
+    /// Two snorm16 in a uint (exact).
+    Snorm,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+pub(crate) enum RepresentationArg {
+    /// One record per vertex pair (the thesis).
+    Vertex,
+    /// Three displaced Bézier control points per pose, any segment count.
+    Curve,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+pub(crate) enum EvalArg {
+    /// Per vertex in the vertex shader.
+    Vertex,
+    /// Once per blade in a compute pass that evaluates every level.
+    Blade,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub(crate) enum DebugViewArg {
+    /// Force magnitude as colour, green (none) to red (strongest pose).
+    Force,
+    /// The force clusters' edges over the picture, coloured by the force at each corner.
+    Bounds,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+pub(crate) enum SmoothingArg {
+    Nearest,
+    Linear,
+    Slerp,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+pub(crate) enum EncodingArg {
+    Rgba8x2,
+    Unorm16,
+    Float32,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+pub(crate) enum AttenuationArg {
+    Cluster,
+    Blade,
+}
+
+#[derive(Args)]
+pub(crate) struct AnimationArgs {
+    /// Animation mode.
+    #[arg(long, value_enum, default_value = "texture")]
+    pub(crate) mode: ModeArg,
+    /// Keyframe poses over the full circle (a quarter is stored).
+    #[arg(long, default_value = "1000", value_parser = values::poses)]
+    pub(crate) poses: u32,
+    /// In-between poses (thesis 3.2.6).
+    #[arg(long, value_enum, default_value = "nearest")]
+    pub(crate) smoothing: SmoothingArg,
+    /// Keyframe texture encoding (thesis 4.4.1).
+    #[arg(long, value_enum, default_value = "unorm16")]
+    pub(crate) encoding: EncodingArg,
+    /// Uniform-array packing of two 16-bit values per word (thesis 4.4.2).
+    #[arg(long, value_enum, default_value = "snorm")]
+    pub(crate) packing: PackingArg,
+    /// Keyframe representation: per vertex pair (thesis) or Bézier control points.
+    #[arg(long, value_enum, default_value = "vertex")]
+    pub(crate) keyframes: RepresentationArg,
+    /// Where the per-blade part of the animation runs: every vertex, or once per blade (compute).
+    #[arg(long, value_enum, default_value = "vertex")]
+    pub(crate) eval: EvalArg,
+    /// Where point sources are attenuated (thesis 4.5): at cluster corners or per blade.
+    #[arg(long, value_enum, default_value = "cluster")]
+    pub(crate) attenuation: AttenuationArg,
+    /// Cluster edge in metres (thesis 3.2.2).
+    #[arg(long, default_value = "1.0", value_parser = values::cluster_size)]
+    pub(crate) cluster_size: f32,
+    /// Global wind: direction it blows towards (degrees from +x towards +z) and strength.
+    #[arg(long, value_name = "DIR_DEG,STRENGTH", default_value = "30,0.3", value_parser = values::wind, allow_hyphen_values = true)]
+    pub(crate) wind: (f32, f32),
+    /// Steady global wind, without gusts.
+    #[arg(long)]
+    pub(crate) no_gusts: bool,
+    /// Point wind source (eq. 4.1), optionally moving; repeatable.
+    #[arg(long, value_name = "X,Z,POWER,SIGMA[,VX,VZ]", value_parser = values::source, allow_hyphen_values = true)]
+    pub(crate) source: Vec<crate::wind::PointSource>,
+    /// Calm area where the wind is blocked (thesis 5.1); repeatable.
+    #[arg(long, value_name = "X0,Z0,X1,Z1", value_parser = values::calm, allow_hyphen_values = true)]
+    pub(crate) calm: Vec<crate::wind::CalmArea>,
+    /// Collider pushing blades aside (thesis 5.2): sphere:X,Y,Z,R or ellipsoid:X,Y,Z,RX,RY,RZ; repeatable.
+    #[arg(long, value_name = "SHAPE", value_parser = values::collider, allow_hyphen_values = true)]
+    pub(crate) collider: Vec<crate::wind::Collider>,
+    /// Simulation time of the picture in seconds.
+    #[arg(long, default_value = "0", value_parser = values::time)]
+    pub(crate) time: f32,
+}
+
+impl AnimationArgs {
+    pub(crate) fn settings(&self) -> AnimationSettings {
+        AnimationSettings {
+            mode: self.mode.animation(),
+            packing: match self.packing {
+                PackingArg::Thesis => Packing::Thesis,
+                PackingArg::Snorm => Packing::Snorm,
+            },
+            representation: match self.keyframes {
+                RepresentationArg::Vertex => Representation::Vertex,
+                RepresentationArg::Curve => Representation::Curve,
+            },
+            eval: self.eval.into(),
+            poses: self.poses,
+            smoothing: match self.smoothing {
+                SmoothingArg::Nearest => Smoothing::Nearest,
+                SmoothingArg::Linear => Smoothing::Linear,
+                SmoothingArg::Slerp => Smoothing::Slerp,
+            },
+            encoding: match self.encoding {
+                EncodingArg::Rgba8x2 => Encoding::Rgba8x2,
+                EncodingArg::Unorm16 => Encoding::Unorm16,
+                EncodingArg::Float32 => Encoding::Float32,
+            },
+            attenuation: match self.attenuation {
+                AttenuationArg::Cluster => Attenuation::Cluster,
+                AttenuationArg::Blade => Attenuation::Blade,
+            },
+            cluster_size: self.cluster_size,
+            wind: Wind {
+                global: Some(GlobalWind { direction_deg: self.wind.0, strength: self.wind.1, gusts: !self.no_gusts }),
+                sources: self.source.clone(),
+                calm: self.calm.clone(),
+                colliders: self.collider.clone(),
+            },
+        }
+    }
+}
+
+impl ModeArg {
+    /// The animation mode; the floor draws the static blades' triangles.
+    pub(crate) fn animation(self) -> Mode {
+        match self {
+            ModeArg::Static | ModeArg::Floor => Mode::Static,
+            ModeArg::Texture => Mode::Texture,
+            ModeArg::Uniform => Mode::Uniform,
+        }
+    }
+
+    /// Whether this is the floor reference pass.
+    pub(crate) fn is_floor(self) -> bool {
+        matches!(self, ModeArg::Floor)
+    }
+}
+
+impl From<ModeArg> for Column {
+    fn from(mode: ModeArg) -> Self {
+        match mode {
+            ModeArg::Floor => Column::Floor,
+            other => Column::Animated(other.animation()),
+        }
+    }
+}
+
+impl From<EvalArg> for Eval {
+    fn from(eval: EvalArg) -> Self {
+        match eval {
+            EvalArg::Vertex => Eval::Vertex,
+            EvalArg::Blade => Eval::Blade,
+        }
+    }
+}

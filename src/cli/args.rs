@@ -1,0 +1,277 @@
+//! The flag groups of the `meadow` subcommands, as clap parses them, and their conversion into
+//! the options of [`crate::app`] and the harness.
+
+use std::path::PathBuf;
+
+use clap::{Args, ValueEnum};
+
+use super::animation::{AnimationArgs, DebugViewArg, EvalArg, ModeArg};
+use super::values;
+use crate::app::{GpuOptions, RenderOptions};
+use crate::scene::Camera;
+use crate::vk::swapchain::PresentMode;
+use crate::vk::DeviceSelector;
+
+#[derive(Args)]
+pub(crate) struct KeyframeArgs {
+    /// Poses over the full circle (a quarter is stored).
+    #[arg(long, default_value = "1000", value_parser = values::poses)]
+    pub(crate) poses: u32,
+    /// Segments of the blade.
+    #[arg(long, default_value = "4", value_parser = values::segments)]
+    pub(crate) segments: u32,
+    /// Print raw and compressed sizes (thesis 3.3) and measured encoding errors (4.4).
+    #[arg(long)]
+    pub(crate) report: bool,
+    /// Write the keyframe texture as a 16-bit PNG.
+    #[arg(long, value_name = "PATH.png")]
+    pub(crate) export: Option<PathBuf>,
+}
+
+#[derive(Args)]
+pub(crate) struct GpuArgs {
+    /// Enable the Khronos validation layer with synchronization validation; exit non-zero if it
+    /// reports anything.
+    #[arg(long)]
+    pub(crate) validation: bool,
+    /// Device index (see `meadow devices`) or a substring of its name.
+    #[arg(long, value_name = "INDEX|NAME")]
+    pub(crate) device: Option<String>,
+}
+
+#[derive(Args)]
+pub(crate) struct RenderArgs {
+    #[command(flatten)]
+    pub(crate) scene: SceneArgs,
+    /// Output PNG.
+    #[arg(long, default_value = "meadow.png")]
+    pub(crate) out: PathBuf,
+    /// Frames to render; the last is written, timings of all are summarised.
+    #[arg(long, default_value = "1", value_parser = clap::value_parser!(u32).range(1..=10_000))]
+    pub(crate) frames: u32,
+    #[command(flatten)]
+    pub(crate) submission: SubmissionArgs,
+    #[command(flatten)]
+    pub(crate) gpu: GpuArgs,
+}
+
+/// How the blade draws are submitted, for `render` and `timing`.
+#[derive(Args)]
+pub(crate) struct SubmissionArgs {
+    /// How the blade draws are submitted (see `meadow overhead`); the picture is the same.
+    #[arg(long, default_value = "instanced", value_parser = values::strategy)]
+    pub(crate) submission: crate::render::submission::Strategy,
+    /// Clusters (draws) of the per-cluster, indirect and secondary submissions.
+    #[arg(long, default_value = "64", value_parser = values::clusters)]
+    pub(crate) clusters: u32,
+}
+
+impl SubmissionArgs {
+    pub(crate) fn submission(&self) -> crate::render::submission::Submission {
+        crate::render::submission::Submission { strategy: self.submission, clusters: self.clusters }
+    }
+}
+
+/// Scene, animation and picture flags shared by `render` and `view`.
+#[derive(Args)]
+pub(crate) struct SceneArgs {
+    /// Number of grass blades (the field grows at a fixed density).
+    #[arg(long, default_value = "100000", value_parser = values::blade_count)]
+    pub(crate) blades: u32,
+    /// Bézier segments per blade (1..=16).
+    #[arg(long, default_value = "4", value_parser = values::segments)]
+    pub(crate) segments: u32,
+    /// Picture (or window) size.
+    #[arg(long, default_value = "1280x720", value_name = "WxH", value_parser = values::size)]
+    pub(crate) size: (u32, u32),
+    /// Seed of the terrain and the blade scatter.
+    #[arg(long, default_value = "1")]
+    pub(crate) seed: u64,
+    /// Camera position and orientation in degrees (default: 1.7 m above the field's edge).
+    #[arg(long, value_name = "X,Y,Z,YAW_DEG,PITCH_DEG", value_parser = values::camera, allow_hyphen_values = true)]
+    pub(crate) camera: Option<Camera>,
+    /// Blades per instance of the one blade draw (1 = classic per-blade instancing).
+    #[arg(long, default_value = "1", value_parser = values::blades_per_instance)]
+    pub(crate) blades_per_instance: u32,
+    #[command(flatten)]
+    pub(crate) animation: AnimationArgs,
+    /// Debug view: `force` colours blades by force magnitude (thesis fig. 4.5 / 6.1c); `bounds`
+    /// draws the force clusters' edges, coloured by the force at each corner.
+    #[arg(long, value_enum)]
+    pub(crate) debug_view: Option<DebugViewArg>,
+}
+
+impl SceneArgs {
+    pub(crate) fn options(&self, out: PathBuf, frames: u32) -> RenderOptions {
+        RenderOptions {
+            blades: self.blades,
+            segments: self.segments,
+            size: self.size,
+            seed: self.seed,
+            camera: self.camera,
+            out,
+            frames,
+            blades_per_instance: self.blades_per_instance,
+            animation: self.animation.settings(),
+            time: self.animation.time,
+            debug_force: self.debug_view == Some(DebugViewArg::Force),
+            debug_bounds: self.debug_view == Some(DebugViewArg::Bounds),
+            floor: self.animation.mode.is_floor(),
+            submission: Default::default(),
+        }
+    }
+}
+
+#[derive(Args)]
+pub(crate) struct ViewArgs {
+    #[command(flatten)]
+    pub(crate) scene: SceneArgs,
+    /// Presentation mode.
+    #[arg(long, value_enum, default_value = "fifo")]
+    pub(crate) present: PresentArg,
+    /// Frames in flight.
+    #[arg(long, default_value = "2", value_parser = clap::value_parser!(u32).range(1..=3))]
+    pub(crate) frames_in_flight: u32,
+    /// Quit after N frames.
+    #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
+    pub(crate) frames: Option<u64>,
+    /// Timed actions to play (see scripts/viewer/*.txt).
+    #[arg(long, value_name = "PATH")]
+    pub(crate) script: Option<PathBuf>,
+    /// Write the last frame to a PNG at exit.
+    #[arg(long, value_name = "PATH.png")]
+    pub(crate) screenshot: Option<PathBuf>,
+    /// Treat the swapchain as out of date every N frames (tests the re-create path).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
+    pub(crate) inject_out_of_date: Option<u32>,
+    #[command(flatten)]
+    pub(crate) gpu: GpuArgs,
+}
+
+#[derive(Args)]
+pub(crate) struct BenchArgs {
+    /// thesis: the 15 rows of Table 6.2 at 1280x720; quick: a small smoke matrix.
+    #[arg(long, value_enum, default_value = "quick")]
+    pub(crate) preset: PresetArg,
+    /// Blade counts (comma-separated), replacing the preset's.
+    #[arg(long, value_delimiter = ',', value_parser = values::blade_count)]
+    pub(crate) blades: Vec<u32>,
+    /// Segment counts (comma-separated), replacing the preset's.
+    #[arg(long, value_delimiter = ',', value_parser = values::segments)]
+    pub(crate) segments: Vec<u32>,
+    /// Modes (comma-separated).
+    #[arg(long, value_delimiter = ',', value_enum)]
+    pub(crate) modes: Vec<ModeArg>,
+    /// Evaluation placements of the keyframed modes (comma-separated).
+    #[arg(long, value_delimiter = ',', value_enum)]
+    pub(crate) eval: Vec<EvalArg>,
+    /// Picture size, replacing the preset's.
+    #[arg(long, value_name = "WxH", value_parser = values::size)]
+    pub(crate) size: Option<(u32, u32)>,
+    /// Frames per variant discarded first.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(0..=1000))]
+    pub(crate) warmup: Option<u32>,
+    /// Frames per variant measured.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=10_000))]
+    pub(crate) frames: Option<u32>,
+    /// Directory for bench.json and bench.csv.
+    #[arg(long, default_value = "bench-out")]
+    pub(crate) out: PathBuf,
+    /// Compare two bench.json files instead of measuring; exit 1 on a regression.
+    #[arg(long, num_args = 2, value_names = ["OLD.json", "NEW.json"])]
+    pub(crate) compare: Vec<PathBuf>,
+    /// Noise threshold of --compare, in percent.
+    #[arg(long, default_value = "10", value_parser = values::finite_f32)]
+    pub(crate) threshold: f32,
+    #[command(flatten)]
+    pub(crate) gpu: GpuArgs,
+}
+
+#[derive(Args)]
+pub(crate) struct TimingArgs {
+    #[command(flatten)]
+    pub(crate) scene: SceneArgs,
+    /// Frames measured per run (one run each with 1, 2 and 3 frames in flight).
+    #[arg(long, default_value = "30", value_parser = clap::value_parser!(u32).range(1..=10_000))]
+    pub(crate) frames: u32,
+    /// Frames discarded at the start of each run.
+    #[arg(long, default_value = "2", value_parser = clap::value_parser!(u32).range(0..=1000))]
+    pub(crate) warmup: u32,
+    /// Write a Chrome-trace / Perfetto JSON of CPU and GPU spans on one timeline.
+    #[arg(long, value_name = "PATH.json")]
+    pub(crate) trace: Option<PathBuf>,
+    /// Directory for timing.json and the frame-time histogram.
+    #[arg(long, default_value = "timing-out")]
+    pub(crate) out: PathBuf,
+    #[command(flatten)]
+    pub(crate) submission: SubmissionArgs,
+    #[command(flatten)]
+    pub(crate) gpu: GpuArgs,
+}
+
+#[derive(Args)]
+pub(crate) struct OverheadArgs {
+    /// Blades of the scene.
+    #[arg(long, default_value = "100000", value_parser = values::blade_count)]
+    pub(crate) blades: u32,
+    /// Segments per blade.
+    #[arg(long, default_value = "2", value_parser = values::segments)]
+    pub(crate) segments: u32,
+    /// Cluster counts (comma-separated): the draws of the per-cluster strategies.
+    #[arg(long, value_delimiter = ',', default_value = "1,100,1000,10000", value_parser = values::clusters)]
+    pub(crate) clusters: Vec<u32>,
+    /// Strategies (comma-separated): instanced, per-cluster, indirect, mdi, mdi-count, secondary, prerecorded.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "instanced,per-cluster,indirect,mdi,mdi-count,secondary,prerecorded",
+        value_parser = values::strategy
+    )]
+    pub(crate) strategies: Vec<crate::render::submission::Strategy>,
+    /// Picture size.
+    #[arg(long, value_name = "WxH", default_value = "320x180", value_parser = values::size)]
+    pub(crate) size: (u32, u32),
+    /// Frames per strategy discarded first.
+    #[arg(long, default_value = "3", value_parser = clap::value_parser!(u32).range(0..=1000))]
+    pub(crate) warmup: u32,
+    /// Frames per strategy measured.
+    #[arg(long, default_value = "20", value_parser = clap::value_parser!(u32).range(1..=10_000))]
+    pub(crate) frames: u32,
+    /// Directory for overhead.json, overhead.csv and overhead.png.
+    #[arg(long, default_value = "overhead-out")]
+    pub(crate) out: PathBuf,
+    #[command(flatten)]
+    pub(crate) gpu: GpuArgs,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+pub(crate) enum PresetArg {
+    Thesis,
+    Quick,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+pub(crate) enum PresentArg {
+    Fifo,
+    Mailbox,
+    Immediate,
+}
+
+impl GpuArgs {
+    pub(crate) fn options(&self) -> GpuOptions {
+        GpuOptions {
+            validation: self.validation,
+            device: self.device.as_deref().map(DeviceSelector::parse).unwrap_or_default(),
+        }
+    }
+}
+
+impl From<PresentArg> for PresentMode {
+    fn from(present: PresentArg) -> Self {
+        match present {
+            PresentArg::Fifo => PresentMode::Fifo,
+            PresentArg::Mailbox => PresentMode::Mailbox,
+            PresentArg::Immediate => PresentMode::Immediate,
+        }
+    }
+}

@@ -1,0 +1,97 @@
+//! The subcommands that run once and print a short report: `render`, `view`, `keyframes` and
+//! `devices`. Each returns its exit code and the validation message count (if validating).
+
+use std::path::PathBuf;
+
+use super::args::{GpuArgs, KeyframeArgs, RenderArgs, ViewArgs};
+use crate::app::{self, RenderReport};
+use crate::viewer::ViewerOptions;
+
+/// `meadow render`.
+pub(crate) fn render(args: RenderArgs) -> (u8, Option<u64>) {
+    let mut options = args.scene.options(args.out.clone(), args.frames);
+    options.submission = args.submission.submission();
+    let (result, validation) = app::with_device(&args.gpu.options(), false, |device| app::render(device, &options));
+    (finish(result.map(|report| print_render(&report))), validation)
+}
+
+/// `meadow view`. A script that does not load is `Err(exit code)`, before any window opens.
+pub(crate) fn view(args: ViewArgs) -> Result<(u8, Option<u64>), u8> {
+    let script =
+        args.script.as_deref().map(crate::viewer::script::Script::load).transpose().map_err(|e| finish(Err(e)))?;
+    let options = ViewerOptions {
+        scene: args.scene.options(PathBuf::new(), 1),
+        present: args.present.into(),
+        frames_in_flight: args.frames_in_flight as usize,
+        frames: args.frames,
+        script,
+        screenshot: args.screenshot,
+        inject_out_of_date: args.inject_out_of_date,
+    };
+    let (result, validation) = crate::viewer::run(&args.gpu.options(), options);
+    let code = finish(result.map(|report| {
+        println!(
+            "viewer: {} frames, {} swapchains created (at most {} alive at once), {} re-creations",
+            report.frames, report.swapchains.0, report.swapchains.1, report.recreations
+        );
+        if !report.stats.is_empty() {
+            println!("stats: {}", report.stats);
+        }
+    }));
+    Ok((code, validation))
+}
+
+/// `meadow keyframes`.
+pub(crate) fn keyframes(args: KeyframeArgs) -> (u8, Option<u64>) {
+    let options =
+        app::KeyframeOptions { poses: args.poses, segments: args.segments, report: args.report, export: args.export };
+    (finish(app::keyframes(&options).map(|text| print!("{text}"))), None)
+}
+
+/// `meadow devices`.
+pub(crate) fn devices(args: GpuArgs) -> (u8, Option<u64>) {
+    let (result, validation) = app::devices(&args.options());
+    let code = finish(result.map(|devices| {
+        for device in devices {
+            println!("{device}");
+        }
+    }));
+    (code, validation)
+}
+
+/// The exit code of a command's result; an error is printed as one `error: …` line.
+pub(crate) fn finish(result: crate::Result<()>) -> u8 {
+    match result {
+        Ok(()) => 0,
+        Err(e) => {
+            eprintln!("error: {e}");
+            e.exit_code() as u8
+        }
+    }
+}
+
+/// What `meadow render` prints: device, scene, GPU and CPU cost of the last frame, the file.
+fn print_render(report: &RenderReport) {
+    let d = &report.device;
+    println!("device: {} ({}, driver {} [{}])", d.name, d.api_version, d.driver_version, d.driver_info);
+    println!("scene: {} blades x {} segments on a {:.1} m field", report.blades, report.segments, report.field_m);
+    println!(
+        "triangles: {} ({} blades + {} terrain)",
+        report.triangles.0 + report.triangles.1,
+        report.triangles.0,
+        report.triangles.1
+    );
+    let last = report.frames.last().expect("at least one frame");
+    let passes: Vec<String> = last.passes.iter().map(|p| format!("{} {:.3} ms", p.name, p.ms)).collect();
+    println!("gpu: {:.3} ms ({})", last.gpu_ms, passes.join(", "));
+    let cpu = last.cpu_record_ms + last.cpu_submit_ms + last.cpu_wait_ms;
+    println!(
+        "cpu: {cpu:.3} ms (record {:.3} ms, submit {:.3} ms, wait {:.3} ms); setup {:.0} ms",
+        last.cpu_record_ms, last.cpu_submit_ms, last.cpu_wait_ms, report.setup_ms
+    );
+    if report.frames.len() > 1 {
+        let mut gpu: Vec<f64> = report.frames.iter().map(|f| f.gpu_ms).collect();
+        println!("gpu median over {} frames: {:.3} ms", gpu.len(), app::median(&mut gpu));
+    }
+    println!("wrote {} ({}x{})", report.out.display(), report.size.0, report.size.1);
+}

@@ -1,0 +1,142 @@
+//! The measuring subcommands `bench`, `overhead` and `timing`: their flags become the options of
+//! [`crate::harness`], which runs on the chosen device behind a progress bar.
+
+use std::path::PathBuf;
+
+use super::args::{BenchArgs, GpuArgs, OverheadArgs, PresetArg, TimingArgs};
+use super::commands::finish;
+use crate::app;
+use crate::harness::bench::Column;
+use crate::render::animation::Eval;
+
+/// Run a measuring command on the device of `gpu`: a progress bar with ETA on a terminal (none
+/// otherwise) fed by `run`'s `progress(done, total)`, then `report` of its result. Returns the
+/// exit code and the validation count.
+pub(crate) fn measure<T>(
+    gpu: &GpuArgs,
+    unit: &str,
+    run: impl FnOnce(&std::sync::Arc<crate::vk::Device>, &mut dyn FnMut(u64, u64)) -> crate::Result<T>,
+    report: impl FnOnce(T),
+) -> (u8, Option<u64>) {
+    let bar = std::io::IsTerminal::is_terminal(&std::io::stderr()).then(|| {
+        let bar = indicatif::ProgressBar::new(0);
+        let template = format!("{{bar:40}} {{pos}}/{{len}} {unit}, {{elapsed}} elapsed, ETA {{eta}}");
+        bar.set_style(indicatif::ProgressStyle::with_template(&template).expect("valid template"));
+        bar
+    });
+    let (result, validation) = app::with_device(&gpu.options(), false, |device| {
+        run(device, &mut |done, total| {
+            if let Some(bar) = &bar {
+                bar.set_length(total);
+                bar.set_position(done);
+            }
+        })
+    });
+    if let Some(bar) = bar {
+        bar.finish_and_clear();
+    }
+    (finish(result.map(report)), validation)
+}
+
+/// `meadow timing`. Returns the exit code and validation count.
+pub(crate) fn timing(args: TimingArgs) -> (u8, Option<u64>) {
+    use crate::harness::timing::{self, TimingOptions};
+    let mut render = args.scene.options(PathBuf::new(), args.frames);
+    render.submission = args.submission.submission();
+    let options = TimingOptions { render, warmup: args.warmup, trace: args.trace, out: args.out };
+    measure(
+        &args.gpu,
+        "runs",
+        |device, progress| {
+            let (doc, intervals) = timing::run(device, &options, progress)?;
+            timing::write(&doc, &intervals, &options.out)?;
+            Ok(doc)
+        },
+        |doc| {
+            print!("{}", timing::report(&doc));
+            if let Some(trace) = &options.trace {
+                println!("wrote {}", trace.display());
+            }
+            println!("wrote {}/timing.json and timing.png", options.out.display());
+        },
+    )
+}
+
+/// `meadow overhead`. Returns the exit code and validation count.
+pub(crate) fn overhead(args: OverheadArgs) -> (u8, Option<u64>) {
+    use crate::harness::overhead::{self, OverheadOptions};
+    let options = OverheadOptions {
+        blades: args.blades,
+        segments: args.segments,
+        clusters: args.clusters,
+        strategies: args.strategies,
+        size: args.size,
+        warmup: args.warmup,
+        frames: args.frames,
+        out: args.out,
+    };
+    measure(
+        &args.gpu,
+        "frames",
+        |device, progress| {
+            let doc = overhead::run(device, &options, progress)?;
+            overhead::write(&doc, &options.out)?;
+            Ok(doc)
+        },
+        |doc| {
+            print!("{}", overhead::table(&doc));
+            println!("wrote {}/overhead.json, overhead.csv and overhead.png", options.out.display());
+        },
+    )
+}
+
+/// `meadow bench`: measure, or compare two runs. Returns the exit code and validation count.
+pub(crate) fn bench(args: BenchArgs) -> crate::Result<(u8, Option<u64>)> {
+    use crate::harness::bench;
+    if let [old, new] = args.compare.as_slice() {
+        let (report, regressed) = bench::compare(&bench::load(old)?, &bench::load(new)?, f64::from(args.threshold));
+        print!("{report}");
+        return Ok((u8::from(regressed), None));
+    }
+    let mut options = match args.preset {
+        PresetArg::Thesis => bench::BenchOptions::thesis(args.out.clone()),
+        PresetArg::Quick => bench::BenchOptions::quick(args.out.clone()),
+    };
+    let preset_blades: Vec<u32> = options.rows.iter().map(|r| r.0).collect();
+    let preset_segments: Vec<u32> = options.rows.iter().map(|r| r.1).collect();
+    if !args.blades.is_empty() || !args.segments.is_empty() {
+        let blades = if args.blades.is_empty() { dedup(preset_blades) } else { args.blades.clone() };
+        let segments = if args.segments.is_empty() { dedup(preset_segments) } else { args.segments.clone() };
+        options.rows = segments.iter().flat_map(|s| blades.iter().map(move |b| (*b, *s))).collect();
+    }
+    if !args.modes.is_empty() {
+        options.modes = args.modes.iter().map(|&m| Column::from(m)).collect();
+    }
+    if !args.eval.is_empty() {
+        options.evals = args.eval.iter().map(|&e| Eval::from(e)).collect();
+    }
+    options.size = args.size.unwrap_or(options.size);
+    options.warmup = args.warmup.unwrap_or(options.warmup);
+    options.frames = args.frames.unwrap_or(options.frames);
+    Ok(measure(
+        &args.gpu,
+        "frames",
+        |device, progress| {
+            let doc = bench::run(device, &options, progress)?;
+            bench::write(&doc, &options.out)?;
+            Ok(doc)
+        },
+        |doc| {
+            print!("{}", bench::table(&doc));
+            print!("\n{}", bench::statistics_table(&doc));
+            println!("wrote {}/bench.json, bench.csv and bench.png", options.out.display());
+        },
+    ))
+}
+
+/// `values` sorted, each once.
+fn dedup(mut values: Vec<u32>) -> Vec<u32> {
+    values.sort_unstable();
+    values.dedup();
+    values
+}

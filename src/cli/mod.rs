@@ -1,0 +1,95 @@
+//! The command line of the `meadow` binary: clap's types ([`args`], [`animation`]), the value
+//! parsers ([`values`]) and the dispatch of each subcommand to [`crate::app`], [`crate::harness`]
+//! or [`crate::viewer`] ([`commands`], [`measure`]). `src/main.rs` only calls [`parse()`] and
+//! [`run`].
+
+pub mod animation;
+pub mod args;
+pub mod commands;
+pub mod measure;
+pub mod values;
+
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+use args::{BenchArgs, GpuArgs, KeyframeArgs, OverheadArgs, RenderArgs, TimingArgs, ViewArgs};
+
+/// A real-time grass renderer on raw Vulkan.
+#[derive(Parser)]
+#[command(name = "meadow", version, about)]
+pub struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+pub(crate) enum Command {
+    /// Render the grass field headless to a PNG and print what it cost.
+    Render(RenderArgs),
+    /// Open the interactive viewer (needs a display).
+    View(ViewArgs),
+    /// Measure static / texture / uniform / floor side by side (thesis Table 6.2), or compare runs.
+    Bench(BenchArgs),
+    /// Measure draw-submission overhead: the same blades drawn instanced, per cluster, indirectly,
+    /// from secondaries recorded on threads, or pre-recorded.
+    Overhead(OverheadArgs),
+    /// Study a frame's GPU and CPU timing: per-pass percentiles, pipeline statistics, 1/2/3
+    /// frames in flight, a frame-time histogram and a Chrome/Perfetto trace.
+    Timing(TimingArgs),
+    /// List the Vulkan devices with their drivers.
+    Devices(GpuArgs),
+    /// Generate the keyframe table; report its compression figures and export it as a picture.
+    Keyframes(KeyframeArgs),
+}
+
+/// Parse the process arguments. `--help` and `--version` are printed and give `Err(SUCCESS)`; a
+/// bad command line is one `error: …` line on stderr and `Err(2)`.
+pub fn parse() -> Result<Cli, ExitCode> {
+    match Cli::try_parse() {
+        Ok(cli) => Ok(cli),
+        Err(e) if !e.use_stderr() => {
+            // --help, --version
+            let _ = e.print();
+            Err(ExitCode::SUCCESS)
+        }
+        Err(e) => {
+            // One line: clap's first line already reads "error: …".
+            let text = e.to_string();
+            eprintln!("{}", text.lines().next().unwrap_or("error: invalid arguments"));
+            Err(ExitCode::from(2))
+        }
+    }
+}
+
+/// Run the parsed command. The exit code is the command's, or 1 when the validation layer
+/// (`--validation`) reported anything, whose message count is printed last.
+pub fn run(cli: Cli) -> ExitCode {
+    let ran = match cli.command {
+        Command::Render(args) => Ok(commands::render(args)),
+        Command::View(args) => commands::view(args),
+        Command::Bench(args) => measure::bench(args).map_err(|e| commands::finish(Err(e))),
+        Command::Keyframes(args) => Ok(commands::keyframes(args)),
+        Command::Overhead(args) => Ok(measure::overhead(args)),
+        Command::Timing(args) => Ok(measure::timing(args)),
+        Command::Devices(args) => Ok(commands::devices(args)),
+    };
+    match ran {
+        Ok((code, validation)) => exit_code(code, validation),
+        Err(code) => ExitCode::from(code),
+    }
+}
+
+/// The process exit code of a command that returned `code`, after printing the validation count.
+fn exit_code(code: u8, validation: Option<u64>) -> ExitCode {
+    match validation {
+        Some(count) => {
+            println!("validation: {count} messages");
+            if count > 0 && code == 0 {
+                return ExitCode::from(1);
+            }
+            ExitCode::from(code)
+        }
+        None => ExitCode::from(code),
+    }
+}

@@ -1,0 +1,289 @@
+//! What `meadow bench` makes of its JSON document: the thesis-shaped table, the pipeline
+//! statistics table, the CSV, the chart, and the comparison of two runs.
+
+use std::path::Path;
+
+use serde_json::Value;
+
+use super::THESIS_TABLE;
+use crate::app::write_text;
+use crate::error::{Error, Result};
+use crate::harness::document::SCHEMA_VERSION;
+
+/// Pipeline statistics of the blade (or floor) pass per row and variant: what the driver was
+/// asked to do, to read the frame times against.
+pub fn statistics_table(doc: &Value) -> String {
+    let mut out = format!(
+        "{:>9} {:>4} {:<16} {:>12} {:>12} {:>12} {:>14} {:>9}\n",
+        "blades", "seg", "variant", "VS invoc.", "clip prims", "FS invoc.", "FS/pixel", "ns/vertex"
+    );
+    let pixels =
+        doc["resolution"].as_array().map_or(1.0, |r| r.iter().filter_map(Value::as_f64).product::<f64>().max(1.0));
+    for row in doc["rows"].as_array().into_iter().flatten() {
+        for v in row["variants"].as_array().into_iter().flatten() {
+            let s = &v["pipeline_statistics"]["blades"];
+            let Some(vs) = s["vertex_invocations"].as_u64() else { continue };
+            let fs = s["fragment_invocations"].as_u64().unwrap_or(0);
+            let ms = v["gpu_ms"]["median"].as_f64().unwrap_or(0.0);
+            out.push_str(&format!(
+                "{:>9} {:>4} {:<16} {:>12} {:>12} {:>12} {:>14.2} {:>9.1}\n",
+                row["blades"].as_u64().unwrap_or(0),
+                row["segments"].as_u64().unwrap_or(0),
+                v["variant"].as_str().unwrap_or(""),
+                vs,
+                s["clipping_primitives"].as_u64().unwrap_or(0),
+                fs,
+                fs as f64 / pixels,
+                if vs > 0 { ms * 1e6 / vs as f64 } else { 0.0 },
+            ));
+        }
+    }
+    out.push_str(
+        "blade-pass counts from pipeline statistics queries; ns/vertex: median frame time per vertex invocation\n",
+    );
+    out
+}
+
+/// Median GPU ms of `variant` in a row of the JSON document.
+pub fn median(row: &Value, variant: &str) -> Option<f64> {
+    row["variants"].as_array()?.iter().find(|v| v["variant"] == variant)?["gpu_ms"]["median"].as_f64()
+}
+
+/// The best (lowest) median of a keyframed mode over its evaluation placements.
+pub fn best(row: &Value, mode: &str) -> Option<f64> {
+    ["vertex", "blade"].iter().filter_map(|e| median(row, &format!("{mode}/{e}"))).min_by(f64::total_cmp)
+}
+
+/// The table shaped like thesis Table 6.2, with ratios next to the thesis' own.
+pub fn table(doc: &Value) -> String {
+    let mut out = String::new();
+    out.push_str(&format!(
+        "{:>9} {:>4} {:>10} | {:>7} {:>7} {:>7} | {:>6} {:>6} {:>6} | {:>6} {:>6} | {:>9}\n",
+        "blades", "seg", "triangles", "FPS N", "FPS T", "FPS U", "T/N", "U/N", "N/floor", "thT/N", "thU/N", "cpu ms"
+    ));
+    for row in doc["rows"].as_array().into_iter().flatten() {
+        let blades = row["blades"].as_u64().unwrap_or(0) as u32;
+        let segments = row["segments"].as_u64().unwrap_or(0) as u32;
+        let n = median(row, "static");
+        let t = best(row, "texture");
+        let u = best(row, "uniform");
+        let floor = median(row, "floor");
+        let fps = |ms: Option<f64>| ms.map_or("-".to_string(), |ms| format!("{:.2}", 1000.0 / ms));
+        let ratio = |a: Option<f64>, b: Option<f64>| match (a, b) {
+            (Some(a), Some(b)) => format!("{:.2}", a / b),
+            _ => "-".to_string(),
+        };
+        let thesis = THESIS_TABLE.iter().find(|r| r.0 == blades && r.1 == segments);
+        let (tt, tu) =
+            thesis.map_or(("-".into(), "-".into()), |r| (format!("{:.2}", r.2 / r.3), format!("{:.2}", r.2 / r.4)));
+        let cpu = row["variants"]
+            .as_array()
+            .and_then(|vs| vs.iter().find(|v| v["variant"] == "static"))
+            .and_then(|v| v["cpu_record_submit_ms"]["median"].as_f64())
+            .map_or("-".to_string(), |ms| format!("{ms:.3}"));
+        out.push_str(&format!(
+            "{:>9} {:>4} {:>10} | {:>7} {:>7} {:>7} | {:>6} {:>6} {:>6} | {:>6} {:>6} | {:>9}\n",
+            blades,
+            segments,
+            row["triangles"].as_u64().unwrap_or(0),
+            fps(n),
+            fps(t),
+            fps(u),
+            ratio(t, n),
+            ratio(u, n),
+            ratio(n, floor),
+            tt,
+            tu,
+            cpu
+        ));
+    }
+    out.push_str("T/N, U/N: frame-time ratios to static with the better evaluation placement; thT/N, thU/N: the thesis' (Table 6.2); cpu: record + submit of a static frame\n");
+    out
+}
+
+/// Tidy CSV: one line per measured frame.
+pub fn csv(doc: &Value) -> String {
+    let mut out = String::from(
+        "blades,segments,variant,frame,gpu_ms,cpu_record_ms,cpu_submit_ms,cpu_wait_ms,\
+         vertex_invocations,clipping_primitives,fragment_invocations\n",
+    );
+    for row in doc["rows"].as_array().into_iter().flatten() {
+        for v in row["variants"].as_array().into_iter().flatten() {
+            for (i, f) in v["frames"].as_array().into_iter().flatten().enumerate() {
+                // Statistics columns: the blade (or floor) pass; empty without statistics.
+                let stat = |name: &str| {
+                    f["pipeline_statistics"]["blades"][name].as_u64().map_or(String::new(), |v| v.to_string())
+                };
+                out.push_str(&format!(
+                    "{},{},{},{},{},{},{},{},{},{},{}\n",
+                    row["blades"],
+                    row["segments"],
+                    v["variant"].as_str().unwrap_or(""),
+                    i,
+                    f["gpu_ms"],
+                    f["cpu_record_ms"],
+                    f["cpu_submit_ms"],
+                    f["cpu_wait_ms"],
+                    stat("vertex_invocations"),
+                    stat("clipping_primitives"),
+                    stat("fragment_invocations"),
+                ));
+            }
+        }
+    }
+    out
+}
+
+/// Write bench.json, bench.csv and bench.png into `dir`.
+pub fn write(doc: &Value, dir: &Path) -> Result<()> {
+    let text = serde_json::to_string_pretty(doc).expect("a JSON value serialises");
+    write_text(&dir.join("bench.json"), &text)?;
+    write_text(&dir.join("bench.csv"), &csv(doc))?;
+    plot(doc, &dir.join("bench.png"))
+}
+
+/// `bench.png`: per segment count, the median frame time of every variant against the blade
+/// count (top row), and each variant's ratio to static (bottom row).
+pub fn plot(doc: &Value, path: &Path) -> Result<()> {
+    use crate::harness::plot::{line_panels, Panel, Scale, Series};
+    let rows: Vec<&Value> = doc["rows"].as_array().into_iter().flatten().collect();
+    let mut segments: Vec<u64> = rows.iter().filter_map(|r| r["segments"].as_u64()).collect();
+    segments.sort_unstable();
+    segments.dedup();
+    let mut names: Vec<String> = Vec::new();
+    for row in &rows {
+        for v in row["variants"].as_array().into_iter().flatten() {
+            let name = v["variant"].as_str().unwrap_or("").to_string();
+            if !names.contains(&name) {
+                names.push(name);
+            }
+        }
+    }
+    // Every variant in both rows, so a variant keeps its colour (static is 1 in the ratio row).
+    let series = |seg: u64, value: &dyn Fn(&Value, &str) -> Option<f64>| -> Vec<Series> {
+        names
+            .iter()
+            .map(|name| Series {
+                label: name.clone(),
+                points: rows
+                    .iter()
+                    .filter(|r| r["segments"].as_u64() == Some(seg))
+                    .filter_map(|r| Some((r["blades"].as_f64()?, value(r, name)?)))
+                    .filter(|p| p.1 > 0.0)
+                    .collect(),
+            })
+            .filter(|s| !s.points.is_empty())
+            .collect()
+    };
+    let many = rows.iter().filter(|r| r["segments"].as_u64() == segments.first().copied()).count() > 1;
+    let x_scale = if many { Scale::Log } else { Scale::Linear };
+    let mut panels = Vec::new();
+    for &seg in &segments {
+        panels.push(Panel {
+            title: format!("{seg} segments: frame time"),
+            x_label: "blades".into(),
+            y_label: "GPU ms (median)".into(),
+            x_scale,
+            y_scale: Scale::Log,
+            series: series(seg, &|r, n| median(r, n)),
+        });
+    }
+    for &seg in &segments {
+        panels.push(Panel {
+            title: format!("{seg} segments: ratio to static"),
+            x_label: "blades".into(),
+            y_label: "frame time / static".into(),
+            x_scale,
+            y_scale: Scale::Linear,
+            series: series(seg, &|r, n| Some(median(r, n)? / median(r, "static")?)),
+        });
+    }
+    panels.retain(|p| !p.series.is_empty());
+    if panels.is_empty() {
+        return Ok(());
+    }
+    let columns = segments.len().max(1);
+    let size = (560 * columns as u32, 900);
+    let title = format!(
+        "meadow bench: {} at {}x{}",
+        doc["device"].as_str().unwrap_or("?"),
+        doc["resolution"][0],
+        doc["resolution"][1]
+    );
+    line_panels(path, size, &title, &panels, columns)
+}
+
+/// Read a bench.json.
+pub fn load(path: &Path) -> Result<Value> {
+    let text = std::fs::read_to_string(path).map_err(|e| Error::bad_input(format!("{}: {e}", path.display())))?;
+    let doc: Value = serde_json::from_str(&text)
+        .map_err(|e| Error::bad_input(format!("{}: not a bench.json: {e}", path.display())))?;
+    if doc["schema_version"].as_u64() != Some(u64::from(SCHEMA_VERSION)) {
+        return Err(Error::bad_input(format!("{}: schema_version is not {SCHEMA_VERSION}", path.display())));
+    }
+    Ok(doc)
+}
+
+/// Compare two runs: per (row, variant) change of the median GPU time in %. Returns the report
+/// and whether any change is a regression beyond `threshold_pct`.
+pub fn compare(old: &Value, new: &Value, threshold_pct: f64) -> (String, bool) {
+    let mut out =
+        format!("{:>9} {:>4} {:<16} {:>10} {:>10} {:>8}\n", "blades", "seg", "variant", "old ms", "new ms", "change");
+    let mut regressed = false;
+    for row in new["rows"].as_array().into_iter().flatten() {
+        let same = old["rows"]
+            .as_array()
+            .into_iter()
+            .flatten()
+            .find(|r| r["blades"] == row["blades"] && r["segments"] == row["segments"]);
+        let Some(old_row) = same else { continue };
+        for v in row["variants"].as_array().into_iter().flatten() {
+            let name = v["variant"].as_str().unwrap_or("");
+            let (Some(a), Some(b)) = (median(old_row, name), median(row, name)) else { continue };
+            let change = 100.0 * (b - a) / a;
+            let flag = if change > threshold_pct {
+                regressed = true;
+                "  REGRESSION"
+            } else if change < -threshold_pct {
+                "  faster"
+            } else {
+                ""
+            };
+            out.push_str(&format!(
+                "{:>9} {:>4} {:<16} {:>10.3} {:>10.3} {:>7.1}%{flag}\n",
+                row["blades"], row["segments"], name, a, b, change
+            ));
+        }
+    }
+    out.push_str(&format!("noise threshold: {threshold_pct:.1} %\n"));
+    (out, regressed)
+}
+
+#[cfg(test)]
+mod tests {
+    use serde_json::json;
+
+    use super::*;
+
+    #[test]
+    fn ratios_come_from_the_right_rows_and_regressions_are_flagged() {
+        let row = |blades: u32, n: f64, t: f64| {
+            json!({"blades": blades, "segments": 4, "triangles": 8, "variants": [
+                {"variant": "static", "gpu_ms": {"median": n}, "cpu_record_submit_ms": {"median": 0.1}},
+                {"variant": "texture/vertex", "gpu_ms": {"median": t}},
+                {"variant": "texture/blade", "gpu_ms": {"median": t * 0.9}},
+            ]})
+        };
+        let doc = json!({"schema_version": 1, "rows": [row(40_000, 10.0, 12.0), row(360_000, 100.0, 150.0)]});
+        let t = table(&doc);
+        let lines: Vec<&str> = t.lines().collect();
+        assert!(lines[1].contains(" 1.08 "), "40k: 10.8 / 10: {}", lines[1]);
+        assert!(lines[2].contains(" 1.35 "), "360k: 135 / 100: {}", lines[2]);
+        assert!(lines[1].contains(" 1.08 ") && lines[1].contains("100.00"), "FPS N of 10 ms: {}", lines[1]);
+        let slower = json!({"schema_version": 1, "rows": [row(40_000, 10.0, 12.0), row(360_000, 130.0, 150.0)]});
+        let (report, regressed) = compare(&doc, &slower, 10.0);
+        assert!(regressed && report.contains("REGRESSION"), "{report}");
+        let (_, same) = compare(&doc, &doc, 10.0);
+        assert!(!same);
+    }
+}

@@ -1,0 +1,184 @@
+//! The viewer's event loop: window events, one tick per loop iteration (script actions, camera,
+//! a frame) and the exit screenshot.
+
+use std::path::PathBuf;
+use std::sync::atomic::Ordering;
+use std::time::{Duration, Instant};
+
+use winit::application::ApplicationHandler;
+use winit::dpi::PhysicalSize;
+use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
+use winit::event_loop::{ActiveEventLoop, ControlFlow};
+use winit::keyboard::PhysicalKey;
+use winit::window::WindowId;
+
+use super::keys::key_name;
+use super::script::Action;
+use super::{Viewer, HELP, INTERRUPTED};
+use crate::error::{Error, Result};
+
+impl Viewer {
+    /// One loop iteration: script actions, camera, and a frame unless minimised.
+    pub(super) fn tick(&mut self, event_loop: &ActiveEventLoop) -> Result<()> {
+        for action in self.script.due(self.tick) {
+            self.act(action)?;
+        }
+        self.tick += 1;
+        let now = Instant::now();
+        let dt = if self.fixed_step { 1.0 / 60.0 } else { (now - self.last_tick).as_secs_f32().min(0.1) };
+        self.last_tick = now;
+        self.control.update(dt, &self.scene.terrain);
+        if !self.paused {
+            self.time += dt;
+        }
+        let surface = self.surface.as_ref().expect("surface exists");
+        let size = surface.window.inner_size();
+        let minimised = size.width == 0 || size.height == 0 || surface.window.is_minimized() == Some(true);
+        if minimised {
+            // Nothing to draw into: sleep until an event or the next script tick, no busy loop.
+            self.minimised = true;
+            event_loop.set_control_flow(ControlFlow::WaitUntil(now + Duration::from_millis(50)));
+            return Ok(());
+        }
+        if self.minimised {
+            self.minimised = false;
+            self.needs_recreate = true;
+        }
+        event_loop.set_control_flow(ControlFlow::Poll);
+        self.render()?;
+        if self.options.frames.is_some_and(|n| self.frames >= n)
+            || (self.options.script.is_some() && self.script.is_empty() && self.options.frames.is_none())
+        {
+            self.quit = true;
+        }
+        Ok(())
+    }
+
+    pub(super) fn act(&mut self, action: Action) -> Result<()> {
+        let window = &self.surface.as_ref().expect("surface exists").window;
+        match action {
+            Action::Camera(camera) => self.control.camera = camera,
+            Action::Time(t) => self.time = t,
+            Action::Pause => self.paused = !self.paused,
+            Action::Key(name, pressed) => self.key(&name, pressed)?,
+            Action::Press(name) => {
+                self.key(&name, true)?;
+                self.key(&name, false)?;
+            }
+            Action::Click(x, y) => {
+                self.click(x, y);
+                self.dragging = false;
+            }
+            Action::Resize(w, h) => {
+                let _ = window.request_inner_size(PhysicalSize::new(w, h));
+                self.needs_recreate = true;
+            }
+            Action::Minimise => window.set_minimized(true),
+            Action::Restore => {
+                window.set_minimized(false);
+                self.needs_recreate = true;
+            }
+            Action::Screenshot(path) => self.screenshot = Some(PathBuf::from(path)),
+            Action::Quit => self.quit = true,
+        }
+        Ok(())
+    }
+}
+
+impl ApplicationHandler for Viewer {
+    fn resumed(&mut self, event_loop: &ActiveEventLoop) {
+        if self.surface.is_none() {
+            println!("{HELP}");
+            if let Err(e) = self.create_surface(event_loop) {
+                self.fail(event_loop, e);
+            }
+        }
+    }
+
+    fn window_event(&mut self, event_loop: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
+        let result = match event {
+            WindowEvent::CloseRequested => {
+                self.quit = true;
+                Ok(())
+            }
+            WindowEvent::Resized(_) => {
+                self.needs_recreate = true;
+                Ok(())
+            }
+            WindowEvent::KeyboardInput { event, .. } => match (event.physical_key, event.repeat) {
+                (PhysicalKey::Code(code), false) => match key_name(code) {
+                    Some(name) => self.key(name, event.state == ElementState::Pressed),
+                    None => Ok(()),
+                },
+                _ => Ok(()),
+            },
+            WindowEvent::CursorMoved { position, .. } => {
+                self.cursor = (position.x, position.y);
+                self.control.cursor(position.x, position.y);
+                if self.dragging {
+                    if let Some(hit) = self.pick(position.x, position.y) {
+                        if let Some(source) = self.renderer.as_mut().and_then(|r| r.wind_mut().sources.last_mut()) {
+                            source.position = hit;
+                        }
+                    }
+                }
+                Ok(())
+            }
+            WindowEvent::MouseInput { state, button, .. } => {
+                let pressed = state == ElementState::Pressed;
+                match button {
+                    MouseButton::Right => self.control.look_button(pressed),
+                    MouseButton::Left if pressed => self.click(self.cursor.0, self.cursor.1),
+                    MouseButton::Left => self.dragging = false,
+                    _ => {}
+                }
+                Ok(())
+            }
+            WindowEvent::MouseWheel { delta, .. } => {
+                let steps = match delta {
+                    MouseScrollDelta::LineDelta(_, y) => y,
+                    MouseScrollDelta::PixelDelta(p) => (p.y / 40.0) as f32,
+                };
+                self.control.wheel(steps);
+                Ok(())
+            }
+            _ => Ok(()),
+        };
+        if let Err(e) = result {
+            self.fail(event_loop, e);
+        }
+    }
+
+    fn about_to_wait(&mut self, event_loop: &ActiveEventLoop) {
+        if self.surface.is_none() || self.error.is_some() {
+            return;
+        }
+        if INTERRUPTED.load(Ordering::SeqCst) {
+            self.quit = true;
+        }
+        if !self.quit {
+            if let Err(e) = self.tick(event_loop) {
+                self.fail(event_loop, e);
+                return;
+            }
+        }
+        if self.quit {
+            if let Some(path) = self.options.screenshot.take() {
+                // The exit screenshot: one more frame, written to the file.
+                self.screenshot = Some(path.clone());
+                let rendered = self.render().and_then(|()| match self.screenshot {
+                    Some(_) => Err(Error::Environment(format!(
+                        "--screenshot {}: the window has no area (minimised), nothing to capture",
+                        path.display()
+                    ))),
+                    None => Ok(()),
+                });
+                if let Err(e) = rendered {
+                    self.fail(event_loop, e);
+                    return;
+                }
+            }
+            event_loop.exit();
+        }
+    }
+}

@@ -1,0 +1,232 @@
+//! The viewer's keys and mouse clicks: named keys (from the window or a script) change the
+//! camera, wind, sources, colliders and render settings; a click drops a wind source.
+
+use std::path::PathBuf;
+
+use glam::{Vec2, Vec3, Vec4};
+use winit::keyboard::KeyCode;
+
+use super::{Viewer, HELP};
+use crate::error::Result;
+use crate::keyframes::Smoothing;
+use crate::render::animation::{Eval, Mode};
+use crate::scene::Scene;
+use crate::wind::{Collider, PointSource};
+
+impl Viewer {
+    /// A named key went down or up (from the window or a script).
+    pub(super) fn key(&mut self, name: &str, pressed: bool) -> Result<()> {
+        if self.control.key(name, pressed) || !pressed {
+            return Ok(());
+        }
+        let renderer = self.renderer.as_mut().expect("renderer built");
+        let wind = renderer.wind_mut();
+        let mut rebuild = false;
+        match name {
+            "h" => println!("{HELP}"),
+            "escape" => self.quit = true,
+            "p" => self.paused = !self.paused,
+            "g" => self.control.walk = !self.control.walk,
+            "f12" => {
+                self.screenshots_taken += 1;
+                self.screenshot = Some(PathBuf::from(format!("meadow-screenshot-{}.png", self.screenshots_taken)));
+            }
+            "j" | "l" => {
+                let global = wind.global.get_or_insert(crate::wind::GlobalWind {
+                    direction_deg: 0.0,
+                    strength: 0.3,
+                    gusts: true,
+                });
+                global.direction_deg += if name == "j" { -15.0 } else { 15.0 };
+                println!("wind direction {:.0} deg", global.direction_deg);
+            }
+            "i" | "k" => {
+                let global = wind.global.get_or_insert(crate::wind::GlobalWind {
+                    direction_deg: 0.0,
+                    strength: 0.0,
+                    gusts: true,
+                });
+                global.strength = (global.strength + if name == "i" { 0.05 } else { -0.05 }).max(0.0);
+                println!("wind strength {:.2}", global.strength);
+            }
+            "u" => {
+                if let Some(global) = wind.global.as_mut() {
+                    global.gusts = !global.gusts;
+                    println!("gusts {}", if global.gusts { "on" } else { "off" });
+                }
+            }
+            "c" => match self.calm_off.take() {
+                Some(calm) => wind.calm = calm,
+                None => self.calm_off = Some(std::mem::take(&mut wind.calm)),
+            },
+            "delete" => {
+                wind.sources.pop();
+            }
+            "up" | "down" | "left" | "right" => {
+                if wind.colliders.is_empty() {
+                    let p = self.control.camera.position + self.control.camera.forward() * 3.0;
+                    let ground = self.scene.terrain.height_at(p.x, p.z);
+                    wind.colliders
+                        .push(Collider { center: Vec3::new(p.x, ground + 0.3, p.z), radii: Vec3::splat(0.3) });
+                }
+                let forward = self.control.camera.forward();
+                let flat = Vec3::new(forward.x, 0.0, forward.z).normalize_or_zero();
+                let step = match name {
+                    "up" => flat,
+                    "down" => -flat,
+                    "right" => flat.cross(Vec3::Y),
+                    _ => -flat.cross(Vec3::Y),
+                } * 0.25;
+                let c = wind.colliders.last_mut().expect("one collider");
+                c.center += step;
+                c.center.y = self.scene.terrain.height_at(c.center.x, c.center.z) + c.radii.y;
+            }
+            "m" | "n" | "b" | "v" | "x" | "f" | "plus" | "minus" | "[" | "]" => rebuild = true,
+            _ => {}
+        }
+        if rebuild {
+            self.rebuild_for(name)?;
+        }
+        Ok(())
+    }
+
+    /// Apply a control that changes pipelines or the scene, and rebuild the renderer. A change the
+    /// device cannot take is reported and undone; the viewer carries on with what it had.
+    pub(super) fn rebuild_for(&mut self, name: &str) -> Result<()> {
+        let renderer = self.renderer.as_ref().expect("renderer built");
+        let old_animation = renderer.animation().clone();
+        let old_settings = self.settings;
+        let old_blades = self.scene.blades.len() as u32;
+        let mut animation = old_animation.clone();
+        let mut blades = old_blades;
+        match name {
+            // Static, texture, uniform, then the floor reference (static blades, pre-expanded).
+            "m" => match (animation.mode, self.settings.floor) {
+                (_, true) => self.settings.floor = false,
+                (Mode::Static, false) => animation.mode = Mode::Texture,
+                (Mode::Texture, false) => animation.mode = Mode::Uniform,
+                (Mode::Uniform, false) => (animation.mode, self.settings.floor) = (Mode::Static, true),
+            },
+            "n" => {
+                animation.smoothing = match animation.smoothing {
+                    Smoothing::Nearest => Smoothing::Linear,
+                    Smoothing::Linear => Smoothing::Slerp,
+                    Smoothing::Slerp => Smoothing::Nearest,
+                }
+            }
+            "b" => animation.eval = if animation.eval == Eval::Vertex { Eval::Blade } else { Eval::Vertex },
+            "v" => self.settings.debug_force = !self.settings.debug_force,
+            "x" => self.settings.debug_bounds = !self.settings.debug_bounds,
+            "f" => self.settings.wireframe = !self.settings.wireframe,
+            "plus" => self.settings.segments = (self.settings.segments + 1).min(16),
+            "minus" => self.settings.segments = self.settings.segments.saturating_sub(1).max(1),
+            "[" => blades = (blades / 2).max(1),
+            "]" => blades = blades.saturating_mul(2),
+            _ => {}
+        }
+        // The old renderer's frames finish and its memory is freed before the new one is built.
+        self.renderer = None;
+        if blades != old_blades {
+            self.scene = Scene::generate(blades, self.options.scene.seed);
+        }
+        if let Err(e) = self.build_renderer(animation) {
+            println!("cannot apply '{name}': {e}");
+            self.settings = old_settings;
+            if blades != old_blades {
+                self.scene = Scene::generate(old_blades, self.options.scene.seed);
+            }
+            return self.build_renderer(old_animation);
+        }
+        let a = self.renderer.as_ref().expect("built").animation();
+        println!(
+            "mode {}, smoothing {:?}, eval {:?}, {} segments, {} blades{}{}{}",
+            if self.settings.floor { "Floor".to_string() } else { format!("{:?}", a.mode) },
+            a.smoothing,
+            a.eval,
+            self.settings.segments,
+            self.scene.blades.len(),
+            if self.settings.debug_force { ", force view" } else { "" },
+            if self.settings.debug_bounds { ", cluster bounds" } else { "" },
+            if self.settings.wireframe { ", wireframe" } else { "" },
+        );
+        Ok(())
+    }
+
+    /// Left click at a pixel: drop a wind source where the ray hits the terrain.
+    pub(super) fn click(&mut self, x: f64, y: f64) {
+        if let Some(hit) = self.pick(x, y) {
+            let wind = self.renderer.as_mut().expect("renderer built").wind_mut();
+            if wind.sources.len() + wind.colliders.len() >= crate::render::animation::MAX_EMITTERS {
+                println!("at most {} sources and colliders", crate::render::animation::MAX_EMITTERS);
+                return;
+            }
+            wind.sources.push(PointSource { position: hit, power: 0.12, sigma: 2.0, velocity: Vec2::ZERO });
+            self.dragging = true;
+            println!("wind source at {:.1}, {:.1}", hit.x, hit.y);
+        }
+    }
+
+    /// The terrain point under a pixel, marching the view ray.
+    pub(super) fn pick(&self, x: f64, y: f64) -> Option<Vec2> {
+        let extent = self.surface.as_ref()?.swapchain.extent;
+        let ndc = Vec2::new(
+            (2.0 * x / f64::from(extent.width) - 1.0) as f32,
+            (2.0 * y / f64::from(extent.height) - 1.0) as f32,
+        );
+        let inverse = self.control.camera.view_projection(extent.width as f32 / extent.height as f32).inverse();
+        let unproject = |z: f32| {
+            let p = inverse * Vec4::new(ndc.x, ndc.y, z, 1.0);
+            p.truncate() / p.w
+        };
+        let (near, mid) = (unproject(1.0), unproject(0.5));
+        let direction = (mid - near).normalize();
+        let mut p = near;
+        for _ in 0..4000 {
+            p += direction * 0.05;
+            if p.y <= self.scene.terrain.height_at(p.x, p.z) {
+                return Some(Vec2::new(p.x, p.z));
+            }
+        }
+        None
+    }
+}
+
+/// Name of a key as the help and scripts spell it.
+pub(super) fn key_name(code: KeyCode) -> Option<&'static str> {
+    Some(match code {
+        KeyCode::KeyW => "w",
+        KeyCode::KeyA => "a",
+        KeyCode::KeyS => "s",
+        KeyCode::KeyD => "d",
+        KeyCode::KeyQ => "q",
+        KeyCode::KeyE => "e",
+        KeyCode::ShiftLeft | KeyCode::ShiftRight => "shift",
+        KeyCode::KeyG => "g",
+        KeyCode::KeyH => "h",
+        KeyCode::KeyM => "m",
+        KeyCode::KeyN => "n",
+        KeyCode::KeyB => "b",
+        KeyCode::Equal | KeyCode::NumpadAdd => "plus",
+        KeyCode::Minus | KeyCode::NumpadSubtract => "minus",
+        KeyCode::BracketLeft => "[",
+        KeyCode::BracketRight => "]",
+        KeyCode::KeyJ => "j",
+        KeyCode::KeyL => "l",
+        KeyCode::KeyI => "i",
+        KeyCode::KeyK => "k",
+        KeyCode::KeyU => "u",
+        KeyCode::KeyC => "c",
+        KeyCode::KeyV => "v",
+        KeyCode::KeyX => "x",
+        KeyCode::KeyF => "f",
+        KeyCode::KeyP => "p",
+        KeyCode::F12 => "f12",
+        KeyCode::Delete | KeyCode::Backspace => "delete",
+        KeyCode::ArrowUp => "up",
+        KeyCode::ArrowDown => "down",
+        KeyCode::ArrowLeft => "left",
+        KeyCode::ArrowRight => "right",
+        KeyCode::Escape => "escape",
+        _ => return None,
+    })
+}

@@ -1,0 +1,68 @@
+//! The viewer's frame statistics: averaged per half second into the window title and every
+//! few seconds onto stdout.
+
+use std::time::{Duration, Instant};
+
+use winit::window::Window;
+
+use crate::render::FrameTimings;
+
+/// Frame statistics, reported twice a second in the title and every few seconds on stdout.
+pub(super) struct Stats {
+    since_title: Instant,
+    since_print: Instant,
+    frames: u32,
+    cpu_ms: f64,
+    gpu_ms: f64,
+    passes: Vec<(&'static str, f64)>,
+    pub(super) last: String,
+}
+
+impl Stats {
+    pub(super) fn new() -> Self {
+        Self {
+            since_title: Instant::now(),
+            since_print: Instant::now(),
+            frames: 0,
+            cpu_ms: 0.0,
+            gpu_ms: 0.0,
+            passes: Vec::new(),
+            last: String::new(),
+        }
+    }
+
+    pub(super) fn add(&mut self, t: &FrameTimings) {
+        self.frames += 1;
+        self.cpu_ms += t.cpu_record_ms + t.cpu_submit_ms + t.cpu_wait_ms;
+        self.gpu_ms += t.gpu_ms;
+        for p in &t.passes {
+            match self.passes.iter_mut().find(|(n, _)| *n == p.name) {
+                Some(entry) => entry.1 += p.ms,
+                None => self.passes.push((p.name, p.ms)),
+            }
+        }
+    }
+
+    /// Every half second: the averages since the last line, for the title (and every 3 s, stdout).
+    pub(super) fn tick(&mut self, window: &Window, blades: u32, triangles: u64, device: &str) {
+        let elapsed = self.since_title.elapsed().as_secs_f64();
+        if elapsed < 0.5 || self.frames == 0 {
+            return;
+        }
+        let n = f64::from(self.frames);
+        let passes: Vec<String> = self.passes.iter().map(|(name, ms)| format!("{name} {:.2}", ms / n)).collect();
+        self.last = format!(
+            "{:.1} fps, cpu {:.2} ms, gpu {:.2} ms ({}), {blades} blades, {triangles} triangles, {device}",
+            n / elapsed,
+            self.cpu_ms / n,
+            self.gpu_ms / n,
+            passes.join(", ")
+        );
+        window.set_title(&format!("meadow - {}", self.last));
+        if self.since_print.elapsed() >= Duration::from_secs(3) {
+            println!("stats: {}", self.last);
+            self.since_print = Instant::now();
+        }
+        *self = Self { since_print: self.since_print, last: std::mem::take(&mut self.last), ..Self::new() };
+    }
+}
