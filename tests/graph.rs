@@ -223,25 +223,28 @@ fn a_failed_submission_reports_an_error_and_never_hangs() {
     fails_cleanly(&args, "3");
 }
 
+fn small_settings(frames_in_flight: usize) -> meadow::render::RenderSettings {
+    meadow::render::RenderSettings {
+        segments: 2,
+        color_format: meadow::render::target::OFFSCREEN_FORMAT,
+        encode_srgb: true,
+        frames_in_flight,
+        blades_per_instance: 1,
+        debug_force: false,
+        wireframe: false,
+        pipeline_statistics: false,
+        submission: Default::default(),
+        debug_bounds: false,
+        floor: false,
+    }
+}
+
 #[test]
 fn after_a_failed_submission_every_slot_can_be_waited_and_reused() {
-    use meadow::render::{OffscreenTarget, RenderSettings, Renderer};
+    use meadow::render::{OffscreenTarget, Renderer};
     let (result, messages) = with_device(&options(), false, |device| {
         let scene = meadow::scene::Scene::generate(300, 3);
-        let settings = RenderSettings {
-            segments: 2,
-            color_format: meadow::render::target::OFFSCREEN_FORMAT,
-            encode_srgb: true,
-            frames_in_flight: 2,
-            blades_per_instance: 1,
-            debug_force: false,
-            wireframe: false,
-            pipeline_statistics: false,
-            submission: Default::default(),
-            debug_bounds: false,
-            floor: false,
-        };
-        let mut renderer = Renderer::new(device.clone(), &scene, settings, Default::default())?;
+        let mut renderer = Renderer::new(device.clone(), &scene, small_settings(2), Default::default())?;
         let mut target = OffscreenTarget::new(device, vk::Extent2D { width: 16, height: 16 })?;
         let camera = meadow::scene::Camera::default_for(&scene.terrain);
         renderer.inject_submit_failure(1);
@@ -260,4 +263,61 @@ fn after_a_failed_submission_every_slot_can_be_waited_and_reused() {
     assert!(failed.is_some_and(|e| e.contains("ERROR_DEVICE_LOST")));
     assert!(again.expect("renders after the failure") > 0.0);
     assert_eq!(messages, Some(0));
+}
+
+#[test]
+fn rebuilt_passes_are_freed_behind_the_frames_in_flight() {
+    use meadow::render::animation::{AnimationSettings, Eval, Mode};
+    use meadow::render::graph::Outputs;
+    use meadow::render::renderer::FrameSync;
+    use meadow::render::{OffscreenTarget, Renderer};
+    let (result, messages) = with_device(&options(), false, |device| {
+        let scene = meadow::scene::Scene::generate(2000, 5);
+        let mut renderer = Renderer::new(device.clone(), &scene, small_settings(2), Default::default())?;
+        let target = OffscreenTarget::new(device, vk::Extent2D { width: 64, height: 48 })?;
+        let camera = meadow::scene::Camera::default_for(&scene.terrain);
+        let mut view = target.view();
+        let frame = |renderer: &mut Renderer, view: &mut TargetView| -> meadow::Result<()> {
+            let (slot, _) = renderer.begin_frame()?;
+            renderer.submit_frame(slot, view, &camera, 0.5, FrameSync::default(), Outputs::default())?;
+            view.color_previous = Access::ColorAttachmentWrite;
+            view.depth_previous = Access::DepthAttachmentReadWrite;
+            Ok(())
+        };
+        let mut pending = Vec::new();
+        // Texture keyframes per vertex → per blade (a compute pass appears) → static → floor,
+        // each switch while two frames are in flight with the old pipelines.
+        let per_blade = AnimationSettings { eval: Eval::Blade, ..Default::default() };
+        let still = AnimationSettings { mode: Mode::Static, ..Default::default() };
+        let floor = meadow::render::RenderSettings { floor: true, ..small_settings(2) };
+        for (settings, animation) in
+            [(small_settings(2), per_blade), (small_settings(2), still.clone()), (floor, still)]
+        {
+            frame(&mut renderer, &mut view)?;
+            frame(&mut renderer, &mut view)?;
+            renderer.rebuild(&scene, settings, animation)?;
+            pending.push((renderer.pending_deletions(), renderer.pass_names()));
+        }
+        frame(&mut renderer, &mut view)?;
+        renderer.wait_all_frames()?;
+        let after = renderer.pending_deletions();
+        // A change the frames depend on is refused, and the renderer keeps working.
+        let refused = renderer.rebuild(&scene, small_settings(3), Default::default()).is_err();
+        frame(&mut renderer, &mut view)?;
+        drop(renderer);
+        // SAFETY: the renderer waited for the device on drop.
+        unsafe { target.destroy(device) };
+        Ok((pending, after, refused))
+    });
+    let (pending, after, refused) = result.expect("device");
+    // Destroying a pipeline a pending command buffer uses is a validation error: none.
+    assert_eq!(messages, Some(0));
+    for (queued, _) in &pending {
+        assert_eq!(*queued, 1, "the old passes and model wait behind the frames in flight: {pending:?}");
+    }
+    assert_eq!(pending[0].1, ["blade poses", "terrain", "blades"]);
+    assert_eq!(pending[1].1, ["terrain", "blades"]);
+    assert_eq!(pending[2].1, ["terrain", "blades"], "the floor stands in for the blade pass");
+    assert_eq!(after, 0, "freed once the frames finished");
+    assert!(refused);
 }

@@ -415,6 +415,18 @@ impl FrameRing {
         }
     }
 
+    /// Deletions still queued: behind frames in flight, or waiting for later frames.
+    pub fn pending_deletions(&self) -> usize {
+        self.frames.iter().map(|f| f.deletions.len()).sum::<usize>() + self.after_frames.len()
+    }
+
+    /// Drop every kept recording (`Prerecorded`): they name pipelines that are being replaced.
+    pub fn forget_replays(&mut self) {
+        for frame in &mut self.frames {
+            frame.replay = None;
+        }
+    }
+
     /// Wait for the frames that have deletions queued behind them, and run those deletions (e.g.
     /// before retiring a second swapchain while the first is still queued). Other frames keep
     /// running.

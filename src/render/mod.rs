@@ -5,6 +5,7 @@ pub mod animation;
 pub mod frame;
 pub mod gpu_constants;
 pub mod graph;
+pub mod layouts;
 pub mod passes;
 pub mod renderer;
 pub mod scene_gpu;

@@ -14,17 +14,18 @@ use glam::{UVec4, Vec4};
 use crate::error::{Error, Result};
 use crate::render::animation::model::{self, AnimationModel, FrameInput, PassSetup};
 use crate::render::animation::{self, AnimationSettings};
-use crate::render::frame::{look, Frame, FrameRing, FrameUniforms, Replay};
+use crate::render::frame::{look, FrameRing, FrameUniforms, Replay};
 pub use crate::render::frame::{Deletion, FrameSync, FrameTimings, PassTime};
 use crate::render::graph::{Graph, Outputs, PassContext};
+use crate::render::layouts::{build_frames, scene_layouts, SceneLayouts};
 use crate::render::passes::blades::BladeSetup;
 use crate::render::passes::{BladePass, ClusterBoundsPass, FloorPass, PipelineTarget, TerrainPass};
-use crate::render::scene_gpu::{self, SceneGpu};
+use crate::render::scene_gpu::SceneGpu;
 use crate::render::specialization::Specialization;
-use crate::render::submission::{self, Strategy, Submission};
+use crate::render::submission::{Strategy, Submission};
 use crate::render::target::{OffscreenTarget, TargetView, DEPTH_FORMAT};
 use crate::scene::{Camera, Scene};
-use crate::vk::{descriptor, pipeline, Access, Device, Resource};
+use crate::vk::{Access, Device, Resource};
 
 /// Blade segments allowed (thesis 4.1 levels of detail).
 pub const SEGMENTS_RANGE: std::ops::RangeInclusive<u32> = 1..=crate::render::gpu_constants::MAX_SEGMENTS;
@@ -62,16 +63,6 @@ pub struct RenderSettings {
 pub const BLADES_PER_INSTANCE_RANGE: std::ops::RangeInclusive<u32> = 1..=1024;
 /// Default blades per instance.
 pub const DEFAULT_BLADES_PER_INSTANCE: u32 = 1;
-
-/// The descriptor-set layouts of the scene pipelines (`SET_SCENE`, `SET_ANIMATION`), the
-/// pipeline layout they share, and the pool of the per-frame scene sets.
-#[derive(Default)]
-struct SceneLayouts {
-    set_layout: vk::DescriptorSetLayout,
-    animation_layout: vk::DescriptorSetLayout,
-    pipeline_layout: vk::PipelineLayout,
-    pool: vk::DescriptorPool,
-}
 
 /// The scene on the GPU, its passes in a graph, and the frames in flight: build, then render
 /// frames into any target. Every object it owns is destroyed on drop, after the device is idle.
@@ -115,6 +106,73 @@ impl Renderer {
         renderer.model = Some(model::build(&device, layout, &renderer.animation, settings.segments, blades)?);
         renderer.build_graph(scene, polygon)?;
         Ok(renderer)
+    }
+
+    /// Rebuild the passes and the animation model for new `settings` and `animation`, keeping the
+    /// scene on the GPU and the frames in flight (the viewer's live controls). The old passes and
+    /// model are destroyed once the frames already submitted have finished — the frame ring's
+    /// deletion queue, no queue idle. `scene` must be the one the renderer was built with.
+    /// What the frames or the uploaded scene depend on (frames in flight, colour format,
+    /// statistics, cluster size) needs a new renderer: refused. On failure the renderer keeps
+    /// its previous passes and model.
+    pub fn rebuild(&mut self, scene: &Scene, settings: RenderSettings, animation: AnimationSettings) -> Result<()> {
+        let (old, device) = (&self.settings, self.device.clone());
+        let same_frames = (old.frames_in_flight, old.color_format, old.pipeline_statistics, old.encode_srgb)
+            == (settings.frames_in_flight, settings.color_format, settings.pipeline_statistics, settings.encode_srgb);
+        if !same_frames || animation.cluster_size != self.animation.cluster_size {
+            return Err(Error::Internal("rebuild cannot change the frames or the cluster grid".into()));
+        }
+        let polygon = polygon_mode(&device, settings.wireframe)?;
+        check_submission(&device, &settings)?;
+        let blades = self.scene_gpu().blade_count;
+        let model = model::build(&device, self.layouts.animation_layout, &animation, settings.segments, blades)?;
+        let previous = (
+            std::mem::replace(&mut self.settings, settings),
+            std::mem::replace(&mut self.animation, animation),
+            self.model.replace(model),
+            std::mem::take(&mut self.graph),
+        );
+        // The scene's images keep their states; the old model's go with it.
+        let mut states = previous.3.states().clone();
+        if let Some(old_model) = &previous.2 {
+            states.forget(old_model.resources().keyframe_import().0);
+            states.forget(Resource::Buffer(old_model.resources().poses.raw));
+        }
+        self.graph.set_states(states);
+        let built = self.build_graph(scene, polygon);
+        // Pre-recorded command buffers name the old pipelines: record again.
+        self.ring.forget_replays();
+        let (old_settings, old_animation, old_model, old_graph) = previous;
+        let (retired_model, retired_graph) = match built {
+            Ok(()) => (old_model, old_graph),
+            Err(e) => {
+                // Back to the previous passes and model; the half-built ones are retired.
+                self.settings = old_settings;
+                self.animation = old_animation;
+                let new_model = std::mem::replace(&mut self.model, old_model);
+                let new_graph = std::mem::replace(&mut self.graph, old_graph);
+                self.retire(new_model, new_graph);
+                return Err(e);
+            }
+        };
+        self.retire(retired_model, retired_graph);
+        Ok(())
+    }
+
+    /// Destroy a model and a graph's passes once the frames submitted so far have finished.
+    fn retire(&mut self, model: Option<Box<dyn AnimationModel>>, graph: Graph) {
+        self.ring.defer(
+            &self.device,
+            Box::new(move |device| {
+                // SAFETY: the frames that used them have finished (the deletion queue's rule).
+                unsafe {
+                    graph.destroy(device);
+                    if let Some(model) = model {
+                        model.destroy(device);
+                    }
+                }
+            }),
+        );
     }
 
     /// The passes, in order: the animation model's compute passes, terrain, blades (or the
@@ -280,6 +338,11 @@ impl Renderer {
         self.ring.defer_frames(frames, deletion);
     }
 
+    /// Deletions queued behind frames in flight (see `defer`).
+    pub fn pending_deletions(&self) -> usize {
+        self.ring.pending_deletions()
+    }
+
     /// Make the `nth` next submission fail as if the driver had lost the device (tests).
     pub fn inject_submit_failure(&mut self, nth: u64) {
         self.ring.inject_submit_failure(nth);
@@ -413,77 +476,6 @@ fn check_submission(device: &Device, settings: &RenderSettings) -> Result<()> {
         return Err(Error::bad_input("submission strategies draw one blade per instance: drop --blades-per-instance"));
     }
     Ok(())
-}
-
-/// Set 0's layout, the scene pipeline layout, and the pool of the per-frame sets.
-fn scene_layouts(device: &Device) -> Result<SceneLayouts> {
-    let mut layouts = SceneLayouts::default();
-    let built = (|| {
-        layouts.set_layout = descriptor::set_layout(device, "scene set layout", &scene_gpu::bindings())?;
-        layouts.animation_layout = descriptor::set_layout(device, "animation set layout", &model::bindings())?;
-        // Sets in `SET_SCENE`, `SET_ANIMATION` order.
-        layouts.pipeline_layout = pipeline::layout(
-            device,
-            "scene pipeline layout",
-            &[layouts.set_layout, layouts.animation_layout],
-            &[submission::push_constant_range()],
-        )?;
-        Ok(())
-    })();
-    match built {
-        Ok(()) => Ok(layouts),
-        Err(e) => {
-            // SAFETY: nothing uses them.
-            unsafe { layouts.destroy(device) };
-            Err(e)
-        }
-    }
-}
-
-impl SceneLayouts {
-    /// # Safety
-    /// No pending work may use them; the sets go with the pool.
-    unsafe fn destroy(&self, device: &Device) {
-        // SAFETY: per the contract; destroying null handles is a no-op.
-        unsafe {
-            device.raw.destroy_descriptor_pool(self.pool, None);
-            device.raw.destroy_pipeline_layout(self.pipeline_layout, None);
-            device.raw.destroy_descriptor_set_layout(self.animation_layout, None);
-            device.raw.destroy_descriptor_set_layout(self.set_layout, None);
-        }
-    }
-}
-
-/// The frames in flight, each with its set 0 pointing at the scene and at its own uniforms.
-fn build_frames(
-    device: &Device,
-    layouts: &mut SceneLayouts,
-    scene: &SceneGpu,
-    settings: &RenderSettings,
-) -> Result<Vec<Frame>> {
-    let bindings = scene_gpu::bindings();
-    let count = settings.frames_in_flight as u32;
-    let (pool, sets) = descriptor::allocate_sets(device, "scene sets", layouts.set_layout, &bindings, count)?;
-    layouts.pool = pool;
-    let corners = scene.grid.corner_count();
-    let emitters = animation::MAX_EMITTERS as u32;
-    let mut frames = Vec::with_capacity(sets.len());
-    for (index, set) in sets.into_iter().enumerate() {
-        match Frame::new(device, index, set, corners, emitters, settings.pipeline_statistics) {
-            Ok(frame) => {
-                scene.write_descriptors(device, set, &frame);
-                frames.push(frame);
-            }
-            Err(e) => {
-                for frame in frames {
-                    // SAFETY: never submitted.
-                    unsafe { frame.destroy(device) };
-                }
-                return Err(e);
-            }
-        }
-    }
-    Ok(frames)
 }
 
 impl Drop for Renderer {

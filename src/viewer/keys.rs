@@ -124,7 +124,30 @@ impl Viewer {
             "]" => blades = blades.saturating_mul(2),
             _ => {}
         }
-        // The old renderer's frames finish and its memory is freed before the new one is built.
+        if blades == old_blades {
+            // Same scene: new passes and model; the old ones are freed behind the frames in
+            // flight (the frame ring's deletion queue), the frames keep running.
+            let size = self.surface.as_ref().map_or(self.options.scene.size, |s| {
+                (s.swapchain.extent.width.max(1), s.swapchain.extent.height.max(1))
+            });
+            let checked = crate::app::check_scene(
+                &self.device,
+                blades,
+                self.settings.segments,
+                size,
+                &animation,
+                self.settings.floor,
+            );
+            let renderer = self.renderer.as_mut().expect("renderer built");
+            if let Err(e) = checked.and_then(|()| renderer.rebuild(&self.scene, self.settings, animation)) {
+                println!("cannot apply '{name}': {e}");
+                self.settings = old_settings;
+            }
+            self.report_rebuild();
+            return Ok(());
+        }
+        // A new scene: the old renderer's frames finish and its memory is freed before the new
+        // one is built.
         self.renderer = None;
         if blades != old_blades {
             self.scene = Scene::generate(blades, self.options.scene.seed);
@@ -137,6 +160,12 @@ impl Viewer {
             }
             return self.build_renderer(old_animation);
         }
+        self.report_rebuild();
+        Ok(())
+    }
+
+    /// Print what the renderer now draws.
+    fn report_rebuild(&self) {
         let a = self.renderer.as_ref().expect("built").animation();
         println!(
             "mode {}, smoothing {:?}, eval {:?}, {} segments, {} blades{}{}{}",
@@ -149,7 +178,6 @@ impl Viewer {
             if self.settings.debug_bounds { ", cluster bounds" } else { "" },
             if self.settings.wireframe { ", wireframe" } else { "" },
         );
-        Ok(())
     }
 
     /// Left click at a pixel: drop a wind source where the ray hits the terrain.

@@ -1,0 +1,99 @@
+//! The descriptor-set and pipeline layouts the scene pipelines share (`SET_SCENE` for the scene
+//! and one frame's uniforms and forces, `SET_ANIMATION` for the animation model), and the frames
+//! in flight with their scene sets.
+
+use ash::vk;
+
+use crate::error::Result;
+use crate::render::animation::{self, model};
+use crate::render::frame::Frame;
+use crate::render::renderer::RenderSettings;
+use crate::render::scene_gpu::{self, SceneGpu};
+use crate::render::submission;
+use crate::vk::{descriptor, pipeline, Device};
+
+/// The descriptor-set layouts of the scene pipelines (`SET_SCENE`, `SET_ANIMATION`), the
+/// pipeline layout they share, and the pool of the per-frame scene sets.
+#[derive(Default)]
+pub struct SceneLayouts {
+    /// `SET_SCENE`.
+    pub set_layout: vk::DescriptorSetLayout,
+    /// `SET_ANIMATION`.
+    pub animation_layout: vk::DescriptorSetLayout,
+    /// Both sets and the push-constant range.
+    pub pipeline_layout: vk::PipelineLayout,
+    /// The per-frame scene sets' pool.
+    pub pool: vk::DescriptorPool,
+}
+
+/// The layouts of `SET_SCENE` and `SET_ANIMATION` and the scene pipeline layout (the pool comes
+/// with the frames).
+pub fn scene_layouts(device: &Device) -> Result<SceneLayouts> {
+    let mut layouts = SceneLayouts::default();
+    let built = (|| {
+        layouts.set_layout = descriptor::set_layout(device, "scene set layout", &scene_gpu::bindings())?;
+        layouts.animation_layout = descriptor::set_layout(device, "animation set layout", &model::bindings())?;
+        // Sets in `SET_SCENE`, `SET_ANIMATION` order.
+        layouts.pipeline_layout = pipeline::layout(
+            device,
+            "scene pipeline layout",
+            &[layouts.set_layout, layouts.animation_layout],
+            &[submission::push_constant_range()],
+        )?;
+        Ok(())
+    })();
+    match built {
+        Ok(()) => Ok(layouts),
+        Err(e) => {
+            // SAFETY: nothing uses them.
+            unsafe { layouts.destroy(device) };
+            Err(e)
+        }
+    }
+}
+
+impl SceneLayouts {
+    /// # Safety
+    /// No pending work may use them; the sets go with the pool.
+    pub unsafe fn destroy(&self, device: &Device) {
+        // SAFETY: per the contract; destroying null handles is a no-op.
+        unsafe {
+            device.raw.destroy_descriptor_pool(self.pool, None);
+            device.raw.destroy_pipeline_layout(self.pipeline_layout, None);
+            device.raw.destroy_descriptor_set_layout(self.animation_layout, None);
+            device.raw.destroy_descriptor_set_layout(self.set_layout, None);
+        }
+    }
+}
+
+/// The frames in flight, each with its set 0 pointing at the scene and at its own uniforms.
+pub fn build_frames(
+    device: &Device,
+    layouts: &mut SceneLayouts,
+    scene: &SceneGpu,
+    settings: &RenderSettings,
+) -> Result<Vec<Frame>> {
+    let bindings = scene_gpu::bindings();
+    let count = settings.frames_in_flight as u32;
+    let (pool, sets) = descriptor::allocate_sets(device, "scene sets", layouts.set_layout, &bindings, count)?;
+    layouts.pool = pool;
+    let corners = scene.grid.corner_count();
+    let emitters = animation::MAX_EMITTERS as u32;
+    let mut frames = Vec::with_capacity(sets.len());
+    for (index, set) in sets.into_iter().enumerate() {
+        match Frame::new(device, index, set, corners, emitters, settings.pipeline_statistics) {
+            Ok(frame) => {
+                scene.write_descriptors(device, set, &frame);
+                frames.push(frame);
+            }
+            Err(e) => {
+                for frame in frames {
+                    // SAFETY: never submitted.
+                    unsafe { frame.destroy(device) };
+                }
+                return Err(e);
+            }
+        }
+    }
+    Ok(frames)
+}
