@@ -177,7 +177,6 @@ fn the_size_scanner_measures_functions() {
 }
 
 #[test]
-#[ignore = "enabled after the render-layer rewrite lands"]
 fn files_and_functions_are_a_size_a_reader_can_hold() {
     let mut offences = Vec::new();
     for file in rust_files(&src()) {

@@ -62,3 +62,30 @@ fn blade_count_and_segments_change_the_triangle_count() {
     // 3000 blades × 3 segments × 2 triangles.
     assert!(stdout.contains("(18000 blades + "), "{stdout}");
 }
+
+/// Yellow to red: the cluster-bounds lines (`shaders/cluster_bounds.vert`), never grass or sky.
+fn is_bounds_line([r, g, b]: [u8; 3]) -> bool {
+    r > 180 && b < 90 && r > g
+}
+
+#[test]
+fn cluster_bounds_view_draws_the_grid_and_reports_its_pass() {
+    let dir = support::scratch("bounds");
+    let args = ["--blades", "5000", "--size", "320x180", "--mode", "static"];
+    support::render(&args, &dir.join("plain.png"));
+    let with_bounds: Vec<&str> = args.iter().copied().chain(["--debug-view", "bounds"]).collect();
+    let output = support::render(&with_bounds, &dir.join("bounds.png"));
+    // The new pass is timed like every other, with no code of its own for it.
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(stdout.contains("cluster bounds "), "{stdout}");
+    let (plain, bounds) = (Picture::load(&dir.join("plain.png")), Picture::load(&dir.join("bounds.png")));
+    let pixels: Vec<_> = (0..plain.height).flat_map(|y| (0..plain.width).map(move |x| (x, y))).collect();
+    let lines = |p: &Picture| pixels.iter().filter(|(x, y)| is_bounds_line(p.pixel(*x, *y))).count();
+    assert_eq!(lines(&plain), 0, "no line colour without the view");
+    // Measured: about 4 % of a 320x180 picture at the default view (a 9 m field of 1 m clusters).
+    assert!(lines(&bounds) > pixels.len() / 100, "only {} line pixels", lines(&bounds));
+    // Everything else is the plain picture.
+    let other = pixels.iter().filter(|(x, y)| !is_bounds_line(bounds.pixel(*x, *y)));
+    let changed = other.filter(|(x, y)| plain.pixel(*x, *y) != bounds.pixel(*x, *y)).count();
+    assert!(changed < pixels.len() / 50, "{changed} pixels changed besides the lines");
+}

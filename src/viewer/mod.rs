@@ -123,6 +123,40 @@ struct Surface {
     window: Window,
 }
 
+impl Surface {
+    /// The target of a frame into swapchain image `index` (just acquired) and the depth image
+    /// (discarded on its first use after a re-creation).
+    fn target_view(&mut self, index: u32) -> TargetView {
+        let depth = self.depth.as_ref().expect("depth exists with area");
+        let view = TargetView {
+            color: self.swapchain.images[index as usize],
+            color_view: self.swapchain.views[index as usize],
+            depth: depth.raw,
+            depth_view: depth.view,
+            extent: self.swapchain.extent,
+            color_previous: Access::Acquired,
+            depth_previous: if self.depth_used { Access::DepthAttachmentReadWrite } else { Access::Nothing },
+        };
+        self.depth_used = true;
+        view
+    }
+
+    /// Write the screenshot the last frame copied into `buffer` (after waiting for it).
+    fn write_screenshot(&self, renderer: &mut Renderer, buffer: &Buffer, path: &std::path::Path) -> Result<()> {
+        renderer.wait_all_frames()?;
+        let extent = self.swapchain.extent;
+        let bgra = self.swapchain.format == vk::Format::B8G8R8A8_UNORM;
+        let rgba: Vec<u8> = if bgra {
+            buffer.mapped().chunks_exact(4).flat_map(|p| [p[2], p[1], p[0], p[3]]).collect()
+        } else {
+            buffer.mapped().to_vec()
+        };
+        app::write_png(path, (extent.width, extent.height), &rgba)?;
+        println!("screenshot: {} ({}x{})", path.display(), extent.width, extent.height);
+        Ok(())
+    }
+}
+
 struct Viewer {
     device: Arc<Device>,
     options: ViewerOptions,
@@ -344,22 +378,10 @@ impl Viewer {
         Ok(())
     }
 
-    /// Render one frame into the swapchain.
-    fn render(&mut self) -> Result<()> {
-        let inject = self.options.inject_out_of_date.is_some_and(|n| self.frames % u64::from(n) == u64::from(n) - 1);
-        if self.needs_recreate || inject {
-            self.recreate()?;
-            if inject {
-                // Count the injected frame so the injection does not repeat forever.
-                self.frames += 1;
-                return Ok(());
-            }
-            if self.minimised {
-                return Ok(());
-            }
-        }
-        // Allocated before the image is acquired: a failure must not strand an acquired image.
-        let readback = match (&self.screenshot, &self.surface) {
+    /// The host-visible buffer a requested screenshot is copied into. Allocated before the image
+    /// is acquired: a failure must not strand an acquired image.
+    fn screenshot_buffer(&self) -> Result<Option<Buffer>> {
+        Ok(match (&self.screenshot, &self.surface) {
             (Some(path), Some(surface)) if !surface.swapchain.screenshots => {
                 return Err(Error::Environment(format!(
                     "screenshot {}: this surface's images cannot be copied (no TRANSFER_SRC usage)",
@@ -378,7 +400,24 @@ impl Viewer {
                 )?)
             }
             _ => None,
-        };
+        })
+    }
+
+    /// Render one frame into the swapchain.
+    fn render(&mut self) -> Result<()> {
+        let inject = self.options.inject_out_of_date.is_some_and(|n| self.frames % u64::from(n) == u64::from(n) - 1);
+        if self.needs_recreate || inject {
+            self.recreate()?;
+            if inject {
+                // Count the injected frame so the injection does not repeat forever.
+                self.frames += 1;
+                return Ok(());
+            }
+            if self.minimised {
+                return Ok(());
+            }
+        }
+        let readback = self.screenshot_buffer()?;
         let renderer = self.renderer.as_mut().expect("renderer built");
         let (slot, timings) = match renderer.begin_frame() {
             Ok(frame) => frame,
@@ -403,19 +442,7 @@ impl Viewer {
             self.needs_recreate = true;
             return acquired.map(|_| ());
         };
-        let extent = surface.swapchain.extent;
-        let image = surface.swapchain.images[index as usize];
-        let depth = surface.depth.as_ref().expect("depth exists with area");
-        let view = TargetView {
-            color: image,
-            color_view: surface.swapchain.views[index as usize],
-            depth: depth.raw,
-            depth_view: depth.view,
-            extent,
-            color_previous: Access::Acquired,
-            depth_previous: if surface.depth_used { Access::DepthAttachmentReadWrite } else { Access::Nothing },
-        };
-        surface.depth_used = true;
+        let view = surface.target_view(index);
         let sync = crate::render::renderer::FrameSync {
             wait: Some(renderer.acquire_semaphore(slot)),
             signal: Some(surface.swapchain.present_semaphores[index as usize]),
@@ -425,19 +452,11 @@ impl Viewer {
         let result = submitted.and_then(|()| surface.swapchain.present(&self.device, index));
         if let (Some(buffer), Some(path)) = (readback, self.screenshot.take()) {
             // A screenshot is rare: wait for this frame, then write the picture.
-            let written = renderer.wait_all_frames().and_then(|()| {
-                let bgra = surface.swapchain.format == vk::Format::B8G8R8A8_UNORM;
-                let rgba: Vec<u8> = if bgra {
-                    buffer.mapped().chunks_exact(4).flat_map(|p| [p[2], p[1], p[0], p[3]]).collect()
-                } else {
-                    buffer.mapped().to_vec()
-                };
-                app::write_png(&path, (extent.width, extent.height), &rgba)
-            });
-            // SAFETY: the frame that wrote it completed.
+            let written = surface.write_screenshot(renderer, &buffer, &path);
+            // SAFETY: the frame that wrote it completed (or the wait failed and the device is
+            // being torn down: the renderer's drop waits for it).
             unsafe { buffer.destroy(&self.device) };
             written?;
-            println!("screenshot: {} ({}x{})", path.display(), extent.width, extent.height);
         }
         if !result? || suboptimal {
             self.needs_recreate = true;

@@ -1,8 +1,7 @@
-//! Physical-device selection and the logical device: one graphics+compute queue, the
+//! The logical device (the physical one is chosen by `vk::physical`): one graphics+compute queue, the
 //! synchronization2 / dynamic-rendering features, and the gpu-allocator instance all memory
 //! comes from.
 
-use std::ffi::CStr;
 use std::mem::ManuallyDrop;
 use std::sync::{Arc, Mutex, MutexGuard};
 
@@ -11,165 +10,11 @@ use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
 
 use crate::error::{Error, Result, VkContext};
 use crate::vk::instance::Instance;
+pub use crate::vk::physical::{decode_driver_version, list_devices, DeviceInfo, DeviceSelector};
+use crate::vk::physical::{enumerate, select};
 
 /// Memory budget meadow allows itself regardless of what the device reports (issue 2, item 6).
 pub const MEMORY_BUDGET_BYTES: u64 = 2 << 30;
-
-/// How to pick the physical device.
-#[derive(Clone, Debug, Default, PartialEq, Eq)]
-pub enum DeviceSelector {
-    /// Best by type: discrete > integrated > virtual > CPU.
-    #[default]
-    Best,
-    /// Index in `meadow devices`.
-    Index(usize),
-    /// Case-insensitive substring of the device name.
-    Name(String),
-}
-
-impl DeviceSelector {
-    /// `INDEX` or `NAME-SUBSTRING`, as given to `--device`.
-    pub fn parse(text: &str) -> Self {
-        match text.parse::<usize>() {
-            Ok(index) => DeviceSelector::Index(index),
-            Err(_) => DeviceSelector::Name(text.to_lowercase()),
-        }
-    }
-}
-
-/// What one physical device is, as listed by `meadow devices`.
-#[derive(Clone, Debug)]
-pub struct DeviceInfo {
-    /// Position in the instance's enumeration.
-    pub index: usize,
-    /// `deviceName`.
-    pub name: String,
-    /// Discrete, integrated, CPU …
-    pub kind: vk::PhysicalDeviceType,
-    /// Supported Vulkan API version, `major.minor.patch`.
-    pub api_version: String,
-    /// Driver version decoded with the vendor's convention.
-    pub driver_version: String,
-    /// `driverName` (e.g. `llvmpipe`).
-    pub driver_name: String,
-    /// `driverInfo` (e.g. `Mesa 22.3.6 (LLVM 15.0.6)`).
-    pub driver_info: String,
-    /// Whether meadow can run on it (API 1.3, a graphics+compute queue).
-    pub usable: bool,
-}
-
-impl std::fmt::Display for DeviceInfo {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(
-            f,
-            "{}: {} ({}, Vulkan {}, driver {} {} [{}]){}",
-            self.index,
-            self.name,
-            kind_name(self.kind),
-            self.api_version,
-            self.driver_name,
-            self.driver_version,
-            self.driver_info,
-            if self.usable { "" } else { " - unusable: needs Vulkan 1.3 and a graphics queue" }
-        )
-    }
-}
-
-fn kind_name(kind: vk::PhysicalDeviceType) -> &'static str {
-    match kind {
-        vk::PhysicalDeviceType::DISCRETE_GPU => "discrete GPU",
-        vk::PhysicalDeviceType::INTEGRATED_GPU => "integrated GPU",
-        vk::PhysicalDeviceType::VIRTUAL_GPU => "virtual GPU",
-        vk::PhysicalDeviceType::CPU => "CPU",
-        _ => "other",
-    }
-}
-
-/// Preference order of device types (lower is better).
-fn kind_rank(kind: vk::PhysicalDeviceType) -> u32 {
-    match kind {
-        vk::PhysicalDeviceType::DISCRETE_GPU => 0,
-        vk::PhysicalDeviceType::INTEGRATED_GPU => 1,
-        vk::PhysicalDeviceType::VIRTUAL_GPU => 2,
-        vk::PhysicalDeviceType::CPU => 3,
-        _ => 4,
-    }
-}
-
-/// Decode `driverVersion` with the vendor's packing (NVIDIA uses 10.8.8.6 bits; the rest follow
-/// `VK_MAKE_API_VERSION`).
-pub fn decode_driver_version(vendor_id: u32, version: u32) -> String {
-    match vendor_id {
-        0x10de => format!(
-            "{}.{}.{}.{}",
-            (version >> 22) & 0x3ff,
-            (version >> 14) & 0xff,
-            (version >> 6) & 0xff,
-            version & 0x3f
-        ),
-        _ => format!(
-            "{}.{}.{}",
-            vk::api_version_major(version),
-            vk::api_version_minor(version),
-            vk::api_version_patch(version)
-        ),
-    }
-}
-
-fn c_chars(raw: &[std::ffi::c_char]) -> String {
-    // SAFETY: Vulkan strings in property structs are NUL-terminated within their arrays.
-    let bytes: &[u8] = unsafe { std::slice::from_raw_parts(raw.as_ptr().cast(), raw.len()) };
-    CStr::from_bytes_until_nul(bytes).map(|s| s.to_string_lossy().into_owned()).unwrap_or_default()
-}
-
-struct Candidate {
-    info: DeviceInfo,
-    raw: vk::PhysicalDevice,
-    queue_family: Option<u32>,
-}
-
-fn enumerate(instance: &Instance) -> Result<Vec<Candidate>> {
-    // SAFETY: valid instance.
-    let devices = unsafe { instance.raw.enumerate_physical_devices() }.vk("vkEnumeratePhysicalDevices")?;
-    Ok(devices
-        .into_iter()
-        .enumerate()
-        .map(|(index, raw)| {
-            let mut driver = vk::PhysicalDeviceDriverProperties::default();
-            let mut props2 = vk::PhysicalDeviceProperties2::default().push_next(&mut driver);
-            // SAFETY: raw comes from this instance; the chain points to locals.
-            unsafe { instance.raw.get_physical_device_properties2(raw, &mut props2) };
-            let props = props2.properties;
-            // SAFETY: raw comes from this instance.
-            let families = unsafe { instance.raw.get_physical_device_queue_family_properties(raw) };
-            let queue_family = families
-                .iter()
-                .position(|f| f.queue_flags.contains(vk::QueueFlags::GRAPHICS | vk::QueueFlags::COMPUTE))
-                .map(|i| i as u32);
-            let info = DeviceInfo {
-                index,
-                name: c_chars(&props.device_name),
-                kind: props.device_type,
-                api_version: format!(
-                    "{}.{}.{}",
-                    vk::api_version_major(props.api_version),
-                    vk::api_version_minor(props.api_version),
-                    vk::api_version_patch(props.api_version)
-                ),
-                driver_version: decode_driver_version(props.vendor_id, props.driver_version),
-                driver_name: c_chars(&driver.driver_name),
-                driver_info: c_chars(&driver.driver_info),
-                usable: props.api_version >= vk::API_VERSION_1_3 && queue_family.is_some(),
-            };
-            Candidate { info, raw, queue_family }
-        })
-        .collect())
-}
-
-/// List every physical device the loader sees.
-pub fn list_devices(instance: &Instance) -> Result<Vec<DeviceInfo>> {
-    Ok(enumerate(instance)?.into_iter().map(|c| c.info).collect())
-}
 
 /// What the logical device is created with.
 #[derive(Clone, Debug, Default)]
@@ -213,38 +58,6 @@ pub struct Device {
     /// `timestampValidBits` of that family.
     pub timestamp_valid_bits: u32,
     allocator: ManuallyDrop<Mutex<Allocator>>,
-}
-
-/// The candidate `selector` names, if meadow can run on it.
-fn select<'a>(candidates: &'a [Candidate], selector: &DeviceSelector) -> Result<&'a Candidate> {
-    if candidates.is_empty() {
-        return Err(Error::Environment(
-            "no Vulkan device found: install mesa-vulkan-drivers for the lavapipe CPU device".into(),
-        ));
-    }
-    let listing = || candidates.iter().map(|c| c.info.to_string()).collect::<Vec<_>>().join("; ");
-    let chosen = match selector {
-        DeviceSelector::Best => candidates
-            .iter()
-            .filter(|c| c.info.usable)
-            .min_by_key(|c| (kind_rank(c.info.kind), c.info.index))
-            .ok_or_else(|| Error::Environment(format!("no device supports Vulkan 1.3: {}", listing())))?,
-        DeviceSelector::Index(index) => candidates
-            .get(*index)
-            .ok_or_else(|| Error::bad_input(format!("--device {index}: no such device (have {})", listing())))?,
-        DeviceSelector::Name(name) => {
-            candidates.iter().find(|c| c.info.name.to_lowercase().contains(name.as_str())).ok_or_else(|| {
-                Error::bad_input(format!("--device {name}: no device name contains it (have {})", listing()))
-            })?
-        }
-    };
-    if !chosen.info.usable {
-        return Err(Error::bad_input(format!(
-            "--device: {} cannot run meadow (needs Vulkan 1.3 and a graphics+compute queue)",
-            chosen.info.name
-        )));
-    }
-    Ok(chosen)
 }
 
 /// The features meadow enables on `physical`.
@@ -491,20 +304,6 @@ pub fn format_bytes(bytes: u64) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn driver_versions_decode_per_vendor() {
-        // NVIDIA 535.154.5.0 packed as 10.8.8.6 bits.
-        let nv = (535 << 22) | (154 << 14) | (5 << 6);
-        assert_eq!(decode_driver_version(0x10de, nv), "535.154.5.0");
-        assert_eq!(decode_driver_version(0x10005, vk::make_api_version(0, 22, 3, 6)), "22.3.6");
-    }
-
-    #[test]
-    fn selector_parses_index_or_name() {
-        assert_eq!(DeviceSelector::parse("1"), DeviceSelector::Index(1));
-        assert_eq!(DeviceSelector::parse("LLVMpipe"), DeviceSelector::Name("llvmpipe".into()));
-    }
 
     #[test]
     fn bytes_format() {

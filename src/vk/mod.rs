@@ -9,6 +9,7 @@ pub mod descriptor;
 pub mod device;
 pub mod image;
 pub mod instance;
+pub mod physical;
 pub mod pipeline;
 pub mod query;
 pub mod swapchain;
