@@ -17,7 +17,7 @@ use crate::render::scene_gpu::pose_bytes;
 use crate::render::specialization::Specialization;
 use crate::render::uniforms::FrameUniforms;
 use crate::vk::upload::UploadBatch;
-use crate::vk::{Buffer, BufferDesc, Device};
+use crate::vk::Device;
 use crate::wind::Attenuation;
 
 /// Keyframed blades.
@@ -53,21 +53,7 @@ impl KeyframeModel {
             Eval::Blade => pose_bytes(blades, segments),
             Eval::Vertex => 4 * u64::from(gpu::POSE_WORDS),
         };
-        let poses = batch.submit().and_then(|()| {
-            Buffer::new(device, &BufferDesc::gpu_only("blade poses", bytes, vk::BufferUsageFlags::STORAGE_BUFFER))
-        });
-        let poses = match poses {
-            Ok(poses) => poses,
-            Err(e) => {
-                // SAFETY: the batch waited for its submission, or never submitted.
-                unsafe {
-                    keyframes.destroy(device);
-                    words.buffer.destroy(device);
-                }
-                return Err(e);
-            }
-        };
-        let set = AnimationSet::new(device, set_layout, keyframes, words, poses)?;
+        let set = AnimationSet::upload(device, set_layout, batch, keyframes, words, bytes)?;
         Ok(Self { settings: settings.clone(), segments, layout, set })
     }
 

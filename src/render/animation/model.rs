@@ -21,7 +21,8 @@ use crate::render::specialization::Specialization;
 use crate::render::uniforms::FrameUniforms;
 use crate::scene::clusters::ClusterGrid;
 use crate::vk::descriptor::{self, Binding, Resource as Descriptor};
-use crate::vk::{Access, Buffer, Device, Resource};
+use crate::vk::upload::UploadBatch;
+use crate::vk::{Access, Buffer, BufferDesc, Device, Resource};
 use crate::wind::{Attenuation, Wind};
 
 /// How the blade pass poses a blade.
@@ -185,6 +186,32 @@ impl AnimationSet {
             ],
         );
         Ok(resources)
+    }
+
+    /// Submit `batch` (the uploads of `keyframes` and `words`), create `pose_bytes` of pose
+    /// records and fill the set; everything is freed if a step fails.
+    pub fn upload(
+        device: &Device,
+        set_layout: vk::DescriptorSetLayout,
+        batch: UploadBatch,
+        keyframes: KeyframeTexture,
+        words: KeyframeUniforms,
+        pose_bytes: u64,
+    ) -> Result<Self> {
+        let usage = vk::BufferUsageFlags::STORAGE_BUFFER;
+        let poses =
+            batch.submit().and_then(|()| Buffer::new(device, &BufferDesc::gpu_only("blade poses", pose_bytes, usage)));
+        match poses {
+            Ok(poses) => Self::new(device, set_layout, keyframes, words, poses),
+            Err(e) => {
+                // SAFETY: the batch waited for its submission, or never submitted.
+                unsafe {
+                    keyframes.destroy(device);
+                    words.buffer.destroy(device);
+                }
+                Err(e)
+            }
+        }
     }
 
     /// The keyframe texture as the graph tracks it, with the accesses its upload left.

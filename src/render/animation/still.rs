@@ -12,7 +12,7 @@ use crate::render::graph::Pass;
 use crate::render::specialization::Specialization;
 use crate::render::uniforms::FrameUniforms;
 use crate::vk::upload::UploadBatch;
-use crate::vk::{Buffer, BufferDesc, Device};
+use crate::vk::Device;
 
 /// Static blades.
 pub struct StaticModel {
@@ -32,25 +32,8 @@ impl StaticModel {
                 return Err(e);
             }
         };
-        let poses = batch.submit().and_then(|()| {
-            let bytes = 4 * u64::from(gpu::POSE_WORDS);
-            Buffer::new(
-                device,
-                &BufferDesc::gpu_only("pose records stand-in", bytes, vk::BufferUsageFlags::STORAGE_BUFFER),
-            )
-        });
-        let poses = match poses {
-            Ok(poses) => poses,
-            Err(e) => {
-                // SAFETY: the batch waited for its submission, or never submitted.
-                unsafe {
-                    keyframes.destroy(device);
-                    words.buffer.destroy(device);
-                }
-                return Err(e);
-            }
-        };
-        Ok(Self { set: AnimationSet::new(device, set_layout, keyframes, words, poses)? })
+        let bytes = 4 * u64::from(gpu::POSE_WORDS);
+        Ok(Self { set: AnimationSet::upload(device, set_layout, batch, keyframes, words, bytes)? })
     }
 }
 

@@ -210,11 +210,8 @@ impl BladePass {
             device.raw.reset_command_pool(pool, vk::CommandPoolResetFlags::empty()).vk("vkResetCommandPool")?;
             device.raw.begin_command_buffer(secondary, &begin).vk("vkBeginCommandBuffer")?;
         }
-        passes::set_full_viewport(device, secondary, ctx.target.extent);
-        passes::bind_scene_set(device, ctx, secondary, self.layout, vk::PipelineBindPoint::GRAPHICS);
+        passes::bind_graphics(device, ctx, secondary, self.layout, self.pipeline);
         passes::bind_animation_set(device, secondary, self.layout, vk::PipelineBindPoint::GRAPHICS, self.animation);
-        // SAFETY: recording.
-        unsafe { device.raw.cmd_bind_pipeline(secondary, vk::PipelineBindPoint::GRAPHICS, self.pipeline) };
         let draws = BladeDraws::PerCluster { vertices: self.strip, ranges, layout: self.layout };
         submission::record_draws(device, secondary, &draws);
         // SAFETY: recording.
@@ -239,15 +236,13 @@ impl Pass for BladePass {
             return self.record_secondaries(ctx, cmd);
         }
         let device = ctx.device;
-        passes::bind_scene_set(device, ctx, cmd, self.layout, vk::PipelineBindPoint::GRAPHICS);
+        passes::bind_graphics(device, ctx, cmd, self.layout, self.pipeline);
         passes::bind_animation_set(device, cmd, self.layout, vk::PipelineBindPoint::GRAPHICS, self.animation);
-        passes::set_full_viewport(device, cmd, ctx.target.extent);
         // Defined for every draw: per-cluster draws push their own first blade.
         let push = submission::ClusterPush { first_blade: 0 };
-        // SAFETY: cmd is recording inside this pass's rendering instance; set 0 is bound.
+        // SAFETY: cmd is recording inside this pass's rendering instance; the layout has the range.
         unsafe {
             device.raw.cmd_push_constants(cmd, self.layout, vk::ShaderStageFlags::VERTEX, 0, bytemuck::bytes_of(&push));
-            device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline);
         }
         submission::record_draws(device, cmd, &self.draws());
         Ok(())

@@ -98,11 +98,9 @@ impl Pass for FloorPass {
     /// One draw of the whole strip.
     fn record(&self, ctx: &PassContext, cmd: vk::CommandBuffer) -> Result<()> {
         let device = ctx.device;
-        passes::bind_scene_set(device, ctx, cmd, self.layout, vk::PipelineBindPoint::GRAPHICS);
-        passes::set_full_viewport(device, cmd, ctx.target.extent);
+        passes::bind_graphics(device, ctx, cmd, self.layout, self.pipeline);
         // SAFETY: cmd is recording inside this pass's rendering instance; set 0 is bound.
         unsafe {
-            device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline);
             device.raw.cmd_bind_vertex_buffers(cmd, 0, &[self.vertices.raw], &[0]);
             device.raw.cmd_draw(cmd, self.count, 1, 0, 0);
         }

@@ -75,6 +75,21 @@ pub fn set_full_viewport(device: &Device, cmd: vk::CommandBuffer, extent: vk::Ex
     }
 }
 
+/// The start of every scene draw: set `SET_SCENE` bound, the viewport over the whole target,
+/// `pipeline` bound.
+pub fn bind_graphics(
+    device: &Device,
+    ctx: &PassContext,
+    cmd: vk::CommandBuffer,
+    layout: vk::PipelineLayout,
+    pipeline: vk::Pipeline,
+) {
+    bind_scene_set(device, ctx, cmd, layout, vk::PipelineBindPoint::GRAPHICS);
+    set_full_viewport(device, cmd, ctx.target.extent);
+    // SAFETY: cmd is recording.
+    unsafe { device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline) };
+}
+
 /// The rendering instance of a scene pass drawing over what the previous passes left in the
 /// target (colour and depth loaded; depth stored when `store_depth`).
 pub fn scene_rendering(ctx: &PassContext, pipeline: vk::Pipeline, store_depth: bool, secondary: bool) -> Rendering {

@@ -70,13 +70,9 @@ impl Pass for TerrainPass {
 
     fn record(&self, ctx: &PassContext, cmd: vk::CommandBuffer) -> Result<()> {
         let device = ctx.device;
-        passes::bind_scene_set(device, ctx, cmd, self.layout, vk::PipelineBindPoint::GRAPHICS);
-        passes::set_full_viewport(device, cmd, ctx.target.extent);
+        passes::bind_graphics(device, ctx, cmd, self.layout, self.pipeline);
         // SAFETY: cmd is recording inside this pass's rendering instance; set 0 is bound.
-        unsafe {
-            device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline);
-            device.raw.cmd_draw(cmd, 6 * self.cells * self.cells, 1, 0, 0);
-        }
+        unsafe { device.raw.cmd_draw(cmd, 6 * self.cells * self.cells, 1, 0, 0) };
         Ok(())
     }
 
