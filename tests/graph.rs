@@ -285,14 +285,20 @@ fn rebuilt_passes_are_freed_behind_the_frames_in_flight() {
             Ok(())
         };
         let mut pending = Vec::new();
-        // Texture keyframes per vertex → per blade (a compute pass appears) → static → floor,
-        // each switch while two frames are in flight with the old pipelines.
+        // Each switch while two frames are in flight with the old pipelines: the cluster-bounds
+        // view (passes only: nothing is uploaded, so nothing waits for the queue), then texture
+        // keyframes per blade (a compute pass appears), static blades, and the floor.
+        let bounds = meadow::render::RenderSettings { debug_bounds: true, ..small_settings(2) };
         let per_blade = AnimationSettings { eval: Eval::Blade, ..Default::default() };
         let still = AnimationSettings { mode: Mode::Static, ..Default::default() };
         let floor = meadow::render::RenderSettings { floor: true, ..small_settings(2) };
-        for (settings, animation) in
-            [(small_settings(2), per_blade), (small_settings(2), still.clone()), (floor, still)]
-        {
+        let steps = [
+            (bounds, AnimationSettings::default()),
+            (small_settings(2), per_blade),
+            (small_settings(2), still.clone()),
+            (floor, still),
+        ];
+        for (settings, animation) in steps {
             frame(&mut renderer, &mut view)?;
             frame(&mut renderer, &mut view)?;
             renderer.rebuild(&scene, settings, animation)?;
@@ -315,9 +321,10 @@ fn rebuilt_passes_are_freed_behind_the_frames_in_flight() {
     for (queued, _) in &pending {
         assert_eq!(*queued, 1, "the old passes and model wait behind the frames in flight: {pending:?}");
     }
-    assert_eq!(pending[0].1, ["blade poses", "terrain", "blades"]);
-    assert_eq!(pending[1].1, ["terrain", "blades"]);
-    assert_eq!(pending[2].1, ["terrain", "blades"], "the floor stands in for the blade pass");
+    assert_eq!(pending[0].1, ["terrain", "blades", "cluster bounds"]);
+    assert_eq!(pending[1].1, ["blade poses", "terrain", "blades"]);
+    assert_eq!(pending[2].1, ["terrain", "blades"]);
+    assert_eq!(pending[3].1, ["terrain", "blades"], "the floor stands in for the blade pass");
     assert_eq!(after, 0, "freed once the frames finished");
     assert!(refused);
 }

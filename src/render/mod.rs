@@ -9,6 +9,7 @@ pub mod layouts;
 pub mod passes;
 pub mod renderer;
 pub mod scene_gpu;
+pub mod settings;
 pub mod shaders;
 pub mod specialization;
 pub mod submission;

@@ -14,55 +14,22 @@ use glam::{UVec4, Vec4};
 use crate::error::{Error, Result};
 use crate::render::animation::model::{self, AnimationModel, FrameInput, PassSetup};
 use crate::render::animation::{self, AnimationSettings};
-use crate::render::frame::{look, FrameRing, FrameUniforms, Replay};
+use crate::render::frame::{look, FrameRing, FrameUniforms, Replay, ReplayKey};
 pub use crate::render::frame::{Deletion, FrameSync, FrameTimings, PassTime};
 use crate::render::graph::{Graph, Outputs, PassContext};
 use crate::render::layouts::{build_frames, scene_layouts, SceneLayouts};
 use crate::render::passes::blades::BladeSetup;
 use crate::render::passes::{BladePass, ClusterBoundsPass, FloorPass, PipelineTarget, TerrainPass};
 use crate::render::scene_gpu::SceneGpu;
+use crate::render::settings::{check_submission, polygon_mode, sky_clear_color};
+pub use crate::render::settings::{
+    RenderSettings, BLADES_PER_INSTANCE_RANGE, DEFAULT_BLADES_PER_INSTANCE, SEGMENTS_RANGE,
+};
 use crate::render::specialization::Specialization;
-use crate::render::submission::{Strategy, Submission};
+use crate::render::submission::Strategy;
 use crate::render::target::{OffscreenTarget, TargetView, DEPTH_FORMAT};
 use crate::scene::{Camera, Scene};
 use crate::vk::{Access, Device, Resource};
-
-/// Blade segments allowed (thesis 4.1 levels of detail).
-pub const SEGMENTS_RANGE: std::ops::RangeInclusive<u32> = 1..=crate::render::gpu_constants::MAX_SEGMENTS;
-
-/// How the renderer is built.
-#[derive(Clone, Copy, Debug)]
-pub struct RenderSettings {
-    /// Quads per blade.
-    pub segments: u32,
-    /// Colour attachment format of the targets.
-    pub color_format: vk::Format,
-    /// Whether the shaders encode sRGB (UNORM targets) or the format does (`*_SRGB`).
-    pub encode_srgb: bool,
-    /// Frames in flight (1 for headless rendering).
-    pub frames_in_flight: usize,
-    /// Blades drawn per instance of the blade draw (see `BladePass::record`).
-    pub blades_per_instance: u32,
-    /// Colour blades by the magnitude of their force (thesis fig. 4.5 / 6.1c).
-    pub debug_force: bool,
-    /// Draw triangle edges only (needs `fillModeNonSolid`).
-    pub wireframe: bool,
-    /// Count pipeline statistics per pass (when the device has `pipelineStatisticsQuery`).
-    pub pipeline_statistics: bool,
-    /// How the blade pass submits its draws (`meadow overhead`); the floor ignores it.
-    pub submission: Submission,
-    /// Draw the cluster grid over the picture (`--debug-view bounds`).
-    pub debug_bounds: bool,
-    /// Draw the benchmark floor instead of the blades: the static blades' triangles pre-expanded
-    /// on the CPU, transform and flat colour only (`--mode floor`; a reference pass, not an
-    /// animation).
-    pub floor: bool,
-}
-
-/// Blades per instance allowed.
-pub const BLADES_PER_INSTANCE_RANGE: std::ops::RangeInclusive<u32> = 1..=1024;
-/// Default blades per instance.
-pub const DEFAULT_BLADES_PER_INSTANCE: u32 = 1;
 
 /// The scene on the GPU, its passes in a graph, and the frames in flight: build, then render
 /// frames into any target. Every object it owns is destroyed on drop, after the device is idle.
@@ -124,15 +91,26 @@ impl Renderer {
         }
         let polygon = polygon_mode(&device, settings.wireframe)?;
         check_submission(&device, &settings)?;
-        let blades = self.scene_gpu().blade_count;
-        let model = model::build(&device, self.layouts.animation_layout, &animation, settings.segments, blades)?;
+        // The same animation at the same segment count keeps its model (and its state): only the
+        // passes are rebuilt, with no upload.
+        let keep_model = animation == self.animation && settings.segments == self.settings.segments;
+        let model = match keep_model {
+            true => None,
+            false => {
+                let blades = self.scene_gpu().blade_count;
+                Some(model::build(&device, self.layouts.animation_layout, &animation, settings.segments, blades)?)
+            }
+        };
         let previous = (
             std::mem::replace(&mut self.settings, settings),
             std::mem::replace(&mut self.animation, animation),
-            self.model.replace(model),
+            match model {
+                Some(model) => self.model.replace(model),
+                None => None,
+            },
             std::mem::take(&mut self.graph),
         );
-        // The scene's images keep their states; the old model's go with it.
+        // The scene's resources keep their states; a replaced model's go with it.
         let mut states = previous.3.states().clone();
         if let Some(old_model) = &previous.2 {
             states.forget(old_model.resources().keyframe_import().0);
@@ -149,7 +127,10 @@ impl Renderer {
                 // Back to the previous passes and model; the half-built ones are retired.
                 self.settings = old_settings;
                 self.animation = old_animation;
-                let new_model = std::mem::replace(&mut self.model, old_model);
+                let new_model = match old_model {
+                    Some(old_model) => self.model.replace(old_model),
+                    None => None,
+                };
                 let new_graph = std::mem::replace(&mut self.graph, old_graph);
                 self.retire(new_model, new_graph);
                 return Err(e);
@@ -199,8 +180,12 @@ impl Renderer {
             depth: DEPTH_FORMAT,
             polygon,
         };
-        // Uploaded images, as the upload left them.
+        // Uploaded data, as the upload left it (a new kind of read will wait for the upload).
         self.graph.import(Resource::color(scene.blade_alpha.raw), &[Access::FragmentShaderSampledRead]);
+        let vertex_compute = [Access::VertexShaderStorageRead, Access::ComputeShaderRead];
+        self.graph.import(Resource::Buffer(scene.blades.raw), &vertex_compute);
+        self.graph.import(Resource::Buffer(scene.clusters.raw), &vertex_compute);
+        self.graph.import(Resource::Buffer(scene.heights.raw), &[Access::VertexShaderStorageRead]);
         let (keyframes, uploaded) = model.resources().keyframe_import();
         self.graph.import(keyframes, &uploaded);
         if settings.floor {
@@ -326,10 +311,19 @@ impl Renderer {
         self.ring.defer(&self.device, deletion);
     }
 
-    /// Wait for the frames holding deferred deletions and run them (without waiting for the
-    /// queue or the other frames).
-    pub fn flush_deletions(&mut self) -> Result<()> {
-        self.ring.flush_deletions(&self.device)
+    /// Wait for every frame and the queue, and run every deferred deletion (see `FrameRing::drain`).
+    pub fn drain_deletions(&mut self) -> Result<()> {
+        self.ring.drain(&self.device)
+    }
+
+    /// Forget `resource` in the graph (destroyed: its handle may be reused by a new object).
+    pub fn forget(&mut self, resource: Resource) {
+        self.graph.forget(resource);
+    }
+
+    /// Drop every kept recording (`Prerecorded`): they name objects that are being replaced.
+    pub fn forget_recordings(&mut self) {
+        self.ring.forget_replays();
     }
 
     /// Destroy `deletion` once `frames` more frames have completed (what the presentation engine
@@ -358,7 +352,7 @@ impl Renderer {
         self.graph.import(Resource::depth(target.depth), &[target.depth_previous]);
         let prerecorded = self.settings.submission.strategy == Strategy::Prerecorded;
         let frame = self.ring.frame_mut(slot);
-        let key = (target.color_view, target.extent);
+        let key = ReplayKey::new(target, outputs);
         if let Some(replay) = frame.replay.as_ref().filter(|r| prerecorded && r.target == key) {
             if &replay.entry == self.graph.states() {
                 // Uniforms and forces live in buffers written before: the same commands render
@@ -397,8 +391,16 @@ impl Renderer {
         outputs: Outputs,
     ) -> Result<()> {
         self.prepare_frame(slot, target, camera, time);
-        let started = self.record_frame(slot, target, outputs)?;
-        self.ring.submit(&self.device, slot, sync, started)
+        // The resource states move on only if the frame is submitted: a frame that failed to
+        // record or submit never runs, and the next frame's barriers must not assume it did.
+        let entry = self.graph.states().clone();
+        let submitted = self
+            .record_frame(slot, target, outputs)
+            .and_then(|started| self.ring.submit(&self.device, slot, sync, started));
+        if submitted.is_err() {
+            self.graph.set_states(entry);
+        }
+        submitted
     }
 
     /// Write the uniforms and forces of `slot`'s frame.
@@ -438,44 +440,12 @@ impl Renderer {
     pub fn record_only(&mut self, target: &TargetView, camera: &Camera, time: f32) -> Result<()> {
         let (slot, _) = self.begin_frame()?;
         self.prepare_frame(slot, target, camera, time);
-        self.record_frame(slot, target, Outputs::default()).map(|_| ())
+        // Never submitted: the resources stay as the last submitted frame left them.
+        let entry = self.graph.states().clone();
+        let recorded = self.record_frame(slot, target, Outputs::default()).map(|_| ());
+        self.graph.set_states(entry);
+        recorded
     }
-}
-
-/// The clear colour of the sky as the target stores it.
-fn sky_clear_color(encode_srgb: bool) -> [f32; 4] {
-    let sky = look::SKY;
-    if encode_srgb {
-        [look::encode_srgb(sky.x), look::encode_srgb(sky.y), look::encode_srgb(sky.z), 1.0]
-    } else {
-        [sky.x, sky.y, sky.z, 1.0]
-    }
-}
-
-/// FILL, or LINE for wireframes when the device can.
-fn polygon_mode(device: &Device, wireframe: bool) -> Result<vk::PolygonMode> {
-    if !wireframe {
-        return Ok(vk::PolygonMode::FILL);
-    }
-    if device.features.fill_mode_non_solid == vk::FALSE {
-        return Err(Error::Environment(format!("{} cannot draw wireframes (no fillModeNonSolid)", device.info.name)));
-    }
-    Ok(vk::PolygonMode::LINE)
-}
-
-/// Refuse a submission strategy the device cannot run, or combined with blades per instance.
-fn check_submission(device: &Device, settings: &RenderSettings) -> Result<()> {
-    let Submission { strategy, clusters } = settings.submission;
-    if strategy == Strategy::Instanced || settings.floor {
-        return Ok(());
-    }
-    if let Some(why) = strategy.unsupported(device, clusters) {
-        return Err(Error::Environment(format!("{} cannot submit `{}`: {why}", device.info.name, strategy.name())));
-    }
-    if settings.blades_per_instance != 1 {
-        return Err(Error::bad_input("submission strategies draw one blade per instance: drop --blades-per-instance"));
-    }
-    Ok(())
 }
 
 impl Drop for Renderer {

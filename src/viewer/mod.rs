@@ -21,12 +21,13 @@ use winit::window::Window;
 
 use crate::app::{self, GpuOptions, RenderOptions};
 use crate::error::{Error, Result, VkContext};
+use crate::render::frame::Deletion;
 use crate::render::graph::Outputs;
 use crate::render::target::{TargetView, DEPTH_FORMAT};
 use crate::render::{RenderSettings, Renderer};
 use crate::scene::{Camera, Scene};
 use crate::vk::swapchain::{swapchain_counts, PresentMode, Swapchain};
-use crate::vk::{Access, Buffer, BufferDesc, Device, Image, ImageDesc};
+use crate::vk::{Access, Buffer, BufferDesc, Device, Image, ImageDesc, Resource};
 use crate::wind::CalmArea;
 use controls::CameraControl;
 use script::Script;
@@ -125,10 +126,10 @@ struct Surface {
 
 impl Surface {
     /// The target of a frame into swapchain image `index` (just acquired) and the depth image
-    /// (discarded on its first use after a re-creation).
-    fn target_view(&mut self, index: u32) -> TargetView {
+    /// (discarded until a frame has been submitted with it).
+    fn target_view(&self, index: u32) -> TargetView {
         let depth = self.depth.as_ref().expect("depth exists with area");
-        let view = TargetView {
+        TargetView {
             color: self.swapchain.images[index as usize],
             color_view: self.swapchain.views[index as usize],
             depth: depth.raw,
@@ -136,9 +137,7 @@ impl Surface {
             extent: self.swapchain.extent,
             color_previous: Access::Acquired,
             depth_previous: if self.depth_used { Access::DepthAttachmentReadWrite } else { Access::Nothing },
-        };
-        self.depth_used = true;
-        view
+        }
     }
 
     /// Write the screenshot the last frame copied into `buffer` (after waiting for it).
@@ -320,51 +319,49 @@ impl Viewer {
     }
 
     /// (Re)create the swapchain and depth image at the window's size, without waiting for the
-    /// queue: the old swapchain, its views and the old depth image are destroyed once the frames
-    /// submitted before have finished, and its present semaphores once enough later frames have
-    /// completed (`vk::swapchain::Retired`). A second re-creation while the first one's objects
-    /// are still queued waits for the frame holding them (at most two swapchains exist).
+    /// queue: the old views and depth image are destroyed once the frames submitted before have
+    /// finished, the old swapchain and its present semaphores once enough later frames have
+    /// completed (`vk::swapchain::Retired`). A re-creation while earlier objects are still queued
+    /// (a resize storm) waits for the frames and the queue first, so at most two swapchains exist.
     fn recreate(&mut self) -> Result<()> {
-        if let Some(renderer) = self.renderer.as_mut() {
-            renderer.flush_deletions()?;
-        }
         let surface = self.surface.as_mut().expect("surface exists");
-        let size = surface.window.inner_size();
         let old_depth = surface.depth.take();
+        let old_images = surface.swapchain.images.clone();
+        let size = surface.window.inner_size();
+        let in_flight = self.settings.frames_in_flight as u64;
+        if let Some(renderer) = self.renderer.as_mut() {
+            if renderer.pending_deletions() > 0 {
+                // Retired faster than frames complete (a resize storm): at most two swapchains.
+                renderer.drain_deletions()?;
+            }
+            // Recordings and tracked states name the old images; their handles may be reused.
+            renderer.forget_recordings();
+            for image in &old_images {
+                renderer.forget(Resource::color(*image));
+            }
+            if let Some(depth) = &old_depth {
+                renderer.forget(Resource::depth(depth.raw));
+            }
+        }
+        self.retire(old_depth.map(|depth| {
+            Box::new(move |device: &Device| {
+                // SAFETY: the frames submitted before the re-creation have finished.
+                unsafe { depth.destroy(device) }
+            }) as Deletion
+        }));
+        let surface = self.surface.as_mut().expect("surface exists");
         let (has_area, retired) =
             surface.swapchain.recreate(&self.device, vk::Extent2D { width: size.width, height: size.height })?;
-        let (images, semaphores) = (retired.images() as u64, retired.split());
-        let (old_images, old_semaphores) = semaphores;
-        let in_flight = self.settings.frames_in_flight as u64;
+        let images = retired.images() as u64;
+        let (views, presentation) = retired.split();
+        // SAFETY (when run): the frames submitted before the re-creation have finished.
+        self.retire(Some(Box::new(move |device| unsafe { views.destroy(device) })));
+        // SAFETY (when run): presentations queued before were followed by `images + in_flight`
+        // completed frames (`vk::swapchain::Retired`).
+        let presentation: Deletion = Box::new(move |device| unsafe { presentation.destroy(device) });
         match self.renderer.as_mut() {
-            Some(renderer) => {
-                renderer.defer(Box::new(move |device| {
-                    // SAFETY: the frames submitted before the re-creation have finished.
-                    unsafe {
-                        old_images.destroy(device);
-                        if let Some(depth) = old_depth {
-                            depth.destroy(device);
-                        }
-                    }
-                }));
-                // SAFETY (when run): presentations queued before were followed by `images +
-                // in_flight` completed frames.
-                renderer.defer_frames(
-                    images + in_flight,
-                    Box::new(move |device| unsafe { old_semaphores.destroy(device) }),
-                );
-            }
-            None => {
-                // No renderer: nothing was ever submitted with them.
-                // SAFETY: unused.
-                unsafe {
-                    old_images.destroy(&self.device);
-                    old_semaphores.destroy(&self.device);
-                    if let Some(depth) = old_depth {
-                        depth.destroy(&self.device);
-                    }
-                }
-            }
+            Some(renderer) => renderer.defer_frames(images + in_flight, presentation),
+            None => presentation(&self.device),
         }
         self.minimised = !has_area;
         if has_area {
@@ -401,6 +398,16 @@ impl Viewer {
             }
             _ => None,
         })
+    }
+
+    /// Destroy `deletion` once the frames submitted so far have finished (now without a renderer:
+    /// nothing was submitted).
+    fn retire(&mut self, deletion: Option<Deletion>) {
+        match (deletion, self.renderer.as_mut()) {
+            (Some(deletion), Some(renderer)) => renderer.defer(deletion),
+            (Some(deletion), None) => deletion(&self.device),
+            (None, _) => {}
+        }
     }
 
     /// Render one frame into the swapchain.
@@ -449,12 +456,19 @@ impl Viewer {
         };
         let outputs = Outputs { readback: readback.as_ref().map(|b| b.raw), present: true };
         let submitted = renderer.submit_frame(slot, &view, &self.control.camera, self.time, sync, outputs);
+        if submitted.is_err() {
+            // The acquired image was never rendered nor presented: release it with a new swapchain.
+            self.needs_recreate = true;
+        } else {
+            surface.depth_used = true;
+        }
         let result = submitted.and_then(|()| surface.swapchain.present(&self.device, index));
         if let (Some(buffer), Some(path)) = (readback, self.screenshot.take()) {
-            // A screenshot is rare: wait for this frame, then write the picture.
-            let written = surface.write_screenshot(renderer, &buffer, &path);
-            // SAFETY: the frame that wrote it completed (or the wait failed and the device is
-            // being torn down: the renderer's drop waits for it).
+            // A screenshot is rare: wait for this frame, then write the picture (only of a frame
+            // that ran).
+            let written = if result.is_ok() { surface.write_screenshot(renderer, &buffer, &path) } else { Ok(()) };
+            // SAFETY: the frame that wrote it completed, or it was never submitted (the wait of
+            // a failed frame's new fence returns at once; the renderer's drop waits for the rest).
             unsafe { buffer.destroy(&self.device) };
             written?;
         }

@@ -265,12 +265,13 @@ fn destroy_swapchain(swapchain_fn: &ash::khr::swapchain::Device, raw: vk::Swapch
 }
 
 /// What a re-creation replaced. Two lifetimes, two rules:
-/// - the swapchain and its views are used by the command buffers of the frames in flight:
-///   destroy them once the last frame submitted before the re-creation has finished (its fence);
-/// - the present semaphores are waited by the presentation engine, which no fence covers without
-///   `VK_EXT_swapchain_maintenance1`: destroy them once as many frames as there are images, plus
-///   the frames in flight, have completed since — by then every presentation queued before the
-///   re-creation has been replaced by a later one.
+/// - the views are used by the command buffers of the frames in flight: destroy them once the
+///   last frame submitted before the re-creation has finished (its fence);
+/// - the swapchain and its present semaphores are used by presentations, which no fence covers
+///   without `VK_EXT_swapchain_maintenance1`: destroy them once as many frames as there are
+///   images, plus the frames in flight, have completed since — by then every presentation
+///   queued before the re-creation has been followed by that many later ones on the same queue.
+///   This is a rule of thumb the spec does not guarantee; the extension's present fences would.
 pub struct Retired {
     swapchain_fn: ash::khr::swapchain::Device,
     raw: vk::SwapchainKHR,
@@ -284,24 +285,22 @@ impl Retired {
         self.present_semaphores.len()
     }
 
-    /// Split into the swapchain with its views, and the present semaphores.
-    pub fn split(self) -> (RetiredImages, RetiredSemaphores) {
+    /// Split into the views, and the swapchain with its present semaphores.
+    pub fn split(self) -> (RetiredViews, RetiredPresentation) {
         (
-            RetiredImages { swapchain_fn: self.swapchain_fn, raw: self.raw, views: self.views },
-            RetiredSemaphores { semaphores: self.present_semaphores },
+            RetiredViews { views: self.views },
+            RetiredPresentation { swapchain_fn: self.swapchain_fn, raw: self.raw, semaphores: self.present_semaphores },
         )
     }
 }
 
-/// A retired swapchain and its views.
-pub struct RetiredImages {
-    swapchain_fn: ash::khr::swapchain::Device,
-    raw: vk::SwapchainKHR,
+/// A retired swapchain's image views.
+pub struct RetiredViews {
     views: Vec<vk::ImageView>,
 }
 
-impl RetiredImages {
-    /// Destroy the views and the swapchain.
+impl RetiredViews {
+    /// Destroy the views.
     ///
     /// # Safety
     /// No command buffer using them may be pending.
@@ -310,24 +309,26 @@ impl RetiredImages {
             // SAFETY: per the contract.
             unsafe { device.raw.destroy_image_view(view, None) };
         }
-        destroy_swapchain(&self.swapchain_fn, self.raw);
     }
 }
 
-/// Retired present semaphores.
-pub struct RetiredSemaphores {
+/// A retired swapchain and its present semaphores.
+pub struct RetiredPresentation {
+    swapchain_fn: ash::khr::swapchain::Device,
+    raw: vk::SwapchainKHR,
     semaphores: Vec<vk::Semaphore>,
 }
 
-impl RetiredSemaphores {
-    /// Destroy them.
+impl RetiredPresentation {
+    /// Destroy the semaphores and the swapchain.
     ///
     /// # Safety
-    /// No presentation may still wait on them.
+    /// No presentation may still use them (and no command buffer its images).
     pub unsafe fn destroy(self, device: &Device) {
         for semaphore in self.semaphores {
             // SAFETY: per the contract.
             unsafe { device.raw.destroy_semaphore(semaphore, None) };
         }
+        destroy_swapchain(&self.swapchain_fn, self.raw);
     }
 }

@@ -68,10 +68,11 @@ impl Resource {
 /// What a resource was last used for.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct ResourceState {
-    /// The last write (or layout-defining event such as an acquire), with every access of the
-    /// same use; empty when nothing wrote the resource since it was imported.
-    write: Vec<Access>,
-    /// Reads since `write`, each already made visible (no barrier needed to repeat one).
+    /// What a new kind of read waits on: the last write, or the last layout transition, or the
+    /// accesses the resource was imported with (their memory dependency made the data available);
+    /// empty when nothing wrote the resource since it was created.
+    source: Vec<Access>,
+    /// Reads since `source` whose memory is already visible (repeating one needs no barrier).
     reads: Vec<Access>,
     /// Current image layout (UNDEFINED for buffers and unwritten images).
     layout: vk::ImageLayout,
@@ -86,10 +87,9 @@ impl ResourceState {
     /// The state of a resource last accessed by `accesses` (e.g. `Nothing` to discard an image,
     /// `Acquired` for a swapchain image, the read accesses an upload made it visible to).
     pub fn imported(accesses: &[Access]) -> Self {
-        let (write, reads): (Vec<Access>, Vec<Access>) =
-            accesses.iter().partition(|a| a.writes() != vk::AccessFlags2::NONE);
+        let reads = accesses.iter().copied().filter(|a| a.writes() == vk::AccessFlags2::NONE).collect();
         let layout = accesses.first().map_or(vk::ImageLayout::UNDEFINED, |a| a.info().layout);
-        Self { write, reads, layout, imported: true }
+        Self { source: accesses.to_vec(), reads, layout, imported: true }
     }
 
     /// Whether the state came from an import rather than from a default.
@@ -105,18 +105,17 @@ impl ResourceState {
         // Accesses without stages (presentation) are layout changes only.
         let relayout = image && (layout != self.layout || next.iter().any(|a| a.info().stages.is_empty()));
         if writes || relayout {
+            // WAR on every read since the source, WAW (or the chain) on the source itself.
             let mut previous = self.reads.clone();
-            previous.extend(&self.write);
+            previous.extend(self.source.iter().filter(|a| !self.reads.contains(a)));
             if image && previous.is_empty() {
                 previous.push(Access::Nothing);
             }
-            *self = if writes {
-                Self { write: next.to_vec(), reads: Vec::new(), layout, imported: self.imported }
-            } else {
-                // The layout transition made the last write available; later writes chain through
-                // these reads.
-                Self { write: Vec::new(), reads: next.to_vec(), layout, imported: self.imported }
-            };
+            // A write leaves nothing visible; a read in a new layout is visible to itself, and a
+            // later read of another kind chains through it (the transition made the data
+            // available, the next barrier makes it visible to that read).
+            let reads = if writes { Vec::new() } else { next.to_vec() };
+            *self = Self { source: next.to_vec(), reads, layout, imported: self.imported };
             // A buffer nobody used yet needs no barrier before its first write.
             return (!previous.is_empty()).then(|| (previous, next.to_vec()));
         }
@@ -128,7 +127,7 @@ impl ResourceState {
                 self.reads.push(*a);
             }
         }
-        (!self.write.is_empty()).then(|| (self.write.clone(), next.to_vec()))
+        (!self.source.is_empty()).then(|| (self.source.clone(), next.to_vec()))
     }
 }
 
@@ -214,6 +213,21 @@ mod tests {
         s.access(&[Access::VertexShaderStorageRead], BUFFER);
         let indirect = s.access(&[Access::IndirectCommandRead], BUFFER);
         assert_eq!(indirect, Some((vec![Access::ComputeShaderWrite], vec![Access::IndirectCommandRead])));
+    }
+
+    #[test]
+    fn a_new_kind_of_read_after_a_transition_or_an_import_waits_for_it() {
+        let mut s = ResourceState::imported(&[Access::ColorAttachmentWrite]);
+        s.access(&[Access::FragmentShaderSampledRead], IMAGE).expect("layout change");
+        let vertex = s.access(&[Access::VertexShaderSampledRead], IMAGE);
+        assert_eq!(vertex, Some((vec![Access::FragmentShaderSampledRead], vec![Access::VertexShaderSampledRead])));
+        assert_eq!(s.access(&[Access::VertexShaderSampledRead], IMAGE), None, "now visible");
+        let mut uploaded = ResourceState::imported(&[Access::VertexShaderSampledRead]);
+        let fragment = uploaded.access(&[Access::FragmentShaderSampledRead], IMAGE);
+        assert_eq!(fragment, Some((vec![Access::VertexShaderSampledRead], vec![Access::FragmentShaderSampledRead])));
+        // A later write waits for both reads, once each.
+        let war = s.access(&[Access::ColorAttachmentWrite], IMAGE).expect("WAR");
+        assert_eq!(war.0, vec![Access::FragmentShaderSampledRead, Access::VertexShaderSampledRead]);
     }
 
     #[test]

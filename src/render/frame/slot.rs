@@ -1,18 +1,19 @@
-//! Per-frame data: the uniform block every pass reads, the resources one frame in flight owns
-//! (`Frame`), and the ring of frames in flight with their deletion queues (`FrameRing`).
+//! One frame in flight: what it owns (`Frame`), what it measured (`FrameTimings`), and what a
+//! kept recording was made for (`Replay`).
 
 use std::time::Instant;
 
 use ash::vk;
 
-use crate::error::{Error, Result, VkContext};
-use crate::render::graph::{RecordedPass, Scopes};
-use crate::vk::commands::{self, CommandRecorder};
+use crate::error::Result;
+use crate::render::frame::Deletion;
+use crate::render::graph::{Outputs, RecordedPass, Scopes};
+use crate::render::target::TargetView;
+use crate::render::uniforms::FrameUniforms;
+use crate::vk::commands::CommandRecorder;
 use crate::vk::query::{span_ms, PipelineStatistics, StatisticsQueries, TimestampQueries};
 use crate::vk::tracker::ResourceStates;
 use crate::vk::{sync, Buffer, BufferDesc, Device};
-
-pub use crate::render::uniforms::{look, FrameUniforms};
 
 /// Passes a frame can measure.
 pub const MAX_PASSES: u32 = 15;
@@ -55,14 +56,34 @@ pub struct FrameTimings {
     pub cpu_wait: Option<[Instant; 2]>,
 }
 
-/// Something to destroy once the GPU is done with it.
-pub type Deletion = Box<dyn FnOnce(&Device)>;
+/// Everything a recording names besides the renderer's own objects: its target and outputs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ReplayKey {
+    images: [vk::Image; 2],
+    views: [vk::ImageView; 2],
+    extent: vk::Extent2D,
+    readback: Option<vk::Buffer>,
+    present: bool,
+}
+
+impl ReplayKey {
+    /// The key of a frame into `target` with `outputs`.
+    pub fn new(target: &TargetView, outputs: Outputs) -> Self {
+        Self {
+            images: [target.color, target.depth],
+            views: [target.color_view, target.depth_view],
+            extent: target.extent,
+            readback: outputs.readback,
+            present: outputs.present,
+        }
+    }
+}
 
 /// A command buffer kept for replay (the `Prerecorded` submission): what it was recorded for.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Replay {
-    /// The colour view and size it draws into.
-    pub target: (vk::ImageView, vk::Extent2D),
+    /// The target and outputs it was recorded for.
+    pub target: ReplayKey,
     /// The resource states its barriers assumed at its start.
     pub entry: ResourceStates,
     /// The states it leaves.
@@ -103,7 +124,7 @@ pub struct Frame {
     /// submitted again as is.
     pub replay: Option<Replay>,
     /// Destroyed once this frame's fence has signalled.
-    deletions: Vec<Deletion>,
+    pub(super) deletions: Vec<Deletion>,
 }
 
 /// Offset of the statistics in `Frame::query_results`.
@@ -220,7 +241,7 @@ impl Frame {
     }
 
     /// The timings of the submission just waited for (`pending`), from the copied queries.
-    fn timings(&mut self, wait: [Instant; 2]) -> Option<FrameTimings> {
+    pub(super) fn timings(&mut self, wait: [Instant; 2]) -> Option<FrameTimings> {
         let [started, recorded, submitted] = self.pending.take()?;
         let copied = self.query_results.mapped();
         let stamps = self.timestamps.read_ns(copied);
@@ -252,7 +273,7 @@ impl Frame {
     }
 
     /// Run the deletions queued behind this frame (its fence has signalled).
-    fn run_deletions(&mut self, device: &Device) {
+    pub(super) fn run_deletions(&mut self, device: &Device) {
         for deletion in self.deletions.drain(..) {
             deletion(device);
         }
@@ -277,221 +298,6 @@ impl Frame {
             device.raw.destroy_fence(self.fence, None);
             device.raw.destroy_semaphore(self.acquire, None);
             self.recorder.destroy(device);
-        }
-    }
-}
-
-/// Semaphores a frame's submission waits on (at colour output) and signals.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct FrameSync {
-    /// E.g. the swapchain image's acquire semaphore.
-    pub wait: Option<vk::Semaphore>,
-    /// E.g. the swapchain image's present semaphore.
-    pub signal: Option<vk::Semaphore>,
-}
-
-/// The frames in flight, used round-robin, and what waits for them to finish.
-///
-/// Deletion: an object a submitted frame may still use goes on the queue of the last frame
-/// submitted (`defer`) and is destroyed when that frame's fence has signalled, which on one queue
-/// means every earlier frame has finished too. Objects the presentation engine may still use (an
-/// old swapchain's images, views and present semaphores) have no fence without
-/// `VK_EXT_swapchain_maintenance1`: `defer_frames` destroys them after a number of further frames
-/// has completed (the caller chooses it; see the viewer's swapchain).
-pub struct FrameRing {
-    frames: Vec<Frame>,
-    next: usize,
-    last_submitted: Option<usize>,
-    /// Frames whose fence was waited after their submission.
-    completed: u64,
-    /// Frames submitted.
-    submitted: u64,
-    /// Deletions run once `completed` reaches their count.
-    after_frames: Vec<(u64, Deletion)>,
-    /// Fault injection for tests: this submission (1-based) fails as if the driver had returned
-    /// `VK_ERROR_DEVICE_LOST` (`MEADOW_INJECT_SUBMIT_FAILURE`).
-    inject_failure: Option<u64>,
-}
-
-impl FrameRing {
-    /// A ring of `frames`. `MEADOW_INJECT_SUBMIT_FAILURE=N` makes the N-th submission fail.
-    pub fn new(frames: Vec<Frame>) -> Self {
-        let inject_failure = std::env::var("MEADOW_INJECT_SUBMIT_FAILURE").ok().and_then(|v| v.parse().ok());
-        Self {
-            frames,
-            next: 0,
-            last_submitted: None,
-            completed: 0,
-            submitted: 0,
-            after_frames: Vec::new(),
-            inject_failure,
-        }
-    }
-
-    /// Make the `nth` submission from now on (1 = the next) fail, for tests.
-    pub fn inject_submit_failure(&mut self, nth: u64) {
-        self.inject_failure = Some(self.submitted + nth);
-    }
-
-    /// Number of frames in flight.
-    pub fn len(&self) -> usize {
-        self.frames.len()
-    }
-
-    /// Whether the ring has no frames (never, once built).
-    pub fn is_empty(&self) -> bool {
-        self.frames.is_empty()
-    }
-
-    /// Frame `slot`.
-    pub fn frame(&self, slot: usize) -> &Frame {
-        &self.frames[slot]
-    }
-
-    /// Frame `slot`, mutably.
-    pub fn frame_mut(&mut self, slot: usize) -> &mut Frame {
-        &mut self.frames[slot]
-    }
-
-    /// Every frame.
-    pub fn frames(&self) -> &[Frame] {
-        &self.frames
-    }
-
-    /// Take the next slot: wait for its fence, run the deletions queued behind it, and return it
-    /// with the timings of the frame it rendered last, if any. Only that slot's fence is waited.
-    pub fn begin(&mut self, device: &Device) -> Result<(usize, Option<FrameTimings>)> {
-        let slot = self.next;
-        self.next = (self.next + 1) % self.frames.len();
-        Ok((slot, self.wait(device, slot)?))
-    }
-
-    /// Wait for `slot`'s fence and read the timings of its last submission, if any.
-    pub fn wait(&mut self, device: &Device, slot: usize) -> Result<Option<FrameTimings>> {
-        let frame = &mut self.frames[slot];
-        if frame.fence == vk::Fence::null() {
-            return Err(Error::Environment("a failed submission left this frame without a fence".into()));
-        }
-        let started = Instant::now();
-        sync::wait_fence(device, frame.fence)?;
-        let ended = Instant::now();
-        let had_pending = frame.pending.is_some();
-        frame.run_deletions(device);
-        let timings = frame.timings([started, ended]);
-        if had_pending {
-            self.completed += 1;
-            self.run_after_frames(device);
-        }
-        Ok(timings)
-    }
-
-    fn run_after_frames(&mut self, device: &Device) {
-        let completed = self.completed;
-        let (due, kept): (Vec<_>, Vec<_>) = self.after_frames.drain(..).partition(|(n, _)| *n <= completed);
-        self.after_frames = kept;
-        for (_, deletion) in due {
-            deletion(device);
-        }
-    }
-
-    /// Wait for every frame in flight (before reading a screenshot, or at teardown; never inside
-    /// a frame).
-    pub fn wait_all(&mut self, device: &Device) -> Result<Vec<(usize, FrameTimings)>> {
-        let mut done = Vec::new();
-        for slot in 0..self.frames.len() {
-            if let Some(t) = self.wait(device, slot)? {
-                done.push((slot, t));
-            }
-        }
-        Ok(done)
-    }
-
-    /// Destroy `deletion` once every frame submitted so far has finished: now, when none is
-    /// pending.
-    pub fn defer(&mut self, device: &Device, deletion: Deletion) {
-        match self.last_submitted {
-            Some(slot) if self.frames[slot].pending.is_some() => self.frames[slot].deletions.push(deletion),
-            _ => deletion(device),
-        }
-    }
-
-    /// Deletions still queued: behind frames in flight, or waiting for later frames.
-    pub fn pending_deletions(&self) -> usize {
-        self.frames.iter().map(|f| f.deletions.len()).sum::<usize>() + self.after_frames.len()
-    }
-
-    /// Drop every kept recording (`Prerecorded`): they name pipelines that are being replaced.
-    pub fn forget_replays(&mut self) {
-        for frame in &mut self.frames {
-            frame.replay = None;
-        }
-    }
-
-    /// Wait for the frames that have deletions queued behind them, and run those deletions (e.g.
-    /// before retiring a second swapchain while the first is still queued). Other frames keep
-    /// running.
-    pub fn flush_deletions(&mut self, device: &Device) -> Result<()> {
-        for slot in 0..self.frames.len() {
-            if !self.frames[slot].deletions.is_empty() {
-                self.wait(device, slot)?;
-            }
-        }
-        Ok(())
-    }
-
-    /// Destroy `deletion` once `frames` more frames have completed (for what the presentation
-    /// engine may hold, which no fence covers).
-    pub fn defer_frames(&mut self, frames: u64, deletion: Deletion) {
-        self.after_frames.push((self.submitted.max(self.completed) + frames, deletion));
-    }
-
-    /// Submit `cmd` for `slot` (after `begin`), waiting and signalling `sync`'s semaphores and
-    /// the slot's fence; `spans` are when recording started and ended.
-    ///
-    /// A failed `vkQueueSubmit2` leaves the fence unsignalled with nothing to signal it: the
-    /// fence is replaced by a signalled one, so no later wait hangs, and the error is returned.
-    pub fn submit(&mut self, device: &Device, slot: usize, sync: FrameSync, started: Instant) -> Result<()> {
-        let recorded = Instant::now();
-        let info = |semaphore: Option<vk::Semaphore>, stage| {
-            semaphore.map(|s| vk::SemaphoreSubmitInfo::default().semaphore(s).stage_mask(stage))
-        };
-        // The acquire semaphore is waited where the image is first written.
-        let wait: Vec<_> = info(sync.wait, vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT).into_iter().collect();
-        let signal: Vec<_> = info(sync.signal, vk::PipelineStageFlags2::ALL_COMMANDS).into_iter().collect();
-        self.submitted += 1;
-        let inject = self.inject_failure == Some(self.submitted);
-        let frame = &mut self.frames[slot];
-        // SAFETY: `begin` waited for this fence; nothing pending uses the frame.
-        unsafe { device.raw.reset_fences(&[frame.fence]) }.vk("vkResetFences")?;
-        let submitted = if inject {
-            Err(Error::Vulkan { call: "vkQueueSubmit2 (injected failure)", result: vk::Result::ERROR_DEVICE_LOST })
-        } else {
-            commands::submit(device, frame.recorder.cmd, &wait, &signal, frame.fence)
-        };
-        if let Err(e) = submitted {
-            frame.replay = None;
-            // SAFETY: the failed submission did not take the fence: nothing will signal it.
-            unsafe { device.raw.destroy_fence(frame.fence, None) };
-            frame.fence = vk::Fence::null();
-            frame.fence = sync::fence(device, true, &format!("frame {slot} fence"))?;
-            return Err(e);
-        }
-        frame.pending = Some([started, recorded, Instant::now()]);
-        self.last_submitted = Some(slot);
-        Ok(())
-    }
-
-    /// Destroy every frame and every queued deletion.
-    ///
-    /// # Safety
-    /// The device must be idle.
-    pub unsafe fn destroy(mut self, device: &Device) {
-        for (_, deletion) in self.after_frames.drain(..) {
-            deletion(device);
-        }
-        for frame in self.frames {
-            // SAFETY: per the contract.
-            unsafe { frame.destroy(device) };
         }
     }
 }

@@ -1,0 +1,82 @@
+//! How a renderer is built (`RenderSettings`, the ranges the CLI checks against), and the checks
+//! and derived values of the settings that do not need a renderer.
+
+use ash::vk;
+
+use crate::error::{Error, Result};
+use crate::render::frame::look;
+use crate::render::submission::{Strategy, Submission};
+use crate::vk::Device;
+
+/// Blade segments allowed (thesis 4.1 levels of detail).
+pub const SEGMENTS_RANGE: std::ops::RangeInclusive<u32> = 1..=crate::render::gpu_constants::MAX_SEGMENTS;
+
+/// How the renderer is built.
+#[derive(Clone, Copy, Debug)]
+pub struct RenderSettings {
+    /// Quads per blade.
+    pub segments: u32,
+    /// Colour attachment format of the targets.
+    pub color_format: vk::Format,
+    /// Whether the shaders encode sRGB (UNORM targets) or the format does (`*_SRGB`).
+    pub encode_srgb: bool,
+    /// Frames in flight (1 for headless rendering).
+    pub frames_in_flight: usize,
+    /// Blades drawn per instance of the blade draw (see `BladePass::record`).
+    pub blades_per_instance: u32,
+    /// Colour blades by the magnitude of their force (thesis fig. 4.5 / 6.1c).
+    pub debug_force: bool,
+    /// Draw triangle edges only (needs `fillModeNonSolid`).
+    pub wireframe: bool,
+    /// Count pipeline statistics per pass (when the device has `pipelineStatisticsQuery`).
+    pub pipeline_statistics: bool,
+    /// How the blade pass submits its draws (`meadow overhead`); the floor ignores it.
+    pub submission: Submission,
+    /// Draw the cluster grid over the picture (`--debug-view bounds`).
+    pub debug_bounds: bool,
+    /// Draw the benchmark floor instead of the blades: the static blades' triangles pre-expanded
+    /// on the CPU, transform and flat colour only (`--mode floor`; a reference pass, not an
+    /// animation).
+    pub floor: bool,
+}
+
+/// Blades per instance allowed.
+pub const BLADES_PER_INSTANCE_RANGE: std::ops::RangeInclusive<u32> = 1..=1024;
+/// Default blades per instance.
+pub const DEFAULT_BLADES_PER_INSTANCE: u32 = 1;
+
+/// The clear colour of the sky as the target stores it.
+pub(crate) fn sky_clear_color(encode_srgb: bool) -> [f32; 4] {
+    let sky = look::SKY;
+    if encode_srgb {
+        [look::encode_srgb(sky.x), look::encode_srgb(sky.y), look::encode_srgb(sky.z), 1.0]
+    } else {
+        [sky.x, sky.y, sky.z, 1.0]
+    }
+}
+
+/// FILL, or LINE for wireframes when the device can.
+pub(crate) fn polygon_mode(device: &Device, wireframe: bool) -> Result<vk::PolygonMode> {
+    if !wireframe {
+        return Ok(vk::PolygonMode::FILL);
+    }
+    if device.features.fill_mode_non_solid == vk::FALSE {
+        return Err(Error::Environment(format!("{} cannot draw wireframes (no fillModeNonSolid)", device.info.name)));
+    }
+    Ok(vk::PolygonMode::LINE)
+}
+
+/// Refuse a submission strategy the device cannot run, or combined with blades per instance.
+pub(crate) fn check_submission(device: &Device, settings: &RenderSettings) -> Result<()> {
+    let Submission { strategy, clusters } = settings.submission;
+    if strategy == Strategy::Instanced || settings.floor {
+        return Ok(());
+    }
+    if let Some(why) = strategy.unsupported(device, clusters) {
+        return Err(Error::Environment(format!("{} cannot submit `{}`: {why}", device.info.name, strategy.name())));
+    }
+    if settings.blades_per_instance != 1 {
+        return Err(Error::bad_input("submission strategies draw one blade per instance: drop --blades-per-instance"));
+    }
+    Ok(())
+}
