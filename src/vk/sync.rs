@@ -160,8 +160,13 @@ pub fn transition(previous: &[Access], next: &[Access]) -> Transition {
     t
 }
 
-/// Whether all `accesses` use one image layout.
+/// Whether all `accesses` use one image layout (a trailing `Nothing` discards the contents: the
+/// old layout is then UNDEFINED, whatever the accesses before it used).
 pub fn one_layout(accesses: &[Access]) -> bool {
+    let accesses = match accesses.split_last() {
+        Some((Access::Nothing, rest)) => rest,
+        _ => accesses,
+    };
     accesses.windows(2).all(|w| w[0].info().layout == w[1].info().layout)
 }
 

@@ -92,6 +92,15 @@ impl ResourceState {
         Self { source: accesses.to_vec(), reads, layout, imported: true }
     }
 
+    /// The contents discarded (the next transition starts from UNDEFINED), ordered after every
+    /// access since the source.
+    fn discarded(&self) -> Self {
+        let mut source = self.reads.clone();
+        source.extend(self.source.iter().filter(|a| !self.reads.contains(a) && **a != Access::Nothing));
+        source.push(Access::Nothing);
+        Self { source, reads: Vec::new(), layout: vk::ImageLayout::UNDEFINED, imported: true }
+    }
+
     /// Whether the state came from an import rather than from a default.
     pub fn is_imported(&self) -> bool {
         self.imported
@@ -139,9 +148,15 @@ pub struct ResourceStates {
 }
 
 impl ResourceStates {
-    /// Set `resource`'s state to "last accessed by `accesses`".
+    /// Set `resource`'s state to "last accessed by `accesses`". Importing a tracked resource as
+    /// `[Access::Nothing]` discards its contents but still waits for what the tracked state says
+    /// used it last (earlier frames may be using it still).
     pub fn import(&mut self, resource: Resource, accesses: &[Access]) {
-        self.states.insert(resource, ResourceState::imported(accesses));
+        let state = match (accesses, self.states.get(&resource)) {
+            ([Access::Nothing], Some(tracked)) => tracked.discarded(),
+            _ => ResourceState::imported(accesses),
+        };
+        self.states.insert(resource, state);
     }
 
     /// Forget `resource` (destroyed, or its handle may be reused).
@@ -265,6 +280,24 @@ mod tests {
         // The next frame writes it again: waits for the copy.
         let again = s.access(&[Access::ColorAttachmentWrite], IMAGE).expect("WAR + layout");
         assert_eq!(again.0, vec![Access::TransferRead]);
+    }
+
+    #[test]
+    fn discarding_a_tracked_image_still_waits_for_its_last_use() {
+        let mut states = ResourceStates::default();
+        let image = Resource::color(vk::Image::null());
+        states.import(image, &[Access::Nothing]);
+        assert_eq!(states.access(image, &[Access::ColorAttachmentWrite]).expect("layout").0, vec![Access::Nothing]);
+        states.import(image, &[Access::Nothing]);
+        let (previous, next) = states.access(image, &[Access::ColorAttachmentWrite]).expect("WAW");
+        assert_eq!(previous, vec![Access::ColorAttachmentWrite, Access::Nothing]);
+        let t = sync::transition(&previous, &next);
+        assert_eq!(t.old_layout, vk::ImageLayout::UNDEFINED, "contents discarded");
+        assert!(
+            t.src_stages.contains(vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT),
+            "after the last frame's writes"
+        );
+        assert_eq!(t.src_access, vk::AccessFlags2::COLOR_ATTACHMENT_WRITE);
     }
 
     #[test]
