@@ -4,6 +4,7 @@
 //! what they return.
 
 mod keyframe_report;
+pub mod output;
 
 pub use keyframe_report::{keyframes, KeyframeOptions};
 
@@ -226,31 +227,14 @@ fn check_output(path: &Path) -> Result<()> {
             parent.display()
         )));
     }
-    if path.is_dir() {
-        return Err(Error::bad_input(format!("--out {}: is a directory", path.display())));
-    }
-    Ok(())
+    output::check_target(path, "--out")
 }
 
-/// Write an RGBA8 readback as an RGB PNG, atomically: a temporary file renamed into place, so a
-/// failure never leaves a half-written picture.
+/// Write an RGBA8 readback as an RGB PNG, whole or not at all (`output::write_atomically`).
 pub fn write_png(path: &Path, size: (u32, u32), rgba: &[u8]) -> Result<()> {
     let rgb: Vec<u8> = rgba.chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect();
     let image = image::RgbImage::from_raw(size.0, size.1, rgb).expect("readback holds width*height pixels");
-    let file_name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_else(|| "meadow.png".into());
-    let tmp = path.with_file_name(format!(".{file_name}.{}.tmp", std::process::id()));
-    let io = |source: std::io::Error| Error::Io { path: path.display().to_string(), source };
-    image.save_with_format(&tmp, image::ImageFormat::Png).map_err(|e| {
-        let _ = std::fs::remove_file(&tmp);
-        match e {
-            image::ImageError::IoError(source) => io(source),
-            other => io(std::io::Error::other(other.to_string())),
-        }
-    })?;
-    std::fs::rename(&tmp, path).map_err(|e| {
-        let _ = std::fs::remove_file(&tmp);
-        io(e)
-    })
+    output::write_atomically(path, &output::encode_png(&image)?)
 }
 
 /// `meadow render`: build the scene, render it headless, write the PNG.
@@ -325,10 +309,7 @@ pub fn median(values: &mut [f64]) -> f64 {
     }
 }
 
-/// Write a text file atomically (temporary file renamed into place).
+/// Write a text file whole or not at all (`output::write_atomically`).
 pub fn write_text(path: &Path, text: &str) -> Result<()> {
-    let io = |source: std::io::Error| Error::Io { path: path.display().to_string(), source };
-    let tmp = path.with_extension("tmp");
-    std::fs::write(&tmp, text).map_err(io)?;
-    std::fs::rename(&tmp, path).map_err(io)
+    output::write_atomically(path, text.as_bytes())
 }

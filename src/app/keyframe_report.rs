@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use super::check_output;
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::keyframes::compression::{BladeGeometry, CompressionReport};
 use crate::keyframes::encoding::{self, Encoding};
 use crate::keyframes::{BladeModel, KeyframeLayout, KeyframeTable};
@@ -144,10 +144,7 @@ fn export(out: &mut String, table: &KeyframeTable, path: &Path) -> Result<()> {
     let words: Vec<u16> = bytes.chunks_exact(2).map(|b| u16::from_le_bytes([b[0], b[1]])).collect();
     let image =
         image::ImageBuffer::<image::Rgba<u16>, _>::from_raw(width, height, words).expect("texels match the size");
-    let tmp = path.with_extension("png.tmp");
-    let io = |source: std::io::Error| Error::Io { path: path.display().to_string(), source };
-    image.save_with_format(&tmp, image::ImageFormat::Png).map_err(|e| io(std::io::Error::other(e.to_string())))?;
-    std::fs::rename(&tmp, path).map_err(io)?;
+    super::output::write_atomically(path, &super::output::encode_png(&image)?)?;
     let _ = writeln!(out, "wrote {} ({width}x{height}, RGBA16: displacement xyz, twist / (pi/2))", path.display());
     Ok(())
 }

@@ -1,0 +1,69 @@
+//! Files meadow writes are whole or absent: the bytes go to a temporary file next to the target,
+//! are flushed to the disk (`sync_all`), and only then renamed into place; any failure removes
+//! the temporary file and leaves the target as it was. A target that exists and is not a regular
+//! file (a FIFO, a device node, a directory) is refused, before any work when checked up front.
+//!
+//! `MEADOW_INJECT_WRITE_FAILURE=1` makes every write fail half-way, as a full disk would (for
+//! the tests: a full filesystem cannot be mounted everywhere the tests run).
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU64, Ordering};
+
+use crate::error::{Error, Result};
+
+/// Refuse `path` when it exists and is not a regular file (or a link to one). `flag` names the
+/// option in the message.
+pub fn check_target(path: &Path, flag: &str) -> Result<()> {
+    match std::fs::metadata(path) {
+        Ok(meta) if meta.is_dir() => Err(Error::bad_input(format!("{flag} {}: is a directory", path.display()))),
+        Ok(meta) if !meta.is_file() => {
+            Err(Error::bad_input(format!("{flag} {}: exists and is not a regular file", path.display())))
+        }
+        _ => Ok(()),
+    }
+}
+
+/// A temporary name next to `path`, unique in this process.
+fn temporary(path: &Path) -> PathBuf {
+    static NEXT: AtomicU64 = AtomicU64::new(0);
+    let name = path.file_name().map_or_else(|| "meadow".into(), |n| n.to_string_lossy().into_owned());
+    let n = NEXT.fetch_add(1, Ordering::Relaxed);
+    path.with_file_name(format!(".{name}.{}.{n}.tmp", std::process::id()))
+}
+
+/// Write `bytes` to `path` whole or not at all (see the module comment).
+pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<()> {
+    check_target(path, "output")?;
+    let io = |source: std::io::Error| Error::Io { path: path.display().to_string(), source };
+    let tmp = temporary(path);
+    let written = (|| {
+        let mut file = std::fs::OpenOptions::new().write(true).create_new(true).open(&tmp)?;
+        if std::env::var_os("MEADOW_INJECT_WRITE_FAILURE").is_some_and(|v| v == "1") {
+            file.write_all(&bytes[..bytes.len() / 2])?;
+            return Err(std::io::Error::new(std::io::ErrorKind::StorageFull, "no space left (injected)"));
+        }
+        file.write_all(bytes)?;
+        file.flush()?;
+        file.sync_all()?;
+        std::fs::rename(&tmp, path)
+    })();
+    if written.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    written.map_err(io)
+}
+
+/// Encode an image as PNG in memory (so that every byte of it goes through `write_atomically`).
+pub fn encode_png<P, C>(image: &image::ImageBuffer<P, C>) -> Result<Vec<u8>>
+where
+    P: image::PixelWithColorType,
+    [P::Subpixel]: image::EncodableLayout,
+    C: std::ops::Deref<Target = [P::Subpixel]>,
+{
+    let mut bytes = Vec::new();
+    image
+        .write_to(&mut std::io::Cursor::new(&mut bytes), image::ImageFormat::Png)
+        .map_err(|e| Error::Io { path: "PNG encoder".into(), source: std::io::Error::other(e.to_string()) })?;
+    Ok(bytes)
+}

@@ -1,0 +1,60 @@
+//! Outputs are whole or absent (the first part of the hardening issue): a write that fails
+//! half-way leaves neither the file nor a temporary, and a target that is not a regular file is
+//! refused before any work.
+
+mod support;
+
+use std::path::Path;
+
+use support::{meadow, transcript};
+
+/// Files in `dir`.
+fn leftovers(dir: &Path) -> Vec<String> {
+    std::fs::read_dir(dir)
+        .expect("scratch directory")
+        .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
+        .collect()
+}
+
+#[test]
+fn a_write_that_fails_half_way_leaves_nothing() {
+    for (name, args) in [
+        ("outputs-render", vec!["render", "--device", support::DEVICE, "--blades", "200", "--size", "32x32", "--out"]),
+        ("outputs-export", vec!["keyframes", "--poses", "64", "--segments", "2", "--export"]),
+    ] {
+        let dir = support::scratch(name);
+        let path = &dir.join("x.png");
+        let output = meadow().args(&args).arg(path).env("MEADOW_INJECT_WRITE_FAILURE", "1").output().expect("run");
+        assert_eq!(output.status.code(), Some(1), "{}", transcript(&output));
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert!(stderr.starts_with("error: ") && stderr.contains("no space left"), "{stderr}");
+        assert!(!path.exists(), "{} was written", path.display());
+        assert_eq!(leftovers(&dir), Vec::<String>::new(), "temporary files left");
+        // The control: without the fault the same command writes the file.
+        let output = meadow().args(&args).arg(path).output().expect("run");
+        assert_eq!(output.status.code(), Some(0), "{}", transcript(&output));
+        assert!(image::open(path).is_ok(), "{} is not a whole PNG", path.display());
+    }
+}
+
+#[test]
+fn a_target_that_is_not_a_regular_file_is_refused_before_any_work() {
+    let dir = support::scratch("outputs-fifo");
+    let fifo = dir.join("pipe.png");
+    let made = std::process::Command::new("mkfifo").arg(&fifo).status().expect("run mkfifo");
+    assert!(made.success());
+    for args in [
+        vec!["render", "--device", support::DEVICE, "--blades", "200", "--size", "32x32", "--out"],
+        vec!["keyframes", "--poses", "64", "--segments", "2", "--export"],
+    ] {
+        let output = meadow().args(&args).arg(&fifo).output().expect("run");
+        assert_eq!(output.status.code(), Some(2), "{}", transcript(&output));
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert!(stderr.contains("exists and is not a regular file") && stderr.lines().count() == 1, "{stderr}");
+        // Refused up front: nothing was rendered or generated.
+        let stdout = String::from_utf8_lossy(&output.stdout);
+        assert!(!stdout.contains("gpu:") && !stdout.contains("wrote"), "{stdout}");
+        let kind = std::fs::symlink_metadata(&fifo).expect("still there").file_type();
+        assert!(!kind.is_file(), "the FIFO was replaced");
+    }
+}
