@@ -217,19 +217,6 @@ pub fn check_scene(
     Ok(())
 }
 
-/// Check that the output can be written before doing any work.
-fn check_output(path: &Path) -> Result<()> {
-    let parent = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
-    if !parent.is_dir() {
-        return Err(Error::bad_input(format!(
-            "--out {}: directory {} does not exist",
-            path.display(),
-            parent.display()
-        )));
-    }
-    output::check_target(path, "--out")
-}
-
 /// Write an RGBA8 readback as an RGB PNG, whole or not at all (`output::write_atomically`).
 pub fn write_png(path: &Path, size: (u32, u32), rgba: &[u8]) -> Result<()> {
     let rgb: Vec<u8> = rgba.chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect();
@@ -239,7 +226,7 @@ pub fn write_png(path: &Path, size: (u32, u32), rgba: &[u8]) -> Result<()> {
 
 /// `meadow render`: build the scene, render it headless, write the PNG.
 pub fn render(device: &Arc<Device>, options: &RenderOptions) -> Result<RenderReport> {
-    check_output(&options.out)?;
+    output::check_output(&options.out, "--out")?;
     check_scene(device, options.blades, options.segments, options.size, &options.animation, options.floor)?;
     if options.submission.clusters > options.blades {
         return Err(Error::bad_input(format!(

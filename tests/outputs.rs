@@ -58,3 +58,39 @@ fn a_target_that_is_not_a_regular_file_is_refused_before_any_work() {
         assert!(!kind.is_file(), "the FIFO was replaced");
     }
 }
+
+/// Exit 2 with one `error:` line naming `expect`, having written nothing into `dir`.
+fn refused_up_front(args: &[&str], expect: &str, dir: &Path) {
+    let output = meadow().args(args).env_remove("DISPLAY").env_remove("WAYLAND_DISPLAY").output().expect("run");
+    assert_eq!(output.status.code(), Some(2), "{}", transcript(&output));
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(stderr.starts_with("error: ") && stderr.lines().count() == 1 && stderr.contains(expect), "{stderr}");
+    assert_eq!(leftovers(dir), Vec::<String>::new(), "{args:?} wrote something");
+}
+
+#[test]
+fn every_output_path_is_checked_before_any_work() {
+    let dir = support::scratch("outputs-early");
+    let out = dir.join("run");
+    let out = out.to_str().expect("utf-8");
+    let missing = "/nonexistent-meadow-dir/x.png";
+    let device = ["--device", support::DEVICE];
+    // The trace is checked with the rest, before rendering; the output directory is not created.
+    let timing: Vec<&str> = ["timing"]
+        .iter()
+        .chain(&device)
+        .chain(&["--blades", "100", "--trace", missing, "--out", out])
+        .copied()
+        .collect();
+    refused_up_front(&timing, "--trace", &dir);
+    // Bad input to overhead leaves no empty output directory.
+    let overhead: Vec<&str> =
+        ["overhead"].iter().chain(&device).chain(&["--blades", "200000000", "--out", out]).copied().collect();
+    refused_up_front(&overhead, "--blades 200000000", &dir);
+    // The viewer's screenshots, given on the command line or in a script, before even the display.
+    refused_up_front(&["view", "--screenshot", missing], "--screenshot", &dir);
+    let scripts = support::scratch("outputs-early-script");
+    let script = scripts.join("s.txt");
+    std::fs::write(&script, format!("0 screenshot {missing}\n1 quit\n")).expect("write script");
+    refused_up_front(&["view", "--script", script.to_str().expect("utf-8")], "script screenshot", &dir);
+}

@@ -6,7 +6,7 @@ use std::fmt::Write;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use super::check_output;
+use super::output::check_output;
 use crate::error::Result;
 use crate::keyframes::compression::{BladeGeometry, CompressionReport};
 use crate::keyframes::encoding::{self, Encoding};
@@ -29,7 +29,7 @@ pub struct KeyframeOptions {
 /// measured encoding errors (4.4), optionally export the texture as a picture. CPU only.
 pub fn keyframes(options: &KeyframeOptions) -> Result<String> {
     if let Some(path) = &options.export {
-        check_output(path)?;
+        check_output(path, "--export")?;
     }
     let started = Instant::now();
     let layout = KeyframeLayout::for_poses(options.poses);

@@ -24,6 +24,20 @@ pub fn check_target(path: &Path, flag: &str) -> Result<()> {
     }
 }
 
+/// Check that `path` (given as `flag`) can be written before doing any work: its directory exists
+/// and it is a regular file or absent.
+pub fn check_output(path: &Path, flag: &str) -> Result<()> {
+    let parent = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    if !parent.is_dir() {
+        return Err(Error::bad_input(format!(
+            "{flag} {}: directory {} does not exist",
+            path.display(),
+            parent.display()
+        )));
+    }
+    check_target(path, flag)
+}
+
 /// A temporary name next to `path`, unique in this process.
 fn temporary(path: &Path) -> PathBuf {
     static NEXT: AtomicU64 = AtomicU64::new(0);

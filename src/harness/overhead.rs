@@ -46,10 +46,11 @@ pub struct OverheadOptions {
 /// Run the measurement; `progress(done, total)` after every frame. Returns the JSON document.
 pub fn run(device: &Arc<Device>, options: &OverheadOptions, mut progress: impl FnMut(u64, u64)) -> Result<Value> {
     check(options)?;
-    std::fs::create_dir_all(&options.out)
-        .map_err(|source| Error::Io { path: options.out.display().to_string(), source })?;
     let cells = crate::scene::Terrain::cells_for(crate::scene::blades::field_size(options.blades));
     crate::app::check_limits(device, options.blades, options.size, cells)?;
+    // Created only once the input is known good: bad input leaves no empty directory.
+    std::fs::create_dir_all(&options.out)
+        .map_err(|source| Error::Io { path: options.out.display().to_string(), source })?;
     let scene = Scene::generate(options.blades, 1);
     let camera = Camera::default_for(&scene.terrain);
     let setup = Setup { device, camera, scene, options };

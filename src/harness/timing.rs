@@ -239,6 +239,9 @@ pub fn run(
     mut progress: impl FnMut(u64, u64),
 ) -> Result<(Value, Vec<f64>)> {
     let render = &options.render;
+    if let Some(trace) = &options.trace {
+        crate::app::output::check_output(trace, "--trace")?;
+    }
     crate::app::check_scene(device, render.blades, render.segments, render.size, &render.animation, render.floor)?;
     std::fs::create_dir_all(&options.out)
         .map_err(|source| Error::Io { path: options.out.display().to_string(), source })?;

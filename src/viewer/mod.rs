@@ -90,6 +90,17 @@ meadow viewer controls
 
 /// Run the viewer; returns its report and the validation message count.
 pub fn run(gpu: &GpuOptions, options: ViewerOptions) -> (Result<ViewerReport>, Option<u64>) {
+    // Every output the session will write, checked before any work.
+    let script_shots = options.script.iter().flat_map(|s| &s.actions).filter_map(|(_, action)| match action {
+        script::Action::Screenshot(path) => Some((std::path::Path::new(path.as_str()), "script screenshot")),
+        _ => None,
+    });
+    let shots = options.screenshot.iter().map(|p| (p.as_path(), "--screenshot")).chain(script_shots);
+    for (path, flag) in shots {
+        if let Err(e) = app::output::check_output(path, flag) {
+            return (Err(e), None);
+        }
+    }
     let set = |name: &str| std::env::var_os(name).is_some_and(|v| !v.is_empty());
     if !set("DISPLAY") && !set("WAYLAND_DISPLAY") {
         return (Err(Error::bad_input(NO_DISPLAY)), None);
