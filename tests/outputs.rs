@@ -83,10 +83,17 @@ fn every_output_path_is_checked_before_any_work() {
         .copied()
         .collect();
     refused_up_front(&timing, "--trace", &dir);
-    // Bad input to overhead leaves no empty output directory.
+    // Bad input to overhead or bench leaves no empty output directory.
     let overhead: Vec<&str> =
         ["overhead"].iter().chain(&device).chain(&["--blades", "200000000", "--out", out]).copied().collect();
     refused_up_front(&overhead, "--blades 200000000", &dir);
+    let bench: Vec<&str> = ["bench"]
+        .iter()
+        .chain(&device)
+        .chain(&["--blades", "200000000", "--segments", "4", "--out", out])
+        .copied()
+        .collect();
+    refused_up_front(&bench, "--blades 200000000", &dir);
     // The viewer's screenshots, given on the command line or in a script, before even the display.
     refused_up_front(&["view", "--screenshot", missing], "--screenshot", &dir);
     let scripts = support::scratch("outputs-early-script");

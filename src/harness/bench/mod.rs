@@ -158,6 +158,11 @@ pub fn run(device: &Arc<Device>, options: &BenchOptions, mut progress: impl FnMu
     if variants.is_empty() || options.rows.is_empty() {
         return Err(Error::bad_input("nothing to measure: give at least one mode and one row"));
     }
+    // Every row's limits before the output directory exists: bad input leaves no empty directory.
+    for &(blades, _) in &options.rows {
+        let cells = crate::scene::Terrain::cells_for(crate::scene::blades::field_size(blades));
+        crate::app::check_limits(device, blades, options.size, cells)?;
+    }
     std::fs::create_dir_all(&options.out)
         .map_err(|source| Error::Io { path: options.out.display().to_string(), source })?;
     let extent = vk::Extent2D { width: options.size.0, height: options.size.1 };
