@@ -7,6 +7,7 @@ mod events;
 mod keys;
 pub mod script;
 mod stats;
+mod surface;
 
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -23,15 +24,16 @@ use crate::app::{self, GpuOptions, RenderOptions};
 use crate::error::{Error, Result, VkContext};
 use crate::render::frame::Deletion;
 use crate::render::graph::Outputs;
-use crate::render::target::{TargetView, DEPTH_FORMAT};
+use crate::render::target::DEPTH_FORMAT;
 use crate::render::{RenderSettings, Renderer};
 use crate::scene::{Camera, Scene};
 use crate::vk::swapchain::{swapchain_counts, PresentMode, Swapchain};
-use crate::vk::{Access, Buffer, BufferDesc, Device, Image, ImageDesc, Resource};
+use crate::vk::{Buffer, BufferDesc, Device, Image, ImageDesc, Resource};
 use crate::wind::CalmArea;
 use controls::CameraControl;
 use script::Script;
 use stats::Stats;
+use surface::Surface;
 
 /// The message when there is no display, and its exit code (2).
 pub const NO_DISPLAY: &str = "no display (set DISPLAY or WAYLAND_DISPLAY, or run under xvfb-run)";
@@ -128,45 +130,6 @@ pub fn run(gpu: &GpuOptions, options: ViewerOptions) -> (Result<ViewerReport>, O
 }
 
 /// The swapchain, its depth image, and the window they belong to. Dropped in that order.
-struct Surface {
-    swapchain: Swapchain,
-    depth: Option<Image>,
-    depth_used: bool,
-    window: Window,
-}
-
-impl Surface {
-    /// The target of a frame into swapchain image `index` (just acquired) and the depth image
-    /// (discarded until a frame has been submitted with it).
-    fn target_view(&self, index: u32) -> TargetView {
-        let depth = self.depth.as_ref().expect("depth exists with area");
-        TargetView {
-            color: self.swapchain.images[index as usize],
-            color_view: self.swapchain.views[index as usize],
-            depth: depth.raw,
-            depth_view: depth.view,
-            extent: self.swapchain.extent,
-            color_previous: Access::Acquired,
-            depth_previous: if self.depth_used { Access::DepthAttachmentReadWrite } else { Access::Nothing },
-        }
-    }
-
-    /// Write the screenshot the last frame copied into `buffer` (after waiting for it).
-    fn write_screenshot(&self, renderer: &mut Renderer, buffer: &Buffer, path: &std::path::Path) -> Result<()> {
-        renderer.wait_all_frames()?;
-        let extent = self.swapchain.extent;
-        let bgra = self.swapchain.format == vk::Format::B8G8R8A8_UNORM;
-        let rgba: Vec<u8> = if bgra {
-            buffer.mapped().chunks_exact(4).flat_map(|p| [p[2], p[1], p[0], p[3]]).collect()
-        } else {
-            buffer.mapped().to_vec()
-        };
-        app::write_png(path, (extent.width, extent.height), &rgba)?;
-        println!("screenshot: {} ({}x{})", path.display(), extent.width, extent.height);
-        Ok(())
-    }
-}
-
 struct Viewer {
     device: Arc<Device>,
     options: ViewerOptions,
