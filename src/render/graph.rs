@@ -20,7 +20,7 @@ use crate::error::{Error, Result};
 use crate::render::target::TargetView;
 use crate::vk::query::{StatisticsQueries, TimestampQueries};
 use crate::vk::tracker::{Barriers, Resource, ResourceStates};
-use crate::vk::{debug, image, sync, Access, Buffer, Device};
+use crate::vk::{debug, image, sync, Access, Device};
 
 /// What a frame's passes are recorded for.
 pub struct PassContext<'a> {
@@ -258,31 +258,24 @@ impl Graph {
             sync::cmd_barriers(device, cmd, &barriers.buffers, &barriers.images);
             recorded.push(record_pass(ctx, cmd, scopes, pass.as_ref(), &declaration, begin)?);
         }
-        self.record_outputs(ctx, cmd, outputs)?;
+        self.record_outputs(ctx, cmd, outputs);
         scopes.timestamps.write(device, cmd);
         Ok(recorded)
     }
 
     /// The target's last uses: a copy to the host (then host read), presentation.
-    fn record_outputs(&mut self, ctx: &PassContext, cmd: vk::CommandBuffer, outputs: Outputs) -> Result<()> {
+    fn record_outputs(&mut self, ctx: &PassContext, cmd: vk::CommandBuffer, outputs: Outputs) {
         let device = ctx.device;
         let color = Resource::color(ctx.target.color);
-        if let Some(buffer) = outputs.readback {
-            let mut barriers = Barriers::default();
-            for (resource, access) in [(color, Access::TransferRead), (Resource::Buffer(buffer), Access::TransferWrite)]
-            {
-                if let Some(hazard) = self.states.access(resource, &[access]) {
-                    barriers.push(resource, &hazard);
-                }
-            }
-            sync::cmd_barriers(device, cmd, &barriers.buffers, &barriers.images);
-            image::record_copy_to_buffer(device, cmd, ctx.target.color, ctx.target.extent, buffer);
-            self.release(device, cmd, &[(Resource::Buffer(buffer), Access::HostRead)]);
+        if let Some(raw) = outputs.readback {
+            let buffer = Resource::Buffer(raw);
+            self.release(device, cmd, &[(color, Access::TransferRead), (buffer, Access::TransferWrite)]);
+            image::record_copy_to_buffer(device, cmd, ctx.target.color, ctx.target.extent, raw);
+            self.release(device, cmd, &[(buffer, Access::HostRead)]);
         }
         if outputs.present {
             self.release(device, cmd, &[(color, Access::Present)]);
         }
-        Ok(())
     }
 
     /// Record the barriers that make `uses` safe after everything recorded so far (e.g. a host
@@ -406,14 +399,4 @@ fn begin_rendering(device: &Device, cmd: vk::CommandBuffer, rendering: &Renderin
     }
     // SAFETY: cmd is recording outside a rendering instance; the views are live.
     unsafe { device.raw.cmd_begin_rendering(cmd, &begin) };
-}
-
-/// The host-visible buffer a readback output needs for `target`.
-pub fn readback_bytes(extent: vk::Extent2D) -> u64 {
-    4 * u64::from(extent.width) * u64::from(extent.height)
-}
-
-/// `Outputs` that read the colour image back into `buffer`.
-pub fn readback_into(buffer: &Buffer) -> Outputs {
-    Outputs { readback: Some(buffer.raw), present: false }
 }

@@ -68,11 +68,6 @@ impl Specialization {
         }
     }
 
-    /// Whether the blade-pose compute pass runs.
-    pub fn eval_blade(&self) -> bool {
-        self.flags & FLAG_EVAL_BLADE != 0
-    }
-
     /// Every constant as `(constant_id, value)`, the ids generated from `shaders/shared.glsl`.
     pub fn pairs(&self) -> [(u32, u32); COUNT] {
         [

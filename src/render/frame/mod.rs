@@ -75,16 +75,6 @@ impl FrameRing {
         self.inject_failure = Some(self.submitted + nth);
     }
 
-    /// Number of frames in flight.
-    pub fn len(&self) -> usize {
-        self.frames.len()
-    }
-
-    /// Whether the ring has no frames (never, once built).
-    pub fn is_empty(&self) -> bool {
-        self.frames.is_empty()
-    }
-
     /// Frame `slot`.
     pub fn frame(&self, slot: usize) -> &Frame {
         &self.frames[slot]
@@ -93,11 +83,6 @@ impl FrameRing {
     /// Frame `slot`, mutably.
     pub fn frame_mut(&mut self, slot: usize) -> &mut Frame {
         &mut self.frames[slot]
-    }
-
-    /// Every frame.
-    pub fn frames(&self) -> &[Frame] {
-        &self.frames
     }
 
     /// Take the next slot: wait for its fence, run the deletions queued behind it, and return it

@@ -135,11 +135,6 @@ impl BladePass {
         Ok(())
     }
 
-    /// The pipeline, for tests and statistics.
-    pub fn pipeline(&self) -> vk::Pipeline {
-        self.pipeline
-    }
-
     /// Triangles drawn.
     pub fn triangles(scene: &SceneGpu, segments: u32) -> u64 {
         2 * u64::from(segments) * u64::from(scene.blade_count)
