@@ -61,6 +61,9 @@ fn bench_variants(c: &mut Criterion, device: &std::sync::Arc<Device>) -> meadow:
                 pipeline_statistics: false,
                 submission: Default::default(),
                 debug_bounds: false,
+                debug_lod: false,
+                // Recording cost of the thesis path: every stored blade, no cull pass.
+                culling: meadow::render::culling::Culling::brute_force(SEGMENTS),
                 floor: false,
             };
             let mut renderer = Renderer::new(device.clone(), &scene, settings, animation)?;

@@ -14,6 +14,13 @@ layout(set = SET_SCENE, binding = BINDING_CLUSTERS, std430) readonly buffer Clus
 // (x, z, power, sigma) followed by colliders (centre x, z, radius x, z).
 layout(set = SET_SCENE, binding = BINDING_CORNERS, std430) readonly buffer Corners { vec4 corners[]; };
 layout(set = SET_SCENE, binding = BINDING_EMITTERS, std430) readonly buffer Emitters { vec4 emitters[]; };
+layout(set = SET_SCENE, binding = BINDING_TILES, std430) readonly buffer Tiles { BladeTile tiles[]; };
+// The cull's output (cull_emit.comp writes it): x blade index, y packHalf2x16(fade, widening).
+#ifdef CULL_WRITER
+layout(set = SET_SCENE, binding = BINDING_VISIBLE, std430) writeonly buffer Visible { uvec2 visible[]; };
+#else
+layout(set = SET_SCENE, binding = BINDING_VISIBLE, std430) readonly buffer Visible { uvec2 visible[]; };
+#endif
 layout(set = SET_ANIMATION, binding = BINDING_KEYFRAMES) uniform sampler2D keyframe_texture;
 // Keyframes as a uniform array (thesis 4.4.2): two keyframe words per uvec4 half; the array fills
 // min(maxUniformBufferRange, 64 KiB), set by the pipeline (`render::animation::keyframe_gpu::KeyframeUniforms::capacity`).
@@ -22,7 +29,7 @@ layout(set = SET_ANIMATION, binding = BINDING_KEYFRAMES) uniform sampler2D keyfr
 layout(constant_id = SPEC_KEYFRAME_UVEC4S) const uint KEYFRAME_UVEC4S = 4096u;
 layout(set = SET_ANIMATION, binding = BINDING_KEYFRAME_WORDS, std140) uniform KeyframeWords { uvec4 keyframe_words[KEYFRAME_UVEC4S]; };
 // `--eval blade`: the evaluated blade, written by blade_pose.comp and read by blade.vert:
-// POSE_WORDS words per level, SEGMENTS + 1 levels per blade: the local-frame point divided by
+// POSE_WORDS words per level, MODEL_SEGMENTS + 1 levels per blade: the local-frame point divided by
 // the blade's height and by POSE_SCALE (snorm16 x y | z, and the twist's cos and sin as snorm8),
 // then the unit tangent and the force magnitude for the debug view (snorm8 x4).
 #ifdef POSE_WRITER

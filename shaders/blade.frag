@@ -12,7 +12,17 @@ layout(location = 0) out vec4 out_color;
 
 const float ALPHA_CUTOFF = 0.35; // scene::alpha::ALPHA_CUTOFF
 
+// Far LOD buckets (FLAG_SOLID_OUTLINE): the mean of the rim's darkening across a blade, for
+// blades a few pixels wide whose outline is geometry.
+const float SOLID_RIM = 0.8;
+
 void main() {
+    if ((RENDER_FLAGS & FLAG_SOLID_OUTLINE) != 0u) {
+        // No discard: the depth test and write happen before shading, so the far field's overdraw
+        // behind nearer blades is rejected early.
+        out_color = vec4(encode_output(in_lit.rgb * SOLID_RIM + frame.sky_color.rgb * (1.0 - in_lit.a)), 1.0);
+        return;
+    }
     float alpha = texture(blade_alpha, in_uv).r;
     if (alpha < ALPHA_CUTOFF) {
         discard;

@@ -31,9 +31,107 @@ layout(location = 0) out vec2 out_uv;         // u across, v root -> tip
 layout(location = 1) out vec4 out_lit;        // rgb: lit, fogged blade colour before the rim; a: fog transmittance
 
 
+// The animated blade at model level `m` (0..MODEL_SEGMENTS): local point, tangent, cos and sin
+// of the twist, force magnitude.
+struct LevelPose {
+    vec3 local;
+    vec3 tangent;
+    vec2 twist_cs;
+    float force;
+};
+
+LevelPose pose_records(uint blade_index, float height, uint m) {
+    // Evaluated once per blade and level by blade_pose.comp (thesis ch. 7 future work, with
+    // compute): point, tangent and twist of this level in three words, no keyframe fetch.
+    uint at = (blade_index * (MODEL_SEGMENTS + 1u) + m) * POSE_WORDS;
+    uint w1 = poses[at + 1u];
+    vec4 tangent_force = unpackSnorm4x8(poses[at + 2u]);
+    LevelPose pose;
+    pose.local = vec3(unpackSnorm2x16(poses[at]), unpackSnorm2x16(w1 & 0xffffu).x) * (POSE_SCALE * height);
+    pose.tangent = tangent_force.xyz;
+    pose.twist_cs = unpackSnorm4x8(w1).zw;
+    pose.force = tangent_force.w;
+    return pose;
+}
+
+LevelPose pose_levels(vec3 p[4], KfSelection sel, float height, uint m) {
+    vec4 here = deformed(p, sel, m, MODEL_SEGMENTS, height);
+    vec4 below = m > 0u ? deformed(p, sel, m - 1u, MODEL_SEGMENTS, height) : here;
+    vec4 above = m < MODEL_SEGMENTS ? deformed(p, sel, m + 1u, MODEL_SEGMENTS, height) : here;
+    LevelPose pose;
+    pose.local = here.xyz;
+    pose.tangent = above.xyz - below.xyz;
+    pose.twist_cs = vec2(cos(here.w), sin(here.w));
+    return pose;
+}
+
+// A LOD bucket draws SEGMENTS <= MODEL_SEGMENTS segments: strip level `level` lies at model level
+// level * MODEL_SEGMENTS / SEGMENTS, between two stored levels when SEGMENTS does not divide
+// MODEL_SEGMENTS (a constant test: the interpolation compiles out otherwise). The fewer-segment
+// blade samples the same curve.
+const bool LEVELS_ALIGN = (MODEL_SEGMENTS % SEGMENTS) == 0u;
+
+LevelPose animated(uint blade_index, BladeInstance blade, vec3 p[4], uint level, float t) {
+    float at = float(level * MODEL_SEGMENTS) / float(SEGMENTS);
+    uint m0 = LEVELS_ALIGN ? level * (MODEL_SEGMENTS / SEGMENTS) : uint(at);
+    float frac = LEVELS_ALIGN ? 0.0 : at - float(m0);
+    uint m1 = min(m0 + 1u, MODEL_SEGMENTS);
+    if ((RENDER_FLAGS & FLAG_EVAL_BLADE) != 0u) {
+        LevelPose pose = pose_records(blade_index, blade.height, m0);
+        if (!LEVELS_ALIGN && frac > 0.0) {
+            LevelPose next = pose_records(blade_index, blade.height, m1);
+            pose.local = mix(pose.local, next.local, frac);
+            pose.tangent = mix(pose.tangent, next.tangent, frac);
+            pose.twist_cs = normalize(mix(pose.twist_cs, next.twist_cs, frac));
+        }
+        return pose;
+    }
+    float force;
+    KfSelection sel = kf_select_blade(blade_index, blade, force);
+    LevelPose pose;
+    if (REPRESENTATION == REPRESENTATION_CURVE) {
+        vec4 c1;
+        vec4 c2;
+        vec4 c3;
+        curve_controls(sel, p, blade.height, c1, c2, c3);
+        pose.local = bezier_point(p[0], c1.xyz, c2.xyz, c3.xyz, t);
+        pose.tangent = bezier_tangent(p[0], c1.xyz, c2.xyz, c3.xyz, t);
+        pose.twist_cs = vec2(cos(c1.w * t), sin(c1.w * t));
+    } else {
+        pose = pose_levels(p, sel, blade.height, m0);
+        if (!LEVELS_ALIGN && frac > 0.0) {
+            LevelPose next = pose_levels(p, sel, blade.height, m1);
+            pose.local = mix(pose.local, next.local, frac);
+            pose.tangent = mix(pose.tangent, next.tangent, frac);
+            pose.twist_cs = normalize(mix(pose.twist_cs, next.twist_cs, frac));
+        }
+    }
+    pose.force = force;
+    return pose;
+}
+
+// `scene::alpha`: the outline's inset from its half width where alpha reaches the cutoff
+// (cutoff * edge - 0.06).
+const float SOLID_INSET = 0.35 * 0.22 - 0.06;
+
+// Debug view `lod`: one colour per segment count.
+vec3 lod_color(uint segments) {
+    const vec3 colors[5] = vec3[5](vec3(0.9, 0.1, 0.1), vec3(0.95, 0.6, 0.05), vec3(0.9, 0.9, 0.1),
+        vec3(0.1, 0.7, 0.2), vec3(0.1, 0.4, 0.9));
+    return colors[min(findMSB(max(segments, 1u)), 4)];
+}
+
 void main() {
     const uint segments = SEGMENTS;
     uint blade_index = uint(gl_InstanceIndex) * BLADES_PER_INSTANCE + uint(gl_VertexIndex) / STRIP_STRIDE;
+    // The cull's fade (the density LOD is about to drop the blade) and widening (its neighbours
+    // were dropped): Belyaev §2.2 smooth transitions.
+    vec2 lod_scale = vec2(1.0);
+    if ((RENDER_FLAGS & FLAG_CULLED) != 0u) {
+        uvec2 entry = visible[gl_InstanceIndex];
+        blade_index = entry.x;
+        lod_scale = unpackHalf2x16(entry.y);
+    }
     if ((RENDER_FLAGS & FLAG_CLUSTER_PUSH) != 0u) {
         blade_index += cluster_push.first_blade;
     }
@@ -56,49 +154,31 @@ void main() {
     vec3 across = vec3(cos(blade.facing), 0.0, -sin(blade.facing));
     vec3 normal_dir = vec3(sin(blade.facing), 0.0, cos(blade.facing));
 
-    vec3 local;
-    vec3 local_tangent;
-    vec2 twist_cs = vec2(1.0, 0.0); // cos, sin of the twist
-    float force_magnitude = 0.0;
+    LevelPose pose;
     if (ANIMATION_MODE == MODE_STATIC) {
-        local = bezier_point(p[0], p[1], p[2], p[3], t);
-        local_tangent = bezier_tangent(p[0], p[1], p[2], p[3], t);
-    } else if ((RENDER_FLAGS & FLAG_EVAL_BLADE) != 0u) {
-        // Evaluated once per blade and level by blade_pose.comp (thesis ch. 7 future work, with
-        // compute): point, tangent and twist of this level in three words, no keyframe fetch.
-        uint at = (blade_index * (SEGMENTS + 1u) + level) * POSE_WORDS;
-        uint w1 = poses[at + 1u];
-        vec4 tangent_force = unpackSnorm4x8(poses[at + 2u]);
-        local = vec3(unpackSnorm2x16(poses[at]), unpackSnorm2x16(w1 & 0xffffu).x) * (POSE_SCALE * blade.height);
-        local_tangent = tangent_force.xyz;
-        twist_cs = unpackSnorm4x8(w1).zw;
-        force_magnitude = tangent_force.w;
+        pose.local = bezier_point(p[0], p[1], p[2], p[3], t);
+        pose.tangent = bezier_tangent(p[0], p[1], p[2], p[3], t);
+        pose.twist_cs = vec2(1.0, 0.0);
+        pose.force = 0.0;
     } else {
-        float force;
-        KfSelection sel = kf_select_blade(blade_index, blade, force);
-        force_magnitude = force;
-        if (REPRESENTATION == REPRESENTATION_CURVE) {
-            vec4 c1;
-            vec4 c2;
-            vec4 c3;
-            curve_controls(sel, p, blade.height, c1, c2, c3);
-            local = bezier_point(p[0], c1.xyz, c2.xyz, c3.xyz, t);
-            local_tangent = bezier_tangent(p[0], c1.xyz, c2.xyz, c3.xyz, t);
-            twist_cs = vec2(cos(c1.w * t), sin(c1.w * t));
-        } else {
-            vec4 here = deformed(p, sel, level, segments, blade.height);
-            vec4 below = level > 0u ? deformed(p, sel, level - 1u, segments, blade.height) : here;
-            vec4 above = level < segments ? deformed(p, sel, level + 1u, segments, blade.height) : here;
-            local = here.xyz;
-            local_tangent = above.xyz - below.xyz;
-            twist_cs = vec2(cos(here.w), sin(here.w));
-        }
+        pose = animated(blade_index, blade, p, level, t);
+    }
+    vec3 local = pose.local * lod_scale.x;
+    vec3 local_tangent = pose.tangent;
+    vec2 twist_cs = pose.twist_cs;
+    float force_magnitude = pose.force;
+    float width = blade.width * lod_scale.x * lod_scale.y;
+    if ((RENDER_FLAGS & FLAG_SOLID_OUTLINE) != 0u) {
+        // The alpha-tested outline's width at this height (`scene::alpha`: half_width less the
+        // cutoff's inset), as geometry: the far buckets draw it without a texture or discard.
+        float half_width = 0.5 * (1.0 - pow(t, 2.2)) * (0.8 + 0.2 * min(t / 0.08, 1.0));
+        width *= max(2.0 * (half_width - SOLID_INSET), 0.0);
     }
 
     // The width turns about +y by the twist: the blade faces the wind (Zhang Xia §3.2.5).
     vec3 width_dir = across * twist_cs.x - normal_dir * twist_cs.y;
     vec3 world = blade.position + across * local.x + vec3(0.0, local.y, 0.0) + normal_dir * local.z
-        + width_dir * ((side - 0.5) * blade.width);
+        + width_dir * ((side - 0.5) * width);
     vec3 world_tangent = across * local_tangent.x + vec3(0.0, local_tangent.y, 0.0) + normal_dir * local_tangent.z;
 
     // Diffuse colour, darker at the root and brighter towards the tip (thesis 4.1).
@@ -110,6 +190,9 @@ void main() {
     if ((RENDER_FLAGS & FLAG_DEBUG_FORCE) != 0u) {
         // Debug view: force magnitude from green (none) to red (the table's strongest pose).
         diffuse = mix(vec3(0.05, 0.25, 0.03), vec3(0.8, 0.02, 0.01), clamp(force_magnitude, 0.0, 1.0)) * mix(0.6, 1.0, t);
+    }
+    if ((RENDER_FLAGS & FLAG_DEBUG_LOD) != 0u) {
+        diffuse = lod_color(SEGMENTS) * mix(0.4, 1.0, t);
     }
     // Two-sided: light the side facing the viewer, decided from the view vector so the strip's
     // triangle parity cannot flip it. Belyaev §2.3 is linear in the diffuse colour, and so is the

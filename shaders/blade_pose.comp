@@ -24,7 +24,7 @@ void main() {
     KfSelection sel = kf_select_blade(i, blade, force);
     vec3 p[4];
     neutral_control_points(blade.height, unpack_variation(blade.variation, 2), p);
-    uint base = i * (SEGMENTS + 1u) * POSE_WORDS;
+    uint base = i * (MODEL_SEGMENTS + 1u) * POSE_WORDS;
     vec4 c1;
     vec4 c2;
     vec4 c3;
@@ -34,15 +34,15 @@ void main() {
     // Points of every level first (the tangent of a level needs its neighbours).
     vec4 points[MAX_SEGMENTS + 1u];
     points[0] = vec4(0.0);
-    for (uint level = 1u; level <= SEGMENTS; level++) {
-        float t = float(level) / float(SEGMENTS);
+    for (uint level = 1u; level <= MODEL_SEGMENTS; level++) {
+        float t = float(level) / float(MODEL_SEGMENTS);
         points[level] = REPRESENTATION == REPRESENTATION_CURVE
             ? vec4(bezier_point(p[0], c1.xyz, c2.xyz, c3.xyz, t), c1.w * t)
-            : deformed(p, sel, level, SEGMENTS, blade.height);
+            : deformed(p, sel, level, MODEL_SEGMENTS, blade.height);
     }
     float inv = 1.0 / (POSE_SCALE * max(blade.height, 1e-6));
-    for (uint level = 0u; level <= SEGMENTS; level++) {
-        vec3 tangent = points[min(level + 1u, SEGMENTS)].xyz - points[level > 0u ? level - 1u : 0u].xyz;
+    for (uint level = 0u; level <= MODEL_SEGMENTS; level++) {
+        vec3 tangent = points[min(level + 1u, MODEL_SEGMENTS)].xyz - points[level > 0u ? level - 1u : 0u].xyz;
         tangent = length(tangent) > 0.0 ? normalize(tangent) : vec3(0.0, 1.0, 0.0);
         vec3 unit = points[level].xyz * inv;
         float twist = points[level].w;

@@ -4,7 +4,7 @@
 #ifndef MEADOW_COMMON_GLSL
 #define MEADOW_COMMON_GLSL
 
-// Per-frame constants (std140, 176 bytes).
+// Per-frame constants (std140, 320 bytes).
 struct FrameUniforms {
     mat4 view_proj;         // world -> clip (reversed infinite Z, Vulkan y down)
     vec4 camera_position;   // xyz eye, w simulation time (s)
@@ -14,6 +14,12 @@ struct FrameUniforms {
     uvec4 params;           // x segments, y blade count, z terrain cells per side, w unused
     uvec4 keyframes;        // x magnitudes, y angles, z point sources, w cluster corners per side
     uvec4 keyframe_shape;   // x records per pose, y colliders (emitters after the sources), zw unused
+    mat4 cull_view_proj;    // world -> clip of the culling camera (the view's, or a frozen one)
+    vec4 cull_eye;          // xyz culling camera position, w pixels per metre at 1 m (viewport height / (2 tan(fov_y / 2)))
+    vec4 lod;               // x view distance (m), y full-density distance (m, LOD scale applied), z pixels per segment (LOD scale applied), w largest widening
+    vec4 tile_grid;         // x origin (x = z), y tile edge (m), zw unused
+    uvec4 cull_tiles;       // x tiles per side, y ring slots, z centre tile x, w centre tile z
+    uvec4 cull_lod;         // x LOD buckets, y their segment counts minus 1 (4 bits each, bucket 0 lowest), z CULL_* / LOD_* bits, w unused
 };
 
 #include "shared.glsl"
@@ -34,6 +40,7 @@ layout(constant_id = SPEC_RENDER_FLAGS) const uint RENDER_FLAGS = 0u; // FLAG_* 
 layout(constant_id = SPEC_SEGMENTS) const uint SEGMENTS = 4u;
 layout(constant_id = SPEC_BLADES_PER_INSTANCE) const uint BLADES_PER_INSTANCE = 1u;
 layout(constant_id = SPEC_ENCODE_SRGB) const uint ENCODE_SRGB = 1u;
+layout(constant_id = SPEC_MODEL_SEGMENTS) const uint MODEL_SEGMENTS = 4u;
 const uint STRIP_LEAD = BLADES_PER_INSTANCE > 1u ? 1u : 0u;     // repeats of a strip's first vertex
 const uint STRIP_STRIDE = 2u * (SEGMENTS + 1u) + 2u * STRIP_LEAD; // vertices per blade
 
@@ -51,6 +58,14 @@ struct BladeInstance {
     float width;            // m
     float stiffness;        // relative joint stiffness
     uint variation;         // unorm8 x4: hue, brightness, lean, spare (the debug view's force in blade.frag)
+};
+
+// One tile of blades (std430, 32 bytes, `scene::tiles::BladeTile`).
+struct BladeTile {
+    vec3 min;               // bounds of every blade of the tile in any pose
+    uint first;             // first blade
+    vec3 max;
+    uint count;             // blades
 };
 
 const float PI = 3.14159265;

@@ -1,7 +1,7 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // Test shader: reads every field of `FrameUniforms` through the std140 declaration in common.glsl
-// and writes them as 44 words, then the specialization constants as the shaders see them (by
+// and writes them as 80 words, then the specialization constants as the shaders see them (by
 // `SPEC_*` id) and a few shared.glsl constants, so the test can compare them with what Rust wrote
 // and with the constants build.rs generated (`render::gpu_constants`).
 #include "common.glsl"
@@ -12,8 +12,8 @@ layout(set = 0, binding = 0, std140) uniform Frame { FrameUniforms frame; };
 layout(set = 0, binding = 1, std430) writeonly buffer Fields { uint fields[]; };
 layout(constant_id = SPEC_KEYFRAME_UVEC4S) const uint KEYFRAME_UVEC4S = 4096u;
 
-const uint FRAME_WORDS = 44u;      // 176 bytes
-const uint SPEC_WORDS = 10u;       // SPEC_* ids 0..=9
+const uint FRAME_WORDS = 80u;      // 320 bytes
+const uint SPEC_WORDS = 11u;       // SPEC_* ids 0..=10
 
 void put_vec4(inout uint o, vec4 v) {
     for (uint i = 0u; i < 4u; i++) {
@@ -41,6 +41,14 @@ void main() {
     put_uvec4(o, frame.params);
     put_uvec4(o, frame.keyframes);
     put_uvec4(o, frame.keyframe_shape);
+    for (int c = 0; c < 4; c++) {
+        put_vec4(o, frame.cull_view_proj[c]);
+    }
+    put_vec4(o, frame.cull_eye);
+    put_vec4(o, frame.lod);
+    put_vec4(o, frame.tile_grid);
+    put_uvec4(o, frame.cull_tiles);
+    put_uvec4(o, frame.cull_lod);
 
     fields[FRAME_WORDS + SPEC_KEYFRAME_UVEC4S] = KEYFRAME_UVEC4S;
     fields[FRAME_WORDS + SPEC_ANIMATION_MODE] = ANIMATION_MODE;
@@ -52,6 +60,7 @@ void main() {
     fields[FRAME_WORDS + SPEC_SEGMENTS] = SEGMENTS;
     fields[FRAME_WORDS + SPEC_BLADES_PER_INSTANCE] = BLADES_PER_INSTANCE;
     fields[FRAME_WORDS + SPEC_ENCODE_SRGB] = ENCODE_SRGB;
+    fields[FRAME_WORDS + SPEC_MODEL_SEGMENTS] = MODEL_SEGMENTS;
 
     uint s = FRAME_WORDS + SPEC_WORDS;
     fields[s + 0u] = MAX_SEGMENTS;

@@ -19,6 +19,12 @@
 #define BINDING_CLUSTERS 4 // `BladeCluster[]` storage buffer.
 #define BINDING_CORNERS 5 // Per-frame corner forces.
 #define BINDING_EMITTERS 6 // Per-frame point sources and colliders.
+#define BINDING_TILES 7 // `BladeTile[]` storage buffer (`scene::tiles`).
+#define BINDING_VISIBLE 8 // The cull's output: (blade index, packed scale) per drawn blade, bucket by bucket.
+#define BINDING_SLOT_COUNTS 9 // The cull's per-slot counts (`SLOT_WORDS` per ring slot), turned into offsets by the scan.
+#define BINDING_DRAWS 10 // The cull's indirect draw arguments, one `VkDrawIndirectCommand` per LOD bucket.
+#define BINDING_CULL_STATS 11 // Per-frame, host-visible: the cull's counts of this frame (`STAT_*`).
+#define BINDING_CULL_RESULTS 12 // The count pass's verdict per candidate blade (bucket, packed scale), read by the emit pass.
 
 // Set `SET_ANIMATION`: every model fills all three (the blade shaders declare them all).
 #define BINDING_KEYFRAMES 0 // Keyframe texture.
@@ -37,11 +43,32 @@
 #define SPEC_SEGMENTS 7 // Segments per blade, at most `MAX_SEGMENTS`.
 #define SPEC_BLADES_PER_INSTANCE 8 // Blades per instance (1: the strip alone, no degenerate joins, no tail test).
 #define SPEC_ENCODE_SRGB 9 // 1 when the shaders encode sRGB (UNORM targets), 0 when the target's format does.
+#define SPEC_MODEL_SEGMENTS 10 // Segments of the animation model's levels (`--segments`); `SPEC_SEGMENTS` may be fewer (a LOD bucket).
 
 // `SPEC_RENDER_FLAGS` bits.
 #define FLAG_DEBUG_FORCE 1u // Colour blades by force magnitude (thesis fig. 4.5 / 6.1c).
 #define FLAG_EVAL_BLADE 2u // Pose records come from the blade-pose compute pass, once per blade.
 #define FLAG_CLUSTER_PUSH 4u // Per-cluster draws push their first blade (`meadow overhead`).
+#define FLAG_CULLED 8u // Instances are entries of the cull's visible list, not blade indices.
+#define FLAG_DEBUG_LOD 16u // Colour blades by their LOD bucket (`--debug-view lod`).
+#define FLAG_SOLID_OUTLINE 32u // Far LOD buckets: the outline tapered in the geometry, no alpha test (early depth writes).
+
+// Culling and LOD switches (`cull_lod.z` of the frame uniforms, `render::culling::Culling`).
+#define CULL_FRUSTUM 1u // Tiles and blades outside the culling camera's frustum.
+#define CULL_DISTANCE 2u // Tiles and blades beyond the view distance.
+#define CULL_ORIENTATION 4u // Blades seen edge-on (Jahrmann & Wimmer 2017).
+#define LOD_DENSITY 16u // Belyaev's smooth density F(z, phi) (§2.2): a prefix of each tile, faded and widened.
+#define LOD_SEGMENTS 32u // Segment buckets by projected height.
+
+// The cull's counts: `SLOT_WORDS` per ring slot, and the frame's totals in the same layout.
+#define SLOT_WORDS 16u // Words per slot: `MAX_LOD_BUCKETS` drawn counts, then the `STAT_*` counts.
+#define STAT_CONSIDERED 8u // Blades of the tiles in the grid.
+#define STAT_TILES 9u // Blades of the tiles that pass the tile tests (frustum, distance).
+#define STAT_DENSITY 10u // ... kept by the density LOD.
+#define STAT_FRUSTUM 11u // ... inside the frustum (bent-blade bounding sphere).
+#define STAT_ORIENTATION 12u // ... not seen edge-on.
+#define STAT_TILES_VISIBLE 13u // Tiles that pass the tile tests.
+#define STAT_TILES_TOTAL 14u // Tiles in the grid.
 
 // `SPEC_ANIMATION_MODE` codes.
 #define MODE_STATIC 0u // No animation.
@@ -60,5 +87,7 @@
 #define MAX_SEGMENTS 16u // Segments per blade; shader arrays of levels hold `MAX_SEGMENTS + 1`.
 #define MAX_EMITTERS 64u // Point sources plus colliders a renderer can hold (the per-frame emitter buffers' capacity).
 #define POSE_WORDS 3u // 32-bit words of one level of a `--eval blade` pose record.
+#define MAX_LOD_BUCKETS 8u // Segment LOD buckets (`--lod-segments`).
+#define CULL_GROUP 64u // Invocations of a cull workgroup (one workgroup per ring slot).
 
 #endif

@@ -103,10 +103,36 @@ pub struct RenderOptions {
     pub debug_force: bool,
     /// Draw the force clusters' edges over the picture.
     pub debug_bounds: bool,
+    /// Colour blades by LOD bucket.
+    pub debug_lod: bool,
+    /// The cull and LOD, or brute force.
+    pub culling: crate::render::culling::Culling,
     /// Draw the benchmark floor instead of the blades (`--mode floor`).
     pub floor: bool,
     /// How the blade draws are submitted.
     pub submission: crate::render::submission::Submission,
+}
+
+impl RenderOptions {
+    /// The renderer settings of these options for offscreen targets with pipeline statistics
+    /// (`render`, `timing`).
+    pub fn offscreen_settings(&self, frames_in_flight: usize) -> RenderSettings {
+        RenderSettings {
+            segments: self.segments,
+            color_format: OFFSCREEN_FORMAT,
+            encode_srgb: true,
+            frames_in_flight,
+            blades_per_instance: self.blades_per_instance,
+            debug_force: self.debug_force,
+            debug_bounds: self.debug_bounds,
+            debug_lod: self.debug_lod,
+            culling: self.culling,
+            floor: self.floor,
+            wireframe: false,
+            pipeline_statistics: true,
+            submission: self.submission,
+        }
+    }
 }
 
 /// What `meadow render` did.
@@ -239,20 +265,7 @@ pub fn render(device: &Arc<Device>, options: &RenderOptions) -> Result<RenderRep
     let setup = Instant::now();
     let scene = Scene::generate(options.blades, options.seed);
     let camera = options.camera.unwrap_or_else(|| Camera::default_for(&scene.terrain));
-    let settings = RenderSettings {
-        segments: options.segments,
-        color_format: OFFSCREEN_FORMAT,
-        encode_srgb: true,
-        frames_in_flight: 1,
-        blades_per_instance: options.blades_per_instance,
-        debug_force: options.debug_force,
-        debug_bounds: options.debug_bounds,
-        floor: options.floor,
-        wireframe: false,
-        pipeline_statistics: true,
-        submission: options.submission,
-    };
-    let mut renderer = Renderer::new(device.clone(), &scene, settings, options.animation.clone())?;
+    let mut renderer = Renderer::new(device.clone(), &scene, options.offscreen_settings(1), options.animation.clone())?;
     let extent = vk::Extent2D { width: options.size.0, height: options.size.1 };
     let mut target = OffscreenTarget::new(device, extent)?;
     let setup_ms = setup.elapsed().as_secs_f64() * 1e3;

@@ -41,6 +41,19 @@ fn zero_and_malformed_counts() {
 }
 
 #[test]
+fn culling_and_lod_inputs() {
+    refused("lod-segments-empty", &["--lod-segments", ""], "at least one");
+    refused("lod-segments-0", &["--lod-segments", "4,0"], "outside 1..=16");
+    refused("lod-segments-17", &["--lod-segments", "17"], "outside 1..=16");
+    refused("lod-segments-increasing", &["--lod-segments", "1,2,4"], "decrease");
+    refused("lod-segments-over-segments", &["--segments", "2", "--lod-segments", "4,2,1"], "over --segments 2");
+    refused("view-distance-0", &["--view-distance", "0"], "above 0");
+    refused("view-distance-nan", &["--view-distance", "NaN"], "NaN");
+    refused("lod-scale-negative", &["--lod-scale", "-1"], "above 0");
+    refused("submission-with-cull", &["--submission", "mdi"], "--brute-force");
+}
+
+#[test]
 fn sizes() {
     refused("size-0x0", &["--size", "0x0"], "empty");
     refused("size-malformed", &["--size", "1280"], "WIDTHxHEIGHT");

@@ -1,4 +1,5 @@
-//! Golden-image tests: small fixed scenes rendered on lavapipe compared with `tests/golden/`.
+//! Golden-image tests: small fixed scenes rendered on lavapipe compared with `tests/golden/`, the
+//! brute-force reference path (`--brute-force`) and the default GPU-culled path.
 //!
 //! A pass needs ≥ 99.9 % of pixels within ±3/255 and none off by more than 32/255. On failure the
 //! actual picture and a diff are written to `tests/out/`. Goldens are regenerated only by
@@ -43,9 +44,17 @@ fn check_golden(name: &str, args: &[&str]) {
     }
 }
 
+/// The default path, GPU culling and LOD, of the default view: blades widen and thin with
+/// distance and far buckets draw fewer segments (golden added with the cull; the four others
+/// are the brute-force reference path, unchanged by it).
+#[test]
+fn default_view_culled_with_lod() {
+    check_golden("default_view_culled", &["--blades", "20000", "--size", "320x180", "--seed", "1"]);
+}
+
 #[test]
 fn default_view_small_field() {
-    check_golden("default_view", &["--blades", "20000", "--size", "320x180", "--seed", "1"]);
+    check_golden("default_view", &["--brute-force", "--blades", "20000", "--size", "320x180", "--seed", "1"]);
 }
 
 /// `X,Y,Z,YAW,PITCH` with Y `eye` metres above the terrain of the field `meadow render` builds for
@@ -60,7 +69,19 @@ fn one_segment_blades_close_up() {
     let camera = camera_above_ground(4000, 7, 0.0, 1.5, 0.5, 20.0, -15.0);
     check_golden(
         "one_segment_close_up",
-        &["--blades", "4000", "--segments", "1", "--size", "240x240", "--seed", "7", "--camera", &camera],
+        &[
+            "--brute-force",
+            "--blades",
+            "4000",
+            "--segments",
+            "1",
+            "--size",
+            "240x240",
+            "--seed",
+            "7",
+            "--camera",
+            &camera,
+        ],
     );
 }
 
@@ -70,6 +91,7 @@ fn sixteen_segments_from_above_with_batching() {
     check_golden(
         "sixteen_segments_above",
         &[
+            "--brute-force",
             "--blades",
             "8000",
             "--segments",
@@ -92,6 +114,7 @@ fn windy_field_with_source_calm_area_and_collider() {
     check_golden(
         "windy_features",
         &[
+            "--brute-force",
             "--blades",
             "10000",
             "--size",

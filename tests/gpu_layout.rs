@@ -106,7 +106,7 @@ fn every_blade_field_reads_back_through_a_compute_shader() {
 }
 
 /// Words `frame_readback.comp` writes: the uniforms, one per `SPEC_*` id, six shared constants.
-const FRAME_WORDS: usize = 44;
+const FRAME_WORDS: usize = 80;
 const READBACK_WORDS: usize = FRAME_WORDS + specialization::COUNT + 6;
 
 #[test]
@@ -122,6 +122,12 @@ fn every_frame_uniform_and_specialization_constant_reads_back_through_a_compute_
         params: UVec4::new(1001, 1002, 1003, 1004),
         keyframes: UVec4::new(1005, 1006, 1007, 1008),
         keyframe_shape: UVec4::new(1009, 1010, 1011, 1012),
+        cull_view_proj: Mat4::from_cols_array(&std::array::from_fn(|i| f(32 + i as u32))),
+        cull_eye: Vec4::new(f(48), f(49), f(50), f(51)),
+        lod: Vec4::new(f(52), f(53), f(54), f(55)),
+        tile_grid: Vec4::new(f(56), f(57), f(58), f(59)),
+        cull_tiles: UVec4::new(1013, 1014, 1015, 1016),
+        cull_lod: UVec4::new(1017, 1018, 1019, 1020),
     };
     let spec = Specialization {
         keyframe_uvec4s: 2000,
@@ -134,6 +140,7 @@ fn every_frame_uniform_and_specialization_constant_reads_back_through_a_compute_
         segments: 2007,
         blades_per_instance: 2008,
         encode_srgb: 2009,
+        model_segments: 2010,
     };
     let input = (vk::DescriptorType::UNIFORM_BUFFER, bytemuck::bytes_of(&uniforms));
     let (result, messages) = with_device(&options(), false, |device| {
@@ -156,6 +163,7 @@ fn every_frame_uniform_and_specialization_constant_reads_back_through_a_compute_
     assert_eq!(seen(gpu::SPEC_SEGMENTS), spec.segments, "SEGMENTS");
     assert_eq!(seen(gpu::SPEC_BLADES_PER_INSTANCE), spec.blades_per_instance, "BLADES_PER_INSTANCE");
     assert_eq!(seen(gpu::SPEC_ENCODE_SRGB), spec.encode_srgb, "ENCODE_SRGB");
+    assert_eq!(seen(gpu::SPEC_MODEL_SEGMENTS), spec.model_segments, "MODEL_SEGMENTS");
     // The shaders see the constants build.rs generated for Rust.
     let shared = &words[FRAME_WORDS + specialization::COUNT..];
     let flags = gpu::FLAG_DEBUG_FORCE | gpu::FLAG_EVAL_BLADE | gpu::FLAG_CLUSTER_PUSH;

@@ -112,7 +112,14 @@ fn run(device: &Arc<Device>, graph: &mut Graph, release: &[(Resource, Access)]) 
     let target = null_target();
     let result = (|| {
         let cmd = recorder.begin(device)?;
-        let ctx = PassContext { device, target: &target, slot: 0, descriptor_set: vk::DescriptorSet::null() };
+        let uniforms = bytemuck::Zeroable::zeroed();
+        let ctx = PassContext {
+            device,
+            target: &target,
+            slot: 0,
+            descriptor_set: vk::DescriptorSet::null(),
+            uniforms: &uniforms,
+        };
         let mut scopes = Scopes { timestamps: &mut timestamps, statistics: None };
         graph.record(&ctx, cmd, &mut scopes, Default::default())?;
         graph.release(device, cmd, release);
@@ -235,6 +242,8 @@ fn small_settings(frames_in_flight: usize) -> meadow::render::RenderSettings {
         pipeline_statistics: false,
         submission: Default::default(),
         debug_bounds: false,
+        debug_lod: false,
+        culling: meadow::render::culling::Culling::default_for(2),
         floor: false,
     }
 }
@@ -321,9 +330,11 @@ fn rebuilt_passes_are_freed_behind_the_frames_in_flight() {
     for (queued, _) in &pending {
         assert_eq!(*queued, 1, "the old passes and model wait behind the frames in flight: {pending:?}");
     }
-    assert_eq!(pending[0].1, ["terrain", "blades", "cluster bounds"]);
-    assert_eq!(pending[1].1, ["blade poses", "terrain", "blades"]);
-    assert_eq!(pending[2].1, ["terrain", "blades"]);
+    let cull = ["cull count", "cull scan", "cull emit"];
+    let with_cull = |before: &[&'static str], after: &[&'static str]| [before, &cull[..], after].concat();
+    assert_eq!(pending[0].1, with_cull(&["terrain"], &["blades", "cluster bounds"]));
+    assert_eq!(pending[1].1, with_cull(&["blade poses", "terrain"], &["blades"]));
+    assert_eq!(pending[2].1, with_cull(&["terrain"], &["blades"]));
     assert_eq!(pending[3].1, ["terrain", "blades"], "the floor stands in for the blade pass");
     assert_eq!(after, 0, "freed once the frames finished");
     assert!(refused);

@@ -56,6 +56,8 @@ fn timing_reports_passes_frames_in_flight_and_a_trace() {
     let trace = dir.join("trace.json");
     let output = meadow()
         .args(["timing", "--validation", "--device", support::DEVICE, "--blades", "2000", "--segments", "4"])
+        // The reference path: every blade drawn, so the statistics count all 2000 x 10 vertices.
+        .arg("--brute-force")
         .args(["--size", "64x48", "--frames", "4", "--warmup", "1", "--out"])
         .arg(&dir)
         .arg("--trace")
@@ -135,7 +137,8 @@ fn reused_and_secondary_recordings_stay_valid_with_frames_in_flight() {
         let dir = scratch(&format!("timing-{strategy}"));
         let output = meadow()
             .args(["timing", "--validation", "--device", support::DEVICE, "--blades", "3000", "--size", "64x48"])
-            .args(["--frames", "4", "--warmup", "0", "--submission", strategy, "--clusters", clusters, "--out"])
+            .args(["--frames", "4", "--warmup", "0", "--submission", strategy, "--clusters", clusters, "--brute-force"])
+            .arg("--out")
             .arg(&dir)
             .output()
             .expect("run meadow timing");

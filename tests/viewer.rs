@@ -114,6 +114,32 @@ fn live_controls_rebuild_and_edit_without_errors() {
 }
 
 #[test]
+fn culling_controls_change_what_is_drawn() {
+    // Freeze the culling camera and turn round: the frozen frustum keeps what was ahead, now
+    // behind the view, so the grass in view is gone; thawing brings it back. O (brute force),
+    // Y (LOD) and T (LOD view) rebuild cleanly.
+    let dir = scratch("viewer-culling");
+    let path = dir.join("culling.txt");
+    std::fs::write(
+        &path,
+        "0 pause\n0 camera 0,1.5,0,0,-55\n4 press z\n6 camera 0,1.5,0,180,-55\n8 screenshot frozen.png\n10 press z\n\
+         12 screenshot thawed.png\n14 press o\n16 press o\n18 press y\n20 press y\n22 press t\n24 quit\n",
+    )
+    .expect("write script");
+    let output = view(&dir, &["--script", path.to_str().expect("utf-8")]);
+    assert_clean(&output);
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(stdout.contains("culling camera frozen") && stdout.contains("brute force"), "{}", transcript(&output));
+    let (frozen, thawed) = (Picture::load(&dir.join("frozen.png")), Picture::load(&dir.join("thawed.png")));
+    let (stats, _) = meadow::imagediff::compare_rgb(&frozen.rgb, &thawed.rgb, 8);
+    assert!(
+        stats.within_fraction() < 0.7,
+        "freezing changed only {:.1} % of the picture",
+        100.0 * (1.0 - stats.within_fraction())
+    );
+}
+
+#[test]
 fn no_display_is_a_clear_error() {
     let output = meadow().env_remove("DISPLAY").env_remove("WAYLAND_DISPLAY").arg("view").output().expect("run meadow");
     assert_eq!(output.status.code(), Some(2), "{}", transcript(&output));

@@ -52,6 +52,8 @@ pub(crate) enum DebugViewArg {
     Force,
     /// The force clusters' edges over the picture, coloured by the force at each corner.
     Bounds,
+    /// Blades coloured by LOD bucket: red 1 segment, orange 2, yellow 4, green 8, blue 16.
+    Lod,
 }
 
 #[derive(Clone, Copy, ValueEnum)]

@@ -6,6 +6,7 @@ use std::path::PathBuf;
 use clap::{Args, ValueEnum};
 
 use super::animation::{AnimationArgs, DebugViewArg, EvalArg, ModeArg};
+use super::culling::CullArgs;
 use super::values;
 use crate::app::{GpuOptions, RenderOptions};
 use crate::scene::Camera;
@@ -95,6 +96,8 @@ pub(crate) struct SceneArgs {
     pub(crate) blades_per_instance: u32,
     #[command(flatten)]
     pub(crate) animation: AnimationArgs,
+    #[command(flatten)]
+    pub(crate) culling: CullArgs,
     /// Debug view: `force` colours blades by force magnitude (thesis fig. 4.5 / 6.1c); `bounds`
     /// draws the force clusters' edges, coloured by the force at each corner.
     #[arg(long, value_enum)]
@@ -116,6 +119,8 @@ impl SceneArgs {
             time: self.animation.time,
             debug_force: self.debug_view == Some(DebugViewArg::Force),
             debug_bounds: self.debug_view == Some(DebugViewArg::Bounds),
+            debug_lod: self.debug_view == Some(DebugViewArg::Lod),
+            culling: self.culling.culling(self.segments),
             floor: self.animation.mode.is_floor(),
             submission: Default::default(),
         }

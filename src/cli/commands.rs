@@ -82,6 +82,9 @@ fn print_render(report: &RenderReport) {
         report.triangles.1
     );
     let last = report.frames.last().expect("at least one frame");
+    if let Some(cull) = &last.cull {
+        println!("cull: {}", cull.summary());
+    }
     let passes: Vec<String> = last.passes.iter().map(|p| format!("{} {:.3} ms", p.name, p.ms)).collect();
     println!("gpu: {:.3} ms ({})", last.gpu_ms, passes.join(", "));
     let cpu = last.cpu_record_ms + last.cpu_submit_ms + last.cpu_wait_ms;

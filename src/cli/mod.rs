@@ -6,6 +6,7 @@
 pub mod animation;
 pub mod args;
 pub mod commands;
+mod culling;
 pub mod measure;
 pub mod values;
 

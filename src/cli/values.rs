@@ -15,6 +15,25 @@ pub fn finite_f32(text: &str) -> Result<f32, String> {
     Ok(value)
 }
 
+/// A finite `f32` above 0.
+pub fn positive_f32(text: &str) -> Result<f32, String> {
+    let value = finite_f32(text)?;
+    if value <= 0.0 {
+        return Err(format!("'{text}' must be above 0"));
+    }
+    Ok(value)
+}
+
+/// LOD bucket segment counts: `8,4,2,1` (decreasing, each in 1..=16).
+pub fn lod_segments(text: &str) -> Result<crate::render::culling::LodSegments, String> {
+    let counts = text
+        .split(',')
+        .map(|s| s.trim().parse::<u32>().map_err(|_| format!("'{s}' is not a whole number of segments")))
+        .collect::<Result<Vec<u32>, String>>()
+        .map_err(|e| if text.trim().is_empty() { "give at least one segment count".into() } else { e })?;
+    crate::render::culling::LodSegments::new(&counts)
+}
+
 /// Blade count, at least 1. Device limits are checked once the device is known.
 pub fn blade_count(text: &str) -> Result<u32, String> {
     let value: u64 = text.trim().parse().map_err(|_| format!("'{text}' is not a whole number of blades"))?;

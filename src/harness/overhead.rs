@@ -131,6 +131,9 @@ fn measure_clusters(
             pipeline_statistics: false,
             submission: Submission { strategy, clusters },
             debug_bounds: false,
+            debug_lod: false,
+            // Driver overhead of the submission strategies: every stored blade, no cull pass.
+            culling: crate::render::culling::Culling::brute_force(options.segments),
             floor: false,
         };
         let animation = AnimationSettings { mode: Mode::Static, ..Default::default() };

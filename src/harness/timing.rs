@@ -22,8 +22,7 @@ use crate::error::{Error, Result, VkContext};
 use crate::harness::document::{statistics_json, summary};
 use crate::render::graph::Outputs;
 use crate::render::renderer::FrameSync;
-use crate::render::target::OFFSCREEN_FORMAT;
-use crate::render::{FrameTimings, OffscreenTarget, RenderSettings, Renderer};
+use crate::render::{FrameTimings, OffscreenTarget, Renderer};
 use crate::scene::{Camera, Scene};
 use crate::vk::{Access, Device};
 
@@ -109,19 +108,7 @@ struct Run {
 /// frame's first barrier waits for the previous frame's attachment writes (same queue).
 fn run_one(device: &Arc<Device>, scene: &Scene, options: &TimingOptions, frames_in_flight: usize) -> Result<Run> {
     let render = &options.render;
-    let settings = RenderSettings {
-        segments: render.segments,
-        color_format: OFFSCREEN_FORMAT,
-        encode_srgb: true,
-        frames_in_flight,
-        blades_per_instance: render.blades_per_instance,
-        debug_force: render.debug_force,
-        debug_bounds: render.debug_bounds,
-        floor: render.floor,
-        wireframe: false,
-        pipeline_statistics: true,
-        submission: render.submission,
-    };
+    let settings = render.offscreen_settings(frames_in_flight);
     let mut renderer = Renderer::new(device.clone(), scene, settings, render.animation.clone())?;
     let extent = vk::Extent2D { width: render.size.0, height: render.size.1 };
     let target = OffscreenTarget::new(device, extent)?;

@@ -18,6 +18,7 @@ use ash::vk;
 
 use crate::error::{Error, Result};
 use crate::render::target::TargetView;
+use crate::render::uniforms::FrameUniforms;
 use crate::vk::query::{StatisticsQueries, TimestampQueries};
 use crate::vk::tracker::{Barriers, Resource, ResourceStates};
 use crate::vk::{debug, image, sync, Access, Device};
@@ -32,6 +33,8 @@ pub struct PassContext<'a> {
     pub slot: usize,
     /// The frame's descriptor set 0 (scene, per-frame uniforms and forces).
     pub descriptor_set: vk::DescriptorSet,
+    /// The frame's uniforms as written for the GPU (what a pass sizes its dispatches by).
+    pub uniforms: &'a FrameUniforms,
 }
 
 /// How an attachment's contents start.

@@ -2,6 +2,8 @@
 //! records them. Data flows one way: CPU scene → GPU buffers → passes → image.
 
 pub mod animation;
+pub mod cull_reference;
+pub mod culling;
 pub mod frame;
 pub mod gpu_constants;
 pub mod graph;

@@ -19,6 +19,7 @@ pub use crate::render::frame::{Deletion, FrameSync, FrameTimings, PassTime};
 use crate::render::graph::{Graph, Outputs, PassContext};
 use crate::render::layouts::{build_frames, scene_layouts, SceneLayouts};
 use crate::render::passes::blades::BladeSetup;
+use crate::render::passes::cull::{self, CullSetup};
 use crate::render::passes::{BladePass, ClusterBoundsPass, FloorPass, PipelineTarget, TerrainPass};
 use crate::render::scene_gpu::SceneGpu;
 use crate::render::settings::{check_submission, polygon_mode, sky_clear_color};
@@ -42,6 +43,8 @@ pub struct Renderer {
     layouts: SceneLayouts,
     graph: Graph,
     ring: FrameRing,
+    /// The camera the cull tests against when frozen (`None`: the view's camera).
+    cull_camera: Option<Camera>,
 }
 
 impl Renderer {
@@ -63,6 +66,7 @@ impl Renderer {
             layouts: SceneLayouts::default(),
             graph: Graph::new(),
             ring: FrameRing::new(Vec::new()),
+            cull_camera: None,
         };
         let scene_gpu = SceneGpu::upload(&device, scene, renderer.animation.cluster_size)?;
         let scene_gpu = renderer.scene.insert(scene_gpu);
@@ -170,6 +174,9 @@ impl Renderer {
             settings.submission.strategy.pushes_first_blade(),
             settings.encode_srgb,
         );
+        if settings.debug_lod {
+            specialization.flags |= crate::render::specialization::FLAG_DEBUG_LOD;
+        }
         if !settings.floor {
             model.specialize(&mut specialization);
         }
@@ -186,6 +193,7 @@ impl Renderer {
         self.graph.import(Resource::Buffer(scene.blades.raw), &vertex_compute);
         self.graph.import(Resource::Buffer(scene.clusters.raw), &vertex_compute);
         self.graph.import(Resource::Buffer(scene.heights.raw), &[Access::VertexShaderStorageRead]);
+        self.graph.import(Resource::Buffer(scene.tiles.raw), &[Access::ComputeShaderRead]);
         let (keyframes, uploaded) = model.resources().keyframe_import();
         self.graph.import(keyframes, &uploaded);
         if settings.floor {
@@ -198,6 +206,12 @@ impl Renderer {
                 self.graph.add_boxed(pass);
             }
             self.graph.add(TerrainPass::new(device, target, &constants, scene, sky_clear_color(settings.encode_srgb))?);
+            let culled = settings.culling.enabled;
+            if culled {
+                let stats = (0..self.ring.slots()).map(|slot| self.ring.frame(slot).cull_stats.raw).collect();
+                let setup = CullSetup { layout: target.layout, constants: &constants, frame_stats: stats };
+                cull::add_passes(&mut self.graph, device, &setup, scene)?;
+            }
             let setup = BladeSetup {
                 target,
                 constants: &constants,
@@ -207,6 +221,7 @@ impl Renderer {
                 frames_in_flight: settings.frames_in_flight,
                 input: model.blade_input(),
                 animation: model.resources().set,
+                buckets: culled.then(|| settings.culling.buckets()),
             };
             self.graph.add(BladePass::new(device, scene, &setup)?);
         }
@@ -246,7 +261,7 @@ impl Renderer {
     pub fn frame_uniforms(&self, camera: &Camera, time: f32, extent: vk::Extent2D) -> FrameUniforms {
         let scene = self.scene_gpu();
         let aspect = extent.width as f32 / extent.height as f32;
-        let (sources, colliders) = self.emitter_counts();
+        let (sources, colliders) = animation::emitter_counts(&self.animation.wind);
         let mut uniforms = FrameUniforms {
             view_proj: camera.view_projection(aspect),
             camera_position: camera.position.extend(time),
@@ -256,9 +271,21 @@ impl Renderer {
             params: UVec4::new(self.settings.segments, scene.blade_count, scene.terrain_cells, 0),
             keyframes: UVec4::new(0, 0, sources, scene.grid.corners_per_side()),
             keyframe_shape: UVec4::new(0, colliders, 0, 0),
+            ..bytemuck::Zeroable::zeroed()
         };
+        let cull_camera = self.cull_camera.unwrap_or(*camera);
+        self.settings.culling.fill_uniforms(&mut uniforms, &scene.tile_grid, &cull_camera, aspect, extent.height);
         self.model.as_deref().expect("built").fill_uniforms(&mut uniforms);
         uniforms
+    }
+
+    /// Freeze the culling camera at `camera` (`None`: the view's camera again): fly out and look.
+    pub fn set_cull_camera(&mut self, camera: Option<Camera>) {
+        self.cull_camera = camera;
+    }
+    /// The frozen culling camera, if any.
+    pub fn cull_camera(&self) -> Option<Camera> {
+        self.cull_camera
     }
 
     /// The model's per-frame CPU update (the thesis' corner forces and emitters, 3.2.2) into the
@@ -271,15 +298,6 @@ impl Renderer {
             time,
         };
         self.model.as_deref().expect("built").update(self.ring.frame_mut(slot), &input);
-    }
-
-    /// Sources and colliders the shaders read: the first `MAX_EMITTERS` of them, sources first
-    /// (the emitter buffers hold no more).
-    fn emitter_counts(&self) -> (u32, u32) {
-        let max = animation::MAX_EMITTERS;
-        let sources = self.animation.wind.sources.len().min(max);
-        let colliders = self.animation.wind.colliders.len().min(max - sources);
-        (sources as u32, colliders as u32)
     }
 
     /// The animation the renderer was built with.
@@ -345,7 +363,13 @@ impl Renderer {
     /// Record the frame of `slot` into `target` (after `begin_frame`), or replay a pre-recorded
     /// one whose barriers assumed the same target and resource states. Returns when recording
     /// began.
-    fn record_frame(&mut self, slot: usize, target: &TargetView, outputs: Outputs) -> Result<Instant> {
+    fn record_frame(
+        &mut self,
+        slot: usize,
+        target: &TargetView,
+        uniforms: &FrameUniforms,
+        outputs: Outputs,
+    ) -> Result<Instant> {
         let device = &*self.device;
         let started = Instant::now();
         self.graph.import(Resource::color(target.color), &[target.color_previous]);
@@ -364,8 +388,14 @@ impl Renderer {
         frame.replay = None;
         let entry = prerecorded.then(|| self.graph.states().clone());
         let cmd = if prerecorded { frame.recorder.begin_reusable(device)? } else { frame.recorder.begin(device)? };
-        let ctx = PassContext { device, target, slot, descriptor_set: frame.descriptor_set };
+        let ctx = PassContext { device, target, slot, descriptor_set: frame.descriptor_set, uniforms };
         frame.passes = self.graph.record(&ctx, cmd, &mut frame.scopes(), outputs)?;
+        let culled = self.settings.culling.enabled && !self.settings.floor;
+        frame.cull_segments = if culled { self.settings.culling.buckets().to_vec() } else { Vec::new() };
+        if culled {
+            // The frame's counts, read by the host after the fence.
+            self.graph.release(device, cmd, &[(Resource::Buffer(frame.cull_stats.raw), Access::HostRead)]);
+        }
         // The queries' results, copied on the GPU for the host to read after the fence.
         let results = Resource::Buffer(frame.record_query_copies(device, cmd));
         self.graph.import(results, &[Access::TransferWrite]);
@@ -390,12 +420,12 @@ impl Renderer {
         sync: FrameSync,
         outputs: Outputs,
     ) -> Result<()> {
-        self.prepare_frame(slot, target, camera, time);
+        let uniforms = self.prepare_frame(slot, target, camera, time);
         // The resource states move on only if the frame is submitted: a frame that failed to
         // record or submit never runs, and the next frame's barriers must not assume it did.
         let entry = self.graph.states().clone();
         let submitted = self
-            .record_frame(slot, target, outputs)
+            .record_frame(slot, target, &uniforms, outputs)
             .and_then(|started| self.ring.submit(&self.device, slot, sync, started));
         if submitted.is_err() {
             self.graph.set_states(entry);
@@ -403,11 +433,12 @@ impl Renderer {
         submitted
     }
 
-    /// Write the uniforms and forces of `slot`'s frame.
-    fn prepare_frame(&mut self, slot: usize, target: &TargetView, camera: &Camera, time: f32) {
+    /// Write the uniforms and forces of `slot`'s frame; returns the uniforms.
+    fn prepare_frame(&mut self, slot: usize, target: &TargetView, camera: &Camera, time: f32) -> FrameUniforms {
         let uniforms = self.frame_uniforms(camera, time, target.extent);
         self.ring.frame_mut(slot).uniforms.write(0, &[uniforms]);
         self.update_model(slot, time);
+        uniforms
     }
 
     /// Wait for every frame in flight (before reading a screenshot; never inside a frame).
@@ -439,10 +470,10 @@ impl Renderer {
     /// submitted: the slot's fence stays signalled and its next `begin` resets the buffer.
     pub fn record_only(&mut self, target: &TargetView, camera: &Camera, time: f32) -> Result<()> {
         let (slot, _) = self.begin_frame()?;
-        self.prepare_frame(slot, target, camera, time);
+        let uniforms = self.prepare_frame(slot, target, camera, time);
         // Never submitted: the resources stay as the last submitted frame left them.
         let entry = self.graph.states().clone();
-        let recorded = self.record_frame(slot, target, Outputs::default()).map(|_| ());
+        let recorded = self.record_frame(slot, target, &uniforms, Outputs::default()).map(|_| ());
         self.graph.set_states(entry);
         recorded
     }

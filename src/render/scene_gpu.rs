@@ -9,10 +9,11 @@ use crate::error::Result;
 use crate::render::frame::Frame;
 use crate::render::gpu_constants;
 use crate::scene::clusters::{BladeCluster, ClusterGrid};
+use crate::scene::tiles::{BladeTile, TileGrid, MAX_TILES_PER_SIDE};
 use crate::scene::{alpha, Scene};
 use crate::vk::descriptor::{self, Binding, Resource};
 use crate::vk::upload::UploadBatch;
-use crate::vk::{Access, Buffer, Device, Image, ImageDesc};
+use crate::vk::{Access, Buffer, BufferDesc, Device, Image, ImageDesc};
 
 /// Bytes of the `--eval blade` pose records: `segments + 1` records of `POSE_WORDS` words per
 /// blade (`shaders/bindings.glsl`).
@@ -38,11 +39,24 @@ pub mod binding {
     pub const CORNERS: u32 = gpu::BINDING_CORNERS;
     /// Per-frame point sources and colliders.
     pub const EMITTERS: u32 = gpu::BINDING_EMITTERS;
+    /// `BladeTile[]` storage buffer.
+    pub const TILES: u32 = gpu::BINDING_TILES;
+    /// The cull's visible list.
+    pub const VISIBLE: u32 = gpu::BINDING_VISIBLE;
+    /// The cull's per-slot counts and offsets.
+    pub const SLOT_COUNTS: u32 = gpu::BINDING_SLOT_COUNTS;
+    /// The cull's indirect draws.
+    pub const DRAWS: u32 = gpu::BINDING_DRAWS;
+    /// Per-frame: the cull's counts of the frame, host-visible.
+    pub const CULL_STATS: u32 = gpu::BINDING_CULL_STATS;
+    /// The count pass's verdict per candidate blade.
+    pub const CULL_RESULTS: u32 = gpu::BINDING_CULL_RESULTS;
 }
 
 /// Layout of set `SET_SCENE`, shared by the scene passes and the animation's compute passes.
-pub fn bindings() -> [Binding; 7] {
-    let vs = vk::ShaderStageFlags::VERTEX;
+pub fn bindings() -> [Binding; 13] {
+    let vs = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::COMPUTE;
+    let cs = vk::ShaderStageFlags::COMPUTE;
     let vs_cs = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::COMPUTE;
     let all = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT | vk::ShaderStageFlags::COMPUTE;
     let storage = vk::DescriptorType::STORAGE_BUFFER;
@@ -56,6 +70,12 @@ pub fn bindings() -> [Binding; 7] {
         Binding { binding: binding::CLUSTERS, kind: storage, stages: vs_cs },
         Binding { binding: binding::CORNERS, kind: storage, stages: vs_cs },
         Binding { binding: binding::EMITTERS, kind: storage, stages: vs_cs },
+        Binding { binding: binding::TILES, kind: storage, stages: cs },
+        Binding { binding: binding::VISIBLE, kind: storage, stages: vs_cs },
+        Binding { binding: binding::SLOT_COUNTS, kind: storage, stages: cs },
+        Binding { binding: binding::DRAWS, kind: storage, stages: cs },
+        Binding { binding: binding::CULL_STATS, kind: storage, stages: cs },
+        Binding { binding: binding::CULL_RESULTS, kind: storage, stages: cs },
     ]
 }
 
@@ -81,6 +101,31 @@ pub struct SceneGpu {
     pub clusters: Buffer,
     /// The cluster grid the records refer to.
     pub grid: ClusterGrid,
+    /// One `BladeTile` per tile.
+    pub tiles: Buffer,
+    /// The tile grid.
+    pub tile_grid: TileGrid,
+    /// The cull's visible list: (blade index, packed scale) per drawn blade.
+    pub visible: Buffer,
+    /// The cull's `SLOT_WORDS` words per ring slot.
+    pub slot_counts: Buffer,
+    /// The cull's `VkDrawIndirectCommand` per LOD bucket.
+    pub draws: Buffer,
+    /// The count pass's verdict per candidate blade, for the emit pass.
+    pub cull_results: Buffer,
+}
+
+/// Ring slots the cull may dispatch for a grid of `tiles` per side: the rings around a tile of
+/// the grid reach at most `tiles − 1` tiles away.
+pub fn max_ring_slots(tiles: u32) -> u32 {
+    (2 * tiles - 1) * (2 * tiles - 1)
+}
+
+/// Bytes of the cull's buffers for `blades` blades on `tiles` per side.
+fn cull_bytes(blades: u64, tiles: u32) -> [u64; 4] {
+    let slots = u64::from(max_ring_slots(tiles));
+    let draws = 16 * u64::from(gpu_constants::MAX_LOD_BUCKETS);
+    [8 * blades.max(1), 4 * u64::from(gpu_constants::SLOT_WORDS) * slots, draws, 8 * blades.max(1)]
 }
 
 /// Resources created so far by `upload`, freed if it fails half-way.
@@ -90,6 +135,8 @@ struct Partial {
     heights: Option<Buffer>,
     clusters: Option<Buffer>,
     blade_alpha: Option<Image>,
+    tiles: Option<Buffer>,
+    cull: Vec<Buffer>,
 }
 
 impl Partial {
@@ -98,7 +145,8 @@ impl Partial {
     unsafe fn destroy(self, device: &Device) {
         // SAFETY: per the contract.
         unsafe {
-            for buffer in [self.blades, self.heights, self.clusters].into_iter().flatten() {
+            for buffer in [self.blades, self.heights, self.clusters, self.tiles].into_iter().flatten().chain(self.cull)
+            {
                 buffer.destroy(device);
             }
             if let Some(image) = self.blade_alpha {
@@ -112,12 +160,16 @@ impl SceneGpu {
     /// Bytes of device memory `upload` will allocate for `scene` (staging included, as it
     /// coexists with the destination during the upload).
     pub fn memory_bytes(blade_count: u64, terrain_cells: u64) -> u64 {
-        // Blade record, cluster record, pose record (with --eval blade).
+        // Blade record, cluster record, pose record (with --eval blade), visible-list entry, cull
+        // verdict.
         let blades = blade_count
-            * (std::mem::size_of::<crate::scene::BladeInstance>() + std::mem::size_of::<BladeCluster>() + 16) as u64;
+            * (std::mem::size_of::<crate::scene::BladeInstance>() + std::mem::size_of::<BladeCluster>() + 16 + 8 + 8)
+                as u64;
         let heights = (terrain_cells + 1).pow(2) * 4;
         let alpha = u64::from(alpha::WIDTH * alpha::HEIGHT);
-        2 * (blades + heights + alpha)
+        let tiles = u64::from(MAX_TILES_PER_SIDE).pow(2) * std::mem::size_of::<BladeTile>() as u64
+            + cull_bytes(0, MAX_TILES_PER_SIDE)[1];
+        2 * (blades + heights + alpha + tiles)
     }
 
     /// Upload the scene and its cluster records (clusters of about `cluster_size` metres) in one
@@ -138,6 +190,12 @@ impl SceneGpu {
                 sampler,
                 clusters: partial.clusters.take().expect("uploaded"),
                 grid,
+                tiles: partial.tiles.take().expect("uploaded"),
+                tile_grid: scene.tile_grid,
+                cull_results: partial.cull.pop().expect("created"),
+                draws: partial.cull.pop().expect("created"),
+                slot_counts: partial.cull.pop().expect("created"),
+                visible: partial.cull.pop().expect("created"),
             }),
             Err(e) => {
                 // SAFETY: the batch waited for its submission or never submitted.
@@ -164,7 +222,18 @@ impl SceneGpu {
             vk::ImageUsageFlags::SAMPLED,
         );
         partial.blade_alpha = Some(batch.image(&desc, &alpha::texels(), &[Access::FragmentShaderSampledRead])?);
+        partial.tiles = Some(batch.buffer("blade tiles", &scene.tiles, storage, &[Access::ComputeShaderRead])?);
         batch.submit()?;
+        let [visible, slots, draws, results] = cull_bytes(scene.blades.len() as u64, scene.tile_grid.tiles);
+        let indirect = storage | vk::BufferUsageFlags::INDIRECT_BUFFER;
+        for (name, size, usage) in [
+            ("visible blades", visible, storage),
+            ("cull slot counts", slots, storage),
+            ("cull draws", draws, indirect),
+            ("cull results", results, storage),
+        ] {
+            partial.cull.push(Buffer::new(device, &BufferDesc::gpu_only(name, size, usage))?);
+        }
         let sampler = crate::vk::image::clamped_sampler(device, vk::Filter::LINEAR, "blade alpha sampler")?;
         Ok(sampler)
     }
@@ -191,6 +260,12 @@ impl SceneGpu {
                 (binding::CLUSTERS, storage, Resource::Buffer(self.clusters.descriptor())),
                 (binding::CORNERS, storage, Resource::Buffer(frame.corners.descriptor())),
                 (binding::EMITTERS, storage, Resource::Buffer(frame.emitters.descriptor())),
+                (binding::TILES, storage, Resource::Buffer(self.tiles.descriptor())),
+                (binding::VISIBLE, storage, Resource::Buffer(self.visible.descriptor())),
+                (binding::SLOT_COUNTS, storage, Resource::Buffer(self.slot_counts.descriptor())),
+                (binding::DRAWS, storage, Resource::Buffer(self.draws.descriptor())),
+                (binding::CULL_STATS, storage, Resource::Buffer(frame.cull_stats.descriptor())),
+                (binding::CULL_RESULTS, storage, Resource::Buffer(self.cull_results.descriptor())),
             ],
         );
     }
@@ -204,6 +279,11 @@ impl SceneGpu {
         unsafe {
             device.raw.destroy_sampler(self.sampler, None);
             self.clusters.destroy(device);
+            self.tiles.destroy(device);
+            self.visible.destroy(device);
+            self.slot_counts.destroy(device);
+            self.draws.destroy(device);
+            self.cull_results.destroy(device);
             self.blade_alpha.destroy(device);
             self.heights.destroy(device);
             self.blades.destroy(device);

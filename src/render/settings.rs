@@ -34,6 +34,10 @@ pub struct RenderSettings {
     pub submission: Submission,
     /// Draw the cluster grid over the picture (`--debug-view bounds`).
     pub debug_bounds: bool,
+    /// Colour blades by their LOD bucket (`--debug-view lod`).
+    pub debug_lod: bool,
+    /// The GPU-driven cull and LOD, or brute force.
+    pub culling: crate::render::culling::Culling,
     /// Draw the benchmark floor instead of the blades: the static blades' triangles pre-expanded
     /// on the CPU, transform and flat colour only (`--mode floor`; a reference pass, not an
     /// animation).
@@ -69,6 +73,30 @@ pub(crate) fn polygon_mode(device: &Device, wireframe: bool) -> Result<vk::Polyg
 /// Refuse a submission strategy the device cannot run, or combined with blades per instance.
 pub(crate) fn check_submission(device: &Device, settings: &RenderSettings) -> Result<()> {
     let Submission { strategy, clusters } = settings.submission;
+    if settings.culling.enabled && !settings.floor {
+        if strategy != Strategy::Instanced {
+            return Err(Error::bad_input(format!(
+                "--submission {} draws every stored blade: add --brute-force",
+                strategy.name()
+            )));
+        }
+        if settings.blades_per_instance != 1 {
+            return Err(Error::bad_input("--blades-per-instance draws every stored blade: add --brute-force"));
+        }
+        if settings.culling.lod_segments.counts()[0] > settings.segments {
+            return Err(Error::bad_input(format!(
+                "--lod-segments starts at {}, over --segments {}",
+                settings.culling.lod_segments.counts()[0],
+                settings.segments
+            )));
+        }
+        if device.features.draw_indirect_first_instance == vk::FALSE {
+            return Err(Error::Environment(format!(
+                "{} cannot draw the culled blades (no drawIndirectFirstInstance): use --brute-force",
+                device.info.name
+            )));
+        }
+    }
     if strategy == Strategy::Instanced || settings.floor {
         return Ok(());
     }

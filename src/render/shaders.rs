@@ -32,3 +32,9 @@ pub const FLOOR_FRAG: &[u8] = spirv!("floor.frag");
 pub const CLUSTER_BOUNDS_VERT: &[u8] = spirv!("cluster_bounds.vert");
 /// Debug view: line colour.
 pub const CLUSTER_BOUNDS_FRAG: &[u8] = spirv!("cluster_bounds.frag");
+/// Cull step 1: per ring slot, the tile and blade tests and the counts per LOD bucket.
+pub const CULL_COUNT_COMP: &[u8] = spirv!("cull_count.comp");
+/// Cull step 2: offsets by prefix sum, the indirect draws and the frame's counts.
+pub const CULL_SCAN_COMP: &[u8] = spirv!("cull_scan.comp");
+/// Cull step 3: the visible list.
+pub const CULL_EMIT_COMP: &[u8] = spirv!("cull_emit.comp");

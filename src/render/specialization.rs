@@ -5,10 +5,12 @@
 use crate::render::gpu_constants as gpu;
 
 /// `RENDER_FLAGS` bits, generated from `shaders/shared.glsl`.
-pub use crate::render::gpu_constants::{FLAG_CLUSTER_PUSH, FLAG_DEBUG_FORCE, FLAG_EVAL_BLADE};
+pub use crate::render::gpu_constants::{
+    FLAG_CLUSTER_PUSH, FLAG_CULLED, FLAG_DEBUG_FORCE, FLAG_DEBUG_LOD, FLAG_EVAL_BLADE,
+};
 
 /// Number of specialization constants, one per `SPEC_*` id of `shaders/shared.glsl`.
-pub const COUNT: usize = 10;
+pub const COUNT: usize = 11;
 
 /// The constants; each field's `constant_id` is the `SPEC_*` named in its doc (`Self::pairs`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -33,6 +35,9 @@ pub struct Specialization {
     pub blades_per_instance: u32,
     /// `SPEC_ENCODE_SRGB`: 1 when the shaders encode sRGB (UNORM targets), 0 when the format does.
     pub encode_srgb: u32,
+    /// `SPEC_MODEL_SEGMENTS`: segments of the animation model's levels (`segments` may be fewer
+    /// in a LOD bucket's pipeline).
+    pub model_segments: u32,
 }
 
 impl Specialization {
@@ -65,6 +70,7 @@ impl Specialization {
             segments,
             blades_per_instance,
             encode_srgb: u32::from(encode_srgb),
+            model_segments: segments,
         }
     }
 
@@ -81,6 +87,7 @@ impl Specialization {
             (gpu::SPEC_SEGMENTS, self.segments),
             (gpu::SPEC_BLADES_PER_INSTANCE, self.blades_per_instance),
             (gpu::SPEC_ENCODE_SRGB, self.encode_srgb),
+            (gpu::SPEC_MODEL_SEGMENTS, self.model_segments),
         ]
     }
 
@@ -108,6 +115,7 @@ const IDS: [u32; COUNT] = [
     gpu::SPEC_SEGMENTS,
     gpu::SPEC_BLADES_PER_INSTANCE,
     gpu::SPEC_ENCODE_SRGB,
+    gpu::SPEC_MODEL_SEGMENTS,
 ];
 
 /// Whether `ids` is a permutation of `0..COUNT`: dense, so `constants()` fills every slot.
@@ -144,6 +152,7 @@ mod tests {
             segments: 107,
             blades_per_instance: 108,
             encode_srgb: 109,
+            model_segments: 110,
         };
         assert_eq!(spec.pairs().map(|(id, _)| id), IDS);
         let constants = spec.constants();

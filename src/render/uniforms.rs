@@ -25,9 +25,24 @@ pub struct FrameUniforms {
     pub keyframes: UVec4,
     /// x records per pose, y colliders.
     pub keyframe_shape: UVec4,
+    /// World → clip of the culling camera (the view's, or a frozen one).
+    pub cull_view_proj: Mat4,
+    /// xyz culling camera position, w pixels per metre at 1 m (viewport height / (2 tan(fov_y / 2))).
+    pub cull_eye: Vec4,
+    /// x view distance (m), y full-density distance (m), z pixels per segment, w largest widening
+    /// (the LOD scale applied).
+    pub lod: Vec4,
+    /// x tile grid origin, y tile edge (m).
+    pub tile_grid: Vec4,
+    /// x tiles per side, y ring slots, z and w the centre tile.
+    pub cull_tiles: UVec4,
+    /// x LOD buckets, y their segment counts minus 1 (4 bits each), z `CULL_*` / `LOD_*` bits.
+    pub cull_lod: UVec4,
 }
 
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 176);
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 320);
+const _: () = assert!(std::mem::offset_of!(FrameUniforms, cull_view_proj) == 176);
+const _: () = assert!(std::mem::offset_of!(FrameUniforms, cull_lod) == 304);
 const _: () = assert!(std::mem::offset_of!(FrameUniforms, camera_position) == 64);
 const _: () = assert!(std::mem::offset_of!(FrameUniforms, params) == 128);
 

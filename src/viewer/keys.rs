@@ -81,13 +81,23 @@ impl Viewer {
                 c.center += step;
                 c.center.y = self.scene.terrain.height_at(c.center.x, c.center.z) + c.radii.y;
             }
-            "m" | "n" | "b" | "v" | "x" | "f" | "plus" | "minus" | "[" | "]" => rebuild = true,
+            "z" => self.toggle_cull_freeze(),
+            "m" | "n" | "b" | "v" | "x" | "t" | "o" | "y" | "f" | "plus" | "minus" | "[" | "]" => rebuild = true,
             _ => {}
         }
         if rebuild {
             self.rebuild_for(name)?;
         }
         Ok(())
+    }
+
+    /// Freeze the culling camera where the view is, or thaw it: fly out and look at what the
+    /// frozen frustum and LOD keep.
+    fn toggle_cull_freeze(&mut self) {
+        let renderer = self.renderer.as_mut().expect("renderer built");
+        let frozen = renderer.cull_camera().is_none().then_some(self.control.camera);
+        renderer.set_cull_camera(frozen);
+        println!("culling camera {}", if frozen.is_some() { "frozen" } else { "follows the view" });
     }
 
     /// Apply a control that changes pipelines or the scene, and rebuild the renderer. A change the
@@ -117,9 +127,15 @@ impl Viewer {
             "b" => animation.eval = if animation.eval == Eval::Vertex { Eval::Blade } else { Eval::Vertex },
             "v" => self.settings.debug_force = !self.settings.debug_force,
             "x" => self.settings.debug_bounds = !self.settings.debug_bounds,
+            "t" => self.settings.debug_lod = !self.settings.debug_lod,
+            "o" | "y" => toggle_culling(&mut self.settings.culling, name),
             "f" => self.settings.wireframe = !self.settings.wireframe,
-            "plus" => self.settings.segments = (self.settings.segments + 1).min(16),
-            "minus" => self.settings.segments = self.settings.segments.saturating_sub(1).max(1),
+            "plus" | "minus" => {
+                let segments = self.settings.segments;
+                let segments = if name == "plus" { (segments + 1).min(16) } else { segments.saturating_sub(1).max(1) };
+                self.settings.segments = segments;
+                self.settings.culling.lod_segments = crate::render::culling::LodSegments::halving(segments);
+            }
             "[" => blades = (blades / 2).max(1),
             "]" => blades = blades.saturating_mul(2),
             _ => {}
@@ -168,13 +184,15 @@ impl Viewer {
     fn report_rebuild(&self) {
         let a = self.renderer.as_ref().expect("built").animation();
         println!(
-            "mode {}, smoothing {:?}, eval {:?}, {} segments, {} blades{}{}{}",
+            "mode {}, smoothing {:?}, eval {:?}, {} segments, {} blades, {}{}{}{}{}",
             if self.settings.floor { "Floor".to_string() } else { format!("{:?}", a.mode) },
             a.smoothing,
             a.eval,
             self.settings.segments,
             self.scene.blades.len(),
+            culling_state(&self.settings.culling),
             if self.settings.debug_force { ", force view" } else { "" },
+            if self.settings.debug_lod { ", LOD view" } else { "" },
             if self.settings.debug_bounds { ", cluster bounds" } else { "" },
             if self.settings.wireframe { ", wireframe" } else { "" },
         );
@@ -219,6 +237,30 @@ impl Viewer {
     }
 }
 
+/// O: GPU culling or brute force; Y: the LOD (density and segments) on or off.
+fn toggle_culling(culling: &mut crate::render::culling::Culling, key: &str) {
+    if key == "o" {
+        culling.enabled = !culling.enabled;
+    } else {
+        let on = !(culling.density || culling.segment_lod);
+        (culling.density, culling.segment_lod) = (on, on);
+    }
+}
+
+/// What the cull and LOD do, for the rebuild report.
+fn culling_state(culling: &crate::render::culling::Culling) -> String {
+    if !culling.enabled {
+        return "brute force".into();
+    }
+    let lod = match (culling.density, culling.segment_lod) {
+        (true, true) => "density and segment LOD",
+        (true, false) => "density LOD",
+        (false, true) => "segment LOD",
+        (false, false) => "no LOD",
+    };
+    format!("GPU culling, {lod} {:?}", culling.buckets())
+}
+
 /// Name of a key as the help and scripts spell it.
 pub(super) fn key_name(code: KeyCode) -> Option<&'static str> {
     Some(match code {
@@ -246,6 +288,10 @@ pub(super) fn key_name(code: KeyCode) -> Option<&'static str> {
         KeyCode::KeyC => "c",
         KeyCode::KeyV => "v",
         KeyCode::KeyX => "x",
+        KeyCode::KeyT => "t",
+        KeyCode::KeyO => "o",
+        KeyCode::KeyY => "y",
+        KeyCode::KeyZ => "z",
         KeyCode::KeyF => "f",
         KeyCode::KeyP => "p",
         KeyCode::F12 => "f12",

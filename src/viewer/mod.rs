@@ -86,7 +86,9 @@ meadow viewer controls
   left click      drop a wind source (drag to move)   Delete  remove the last source
   arrow keys      drive the collider sphere through the grass
   V               force debug view       F                 wireframe
-  X               cluster bounds view
+  X               cluster bounds view    T                 LOD bucket view
+  O               GPU culling / brute force             Y  LOD on/off
+  Z               freeze the culling camera (fly out and look at what it keeps)
   P               pause time             F12               screenshot
   Esc             quit";
 
@@ -177,6 +179,8 @@ impl Viewer {
             blades_per_instance: o.blades_per_instance,
             debug_force: o.debug_force,
             debug_bounds: o.debug_bounds,
+            debug_lod: o.debug_lod,
+            culling: o.culling,
             floor: o.floor,
             wireframe: false,
             pipeline_statistics: false,

@@ -15,6 +15,8 @@ pub(super) struct Stats {
     cpu_ms: f64,
     gpu_ms: f64,
     passes: Vec<(&'static str, f64)>,
+    /// The cull's counts of the last frame read back, if the cull ran.
+    cull: Option<crate::render::culling::CullCounts>,
     pub(super) last: String,
 }
 
@@ -27,6 +29,7 @@ impl Stats {
             cpu_ms: 0.0,
             gpu_ms: 0.0,
             passes: Vec::new(),
+            cull: None,
             last: String::new(),
         }
     }
@@ -35,6 +38,7 @@ impl Stats {
         self.frames += 1;
         self.cpu_ms += t.cpu_record_ms + t.cpu_submit_ms + t.cpu_wait_ms;
         self.gpu_ms += t.gpu_ms;
+        self.cull = t.cull;
         for p in &t.passes {
             match self.passes.iter_mut().find(|(n, _)| *n == p.name) {
                 Some(entry) => entry.1 += p.ms,
@@ -51,8 +55,12 @@ impl Stats {
         }
         let n = f64::from(self.frames);
         let passes: Vec<String> = self.passes.iter().map(|(name, ms)| format!("{name} {:.2}", ms / n)).collect();
+        let drawn = match &self.cull {
+            Some(cull) => format!("cull: {}", cull.summary()),
+            None => format!("{blades} blades, {triangles} triangles (brute force)"),
+        };
         self.last = format!(
-            "{:.1} fps, cpu {:.2} ms, gpu {:.2} ms ({}), {blades} blades, {triangles} triangles, {device}",
+            "{:.1} fps, cpu {:.2} ms, gpu {:.2} ms ({}), {drawn}, {device}",
             n / elapsed,
             self.cpu_ms / n,
             self.gpu_ms / n,

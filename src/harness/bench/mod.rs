@@ -260,6 +260,9 @@ fn build_renderers(device: &Arc<Device>, scene: &Scene, segments: u32, variants:
                 pipeline_statistics: true,
                 submission: Default::default(),
                 debug_bounds: false,
+                debug_lod: false,
+                // The thesis benchmark measures every stored blade at full detail.
+                culling: crate::render::culling::Culling::brute_force(segments),
                 floor: v.mode == Column::Floor,
             };
             Renderer::new(device.clone(), scene, settings, animation)

@@ -157,3 +157,11 @@ pub fn blade_force(
     }
     force
 }
+
+/// Sources and colliders the shaders read: the first `MAX_EMITTERS` of them, sources first (the
+/// emitter buffers hold no more).
+pub fn emitter_counts(wind: &crate::wind::Wind) -> (u32, u32) {
+    let sources = wind.sources.len().min(MAX_EMITTERS);
+    let colliders = wind.colliders.len().min(MAX_EMITTERS - sources);
+    (sources as u32, colliders as u32)
+}

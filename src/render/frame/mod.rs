@@ -75,6 +75,11 @@ impl FrameRing {
         self.inject_failure = Some(self.submitted + nth);
     }
 
+    /// Number of frame slots (frames in flight).
+    pub fn slots(&self) -> usize {
+        self.frames.len()
+    }
+
     /// Frame `slot`.
     pub fn frame(&self, slot: usize) -> &Frame {
         &self.frames[slot]

@@ -6,6 +6,7 @@ use std::time::Instant;
 use ash::vk;
 
 use crate::error::Result;
+use crate::render::culling::CullCounts;
 use crate::render::frame::Deletion;
 use crate::render::graph::{Outputs, RecordedPass, Scopes};
 use crate::render::target::TargetView;
@@ -54,6 +55,8 @@ pub struct FrameTimings {
     pub cpu_spans: Option<[Instant; 3]>,
     /// When the fence wait before reading these timings started and ended.
     pub cpu_wait: Option<[Instant; 2]>,
+    /// What the cull kept and drew (`None` with `--brute-force`).
+    pub cull: Option<CullCounts>,
 }
 
 /// Everything a recording names besides the renderer's own objects: its target and outputs.
@@ -104,6 +107,11 @@ pub struct Frame {
     pub corners: Buffer,
     /// Host-visible point sources and colliders at this frame's time.
     pub emitters: Buffer,
+    /// The cull's counts of the frame (`SLOT_WORDS` words), written by the cull's scan and read
+    /// after the fence.
+    pub cull_stats: Buffer,
+    /// Segments of the LOD buckets of the frame's cull (empty: no cull ran).
+    pub cull_segments: Vec<u32>,
     /// Set 0 of the scene passes, pointing at this frame's uniforms.
     pub descriptor_set: vk::DescriptorSet,
     /// Timestamps of this frame's passes.
@@ -126,6 +134,9 @@ pub struct Frame {
     /// Destroyed once this frame's fence has signalled.
     pub(super) deletions: Vec<Deletion>,
 }
+
+/// Bytes of `Frame::cull_stats`.
+const CULL_STATS_BYTES: u64 = 4 * crate::render::gpu_constants::SLOT_WORDS as u64;
 
 /// Offset of the statistics in `Frame::query_results`.
 const STATISTICS_OFFSET: u64 = 8 * TIMESTAMPS as u64;
@@ -153,6 +164,9 @@ impl Parts {
         ] {
             self.buffers.push(Buffer::new(device, &BufferDesc::upload(&format!("frame {index} {name}"), size, usage))?);
         }
+        let name = format!("frame {index} cull counts");
+        let stats = BufferDesc::readback(&name, CULL_STATS_BYTES, vk::BufferUsageFlags::STORAGE_BUFFER);
+        self.buffers.push(Buffer::new(device, &stats)?);
         let name = format!("frame {index} query results");
         let results = BufferDesc::readback(&name, QUERY_RESULT_BYTES, vk::BufferUsageFlags::TRANSFER_DST);
         self.buffers.push(Buffer::new(device, &results)?);
@@ -212,6 +226,8 @@ impl Frame {
             uniforms: next(),
             corners: next(),
             emitters: next(),
+            cull_stats: next(),
+            cull_segments: Vec::new(),
             query_results: next(),
             descriptor_set,
             timestamps: parts.timestamps.expect("created"),
@@ -269,6 +285,10 @@ impl Frame {
             gpu_span_ns: (first, last),
             cpu_spans: Some([started, recorded, submitted]),
             cpu_wait: Some(wait),
+            cull: (!self.cull_segments.is_empty()).then(|| {
+                let words: &[u32] = bytemuck::cast_slice(self.cull_stats.mapped());
+                CullCounts::from_words(words, &self.cull_segments)
+            }),
         })
     }
 
@@ -294,6 +314,7 @@ impl Frame {
             self.uniforms.destroy(device);
             self.corners.destroy(device);
             self.emitters.destroy(device);
+            self.cull_stats.destroy(device);
             self.query_results.destroy(device);
             device.raw.destroy_fence(self.fence, None);
             device.raw.destroy_semaphore(self.acquire, None);

@@ -7,6 +7,7 @@ use ash::vk;
 
 use crate::error::{Result, VkContext};
 use crate::render::animation::BladeInput;
+use crate::render::gpu_constants as gpu;
 use crate::render::graph::{Declaration, Pass, PassContext};
 use crate::render::passes::{self, PipelineTarget};
 use crate::render::scene_gpu::SceneGpu;
@@ -39,6 +40,10 @@ pub struct BladePass {
     reads: Vec<(vk::Buffer, Access)>,
     /// The animation model's set.
     animation: vk::DescriptorSet,
+    /// With the cull: one pipeline per LOD bucket (its segment count compiled in) and the
+    /// indirect draws the cull writes, one per bucket.
+    buckets: Vec<vk::Pipeline>,
+    draws: vk::Buffer,
 }
 
 /// How the blade pass is built.
@@ -59,29 +64,16 @@ pub struct BladeSetup<'a> {
     pub input: BladeInput,
     /// The animation model's set.
     pub animation: vk::DescriptorSet,
+    /// Segments of the LOD buckets the cull sorts blades into (`None`: brute force, every blade
+    /// at `segments`).
+    pub buckets: Option<&'a [u32]>,
 }
 
 impl BladePass {
     /// Build the pipeline (two-sided blades: no culling) and the draws of the strategy.
     pub fn new(device: &Device, scene: &SceneGpu, setup: &BladeSetup) -> Result<Self> {
         let target = setup.target;
-        let pipeline = pipeline::graphics(
-            device,
-            &pipeline::GraphicsDesc {
-                name: "blades",
-                vertex: shaders::BLADE_VERT,
-                fragment: shaders::BLADE_FRAG,
-                topology: vk::PrimitiveTopology::TRIANGLE_STRIP,
-                cull: vk::CullModeFlags::NONE,
-                polygon: target.polygon,
-                depth_compare: vk::CompareOp::GREATER,
-                color_format: target.color,
-                depth_format: target.depth,
-                layout: target.layout,
-                constants: setup.constants,
-                vertex_stride: 0,
-            },
-        )?;
+        let pipeline = Self::pipeline(device, target, setup.constants, "blades")?;
         let mut reads = vec![
             (scene.blades.raw, Access::VertexShaderStorageRead),
             (scene.clusters.raw, Access::VertexShaderStorageRead),
@@ -102,13 +94,59 @@ impl BladePass {
             secondaries: Vec::new(),
             reads,
             animation: setup.animation,
+            buckets: Vec::new(),
+            draws: scene.draws.raw,
         };
-        if let Err(e) = pass.build_submission(device, scene.blade_count, setup) {
+        let built = match setup.buckets {
+            Some(buckets) => pass.build_buckets(device, scene, setup, buckets),
+            None => pass.build_submission(device, scene.blade_count, setup),
+        };
+        if let Err(e) = built {
             // SAFETY: nothing was submitted with the pass.
             unsafe { Box::new(pass).destroy(device) };
             return Err(e);
         }
         Ok(pass)
+    }
+
+    /// The blade pipeline (two-sided blades: no culling) for `constants`.
+    fn pipeline(device: &Device, target: PipelineTarget, constants: &[u32], name: &str) -> Result<vk::Pipeline> {
+        pipeline::graphics(
+            device,
+            &pipeline::GraphicsDesc {
+                name,
+                vertex: shaders::BLADE_VERT,
+                fragment: shaders::BLADE_FRAG,
+                topology: vk::PrimitiveTopology::TRIANGLE_STRIP,
+                cull: vk::CullModeFlags::NONE,
+                polygon: target.polygon,
+                depth_compare: vk::CompareOp::GREATER,
+                color_format: target.color,
+                depth_format: target.depth,
+                layout: target.layout,
+                constants,
+                vertex_stride: 0,
+            },
+        )
+    }
+
+    /// One pipeline per LOD bucket, reading the cull's visible list, and the reads of its draws.
+    fn build_buckets(&mut self, device: &Device, scene: &SceneGpu, setup: &BladeSetup, buckets: &[u32]) -> Result<()> {
+        for (b, &segments) in buckets.iter().enumerate() {
+            let mut constants = setup.constants.to_vec();
+            constants[gpu::SPEC_SEGMENTS as usize] = segments;
+            constants[gpu::SPEC_RENDER_FLAGS as usize] |= gpu::FLAG_CULLED;
+            if b > 0 {
+                // Beyond the nearest bucket blades are a few pixels wide: the outline as geometry,
+                // no alpha test, so early depth rejects the far field's overdraw.
+                constants[gpu::SPEC_RENDER_FLAGS as usize] |= gpu::FLAG_SOLID_OUTLINE;
+            }
+            let name = format!("blades, LOD bucket {b} ({segments} segments)");
+            self.buckets.push(Self::pipeline(device, setup.target, &constants, &name)?);
+        }
+        self.reads.push((scene.visible.raw, Access::VertexShaderStorageRead));
+        self.reads.push((scene.draws.raw, Access::IndirectCommandRead));
+        Ok(())
     }
 
     /// The ranges, indirect commands and secondary recorders of a non-instanced strategy.
@@ -222,7 +260,8 @@ impl Pass for BladePass {
 
     fn declare(&self, ctx: &PassContext) -> Option<Declaration> {
         let secondary = self.strategy == Strategy::Secondary;
-        let rendering = passes::scene_rendering(ctx, self.pipeline, false, secondary);
+        let first = self.buckets.first().copied().unwrap_or(self.pipeline);
+        let rendering = passes::scene_rendering(ctx, first, false, secondary);
         Some(self.reads.iter().fold(Declaration::graphics(rendering), |d, &(b, a)| d.buffer(b, a)))
     }
 
@@ -239,7 +278,20 @@ impl Pass for BladePass {
         unsafe {
             device.raw.cmd_push_constants(cmd, self.layout, vk::ShaderStageFlags::VERTEX, 0, bytemuck::bytes_of(&push));
         }
-        submission::record_draws(device, cmd, &self.draws());
+        if self.buckets.is_empty() {
+            submission::record_draws(device, cmd, &self.draws());
+            return Ok(());
+        }
+        // Nearest bucket first: with the list near to far inside each bucket, early depth rejects
+        // what the near blades hide.
+        let stride = std::mem::size_of::<vk::DrawIndirectCommand>() as u32;
+        for (b, &pipeline) in self.buckets.iter().enumerate() {
+            // SAFETY: cmd is recording inside the rendering instance; the cull wrote the command.
+            unsafe {
+                device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
+                device.raw.cmd_draw_indirect(cmd, self.draws, u64::from(stride) * b as u64, 1, stride);
+            }
+        }
         Ok(())
     }
 
@@ -251,6 +303,9 @@ impl Pass for BladePass {
             }
             if let Some(indirect) = self.indirect.take() {
                 indirect.destroy(device);
+            }
+            for pipeline in self.buckets.drain(..) {
+                device.raw.destroy_pipeline(pipeline, None);
             }
             device.raw.destroy_pipeline(self.pipeline, None);
         }

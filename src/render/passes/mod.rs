@@ -5,6 +5,7 @@
 pub mod blade_pose;
 pub mod blades;
 pub mod cluster_bounds;
+pub mod cull;
 pub mod floor;
 pub mod terrain;
 

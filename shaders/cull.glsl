@@ -1,0 +1,221 @@
+// The GPU-driven cull (thesis §5.3, Zhang Xia §5.2, Belyaev §2.2, Jahrmann & Wimmer 2017), shared
+// by its two per-slot passes: cull_count.comp counts what each ring slot draws, cull_emit.comp
+// repeats the same tests to write the visible list. Both run one workgroup per slot of the rings
+// around the centre tile (`scene::tiles::ring_cell`), so slots go near to far; inside a tile,
+// blades keep their stored (shuffled) order. Every decision is a pure function of the tile, the
+// blade and the frame's uniforms: the two passes agree, and the output does not depend on how
+// threads are scheduled.
+#ifndef MEADOW_CULL_GLSL
+#define MEADOW_CULL_GLSL
+#include "bindings.glsl"
+
+layout(set = SET_SCENE, binding = BINDING_SLOT_COUNTS, std430) buffer SlotCounts { uint slot_counts[]; };
+layout(set = SET_SCENE, binding = BINDING_DRAWS, std430) buffer Draws { uint draws[]; };
+layout(set = SET_SCENE, binding = BINDING_CULL_STATS, std430) buffer CullStats { uint cull_stats[]; };
+// Per candidate blade (indexed like the blade buffer): x its LOD bucket or NOT_DRAWN, y
+// packHalf2x16(fade, widening).
+layout(set = SET_SCENE, binding = BINDING_CULL_RESULTS, std430) buffer CullResults { uvec2 cull_results[]; };
+const uint NOT_DRAWN = 0xffffffffu;
+
+// Belyaev §2.2 constants of the trinomial a1 + a2 d + a3 d²: with a1 = A1 and a3 = A1 / d0², the
+// kept fraction is 1 out to about the full-density distance d0 (`lod.y`) and falls as 1/d² beyond,
+// as the screen area of a square metre of ground does.
+const float A1 = 0.25;
+// Blades fade (shrink to nothing) over the top FADE_BAND of the kept fraction, so a blade the
+// density LOD is about to drop is already gone when it is dropped: no popping.
+const float FADE_BAND = 0.3;
+// Edge-on blades: |cos| of the angle between the view direction and the blade's width direction
+// above which a blade is culled (Jahrmann & Wimmer 2017 use 0.9; meadow's blades twist in the wind,
+// so only nearly exact edge-on views are dropped).
+const float EDGE_ON = 0.97;
+
+ivec2 ring_cell(uint slot) {
+    if (slot == 0u) {
+        return ivec2(0);
+    }
+    int s = int(slot);
+    int r = int(floor((sqrt(float(slot)) + 1.0) * 0.5));
+    if ((2 * r - 1) * (2 * r - 1) > s) {
+        r -= 1;
+    }
+    if ((2 * r + 1) * (2 * r + 1) <= s) {
+        r += 1;
+    }
+    int p = s - (2 * r - 1) * (2 * r - 1);
+    int side = p / (2 * r);
+    int along = p % (2 * r);
+    if (side == 0) {
+        return ivec2(-r + along, -r);
+    } else if (side == 1) {
+        return ivec2(r, -r + along);
+    } else if (side == 2) {
+        return ivec2(r - along, r);
+    }
+    return ivec2(-r, r - along);
+}
+
+// The tile of ring slot `slot`, or -1 when the slot lies outside the grid.
+int slot_tile(uint slot) {
+    ivec2 cell = ivec2(frame.cull_tiles.zw) + ring_cell(slot);
+    int n = int(frame.cull_tiles.x);
+    if (any(lessThan(cell, ivec2(0))) || any(greaterThanEqual(cell, ivec2(n)))) {
+        return -1;
+    }
+    return cell.y * n + cell.x;
+}
+
+bool culling(uint bit) {
+    return (frame.cull_lod.z & bit) != 0u;
+}
+
+// The culling camera's planes, normalised: -w <= x, y <= w and z <= w (reversed infinite Z: the
+// near plane; there is no far plane). Built once per invocation, not per test.
+struct Frustum {
+    vec4 planes[5];
+};
+
+Frustum culling_frustum() {
+    mat4 m = frame.cull_view_proj;
+    vec4 r0 = vec4(m[0][0], m[1][0], m[2][0], m[3][0]);
+    vec4 r1 = vec4(m[0][1], m[1][1], m[2][1], m[3][1]);
+    vec4 r2 = vec4(m[0][2], m[1][2], m[2][2], m[3][2]);
+    vec4 r3 = vec4(m[0][3], m[1][3], m[2][3], m[3][3]);
+    Frustum f;
+    f.planes = vec4[5](r3 + r0, r3 - r0, r3 + r1, r3 - r1, r3 - r2);
+    for (uint i = 0u; i < 5u; i++) {
+        f.planes[i] /= length(f.planes[i].xyz);
+    }
+    return f;
+}
+
+bool box_in_frustum(Frustum f, vec3 lo, vec3 hi) {
+    for (uint i = 0u; i < 5u; i++) {
+        vec4 p = f.planes[i];
+        vec3 corner = mix(lo, hi, greaterThanEqual(p.xyz, vec3(0.0)));
+        if (dot(p.xyz, corner) + p.w < 0.0) {
+            return false;
+        }
+    }
+    return true;
+}
+
+bool sphere_in_frustum(Frustum f, vec3 centre, float radius) {
+    bool inside = true;
+    for (uint i = 0u; i < 5u; i++) {
+        inside = inside && dot(f.planes[i].xyz, centre) + f.planes[i].w >= -radius;
+    }
+    return inside;
+}
+
+float terrain_height(int x, int z) {
+    int n = int(frame.params.z) + 1;
+    return heights[clamp(z, 0, n - 1) * n + clamp(x, 0, n - 1)];
+}
+
+// The terrain normal at world (x, z), from central differences of the height grid.
+vec3 terrain_normal(vec2 xz) {
+    float step = frame.terrain.y;
+    ivec2 g = ivec2(round((xz - vec2(frame.terrain.x)) / step));
+    float dx = terrain_height(g.x + 1, g.y) - terrain_height(g.x - 1, g.y);
+    float dz = terrain_height(g.x, g.y + 1) - terrain_height(g.x, g.y - 1);
+    return normalize(vec3(-dx, 2.0 * step, -dz));
+}
+
+// Belyaev §2.2: the fraction of blades kept at distance d, 1 - F(z, φ) before the clamp:
+// ((1 - t)(n, r) + t) / (a1 + a2 d + a3 d²) with t = (1 - |(n, r)|)^α, α = 8, so contour areas
+// ((n, r) near 0) keep their density. Above 1 near the camera (every blade kept).
+float density_keep(float d, float n_dot_r) {
+    float t = pow(1.0 - abs(n_dot_r), 8.0);
+    float visible = (1.0 - t) * n_dot_r + t;
+    float d0 = frame.lod.y;
+    return visible / (A1 + A1 * (d * d) / (d0 * d0));
+}
+
+// An upper bound of `density_keep` over a tile whose nearest point is `d` away ((n, r) <= 1).
+float density_keep_bound(float d) {
+    float d0 = frame.lod.y;
+    return 1.0 / (A1 + A1 * (d * d) / (d0 * d0));
+}
+
+// What the tile tests leave of a tile: how many of its blades (a prefix) go to the blade tests.
+uint tile_candidates(Frustum f, BladeTile tile, out bool tile_visible) {
+    vec3 eye = frame.cull_eye.xyz;
+    float nearest = length(clamp(eye, tile.min, tile.max) - eye);
+    tile_visible = tile.count > 0u;
+    if (culling(CULL_FRUSTUM) && !box_in_frustum(f, tile.min, tile.max)) {
+        tile_visible = false;
+    }
+    if (culling(CULL_DISTANCE) && nearest > frame.lod.x) {
+        tile_visible = false;
+    }
+    if (!tile_visible) {
+        return 0u;
+    }
+    if (!culling(LOD_DENSITY)) {
+        return tile.count;
+    }
+    // Blade r is kept when (r + 0.5) / count < keep: a prefix.
+    float keep = density_keep_bound(nearest);
+    return uint(clamp(ceil(keep * float(tile.count) - 0.5), 0.0, float(tile.count)));
+}
+
+// Segments of LOD bucket `b`.
+uint bucket_segments(uint b) {
+    return ((frame.cull_lod.y >> (4u * b)) & 15u) + 1u;
+}
+
+// The blade tests. Returns the blade's LOD bucket, or -1 with the first test it failed in
+// `failed` (a `STAT_*` index: the counts after that test do not include it). `scale` is
+// (fade, widening) for the vertex shader.
+int blade_bucket(Frustum f, BladeTile tile, uint rank, vec3 normal, out uint failed, out vec2 scale) {
+    BladeInstance blade = blades[tile.first + rank];
+    vec3 to_eye = frame.cull_eye.xyz - blade.position;
+    float d = max(length(to_eye), 1e-3);
+    scale = vec2(1.0);
+    failed = 0u;
+    if (culling(LOD_DENSITY)) {
+        float keep = density_keep(d, dot(normal, to_eye / d));
+        float w = (float(rank) + 0.5) / float(tile.count);
+        if (w >= keep) {
+            failed = STAT_DENSITY;
+            return -1;
+        }
+        // Fading blades cover about a third of a full one (height and width both shrink): the
+        // survivors widen so that the expected covered area stays that of the whole tile.
+        float fade = clamp((keep - w) / (FADE_BAND * keep), 0.0, 1.0);
+        float covered = min(keep * (1.0 - 2.0 * FADE_BAND / 3.0), 1.0);
+        scale = vec2(fade, min(1.0 / covered, frame.lod.w));
+    }
+    float reach = scale.x * (blade.height + 0.5 * blade.width * scale.y);
+    if (culling(CULL_FRUSTUM) && !sphere_in_frustum(f, blade.position, reach)) {
+        failed = STAT_FRUSTUM;
+        return -1;
+    }
+    if (culling(CULL_DISTANCE) && d - reach > frame.lod.x) {
+        failed = STAT_FRUSTUM;
+        return -1;
+    }
+    if (culling(CULL_ORIENTATION)) {
+        vec2 across = vec2(cos(blade.facing), -sin(blade.facing));
+        vec2 view = to_eye.xz / max(length(to_eye.xz), 1e-6);
+        if (abs(dot(view, across)) > EDGE_ON) {
+            failed = STAT_ORIENTATION;
+            return -1;
+        }
+    }
+    uint buckets = frame.cull_lod.x;
+    uint bucket = 0u;
+    if (culling(LOD_SEGMENTS)) {
+        // Projected height in pixels; the fewest segments that keep each under `lod.z` pixels.
+        float pixels = scale.x * blade.height * frame.cull_eye.w / d;
+        float needed = pixels / frame.lod.z;
+        for (uint b = 1u; b < buckets; b++) {
+            if (float(bucket_segments(b)) >= needed) {
+                bucket = b;
+            }
+        }
+    }
+    return int(bucket);
+}
+
+#endif

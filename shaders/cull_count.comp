@@ -1,0 +1,62 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// Cull, step 1 of 3: one workgroup per ring slot runs the tile tests and the blade tests
+// (cull.glsl), writes each candidate blade's verdict to `cull_results`, and how many blades of its
+// slot each LOD bucket draws, and the counts after each test, to its `SLOT_WORDS` words of
+// `slot_counts`. Every word of every slot is written (zeros for an empty or culled slot):
+// nothing accumulates across frames or workgroups, so there is no counter to clear. Each
+// invocation counts in registers, then adds its counts into shared memory once: integer sums,
+// whose result does not depend on the order the invocations run in.
+#include "cull.glsl"
+
+layout(local_size_x = CULL_GROUP) in;
+
+shared uint counts[SLOT_WORDS];
+
+void main() {
+    uint slot = gl_WorkGroupID.x;
+    uint lane = gl_LocalInvocationID.x;
+    if (lane < SLOT_WORDS) {
+        counts[lane] = 0u;
+    }
+    barrier();
+    int t = slot_tile(slot);
+    if (t >= 0) {
+        Frustum f = culling_frustum();
+        BladeTile tile = tiles[t];
+        bool tile_visible;
+        uint candidates = tile_candidates(f, tile, tile_visible);
+        if (lane == 0u) {
+            counts[STAT_CONSIDERED] = tile.count;
+            counts[STAT_TILES_TOTAL] = 1u;
+            counts[STAT_TILES] = tile_visible ? tile.count : 0u;
+            counts[STAT_TILES_VISIBLE] = tile_visible ? 1u : 0u;
+        }
+        vec3 normal = terrain_normal(0.5 * (tile.min.xz + tile.max.xz));
+        uint passed[STAT_ORIENTATION - STAT_DENSITY + 1u] = uint[](0u, 0u, 0u);
+        uint drawn[MAX_LOD_BUCKETS] = uint[](0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
+        for (uint rank = lane; rank < candidates; rank += CULL_GROUP) {
+            uint failed;
+            vec2 scale;
+            int bucket = blade_bucket(f, tile, rank, normal, failed, scale);
+            for (uint s = 0u; s <= STAT_ORIENTATION - STAT_DENSITY; s++) {
+                passed[s] += (failed == 0u || STAT_DENSITY + s < failed) ? 1u : 0u;
+            }
+            // Constant indices only: llvmpipe keeps the counters in registers.
+            for (uint b = 0u; b < MAX_LOD_BUCKETS; b++) {
+                drawn[b] += bucket == int(b) ? 1u : 0u;
+            }
+            cull_results[tile.first + rank] = uvec2(bucket >= 0 ? uint(bucket) : NOT_DRAWN, packHalf2x16(scale));
+        }
+        for (uint s = 0u; s <= STAT_ORIENTATION - STAT_DENSITY; s++) {
+            atomicAdd(counts[STAT_DENSITY + s], passed[s]);
+        }
+        for (uint b = 0u; b < MAX_LOD_BUCKETS; b++) {
+            atomicAdd(counts[b], drawn[b]);
+        }
+    }
+    barrier();
+    if (lane < SLOT_WORDS) {
+        slot_counts[slot * SLOT_WORDS + lane] = counts[lane];
+    }
+}

@@ -1,0 +1,75 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// Cull, step 3 of 3: one workgroup per ring slot writes each blade the count pass drew (its
+// verdict in `cull_results`) to the visible list at bucket base + slot offset + its rank among
+// the slot's blades of its bucket. Invocation i takes the i-th contiguous run of the slot's
+// candidates: it counts its run per bucket, one prefix sum over the runs gives each run its start, and it writes its run in order. The list is the same on every run and thread count:
+// buckets, then slots near to far, then stored order.
+#define CULL_WRITER
+#include "cull.glsl"
+
+layout(local_size_x = CULL_GROUP) in;
+
+shared uint prefix[MAX_LOD_BUCKETS][CULL_GROUP];
+
+void main() {
+    uint slot = gl_WorkGroupID.x;
+    uint lane = gl_LocalInvocationID.x;
+    int t = slot_tile(slot);
+    if (t < 0) {
+        return;
+    }
+    BladeTile tile = tiles[t];
+    bool tile_visible;
+    uint candidates = tile_candidates(culling_frustum(), tile, tile_visible);
+    if (candidates == 0u) {
+        return;
+    }
+    uint run = (candidates + CULL_GROUP - 1u) / CULL_GROUP;
+    uint begin = min(lane * run, candidates);
+    uint end = min(begin + run, candidates);
+    uint own[MAX_LOD_BUCKETS];
+    for (uint b = 0u; b < MAX_LOD_BUCKETS; b++) {
+        own[b] = 0u;
+    }
+    for (uint rank = begin; rank < end; rank++) {
+        uint bucket = cull_results[tile.first + rank].x;
+        // Constant indices only: llvmpipe keeps the counters in registers.
+        for (uint b = 0u; b < MAX_LOD_BUCKETS; b++) {
+            own[b] += bucket == b ? 1u : 0u;
+        }
+    }
+    for (uint b = 0u; b < MAX_LOD_BUCKETS; b++) {
+        prefix[b][lane] = own[b];
+    }
+    barrier();
+    // Exclusive prefix over the runs, by one invocation: two barriers instead of a parallel scan's
+    // twelve, which on llvmpipe cost more than the 512 additions.
+    if (lane == 0u) {
+        for (uint b = 0u; b < MAX_LOD_BUCKETS; b++) {
+            uint sum = 0u;
+            for (uint i = 0u; i < CULL_GROUP; i++) {
+                uint count = prefix[b][i];
+                prefix[b][i] = sum;
+                sum += count;
+            }
+        }
+    }
+    barrier();
+    uint at[MAX_LOD_BUCKETS];
+    for (uint b = 0u; b < MAX_LOD_BUCKETS; b++) {
+        // Bucket base (the draw's firstInstance) + the slot's offset + the runs before this one.
+        at[b] = draws[4u * b + 3u] + slot_counts[slot * SLOT_WORDS + b] + prefix[b][lane];
+    }
+    for (uint rank = begin; rank < end; rank++) {
+        uvec2 result = cull_results[tile.first + rank];
+        uint position = 0u;
+        for (uint b = 0u; b < MAX_LOD_BUCKETS; b++) {
+            position = result.x == b ? at[b] : position;
+            at[b] += result.x == b ? 1u : 0u;
+        }
+        if (result.x != NOT_DRAWN) {
+            visible[position] = uvec2(tile.first + rank, result.y);
+        }
+    }
+}

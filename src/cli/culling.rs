@@ -1,0 +1,71 @@
+//! The cull and LOD flags shared by `render`, `view` and `timing`, and their conversion into
+//! [`Culling`].
+
+use clap::{Args, ValueEnum};
+
+use super::values;
+use crate::render::culling::{Culling, LodSegments, DEFAULT_VIEW_DISTANCE};
+
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub(crate) enum CullTest {
+    /// Tiles and blades outside the frustum.
+    Frustum,
+    /// Tiles and blades beyond --view-distance.
+    Distance,
+    /// Blades seen edge-on.
+    Orientation,
+    /// No test: every tile and blade goes on to the LOD.
+    None,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub(crate) enum LodKind {
+    /// Belyaev's smooth density F(z, φ): far tiles keep a thinning of their blades, widened.
+    Density,
+    /// Segment buckets (--lod-segments) by projected height.
+    Segments,
+    /// Every kept blade at --segments.
+    None,
+}
+
+#[derive(Args)]
+pub(crate) struct CullArgs {
+    /// Draw every stored blade at --segments in one instanced draw: no cull pass, no LOD (the
+    /// reference, and the thesis benchmark's path).
+    #[arg(long)]
+    pub(crate) brute_force: bool,
+    /// Cull tests, comma-separated.
+    #[arg(long, value_enum, value_delimiter = ',', default_value = "frustum,distance,orientation")]
+    pub(crate) cull: Vec<CullTest>,
+    /// Levels of detail, comma-separated.
+    #[arg(long, value_enum, value_delimiter = ',', default_value = "density,segments")]
+    pub(crate) lod: Vec<LodKind>,
+    /// Segments of the LOD buckets, decreasing, the first at most --segments (default: the
+    /// halvings of --segments down to 1 that divide it: 8,4,2,1; 6,3,1; 7,1).
+    #[arg(long, value_name = "N,N,…", value_parser = values::lod_segments)]
+    pub(crate) lod_segments: Option<LodSegments>,
+    /// Nothing beyond this many metres is drawn.
+    #[arg(long, default_value_t = DEFAULT_VIEW_DISTANCE, value_parser = values::positive_f32, allow_hyphen_values = true)]
+    pub(crate) view_distance: f32,
+    /// Detail of the LOD: above 1 keeps more blades and segments, below 1 fewer.
+    #[arg(long, default_value = "1", value_parser = values::positive_f32, allow_hyphen_values = true)]
+    pub(crate) lod_scale: f32,
+}
+
+impl CullArgs {
+    pub(crate) fn culling(&self, segments: u32) -> Culling {
+        let tests = |t: CullTest| self.cull.contains(&t);
+        let lod = |l: LodKind| self.lod.contains(&l);
+        Culling {
+            enabled: !self.brute_force,
+            frustum: tests(CullTest::Frustum),
+            distance: tests(CullTest::Distance),
+            orientation: tests(CullTest::Orientation),
+            density: lod(LodKind::Density),
+            segment_lod: lod(LodKind::Segments),
+            lod_segments: self.lod_segments.unwrap_or_else(|| LodSegments::halving(segments)),
+            view_distance: self.view_distance,
+            lod_scale: self.lod_scale,
+        }
+    }
+}

@@ -1,0 +1,158 @@
+//! The cull's tests on the CPU (`shaders/cull.glsl`, same formulas in the same order, in `f32`):
+//! the reference the tests hold the GPU's counts to. Not used when rendering.
+
+use glam::{Mat4, Vec2, Vec3, Vec4};
+
+use crate::render::culling::{CullCounts, MAX_LOD_BUCKETS};
+use crate::render::gpu_constants as gpu;
+use crate::render::uniforms::FrameUniforms;
+use crate::scene::tiles::{ring_cell, BladeTile};
+use crate::scene::Scene;
+
+/// `A1`, `FADE_BAND` and `EDGE_ON` of `shaders/cull.glsl`.
+const A1: f32 = 0.25;
+const FADE_BAND: f32 = 0.3;
+const EDGE_ON: f32 = 0.97;
+
+/// What the cull keeps of `scene` with the frame's `uniforms` (`Renderer::frame_uniforms`).
+pub fn reference_counts(scene: &Scene, uniforms: &FrameUniforms) -> CullCounts {
+    let cull = Cull { scene, u: uniforms, planes: planes(uniforms.cull_view_proj) };
+    let mut counts = CullCounts::default();
+    let buckets = uniforms.cull_lod.x as usize;
+    for b in 0..buckets {
+        counts.segments[b] = ((uniforms.cull_lod.y >> (4 * b)) & 15) + 1;
+    }
+    for slot in 0..uniforms.cull_tiles.y {
+        let Some(tile) = cull.slot_tile(slot) else { continue };
+        counts.tiles += 1;
+        counts.considered += tile.count;
+        let Some(candidates) = cull.candidates(&tile) else { continue };
+        counts.tiles_visible += 1;
+        counts.after_tiles += tile.count;
+        let normal =
+            cull.terrain_normal(Vec2::new(0.5 * (tile.min[0] + tile.max[0]), 0.5 * (tile.min[2] + tile.max[2])));
+        for rank in 0..candidates {
+            match cull.blade(&tile, rank, normal) {
+                Ok(bucket) => {
+                    counts.after_density += 1;
+                    counts.after_frustum += 1;
+                    counts.after_orientation += 1;
+                    counts.drawn[bucket.min(MAX_LOD_BUCKETS - 1)] += 1;
+                }
+                Err(failed) => {
+                    counts.after_density += u32::from(failed > gpu::STAT_DENSITY);
+                    counts.after_frustum += u32::from(failed > gpu::STAT_FRUSTUM);
+                }
+            }
+        }
+    }
+    counts
+}
+
+struct Cull<'a> {
+    scene: &'a Scene,
+    u: &'a FrameUniforms,
+    planes: [Vec4; 5],
+}
+
+fn planes(m: Mat4) -> [Vec4; 5] {
+    let row = |i: usize| Vec4::new(m.x_axis[i], m.y_axis[i], m.z_axis[i], m.w_axis[i]);
+    let (r0, r1, r2, r3) = (row(0), row(1), row(2), row(3));
+    [r3 + r0, r3 - r0, r3 + r1, r3 - r1, r3 - r2].map(|p| p / p.truncate().length())
+}
+
+impl Cull<'_> {
+    fn on(&self, bit: u32) -> bool {
+        self.u.cull_lod.z & bit != 0
+    }
+
+    fn slot_tile(&self, slot: u32) -> Option<BladeTile> {
+        let (dx, dz) = ring_cell(slot);
+        let (x, z) = (self.u.cull_tiles.z as i32 + dx, self.u.cull_tiles.w as i32 + dz);
+        let n = self.u.cull_tiles.x as i32;
+        ((0..n).contains(&x) && (0..n).contains(&z)).then(|| self.scene.tiles[(z * n + x) as usize])
+    }
+
+    fn box_in_frustum(&self, lo: Vec3, hi: Vec3) -> bool {
+        self.planes.iter().all(|p| {
+            let corner = Vec3::select(p.truncate().cmpge(Vec3::ZERO), hi, lo);
+            p.truncate().dot(corner) + p.w >= 0.0
+        })
+    }
+
+    fn density_keep(&self, d: f32, n_dot_r: f32) -> f32 {
+        let t = (1.0 - n_dot_r.abs()).powf(8.0);
+        let visible = (1.0 - t) * n_dot_r + t;
+        let d0 = self.u.lod.y;
+        visible / (A1 + A1 * (d * d) / (d0 * d0))
+    }
+
+    fn candidates(&self, tile: &BladeTile) -> Option<u32> {
+        let eye = self.u.cull_eye.truncate();
+        let (lo, hi) = (Vec3::from(tile.min), Vec3::from(tile.max));
+        let nearest = (eye.clamp(lo, hi) - eye).length();
+        let culled = tile.count == 0
+            || (self.on(gpu::CULL_FRUSTUM) && !self.box_in_frustum(lo, hi))
+            || (self.on(gpu::CULL_DISTANCE) && nearest > self.u.lod.x);
+        if culled {
+            return None;
+        }
+        if !self.on(gpu::LOD_DENSITY) {
+            return Some(tile.count);
+        }
+        let d0 = self.u.lod.y;
+        let keep = 1.0 / (A1 + A1 * (nearest * nearest) / (d0 * d0));
+        Some((keep * tile.count as f32 - 0.5).ceil().clamp(0.0, tile.count as f32) as u32)
+    }
+
+    fn terrain_normal(&self, xz: Vec2) -> Vec3 {
+        let terrain = &self.scene.terrain;
+        let step = self.u.terrain.y;
+        let g = ((xz - Vec2::splat(self.u.terrain.x)) / step).round();
+        let n = terrain.cells as i32 + 1;
+        let h = |x: i32, z: i32| terrain.heights[(z.clamp(0, n - 1) * n + x.clamp(0, n - 1)) as usize];
+        let (x, z) = (g.x as i32, g.y as i32);
+        Vec3::new(-(h(x + 1, z) - h(x - 1, z)), 2.0 * step, -(h(x, z + 1) - h(x, z - 1))).normalize()
+    }
+
+    /// The blade's bucket, or the `STAT_*` of the test it failed.
+    fn blade(&self, tile: &BladeTile, rank: u32, normal: Vec3) -> Result<usize, u32> {
+        let blade = &self.scene.blades[(tile.first + rank) as usize];
+        let position = Vec3::from(blade.position);
+        let to_eye = self.u.cull_eye.truncate() - position;
+        let d = to_eye.length().max(1e-3);
+        let mut scale = Vec2::ONE;
+        if self.on(gpu::LOD_DENSITY) {
+            let keep = self.density_keep(d, normal.dot(to_eye / d));
+            let w = (rank as f32 + 0.5) / tile.count as f32;
+            if w >= keep {
+                return Err(gpu::STAT_DENSITY);
+            }
+            let fade = ((keep - w) / (FADE_BAND * keep)).clamp(0.0, 1.0);
+            let covered = (keep * (1.0 - 2.0 * FADE_BAND / 3.0)).min(1.0);
+            scale = Vec2::new(fade, (1.0 / covered).min(self.u.lod.w));
+        }
+        let reach = scale.x * (blade.height + 0.5 * blade.width * scale.y);
+        let outside = self.planes.iter().any(|p| p.truncate().dot(position) + p.w < -reach);
+        if (self.on(gpu::CULL_FRUSTUM) && outside) || (self.on(gpu::CULL_DISTANCE) && d - reach > self.u.lod.x) {
+            return Err(gpu::STAT_FRUSTUM);
+        }
+        if self.on(gpu::CULL_ORIENTATION) {
+            let across = Vec2::new(blade.facing.cos(), -blade.facing.sin());
+            let view = Vec2::new(to_eye.x, to_eye.z) / Vec2::new(to_eye.x, to_eye.z).length().max(1e-6);
+            if view.dot(across).abs() > EDGE_ON {
+                return Err(gpu::STAT_ORIENTATION);
+            }
+        }
+        let mut bucket = 0;
+        if self.on(gpu::LOD_SEGMENTS) {
+            let needed = scale.x * blade.height * self.u.cull_eye.w / d / self.u.lod.z;
+            for b in 1..self.u.cull_lod.x as usize {
+                if ((self.u.cull_lod.y >> (4 * b)) & 15) as f32 + 1.0 >= needed {
+                    bucket = b;
+                }
+            }
+        }
+        Ok(bucket)
+    }
+}

@@ -1,0 +1,256 @@
+//! How the GPU-driven cull and LOD are set (`Culling`), and what they did in a frame
+//! (`CullCounts`, read back after the frame's fence). The passes are `render::passes::cull`.
+
+use glam::{UVec4, Vec4};
+
+use crate::render::gpu_constants as gpu;
+use crate::render::uniforms::FrameUniforms;
+use crate::scene::tiles::TileGrid;
+use crate::scene::Camera;
+
+/// Most LOD buckets (`--lod-segments`).
+pub const MAX_LOD_BUCKETS: usize = gpu::MAX_LOD_BUCKETS as usize;
+/// Default view distance in metres (`--view-distance`).
+pub const DEFAULT_VIEW_DISTANCE: f32 = 150.0;
+/// Distance in metres out to which the density LOD keeps every blade (Belyaev §2.2), at LOD
+/// scale 1.
+pub const FULL_DENSITY_DISTANCE: f32 = 8.0;
+/// Projected height in pixels one blade segment may span before the LOD picks more segments,
+/// at LOD scale 1.
+pub const PIXELS_PER_SEGMENT: f32 = 8.0;
+/// The most a surviving blade widens to cover for the blades the density LOD dropped.
+pub const MAX_WIDENING: f32 = 6.0;
+
+/// The segment counts of the LOD buckets, decreasing: bucket 0 is the nearest.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct LodSegments {
+    counts: [u32; MAX_LOD_BUCKETS],
+    len: usize,
+}
+
+impl LodSegments {
+    /// Buckets of `counts` segments: 1 to `MAX_LOD_BUCKETS` counts in 1..=16, strictly
+    /// decreasing. The error says why not.
+    pub fn new(counts: &[u32]) -> Result<Self, String> {
+        if counts.is_empty() || counts.len() > MAX_LOD_BUCKETS {
+            return Err(format!("give 1 to {MAX_LOD_BUCKETS} segment counts"));
+        }
+        if let Some(bad) = counts.iter().find(|c| !crate::render::settings::SEGMENTS_RANGE.contains(c)) {
+            return Err(format!("{bad} segments is outside 1..={}", gpu::MAX_SEGMENTS));
+        }
+        if counts.windows(2).any(|w| w[1] >= w[0]) {
+            return Err(format!("{counts:?} must decrease (nearest bucket first)"));
+        }
+        let mut all = [0; MAX_LOD_BUCKETS];
+        all[..counts.len()].copy_from_slice(counts);
+        Ok(Self { counts: all, len: counts.len() })
+    }
+
+    /// Halvings of `segments` down to 1 that divide it (`--segments 8`: 8, 4, 2, 1; 6: 6, 3, 1;
+    /// 7: 7, 1), so every bucket's levels are levels of the animation model: no bucket
+    /// interpolates between them.
+    pub fn halving(segments: u32) -> Self {
+        let next = |s: &u32| (*s > 1).then(|| (1..=s / 2).rev().find(|d| s % d == 0).expect("1 divides"));
+        let counts: Vec<u32> = std::iter::successors(Some(segments.max(1)), next).collect();
+        Self::new(&counts).expect("halvings of 1..=16 decrease and fit")
+    }
+
+    /// The counts, nearest bucket first.
+    pub fn counts(&self) -> &[u32] {
+        &self.counts[..self.len]
+    }
+
+    /// Packed for `FrameUniforms::cull_lod.y`: count − 1 in 4 bits per bucket.
+    pub fn packed(&self) -> u32 {
+        self.counts().iter().enumerate().fold(0, |acc, (i, c)| acc | ((c - 1) << (4 * i)))
+    }
+}
+
+/// The cull and LOD of the blade pass. `enabled: false` is `--brute-force`: every stored blade
+/// at `--segments`, one instanced draw, no cull pass.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Culling {
+    /// Run the cull passes and draw what they keep (false: `--brute-force`).
+    pub enabled: bool,
+    /// Tiles and blades outside the frustum.
+    pub frustum: bool,
+    /// Tiles and blades beyond `view_distance`.
+    pub distance: bool,
+    /// Blades seen edge-on.
+    pub orientation: bool,
+    /// Belyaev's smooth density LOD.
+    pub density: bool,
+    /// Segment buckets by projected height (off: every blade in the first bucket).
+    pub segment_lod: bool,
+    /// The buckets.
+    pub lod_segments: LodSegments,
+    /// Metres beyond which nothing is drawn.
+    pub view_distance: f32,
+    /// Scales the full-density distance and divides the pixels per segment: above 1, more detail.
+    pub lod_scale: f32,
+}
+
+impl Culling {
+    /// Culling and LOD on, buckets halving from `segments`.
+    pub fn default_for(segments: u32) -> Self {
+        Self {
+            enabled: true,
+            frustum: true,
+            distance: true,
+            orientation: true,
+            density: true,
+            segment_lod: true,
+            lod_segments: LodSegments::halving(segments),
+            view_distance: DEFAULT_VIEW_DISTANCE,
+            lod_scale: 1.0,
+        }
+    }
+
+    /// `--brute-force`: no cull pass.
+    pub fn brute_force(segments: u32) -> Self {
+        Self { enabled: false, ..Self::default_for(segments) }
+    }
+
+    /// The `CULL_*` / `LOD_*` bits of the tests that are on.
+    pub fn bits(&self) -> u32 {
+        [
+            (self.frustum, gpu::CULL_FRUSTUM),
+            (self.distance, gpu::CULL_DISTANCE),
+            (self.orientation, gpu::CULL_ORIENTATION),
+            (self.density, gpu::LOD_DENSITY),
+            (self.segment_lod, gpu::LOD_SEGMENTS),
+        ]
+        .iter()
+        .filter(|(on, _)| *on)
+        .fold(0, |acc, (_, bit)| acc | bit)
+    }
+
+    /// The cull's part of the frame's uniforms: the culling camera, the LOD settings and the
+    /// rings of tiles around the culling camera's tile.
+    pub fn fill_uniforms(
+        &self,
+        uniforms: &mut FrameUniforms,
+        grid: &TileGrid,
+        camera: &Camera,
+        aspect: f32,
+        height: u32,
+    ) {
+        let pixels_per_metre = height as f32 / (2.0 * (0.5 * crate::scene::camera::FOV_Y_DEG.to_radians()).tan());
+        let eye = camera.position;
+        let centre = grid.cell(eye.x, eye.z);
+        let scale = self.lod_scale;
+        uniforms.cull_view_proj = camera.view_projection(aspect);
+        uniforms.cull_eye = eye.extend(pixels_per_metre);
+        uniforms.lod =
+            Vec4::new(self.view_distance, FULL_DENSITY_DISTANCE * scale, PIXELS_PER_SEGMENT / scale, MAX_WIDENING);
+        uniforms.tile_grid = Vec4::new(grid.origin, grid.tile_size, 0.0, 0.0);
+        uniforms.cull_tiles = UVec4::new(grid.tiles, grid.ring_slots(centre), centre.0, centre.1);
+        uniforms.cull_lod = UVec4::new(self.buckets().len() as u32, self.lod_segments.packed(), self.bits(), 0);
+    }
+
+    /// The buckets drawn: all of them with segment LOD, else the first only.
+    pub fn buckets(&self) -> &[u32] {
+        let counts = self.lod_segments.counts();
+        if self.segment_lod {
+            counts
+        } else {
+            &counts[..1]
+        }
+    }
+}
+
+/// What the cull did in one frame (`shaders/shared.glsl`, `STAT_*`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct CullCounts {
+    /// Blades drawn per LOD bucket.
+    pub drawn: [u32; MAX_LOD_BUCKETS],
+    /// Segments of each bucket (0 past the last).
+    pub segments: [u32; MAX_LOD_BUCKETS],
+    /// Blades of every tile.
+    pub considered: u32,
+    /// Blades of the tiles that passed the tile tests.
+    pub after_tiles: u32,
+    /// ... then kept by the density LOD.
+    pub after_density: u32,
+    /// ... then inside the frustum and the view distance.
+    pub after_frustum: u32,
+    /// ... then not seen edge-on.
+    pub after_orientation: u32,
+    /// Tiles that passed the tile tests.
+    pub tiles_visible: u32,
+    /// Tiles.
+    pub tiles: u32,
+}
+
+impl CullCounts {
+    /// Decode the `SLOT_WORDS` words the scan wrote, for buckets of `segments`.
+    pub fn from_words(words: &[u32], segments: &[u32]) -> Self {
+        let stat = |i: u32| words[i as usize];
+        let mut counts = Self {
+            considered: stat(gpu::STAT_CONSIDERED),
+            after_tiles: stat(gpu::STAT_TILES),
+            after_density: stat(gpu::STAT_DENSITY),
+            after_frustum: stat(gpu::STAT_FRUSTUM),
+            after_orientation: stat(gpu::STAT_ORIENTATION),
+            tiles_visible: stat(gpu::STAT_TILES_VISIBLE),
+            tiles: stat(gpu::STAT_TILES_TOTAL),
+            ..Self::default()
+        };
+        for (b, &s) in segments.iter().enumerate() {
+            counts.drawn[b] = words[b];
+            counts.segments[b] = s;
+        }
+        counts
+    }
+
+    /// Blades drawn, all buckets.
+    pub fn total_drawn(&self) -> u64 {
+        self.drawn.iter().map(|&d| u64::from(d)).sum()
+    }
+
+    /// One line: the blades after each test, drawn per bucket, tiles.
+    pub fn summary(&self) -> String {
+        let buckets: Vec<String> = (0..MAX_LOD_BUCKETS)
+            .filter(|&b| self.segments[b] > 0)
+            .map(|b| format!("{} x {} seg", self.drawn[b], self.segments[b]))
+            .collect();
+        format!(
+            "{} considered, {} in visible tiles ({} of {}), {} after density, {} in frustum, {} not edge-on; drawn {} ({}), {} triangles",
+            self.considered,
+            self.after_tiles,
+            self.tiles_visible,
+            self.tiles,
+            self.after_density,
+            self.after_frustum,
+            self.after_orientation,
+            self.total_drawn(),
+            buckets.join(", "),
+            self.triangles()
+        )
+    }
+
+    /// Blade triangles drawn.
+    pub fn triangles(&self) -> u64 {
+        self.drawn.iter().zip(self.segments).map(|(&d, s)| 2 * u64::from(d) * u64::from(s)).sum()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lod_segments_are_checked() {
+        assert!(LodSegments::new(&[]).is_err());
+        assert!(LodSegments::new(&[0]).is_err());
+        assert!(LodSegments::new(&[17]).is_err());
+        assert!(LodSegments::new(&[2, 4]).is_err());
+        assert!(LodSegments::new(&[4, 4]).is_err());
+        assert_eq!(LodSegments::new(&[8, 4, 2, 1]).map(|l| l.packed()), Ok(0x0137));
+        assert_eq!(LodSegments::halving(8).counts(), &[8, 4, 2, 1]);
+        assert_eq!(LodSegments::halving(6).counts(), &[6, 3, 1]);
+        assert_eq!(LodSegments::halving(7).counts(), &[7, 1]);
+        assert_eq!(LodSegments::halving(12).counts(), &[12, 6, 3, 1]);
+        assert_eq!(LodSegments::halving(1).counts(), &[1]);
+    }
+}

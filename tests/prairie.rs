@@ -1,0 +1,178 @@
+//! The GPU-driven cull and LOD on lavapipe (`render::passes::cull`): what frustum culling alone
+//! draws matches brute force, the GPU's counts equal the CPU reference of the same tests, and the
+//! output is the same across frames in flight and llvmpipe thread counts.
+
+mod support;
+
+use ash::vk;
+use meadow::app::{with_device, GpuOptions};
+use meadow::imagediff::compare_rgb;
+use meadow::render::cull_reference::reference_counts;
+use meadow::render::culling::{CullCounts, Culling};
+use meadow::render::{OffscreenTarget, RenderSettings, Renderer};
+use meadow::scene::{Camera, Scene};
+use meadow::vk::DeviceSelector;
+use support::{render, scratch, Picture};
+
+fn options() -> GpuOptions {
+    GpuOptions { validation: true, device: DeviceSelector::parse("llvmpipe") }
+}
+
+fn settings(culling: Culling, frames_in_flight: usize) -> RenderSettings {
+    RenderSettings {
+        segments: 4,
+        color_format: meadow::render::target::OFFSCREEN_FORMAT,
+        encode_srgb: true,
+        frames_in_flight,
+        blades_per_instance: 1,
+        debug_force: false,
+        debug_bounds: false,
+        debug_lod: false,
+        wireframe: false,
+        pipeline_statistics: false,
+        submission: Default::default(),
+        culling,
+        floor: false,
+    }
+}
+
+const EXTENT: vk::Extent2D = vk::Extent2D { width: 320, height: 180 };
+
+/// Cameras over the 20 000-blade field of seed 4 (7.1 m): the default view, one inside looking
+/// across, one above looking down, one at the edge looking along it, one looking at the sky.
+fn cameras(scene: &Scene) -> Vec<Camera> {
+    let at = |x: f32, z: f32, eye: f32, yaw: f32, pitch: f32| Camera {
+        position: glam::Vec3::new(x, scene.terrain.height_at(x, z) + eye, z),
+        yaw_deg: yaw,
+        pitch_deg: pitch,
+    };
+    let edge = 0.5 * scene.terrain.size;
+    vec![
+        Camera::default_for(&scene.terrain),
+        at(-1.0, 1.0, 1.2, 60.0, -10.0),
+        at(0.5, -0.5, 6.0, 200.0, -70.0),
+        at(edge, 0.0, 0.8, 0.0, -5.0),
+        at(0.0, 0.0, 1.7, 0.0, 60.0),
+    ]
+}
+
+/// Render each camera (four frames, the last kept) and return the pictures and cull counts.
+fn render_all(scene: &Scene, settings: RenderSettings, cameras: &[Camera]) -> Vec<(Vec<u8>, Option<CullCounts>)> {
+    let (result, messages) = with_device(&options(), false, |device| {
+        let mut renderer = Renderer::new(device.clone(), scene, settings, Default::default())?;
+        let mut target = OffscreenTarget::new(device, EXTENT)?;
+        let mut out = Vec::new();
+        for camera in cameras {
+            let mut timings = None;
+            for _ in 0..4 {
+                timings = Some(renderer.render_offscreen(&mut target, camera, 0.5)?);
+            }
+            out.push((target.pixels().to_vec(), timings.and_then(|t| t.cull)));
+        }
+        drop(renderer);
+        // SAFETY: render_offscreen waited for its frame.
+        unsafe { target.destroy(device) };
+        Ok(out)
+    });
+    assert_eq!(messages, Some(0), "validation messages");
+    result.expect("rendered")
+}
+
+#[test]
+fn gpu_counts_equal_the_cpu_reference_of_the_same_tests() {
+    let scene = Scene::generate(20_000, 4);
+    let cameras = cameras(&scene);
+    let culling = Culling::default_for(4);
+    let rendered = render_all(&scene, settings(culling, 1), &cameras);
+    let (reference, messages) = with_device(&options(), false, |device| {
+        let renderer = Renderer::new(device.clone(), &scene, settings(culling, 1), Default::default())?;
+        Ok(cameras
+            .iter()
+            .map(|c| reference_counts(&scene, &renderer.frame_uniforms(c, 0.5, EXTENT)))
+            .collect::<Vec<_>>())
+    });
+    assert_eq!(messages, Some(0));
+    for (i, ((_, gpu), cpu)) in rendered.iter().zip(reference.expect("built")).enumerate() {
+        let gpu = gpu.expect("the cull ran");
+        assert_eq!(gpu, cpu, "camera {i}: GPU {} / CPU {}", gpu.summary(), cpu.summary());
+        assert_eq!(gpu.considered, 20_000);
+    }
+    // The tests do something: the sky camera draws nothing, the default view far less than all.
+    let drawn: Vec<u64> = rendered.iter().map(|(_, c)| c.expect("counts").total_drawn()).collect();
+    assert_eq!(drawn[4], 0, "looking at the sky draws no blade: {drawn:?}");
+    assert!(drawn[0] > 0 && drawn[0] < 20_000, "{drawn:?}");
+}
+
+#[test]
+fn frustum_culling_alone_matches_brute_force() {
+    let scene = Scene::generate(20_000, 4);
+    let cameras = cameras(&scene);
+    let frustum_only =
+        Culling { distance: false, orientation: false, density: false, segment_lod: false, ..Culling::default_for(4) };
+    let culled = render_all(&scene, settings(frustum_only, 1), &cameras);
+    let brute = render_all(&scene, settings(Culling::brute_force(4), 1), &cameras);
+    for (i, ((a, counts), (b, _))) in culled.iter().zip(&brute).enumerate() {
+        let (stats, _) = compare_rgb(&rgb(a), &rgb(b), 3);
+        assert!(stats.within_fraction() >= 0.999, "camera {i}: {:.4} within ±3", stats.within_fraction());
+        let counts = counts.expect("the cull ran");
+        if i != 1 {
+            // Every camera but the one inside the field leaves blades outside its frustum.
+            assert!(counts.total_drawn() < 20_000, "camera {i}: {}", counts.summary());
+        }
+    }
+}
+
+#[test]
+fn strong_wind_at_the_field_edge_loses_no_blade_leaning_into_view() {
+    // Looking out of the field along its edge: blades just outside the frustum bend into it. The
+    // bounds padded by a blade's length keep them.
+    let dir = scratch("prairie-edge-wind");
+    let scene = Scene::generate(20_000, 4);
+    let edge = 0.5 * scene.terrain.size;
+    let camera = format!("{},{},{},90,-20", edge - 0.3, scene.terrain.height_at(edge - 0.3, 0.0) + 0.6, 0.0);
+    let common = ["--blades", "20000", "--seed", "4", "--size", "320x180", "--wind", "0,2.5", "--camera", &camera];
+    let culled = dir.join("culled.png");
+    let brute = dir.join("brute.png");
+    let frustum: Vec<&str> = common.iter().copied().chain(["--cull", "frustum", "--lod", "none"]).collect();
+    render(&frustum, &culled);
+    let brute_args: Vec<&str> = common.iter().copied().chain(["--brute-force"]).collect();
+    render(&brute_args, &brute);
+    let (a, b) = (Picture::load(&culled), Picture::load(&brute));
+    let (stats, _) = compare_rgb(&a.rgb, &b.rgb, 3);
+    assert!(stats.within_fraction() >= 0.999, "{:.4} within ±3", stats.within_fraction());
+}
+
+#[test]
+fn output_is_identical_across_frames_in_flight_and_thread_counts() {
+    let scene = Scene::generate(20_000, 4);
+    let cameras = &cameras(&scene)[..2];
+    let one = render_all(&scene, settings(Culling::default_for(4), 1), cameras);
+    for frames in [2, 3] {
+        let other = render_all(&scene, settings(Culling::default_for(4), frames), cameras);
+        assert!(one == other, "{frames} frames in flight differ from 1");
+    }
+    // llvmpipe's thread count, through the binary.
+    let dir = scratch("prairie-threads");
+    let mut runs = Vec::new();
+    for threads in ["1", "4"] {
+        let out = dir.join(format!("t{threads}.png"));
+        let output = support::meadow()
+            .env("LP_NUM_THREADS", threads)
+            .args(["render", "--validation", "--device", support::DEVICE])
+            .args(["--blades", "20000", "--seed", "4", "--size", "320x180", "--frames", "2", "--out"])
+            .arg(&out)
+            .output()
+            .expect("run meadow");
+        support::assert_clean(&output);
+        let stdout = String::from_utf8_lossy(&output.stdout).to_string();
+        let cull = stdout.lines().find(|l| l.starts_with("cull:")).expect("a cull line").to_string();
+        runs.push((std::fs::read(&out).expect("png"), cull));
+    }
+    assert_eq!(runs[0].1, runs[1].1, "counts");
+    assert!(runs[0].0 == runs[1].0, "pictures differ between LP_NUM_THREADS 1 and 4");
+}
+
+/// RGBA8 → RGB8.
+fn rgb(rgba: &[u8]) -> Vec<u8> {
+    rgba.chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect()
+}
