@@ -12,15 +12,23 @@ layout(location = 0) out vec4 out_color;
 
 const float ALPHA_CUTOFF = 0.35; // scene::alpha::ALPHA_CUTOFF
 
-// Far LOD buckets (FLAG_SOLID_OUTLINE): the mean of the rim's darkening across a blade, for
-// blades a few pixels wide whose outline is geometry.
-const float SOLID_RIM = 0.8;
+// `scene::alpha` (half_width, the edge ramp) and SOLID_INSET of blade.vert.
+float outline_half_width(float v) {
+    return 0.5 * (1.0 - pow(v, 2.2)) * (0.8 + 0.2 * min(v / 0.08, 1.0));
+}
+const float SOLID_INSET = 0.35 * 0.22 - 0.06;
 
 void main() {
     if ((RENDER_FLAGS & FLAG_SOLID_OUTLINE) != 0u) {
-        // No discard: the depth test and write happen before shading, so the far field's overdraw
-        // behind nearer blades is rejected early.
-        out_color = vec4(encode_output(in_lit.rgb * SOLID_RIM + frame.sky_color.rgb * (1.0 - in_lit.a)), 1.0);
+        // The outline is geometry (blade.vert narrows the quad to where the alpha reaches the
+        // cutoff): no discard, so the depth test and write happen before shading and the
+        // overdraw behind nearer blades is rejected early. The rim's darkening is the alpha of
+        // `scene::alpha` at this point of the outline, computed instead of sampled.
+        float half_width = outline_half_width(in_uv.y);
+        float inside = half_width - abs(in_uv.x - 0.5) * 2.0 * max(half_width - SOLID_INSET, 0.0);
+        float rim = clamp((inside + 0.06) / 0.22, 0.0, 1.0);
+        vec3 solid = in_lit.rgb * mix(0.45, 1.0, rim) + frame.sky_color.rgb * (1.0 - in_lit.a);
+        out_color = vec4(encode_output(solid), 1.0);
         return;
     }
     float alpha = texture(blade_alpha, in_uv).r;

@@ -24,6 +24,8 @@ pub(crate) enum LodKind {
     Density,
     /// Segment buckets (--lod-segments) by projected height.
     Segments,
+    /// The blade outline as geometry instead of an alpha test (early depth rejects overdraw).
+    Outline,
     /// Every kept blade at --segments.
     None,
 }
@@ -38,7 +40,7 @@ pub(crate) struct CullArgs {
     #[arg(long, value_enum, value_delimiter = ',', default_value = "frustum,distance,orientation")]
     pub(crate) cull: Vec<CullTest>,
     /// Levels of detail, comma-separated.
-    #[arg(long, value_enum, value_delimiter = ',', default_value = "density,segments")]
+    #[arg(long, value_enum, value_delimiter = ',', default_value = "density,segments,outline")]
     pub(crate) lod: Vec<LodKind>,
     /// Segments of the LOD buckets, decreasing, the first at most --segments (default: the
     /// halvings of --segments down to 1 that divide it: 8,4,2,1; 6,3,1; 7,1).
@@ -63,6 +65,7 @@ impl CullArgs {
             orientation: tests(CullTest::Orientation),
             density: lod(LodKind::Density),
             segment_lod: lod(LodKind::Segments),
+            solid_outline: lod(LodKind::Outline),
             lod_segments: self.lod_segments.unwrap_or_else(|| LodSegments::halving(segments)),
             view_distance: self.view_distance,
             lod_scale: self.lod_scale,

@@ -81,7 +81,7 @@ impl Cull<'_> {
     }
 
     fn density_keep(&self, d: f32, n_dot_r: f32) -> f32 {
-        let t = (1.0 - n_dot_r.abs()).powf(8.0);
+        let t = (1.0 - n_dot_r.abs()).powi(2).powi(2).powi(2);
         let visible = (1.0 - t) * n_dot_r + t;
         let d0 = self.u.lod.y;
         visible / (A1 + A1 * (d * d) / (d0 * d0))

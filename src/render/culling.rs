@@ -82,6 +82,9 @@ pub struct Culling {
     pub density: bool,
     /// Segment buckets by projected height (off: every blade in the first bucket).
     pub segment_lod: bool,
+    /// The alpha-tested outline drawn as geometry (tapered strips, the rim computed): no discard,
+    /// so early depth tests reject hidden fragments before shading.
+    pub solid_outline: bool,
     /// The buckets.
     pub lod_segments: LodSegments,
     /// Metres beyond which nothing is drawn.
@@ -100,6 +103,7 @@ impl Culling {
             orientation: true,
             density: true,
             segment_lod: true,
+            solid_outline: true,
             lod_segments: LodSegments::halving(segments),
             view_distance: DEFAULT_VIEW_DISTANCE,
             lod_scale: 1.0,

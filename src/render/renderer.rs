@@ -222,6 +222,7 @@ impl Renderer {
                 input: model.blade_input(),
                 animation: model.resources().set,
                 buckets: culled.then(|| settings.culling.buckets()),
+                solid_outline: settings.culling.solid_outline,
             };
             self.graph.add(BladePass::new(device, scene, &setup)?);
         }

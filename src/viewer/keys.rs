@@ -237,13 +237,13 @@ impl Viewer {
     }
 }
 
-/// O: GPU culling or brute force; Y: the LOD (density and segments) on or off.
+/// O: GPU culling or brute force; Y: the LOD (density, segments, outline) on or off.
 fn toggle_culling(culling: &mut crate::render::culling::Culling, key: &str) {
     if key == "o" {
         culling.enabled = !culling.enabled;
     } else {
-        let on = !(culling.density || culling.segment_lod);
-        (culling.density, culling.segment_lod) = (on, on);
+        let on = !(culling.density || culling.segment_lod || culling.solid_outline);
+        (culling.density, culling.segment_lod, culling.solid_outline) = (on, on, on);
     }
 }
 
@@ -258,7 +258,8 @@ fn culling_state(culling: &crate::render::culling::Culling) -> String {
         (false, true) => "segment LOD",
         (false, false) => "no LOD",
     };
-    format!("GPU culling, {lod} {:?}", culling.buckets())
+    let outline = if culling.solid_outline { ", outline as geometry" } else { "" };
+    format!("GPU culling, {lod} {:?}{outline}", culling.buckets())
 }
 
 /// Name of a key as the help and scripts spell it.

@@ -67,6 +67,8 @@ pub struct BladeSetup<'a> {
     /// Segments of the LOD buckets the cull sorts blades into (`None`: brute force, every blade
     /// at `segments`).
     pub buckets: Option<&'a [u32]>,
+    /// With the cull: draw the outline as geometry instead of alpha-testing it (`--lod outline`).
+    pub solid_outline: bool,
 }
 
 impl BladePass {
@@ -132,13 +134,13 @@ impl BladePass {
 
     /// One pipeline per LOD bucket, reading the cull's visible list, and the reads of its draws.
     fn build_buckets(&mut self, device: &Device, scene: &SceneGpu, setup: &BladeSetup, buckets: &[u32]) -> Result<()> {
+        let solid_outline = setup.solid_outline;
         for (b, &segments) in buckets.iter().enumerate() {
             let mut constants = setup.constants.to_vec();
             constants[gpu::SPEC_SEGMENTS as usize] = segments;
             constants[gpu::SPEC_RENDER_FLAGS as usize] |= gpu::FLAG_CULLED;
-            if b > 0 {
-                // Beyond the nearest bucket blades are a few pixels wide: the outline as geometry,
-                // no alpha test, so early depth rejects the far field's overdraw.
+            if solid_outline {
+                // The outline as geometry, no alpha test: early depth rejects the overdraw.
                 constants[gpu::SPEC_RENDER_FLAGS as usize] |= gpu::FLAG_SOLID_OUTLINE;
             }
             let name = format!("blades, LOD bucket {b} ({segments} segments)");
