@@ -2,10 +2,10 @@
 #extension GL_GOOGLE_include_directive : require
 // Cull, step 3 of 3: one workgroup per ring slot writes each blade the count pass drew (its
 // verdict in `cull_results`) to the visible list at bucket base + slot offset + its rank among
-// the slot's blades of its bucket. Invocation i takes candidates i, i + 64, i + 128, ... (adjacent
-// invocations read adjacent verdicts): it counts them per bucket, one prefix sum over the
-// invocations gives each its start, and it writes them in order. The list is the same on every
-// run and thread count: buckets, then slots near to far, then invocation by invocation.
+// the slot's blades of its bucket. Invocation i takes the i-th contiguous run of the slot's
+// candidates: it counts its run per bucket, one prefix sum over the runs gives each run its
+// start, and it writes its run in order. The list is the same on every run and thread count:
+// buckets, then slots near to far, then stored order (the order brute force draws a tile in).
 #define CULL_WRITER
 #include "cull.glsl"
 
@@ -26,11 +26,14 @@ void main() {
     if (candidates == 0u) {
         return;
     }
+    uint run = (candidates + CULL_GROUP - 1u) / CULL_GROUP;
+    uint begin = min(lane * run, candidates);
+    uint end = min(begin + run, candidates);
     uint own[MAX_LOD_BUCKETS];
     for (uint b = 0u; b < MAX_LOD_BUCKETS; b++) {
         own[b] = 0u;
     }
-    for (uint rank = lane; rank < candidates; rank += CULL_GROUP) {
+    for (uint rank = begin; rank < end; rank++) {
         uint bucket = cull_results[tile.first + rank].x;
         // Constant indices only: llvmpipe keeps the counters in registers.
         for (uint b = 0u; b < MAX_LOD_BUCKETS; b++) {
@@ -59,7 +62,7 @@ void main() {
         // Bucket base (the draw's firstInstance) + the slot's offset + the runs before this one.
         at[b] = draws[4u * b + 3u] + slot_counts[slot * SLOT_WORDS + b] + prefix[b][lane];
     }
-    for (uint rank = lane; rank < candidates; rank += CULL_GROUP) {
+    for (uint rank = begin; rank < end; rank++) {
         uvec2 result = cull_results[tile.first + rank];
         uint position = 0u;
         for (uint b = 0u; b < MAX_LOD_BUCKETS; b++) {

@@ -107,8 +107,14 @@ fn gpu_counts_equal_the_cpu_reference_of_the_same_tests() {
 fn frustum_culling_alone_matches_brute_force() {
     let scene = Scene::generate(20_000, 4);
     let cameras = cameras(&scene);
-    let frustum_only =
-        Culling { distance: false, orientation: false, density: false, segment_lod: false, ..Culling::default_for(4) };
+    let frustum_only = Culling {
+        distance: false,
+        orientation: false,
+        density: false,
+        segment_lod: false,
+        solid_outline: false,
+        ..Culling::default_for(4)
+    };
     let culled = render_all(&scene, settings(frustum_only, 1), &cameras);
     let brute = render_all(&scene, settings(Culling::brute_force(4), 1), &cameras);
     for (i, ((a, counts), (b, _))) in culled.iter().zip(&brute).enumerate() {
