@@ -16,6 +16,7 @@ use ash::vk;
 
 use crate::error::{Error, Result};
 use crate::render::animation::{AnimationSettings, KeyframeTexture, KeyframeUniforms};
+use crate::render::budget::FrameBudget;
 use crate::render::target::{offscreen_bytes, OFFSCREEN_FORMAT};
 use crate::render::{FrameTimings, OffscreenTarget, RenderSettings, Renderer};
 use crate::scene::{blades, BladeInstance, Camera, Scene};
@@ -107,6 +108,8 @@ pub struct RenderOptions {
     pub debug_lod: bool,
     /// The cull and LOD, or brute force.
     pub culling: crate::render::culling::Culling,
+    /// Frame-time budget in milliseconds: the LOD scale follows the measured GPU time.
+    pub budget_ms: Option<f32>,
     /// Draw the benchmark floor instead of the blades (`--mode floor`).
     pub floor: bool,
     /// How the blade draws are submitted.
@@ -156,6 +159,8 @@ pub struct RenderReport {
     pub out: PathBuf,
     /// Its size.
     pub size: (u32, u32),
+    /// `--budget-ms`: the budget and the LOD scale the last frame was rendered at.
+    pub budget: Option<(f32, f32)>,
 }
 
 /// Check the picture size and blade count against the device before allocating anything.
@@ -260,6 +265,9 @@ pub fn render(device: &Arc<Device>, options: &RenderOptions) -> Result<RenderRep
             options.submission.clusters, options.blades
         )));
     }
+    if options.budget_ms.is_some() && !options.culling.enabled {
+        return Err(Error::bad_input("--budget-ms sets the LOD scale of the GPU-driven path: drop --brute-force"));
+    }
     let field_m = blades::field_size(options.blades);
 
     let setup = Instant::now();
@@ -270,10 +278,18 @@ pub fn render(device: &Arc<Device>, options: &RenderOptions) -> Result<RenderRep
     let mut target = OffscreenTarget::new(device, extent)?;
     let setup_ms = setup.elapsed().as_secs_f64() * 1e3;
 
+    let mut budget = options.budget_ms.map(|ms| FrameBudget::new(ms, options.culling.lod_scale));
+    // The scale the last frame was rendered at.
+    let mut frames_scale = None;
     let result = (|| {
         let mut frames = Vec::new();
         for _ in 0..options.frames {
-            frames.push(renderer.render_offscreen(&mut target, &camera, options.time)?);
+            let timings = renderer.render_offscreen(&mut target, &camera, options.time)?;
+            if let Some(budget) = budget.as_mut() {
+                frames_scale = Some(budget.scale);
+                renderer.set_lod_scale(budget.update(timings.gpu_ms));
+            }
+            frames.push(timings);
         }
         write_png(&options.out, options.size, target.pixels())?;
         Ok(frames)
@@ -292,6 +308,7 @@ pub fn render(device: &Arc<Device>, options: &RenderOptions) -> Result<RenderRep
         setup_ms,
         out: options.out.clone(),
         size: options.size,
+        budget: options.budget_ms.zip(frames_scale),
     })
 }
 

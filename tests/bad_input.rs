@@ -51,6 +51,10 @@ fn culling_and_lod_inputs() {
     refused("view-distance-nan", &["--view-distance", "NaN"], "NaN");
     refused("lod-scale-negative", &["--lod-scale", "-1"], "above 0");
     refused("submission-with-cull", &["--submission", "mdi"], "--brute-force");
+    refused("budget-0", &["--budget-ms", "0"], "above 0");
+    refused("budget-negative", &["--budget-ms", "-5"], "above 0");
+    refused("budget-nan", &["--budget-ms", "NaN"], "NaN");
+    refused("budget-brute-force", &["--budget-ms", "30", "--brute-force"], "--brute-force");
 }
 
 #[test]

@@ -182,3 +182,32 @@ fn output_is_identical_across_frames_in_flight_and_thread_counts() {
 fn rgb(rgba: &[u8]) -> Vec<u8> {
     rgba.chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect()
 }
+
+#[test]
+fn a_frame_budget_lowers_the_lod_scale_and_what_is_drawn() {
+    // An unreachable budget drives the LOD scale down from 1 frame after frame: fewer blades.
+    let dir = scratch("prairie-budget");
+    let drawn = |extra: &[&str], name: &str| {
+        let args: Vec<&str> = ["--blades", "20000", "--seed", "4", "--size", "320x180", "--frames", "6"]
+            .iter()
+            .copied()
+            .chain(extra.iter().copied())
+            .collect();
+        let output = render(&args, &dir.join(name));
+        let stdout = String::from_utf8_lossy(&output.stdout).to_string();
+        let cull = stdout.lines().find(|l| l.starts_with("cull:")).expect("a cull line").to_string();
+        let count: u64 =
+            cull.split("drawn ").nth(1).and_then(|s| s.split(' ').next()).and_then(|s| s.parse().ok()).expect("drawn");
+        (count, stdout)
+    };
+    let (free, _) = drawn(&[], "free.png");
+    let (held, stdout) = drawn(&["--budget-ms", "0.01"], "held.png");
+    let scale: f32 = stdout
+        .lines()
+        .find_map(|l| l.split("LOD scale ").nth(1))
+        .and_then(|s| s.split(' ').next())
+        .and_then(|s| s.parse().ok())
+        .expect("a budget line");
+    assert!(scale < 0.5, "LOD scale {scale} after 5 frames over budget");
+    assert!(held < free / 2, "drawn {held} with the budget, {free} without");
+}

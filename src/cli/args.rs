@@ -121,6 +121,7 @@ impl SceneArgs {
             debug_bounds: self.debug_view == Some(DebugViewArg::Bounds),
             debug_lod: self.debug_view == Some(DebugViewArg::Lod),
             culling: self.culling.culling(self.segments),
+            budget_ms: self.culling.budget_ms,
             floor: self.animation.mode.is_floor(),
             submission: Default::default(),
         }

@@ -92,6 +92,15 @@ fn print_render(report: &RenderReport) {
         "cpu: {cpu:.3} ms (record {:.3} ms, submit {:.3} ms, wait {:.3} ms); setup {:.0} ms",
         last.cpu_record_ms, last.cpu_submit_ms, last.cpu_wait_ms, report.setup_ms
     );
+    if let Some((budget, scale)) = report.budget {
+        let last: Vec<f64> = report.frames.iter().rev().take(10).map(|f| f.gpu_ms).collect();
+        let mut last = last;
+        println!(
+            "budget: {budget} ms; LOD scale {scale:.3} at the last frame; gpu median of the last {} frames {:.3} ms",
+            last.len(),
+            app::median(&mut last)
+        );
+    }
     if report.frames.len() > 1 {
         let mut gpu: Vec<f64> = report.frames.iter().map(|f| f.gpu_ms).collect();
         println!("gpu median over {} frames: {:.3} ms", gpu.len(), app::median(&mut gpu));

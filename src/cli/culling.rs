@@ -49,6 +49,10 @@ pub(crate) struct CullArgs {
     /// Nothing beyond this many metres is drawn.
     #[arg(long, default_value_t = DEFAULT_VIEW_DISTANCE, value_parser = values::positive_f32, allow_hyphen_values = true)]
     pub(crate) view_distance: f32,
+    /// Hold the GPU frame near this many milliseconds by adjusting the LOD scale each frame from
+    /// the measured GPU time (a closed loop; needs the GPU-driven path).
+    #[arg(long, value_name = "MS", value_parser = values::positive_f32, allow_hyphen_values = true)]
+    pub(crate) budget_ms: Option<f32>,
     /// Detail of the LOD: above 1 keeps more blades and segments, below 1 fewer.
     #[arg(long, default_value = "1", value_parser = values::positive_f32, allow_hyphen_values = true)]
     pub(crate) lod_scale: f32,

@@ -2,6 +2,7 @@
 //! records them. Data flows one way: CPU scene → GPU buffers → passes → image.
 
 pub mod animation;
+pub mod budget;
 pub mod cull_reference;
 pub mod culling;
 pub mod frame;

@@ -280,6 +280,10 @@ impl Renderer {
         uniforms
     }
 
+    /// The LOD scale of the next frames (`--budget-ms` sets it each frame): uniforms only.
+    pub fn set_lod_scale(&mut self, scale: f32) {
+        self.settings.culling.lod_scale = scale;
+    }
     /// Freeze the culling camera at `camera` (`None`: the view's camera again): fly out and look.
     pub fn set_cull_camera(&mut self, camera: Option<Camera>) {
         self.cull_camera = camera;

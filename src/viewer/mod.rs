@@ -156,6 +156,8 @@ struct Viewer {
     dragging: bool,
     last_tick: Instant,
     stats: Stats,
+    /// `--budget-ms`: the loop setting the LOD scale from the measured GPU time.
+    budget: Option<crate::render::budget::FrameBudget>,
     error: Option<Error>,
     quit: bool,
 }
@@ -210,6 +212,10 @@ impl Viewer {
             dragging: false,
             last_tick: Instant::now(),
             stats: Stats::new(),
+            budget: options
+                .scene
+                .budget_ms
+                .map(|ms| crate::render::budget::FrameBudget::new(ms, options.scene.culling.lod_scale)),
             error: None,
             quit: false,
             options,
@@ -416,6 +422,9 @@ impl Viewer {
         };
         if let Some(t) = timings {
             self.stats.add(&t);
+            if let Some(budget) = self.budget.as_mut() {
+                renderer.set_lod_scale(budget.update(t.gpu_ms));
+            }
         }
         let surface = self.surface.as_mut().expect("surface exists");
         let acquired = surface.swapchain.acquire(renderer.acquire_semaphore(slot));
