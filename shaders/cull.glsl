@@ -16,6 +16,7 @@ layout(set = SET_SCENE, binding = BINDING_CULL_STATS, std430) buffer CullStats {
 // packHalf2x16(fade, widening).
 layout(set = SET_SCENE, binding = BINDING_CULL_RESULTS, std430) buffer CullResults { uvec2 cull_results[]; };
 const uint NOT_DRAWN = 0xffffffffu;
+layout(set = SET_SCENE, binding = BINDING_DEPTH_PYRAMID, std430) readonly buffer DepthPyramid { float pyramid[]; };
 
 // Belyaev §2.2 constants of the trinomial a1 + a2 d + a3 d²: with a1 = A1 and a3 = A1 / d0², the
 // kept fraction is 1 out to about the full-density distance d0 (`lod.y`) and falls as 1/d² beyond,
@@ -107,6 +108,43 @@ bool sphere_in_frustum(Frustum f, vec3 centre, float radius) {
     return inside;
 }
 
+// Whether a sphere lies wholly behind this frame's terrain (the depth pyramid, hiz.comp, seen
+// by the view's camera). Its screen rectangle is bounded conservatively: the centre's projection
+// grown by what the radius can add at the sphere's nearest depth (w - r), and its nearest depth is
+// near / (w - r) (reversed infinite Z: clip z is the near distance for every point). The rectangle
+// is tested at the finest level where it spans at most two texels; larger ones are not tested.
+bool occluded(vec3 centre, float radius) {
+    vec4 c = frame.view_proj * vec4(centre, 1.0);
+    float nearest_w = c.w - radius;
+    if (nearest_w <= 1e-3) {
+        return false;
+    }
+    vec2 ndc = c.xy / c.w;
+    vec2 grow = (frame.tile_grid.zw * radius + abs(ndc) * radius) / nearest_w;
+    vec2 lo = clamp((ndc - grow) * 0.5 + 0.5, 0.0, 1.0);
+    vec2 hi = clamp((ndc + grow) * 0.5 + 0.5, 0.0, 1.0);
+    float nearest_depth = c.z / nearest_w;
+    uint base = 0u;
+    uint side = PYRAMID_SIDE;
+    for (uint level = 0u; level < PYRAMID_LEVELS; level++) {
+        vec2 span = (hi - lo) * float(side);
+        if (max(span.x, span.y) <= 2.0) {
+            uvec2 first = uvec2(min(lo * float(side), vec2(side - 1u)));
+            uvec2 last = uvec2(min(hi * float(side), vec2(side - 1u)));
+            float farthest = 1.0;
+            for (uint y = first.y; y <= last.y; y++) {
+                for (uint x = first.x; x <= last.x; x++) {
+                    farthest = min(farthest, pyramid[base + y * side + x]);
+                }
+            }
+            return nearest_depth < farthest;
+        }
+        base += side * side;
+        side /= 4u;
+    }
+    return false;
+}
+
 float terrain_height(int x, int z) {
     int n = int(frame.params.z) + 1;
     return heights[clamp(z, 0, n - 1) * n + clamp(x, 0, n - 1)];
@@ -140,7 +178,7 @@ float density_keep_bound(float d) {
     return 1.0 / (A1 + A1 * (d * d) / (d0 * d0));
 }
 
-// What the tile tests leave of a tile: how many of its blades (a prefix) go to the blade tests.
+// What the tile tests (frustum, distance, occlusion) leave of a tile: how many of its blades (a prefix) go to the blade tests.
 uint tile_candidates(Frustum f, BladeTile tile, out bool tile_visible) {
     vec3 eye = frame.cull_eye.xyz;
     float nearest = length(clamp(eye, tile.min, tile.max) - eye);
@@ -150,6 +188,10 @@ uint tile_candidates(Frustum f, BladeTile tile, out bool tile_visible) {
     }
     if (culling(CULL_DISTANCE) && nearest > frame.lod.x) {
         tile_visible = false;
+    }
+    if (tile_visible && culling(CULL_OCCLUSION)) {
+        vec3 centre = 0.5 * (tile.min + tile.max);
+        tile_visible = !occluded(centre, 0.5 * length(tile.max - tile.min));
     }
     if (!tile_visible) {
         return 0u;
@@ -205,6 +247,10 @@ int blade_bucket(Frustum f, BladeTile tile, uint rank, vec3 normal, out uint fai
             failed = STAT_ORIENTATION;
             return -1;
         }
+    }
+    if (culling(CULL_OCCLUSION) && occluded(blade.position, reach)) {
+        failed = STAT_OCCLUSION;
+        return -1;
     }
     uint buckets = frame.cull_lod.x;
     uint bucket = 0u;

@@ -33,13 +33,13 @@ void main() {
             counts[STAT_TILES_VISIBLE] = tile_visible ? 1u : 0u;
         }
         vec3 normal = terrain_normal(0.5 * (tile.min.xz + tile.max.xz));
-        uint passed[STAT_ORIENTATION - STAT_DENSITY + 1u] = uint[](0u, 0u, 0u);
+        uint passed[STAT_OCCLUSION - STAT_DENSITY + 1u] = uint[](0u, 0u, 0u, 0u);
         uint drawn[MAX_LOD_BUCKETS] = uint[](0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
         for (uint rank = lane; rank < candidates; rank += CULL_GROUP) {
             uint failed;
             vec2 scale;
             int bucket = blade_bucket(f, tile, rank, normal, failed, scale);
-            for (uint s = 0u; s <= STAT_ORIENTATION - STAT_DENSITY; s++) {
+            for (uint s = 0u; s <= STAT_OCCLUSION - STAT_DENSITY; s++) {
                 passed[s] += (failed == 0u || STAT_DENSITY + s < failed) ? 1u : 0u;
             }
             // Constant indices only: llvmpipe keeps the counters in registers.
@@ -48,7 +48,7 @@ void main() {
             }
             cull_results[tile.first + rank] = uvec2(bucket >= 0 ? uint(bucket) : NOT_DRAWN, packHalf2x16(scale));
         }
-        for (uint s = 0u; s <= STAT_ORIENTATION - STAT_DENSITY; s++) {
+        for (uint s = 0u; s <= STAT_OCCLUSION - STAT_DENSITY; s++) {
             atomicAdd(counts[STAT_DENSITY + s], passed[s]);
         }
         for (uint b = 0u; b < MAX_LOD_BUCKETS; b++) {

@@ -25,6 +25,7 @@
 #define BINDING_DRAWS 10 // The cull's indirect draw arguments, one `VkDrawIndirectCommand` per LOD bucket.
 #define BINDING_CULL_STATS 11 // Per-frame, host-visible: the cull's counts of this frame (`STAT_*`).
 #define BINDING_CULL_RESULTS 12 // The count pass's verdict per candidate blade (bucket, packed scale), read by the emit pass.
+#define BINDING_DEPTH_PYRAMID 13 // Min-depth pyramid of this frame's terrain depth (`PYRAMID_*`), written by hiz.comp.
 
 // Set `SET_ANIMATION`: every model fills all three (the blade shaders declare them all).
 #define BINDING_KEYFRAMES 0 // Keyframe texture.
@@ -57,6 +58,7 @@
 #define CULL_FRUSTUM 1u // Tiles and blades outside the culling camera's frustum.
 #define CULL_DISTANCE 2u // Tiles and blades beyond the view distance.
 #define CULL_ORIENTATION 4u // Blades seen edge-on (Jahrmann & Wimmer 2017).
+#define CULL_OCCLUSION 8u // Tiles and blades behind the terrain of this frame (the depth pyramid).
 #define LOD_DENSITY 16u // Belyaev's smooth density F(z, phi) (§2.2): a prefix of each tile, faded and widened.
 #define LOD_SEGMENTS 32u // Segment buckets by projected height.
 
@@ -67,8 +69,15 @@
 #define STAT_DENSITY 10u // ... kept by the density LOD.
 #define STAT_FRUSTUM 11u // ... inside the frustum (bent-blade bounding sphere).
 #define STAT_ORIENTATION 12u // ... not seen edge-on.
-#define STAT_TILES_VISIBLE 13u // Tiles that pass the tile tests.
-#define STAT_TILES_TOTAL 14u // Tiles in the grid.
+#define STAT_OCCLUSION 13u // ... not behind the terrain.
+#define STAT_TILES_VISIBLE 14u // Tiles that pass the tile tests (frustum, distance, occlusion).
+#define STAT_TILES_TOTAL 15u // Tiles in the grid.
+
+// The depth pyramid: three levels over the whole picture in screen space (uv), whatever its size
+// and aspect, each texel the farthest (smallest, reversed Z) terrain depth it covers.
+#define PYRAMID_SIDE 256u // Texels per side of level 0 (level l has PYRAMID_SIDE >> 2l).
+#define PYRAMID_LEVELS 3u // Levels: 256², 64², 16² texels.
+#define PYRAMID_FLOATS 69888u // 256² + 64² + 16².
 
 // `SPEC_ANIMATION_MODE` codes.
 #define MODE_STATIC 0u // No animation.

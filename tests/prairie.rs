@@ -82,7 +82,8 @@ fn render_all(scene: &Scene, settings: RenderSettings, cameras: &[Camera]) -> Ve
 fn gpu_counts_equal_the_cpu_reference_of_the_same_tests() {
     let scene = Scene::generate(20_000, 4);
     let cameras = cameras(&scene);
-    let culling = Culling::default_for(4);
+    // Every test but occlusion, which needs this frame's depth on the GPU (tested below).
+    let culling = Culling { occlusion: false, ..Culling::default_for(4) };
     let rendered = render_all(&scene, settings(culling, 1), &cameras);
     let (reference, messages) = with_device(&options(), false, |device| {
         let renderer = Renderer::new(device.clone(), &scene, settings(culling, 1), Default::default())?;
@@ -110,6 +111,7 @@ fn frustum_culling_alone_matches_brute_force() {
     let frustum_only = Culling {
         distance: false,
         orientation: false,
+        occlusion: false,
         density: false,
         segment_lod: false,
         solid_outline: false,
@@ -210,4 +212,29 @@ fn a_frame_budget_lowers_the_lod_scale_and_what_is_drawn() {
         .expect("a budget line");
     assert!(scale < 0.5, "LOD scale {scale} after 5 frames over budget");
     assert!(held < free / 2, "drawn {held} with the budget, {free} without");
+}
+
+#[test]
+fn blades_behind_a_hill_are_culled_by_occlusion_and_the_picture_keeps() {
+    // Low in a dip of the 1M-blade field looking across a crest: the depth pyramid of the
+    // terrain hides about 40 % of the blades in the frustum, and the picture is the same.
+    let dir = scratch("prairie-occlusion");
+    let common = ["--blades", "1000000", "--size", "320x180", "--mode", "static", "--camera", "0,-0.6,20,0,2"];
+    let run = |extra: &[&str], name: &str| {
+        let args: Vec<&str> = common.iter().copied().chain(extra.iter().copied()).collect();
+        let output = render(&args, &dir.join(name));
+        let stdout = String::from_utf8_lossy(&output.stdout).to_string();
+        let field = |label: &str| -> u64 {
+            let line = stdout.lines().find(|l| l.starts_with("cull:")).expect("a cull line");
+            let before = line.split(label).next().expect("label");
+            before.trim_end_matches([' ', ',']).rsplit(' ').next().and_then(|n| n.parse().ok()).expect("a count")
+        };
+        (field(" not edge-on"), field(" not occluded"), Picture::load(&dir.join(name)))
+    };
+    let (visible, kept, occluding) = run(&[], "occlusion.png");
+    let (_, all, plain) = run(&["--cull", "frustum,distance,orientation"], "plain.png");
+    assert_eq!(all, visible, "without the test nothing is occluded");
+    assert!(kept < visible * 8 / 10, "occlusion kept {kept} of {visible}");
+    let (stats, _) = compare_rgb(&occluding.rgb, &plain.rgb, 3);
+    assert!(stats.within_fraction() >= 0.999, "{:.4} within ±3", stats.within_fraction());
 }

@@ -14,6 +14,8 @@ pub(crate) enum CullTest {
     Distance,
     /// Blades seen edge-on.
     Orientation,
+    /// Tiles and blades behind the terrain of the frame (a depth pyramid of its depth).
+    Occlusion,
     /// No test: every tile and blade goes on to the LOD.
     None,
 }
@@ -37,7 +39,7 @@ pub(crate) struct CullArgs {
     #[arg(long)]
     pub(crate) brute_force: bool,
     /// Cull tests, comma-separated.
-    #[arg(long, value_enum, value_delimiter = ',', default_value = "frustum,distance,orientation")]
+    #[arg(long, value_enum, value_delimiter = ',', default_value = "frustum,distance,orientation,occlusion")]
     pub(crate) cull: Vec<CullTest>,
     /// Levels of detail, comma-separated.
     #[arg(long, value_enum, value_delimiter = ',', default_value = "density,segments,outline")]
@@ -67,6 +69,7 @@ impl CullArgs {
             frustum: tests(CullTest::Frustum),
             distance: tests(CullTest::Distance),
             orientation: tests(CullTest::Orientation),
+            occlusion: tests(CullTest::Occlusion),
             density: lod(LodKind::Density),
             segment_lod: lod(LodKind::Segments),
             solid_outline: lod(LodKind::Outline),

@@ -15,7 +15,10 @@ const FADE_BAND: f32 = 0.3;
 const EDGE_ON: f32 = 0.97;
 
 /// What the cull keeps of `scene` with the frame's `uniforms` (`Renderer::frame_uniforms`).
+/// The occlusion test needs the GPU's depth of the frame: the reference is for uniforms without
+/// `CULL_OCCLUSION` (refused otherwise).
 pub fn reference_counts(scene: &Scene, uniforms: &FrameUniforms) -> CullCounts {
+    assert_eq!(uniforms.cull_lod.z & gpu::CULL_OCCLUSION, 0, "the CPU reference has no depth pyramid");
     let cull = Cull { scene, u: uniforms, planes: planes(uniforms.cull_view_proj) };
     let mut counts = CullCounts::default();
     let buckets = uniforms.cull_lod.x as usize;
@@ -37,11 +40,13 @@ pub fn reference_counts(scene: &Scene, uniforms: &FrameUniforms) -> CullCounts {
                     counts.after_density += 1;
                     counts.after_frustum += 1;
                     counts.after_orientation += 1;
+                    counts.after_occlusion += 1;
                     counts.drawn[bucket.min(MAX_LOD_BUCKETS - 1)] += 1;
                 }
                 Err(failed) => {
                     counts.after_density += u32::from(failed > gpu::STAT_DENSITY);
                     counts.after_frustum += u32::from(failed > gpu::STAT_FRUSTUM);
+                    counts.after_orientation += u32::from(failed > gpu::STAT_ORIENTATION);
                 }
             }
         }

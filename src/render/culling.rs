@@ -78,6 +78,8 @@ pub struct Culling {
     pub distance: bool,
     /// Blades seen edge-on.
     pub orientation: bool,
+    /// Tiles and blades behind the terrain (this frame's depth pyramid).
+    pub occlusion: bool,
     /// Belyaev's smooth density LOD.
     pub density: bool,
     /// Segment buckets by projected height (off: every blade in the first bucket).
@@ -101,6 +103,7 @@ impl Culling {
             frustum: true,
             distance: true,
             orientation: true,
+            occlusion: true,
             density: true,
             segment_lod: true,
             solid_outline: true,
@@ -121,6 +124,7 @@ impl Culling {
             (self.frustum, gpu::CULL_FRUSTUM),
             (self.distance, gpu::CULL_DISTANCE),
             (self.orientation, gpu::CULL_ORIENTATION),
+            (self.occlusion, gpu::CULL_OCCLUSION),
             (self.density, gpu::LOD_DENSITY),
             (self.segment_lod, gpu::LOD_SEGMENTS),
         ]
@@ -130,16 +134,19 @@ impl Culling {
     }
 
     /// The cull's part of the frame's uniforms: the culling camera, the LOD settings and the
-    /// rings of tiles around the culling camera's tile.
+    /// rings of tiles around the culling camera's tile. A frozen culling camera turns the
+    /// occlusion test off: the depth pyramid is the view's.
     pub fn fill_uniforms(
         &self,
         uniforms: &mut FrameUniforms,
         grid: &TileGrid,
         camera: &Camera,
+        frozen: bool,
         aspect: f32,
         height: u32,
     ) {
-        let pixels_per_metre = height as f32 / (2.0 * (0.5 * crate::scene::camera::FOV_Y_DEG.to_radians()).tan());
+        let p11 = 1.0 / (0.5 * crate::scene::camera::FOV_Y_DEG.to_radians()).tan();
+        let pixels_per_metre = 0.5 * height as f32 * p11;
         let eye = camera.position;
         let centre = grid.cell(eye.x, eye.z);
         let scale = self.lod_scale;
@@ -147,9 +154,10 @@ impl Culling {
         uniforms.cull_eye = eye.extend(pixels_per_metre);
         uniforms.lod =
             Vec4::new(self.view_distance, FULL_DENSITY_DISTANCE * scale, PIXELS_PER_SEGMENT / scale, MAX_WIDENING);
-        uniforms.tile_grid = Vec4::new(grid.origin, grid.tile_size, 0.0, 0.0);
+        uniforms.tile_grid = Vec4::new(grid.origin, grid.tile_size, p11 / aspect, p11);
         uniforms.cull_tiles = UVec4::new(grid.tiles, grid.ring_slots(centre), centre.0, centre.1);
-        uniforms.cull_lod = UVec4::new(self.buckets().len() as u32, self.lod_segments.packed(), self.bits(), 0);
+        let bits = if frozen { self.bits() & !gpu::CULL_OCCLUSION } else { self.bits() };
+        uniforms.cull_lod = UVec4::new(self.buckets().len() as u32, self.lod_segments.packed(), bits, 0);
     }
 
     /// The buckets drawn: all of them with segment LOD, else the first only.
@@ -180,6 +188,8 @@ pub struct CullCounts {
     pub after_frustum: u32,
     /// ... then not seen edge-on.
     pub after_orientation: u32,
+    /// ... then not behind the terrain.
+    pub after_occlusion: u32,
     /// Tiles that passed the tile tests.
     pub tiles_visible: u32,
     /// Tiles.
@@ -196,6 +206,7 @@ impl CullCounts {
             after_density: stat(gpu::STAT_DENSITY),
             after_frustum: stat(gpu::STAT_FRUSTUM),
             after_orientation: stat(gpu::STAT_ORIENTATION),
+            after_occlusion: stat(gpu::STAT_OCCLUSION),
             tiles_visible: stat(gpu::STAT_TILES_VISIBLE),
             tiles: stat(gpu::STAT_TILES_TOTAL),
             ..Self::default()
@@ -219,7 +230,7 @@ impl CullCounts {
             .map(|b| format!("{} x {} seg", self.drawn[b], self.segments[b]))
             .collect();
         format!(
-            "{} considered, {} in visible tiles ({} of {}), {} after density, {} in frustum, {} not edge-on; drawn {} ({}), {} triangles",
+            "{} considered, {} in visible tiles ({} of {}), {} after density, {} in frustum, {} not edge-on, {} not occluded; drawn {} ({}), {} triangles",
             self.considered,
             self.after_tiles,
             self.tiles_visible,
@@ -227,6 +238,7 @@ impl CullCounts {
             self.after_density,
             self.after_frustum,
             self.after_orientation,
+            self.after_occlusion,
             self.total_drawn(),
             buckets.join(", "),
             self.triangles()

@@ -51,10 +51,12 @@ pub mod binding {
     pub const CULL_STATS: u32 = gpu::BINDING_CULL_STATS;
     /// The count pass's verdict per candidate blade.
     pub const CULL_RESULTS: u32 = gpu::BINDING_CULL_RESULTS;
+    /// The depth pyramid of the frame's terrain.
+    pub const DEPTH_PYRAMID: u32 = gpu::BINDING_DEPTH_PYRAMID;
 }
 
 /// Layout of set `SET_SCENE`, shared by the scene passes and the animation's compute passes.
-pub fn bindings() -> [Binding; 13] {
+pub fn bindings() -> [Binding; 14] {
     let vs = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::COMPUTE;
     let cs = vk::ShaderStageFlags::COMPUTE;
     let vs_cs = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::COMPUTE;
@@ -76,6 +78,7 @@ pub fn bindings() -> [Binding; 13] {
         Binding { binding: binding::DRAWS, kind: storage, stages: cs },
         Binding { binding: binding::CULL_STATS, kind: storage, stages: cs },
         Binding { binding: binding::CULL_RESULTS, kind: storage, stages: cs },
+        Binding { binding: binding::DEPTH_PYRAMID, kind: storage, stages: cs },
     ]
 }
 
@@ -113,6 +116,8 @@ pub struct SceneGpu {
     pub draws: Buffer,
     /// The count pass's verdict per candidate blade, for the emit pass.
     pub cull_results: Buffer,
+    /// The depth pyramid (`PYRAMID_FLOATS` floats) the occlusion test reads.
+    pub depth_pyramid: Buffer,
 }
 
 /// Ring slots the cull may dispatch for a grid of `tiles` per side: the rings around a tile of
@@ -127,6 +132,9 @@ fn cull_bytes(blades: u64, tiles: u32) -> [u64; 4] {
     let draws = 16 * u64::from(gpu_constants::MAX_LOD_BUCKETS);
     [8 * blades.max(1), 4 * u64::from(gpu_constants::SLOT_WORDS) * slots, draws, 8 * blades.max(1)]
 }
+
+/// Bytes of the depth pyramid.
+const PYRAMID_BYTES: u64 = 4 * gpu_constants::PYRAMID_FLOATS as u64;
 
 /// Resources created so far by `upload`, freed if it fails half-way.
 #[derive(Default)]
@@ -168,7 +176,8 @@ impl SceneGpu {
         let heights = (terrain_cells + 1).pow(2) * 4;
         let alpha = u64::from(alpha::WIDTH * alpha::HEIGHT);
         let tiles = u64::from(MAX_TILES_PER_SIDE).pow(2) * std::mem::size_of::<BladeTile>() as u64
-            + cull_bytes(0, MAX_TILES_PER_SIDE)[1];
+            + cull_bytes(0, MAX_TILES_PER_SIDE)[1]
+            + PYRAMID_BYTES;
         2 * (blades + heights + alpha + tiles)
     }
 
@@ -192,6 +201,7 @@ impl SceneGpu {
                 grid,
                 tiles: partial.tiles.take().expect("uploaded"),
                 tile_grid: scene.tile_grid,
+                depth_pyramid: partial.cull.pop().expect("created"),
                 cull_results: partial.cull.pop().expect("created"),
                 draws: partial.cull.pop().expect("created"),
                 slot_counts: partial.cull.pop().expect("created"),
@@ -231,6 +241,7 @@ impl SceneGpu {
             ("cull slot counts", slots, storage),
             ("cull draws", draws, indirect),
             ("cull results", results, storage),
+            ("depth pyramid", PYRAMID_BYTES, storage),
         ] {
             partial.cull.push(Buffer::new(device, &BufferDesc::gpu_only(name, size, usage))?);
         }
@@ -266,6 +277,7 @@ impl SceneGpu {
                 (binding::DRAWS, storage, Resource::Buffer(self.draws.descriptor())),
                 (binding::CULL_STATS, storage, Resource::Buffer(frame.cull_stats.descriptor())),
                 (binding::CULL_RESULTS, storage, Resource::Buffer(self.cull_results.descriptor())),
+                (binding::DEPTH_PYRAMID, storage, Resource::Buffer(self.depth_pyramid.descriptor())),
             ],
         );
     }
@@ -284,6 +296,7 @@ impl SceneGpu {
             self.slot_counts.destroy(device);
             self.draws.destroy(device);
             self.cull_results.destroy(device);
+            self.depth_pyramid.destroy(device);
             self.blade_alpha.destroy(device);
             self.heights.destroy(device);
             self.blades.destroy(device);

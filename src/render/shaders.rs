@@ -32,6 +32,8 @@ pub const FLOOR_FRAG: &[u8] = spirv!("floor.frag");
 pub const CLUSTER_BOUNDS_VERT: &[u8] = spirv!("cluster_bounds.vert");
 /// Debug view: line colour.
 pub const CLUSTER_BOUNDS_FRAG: &[u8] = spirv!("cluster_bounds.frag");
+/// The depth pyramid of the terrain (Hi-Z) the cull's occlusion test reads.
+pub const HIZ_COMP: &[u8] = spirv!("hiz.comp");
 /// Cull step 1: per ring slot, the tile and blade tests and the counts per LOD bucket.
 pub const CULL_COUNT_COMP: &[u8] = spirv!("cull_count.comp");
 /// Cull step 2: offsets by prefix sum, the indirect draws and the frame's counts.

@@ -29,12 +29,12 @@ impl<'a> ImageDesc<'a> {
         Self { format, extent, usage, aspect: vk::ImageAspectFlags::COLOR, name }
     }
 
-    /// A depth attachment of `format`.
+    /// A depth attachment of `format`, also sampled (the cull's depth pyramid reads it).
     pub fn depth(name: &'a str, format: vk::Format, extent: vk::Extent2D) -> Self {
         Self {
             format,
             extent,
-            usage: vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
+            usage: vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::SAMPLED,
             aspect: vk::ImageAspectFlags::DEPTH,
             name,
         }

@@ -21,6 +21,7 @@ impl CullCountPass {
         let read = Access::ComputeShaderRead;
         let uses = vec![
             (scene.tiles.raw, read),
+            (scene.depth_pyramid.raw, read),
             (scene.blades.raw, read),
             (scene.heights.raw, read),
             (scene.slot_counts.raw, Access::ComputeShaderWrite),

@@ -21,6 +21,7 @@ impl CullEmitPass {
         let read = Access::ComputeShaderRead;
         let uses = vec![
             (scene.tiles.raw, read),
+            (scene.depth_pyramid.raw, read),
             (scene.heights.raw, read),
             (scene.cull_results.raw, read),
             (scene.slot_counts.raw, read),

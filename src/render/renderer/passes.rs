@@ -1,0 +1,94 @@
+//! The renderer's graph: which passes a frame records, in order, for the settings.
+
+use ash::vk;
+
+use super::Renderer;
+use crate::error::Result;
+use crate::render::animation::model::PassSetup;
+use crate::render::passes::blades::BladeSetup;
+use crate::render::passes::cull::{self, CullSetup};
+use crate::render::passes::depth_pyramid::DepthPyramidPass;
+use crate::render::passes::{BladePass, ClusterBoundsPass, FloorPass, PipelineTarget, TerrainPass};
+use crate::render::settings::sky_clear_color;
+use crate::render::specialization::Specialization;
+use crate::render::target::DEPTH_FORMAT;
+use crate::scene::Scene;
+use crate::vk::{Access, Resource};
+
+impl Renderer {
+    /// The passes, in order: the animation model's compute passes, terrain, blades (or the
+    /// floor), and the debug views asked for.
+    pub(super) fn build_graph(&mut self, cpu_scene: &Scene, polygon: vk::PolygonMode) -> Result<()> {
+        let device = &*self.device;
+        let settings = &self.settings;
+        let scene = self.scene.as_ref().expect("uploaded");
+        let model = self.model.as_deref().expect("built");
+        let mut specialization = Specialization::new(
+            settings.debug_force,
+            settings.segments,
+            settings.blades_per_instance,
+            settings.submission.strategy.pushes_first_blade(),
+            settings.encode_srgb,
+        );
+        if settings.debug_lod {
+            specialization.flags |= crate::render::specialization::FLAG_DEBUG_LOD;
+        }
+        if !settings.floor {
+            model.specialize(&mut specialization);
+        }
+        let constants = specialization.constants();
+        let target = PipelineTarget {
+            layout: self.layouts.pipeline_layout,
+            color: settings.color_format,
+            depth: DEPTH_FORMAT,
+            polygon,
+        };
+        // Uploaded data, as the upload left it (a new kind of read will wait for the upload).
+        self.graph.import(Resource::color(scene.blade_alpha.raw), &[Access::FragmentShaderSampledRead]);
+        let vertex_compute = [Access::VertexShaderStorageRead, Access::ComputeShaderRead];
+        self.graph.import(Resource::Buffer(scene.blades.raw), &vertex_compute);
+        self.graph.import(Resource::Buffer(scene.clusters.raw), &vertex_compute);
+        self.graph.import(Resource::Buffer(scene.heights.raw), &[Access::VertexShaderStorageRead]);
+        self.graph.import(Resource::Buffer(scene.tiles.raw), &[Access::ComputeShaderRead]);
+        let (keyframes, uploaded) = model.resources().keyframe_import();
+        self.graph.import(keyframes, &uploaded);
+        if settings.floor {
+            let sky = sky_clear_color(settings.encode_srgb);
+            self.graph.add(TerrainPass::new(device, target, &constants, scene, sky)?);
+            self.graph.add(FloorPass::new(device, target, &constants, &cpu_scene.blades, settings.segments)?);
+        } else {
+            let setup = PassSetup { layout: target.layout, constants: &constants, scene };
+            for pass in model.passes(device, &setup)? {
+                self.graph.add_boxed(pass);
+            }
+            self.graph.add(TerrainPass::new(device, target, &constants, scene, sky_clear_color(settings.encode_srgb))?);
+            let culled = settings.culling.enabled;
+            if culled && settings.culling.occlusion {
+                self.graph.add(DepthPyramidPass::new(device, scene, self.ring.slots())?);
+            }
+            if culled {
+                let stats = (0..self.ring.slots()).map(|slot| self.ring.frame(slot).cull_stats.raw).collect();
+                let setup = CullSetup { layout: target.layout, constants: &constants, frame_stats: stats };
+                cull::add_passes(&mut self.graph, device, &setup, scene)?;
+            }
+            let setup = BladeSetup {
+                target,
+                constants: &constants,
+                segments: settings.segments,
+                blades_per_instance: settings.blades_per_instance,
+                submission: settings.submission,
+                frames_in_flight: settings.frames_in_flight,
+                input: model.blade_input(),
+                animation: model.resources().set,
+                buckets: culled.then(|| settings.culling.buckets()),
+                solid_outline: settings.culling.solid_outline,
+            };
+            self.graph.add(BladePass::new(device, scene, &setup)?);
+        }
+        if settings.debug_bounds {
+            let set_layout = self.layouts.set_layout;
+            self.graph.add(ClusterBoundsPass::new(device, set_layout, target, &constants, scene)?);
+        }
+        Ok(())
+    }
+}
