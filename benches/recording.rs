@@ -62,6 +62,7 @@ fn bench_variants(c: &mut Criterion, device: &std::sync::Arc<Device>) -> meadow:
                 submission: Default::default(),
                 debug_bounds: false,
                 debug_lod: false,
+                debug_tiles: false,
                 // Recording cost of the thesis path: every stored blade, no cull pass.
                 culling: meadow::render::culling::Culling::brute_force(SEGMENTS),
                 floor: false,

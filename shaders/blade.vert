@@ -194,6 +194,13 @@ void main() {
     if ((RENDER_FLAGS & FLAG_DEBUG_LOD) != 0u) {
         diffuse = lod_color(SEGMENTS) * mix(0.4, 1.0, t);
     }
+    if ((RENDER_FLAGS & FLAG_DEBUG_TILES) != 0u) {
+        // A colour per tile of the cull (`scene::tiles`), from a hash of its cell.
+        uvec2 cell = uvec2(max((blade.position.xz - vec2(frame.tile_grid.x)) / frame.tile_grid.y, vec2(0.0)));
+        uint h = (cell.x * 73856093u) ^ (cell.y * 19349663u);
+        h = (h ^ (h >> 13)) * 0x5bd1e995u;
+        diffuse = (0.15 + 0.6 * vec3(h & 255u, (h >> 8) & 255u, (h >> 16) & 255u) / 255.0) * mix(0.5, 1.0, t);
+    }
     // Two-sided: light the side facing the viewer, decided from the view vector so the strip's
     // triangle parity cannot flip it. Belyaev §2.3 is linear in the diffuse colour, and so is the
     // fog: colour = lit * rim + sky * (1 - fog) in blade.frag.

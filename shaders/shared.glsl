@@ -52,6 +52,7 @@
 #define FLAG_CLUSTER_PUSH 4u // Per-cluster draws push their first blade (`meadow overhead`).
 #define FLAG_CULLED 8u // Instances are entries of the cull's visible list, not blade indices.
 #define FLAG_DEBUG_LOD 16u // Colour blades by their LOD bucket (`--debug-view lod`).
+#define FLAG_DEBUG_TILES 64u // Colour blades by the tile they belong to (`--debug-view tiles`).
 #define FLAG_SOLID_OUTLINE 32u // Far LOD buckets: the outline tapered in the geometry, no alpha test (early depth writes).
 
 // Culling and LOD switches (`cull_lod.z` of the frame uniforms, `render::culling::Culling`).

@@ -106,6 +106,8 @@ pub struct RenderOptions {
     pub debug_bounds: bool,
     /// Colour blades by LOD bucket.
     pub debug_lod: bool,
+    /// Colour blades by tile.
+    pub debug_tiles: bool,
     /// The cull and LOD, or brute force.
     pub culling: crate::render::culling::Culling,
     /// Frame-time budget in milliseconds: the LOD scale follows the measured GPU time.
@@ -129,6 +131,7 @@ impl RenderOptions {
             debug_force: self.debug_force,
             debug_bounds: self.debug_bounds,
             debug_lod: self.debug_lod,
+            debug_tiles: self.debug_tiles,
             culling: self.culling,
             floor: self.floor,
             wireframe: false,

@@ -243,6 +243,7 @@ fn small_settings(frames_in_flight: usize) -> meadow::render::RenderSettings {
         submission: Default::default(),
         debug_bounds: false,
         debug_lod: false,
+        debug_tiles: false,
         culling: meadow::render::culling::Culling::default_for(2),
         floor: false,
     }

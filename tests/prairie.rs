@@ -28,6 +28,7 @@ fn settings(culling: Culling, frames_in_flight: usize) -> RenderSettings {
         debug_force: false,
         debug_bounds: false,
         debug_lod: false,
+        debug_tiles: false,
         wireframe: false,
         pipeline_statistics: false,
         submission: Default::default(),

@@ -145,3 +145,31 @@ fn reused_and_secondary_recordings_stay_valid_with_frames_in_flight() {
         assert_clean(&output);
     }
 }
+
+/// The GPU-driven path reports what its cull kept: every count after each test, and the drawn
+/// blades per LOD bucket adding up to the total.
+#[test]
+fn timing_reports_the_cull_counts() {
+    let dir = scratch("timing-cull");
+    let output = meadow()
+        .args(["timing", "--validation", "--device", support::DEVICE, "--blades", "5000", "--size", "160x90"])
+        .args(["--frames", "2", "--warmup", "0", "--out"])
+        .arg(&dir)
+        .output()
+        .expect("run meadow timing");
+    assert_clean(&output);
+    let doc: Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("timing.json")).expect("timing.json")).expect("JSON");
+    let cull = &doc["cull"];
+    let n = |k: &str| cull[k].as_u64().unwrap_or_else(|| panic!("{k} in {cull}"));
+    assert_eq!(n("considered"), 5000);
+    let chain = ["considered", "after_tiles", "after_density", "after_frustum", "after_orientation", "after_occlusion"];
+    for pair in chain.windows(2) {
+        assert!(n(pair[1]) <= n(pair[0]), "{pair:?}: {cull}");
+    }
+    let buckets: u64 =
+        cull["buckets"].as_array().expect("buckets").iter().map(|b| b["drawn"].as_u64().unwrap_or(0)).sum();
+    assert_eq!(buckets, n("drawn"));
+    assert_eq!(n("drawn"), n("after_occlusion"));
+    assert!(n("drawn") > 0 && n("drawn") < 5000, "{cull}");
+}

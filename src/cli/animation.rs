@@ -54,6 +54,8 @@ pub(crate) enum DebugViewArg {
     Bounds,
     /// Blades coloured by LOD bucket: red 1 segment, orange 2, yellow 4, green 8, blue 16.
     Lod,
+    /// Blades coloured by the cull's tile they belong to.
+    Tiles,
 }
 
 #[derive(Clone, Copy, ValueEnum)]

@@ -120,6 +120,7 @@ impl SceneArgs {
             debug_force: self.debug_view == Some(DebugViewArg::Force),
             debug_bounds: self.debug_view == Some(DebugViewArg::Bounds),
             debug_lod: self.debug_view == Some(DebugViewArg::Lod),
+            debug_tiles: self.debug_view == Some(DebugViewArg::Tiles),
             culling: self.culling.culling(self.segments),
             budget_ms: self.culling.budget_ms,
             floor: self.animation.mode.is_floor(),

@@ -80,3 +80,29 @@ mod tests {
         assert_eq!(percentile(&[3.0], 95.0), 3.0);
     }
 }
+
+/// What the cull kept and drew in a frame (`null` for brute force): the counts after each test
+/// and the blades drawn per LOD bucket.
+pub fn cull_json(counts: Option<&crate::render::culling::CullCounts>) -> Value {
+    let Some(c) = counts else { return Value::Null };
+    let buckets: Vec<Value> = c
+        .segments
+        .iter()
+        .zip(c.drawn)
+        .filter(|(s, _)| **s > 0)
+        .map(|(s, d)| serde_json::json!({ "segments": s, "drawn": d }))
+        .collect();
+    serde_json::json!({
+        "considered": c.considered,
+        "tiles": c.tiles,
+        "tiles_visible": c.tiles_visible,
+        "after_tiles": c.after_tiles,
+        "after_density": c.after_density,
+        "after_frustum": c.after_frustum,
+        "after_orientation": c.after_orientation,
+        "after_occlusion": c.after_occlusion,
+        "drawn": c.total_drawn(),
+        "triangles": c.triangles(),
+        "buckets": buckets,
+    })
+}

@@ -132,6 +132,7 @@ fn measure_clusters(
             submission: Submission { strategy, clusters },
             debug_bounds: false,
             debug_lod: false,
+            debug_tiles: false,
             // Driver overhead of the submission strategies: every stored blade, no cull pass.
             culling: crate::render::culling::Culling::brute_force(options.segments),
             floor: false,

@@ -255,6 +255,7 @@ pub fn run(
     let record: Vec<f64> = base.frames.iter().map(|f| f.timings.cpu_record_ms).collect();
     let submit: Vec<f64> = base.frames.iter().map(|f| f.timings.cpu_submit_ms).collect();
     let statistics = base.frames.last().map_or(Value::Null, |f| statistics_json(&f.timings.passes));
+    let cull = crate::harness::document::cull_json(base.frames.last().and_then(|f| f.timings.cull.as_ref()));
     let doc = crate::harness::document::document(
         device,
         "timing",
@@ -273,6 +274,7 @@ pub fn run(
         "cpu_submit_ms": summary(&submit),
         "passes": passes,
         "pipeline_statistics": statistics,
+        "cull": cull,
         "frames_in_flight": comparison,
         }),
     );
@@ -394,6 +396,20 @@ pub fn report(doc: &Value) -> String {
     out.push_str(&line("frame", &doc["gpu_frame_ms"]));
     for p in doc["passes"].as_array().into_iter().flatten() {
         out.push_str(&line(p["pass"].as_str().unwrap_or(""), &p["gpu_ms"]));
+    }
+    if let Some(cull) = doc["cull"].as_object() {
+        let n = |k: &str| cull.get(k).and_then(Value::as_u64).unwrap_or(0);
+        out.push_str(&format!(
+            "cull: {} considered, {} after the tiles, {} density, {} frustum, {} orientation, {} occlusion: {} drawn, {} triangles (last frame)\n",
+            n("considered"),
+            n("after_tiles"),
+            n("after_density"),
+            n("after_frustum"),
+            n("after_orientation"),
+            n("after_occlusion"),
+            n("drawn"),
+            n("triangles")
+        ));
     }
     out.push_str(&line("cpu record", &doc["cpu_record_ms"]));
     out.push_str(&line("cpu submit", &doc["cpu_submit_ms"]));

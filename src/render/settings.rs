@@ -36,6 +36,8 @@ pub struct RenderSettings {
     pub debug_bounds: bool,
     /// Colour blades by their LOD bucket (`--debug-view lod`).
     pub debug_lod: bool,
+    /// Colour blades by their tile (`--debug-view tiles`).
+    pub debug_tiles: bool,
     /// The GPU-driven cull and LOD, or brute force.
     pub culling: crate::render::culling::Culling,
     /// Draw the benchmark floor instead of the blades: the static blades' triangles pre-expanded

@@ -127,7 +127,15 @@ impl Viewer {
             "b" => animation.eval = if animation.eval == Eval::Vertex { Eval::Blade } else { Eval::Vertex },
             "v" => self.settings.debug_force = !self.settings.debug_force,
             "x" => self.settings.debug_bounds = !self.settings.debug_bounds,
-            "t" => self.settings.debug_lod = !self.settings.debug_lod,
+            "t" => {
+                // LOD buckets, then tiles, then neither.
+                let s = &mut self.settings;
+                (s.debug_lod, s.debug_tiles) = match (s.debug_lod, s.debug_tiles) {
+                    (false, false) => (true, false),
+                    (true, _) => (false, true),
+                    (false, true) => (false, false),
+                };
+            }
             "o" | "y" => toggle_culling(&mut self.settings.culling, name),
             "f" => self.settings.wireframe = !self.settings.wireframe,
             "plus" | "minus" => {
@@ -192,7 +200,13 @@ impl Viewer {
             self.scene.blades.len(),
             culling_state(&self.settings.culling),
             if self.settings.debug_force { ", force view" } else { "" },
-            if self.settings.debug_lod { ", LOD view" } else { "" },
+            if self.settings.debug_lod {
+                ", LOD view"
+            } else if self.settings.debug_tiles {
+                ", tile view"
+            } else {
+                ""
+            },
             if self.settings.debug_bounds { ", cluster bounds" } else { "" },
             if self.settings.wireframe { ", wireframe" } else { "" },
         );

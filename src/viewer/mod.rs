@@ -86,7 +86,7 @@ meadow viewer controls
   left click      drop a wind source (drag to move)   Delete  remove the last source
   arrow keys      drive the collider sphere through the grass
   V               force debug view       F                 wireframe
-  X               cluster bounds view    T                 LOD bucket view
+  X               cluster bounds view    T                 LOD bucket / tile view
   O               GPU culling / brute force             Y  LOD on/off
   Z               freeze the culling camera (fly out and look at what it keeps)
   P               pause time             F12               screenshot
@@ -182,6 +182,7 @@ impl Viewer {
             debug_force: o.debug_force,
             debug_bounds: o.debug_bounds,
             debug_lod: o.debug_lod,
+            debug_tiles: o.debug_tiles,
             culling: o.culling,
             floor: o.floor,
             wireframe: false,

@@ -261,6 +261,7 @@ fn build_renderers(device: &Arc<Device>, scene: &Scene, segments: u32, variants:
                 submission: Default::default(),
                 debug_bounds: false,
                 debug_lod: false,
+                debug_tiles: false,
                 // The thesis benchmark measures every stored blade at full detail.
                 culling: crate::render::culling::Culling::brute_force(segments),
                 floor: v.mode == Column::Floor,
