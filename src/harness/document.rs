@@ -67,20 +67,6 @@ pub fn statistics_json(passes: &[crate::render::PassTime]) -> Value {
     Value::Object(map)
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn percentiles_by_nearest_rank() {
-        let v: Vec<f64> = (1..=100).map(f64::from).collect();
-        assert_eq!(percentile(&v, 50.0), 50.0);
-        assert_eq!(percentile(&v, 5.0), 5.0);
-        assert_eq!(percentile(&v, 99.0), 99.0);
-        assert_eq!(percentile(&[3.0], 95.0), 3.0);
-    }
-}
-
 /// What the cull kept and drew in a frame (`null` for brute force): the counts after each test
 /// and the blades drawn per LOD bucket.
 pub fn cull_json(counts: Option<&crate::render::culling::CullCounts>) -> Value {
@@ -105,4 +91,18 @@ pub fn cull_json(counts: Option<&crate::render::culling::CullCounts>) -> Value {
         "triangles": c.triangles(),
         "buckets": buckets,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn percentiles_by_nearest_rank() {
+        let v: Vec<f64> = (1..=100).map(f64::from).collect();
+        assert_eq!(percentile(&v, 50.0), 50.0);
+        assert_eq!(percentile(&v, 5.0), 5.0);
+        assert_eq!(percentile(&v, 99.0), 99.0);
+        assert_eq!(percentile(&[3.0], 95.0), 3.0);
+    }
 }
