@@ -6,7 +6,7 @@ mod support;
 
 use ash::vk;
 use meadow::app::{with_device, GpuOptions};
-use meadow::imagediff::compare_rgb;
+use meadow::imagediff::{box_filtered_difference, compare_rgb};
 use meadow::render::cull_reference::reference_counts;
 use meadow::render::culling::{CullCounts, Culling};
 use meadow::render::{OffscreenTarget, RenderSettings, Renderer};
@@ -59,13 +59,23 @@ fn cameras(scene: &Scene) -> Vec<Camera> {
 
 /// Render each camera (four frames, the last kept) and return the pictures and cull counts.
 fn render_all(scene: &Scene, settings: RenderSettings, cameras: &[Camera]) -> Vec<(Vec<u8>, Option<CullCounts>)> {
+    render_frames(scene, settings, cameras, 4)
+}
+
+/// Render each camera `frames` times (the last kept).
+fn render_frames(
+    scene: &Scene,
+    settings: RenderSettings,
+    cameras: &[Camera],
+    frames: usize,
+) -> Vec<(Vec<u8>, Option<CullCounts>)> {
     let (result, messages) = with_device(&options(), false, |device| {
         let mut renderer = Renderer::new(device.clone(), scene, settings, Default::default())?;
         let mut target = OffscreenTarget::new(device, EXTENT)?;
         let mut out = Vec::new();
         for camera in cameras {
             let mut timings = None;
-            for _ in 0..4 {
+            for _ in 0..frames {
                 timings = Some(renderer.render_offscreen(&mut target, camera, 0.5)?);
             }
             out.push((target.pixels().to_vec(), timings.and_then(|t| t.cull)));
@@ -238,4 +248,34 @@ fn blades_behind_a_hill_are_culled_by_occlusion_and_the_picture_keeps() {
     assert!(kept < visible * 8 / 10, "occlusion kept {kept} of {visible}");
     let (stats, _) = compare_rgb(&occluding.rgb, &plain.rgb, 3);
     assert!(stats.within_fraction() >= 0.999, "{:.4} within ±3", stats.within_fraction());
+}
+
+#[test]
+fn lod_transitions_do_not_pop_over_a_camera_sweep() {
+    // Walking backwards in 5 cm steps, blades cross the density LOD's fade band and the segment
+    // buckets' thresholds (LOD scale 0.5 puts both inside the sweep). The largest change between
+    // consecutive frames (8×8 box-filtered, worst block) stays near brute force's, which only
+    // moves the camera.
+    let scene = Scene::generate(100_000, 4);
+    let start = Camera::default_for(&scene.terrain);
+    let sweep: Vec<Camera> = (0..16)
+        .map(|i| {
+            let z = start.position.z - 4.0 + 0.05 * i as f32;
+            Camera { position: glam::Vec3::new(0.0, scene.terrain.height_at(0.0, z) + 1.7, z), ..start }
+        })
+        .collect();
+    let lod = Culling { lod_scale: 0.5, ..Culling::default_for(4) };
+    let worst = |settings: RenderSettings| -> (f64, u64) {
+        let frames = render_frames(&scene, settings, &sweep, 1);
+        let worst = frames
+            .windows(2)
+            .map(|w| box_filtered_difference(&rgb(&w[0].0), &rgb(&w[1].0), EXTENT.width, EXTENT.height, 8).max_percent)
+            .fold(0.0, f64::max);
+        (worst, frames.last().and_then(|f| f.1).map_or(0, |c| c.total_drawn()))
+    };
+    let (brute, _) = worst(settings(Culling::brute_force(4), 1));
+    let (culled, drawn) = worst(settings(lod, 1));
+    assert!(drawn < 60_000, "the LOD thins the field: {drawn} drawn");
+    assert!(culled <= 1.5 * brute, "largest consecutive change {culled:.2} % with LOD, {brute:.2} % brute force");
+    eprintln!("largest consecutive change {culled:.2} % with LOD, {brute:.2} % brute force");
 }
