@@ -16,6 +16,8 @@
 #include "keyframes.glsl"
 #include "blade_select.glsl"
 #include "lighting.glsl"
+#include "field.glsl"
+#include "rings.glsl"
 
 // Lit per vertex (Gouraud): the blade's colour is affine along its length and its normal is the
 // same across its width, so the fragment shader only adds the alpha-tested rim. Every varying
@@ -144,7 +146,15 @@ void main() {
     }
     uint j = uint(gl_VertexIndex) % STRIP_STRIDE;
     uint strip = min(uint(max(int(j) - int(STRIP_LEAD), 0)), 2u * segments + 1u);
-    BladeInstance blade = blades[blade_index];
+    BladeInstance blade;
+    if ((RENDER_FLAGS & FLAG_BLOCKS) != 0u) {
+        // A block field: the entry names the ring slot (high bits) and the block's blade.
+        ivec2 cell = frame.field_cells.xy + ring_cell(blade_index >> 16);
+        blade_index &= 0xffffu;
+        blade = field_blade(cell, blade_index);
+    } else {
+        blade = blades[blade_index];
+    }
     uint level = strip >> 1;
     float side = float(strip & 1u);
     float t = float(level) / float(segments);

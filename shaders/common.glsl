@@ -3,14 +3,15 @@
 // read back through `blade_readback.comp` in the tests.
 #ifndef MEADOW_COMMON_GLSL
 #define MEADOW_COMMON_GLSL
+#include "shared.glsl"
 
-// Per-frame constants (std140, 320 bytes).
+// Per-frame constants (std140, 544 bytes).
 struct FrameUniforms {
     mat4 view_proj;         // world -> clip (reversed infinite Z, Vulkan y down)
     vec4 camera_position;   // xyz eye, w simulation time (s)
     vec4 sun_direction;     // xyz unit vector towards the sun, w unused
     vec4 sky_color;         // rgb linear sky, w fog density (1/m)
-    vec4 terrain;           // x grid origin (x = z), y cell size (m), zw unused
+    vec4 terrain;           // x grid origin (x = z), y cell size (m), zw unused; a block field: y the force clusters' edge
     uvec4 params;           // x segments, y blade count, z terrain cells per side, w unused
     uvec4 keyframes;        // x magnitudes, y angles, z point sources, w cluster corners per side
     uvec4 keyframe_shape;   // x records per pose, y colliders (emitters after the sources), zw unused
@@ -20,9 +21,14 @@ struct FrameUniforms {
     vec4 tile_grid;         // x origin (x = z), y tile edge (m), z and w the view's projection P00 and P11 (occlusion)
     uvec4 cull_tiles;       // x tiles per side, y ring slots, z centre tile x, w centre tile z
     uvec4 cull_lod;         // x LOD buckets, y their segment counts minus 1 (4 bits each, bucket 0 lowest), z CULL_* / LOD_* bits, w unused
+    // Block fields: positions are relative to an origin O, the corner of the block cell under
+    // the camera (the camera, the view matrix and the emitters too).
+    vec4 relief_waves[RELIEF_WAVES]; // xy wave vector (2π / wavelength), z amplitude, w unused
+    vec4 relief_phases[RELIEF_WAVES / 2u]; // sin, cos of u_k · O + φ_k, two waves per vec4
+    ivec4 field_cells;      // xy O's cell, z cells of a bounded field per side (0: unbounded), w unused
+    vec4 field;             // x block edge (m), y relief slope bound, zw the force corners' origin relative to O
 };
 
-#include "shared.glsl"
 
 // How the blades are animated is fixed per pipeline by specialization constants, not read from
 // uniforms: llvmpipe (and most GPUs) compile a uniform branch into masked code that pays for every

@@ -8,6 +8,8 @@
 #ifndef MEADOW_CULL_GLSL
 #define MEADOW_CULL_GLSL
 #include "bindings.glsl"
+#include "field.glsl"
+#include "rings.glsl"
 
 layout(set = SET_SCENE, binding = BINDING_SLOT_COUNTS, std430) buffer SlotCounts { uint slot_counts[]; };
 layout(set = SET_SCENE, binding = BINDING_DRAWS, std430) buffer Draws { uint draws[]; };
@@ -29,31 +31,6 @@ const float FADE_BAND = 0.3;
 // above which a blade is culled (Jahrmann & Wimmer 2017 use 0.9; meadow's blades twist in the wind,
 // so only nearly exact edge-on views are dropped).
 const float EDGE_ON = 0.97;
-
-ivec2 ring_cell(uint slot) {
-    if (slot == 0u) {
-        return ivec2(0);
-    }
-    int s = int(slot);
-    int r = int(floor((sqrt(float(slot)) + 1.0) * 0.5));
-    if ((2 * r - 1) * (2 * r - 1) > s) {
-        r -= 1;
-    }
-    if ((2 * r + 1) * (2 * r + 1) <= s) {
-        r += 1;
-    }
-    int p = s - (2 * r - 1) * (2 * r - 1);
-    int side = p / (2 * r);
-    int along = p % (2 * r);
-    if (side == 0) {
-        return ivec2(-r + along, -r);
-    } else if (side == 1) {
-        return ivec2(r, -r + along);
-    } else if (side == 2) {
-        return ivec2(r - along, r);
-    }
-    return ivec2(-r, r - along);
-}
 
 // The tile of ring slot `slot`, or -1 when the slot lies outside the grid.
 int slot_tile(uint slot) {
@@ -178,6 +155,50 @@ float density_keep_bound(float d) {
     return 1.0 / (A1 + A1 * (d * d) / (d0 * d0));
 }
 
+// The tile of ring slot `slot`: a tile of the stored field, or in a block field (FLAG_BLOCKS) the
+// cell around O's cell with the block's blades and bounds. False when the slot holds nothing.
+bool slot_record(uint slot, out BladeTile tile, out ivec2 cell) {
+    cell = frame.field_cells.xy + ring_cell(slot);
+    if ((RENDER_FLAGS & FLAG_BLOCKS) != 0u) {
+        field_cell_bounds(cell, tile.min, tile.max);
+        tile.first = 0u;
+        tile.count = frame.params.y;
+        return field_has_cell(cell);
+    }
+    int t = slot_tile(slot);
+    if (t < 0) {
+        return false;
+    }
+    // Member by member: glslang stores a buffer block's struct into a local one with an
+    // OpStore whose types differ (their layouts do).
+    tile.min = tiles[t].min;
+    tile.first = tiles[t].first;
+    tile.max = tiles[t].max;
+    tile.count = tiles[t].count;
+    return true;
+}
+
+// The ground's normal under a tile (Belyaev's n of §2.2).
+vec3 tile_normal(BladeTile tile) {
+    vec2 centre = 0.5 * (tile.min.xz + tile.max.xz);
+    return (RENDER_FLAGS & FLAG_BLOCKS) != 0u ? relief_normal(centre) : terrain_normal(centre);
+}
+
+// Blade `rank` of a slot's tile, placed (a block field's blade set in its cell).
+BladeInstance tile_blade(BladeTile tile, ivec2 cell, uint rank) {
+    if ((RENDER_FLAGS & FLAG_BLOCKS) != 0u) {
+        return field_blade(cell, rank);
+    }
+    BladeInstance blade = blades[tile.first + rank];
+    return blade;
+}
+
+// The visible list's first word for blade `rank` of a slot: the blade's index, or in a block
+// field the slot (high 16 bits) and the block's blade (low 16 bits).
+uint visible_blade(BladeTile tile, uint slot, uint rank) {
+    return (RENDER_FLAGS & FLAG_BLOCKS) != 0u ? (slot << 16) | rank : tile.first + rank;
+}
+
 // What the tile tests (frustum, distance, occlusion) leave of a tile: how many of its blades (a prefix) go to the blade tests.
 uint tile_candidates(Frustum f, BladeTile tile, out bool tile_visible) {
     vec3 eye = frame.cull_eye.xyz;
@@ -212,15 +233,14 @@ uint bucket_segments(uint b) {
 // The blade tests. Returns the blade's LOD bucket, or -1 with the first test it failed in
 // `failed` (a `STAT_*` index: the counts after that test do not include it). `scale` is
 // (fade, widening) for the vertex shader.
-int blade_bucket(Frustum f, BladeTile tile, uint rank, vec3 normal, out uint failed, out vec2 scale) {
-    BladeInstance blade = blades[tile.first + rank];
+int blade_bucket(Frustum f, BladeInstance blade, uint rank, uint count, vec3 normal, out uint failed, out vec2 scale) {
     vec3 to_eye = frame.cull_eye.xyz - blade.position;
     float d = max(length(to_eye), 1e-3);
     scale = vec2(1.0);
     failed = 0u;
     if (culling(LOD_DENSITY)) {
         float keep = density_keep(d, dot(normal, to_eye / d));
-        float w = (float(rank) + 0.5) / float(tile.count);
+        float w = (float(rank) + 0.5) / float(count);
         if (w >= keep) {
             failed = STAT_DENSITY;
             return -1;

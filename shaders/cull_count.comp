@@ -1,12 +1,13 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // Cull, step 1 of 3: one workgroup per ring slot runs the tile tests and the blade tests
-// (cull.glsl), writes each candidate blade's verdict to `cull_results`, and how many blades of its
-// slot each LOD bucket draws, and the counts after each test, to its `SLOT_WORDS` words of
-// `slot_counts`. Every word of every slot is written (zeros for an empty or culled slot):
-// nothing accumulates across frames or workgroups, so there is no counter to clear. Each
-// invocation counts in registers, then adds its counts into shared memory once: integer sums,
-// whose result does not depend on the order the invocations run in.
+// (cull.glsl), writes each candidate blade's verdict to `cull_results` (a stored field's: a block
+// field's blades share indices across cells, and the emit pass repeats their tests instead), and
+// how many blades of its slot each LOD bucket draws, and the counts after each test, to its
+// `SLOT_WORDS` words of `slot_counts`. Every word of every slot is written (zeros for an empty
+// or culled slot): nothing accumulates across frames or workgroups, so there is no counter to
+// clear. Each invocation counts in registers, then adds its counts into shared memory once:
+// integer sums, whose result does not depend on the order the invocations run in.
 #include "cull.glsl"
 
 layout(local_size_x = CULL_GROUP) in;
@@ -20,10 +21,10 @@ void main() {
         counts[lane] = 0u;
     }
     barrier();
-    int t = slot_tile(slot);
-    if (t >= 0) {
+    BladeTile tile;
+    ivec2 cell;
+    if (slot_record(slot, tile, cell)) {
         Frustum f = culling_frustum();
-        BladeTile tile = tiles[t];
         bool tile_visible;
         uint candidates = tile_candidates(f, tile, tile_visible);
         if (lane == 0u) {
@@ -32,13 +33,14 @@ void main() {
             counts[STAT_TILES] = tile_visible ? tile.count : 0u;
             counts[STAT_TILES_VISIBLE] = tile_visible ? 1u : 0u;
         }
-        vec3 normal = terrain_normal(0.5 * (tile.min.xz + tile.max.xz));
+        vec3 normal = tile_normal(tile);
         uint passed[STAT_OCCLUSION - STAT_DENSITY + 1u] = uint[](0u, 0u, 0u, 0u);
         uint drawn[MAX_LOD_BUCKETS] = uint[](0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
         for (uint rank = lane; rank < candidates; rank += CULL_GROUP) {
             uint failed;
             vec2 scale;
-            int bucket = blade_bucket(f, tile, rank, normal, failed, scale);
+            BladeInstance blade = tile_blade(tile, cell, rank);
+            int bucket = blade_bucket(f, blade, rank, tile.count, normal, failed, scale);
             for (uint s = 0u; s <= STAT_OCCLUSION - STAT_DENSITY; s++) {
                 passed[s] += (failed == 0u || STAT_DENSITY + s < failed) ? 1u : 0u;
             }
@@ -46,7 +48,9 @@ void main() {
             for (uint b = 0u; b < MAX_LOD_BUCKETS; b++) {
                 drawn[b] += bucket == int(b) ? 1u : 0u;
             }
-            cull_results[tile.first + rank] = uvec2(bucket >= 0 ? uint(bucket) : NOT_DRAWN, packHalf2x16(scale));
+            if ((RENDER_FLAGS & FLAG_BLOCKS) == 0u) {
+                cull_results[tile.first + rank] = uvec2(bucket >= 0 ? uint(bucket) : NOT_DRAWN, packHalf2x16(scale));
+            }
         }
         for (uint s = 0u; s <= STAT_OCCLUSION - STAT_DENSITY; s++) {
             atomicAdd(counts[STAT_DENSITY + s], passed[s]);

@@ -13,16 +13,30 @@ layout(local_size_x = CULL_GROUP) in;
 
 shared uint prefix[MAX_LOD_BUCKETS][CULL_GROUP];
 
+// The count pass's verdict on blade `rank`: read back for a stored field, the same tests run
+// again for a block field (whose blades share their indices across cells).
+uvec2 verdict(Frustum f, BladeTile tile, ivec2 cell, uint rank, vec3 normal) {
+    if ((RENDER_FLAGS & FLAG_BLOCKS) == 0u) {
+        return cull_results[tile.first + rank];
+    }
+    uint failed;
+    vec2 scale;
+    int bucket = blade_bucket(f, tile_blade(tile, cell, rank), rank, tile.count, normal, failed, scale);
+    return uvec2(bucket >= 0 ? uint(bucket) : NOT_DRAWN, packHalf2x16(scale));
+}
+
 void main() {
     uint slot = gl_WorkGroupID.x;
     uint lane = gl_LocalInvocationID.x;
-    int t = slot_tile(slot);
-    if (t < 0) {
+    BladeTile tile;
+    ivec2 cell;
+    if (!slot_record(slot, tile, cell)) {
         return;
     }
-    BladeTile tile = tiles[t];
+    Frustum f = culling_frustum();
     bool tile_visible;
-    uint candidates = tile_candidates(culling_frustum(), tile, tile_visible);
+    uint candidates = tile_candidates(f, tile, tile_visible);
+    vec3 normal = tile_normal(tile);
     if (candidates == 0u) {
         return;
     }
@@ -34,7 +48,7 @@ void main() {
         own[b] = 0u;
     }
     for (uint rank = begin; rank < end; rank++) {
-        uint bucket = cull_results[tile.first + rank].x;
+        uint bucket = verdict(f, tile, cell, rank, normal).x;
         // Constant indices only: llvmpipe keeps the counters in registers.
         for (uint b = 0u; b < MAX_LOD_BUCKETS; b++) {
             own[b] += bucket == b ? 1u : 0u;
@@ -63,14 +77,14 @@ void main() {
         at[b] = draws[4u * b + 3u] + slot_counts[slot * SLOT_WORDS + b] + prefix[b][lane];
     }
     for (uint rank = begin; rank < end; rank++) {
-        uvec2 result = cull_results[tile.first + rank];
+        uvec2 result = verdict(f, tile, cell, rank, normal);
         uint position = 0u;
         for (uint b = 0u; b < MAX_LOD_BUCKETS; b++) {
             position = result.x == b ? at[b] : position;
             at[b] += result.x == b ? 1u : 0u;
         }
         if (result.x != NOT_DRAWN) {
-            visible[position] = uvec2(tile.first + rank, result.y);
+            visible[position] = uvec2(visible_blade(tile, slot, rank), result.y);
         }
     }
 }

@@ -26,10 +26,32 @@ vec2 collider_force(vec2 center, vec2 radii, vec2 p) {
     return normalize(q / radii) * COLLIDER_PUSH / pow(max(d, 1.0), COLLIDER_SIGMA);
 }
 
-vec2 blade_force(uint blade_index, vec2 root) {
-    BladeCluster c = clusters[blade_index];
+// A block field's blade has no stored cluster record (its block is placed in every cell): the
+// corner and the bilinear weights of eq. 3.7 from its position in the grid of corners around O,
+// `scene::clusters::ClusterGrid::locate` unquantised.
+BladeCluster field_cluster(vec2 root, out vec4 w) {
     uint n = frame.keyframes.w;
-    vec4 w = unpackUnorm4x8(c.weights);
+    float size = frame.terrain.y;
+    vec2 g = clamp((root - frame.field.zw) / size, vec2(0.0), vec2(float(n - 1u)));
+    uvec2 c = min(uvec2(g), uvec2(n - 2u));
+    vec2 f = g - vec2(c);
+    w = vec4((1.0 - f.x) * (1.0 - f.y), f.x * (1.0 - f.y), (1.0 - f.x) * f.y, f.x * f.y);
+    BladeCluster record;
+    record.corner = c.y * n + c.x;
+    record.weights = 0u;
+    return record;
+}
+
+vec2 blade_force(uint blade_index, vec2 root) {
+    uint n = frame.keyframes.w;
+    vec4 w;
+    BladeCluster c;
+    if ((RENDER_FLAGS & FLAG_BLOCKS) != 0u) {
+        c = field_cluster(root, w);
+    } else {
+        c.corner = clusters[blade_index].corner;
+        w = unpackUnorm4x8(clusters[blade_index].weights);
+    }
     vec4 f = corners[c.corner] * w.x + corners[c.corner + 1u] * w.y + corners[c.corner + n] * w.z
         + corners[c.corner + n + 1u] * w.w;
     vec2 force = f.xy;

@@ -1,7 +1,7 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // Test shader: reads every field of `FrameUniforms` through the std140 declaration in common.glsl
-// and writes them as 80 words, then the specialization constants as the shaders see them (by
+// and writes them as 136 words, then the specialization constants as the shaders see them (by
 // `SPEC_*` id) and a few shared.glsl constants, so the test can compare them with what Rust wrote
 // and with the constants build.rs generated (`render::gpu_constants`).
 #include "common.glsl"
@@ -12,7 +12,7 @@ layout(set = 0, binding = 0, std140) uniform Frame { FrameUniforms frame; };
 layout(set = 0, binding = 1, std430) writeonly buffer Fields { uint fields[]; };
 layout(constant_id = SPEC_KEYFRAME_UVEC4S) const uint KEYFRAME_UVEC4S = 4096u;
 
-const uint FRAME_WORDS = 80u;      // 320 bytes
+const uint FRAME_WORDS = 136u;     // 544 bytes
 const uint SPEC_WORDS = 11u;       // SPEC_* ids 0..=10
 
 void put_vec4(inout uint o, vec4 v) {
@@ -49,6 +49,14 @@ void main() {
     put_vec4(o, frame.tile_grid);
     put_uvec4(o, frame.cull_tiles);
     put_uvec4(o, frame.cull_lod);
+    for (uint i = 0u; i < RELIEF_WAVES; i++) {
+        put_vec4(o, frame.relief_waves[i]);
+    }
+    for (uint i = 0u; i < RELIEF_WAVES / 2u; i++) {
+        put_vec4(o, frame.relief_phases[i]);
+    }
+    put_uvec4(o, uvec4(frame.field_cells));
+    put_vec4(o, frame.field);
 
     fields[FRAME_WORDS + SPEC_KEYFRAME_UVEC4S] = KEYFRAME_UVEC4S;
     fields[FRAME_WORDS + SPEC_ANIMATION_MODE] = ANIMATION_MODE;

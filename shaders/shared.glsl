@@ -53,6 +53,7 @@
 #define FLAG_CULLED 8u // Instances are entries of the cull's visible list, not blade indices.
 #define FLAG_DEBUG_LOD 16u // Colour blades by their LOD bucket (`--debug-view lod`).
 #define FLAG_DEBUG_TILES 64u // Colour blades by the tile they belong to (`--debug-view tiles`).
+#define FLAG_BLOCKS 128u // A block field (`scene::field`): blades are a stored block's, placed per cell around the origin.
 #define FLAG_SOLID_OUTLINE 32u // Far LOD buckets: the outline tapered in the geometry, no alpha test (early depth writes).
 
 // Culling and LOD switches (`cull_lod.z` of the frame uniforms, `render::culling::Culling`).
@@ -79,6 +80,10 @@
 #define PYRAMID_SIDE 256u // Texels per side of level 0 (level l has PYRAMID_SIDE >> 2l).
 #define PYRAMID_LEVELS 3u // Levels: 256², 64², 16² texels.
 #define PYRAMID_FLOATS 69888u // 256² + 64² + 16².
+
+// Block fields (`scene::field`).
+#define RELIEF_WAVES 8u // Sine waves of the relief.
+#define FIELD_TERRAIN_CELLS 160u // Cells per side of the terrain grid drawn around the origin.
 
 // `SPEC_ANIMATION_MODE` codes.
 #define MODE_STATIC 0u // No animation.

@@ -106,7 +106,7 @@ fn every_blade_field_reads_back_through_a_compute_shader() {
 }
 
 /// Words `frame_readback.comp` writes: the uniforms, one per `SPEC_*` id, six shared constants.
-const FRAME_WORDS: usize = 80;
+const FRAME_WORDS: usize = 136;
 const READBACK_WORDS: usize = FRAME_WORDS + specialization::COUNT + 6;
 
 #[test]
@@ -128,6 +128,10 @@ fn every_frame_uniform_and_specialization_constant_reads_back_through_a_compute_
         tile_grid: Vec4::new(f(56), f(57), f(58), f(59)),
         cull_tiles: UVec4::new(1013, 1014, 1015, 1016),
         cull_lod: UVec4::new(1017, 1018, 1019, 1020),
+        relief_waves: std::array::from_fn(|i| Vec4::splat(f(60 + i as u32)) + Vec4::new(0.0, 0.01, 0.02, 0.03)),
+        relief_phases: std::array::from_fn(|i| Vec4::splat(f(70 + i as u32)) + Vec4::new(0.0, 0.01, 0.02, 0.03)),
+        field_cells: glam::IVec4::new(-1021, 1022, -1023, 1024),
+        field: Vec4::new(f(80), f(81), f(82), f(83)),
     };
     let spec = Specialization {
         keyframe_uvec4s: 2000,

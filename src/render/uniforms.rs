@@ -2,7 +2,7 @@
 //! `shaders/common.glsl`), and the light and atmosphere it carries.
 
 use bytemuck::{Pod, Zeroable};
-use glam::{Mat4, UVec4, Vec3, Vec4};
+use glam::{IVec4, Mat4, UVec4, Vec3, Vec4};
 
 /// Per-frame constants, std140 (`shaders/common.glsl`, struct `FrameUniforms`).
 #[repr(C)]
@@ -38,9 +38,17 @@ pub struct FrameUniforms {
     pub cull_tiles: UVec4,
     /// x LOD buckets, y their segment counts minus 1 (4 bits each), z `CULL_*` / `LOD_*` bits.
     pub cull_lod: UVec4,
+    /// Block fields: per relief wave, the wave vector and amplitude.
+    pub relief_waves: [Vec4; 8],
+    /// Block fields: sin and cos of each wave's phase at the origin O, two waves per vector.
+    pub relief_phases: [Vec4; 4],
+    /// Block fields: xy O's cell, z cells per side of a bounded field (0: unbounded).
+    pub field_cells: IVec4,
+    /// Block fields: x block edge, y relief slope bound, zw the force corners' origin relative to O.
+    pub field: Vec4,
 }
 
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 320);
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 544);
 const _: () = assert!(std::mem::offset_of!(FrameUniforms, cull_view_proj) == 176);
 const _: () = assert!(std::mem::offset_of!(FrameUniforms, cull_lod) == 304);
 const _: () = assert!(std::mem::offset_of!(FrameUniforms, camera_position) == 64);

@@ -1,0 +1,93 @@
+// Block fields (`scene::field`, Belyaev §2.1): the relief and the blades of the cells around the
+// origin O, every position relative to O (FrameUniforms' field part), so the numbers stay small
+// wherever the camera is. Mirrors `scene::field` on the CPU.
+#ifndef MEADOW_FIELD_GLSL
+#define MEADOW_FIELD_GLSL
+
+// Roots are sunk this far below the relief (the terrain's flat triangles lie within about 3 cm of
+// it between their vertices; `scene::field::ROOT_SINK`).
+const float FIELD_ROOT_SINK = 0.03;
+
+// h(O + p) = Σ a_k sin(θ_k + u_k · p), θ_k = u_k · O + φ_k given as sin and cos.
+float relief_height(vec2 p) {
+    float h = 0.0;
+    for (uint k = 0u; k < RELIEF_WAVES; k++) {
+        vec4 w = frame.relief_waves[k];
+        vec4 phase = frame.relief_phases[k / 2u];
+        vec2 sc = (k & 1u) == 0u ? phase.xy : phase.zw;
+        float a = dot(w.xy, p);
+        h += w.z * (sc.x * cos(a) + sc.y * sin(a));
+    }
+    return h;
+}
+
+vec3 relief_normal(vec2 p) {
+    vec2 slope = vec2(0.0);
+    for (uint k = 0u; k < RELIEF_WAVES; k++) {
+        vec4 w = frame.relief_waves[k];
+        vec4 phase = frame.relief_phases[k / 2u];
+        vec2 sc = (k & 1u) == 0u ? phase.xy : phase.zw;
+        float a = dot(w.xy, p);
+        slope += w.z * w.xy * (sc.y * cos(a) - sc.x * sin(a));
+    }
+    return normalize(vec3(-slope.x, 1.0, -slope.y));
+}
+
+// Whether integer cell `cell` belongs to the field (a bounded field is centred on the world's
+// origin: cells -n/2 .. n/2 - 1).
+bool field_has_cell(ivec2 cell) {
+    int n = frame.field_cells.z;
+    if (n == 0) {
+        return true;
+    }
+    ivec2 lo = ivec2(-(n / 2));
+    return all(greaterThanEqual(cell, lo)) && all(lessThan(cell, lo + ivec2(n)));
+}
+
+uint cell_hash(ivec2 cell) {
+    uint h = uint(cell.x) * 0x8da6b343u ^ uint(cell.y) * 0xd8163841u;
+    h ^= h >> 15;
+    h *= 0x2c1b3c6du;
+    return h ^ (h >> 12);
+}
+
+// Blade `index` of the stored block as placed in `cell`: turned by a quarter turn k and mirrored
+// per the cell's hash (a variation of the block, Belyaev §2.1), positioned relative to O and set
+// on the relief.
+BladeInstance field_blade(ivec2 cell, uint index) {
+    BladeInstance blade = blades[index];
+    float edge = frame.field.x;
+    uint h = cell_hash(cell);
+    vec2 p = blade.position.xz - vec2(0.5 * edge);
+    float facing = blade.facing;
+    if ((h & 4u) != 0u) {
+        // Mirror x: the normal (sin f, cos f) becomes (-sin f, cos f).
+        p.x = -p.x;
+        facing = -facing;
+    }
+    uint quarter = h & 3u;
+    for (uint q = 0u; q < quarter; q++) {
+        // A quarter turn about +y: (x, z) -> (z, -x), the facing angle grows by π/2.
+        p = vec2(p.y, -p.x);
+        facing += 0.5 * PI;
+    }
+    vec2 at = vec2(cell - frame.field_cells.xy) * edge + p + vec2(0.5 * edge);
+    blade.position = vec3(at.x, relief_height(at) - FIELD_ROOT_SINK, at.y);
+    blade.facing = facing;
+    return blade;
+}
+
+// The box of every blade of `cell` in any pose, relative to O: the relief at the cell's centre
+// within the slope bound, padded by the longest blade.
+void field_cell_bounds(ivec2 cell, out vec3 lo, out vec3 hi) {
+    float edge = frame.field.x;
+    vec2 corner = vec2(cell - frame.field_cells.xy) * edge;
+    vec2 centre = corner + vec2(0.5 * edge);
+    float spread = frame.field.y * 0.7072 * edge;
+    float reach = 0.56; // scene::blades::HEIGHT_RANGE.1 + WIDTH_RANGE.1 / 2
+    float h = relief_height(centre);
+    lo = vec3(corner.x - reach, h - spread - FIELD_ROOT_SINK, corner.y - reach);
+    hi = vec3(corner.x + edge + reach, h + spread + reach, corner.y + edge + reach);
+}
+
+#endif

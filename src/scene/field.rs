@@ -1,0 +1,159 @@
+//! Camera-following grass blocks (Belyaev §2.1): a field of any size, or unbounded, drawn as a
+//! grid of cells around the camera, each cell a variation of one stored block of blades (rotated
+//! and mirrored by a hash of its integer cell coordinates), set on a relief that can be evaluated
+//! anywhere. Everything the GPU sees is relative to an origin snapped to the camera's cell, so
+//! precision does not depend on how far the camera is from the world's origin.
+
+use std::f32::consts::TAU;
+use std::f64::consts::TAU as TAU64;
+
+use glam::{DVec2, Vec2, Vec4};
+
+use crate::scene::blades::{self, BladeInstance};
+use crate::scene::rng::Rng;
+
+/// Edge of a block in metres (a multiple of the default 1 m force cluster).
+pub const BLOCK_SIZE: f32 = 4.0;
+/// Most blades a block holds: the visible list packs a blade of its block in 16 bits.
+pub const MAX_BLOCK_BLADES: u32 = 1 << 16;
+/// Sine waves of the relief.
+pub const WAVES: usize = 8;
+
+/// `--field SIZE|infinite --density D`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FieldSpec {
+    /// Side of the square field in metres, centred on the origin; `None`: unbounded.
+    pub size: Option<f32>,
+    /// Blades per square metre.
+    pub density: f32,
+}
+
+impl FieldSpec {
+    /// Blades of the stored block at this density.
+    pub fn block_blades(&self) -> u64 {
+        (f64::from(self.density) * f64::from(BLOCK_SIZE * BLOCK_SIZE)).round().max(1.0) as u64
+    }
+
+    /// Cells per side of a bounded field (`None`: unbounded).
+    pub fn cells(&self) -> Option<u32> {
+        self.size.map(|s| (s / BLOCK_SIZE).ceil().max(1.0) as u32)
+    }
+}
+
+/// The relief under a block field: a sum of seeded sine waves, h(p) = Σ a_k sin(u_k · p + φ_k).
+/// Evaluated relative to an origin O without losing precision far away: the GPU gets
+/// sin(u_k · O + φ_k) and cos(u_k · O + φ_k), computed here in f64, and adds u_k · (p − O).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Relief {
+    /// Per wave: direction × 2π / wavelength (x, z) and amplitude (w = phase φ_k).
+    pub waves: [Vec4; WAVES],
+}
+
+impl Relief {
+    /// Gentle hills like the stored terrain's (about ±1.5 m, wavelengths 60 to 6 m).
+    pub fn generate(seed: u64) -> Self {
+        let mut rng = Rng::new(seed ^ 0x7e11ef);
+        let mut waves = [Vec4::ZERO; WAVES];
+        let mut wavelength = 60.0f32;
+        let mut amplitude = 0.6f32;
+        for wave in &mut waves {
+            let angle = rng.range(0.0, TAU);
+            let k = TAU / wavelength;
+            *wave = Vec4::new(angle.cos() * k, angle.sin() * k, amplitude, rng.range(0.0, TAU));
+            wavelength *= 0.72;
+            amplitude *= 0.72;
+        }
+        Self { waves }
+    }
+
+    /// Height at world (x, z), in f64 (the camera's ground, the CPU side of the GPU's relief).
+    pub fn height(&self, x: f64, z: f64) -> f64 {
+        self.waves
+            .iter()
+            .map(|w| f64::from(w.z) * (f64::from(w.x) * x + f64::from(w.y) * z + f64::from(w.w)).sin())
+            .sum()
+    }
+
+    /// The per-wave phases at `origin` for the GPU: (sin, cos) of u_k · O + φ_k, two waves per
+    /// `Vec4`.
+    pub fn phases(&self, origin: DVec2) -> [Vec4; WAVES / 2] {
+        let phase = |w: &Vec4| {
+            let theta = (f64::from(w.x) * origin.x + f64::from(w.y) * origin.y + f64::from(w.w)).rem_euclid(TAU64);
+            (theta.sin() as f32, theta.cos() as f32)
+        };
+        std::array::from_fn(|i| {
+            let (s0, c0) = phase(&self.waves[2 * i]);
+            let (s1, c1) = phase(&self.waves[2 * i + 1]);
+            Vec4::new(s0, c0, s1, c1)
+        })
+    }
+
+    /// The steepest slope the relief can have (Σ a_k |u_k|): bounds a cell's heights.
+    pub fn slope_bound(&self) -> f32 {
+        self.waves.iter().map(|w| w.z * Vec2::new(w.x, w.y).length()).sum()
+    }
+}
+
+/// The stored block: its blades at block-local (x, z) in [0, BLOCK_SIZE)², y = 0, in shuffled
+/// order (a prefix is an even thinning, as in a tile of a stored field).
+pub fn block_blades(spec: &FieldSpec, seed: u64) -> Vec<BladeInstance> {
+    let mut rng = Rng::new(seed ^ 0xb10c);
+    (0..spec.block_blades())
+        .map(|_| BladeInstance {
+            position: [rng.range(0.0, BLOCK_SIZE), 0.0, rng.range(0.0, BLOCK_SIZE)],
+            facing: rng.range(0.0, TAU),
+            height: rng.range(blades::HEIGHT_RANGE.0, blades::HEIGHT_RANGE.1),
+            width: rng.range(blades::WIDTH_RANGE.0, blades::WIDTH_RANGE.1),
+            stiffness: rng.range(blades::STIFFNESS_RANGE.0, blades::STIFFNESS_RANGE.1),
+            variation: (rng.next_u64() & 0xffff_ffff) as u32,
+        })
+        .collect()
+}
+
+/// The integer cell holding world (x, z).
+pub fn cell_of(x: f64, z: f64) -> (i64, i64) {
+    let b = f64::from(BLOCK_SIZE);
+    ((x / b).floor() as i64, (z / b).floor() as i64)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_relief_is_gentle_and_its_phases_rebuild_it_anywhere() {
+        let relief = Relief::generate(3);
+        let (mut lo, mut hi) = (f64::MAX, f64::MIN);
+        for i in 0..400 {
+            let h = relief.height(f64::from(i) * 0.7, f64::from(i) * -1.3);
+            (lo, hi) = (lo.min(h), hi.max(h));
+        }
+        assert!(hi - lo > 0.5 && hi - lo < 4.0, "relief {lo}..{hi}");
+        assert!(relief.slope_bound() < 0.6, "{}", relief.slope_bound());
+        // Far from the origin, the GPU's camera-relative sum equals the f64 height.
+        let origin = DVec2::new(100_000.0, -100_004.0);
+        let phases = relief.phases(origin);
+        let local = Vec2::new(1.25, -2.5);
+        let gpu: f32 = (0..WAVES)
+            .map(|k| {
+                let w = relief.waves[k];
+                let p = phases[k / 2];
+                let (s, c) = if k % 2 == 0 { (p.x, p.y) } else { (p.z, p.w) };
+                let a = w.x * local.x + w.y * local.y;
+                w.z * (s * a.cos() + c * a.sin())
+            })
+            .sum();
+        let exact = relief.height(origin.x + f64::from(local.x), origin.y + f64::from(local.y));
+        assert!((f64::from(gpu) - exact).abs() < 1e-5, "{gpu} vs {exact}");
+    }
+
+    #[test]
+    fn a_block_holds_its_density_inside_its_square() {
+        let spec = FieldSpec { size: None, density: 400.0 };
+        let block = block_blades(&spec, 1);
+        assert_eq!(block.len() as u64, spec.block_blades());
+        assert_eq!(block.len(), 6400);
+        assert!(block.iter().all(|b| (0.0..BLOCK_SIZE).contains(&b.position[0]) && (0.0..BLOCK_SIZE).contains(&b.position[2])));
+        assert_eq!(cell_of(-0.5, 4.0), (-1, 1));
+    }
+}
