@@ -123,7 +123,7 @@ fn bar_panels_draw_every_panel_and_refuse_bad_ones() {
     }
     std::fs::remove_file(&out).unwrap();
     refused("no panels", &dir, plot::bar_panels(&out, (1000, 450), "t", &[], 1), "no panels");
-    refused("zero columns", &dir, plot::bar_panels(&out, (1000, 450), "t", &[time.clone()], 0), "columns");
+    refused("zero columns", &dir, plot::bar_panels(&out, (1000, 450), "t", std::slice::from_ref(&time), 0), "columns");
     refused("too small", &dir, plot::bar_panels(&out, (400, 200), "t", &[time.clone(), diff], 2), "too small");
     let mut nan = time;
     nan.groups[1].1[2] = f64::NAN;
