@@ -296,6 +296,7 @@ fn build(device: &Arc<Device>, field: &Field, segments: u32) -> Result<Built> {
                 submission: Default::default(),
                 debug_bounds: false,
                 debug_lod: false,
+                debug_tiles: false,
                 culling,
                 floor: false,
             };
