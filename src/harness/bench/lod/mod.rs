@@ -421,6 +421,7 @@ fn counts_json(c: &CullCounts) -> Value {
         "after_density": c.after_density,
         "after_frustum": c.after_frustum,
         "after_orientation": c.after_orientation,
+        "after_occlusion": c.after_occlusion,
         "tiles_visible": c.tiles_visible,
         "tiles": c.tiles,
         "drawn": &c.drawn[..buckets],
