@@ -127,18 +127,116 @@ fn assert_compare_flags_a_regression(dir: &std::path::Path, doc: &Value) {
 }
 
 #[test]
+fn tiny_lod_run_compares_brute_force_and_gpu_driven() {
+    let dir = scratch("bench-lod");
+    let output = meadow()
+        .args(["bench", "--preset", "lod", "--validation", "--device", support::DEVICE, "--blades", "20000"])
+        .args(["--size", "160x90", "--frames", "2", "--warmup", "0", "--out"])
+        .arg(&dir)
+        .output()
+        .expect("run meadow bench --preset lod");
+    assert_clean(&output);
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(stdout.contains("ratio") && stdout.contains("stored, inside"), "{stdout}");
+
+    let doc: Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("lod.json")).expect("lod.json")).expect("valid JSON");
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let schema: Value =
+        serde_json::from_str(&std::fs::read_to_string(root.join("docs/lod.schema.json")).expect("schema"))
+            .expect("schema JSON");
+    let violations = support::schema::validate(&schema, &doc);
+    assert!(violations.is_empty(), "lod.json against docs/lod.schema.json: {violations:#?}");
+    let mut broken = doc.clone();
+    broken["rows"][0]["diff"]["p99_percent"] = Value::from(150.0);
+    assert!(!support::schema::validate(&schema, &broken).is_empty(), "a difference over 100 % must be refused");
+    assert_eq!((doc["kind"].as_str(), doc["resolution"].clone()), (Some("lod"), serde_json::json!([160, 90])));
+    let rows = doc["rows"].as_array().expect("rows");
+    let views: Vec<&str> = rows.iter().filter_map(|r| r["view"].as_str()).collect();
+    assert_eq!(views, ["default", "inside", "above", "edge"]);
+    for row in rows {
+        assert_lod_row(row);
+    }
+    // Different cameras see different blades.
+    let drawn: std::collections::BTreeSet<u64> =
+        rows.iter().filter_map(|r| r["variants"][1]["drawn_blades"].as_u64()).collect();
+    assert!(drawn.len() > 1, "every camera drew the same count: {drawn:?}");
+
+    let csv = std::fs::read_to_string(dir.join("lod.csv")).expect("lod.csv");
+    let mut lines = csv.lines();
+    assert!(lines.next().is_some_and(|h| h.starts_with("label,field,blades,segments,view,variant,frame,gpu_ms")));
+    assert_eq!(lines.count(), 4 * 2 * 2, "rows x variants x frames:\n{csv}");
+    let png = image::open(dir.join("lod.png")).expect("lod.png decodes");
+    assert!(png.width() > 0 && png.height() > 0);
+}
+
+/// One row of lod.json: both variants measured, the GPU-driven one culled with its counts in
+/// order, brute force drew every stored blade, the ratio and the difference in range.
+fn assert_lod_row(row: &Value) {
+    let label = row["label"].as_str().expect("label");
+    let (brute, gpu) = (&row["variants"][0], &row["variants"][1]);
+    assert_eq!((brute["variant"].as_str(), gpu["variant"].as_str()), (Some("brute-force"), Some("gpu-driven")));
+    for v in [brute, gpu] {
+        let frames = v["frames"].as_array().expect("frames");
+        assert_eq!(frames.len(), 2, "{label}: measured frames");
+        assert!(frames.iter().all(|f| f["gpu_ms"].as_f64().expect("gpu_ms") > 0.0), "{label}");
+    }
+    assert_eq!(row["blades"], 20000, "{label}: --blades replaces the stored field's count");
+    assert_eq!(brute["drawn_blades"], 20000, "{label}: brute force draws every blade");
+    assert_eq!(brute["blade_triangles"], 20000 * 2 * 4, "{label}: at 4 segments");
+    assert!(brute["counts"].is_null() && brute["cull_ms"]["max"] == 0.0, "{label}: brute force has no cull pass");
+    let ratio = row["ratio"].as_f64().expect("ratio");
+    let medians =
+        (brute["gpu_ms"]["median"].as_f64().expect("median"), gpu["gpu_ms"]["median"].as_f64().expect("median"));
+    assert!(ratio > 0.0 && (ratio - medians.0 / medians.1).abs() < 1e-9, "{label}: ratio {ratio}, medians {medians:?}");
+    let share = row["cull_share"].as_f64().expect("cull share");
+    assert!(share > 0.0 && share < 1.0, "{label}: cull share {share}");
+    let c = &gpu["counts"];
+    let count = |k: &str| c[k].as_u64().unwrap_or_else(|| panic!("{label}: counts.{k}"));
+    assert_eq!(count("considered"), 20000, "{label}");
+    let funnel = ["considered", "after_tiles", "after_density", "after_frustum", "after_orientation", "total_drawn"];
+    assert!(funnel.windows(2).all(|w| count(w[0]) >= count(w[1])), "{label}: counts grow down the cull: {c}");
+    assert!(count("total_drawn") > 0 && gpu["drawn_blades"] == c["total_drawn"], "{label}: {c}");
+    let per_bucket: u64 = c["drawn"].as_array().expect("drawn").iter().filter_map(Value::as_u64).sum();
+    assert_eq!(per_bucket, count("total_drawn"), "{label}");
+    for key in ["mean_percent", "p99_percent", "max_percent"] {
+        let d = row["diff"][key].as_f64().expect("diff");
+        assert!((0.0..=100.0).contains(&d), "{label}: diff {key} {d}");
+    }
+    let d = &row["diff"];
+    assert!(
+        d["mean_percent"].as_f64() <= d["max_percent"].as_f64()
+            && d["p99_percent"].as_f64() <= d["max_percent"].as_f64()
+    );
+}
+
+#[test]
 fn bad_bench_arguments_exit_2() {
     for args in [
         &["bench", "--frames", "0"][..],
         &["bench", "--blades", "0"][..],
         &["bench", "--segments", "17"][..],
         &["bench", "--compare", "/nonexistent/a.json", "/nonexistent/b.json"][..],
+        &["bench", "--preset", "lod", "--modes", "static"][..],
+        &["bench", "--preset", "lod", "--eval", "blade"][..],
+        &["bench", "--preset", "lod", "--blades", "1000,2000"][..],
+        &["bench", "--preset", "lod", "--segments", "2,4"][..],
     ] {
         let output = meadow().args(args).output().expect("run");
         assert_eq!(output.status.code(), Some(2), "{args:?}: {}", transcript(&output));
         let stderr = String::from_utf8_lossy(&output.stderr);
         assert!(stderr.starts_with("error: ") && stderr.lines().count() == 1, "{args:?}: {stderr}");
     }
+    // Smaller than one 8x8 block of the picture difference: refused before the output exists.
+    let out = scratch("bench-lod-bad").join("out");
+    let output = meadow()
+        .args(["bench", "--preset", "lod", "--size", "4x4", "--device", support::DEVICE, "--out"])
+        .arg(&out)
+        .output()
+        .expect("run");
+    assert_eq!(output.status.code(), Some(2), "{}", transcript(&output));
+    assert!(String::from_utf8_lossy(&output.stderr).starts_with("error: --size 4x4"), "{}", transcript(&output));
+    assert!(!out.exists(), "bad input created {}", out.display());
 }
 
 #[test]

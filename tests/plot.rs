@@ -95,6 +95,42 @@ fn bars_draw_each_group_in_its_colour() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+#[test]
+fn bar_panels_draw_every_panel_and_refuse_bad_ones() {
+    let dir = scratch("bar-panels");
+    let out = dir.join("panels.png");
+    let rows: Vec<String> = ["default", "inside", "above"].map(String::from).to_vec();
+    let time = plot::BarPanel {
+        title: "frame time".into(),
+        value_label: "GPU ms".into(),
+        categories: rows.clone(),
+        groups: vec![
+            ("brute force".into(), vec![900.0, 950.0, 700.0]),
+            ("GPU-driven".into(), vec![300.0, 200.0, 250.0]),
+        ],
+    };
+    // The second panel's only group is the third colour: it shows only if that panel is drawn.
+    let diff = plot::BarPanel {
+        title: "difference".into(),
+        value_label: "%".into(),
+        categories: rows,
+        groups: vec![("a".into(), vec![0.0; 3]), ("b".into(), vec![0.0; 3]), ("p99".into(), vec![2.0, 3.5, 1.0])],
+    };
+    plot::bar_panels(&out, (1000, 450), "lod", &[time.clone(), diff.clone()], 2).unwrap();
+    let pixels = load(&out, (1000, 450));
+    for (name, colour) in [("first", BLUE), ("second", ORANGE), ("third", RED)] {
+        assert!(count(&pixels, colour) > 500, "{name} group colour {colour:?} missing");
+    }
+    std::fs::remove_file(&out).unwrap();
+    refused("no panels", &dir, plot::bar_panels(&out, (1000, 450), "t", &[], 1), "no panels");
+    refused("zero columns", &dir, plot::bar_panels(&out, (1000, 450), "t", std::slice::from_ref(&time), 0), "columns");
+    refused("too small", &dir, plot::bar_panels(&out, (400, 200), "t", &[time.clone(), diff], 2), "too small");
+    let mut nan = time;
+    nan.groups[1].1[2] = f64::NAN;
+    refused("NaN", &dir, plot::bar_panels(&out, (1000, 450), "t", &[nan], 1), "not finite");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// Single points, equal values, zeros, narrow and huge ranges are padded, not refused.
 #[test]
 fn degenerate_data_still_draws() {

@@ -157,13 +157,14 @@ pub(crate) struct ViewArgs {
 
 #[derive(Args)]
 pub(crate) struct BenchArgs {
-    /// thesis: the 15 rows of Table 6.2 at 1280x720; quick: a small smoke matrix.
+    /// thesis: the 15 rows of Table 6.2 at 1280x720; quick: a small smoke matrix; lod: brute force
+    /// against the GPU-driven cull and LOD on a 1M-blade field from four cameras.
     #[arg(long, value_enum, default_value = "quick")]
     pub(crate) preset: PresetArg,
-    /// Blade counts (comma-separated), replacing the preset's.
+    /// Blade counts (comma-separated), replacing the preset's (lod: one, the stored field's).
     #[arg(long, value_delimiter = ',', value_parser = values::blade_count)]
     pub(crate) blades: Vec<u32>,
-    /// Segment counts (comma-separated), replacing the preset's.
+    /// Segment counts (comma-separated), replacing the preset's (lod: one).
     #[arg(long, value_delimiter = ',', value_parser = values::segments)]
     pub(crate) segments: Vec<u32>,
     /// Modes (comma-separated).
@@ -181,7 +182,7 @@ pub(crate) struct BenchArgs {
     /// Frames per variant measured.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=10_000))]
     pub(crate) frames: Option<u32>,
-    /// Directory for bench.json and bench.csv.
+    /// Directory for bench.json, bench.csv and bench.png (lod: lod.json, lod.csv and lod.png).
     #[arg(long, default_value = "bench-out")]
     pub(crate) out: PathBuf,
     /// Compare two bench.json files instead of measuring; exit 1 on a regression.
@@ -255,6 +256,7 @@ pub(crate) struct OverheadArgs {
 pub(crate) enum PresetArg {
     Thesis,
     Quick,
+    Lod,
 }
 
 #[derive(Clone, Copy, ValueEnum)]

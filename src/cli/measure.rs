@@ -101,6 +101,7 @@ pub(crate) fn bench(args: BenchArgs) -> crate::Result<(u8, Option<u64>)> {
     let mut options = match args.preset {
         PresetArg::Thesis => bench::BenchOptions::thesis(args.out.clone()),
         PresetArg::Quick => bench::BenchOptions::quick(args.out.clone()),
+        PresetArg::Lod => return lod(args),
     };
     let preset_blades: Vec<u32> = options.rows.iter().map(|r| r.0).collect();
     let preset_segments: Vec<u32> = options.rows.iter().map(|r| r.1).collect();
@@ -130,6 +131,47 @@ pub(crate) fn bench(args: BenchArgs) -> crate::Result<(u8, Option<u64>)> {
             print!("{}", bench::table(&doc));
             print!("\n{}", bench::statistics_table(&doc));
             println!("wrote {}/bench.json, bench.csv and bench.png", options.out.display());
+        },
+    ))
+}
+
+/// `meadow bench --preset lod`. `--modes` and `--eval` do not apply (it renders the default
+/// animation both ways); `--blades` and `--segments` take one value each.
+fn lod(args: BenchArgs) -> crate::Result<(u8, Option<u64>)> {
+    use crate::harness::bench::lod::{self, LodBenchOptions};
+    use crate::Error;
+    for (given, flag) in [(!args.modes.is_empty(), "--modes"), (!args.eval.is_empty(), "--eval")] {
+        if given {
+            return Err(Error::bad_input(format!(
+                "{flag} does not apply to --preset lod: it renders texture keyframes, brute force and GPU-driven"
+            )));
+        }
+    }
+    let mut options = LodBenchOptions::preset(args.out.clone());
+    match args.blades.as_slice() {
+        [] => {}
+        &[blades] => options.set_stored_blades(blades),
+        _ => return Err(Error::bad_input("--preset lod takes one --blades count (the stored field's)")),
+    }
+    match args.segments.as_slice() {
+        [] => {}
+        &[segments] => options.segments = segments,
+        _ => return Err(Error::bad_input("--preset lod takes one --segments count")),
+    }
+    options.size = args.size.unwrap_or(options.size);
+    options.warmup = args.warmup.unwrap_or(options.warmup);
+    options.frames = args.frames.unwrap_or(options.frames);
+    Ok(measure(
+        &args.gpu,
+        "frames",
+        |device, progress| {
+            let doc = lod::run(device, &options, progress)?;
+            lod::write(&doc, &options.out)?;
+            Ok(doc)
+        },
+        |doc| {
+            print!("{}", lod::table(&doc));
+            println!("wrote {}/lod.json, lod.csv and lod.png", options.out.display());
         },
     ))
 }

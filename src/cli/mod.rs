@@ -30,7 +30,8 @@ pub(crate) enum Command {
     Render(RenderArgs),
     /// Open the interactive viewer (needs a display).
     View(ViewArgs),
-    /// Measure static / texture / uniform / floor side by side (thesis Table 6.2), or compare runs.
+    /// Measure static / texture / uniform / floor side by side (thesis Table 6.2), the GPU-driven
+    /// cull and LOD against brute force (`--preset lod`), or compare runs.
     Bench(BenchArgs),
     /// Measure draw-submission overhead: the same blades drawn instanced, per cluster, indirectly,
     /// from secondaries recorded on threads, or pre-recorded.

@@ -127,15 +127,7 @@ impl Viewer {
             "b" => animation.eval = if animation.eval == Eval::Vertex { Eval::Blade } else { Eval::Vertex },
             "v" => self.settings.debug_force = !self.settings.debug_force,
             "x" => self.settings.debug_bounds = !self.settings.debug_bounds,
-            "t" => {
-                // LOD buckets, then tiles, then neither.
-                let s = &mut self.settings;
-                (s.debug_lod, s.debug_tiles) = match (s.debug_lod, s.debug_tiles) {
-                    (false, false) => (true, false),
-                    (true, _) => (false, true),
-                    (false, true) => (false, false),
-                };
-            }
+            "t" => cycle_cull_views(&mut self.settings),
             "o" | "y" => toggle_culling(&mut self.settings.culling, name),
             "f" => self.settings.wireframe = !self.settings.wireframe,
             "plus" | "minus" => {
@@ -249,6 +241,15 @@ impl Viewer {
         }
         None
     }
+}
+
+/// T: the LOD bucket view, then the tile view, then neither.
+fn cycle_cull_views(s: &mut crate::render::RenderSettings) {
+    (s.debug_lod, s.debug_tiles) = match (s.debug_lod, s.debug_tiles) {
+        (false, false) => (true, false),
+        (true, _) => (false, true),
+        (false, true) => (false, false),
+    };
 }
 
 /// O: GPU culling or brute force; Y: the LOD (density, segments, outline) on or off.

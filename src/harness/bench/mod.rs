@@ -16,6 +16,7 @@ use crate::render::{OffscreenTarget, RenderSettings, Renderer};
 use crate::scene::{Camera, Scene};
 use crate::vk::Device;
 
+pub mod lod;
 mod report;
 
 pub use report::{best, compare, csv, load, median, plot, statistics_table, table, write};

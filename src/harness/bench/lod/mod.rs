@@ -1,0 +1,432 @@
+//! `meadow bench --preset lod`: the GPU-driven cull and LOD against brute force. A row is a
+//! label, a field and a view; for each, a brute-force and a GPU-driven renderer of the same scene
+//! render the same camera at the same simulation time, interleaved (A B A B …, warm-up frames
+//! discarded), each into its own target. Per row: both frame times, their ratio, the cull
+//! passes' share of the GPU-driven frame, what the cull kept and drew, and how far the
+//! GPU-driven picture is from brute force after an 8×8 box filter
+//! ([`crate::imagediff::box_filtered_difference`]). Results go to `lod.json`, `lod.csv` and
+//! `lod.png` ([`report`]).
+
+use std::path::PathBuf;
+use std::sync::Arc;
+
+use ash::vk;
+use glam::Vec3;
+use serde_json::{json, Value};
+
+use crate::error::{Error, Result};
+use crate::harness::document::{document, summary};
+use crate::harness::Progress;
+use crate::imagediff::box_filtered_difference;
+use crate::render::animation::AnimationSettings;
+use crate::render::culling::{CullCounts, Culling};
+use crate::render::target::{offscreen_bytes, OFFSCREEN_FORMAT};
+use crate::render::{FrameTimings, OffscreenTarget, RenderSettings, Renderer};
+use crate::scene::camera::EYE_HEIGHT;
+use crate::scene::{Camera, Scene, Terrain};
+use crate::vk::Device;
+
+mod report;
+
+pub use report::{csv, plot, table, write};
+
+/// Side in pixels of the blocks the pictures are averaged over before they are compared.
+pub const DIFF_BLOCK: u32 = 8;
+/// Simulation time of every frame, in seconds (`meadow render`'s default `--time`).
+pub const SIMULATION_TIME: f32 = 0.0;
+/// The variants of a row, in the order they render and appear in the document.
+pub const VARIANTS: [&str; 2] = ["brute-force", "gpu-driven"];
+
+/// The field a row renders.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Field {
+    /// Every blade stored: `Scene::generate(blades, seed)`.
+    Stored {
+        /// Blades of the field (it grows at a fixed density).
+        blades: u32,
+        /// Seed of the terrain and the scatter.
+        seed: u64,
+    },
+}
+
+impl Field {
+    /// Blades of the field.
+    pub fn blades(&self) -> u32 {
+        match self {
+            Field::Stored { blades, .. } => *blades,
+        }
+    }
+
+    /// The field in the document.
+    pub fn json(&self) -> Value {
+        match self {
+            Field::Stored { blades, seed } => json!({ "kind": "stored", "blades": blades, "seed": seed }),
+        }
+    }
+
+    /// Its scene.
+    fn scene(&self) -> Scene {
+        match self {
+            Field::Stored { blades, seed } => Scene::generate(*blades, *seed),
+        }
+    }
+
+    /// Every check of the field against the device before anything is allocated: one renderer's
+    /// (`check_scene`), then two renderers and two targets together against the budget.
+    fn check(&self, device: &Device, segments: u32, size: (u32, u32)) -> Result<()> {
+        match self {
+            Field::Stored { blades, .. } => {
+                crate::app::check_scene(device, *blades, segments, size, &AnimationSettings::default(), false)?;
+                let cells = Terrain::cells_for(crate::scene::blades::field_size(*blades));
+                let one = crate::render::scene_gpu::SceneGpu::memory_bytes(u64::from(*blades), u64::from(cells))
+                    + offscreen_bytes(vk::Extent2D { width: size.0, height: size.1 });
+                device.check_budget(2 * one, &format!("--preset lod with {blades} blades (two renderers)"))
+            }
+        }
+    }
+}
+
+/// Where a row's camera stands, in proportion to its field's side `s` (so it frames any blade
+/// count alike), on a field centred on the origin with north along −z.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum View {
+    /// `Camera::default_for`: 1.7 m above the middle of the south edge, looking north across the
+    /// field, 12° down.
+    Default,
+    /// Standing (1.7 m) inside, a quarter of the side in from the south-west corner, looking
+    /// north-east across the field to the far corner, 10° down.
+    Inside,
+    /// Above the middle of the south edge at s/4 over the ground, looking north 35° down.
+    Above,
+    /// Standing (1.7 m) on the east edge, s/20 in from the south-east corner, looking north along
+    /// the edge (the field on the left half of the picture), 8° down.
+    Edge,
+}
+
+impl View {
+    /// Its name in the document.
+    pub fn name(self) -> &'static str {
+        match self {
+            View::Default => "default",
+            View::Inside => "inside",
+            View::Above => "above",
+            View::Edge => "edge",
+        }
+    }
+
+    /// The camera on `terrain`.
+    pub fn camera(self, terrain: &Terrain) -> Camera {
+        let s = terrain.size;
+        let stand = |x: f32, z: f32, above: f32, yaw_deg: f32, pitch_deg: f32| Camera {
+            position: Vec3::new(x, terrain.height_at(x, z) + above, z),
+            yaw_deg,
+            pitch_deg,
+        };
+        match self {
+            View::Default => Camera::default_for(terrain),
+            View::Inside => stand(-0.25 * s, 0.25 * s, EYE_HEIGHT, -45.0, -10.0),
+            View::Above => stand(0.0, 0.5 * s, 0.25 * s, 0.0, -35.0),
+            View::Edge => stand(0.5 * s, 0.45 * s, EYE_HEIGHT, 0.0, -8.0),
+        }
+    }
+}
+
+/// One row: what it is called, the field, where the camera stands.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LodRow {
+    /// Name in the table, the CSV and the plot.
+    pub label: String,
+    /// The field.
+    pub field: Field,
+    /// The camera.
+    pub view: View,
+}
+
+impl LodRow {
+    /// A row.
+    pub fn new(label: &str, field: Field, view: View) -> Self {
+        Self { label: label.into(), field, view }
+    }
+}
+
+/// What to measure.
+#[derive(Clone, Debug)]
+pub struct LodBenchOptions {
+    /// The rows, measured in order; consecutive rows of the same field share its renderers.
+    pub rows: Vec<LodRow>,
+    /// Picture size.
+    pub size: (u32, u32),
+    /// Frames per variant discarded first.
+    pub warmup: u32,
+    /// Frames per variant measured.
+    pub frames: u32,
+    /// Segments of brute force, and of the GPU-driven path's nearest LOD bucket.
+    pub segments: u32,
+    /// Output directory.
+    pub out: PathBuf,
+}
+
+impl LodBenchOptions {
+    /// `--preset lod`: a stored field of a million blades, 4 segments, 1280×720, from four views.
+    pub fn preset(out: PathBuf) -> Self {
+        let stored = Field::Stored { blades: 1_000_000, seed: 1 };
+        Self {
+            // One line per (field, view).
+            rows: vec![
+                LodRow::new("stored, default", stored.clone(), View::Default),
+                LodRow::new("stored, inside", stored.clone(), View::Inside),
+                LodRow::new("stored, above", stored.clone(), View::Above),
+                LodRow::new("stored, edge", stored, View::Edge),
+            ],
+            size: (1280, 720),
+            warmup: 1,
+            frames: 9,
+            segments: 4,
+            out,
+        }
+    }
+
+    /// Replace the blade count of every stored field (`--blades`).
+    pub fn set_stored_blades(&mut self, count: u32) {
+        for row in &mut self.rows {
+            let Field::Stored { blades, .. } = &mut row.field;
+            *blades = count;
+        }
+    }
+
+    /// The options as the document records them.
+    fn json(&self) -> Value {
+        json!({
+            "rows": self.rows.len(),
+            "size": [self.size.0, self.size.1],
+            "warmup": self.warmup,
+            "frames": self.frames,
+            "segments": self.segments,
+            "simulation_time_s": SIMULATION_TIME,
+            "diff_block": DIFF_BLOCK,
+        })
+    }
+}
+
+/// Run the benchmark; `progress(done, total)` after every frame. Returns the JSON document.
+pub fn run(device: &Arc<Device>, options: &LodBenchOptions, mut progress: impl FnMut(u64, u64)) -> Result<Value> {
+    if options.rows.is_empty() {
+        return Err(Error::bad_input("nothing to measure: no rows"));
+    }
+    if options.size.0 < DIFF_BLOCK || options.size.1 < DIFF_BLOCK {
+        return Err(Error::bad_input(format!(
+            "--size {}x{}: --preset lod compares pictures in {DIFF_BLOCK}x{DIFF_BLOCK} blocks and needs at least one",
+            options.size.0, options.size.1
+        )));
+    }
+    // Every row's limits before the output directory exists: bad input leaves no empty directory.
+    for row in &options.rows {
+        row.field.check(device, options.segments, options.size)?;
+    }
+    std::fs::create_dir_all(&options.out)
+        .map_err(|source| Error::Io { path: options.out.display().to_string(), source })?;
+    let extent = vk::Extent2D { width: options.size.0, height: options.size.1 };
+    let total = (options.rows.len() * VARIANTS.len()) as u64 * u64::from(options.warmup + options.frames);
+    let mut frames = Progress::new(total, &mut progress);
+    let mut targets = Vec::new();
+    let rows = (|| {
+        for _ in VARIANTS {
+            targets.push(OffscreenTarget::new(device, extent)?);
+        }
+        measure_rows(device, options, &mut targets, &mut frames)
+    })();
+    for target in targets {
+        // SAFETY: measure_rows dropped its renderers, which waited for their frames.
+        unsafe { target.destroy(device) };
+    }
+    let fields = json!({
+        "options": options.json(),
+        "warmup": options.warmup,
+        "frames_per_variant": options.frames,
+        "rows": rows?,
+    });
+    Ok(document(device, "lod", options.size, fields))
+}
+
+/// The renderers of one field: brute force and GPU-driven, in the order of [`VARIANTS`].
+struct Built {
+    field: Field,
+    scene: Scene,
+    renderers: Vec<Renderer>,
+}
+
+/// Measure every row, building a field's scene and renderers when it differs from the previous
+/// row's. The renderers are dropped (their frames waited for) before this returns.
+fn measure_rows(
+    device: &Arc<Device>,
+    options: &LodBenchOptions,
+    targets: &mut [OffscreenTarget],
+    frames: &mut Progress,
+) -> Result<Vec<Value>> {
+    let mut built: Option<Built> = None;
+    let mut rows = Vec::new();
+    for row in &options.rows {
+        if built.as_ref().is_none_or(|b| b.field != row.field) {
+            // The previous field's renderers go first: only one field is on the device at once.
+            drop(built.take());
+            built = Some(build(device, &row.field, options.segments)?);
+        }
+        let b = built.as_mut().expect("built above");
+        rows.push(measure_row(row, &b.scene, &mut b.renderers, targets, options, frames)?);
+    }
+    Ok(rows)
+}
+
+/// The scene of `field` and its two renderers: texture keyframes without wind
+/// (`AnimationSettings::default()`), one frame in flight, pipeline statistics off.
+fn build(device: &Arc<Device>, field: &Field, segments: u32) -> Result<Built> {
+    let scene = field.scene();
+    let renderers = [Culling::brute_force(segments), Culling::default_for(segments)]
+        .into_iter()
+        .map(|culling| {
+            let settings = RenderSettings {
+                segments,
+                color_format: OFFSCREEN_FORMAT,
+                encode_srgb: true,
+                frames_in_flight: 1,
+                blades_per_instance: 1,
+                debug_force: false,
+                wireframe: false,
+                pipeline_statistics: false,
+                submission: Default::default(),
+                debug_bounds: false,
+                debug_lod: false,
+                debug_tiles: false,
+                culling,
+                floor: false,
+            };
+            Renderer::new(device.clone(), &scene, settings, AnimationSettings::default())
+        })
+        .collect::<Result<Vec<_>>>()?;
+    Ok(Built { field: field.clone(), scene, renderers })
+}
+
+/// One measured frame of a variant.
+struct Sample {
+    gpu_ms: f64,
+    /// The passes whose name starts with "cull".
+    cull_ms: f64,
+    passes: Value,
+}
+
+impl Sample {
+    fn of(t: &FrameTimings) -> Self {
+        let passes: serde_json::Map<String, Value> = t.passes.iter().map(|p| (p.name.into(), json!(p.ms))).collect();
+        let cull_ms = t.passes.iter().filter(|p| p.name.starts_with("cull")).fold(0.0, |sum, p| sum + p.ms);
+        Self { gpu_ms: t.gpu_ms, cull_ms, passes: Value::Object(passes) }
+    }
+
+    /// The cull passes' share of the frame (0 for a frame without GPU time).
+    fn cull_share(&self) -> f64 {
+        if self.gpu_ms > 0.0 {
+            self.cull_ms / self.gpu_ms
+        } else {
+            0.0
+        }
+    }
+}
+
+/// One row: both variants rendered interleaved from the row's camera, then their last pictures
+/// compared. Returns the row's JSON.
+fn measure_row(
+    row: &LodRow,
+    scene: &Scene,
+    renderers: &mut [Renderer],
+    targets: &mut [OffscreenTarget],
+    options: &LodBenchOptions,
+    frames: &mut Progress,
+) -> Result<Value> {
+    let camera = row.view.camera(&scene.terrain);
+    let mut samples: Vec<Vec<Sample>> = renderers.iter().map(|_| Vec::new()).collect();
+    let mut cull = None;
+    for round in 0..options.warmup + options.frames {
+        for (i, (renderer, target)) in renderers.iter_mut().zip(targets.iter_mut()).enumerate() {
+            let t = renderer.render_offscreen(target, &camera, SIMULATION_TIME)?;
+            frames.rendered();
+            if round >= options.warmup {
+                samples[i].push(Sample::of(&t));
+            }
+            if i == 1 {
+                cull = t.cull;
+            }
+        }
+    }
+    let cull = cull.ok_or_else(|| Error::Internal("the GPU-driven renderer read back no cull counts".into()))?;
+    let rgb =
+        |t: &OffscreenTarget| -> Vec<u8> { t.pixels().chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect() };
+    let (w, h) = options.size;
+    let diff = box_filtered_difference(&rgb(&targets[0]), &rgb(&targets[1]), w, h, DIFF_BLOCK);
+    let brute_triangles = renderers[0].triangles().0;
+    let variants = [
+        variant_json(VARIANTS[0], &samples[0], u64::from(row.field.blades()), brute_triangles, Value::Null),
+        variant_json(VARIANTS[1], &samples[1], cull.total_drawn(), cull.triangles(), counts_json(&cull)),
+    ];
+    let median = |v: &Value| v["gpu_ms"]["median"].as_f64().unwrap_or(0.0);
+    let ratio = if median(&variants[1]) > 0.0 { median(&variants[0]) / median(&variants[1]) } else { 0.0 };
+    Ok(json!({
+        "label": row.label,
+        "field": row.field.json(),
+        "blades": row.field.blades(),
+        "segments": options.segments,
+        "view": row.view.name(),
+        "camera": {
+            "position": camera.position.to_array(),
+            "yaw_deg": camera.yaw_deg,
+            "pitch_deg": camera.pitch_deg,
+        },
+        "ratio": ratio,
+        "cull_share": variants[1]["cull_share"],
+        "diff": {
+            "block": DIFF_BLOCK,
+            "mean_percent": diff.mean_percent,
+            "p99_percent": diff.p99_percent,
+            "max_percent": diff.max_percent,
+        },
+        "variants": variants,
+    }))
+}
+
+/// A variant's entry of a row: its frame times, what it drew, its cull counts (GPU-driven only)
+/// and its measured frames.
+fn variant_json(name: &str, samples: &[Sample], drawn: u64, triangles: u64, counts: Value) -> Value {
+    let gpu: Vec<f64> = samples.iter().map(|s| s.gpu_ms).collect();
+    let cull: Vec<f64> = samples.iter().map(|s| s.cull_ms).collect();
+    let share: Vec<f64> = samples.iter().map(Sample::cull_share).collect();
+    let frames: Vec<Value> =
+        samples.iter().map(|s| json!({ "gpu_ms": s.gpu_ms, "cull_ms": s.cull_ms, "passes_ms": s.passes })).collect();
+    json!({
+        "variant": name,
+        "gpu_ms": summary(&gpu),
+        "cull_ms": summary(&cull),
+        // The median over the frames of each frame's cull passes / its GPU time.
+        "cull_share": summary(&share)["median"],
+        "drawn_blades": drawn,
+        "blade_triangles": triangles,
+        "counts": counts,
+        "frames": frames,
+    })
+}
+
+/// What the cull kept after each test and drew per bucket.
+fn counts_json(c: &CullCounts) -> Value {
+    let buckets = c.segments.iter().take_while(|&&s| s > 0).count();
+    json!({
+        "considered": c.considered,
+        "after_tiles": c.after_tiles,
+        "after_density": c.after_density,
+        "after_frustum": c.after_frustum,
+        "after_orientation": c.after_orientation,
+        "after_occlusion": c.after_occlusion,
+        "tiles_visible": c.tiles_visible,
+        "tiles": c.tiles,
+        "drawn": &c.drawn[..buckets],
+        "bucket_segments": &c.segments[..buckets],
+        "total_drawn": c.total_drawn(),
+        "triangles": c.triangles(),
+    })
+}
