@@ -83,7 +83,7 @@ void main() {
             position = result.x == b ? at[b] : position;
             at[b] += result.x == b ? 1u : 0u;
         }
-        if (result.x != NOT_DRAWN) {
+        if (result.x != NOT_DRAWN && position < frame.cull_lod.w) {
             visible[position] = uvec2(visible_blade(tile, slot, rank), result.y);
         }
     }

@@ -64,7 +64,8 @@ void main() {
     if (lane == 0u) {
         uint first = 0u;
         for (uint b = 0u; b < MAX_LOD_BUCKETS; b++) {
-            uint count = b < frame.cull_lod.x ? totals[b] : 0u;
+            // The visible list holds cull_lod.w entries: past them, the farthest are dropped.
+            uint count = b < frame.cull_lod.x ? min(totals[b], frame.cull_lod.w - first) : 0u;
             // VkDrawIndirectCommand: vertexCount, instanceCount, firstVertex, firstInstance.
             draws[4u * b] = 2u * (bucket_segments(b) + 1u);
             draws[4u * b + 1u] = count;

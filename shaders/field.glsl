@@ -44,8 +44,10 @@ bool field_has_cell(ivec2 cell) {
     return all(greaterThanEqual(cell, lo)) && all(lessThan(cell, lo + ivec2(n)));
 }
 
+// The blocks' variation repeats every PERIOD_CELLS cells (`scene::field::WORLD_PERIOD`).
 uint cell_hash(ivec2 cell) {
-    uint h = uint(cell.x) * 0x8da6b343u ^ uint(cell.y) * 0xd8163841u;
+    ivec2 c = ((cell % PERIOD_CELLS) + PERIOD_CELLS) % PERIOD_CELLS;
+    uint h = uint(c.x) * 0x8da6b343u ^ uint(c.y) * 0xd8163841u;
     h ^= h >> 15;
     h *= 0x2c1b3c6du;
     return h ^ (h >> 12);

@@ -84,6 +84,7 @@
 // Block fields (`scene::field`).
 #define RELIEF_WAVES 8u // Sine waves of the relief.
 #define FIELD_TERRAIN_CELLS 160u // Cells per side of the terrain grid drawn around the origin.
+#define PERIOD_CELLS 250 // Block cells in the world's period (`scene::field::PERIOD_CELLS`).
 
 // `SPEC_ANIMATION_MODE` codes.
 #define MODE_STATIC 0u // No animation.

@@ -112,6 +112,8 @@ pub struct RenderOptions {
     pub culling: crate::render::culling::Culling,
     /// Frame-time budget in milliseconds: the LOD scale follows the measured GPU time.
     pub budget_ms: Option<f32>,
+    /// A field of camera-following blocks instead of `blades` stored blades.
+    pub field: Option<crate::scene::field::FieldSpec>,
     /// Draw the benchmark floor instead of the blades (`--mode floor`).
     pub floor: bool,
     /// How the blade draws are submitted.
@@ -119,6 +121,50 @@ pub struct RenderOptions {
 }
 
 impl RenderOptions {
+    /// The blades the renderer stores: `--blades`, or a block field's block.
+    pub fn stored_blades(&self) -> u32 {
+        self.field.map_or(self.blades, |f| f.block_blades() as u32)
+    }
+
+    /// The scene of these options: stored blades, or a block field.
+    pub fn scene(&self) -> Scene {
+        match self.field {
+            Some(spec) => Scene::blocks(spec, self.seed),
+            None => Scene::generate(self.blades, self.seed),
+        }
+    }
+
+    /// Refuse what a block field cannot do, before any work: it is drawn only through the cull
+    /// (its blades are placed per cell by the cull and the blade shader).
+    pub fn check_field(&self) -> Result<()> {
+        if self.field.is_none() {
+            return Ok(());
+        }
+        let refuse = |what: &str| Err(Error::bad_input(format!("--field {what}")));
+        if !self.culling.enabled {
+            return refuse("is drawn through the cull: drop --brute-force");
+        }
+        if self.floor {
+            return refuse("has no floor reference: drop --mode floor");
+        }
+        if self.animation.eval == crate::render::animation::Eval::Blade
+            && self.animation.mode != crate::render::animation::Mode::Static
+        {
+            return refuse("places one stored block in every cell: per-blade evaluation needs --eval vertex");
+        }
+        if self.debug_bounds {
+            return refuse("has no fixed cluster grid to draw: drop --debug-view bounds");
+        }
+        let most = crate::render::field_gpu::max_view_distance();
+        if self.culling.view_distance > most {
+            return refuse(&format!(
+                "sees at most {most} m: --view-distance {} is too far",
+                self.culling.view_distance
+            ));
+        }
+        Ok(())
+    }
+
     /// The renderer settings of these options for offscreen targets with pipeline statistics
     /// (`render`, `timing`).
     pub fn offscreen_settings(&self, frames_in_flight: usize) -> RenderSettings {
@@ -261,7 +307,8 @@ pub fn write_png(path: &Path, size: (u32, u32), rgba: &[u8]) -> Result<()> {
 /// `meadow render`: build the scene, render it headless, write the PNG.
 pub fn render(device: &Arc<Device>, options: &RenderOptions) -> Result<RenderReport> {
     output::check_output(&options.out, "--out")?;
-    check_scene(device, options.blades, options.segments, options.size, &options.animation, options.floor)?;
+    options.check_field()?;
+    check_scene(device, options.stored_blades(), options.segments, options.size, &options.animation, options.floor)?;
     if options.submission.clusters > options.blades {
         return Err(Error::bad_input(format!(
             "--clusters {} exceeds --blades {}: a cluster holds a blade at least",
@@ -274,8 +321,8 @@ pub fn render(device: &Arc<Device>, options: &RenderOptions) -> Result<RenderRep
     let field_m = blades::field_size(options.blades);
 
     let setup = Instant::now();
-    let scene = Scene::generate(options.blades, options.seed);
-    let camera = options.camera.unwrap_or_else(|| Camera::default_for(&scene.terrain));
+    let scene = options.scene();
+    let camera = options.camera.unwrap_or_else(|| scene.default_camera());
     let mut renderer = Renderer::new(device.clone(), &scene, options.offscreen_settings(1), options.animation.clone())?;
     let extent = vk::Extent2D { width: options.size.0, height: options.size.1 };
     let mut target = OffscreenTarget::new(device, extent)?;

@@ -79,6 +79,13 @@ pub(crate) struct SceneArgs {
     /// Number of grass blades (the field grows at a fixed density).
     #[arg(long, default_value = "100000", value_parser = values::blade_count)]
     pub(crate) blades: u32,
+    /// A field of camera-following blocks instead of stored blades: its side in metres, or
+    /// `infinite` (Belyaev §2.1; with --density, not with --blades).
+    #[arg(long, value_name = "SIZE_M|infinite", value_parser = values::field, conflicts_with = "blades")]
+    pub(crate) field: Option<crate::render::field_gpu::FieldSize>,
+    /// Blades per square metre of a --field (default 400).
+    #[arg(long, value_name = "BLADES_PER_M2", value_parser = values::density, requires = "field")]
+    pub(crate) density: Option<f32>,
     /// Bézier segments per blade (1..=16).
     #[arg(long, default_value = "4", value_parser = values::segments)]
     pub(crate) segments: u32,
@@ -122,6 +129,10 @@ impl SceneArgs {
             debug_lod: self.debug_view == Some(DebugViewArg::Lod),
             debug_tiles: self.debug_view == Some(DebugViewArg::Tiles),
             culling: self.culling.culling(self.segments),
+            field: self.field.map(|size| crate::scene::field::FieldSpec {
+                size: size.0,
+                density: self.density.unwrap_or(crate::scene::blades::DENSITY_PER_M2),
+            }),
             budget_ms: self.culling.budget_ms,
             floor: self.animation.mode.is_floor(),
             submission: Default::default(),

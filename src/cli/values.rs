@@ -34,6 +34,32 @@ pub fn lod_segments(text: &str) -> Result<crate::render::culling::LodSegments, S
     crate::render::culling::LodSegments::new(&counts)
 }
 
+/// `--field`: a side in metres above 0, or `infinite` (`None`).
+pub fn field(text: &str) -> Result<crate::render::field_gpu::FieldSize, String> {
+    if text.trim() == "infinite" {
+        return Ok(crate::render::field_gpu::FieldSize(None));
+    }
+    let size = finite_f32(text).map_err(|_| format!("'{text}' is neither a size in metres nor 'infinite'"))?;
+    if size <= 0.0 {
+        return Err(format!("a field of {size} m is empty: give a size above 0 or 'infinite'"));
+    }
+    Ok(crate::render::field_gpu::FieldSize(Some(size)))
+}
+
+/// `--density`: blades per square metre, above 0 and at most what a block holds.
+pub fn density(text: &str) -> Result<f32, String> {
+    let density = positive_f32(text)?;
+    let most = crate::scene::field::max_density();
+    if density > most {
+        return Err(format!(
+            "{density} blades/m² is over the {most} a {} m block holds ({} blades)",
+            crate::scene::field::BLOCK_SIZE,
+            crate::scene::field::MAX_BLOCK_BLADES
+        ));
+    }
+    Ok(density)
+}
+
 /// Blade count, at least 1. Device limits are checked once the device is known.
 pub fn blade_count(text: &str) -> Result<u32, String> {
     let value: u64 = text.trim().parse().map_err(|_| format!("'{text}' is not a whole number of blades"))?;

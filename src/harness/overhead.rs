@@ -52,7 +52,7 @@ pub fn run(device: &Arc<Device>, options: &OverheadOptions, mut progress: impl F
     std::fs::create_dir_all(&options.out)
         .map_err(|source| Error::Io { path: options.out.display().to_string(), source })?;
     let scene = Scene::generate(options.blades, 1);
-    let camera = Camera::default_for(&scene.terrain);
+    let camera = scene.default_camera();
     let setup = Setup { device, camera, scene, options };
     let extent = vk::Extent2D { width: options.size.0, height: options.size.1 };
     let total = (options.clusters.len() * options.strategies.len()) as u64 * u64::from(options.warmup + options.frames);

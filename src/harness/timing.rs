@@ -23,7 +23,7 @@ use crate::harness::document::{statistics_json, summary};
 use crate::render::graph::Outputs;
 use crate::render::renderer::FrameSync;
 use crate::render::{FrameTimings, OffscreenTarget, Renderer};
-use crate::scene::{Camera, Scene};
+use crate::scene::Scene;
 use crate::vk::{Access, Device};
 
 /// What to measure.
@@ -112,7 +112,7 @@ fn run_one(device: &Arc<Device>, scene: &Scene, options: &TimingOptions, frames_
     let mut renderer = Renderer::new(device.clone(), scene, settings, render.animation.clone())?;
     let extent = vk::Extent2D { width: render.size.0, height: render.size.1 };
     let target = OffscreenTarget::new(device, extent)?;
-    let camera = render.camera.unwrap_or_else(|| Camera::default_for(&scene.terrain));
+    let camera = render.camera.unwrap_or_else(|| scene.default_camera());
     let result = (|| {
         let calibrated = calibrate(device)?;
         let total = options.warmup + render.frames;
@@ -229,10 +229,12 @@ pub fn run(
     if let Some(trace) = &options.trace {
         crate::app::output::check_output(trace, "--trace")?;
     }
-    crate::app::check_scene(device, render.blades, render.segments, render.size, &render.animation, render.floor)?;
+    render.check_field()?;
+    let blades = render.stored_blades();
+    crate::app::check_scene(device, blades, render.segments, render.size, &render.animation, render.floor)?;
     std::fs::create_dir_all(&options.out)
         .map_err(|source| Error::Io { path: options.out.display().to_string(), source })?;
-    let scene = Scene::generate(render.blades, render.seed);
+    let scene = render.scene();
     let mut runs = Vec::new();
     for (i, fif) in [1usize, 2, 3].into_iter().enumerate() {
         runs.push(run_one(device, &scene, options, fif)?);

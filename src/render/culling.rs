@@ -157,7 +157,8 @@ impl Culling {
         uniforms.tile_grid = Vec4::new(grid.origin, grid.tile_size, p11 / aspect, p11);
         uniforms.cull_tiles = UVec4::new(grid.tiles, grid.ring_slots(centre), centre.0, centre.1);
         let bits = if frozen { self.bits() & !gpu::CULL_OCCLUSION } else { self.bits() };
-        uniforms.cull_lod = UVec4::new(self.buckets().len() as u32, self.lod_segments.packed(), bits, 0);
+        uniforms.cull_lod =
+            UVec4::new(self.buckets().len() as u32, self.lod_segments.packed(), bits, uniforms.cull_lod.w);
     }
 
     /// The buckets drawn: all of them with segment LOD, else the first only.

@@ -5,6 +5,7 @@ pub mod animation;
 pub mod budget;
 pub mod cull_reference;
 pub mod culling;
+pub mod field_gpu;
 pub mod frame;
 pub mod gpu_constants;
 pub mod graph;

@@ -108,8 +108,12 @@ pub struct SceneGpu {
     pub tiles: Buffer,
     /// The tile grid.
     pub tile_grid: TileGrid,
+    /// A block field's size, density and relief (`None`: a stored field).
+    pub field: Option<crate::scene::Field>,
     /// The cull's visible list: (blade index, packed scale) per drawn blade.
     pub visible: Buffer,
+    /// Entries of `visible`.
+    pub visible_capacity: u32,
     /// The cull's `SLOT_WORDS` words per ring slot.
     pub slot_counts: Buffer,
     /// The cull's `VkDrawIndirectCommand` per LOD bucket.
@@ -126,11 +130,32 @@ pub fn max_ring_slots(tiles: u32) -> u32 {
     (2 * tiles - 1) * (2 * tiles - 1)
 }
 
-/// Bytes of the cull's buffers for `blades` blades on `tiles` per side.
-fn cull_bytes(blades: u64, tiles: u32) -> [u64; 4] {
-    let slots = u64::from(max_ring_slots(tiles));
+/// Bytes of the cull's buffers for `blades` stored blades, `slots` ring slots and a visible list
+/// of `visible` entries.
+fn cull_bytes(blades: u64, slots: u32, visible: u32) -> [u64; 4] {
     let draws = 16 * u64::from(gpu_constants::MAX_LOD_BUCKETS);
-    [8 * blades.max(1), 4 * u64::from(gpu_constants::SLOT_WORDS) * slots, draws, 8 * blades.max(1)]
+    [
+        8 * u64::from(visible.max(1)),
+        4 * u64::from(gpu_constants::SLOT_WORDS) * u64::from(slots),
+        draws,
+        8 * blades.max(1),
+    ]
+}
+
+/// Most entries of a block field's visible list (32 MiB): the blades the cull keeps out to the
+/// view distance stay well under it; past it the farthest are dropped (`cull_scan.comp`).
+pub const FIELD_VISIBLE: u32 = 1 << 22;
+
+/// Ring slots and visible-list entries the cull needs for `scene` at `view_distance`.
+pub fn cull_capacity(scene: &Scene, view_distance: f32) -> (u32, u32) {
+    match &scene.field {
+        Some(_) => {
+            let r = crate::render::field_gpu::ring_radius(view_distance);
+            let slots = (2 * r + 1) * (2 * r + 1);
+            (slots, (u64::from(slots) * scene.blades.len() as u64).min(u64::from(FIELD_VISIBLE)) as u32)
+        }
+        None => (max_ring_slots(scene.tile_grid.tiles), scene.blades.len() as u32),
+    }
 }
 
 /// Bytes of the depth pyramid.
@@ -176,23 +201,33 @@ impl SceneGpu {
         let heights = (terrain_cells + 1).pow(2) * 4;
         let alpha = u64::from(alpha::WIDTH * alpha::HEIGHT);
         let tiles = u64::from(MAX_TILES_PER_SIDE).pow(2) * std::mem::size_of::<BladeTile>() as u64
-            + cull_bytes(0, MAX_TILES_PER_SIDE)[1]
+            + cull_bytes(0, max_ring_slots(MAX_TILES_PER_SIDE), 0)[1]
+            + 8 * u64::from(FIELD_VISIBLE)
             + PYRAMID_BYTES;
         2 * (blades + heights + alpha + tiles)
     }
 
     /// Upload the scene and its cluster records (clusters of about `cluster_size` metres) in one
     /// batch.
-    pub fn upload(device: &Device, scene: &Scene, cluster_size: f32) -> Result<Self> {
+    pub fn upload(device: &Device, scene: &Scene, cluster_size: f32, view_distance: f32) -> Result<Self> {
         let mut partial = Partial::default();
-        let grid = ClusterGrid::new(scene.terrain.size, cluster_size);
-        let result = Self::upload_into(device, scene, &grid, &mut partial);
+        let grid = match &scene.field {
+            // A block field's corners follow the camera over the cells it sees.
+            Some(_) => crate::render::field_gpu::cluster_grid(view_distance, cluster_size),
+            None => ClusterGrid::new(scene.terrain.size, cluster_size),
+        };
+        let capacity = cull_capacity(scene, view_distance);
+        let result = Self::upload_into(device, scene, &grid, capacity, &mut partial);
         match result {
             Ok(sampler) => Ok(Self {
                 blades: partial.blades.take().expect("uploaded"),
                 blade_count: scene.blades.len() as u32,
                 heights: partial.heights.take().expect("uploaded"),
-                terrain_cells: scene.terrain.cells,
+                terrain_cells: if scene.field.is_some() {
+                    gpu_constants::FIELD_TERRAIN_CELLS
+                } else {
+                    scene.terrain.cells
+                },
                 terrain_origin: scene.terrain.origin(),
                 terrain_cell_size: scene.terrain.cell_size(),
                 blade_alpha: partial.blade_alpha.take().expect("uploaded"),
@@ -201,6 +236,8 @@ impl SceneGpu {
                 grid,
                 tiles: partial.tiles.take().expect("uploaded"),
                 tile_grid: scene.tile_grid,
+                field: scene.field.clone(),
+                visible_capacity: capacity.1,
                 depth_pyramid: partial.cull.pop().expect("created"),
                 cull_results: partial.cull.pop().expect("created"),
                 draws: partial.cull.pop().expect("created"),
@@ -215,7 +252,13 @@ impl SceneGpu {
         }
     }
 
-    fn upload_into(device: &Device, scene: &Scene, grid: &ClusterGrid, partial: &mut Partial) -> Result<vk::Sampler> {
+    fn upload_into(
+        device: &Device,
+        scene: &Scene,
+        grid: &ClusterGrid,
+        (slots, visible_entries): (u32, u32),
+        partial: &mut Partial,
+    ) -> Result<vk::Sampler> {
         let mut batch = UploadBatch::new(device);
         let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
         let vertex_read: &'static [Access] = &[Access::VertexShaderStorageRead];
@@ -234,7 +277,7 @@ impl SceneGpu {
         partial.blade_alpha = Some(batch.image(&desc, &alpha::texels(), &[Access::FragmentShaderSampledRead])?);
         partial.tiles = Some(batch.buffer("blade tiles", &scene.tiles, storage, &[Access::ComputeShaderRead])?);
         batch.submit()?;
-        let [visible, slots, draws, results] = cull_bytes(scene.blades.len() as u64, scene.tile_grid.tiles);
+        let [visible, slots, draws, results] = cull_bytes(scene.blades.len() as u64, slots, visible_entries);
         let indirect = storage | vk::BufferUsageFlags::INDIRECT_BUFFER;
         for (name, size, usage) in [
             ("visible blades", visible, storage),

@@ -18,6 +18,18 @@ pub const BLOCK_SIZE: f32 = 4.0;
 pub const MAX_BLOCK_BLADES: u32 = 1 << 16;
 /// Sine waves of the relief.
 pub const WAVES: usize = 8;
+/// The world repeats every this many metres in x and z: the relief's waves have whole periods in
+/// it and the blocks' variations repeat (`shaders/field.glsl`, `cell_hash`). A field far from
+/// the origin is then the same field, which is how the tests see that precision holds there.
+pub const WORLD_PERIOD: f32 = 1000.0;
+/// Cells in a world period.
+pub const PERIOD_CELLS: i32 = (WORLD_PERIOD / BLOCK_SIZE) as i32;
+const _: () = assert!(PERIOD_CELLS as u32 == crate::render::gpu_constants::PERIOD_CELLS);
+
+/// The highest density a block holds (`MAX_BLOCK_BLADES` in `BLOCK_SIZE`²).
+pub fn max_density() -> f32 {
+    MAX_BLOCK_BLADES as f32 / (BLOCK_SIZE * BLOCK_SIZE)
+}
 
 /// `--field SIZE|infinite --density D`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -47,6 +59,9 @@ impl FieldSpec {
 pub struct Relief {
     /// Per wave: direction × 2π / wavelength (x, z) and amplitude (w = phase φ_k).
     pub waves: [Vec4; WAVES],
+    /// Per wave: its whole periods in `WORLD_PERIOD` along x and z (the exact wave vector is
+    /// 2π (m, n) / WORLD_PERIOD; `waves` holds it rounded to f32).
+    pub cycles: [(i32, i32); WAVES],
 }
 
 impl Relief {
@@ -54,36 +69,48 @@ impl Relief {
     pub fn generate(seed: u64) -> Self {
         let mut rng = Rng::new(seed ^ 0x7e11ef);
         let mut waves = [Vec4::ZERO; WAVES];
+        let mut cycles = [(0, 0); WAVES];
         let mut wavelength = 60.0f32;
         let mut amplitude = 0.6f32;
-        for wave in &mut waves {
+        for (wave, cycle) in waves.iter_mut().zip(&mut cycles) {
             let angle = rng.range(0.0, TAU);
-            let k = TAU / wavelength;
-            *wave = Vec4::new(angle.cos() * k, angle.sin() * k, amplitude, rng.range(0.0, TAU));
+            // Whole periods in WORLD_PERIOD: integer wave numbers nearest the wavelength asked.
+            let cycles = WORLD_PERIOD / wavelength;
+            let (m, n) = ((angle.cos() * cycles).round(), (angle.sin() * cycles).round());
+            let (m, n) = if m == 0.0 && n == 0.0 { (1.0, 0.0) } else { (m, n) };
+            let k = TAU / WORLD_PERIOD;
+            *wave = Vec4::new(m * k, n * k, amplitude, rng.range(0.0, TAU));
+            *cycle = (m as i32, n as i32);
             wavelength *= 0.72;
             amplitude *= 0.72;
         }
-        Self { waves }
+        Self { waves, cycles }
+    }
+
+    /// Phase of wave `k` at world (x, z), exact in f64 from its whole periods, in [0, 2π).
+    fn phase(&self, k: usize, x: f64, z: f64) -> f64 {
+        let (m, n) = self.cycles[k];
+        let period = f64::from(WORLD_PERIOD);
+        // Whole periods of the world drop out before the products grow.
+        let (x, z) = (x.rem_euclid(period), z.rem_euclid(period));
+        (TAU64 * (f64::from(m) * x + f64::from(n) * z) / period + f64::from(self.waves[k].w)).rem_euclid(TAU64)
     }
 
     /// Height at world (x, z), in f64 (the camera's ground, the CPU side of the GPU's relief).
     pub fn height(&self, x: f64, z: f64) -> f64 {
-        self.waves
-            .iter()
-            .map(|w| f64::from(w.z) * (f64::from(w.x) * x + f64::from(w.y) * z + f64::from(w.w)).sin())
-            .sum()
+        (0..WAVES).map(|k| f64::from(self.waves[k].z) * self.phase(k, x, z).sin()).sum()
     }
 
     /// The per-wave phases at `origin` for the GPU: (sin, cos) of u_k · O + φ_k, two waves per
     /// `Vec4`.
     pub fn phases(&self, origin: DVec2) -> [Vec4; WAVES / 2] {
-        let phase = |w: &Vec4| {
-            let theta = (f64::from(w.x) * origin.x + f64::from(w.y) * origin.y + f64::from(w.w)).rem_euclid(TAU64);
+        let phase = |k: usize| {
+            let theta = self.phase(k, origin.x, origin.y);
             (theta.sin() as f32, theta.cos() as f32)
         };
         std::array::from_fn(|i| {
-            let (s0, c0) = phase(&self.waves[2 * i]);
-            let (s1, c1) = phase(&self.waves[2 * i + 1]);
+            let (s0, c0) = phase(2 * i);
+            let (s1, c1) = phase(2 * i + 1);
             Vec4::new(s0, c0, s1, c1)
         })
     }
@@ -145,6 +172,9 @@ mod tests {
             .sum();
         let exact = relief.height(origin.x + f64::from(local.x), origin.y + f64::from(local.y));
         assert!((f64::from(gpu) - exact).abs() < 1e-5, "{gpu} vs {exact}");
+        // The world repeats every WORLD_PERIOD.
+        let period = f64::from(WORLD_PERIOD);
+        assert!((relief.height(3.5, -7.25) - relief.height(3.5 + 100.0 * period, -7.25 - 100.0 * period)).abs() < 1e-6);
     }
 
     #[test]
@@ -153,7 +183,9 @@ mod tests {
         let block = block_blades(&spec, 1);
         assert_eq!(block.len() as u64, spec.block_blades());
         assert_eq!(block.len(), 6400);
-        assert!(block.iter().all(|b| (0.0..BLOCK_SIZE).contains(&b.position[0]) && (0.0..BLOCK_SIZE).contains(&b.position[2])));
+        assert!(block
+            .iter()
+            .all(|b| (0.0..BLOCK_SIZE).contains(&b.position[0]) && (0.0..BLOCK_SIZE).contains(&b.position[2])));
         assert_eq!(cell_of(-0.5, 4.0), (-1, 1));
     }
 }

@@ -5,6 +5,7 @@ pub mod bezier;
 pub mod blades;
 pub mod camera;
 pub mod clusters;
+pub mod field;
 pub mod rng;
 pub mod terrain;
 pub mod tiles;
@@ -24,6 +25,19 @@ pub struct Scene {
     pub tile_grid: tiles::TileGrid,
     /// One record per tile of `tile_grid`, row-major.
     pub tiles: Vec<tiles::BladeTile>,
+    /// A block field (`--field`): `blades` is its stored block, placed in every cell around the
+    /// camera on the relief; `terrain`, `tile_grid` and `tiles` are a one-cell stand-in the GPU
+    /// never draws.
+    pub field: Option<Field>,
+}
+
+/// A block field's size and density and the relief under it.
+#[derive(Clone, Debug)]
+pub struct Field {
+    /// Size and density.
+    pub spec: field::FieldSpec,
+    /// The relief, evaluated anywhere.
+    pub relief: field::Relief,
 }
 
 impl Scene {
@@ -33,6 +47,36 @@ impl Scene {
         let mut blades = blades::scatter(&terrain, blade_count, seed);
         let tile_grid = tiles::TileGrid::new(terrain.size);
         let tiles = tiles::arrange(&tile_grid, &mut blades);
-        Self { terrain, blades, tile_grid, tiles }
+        Self { terrain, blades, tile_grid, tiles, field: None }
+    }
+
+    /// A block field of `spec` from `seed`: its stored block and its relief.
+    pub fn blocks(spec: field::FieldSpec, seed: u64) -> Self {
+        let mut blades = field::block_blades(&spec, seed);
+        let terrain = Terrain::generate(field::BLOCK_SIZE, seed);
+        let tile_grid = tiles::TileGrid { origin: 0.0, tile_size: field::BLOCK_SIZE, tiles: 1 };
+        let tiles = tiles::arrange(&tile_grid, &mut blades);
+        Self { terrain, blades, tile_grid, tiles, field: Some(Field { spec, relief: field::Relief::generate(seed) }) }
+    }
+
+    /// The ground's height at world (x, z).
+    pub fn ground(&self, x: f32, z: f32) -> f32 {
+        match &self.field {
+            Some(field) => field.relief.height(f64::from(x), f64::from(z)) as f32,
+            None => self.terrain.height_at(x, z),
+        }
+    }
+
+    /// The default camera: at the stored field's edge looking across it, or in a block field
+    /// at the origin looking along -z; 1.7 m above the ground, slightly down.
+    pub fn default_camera(&self) -> Camera {
+        match &self.field {
+            Some(_) => Camera {
+                position: glam::Vec3::new(0.0, self.ground(0.0, 0.0) + camera::EYE_HEIGHT, 0.0),
+                yaw_deg: 0.0,
+                pitch_deg: -12.0,
+            },
+            None => Camera::default_for(&self.terrain),
+        }
     }
 }

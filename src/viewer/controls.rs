@@ -5,7 +5,7 @@ use std::collections::HashSet;
 
 use glam::Vec3;
 
-use crate::scene::{camera::EYE_HEIGHT, Camera, Terrain};
+use crate::scene::{camera::EYE_HEIGHT, Camera};
 
 /// Keys the camera reads, by the names the help and scripts use.
 pub const MOVE_KEYS: [&str; 7] = ["w", "a", "s", "d", "q", "e", "shift"];
@@ -63,7 +63,7 @@ impl CameraControl {
     }
 
     /// Advance by `dt` seconds.
-    pub fn update(&mut self, dt: f32, terrain: &Terrain) {
+    pub fn update(&mut self, dt: f32, ground: impl Fn(f32, f32) -> f32) {
         let forward = self.camera.forward();
         let flat = Vec3::new(forward.x, 0.0, forward.z).normalize_or_zero();
         let right = flat.cross(Vec3::Y);
@@ -91,7 +91,7 @@ impl CameraControl {
         self.camera.position += step.normalize_or_zero() * speed * dt;
         if self.walk {
             let p = self.camera.position;
-            self.camera.position.y = terrain.height_at(p.x, p.z) + EYE_HEIGHT;
+            self.camera.position.y = ground(p.x, p.z) + EYE_HEIGHT;
         }
     }
 }
@@ -99,6 +99,7 @@ impl CameraControl {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scene::Terrain;
 
     #[test]
     fn keys_move_and_walk_follows_the_ground() {
@@ -106,10 +107,10 @@ mod tests {
         let mut c = CameraControl::new(Camera { position: Vec3::new(0.0, 5.0, 5.0), yaw_deg: 0.0, pitch_deg: 0.0 });
         assert!(c.key("w", true));
         assert!(!c.key("m", true));
-        c.update(1.0, &terrain);
+        c.update(1.0, |x, z| terrain.height_at(x, z));
         assert!((c.camera.position.z - 2.0).abs() < 1e-4, "moved 3 m along -z");
         c.walk = true;
-        c.update(0.1, &terrain);
+        c.update(0.1, |x, z| terrain.height_at(x, z));
         let p = c.camera.position;
         assert!((p.y - terrain.height_at(p.x, p.z) - EYE_HEIGHT).abs() < 1e-4);
         c.look_button(true);

@@ -27,7 +27,8 @@ impl Viewer {
         let now = Instant::now();
         let dt = if self.fixed_step { 1.0 / 60.0 } else { (now - self.last_tick).as_secs_f32().min(0.1) };
         self.last_tick = now;
-        self.control.update(dt, &self.scene.terrain);
+        let scene = &self.scene;
+        self.control.update(dt, |x, z| scene.ground(x, z));
         if !self.paused {
             self.time += dt;
         }

@@ -65,7 +65,7 @@ impl Viewer {
             "up" | "down" | "left" | "right" => {
                 if wind.colliders.is_empty() {
                     let p = self.control.camera.position + self.control.camera.forward() * 3.0;
-                    let ground = self.scene.terrain.height_at(p.x, p.z);
+                    let ground = self.scene.ground(p.x, p.z);
                     wind.colliders
                         .push(Collider { center: Vec3::new(p.x, ground + 0.3, p.z), radii: Vec3::splat(0.3) });
                 }
@@ -79,7 +79,7 @@ impl Viewer {
                 } * 0.25;
                 let c = wind.colliders.last_mut().expect("one collider");
                 c.center += step;
-                c.center.y = self.scene.terrain.height_at(c.center.x, c.center.z) + c.radii.y;
+                c.center.y = self.scene.ground(c.center.x, c.center.z) + c.radii.y;
             }
             "z" => self.toggle_cull_freeze(),
             "m" | "n" | "b" | "v" | "x" | "t" | "o" | "y" | "f" | "plus" | "minus" | "[" | "]" => rebuild = true,
@@ -235,7 +235,7 @@ impl Viewer {
         let mut p = near;
         for _ in 0..4000 {
             p += direction * 0.05;
-            if p.y <= self.scene.terrain.height_at(p.x, p.z) {
+            if p.y <= self.scene.ground(p.x, p.z) {
                 return Some(Vec2::new(p.x, p.z));
             }
         }

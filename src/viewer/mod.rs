@@ -26,7 +26,7 @@ use crate::render::frame::Deletion;
 use crate::render::graph::Outputs;
 use crate::render::target::DEPTH_FORMAT;
 use crate::render::{RenderSettings, Renderer};
-use crate::scene::{Camera, Scene};
+use crate::scene::Scene;
 use crate::vk::swapchain::{swapchain_counts, PresentMode, Swapchain};
 use crate::vk::{Buffer, BufferDesc, Device, Image, ImageDesc, Resource};
 use crate::wind::CalmArea;
@@ -165,14 +165,15 @@ struct Viewer {
 impl Viewer {
     fn new(device: Arc<Device>, options: ViewerOptions) -> Result<Self> {
         let o = &options.scene;
+        o.check_field()?;
         crate::app::check_limits(
             &device,
-            o.blades,
+            o.stored_blades(),
             o.size,
-            crate::scene::Terrain::cells_for(crate::scene::blades::field_size(o.blades)),
+            crate::scene::Terrain::cells_for(crate::scene::blades::field_size(o.stored_blades())),
         )?;
-        let scene = Scene::generate(o.blades, o.seed);
-        let camera = o.camera.unwrap_or_else(|| Camera::default_for(&scene.terrain));
+        let scene = o.scene();
+        let camera = o.camera.unwrap_or_else(|| scene.default_camera());
         let settings = RenderSettings {
             segments: o.segments,
             color_format: vk::Format::B8G8R8A8_UNORM,

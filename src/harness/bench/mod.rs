@@ -198,7 +198,7 @@ fn measure_row(
     let cells = crate::scene::Terrain::cells_for(crate::scene::blades::field_size(blades));
     crate::app::check_limits(device, blades, options.size, cells)?;
     let scene = Scene::generate(blades, 1);
-    let camera = Camera::default_for(&scene.terrain);
+    let camera = scene.default_camera();
     let extent = vk::Extent2D { width: options.size.0, height: options.size.1 };
     let mut target = OffscreenTarget::new(device, extent)?;
     // A variant the device cannot hold at this size (e.g. `--eval blade`'s records over

@@ -101,9 +101,21 @@ pub const MAX_EMITTERS: usize = crate::render::gpu_constants::MAX_EMITTERS as us
 
 /// The corner forces of a frame: (fx, fz, calm-area exposure, 0) per corner.
 pub fn corner_forces(grid: &ClusterGrid, wind: &Wind, time: f32, attenuation: Attenuation) -> Vec<Vec4> {
+    corner_forces_at(grid, Vec2::ZERO, wind, time, attenuation)
+}
+
+/// The corner forces of a grid whose corners lie at `origin` + their grid position (a block
+/// field's grid, relative to its origin O, follows the camera).
+pub fn corner_forces_at(
+    grid: &ClusterGrid,
+    origin: Vec2,
+    wind: &Wind,
+    time: f32,
+    attenuation: Attenuation,
+) -> Vec<Vec4> {
     (0..grid.corner_count())
         .map(|i| {
-            let p = grid.corner_position(i);
+            let p = origin + grid.corner_position(i);
             let f = wind.corner_force(p, time, attenuation);
             // A non-finite force (overflowing eq. 4.1) would select an undefined pose: none.
             let f = if f.is_finite() { f } else { Vec2::ZERO };

@@ -10,6 +10,7 @@
 //! per vertex or per blade).
 
 use ash::vk;
+use glam::Vec2;
 
 use crate::error::Result;
 use crate::render::animation::{self, AnimationSettings, KeyframeTexture, KeyframeUniforms, Mode};
@@ -45,6 +46,9 @@ pub struct FrameInput<'a> {
     pub attenuation: Attenuation,
     /// Simulation time in seconds.
     pub time: f32,
+    /// World (x, z) the GPU's positions are relative to (a block field's origin O; zero for a
+    /// stored field): the corners lie at `origin` + their grid position, emitters are shifted.
+    pub origin: Vec2,
 }
 
 /// What a model's compute passes are built with.
@@ -110,9 +114,15 @@ pub fn build(
 /// The thesis' per-frame forces: the wind at the cluster corners (eq. 4.1 sources, calm areas)
 /// and the point sources and colliders, at most `MAX_EMITTERS`, sources first.
 pub fn write_wind_forces(frame: &mut Frame, input: &FrameInput) {
-    let corners = animation::corner_forces(input.grid, input.wind, input.time, input.attenuation);
+    let corners = animation::corner_forces_at(input.grid, input.origin, input.wind, input.time, input.attenuation);
     let mut emitters = animation::emitters(input.wind, input.time);
     emitters.truncate(animation::MAX_EMITTERS);
+    // Positions on the GPU are relative to the origin (a block field's O; zero otherwise): the
+    // sources' positions and the colliders' centres, x and y of every emitter.
+    for e in &mut emitters {
+        e.x -= input.origin.x;
+        e.y -= input.origin.y;
+    }
     frame.corners.write(0, &corners);
     frame.emitters.write(0, &emitters);
 }

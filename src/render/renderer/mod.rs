@@ -16,6 +16,7 @@ use glam::{UVec4, Vec4};
 use crate::error::{Error, Result};
 use crate::render::animation::model::{self, AnimationModel, FrameInput};
 use crate::render::animation::{self, AnimationSettings};
+use crate::render::field_gpu::{self, Origin};
 use crate::render::frame::{look, FrameRing, FrameUniforms, Replay, ReplayKey};
 pub use crate::render::frame::{Deletion, FrameSync, FrameTimings, PassTime};
 use crate::render::graph::{Graph, Outputs, PassContext};
@@ -67,7 +68,8 @@ impl Renderer {
             ring: FrameRing::new(Vec::new()),
             cull_camera: None,
         };
-        let scene_gpu = SceneGpu::upload(&device, scene, renderer.animation.cluster_size)?;
+        let view_distance = settings.culling.view_distance;
+        let scene_gpu = SceneGpu::upload(&device, scene, renderer.animation.cluster_size, view_distance)?;
         let scene_gpu = renderer.scene.insert(scene_gpu);
         renderer.layouts = scene_layouts(&device)?;
         let frames = build_frames(&device, &mut renderer.layouts, scene_gpu, &settings)?;
@@ -187,6 +189,10 @@ impl Renderer {
     /// The uniforms of a frame seen from `camera` at simulation time `time` into `extent`.
     pub fn frame_uniforms(&self, camera: &Camera, time: f32, extent: vk::Extent2D) -> FrameUniforms {
         let scene = self.scene_gpu();
+        // A block field: every position relative to the origin under the camera.
+        let origin = scene.field.as_ref().map(|_| Origin::under(camera));
+        let relative = |c: &Camera| origin.map_or(*c, |o| o.relative(c));
+        let camera = &relative(camera);
         let aspect = extent.width as f32 / extent.height as f32;
         let (sources, colliders) = animation::emitter_counts(&self.animation.wind);
         let mut uniforms = FrameUniforms {
@@ -198,12 +204,16 @@ impl Renderer {
             params: UVec4::new(self.settings.segments, scene.blade_count, scene.terrain_cells, 0),
             keyframes: UVec4::new(0, 0, sources, scene.grid.corners_per_side()),
             keyframe_shape: UVec4::new(0, colliders, 0, 0),
+            cull_lod: UVec4::new(0, 0, 0, scene.visible_capacity),
             ..bytemuck::Zeroable::zeroed()
         };
-        let cull_camera = self.cull_camera.unwrap_or(*camera);
+        let cull_camera = self.cull_camera.as_ref().map_or(*camera, relative);
         let frozen = self.cull_camera.is_some();
         let culling = &self.settings.culling;
         culling.fill_uniforms(&mut uniforms, &scene.tile_grid, &cull_camera, frozen, aspect, extent.height);
+        if let (Some(field), Some(origin)) = (&scene.field, &origin) {
+            field_gpu::fill_uniforms(&mut uniforms, field, origin, &scene.grid, culling.view_distance);
+        }
         self.model.as_deref().expect("built").fill_uniforms(&mut uniforms);
         uniforms
     }
@@ -223,12 +233,15 @@ impl Renderer {
 
     /// The model's per-frame CPU update (the thesis' corner forces and emitters, 3.2.2) into the
     /// frame's host-visible buffers; they are visible to the GPU at submission.
-    fn update_model(&mut self, slot: usize, time: f32) {
+    fn update_model(&mut self, slot: usize, camera: &Camera, time: f32) {
+        let scene = self.scene.as_ref().expect("uploaded");
+        let origin = scene.field.as_ref().map_or(glam::Vec2::ZERO, |_| Origin::under(camera).world.as_vec2());
         let input = FrameInput {
-            grid: &self.scene.as_ref().expect("uploaded").grid,
+            grid: &scene.grid,
             wind: &self.animation.wind,
             attenuation: self.animation.attenuation,
             time,
+            origin,
         };
         self.model.as_deref().expect("built").update(self.ring.frame_mut(slot), &input);
     }
@@ -370,7 +383,7 @@ impl Renderer {
     fn prepare_frame(&mut self, slot: usize, target: &TargetView, camera: &Camera, time: f32) -> FrameUniforms {
         let uniforms = self.frame_uniforms(camera, time, target.extent);
         self.ring.frame_mut(slot).uniforms.write(0, &[uniforms]);
-        self.update_model(slot, time);
+        self.update_model(slot, camera, time);
         uniforms
     }
 

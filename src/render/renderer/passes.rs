@@ -33,6 +33,9 @@ impl Renderer {
         if settings.debug_lod {
             specialization.flags |= crate::render::specialization::FLAG_DEBUG_LOD;
         }
+        if scene.field.is_some() {
+            specialization.flags |= crate::render::gpu_constants::FLAG_BLOCKS;
+        }
         if settings.debug_tiles {
             specialization.flags |= crate::render::gpu_constants::FLAG_DEBUG_TILES;
         }

@@ -1,0 +1,119 @@
+//! A block field on the GPU (`scene::field`, Belyaev §2.1): the origin O each frame (the corner of
+//! the block cell under the camera), the cameras relative to it, the grid of force corners that
+//! follows it, and the field's part of the frame's uniforms. Everything the GPU sees is relative
+//! to O, so a field 100 km from the world's origin renders as one at the origin does.
+
+use glam::{DVec2, IVec2, IVec4, Vec3, Vec4};
+
+use crate::render::gpu_constants as gpu;
+use crate::render::uniforms::FrameUniforms;
+use crate::scene::clusters::ClusterGrid;
+use crate::scene::field::{self, BLOCK_SIZE};
+use crate::scene::{Camera, Field};
+
+/// `--field SIZE|infinite`, parsed: a side in metres, or `None` for an unbounded field.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FieldSize(pub Option<f32>);
+
+/// Where this frame's positions are relative to.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Origin {
+    /// World (x, z) of O, exact in f64.
+    pub world: DVec2,
+    /// O's integer cell.
+    pub cell: IVec2,
+}
+
+impl Origin {
+    /// The corner of the cell under `camera`.
+    pub fn under(camera: &Camera) -> Self {
+        let (x, z) = field::cell_of(f64::from(camera.position.x), f64::from(camera.position.z));
+        let cell = IVec2::new(x as i32, z as i32);
+        Self { world: cell.as_dvec2() * f64::from(BLOCK_SIZE), cell }
+    }
+
+    /// `camera` relative to O (the difference taken in f64: small and exact enough).
+    pub fn relative(&self, camera: &Camera) -> Camera {
+        let p = camera.position;
+        let x = (f64::from(p.x) - self.world.x) as f32;
+        let z = (f64::from(p.z) - self.world.y) as f32;
+        Camera { position: Vec3::new(x, p.y, z), ..*camera }
+    }
+}
+
+/// Rings of cells around O's cell the cull visits for `view_distance` (one more than the distance
+/// spans: the camera may stand anywhere in its cell).
+pub fn ring_radius(view_distance: f32) -> u32 {
+    (view_distance / BLOCK_SIZE).ceil() as u32 + 1
+}
+
+/// The longest view distance the rings' slots can hold (the visible list packs a slot in 16 bits).
+pub fn max_view_distance() -> f32 {
+    // (2R + 1)² <= 65 536 for R <= 127.
+    126.0 * BLOCK_SIZE
+}
+
+/// Edge of the terrain grid's cells for `view_distance`: a power of two times the block edge (so
+/// the lattice stays put when O moves by a block), the smallest whose `FIELD_TERRAIN_CELLS` cells
+/// span the view distance on both sides.
+pub fn terrain_step(view_distance: f32) -> f32 {
+    let span = 2.0 * (view_distance + BLOCK_SIZE);
+    let cells = gpu::FIELD_TERRAIN_CELLS as f32;
+    let mut step = BLOCK_SIZE;
+    while step > 0.5 && cells * 0.5 * step >= span {
+        step *= 0.5;
+    }
+    while cells * step < span {
+        step *= 2.0;
+    }
+    step
+}
+
+/// The grid of force corners around O (positions relative to O): the rings' cells and a cell
+/// more, centred on O's cell, at `cluster_size`.
+pub fn cluster_grid(view_distance: f32, cluster_size: f32) -> ClusterGrid {
+    let span = (2 * ring_radius(view_distance) + 3) as f32 * BLOCK_SIZE;
+    let clusters = (span / cluster_size).ceil().max(1.0) as u32;
+    ClusterGrid { origin: 0.5 * BLOCK_SIZE - 0.5 * clusters as f32 * cluster_size, cluster_size, clusters }
+}
+
+/// The field's part of the frame's uniforms (FrameUniforms' field part, `terrain` and
+/// `params.z` re-read for a field as `shaders/common.glsl` says).
+pub fn fill_uniforms(
+    uniforms: &mut FrameUniforms,
+    field: &Field,
+    origin: &Origin,
+    grid: &ClusterGrid,
+    view_distance: f32,
+) {
+    uniforms.relief_waves = field.relief.waves;
+    uniforms.relief_phases = field.relief.phases(origin.world);
+    let cells = field.spec.cells().unwrap_or(0) as i32;
+    uniforms.field_cells = IVec4::new(origin.cell.x, origin.cell.y, cells, 0);
+    uniforms.field = Vec4::new(BLOCK_SIZE, field.relief.slope_bound(), grid.origin, grid.origin);
+    uniforms.terrain = Vec4::new(terrain_step(view_distance), grid.cluster_size, 0.0, 0.0);
+    uniforms.params.z = gpu::FIELD_TERRAIN_CELLS;
+    let r = ring_radius(view_distance);
+    uniforms.cull_tiles = glam::UVec4::new(0, (2 * r + 1) * (2 * r + 1), 0, 0);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn origins_are_cell_corners_and_cameras_stay_near_them() {
+        let camera = Camera { position: Vec3::new(100_001.5, 2.0, -99_998.5), yaw_deg: 10.0, pitch_deg: -5.0 };
+        let o = Origin::under(&camera);
+        assert_eq!(o.cell, IVec2::new(25_000, -25_000));
+        let rel = o.relative(&camera);
+        assert_eq!(rel.position, Vec3::new(1.5, 2.0, 1.5));
+        assert!(terrain_step(150.0) * gpu::FIELD_TERRAIN_CELLS as f32 >= 2.0 * 154.0);
+        assert_eq!(terrain_step(150.0), 2.0);
+        assert_eq!(terrain_step(400.0), 8.0);
+        let grid = cluster_grid(150.0, 1.0);
+        // The grid covers every ring cell around O's cell.
+        let reach = ring_radius(150.0) as f32 * BLOCK_SIZE;
+        assert!(grid.origin <= -reach && grid.origin + grid.clusters as f32 >= reach + BLOCK_SIZE);
+    }
+}
