@@ -134,35 +134,12 @@ impl RenderOptions {
         }
     }
 
-    /// Refuse what a block field cannot do, before any work: it is drawn only through the cull
-    /// (its blades are placed per cell by the cull and the blade shader).
+    /// Refuse what a block field cannot do, before any work (`render::settings::check_field`).
     pub fn check_field(&self) -> Result<()> {
-        if self.field.is_none() {
-            return Ok(());
+        match self.field {
+            Some(_) => crate::render::settings::check_field(&self.offscreen_settings(1), &self.animation),
+            None => Ok(()),
         }
-        let refuse = |what: &str| Err(Error::bad_input(format!("--field {what}")));
-        if !self.culling.enabled {
-            return refuse("is drawn through the cull: drop --brute-force");
-        }
-        if self.floor {
-            return refuse("has no floor reference: drop --mode floor");
-        }
-        if self.animation.eval == crate::render::animation::Eval::Blade
-            && self.animation.mode != crate::render::animation::Mode::Static
-        {
-            return refuse("places one stored block in every cell: per-blade evaluation needs --eval vertex");
-        }
-        if self.debug_bounds {
-            return refuse("has no fixed cluster grid to draw: drop --debug-view bounds");
-        }
-        let most = crate::render::field_gpu::max_view_distance();
-        if self.culling.view_distance > most {
-            return refuse(&format!(
-                "sees at most {most} m: --view-distance {} is too far",
-                self.culling.view_distance
-            ));
-        }
-        Ok(())
     }
 
     /// The renderer settings of these options for offscreen targets with pipeline statistics

@@ -81,10 +81,10 @@ pub(crate) struct SceneArgs {
     pub(crate) blades: u32,
     /// A field of camera-following blocks instead of stored blades: its side in metres, or
     /// `infinite` (Belyaev §2.1; with --density, not with --blades).
-    #[arg(long, value_name = "SIZE_M|infinite", value_parser = values::field, conflicts_with = "blades")]
+    #[arg(long, value_name = "SIZE_M|infinite", value_parser = values::field, conflicts_with = "blades", allow_hyphen_values = true)]
     pub(crate) field: Option<crate::render::field_gpu::FieldSize>,
     /// Blades per square metre of a --field (default 400).
-    #[arg(long, value_name = "BLADES_PER_M2", value_parser = values::density, requires = "field")]
+    #[arg(long, value_name = "BLADES_PER_M2", value_parser = values::density, requires = "field", allow_hyphen_values = true)]
     pub(crate) density: Option<f32>,
     /// Bézier segments per blade (1..=16).
     #[arg(long, default_value = "4", value_parser = values::segments)]

@@ -56,12 +56,22 @@ pub fn parse() -> Result<Cli, ExitCode> {
             Err(ExitCode::SUCCESS)
         }
         Err(e) => {
-            // One line: clap's first line already reads "error: …".
-            let text = e.to_string();
-            eprintln!("{}", text.lines().next().unwrap_or("error: invalid arguments"));
+            eprintln!("{}", one_line(&e.to_string()));
             Err(ExitCode::from(2))
         }
     }
+}
+
+/// Clap's error as one line: its first line already reads "error: …"; a missing required
+/// argument is listed on the indented lines after it, which are kept (joined).
+fn one_line(text: &str) -> String {
+    let mut lines = text.lines();
+    let first = lines.next().unwrap_or("error: invalid arguments").trim_end().to_string();
+    if !first.ends_with(':') {
+        return first;
+    }
+    let listed: Vec<&str> = lines.map(str::trim).take_while(|l| !l.is_empty()).collect();
+    format!("{first} {}", listed.join(", "))
 }
 
 /// Run the parsed command. The exit code is the command's, or 1 when the validation layer

@@ -110,3 +110,30 @@ pub(crate) fn check_submission(device: &Device, settings: &RenderSettings) -> Re
     }
     Ok(())
 }
+
+/// Refuse, for a block field (`--field`), what it cannot do: it is drawn only through the cull
+/// (its blades are placed per cell by the cull and the blade shader).
+pub fn check_field(settings: &RenderSettings, animation: &crate::render::animation::AnimationSettings) -> Result<()> {
+    use crate::render::animation::{Eval, Mode};
+    let refuse = |what: &str| Err(Error::bad_input(format!("--field {what}")));
+    if !settings.culling.enabled {
+        return refuse("is drawn through the cull: drop --brute-force");
+    }
+    if settings.floor {
+        return refuse("has no floor reference: drop --mode floor");
+    }
+    if animation.eval == Eval::Blade && animation.mode != Mode::Static {
+        return refuse("places one stored block in every cell: per-blade evaluation needs --eval vertex");
+    }
+    if settings.debug_bounds {
+        return refuse("has no fixed cluster grid to draw: drop --debug-view bounds");
+    }
+    let most = crate::render::field_gpu::max_view_distance();
+    if settings.culling.view_distance > most {
+        return refuse(&format!(
+            "sees at most {most} m: --view-distance {} is too far",
+            settings.culling.view_distance
+        ));
+    }
+    Ok(())
+}

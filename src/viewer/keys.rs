@@ -136,6 +136,10 @@ impl Viewer {
                 self.settings.segments = segments;
                 self.settings.culling.lod_segments = crate::render::culling::LodSegments::halving(segments);
             }
+            "[" | "]" if self.scene.field.is_some() => {
+                println!("cannot apply '{name}': a --field has a density, not a blade count");
+                return Ok(());
+            }
             "[" => blades = (blades / 2).max(1),
             "]" => blades = blades.saturating_mul(2),
             _ => {}

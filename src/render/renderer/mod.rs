@@ -57,6 +57,9 @@ impl Renderer {
     ) -> Result<Self> {
         let polygon = polygon_mode(&device, settings.wireframe)?;
         check_submission(&device, &settings)?;
+        if scene.field.is_some() {
+            crate::render::settings::check_field(&settings, &animation)?;
+        }
         let mut renderer = Self {
             device: device.clone(),
             settings,
@@ -96,6 +99,9 @@ impl Renderer {
         }
         let polygon = polygon_mode(&device, settings.wireframe)?;
         check_submission(&device, &settings)?;
+        if scene.field.is_some() {
+            crate::render::settings::check_field(&settings, &animation)?;
+        }
         // The same animation at the same segment count keeps its model (and its state): only the
         // passes are rebuilt, with no upload.
         let keep_model = animation == self.animation && settings.segments == self.settings.segments;

@@ -1,0 +1,147 @@
+//! Camera-following blocks (`--field`, Belyaev §2.1) on lavapipe: the same view 100 km from the
+//! origin renders identically, GPU memory does not depend on where the camera is, grass reaches
+//! the view distance, and bad field input is refused.
+
+mod support;
+
+use ash::vk;
+use glam::Vec3;
+use meadow::app::{with_device, GpuOptions};
+use meadow::imagediff::compare_rgb;
+use meadow::render::animation::{AnimationSettings, Mode};
+use meadow::render::culling::{CullCounts, Culling};
+use meadow::render::{OffscreenTarget, RenderSettings, Renderer};
+use meadow::scene::field::FieldSpec;
+use meadow::scene::{Camera, Scene};
+use meadow::vk::DeviceSelector;
+use support::{meadow, scratch, transcript};
+
+const EXTENT: vk::Extent2D = vk::Extent2D { width: 320, height: 180 };
+
+fn settings(culling: Culling) -> RenderSettings {
+    RenderSettings {
+        segments: 4,
+        color_format: meadow::render::target::OFFSCREEN_FORMAT,
+        encode_srgb: true,
+        frames_in_flight: 1,
+        blades_per_instance: 1,
+        debug_force: false,
+        debug_bounds: false,
+        debug_lod: false,
+        debug_tiles: false,
+        wireframe: false,
+        pipeline_statistics: false,
+        submission: Default::default(),
+        culling,
+        floor: false,
+    }
+}
+
+/// Each camera's picture (RGBA), cull counts and the allocator's bytes after rendering it.
+fn render(culling: Culling, cameras: &[Camera]) -> Vec<(Vec<u8>, CullCounts, u64)> {
+    let options = GpuOptions { validation: true, device: DeviceSelector::parse("llvmpipe") };
+    let (result, messages) = with_device(&options, false, |device| {
+        let scene = Scene::blocks(FieldSpec { size: None, density: 400.0 }, 1);
+        // Static blades: the wind's gusts are not periodic in the world, the field is.
+        let animation = AnimationSettings { mode: Mode::Static, ..Default::default() };
+        let mut renderer = Renderer::new(device.clone(), &scene, settings(culling), animation)?;
+        let mut target = OffscreenTarget::new(device, EXTENT)?;
+        let mut out = Vec::new();
+        for camera in cameras {
+            let timings = renderer.render_offscreen(&mut target, camera, 0.0)?;
+            let bytes = device.allocator().generate_report().total_allocated_bytes;
+            out.push((target.pixels().to_vec(), timings.cull.expect("the cull ran"), bytes));
+        }
+        drop(renderer);
+        // SAFETY: render_offscreen waited for its frame.
+        unsafe { target.destroy(device) };
+        Ok(out)
+    });
+    assert_eq!(messages, Some(0), "validation messages");
+    result.expect("rendered")
+}
+
+fn camera(x: f32, z: f32) -> Camera {
+    let relief = Scene::blocks(FieldSpec { size: None, density: 400.0 }, 1).field.expect("a field").relief;
+    let ground = relief.height(f64::from(x), f64::from(z)) as f32;
+    Camera { position: Vec3::new(x, ground + 1.7, z), yaw_deg: 30.0, pitch_deg: -10.0 }
+}
+
+#[test]
+fn a_view_100_km_away_renders_as_it_does_at_the_origin_with_the_same_memory() {
+    // The world repeats every kilometre (`scene::field::WORLD_PERIOD`): 100 km away is the same
+    // place, and positions relative to the camera's cell keep every bit of precision.
+    let cameras = [camera(1.5, 2.5), camera(100_001.5, 100_002.5), camera(-99_998.5, 2.5)];
+    let views = render(Culling::default_for(4), &cameras);
+    let (near, near_counts, near_bytes) = &views[0];
+    assert!(near_counts.total_drawn() > 10_000, "{}", near_counts.summary());
+    for (far, far_counts, far_bytes) in &views[1..] {
+        assert_eq!(far_counts, near_counts);
+        let (stats, _) = compare_rgb(far, near, 3);
+        assert!(stats.within_fraction() >= 0.999, "{:.4} within ±3", stats.within_fraction());
+        assert_eq!(far_bytes, near_bytes, "GPU memory moved with the camera");
+    }
+}
+
+#[test]
+fn grass_reaches_the_view_distance() {
+    // Between 120 and 150 m there is grass: the longer view draws more blades.
+    let cameras = [Camera { pitch_deg: 0.0, ..camera(0.5, 0.5) }];
+    let short = render(Culling { view_distance: 120.0, ..Culling::default_for(4) }, &cameras);
+    let long = render(Culling::default_for(4), &cameras);
+    let (short, long) = (short[0].1.total_drawn(), long[0].1.total_drawn());
+    assert!(long > short + 1000, "150 m: {long} blades, 120 m: {short}");
+}
+
+/// `meadow render ARGS` refused with exit 2 and one line naming `expect`.
+fn refused(args: &[&str], expect: &str) {
+    let dir = scratch("field-bad");
+    let output = meadow()
+        .arg("render")
+        .args(args)
+        .args(["--device", support::DEVICE, "--out"])
+        .arg(dir.join("x.png"))
+        .output()
+        .expect("run meadow");
+    assert_eq!(output.status.code(), Some(2), "{args:?}: {}", transcript(&output));
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(stderr.lines().count(), 1, "{args:?}: {stderr}");
+    assert!(stderr.starts_with("error: ") && stderr.contains(expect), "{args:?}: {stderr}");
+    assert!(!dir.join("x.png").exists());
+}
+
+#[test]
+fn bad_field_input_is_refused() {
+    refused(&["--field", "0"], "empty");
+    refused(&["--field", "-5"], "empty");
+    refused(&["--field", "wide"], "'wide'");
+    refused(&["--field", "infinite", "--density", "0"], "above 0");
+    refused(&["--field", "infinite", "--density", "5000"], "4096");
+    refused(&["--field", "infinite", "--blades", "1000"], "--blades");
+    refused(&["--density", "100"], "--field");
+    refused(&["--field", "infinite", "--brute-force"], "--brute-force");
+    refused(&["--field", "infinite", "--view-distance", "600"], "--view-distance");
+    refused(&["--field", "infinite", "--view-distance", "NaN"], "NaN");
+}
+
+#[test]
+fn a_bounded_field_ends_where_its_size_says() {
+    // Standing 10 m outside a 20 m field looking at it: grass, but less than the unbounded field.
+    let dir = scratch("field-bounded");
+    let run = |field: &str| -> String {
+        let output = meadow()
+            .args(["render", "--validation", "--device", support::DEVICE, "--size", "160x90", "--mode", "static"])
+            .args(["--field", field, "--camera", "0,3,20,0,-15", "--out"])
+            .arg(dir.join(format!("{field}.png")))
+            .output()
+            .expect("run meadow");
+        support::assert_clean(&output);
+        let stdout = String::from_utf8_lossy(&output.stdout).to_string();
+        stdout.lines().find(|l| l.starts_with("cull:")).expect("a cull line").to_string()
+    };
+    let drawn = |line: &str| -> u64 {
+        line.split("drawn ").nth(1).and_then(|s| s.split(' ').next()).and_then(|s| s.parse().ok()).expect("drawn")
+    };
+    let (bounded, unbounded) = (drawn(&run("20")), drawn(&run("infinite")));
+    assert!(bounded > 0 && bounded * 2 < unbounded, "20 m field: {bounded}, unbounded: {unbounded}");
+}
