@@ -15,7 +15,22 @@ layout(set = SET_SCENE, binding = BINDING_CLUSTERS, std430) readonly buffer Clus
 layout(set = SET_SCENE, binding = BINDING_CORNERS, std430) readonly buffer Corners { vec4 corners[]; };
 layout(set = SET_SCENE, binding = BINDING_EMITTERS, std430) readonly buffer Emitters { vec4 emitters[]; };
 layout(set = SET_SCENE, binding = BINDING_TILES, std430) readonly buffer Tiles { BladeTile tiles[]; };
-// The cull's output (cull_emit.comp writes it): x blade index, y packHalf2x16(fade, widening).
+// The cull's output (cull_emit.comp writes it): x the blade (`visible_blade` in cull.glsl), y
+// its root height as a half float (a block field's; low 16 bits), fade and widening as unorm8
+// (`visible_scale`, `visible_unpack`).
+// Fade in [0, 1] and widening in [1, lod.w] as unorm8, both exact at 1 (no LOD: the same blade).
+uint visible_scale(float root_y, vec2 scale) {
+    vec2 unit = vec2(scale.x, (scale.y - 1.0) / max(frame.lod.w - 1.0, 1e-6));
+    uvec2 bytes = uvec2(round(clamp(unit, 0.0, 1.0) * 255.0));
+    return (packHalf2x16(vec2(root_y, 0.0)) & 0xffffu) | (bytes.x << 16) | (bytes.y << 24);
+}
+
+// (root height, fade, widening) of a visible entry's second word.
+vec3 visible_unpack(uint word) {
+    return vec3(unpackHalf2x16(word & 0xffffu).x, float((word >> 16) & 255u) / 255.0,
+        1.0 + float(word >> 24) / 255.0 * (frame.lod.w - 1.0));
+}
+
 #ifdef CULL_WRITER
 layout(set = SET_SCENE, binding = BINDING_VISIBLE, std430) writeonly buffer Visible { uvec2 visible[]; };
 #else

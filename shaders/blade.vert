@@ -129,10 +129,13 @@ void main() {
     // The cull's fade (the density LOD is about to drop the blade) and widening (its neighbours
     // were dropped): Belyaev §2.2 smooth transitions.
     vec2 lod_scale = vec2(1.0);
+    float root_y = 0.0;
     if ((RENDER_FLAGS & FLAG_CULLED) != 0u) {
         uvec2 entry = visible[gl_InstanceIndex];
         blade_index = entry.x;
-        lod_scale = unpackHalf2x16(entry.y);
+        vec3 unpacked = visible_unpack(entry.y);
+        root_y = unpacked.x;
+        lod_scale = unpacked.yz;
     }
     if ((RENDER_FLAGS & FLAG_CLUSTER_PUSH) != 0u) {
         blade_index += cluster_push.first_blade;
@@ -152,6 +155,7 @@ void main() {
         ivec2 cell = frame.field_cells.xy + ring_cell(blade_index >> 16);
         blade_index &= 0xffffu;
         blade = field_blade(cell, blade_index);
+        blade.position.y = root_y;
     } else {
         blade = blades[blade_index];
     }

@@ -24,6 +24,9 @@ void main() {
     BladeTile tile;
     ivec2 cell;
     if (slot_record(slot, tile, cell)) {
+        if ((RENDER_FLAGS & FLAG_BLOCKS) != 0u) {
+            cache_cell_heights(cell);
+        }
         Frustum f = culling_frustum();
         bool tile_visible;
         uint candidates = tile_candidates(f, tile, tile_visible);

@@ -13,16 +13,19 @@ layout(local_size_x = CULL_GROUP) in;
 
 shared uint prefix[MAX_LOD_BUCKETS][CULL_GROUP];
 
-// The count pass's verdict on blade `rank`: read back for a stored field, the same tests run
-// again for a block field (whose blades share their indices across cells).
+// The count pass's verdict on blade `rank` as (bucket, the visible entry's second word): read
+// back for a stored field, the same tests run again for a block field (whose blades share their
+// indices across cells), whose root height the entry carries.
 uvec2 verdict(Frustum f, BladeTile tile, ivec2 cell, uint rank, vec3 normal) {
     if ((RENDER_FLAGS & FLAG_BLOCKS) == 0u) {
-        return cull_results[tile.first + rank];
+        uvec2 stored = cull_results[tile.first + rank];
+        return uvec2(stored.x, visible_scale(0.0, unpackHalf2x16(stored.y)));
     }
     uint failed;
     vec2 scale;
-    int bucket = blade_bucket(f, tile_blade(tile, cell, rank), rank, tile.count, normal, failed, scale);
-    return uvec2(bucket >= 0 ? uint(bucket) : NOT_DRAWN, packHalf2x16(scale));
+    BladeInstance blade = tile_blade(tile, cell, rank);
+    int bucket = blade_bucket(f, blade, rank, tile.count, normal, failed, scale);
+    return uvec2(bucket >= 0 ? uint(bucket) : NOT_DRAWN, visible_scale(blade.position.y, scale));
 }
 
 void main() {
@@ -32,6 +35,9 @@ void main() {
     ivec2 cell;
     if (!slot_record(slot, tile, cell)) {
         return;
+    }
+    if ((RENDER_FLAGS & FLAG_BLOCKS) != 0u) {
+        cache_cell_heights(cell);
     }
     Frustum f = culling_frustum();
     bool tile_visible;

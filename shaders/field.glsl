@@ -4,9 +4,8 @@
 #ifndef MEADOW_FIELD_GLSL
 #define MEADOW_FIELD_GLSL
 
-// Roots are sunk this far below the relief (the terrain's flat triangles lie within about 3 cm of
-// it between their vertices; `scene::field::ROOT_SINK`).
-const float FIELD_ROOT_SINK = 0.03;
+// Roots are sunk this far below the drawn terrain (as a stored field's, `scene::blades::ROOT_SINK`).
+const float FIELD_ROOT_SINK = 0.01;
 
 // h(O + p) = Σ a_k sin(θ_k + u_k · p), θ_k = u_k · O + φ_k given as sin and cos.
 float relief_height(vec2 p) {
@@ -53,9 +52,20 @@ uint cell_hash(ivec2 cell) {
     return h ^ (h >> 12);
 }
 
+// The terrain grid (terrain.vert): vertex v lies at v * step + offset relative to O.
+vec2 terrain_grid_offset() {
+    return vec2(0.5 * frame.field.x - 0.5 * float(FIELD_TERRAIN_CELLS) * frame.terrain.x);
+}
+
+// Height of the drawn terrain (the relief at the grid's vertices, flat between them, split as
+// terrain.vert splits a cell) from the heights of the cell's four vertices.
+float terrain_mesh_height(vec2 f, float h00, float h10, float h01, float h11) {
+    return f.x >= f.y ? h00 + f.x * (h10 - h00) + f.y * (h11 - h10) : h00 + f.y * (h01 - h00) + f.x * (h11 - h01);
+}
+
 // Blade `index` of the stored block as placed in `cell`: turned by a quarter turn k and mirrored
-// per the cell's hash (a variation of the block, Belyaev §2.1), positioned relative to O and set
-// on the relief.
+// per the cell's hash (a variation of the block, Belyaev §2.1), positioned relative to O; its
+// height (y) is left to the caller (the cull sets it on the drawn terrain).
 BladeInstance field_blade(ivec2 cell, uint index) {
     BladeInstance blade = blades[index];
     float edge = frame.field.x;
@@ -74,7 +84,7 @@ BladeInstance field_blade(ivec2 cell, uint index) {
         facing += 0.5 * PI;
     }
     vec2 at = vec2(cell - frame.field_cells.xy) * edge + p + vec2(0.5 * edge);
-    blade.position = vec3(at.x, relief_height(at) - FIELD_ROOT_SINK, at.y);
+    blade.position = vec3(at.x, 0.0, at.y);
     blade.facing = facing;
     return blade;
 }

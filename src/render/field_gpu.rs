@@ -60,7 +60,8 @@ pub fn terrain_step(view_distance: f32) -> f32 {
     let span = 2.0 * (view_distance + BLOCK_SIZE);
     let cells = gpu::FIELD_TERRAIN_CELLS as f32;
     let mut step = BLOCK_SIZE;
-    while step > 0.5 && cells * 0.5 * step >= span {
+    // At least 1 m: the cull caches a cell's vertices (`shaders/cull.glsl`, HEIGHT_CACHE).
+    while step > 1.0 && cells * 0.5 * step >= span {
         step *= 0.5;
     }
     while cells * step < span {

@@ -103,6 +103,10 @@ impl Viewer {
     /// Apply a control that changes pipelines or the scene, and rebuild the renderer. A change the
     /// device cannot take is reported and undone; the viewer carries on with what it had.
     pub(super) fn rebuild_for(&mut self, name: &str) -> Result<()> {
+        if matches!(name, "[" | "]") && self.scene.field.is_some() {
+            println!("cannot apply '{name}': a --field has a density, not a blade count");
+            return Ok(());
+        }
         let renderer = self.renderer.as_ref().expect("renderer built");
         let old_animation = renderer.animation().clone();
         let old_settings = self.settings;
@@ -130,16 +134,7 @@ impl Viewer {
             "t" => cycle_cull_views(&mut self.settings),
             "o" | "y" => toggle_culling(&mut self.settings.culling, name),
             "f" => self.settings.wireframe = !self.settings.wireframe,
-            "plus" | "minus" => {
-                let segments = self.settings.segments;
-                let segments = if name == "plus" { (segments + 1).min(16) } else { segments.saturating_sub(1).max(1) };
-                self.settings.segments = segments;
-                self.settings.culling.lod_segments = crate::render::culling::LodSegments::halving(segments);
-            }
-            "[" | "]" if self.scene.field.is_some() => {
-                println!("cannot apply '{name}': a --field has a density, not a blade count");
-                return Ok(());
-            }
+            "plus" | "minus" => step_segments(&mut self.settings, name == "plus"),
             "[" => blades = (blades / 2).max(1),
             "]" => blades = blades.saturating_mul(2),
             _ => {}
@@ -245,6 +240,12 @@ impl Viewer {
         }
         None
     }
+}
+
+/// + / −: one segment more or fewer, the LOD buckets halving from the new count.
+fn step_segments(s: &mut crate::render::RenderSettings, more: bool) {
+    s.segments = if more { (s.segments + 1).min(16) } else { s.segments.saturating_sub(1).max(1) };
+    s.culling.lod_segments = crate::render::culling::LodSegments::halving(s.segments);
 }
 
 /// T: the LOD bucket view, then the tile view, then neither.
