@@ -14,10 +14,20 @@
 layout(set = SET_SCENE, binding = BINDING_SLOT_COUNTS, std430) buffer SlotCounts { uint slot_counts[]; };
 layout(set = SET_SCENE, binding = BINDING_DRAWS, std430) buffer Draws { uint draws[]; };
 layout(set = SET_SCENE, binding = BINDING_CULL_STATS, std430) buffer CullStats { uint cull_stats[]; };
-// Per candidate blade (indexed like the blade buffer): x its LOD bucket or NOT_DRAWN, y
-// packHalf2x16(fade, widening).
+// Per candidate blade (a stored field's indexed like the blade buffer; a block field's from its
+// slot's first verdict, `cull_alloc`): x its LOD bucket or NOT_DRAWN, y the visible entry's
+// second word (`visible_scale`).
 layout(set = SET_SCENE, binding = BINDING_CULL_RESULTS, std430) buffer CullResults { uvec2 cull_results[]; };
 const uint NOT_DRAWN = 0xffffffffu;
+layout(set = SET_SCENE, binding = BINDING_CULL_ALLOC, std430) buffer CullAlloc { uint next_verdict; uint verdict_base[]; };
+// A slot whose verdicts did not fit (`cull_alloc` ran out): it draws nothing.
+const uint NO_ROOM = 0xffffffffu;
+
+// Where blade `rank`'s verdict goes: after the tile's first blade (a stored field), or after
+// the slot's first verdict (a block field).
+uint verdict_index(BladeTile tile, uint base, uint rank) {
+    return ((RENDER_FLAGS & FLAG_BLOCKS) != 0u ? base : tile.first) + rank;
+}
 layout(set = SET_SCENE, binding = BINDING_DEPTH_PYRAMID, std430) readonly buffer DepthPyramid { float pyramid[]; };
 
 // Belyaev §2.2 constants of the trinomial a1 + a2 d + a3 d²: with a1 = A1 and a3 = A1 / d0², the

@@ -1,9 +1,9 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // Cull, step 1 of 3: one workgroup per ring slot runs the tile tests and the blade tests
-// (cull.glsl), writes each candidate blade's verdict to `cull_results` (a stored field's: a block
-// field's blades share indices across cells, and the emit pass repeats their tests instead), and
-// how many blades of its slot each LOD bucket draws, and the counts after each test, to its
+// (cull.glsl), writes each candidate blade's verdict to `cull_results` (a block field's slot
+// first takes room for its candidates from `cull_alloc`), and how many blades of its slot each
+// LOD bucket draws, and the counts after each test, to its
 // `SLOT_WORDS` words of `slot_counts`. Every word of every slot is written (zeros for an empty
 // or culled slot): nothing accumulates across frames or workgroups, so there is no counter to
 // clear. Each invocation counts in registers, then adds its counts into shared memory once:
@@ -13,6 +13,7 @@
 layout(local_size_x = CULL_GROUP) in;
 
 shared uint counts[SLOT_WORDS];
+shared uint slot_base;
 
 void main() {
     uint slot = gl_WorkGroupID.x;
@@ -30,6 +31,19 @@ void main() {
         Frustum f = culling_frustum();
         bool tile_visible;
         uint candidates = tile_candidates(f, tile, tile_visible);
+        uint base = 0u;
+        if ((RENDER_FLAGS & FLAG_BLOCKS) != 0u) {
+            // Room for this slot's verdicts: the order slots take it in varies, what each slot
+            // writes there and where the emit pass reads it do not.
+            if (lane == 0u) {
+                uint first = candidates > 0u ? atomicAdd(next_verdict, candidates) : 0u;
+                slot_base = candidates > 0u && first + candidates <= frame.cull_tiles.x ? first : NO_ROOM;
+                verdict_base[slot] = slot_base;
+            }
+            barrier();
+            base = slot_base;
+            candidates = base == NO_ROOM ? 0u : candidates;
+        }
         if (lane == 0u) {
             counts[STAT_CONSIDERED] = tile.count;
             counts[STAT_TILES_TOTAL] = 1u;
@@ -51,9 +65,8 @@ void main() {
             for (uint b = 0u; b < MAX_LOD_BUCKETS; b++) {
                 drawn[b] += bucket == int(b) ? 1u : 0u;
             }
-            if ((RENDER_FLAGS & FLAG_BLOCKS) == 0u) {
-                cull_results[tile.first + rank] = uvec2(bucket >= 0 ? uint(bucket) : NOT_DRAWN, packHalf2x16(scale));
-            }
+            uint verdict = bucket >= 0 ? uint(bucket) : NOT_DRAWN;
+            cull_results[verdict_index(tile, base, rank)] = uvec2(verdict, visible_scale(blade.position.y, scale));
         }
         for (uint s = 0u; s <= STAT_OCCLUSION - STAT_DENSITY; s++) {
             atomicAdd(counts[STAT_DENSITY + s], passed[s]);

@@ -1,10 +1,10 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // Cull, step 3 of 3: one workgroup per ring slot writes each blade the count pass drew (its
-// verdict in `cull_results`) to the visible list at bucket base + slot offset + its rank among
-// the slot's blades of its bucket. Invocation i takes the i-th contiguous run of the slot's
-// candidates: it counts its run per bucket, one prefix sum over the runs gives each run its
-// start, and it writes its run in order. The list is the same on every run and thread count:
+// verdict in `cull_results`, the visible entry's second word included) to the visible list at
+// bucket base + slot offset + its rank among the slot's blades of its bucket. Invocation i
+// takes the i-th contiguous run of the slot's candidates: it counts its run per bucket, one
+// prefix sum over the runs gives each run its start, and it writes its run in order. The list is the same on every run and thread count:
 // buckets, then slots near to far, then stored order (the order brute force draws a tile in).
 #define CULL_WRITER
 #include "cull.glsl"
@@ -13,20 +13,6 @@ layout(local_size_x = CULL_GROUP) in;
 
 shared uint prefix[MAX_LOD_BUCKETS][CULL_GROUP];
 
-// The count pass's verdict on blade `rank` as (bucket, the visible entry's second word): read
-// back for a stored field, the same tests run again for a block field (whose blades share their
-// indices across cells), whose root height the entry carries.
-uvec2 verdict(Frustum f, BladeTile tile, ivec2 cell, uint rank, vec3 normal) {
-    if ((RENDER_FLAGS & FLAG_BLOCKS) == 0u) {
-        uvec2 stored = cull_results[tile.first + rank];
-        return uvec2(stored.x, visible_scale(0.0, unpackHalf2x16(stored.y)));
-    }
-    uint failed;
-    vec2 scale;
-    BladeInstance blade = tile_blade(tile, cell, rank);
-    int bucket = blade_bucket(f, blade, rank, tile.count, normal, failed, scale);
-    return uvec2(bucket >= 0 ? uint(bucket) : NOT_DRAWN, visible_scale(blade.position.y, scale));
-}
 
 void main() {
     uint slot = gl_WorkGroupID.x;
@@ -36,13 +22,12 @@ void main() {
     if (!slot_record(slot, tile, cell)) {
         return;
     }
-    if ((RENDER_FLAGS & FLAG_BLOCKS) != 0u) {
-        cache_cell_heights(cell);
-    }
-    Frustum f = culling_frustum();
     bool tile_visible;
-    uint candidates = tile_candidates(f, tile, tile_visible);
-    vec3 normal = tile_normal(tile);
+    uint candidates = tile_candidates(culling_frustum(), tile, tile_visible);
+    uint base = (RENDER_FLAGS & FLAG_BLOCKS) != 0u && candidates > 0u ? verdict_base[slot] : 0u;
+    if (base == NO_ROOM) {
+        return;
+    }
     if (candidates == 0u) {
         return;
     }
@@ -54,7 +39,7 @@ void main() {
         own[b] = 0u;
     }
     for (uint rank = begin; rank < end; rank++) {
-        uint bucket = verdict(f, tile, cell, rank, normal).x;
+        uint bucket = cull_results[verdict_index(tile, base, rank)].x;
         // Constant indices only: llvmpipe keeps the counters in registers.
         for (uint b = 0u; b < MAX_LOD_BUCKETS; b++) {
             own[b] += bucket == b ? 1u : 0u;
@@ -83,7 +68,7 @@ void main() {
         at[b] = draws[4u * b + 3u] + slot_counts[slot * SLOT_WORDS + b] + prefix[b][lane];
     }
     for (uint rank = begin; rank < end; rank++) {
-        uvec2 result = verdict(f, tile, cell, rank, normal);
+        uvec2 result = cull_results[verdict_index(tile, base, rank)];
         uint position = 0u;
         for (uint b = 0u; b < MAX_LOD_BUCKETS; b++) {
             position = result.x == b ? at[b] : position;

@@ -86,6 +86,7 @@ pub fn fill_uniforms(
     origin: &Origin,
     grid: &ClusterGrid,
     view_distance: f32,
+    verdicts: u32,
 ) {
     uniforms.relief_waves = field.relief.waves;
     uniforms.relief_phases = field.relief.phases(origin.world);
@@ -95,7 +96,7 @@ pub fn fill_uniforms(
     uniforms.terrain = Vec4::new(terrain_step(view_distance), grid.cluster_size, 0.0, 0.0);
     uniforms.params.z = gpu::FIELD_TERRAIN_CELLS;
     let r = ring_radius(view_distance);
-    uniforms.cull_tiles = glam::UVec4::new(0, (2 * r + 1) * (2 * r + 1), 0, 0);
+    uniforms.cull_tiles = glam::UVec4::new(verdicts, (2 * r + 1) * (2 * r + 1), 0, 0);
 }
 
 #[cfg(test)]

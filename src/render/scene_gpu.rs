@@ -53,10 +53,12 @@ pub mod binding {
     pub const CULL_RESULTS: u32 = gpu::BINDING_CULL_RESULTS;
     /// The depth pyramid of the frame's terrain.
     pub const DEPTH_PYRAMID: u32 = gpu::BINDING_DEPTH_PYRAMID;
+    /// A block field's room for verdicts.
+    pub const CULL_ALLOC: u32 = gpu::BINDING_CULL_ALLOC;
 }
 
 /// Layout of set `SET_SCENE`, shared by the scene passes and the animation's compute passes.
-pub fn bindings() -> [Binding; 14] {
+pub fn bindings() -> [Binding; 15] {
     let vs = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::COMPUTE;
     let cs = vk::ShaderStageFlags::COMPUTE;
     let vs_cs = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::COMPUTE;
@@ -79,6 +81,7 @@ pub fn bindings() -> [Binding; 14] {
         Binding { binding: binding::CULL_STATS, kind: storage, stages: cs },
         Binding { binding: binding::CULL_RESULTS, kind: storage, stages: cs },
         Binding { binding: binding::DEPTH_PYRAMID, kind: storage, stages: cs },
+        Binding { binding: binding::CULL_ALLOC, kind: storage, stages: cs },
     ]
 }
 
@@ -122,6 +125,10 @@ pub struct SceneGpu {
     pub cull_results: Buffer,
     /// The depth pyramid (`PYRAMID_FLOATS` floats) the occlusion test reads.
     pub depth_pyramid: Buffer,
+    /// A block field's next free verdict (cleared each frame) and each slot's first verdict.
+    pub cull_alloc: Buffer,
+    /// Verdicts `cull_results` holds.
+    pub verdict_capacity: u32,
 }
 
 /// Ring slots the cull may dispatch for a grid of `tiles` per side: the rings around a tile of
@@ -145,6 +152,19 @@ fn cull_bytes(blades: u64, slots: u32, visible: u32) -> [u64; 4] {
 /// Most entries of a block field's visible list (32 MiB): the blades the cull keeps out to the
 /// view distance stay well under it; past it the farthest are dropped (`cull_scan.comp`).
 pub const FIELD_VISIBLE: u32 = 1 << 22;
+
+/// Most verdicts of a block field's candidates in a frame (32 MiB): its slots take room for theirs
+/// each frame, and a slot finding none draws nothing (`shaders/cull_count.comp`).
+pub const FIELD_VERDICTS: u32 = 1 << 22;
+
+/// Verdicts `cull_results` holds for `scene`: one per stored blade, or `FIELD_VERDICTS`.
+pub fn verdict_capacity(scene: &Scene) -> u32 {
+    if scene.field.is_some() {
+        FIELD_VERDICTS
+    } else {
+        scene.blades.len() as u32
+    }
+}
 
 /// Ring slots and visible-list entries the cull needs for `scene` at `view_distance`.
 pub fn cull_capacity(scene: &Scene, view_distance: f32) -> (u32, u32) {
@@ -203,6 +223,7 @@ impl SceneGpu {
         let tiles = u64::from(MAX_TILES_PER_SIDE).pow(2) * std::mem::size_of::<BladeTile>() as u64
             + cull_bytes(0, max_ring_slots(MAX_TILES_PER_SIDE), 0)[1]
             + 8 * u64::from(FIELD_VISIBLE)
+            + 8 * u64::from(FIELD_VERDICTS)
             + PYRAMID_BYTES;
         2 * (blades + heights + alpha + tiles)
     }
@@ -237,7 +258,9 @@ impl SceneGpu {
                 tiles: partial.tiles.take().expect("uploaded"),
                 tile_grid: scene.tile_grid,
                 field: scene.field.clone(),
+                verdict_capacity: verdict_capacity(scene),
                 visible_capacity: capacity.1,
+                cull_alloc: partial.cull.pop().expect("created"),
                 depth_pyramid: partial.cull.pop().expect("created"),
                 cull_results: partial.cull.pop().expect("created"),
                 draws: partial.cull.pop().expect("created"),
@@ -277,7 +300,9 @@ impl SceneGpu {
         partial.blade_alpha = Some(batch.image(&desc, &alpha::texels(), &[Access::FragmentShaderSampledRead])?);
         partial.tiles = Some(batch.buffer("blade tiles", &scene.tiles, storage, &[Access::ComputeShaderRead])?);
         batch.submit()?;
-        let [visible, slots, draws, results] = cull_bytes(scene.blades.len() as u64, slots, visible_entries);
+        let slots_count = slots;
+        let verdicts = verdict_capacity(scene);
+        let [visible, slots, draws, results] = cull_bytes(u64::from(verdicts), slots, visible_entries);
         let indirect = storage | vk::BufferUsageFlags::INDIRECT_BUFFER;
         for (name, size, usage) in [
             ("visible blades", visible, storage),
@@ -285,6 +310,7 @@ impl SceneGpu {
             ("cull draws", draws, indirect),
             ("cull results", results, storage),
             ("depth pyramid", PYRAMID_BYTES, storage),
+            ("cull verdict room", 4 * (1 + u64::from(slots_count)), storage | vk::BufferUsageFlags::TRANSFER_DST),
         ] {
             partial.cull.push(Buffer::new(device, &BufferDesc::gpu_only(name, size, usage))?);
         }
@@ -321,6 +347,7 @@ impl SceneGpu {
                 (binding::CULL_STATS, storage, Resource::Buffer(frame.cull_stats.descriptor())),
                 (binding::CULL_RESULTS, storage, Resource::Buffer(self.cull_results.descriptor())),
                 (binding::DEPTH_PYRAMID, storage, Resource::Buffer(self.depth_pyramid.descriptor())),
+                (binding::CULL_ALLOC, storage, Resource::Buffer(self.cull_alloc.descriptor())),
             ],
         );
     }
@@ -340,6 +367,7 @@ impl SceneGpu {
             self.draws.destroy(device);
             self.cull_results.destroy(device);
             self.depth_pyramid.destroy(device);
+            self.cull_alloc.destroy(device);
             self.blade_alpha.destroy(device);
             self.heights.destroy(device);
             self.blades.destroy(device);

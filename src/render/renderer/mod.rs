@@ -218,7 +218,8 @@ impl Renderer {
         let culling = &self.settings.culling;
         culling.fill_uniforms(&mut uniforms, &scene.tile_grid, &cull_camera, frozen, aspect, extent.height);
         if let (Some(field), Some(origin)) = (&scene.field, &origin) {
-            field_gpu::fill_uniforms(&mut uniforms, field, origin, &scene.grid, culling.view_distance);
+            let verdicts = scene.verdict_capacity;
+            field_gpu::fill_uniforms(&mut uniforms, field, origin, &scene.grid, culling.view_distance, verdicts);
         }
         self.model.as_deref().expect("built").fill_uniforms(&mut uniforms);
         uniforms

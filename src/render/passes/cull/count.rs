@@ -26,6 +26,9 @@ impl CullCountPass {
             (scene.heights.raw, read),
             (scene.slot_counts.raw, Access::ComputeShaderWrite),
             (scene.cull_results.raw, Access::ComputeShaderWrite),
+            // A block field's verdict counter: atomically read and written.
+            (scene.cull_alloc.raw, Access::ComputeShaderRead),
+            (scene.cull_alloc.raw, Access::ComputeShaderWrite),
         ];
         Ok(Self(CullStep::new(device, "cull count", shaders::CULL_COUNT_COMP, setup, uses)?))
     }

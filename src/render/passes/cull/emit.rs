@@ -24,6 +24,7 @@ impl CullEmitPass {
             (scene.depth_pyramid.raw, read),
             (scene.heights.raw, read),
             (scene.cull_results.raw, read),
+            (scene.cull_alloc.raw, read),
             (scene.slot_counts.raw, read),
             (scene.draws.raw, read),
             (scene.visible.raw, Access::ComputeShaderWrite),

@@ -5,10 +5,12 @@
 //! deterministic near-to-far order). The blade pass then draws each bucket indirectly
 //! (`passes::blades`). The graph orders them by what each declares (`shaders/cull*.comp`).
 
+pub mod clear;
 pub mod count;
 pub mod emit;
 pub mod scan;
 
+pub use clear::CullClearPass;
 pub use count::CullCountPass;
 pub use emit::CullEmitPass;
 pub use scan::CullScanPass;
@@ -34,6 +36,9 @@ pub struct CullSetup<'a> {
 
 /// Add the three passes to `graph`, in order.
 pub fn add_passes(graph: &mut Graph, device: &Device, setup: &CullSetup, scene: &SceneGpu) -> Result<()> {
+    if scene.field.is_some() {
+        graph.add(CullClearPass::new(scene));
+    }
     graph.add(CullCountPass::new(device, setup, scene)?);
     graph.add(CullScanPass::new(device, setup, scene)?);
     graph.add(CullEmitPass::new(device, setup, scene)?);
