@@ -153,10 +153,19 @@ fn tiny_lod_run_compares_brute_force_and_gpu_driven() {
     assert_eq!((doc["kind"].as_str(), doc["resolution"].clone()), (Some("lod"), serde_json::json!([160, 90])));
     let rows = doc["rows"].as_array().expect("rows");
     let views: Vec<&str> = rows.iter().filter_map(|r| r["view"].as_str()).collect();
-    assert_eq!(views, ["default", "inside", "above", "edge"]);
-    for row in rows {
+    assert_eq!(views, ["default", "inside", "above", "edge", "default"]);
+    for row in &rows[..4] {
         assert_lod_row(row);
     }
+    // The unbounded field against the stored 100 000 blades by brute force: two scenes, so no
+    // difference, and the GPU-driven side considers far more blades than it stores.
+    let unbounded = &rows[4];
+    assert_eq!(unbounded["field"]["kind"], "blocks");
+    assert!(unbounded["diff"].is_null());
+    assert_eq!(unbounded["variants"][0]["drawn_blades"], 100_000);
+    let considered = unbounded["variants"][1]["counts"]["considered"].as_u64().expect("considered");
+    assert!(considered > 1_000_000, "{considered}");
+    assert!(unbounded["ratio"].as_f64().expect("ratio") > 0.0);
     // Different cameras see different blades.
     let drawn: std::collections::BTreeSet<u64> =
         rows.iter().filter_map(|r| r["variants"][1]["drawn_blades"].as_u64()).collect();
@@ -165,7 +174,7 @@ fn tiny_lod_run_compares_brute_force_and_gpu_driven() {
     let csv = std::fs::read_to_string(dir.join("lod.csv")).expect("lod.csv");
     let mut lines = csv.lines();
     assert!(lines.next().is_some_and(|h| h.starts_with("label,field,blades,segments,view,variant,frame,gpu_ms")));
-    assert_eq!(lines.count(), 4 * 2 * 2, "rows x variants x frames:\n{csv}");
+    assert_eq!(lines.count(), 5 * 2 * 2, "rows x variants x frames:\n{csv}");
     let png = image::open(dir.join("lod.png")).expect("lod.png decodes");
     assert!(png.width() > 0 && png.height() > 0);
 }

@@ -47,27 +47,58 @@ pub enum Field {
         /// Seed of the terrain and the scatter.
         seed: u64,
     },
+    /// An unbounded field of camera-following blocks (`Scene::blocks`). It has no brute force (it
+    /// is drawn only through the cull): its reference is today's default, the stored field of
+    /// `REFERENCE_BLADES` by brute force from its default camera, and the pictures differ, so
+    /// the row has no difference (`null`).
+    Blocks {
+        /// Blades per square metre.
+        density: f32,
+        /// Seed of the relief and the block.
+        seed: u64,
+    },
 }
+
+/// The stored field an unbounded field's row is measured against (the viewer's default).
+pub const REFERENCE_BLADES: u32 = 100_000;
 
 impl Field {
     /// Blades of the field.
     pub fn blades(&self) -> u32 {
         match self {
             Field::Stored { blades, .. } => *blades,
+            Field::Blocks { density, .. } => self.spec(*density).block_blades() as u32,
         }
+    }
+
+    fn spec(&self, density: f32) -> crate::scene::field::FieldSpec {
+        crate::scene::field::FieldSpec { size: None, density }
     }
 
     /// The field in the document.
     pub fn json(&self) -> Value {
         match self {
             Field::Stored { blades, seed } => json!({ "kind": "stored", "blades": blades, "seed": seed }),
+            Field::Blocks { density, seed } => json!({
+                "kind": "blocks",
+                "size": "infinite",
+                "density": density,
+                "seed": seed,
+                "reference": { "kind": "stored", "blades": REFERENCE_BLADES, "view": "default" },
+            }),
         }
     }
 
-    /// Its scene.
-    fn scene(&self) -> Scene {
+    /// The scene each variant renders (brute force, GPU-driven).
+    fn scenes(&self) -> [Scene; 2] {
         match self {
-            Field::Stored { blades, seed } => Scene::generate(*blades, *seed),
+            Field::Stored { blades, seed } => {
+                let scene = Scene::generate(*blades, *seed);
+                [scene.clone(), scene]
+            }
+            Field::Blocks { density, seed } => {
+                [Scene::generate(REFERENCE_BLADES, *seed), Scene::blocks(self.spec(*density), *seed)]
+            }
         }
     }
 
@@ -81,6 +112,17 @@ impl Field {
                 let one = crate::render::scene_gpu::SceneGpu::memory_bytes(u64::from(*blades), u64::from(cells))
                     + offscreen_bytes(vk::Extent2D { width: size.0, height: size.1 });
                 device.check_budget(2 * one, &format!("--preset lod with {blades} blades (two renderers)"))
+            }
+            Field::Blocks { .. } => {
+                crate::app::check_scene(
+                    device,
+                    REFERENCE_BLADES,
+                    segments,
+                    size,
+                    &AnimationSettings::default(),
+                    false,
+                )?;
+                crate::app::check_scene(device, self.blades(), segments, size, &AnimationSettings::default(), false)
             }
         }
     }
@@ -170,6 +212,7 @@ impl LodBenchOptions {
     /// `--preset lod`: a stored field of a million blades, 4 segments, 1280×720, from four views.
     pub fn preset(out: PathBuf) -> Self {
         let stored = Field::Stored { blades: 1_000_000, seed: 1 };
+        let unbounded = Field::Blocks { density: crate::scene::blades::DENSITY_PER_M2, seed: 1 };
         Self {
             // One line per (field, view).
             rows: vec![
@@ -177,6 +220,7 @@ impl LodBenchOptions {
                 LodRow::new("stored, inside", stored.clone(), View::Inside),
                 LodRow::new("stored, above", stored.clone(), View::Above),
                 LodRow::new("stored, edge", stored, View::Edge),
+                LodRow::new("unbounded (vs 100k)", unbounded, View::Default),
             ],
             size: (1280, 720),
             warmup: 1,
@@ -189,8 +233,9 @@ impl LodBenchOptions {
     /// Replace the blade count of every stored field (`--blades`).
     pub fn set_stored_blades(&mut self, count: u32) {
         for row in &mut self.rows {
-            let Field::Stored { blades, .. } = &mut row.field;
-            *blades = count;
+            if let Field::Stored { blades, .. } = &mut row.field {
+                *blades = count;
+            }
         }
     }
 
@@ -251,7 +296,7 @@ pub fn run(device: &Arc<Device>, options: &LodBenchOptions, mut progress: impl F
 /// The renderers of one field: brute force and GPU-driven, in the order of [`VARIANTS`].
 struct Built {
     field: Field,
-    scene: Scene,
+    scenes: [Scene; 2],
     renderers: Vec<Renderer>,
 }
 
@@ -272,7 +317,7 @@ fn measure_rows(
             built = Some(build(device, &row.field, options.segments)?);
         }
         let b = built.as_mut().expect("built above");
-        rows.push(measure_row(row, &b.scene, &mut b.renderers, targets, options, frames)?);
+        rows.push(measure_row(row, &b.scenes, &mut b.renderers, targets, options, frames)?);
     }
     Ok(rows)
 }
@@ -280,10 +325,11 @@ fn measure_rows(
 /// The scene of `field` and its two renderers: texture keyframes without wind
 /// (`AnimationSettings::default()`), one frame in flight, pipeline statistics off.
 fn build(device: &Arc<Device>, field: &Field, segments: u32) -> Result<Built> {
-    let scene = field.scene();
+    let scenes = field.scenes();
     let renderers = [Culling::brute_force(segments), Culling::default_for(segments)]
         .into_iter()
-        .map(|culling| {
+        .zip(&scenes)
+        .map(|(culling, scene)| {
             let settings = RenderSettings {
                 segments,
                 color_format: OFFSCREEN_FORMAT,
@@ -300,10 +346,10 @@ fn build(device: &Arc<Device>, field: &Field, segments: u32) -> Result<Built> {
                 culling,
                 floor: false,
             };
-            Renderer::new(device.clone(), &scene, settings, AnimationSettings::default())
+            Renderer::new(device.clone(), scene, settings, AnimationSettings::default())
         })
         .collect::<Result<Vec<_>>>()?;
-    Ok(Built { field: field.clone(), scene, renderers })
+    Ok(Built { field: field.clone(), scenes, renderers })
 }
 
 /// One measured frame of a variant.
@@ -335,18 +381,24 @@ impl Sample {
 /// compared. Returns the row's JSON.
 fn measure_row(
     row: &LodRow,
-    scene: &Scene,
+    scenes: &[Scene; 2],
     renderers: &mut [Renderer],
     targets: &mut [OffscreenTarget],
     options: &LodBenchOptions,
     frames: &mut Progress,
 ) -> Result<Value> {
-    let camera = row.view.camera(&scene.terrain);
+    // A stored field's view; an unbounded field's (and its reference's) default camera.
+    let cameras = scenes.each_ref().map(|scene| match scene.field {
+        Some(_) => scene.default_camera(),
+        None if matches!(row.field, Field::Blocks { .. }) => scene.default_camera(),
+        None => row.view.camera(&scene.terrain),
+    });
+    let camera = cameras[1];
     let mut samples: Vec<Vec<Sample>> = renderers.iter().map(|_| Vec::new()).collect();
     let mut cull = None;
     for round in 0..options.warmup + options.frames {
         for (i, (renderer, target)) in renderers.iter_mut().zip(targets.iter_mut()).enumerate() {
-            let t = renderer.render_offscreen(target, &camera, SIMULATION_TIME)?;
+            let t = renderer.render_offscreen(target, &cameras[i], SIMULATION_TIME)?;
             frames.rendered();
             if round >= options.warmup {
                 samples[i].push(Sample::of(&t));
@@ -363,7 +415,7 @@ fn measure_row(
     let diff = box_filtered_difference(&rgb(&targets[0]), &rgb(&targets[1]), w, h, DIFF_BLOCK);
     let brute_triangles = renderers[0].triangles().0;
     let variants = [
-        variant_json(VARIANTS[0], &samples[0], u64::from(row.field.blades()), brute_triangles, Value::Null),
+        variant_json(VARIANTS[0], &samples[0], scenes[0].blades.len() as u64, brute_triangles, Value::Null),
         variant_json(VARIANTS[1], &samples[1], cull.total_drawn(), cull.triangles(), counts_json(&cull)),
     ];
     let median = |v: &Value| v["gpu_ms"]["median"].as_f64().unwrap_or(0.0);
@@ -381,12 +433,13 @@ fn measure_row(
         },
         "ratio": ratio,
         "cull_share": variants[1]["cull_share"],
-        "diff": {
+        // Pictures of two different scenes are not compared.
+        "diff": if matches!(row.field, Field::Blocks { .. }) { Value::Null } else { json!({
             "block": DIFF_BLOCK,
             "mean_percent": diff.mean_percent,
             "p99_percent": diff.p99_percent,
             "max_percent": diff.max_percent,
-        },
+        }) },
         "variants": variants,
     }))
 }

@@ -42,7 +42,7 @@ pub fn table(doc: &Value) -> String {
     for row in doc["rows"].as_array().into_iter().flatten() {
         let gpu = variant(row, VARIANTS[1]);
         let number = |v: &Value| v.as_u64().unwrap_or(0);
-        let percent = |v: &Value| format!("{:.2}", v.as_f64().unwrap_or(0.0));
+        let percent = |v: &Value| v.as_f64().map_or("-".to_string(), |p| format!("{p:.2}"));
         out.push_str(&format!(
             "{:<20} {:>8} {:<8}| {:>9.2} {:>9.2} {:>6.2} {:>5.1}% | {:>10} {:>9} {:>10} {:>10} | {:>6} {:>6} {:>6}\n",
             row["label"].as_str().unwrap_or(""),
@@ -80,7 +80,11 @@ pub fn csv(doc: &Value) -> String {
     for row in doc["rows"].as_array().into_iter().flatten() {
         for v in row["variants"].as_array().into_iter().flatten() {
             let reference = v["variant"] == VARIANTS[0];
-            let diff = |key: &str| if reference { String::new() } else { row["diff"][key].to_string() };
+            // Empty for brute force (no difference to itself) and for a row of two scenes.
+            let diff = |key: &str| match row["diff"][key].as_f64() {
+                Some(p) if !reference => p.to_string(),
+                _ => String::new(),
+            };
             for (i, f) in v["frames"].as_array().into_iter().flatten().enumerate() {
                 out.push_str(&format!(
                     "\"{}\",{},{},{},{},{},{},{},{},{},{},{},{}\n",
