@@ -15,7 +15,6 @@ use ash::vk;
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use meadow::app::{check_scene, with_device, GpuOptions};
 use meadow::render::animation::{AnimationSettings, Eval, Mode};
-use meadow::render::target::OFFSCREEN_FORMAT;
 use meadow::render::{OffscreenTarget, RenderSettings, Renderer};
 use meadow::scene::{Camera, Scene};
 use meadow::vk::Device;
@@ -50,23 +49,9 @@ fn bench_variants(c: &mut Criterion, device: &std::sync::Arc<Device>) -> meadow:
             let animation =
                 AnimationSettings { mode, eval, wind: Wind { global, ..Default::default() }, ..Default::default() };
             check_scene(device, BLADES, SEGMENTS, SIZE, &animation, false)?;
-            let settings = RenderSettings {
-                segments: SEGMENTS,
-                color_format: OFFSCREEN_FORMAT,
-                encode_srgb: true,
-                frames_in_flight: 1,
-                blades_per_instance,
-                debug_force: false,
-                wireframe: false,
-                pipeline_statistics: false,
-                submission: Default::default(),
-                debug_bounds: false,
-                debug_lod: false,
-                debug_tiles: false,
-                // Recording cost of the thesis path: every stored blade, no cull pass.
-                culling: meadow::render::culling::Culling::brute_force(SEGMENTS),
-                floor: false,
-            };
+            // Recording cost of the thesis path: every stored blade, no cull pass.
+            let brute_force = meadow::render::culling::Culling::brute_force(SEGMENTS);
+            let settings = RenderSettings { blades_per_instance, ..RenderSettings::offscreen(SEGMENTS, brute_force) };
             let mut renderer = Renderer::new(device.clone(), &scene, settings, animation)?;
             let mut failure = None;
             group.bench_function(BenchmarkId::from_parameter(name), |b| {

@@ -187,6 +187,8 @@ pub struct RenderReport {
     pub size: (u32, u32),
     /// `--budget-ms`: the budget and the LOD scale the last frame was rendered at.
     pub budget: Option<(f32, f32)>,
+    /// A block field's size and density (`None`: `blades` stored blades).
+    pub field: Option<crate::scene::field::FieldSpec>,
 }
 
 /// Check the picture size and blade count against the device before allocating anything.
@@ -336,6 +338,7 @@ pub fn render(device: &Arc<Device>, options: &RenderOptions) -> Result<RenderRep
         out: options.out.clone(),
         size: options.size,
         budget: options.budget_ms.zip(frames_scale),
+        field: options.field,
     })
 }
 

@@ -19,22 +19,7 @@ use support::{meadow, scratch, transcript};
 const EXTENT: vk::Extent2D = vk::Extent2D { width: 320, height: 180 };
 
 fn settings(culling: Culling) -> RenderSettings {
-    RenderSettings {
-        segments: 4,
-        color_format: meadow::render::target::OFFSCREEN_FORMAT,
-        encode_srgb: true,
-        frames_in_flight: 1,
-        blades_per_instance: 1,
-        debug_force: false,
-        debug_bounds: false,
-        debug_lod: false,
-        debug_tiles: false,
-        wireframe: false,
-        pipeline_statistics: false,
-        submission: Default::default(),
-        culling,
-        floor: false,
-    }
+    RenderSettings::offscreen(4, culling)
 }
 
 /// Each camera's picture (RGBA), cull counts and the allocator's bytes after rendering it.

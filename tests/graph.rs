@@ -231,22 +231,8 @@ fn a_failed_submission_reports_an_error_and_never_hangs() {
 }
 
 fn small_settings(frames_in_flight: usize) -> meadow::render::RenderSettings {
-    meadow::render::RenderSettings {
-        segments: 2,
-        color_format: meadow::render::target::OFFSCREEN_FORMAT,
-        encode_srgb: true,
-        frames_in_flight,
-        blades_per_instance: 1,
-        debug_force: false,
-        wireframe: false,
-        pipeline_statistics: false,
-        submission: Default::default(),
-        debug_bounds: false,
-        debug_lod: false,
-        debug_tiles: false,
-        culling: meadow::render::culling::Culling::default_for(2),
-        floor: false,
-    }
+    use meadow::render::{culling::Culling, RenderSettings};
+    RenderSettings { frames_in_flight, ..RenderSettings::offscreen(2, Culling::default_for(2)) }
 }
 
 #[test]

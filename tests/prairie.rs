@@ -19,22 +19,7 @@ fn options() -> GpuOptions {
 }
 
 fn settings(culling: Culling, frames_in_flight: usize) -> RenderSettings {
-    RenderSettings {
-        segments: 4,
-        color_format: meadow::render::target::OFFSCREEN_FORMAT,
-        encode_srgb: true,
-        frames_in_flight,
-        blades_per_instance: 1,
-        debug_force: false,
-        debug_bounds: false,
-        debug_lod: false,
-        debug_tiles: false,
-        wireframe: false,
-        pipeline_statistics: false,
-        submission: Default::default(),
-        culling,
-        floor: false,
-    }
+    RenderSettings { frames_in_flight, ..RenderSettings::offscreen(4, culling) }
 }
 
 const EXTENT: vk::Extent2D = vk::Extent2D { width: 320, height: 180 };

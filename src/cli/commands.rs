@@ -74,14 +74,26 @@ pub(crate) fn finish(result: crate::Result<()>) -> u8 {
 fn print_render(report: &RenderReport) {
     let d = &report.device;
     println!("device: {} ({}, driver {} [{}])", d.name, d.api_version, d.driver_version, d.driver_info);
-    println!("scene: {} blades x {} segments on a {:.1} m field", report.blades, report.segments, report.field_m);
-    println!(
-        "triangles: {} ({} blades + {} terrain)",
-        report.triangles.0 + report.triangles.1,
-        report.triangles.0,
-        report.triangles.1
-    );
+    match report.field {
+        Some(field) => println!(
+            "scene: {} field of {} m blocks at {} blades/m² ({} blades stored) x {} segments",
+            field.size.map_or("an unbounded".to_string(), |s| format!("a {s} m")),
+            crate::scene::field::BLOCK_SIZE,
+            field.density,
+            field.block_blades(),
+            report.segments
+        ),
+        None => {
+            println!(
+                "scene: {} blades x {} segments on a {:.1} m field",
+                report.blades, report.segments, report.field_m
+            )
+        }
+    }
     let last = report.frames.last().expect("at least one frame");
+    // Drawn, not stored: the cull's count of the last frame when it ran.
+    let blades = last.cull.map_or(report.triangles.0, |c| c.triangles());
+    println!("triangles: {} ({} blades + {} terrain)", blades + report.triangles.1, blades, report.triangles.1);
     if let Some(cull) = &last.cull {
         println!("cull: {}", cull.summary());
     }

@@ -17,7 +17,6 @@ use crate::harness::document::summary;
 use crate::harness::Progress;
 use crate::render::animation::{AnimationSettings, Mode};
 use crate::render::submission::{Strategy, Submission};
-use crate::render::target::OFFSCREEN_FORMAT;
 use crate::render::{OffscreenTarget, RenderSettings, Renderer};
 use crate::scene::{Camera, Scene};
 use crate::vk::Device;
@@ -120,22 +119,11 @@ fn measure_clusters(
             progress.skipped(u64::from(options.warmup + options.frames));
             continue;
         }
+        // Driver overhead of the submission strategies: every stored blade, no cull pass.
+        let brute_force = crate::render::culling::Culling::brute_force(options.segments);
         let settings = RenderSettings {
-            segments: options.segments,
-            color_format: OFFSCREEN_FORMAT,
-            encode_srgb: true,
-            frames_in_flight: 1,
-            blades_per_instance: 1,
-            debug_force: false,
-            wireframe: false,
-            pipeline_statistics: false,
             submission: Submission { strategy, clusters },
-            debug_bounds: false,
-            debug_lod: false,
-            debug_tiles: false,
-            // Driver overhead of the submission strategies: every stored blade, no cull pass.
-            culling: crate::render::culling::Culling::brute_force(options.segments),
-            floor: false,
+            ..RenderSettings::offscreen(options.segments, brute_force)
         };
         let animation = AnimationSettings { mode: Mode::Static, ..Default::default() };
         renderers.push((strategy, Renderer::new(setup.device.clone(), &setup.scene, settings, animation)?));

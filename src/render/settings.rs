@@ -46,6 +46,30 @@ pub struct RenderSettings {
     pub floor: bool,
 }
 
+impl RenderSettings {
+    /// Into offscreen targets (`render::target::OFFSCREEN_FORMAT`), one frame in flight, one blade
+    /// per instance, instanced, no debug view, no statistics, blades (not the floor), with
+    /// `culling`: the base the harnesses and tests change a field or two of.
+    pub fn offscreen(segments: u32, culling: crate::render::culling::Culling) -> Self {
+        Self {
+            segments,
+            color_format: crate::render::target::OFFSCREEN_FORMAT,
+            encode_srgb: true,
+            frames_in_flight: 1,
+            blades_per_instance: 1,
+            debug_force: false,
+            wireframe: false,
+            pipeline_statistics: false,
+            submission: Submission::default(),
+            debug_bounds: false,
+            debug_lod: false,
+            debug_tiles: false,
+            culling,
+            floor: false,
+        }
+    }
+}
+
 /// Blades per instance allowed.
 pub const BLADES_PER_INSTANCE_RANGE: std::ops::RangeInclusive<u32> = 1..=1024;
 /// Default blades per instance.

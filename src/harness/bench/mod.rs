@@ -11,7 +11,7 @@ use serde_json::{json, Value};
 
 use crate::error::{Error, Result};
 use crate::render::animation::{AnimationSettings, Eval, Mode};
-use crate::render::target::{offscreen_bytes, OFFSCREEN_FORMAT};
+use crate::render::target::offscreen_bytes;
 use crate::render::{OffscreenTarget, RenderSettings, Renderer};
 use crate::scene::{Camera, Scene};
 use crate::vk::Device;
@@ -250,22 +250,11 @@ fn build_renderers(device: &Arc<Device>, scene: &Scene, segments: u32, variants:
         .iter()
         .map(|v| {
             let animation = animation_of(v);
+            // The thesis benchmark measures every stored blade at full detail.
             let settings = RenderSettings {
-                segments,
-                color_format: OFFSCREEN_FORMAT,
-                encode_srgb: true,
-                frames_in_flight: 1,
-                blades_per_instance: 1,
-                debug_force: false,
-                wireframe: false,
                 pipeline_statistics: true,
-                submission: Default::default(),
-                debug_bounds: false,
-                debug_lod: false,
-                debug_tiles: false,
-                // The thesis benchmark measures every stored blade at full detail.
-                culling: crate::render::culling::Culling::brute_force(segments),
                 floor: v.mode == Column::Floor,
+                ..RenderSettings::offscreen(segments, crate::render::culling::Culling::brute_force(segments))
             };
             Renderer::new(device.clone(), scene, settings, animation)
         })

@@ -20,7 +20,7 @@ use crate::harness::Progress;
 use crate::imagediff::box_filtered_difference;
 use crate::render::animation::AnimationSettings;
 use crate::render::culling::{CullCounts, Culling};
-use crate::render::target::{offscreen_bytes, OFFSCREEN_FORMAT};
+use crate::render::target::offscreen_bytes;
 use crate::render::{FrameTimings, OffscreenTarget, RenderSettings, Renderer};
 use crate::scene::camera::EYE_HEIGHT;
 use crate::scene::{Camera, Scene, Terrain};
@@ -330,22 +330,7 @@ fn build(device: &Arc<Device>, field: &Field, segments: u32) -> Result<Built> {
         .into_iter()
         .zip(&scenes)
         .map(|(culling, scene)| {
-            let settings = RenderSettings {
-                segments,
-                color_format: OFFSCREEN_FORMAT,
-                encode_srgb: true,
-                frames_in_flight: 1,
-                blades_per_instance: 1,
-                debug_force: false,
-                wireframe: false,
-                pipeline_statistics: false,
-                submission: Default::default(),
-                debug_bounds: false,
-                debug_lod: false,
-                debug_tiles: false,
-                culling,
-                floor: false,
-            };
+            let settings = RenderSettings::offscreen(segments, culling);
             Renderer::new(device.clone(), scene, settings, AnimationSettings::default())
         })
         .collect::<Result<Vec<_>>>()?;
