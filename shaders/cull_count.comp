@@ -25,19 +25,19 @@ void main() {
     BladeTile tile;
     ivec2 cell;
     if (slot_record(slot, tile, cell)) {
-        if ((RENDER_FLAGS & FLAG_BLOCKS) != 0u) {
-            cache_cell_heights(cell);
-        }
         Frustum f = culling_frustum();
         bool tile_visible;
         uint candidates = tile_candidates(f, tile, tile_visible);
         uint base = 0u;
-        if ((RENDER_FLAGS & FLAG_BLOCKS) != 0u) {
+        // `candidates` is the workgroup's: the barriers below are reached by all or none.
+        if ((RENDER_FLAGS & FLAG_BLOCKS) != 0u && candidates > 0u) {
+            // The terrain under the cell, only for cells that have candidates.
+            cache_cell_heights(cell);
             // Room for this slot's verdicts: the order slots take it in varies, what each slot
             // writes there and where the emit pass reads it do not.
             if (lane == 0u) {
-                uint first = candidates > 0u ? atomicAdd(next_verdict, candidates) : 0u;
-                slot_base = candidates > 0u && first + candidates <= frame.cull_tiles.x ? first : NO_ROOM;
+                uint first = atomicAdd(next_verdict, candidates);
+                slot_base = first + candidates <= frame.cull_tiles.x ? first : NO_ROOM;
                 verdict_base[slot] = slot_base;
             }
             barrier();
