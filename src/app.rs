@@ -17,6 +17,7 @@ use ash::vk;
 use crate::error::{Error, Result};
 use crate::render::animation::{AnimationSettings, KeyframeTexture, KeyframeUniforms};
 use crate::render::budget::FrameBudget;
+use crate::render::submission::Submission;
 use crate::render::target::{offscreen_bytes, OFFSCREEN_FORMAT};
 use crate::render::{FrameTimings, OffscreenTarget, RenderSettings, Renderer};
 use crate::scene::{blades, BladeInstance, Camera, Scene};
@@ -132,6 +133,21 @@ impl RenderOptions {
             Some(spec) => Scene::blocks(spec, self.seed),
             None => Scene::generate(self.blades, self.seed),
         }
+    }
+
+    /// Refuse more clusters than blades, for the strategies that split the blades into clusters
+    /// (`--clusters` means nothing to the instanced and pre-recorded draws, so its default never
+    /// refuses a small field).
+    pub fn check_clusters(&self) -> Result<()> {
+        use crate::render::submission::Strategy;
+        let Submission { strategy, clusters } = self.submission;
+        if matches!(strategy, Strategy::Instanced | Strategy::Prerecorded) || clusters <= self.stored_blades() {
+            return Ok(());
+        }
+        Err(Error::bad_input(format!(
+            "--clusters {clusters} exceeds --blades {}: a cluster holds a blade at least",
+            self.stored_blades()
+        )))
     }
 
     /// Refuse what a block field cannot do, before any work (`render::settings::check_field`).
@@ -288,12 +304,7 @@ pub fn render(device: &Arc<Device>, options: &RenderOptions) -> Result<RenderRep
     output::check_output(&options.out, "--out")?;
     options.check_field()?;
     check_scene(device, options.stored_blades(), options.segments, options.size, &options.animation, options.floor)?;
-    if options.submission.clusters > options.blades {
-        return Err(Error::bad_input(format!(
-            "--clusters {} exceeds --blades {}: a cluster holds a blade at least",
-            options.submission.clusters, options.blades
-        )));
-    }
+    options.check_clusters()?;
     if options.budget_ms.is_some() && !options.culling.enabled {
         return Err(Error::bad_input("--budget-ms sets the LOD scale of the GPU-driven path: drop --brute-force"));
     }

@@ -120,3 +120,35 @@ fn missing_validation_layer_fails_instead_of_skipping() {
     assert!(String::from_utf8_lossy(&output.stderr).contains("VK_LAYER_KHRONOS_validation is not installed"));
     assert!(!out.exists());
 }
+
+/// Issue 11's list: what a hostile campaign found on the command line itself.
+#[test]
+fn command_line_corner_cases() {
+    // No subcommand: one `error:` line naming them, exit 2.
+    let output = meadow().output().expect("run meadow");
+    assert_eq!(output.status.code(), Some(2), "{}", transcript(&output));
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    assert!(stderr.starts_with("error: a subcommand is needed: render, view"), "{stderr}");
+    // A negative time is a value, refused as such (not read as a flag).
+    refused("time-negative", &["--time", "-1"], "negative");
+    // `--clusters` means nothing to the instanced draw: its default does not refuse a small field.
+    let dir = scratch("bad-small-field");
+    let out = dir.join("small.png");
+    let args = ["render", "--blades", "10", "--size", "32x32", "--device", support::DEVICE, "--out"];
+    let output = meadow().args(args).arg(&out).output().expect("run meadow");
+    assert_eq!(output.status.code(), Some(0), "{}", transcript(&output));
+    assert!(out.exists());
+    // ... but more clusters than blades for a per-cluster strategy are refused by `timing` too,
+    // before its output directory exists.
+    let timing_out = dir.join("timing");
+    let output = meadow()
+        .args(["timing", "--blades", "100", "--clusters", "500", "--submission", "per-cluster", "--brute-force"])
+        .args(["--device", support::DEVICE, "--out"])
+        .arg(&timing_out)
+        .output()
+        .expect("run meadow");
+    assert_eq!(output.status.code(), Some(2), "{}", transcript(&output));
+    assert!(String::from_utf8_lossy(&output.stderr).contains("--clusters 500 exceeds --blades 100"));
+    assert!(!timing_out.exists(), "timing created its directory before refusing");
+}

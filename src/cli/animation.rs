@@ -123,7 +123,7 @@ pub(crate) struct AnimationArgs {
     #[arg(long, value_name = "SHAPE", value_parser = values::collider, allow_hyphen_values = true)]
     pub(crate) collider: Vec<crate::wind::Collider>,
     /// Simulation time of the picture in seconds.
-    #[arg(long, default_value = "0", value_parser = values::time)]
+    #[arg(long, default_value = "0", value_parser = values::time, allow_hyphen_values = true)]
     pub(crate) time: f32,
 }
 

@@ -55,6 +55,14 @@ pub fn parse() -> Result<Cli, ExitCode> {
             let _ = e.print();
             Err(ExitCode::SUCCESS)
         }
+        Err(e) if e.kind() == clap::error::ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
+            // `meadow` alone: say what is missing, on one line, with the subcommands.
+            use clap::CommandFactory;
+            let names: Vec<String> =
+                Cli::command().get_subcommands().map(|c| c.get_name().to_string()).filter(|n| n != "help").collect();
+            eprintln!("error: a subcommand is needed: {} (meadow --help)", names.join(", "));
+            Err(ExitCode::from(2))
+        }
         Err(e) => {
             eprintln!("{}", one_line(&e.to_string()));
             Err(ExitCode::from(2))

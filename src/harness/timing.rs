@@ -230,6 +230,7 @@ pub fn run(
         crate::app::output::check_output(trace, "--trace")?;
     }
     render.check_field()?;
+    render.check_clusters()?;
     let blades = render.stored_blades();
     crate::app::check_scene(device, blades, render.segments, render.size, &render.animation, render.floor)?;
     std::fs::create_dir_all(&options.out)
