@@ -55,9 +55,10 @@ pub fn with_device_extensions<T>(
     swapchain: bool,
     body: impl FnOnce(&Arc<Device>) -> Result<T>,
 ) -> (Result<T>, Option<u64>) {
-    let instance = match Instance::new(&InstanceDesc { validation: options.validation, extensions }) {
+    let instance = match Instance::create(&InstanceDesc { validation: options.validation, extensions }) {
         Ok(instance) => Arc::new(instance),
-        Err(e) => return (Err(e), None),
+        // The loader's messages about a missing driver are counted too.
+        Err((e, messages)) => return (Err(e), messages),
     };
     let counter = instance.validation_counter();
     let result = Device::new(instance, &DeviceDesc { selector: options.device.clone(), swapchain })
@@ -68,9 +69,9 @@ pub fn with_device_extensions<T>(
 
 /// List the physical devices.
 pub fn devices(options: &GpuOptions) -> (Result<Vec<DeviceInfo>>, Option<u64>) {
-    let instance = match Instance::new(&InstanceDesc { validation: options.validation, extensions: &[] }) {
+    let instance = match Instance::create(&InstanceDesc { validation: options.validation, extensions: &[] }) {
         Ok(instance) => instance,
-        Err(e) => return (Err(e), None),
+        Err((e, messages)) => return (Err(e), messages),
     };
     let counter = instance.validation_counter();
     let result = crate::vk::device::list_devices(&instance);

@@ -152,3 +152,24 @@ fn command_line_corner_cases() {
     assert!(String::from_utf8_lossy(&output.stderr).contains("--clusters 500 exceeds --blades 100"));
     assert!(!timing_out.exists(), "timing created its directory before refusing");
 }
+
+/// No Vulkan driver, with validation: a runtime failure (exit 1) with one `error:` line, and the
+/// loader's messages counted in the `validation: N messages` line like any other.
+#[test]
+fn a_missing_driver_is_a_runtime_error_with_its_messages_counted() {
+    let dir = scratch("no-driver");
+    let output = meadow()
+        .env("VK_ICD_FILENAMES", dir.join("no-such-icd.json"))
+        .env("VK_DRIVER_FILES", dir.join("no-such-icd.json"))
+        .args(["render", "--validation", "--blades", "100", "--out"])
+        .arg(dir.join("x.png"))
+        .output()
+        .expect("run meadow");
+    assert_eq!(output.status.code(), Some(1), "{}", transcript(&output));
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(stderr.lines().filter(|l| l.starts_with("error: ")).count(), 1, "{stderr}");
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    let counted = stdout.lines().find_map(|l| l.strip_prefix("validation: ")).expect("a validation line");
+    assert!(!counted.starts_with("0 "), "the loader's complaints are counted: {counted}");
+    assert!(!dir.join("x.png").exists());
+}

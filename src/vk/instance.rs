@@ -106,6 +106,17 @@ fn messenger_info(counter: &Arc<ValidationCounter>) -> vk::DebugUtilsMessengerCr
 impl Instance {
     /// Load Vulkan and create an instance for API 1.3.
     pub fn new(desc: &InstanceDesc) -> Result<Self> {
+        Self::create(desc).map_err(|(e, _)| e)
+    }
+
+    /// [`Instance::new`], and on failure also the number of messages the loader and layers
+    /// reported while trying (with validation): a missing driver's loader messages are counted.
+    pub fn create(desc: &InstanceDesc) -> std::result::Result<Self, (Error, Option<u64>)> {
+        let counter = desc.validation.then(|| Arc::new(ValidationCounter::default()));
+        Self::create_counted(desc, counter.clone()).map_err(|e| (e, counter.map(|c| c.count())))
+    }
+
+    fn create_counted(desc: &InstanceDesc, counter: Option<Arc<ValidationCounter>>) -> Result<Self> {
         let entry = load_entry()?;
         let layers = layers(&entry, desc.validation)?;
 
@@ -118,7 +129,6 @@ impl Instance {
             .engine_name(c"meadow")
             .api_version(vk::API_VERSION_1_3);
 
-        let counter = desc.validation.then(|| Arc::new(ValidationCounter::default()));
         let mut messenger_info = counter.as_ref().map(messenger_info);
         let enabled_features = [vk::ValidationFeatureEnableEXT::SYNCHRONIZATION_VALIDATION];
         let mut validation_features =
