@@ -148,3 +148,15 @@ fn no_display_is_a_clear_error() {
         "error: no display (set DISPLAY or WAYLAND_DISPLAY, or run under xvfb-run)"
     );
 }
+
+#[test]
+fn an_out_of_date_before_every_frame_still_presents_and_screenshots() {
+    // `--inject-out-of-date 1`: an out-of-date result before every frame. Injected results are
+    // not frames: 10 are presented, then the exit screenshot's.
+    let dir = scratch("viewer-inject-every");
+    let output = view(&dir, &["--frames", "10", "--inject-out-of-date", "1", "--screenshot", "shot.png"]);
+    assert_clean(&output);
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(stdout.contains("viewer: 11 frames"), "{}", transcript(&output));
+    assert!(dir.join("shot.png").exists(), "no screenshot");
+}

@@ -167,7 +167,12 @@ impl ApplicationHandler for Viewer {
             if let Some(path) = self.options.screenshot.take() {
                 // The exit screenshot: one more frame, written to the file.
                 self.screenshot = Some(path.clone());
-                let rendered = self.render().and_then(|()| match self.screenshot {
+                // An injected out-of-date result takes a call without a frame: one more try.
+                let rendered = self.render().and_then(|()| match self.screenshot.is_some() && self.injected_last {
+                    true => self.render(),
+                    false => Ok(()),
+                });
+                let rendered = rendered.and_then(|()| match self.screenshot {
                     Some(_) => Err(Error::Environment(format!(
                         "--screenshot {}: the window has no area (minimised), nothing to capture",
                         path.display()

@@ -158,6 +158,8 @@ struct Viewer {
     stats: Stats,
     /// `--budget-ms`: the loop setting the LOD scale from the measured GPU time.
     budget: Option<crate::render::budget::FrameBudget>,
+    /// The last render call was an injected out-of-date result (`--inject-out-of-date`).
+    injected_last: bool,
     error: Option<Error>,
     quit: bool,
 }
@@ -214,6 +216,7 @@ impl Viewer {
             dragging: false,
             last_tick: Instant::now(),
             stats: Stats::new(),
+            injected_last: false,
             budget: options
                 .scene
                 .budget_ms
@@ -398,12 +401,14 @@ impl Viewer {
 
     /// Render one frame into the swapchain.
     fn render(&mut self) -> Result<()> {
-        let inject = self.options.inject_out_of_date.is_some_and(|n| self.frames % u64::from(n) == u64::from(n) - 1);
+        // `--inject-out-of-date N`: an out-of-date result before every N-th presented frame, never
+        // twice in a row (so N = 1 alternates), and never counted as a presented frame.
+        let inject = !self.injected_last
+            && self.options.inject_out_of_date.is_some_and(|n| self.frames % u64::from(n) == u64::from(n) - 1);
         if self.needs_recreate || inject {
             self.recreate()?;
             if inject {
-                // Count the injected frame so the injection does not repeat forever.
-                self.frames += 1;
+                self.injected_last = true;
                 return Ok(());
             }
             if self.minimised {
@@ -465,6 +470,7 @@ impl Viewer {
             self.needs_recreate = true;
         }
         self.frames += 1;
+        self.injected_last = false;
         let (blades, terrain) = renderer.triangles();
         self.stats.tick(&surface.window, renderer.blade_count(), blades + terrain, &self.device.info.name);
         Ok(())
