@@ -29,6 +29,7 @@ pub struct SceneLayouts {
 /// The layouts of `SET_SCENE` and `SET_ANIMATION` and the scene pipeline layout (the pool comes
 /// with the frames).
 pub fn scene_layouts(device: &Device) -> Result<SceneLayouts> {
+    check_storage_buffers(device, &[&scene_gpu::bindings(), &model::bindings()])?;
     let mut layouts = SceneLayouts::default();
     let built = (|| {
         layouts.set_layout = descriptor::set_layout(device, "scene set layout", &scene_gpu::bindings())?;
@@ -50,6 +51,27 @@ pub fn scene_layouts(device: &Device) -> Result<SceneLayouts> {
             Err(e)
         }
     }
+}
+
+/// Refuse a device whose `maxPerStageDescriptorStorageBuffers` is below what one stage of the
+/// scene pipelines binds (the cull's compute stage binds the most; the spec's minimum is 4).
+fn check_storage_buffers(device: &Device, sets: &[&[descriptor::Binding]]) -> Result<()> {
+    use ash::vk::ShaderStageFlags as S;
+    let limit = device.limits().max_per_stage_descriptor_storage_buffers;
+    for (stage, name) in [(S::VERTEX, "vertex"), (S::FRAGMENT, "fragment"), (S::COMPUTE, "compute")] {
+        let used = sets
+            .iter()
+            .flat_map(|set| set.iter())
+            .filter(|b| b.kind == vk::DescriptorType::STORAGE_BUFFER && b.stages.contains(stage))
+            .count() as u32;
+        if used > limit {
+            return Err(crate::error::Error::Environment(format!(
+                "{} allows {limit} storage buffers per shader stage; meadow's {name} stage binds {used}",
+                device.info.name
+            )));
+        }
+    }
+    Ok(())
 }
 
 impl SceneLayouts {
