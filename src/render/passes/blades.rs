@@ -75,7 +75,11 @@ impl BladePass {
     /// Build the pipeline (two-sided blades: no culling) and the draws of the strategy.
     pub fn new(device: &Device, scene: &SceneGpu, setup: &BladeSetup) -> Result<Self> {
         let target = setup.target;
-        let pipeline = Self::pipeline(device, target, setup.constants, "blades")?;
+        // With the cull, the buckets' pipelines draw (`build_buckets`): no pipeline of its own.
+        let pipeline = match setup.buckets {
+            Some(_) => vk::Pipeline::null(),
+            None => Self::pipeline(device, target, setup.constants, "blades")?,
+        };
         let mut reads = vec![
             (scene.blades.raw, Access::VertexShaderStorageRead),
             (scene.clusters.raw, Access::VertexShaderStorageRead),
@@ -272,7 +276,8 @@ impl Pass for BladePass {
             return self.record_secondaries(ctx, cmd);
         }
         let device = ctx.device;
-        passes::bind_graphics(device, ctx, cmd, self.layout, self.pipeline);
+        let first = self.buckets.first().copied().unwrap_or(self.pipeline);
+        passes::bind_graphics(device, ctx, cmd, self.layout, first);
         passes::bind_animation_set(device, cmd, self.layout, vk::PipelineBindPoint::GRAPHICS, self.animation);
         // Defined for every draw: per-cluster draws push their own first blade.
         let push = submission::ClusterPush { first_blade: 0 };
