@@ -2,8 +2,10 @@
 //! three compute passes of the graph, each one dispatch: `count` (per ring slot around the
 //! culling camera's tile: tile tests, blade tests, counts per LOD bucket), `scan` (offsets, the
 //! indirect draws, the frame's counts for the host) and `emit` (the visible list, in a
-//! deterministic near-to-far order). The blade pass then draws each bucket indirectly
-//! (`passes::blades`). The graph orders them by what each declares (`shaders/cull*.comp`).
+//! deterministic near-to-far order), each a [`CullStep`] with its own shader and declared uses; a
+//! block field adds `clear` before them (its verdict counter, by `vkCmdFillBuffer`). The blade
+//! pass then draws each bucket indirectly (`passes::blades`). The graph orders them by what each
+//! declares (`shaders/cull*.comp`).
 
 pub mod clear;
 pub mod count;
@@ -11,14 +13,11 @@ pub mod emit;
 pub mod scan;
 
 pub use clear::CullClearPass;
-pub use count::CullCountPass;
-pub use emit::CullEmitPass;
-pub use scan::CullScanPass;
 
 use ash::vk;
 
 use crate::error::Result;
-use crate::render::graph::{Declaration, Graph, PassContext};
+use crate::render::graph::{Declaration, Graph, Pass, PassContext};
 use crate::render::passes;
 use crate::render::scene_gpu::SceneGpu;
 use crate::vk::{pipeline, Access, Device};
@@ -39,54 +38,74 @@ pub fn add_passes(graph: &mut Graph, device: &Device, setup: &CullSetup, scene: 
     if scene.field.is_some() {
         graph.add(CullClearPass::new(scene));
     }
-    graph.add(CullCountPass::new(device, setup, scene)?);
-    graph.add(CullScanPass::new(device, setup, scene)?);
-    graph.add(CullEmitPass::new(device, setup, scene)?);
+    graph.add(count::pass(device, setup, scene)?);
+    graph.add(scan::pass(device, setup, scene)?);
+    graph.add(emit::pass(device, setup, scene)?);
     Ok(())
 }
 
-/// One cull dispatch: its pipeline, its declared uses and its workgroup count.
-struct CullStep {
+/// How many workgroups a cull step dispatches.
+#[derive(Clone, Copy)]
+enum Groups {
+    /// One per ring slot of this frame (`FrameUniforms::cull_tiles.y`).
+    PerSlot,
+    /// One.
+    One,
+}
+
+/// One cull dispatch as a pass of the graph: its pipeline, its declared uses (and a per-frame
+/// buffer it writes, for the scan) and its workgroup count. `count`, `scan` and `emit` each build
+/// one with their own shader and uses.
+pub struct CullStep {
+    name: &'static str,
     pipeline: vk::Pipeline,
     layout: vk::PipelineLayout,
     uses: Vec<(vk::Buffer, Access)>,
+    /// Written by the step, one buffer per frame in flight (by slot).
+    per_frame: Vec<vk::Buffer>,
+    groups: Groups,
 }
 
 impl CullStep {
     fn new(
         device: &Device,
-        name: &str,
-        spirv: &[u8],
+        (name, spirv): (&'static str, &[u8]),
         setup: &CullSetup,
         uses: Vec<(vk::Buffer, Access)>,
+        groups: Groups,
     ) -> Result<Self> {
         let pipeline = pipeline::compute(device, name, spirv, setup.layout, setup.constants)?;
-        Ok(Self { pipeline, layout: setup.layout, uses })
+        Ok(Self { name, pipeline, layout: setup.layout, uses, per_frame: Vec::new(), groups })
+    }
+}
+
+impl Pass for CullStep {
+    fn name(&self) -> &'static str {
+        self.name
     }
 
-    fn declare(&self, extra: &[(vk::Buffer, Access)]) -> Declaration {
-        self.uses.iter().chain(extra).fold(Declaration::compute(), |d, &(b, a)| d.buffer(b, a))
+    fn declare(&self, ctx: &PassContext) -> Option<Declaration> {
+        let frame = self.per_frame.get(ctx.slot).map(|&b| (b, Access::ComputeShaderWrite));
+        Some(self.uses.iter().copied().chain(frame).fold(Declaration::compute(), |d, (b, a)| d.buffer(b, a)))
     }
 
-    fn record(&self, ctx: &PassContext, cmd: vk::CommandBuffer, groups: u32) {
+    fn record(&self, ctx: &PassContext, cmd: vk::CommandBuffer) -> Result<()> {
         let device = ctx.device;
+        let groups = match self.groups {
+            Groups::PerSlot => ctx.uniforms.cull_tiles.y,
+            Groups::One => 1,
+        };
         passes::bind_scene_set(device, ctx, cmd, self.layout, vk::PipelineBindPoint::COMPUTE);
         // SAFETY: cmd is recording outside a rendering instance; set 0 is bound.
         unsafe {
             device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipeline);
             device.raw.cmd_dispatch(cmd, groups, 1, 1);
         }
+        Ok(())
     }
 
-    /// # Safety
-    /// No pending GPU work may use the pipeline.
-    unsafe fn destroy(&self, device: &Device) {
+    unsafe fn destroy(self: Box<Self>, device: &Device) {
         // SAFETY: per the contract.
         unsafe { device.raw.destroy_pipeline(self.pipeline, None) };
     }
-}
-
-/// Ring slots of this frame (one workgroup each): `FrameUniforms::cull_tiles.y`.
-fn ring_slots(ctx: &PassContext) -> u32 {
-    ctx.uniforms.cull_tiles.y
 }
