@@ -160,3 +160,28 @@ fn an_out_of_date_before_every_frame_still_presents_and_screenshots() {
     assert!(stdout.contains("viewer: 11 frames"), "{}", transcript(&output));
     assert!(dir.join("shot.png").exists(), "no screenshot");
 }
+
+#[test]
+fn script_input_past_the_device_or_the_keys_is_refused() {
+    // Issue 11: a resize past the device's largest image (it used to reach vkCreateSwapchainKHR),
+    // an unknown key and extra arguments: exit 2, one `error:` line, no validation message.
+    let dir = scratch("viewer-script-bad");
+    for (name, text, expect) in [
+        ("huge", "2 resize 100000x100000\n4 quit\n", "maxImageDimension2D"),
+        ("key", "2 press warp\n4 quit\n", "unknown key 'warp'"),
+        ("extra", "2 quit now please\n", "takes no arguments"),
+    ] {
+        let path = dir.join(format!("{name}.txt"));
+        std::fs::write(&path, text).expect("write script");
+        let output = view(&dir, &["--script", path.to_str().expect("utf-8")]);
+        assert_eq!(output.status.code(), Some(2), "{name}: {}", transcript(&output));
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        let errors: Vec<&str> = stderr.lines().filter(|l| l.starts_with("error: ")).collect();
+        assert!(errors.len() == 1 && errors[0].contains(expect), "{name}: {stderr}");
+        if name == "huge" {
+            // Refused at run time (the device's limit): the layers saw nothing wrong. The others
+            // are refused when the script is read, before any Vulkan object exists.
+            assert!(String::from_utf8_lossy(&output.stdout).contains("validation: 0 messages"), "{name}");
+        }
+    }
+}

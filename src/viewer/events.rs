@@ -71,6 +71,15 @@ impl Viewer {
                 self.dragging = false;
             }
             Action::Resize(w, h) => {
+                // Past the device's largest image no swapchain can follow: refused, like --size.
+                let limits = self.device.limits();
+                let most =
+                    limits.max_image_dimension2_d.min(limits.max_framebuffer_width).min(limits.max_framebuffer_height);
+                if w > most || h > most {
+                    return Err(Error::bad_input(format!(
+                        "--script: resize {w}x{h} exceeds the device's maxImageDimension2D/maxFramebufferWidth of {most}"
+                    )));
+                }
                 let _ = window.request_inner_size(PhysicalSize::new(w, h));
                 self.needs_recreate = true;
             }

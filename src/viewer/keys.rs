@@ -282,6 +282,12 @@ fn culling_state(culling: &crate::render::culling::Culling) -> String {
     format!("GPU culling, {lod} {:?}{outline}", culling.buckets())
 }
 
+/// Every key name the viewer acts on (what `key_name` returns), for scripts to check against.
+pub(super) const KEY_NAMES: [&str; 37] = [
+    "[", "]", "a", "b", "c", "d", "delete", "down", "e", "escape", "f", "f12", "g", "h", "i", "j", "k", "l", "left",
+    "m", "minus", "n", "o", "p", "plus", "q", "right", "s", "shift", "t", "u", "up", "v", "w", "x", "y", "z",
+];
+
 /// Name of a key as the help and scripts spell it.
 pub(super) fn key_name(code: KeyCode) -> Option<&'static str> {
     Some(match code {

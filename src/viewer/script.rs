@@ -72,7 +72,10 @@ impl Script {
             if line.is_empty() {
                 continue;
             }
-            let fail = |what: &str| format!("line {}: {what}: '{raw}'", n + 1);
+            // The line as written, cut short: a megabyte line is not echoed whole.
+            let shown: String = raw.chars().take(80).collect();
+            let cut = if shown.len() < raw.len() { "…" } else { "" };
+            let fail = |what: &str| format!("line {}: {what}: '{shown}{cut}'", n + 1);
             let mut words = line.split_whitespace();
             let frame: u64 =
                 words.next().and_then(|w| w.parse().ok()).ok_or_else(|| fail("expected a frame number"))?;
@@ -84,18 +87,26 @@ impl Script {
                     _ => Err(fail(what)),
                 }
             };
+            let none = |action: Action| match args.is_empty() {
+                true => Ok(action),
+                false => Err(fail(&format!("{verb} takes no arguments"))),
+            };
+            let key = |name: &str| match super::keys::KEY_NAMES.contains(&name.to_lowercase().as_str()) {
+                true => Ok(name.to_lowercase()),
+                false => Err(fail(&format!("unknown key '{name}' (the help, H, names them)"))),
+            };
             let action = match verb {
                 "camera" => {
                     Action::Camera(crate::cli::values::camera(one("camera X,Y,Z,YAW,PITCH")?).map_err(|e| fail(&e))?)
                 }
                 "time" => Action::Time(crate::cli::values::time(one("time SECONDS")?).map_err(|e| fail(&e))?),
-                "pause" => Action::Pause,
+                "pause" => none(Action::Pause)?,
                 "key" => match args.as_slice() {
-                    [name, "down"] => Action::Key(name.to_string(), true),
-                    [name, "up"] => Action::Key(name.to_string(), false),
+                    [name, "down"] => Action::Key(key(name)?, true),
+                    [name, "up"] => Action::Key(key(name)?, false),
                     _ => return Err(fail("key NAME down|up")),
                 },
-                "press" => Action::Press(one("press NAME")?.to_string()),
+                "press" => Action::Press(key(one("press NAME")?)?),
                 "click" => {
                     let xy = one("click X,Y")?;
                     let (x, y) = xy.split_once(',').ok_or_else(|| fail("click X,Y"))?;
@@ -106,10 +117,10 @@ impl Script {
                     let (w, h) = crate::cli::values::size(one("resize WxH")?).map_err(|e| fail(&e))?;
                     Action::Resize(w, h)
                 }
-                "minimise" | "minimize" => Action::Minimise,
-                "restore" => Action::Restore,
+                "minimise" | "minimize" => none(Action::Minimise)?,
+                "restore" => none(Action::Restore)?,
                 "screenshot" => Action::Screenshot(one("screenshot PATH")?.to_string()),
-                "quit" => Action::Quit,
+                "quit" => none(Action::Quit)?,
                 other => return Err(fail(&format!("unknown action '{other}'"))),
             };
             actions.push((frame, action));
@@ -144,6 +155,8 @@ mod tests {
         assert_eq!(s.actions[0].0, 0);
         assert_eq!(s.actions[2].1, Action::Click(10.0, 20.0));
         assert_eq!(s.actions[3].1, Action::Key("w".into(), true));
+        // Key names are case-insensitive.
+        assert_eq!(s.actions[4].1, Action::Press("f12".into()));
         let mut s = s;
         assert_eq!(s.due(6).len(), 2);
         assert_eq!(s.due(6).len(), 0);
@@ -156,5 +169,13 @@ mod tests {
         assert!(Script::parse("x quit\n").is_err());
         assert!(Script::parse("3 dance\n").unwrap_err().contains("unknown action"));
         assert!(Script::parse("3 resize 0x0\n").is_err());
+        // Issue 11: extra arguments, unknown keys, and an overlong line echoed whole.
+        assert!(Script::parse("3 quit now please\n").unwrap_err().contains("takes no arguments"));
+        assert!(Script::parse("3 pause 2\n").is_err());
+        assert!(Script::parse("3 press warp\n").unwrap_err().contains("unknown key 'warp'"));
+        assert!(Script::parse("3 key nope down\n").is_err());
+        let long = format!("3 dance {}\n", "x".repeat(10_000_000));
+        let e = Script::parse(&long).unwrap_err();
+        assert!(e.len() < 200, "{} bytes of error", e.len());
     }
 }
