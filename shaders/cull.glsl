@@ -149,20 +149,39 @@ vec3 terrain_normal(vec2 xz) {
 // Belyaev §2.2: the fraction of blades kept at distance d, 1 - F(z, φ) before the clamp:
 // ((1 - t)(n, r) + t) / (a1 + a2 d + a3 d²) with t = (1 - |(n, r)|)^α, α = 8, so contour areas
 // ((n, r) near 0) keep their density. Above 1 near the camera (every blade kept).
-float density_keep(float d, float n_dot_r) {
+// Belyaev's numerator (1 - t)(n, r) + t of `density_keep`.
+float density_visible(float n_dot_r) {
     float t = 1.0 - abs(n_dot_r);
     t *= t;
     t *= t;
     t *= t; // (1 - |(n, r)|)^8 by squaring: exact, and what the CPU reference computes
-    float visible = (1.0 - t) * n_dot_r + t;
-    float d0 = frame.lod.y;
-    return visible / (A1 + A1 * (d * d) / (d0 * d0));
+    return (1.0 - t) * n_dot_r + t;
 }
 
-// An upper bound of `density_keep` over a tile whose nearest point is `d` away ((n, r) <= 1).
-float density_keep_bound(float d) {
+float density_keep(float d, float n_dot_r) {
     float d0 = frame.lod.y;
-    return 1.0 / (A1 + A1 * (d * d) / (d0 * d0));
+    return density_visible(n_dot_r) / (A1 + A1 * (d * d) / (d0 * d0));
+}
+
+// An upper bound of `density_keep` over the roots of a tile whose nearest point is `nearest`
+// away, under normal n. A root p has (n, r) = n · (eye - p) / |eye - p|: n · (eye - p) is linear
+// in p, so its range over the box is at two corners, and |eye - p| lies between the box's nearest
+// and farthest distances. The numerator is 1 at (n, r) = 0, rises towards 0 from below and has
+// one minimum above it (at about 0.24), so on an interval its largest value is at an end, or 1
+// if the interval holds 0. A 2 % margin covers rounding (the bound only saves work; the blade
+// test decides).
+float density_keep_bound(vec3 n, BladeTile tile, float nearest) {
+    vec3 eye = frame.cull_eye.xyz;
+    bvec3 positive = greaterThanEqual(n, vec3(0.0));
+    float most = dot(n, eye - mix(tile.max, tile.min, positive));
+    float least = dot(n, eye - mix(tile.min, tile.max, positive));
+    float near = max(nearest, 1e-3);
+    float far = length(max(abs(eye - tile.min), abs(eye - tile.max)));
+    float lo = clamp(least >= 0.0 ? least / far : least / near, -1.0, 1.0);
+    float hi = clamp(most >= 0.0 ? most / near : most / far, -1.0, 1.0);
+    float visible = lo <= 0.0 && hi >= 0.0 ? 1.0 : max(density_visible(lo), density_visible(hi));
+    float d0 = frame.lod.y;
+    return 1.02 * visible / (A1 + A1 * (nearest * nearest) / (d0 * d0));
 }
 
 // The tile of ring slot `slot`: a tile of the stored field, or in a block field (FLAG_BLOCKS) the
@@ -244,7 +263,7 @@ uint visible_blade(BladeTile tile, uint slot, uint rank) {
 }
 
 // What the tile tests (frustum, distance, occlusion) leave of a tile: how many of its blades (a prefix) go to the blade tests.
-uint tile_candidates(Frustum f, BladeTile tile, out bool tile_visible) {
+uint tile_candidates(Frustum f, BladeTile tile, vec3 normal, out bool tile_visible) {
     vec3 eye = frame.cull_eye.xyz;
     float nearest = length(clamp(eye, tile.min, tile.max) - eye);
     tile_visible = tile.count > 0u;
@@ -264,9 +283,9 @@ uint tile_candidates(Frustum f, BladeTile tile, out bool tile_visible) {
     if (!culling(LOD_DENSITY)) {
         return tile.count;
     }
-    // Blade r is kept when (r + 0.5) / count < keep: a prefix.
-    float keep = density_keep_bound(nearest);
-    return uint(clamp(ceil(keep * float(tile.count) - 0.5), 0.0, float(tile.count)));
+    // Blade r is kept when (r + 0.5) / count < keep: a prefix (one more for rounding).
+    float keep = density_keep_bound(normal, tile, nearest);
+    return uint(clamp(ceil(keep * float(tile.count) - 0.5) + 1.0, 0.0, float(tile.count)));
 }
 
 // Segments of LOD bucket `b`.

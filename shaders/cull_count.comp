@@ -27,7 +27,8 @@ void main() {
     if (slot_record(slot, tile, cell)) {
         Frustum f = culling_frustum();
         bool tile_visible;
-        uint candidates = tile_candidates(f, tile, tile_visible);
+        vec3 normal = tile_normal(tile);
+        uint candidates = tile_candidates(f, tile, normal, tile_visible);
         uint base = 0u;
         // `candidates` is the workgroup's: the barriers below are reached by all or none.
         if ((RENDER_FLAGS & FLAG_BLOCKS) != 0u && candidates > 0u) {
@@ -50,7 +51,6 @@ void main() {
             counts[STAT_TILES] = tile_visible ? tile.count : 0u;
             counts[STAT_TILES_VISIBLE] = tile_visible ? 1u : 0u;
         }
-        vec3 normal = tile_normal(tile);
         uint passed[STAT_OCCLUSION - STAT_DENSITY + 1u] = uint[](0u, 0u, 0u, 0u);
         uint drawn[MAX_LOD_BUCKETS] = uint[](0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
         for (uint rank = lane; rank < candidates; rank += CULL_GROUP) {

@@ -23,7 +23,7 @@ void main() {
         return;
     }
     bool tile_visible;
-    uint candidates = tile_candidates(culling_frustum(), tile, tile_visible);
+    uint candidates = tile_candidates(culling_frustum(), tile, tile_normal(tile), tile_visible);
     uint base = (RENDER_FLAGS & FLAG_BLOCKS) != 0u && candidates > 0u ? verdict_base[slot] : 0u;
     if (base == NO_ROOM) {
         return;
