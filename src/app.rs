@@ -18,7 +18,7 @@ use crate::error::{Error, Result};
 use crate::render::animation::{AnimationSettings, KeyframeTexture, KeyframeUniforms};
 use crate::render::budget::FrameBudget;
 use crate::render::submission::Submission;
-use crate::render::target::{offscreen_bytes, OFFSCREEN_FORMAT};
+use crate::render::target::offscreen_bytes;
 use crate::render::{FrameTimings, OffscreenTarget, RenderSettings, Renderer};
 use crate::scene::{blades, BladeInstance, Camera, Scene};
 use crate::vk::device::{format_bytes, DeviceInfo};
@@ -160,23 +160,19 @@ impl RenderOptions {
     }
 
     /// The renderer settings of these options for offscreen targets with pipeline statistics
-    /// (`render`, `timing`).
+    /// (`render`, `timing`; the viewer changes the format and drops the statistics).
     pub fn offscreen_settings(&self, frames_in_flight: usize) -> RenderSettings {
         RenderSettings {
-            segments: self.segments,
-            color_format: OFFSCREEN_FORMAT,
-            encode_srgb: true,
             frames_in_flight,
             blades_per_instance: self.blades_per_instance,
             debug_force: self.debug_force,
             debug_bounds: self.debug_bounds,
             debug_lod: self.debug_lod,
             debug_tiles: self.debug_tiles,
-            culling: self.culling,
             floor: self.floor,
-            wireframe: false,
             pipeline_statistics: true,
             submission: self.submission,
+            ..RenderSettings::offscreen(self.segments, self.culling)
         }
     }
 }

@@ -47,6 +47,12 @@ pub fn ring_radius(view_distance: f32) -> u32 {
     (view_distance / BLOCK_SIZE).ceil() as u32 + 1
 }
 
+/// Ring slots (cells) the cull visits for `view_distance`: (2R + 1)².
+pub fn ring_slots(view_distance: f32) -> u32 {
+    let r = ring_radius(view_distance);
+    (2 * r + 1) * (2 * r + 1)
+}
+
 /// The longest view distance the rings' slots can hold (the visible list packs a slot in 16 bits).
 pub fn max_view_distance() -> f32 {
     // (2R + 1)² <= 65 536 for R <= 127.
@@ -95,8 +101,7 @@ pub fn fill_uniforms(
     uniforms.field = Vec4::new(BLOCK_SIZE, field.relief.slope_bound(), grid.origin, grid.origin);
     uniforms.terrain = Vec4::new(terrain_step(view_distance), grid.cluster_size, 0.0, 0.0);
     uniforms.params.z = gpu::FIELD_TERRAIN_CELLS;
-    let r = ring_radius(view_distance);
-    uniforms.cull_tiles = glam::UVec4::new(verdicts, (2 * r + 1) * (2 * r + 1), 0, 0);
+    uniforms.cull_tiles = glam::UVec4::new(verdicts, ring_slots(view_distance), 0, 0);
 }
 
 #[cfg(test)]

@@ -170,8 +170,7 @@ pub fn verdict_capacity(scene: &Scene) -> u32 {
 pub fn cull_capacity(scene: &Scene, view_distance: f32) -> (u32, u32) {
     match &scene.field {
         Some(_) => {
-            let r = crate::render::field_gpu::ring_radius(view_distance);
-            let slots = (2 * r + 1) * (2 * r + 1);
+            let slots = crate::render::field_gpu::ring_slots(view_distance);
             (slots, (u64::from(slots) * scene.blades.len() as u64).min(u64::from(FIELD_VISIBLE)) as u32)
         }
         None => (max_ring_slots(scene.tile_grid.tiles), scene.blades.len() as u32),

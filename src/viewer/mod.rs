@@ -176,21 +176,11 @@ impl Viewer {
         )?;
         let scene = o.scene();
         let camera = o.camera.unwrap_or_else(|| scene.default_camera());
+        // The options' settings, into the swapchain's format, without statistics queries.
         let settings = RenderSettings {
-            segments: o.segments,
             color_format: vk::Format::B8G8R8A8_UNORM,
-            encode_srgb: true,
-            frames_in_flight: options.frames_in_flight,
-            blades_per_instance: o.blades_per_instance,
-            debug_force: o.debug_force,
-            debug_bounds: o.debug_bounds,
-            debug_lod: o.debug_lod,
-            debug_tiles: o.debug_tiles,
-            culling: o.culling,
-            floor: o.floor,
-            wireframe: false,
             pipeline_statistics: false,
-            submission: Default::default(),
+            ..o.offscreen_settings(options.frames_in_flight)
         };
         let fixed_step = options.script.is_some() || options.frames.is_some();
         Ok(Self {
