@@ -31,6 +31,9 @@ vec3 visible_unpack(uint word) {
         1.0 + float(word >> 24) / 255.0 * (frame.lod.w - 1.0));
 }
 
+// A visible entry that draws nothing: the padding of a bucket's last instance (cull_scan.comp).
+const uint VISIBLE_PADDING = 0xffffffffu;
+
 #ifdef CULL_WRITER
 layout(set = SET_SCENE, binding = BINDING_VISIBLE, std430) writeonly buffer Visible { uvec2 visible[]; };
 #else

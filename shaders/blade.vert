@@ -42,10 +42,10 @@ struct LevelPose {
     float force;
 };
 
-LevelPose pose_records(uint blade_index, float height, uint m) {
+LevelPose pose_records(uint record, float height, uint m) {
     // Evaluated once per blade and level by blade_pose.comp (thesis ch. 7 future work, with
     // compute): point, tangent and twist of this level in three words, no keyframe fetch.
-    uint at = (blade_index * (MODEL_SEGMENTS + 1u) + m) * POSE_WORDS;
+    uint at = (record * (MODEL_SEGMENTS + 1u) + m) * POSE_WORDS;
     uint w1 = poses[at + 1u];
     vec4 tangent_force = unpackSnorm4x8(poses[at + 2u]);
     LevelPose pose;
@@ -73,15 +73,15 @@ LevelPose pose_levels(vec3 p[4], KfSelection sel, float height, uint m) {
 // blade samples the same curve.
 const bool LEVELS_ALIGN = (MODEL_SEGMENTS % SEGMENTS) == 0u;
 
-LevelPose animated(uint blade_index, BladeInstance blade, vec3 p[4], uint level, float t) {
+LevelPose animated(uint blade_index, uint record, BladeInstance blade, vec3 p[4], uint level, float t) {
     float at = float(level * MODEL_SEGMENTS) / float(SEGMENTS);
     uint m0 = LEVELS_ALIGN ? level * (MODEL_SEGMENTS / SEGMENTS) : uint(at);
     float frac = LEVELS_ALIGN ? 0.0 : at - float(m0);
     uint m1 = min(m0 + 1u, MODEL_SEGMENTS);
     if ((RENDER_FLAGS & FLAG_EVAL_BLADE) != 0u) {
-        LevelPose pose = pose_records(blade_index, blade.height, m0);
+        LevelPose pose = pose_records(record, blade.height, m0);
         if (!LEVELS_ALIGN && frac > 0.0) {
-            LevelPose next = pose_records(blade_index, blade.height, m1);
+            LevelPose next = pose_records(record, blade.height, m1);
             pose.local = mix(pose.local, next.local, frac);
             pose.tangent = mix(pose.tangent, next.tangent, frac);
             pose.twist_cs = normalize(mix(pose.twist_cs, next.twist_cs, frac));
@@ -129,18 +129,24 @@ void main() {
     // The cull's fade (the density LOD is about to drop the blade) and widening (its neighbours
     // were dropped): Belyaev §2.2 smooth transitions.
     vec2 lod_scale = vec2(1.0);
-    float root_y = 0.0;
+    // Where `--eval blade`'s pose record is: by blade, or with the cull by visible entry (the
+    // blade-pose pass evaluates only the drawn blades).
+    uint record = blade_index;
+    uvec2 entry = uvec2(0u);
+    bool tail = BLADES_PER_INSTANCE > 1u && blade_index >= frame.params.y;
     if ((RENDER_FLAGS & FLAG_CULLED) != 0u) {
-        uvec2 entry = visible[gl_InstanceIndex];
+        // Entry `blade_index` of the cull's list (instance * BLADES_PER_INSTANCE + k, the
+        // bucket's first instance counting from its base); a bucket's last instance ends in
+        // VISIBLE_PADDING.
+        entry = visible[blade_index];
+        tail = entry.x == VISIBLE_PADDING;
         blade_index = entry.x;
-        vec3 unpacked = visible_unpack(entry.y);
-        root_y = unpacked.x;
-        lod_scale = unpacked.yz;
+        lod_scale = visible_unpack(entry.y).yz;
     }
     if ((RENDER_FLAGS & FLAG_CLUSTER_PUSH) != 0u) {
         blade_index += cluster_push.first_blade;
     }
-    if (BLADES_PER_INSTANCE > 1u && blade_index >= frame.params.y) {
+    if (tail) {
         // Tail of the last instance: a degenerate point outside the clip volume.
         gl_Position = vec4(2.0, 2.0, 2.0, 1.0);
         out_uv = vec2(0.0);
@@ -150,12 +156,8 @@ void main() {
     uint j = uint(gl_VertexIndex) % STRIP_STRIDE;
     uint strip = min(uint(max(int(j) - int(STRIP_LEAD), 0)), 2u * segments + 1u);
     BladeInstance blade;
-    if ((RENDER_FLAGS & FLAG_BLOCKS) != 0u) {
-        // A block field: the entry names the ring slot (high bits) and the block's blade.
-        ivec2 cell = frame.field_cells.xy + ring_cell(blade_index >> 16);
-        blade_index &= 0xffffu;
-        blade = field_blade(cell, blade_index);
-        blade.position.y = root_y;
+    if ((RENDER_FLAGS & FLAG_CULLED) != 0u) {
+        blade = visible_instance(entry, blade_index);
     } else {
         blade = blades[blade_index];
     }
@@ -175,7 +177,7 @@ void main() {
         pose.twist_cs = vec2(1.0, 0.0);
         pose.force = 0.0;
     } else {
-        pose = animated(blade_index, blade, p, level, t);
+        pose = animated(blade_index, record, blade, p, level, t);
     }
     vec3 local = pose.local * lod_scale.x;
     vec3 local_tangent = pose.tangent;

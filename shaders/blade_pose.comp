@@ -4,24 +4,40 @@
 // attenuation (4.5), the blade frame, the keyframe selection (eq. 3.10–3.12) and the blend of
 // every chain level (eq. 3.13/3.14) — done once per blade instead of once per vertex (three
 // times per vertex, for the tangent). The evaluated levels go to the pose records blade.vert
-// reads (bindings.glsl). The thesis' chapter 7 future work, with a compute pass.
+// reads (bindings.glsl). The thesis' chapter 7 future work, with a compute pass. With the cull, it
+// runs after it over the drawn blades only.
 #define POSE_WRITER
 #include "bindings.glsl"
 #include "bezier.glsl"
 #include "forces.glsl"
 #include "keyframes.glsl"
 #include "blade_select.glsl"
+#include "field.glsl"
 
-layout(local_size_x = 64) in;
+// With the cull (FLAG_CULLED): one invocation per entry of its visible list, dispatched
+// indirectly by the scan's count, records by entry; without it, one per stored blade.
+layout(set = SET_SCENE, binding = BINDING_DRAWS, std430) readonly buffer Draws { uint draws[]; };
+
+layout(local_size_x = POSE_GROUP) in;
 
 void main() {
     uint i = gl_GlobalInvocationID.x;
-    if (i >= frame.params.y) {
-        return;
+    BladeInstance blade;
+    uint blade_index = i;
+    if ((RENDER_FLAGS & FLAG_CULLED) != 0u) {
+        uvec2 entry = i < draws[POSE_DISPATCH_WORD + 3u] ? visible[i] : uvec2(VISIBLE_PADDING);
+        if (entry.x == VISIBLE_PADDING) {
+            return;
+        }
+        blade = visible_instance(entry, blade_index);
+    } else {
+        if (i >= frame.params.y) {
+            return;
+        }
+        blade = blades[i];
     }
-    BladeInstance blade = blades[i];
     float force;
-    KfSelection sel = kf_select_blade(i, blade, force);
+    KfSelection sel = kf_select_blade(blade_index, blade, force);
     vec3 p[4];
     neutral_control_points(blade.height, unpack_variation(blade.variation, 2), p);
     uint base = i * (MODEL_SEGMENTS + 1u) * POSE_WORDS;

@@ -111,25 +111,27 @@ bool occluded(vec3 centre, float radius) {
     vec2 lo = clamp((ndc - grow) * 0.5 + 0.5, 0.0, 1.0);
     vec2 hi = clamp((ndc + grow) * 0.5 + 0.5, 0.0, 1.0);
     float nearest_depth = c.z / nearest_w;
-    uint base = 0u;
-    uint side = PYRAMID_SIDE;
-    for (uint level = 0u; level < PYRAMID_LEVELS; level++) {
-        vec2 span = (hi - lo) * float(side);
-        if (max(span.x, span.y) <= 2.0) {
-            uvec2 first = uvec2(min(lo * float(side), vec2(side - 1u)));
-            uvec2 last = uvec2(min(hi * float(side), vec2(side - 1u)));
-            float farthest = 1.0;
-            for (uint y = first.y; y <= last.y; y++) {
-                for (uint x = first.x; x <= last.x; x++) {
-                    farthest = min(farthest, pyramid[base + y * side + x]);
-                }
-            }
-            return nearest_depth < farthest;
-        }
-        base += side * side;
-        side /= 4u;
+    // The finest level where the rectangle spans at most two texels (level l has a 4^l times
+    // coarser grid), then its at most 3×3 texels, read without loops or branches: a SIMD lane
+    // per blade on llvmpipe, where the loops' divergence cost more than the reads.
+    float span0 = max(hi.x - lo.x, hi.y - lo.y) * float(PYRAMID_SIDE);
+    uint level = span0 <= 2.0 ? 0u : uint(ceil(0.5 * log2(0.5 * span0)));
+    level += span0 > 2.0 * float(1u << (2u * min(level, 15u))) ? 1u : 0u; // log2's rounding
+    if (level >= PYRAMID_LEVELS) {
+        return false;
     }
-    return false;
+    uint side = PYRAMID_SIDE >> (2u * level);
+    uint base = level == 0u ? 0u : (level == 1u ? PYRAMID_SIDE * PYRAMID_SIDE : PYRAMID_SIDE * PYRAMID_SIDE + side * side * 16u);
+    uvec2 first = uvec2(min(lo * float(side), vec2(side - 1u)));
+    uvec2 last = uvec2(min(hi * float(side), vec2(side - 1u)));
+    float farthest = 1.0;
+    for (uint dy = 0u; dy < 3u; dy++) {
+        for (uint dx = 0u; dx < 3u; dx++) {
+            uvec2 t = min(first + uvec2(dx, dy), last); // past `last`: a texel already read
+            farthest = min(farthest, pyramid[base + t.y * side + t.x]);
+        }
+    }
+    return nearest_depth < farthest;
 }
 
 float terrain_height(int x, int z) {
@@ -228,10 +230,9 @@ ivec2 cache_first_vertex(ivec2 cell) {
 // Every invocation of the workgroup calls it (it ends with a barrier).
 void cache_cell_heights(ivec2 cell) {
     ivec2 first = cache_first_vertex(cell);
-    uint lane = gl_LocalInvocationIndex;
-    if (lane < HEIGHT_CACHE * HEIGHT_CACHE) {
-        ivec2 v = first + ivec2(lane % HEIGHT_CACHE, lane / HEIGHT_CACHE);
-        cell_heights[lane / HEIGHT_CACHE][lane % HEIGHT_CACHE] = relief_height(vec2(v) * frame.terrain.x + terrain_grid_offset());
+    for (uint i = gl_LocalInvocationIndex; i < HEIGHT_CACHE * HEIGHT_CACHE; i += CULL_GROUP) {
+        ivec2 v = first + ivec2(i % HEIGHT_CACHE, i / HEIGHT_CACHE);
+        cell_heights[i / HEIGHT_CACHE][i % HEIGHT_CACHE] = relief_height(vec2(v) * frame.terrain.x + terrain_grid_offset());
     }
     barrier();
 }

@@ -10,7 +10,7 @@
 // integer sums, whose result does not depend on the order the invocations run in.
 #include "cull.glsl"
 
-layout(local_size_x = CULL_GROUP) in;
+layout(local_size_x_id = SPEC_CULL_GROUP) in;
 
 shared uint counts[SLOT_WORDS];
 shared uint slot_base;
@@ -18,8 +18,8 @@ shared uint slot_base;
 void main() {
     uint slot = gl_WorkGroupID.x;
     uint lane = gl_LocalInvocationID.x;
-    if (lane < SLOT_WORDS) {
-        counts[lane] = 0u;
+    for (uint w = lane; w < SLOT_WORDS; w += CULL_GROUP) {
+        counts[w] = 0u;
     }
     barrier();
     BladeTile tile;
@@ -76,7 +76,7 @@ void main() {
         }
     }
     barrier();
-    if (lane < SLOT_WORDS) {
-        slot_counts[slot * SLOT_WORDS + lane] = counts[lane];
+    for (uint w = lane; w < SLOT_WORDS; w += CULL_GROUP) {
+        slot_counts[slot * SLOT_WORDS + w] = counts[w];
     }
 }

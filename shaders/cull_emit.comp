@@ -9,7 +9,7 @@
 #define CULL_WRITER
 #include "cull.glsl"
 
-layout(local_size_x = CULL_GROUP) in;
+layout(local_size_x_id = SPEC_CULL_GROUP) in;
 
 shared uint prefix[MAX_LOD_BUCKETS][CULL_GROUP];
 
@@ -64,8 +64,9 @@ void main() {
     barrier();
     uint at[MAX_LOD_BUCKETS];
     for (uint b = 0u; b < MAX_LOD_BUCKETS; b++) {
-        // Bucket base (the draw's firstInstance) + the slot's offset + the runs before this one.
-        at[b] = draws[4u * b + 3u] + slot_counts[slot * SLOT_WORDS + b] + prefix[b][lane];
+        // Bucket base (the draw's firstInstance, instances of BLADES_PER_INSTANCE entries) + the
+        // slot's offset + the runs before this one.
+        at[b] = draws[4u * b + 3u] * BLADES_PER_INSTANCE + slot_counts[slot * SLOT_WORDS + b] + prefix[b][lane];
     }
     for (uint rank = begin; rank < end; rank++) {
         uvec2 result = cull_results[verdict_index(tile, base, rank)];

@@ -3,10 +3,11 @@
 // Cull, step 2 of 3: one workgroup turns the per-slot bucket counts into offsets (an exclusive
 // prefix sum over the slots, in slot order: near to far), writes one indirect draw per LOD bucket
 // (its instances are bucket b's blades, from firstInstance = the blades of the buckets before it)
-// and sums the frame's counts into the host-visible `cull_stats` (read after the frame's fence).
+// and the blade-pose pass's indirect dispatch, and sums the frame's counts into the host-visible `cull_stats` (read after the frame's fence).
 // Invocation i sums the i-th contiguous run of slots, one invocation scans the run sums, then
 // each invocation writes its run's offsets: three barriers (a parallel scan needs two per step,
 // and llvmpipe's barriers cost more than the additions they save).
+#define CULL_WRITER
 #include "cull.glsl"
 
 const uint SCAN = 256u;
@@ -62,17 +63,32 @@ void main() {
         }
     }
     if (lane == 0u) {
+        // Each instance draws BLADES_PER_INSTANCE consecutive entries of the list (strips joined
+        // by degenerate triangles, blade.vert), so a bucket starts at a multiple of it and its
+        // last instance's tail is padded with VISIBLE_PADDING entries, which draw nothing.
+        const uint batch = BLADES_PER_INSTANCE;
+        const uint lead = batch > 1u ? 1u : 0u;
         uint first = 0u;
         for (uint b = 0u; b < MAX_LOD_BUCKETS; b++) {
             // The visible list holds cull_lod.w entries: past them, the farthest are dropped.
-            uint count = b < frame.cull_lod.x ? min(totals[b], frame.cull_lod.w - first) : 0u;
+            uint room = frame.cull_lod.w - min(first, frame.cull_lod.w);
+            uint count = b < frame.cull_lod.x ? min(totals[b], room / batch * batch) : 0u;
+            uint instances = (count + batch - 1u) / batch;
+            for (uint pad = first + count; pad < first + instances * batch; pad++) {
+                visible[pad] = uvec2(VISIBLE_PADDING, 0u);
+            }
             // VkDrawIndirectCommand: vertexCount, instanceCount, firstVertex, firstInstance.
-            draws[4u * b] = 2u * (bucket_segments(b) + 1u);
-            draws[4u * b + 1u] = count;
+            draws[4u * b] = (2u * (bucket_segments(b) + 1u) + 2u * lead) * batch;
+            draws[4u * b + 1u] = instances;
             draws[4u * b + 2u] = 0u;
-            draws[4u * b + 3u] = first;
-            first += count;
+            draws[4u * b + 3u] = first / batch;
+            first += instances * batch;
         }
+        // The blade-pose pass (`--eval blade`) evaluates each entry of the list once.
+        draws[POSE_DISPATCH_WORD] = (first + POSE_GROUP - 1u) / POSE_GROUP;
+        draws[POSE_DISPATCH_WORD + 1u] = 1u;
+        draws[POSE_DISPATCH_WORD + 2u] = 1u;
+        draws[POSE_DISPATCH_WORD + 3u] = first;
     }
     barrier();
     if (lane < SLOT_WORDS) {

@@ -3,6 +3,7 @@
 // wherever the camera is. Mirrors `scene::field` on the CPU.
 #ifndef MEADOW_FIELD_GLSL
 #define MEADOW_FIELD_GLSL
+#include "rings.glsl"
 
 // Roots are sunk this far below the drawn terrain (as a stored field's, `scene::blades::ROOT_SINK`).
 const float FIELD_ROOT_SINK = 0.01;
@@ -100,6 +101,22 @@ void field_cell_bounds(ivec2 cell, out vec3 lo, out vec3 hi) {
     float h = relief_height(centre);
     lo = vec3(corner.x - reach, h - spread - FIELD_ROOT_SINK, corner.y - reach);
     hi = vec3(corner.x + edge + reach, h + spread + reach, corner.y + edge + reach);
+}
+
+// The blade of a visible entry of the cull's list (`visible_blade` of cull.glsl) and the index
+// its force weights use: a stored blade, or in a block field (FLAG_BLOCKS) the ring slot (high
+// bits) and the block's blade, at the root height the cull found. Shared by blade.vert and
+// blade_pose.comp, so both place it alike.
+BladeInstance visible_instance(uvec2 entry, out uint blade_index) {
+    if ((RENDER_FLAGS & FLAG_BLOCKS) != 0u) {
+        ivec2 cell = frame.field_cells.xy + ring_cell(entry.x >> 16);
+        blade_index = entry.x & 0xffffu;
+        BladeInstance blade = field_blade(cell, blade_index);
+        blade.position.y = visible_unpack(entry.y).x;
+        return blade;
+    }
+    blade_index = entry.x;
+    return blades[entry.x];
 }
 
 #endif

@@ -13,7 +13,7 @@ layout(set = 0, binding = 1, std430) writeonly buffer Fields { uint fields[]; };
 layout(constant_id = SPEC_KEYFRAME_UVEC4S) const uint KEYFRAME_UVEC4S = 4096u;
 
 const uint FRAME_WORDS = 136u;     // 544 bytes
-const uint SPEC_WORDS = 11u;       // SPEC_* ids 0..=10
+const uint SPEC_WORDS = 12u;       // SPEC_* ids 0..=11
 
 void put_vec4(inout uint o, vec4 v) {
     for (uint i = 0u; i < 4u; i++) {
@@ -69,6 +69,7 @@ void main() {
     fields[FRAME_WORDS + SPEC_BLADES_PER_INSTANCE] = BLADES_PER_INSTANCE;
     fields[FRAME_WORDS + SPEC_ENCODE_SRGB] = ENCODE_SRGB;
     fields[FRAME_WORDS + SPEC_MODEL_SEGMENTS] = MODEL_SEGMENTS;
+    fields[FRAME_WORDS + SPEC_CULL_GROUP] = CULL_GROUP;
 
     uint s = FRAME_WORDS + SPEC_WORDS;
     fields[s + 0u] = MAX_SEGMENTS;

@@ -45,6 +45,7 @@
 #define SPEC_SEGMENTS 7 // Segments per blade, at most `MAX_SEGMENTS`.
 #define SPEC_BLADES_PER_INSTANCE 8 // Blades per instance (1: the strip alone, no degenerate joins, no tail test).
 #define SPEC_ENCODE_SRGB 9 // 1 when the shaders encode sRGB (UNORM targets), 0 when the target's format does.
+#define SPEC_CULL_GROUP 11 // Invocations of a cull workgroup: the device's subgroup size, within 8..=64.
 #define SPEC_MODEL_SEGMENTS 10 // Segments of the animation model's levels (`--segments`); `SPEC_SEGMENTS` may be fewer (a LOD bucket).
 
 // `SPEC_RENDER_FLAGS` bits.
@@ -105,6 +106,7 @@
 #define MAX_EMITTERS 64u // Point sources plus colliders a renderer can hold (the per-frame emitter buffers' capacity).
 #define POSE_WORDS 3u // 32-bit words of one level of a `--eval blade` pose record.
 #define MAX_LOD_BUCKETS 8u // Segment LOD buckets (`--lod-segments`).
-#define CULL_GROUP 64u // Invocations of a cull workgroup (one workgroup per ring slot).
+#define POSE_DISPATCH_WORD 32u // In the cull's `draws`, after the buckets' draws: the blade-pose pass's indirect dispatch (x, y, z), then the visible list's length.
+#define POSE_GROUP 64u // Invocations of a blade-pose workgroup.
 
 #endif

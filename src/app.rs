@@ -154,7 +154,7 @@ impl RenderOptions {
     /// Refuse what a block field cannot do, before any work (`render::settings::check_field`).
     pub fn check_field(&self) -> Result<()> {
         match self.field {
-            Some(_) => crate::render::settings::check_field(&self.offscreen_settings(1), &self.animation),
+            Some(_) => crate::render::settings::check_field(&self.offscreen_settings(1)),
             None => Ok(()),
         }
     }
@@ -231,7 +231,8 @@ pub fn check_limits(device: &Device, blades: u32, size: (u32, u32), terrain_cell
 }
 
 /// Every check of a scene against the device and meadow's limits, before anything is allocated:
-/// shared by `render`, the viewer (also when a control rebuilds it) and `bench`.
+/// shared by `render`, the viewer (also when a control rebuilds it) and `bench`. `culled`: the
+/// cull draws the blades (`--eval blade` then needs records for the drawn blades only).
 pub fn check_scene(
     device: &Device,
     blades: u32,
@@ -239,6 +240,7 @@ pub fn check_scene(
     size: (u32, u32),
     animation: &AnimationSettings,
     floor: bool,
+    culled: bool,
 ) -> Result<()> {
     use crate::render::animation::{Eval, Mode, MAX_EMITTERS};
     let field_m = crate::scene::blades::field_size(blades);
@@ -250,22 +252,26 @@ pub fn check_scene(
         device.check_budget(2 * 12 * vertices, &format!("--mode floor with {blades} blades"))?;
     }
     if animation.eval == Eval::Blade && animation.mode != Mode::Static {
-        let groups = blades.div_ceil(64);
+        // At most one storage buffer of records (`scene_gpu::pose_records`): with the cull, one
+        // per drawn blade (the cull keeps at most that many); brute force needs one per blade.
+        let per_record = crate::render::scene_gpu::pose_bytes(1, segments);
+        let range = u64::from(device.limits().max_storage_buffer_range);
+        if !culled && !floor && u64::from(blades) * per_record > range {
+            return Err(Error::bad_input(format!(
+                "--eval blade with --brute-force and {blades} blades x {segments} segments needs {} MiB of evaluated levels, over the device's maxStorageBufferRange of {} MiB: use --eval vertex or the cull",
+                (u64::from(blades) * per_record) >> 20,
+                range >> 20
+            )));
+        }
+        let records = u64::from(blades).min(range / per_record) as u32;
+        let groups = records.div_ceil(crate::render::gpu_constants::POSE_GROUP);
         let max = device.limits().max_compute_work_group_count[0];
         if groups > max {
             return Err(Error::bad_input(format!(
                 "--eval blade with {blades} blades needs {groups} workgroups, over the device's maxComputeWorkGroupCount[0] of {max}"
             )));
         }
-        let bytes = crate::render::scene_gpu::pose_bytes(blades, segments);
-        let range = u64::from(device.limits().max_storage_buffer_range);
-        if bytes > range {
-            return Err(Error::bad_input(format!(
-                "--eval blade with {blades} blades x {segments} segments needs {} MiB of evaluated levels, over the device's maxStorageBufferRange of {} MiB: use --eval vertex",
-                bytes >> 20,
-                range >> 20
-            )));
-        }
+        let bytes = crate::render::scene_gpu::pose_bytes(records, segments);
         device.check_budget(bytes, &format!("--eval blade with {blades} blades x {segments} segments"))?;
     }
     let emitters = animation.wind.sources.len() + animation.wind.colliders.len();
@@ -300,7 +306,16 @@ pub fn write_png(path: &Path, size: (u32, u32), rgba: &[u8]) -> Result<()> {
 pub fn render(device: &Arc<Device>, options: &RenderOptions) -> Result<RenderReport> {
     output::check_output(&options.out, "--out")?;
     options.check_field()?;
-    check_scene(device, options.stored_blades(), options.segments, options.size, &options.animation, options.floor)?;
+    let culled = options.culling.enabled;
+    check_scene(
+        device,
+        options.stored_blades(),
+        options.segments,
+        options.size,
+        &options.animation,
+        options.floor,
+        culled,
+    )?;
     options.check_clusters()?;
     if options.budget_ms.is_some() && !options.culling.enabled {
         return Err(Error::bad_input("--budget-ms sets the LOD scale of the GPU-driven path: drop --brute-force"));

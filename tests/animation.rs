@@ -112,9 +112,10 @@ fn texture_uniform_and_both_evaluation_placements_give_the_same_picture() {
     fn with<'a>(base: &[&'a str], extra: &[&'a str]) -> Vec<&'a str> {
         [base, extra].concat()
     }
-    let reference = render("float32", &with(&base, &["--encoding", "float32"]));
+    // Per vertex unless said otherwise (`--eval auto` is per drawn blade with the cull).
+    let reference = render("float32", &with(&base, &["--encoding", "float32", "--eval", "vertex"]));
     for (name, extra) in [("unorm16", &["--encoding", "unorm16"][..]), ("rgba8x2", &["--encoding", "rgba8x2"][..])] {
-        let other = render(name, &with(&base, extra));
+        let other = render(name, &with(&base, &[extra, &["--eval", "vertex"][..]].concat()));
         let (stats, _) = compare_rgb(&reference.rgb, &other.rgb, 3);
         assert!(stats.within_fraction() > 0.97, "{name}: {:.2} % within ±3", 100.0 * stats.within_fraction());
     }
@@ -125,7 +126,7 @@ fn texture_uniform_and_both_evaluation_placements_give_the_same_picture() {
         ("uniform-blade", &["--mode", "uniform", "--eval", "blade"][..]),
     ] {
         let per_vertex = if name.starts_with("uniform") {
-            render("uniform-vertex", &with(&base, &["--mode", "uniform"]))
+            render("uniform-vertex", &with(&base, &["--mode", "uniform", "--eval", "vertex"]))
         } else {
             Picture { rgb: reference.rgb.clone(), ..reference }
         };
@@ -152,14 +153,15 @@ fn texture_uniform_and_both_evaluation_placements_give_the_same_picture() {
 #[test]
 fn curve_keyframes_work_at_any_segment_count_and_match_vertex_keyframes() {
     let base = ["--blades", "6000", "--size", "200x120", "--wind", "10,0.6", "--no-gusts"];
-    let vertex = render("curve-vertex-16", &[&base[..], &["--segments", "16"]].concat());
-    let curve = render("curve-16", &[&base[..], &["--segments", "16", "--keyframes", "curve"]].concat());
+    let vertex = render("curve-vertex-16", &[&base[..], &["--segments", "16", "--eval", "vertex"]].concat());
+    let curve =
+        render("curve-16", &[&base[..], &["--segments", "16", "--keyframes", "curve", "--eval", "vertex"]].concat());
     let (stats, _) = compare_rgb(&vertex.rgb, &curve.rgb, 3);
     assert!(stats.within_fraction() > 0.9, "curve vs vertex at 16 segments: {:.2} %", 100.0 * stats.within_fraction());
     // One table for every segment count: 2 and 7 segments render from the same curve records.
     for segments in ["2", "7"] {
         let args = [&base[..], &["--segments", segments, "--keyframes", "curve", "--mode", "uniform"]].concat();
-        let per_vertex = render(&format!("curve-{segments}"), &args);
+        let per_vertex = render(&format!("curve-{segments}"), &[&args[..], &["--eval", "vertex"]].concat());
         // The compute pass evaluates the curve at the same levels; the vertex shader then takes
         // its tangent from neighbouring levels instead of the curve's derivative, which shades
         // coarse (2-segment) blades slightly differently.
@@ -167,4 +169,40 @@ fn curve_keyframes_work_at_any_segment_count_and_match_vertex_keyframes() {
         let (stats, _) = compare_rgb(&per_vertex.rgb, &per_blade.rgb, 3);
         assert!(stats.within_fraction() > 0.98, "curve, {segments} segments: {:.3} %", 100.0 * stats.within_fraction());
     }
+}
+
+/// Render through the real binary; the picture and the `gpu:` line (its passes).
+fn render_with_passes(name: &str, args: &[&str]) -> (Picture, String) {
+    let dir = support::scratch(&format!("animation-{name}"));
+    let path = dir.join("out.png");
+    let output = support::render(args, &path);
+    let stdout = String::from_utf8_lossy(&output.stdout).into_owned();
+    let gpu = stdout.lines().find(|l| l.starts_with("gpu:")).unwrap_or_else(|| panic!("{name}: no gpu line: {stdout}"));
+    (Picture::load(&path), gpu.to_string())
+}
+
+#[test]
+fn with_the_cull_the_default_evaluates_each_drawn_blade_once() {
+    // `--eval auto`: the blade-pose pass runs after the cull over its visible list (stored field
+    // and block field alike); brute force keeps the thesis' per-vertex path.
+    let wind = ["--wind", "10,0.6", "--no-gusts", "--time", "1", "--size", "200x120"];
+    let stored = [&wind[..], &["--blades", "6000"]].concat();
+    let (auto, passes) = render_with_passes("auto", &stored);
+    assert!(passes.contains("blade poses"), "no pose pass with the cull: {passes}");
+    let (per_vertex, passes) = render_with_passes("auto-vertex", &[&stored[..], &["--eval", "vertex"]].concat());
+    assert!(!passes.contains("blade poses"), "--eval vertex ran the pose pass: {passes}");
+    let (_, passes) = render_with_passes("auto-brute", &[&stored[..], &["--brute-force"]].concat());
+    assert!(!passes.contains("blade poses"), "brute force ran the pose pass: {passes}");
+    let (stats, _) = compare_rgb(&per_vertex.rgb, &auto.rgb, 3);
+    assert!(stats.within_fraction() > 0.995, "stored: {:.3} % within ±3", 100.0 * stats.within_fraction());
+    let still = render("auto-static", &[&stored[..], &["--mode", "static"]].concat());
+    let (stats, _) = compare_rgb(&still.rgb, &auto.rgb, 3);
+    assert!(stats.within_fraction() < 0.9, "the per-blade records did not move the blades");
+    // A block field: the records follow its cells' blades (ring slot and block blade).
+    let field = [&wind[..], &["--field", "infinite"]].concat();
+    let (blocks, passes) = render_with_passes("field-auto", &field);
+    assert!(passes.contains("blade poses"), "no pose pass for a block field: {passes}");
+    let (blocks_vertex, _) = render_with_passes("field-vertex", &[&field[..], &["--eval", "vertex"]].concat());
+    let (stats, _) = compare_rgb(&blocks_vertex.rgb, &blocks.rgb, 3);
+    assert!(stats.within_fraction() > 0.995, "field: {:.3} % within ±3", 100.0 * stats.within_fraction());
 }

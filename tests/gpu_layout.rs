@@ -145,6 +145,7 @@ fn every_frame_uniform_and_specialization_constant_reads_back_through_a_compute_
         blades_per_instance: 2008,
         encode_srgb: 2009,
         model_segments: 2010,
+        cull_group: 2011,
     };
     let input = (vk::DescriptorType::UNIFORM_BUFFER, bytemuck::bytes_of(&uniforms));
     let (result, messages) = with_device(&options(), false, |device| {
@@ -168,6 +169,7 @@ fn every_frame_uniform_and_specialization_constant_reads_back_through_a_compute_
     assert_eq!(seen(gpu::SPEC_BLADES_PER_INSTANCE), spec.blades_per_instance, "BLADES_PER_INSTANCE");
     assert_eq!(seen(gpu::SPEC_ENCODE_SRGB), spec.encode_srgb, "ENCODE_SRGB");
     assert_eq!(seen(gpu::SPEC_MODEL_SEGMENTS), spec.model_segments, "MODEL_SEGMENTS");
+    assert_eq!(seen(gpu::SPEC_CULL_GROUP), spec.cull_group, "CULL_GROUP");
     // The shaders see the constants build.rs generated for Rust.
     let shared = &words[FRAME_WORDS + specialization::COUNT..];
     let flags = gpu::FLAG_DEBUG_FORCE | gpu::FLAG_EVAL_BLADE | gpu::FLAG_CLUSTER_PUSH;

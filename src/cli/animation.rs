@@ -40,6 +40,8 @@ pub(crate) enum RepresentationArg {
 
 #[derive(Clone, Copy, ValueEnum)]
 pub(crate) enum EvalArg {
+    /// Once per drawn blade with the cull, per vertex with --brute-force.
+    Auto,
     /// Per vertex in the vertex shader.
     Vertex,
     /// Once per blade in a compute pass that evaluates every level.
@@ -98,8 +100,9 @@ pub(crate) struct AnimationArgs {
     /// Keyframe representation: per vertex pair (thesis) or Bézier control points.
     #[arg(long, value_enum, default_value = "vertex")]
     pub(crate) keyframes: RepresentationArg,
-    /// Where the per-blade part of the animation runs: every vertex, or once per blade (compute).
-    #[arg(long, value_enum, default_value = "vertex")]
+    /// Where the per-blade part of the animation runs: every vertex, or once per blade (compute);
+    /// `auto`: once per drawn blade with the cull, every vertex with --brute-force (the thesis).
+    #[arg(long, value_enum, default_value = "auto")]
     pub(crate) eval: EvalArg,
     /// Where point sources are attenuated (thesis 4.5): at cluster corners or per blade.
     #[arg(long, value_enum, default_value = "cluster")]
@@ -128,7 +131,8 @@ pub(crate) struct AnimationArgs {
 }
 
 impl AnimationArgs {
-    pub(crate) fn settings(&self) -> AnimationSettings {
+    /// The settings; `culled`: whether the cull runs (it decides `--eval auto`).
+    pub(crate) fn settings(&self, culled: bool) -> AnimationSettings {
         AnimationSettings {
             mode: self.mode.animation(),
             packing: match self.packing {
@@ -139,7 +143,7 @@ impl AnimationArgs {
                 RepresentationArg::Vertex => Representation::Vertex,
                 RepresentationArg::Curve => Representation::Curve,
             },
-            eval: self.eval.into(),
+            eval: self.eval.resolve(culled),
             poses: self.poses,
             smoothing: match self.smoothing {
                 SmoothingArg::Nearest => Smoothing::Nearest,
@@ -191,9 +195,11 @@ impl From<ModeArg> for Column {
     }
 }
 
-impl From<EvalArg> for Eval {
-    fn from(eval: EvalArg) -> Self {
-        match eval {
+impl EvalArg {
+    /// The placement; `auto` is `Eval::default_for` the cull.
+    pub(crate) fn resolve(self, culled: bool) -> Eval {
+        match self {
+            EvalArg::Auto => Eval::default_for(culled),
             EvalArg::Vertex => Eval::Vertex,
             EvalArg::Blade => Eval::Blade,
         }

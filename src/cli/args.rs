@@ -98,9 +98,10 @@ pub(crate) struct SceneArgs {
     /// Camera position and orientation in degrees (default: 1.7 m above the field's edge).
     #[arg(long, value_name = "X,Y,Z,YAW_DEG,PITCH_DEG", value_parser = values::camera, allow_hyphen_values = true)]
     pub(crate) camera: Option<Camera>,
-    /// Blades per instance of the one blade draw (1 = classic per-blade instancing).
-    #[arg(long, default_value = "1", value_parser = values::blades_per_instance)]
-    pub(crate) blades_per_instance: u32,
+    /// Blades per instance of the blade draws (1 = classic per-blade instancing; default 1 with
+    /// --brute-force, 32 entries of the visible list with the cull).
+    #[arg(long, value_parser = values::blades_per_instance)]
+    pub(crate) blades_per_instance: Option<u32>,
     #[command(flatten)]
     pub(crate) animation: AnimationArgs,
     #[command(flatten)]
@@ -121,8 +122,10 @@ impl SceneArgs {
             camera: self.camera,
             out,
             frames,
-            blades_per_instance: self.blades_per_instance,
-            animation: self.animation.settings(),
+            blades_per_instance: self
+                .blades_per_instance
+                .unwrap_or(crate::render::settings::default_blades_per_instance(!self.culling.brute_force)),
+            animation: self.animation.settings(!self.culling.brute_force),
             time: self.animation.time,
             debug_force: self.debug_view == Some(DebugViewArg::Force),
             debug_bounds: self.debug_view == Some(DebugViewArg::Bounds),

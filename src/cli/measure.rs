@@ -7,7 +7,6 @@ use super::args::{BenchArgs, GpuArgs, OverheadArgs, PresetArg, TimingArgs};
 use super::commands::finish;
 use crate::app;
 use crate::harness::bench::Column;
-use crate::render::animation::Eval;
 
 /// Run a measuring command on the device of `gpu`: a progress bar with ETA on a terminal (none
 /// otherwise) fed by `run`'s `progress(done, total)`, then `report` of its result. Returns the
@@ -114,7 +113,8 @@ pub(crate) fn bench(args: BenchArgs) -> crate::Result<(u8, Option<u64>)> {
         options.modes = args.modes.iter().map(|&m| Column::from(m)).collect();
     }
     if !args.eval.is_empty() {
-        options.evals = args.eval.iter().map(|&e| Eval::from(e)).collect();
+        // The thesis benchmark draws every blade (brute force): `auto` is per vertex there.
+        options.evals = args.eval.iter().map(|&e| e.resolve(false)).collect();
     }
     options.size = args.size.unwrap_or(options.size);
     options.warmup = args.warmup.unwrap_or(options.warmup);

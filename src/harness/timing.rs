@@ -232,7 +232,15 @@ pub fn run(
     render.check_field()?;
     render.check_clusters()?;
     let blades = render.stored_blades();
-    crate::app::check_scene(device, blades, render.segments, render.size, &render.animation, render.floor)?;
+    crate::app::check_scene(
+        device,
+        blades,
+        render.segments,
+        render.size,
+        &render.animation,
+        render.floor,
+        render.culling.enabled,
+    )?;
     std::fs::create_dir_all(&options.out)
         .map_err(|source| Error::Io { path: options.out.display().to_string(), source })?;
     let scene = render.scene();

@@ -8,6 +8,7 @@ use ash::vk;
 use crate::error::Result;
 use crate::render::frame::Frame;
 use crate::render::gpu_constants;
+use crate::render::settings::BLADES_PER_INSTANCE_RANGE;
 use crate::scene::clusters::{BladeCluster, ClusterGrid};
 use crate::scene::tiles::{BladeTile, TileGrid, MAX_TILES_PER_SIDE};
 use crate::scene::{alpha, Scene};
@@ -19,6 +20,15 @@ use crate::vk::{Access, Buffer, BufferDesc, Device, Image, ImageDesc};
 /// blade (`shaders/bindings.glsl`).
 pub fn pose_bytes(blades: u32, segments: u32) -> u64 {
     4 * u64::from(gpu_constants::POSE_WORDS) * u64::from(blades.max(1)) * u64::from(segments + 1)
+}
+
+/// `--eval blade` pose records for `scene`: one per stored blade or, with the cull, one per entry
+/// of its visible list (the blade-pose pass evaluates only what is drawn), as many as one
+/// storage buffer holds (`maxStorageBufferRange`). The cull then keeps at most that many
+/// entries (`Renderer::frame_uniforms`); brute force needs one per blade (`check_pose_records`).
+pub fn pose_records(device: &Device, scene: &SceneGpu, segments: u32) -> u32 {
+    let most = u64::from(device.limits().max_storage_buffer_range) / pose_bytes(1, segments);
+    u64::from(scene.visible_capacity.max(scene.blade_count)).min(most) as u32
 }
 
 /// Binding numbers of set 0, generated from `shaders/shared.glsl` (`BINDING_*`).
@@ -140,7 +150,8 @@ pub fn max_ring_slots(tiles: u32) -> u32 {
 /// Bytes of the cull's buffers for `blades` stored blades, `slots` ring slots and a visible list
 /// of `visible` entries.
 fn cull_bytes(blades: u64, slots: u32, visible: u32) -> [u64; 4] {
-    let draws = 16 * u64::from(gpu_constants::MAX_LOD_BUCKETS);
+    // The buckets' indirect draws, then the blade-pose dispatch and the list's length.
+    let draws = 4 * u64::from(gpu_constants::POSE_DISPATCH_WORD) + 16;
     [
         8 * u64::from(visible.max(1)),
         4 * u64::from(gpu_constants::SLOT_WORDS) * u64::from(slots),
@@ -148,6 +159,10 @@ fn cull_bytes(blades: u64, slots: u32, visible: u32) -> [u64; 4] {
         8 * blades.max(1),
     ]
 }
+
+/// Entries past the drawn blades for the padding of each LOD bucket's last instance
+/// (`cull_scan.comp`), at the largest `--blades-per-instance`.
+const VISIBLE_PADDING: u32 = gpu_constants::MAX_LOD_BUCKETS * (*BLADES_PER_INSTANCE_RANGE.end() - 1);
 
 /// Most entries of a block field's visible list (32 MiB): the blades the cull keeps out to the
 /// view distance stay well under it; past it the farthest are dropped (`cull_scan.comp`).
@@ -173,7 +188,7 @@ pub fn cull_capacity(scene: &Scene, view_distance: f32) -> (u32, u32) {
             let slots = crate::render::field_gpu::ring_slots(view_distance);
             (slots, (u64::from(slots) * scene.blades.len() as u64).min(u64::from(FIELD_VISIBLE)) as u32)
         }
-        None => (max_ring_slots(scene.tile_grid.tiles), scene.blades.len() as u32),
+        None => (max_ring_slots(scene.tile_grid.tiles), scene.blades.len() as u32 + VISIBLE_PADDING),
     }
 }
 
@@ -373,3 +388,6 @@ impl SceneGpu {
         }
     }
 }
+
+// The blade-pose dispatch follows the buckets' draws in `draws` (`shaders/shared.glsl`).
+const _: () = assert!(gpu_constants::POSE_DISPATCH_WORD == 4 * gpu_constants::MAX_LOD_BUCKETS);

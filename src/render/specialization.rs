@@ -10,7 +10,7 @@ pub use crate::render::gpu_constants::{
 };
 
 /// Number of specialization constants, one per `SPEC_*` id of `shaders/shared.glsl`.
-pub const COUNT: usize = 11;
+pub const COUNT: usize = 12;
 
 /// The constants; each field's `constant_id` is the `SPEC_*` named in its doc (`Self::pairs`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -38,6 +38,8 @@ pub struct Specialization {
     /// `SPEC_MODEL_SEGMENTS`: segments of the animation model's levels (`segments` may be fewer
     /// in a LOD bucket's pipeline).
     pub model_segments: u32,
+    /// `SPEC_CULL_GROUP`: invocations of a cull workgroup (`passes::cull::workgroup_size`).
+    pub cull_group: u32,
 }
 
 impl Specialization {
@@ -71,6 +73,7 @@ impl Specialization {
             blades_per_instance,
             encode_srgb: u32::from(encode_srgb),
             model_segments: segments,
+            cull_group: 64,
         }
     }
 
@@ -88,6 +91,7 @@ impl Specialization {
             (gpu::SPEC_BLADES_PER_INSTANCE, self.blades_per_instance),
             (gpu::SPEC_ENCODE_SRGB, self.encode_srgb),
             (gpu::SPEC_MODEL_SEGMENTS, self.model_segments),
+            (gpu::SPEC_CULL_GROUP, self.cull_group),
         ]
     }
 
@@ -116,6 +120,7 @@ const IDS: [u32; COUNT] = [
     gpu::SPEC_BLADES_PER_INSTANCE,
     gpu::SPEC_ENCODE_SRGB,
     gpu::SPEC_MODEL_SEGMENTS,
+    gpu::SPEC_CULL_GROUP,
 ];
 
 /// Whether `ids` is a permutation of `0..COUNT`: dense, so `constants()` fills every slot.
@@ -153,6 +158,7 @@ mod tests {
             blades_per_instance: 108,
             encode_srgb: 109,
             model_segments: 110,
+            cull_group: 111,
         };
         assert_eq!(spec.pairs().map(|(id, _)| id), IDS);
         let constants = spec.constants();

@@ -152,6 +152,7 @@ impl Viewer {
                 size,
                 &animation,
                 self.settings.floor,
+                self.settings.culling.enabled,
             );
             let renderer = self.renderer.as_mut().expect("renderer built");
             if let Err(e) = checked.and_then(|()| renderer.rebuild(&self.scene, self.settings, animation)) {

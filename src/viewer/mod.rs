@@ -266,7 +266,16 @@ impl Viewer {
             .as_ref()
             .map_or(self.options.scene.size, |s| (s.swapchain.extent.width.max(1), s.swapchain.extent.height.max(1)));
         let blades = self.scene.blades.len() as u32;
-        crate::app::check_scene(&self.device, blades, self.settings.segments, size, &animation, self.settings.floor)?;
+        let culled = self.settings.culling.enabled;
+        crate::app::check_scene(
+            &self.device,
+            blades,
+            self.settings.segments,
+            size,
+            &animation,
+            self.settings.floor,
+            culled,
+        )?;
         self.renderer = Some(Renderer::new(self.device.clone(), &self.scene, self.settings, animation)?);
         Ok(())
     }

@@ -57,6 +57,8 @@ pub struct Device {
     pub queue_family: u32,
     /// `timestampValidBits` of that family.
     pub timestamp_valid_bits: u32,
+    /// `subgroupSize` (Vulkan 1.1): how many invocations the device runs in lockstep.
+    pub subgroup_size: u32,
     allocator: ManuallyDrop<Mutex<Allocator>>,
 }
 
@@ -171,6 +173,11 @@ impl Device {
             )
         };
         let features = enabled_features(&instance, physical, &chosen.info.name)?;
+        let mut subgroup = vk::PhysicalDeviceSubgroupProperties::default();
+        let mut properties2 = vk::PhysicalDeviceProperties2::default().push_next(&mut subgroup);
+        // SAFETY: physical comes from this Vulkan 1.1+ instance; the chain is valid.
+        unsafe { instance.raw.get_physical_device_properties2(physical, &mut properties2) };
+        let subgroup_size = subgroup.subgroup_size;
         let mut extensions = Vec::new();
         if desc.swapchain {
             extensions.push(ash::khr::swapchain::NAME.as_ptr());
@@ -209,6 +216,7 @@ impl Device {
             queue,
             queue_family,
             timestamp_valid_bits: families[queue_family as usize].timestamp_valid_bits,
+            subgroup_size,
             allocator: ManuallyDrop::new(Mutex::new(allocator)),
         };
         device.set_name(device.queue, "main queue");

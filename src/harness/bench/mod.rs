@@ -215,6 +215,7 @@ fn measure_row(
                 options.size,
                 &animation_of(v),
                 v.mode == Column::Floor,
+                false,
             ) {
                 Err(Error::BadInput(why)) => {
                     unsupported.push(json!({ "variant": v.name(), "unsupported": why }));

@@ -59,6 +59,9 @@ pub struct PassSetup<'a> {
     pub constants: &'a [u32],
     /// The scene on the GPU.
     pub scene: &'a SceneGpu,
+    /// Whether the cull runs before the blade pass: a model's per-blade pass then covers only
+    /// its visible list (added after the cull's passes).
+    pub culled: bool,
 }
 
 /// An animation model.

@@ -3,12 +3,14 @@
 //! every level — and writes each level's point, tangent and twist (12 bytes) for the blade pass
 //! (`shaders/blade_pose.comp`, `render::scene_gpu::pose_bytes`). Its records are written here
 //! and read by the blade pass's vertex shader; the graph orders the two, and this frame's write
-//! after the previous frame's reads.
+//! after the previous frame's reads. With the cull it runs after it, indirectly, over the
+//! visible list: each drawn blade once, its records by list entry.
 
 use ash::vk;
 
 use crate::error::Result;
 use crate::render::animation::model::{AnimationSet, PassSetup};
+use crate::render::gpu_constants as gpu;
 use crate::render::graph::{Declaration, Pass, PassContext};
 use crate::render::passes;
 use crate::render::shaders;
@@ -23,26 +25,28 @@ pub struct BladePosePass {
     blade_count: u32,
     reads: [vk::Buffer; 2],
     keyframes: vk::Image,
+    /// With the cull: its visible list and its `draws` (the indirect dispatch the scan wrote,
+    /// `POSE_DISPATCH_WORD`), one invocation per drawn blade.
+    culled: Option<(vk::Buffer, vk::Buffer)>,
 }
 
 impl BladePosePass {
     /// Build the pipeline on the scene's pipeline layout, writing the records of `set`.
     pub fn new(device: &Device, setup: &PassSetup, set: &AnimationSet) -> Result<Self> {
         let scene = setup.scene;
+        let mut constants = setup.constants.to_vec();
+        if setup.culled {
+            constants[gpu::SPEC_RENDER_FLAGS as usize] |= gpu::FLAG_CULLED;
+        }
         Ok(Self {
-            pipeline: pipeline::compute(
-                device,
-                "blade poses",
-                shaders::BLADE_POSE_COMP,
-                setup.layout,
-                setup.constants,
-            )?,
+            pipeline: pipeline::compute(device, "blade poses", shaders::BLADE_POSE_COMP, setup.layout, &constants)?,
             layout: setup.layout,
             animation: set.set,
             poses: set.poses.raw,
             blade_count: scene.blade_count,
             reads: [scene.blades.raw, scene.clusters.raw],
             keyframes: set.keyframes.image.raw,
+            culled: setup.culled.then_some((scene.visible.raw, scene.draws.raw)),
         })
     }
 }
@@ -58,6 +62,13 @@ impl Pass for BladePosePass {
             .buffer(self.reads[0], Access::ComputeShaderRead)
             .buffer(self.reads[1], Access::ComputeShaderRead)
             .uses(Resource::color(self.keyframes), Access::ComputeShaderSampledRead);
+        let declaration = match self.culled {
+            Some((visible, draws)) => declaration
+                .buffer(visible, Access::ComputeShaderRead)
+                .buffer(draws, Access::ComputeShaderRead)
+                .buffer(draws, Access::IndirectCommandRead),
+            None => declaration,
+        };
         Some(declaration)
     }
 
@@ -68,7 +79,12 @@ impl Pass for BladePosePass {
         // SAFETY: cmd is recording outside a rendering instance; set 0 is bound.
         unsafe {
             device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipeline);
-            device.raw.cmd_dispatch(cmd, self.blade_count.div_ceil(64), 1, 1);
+            match self.culled {
+                Some((_, draws)) => {
+                    device.raw.cmd_dispatch_indirect(cmd, draws, 4 * u64::from(gpu::POSE_DISPATCH_WORD))
+                }
+                None => device.raw.cmd_dispatch(cmd, self.blade_count.div_ceil(gpu::POSE_GROUP), 1, 1),
+            }
         }
         Ok(())
     }

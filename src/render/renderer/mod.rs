@@ -14,7 +14,7 @@ use ash::vk;
 use glam::{UVec4, Vec4};
 
 use crate::error::{Error, Result};
-use crate::render::animation::model::{self, AnimationModel, FrameInput};
+use crate::render::animation::model::{self, AnimationModel, BladeInput, FrameInput};
 use crate::render::animation::{self, AnimationSettings};
 use crate::render::field_gpu::{self, Origin};
 use crate::render::frame::{look, FrameRing, FrameUniforms, Replay, ReplayKey};
@@ -22,8 +22,8 @@ pub use crate::render::frame::{Deletion, FrameSync, FrameTimings, PassTime};
 use crate::render::graph::{Graph, Outputs, PassContext};
 use crate::render::layouts::{build_frames, scene_layouts, SceneLayouts};
 use crate::render::passes::{BladePass, TerrainPass};
-use crate::render::scene_gpu::SceneGpu;
-use crate::render::settings::{check_submission, polygon_mode};
+use crate::render::scene_gpu::{pose_records, SceneGpu};
+use crate::render::settings::{check_pose_records, check_submission, polygon_mode};
 pub use crate::render::settings::{
     RenderSettings, BLADES_PER_INSTANCE_RANGE, DEFAULT_BLADES_PER_INSTANCE, SEGMENTS_RANGE,
 };
@@ -58,7 +58,7 @@ impl Renderer {
         let polygon = polygon_mode(&device, settings.wireframe)?;
         check_submission(&device, &settings)?;
         if scene.field.is_some() {
-            crate::render::settings::check_field(&settings, &animation)?;
+            crate::render::settings::check_field(&settings)?;
         }
         let mut renderer = Self {
             device: device.clone(),
@@ -77,8 +77,10 @@ impl Renderer {
         renderer.layouts = scene_layouts(&device)?;
         let frames = build_frames(&device, &mut renderer.layouts, scene_gpu, &settings)?;
         renderer.ring = FrameRing::new(frames);
-        let (layout, blades) = (renderer.layouts.animation_layout, scene_gpu.blade_count);
-        renderer.model = Some(model::build(&device, layout, &renderer.animation, settings.segments, blades)?);
+        let records = pose_records(&device, scene_gpu, settings.segments);
+        check_pose_records(&settings, &renderer.animation, scene_gpu.blade_count, records)?;
+        let layout = renderer.layouts.animation_layout;
+        renderer.model = Some(model::build(&device, layout, &renderer.animation, settings.segments, records)?);
         renderer.build_graph(scene, polygon)?;
         Ok(renderer)
     }
@@ -100,16 +102,17 @@ impl Renderer {
         let polygon = polygon_mode(&device, settings.wireframe)?;
         check_submission(&device, &settings)?;
         if scene.field.is_some() {
-            crate::render::settings::check_field(&settings, &animation)?;
+            crate::render::settings::check_field(&settings)?;
         }
         // The same animation at the same segment count keeps its model (and its state): only the
         // passes are rebuilt, with no upload.
         let keep_model = animation == self.animation && settings.segments == self.settings.segments;
+        let records = pose_records(&device, self.scene_gpu(), settings.segments);
+        check_pose_records(&settings, &animation, self.scene_gpu().blade_count, records)?;
         let model = match keep_model {
             true => None,
             false => {
-                let blades = self.scene_gpu().blade_count;
-                Some(model::build(&device, self.layouts.animation_layout, &animation, settings.segments, blades)?)
+                Some(model::build(&device, self.layouts.animation_layout, &animation, settings.segments, records)?)
             }
         };
         let previous = (
@@ -192,6 +195,18 @@ impl Renderer {
         (BladePass::triangles(scene, self.settings.segments), TerrainPass::triangles(scene))
     }
 
+    /// Entries of the cull's visible list a frame may fill: its capacity, and with pose records
+    /// (`--eval blade`) at most one per record (`scene_gpu::pose_records`).
+    fn visible_limit(&self) -> u32 {
+        let scene = self.scene_gpu();
+        match self.model.as_deref().map(|m| m.blade_input()) {
+            Some(BladeInput::PoseRecords(_)) => {
+                scene.visible_capacity.min(pose_records(&self.device, scene, self.settings.segments))
+            }
+            _ => scene.visible_capacity,
+        }
+    }
+
     /// The uniforms of a frame seen from `camera` at simulation time `time` into `extent`.
     pub fn frame_uniforms(&self, camera: &Camera, time: f32, extent: vk::Extent2D) -> FrameUniforms {
         let scene = self.scene_gpu();
@@ -210,7 +225,7 @@ impl Renderer {
             params: UVec4::new(self.settings.segments, scene.blade_count, scene.terrain_cells, 0),
             keyframes: UVec4::new(0, 0, sources, scene.grid.corners_per_side()),
             keyframe_shape: UVec4::new(0, colliders, 0, 0),
-            cull_lod: UVec4::new(0, 0, 0, scene.visible_capacity),
+            cull_lod: UVec4::new(0, 0, 0, self.visible_limit()),
             ..bytemuck::Zeroable::zeroed()
         };
         let cull_camera = self.cull_camera.as_ref().map_or(*camera, relative);

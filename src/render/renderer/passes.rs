@@ -16,33 +16,15 @@ use crate::scene::Scene;
 use crate::vk::{Access, Resource};
 
 impl Renderer {
-    /// The passes, in order: the animation model's compute passes, terrain, blades (or the
-    /// floor), and the debug views asked for.
+    /// The passes, in order: terrain, the cull's passes, the animation model's compute passes
+    /// (before the terrain without the cull), blades (or the floor), and the debug views asked
+    /// for.
     pub(super) fn build_graph(&mut self, cpu_scene: &Scene, polygon: vk::PolygonMode) -> Result<()> {
         let device = &*self.device;
         let settings = &self.settings;
         let scene = self.scene.as_ref().expect("uploaded");
         let model = self.model.as_deref().expect("built");
-        let mut specialization = Specialization::new(
-            settings.debug_force,
-            settings.segments,
-            settings.blades_per_instance,
-            settings.submission.strategy.pushes_first_blade(),
-            settings.encode_srgb,
-        );
-        if settings.debug_lod {
-            specialization.flags |= crate::render::specialization::FLAG_DEBUG_LOD;
-        }
-        if scene.field.is_some() {
-            specialization.flags |= crate::render::gpu_constants::FLAG_BLOCKS;
-        }
-        if settings.debug_tiles {
-            specialization.flags |= crate::render::gpu_constants::FLAG_DEBUG_TILES;
-        }
-        if !settings.floor {
-            model.specialize(&mut specialization);
-        }
-        let constants = specialization.constants();
+        let constants = self.specialization().constants();
         let target = PipelineTarget {
             layout: self.layouts.pipeline_layout,
             color: settings.color_format,
@@ -63,38 +45,76 @@ impl Renderer {
             self.graph.add(TerrainPass::new(device, target, &constants, scene, sky)?);
             self.graph.add(FloorPass::new(device, target, &constants, &cpu_scene.blades, settings.segments)?);
         } else {
-            let setup = PassSetup { layout: target.layout, constants: &constants, scene };
-            for pass in model.passes(device, &setup)? {
-                self.graph.add_boxed(pass);
-            }
-            self.graph.add(TerrainPass::new(device, target, &constants, scene, sky_clear_color(settings.encode_srgb))?);
-            let culled = settings.culling.enabled;
-            if culled && settings.culling.occlusion {
-                self.graph.add(DepthPyramidPass::new(device, scene, self.ring.slots())?);
-            }
-            if culled {
-                let stats = (0..self.ring.slots()).map(|slot| self.ring.frame(slot).cull_stats.raw).collect();
-                let setup = CullSetup { layout: target.layout, constants: &constants, frame_stats: stats };
-                cull::add_passes(&mut self.graph, device, &setup, scene)?;
-            }
-            let setup = BladeSetup {
-                target,
-                constants: &constants,
-                segments: settings.segments,
-                blades_per_instance: settings.blades_per_instance,
-                submission: settings.submission,
-                frames_in_flight: settings.frames_in_flight,
-                input: model.blade_input(),
-                animation: model.resources().set,
-                buckets: culled.then(|| settings.culling.buckets()),
-                solid_outline: settings.culling.solid_outline,
-            };
-            self.graph.add(BladePass::new(device, scene, &setup)?);
+            self.add_blade_passes(target, &constants)?;
         }
-        if settings.debug_bounds {
-            let set_layout = self.layouts.set_layout;
-            self.graph.add(ClusterBoundsPass::new(device, set_layout, target, &constants, scene)?);
+        if self.settings.debug_bounds {
+            let (set_layout, scene) = (self.layouts.set_layout, self.scene.as_ref().expect("uploaded"));
+            self.graph.add(ClusterBoundsPass::new(&self.device, set_layout, target, &constants, scene)?);
         }
+        Ok(())
+    }
+
+    /// The specialization constants of every scene pipeline for the settings and the model.
+    fn specialization(&self) -> Specialization {
+        let settings = &self.settings;
+        let mut specialization = Specialization::new(
+            settings.debug_force,
+            settings.segments,
+            settings.blades_per_instance,
+            settings.submission.strategy.pushes_first_blade(),
+            settings.encode_srgb,
+        );
+        if settings.debug_lod {
+            specialization.flags |= crate::render::specialization::FLAG_DEBUG_LOD;
+        }
+        if self.scene.as_ref().is_some_and(|scene| scene.field.is_some()) {
+            specialization.flags |= crate::render::gpu_constants::FLAG_BLOCKS;
+        }
+        if settings.debug_tiles {
+            specialization.flags |= crate::render::gpu_constants::FLAG_DEBUG_TILES;
+        }
+        if let (false, Some(model)) = (settings.floor, self.model.as_deref()) {
+            model.specialize(&mut specialization);
+        }
+        specialization.cull_group = cull::workgroup_size(self.device.subgroup_size);
+        specialization
+    }
+
+    /// Terrain, the cull (depth pyramid, count, scan, emit), the model's passes (after the cull,
+    /// whose visible list they read; before the terrain without it) and the blade pass.
+    fn add_blade_passes(&mut self, target: PipelineTarget, constants: &[u32]) -> Result<()> {
+        let device = &*self.device;
+        let settings = &self.settings;
+        let scene = self.scene.as_ref().expect("uploaded");
+        let model = self.model.as_deref().expect("built");
+        let culled = settings.culling.enabled;
+        let setup = PassSetup { layout: target.layout, constants, scene, culled };
+        let model_passes = model.passes(device, &setup)?;
+        let (before, after) = if culled { (Vec::new(), model_passes) } else { (model_passes, Vec::new()) };
+        before.into_iter().for_each(|pass| self.graph.add_boxed(pass));
+        self.graph.add(TerrainPass::new(device, target, constants, scene, sky_clear_color(settings.encode_srgb))?);
+        if culled && settings.culling.occlusion {
+            self.graph.add(DepthPyramidPass::new(device, scene, self.ring.slots())?);
+        }
+        if culled {
+            let stats = (0..self.ring.slots()).map(|slot| self.ring.frame(slot).cull_stats.raw).collect();
+            let setup = CullSetup { layout: target.layout, constants, frame_stats: stats };
+            cull::add_passes(&mut self.graph, device, &setup, scene)?;
+        }
+        after.into_iter().for_each(|pass| self.graph.add_boxed(pass));
+        let setup = BladeSetup {
+            target,
+            constants,
+            segments: settings.segments,
+            blades_per_instance: settings.blades_per_instance,
+            submission: settings.submission,
+            frames_in_flight: settings.frames_in_flight,
+            input: model.blade_input(),
+            animation: model.resources().set,
+            buckets: culled.then(|| settings.culling.buckets()),
+            solid_outline: settings.culling.solid_outline,
+        };
+        self.graph.add(BladePass::new(device, scene, &setup)?);
         Ok(())
     }
 }

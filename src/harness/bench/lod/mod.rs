@@ -107,7 +107,7 @@ impl Field {
     fn check(&self, device: &Device, segments: u32, size: (u32, u32)) -> Result<()> {
         match self {
             Field::Stored { blades, .. } => {
-                crate::app::check_scene(device, *blades, segments, size, &AnimationSettings::default(), false)?;
+                crate::app::check_scene(device, *blades, segments, size, &AnimationSettings::default(), false, true)?;
                 let cells = Terrain::cells_for(crate::scene::blades::field_size(*blades));
                 let one = crate::render::scene_gpu::SceneGpu::memory_bytes(u64::from(*blades), u64::from(cells))
                     + offscreen_bytes(vk::Extent2D { width: size.0, height: size.1 });
@@ -121,8 +121,17 @@ impl Field {
                     size,
                     &AnimationSettings::default(),
                     false,
+                    false,
                 )?;
-                crate::app::check_scene(device, self.blades(), segments, size, &AnimationSettings::default(), false)
+                crate::app::check_scene(
+                    device,
+                    self.blades(),
+                    segments,
+                    size,
+                    &AnimationSettings::default(),
+                    false,
+                    true,
+                )
             }
         }
     }

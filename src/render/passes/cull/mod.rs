@@ -44,6 +44,15 @@ pub fn add_passes(graph: &mut Graph, device: &Device, setup: &CullSetup, scene: 
     Ok(())
 }
 
+/// Invocations of a count or emit workgroup (`SPEC_CULL_GROUP`): the device's subgroup size,
+/// within 4..=64. A slot's tile tests then run once per subgroup, the blade tests fill it, and
+/// the emit's serial prefix over the group stays short. On llvmpipe (8-wide), 64 invocations ran
+/// the tile tests 8 times and its barriers switched 8 coroutines: 40 ms of cull at 1M blades
+/// against 27 ms.
+pub fn workgroup_size(subgroup_size: u32) -> u32 {
+    subgroup_size.clamp(4, 64)
+}
+
 /// How many workgroups a cull step dispatches.
 #[derive(Clone, Copy)]
 enum Groups {

@@ -15,6 +15,8 @@ pub fn pass(device: &Device, setup: &CullSetup, scene: &SceneGpu) -> Result<Cull
         (scene.slot_counts.raw, Access::ComputeShaderRead),
         (scene.slot_counts.raw, Access::ComputeShaderWrite),
         (scene.draws.raw, Access::ComputeShaderWrite),
+        // The padding of each bucket's last instance.
+        (scene.visible.raw, Access::ComputeShaderWrite),
     ];
     let mut step = CullStep::new(device, ("cull scan", shaders::CULL_SCAN_COMP), setup, uses, Groups::One)?;
     // Each frame's host-visible counts, by frame slot.
