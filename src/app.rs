@@ -3,6 +3,7 @@
 //! PNG and text files atomically. [`crate::cli`] parses arguments into these options and prints
 //! what they return.
 
+pub mod interrupt;
 mod keyframe_report;
 pub mod output;
 

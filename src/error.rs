@@ -10,7 +10,30 @@ pub enum Error {
     /// A value given by the user is out of range, malformed, or exceeds a device limit or budget.
     #[error("{0}")]
     BadInput(String),
-    /// A Vulkan call returned an error code.
+    /// The device was lost (`VK_ERROR_DEVICE_LOST`): a GPU reset or a driver failure. Nothing
+    /// on it can be used again; every object is still destroyed on the way out.
+    #[error("{call}: the GPU device was lost (VK_ERROR_DEVICE_LOST); its work is gone, nothing was written")]
+    DeviceLost {
+        /// The entry point that reported it.
+        call: &'static str,
+    },
+    /// Out of device or host memory: a Vulkan call's `VK_ERROR_OUT_OF_{DEVICE,HOST}_MEMORY`, or
+    /// the allocator finding no memory for a resource.
+    #[error("{during}: out of {memory} memory (try fewer blades, segments or pixels)")]
+    OutOfMemory {
+        /// The call, or the resource being allocated.
+        during: String,
+        /// `device` or `host`.
+        memory: &'static str,
+    },
+    /// The window's surface was lost (`VK_ERROR_SURFACE_LOST_KHR`): the window went away under
+    /// the swapchain.
+    #[error("{call}: the window's surface was lost (VK_ERROR_SURFACE_LOST_KHR)")]
+    SurfaceLost {
+        /// The entry point that reported it.
+        call: &'static str,
+    },
+    /// A Vulkan call returned another error code.
     #[error("{call} failed: {result:?}")]
     Vulkan {
         /// The failing entry point, e.g. `vkCreateDevice`.
@@ -36,6 +59,10 @@ pub enum Error {
     /// Drawing a chart failed (the measuring harness draws PNG charts).
     #[error("plot: {0}")]
     Plot(String),
+    /// Ctrl-C stopped a measuring command before it wrote anything (exit 130, as a shell
+    /// reports SIGINT).
+    #[error("interrupted: nothing written")]
+    Interrupted,
     /// Reading or writing a file failed.
     #[error("{path}: {source}")]
     Io {
@@ -47,11 +74,35 @@ pub enum Error {
 }
 
 impl Error {
-    /// Process exit code for this error: 2 for bad input, 1 otherwise.
+    /// Process exit code for this error: 2 for bad input, 130 for Ctrl-C, 1 otherwise.
     pub fn exit_code(&self) -> i32 {
         match self {
             Error::BadInput(_) => 2,
+            Error::Interrupted => 130,
             _ => 1,
+        }
+    }
+
+    /// The error of Vulkan call `call` returning `result`: device lost, out of memory and surface
+    /// lost are their own variants, with their own messages; the rest is [`Error::Vulkan`].
+    pub fn vulkan(call: &'static str, result: vk::Result) -> Self {
+        match result {
+            vk::Result::ERROR_DEVICE_LOST => Error::DeviceLost { call },
+            vk::Result::ERROR_OUT_OF_DEVICE_MEMORY => Error::OutOfMemory { during: call.into(), memory: "device" },
+            vk::Result::ERROR_OUT_OF_HOST_MEMORY => Error::OutOfMemory { during: call.into(), memory: "host" },
+            vk::Result::ERROR_SURFACE_LOST_KHR => Error::SurfaceLost { call },
+            result => Error::Vulkan { call, result },
+        }
+    }
+
+    /// The error of allocating `name` from gpu-allocator: out of memory is
+    /// [`Error::OutOfMemory`], the rest [`Error::Allocation`].
+    pub fn allocation(name: &str, source: gpu_allocator::AllocationError) -> Self {
+        match source {
+            gpu_allocator::AllocationError::OutOfMemory => {
+                Error::OutOfMemory { during: format!("allocating `{name}`"), memory: "device" }
+            }
+            source => Error::Allocation { name: name.into(), source },
         }
     }
 
@@ -72,6 +123,6 @@ pub trait VkContext<T> {
 
 impl<T> VkContext<T> for std::result::Result<T, vk::Result> {
     fn vk(self, call: &'static str) -> Result<T> {
-        self.map_err(|result| Error::Vulkan { call, result })
+        self.map_err(|result| Error::vulkan(call, result))
     }
 }

@@ -210,7 +210,9 @@ fn fails_cleanly(args: &[&str], nth: &str) {
     assert!(started.elapsed() < Duration::from_secs(60), "took {:?}", started.elapsed());
     assert_eq!(output.status.code(), Some(1), "{}", transcript(&output));
     let stderr = String::from_utf8_lossy(&output.stderr);
-    assert!(stderr.contains("error: vkQueueSubmit2 (injected failure) failed: ERROR_DEVICE_LOST"), "{stderr}");
+    let lost = "error: vkQueueSubmit2 (injected failure): the GPU device was lost (VK_ERROR_DEVICE_LOST)";
+    assert!(stderr.contains(lost) && stderr.lines().count() == 1, "{stderr}");
+    assert!(String::from_utf8_lossy(&output.stdout).contains("validation: 0 messages"), "{}", transcript(&output));
 }
 
 #[test]

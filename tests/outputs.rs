@@ -101,3 +101,76 @@ fn every_output_path_is_checked_before_any_work() {
     std::fs::write(&script, format!("0 screenshot {missing}\n1 quit\n")).expect("write script");
     refused_up_front(&["view", "--script", script.to_str().expect("utf-8")], "script screenshot", &dir);
 }
+
+#[test]
+fn a_path_that_names_a_directory_is_refused_before_any_work() {
+    // `x.png/` could never be a file: refused with exit 2 before rendering, nothing created.
+    let dir = support::scratch("outputs-slash");
+    let slash = format!("{}/", dir.join("x.png").display());
+    let device = ["--device", support::DEVICE];
+    let render: Vec<&str> =
+        ["render"].iter().chain(&device).chain(&["--blades", "200", "--out", &slash]).copied().collect();
+    refused_up_front(&render, "names a directory", &dir);
+    refused_up_front(&["keyframes", "--poses", "64", "--export", &slash], "names a directory", &dir);
+    let out = dir.join("run");
+    let out = out.to_str().expect("utf-8");
+    let timing: Vec<&str> = ["timing"]
+        .iter()
+        .chain(&device)
+        .chain(&["--blades", "100", "--trace", &slash, "--out", out])
+        .copied()
+        .collect();
+    refused_up_front(&timing, "names a directory", &dir);
+}
+
+#[test]
+fn a_measuring_command_writes_its_whole_set_or_nothing() {
+    // A write failing half-way through the set (the JSON, CSV, PNG and trace) leaves none of
+    // them and no temporary, and the output directory the run created is gone again.
+    let dir = support::scratch("outputs-set");
+    let out = dir.join("run");
+    let trace = dir.join("trace.json");
+    let args = |out: &Path| -> Vec<String> {
+        ["timing", "--device", support::DEVICE, "--blades", "300", "--size", "32x32", "--frames", "2", "--warmup", "0"]
+            .iter()
+            .map(|s| s.to_string())
+            .chain(["--trace".into(), trace.display().to_string(), "--out".into(), out.display().to_string()])
+            .collect()
+    };
+    let output = meadow().args(args(&out)).env("MEADOW_INJECT_WRITE_FAILURE", "1").output().expect("run");
+    assert_eq!(output.status.code(), Some(1), "{}", transcript(&output));
+    assert_eq!(leftovers(&dir), Vec::<String>::new(), "a half set or a temporary was left");
+    // The control: the same command without the fault writes the whole set.
+    let output = meadow().args(args(&out)).output().expect("run");
+    assert_eq!(output.status.code(), Some(0), "{}", transcript(&output));
+    let mut written = leftovers(&out);
+    written.sort();
+    assert_eq!(written, ["timing.json", "timing.png"]);
+    assert!(trace.exists(), "the trace");
+}
+
+#[test]
+fn ctrl_c_stops_a_measuring_command_with_exit_130_and_nothing_written() {
+    for (name, command) in [("bench", "bench"), ("overhead", "overhead"), ("timing", "timing")] {
+        let dir = support::scratch(&format!("outputs-interrupt-{name}"));
+        let out = dir.join("run");
+        // Far more frames than the test waits for: only Ctrl-C ends it in time.
+        let frames = "10000";
+        let child = meadow()
+            .args([command, "--device", support::DEVICE, "--blades", "20000", "--frames", frames, "--out"])
+            .arg(&out)
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .expect("spawn");
+        // Past start-up (the handler is installed first thing), into the frames.
+        std::thread::sleep(std::time::Duration::from_millis(2500));
+        let sent = std::process::Command::new("kill").args(["-INT", &child.id().to_string()]).status().expect("kill");
+        assert!(sent.success());
+        let output = child.wait_with_output().expect("wait");
+        assert_eq!(output.status.code(), Some(130), "{name}: {}", transcript(&output));
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(stderr.trim(), "error: interrupted: nothing written", "{name}");
+        assert_eq!(leftovers(&dir), Vec::<String>::new(), "{name} left something");
+    }
+}

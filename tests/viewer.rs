@@ -15,8 +15,14 @@ const SCENE: [&str; 6] = ["--blades", "5000", "--size", "256x160", "--device", s
 
 /// `xvfb-run meadow view --validation ARGS` in `dir`.
 fn view(dir: &Path, args: &[&str]) -> Output {
+    view_with(dir, args, &[])
+}
+
+/// `view` with environment variables `env` set (fault injection).
+fn view_with(dir: &Path, args: &[&str], env: &[(&str, &str)]) -> Output {
     let xvfb = which("xvfb-run").expect("xvfb-run is installed by the test command (package xvfb)");
     Command::new(xvfb)
+        .envs(env.iter().copied())
         .args(["-a", "-s", "-screen 0 1280x1024x24"])
         .arg(env!("CARGO_BIN_EXE_meadow"))
         .args(["view", "--validation"])
@@ -184,4 +190,25 @@ fn script_input_past_the_device_or_the_keys_is_refused() {
             assert!(String::from_utf8_lossy(&output.stdout).contains("validation: 0 messages"), "{name}");
         }
     }
+}
+
+#[test]
+fn a_lost_surface_at_acquire_or_present_exits_1_with_its_own_message_and_no_leak() {
+    // `vk::fault`: the third acquire or present reports VK_ERROR_SURFACE_LOST_KHR. The viewer
+    // stops, destroys what it made (validation reports no leaked object) and says what happened.
+    let dir = scratch("viewer-surface-lost");
+    for (variable, call) in [
+        ("MEADOW_INJECT_ACQUIRE_FAILURE", "vkAcquireNextImageKHR"),
+        ("MEADOW_INJECT_PRESENT_FAILURE", "vkQueuePresentKHR"),
+    ] {
+        let output = view_with(&dir, &["--frames", "20"], &[(variable, "3")]);
+        assert_eq!(output.status.code(), Some(1), "{variable}: {}", transcript(&output));
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        let expected =
+            format!("error: {call} (injected failure): the window's surface was lost (VK_ERROR_SURFACE_LOST_KHR)");
+        assert_eq!(stderr.trim(), expected, "{variable}");
+        assert!(String::from_utf8_lossy(&output.stdout).contains("validation: 0 messages"), "{}", transcript(&output));
+    }
+    // The control: without the fault the same session runs its 20 frames.
+    assert_clean(&view(&dir, &["--frames", "20"]));
 }

@@ -3,9 +3,15 @@
 //! the temporary file and leaves the target as it was. A target that exists and is not a regular
 //! file (a FIFO, a device node, a directory) is refused, before any work when checked up front.
 //!
+//! A command that writes several files (`bench`, `overhead`, `timing`) writes them as one set
+//! ([`write_set`]): every file goes to its synced temporary first, and they are renamed into place
+//! only when all were written; a failure or Ctrl-C before that leaves none of them, and removes
+//! the output directory if the set created it.
+//!
 //! `MEADOW_INJECT_WRITE_FAILURE=1` makes every write fail half-way, as a full disk would (for
 //! the tests: a full filesystem cannot be mounted everywhere the tests run).
 
+use std::cell::RefCell;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -15,6 +21,11 @@ use crate::error::{Error, Result};
 /// Refuse `path` when it exists and is not a regular file (or a link to one). `flag` names the
 /// option in the message.
 pub fn check_target(path: &Path, flag: &str) -> Result<()> {
+    // `x.png/` names a directory: the file could never be created (and `x.png/..` is no name).
+    let text = path.as_os_str().to_string_lossy();
+    if text.ends_with(std::path::is_separator) || path.file_name().is_none() {
+        return Err(Error::bad_input(format!("{flag} {}: names a directory, not a file", path.display())));
+    }
     match std::fs::metadata(path) {
         Ok(meta) if meta.is_dir() => Err(Error::bad_input(format!("{flag} {}: is a directory", path.display()))),
         Ok(meta) if !meta.is_file() => {
@@ -46,7 +57,48 @@ fn temporary(path: &Path) -> PathBuf {
     path.with_file_name(format!(".{name}.{}.{n}.tmp", std::process::id()))
 }
 
-/// Write `bytes` to `path` whole or not at all (see the module comment).
+thread_local! {
+    /// Inside [`write_set`]: the (temporary, target) pairs written so far, renamed at its end.
+    static STAGED: RefCell<Option<Vec<(PathBuf, PathBuf)>>> = const { RefCell::new(None) };
+}
+
+/// Run `work`, which writes files through [`write_atomically`], and publish what it wrote as one
+/// set: renamed into place only if `work` succeeds, every temporary removed otherwise. `dir`, the
+/// set's directory, is created first if missing, and removed again (when empty) if the set fails.
+pub fn write_set<T>(dir: &Path, work: impl FnOnce() -> Result<T>) -> Result<T> {
+    let created = !dir.exists();
+    std::fs::create_dir_all(dir).map_err(|source| Error::Io { path: dir.display().to_string(), source })?;
+    STAGED.with(|s| *s.borrow_mut() = Some(Vec::new()));
+    let result = work();
+    let staged = STAGED.with(|s| s.borrow_mut().take()).unwrap_or_default();
+    let published = result.and_then(|value| publish(&staged).map(|()| value));
+    if published.is_err() {
+        for (tmp, _) in &staged {
+            let _ = std::fs::remove_file(tmp);
+        }
+        if created {
+            let _ = std::fs::remove_dir(dir);
+        }
+    }
+    published
+}
+
+/// Rename every staged file into place; if one fails, the ones already renamed are removed (a
+/// set is whole or absent).
+fn publish(staged: &[(PathBuf, PathBuf)]) -> Result<()> {
+    for (i, (tmp, target)) in staged.iter().enumerate() {
+        if let Err(source) = std::fs::rename(tmp, target) {
+            for (_, done) in &staged[..i] {
+                let _ = std::fs::remove_file(done);
+            }
+            return Err(Error::Io { path: target.display().to_string(), source });
+        }
+    }
+    Ok(())
+}
+
+/// Write `bytes` to `path` whole or not at all (see the module comment); inside [`write_set`],
+/// the rename waits for the set.
 pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<()> {
     check_target(path, "output")?;
     let io = |source: std::io::Error| Error::Io { path: path.display().to_string(), source };
@@ -60,7 +112,11 @@ pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<()> {
         file.write_all(bytes)?;
         file.flush()?;
         file.sync_all()?;
-        std::fs::rename(&tmp, path)
+        let staged = STAGED.with(|s| s.borrow_mut().as_mut().map(|set| set.push((tmp.clone(), path.to_path_buf()))));
+        match staged {
+            Some(()) => Ok(()),
+            None => std::fs::rename(&tmp, path),
+        }
     })();
     if written.is_err() {
         let _ = std::fs::remove_file(&tmp);

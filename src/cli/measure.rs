@@ -9,14 +9,17 @@ use crate::app;
 use crate::harness::bench::Column;
 
 /// Run a measuring command on the device of `gpu`: a progress bar with ETA on a terminal (none
-/// otherwise) fed by `run`'s `progress(done, total)`, then `report` of its result. Returns the
-/// exit code and the validation count.
+/// otherwise) fed by `run`'s `progress(done, total)`, then `report` of its result. What `run`
+/// writes is one set in `out` (`app::output::write_set`): all of it or, on a failure or Ctrl-C
+/// (exit 130, checked after every frame), none. Returns the exit code and the validation count.
 pub(crate) fn measure<T>(
     gpu: &GpuArgs,
     unit: &str,
+    out: &std::path::Path,
     run: impl FnOnce(&std::sync::Arc<crate::vk::Device>, &mut dyn FnMut(u64, u64)) -> crate::Result<T>,
     report: impl FnOnce(T),
 ) -> (u8, Option<u64>) {
+    app::interrupt::install();
     let bar = std::io::IsTerminal::is_terminal(&std::io::stderr()).then(|| {
         let bar = indicatif::ProgressBar::new(0);
         let template = format!("{{bar:40}} {{pos}}/{{len}} {unit}, {{elapsed}} elapsed, ETA {{eta}}");
@@ -24,11 +27,13 @@ pub(crate) fn measure<T>(
         bar
     });
     let (result, validation) = app::with_device(&gpu.options(), false, |device| {
-        run(device, &mut |done, total| {
-            if let Some(bar) = &bar {
-                bar.set_length(total);
-                bar.set_position(done);
-            }
+        app::output::write_set(out, || {
+            run(device, &mut |done, total| {
+                if let Some(bar) = &bar {
+                    bar.set_length(total);
+                    bar.set_position(done);
+                }
+            })
         })
     });
     if let Some(bar) = bar {
@@ -46,6 +51,7 @@ pub(crate) fn timing(args: TimingArgs) -> (u8, Option<u64>) {
     measure(
         &args.gpu,
         "runs",
+        &options.out,
         |device, progress| {
             let (doc, intervals) = timing::run(device, &options, progress)?;
             timing::write(&doc, &intervals, &options.out)?;
@@ -77,6 +83,7 @@ pub(crate) fn overhead(args: OverheadArgs) -> (u8, Option<u64>) {
     measure(
         &args.gpu,
         "frames",
+        &options.out,
         |device, progress| {
             let doc = overhead::run(device, &options, progress)?;
             overhead::write(&doc, &options.out)?;
@@ -122,6 +129,7 @@ pub(crate) fn bench(args: BenchArgs) -> crate::Result<(u8, Option<u64>)> {
     Ok(measure(
         &args.gpu,
         "frames",
+        &options.out,
         |device, progress| {
             let doc = bench::run(device, &options, progress)?;
             bench::write(&doc, &options.out)?;
@@ -164,6 +172,7 @@ fn lod(args: BenchArgs) -> crate::Result<(u8, Option<u64>)> {
     Ok(measure(
         &args.gpu,
         "frames",
+        &options.out,
         |device, progress| {
             let doc = lod::run(device, &options, progress)?;
             lod::write(&doc, &options.out)?;

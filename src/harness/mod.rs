@@ -24,10 +24,12 @@ impl<'a> Progress<'a> {
         Self { done: 0, total, report }
     }
 
-    /// One frame rendered: counted and reported.
-    pub(crate) fn rendered(&mut self) {
+    /// One frame rendered: counted and reported; `Err(Error::Interrupted)` once Ctrl-C was
+    /// pressed (the command then stops at this frame and writes nothing).
+    pub(crate) fn rendered(&mut self) -> crate::error::Result<()> {
         self.done += 1;
         (self.report)(self.done, self.total);
+        crate::app::interrupt::check()
     }
 
     /// `n` frames that will not be rendered (an unsupported variant): counted, and reported with

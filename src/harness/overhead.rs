@@ -48,8 +48,6 @@ pub fn run(device: &Arc<Device>, options: &OverheadOptions, mut progress: impl F
     let cells = crate::scene::Terrain::cells_for(crate::scene::blades::field_size(options.blades));
     crate::app::check_limits(device, options.blades, options.size, cells)?;
     // Created only once the input is known good: bad input leaves no empty directory.
-    std::fs::create_dir_all(&options.out)
-        .map_err(|source| Error::Io { path: options.out.display().to_string(), source })?;
     let scene = Scene::generate(options.blades, 1);
     let camera = scene.default_camera();
     let setup = Setup { device, camera, scene, options };
@@ -132,7 +130,7 @@ fn measure_clusters(
     for round in 0..options.warmup + options.frames {
         for (i, (_, renderer)) in renderers.iter_mut().enumerate() {
             let t = renderer.render_offscreen(target, &setup.camera, 0.0)?;
-            progress.rendered();
+            progress.rendered()?;
             if round >= options.warmup {
                 frames[i].push([t.cpu_record_ms * 1e3, t.cpu_submit_ms * 1e3, t.gpu_ms]);
             }

@@ -129,6 +129,8 @@ fn run_one(device: &Arc<Device>, scene: &Scene, options: &TimingOptions, frames_
             let time = render.time + index as f32 / 60.0;
             renderer.submit_frame(slot, &view, &camera, time, FrameSync::default(), Outputs::default())?;
             in_flight[slot] = Some(index);
+            // Ctrl-C: stop at this frame (the renderer waits for what is in flight on drop).
+            crate::app::interrupt::check()?;
             view.color_previous = Access::ColorAttachmentWrite;
             view.depth_previous = Access::DepthAttachmentReadWrite;
         }
@@ -241,8 +243,6 @@ pub fn run(
         render.floor,
         render.culling.enabled,
     )?;
-    std::fs::create_dir_all(&options.out)
-        .map_err(|source| Error::Io { path: options.out.display().to_string(), source })?;
     let scene = render.scene();
     let mut runs = Vec::new();
     for (i, fif) in [1usize, 2, 3].into_iter().enumerate() {

@@ -316,7 +316,7 @@ impl SecondaryRecorders {
                         device.raw.destroy_command_pool(pool, None);
                         out.destroy(device);
                     }
-                    return Err(Error::Vulkan { call: "vkAllocateCommandBuffers", result });
+                    return Err(Error::vulkan("vkAllocateCommandBuffers", result));
                 }
             }
         }

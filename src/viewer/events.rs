@@ -2,7 +2,6 @@
 //! a frame) and the exit screenshot.
 
 use std::path::PathBuf;
-use std::sync::atomic::Ordering;
 use std::time::{Duration, Instant};
 
 use winit::application::ApplicationHandler;
@@ -14,7 +13,7 @@ use winit::window::WindowId;
 
 use super::keys::key_name;
 use super::script::Action;
-use super::{Viewer, HELP, INTERRUPTED};
+use super::{Viewer, HELP};
 use crate::error::{Error, Result};
 
 impl Viewer {
@@ -163,7 +162,7 @@ impl ApplicationHandler for Viewer {
         if self.surface.is_none() || self.error.is_some() {
             return;
         }
-        if INTERRUPTED.load(Ordering::SeqCst) {
+        if crate::app::interrupt::requested() {
             self.quit = true;
         }
         if !self.quit {

@@ -10,7 +10,6 @@ mod stats;
 mod surface;
 
 use std::path::PathBuf;
-use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::Instant;
 
@@ -37,9 +36,6 @@ use surface::Surface;
 
 /// The message when there is no display, and its exit code (2).
 pub const NO_DISPLAY: &str = "no display (set DISPLAY or WAYLAND_DISPLAY, or run under xvfb-run)";
-
-/// Set by Ctrl-C: the viewer closes cleanly at the next tick.
-static INTERRUPTED: AtomicBool = AtomicBool::new(false);
 
 /// What `meadow view` is started with.
 #[derive(Clone, Debug)]
@@ -123,7 +119,7 @@ pub fn run(gpu: &GpuOptions, options: ViewerOptions) -> (Result<ViewerReport>, O
             Ok(extensions) => extensions,
             Err(e) => return (Err(e), None),
         };
-    let _ = ctrlc::set_handler(|| INTERRUPTED.store(true, Ordering::SeqCst));
+    app::interrupt::install();
     app::with_device_extensions(gpu, extensions, true, |device| {
         let mut viewer = Viewer::new(device.clone(), options)?;
         event_loop.run_app(&mut viewer).map_err(|e| Error::Environment(format!("event loop: {e}")))?;

@@ -58,7 +58,7 @@ impl Buffer {
         let raw = unsafe { device.raw.create_buffer(&info, None) }.vk("vkCreateBuffer")?;
         // SAFETY: raw was just created from this device.
         let requirements = unsafe { device.raw.get_buffer_memory_requirements(raw) };
-        let allocation = device.allocator().allocate(&AllocationCreateDesc {
+        let allocation = device.allocate(&AllocationCreateDesc {
             name: desc.name,
             requirements,
             location: desc.location,
@@ -70,16 +70,16 @@ impl Buffer {
             Err(source) => {
                 // SAFETY: unused buffer of this device.
                 unsafe { device.raw.destroy_buffer(raw, None) };
-                return Err(Error::Allocation { name: desc.name.into(), source });
+                return Err(Error::allocation(desc.name, source));
             }
         };
         // SAFETY: the allocation satisfies the buffer's requirements.
         let bound = unsafe { device.raw.bind_buffer_memory(raw, allocation.memory(), allocation.offset()) };
         if let Err(result) = bound {
-            let _ = device.allocator().free(allocation);
+            device.free(allocation, desc.name);
             // SAFETY: unused buffer of this device.
             unsafe { device.raw.destroy_buffer(raw, None) };
-            return Err(Error::Vulkan { call: "vkBindBufferMemory", result });
+            return Err(Error::vulkan("vkBindBufferMemory", result));
         }
         device.set_name(raw, desc.name);
         Ok(Self { raw, size: desc.size, allocation })
@@ -122,7 +122,7 @@ impl Buffer {
     /// # Safety
     /// No pending GPU work may use the buffer.
     pub unsafe fn destroy(self, device: &Device) {
-        let _ = device.allocator().free(self.allocation);
+        device.free(self.allocation, "a buffer");
         // SAFETY: caller guarantees the GPU is done with it.
         unsafe { device.raw.destroy_buffer(self.raw, None) };
     }

@@ -33,7 +33,7 @@ impl CommandRecorder {
             Err(result) => {
                 // SAFETY: unused pool.
                 unsafe { device.raw.destroy_command_pool(pool, None) };
-                return Err(crate::error::Error::Vulkan { call: "vkAllocateCommandBuffers", result });
+                return Err(crate::error::Error::vulkan("vkAllocateCommandBuffers", result));
             }
         };
         device.set_name(pool, &format!("{name} pool"));

@@ -67,7 +67,7 @@ pub fn allocate_sets(
         Err(result) => {
             // SAFETY: nothing allocated from it.
             unsafe { device.raw.destroy_descriptor_pool(pool, None) };
-            Err(crate::error::Error::Vulkan { call: "vkAllocateDescriptorSets", result })
+            Err(crate::error::Error::vulkan("vkAllocateDescriptorSets", result))
         }
     }
 }

@@ -265,6 +265,25 @@ impl Device {
         self.allocator.lock().unwrap_or_else(|poisoned| poisoned.into_inner())
     }
 
+    /// Allocate memory for `desc` from the allocator (`MEADOW_INJECT_ALLOC_FAILURE`: `vk::fault`).
+    pub fn allocate(
+        &self,
+        desc: &gpu_allocator::vulkan::AllocationCreateDesc,
+    ) -> std::result::Result<gpu_allocator::vulkan::Allocation, gpu_allocator::AllocationError> {
+        if super::fault::fails(super::fault::Fault::Allocation) {
+            return Err(gpu_allocator::AllocationError::OutOfMemory);
+        }
+        self.allocator().allocate(desc)
+    }
+
+    /// Return `allocation` to the allocator. Its error (a double free, a foreign allocation: a
+    /// bug) cannot be returned from the destructors that call this, so it is logged, not lost.
+    pub fn free(&self, allocation: gpu_allocator::vulkan::Allocation, name: &str) {
+        if let Err(e) = self.allocator().free(allocation) {
+            log::error!("freeing the memory of `{name}`: {e}");
+        }
+    }
+
     /// Give a Vulkan object a debug name (shown by validation messages and captures).
     pub fn set_name<T: vk::Handle>(&self, handle: T, name: &str) {
         let Ok(name) = std::ffi::CString::new(name) else {

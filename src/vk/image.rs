@@ -132,7 +132,7 @@ impl Image {
         let raw = unsafe { device.raw.create_image(&info, None) }.vk("vkCreateImage")?;
         // SAFETY: raw was just created from this device.
         let requirements = unsafe { device.raw.get_image_memory_requirements(raw) };
-        let allocation = device.allocator().allocate(&AllocationCreateDesc {
+        let allocation = device.allocate(&AllocationCreateDesc {
             name: desc.name,
             requirements,
             location: MemoryLocation::GpuOnly,
@@ -144,7 +144,7 @@ impl Image {
             Err(source) => {
                 // SAFETY: unused image of this device.
                 unsafe { device.raw.destroy_image(raw, None) };
-                return Err(Error::Allocation { name: desc.name.into(), source });
+                return Err(Error::allocation(desc.name, source));
             }
         };
         // SAFETY: the allocation satisfies the image's requirements.
@@ -162,7 +162,7 @@ impl Image {
         let view = match view {
             Ok(view) => view,
             Err(e) => {
-                let _ = device.allocator().free(allocation);
+                device.free(allocation, desc.name);
                 // SAFETY: unused image of this device.
                 unsafe { device.raw.destroy_image(raw, None) };
                 return Err(e);
@@ -183,6 +183,6 @@ impl Image {
             device.raw.destroy_image_view(self.view, None);
             device.raw.destroy_image(self.raw, None);
         }
-        let _ = device.allocator().free(self.allocation);
+        device.free(self.allocation, "an image");
     }
 }

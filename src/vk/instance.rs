@@ -148,7 +148,7 @@ impl Instance {
                 "the Vulkan loader lacks a required instance extension (VK_EXT_debug_utils or a surface extension)"
                     .into(),
             ),
-            result => Error::Vulkan { call: "vkCreateInstance", result },
+            result => Error::vulkan("vkCreateInstance", result),
         })?;
         let debug_utils = ash::ext::debug_utils::Instance::new(&entry, &raw);
         let messenger = match messenger_info {
@@ -162,7 +162,7 @@ impl Instance {
                 Err(result) => {
                     // SAFETY: nothing was created from the instance yet.
                     unsafe { raw.destroy_instance(None) };
-                    return Err(Error::Vulkan { call: "vkCreateDebugUtilsMessengerEXT", result });
+                    return Err(Error::vulkan("vkCreateDebugUtilsMessengerEXT", result));
                 }
             },
             None => vk::DebugUtilsMessengerEXT::null(),

@@ -7,6 +7,7 @@ pub mod commands;
 pub mod debug;
 pub mod descriptor;
 pub mod device;
+pub mod fault;
 pub mod image;
 pub mod instance;
 pub mod physical;

@@ -158,7 +158,7 @@ pub fn graphics(device: &Device, desc: &GraphicsDesc) -> Result<vk::Pipeline> {
         device.raw.destroy_shader_module(vs, None);
         device.raw.destroy_shader_module(fs, None);
     }
-    let pipeline = result.map_err(|(_, result)| Error::Vulkan { call: "vkCreateGraphicsPipelines", result })?[0];
+    let pipeline = result.map_err(|(_, result)| Error::vulkan("vkCreateGraphicsPipelines", result))?[0];
     device.set_name(pipeline, desc.name);
     Ok(pipeline)
 }
@@ -184,7 +184,7 @@ pub fn compute(
     let result = unsafe { device.raw.create_compute_pipelines(vk::PipelineCache::null(), &[info], None) };
     // SAFETY: not needed after creation.
     unsafe { device.raw.destroy_shader_module(module, None) };
-    let pipeline = result.map_err(|(_, result)| Error::Vulkan { call: "vkCreateComputePipelines", result })?[0];
+    let pipeline = result.map_err(|(_, result)| Error::vulkan("vkCreateComputePipelines", result))?[0];
     device.set_name(pipeline, name);
     Ok(pipeline)
 }

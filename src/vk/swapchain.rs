@@ -203,11 +203,15 @@ impl Swapchain {
 
     /// Acquire the next image, signalling `semaphore`. `Ok(None)` means out of date: recreate.
     pub fn acquire(&self, semaphore: vk::Semaphore) -> Result<Option<(u32, bool)>> {
+        if super::fault::fails(super::fault::Fault::Acquire) {
+            // Before the call: the semaphore stays unsignalled, as after a real failure.
+            return Err(Error::vulkan("vkAcquireNextImageKHR (injected failure)", vk::Result::ERROR_SURFACE_LOST_KHR));
+        }
         // SAFETY: the semaphore is unsignalled with no pending wait (its frame's fence was waited).
         match unsafe { self.swapchain_fn.acquire_next_image(self.raw, u64::MAX, semaphore, vk::Fence::null()) } {
             Ok((index, suboptimal)) => Ok(Some((index, suboptimal))),
             Err(vk::Result::ERROR_OUT_OF_DATE_KHR) => Ok(None),
-            Err(result) => Err(Error::Vulkan { call: "vkAcquireNextImageKHR", result }),
+            Err(result) => Err(Error::vulkan("vkAcquireNextImageKHR", result)),
         }
     }
 
@@ -218,11 +222,17 @@ impl Swapchain {
         let indices = [index];
         let info =
             vk::PresentInfoKHR::default().wait_semaphores(&semaphores).swapchains(&swapchains).image_indices(&indices);
+        if super::fault::fails(super::fault::Fault::Present) {
+            // The call is made (the semaphore's wait is consumed), its result replaced.
+            // SAFETY: as below.
+            let _ = unsafe { self.swapchain_fn.queue_present(device.queue, &info) };
+            return Err(Error::vulkan("vkQueuePresentKHR (injected failure)", vk::Result::ERROR_SURFACE_LOST_KHR));
+        }
         // SAFETY: the image was acquired and rendered; the semaphore is signalled by that submission.
         match unsafe { self.swapchain_fn.queue_present(device.queue, &info) } {
             Ok(false) => Ok(true),
             Ok(true) | Err(vk::Result::ERROR_OUT_OF_DATE_KHR) => Ok(false),
-            Err(result) => Err(Error::Vulkan { call: "vkQueuePresentKHR", result }),
+            Err(result) => Err(Error::vulkan("vkQueuePresentKHR", result)),
         }
     }
 

@@ -164,8 +164,6 @@ pub fn run(device: &Arc<Device>, options: &BenchOptions, mut progress: impl FnMu
         let cells = crate::scene::Terrain::cells_for(crate::scene::blades::field_size(blades));
         crate::app::check_limits(device, blades, options.size, cells)?;
     }
-    std::fs::create_dir_all(&options.out)
-        .map_err(|source| Error::Io { path: options.out.display().to_string(), source })?;
     let extent = vk::Extent2D { width: options.size.0, height: options.size.1 };
     let total = (options.rows.len() * variants.len()) as u64 * u64::from(options.warmup + options.frames);
     let mut frames = Progress::new(total, &mut progress);
@@ -276,7 +274,7 @@ fn render_interleaved(
         let time = round as f32 / 60.0;
         for (i, renderer) in renderers.iter_mut().enumerate() {
             let t = renderer.render_offscreen(target, camera, time)?;
-            frames.rendered();
+            frames.rendered()?;
             if round >= options.warmup {
                 let passes: serde_json::Map<String, Value> =
                     t.passes.iter().map(|p| (p.name.to_string(), json!(p.ms))).collect();

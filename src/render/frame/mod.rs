@@ -197,7 +197,7 @@ impl FrameRing {
         // SAFETY: `begin` waited for this fence; nothing pending uses the frame.
         unsafe { device.raw.reset_fences(&[frame.fence]) }.vk("vkResetFences")?;
         let submitted = if inject {
-            Err(Error::Vulkan { call: "vkQueueSubmit2 (injected failure)", result: vk::Result::ERROR_DEVICE_LOST })
+            Err(Error::vulkan("vkQueueSubmit2 (injected failure)", vk::Result::ERROR_DEVICE_LOST))
         } else {
             commands::submit(device, frame.recorder.cmd, &wait, &signal, frame.fence)
         };

@@ -277,8 +277,6 @@ pub fn run(device: &Arc<Device>, options: &LodBenchOptions, mut progress: impl F
     for row in &options.rows {
         row.field.check(device, options.segments, options.size)?;
     }
-    std::fs::create_dir_all(&options.out)
-        .map_err(|source| Error::Io { path: options.out.display().to_string(), source })?;
     let extent = vk::Extent2D { width: options.size.0, height: options.size.1 };
     let total = (options.rows.len() * VARIANTS.len()) as u64 * u64::from(options.warmup + options.frames);
     let mut frames = Progress::new(total, &mut progress);
@@ -393,7 +391,7 @@ fn measure_row(
     for round in 0..options.warmup + options.frames {
         for (i, (renderer, target)) in renderers.iter_mut().zip(targets.iter_mut()).enumerate() {
             let t = renderer.render_offscreen(target, &cameras[i], SIMULATION_TIME)?;
-            frames.rendered();
+            frames.rendered()?;
             if round >= options.warmup {
                 samples[i].push(Sample::of(&t));
             }
