@@ -6,7 +6,7 @@ mod support;
 
 use ash::vk;
 use meadow::app::{with_device, GpuOptions};
-use meadow::vk::query::{span_ms, TimestampQueries};
+use meadow::vk::query::TimestampQueries;
 use meadow::vk::{commands, sync, Access, Buffer, BufferDesc, DeviceSelector};
 use serde_json::Value;
 use support::{assert_clean, meadow, scratch, transcript};
@@ -33,8 +33,8 @@ fn timestamps_of_an_empty_span_are_near_zero_and_of_a_fill_are_not() {
             Ok(())
         })
         .map(|()| {
-            let ns = stamps.read_ns(results.mapped());
-            (span_ms(ns[0], ns[1]), span_ms(ns[1], ns[2]))
+            let ticks = stamps.read_ticks(results.mapped());
+            (stamps.elapsed_ms(ticks[0], ticks[1]), stamps.elapsed_ms(ticks[1], ticks[2]))
         });
         // SAFETY: submit_and_wait waited for the GPU.
         unsafe {
@@ -172,4 +172,21 @@ fn timing_reports_the_cull_counts() {
     assert_eq!(buckets, n("drawn"));
     assert_eq!(n("drawn"), n("after_occlusion"));
     assert!(n("drawn") > 0 && n("drawn") < 5000, "{cull}");
+}
+
+#[test]
+fn the_frame_time_is_the_passes_and_the_read_back_copy_is_apart() {
+    // `gpu:` spans the passes only (they run back to back: their sum); the copy of the picture to
+    // the host after them is reported on its own.
+    let dir = support::scratch("timing-readback");
+    let output = support::render(&["--blades", "3000", "--size", "640x360"], &dir.join("x.png"));
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    let line = stdout.lines().find(|l| l.starts_with("gpu: ")).expect("a gpu line");
+    let numbers: Vec<f64> =
+        line.split(|c: char| !(c.is_ascii_digit() || c == '.')).filter_map(|w| w.parse().ok()).collect();
+    let (frame, passes, copy) = (numbers[0], &numbers[1..numbers.len() - 1], numbers[numbers.len() - 1]);
+    let sum: f64 = passes.iter().sum();
+    assert!(line.contains("; read-back copy ") && passes.len() >= 2, "{line}");
+    assert!((frame - sum).abs() <= 0.05 * frame + 0.5, "frame {frame} ms, passes {sum} ms: {line}");
+    assert!(copy > 0.0, "the copy of 640x360 pixels took no time: {line}");
 }

@@ -98,7 +98,7 @@ fn print_render(report: &RenderReport) {
         println!("cull: {}", cull.summary());
     }
     let passes: Vec<String> = last.passes.iter().map(|p| format!("{} {:.3} ms", p.name, p.ms)).collect();
-    println!("gpu: {:.3} ms ({})", last.gpu_ms, passes.join(", "));
+    println!("gpu: {:.3} ms ({}); read-back copy {:.3} ms", last.gpu_ms, passes.join(", "), last.readback_ms);
     let cpu = last.cpu_record_ms + last.cpu_submit_ms + last.cpu_wait_ms;
     println!(
         "cpu: {cpu:.3} ms (record {:.3} ms, submit {:.3} ms, wait {:.3} ms); setup {:.0} ms",

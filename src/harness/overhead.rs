@@ -126,13 +126,13 @@ fn measure_clusters(
         let animation = AnimationSettings { mode: Mode::Static, ..Default::default() };
         renderers.push((strategy, Renderer::new(setup.device.clone(), &setup.scene, settings, animation)?));
     }
-    let mut frames: Vec<Vec<[f64; 3]>> = vec![Vec::new(); renderers.len()];
+    let mut frames: Vec<Vec<[f64; 4]>> = vec![Vec::new(); renderers.len()];
     for round in 0..options.warmup + options.frames {
         for (i, (_, renderer)) in renderers.iter_mut().enumerate() {
             let t = renderer.render_offscreen(target, &setup.camera, 0.0)?;
             progress.rendered()?;
             if round >= options.warmup {
-                frames[i].push([t.cpu_record_ms * 1e3, t.cpu_submit_ms * 1e3, t.gpu_ms]);
+                frames[i].push([t.cpu_record_ms * 1e3, t.cpu_submit_ms * 1e3, t.gpu_ms, t.readback_ms]);
             }
         }
     }
@@ -142,8 +142,9 @@ fn measure_clusters(
     Ok(())
 }
 
-/// The row of `strategy` at `clusters` from its measured frames (record µs, submit µs, GPU ms).
-fn strategy_row(strategy: Strategy, clusters: u32, frames: &[[f64; 3]]) -> Value {
+/// The row of `strategy` at `clusters` from its measured frames (record µs, submit µs, GPU ms
+/// of the passes, GPU ms of the read-back copy after them).
+fn strategy_row(strategy: Strategy, clusters: u32, frames: &[[f64; 4]]) -> Value {
     let column = |k: usize| summary(&frames.iter().map(|f| f[k]).collect::<Vec<f64>>());
     let (record, submit, gpu) = (column(0), column(1), column(2));
     let median = |s: &Value| s["median"].as_f64().unwrap_or(0.0);
@@ -162,7 +163,11 @@ fn strategy_row(strategy: Strategy, clusters: u32, frames: &[[f64; 3]]) -> Value
         "ns_per_draw": record_us * 1e3 / f64::from(gpu_draws),
         "draws_per_second": if cpu_s > 0.0 { f64::from(gpu_draws) / cpu_s } else { 0.0 },
         "gpu_ms": gpu_ms,
-        "frames": frames.iter().map(|f| json!({"cpu_record_us": f[0], "cpu_submit_us": f[1], "gpu_ms": f[2]})).collect::<Vec<_>>(),
+        "readback_ms": median(&column(3)),
+        "frames": frames
+            .iter()
+            .map(|f| json!({"cpu_record_us": f[0], "cpu_submit_us": f[1], "gpu_ms": f[2], "readback_ms": f[3]}))
+            .collect::<Vec<_>>(),
     })
 }
 

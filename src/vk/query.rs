@@ -68,16 +68,29 @@ impl TimestampQueries {
         unsafe { device.raw.cmd_copy_query_pool_results(cmd, self.pool, 0, self.written, buffer, offset, 8, flags) };
     }
 
-    /// The timestamps of the last recording, in nanoseconds, from the bytes `record_copy` wrote
+    /// The timestamps of the last recording, in ticks masked to the valid bits, from the bytes
+    /// `record_copy` wrote
     /// (read after the frame's fence). Queries are copied on the GPU rather than read with
     /// `vkGetQueryPoolResults`, which lavapipe (Mesa 22.3) implements by draining its whole
     /// queue: with frames in flight that would serialise the CPU with every frame.
-    pub fn read_ns(&self, copied: &[u8]) -> Vec<f64> {
+    pub fn read_ticks(&self, copied: &[u8]) -> Vec<u64> {
         copied[..8 * self.written as usize]
             .chunks_exact(8)
-            .map(|b| u64::from_le_bytes(b.try_into().expect("8 bytes")))
-            .map(|t| (t & self.valid_mask) as f64 * self.period_ns)
+            .map(|b| u64::from_le_bytes(b.try_into().expect("8 bytes")) & self.valid_mask)
             .collect()
+    }
+
+    /// Milliseconds from tick `start` to tick `end`: subtracted as integers modulo the valid bits
+    /// (a counter that wrapped in between still gives the elapsed time), then scaled, so no
+    /// precision is lost to large absolute tick counts.
+    pub fn elapsed_ms(&self, start: u64, end: u64) -> f64 {
+        elapsed_ticks(start, end, self.valid_mask) as f64 * self.period_ns / 1.0e6
+    }
+
+    /// Tick `tick` in nanoseconds of the device's timestamp clock (for placing frames on a
+    /// timeline; spans use `elapsed_ms`).
+    pub fn ns(&self, tick: u64) -> f64 {
+        tick as f64 * self.period_ns
     }
 
     /// Destroy the pool.
@@ -90,10 +103,26 @@ impl TimestampQueries {
     }
 }
 
-/// Elapsed milliseconds between two timestamps in nanoseconds, robust to wrap-around within the
-/// valid bits being already masked (a negative span reads as zero).
-pub fn span_ms(start_ns: f64, end_ns: f64) -> f64 {
-    ((end_ns - start_ns) / 1.0e6).max(0.0)
+/// Ticks from `start` to `end` of a counter of `mask`'s valid bits, which may have wrapped once
+/// in between.
+fn elapsed_ticks(start: u64, end: u64, mask: u64) -> u64 {
+    end.wrapping_sub(start) & mask
+}
+
+#[cfg(test)]
+mod tests {
+    use super::elapsed_ticks;
+
+    #[test]
+    fn spans_are_integer_differences_modulo_the_valid_bits() {
+        let mask36 = (1u64 << 36) - 1;
+        assert_eq!(elapsed_ticks(100, 250, mask36), 150);
+        // A 36-bit counter wrapping between the two stamps.
+        assert_eq!(elapsed_ticks(mask36 - 9, 20, mask36), 30);
+        // 64 valid bits near the top: exact, where f64 nanoseconds would round.
+        assert_eq!(elapsed_ticks(u64::MAX - 1000, u64::MAX - 1, u64::MAX), 999);
+        assert_ne!((u64::MAX - 1) as f64 - (u64::MAX - 1000) as f64, 999.0);
+    }
 }
 
 /// What one pipeline-statistics query counted.

@@ -280,6 +280,7 @@ fn render_interleaved(
                     t.passes.iter().map(|p| (p.name.to_string(), json!(p.ms))).collect();
                 samples[i].push(json!({
                     "gpu_ms": t.gpu_ms,
+                    "readback_ms": t.readback_ms,
                     "passes_ms": passes,
                     "pipeline_statistics": statistics_json(&t.passes),
                     "cpu_record_ms": t.cpu_record_ms,
@@ -302,6 +303,8 @@ fn variant_json(v: &Variant, frames: &[Value]) -> Value {
     json!({
         "variant": v.name(),
         "gpu_ms": summary(&field("gpu_ms")),
+        // The copy of the picture to the host after the passes: not in `gpu_ms`.
+        "readback_ms": summary(&field("readback_ms")),
         "cpu_record_submit_ms": summary(&cpu),
         "cpu_wait_ms": summary(&field("cpu_wait_ms")),
         // The counts are the same every frame (fixed scene and camera): the last frame's.

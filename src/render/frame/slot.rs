@@ -12,7 +12,7 @@ use crate::render::graph::{Outputs, RecordedPass, Scopes};
 use crate::render::target::TargetView;
 use crate::render::uniforms::FrameUniforms;
 use crate::vk::commands::CommandRecorder;
-use crate::vk::query::{span_ms, PipelineStatistics, StatisticsQueries, TimestampQueries};
+use crate::vk::query::{PipelineStatistics, StatisticsQueries, TimestampQueries};
 use crate::vk::tracker::ResourceStates;
 use crate::vk::{sync, Buffer, BufferDesc, Device};
 
@@ -45,8 +45,11 @@ pub struct FrameTimings {
     pub cpu_submit_ms: f64,
     /// CPU time blocked on the frame fence.
     pub cpu_wait_ms: f64,
-    /// GPU time from the first to the last timestamp of the frame.
+    /// GPU time of the frame's passes: from its first timestamp to the end of its last pass.
     pub gpu_ms: f64,
+    /// GPU time after the passes: the copy of the picture to the host (`render`, the harness),
+    /// reported apart from `gpu_ms`.
+    pub readback_ms: f64,
     /// GPU time per pass.
     pub passes: Vec<PassTime>,
     /// First and last timestamp of the frame, in nanoseconds of the device's timestamp clock.
@@ -260,7 +263,8 @@ impl Frame {
     pub(super) fn timings(&mut self, wait: [Instant; 2]) -> Option<FrameTimings> {
         let [started, recorded, submitted] = self.pending.take()?;
         let copied = self.query_results.mapped();
-        let stamps = self.timestamps.read_ns(copied);
+        let ticks = self.timestamps.read_ticks(copied);
+        let clock = &self.timestamps;
         let statistics = match &self.statistics {
             Some(queries) => queries.read(&copied[STATISTICS_OFFSET as usize..]),
             None => Vec::new(),
@@ -270,19 +274,23 @@ impl Frame {
             .iter()
             .map(|p| PassTime {
                 name: p.name,
-                ms: span_ms(stamps[p.begin as usize], stamps[p.end as usize]),
-                start_ns: stamps[p.begin as usize],
+                ms: clock.elapsed_ms(ticks[p.begin as usize], ticks[p.end as usize]),
+                start_ns: clock.ns(ticks[p.begin as usize]),
                 statistics: p.statistics.and_then(|q| statistics.get(q as usize).copied()),
             })
             .collect();
-        let (first, last) = (stamps[0], stamps[stamps.len() - 1]);
+        // The frame's first timestamp, the last pass's end, and the last one (after the outputs'
+        // copy to the host).
+        let (first, last) = (ticks[0], ticks[ticks.len() - 1]);
+        let passes_end = self.passes.last().map_or(last, |p| ticks[p.end as usize]);
         Some(FrameTimings {
             cpu_record_ms: (recorded - started).as_secs_f64() * 1e3,
             cpu_submit_ms: (submitted - recorded).as_secs_f64() * 1e3,
             cpu_wait_ms: (wait[1] - wait[0]).as_secs_f64() * 1e3,
-            gpu_ms: span_ms(first, last),
+            gpu_ms: clock.elapsed_ms(first, passes_end),
+            readback_ms: clock.elapsed_ms(passes_end, last),
             passes,
-            gpu_span_ns: (first, last),
+            gpu_span_ns: (clock.ns(first), clock.ns(last)),
             cpu_spans: Some([started, recorded, submitted]),
             cpu_wait: Some(wait),
             cull: (!self.cull_segments.is_empty()).then(|| {
