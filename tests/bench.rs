@@ -99,31 +99,73 @@ fn assert_csv_is_tidy(dir: &std::path::Path) {
     }
 }
 
-/// --compare: identical runs pass; doubling the texture times is a regression.
-fn assert_compare_flags_a_regression(dir: &std::path::Path, doc: &Value) {
-    let same = meadow()
-        .arg("bench")
-        .arg("--compare")
-        .arg(dir.join("bench.json"))
-        .arg(dir.join("bench.json"))
-        .output()
-        .expect("run");
-    assert_eq!(same.status.code(), Some(0), "{}", transcript(&same));
-    let mut slower = doc.clone();
-    for row in slower["rows"].as_array_mut().expect("rows") {
+/// `doc` with each variant's frames repeated `times` times, those of `slow` (a variant) and its
+/// median scaled by `factor`.
+fn with_frames(doc: &Value, times: usize, slow: &str, factor: f64) -> Value {
+    let mut out = doc.clone();
+    for row in out["rows"].as_array_mut().expect("rows") {
         for v in row["variants"].as_array_mut().expect("variants") {
-            if v["variant"] == "texture/vertex" {
-                let m = v["gpu_ms"]["median"].as_f64().expect("median");
-                v["gpu_ms"]["median"] = Value::from(2.0 * m);
+            let scale = if v["variant"] == slow { factor } else { 1.0 };
+            let frames = v["frames"].as_array().expect("frames").clone();
+            let mut repeated = Vec::new();
+            for _ in 0..times {
+                for f in &frames {
+                    let mut f = f.clone();
+                    f["gpu_ms"] = Value::from(f["gpu_ms"].as_f64().expect("gpu_ms") * scale);
+                    repeated.push(f);
+                }
             }
+            v["frames"] = Value::from(repeated);
+            v["gpu_ms"]["median"] = Value::from(v["gpu_ms"]["median"].as_f64().expect("median") * scale);
         }
     }
-    let slower_path = dir.join("slower.json");
-    std::fs::write(&slower_path, serde_json::to_string(&slower).expect("serialise")).expect("write");
-    let flagged =
-        meadow().arg("bench").arg("--compare").arg(dir.join("bench.json")).arg(&slower_path).output().expect("run");
+    out
+}
+
+/// `meadow bench --compare OLD NEW` of two documents written into `dir`.
+fn compare(dir: &std::path::Path, old: &Value, new: &Value, extra: &[&str]) -> std::process::Output {
+    let (a, b) = (dir.join("old.json"), dir.join("new.json"));
+    std::fs::write(&a, serde_json::to_string(old).expect("serialise")).expect("write");
+    std::fs::write(&b, serde_json::to_string(new).expect("serialise")).expect("write");
+    meadow().arg("bench").arg("--compare").arg(&a).arg(&b).args(extra).output().expect("run")
+}
+
+/// --compare: identical runs pass; doubling the texture times is a regression when the frames
+/// show it (six a side); with two frames a side it cannot be judged and is not flagged; documents
+/// that break the schema, runs of another device, non-positive medians and thresholds are bad
+/// input (exit 2).
+fn assert_compare_flags_a_regression(dir: &std::path::Path, doc: &Value) {
+    let same = compare(dir, doc, doc, &[]);
+    assert_eq!(same.status.code(), Some(0), "{}", transcript(&same));
+    let (base, slower) = (with_frames(doc, 3, "", 1.0), with_frames(doc, 3, "texture/vertex", 2.0));
+    let flagged = compare(dir, &base, &slower, &[]);
     assert_eq!(flagged.status.code(), Some(1), "{}", transcript(&flagged));
     assert!(String::from_utf8_lossy(&flagged.stdout).contains("REGRESSION"));
+    let unjudged = compare(dir, doc, &with_frames(doc, 1, "texture/vertex", 2.0), &[]);
+    assert_eq!(unjudged.status.code(), Some(0), "{}", transcript(&unjudged));
+    assert!(String::from_utf8_lossy(&unjudged.stdout).contains("not judged"), "{}", transcript(&unjudged));
+    let mut other = doc.clone();
+    other["device"] = Value::from("another GPU");
+    let mut zero = doc.clone();
+    zero["rows"][0]["variants"][0]["gpu_ms"]["median"] = Value::from(0.0);
+    let mut strings = doc.clone();
+    strings["rows"][0]["variants"][0]["gpu_ms"]["median"] = Value::from("12");
+    for (name, new, extra, expect) in [
+        ("schema version only", serde_json::json!({"schema_version": 1}), &[][..], "not a bench.json"),
+        ("rows not an array", serde_json::json!({"rows": "oops"}), &[][..], "not a bench.json"),
+        ("a string median", strings, &[][..], "not a bench.json"),
+        ("another device", other, &[][..], "not comparable"),
+        ("a zero median", zero, &[][..], "not both positive"),
+        ("a negative threshold", doc.clone(), &["--threshold", "-5"][..], "--threshold"),
+    ] {
+        let output = compare(dir, doc, &new, extra);
+        assert_eq!(output.status.code(), Some(2), "{name}: {}", transcript(&output));
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert!(
+            stderr.starts_with("error: ") && stderr.lines().count() == 1 && stderr.contains(expect),
+            "{name}: {stderr}"
+        );
+    }
 }
 
 #[test]

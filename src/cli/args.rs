@@ -202,8 +202,8 @@ pub(crate) struct BenchArgs {
     /// Compare two bench.json files instead of measuring; exit 1 on a regression.
     #[arg(long, num_args = 2, value_names = ["OLD.json", "NEW.json"])]
     pub(crate) compare: Vec<PathBuf>,
-    /// Noise threshold of --compare, in percent.
-    #[arg(long, default_value = "10", value_parser = values::finite_f32)]
+    /// Noise threshold of --compare, in percent (positive).
+    #[arg(long, default_value = "10", value_parser = values::finite_f32, allow_hyphen_values = true)]
     pub(crate) threshold: f32,
     #[command(flatten)]
     pub(crate) gpu: GpuArgs,

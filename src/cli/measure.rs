@@ -100,7 +100,7 @@ pub(crate) fn overhead(args: OverheadArgs) -> (u8, Option<u64>) {
 pub(crate) fn bench(args: BenchArgs) -> crate::Result<(u8, Option<u64>)> {
     use crate::harness::bench;
     if let [old, new] = args.compare.as_slice() {
-        let (report, regressed) = bench::compare(&bench::load(old)?, &bench::load(new)?, f64::from(args.threshold));
+        let (report, regressed) = bench::compare(&bench::load(old)?, &bench::load(new)?, f64::from(args.threshold))?;
         print!("{report}");
         return Ok((u8::from(regressed), None));
     }

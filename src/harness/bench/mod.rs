@@ -16,10 +16,12 @@ use crate::render::{OffscreenTarget, RenderSettings, Renderer};
 use crate::scene::{Camera, Scene};
 use crate::vk::Device;
 
+mod compare;
 pub mod lod;
 mod report;
 
-pub use report::{best, compare, csv, load, median, plot, statistics_table, table, write};
+pub use compare::{compare, load};
+pub use report::{best, csv, median, plot, statistics_table, table, write};
 
 use crate::harness::document::{document, statistics_json, summary};
 use crate::harness::Progress;

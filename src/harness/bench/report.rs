@@ -7,8 +7,7 @@ use serde_json::Value;
 
 use super::THESIS_TABLE;
 use crate::app::write_text;
-use crate::error::{Error, Result};
-use crate::harness::document::SCHEMA_VERSION;
+use crate::error::Result;
 
 /// Pipeline statistics of the blade (or floor) pass per row and variant: what the driver was
 /// asked to do, to read the frame times against.
@@ -213,52 +212,6 @@ pub fn plot(doc: &Value, path: &Path) -> Result<()> {
     line_panels(path, size, &title, &panels, columns)
 }
 
-/// Read a bench.json.
-pub fn load(path: &Path) -> Result<Value> {
-    let text = std::fs::read_to_string(path).map_err(|e| Error::bad_input(format!("{}: {e}", path.display())))?;
-    let doc: Value = serde_json::from_str(&text)
-        .map_err(|e| Error::bad_input(format!("{}: not a bench.json: {e}", path.display())))?;
-    if doc["schema_version"].as_u64() != Some(u64::from(SCHEMA_VERSION)) {
-        return Err(Error::bad_input(format!("{}: schema_version is not {SCHEMA_VERSION}", path.display())));
-    }
-    Ok(doc)
-}
-
-/// Compare two runs: per (row, variant) change of the median GPU time in %. Returns the report
-/// and whether any change is a regression beyond `threshold_pct`.
-pub fn compare(old: &Value, new: &Value, threshold_pct: f64) -> (String, bool) {
-    let mut out =
-        format!("{:>9} {:>4} {:<16} {:>10} {:>10} {:>8}\n", "blades", "seg", "variant", "old ms", "new ms", "change");
-    let mut regressed = false;
-    for row in new["rows"].as_array().into_iter().flatten() {
-        let same = old["rows"]
-            .as_array()
-            .into_iter()
-            .flatten()
-            .find(|r| r["blades"] == row["blades"] && r["segments"] == row["segments"]);
-        let Some(old_row) = same else { continue };
-        for v in row["variants"].as_array().into_iter().flatten() {
-            let name = v["variant"].as_str().unwrap_or("");
-            let (Some(a), Some(b)) = (median(old_row, name), median(row, name)) else { continue };
-            let change = 100.0 * (b - a) / a;
-            let flag = if change > threshold_pct {
-                regressed = true;
-                "  REGRESSION"
-            } else if change < -threshold_pct {
-                "  faster"
-            } else {
-                ""
-            };
-            out.push_str(&format!(
-                "{:>9} {:>4} {:<16} {:>10.3} {:>10.3} {:>7.1}%{flag}\n",
-                row["blades"], row["segments"], name, a, b, change
-            ));
-        }
-    }
-    out.push_str(&format!("noise threshold: {threshold_pct:.1} %\n"));
-    (out, regressed)
-}
-
 #[cfg(test)]
 mod tests {
     use serde_json::json;
@@ -266,7 +219,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn ratios_come_from_the_right_rows_and_regressions_are_flagged() {
+    fn ratios_come_from_the_right_rows() {
         let row = |blades: u32, n: f64, t: f64| {
             json!({"blades": blades, "segments": 4, "triangles": 8, "variants": [
                 {"variant": "static", "gpu_ms": {"median": n}, "cpu_record_submit_ms": {"median": 0.1}},
@@ -280,10 +233,5 @@ mod tests {
         assert!(lines[1].contains(" 1.08 "), "40k: 10.8 / 10: {}", lines[1]);
         assert!(lines[2].contains(" 1.35 "), "360k: 135 / 100: {}", lines[2]);
         assert!(lines[1].contains(" 1.08 ") && lines[1].contains("100.00"), "FPS N of 10 ms: {}", lines[1]);
-        let slower = json!({"schema_version": 1, "rows": [row(40_000, 10.0, 12.0), row(360_000, 130.0, 150.0)]});
-        let (report, regressed) = compare(&doc, &slower, 10.0);
-        assert!(regressed && report.contains("REGRESSION"), "{report}");
-        let (_, same) = compare(&doc, &doc, 10.0);
-        assert!(!same);
     }
 }

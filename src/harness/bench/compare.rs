@@ -1,0 +1,226 @@
+//! `meadow bench --compare OLD NEW`: two bench.json documents, each validated against
+//! `docs/bench.schema.json` (the `jsonschema` crate), refused when they do not describe
+//! comparable runs (device, driver, resolution, build profile, rasteriser threads), and compared
+//! per (row, variant): the change of the median GPU time, flagged when it is beyond the noise
+//! threshold *and* significant on the per-frame samples (a one-sided Mann–Whitney U test at
+//! 5 %), so a noisy frame cannot fail a CI gate on its own.
+
+use std::path::Path;
+
+use serde_json::Value;
+
+use crate::error::{Error, Result};
+
+/// The schema every bench.json follows (`docs/bench.schema.json`).
+const SCHEMA: &str = include_str!("../../../docs/bench.schema.json");
+
+/// Significance level of the one-sided test.
+const ALPHA: f64 = 0.05;
+
+/// Fewest frames per side for the test to mean anything (with 4 and 4, the smallest one-sided
+/// p-value is 1/70).
+const MIN_FRAMES: usize = 4;
+
+/// Fields that must be equal for two runs to be comparable.
+const SAME_RUN: [&str; 5] = ["device", "driver", "resolution", "build_profile", "lp_num_threads"];
+
+/// Read a bench.json and validate it against the schema (bad input, exit 2, when it does not
+/// follow it).
+pub fn load(path: &Path) -> Result<Value> {
+    let text = std::fs::read_to_string(path).map_err(|e| Error::bad_input(format!("{}: {e}", path.display())))?;
+    let doc: Value = serde_json::from_str(&text)
+        .map_err(|e| Error::bad_input(format!("{}: not a bench.json: {e}", path.display())))?;
+    let schema: Value = serde_json::from_str(SCHEMA).expect("docs/bench.schema.json is JSON");
+    let validator = jsonschema::validator_for(&schema).expect("docs/bench.schema.json is a valid schema");
+    if let Some(e) = validator.iter_errors(&doc).next() {
+        let at = e.instance_path().to_string();
+        let at = if at.is_empty() { "the document".to_string() } else { at };
+        return Err(Error::bad_input(format!("{}: not a bench.json: {at}: {e}", path.display())));
+    }
+    Ok(doc)
+}
+
+/// Compare two runs: per (row, variant) change of the median GPU time in %. Returns the report
+/// and whether any change is a significant regression beyond `threshold_pct`; refuses a
+/// non-positive threshold, runs that are not comparable and medians that are not positive.
+pub fn compare(old: &Value, new: &Value, threshold_pct: f64) -> Result<(String, bool)> {
+    if !(threshold_pct.is_finite() && threshold_pct > 0.0) {
+        return Err(Error::bad_input(format!("--threshold {threshold_pct}: must be a positive percentage")));
+    }
+    let differences: Vec<String> =
+        SAME_RUN.iter().filter(|&&k| old[k] != new[k]).map(|&k| format!("{k} {} vs {}", old[k], new[k])).collect();
+    if !differences.is_empty() {
+        return Err(Error::bad_input(format!("the runs are not comparable: {}", differences.join(", "))));
+    }
+    let mut out = format!(
+        "{:>9} {:>4} {:<16} {:>10} {:>10} {:>8} {:>7}\n",
+        "blades", "seg", "variant", "old ms", "new ms", "change", "p"
+    );
+    let mut regressed = false;
+    for row in new["rows"].as_array().into_iter().flatten() {
+        let same = old["rows"]
+            .as_array()
+            .into_iter()
+            .flatten()
+            .find(|r| r["blades"] == row["blades"] && r["segments"] == row["segments"]);
+        let Some(old_row) = same else { continue };
+        for v in row["variants"].as_array().into_iter().flatten() {
+            let name = v["variant"].as_str().unwrap_or("");
+            let Some(old_v) = variant(old_row, name) else { continue };
+            let (Some(a), Some(b)) = (old_v["gpu_ms"]["median"].as_f64(), v["gpu_ms"]["median"].as_f64()) else {
+                continue;
+            };
+            if !(a.is_finite() && a > 0.0 && b.is_finite() && b > 0.0) {
+                return Err(Error::bad_input(format!(
+                    "{} blades x {} segments, {name}: medians {a} and {b} ms are not both positive",
+                    row["blades"], row["segments"]
+                )));
+            }
+            let change = 100.0 * (b - a) / a;
+            let (before, after) = (samples(old_v), samples(v));
+            let judged = before.len() >= MIN_FRAMES && after.len() >= MIN_FRAMES;
+            let p_slower = judged.then(|| mann_whitney_greater(&before, &after));
+            let p_faster = judged.then(|| mann_whitney_greater(&after, &before));
+            let beyond = change.abs() > threshold_pct;
+            let (p, significant) = match change > 0.0 {
+                true => (p_slower, p_slower.is_some_and(|p| p < ALPHA)),
+                false => (p_faster, p_faster.is_some_and(|p| p < ALPHA)),
+            };
+            let flag = match (beyond, significant, change > 0.0, judged) {
+                (true, true, true, _) => {
+                    regressed = true;
+                    "  REGRESSION"
+                }
+                (true, true, false, _) => "  faster",
+                (true, false, _, true) => "  within noise (not significant)",
+                (true, false, _, false) => "  not judged (fewer than 4 frames a side)",
+                _ => "",
+            };
+            let p = p.map_or("-".to_string(), |p| format!("{p:.3}"));
+            out.push_str(&format!(
+                "{:>9} {:>4} {:<16} {:>10.3} {:>10.3} {:>7.1}% {:>7}{flag}\n",
+                row["blades"], row["segments"], name, a, b, change, p
+            ));
+        }
+    }
+    out.push_str(&format!(
+        "noise threshold: {threshold_pct:.1} %; flagged when beyond it and significant (one-sided Mann-Whitney, p < {ALPHA})\n"
+    ));
+    Ok((out, regressed))
+}
+
+/// Variant `name` of a row.
+fn variant<'a>(row: &'a Value, name: &str) -> Option<&'a Value> {
+    row["variants"].as_array()?.iter().find(|v| v["variant"] == name)
+}
+
+/// The per-frame GPU times of a variant.
+fn samples(v: &Value) -> Vec<f64> {
+    v["frames"].as_array().into_iter().flatten().filter_map(|f| f["gpu_ms"].as_f64()).collect()
+}
+
+/// One-sided p-value that `after` tends to be larger than `before` (Mann–Whitney U, normal
+/// approximation with the tie correction and a continuity correction).
+fn mann_whitney_greater(before: &[f64], after: &[f64]) -> f64 {
+    let (n1, n2) = (before.len() as f64, after.len() as f64);
+    let mut all: Vec<(f64, bool)> =
+        before.iter().map(|&x| (x, false)).chain(after.iter().map(|&x| (x, true))).collect();
+    all.sort_by(|a, b| a.0.total_cmp(&b.0));
+    // Mid-ranks of ties, and the tie correction's sum of t³ - t.
+    let (mut rank_after, mut ties) = (0.0, 0.0);
+    let mut i = 0;
+    while i < all.len() {
+        let j = (i..all.len()).find(|&j| all[j].0 != all[i].0).unwrap_or(all.len());
+        let rank = (i + 1 + j) as f64 / 2.0;
+        rank_after += rank * all[i..j].iter().filter(|(_, late)| *late).count() as f64;
+        let t = (j - i) as f64;
+        ties += t * t * t - t;
+        i = j;
+    }
+    let u = rank_after - n2 * (n2 + 1.0) / 2.0;
+    let n = n1 + n2;
+    let variance = n1 * n2 / 12.0 * ((n + 1.0) - ties / (n * (n - 1.0)));
+    if variance <= 0.0 {
+        return 1.0;
+    }
+    let z = (u - n1 * n2 / 2.0 - 0.5) / variance.sqrt();
+    0.5 * erfc(z / std::f64::consts::SQRT_2)
+}
+
+/// The complementary error function (Numerical Recipes' `erfcc`, relative error below 1.2e-7).
+fn erfc(x: f64) -> f64 {
+    let z = x.abs();
+    let t = 1.0 / (1.0 + 0.5 * z);
+    let poly = -z * z - 1.265_512_23
+        + t * (1.000_023_68
+            + t * (0.374_091_96
+                + t * (0.096_784_18
+                    + t * (-0.186_288_06
+                        + t * (0.278_868_07
+                            + t * (-1.135_203_98 + t * (1.488_515_87 + t * (-0.822_152_23 + t * 0.170_872_77))))))));
+    let r = t * poly.exp();
+    if x >= 0.0 {
+        r
+    } else {
+        2.0 - r
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use serde_json::json;
+
+    use super::*;
+
+    fn doc(frames: &[f64]) -> Value {
+        let median = {
+            let mut s = frames.to_vec();
+            s.sort_by(f64::total_cmp);
+            s[s.len() / 2]
+        };
+        json!({"device": "d", "driver": "v", "resolution": [8, 8], "build_profile": "release", "lp_num_threads": null,
+            "rows": [{"blades": 1000, "segments": 4, "variants": [{"variant": "static",
+            "gpu_ms": {"median": median}, "frames": frames.iter().map(|f| json!({"gpu_ms": f})).collect::<Vec<_>>()}]}]})
+    }
+
+    #[test]
+    fn a_regression_must_be_beyond_the_threshold_and_significant() {
+        let base = doc(&[10.0, 10.2, 9.9, 10.1, 10.0, 9.8, 10.3, 10.1]);
+        let slower = doc(&[13.0, 13.2, 12.9, 13.1, 13.0, 12.8, 13.3, 13.1]);
+        let (report, regressed) = compare(&base, &slower, 10.0).expect("comparable");
+        assert!(regressed && report.contains("REGRESSION"), "{report}");
+        let (report, regressed) = compare(&slower, &base, 10.0).expect("comparable");
+        assert!(!regressed && report.contains("faster"), "{report}");
+        // The same median shift, but one slow frame among otherwise equal ones: not significant.
+        let noisy = doc(&[10.0, 10.2, 9.9, 10.1, 13.0, 9.8, 10.3, 13.5]);
+        let noisier = doc(&[13.0, 9.9, 10.1, 13.1, 10.0, 13.4, 10.2, 13.0]);
+        let (report, regressed) = compare(&noisy, &noisier, 1.0).expect("comparable");
+        assert!(!regressed && report.contains("not significant"), "{report}");
+        assert!(!compare(&base, &base, 10.0).expect("comparable").1);
+    }
+
+    #[test]
+    fn bad_thresholds_medians_and_other_machines_are_refused() {
+        let base = doc(&[10.0, 10.2, 9.9, 10.1]);
+        for threshold in [0.0, -5.0, f64::NAN, f64::INFINITY] {
+            assert!(compare(&base, &base, threshold).is_err(), "threshold {threshold}");
+        }
+        let zero = doc(&[0.0, 0.0, 0.0, 0.0]);
+        assert!(compare(&base, &zero, 10.0).is_err() && compare(&zero, &base, 10.0).is_err());
+        let mut other = base.clone();
+        other["device"] = json!("another GPU");
+        let e = compare(&base, &other, 10.0).expect_err("not comparable").to_string();
+        assert!(e.contains("not comparable") && e.contains("device"), "{e}");
+    }
+
+    #[test]
+    fn the_test_statistic_matches_known_values() {
+        // Completely separated samples of 4 and 4: the exact one-sided p is 1/70 = 0.014; the
+        // normal approximation with continuity correction gives 0.0152.
+        let p = mann_whitney_greater(&[1.0, 2.0, 3.0, 4.0], &[5.0, 6.0, 7.0, 8.0]);
+        assert!((p - 0.0152).abs() < 0.001, "{p}");
+        // Identical samples: no evidence either way.
+        assert!(mann_whitney_greater(&[1.0; 5], &[1.0; 5]) >= 0.5);
+        assert!((erfc(0.0) - 1.0).abs() < 1e-7 && (erfc(1.0) - 0.157_299_2).abs() < 1e-6);
+    }
+}
