@@ -248,9 +248,10 @@ pub fn check_scene(
     check_limits(device, blades, size, crate::scene::terrain::Terrain::cells_for(field_m))?;
     KeyframeTexture::check_limits(device, animation.poses)?;
     if floor {
-        // Pre-expanded vertices, plus their staging copy during the upload.
-        let vertices = u64::from(blades) * u64::from(2 * segments + 4);
-        device.check_budget(2 * 12 * vertices, &format!("--mode floor with {blades} blades"))?;
+        // Pre-expanded vertices (12 bytes) and triangle-list indices (4 bytes), plus their
+        // staging copies during the upload (`passes::floor::expand`).
+        let per_blade = 12 * u64::from(2 * segments + 2) + 4 * 6 * u64::from(segments);
+        device.check_budget(2 * per_blade * u64::from(blades), &format!("--mode floor with {blades} blades"))?;
     }
     if animation.eval == Eval::Blade && animation.mode != Mode::Static {
         // At most one storage buffer of records (`scene_gpu::pose_records`): with the cull, one

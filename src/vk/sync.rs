@@ -39,6 +39,8 @@ pub enum Access {
     IndirectCommandRead,
     /// Vertex buffer read by fixed-function vertex input.
     VertexAttributeRead,
+    /// Index buffer read by fixed-function vertex input.
+    IndexRead,
     /// Written as a colour attachment.
     ColorAttachmentWrite,
     /// Read and written as a depth attachment (test and write).
@@ -86,6 +88,7 @@ impl Access {
             Access::ComputeShaderWrite => (S::COMPUTE_SHADER, A::SHADER_STORAGE_WRITE, L::GENERAL),
             Access::IndirectCommandRead => (S::DRAW_INDIRECT, A::INDIRECT_COMMAND_READ, L::GENERAL),
             Access::VertexAttributeRead => (S::VERTEX_ATTRIBUTE_INPUT, A::VERTEX_ATTRIBUTE_READ, L::GENERAL),
+            Access::IndexRead => (S::INDEX_INPUT, A::INDEX_READ, L::GENERAL),
             Access::ColorAttachmentWrite => (
                 S::COLOR_ATTACHMENT_OUTPUT,
                 A::COLOR_ATTACHMENT_WRITE | A::COLOR_ATTACHMENT_READ,

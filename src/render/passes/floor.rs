@@ -1,6 +1,8 @@
-//! Floor reference pass (`--mode floor`, `RenderSettings::floor`): the blades' triangles pre-expanded on the CPU into one
-//! vertex buffer (one strip, blades joined by degenerate triangles), transformed and filled with a
-//! flat colour. Every other mode's cost can be read as a ratio to this one.
+//! Floor reference pass (`--mode floor`, `RenderSettings::floor`): the blades' triangles
+//! pre-expanded on the CPU into one vertex buffer (each blade's 2 (segments + 1) strip vertices
+//! once) and an index buffer of the same triangles as a list, transformed and filled with a flat
+//! colour: the least a driver needs for them, no degenerate joins. Every other mode's cost can be
+//! read as a ratio to this one.
 
 use ash::vk;
 
@@ -8,31 +10,32 @@ use crate::error::Result;
 use crate::render::graph::{Declaration, Pass, PassContext};
 use crate::render::passes::{self, PipelineTarget};
 use crate::render::shaders;
-use crate::scene::bezier::{self, Batching};
+use crate::scene::bezier;
 use crate::scene::BladeInstance;
 use crate::vk::upload::UploadBatch;
 use crate::vk::{pipeline, Access, Buffer, Device};
 
-/// The floor pipeline and its pre-expanded vertices.
+/// The floor pipeline and its pre-expanded vertices and indices.
 pub struct FloorPass {
     pipeline: vk::Pipeline,
     layout: vk::PipelineLayout,
     vertices: Buffer,
+    indices: Buffer,
     count: u32,
 }
 
-/// The pre-expanded positions of every blade vertex, in the batched strip order.
-pub fn expand(blades: &[BladeInstance], segments: u32) -> Vec<[f32; 3]> {
-    let batching = Batching::new(segments, 2);
-    let per_blade = batching.stride;
-    let mut out = Vec::with_capacity(blades.len() * per_blade as usize);
-    for blade in blades {
-        for v in 0..per_blade {
-            let (_, strip) = batching.vertex(segments, v);
-            out.push(bezier::strip_vertex(blade, segments, strip).to_array());
-        }
+/// The pre-expanded positions of every blade vertex (its strip's, in order, each once) and the
+/// triangle list over them: the strip's 2 · segments triangles per blade, nothing else.
+pub fn expand(blades: &[BladeInstance], segments: u32) -> (Vec<[f32; 3]>, Vec<u32>) {
+    let per_blade = bezier::strip_vertices(segments);
+    let mut vertices = Vec::with_capacity(blades.len() * per_blade as usize);
+    let mut indices = Vec::with_capacity(blades.len() * 6 * segments as usize);
+    for (i, blade) in blades.iter().enumerate() {
+        let first = i as u32 * per_blade;
+        vertices.extend((0..per_blade).map(|v| bezier::strip_vertex(blade, segments, v).to_array()));
+        indices.extend((0..2 * segments).flat_map(|k| [first + k, first + k + 1, first + k + 2]));
     }
-    out
+    (vertices, indices)
 }
 
 impl FloorPass {
@@ -45,12 +48,24 @@ impl FloorPass {
         segments: u32,
     ) -> Result<Self> {
         let mut batch = UploadBatch::new(device);
+        let (positions, list) = expand(blades, segments);
         let usage = vk::BufferUsageFlags::VERTEX_BUFFER;
-        let vertices =
-            batch.buffer("floor vertices", &expand(blades, segments), usage, &[Access::VertexAttributeRead])?;
+        let vertices = batch.buffer("floor vertices", &positions, usage, &[Access::VertexAttributeRead])?;
+        let usage = vk::BufferUsageFlags::INDEX_BUFFER;
+        let indices = match batch.buffer("floor indices", &list, usage, &[Access::IndexRead]) {
+            Ok(indices) => indices,
+            Err(e) => {
+                // SAFETY: not submitted.
+                unsafe { vertices.destroy(device) };
+                return Err(e);
+            }
+        };
         if let Err(e) = batch.submit() {
             // SAFETY: the batch waited for its submission, or never submitted.
-            unsafe { vertices.destroy(device) };
+            unsafe {
+                vertices.destroy(device);
+                indices.destroy(device);
+            }
             return Err(e);
         }
         let built = pipeline::graphics(
@@ -59,7 +74,7 @@ impl FloorPass {
                 name: "floor",
                 vertex: shaders::FLOOR_VERT,
                 fragment: shaders::FLOOR_FRAG,
-                topology: vk::PrimitiveTopology::TRIANGLE_STRIP,
+                topology: vk::PrimitiveTopology::TRIANGLE_LIST,
                 cull: vk::CullModeFlags::NONE,
                 polygon: target.polygon,
                 depth_compare: vk::CompareOp::GREATER,
@@ -72,12 +87,15 @@ impl FloorPass {
         );
         match built {
             Ok(pipeline) => {
-                let count = (vertices.size / 12) as u32;
-                Ok(Self { pipeline, layout: target.layout, vertices, count })
+                let count = list.len() as u32;
+                Ok(Self { pipeline, layout: target.layout, vertices, indices, count })
             }
             Err(e) => {
-                // SAFETY: the upload completed; nothing else uses the buffer.
-                unsafe { vertices.destroy(device) };
+                // SAFETY: the upload completed; nothing else uses the buffers.
+                unsafe {
+                    vertices.destroy(device);
+                    indices.destroy(device);
+                }
                 Err(e)
             }
         }
@@ -92,17 +110,19 @@ impl Pass for FloorPass {
 
     fn declare(&self, ctx: &PassContext) -> Option<Declaration> {
         let rendering = passes::scene_rendering(ctx, self.pipeline, false, false);
-        Some(Declaration::graphics(rendering).buffer(self.vertices.raw, Access::VertexAttributeRead))
+        let declaration = Declaration::graphics(rendering).buffer(self.vertices.raw, Access::VertexAttributeRead);
+        Some(declaration.buffer(self.indices.raw, Access::IndexRead))
     }
 
-    /// One draw of the whole strip.
+    /// One indexed draw of every triangle.
     fn record(&self, ctx: &PassContext, cmd: vk::CommandBuffer) -> Result<()> {
         let device = ctx.device;
         passes::bind_graphics(device, ctx, cmd, self.layout, self.pipeline);
         // SAFETY: cmd is recording inside this pass's rendering instance; set 0 is bound.
         unsafe {
             device.raw.cmd_bind_vertex_buffers(cmd, 0, &[self.vertices.raw], &[0]);
-            device.raw.cmd_draw(cmd, self.count, 1, 0, 0);
+            device.raw.cmd_bind_index_buffer(cmd, self.indices.raw, 0, vk::IndexType::UINT32);
+            device.raw.cmd_draw_indexed(cmd, self.count, 1, 0, 0, 0);
         }
         Ok(())
     }
@@ -112,6 +132,7 @@ impl Pass for FloorPass {
         unsafe {
             device.raw.destroy_pipeline(self.pipeline, None);
             self.vertices.destroy(device);
+            self.indices.destroy(device);
         }
     }
 }
@@ -121,14 +142,14 @@ mod tests {
     use super::*;
 
     #[test]
-    fn expansion_matches_the_vertex_shader_layout() {
+    fn expansion_holds_each_vertex_once_and_only_the_strips_triangles() {
         let blades = crate::scene::Scene::generate(3, 1).blades;
-        let v = expand(&blades, 2);
-        assert_eq!(v.len(), 3 * 8);
-        // Repeated first and last vertices join the blades.
-        assert_eq!(v[0], v[1]);
-        assert_eq!(v[6], v[7]);
-        assert_eq!(v[1], bezier::strip_vertex(&blades[0], 2, 0).to_array());
-        assert_eq!(v[9], bezier::strip_vertex(&blades[1], 2, 0).to_array());
+        let (v, i) = expand(&blades, 2);
+        assert_eq!(v.len(), 3 * 6, "2 (segments + 1) vertices a blade, no repeats");
+        assert_eq!(i.len(), 3 * 4 * 3, "2 segments = 4 triangles a blade");
+        assert_eq!(v[6], bezier::strip_vertex(&blades[1], 2, 0).to_array());
+        // The second blade's first triangle, and no triangle spans two blades.
+        assert_eq!(&i[12..15], &[6, 7, 8]);
+        assert!(i.chunks(3).all(|t| t[0] / 6 == t[2] / 6));
     }
 }
