@@ -86,24 +86,46 @@ impl Strategy {
 
     /// Why `device` cannot run this strategy with `clusters` clusters, if it cannot.
     pub fn unsupported(self, device: &Device, clusters: u32) -> Option<String> {
-        let features = &device.features;
-        let limits = device.limits();
+        let capabilities = DrawCapabilities {
+            first_instance: device.features.draw_indirect_first_instance == vk::TRUE,
+            multi_draw_indirect: device.features.multi_draw_indirect == vk::TRUE,
+            draw_indirect_count: device.draw_indirect_count,
+            max_draw_indirect_count: device.limits().max_draw_indirect_count,
+        };
+        self.missing(&capabilities, clusters)
+    }
+
+    /// What the spec requires of the device for this strategy, and what `capabilities` lack:
+    /// every indirect strategy reads `firstInstance`; `vkCmdDrawIndirect` with a `drawCount` over
+    /// 1 needs `multiDrawIndirect` (VUID-vkCmdDrawIndirect-drawCount-02718); the count of
+    /// `vkCmdDrawIndirectCount` needs `drawIndirectCount` and at most `maxDrawIndirectCount`
+    /// draws (VUID-vkCmdDrawIndirectCount-countBuffer-02717), not `multiDrawIndirect`.
+    fn missing(self, capabilities: &DrawCapabilities, clusters: u32) -> Option<String> {
+        let max = capabilities.max_draw_indirect_count;
         match self {
-            Strategy::Indirect | Strategy::Mdi | Strategy::MdiCount
-                if features.draw_indirect_first_instance == vk::FALSE =>
-            {
+            Strategy::Indirect | Strategy::Mdi | Strategy::MdiCount if !capabilities.first_instance => {
                 Some("no drawIndirectFirstInstance".into())
             }
-            Strategy::Mdi | Strategy::MdiCount if features.multi_draw_indirect == vk::FALSE && clusters > 1 => {
-                Some("no multiDrawIndirect".into())
+            Strategy::Mdi if !capabilities.multi_draw_indirect && clusters > 1 => Some("no multiDrawIndirect".into()),
+            Strategy::Mdi | Strategy::MdiCount if clusters > max => {
+                Some(format!("{clusters} draws exceed maxDrawIndirectCount {max}"))
             }
-            Strategy::Mdi | Strategy::MdiCount if clusters > limits.max_draw_indirect_count => {
-                Some(format!("{clusters} draws exceed maxDrawIndirectCount {}", limits.max_draw_indirect_count))
-            }
-            Strategy::MdiCount if !device.draw_indirect_count => Some("no drawIndirectCount".into()),
+            Strategy::MdiCount if !capabilities.draw_indirect_count => Some("no drawIndirectCount".into()),
             _ => None,
         }
     }
+}
+
+/// What the indirect strategies depend on, as a device reports it.
+struct DrawCapabilities {
+    /// `drawIndirectFirstInstance`.
+    first_instance: bool,
+    /// `multiDrawIndirect`.
+    multi_draw_indirect: bool,
+    /// `drawIndirectCount` (Vulkan 1.2), enabled.
+    draw_indirect_count: bool,
+    /// `maxDrawIndirectCount`.
+    max_draw_indirect_count: u32,
 }
 
 /// How the blade pass submits: the strategy and the number of clusters (draws) it splits the
@@ -352,6 +374,31 @@ mod tests {
             }
             assert_eq!(next, blades);
         }
+    }
+
+    #[test]
+    fn each_strategy_needs_what_the_spec_requires_and_no_more() {
+        let all = DrawCapabilities {
+            first_instance: true,
+            multi_draw_indirect: true,
+            draw_indirect_count: true,
+            max_draw_indirect_count: 1 << 20,
+        };
+        for s in Strategy::ALL {
+            assert_eq!(s.missing(&all, 1000), None, "{}", s.name());
+        }
+        // Without multiDrawIndirect: one MDI draw of many is invalid, the count draw is not.
+        let no_mdi = DrawCapabilities { multi_draw_indirect: false, ..all };
+        assert_eq!(Strategy::Mdi.missing(&no_mdi, 1000).as_deref(), Some("no multiDrawIndirect"));
+        assert_eq!(Strategy::Mdi.missing(&no_mdi, 1), None);
+        assert_eq!(Strategy::MdiCount.missing(&no_mdi, 1000), None);
+        let no_count = DrawCapabilities { draw_indirect_count: false, ..all };
+        assert_eq!(Strategy::MdiCount.missing(&no_count, 1000).as_deref(), Some("no drawIndirectCount"));
+        let small = DrawCapabilities { max_draw_indirect_count: 1, ..all };
+        assert!(Strategy::MdiCount.missing(&small, 2).is_some_and(|w| w.contains("maxDrawIndirectCount")));
+        let no_first = DrawCapabilities { first_instance: false, ..all };
+        assert_eq!(Strategy::Indirect.missing(&no_first, 10).as_deref(), Some("no drawIndirectFirstInstance"));
+        assert_eq!(Strategy::PerCluster.missing(&no_first, 10), None);
     }
 
     #[test]
