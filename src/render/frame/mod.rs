@@ -188,8 +188,12 @@ impl FrameRing {
         let info = |semaphore: Option<vk::Semaphore>, stage| {
             semaphore.map(|s| vk::SemaphoreSubmitInfo::default().semaphore(s).stage_mask(stage))
         };
-        // The acquire semaphore is waited where the image is first written.
-        let wait: Vec<_> = info(sync.wait, vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT).into_iter().collect();
+        // The acquire semaphore is waited before any of the frame's work (ALL_COMMANDS), its
+        // first timestamp included: the viewer's GPU times then measure the frame's work from
+        // when the GPU starts it, not the wait for a presentable image (with FIFO, vsync). The
+        // image's first write (colour output) comes after, so its layout transition still
+        // chains with the wait (`Access::Acquired`).
+        let wait: Vec<_> = info(sync.wait, vk::PipelineStageFlags2::ALL_COMMANDS).into_iter().collect();
         let signal: Vec<_> = info(sync.signal, vk::PipelineStageFlags2::ALL_COMMANDS).into_iter().collect();
         self.submitted += 1;
         let inject = self.inject_failure == Some(self.submitted);
