@@ -4,7 +4,7 @@
 #   make test  installs what is missing, then fmt, clippy and the whole test suite on lavapipe
 CARGO ?= cargo
 
-.PHONY: deps run test goldens build
+.PHONY: deps run test goldens build soak
 
 deps:
 	@./scripts/install-deps.sh
@@ -27,3 +27,8 @@ test: deps
 # Regenerate tests/golden/*.png from the current renderer (review the pictures before committing).
 goldens: deps
 	MEADOW_UPDATE_GOLDENS=1 $(CARGO) test --release --test golden
+
+# The viewer for 10 000 frames with swapchain re-creations: fails on resident-memory growth over
+# 4 MiB or any growth of live Vulkan objects (scripts/soak.sh; FRAMES=N for another length).
+soak: build
+	FRAMES=$${FRAMES:-10000} ./scripts/soak.sh

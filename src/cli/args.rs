@@ -165,6 +165,9 @@ pub(crate) struct ViewArgs {
     /// Treat the swapchain as out of date every N frames (tests the re-create path).
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
     pub(crate) inject_out_of_date: Option<u32>,
+    /// Every N frames print `sample: frame F rss_kib R live_vulkan_objects L` (`make soak`).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
+    pub(crate) sample_every: Option<u64>,
     #[command(flatten)]
     pub(crate) gpu: GpuArgs,
 }

@@ -27,6 +27,7 @@ pub(crate) fn view(args: ViewArgs) -> Result<(u8, Option<u64>), u8> {
         script,
         screenshot: args.screenshot,
         inject_out_of_date: args.inject_out_of_date,
+        sample_every: args.sample_every,
     };
     let (result, validation) = crate::viewer::run(&args.gpu.options(), options);
     let code = finish(result.map(|report| {

@@ -80,9 +80,13 @@ impl SceneLayouts {
     pub unsafe fn destroy(&self, device: &Device) {
         // SAFETY: per the contract; destroying null handles is a no-op.
         unsafe {
+            crate::vk::live::destroyed(self.pool);
             device.raw.destroy_descriptor_pool(self.pool, None);
+            crate::vk::live::destroyed(self.pipeline_layout);
             device.raw.destroy_pipeline_layout(self.pipeline_layout, None);
+            crate::vk::live::destroyed(self.animation_layout);
             device.raw.destroy_descriptor_set_layout(self.animation_layout, None);
+            crate::vk::live::destroyed(self.set_layout);
             device.raw.destroy_descriptor_set_layout(self.set_layout, None);
         }
     }

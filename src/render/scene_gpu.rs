@@ -373,6 +373,7 @@ impl SceneGpu {
     pub unsafe fn destroy(self, device: &Device) {
         // SAFETY: per the contract.
         unsafe {
+            crate::vk::live::destroyed(self.sampler);
             device.raw.destroy_sampler(self.sampler, None);
             self.clusters.destroy(device);
             self.tiles.destroy(device);

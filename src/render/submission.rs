@@ -313,7 +313,10 @@ impl SecondaryRecorders {
                 .queue_family_index(device.queue_family)
                 .flags(vk::CommandPoolCreateFlags::TRANSIENT);
             // SAFETY: valid create info.
-            let pool = match unsafe { device.raw.create_command_pool(&info, None) }.vk("vkCreateCommandPool") {
+            let pool = match unsafe { device.raw.create_command_pool(&info, None) }
+                .vk("vkCreateCommandPool")
+                .map(crate::vk::live::created)
+            {
                 Ok(pool) => pool,
                 Err(e) => {
                     // SAFETY: nothing recorded yet.
@@ -335,6 +338,7 @@ impl SecondaryRecorders {
                 Err(result) => {
                     // SAFETY: unused pool; nothing recorded in the others.
                     unsafe {
+                        crate::vk::live::destroyed(pool);
                         device.raw.destroy_command_pool(pool, None);
                         out.destroy(device);
                     }
@@ -352,7 +356,10 @@ impl SecondaryRecorders {
     pub unsafe fn destroy(&mut self, device: &Device) {
         for (pool, _) in self.workers.drain(..) {
             // SAFETY: per the contract.
-            unsafe { device.raw.destroy_command_pool(pool, None) };
+            unsafe {
+                crate::vk::live::destroyed(pool);
+                device.raw.destroy_command_pool(pool, None)
+            };
         }
     }
 }

@@ -54,6 +54,8 @@ pub struct ViewerOptions {
     pub screenshot: Option<PathBuf>,
     /// Pretend the swapchain is out of date every N frames (lavapipe never reports it).
     pub inject_out_of_date: Option<u32>,
+    /// Print a `sample:` line (resident memory, live Vulkan objects) every N frames (the soak).
+    pub sample_every: Option<u64>,
 }
 
 /// What a viewer session did.
@@ -287,7 +289,8 @@ impl Viewer {
         let raw = unsafe {
             ash_window::create_surface(&instance.entry, &instance.raw, display.as_raw(), handle.as_raw(), None)
         }
-        .vk("vkCreate*SurfaceKHR")?;
+        .vk("vkCreate*SurfaceKHR")
+        .map(crate::vk::live::created)?;
         let swapchain = match Swapchain::new(&self.device, raw, self.options.present) {
             Ok(swapchain) => swapchain,
             Err(e) => {
@@ -466,6 +469,9 @@ impl Viewer {
         }
         self.frames += 1;
         self.injected_last = false;
+        if self.options.sample_every.is_some_and(|n| self.frames % n == 0) {
+            println!("{}", stats::sample(self.frames));
+        }
         let (blades, terrain) = renderer.triangles();
         self.stats.tick(&surface.window, renderer.blade_count(), blades + terrain, &self.device.info.name);
         Ok(())

@@ -74,3 +74,13 @@ impl Stats {
         *self = Self { since_print: self.since_print, last: std::mem::take(&mut self.last), ..Self::new() };
     }
 }
+
+/// The soak's sample after `frame` frames: the process's resident memory (`VmRSS` of
+/// `/proc/self/status`, 0 where there is none) and the Vulkan objects alive (`vk::live`).
+pub(super) fn sample(frame: u64) -> String {
+    let rss_kib = std::fs::read_to_string("/proc/self/status")
+        .ok()
+        .and_then(|s| s.lines().find_map(|l| l.strip_prefix("VmRSS:")?.trim().strip_suffix("kB")?.trim().parse().ok()))
+        .unwrap_or(0u64);
+    format!("sample: frame {frame} rss_kib {rss_kib} live_vulkan_objects {}", crate::vk::live::total())
+}

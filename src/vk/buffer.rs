@@ -55,7 +55,7 @@ impl Buffer {
             .usage(desc.usage)
             .sharing_mode(vk::SharingMode::EXCLUSIVE);
         // SAFETY: valid create info.
-        let raw = unsafe { device.raw.create_buffer(&info, None) }.vk("vkCreateBuffer")?;
+        let raw = super::live::created(unsafe { device.raw.create_buffer(&info, None) }.vk("vkCreateBuffer")?);
         // SAFETY: raw was just created from this device.
         let requirements = unsafe { device.raw.get_buffer_memory_requirements(raw) };
         let allocation = device.allocate(&AllocationCreateDesc {
@@ -69,7 +69,10 @@ impl Buffer {
             Ok(allocation) => allocation,
             Err(source) => {
                 // SAFETY: unused buffer of this device.
-                unsafe { device.raw.destroy_buffer(raw, None) };
+                unsafe {
+                    super::live::destroyed(raw);
+                    device.raw.destroy_buffer(raw, None)
+                };
                 return Err(Error::allocation(desc.name, source));
             }
         };
@@ -78,7 +81,10 @@ impl Buffer {
         if let Err(result) = bound {
             device.free(allocation, desc.name);
             // SAFETY: unused buffer of this device.
-            unsafe { device.raw.destroy_buffer(raw, None) };
+            unsafe {
+                super::live::destroyed(raw);
+                device.raw.destroy_buffer(raw, None)
+            };
             return Err(Error::vulkan("vkBindBufferMemory", result));
         }
         device.set_name(raw, desc.name);
@@ -124,6 +130,9 @@ impl Buffer {
     pub unsafe fn destroy(self, device: &Device) {
         device.free(self.allocation, "a buffer");
         // SAFETY: caller guarantees the GPU is done with it.
-        unsafe { device.raw.destroy_buffer(self.raw, None) };
+        unsafe {
+            super::live::destroyed(self.raw);
+            device.raw.destroy_buffer(self.raw, None)
+        };
     }
 }

@@ -22,7 +22,8 @@ impl CommandRecorder {
             .queue_family_index(device.queue_family)
             .flags(vk::CommandPoolCreateFlags::TRANSIENT);
         // SAFETY: valid create info.
-        let pool = unsafe { device.raw.create_command_pool(&info, None) }.vk("vkCreateCommandPool")?;
+        let pool =
+            super::live::created(unsafe { device.raw.create_command_pool(&info, None) }.vk("vkCreateCommandPool")?);
         let alloc = vk::CommandBufferAllocateInfo::default()
             .command_pool(pool)
             .level(vk::CommandBufferLevel::PRIMARY)
@@ -32,7 +33,10 @@ impl CommandRecorder {
             Ok(buffers) => buffers[0],
             Err(result) => {
                 // SAFETY: unused pool.
-                unsafe { device.raw.destroy_command_pool(pool, None) };
+                unsafe {
+                    super::live::destroyed(pool);
+                    device.raw.destroy_command_pool(pool, None)
+                };
                 return Err(crate::error::Error::vulkan("vkAllocateCommandBuffers", result));
             }
         };
@@ -76,7 +80,10 @@ impl CommandRecorder {
     /// The command buffer must not be pending.
     pub unsafe fn destroy(self, device: &Device) {
         // SAFETY: caller guarantees it is not pending.
-        unsafe { device.raw.destroy_command_pool(self.pool, None) };
+        unsafe {
+            super::live::destroyed(self.pool);
+            device.raw.destroy_command_pool(self.pool, None)
+        };
     }
 }
 
@@ -126,6 +133,7 @@ pub fn submit_and_wait<T>(
     }
     // SAFETY: the fence was waited (or the device is idle).
     unsafe {
+        super::live::destroyed(fence);
         device.raw.destroy_fence(fence, None);
         recorder.destroy(device);
     }

@@ -30,7 +30,9 @@ pub fn set_layout(device: &Device, name: &str, bindings: &[Binding]) -> Result<v
         .collect();
     let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&raw);
     // SAFETY: valid create info.
-    let layout = unsafe { device.raw.create_descriptor_set_layout(&info, None) }.vk("vkCreateDescriptorSetLayout")?;
+    let layout = super::live::created(
+        unsafe { device.raw.create_descriptor_set_layout(&info, None) }.vk("vkCreateDescriptorSetLayout")?,
+    );
     device.set_name(layout, name);
     Ok(layout)
 }
@@ -52,7 +54,8 @@ pub fn allocate_sets(
     }
     let info = vk::DescriptorPoolCreateInfo::default().max_sets(sets).pool_sizes(&sizes);
     // SAFETY: valid create info.
-    let pool = unsafe { device.raw.create_descriptor_pool(&info, None) }.vk("vkCreateDescriptorPool")?;
+    let pool =
+        super::live::created(unsafe { device.raw.create_descriptor_pool(&info, None) }.vk("vkCreateDescriptorPool")?);
     device.set_name(pool, &format!("{name} pool"));
     let layouts = vec![layout; sets as usize];
     let alloc = vk::DescriptorSetAllocateInfo::default().descriptor_pool(pool).set_layouts(&layouts);
@@ -66,7 +69,10 @@ pub fn allocate_sets(
         }
         Err(result) => {
             // SAFETY: nothing allocated from it.
-            unsafe { device.raw.destroy_descriptor_pool(pool, None) };
+            unsafe {
+                super::live::destroyed(pool);
+                device.raw.destroy_descriptor_pool(pool, None)
+            };
             Err(crate::error::Error::vulkan("vkAllocateDescriptorSets", result))
         }
     }

@@ -94,7 +94,7 @@ pub fn clamped_sampler(device: &Device, filter: vk::Filter, name: &str) -> Resul
         .address_mode_w(vk::SamplerAddressMode::CLAMP_TO_EDGE)
         .max_lod(0.0);
     // SAFETY: valid create info.
-    let sampler = unsafe { device.raw.create_sampler(&info, None) }.vk("vkCreateSampler")?;
+    let sampler = super::live::created(unsafe { device.raw.create_sampler(&info, None) }.vk("vkCreateSampler")?);
     device.set_name(sampler, name);
     Ok(sampler)
 }
@@ -129,7 +129,7 @@ impl Image {
             .sharing_mode(vk::SharingMode::EXCLUSIVE)
             .initial_layout(vk::ImageLayout::UNDEFINED);
         // SAFETY: valid create info.
-        let raw = unsafe { device.raw.create_image(&info, None) }.vk("vkCreateImage")?;
+        let raw = super::live::created(unsafe { device.raw.create_image(&info, None) }.vk("vkCreateImage")?);
         // SAFETY: raw was just created from this device.
         let requirements = unsafe { device.raw.get_image_memory_requirements(raw) };
         let allocation = device.allocate(&AllocationCreateDesc {
@@ -143,7 +143,10 @@ impl Image {
             Ok(allocation) => allocation,
             Err(source) => {
                 // SAFETY: unused image of this device.
-                unsafe { device.raw.destroy_image(raw, None) };
+                unsafe {
+                    super::live::destroyed(raw);
+                    device.raw.destroy_image(raw, None)
+                };
                 return Err(Error::allocation(desc.name, source));
             }
         };
@@ -157,14 +160,17 @@ impl Image {
                 .format(desc.format)
                 .subresource_range(range);
             // SAFETY: the image is bound to memory.
-            unsafe { device.raw.create_image_view(&view_info, None) }.vk("vkCreateImageView")
+            unsafe { device.raw.create_image_view(&view_info, None) }.vk("vkCreateImageView").map(super::live::created)
         });
         let view = match view {
             Ok(view) => view,
             Err(e) => {
                 device.free(allocation, desc.name);
                 // SAFETY: unused image of this device.
-                unsafe { device.raw.destroy_image(raw, None) };
+                unsafe {
+                    super::live::destroyed(raw);
+                    device.raw.destroy_image(raw, None)
+                };
                 return Err(e);
             }
         };
@@ -180,7 +186,9 @@ impl Image {
     pub unsafe fn destroy(self, device: &Device) {
         // SAFETY: caller guarantees the GPU is done with it.
         unsafe {
+            super::live::destroyed(self.view);
             device.raw.destroy_image_view(self.view, None);
+            super::live::destroyed(self.raw);
             device.raw.destroy_image(self.raw, None);
         }
         device.free(self.allocation, "an image");

@@ -10,6 +10,7 @@ pub mod device;
 pub mod fault;
 pub mod image;
 pub mod instance;
+pub mod live;
 pub mod physical;
 pub mod pipeline;
 pub mod query;

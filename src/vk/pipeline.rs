@@ -12,7 +12,8 @@ pub fn shader_module(device: &Device, name: &str, spirv: &[u8]) -> Result<vk::Sh
         .map_err(|e| Error::Environment(format!("shader {name} is not valid SPIR-V: {e}")))?;
     let info = vk::ShaderModuleCreateInfo::default().code(&words);
     // SAFETY: valid SPIR-V produced by glslang at build time.
-    let module = unsafe { device.raw.create_shader_module(&info, None) }.vk("vkCreateShaderModule")?;
+    let module =
+        super::live::created(unsafe { device.raw.create_shader_module(&info, None) }.vk("vkCreateShaderModule")?);
     device.set_name(module, name);
     Ok(module)
 }
@@ -26,7 +27,8 @@ pub fn layout(
 ) -> Result<vk::PipelineLayout> {
     let info = vk::PipelineLayoutCreateInfo::default().set_layouts(sets).push_constant_ranges(push_constants);
     // SAFETY: valid create info.
-    let layout = unsafe { device.raw.create_pipeline_layout(&info, None) }.vk("vkCreatePipelineLayout")?;
+    let layout =
+        super::live::created(unsafe { device.raw.create_pipeline_layout(&info, None) }.vk("vkCreatePipelineLayout")?);
     device.set_name(layout, name);
     Ok(layout)
 }
@@ -85,7 +87,10 @@ fn graphics_modules(device: &Device, desc: &GraphicsDesc) -> Result<(vk::ShaderM
         Ok(fs) => Ok((vs, fs)),
         Err(e) => {
             // SAFETY: unused module.
-            unsafe { device.raw.destroy_shader_module(vs, None) };
+            unsafe {
+                super::live::destroyed(vs);
+                device.raw.destroy_shader_module(vs, None)
+            };
             Err(e)
         }
     }
@@ -155,10 +160,13 @@ pub fn graphics(device: &Device, desc: &GraphicsDesc) -> Result<vk::Pipeline> {
     let result = unsafe { device.raw.create_graphics_pipelines(vk::PipelineCache::null(), &[info], None) };
     // SAFETY: modules are not needed after pipeline creation.
     unsafe {
+        super::live::destroyed(vs);
         device.raw.destroy_shader_module(vs, None);
+        super::live::destroyed(fs);
         device.raw.destroy_shader_module(fs, None);
     }
-    let pipeline = result.map_err(|(_, result)| Error::vulkan("vkCreateGraphicsPipelines", result))?[0];
+    let pipeline =
+        super::live::created(result.map_err(|(_, result)| Error::vulkan("vkCreateGraphicsPipelines", result))?[0]);
     device.set_name(pipeline, desc.name);
     Ok(pipeline)
 }
@@ -183,8 +191,12 @@ pub fn compute(
     // SAFETY: valid create info.
     let result = unsafe { device.raw.create_compute_pipelines(vk::PipelineCache::null(), &[info], None) };
     // SAFETY: not needed after creation.
-    unsafe { device.raw.destroy_shader_module(module, None) };
-    let pipeline = result.map_err(|(_, result)| Error::vulkan("vkCreateComputePipelines", result))?[0];
+    unsafe {
+        super::live::destroyed(module);
+        device.raw.destroy_shader_module(module, None)
+    };
+    let pipeline =
+        super::live::created(result.map_err(|(_, result)| Error::vulkan("vkCreateComputePipelines", result))?[0]);
     device.set_name(pipeline, name);
     Ok(pipeline)
 }

@@ -25,7 +25,7 @@ impl TimestampQueries {
         }
         let info = vk::QueryPoolCreateInfo::default().query_type(vk::QueryType::TIMESTAMP).query_count(capacity);
         // SAFETY: valid create info.
-        let pool = unsafe { device.raw.create_query_pool(&info, None) }.vk("vkCreateQueryPool")?;
+        let pool = super::live::created(unsafe { device.raw.create_query_pool(&info, None) }.vk("vkCreateQueryPool")?);
         device.set_name(pool, name);
         let valid_mask =
             if device.timestamp_valid_bits >= 64 { u64::MAX } else { (1u64 << device.timestamp_valid_bits) - 1 };
@@ -99,7 +99,10 @@ impl TimestampQueries {
     /// No pending work may use it.
     pub unsafe fn destroy(self, device: &Device) {
         // SAFETY: per the contract.
-        unsafe { device.raw.destroy_query_pool(self.pool, None) };
+        unsafe {
+            super::live::destroyed(self.pool);
+            device.raw.destroy_query_pool(self.pool, None)
+        };
     }
 }
 
@@ -199,7 +202,7 @@ impl StatisticsQueries {
             .query_count(capacity)
             .pipeline_statistics(flags);
         // SAFETY: valid create info; the feature is enabled.
-        let pool = unsafe { device.raw.create_query_pool(&info, None) }.vk("vkCreateQueryPool")?;
+        let pool = super::live::created(unsafe { device.raw.create_query_pool(&info, None) }.vk("vkCreateQueryPool")?);
         device.set_name(pool, name);
         Ok(Some(Self { pool, capacity, used: 0 }))
     }
@@ -260,6 +263,9 @@ impl StatisticsQueries {
     /// No pending work may use it.
     pub unsafe fn destroy(self, device: &Device) {
         // SAFETY: per the contract.
-        unsafe { device.raw.destroy_query_pool(self.pool, None) };
+        unsafe {
+            super::live::destroyed(self.pool);
+            device.raw.destroy_query_pool(self.pool, None)
+        };
     }
 }

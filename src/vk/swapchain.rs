@@ -163,7 +163,9 @@ impl Swapchain {
             .clipped(true)
             .old_swapchain(old);
         // SAFETY: valid create info; the old swapchain is retired by this call.
-        let raw = unsafe { self.swapchain_fn.create_swapchain(&info, None) }.vk("vkCreateSwapchainKHR")?;
+        let raw = super::live::created(
+            unsafe { self.swapchain_fn.create_swapchain(&info, None) }.vk("vkCreateSwapchainKHR")?,
+        );
         let alive = ALIVE.fetch_add(1, Ordering::SeqCst) + 1;
         MAX_ALIVE.fetch_max(alive, Ordering::SeqCst);
         CREATED.fetch_add(1, Ordering::SeqCst);
@@ -171,8 +173,14 @@ impl Swapchain {
         self.raw = raw;
         self.extent = extent;
         device.set_name(raw, "swapchain");
+        self.create_views(device)?;
+        Ok((true, retired))
+    }
+
+    /// The new swapchain's images, a view and a present semaphore for each.
+    fn create_views(&mut self, device: &Device) -> Result<()> {
         // SAFETY: raw is valid.
-        self.images = unsafe { self.swapchain_fn.get_swapchain_images(raw) }.vk("vkGetSwapchainImagesKHR")?;
+        self.images = unsafe { self.swapchain_fn.get_swapchain_images(self.raw) }.vk("vkGetSwapchainImagesKHR")?;
         for (i, image) in self.images.iter().enumerate() {
             device.set_name(*image, &format!("swapchain image {i}"));
             let view_info = vk::ImageViewCreateInfo::default()
@@ -181,12 +189,14 @@ impl Swapchain {
                 .format(self.format)
                 .subresource_range(crate::vk::image::COLOR_RANGE);
             // SAFETY: the image belongs to the swapchain.
-            let view = unsafe { device.raw.create_image_view(&view_info, None) }.vk("vkCreateImageView")?;
+            let view = super::live::created(
+                unsafe { device.raw.create_image_view(&view_info, None) }.vk("vkCreateImageView")?,
+            );
             device.set_name(view, &format!("swapchain view {i}"));
             self.views.push(view);
             self.present_semaphores.push(sync::semaphore(device, &format!("present semaphore {i}"))?);
         }
-        Ok((true, retired))
+        Ok(())
     }
 
     /// Take the views and present semaphores out, to be destroyed later (the swapchain handle
@@ -240,9 +250,11 @@ impl Swapchain {
         // SAFETY: the caller waited for all work on these views and semaphores.
         unsafe {
             for view in self.views.drain(..) {
+                super::live::destroyed(view);
                 device.raw.destroy_image_view(view, None);
             }
             for semaphore in self.present_semaphores.drain(..) {
+                super::live::destroyed(semaphore);
                 device.raw.destroy_semaphore(semaphore, None);
             }
         }
@@ -261,7 +273,10 @@ impl Swapchain {
         self.destroy_views(device);
         self.destroy_swapchain();
         // SAFETY: nothing uses the surface any more.
-        unsafe { self.surface_fn.destroy_surface(self.surface, None) };
+        unsafe {
+            super::live::destroyed(self.surface);
+            self.surface_fn.destroy_surface(self.surface, None)
+        };
     }
 }
 
@@ -269,7 +284,10 @@ impl Swapchain {
 fn destroy_swapchain(swapchain_fn: &ash::khr::swapchain::Device, raw: vk::SwapchainKHR) {
     if raw != vk::SwapchainKHR::null() {
         // SAFETY: the callers' contracts: no pending work uses its images.
-        unsafe { swapchain_fn.destroy_swapchain(raw, None) };
+        unsafe {
+            super::live::destroyed(raw);
+            swapchain_fn.destroy_swapchain(raw, None)
+        };
         ALIVE.fetch_sub(1, Ordering::SeqCst);
     }
 }
@@ -317,7 +335,10 @@ impl RetiredViews {
     pub unsafe fn destroy(self, device: &Device) {
         for view in self.views {
             // SAFETY: per the contract.
-            unsafe { device.raw.destroy_image_view(view, None) };
+            unsafe {
+                super::live::destroyed(view);
+                device.raw.destroy_image_view(view, None)
+            };
         }
     }
 }
@@ -337,7 +358,10 @@ impl RetiredPresentation {
     pub unsafe fn destroy(self, device: &Device) {
         for semaphore in self.semaphores {
             // SAFETY: per the contract.
-            unsafe { device.raw.destroy_semaphore(semaphore, None) };
+            unsafe {
+                super::live::destroyed(semaphore);
+                device.raw.destroy_semaphore(semaphore, None)
+            };
         }
         destroy_swapchain(&self.swapchain_fn, self.raw);
     }

@@ -230,8 +230,9 @@ pub fn cmd_barriers(
 pub fn fence(device: &Device, signaled: bool, name: &str) -> Result<vk::Fence> {
     let flags = if signaled { vk::FenceCreateFlags::SIGNALED } else { vk::FenceCreateFlags::empty() };
     // SAFETY: valid create info.
-    let fence =
-        unsafe { device.raw.create_fence(&vk::FenceCreateInfo::default().flags(flags), None) }.vk("vkCreateFence")?;
+    let fence = unsafe { device.raw.create_fence(&vk::FenceCreateInfo::default().flags(flags), None) }
+        .vk("vkCreateFence")
+        .map(super::live::created)?;
     device.set_name(fence, name);
     Ok(fence)
 }
@@ -239,8 +240,9 @@ pub fn fence(device: &Device, signaled: bool, name: &str) -> Result<vk::Fence> {
 /// Create a named binary semaphore.
 pub fn semaphore(device: &Device, name: &str) -> Result<vk::Semaphore> {
     // SAFETY: valid create info.
-    let semaphore =
-        unsafe { device.raw.create_semaphore(&vk::SemaphoreCreateInfo::default(), None) }.vk("vkCreateSemaphore")?;
+    let semaphore = unsafe { device.raw.create_semaphore(&vk::SemaphoreCreateInfo::default(), None) }
+        .vk("vkCreateSemaphore")
+        .map(super::live::created)?;
     device.set_name(semaphore, name);
     Ok(semaphore)
 }

@@ -107,6 +107,7 @@ impl KeyframeTexture {
     pub unsafe fn destroy(self, device: &Device) {
         // SAFETY: per the contract.
         unsafe {
+            crate::vk::live::destroyed(self.sampler);
             device.raw.destroy_sampler(self.sampler, None);
             self.image.destroy(device);
         }

@@ -239,6 +239,7 @@ impl AnimationSet {
     pub unsafe fn destroy(self, device: &Device) {
         // SAFETY: per the contract.
         unsafe {
+            crate::vk::live::destroyed(self.pool);
             device.raw.destroy_descriptor_pool(self.pool, None);
             self.keyframes.destroy(device);
             self.words.buffer.destroy(device);

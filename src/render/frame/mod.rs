@@ -208,7 +208,10 @@ impl FrameRing {
         if let Err(e) = submitted {
             frame.replay = None;
             // SAFETY: the failed submission did not take the fence: nothing will signal it.
-            unsafe { device.raw.destroy_fence(frame.fence, None) };
+            unsafe {
+                crate::vk::live::destroyed(frame.fence);
+                device.raw.destroy_fence(frame.fence, None)
+            };
             frame.fence = vk::Fence::null();
             frame.fence = sync::fence(device, true, &format!("frame {slot} fence"))?;
             if sync.wait.is_some() {
@@ -235,7 +238,10 @@ impl FrameRing {
         }
         for semaphore in self.parked.drain(..) {
             // SAFETY: the device is idle.
-            unsafe { device.raw.destroy_semaphore(semaphore, None) };
+            unsafe {
+                crate::vk::live::destroyed(semaphore);
+                device.raw.destroy_semaphore(semaphore, None)
+            };
         }
         for frame in self.frames {
             // SAFETY: per the contract.

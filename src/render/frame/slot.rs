@@ -195,7 +195,9 @@ impl Parts {
             if let Some(statistics) = self.statistics {
                 statistics.destroy(device);
             }
+            crate::vk::live::destroyed(self.acquire);
             device.raw.destroy_semaphore(self.acquire, None);
+            crate::vk::live::destroyed(self.fence);
             device.raw.destroy_fence(self.fence, None);
             if let Some(recorder) = self.recorder {
                 recorder.destroy(device);
@@ -324,7 +326,9 @@ impl Frame {
             self.emitters.destroy(device);
             self.cull_stats.destroy(device);
             self.query_results.destroy(device);
+            crate::vk::live::destroyed(self.fence);
             device.raw.destroy_fence(self.fence, None);
+            crate::vk::live::destroyed(self.acquire);
             device.raw.destroy_semaphore(self.acquire, None);
             self.recorder.destroy(device);
         }

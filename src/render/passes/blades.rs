@@ -312,8 +312,10 @@ impl Pass for BladePass {
                 indirect.destroy(device);
             }
             for pipeline in self.buckets.drain(..) {
+                crate::vk::live::destroyed(pipeline);
                 device.raw.destroy_pipeline(pipeline, None);
             }
+            crate::vk::live::destroyed(self.pipeline);
             device.raw.destroy_pipeline(self.pipeline, None);
         }
     }

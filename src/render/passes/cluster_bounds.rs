@@ -68,7 +68,10 @@ impl ClusterBoundsPass {
             Ok(pipeline) => pipeline,
             Err(e) => {
                 // SAFETY: unused layout.
-                unsafe { device.raw.destroy_pipeline_layout(layout, None) };
+                unsafe {
+                    crate::vk::live::destroyed(layout);
+                    device.raw.destroy_pipeline_layout(layout, None)
+                };
                 return Err(e);
             }
         };
@@ -109,7 +112,9 @@ impl Pass for ClusterBoundsPass {
     unsafe fn destroy(self: Box<Self>, device: &Device) {
         // SAFETY: per the contract.
         unsafe {
+            crate::vk::live::destroyed(self.pipeline);
             device.raw.destroy_pipeline(self.pipeline, None);
+            crate::vk::live::destroyed(self.layout);
             device.raw.destroy_pipeline_layout(self.layout, None);
         }
     }

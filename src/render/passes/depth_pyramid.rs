@@ -108,10 +108,15 @@ impl Pass for DepthPyramidPass {
     unsafe fn destroy(self: Box<Self>, device: &Device) {
         // SAFETY: per the contract; destroying null handles is a no-op; the sets go with the pool.
         unsafe {
+            crate::vk::live::destroyed(self.pipeline);
             device.raw.destroy_pipeline(self.pipeline, None);
+            crate::vk::live::destroyed(self.sampler);
             device.raw.destroy_sampler(self.sampler, None);
+            crate::vk::live::destroyed(self.pool);
             device.raw.destroy_descriptor_pool(self.pool, None);
+            crate::vk::live::destroyed(self.layout);
             device.raw.destroy_pipeline_layout(self.layout, None);
+            crate::vk::live::destroyed(self.set_layout);
             device.raw.destroy_descriptor_set_layout(self.set_layout, None);
         }
     }

@@ -130,6 +130,7 @@ impl Pass for FloorPass {
     unsafe fn destroy(self: Box<Self>, device: &Device) {
         // SAFETY: per the contract.
         unsafe {
+            crate::vk::live::destroyed(self.pipeline);
             device.raw.destroy_pipeline(self.pipeline, None);
             self.vertices.destroy(device);
             self.indices.destroy(device);

@@ -78,6 +78,9 @@ impl Pass for TerrainPass {
 
     unsafe fn destroy(self: Box<Self>, device: &Device) {
         // SAFETY: per the contract.
-        unsafe { device.raw.destroy_pipeline(self.pipeline, None) };
+        unsafe {
+            crate::vk::live::destroyed(self.pipeline);
+            device.raw.destroy_pipeline(self.pipeline, None)
+        };
     }
 }
