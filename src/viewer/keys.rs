@@ -142,18 +142,7 @@ impl Viewer {
         if blades == old_blades {
             // Same scene: new passes and model; the old ones are freed behind the frames in
             // flight (the frame ring's deletion queue), the frames keep running.
-            let size = self.surface.as_ref().map_or(self.options.scene.size, |s| {
-                (s.swapchain.extent.width.max(1), s.swapchain.extent.height.max(1))
-            });
-            let checked = crate::app::check_scene(
-                &self.device,
-                blades,
-                self.settings.segments,
-                size,
-                &animation,
-                self.settings.floor,
-                self.settings.culling.enabled,
-            );
+            let checked = self.check_scene(blades, &animation);
             let renderer = self.renderer.as_mut().expect("renderer built");
             if let Err(e) = checked.and_then(|()| renderer.rebuild(&self.scene, self.settings, animation)) {
                 println!("cannot apply '{name}': {e}");

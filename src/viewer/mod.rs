@@ -257,23 +257,28 @@ impl Viewer {
         event_loop.exit();
     }
 
-    /// Build the renderer for `animation` and the current settings, after the shared checks.
-    fn build_renderer(&mut self, animation: crate::render::animation::AnimationSettings) -> Result<()> {
+    /// The shared checks of a scene of `blades` with `animation` and the current settings, at the
+    /// window's size (`app::check_scene`), before a renderer is built or rebuilt.
+    fn check_scene(&self, blades: u32, animation: &crate::render::animation::AnimationSettings) -> Result<()> {
         let size = self
             .surface
             .as_ref()
             .map_or(self.options.scene.size, |s| (s.swapchain.extent.width.max(1), s.swapchain.extent.height.max(1)));
-        let blades = self.scene.blades.len() as u32;
-        let culled = self.settings.culling.enabled;
+        let settings = &self.settings;
         crate::app::check_scene(
             &self.device,
             blades,
-            self.settings.segments,
+            settings.segments,
             size,
-            &animation,
-            self.settings.floor,
-            culled,
-        )?;
+            animation,
+            settings.floor,
+            settings.culling.enabled,
+        )
+    }
+
+    /// Build the renderer for `animation` and the current settings, after the shared checks.
+    fn build_renderer(&mut self, animation: crate::render::animation::AnimationSettings) -> Result<()> {
+        self.check_scene(self.scene.blades.len() as u32, &animation)?;
         self.renderer = Some(Renderer::new(self.device.clone(), &self.scene, self.settings, animation)?);
         Ok(())
     }
