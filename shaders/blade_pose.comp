@@ -25,7 +25,11 @@ void main() {
     BladeInstance blade;
     uint blade_index = i;
     if ((RENDER_FLAGS & FLAG_CULLED) != 0u) {
-        uvec2 entry = i < draws[POSE_DISPATCH_WORD + 3u] ? visible[i] : uvec2(VISIBLE_PADDING);
+        // Past the list (the last workgroup's tail) or on a bucket's padding: nothing to do.
+        if (i >= draws[POSE_DISPATCH_WORD + 3u]) {
+            return;
+        }
+        uvec2 entry = visible[i];
         if (entry.x == VISIBLE_PADDING) {
             return;
         }
