@@ -256,16 +256,9 @@ pub fn check_scene(
     if animation.eval == Eval::Blade && animation.mode != Mode::Static {
         // At most one storage buffer of records (`scene_gpu::pose_records`): with the cull, one
         // per drawn blade (the cull keeps at most that many); brute force needs one per blade.
-        let per_record = crate::render::scene_gpu::pose_bytes(1, segments);
-        let range = u64::from(device.limits().max_storage_buffer_range);
-        if !culled && !floor && u64::from(blades) * per_record > range {
-            return Err(Error::bad_input(format!(
-                "--eval blade with --brute-force and {blades} blades x {segments} segments needs {} MiB of evaluated levels, over the device's maxStorageBufferRange of {} MiB: use --eval vertex or the cull",
-                (u64::from(blades) * per_record) >> 20,
-                range >> 20
-            )));
-        }
-        let records = u64::from(blades).min(range / per_record) as u32;
+        crate::render::settings::check_pose_records(device, animation, (blades, segments), culled, floor)?;
+        let most = crate::render::scene_gpu::most_pose_records(device, segments);
+        let records = u64::from(blades).min(most) as u32;
         let groups = records.div_ceil(crate::render::gpu_constants::POSE_GROUP);
         let max = device.limits().max_compute_work_group_count[0];
         if groups > max {

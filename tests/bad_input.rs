@@ -77,6 +77,10 @@ fn non_finite_camera() {
 fn device_limits_and_budget() {
     // lavapipe: maxStorageBufferRange = 128 MiB, i.e. 4 194 304 blades of 32 bytes.
     refused("blades-over-storage-range", &["--blades", "5000000"], "maxStorageBufferRange");
+    // Brute force evaluates every blade: 1M x 16 segments of records is 194 MiB, over the range
+    // (the cull needs records for the drawn blades only).
+    let eval = ["--brute-force", "--eval", "blade", "--blades", "1000000", "--segments", "16"];
+    refused("eval-blade-brute-over-range", &eval, "194 MiB of evaluated levels");
     // 16384² RGBA colour + depth + readback = 3 GiB: over the 2 GiB heap and budget.
     refused("target-over-budget", &["--size", "16384x16384"], "16384x16384");
 }

@@ -27,8 +27,12 @@ pub fn pose_bytes(blades: u32, segments: u32) -> u64 {
 /// storage buffer holds (`maxStorageBufferRange`). The cull then keeps at most that many
 /// entries (`Renderer::frame_uniforms`); brute force needs one per blade (`check_pose_records`).
 pub fn pose_records(device: &Device, scene: &SceneGpu, segments: u32) -> u32 {
-    let most = u64::from(device.limits().max_storage_buffer_range) / pose_bytes(1, segments);
-    u64::from(scene.visible_capacity.max(scene.blade_count)).min(most) as u32
+    u64::from(scene.visible_capacity.max(scene.blade_count)).min(most_pose_records(device, segments)) as u32
+}
+
+/// The most `--eval blade` records of `segments` segments one storage buffer holds.
+pub fn most_pose_records(device: &Device, segments: u32) -> u64 {
+    u64::from(device.limits().max_storage_buffer_range) / pose_bytes(1, segments)
 }
 
 /// Binding numbers of set 0, generated from `shaders/shared.glsl` (`BINDING_*`).

@@ -148,18 +148,23 @@ pub(crate) fn check_submission(device: &Device, settings: &RenderSettings) -> Re
 
 /// Refuse `--eval blade` with brute force when the pose records (`scene_gpu::pose_records`, one
 /// storage buffer's worth) cannot hold one per blade; the cull needs one per drawn blade only.
-pub(crate) fn check_pose_records(
-    settings: &RenderSettings,
+/// `culled`, `floor`: the draw path (the floor reads no records).
+pub fn check_pose_records(
+    device: &Device,
     animation: &crate::render::animation::AnimationSettings,
-    blades: u32,
-    records: u32,
+    (blades, segments): (u32, u32),
+    culled: bool,
+    floor: bool,
 ) -> Result<()> {
     use crate::render::animation::{Eval, Mode};
     let per_blade = animation.eval == Eval::Blade && animation.mode != Mode::Static;
-    if per_blade && !settings.culling.enabled && !settings.floor && records < blades {
+    let most = crate::render::scene_gpu::most_pose_records(device, segments);
+    if per_blade && !culled && !floor && u64::from(blades) > most {
+        let bytes = crate::render::scene_gpu::pose_bytes(blades, segments);
         return Err(Error::bad_input(format!(
-            "--eval blade with --brute-force and {blades} blades x {} segments needs more evaluated levels than one storage buffer holds ({records} blades): use --eval vertex or the cull",
-            settings.segments
+            "--eval blade with --brute-force and {blades} blades x {segments} segments needs {} MiB of evaluated levels, over the device's maxStorageBufferRange of {} MiB: use --eval vertex or the cull",
+            bytes >> 20,
+            device.limits().max_storage_buffer_range >> 20
         )));
     }
     Ok(())

@@ -6,6 +6,7 @@
 //! the surface. (Submissions: `MEADOW_INJECT_SUBMIT_FAILURE`, `render::frame::FrameRing`.)
 
 use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::OnceLock;
 
 /// A kind of call that can be made to fail.
 #[derive(Clone, Copy)]
@@ -33,9 +34,15 @@ impl Fault {
     }
 }
 
-/// Count one call of kind `fault`; true when it is the one to fail.
+/// Count one call of kind `fault`; true when it is the one to fail. The variables are read once
+/// per process (acquire and present ask every frame).
 pub fn fails(fault: Fault) -> bool {
-    let Some(nth) = std::env::var(fault.variable()).ok().and_then(|v| v.trim().parse::<u64>().ok()) else {
+    static NTH: OnceLock<[Option<u64>; 3]> = OnceLock::new();
+    let nth = NTH.get_or_init(|| {
+        [Fault::Allocation, Fault::Acquire, Fault::Present]
+            .map(|f| std::env::var(f.variable()).ok().and_then(|v| v.trim().parse::<u64>().ok()))
+    });
+    let Some(nth) = nth[fault as usize] else {
         return false;
     };
     fault.calls().fetch_add(1, Ordering::Relaxed) + 1 == nth

@@ -78,7 +78,8 @@ impl Renderer {
         let frames = build_frames(&device, &mut renderer.layouts, scene_gpu, &settings)?;
         renderer.ring = FrameRing::new(frames);
         let records = pose_records(&device, scene_gpu, settings.segments);
-        check_pose_records(&settings, &renderer.animation, scene_gpu.blade_count, records)?;
+        let path = (settings.culling.enabled, settings.floor);
+        check_pose_records(&device, &renderer.animation, (scene_gpu.blade_count, settings.segments), path.0, path.1)?;
         let layout = renderer.layouts.animation_layout;
         renderer.model = Some(model::build(&device, layout, &renderer.animation, settings.segments, records)?);
         renderer.build_graph(scene, polygon)?;
@@ -108,7 +109,8 @@ impl Renderer {
         // passes are rebuilt, with no upload.
         let keep_model = animation == self.animation && settings.segments == self.settings.segments;
         let records = pose_records(&device, self.scene_gpu(), settings.segments);
-        check_pose_records(&settings, &animation, self.scene_gpu().blade_count, records)?;
+        let blades = self.scene_gpu().blade_count;
+        check_pose_records(&device, &animation, (blades, settings.segments), settings.culling.enabled, settings.floor)?;
         let model = match keep_model {
             true => None,
             false => {
