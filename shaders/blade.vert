@@ -17,6 +17,7 @@
 #include "blade_select.glsl"
 #include "lighting.glsl"
 #include "field.glsl"
+#include "terrain.glsl"
 #include "rings.glsl"
 
 // Lit per vertex (Gouraud): the blade's colour is affine along its length and its normal is the
@@ -223,7 +224,20 @@ void main() {
     vec3 n = normalize(cross(width_dir, world_tangent));
     n = dot(n, frame.camera_position.xyz - world) < 0.0 ? -n : n;
     float fog = fog_transmittance(world, frame.camera_position, frame.sky_color);
+    vec3 lit = blade_radiance(diffuse, diffuse, n, frame.sun_direction.xyz, t);
+    if ((RENDER_FLAGS & (FLAG_DEBUG_FORCE | FLAG_DEBUG_LOD | FLAG_DEBUG_TILES)) == 0u) {
+        // Belyaev §2.3's Fresnel term on contour areas, over the terrain normal under the root.
+        vec3 terrain_normal = (RENDER_FLAGS & FLAG_BLOCKS) != 0u
+            ? relief_normal(blade.position.xz)
+            : grid_terrain_normal(blade.position.xz, frame.terrain.x, frame.terrain.y, frame.params.z);
+        vec3 fresnel = blade_fresnel(terrain_normal, normalize(frame.camera_position.xyz - world), t);
+        lit = lit + fresnel;
+        if ((RENDER_FLAGS & FLAG_DEBUG_FRESNEL) != 0u) {
+            lit = fresnel; // the term alone, unfogged
+            fog = 1.0;
+        }
+    }
     out_uv = vec2(side, t);
-    out_lit = vec4(blade_radiance(diffuse, diffuse, n, frame.sun_direction.xyz, t) * fog, fog);
+    out_lit = vec4(lit * fog, fog);
     gl_Position = frame.view_proj * vec4(world, 1.0);
 }

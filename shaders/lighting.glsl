@@ -17,6 +17,27 @@ vec3 blade_radiance(vec3 ka, vec3 kd, vec3 n, vec3 l_dir, float l) {
     return ka * ia + kd * id * (max(ndl, 0.0) + translucency * max(-ndl, 0.0));
 }
 
+// Belyaev et al. §2.3, the Fresnel term added to I on contour terrain areas:
+//   Is = Ks · l^6 · (1 - N_L·V)^10,  N_L the terrain's normal under the blade, V the unit
+// direction to the camera, l = 0 root, 1 tip.
+// The paper prints (N_L·V)^10 and says the term brightens blades where N_L·V is near 0, seen
+// edge-on (hill outlines, the far field). As printed it does the opposite: it peaks looking
+// straight down (N_L·V = 1) and vanishes on contours. Fresnel reflectance grows as the angle of
+// incidence θ approaches 90°, which Schlick writes F0 + (1 - F0)(1 - cos θ)^5 with
+// cos θ = N·V; reading the paper's dot product as that complement, with its exponent 10, gives
+// the effect the text describes, and the high power keeps it to grazing views (cos θ < ~0.3).
+// A terrain facing away from the camera (N_L·V < 0) counts as fully grazing.
+// Ks: a slightly sky-tinted reflectance (grazing light off the blades reflects the sky), so a
+// fully grazing tip gains about a third of the tip's sunlit diffuse radiance.
+const vec3 FRESNEL_KS = vec3(0.26, 0.30, 0.34);
+vec3 blade_fresnel(vec3 terrain_normal, vec3 to_camera, float l) {
+    float l2 = l * l;
+    float c = 1.0 - clamp(dot(terrain_normal, to_camera), 0.0, 1.0);
+    float c2 = c * c;
+    float c10 = c2 * c2 * c2 * c2 * c2;
+    return FRESNEL_KS * (l2 * l2 * l2) * c10;
+}
+
 // Exponential distance fog: the fraction of a surface's colour that reaches the eye.
 float fog_transmittance(vec3 world, vec4 camera_position, vec4 sky) {
     return exp(-sky.w * length(world - camera_position.xyz));

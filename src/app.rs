@@ -111,6 +111,8 @@ pub struct RenderOptions {
     pub debug_lod: bool,
     /// Colour blades by tile.
     pub debug_tiles: bool,
+    /// Show the Fresnel term alone on the blades.
+    pub debug_fresnel: bool,
     /// The cull and LOD, or brute force.
     pub culling: crate::render::culling::Culling,
     /// Frame-time budget in milliseconds: the LOD scale follows the measured GPU time.
@@ -170,6 +172,7 @@ impl RenderOptions {
             debug_bounds: self.debug_bounds,
             debug_lod: self.debug_lod,
             debug_tiles: self.debug_tiles,
+            debug_fresnel: self.debug_fresnel,
             floor: self.floor,
             pipeline_statistics: true,
             submission: self.submission,

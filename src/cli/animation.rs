@@ -58,6 +58,8 @@ pub(crate) enum DebugViewArg {
     Lod,
     /// Blades coloured by the cull's tile they belong to.
     Tiles,
+    /// Blades show Belyaev's Fresnel term alone (§2.3), unfogged: bright where the terrain is seen edge-on.
+    Fresnel,
 }
 
 #[derive(Clone, Copy, ValueEnum)]

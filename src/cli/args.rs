@@ -131,6 +131,7 @@ impl SceneArgs {
             debug_bounds: self.debug_view == Some(DebugViewArg::Bounds),
             debug_lod: self.debug_view == Some(DebugViewArg::Lod),
             debug_tiles: self.debug_view == Some(DebugViewArg::Tiles),
+            debug_fresnel: self.debug_view == Some(DebugViewArg::Fresnel),
             culling: self.culling.culling(self.segments),
             field: self.field.map(|size| crate::scene::field::FieldSpec {
                 size: size.0,

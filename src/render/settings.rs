@@ -38,6 +38,8 @@ pub struct RenderSettings {
     pub debug_lod: bool,
     /// Colour blades by their tile (`--debug-view tiles`).
     pub debug_tiles: bool,
+    /// Show Belyaev's Fresnel term alone on the blades (`--debug-view fresnel`).
+    pub debug_fresnel: bool,
     /// The GPU-driven cull and LOD, or brute force.
     pub culling: crate::render::culling::Culling,
     /// Draw the benchmark floor instead of the blades: the static blades' triangles pre-expanded
@@ -64,6 +66,7 @@ impl RenderSettings {
             debug_bounds: false,
             debug_lod: false,
             debug_tiles: false,
+            debug_fresnel: false,
             culling,
             floor: false,
         }

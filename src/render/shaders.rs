@@ -40,3 +40,5 @@ pub const CULL_COUNT_COMP: &[u8] = spirv!("cull_count.comp");
 pub const CULL_SCAN_COMP: &[u8] = spirv!("cull_scan.comp");
 /// Cull step 3: the visible list.
 pub const CULL_EMIT_COMP: &[u8] = spirv!("cull_emit.comp");
+/// Test: Belyaev's Fresnel term at static blades' strip vertices, through the blade shader's functions.
+pub const FRESNEL_PROBE_COMP: &[u8] = spirv!("fresnel_probe.comp");

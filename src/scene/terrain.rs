@@ -75,6 +75,25 @@ impl Terrain {
         }
     }
 
+    /// Surface normal at world (x, z): the gradient of the bilinear patch through the heights of
+    /// the cell the point lies in (`grid_terrain_normal` in shaders/terrain.glsl, which the
+    /// blades' Fresnel term uses).
+    pub fn normal_at(&self, x: f32, z: f32) -> glam::Vec3 {
+        let step = self.cell_size();
+        let gx = ((x - self.origin()) / step).clamp(0.0, self.cells as f32);
+        let gz = ((z - self.origin()) / step).clamp(0.0, self.cells as f32);
+        let cx = (gx.floor() as u32).min(self.cells - 1);
+        let cz = (gz.floor() as u32).min(self.cells - 1);
+        let (fx, fz) = (gx - cx as f32, gz - cz as f32);
+        let h00 = self.grid(cx, cz);
+        let h10 = self.grid(cx + 1, cz);
+        let h01 = self.grid(cx, cz + 1);
+        let h11 = self.grid(cx + 1, cz + 1);
+        let dx = h10 - h00 + fz * ((h11 - h01) - (h10 - h00));
+        let dz = h01 - h00 + fx * ((h11 - h10) - (h01 - h00));
+        glam::Vec3::new(-dx, step, -dz).normalize()
+    }
+
     /// Number of triangles of the mesh.
     pub fn triangles(&self) -> u64 {
         2 * u64::from(self.cells) * u64::from(self.cells)

@@ -185,6 +185,8 @@ impl Viewer {
                 ", LOD view"
             } else if self.settings.debug_tiles {
                 ", tile view"
+            } else if self.settings.debug_fresnel {
+                ", Fresnel view"
             } else {
                 ""
             },
@@ -238,12 +240,13 @@ fn step_segments(s: &mut crate::render::RenderSettings, more: bool) {
     s.culling.lod_segments = crate::render::culling::LodSegments::halving(s.segments);
 }
 
-/// T: the LOD bucket view, then the tile view, then neither.
+/// T: the LOD bucket view, then the tile view, then the Fresnel term's, then none.
 fn cycle_cull_views(s: &mut crate::render::RenderSettings) {
-    (s.debug_lod, s.debug_tiles) = match (s.debug_lod, s.debug_tiles) {
-        (false, false) => (true, false),
-        (true, _) => (false, true),
-        (false, true) => (false, false),
+    (s.debug_lod, s.debug_tiles, s.debug_fresnel) = match (s.debug_lod, s.debug_tiles, s.debug_fresnel) {
+        (false, false, false) => (true, false, false),
+        (true, _, _) => (false, true, false),
+        (false, true, _) => (false, false, true),
+        (false, false, true) => (false, false, false),
     };
 }
 

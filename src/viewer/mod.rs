@@ -84,7 +84,7 @@ meadow viewer controls
   left click      drop a wind source (drag to move)   Delete  remove the last source
   arrow keys      drive the collider sphere through the grass
   V               force debug view       F                 wireframe
-  X               cluster bounds view    T                 LOD bucket / tile view
+  X               cluster bounds view    T                 LOD / tile / Fresnel view
   O               GPU culling / brute force             Y  LOD on/off
   Z               freeze the culling camera (fly out and look at what it keeps)
   P               pause time             F12               screenshot

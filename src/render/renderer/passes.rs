@@ -73,6 +73,9 @@ impl Renderer {
         if settings.debug_tiles {
             specialization.flags |= crate::render::gpu_constants::FLAG_DEBUG_TILES;
         }
+        if settings.debug_fresnel {
+            specialization.flags |= crate::render::gpu_constants::FLAG_DEBUG_FRESNEL;
+        }
         if let (false, Some(model)) = (settings.floor, self.model.as_deref()) {
             model.specialize(&mut specialization);
         }

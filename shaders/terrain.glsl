@@ -1,0 +1,25 @@
+// The terrain's surface normal under a blade root, for Belyaev's Fresnel term (lighting.glsl).
+// Mirrors `scene::terrain::Terrain::normal_at` on the CPU.
+#ifndef MEADOW_TERRAIN_GLSL
+#define MEADOW_TERRAIN_GLSL
+
+// Normal of a stored height grid at world (x, z): the gradient of the bilinear patch through the
+// four heights of the cell the point lies in (continuous across cells, unlike a triangle's face
+// normal). `origin` is grid line 0's world x (= z), `step` the cell edge; reads `heights[]`
+// ((cells + 1)² floats, row by row), which the including shader declares.
+vec3 grid_terrain_normal(vec2 xz, float origin, float step, uint cells) {
+    vec2 g = clamp((xz - vec2(origin)) / step, vec2(0.0), vec2(float(cells)));
+    uvec2 c = min(uvec2(floor(g)), uvec2(cells - 1u));
+    vec2 f = g - vec2(c);
+    uint n = cells + 1u;
+    uint i = c.y * n + c.x;
+    float h00 = heights[i];
+    float h10 = heights[i + 1u];
+    float h01 = heights[i + n];
+    float h11 = heights[i + n + 1u];
+    float dx = mix(h10 - h00, h11 - h01, f.y);
+    float dz = mix(h01 - h00, h11 - h10, f.x);
+    return normalize(vec3(-dx, step, -dz));
+}
+
+#endif

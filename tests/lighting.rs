@@ -1,0 +1,189 @@
+//! Belyaev §2.3's Fresnel term: evaluated by the shader's own functions at read-back strip
+//! vertices and checked against the formula on the CPU, and shown to grow towards contour areas.
+
+mod support;
+
+use std::sync::Arc;
+
+use ash::vk;
+use glam::Vec3;
+use meadow::app::{with_device, GpuOptions};
+use meadow::render::shaders;
+use meadow::scene::camera::Camera;
+use meadow::scene::{bezier, Scene};
+use meadow::vk::descriptor::{self, Binding, Resource};
+use meadow::vk::{commands, pipeline, sync, Access, Buffer, BufferDesc, Device, DeviceSelector};
+
+/// Ks of lighting.glsl (`FRESNEL_KS`); `ks_is_the_shaders` keeps the two in step.
+const KS: [f32; 3] = [0.26, 0.30, 0.34];
+/// Floats per vertex the probe writes: world xyz, l, terrain normal xyz, Is rgb.
+const PROBE_FLOATS: usize = 10;
+const SEGMENTS: u32 = 4;
+
+/// One probed strip vertex.
+struct ProbedVertex {
+    world: Vec3,
+    l: f32,
+    terrain_normal: Vec3,
+    fresnel: Vec3,
+}
+
+/// Run fresnel_probe.comp over every strip vertex of `scene`'s blades seen from `camera`.
+fn probe(device: &Arc<Device>, scene: &Scene, camera: Vec3) -> meadow::Result<Vec<ProbedVertex>> {
+    let vertices = bezier::strip_vertices(SEGMENTS);
+    let count = scene.blades.len() * vertices as usize;
+    let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
+    let blades = Buffer::with_data(
+        device,
+        &BufferDesc::upload("probe blades", 32 * scene.blades.len() as u64, storage),
+        &scene.blades,
+    )?;
+    let heights = &scene.terrain.heights;
+    let heights =
+        Buffer::with_data(device, &BufferDesc::upload("probe heights", 4 * heights.len() as u64, storage), heights)?;
+    let output = Buffer::new(device, &BufferDesc::readback("probe", (4 * PROBE_FLOATS * count) as u64, storage))?;
+    let bindings: Vec<Binding> = (0..3)
+        .map(|binding| Binding {
+            binding,
+            kind: vk::DescriptorType::STORAGE_BUFFER,
+            stages: vk::ShaderStageFlags::COMPUTE,
+        })
+        .collect();
+    let set_layout = descriptor::set_layout(device, "probe set layout", &bindings)?;
+    let push = vk::PushConstantRange { stage_flags: vk::ShaderStageFlags::COMPUTE, offset: 0, size: 36 };
+    let layout = pipeline::layout(device, "probe layout", &[set_layout], &[push])?;
+    let pipe = pipeline::compute(device, "fresnel probe", shaders::FRESNEL_PROBE_COMP, layout, &[])?;
+    let (pool, sets) = descriptor::allocate_sets(device, "probe", set_layout, &bindings, 1)?;
+    let resources = [&blades, &heights, &output].map(|b| Resource::Buffer(b.descriptor()));
+    let writes: Vec<_> =
+        resources.into_iter().enumerate().map(|(i, r)| (i as u32, vk::DescriptorType::STORAGE_BUFFER, r)).collect();
+    descriptor::write(device, sets[0], &writes);
+    let t = &scene.terrain;
+    let params: [f32; 9] =
+        [camera.x, camera.y, camera.z, 0.0, t.origin(), t.cell_size(), t.cells as f32, 0.0, f32::from_bits(vertices)];
+    let submitted = commands::submit_and_wait(device, "probe", |cmd| {
+        // SAFETY: all objects are live; host writes are visible at submission.
+        unsafe {
+            device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipe);
+            device.raw.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::COMPUTE, layout, 0, &sets, &[]);
+            device.raw.cmd_push_constants(cmd, layout, vk::ShaderStageFlags::COMPUTE, 0, bytemuck::cast_slice(&params));
+            device.raw.cmd_dispatch(cmd, (count as u32).div_ceil(64), 1, 1);
+        }
+        let to_host = sync::buffer_barrier(output.raw, &[Access::ComputeShaderWrite], &[Access::HostRead]);
+        sync::cmd_barriers(device, cmd, &[to_host], &[]);
+        Ok(())
+    });
+    let floats = bytemuck::cast_slice::<u8, f32>(output.mapped()).to_vec();
+    // SAFETY: submit_and_wait waited for the dispatch.
+    unsafe {
+        device.raw.destroy_descriptor_pool(pool, None);
+        device.raw.destroy_pipeline(pipe, None);
+        device.raw.destroy_pipeline_layout(layout, None);
+        device.raw.destroy_descriptor_set_layout(set_layout, None);
+        for buffer in [blades, heights, output] {
+            buffer.destroy(device);
+        }
+    }
+    submitted?;
+    Ok(floats
+        .chunks_exact(PROBE_FLOATS)
+        .map(|f| ProbedVertex {
+            world: Vec3::new(f[0], f[1], f[2]),
+            l: f[3],
+            terrain_normal: Vec3::new(f[4], f[5], f[6]),
+            fresnel: Vec3::new(f[7], f[8], f[9]),
+        })
+        .collect())
+}
+
+/// Is = Ks · l⁶ · (1 − N_L·V)¹⁰ on the CPU (lighting.glsl's reading of Belyaev §2.3).
+fn fresnel_formula(terrain_normal: Vec3, world: Vec3, camera: Vec3, l: f32) -> Vec3 {
+    let v = (camera - world).normalize();
+    let c = 1.0 - terrain_normal.dot(v).clamp(0.0, 1.0);
+    Vec3::from(KS) * l.powi(6) * c.powi(10)
+}
+
+fn probe_views(scene: &Scene, cameras: &[Vec3]) -> Vec<Vec<ProbedVertex>> {
+    let options = GpuOptions { validation: true, device: DeviceSelector::parse("llvmpipe") };
+    let (result, messages) =
+        with_device(&options, false, |device| cameras.iter().map(|&c| probe(device, scene, c)).collect());
+    assert_eq!(messages, Some(0), "validation messages");
+    result.expect("probe ran")
+}
+
+#[test]
+fn fresnel_term_matches_the_cpu_formula_at_read_back_vertices() {
+    let scene = Scene::generate(1500, 11);
+    // Low over the field's edge, so the far blades are seen nearly edge-on.
+    let camera = Camera::default_for(&scene.terrain).position - 1.4 * Vec3::Y;
+    let probed = probe_views(&scene, &[camera]).remove(0);
+    let vertices = bezier::strip_vertices(SEGMENTS) as usize;
+    assert_eq!(probed.len(), scene.blades.len() * vertices);
+    let mut lit = 0;
+    for (i, p) in probed.iter().enumerate() {
+        let blade = &scene.blades[i / vertices];
+        // The probe placed the vertex where the CPU's strip does, over the CPU terrain's normal.
+        let cpu_world = bezier::strip_vertex(blade, SEGMENTS, (i % vertices) as u32);
+        assert!(p.world.distance(cpu_world) < 1e-4, "vertex {i}: {} against {cpu_world}", p.world);
+        let cpu_normal = scene.terrain.normal_at(blade.position[0], blade.position[2]);
+        assert!(p.terrain_normal.distance(cpu_normal) < 1e-5, "normal {i}: {} against {cpu_normal}", p.terrain_normal);
+        let expected = fresnel_formula(cpu_normal, p.world, camera, p.l);
+        let error = (p.fresnel - expected).abs().max_element();
+        assert!(error < 1e-5 + 1e-4 * expected.max_element(), "vertex {i}: Is {} against {expected}", p.fresnel);
+        lit += usize::from(expected.x > 0.01);
+    }
+    // The comparison is not of zeros: the far blades' tips carry the term.
+    assert!(lit > probed.len() / 100, "only {lit} of {} vertices have Is > 0.01", probed.len());
+}
+
+#[test]
+fn fresnel_term_grows_towards_contour_areas() {
+    let scene = Scene::generate(1500, 12);
+    let grazing = Camera::default_for(&scene.terrain).position;
+    let steep = Vec3::new(0.0, scene.terrain.height_at(0.0, 0.0) + 25.0, 0.0);
+    let views = probe_views(&scene, &[grazing, steep]);
+    let tips = |view: &[ProbedVertex], keep: &dyn Fn(&ProbedVertex) -> bool| {
+        let chosen: Vec<f32> = view.iter().filter(|p| p.l == 1.0 && keep(p)).map(|p| p.fresnel.y).collect();
+        chosen.iter().sum::<f32>() / chosen.len().max(1) as f32
+    };
+    let all = |_: &ProbedVertex| true;
+    let (grazing_mean, steep_mean) = (tips(&views[0], &all), tips(&views[1], &all));
+    assert!(grazing_mean > 20.0 * steep_mean, "grazing {grazing_mean} against steep {steep_mean}");
+    // Within the grazing view, the farther (more edge-on) half of the field gets more of it.
+    let distance = |p: &ProbedVertex| p.world.distance(grazing);
+    let near = tips(&views[0], &|p| distance(p) < 0.5 * scene.terrain.size);
+    let far = tips(&views[0], &|p| distance(p) >= 0.5 * scene.terrain.size);
+    assert!(far > 2.0 * near, "far {far} against near {near}");
+    // And it grows with the edge-on-ness itself: the tip vertices sorted by N_L·V.
+    let mut by_cos: Vec<(f32, f32)> = views[0]
+        .iter()
+        .filter(|p| p.l == 1.0)
+        .map(|p| (p.terrain_normal.dot((grazing - p.world).normalize()), p.fresnel.y))
+        .collect();
+    by_cos.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let half = by_cos.len() / 2;
+    let mean = |s: &[(f32, f32)]| s.iter().map(|p| p.1).sum::<f32>() / s.len() as f32;
+    assert!(mean(&by_cos[..half]) > 4.0 * mean(&by_cos[half..]), "edge-on half against facing half");
+}
+
+#[test]
+fn ks_is_the_shaders() {
+    let source = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/shaders/lighting.glsl")).unwrap();
+    let declared = format!("const vec3 FRESNEL_KS = vec3({:.2}, {:.2}, {:.2});", KS[0], KS[1], KS[2]);
+    assert!(source.contains(&declared), "lighting.glsl does not declare {declared}");
+}
+
+#[test]
+fn the_fresnel_debug_view_shows_the_term_alone() {
+    let dir = support::scratch("fresnel_view");
+    let args = ["--blades", "3000", "--size", "160x96"];
+    let lit = dir.join("lit.png");
+    let term = dir.join("term.png");
+    support::render(&args, &lit);
+    let with_view: Vec<&str> = args.iter().copied().chain(["--debug-view", "fresnel"]).collect();
+    support::render(&with_view, &term);
+    let (lit, term) = (support::Picture::load(&lit), support::Picture::load(&term));
+    // Blades lose their diffuse light: the view is darker wherever grass is.
+    let sum = |p: &support::Picture| -> u64 { p.rgb.iter().skip(1).step_by(3).map(|&g| u64::from(g)).sum() };
+    assert!(sum(&term) < sum(&lit), "the debug view is not darker than the lit picture");
+}
