@@ -32,10 +32,16 @@ void main() {
         return;
     }
     float alpha = texture(blade_alpha, in_uv).r;
-    if (alpha < ALPHA_CUTOFF) {
+    float coverage = 1.0;
+    if ((RENDER_FLAGS & FLAG_ALPHA_TO_COVERAGE) != 0u) {
+        // Alpha to coverage (`--msaa`): the cutoff's edge, sharpened to about one pixel wide
+        // (alpha's screen-space rate, fwidth), covers the pixel's samples in proportion, so a
+        // blade thinner than a pixel keeps a fraction of it instead of flickering in and out.
+        coverage = clamp((alpha - ALPHA_CUTOFF) / max(fwidth(alpha), 1e-4) + 0.5, 0.0, 1.0);
+    } else if (alpha < ALPHA_CUTOFF) {
         discard;
     }
     // Memberwise product with the alpha channel: the rim is darker (thesis 4.1).
     vec3 color = in_lit.rgb * mix(0.45, 1.0, alpha) + frame.sky_color.rgb * (1.0 - in_lit.a);
-    out_color = vec4(encode_output(color), 1.0);
+    out_color = vec4(encode_output(color), coverage);
 }

@@ -56,6 +56,7 @@
 #define FLAG_DEBUG_LOD 16u // Colour blades by their LOD bucket (`--debug-view lod`).
 #define FLAG_DEBUG_TILES 64u // Colour blades by the tile they belong to (`--debug-view tiles`).
 #define FLAG_DEBUG_FRESNEL 256u // Blades show Belyaev's Fresnel term alone (`--debug-view fresnel`).
+#define FLAG_ALPHA_TO_COVERAGE 512u // `--msaa` with alpha to coverage: the outline's alpha becomes sample coverage, no discard.
 #define FLAG_BLOCKS 128u // A block field (`scene::field`): blades are a stored block's, placed per cell around the origin.
 #define FLAG_SOLID_OUTLINE 32u // Far LOD buckets: the outline tapered in the geometry, no alpha test (early depth writes).
 

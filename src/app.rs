@@ -113,6 +113,8 @@ pub struct RenderOptions {
     pub debug_tiles: bool,
     /// Show the Fresnel term alone on the blades.
     pub debug_fresnel: bool,
+    /// Multisample anti-aliasing.
+    pub msaa: crate::render::msaa::Msaa,
     /// The cull and LOD, or brute force.
     pub culling: crate::render::culling::Culling,
     /// Frame-time budget in milliseconds: the LOD scale follows the measured GPU time.
@@ -173,6 +175,7 @@ impl RenderOptions {
             debug_lod: self.debug_lod,
             debug_tiles: self.debug_tiles,
             debug_fresnel: self.debug_fresnel,
+            msaa: self.msaa,
             floor: self.floor,
             pipeline_statistics: true,
             submission: self.submission,

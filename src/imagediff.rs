@@ -104,9 +104,52 @@ pub fn box_filtered_difference(a_rgb: &[u8], b_rgb: &[u8], width: u32, height: u
     }
 }
 
+/// Halve an RGB8 picture of `width`×`height` (sRGB-encoded, both even) by averaging each 2×2
+/// block in linear light and encoding the mean again: the downsampling a supersampled reference
+/// needs (averaging encoded values would darken every edge).
+///
+/// # Panics
+/// If the buffer is not `width * height` RGB8 pixels or a side is odd.
+pub fn downsample_2x_srgb(rgb: &[u8], width: u32, height: u32) -> Vec<u8> {
+    let (w, h) = (width as usize, height as usize);
+    assert!(w % 2 == 0 && h % 2 == 0, "{width}x{height} has an odd side");
+    assert_eq!(rgb.len(), w * h * 3, "picture is not {width}x{height} RGB8");
+    let decode = |v: u8| {
+        let c = f64::from(v) / 255.0;
+        if c <= 0.04045 {
+            c / 12.92
+        } else {
+            ((c + 0.055) / 1.055).powf(2.4)
+        }
+    };
+    let encode = |l: f64| {
+        let c = if l <= 0.0031308 { l * 12.92 } else { 1.055 * l.powf(1.0 / 2.4) - 0.055 };
+        (c.clamp(0.0, 1.0) * 255.0).round() as u8
+    };
+    let mut out = Vec::with_capacity(w * h * 3 / 4);
+    for y in (0..h).step_by(2) {
+        for x in (0..w).step_by(2) {
+            for c in 0..3 {
+                let at = |dx: usize, dy: usize| decode(rgb[((y + dy) * w + x + dx) * 3 + c]);
+                out.push(encode((at(0, 0) + at(1, 0) + at(0, 1) + at(1, 1)) / 4.0));
+            }
+        }
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn downsampling_averages_in_linear_light() {
+        // Black and white pixels average to linear 0.5, which encodes as 188, not 128.
+        let rgb = [0, 0, 0, 255, 255, 255, 255, 255, 255, 0, 0, 0];
+        assert_eq!(downsample_2x_srgb(&rgb, 2, 2), vec![188, 188, 188]);
+        let grey = [77u8; 12];
+        assert_eq!(downsample_2x_srgb(&grey, 2, 2), vec![77, 77, 77]);
+    }
 
     #[test]
     fn counts_pixels_within_tolerance_and_the_largest_difference() {

@@ -116,6 +116,7 @@ fn run(device: &Arc<Device>, graph: &mut Graph, release: &[(Resource, Access)]) 
         let ctx = PassContext {
             device,
             target: &target,
+            output: &target,
             slot: 0,
             descriptor_set: vk::DescriptorSet::null(),
             uniforms: &uniforms,

@@ -110,6 +110,14 @@ pub(crate) struct SceneArgs {
     /// draws the force clusters' edges, coloured by the force at each corner.
     #[arg(long, value_enum)]
     pub(crate) debug_view: Option<DebugViewArg>,
+    /// Multisample anti-aliasing: N samples per pixel, resolved in linear space (1 = off; the
+    /// counts the device supports for meadow's attachment formats, lavapipe 1 and 4).
+    #[arg(long, default_value = "1", value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
+    pub(crate) msaa: u32,
+    /// With --msaa: keep the alpha test of the blade outline instead of turning its alpha into
+    /// sample coverage (alpha to coverage, the default).
+    #[arg(long)]
+    pub(crate) no_alpha_to_coverage: bool,
 }
 
 impl SceneArgs {
@@ -140,6 +148,7 @@ impl SceneArgs {
             budget_ms: self.culling.budget_ms,
             floor: self.animation.mode.is_floor(),
             submission: Default::default(),
+            msaa: crate::render::msaa::Msaa { samples: self.msaa, alpha_to_coverage: !self.no_alpha_to_coverage },
         }
     }
 }

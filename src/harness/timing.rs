@@ -132,7 +132,9 @@ fn run_one(device: &Arc<Device>, scene: &Scene, options: &TimingOptions, frames_
             // Ctrl-C: stop at this frame (the renderer waits for what is in flight on drop).
             crate::app::interrupt::check()?;
             view.color_previous = Access::ColorAttachmentWrite;
-            view.depth_previous = Access::DepthAttachmentReadWrite;
+            if renderer.uses_target_depth() {
+                view.depth_previous = Access::DepthAttachmentReadWrite;
+            }
         }
         // Drain: each slot's last frame.
         for _ in 0..frames_in_flight {

@@ -27,8 +27,11 @@ use crate::vk::{debug, image, sync, Access, Device};
 pub struct PassContext<'a> {
     /// The device.
     pub device: &'a Device,
-    /// The colour and depth images the graphics passes draw into.
+    /// The colour and depth images the scene passes draw into: the frame's target, or with
+    /// `--msaa` the multisampled pair the resolve pass reads (`render::msaa`).
     pub target: &'a TargetView,
+    /// The frame's target: what is read back or presented after the passes.
+    pub output: &'a TargetView,
     /// The frame in flight being recorded (indexes per-frame resources a pass owns).
     pub slot: usize,
     /// The frame's descriptor set 0 (scene, per-frame uniforms and forces).
@@ -44,6 +47,8 @@ pub enum Load {
     Clear(vk::ClearValue),
     /// Kept from the previous pass.
     Keep,
+    /// Undefined: the pass writes every pixel (or does not use the contents).
+    Discard,
 }
 
 /// One attachment of a graphics pass.
@@ -269,11 +274,11 @@ impl Graph {
     /// The target's last uses: a copy to the host (then host read), presentation.
     fn record_outputs(&mut self, ctx: &PassContext, cmd: vk::CommandBuffer, outputs: Outputs) {
         let device = ctx.device;
-        let color = Resource::color(ctx.target.color);
+        let color = Resource::color(ctx.output.color);
         if let Some(raw) = outputs.readback {
             let buffer = Resource::Buffer(raw);
             self.release(device, cmd, &[(color, Access::TransferRead), (buffer, Access::TransferWrite)]);
-            image::record_copy_to_buffer(device, cmd, ctx.target.color, ctx.target.extent, raw);
+            image::record_copy_to_buffer(device, cmd, ctx.output.color, ctx.output.extent, raw);
             self.release(device, cmd, &[(buffer, Access::HostRead)]);
         }
         if outputs.present {
@@ -375,6 +380,7 @@ fn begin_rendering(device: &Device, cmd: vk::CommandBuffer, rendering: &Renderin
         let (load, clear) = match attachment.load {
             Load::Clear(value) => (vk::AttachmentLoadOp::CLEAR, value),
             Load::Keep => (vk::AttachmentLoadOp::LOAD, vk::ClearValue::default()),
+            Load::Discard => (vk::AttachmentLoadOp::DONT_CARE, vk::ClearValue::default()),
         };
         let store = if attachment.store { vk::AttachmentStoreOp::STORE } else { vk::AttachmentStoreOp::DONT_CARE };
         vk::RenderingAttachmentInfo::default()

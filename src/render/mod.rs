@@ -10,6 +10,7 @@ pub mod frame;
 pub mod gpu_constants;
 pub mod graph;
 pub mod layouts;
+pub mod msaa;
 pub mod passes;
 pub mod renderer;
 pub mod scene_gpu;

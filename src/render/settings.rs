@@ -42,6 +42,8 @@ pub struct RenderSettings {
     pub debug_fresnel: bool,
     /// The GPU-driven cull and LOD, or brute force.
     pub culling: crate::render::culling::Culling,
+    /// Multisample anti-aliasing (`--msaa`, `render::msaa`).
+    pub msaa: crate::render::msaa::Msaa,
     /// Draw the benchmark floor instead of the blades: the static blades' triangles pre-expanded
     /// on the CPU, transform and flat colour only (`--mode floor`; a reference pass, not an
     /// animation).
@@ -68,6 +70,7 @@ impl RenderSettings {
             debug_tiles: false,
             debug_fresnel: false,
             culling,
+            msaa: crate::render::msaa::Msaa::default(),
             floor: false,
         }
     }

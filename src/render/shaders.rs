@@ -42,3 +42,9 @@ pub const CULL_SCAN_COMP: &[u8] = spirv!("cull_scan.comp");
 pub const CULL_EMIT_COMP: &[u8] = spirv!("cull_emit.comp");
 /// Test: Belyaev's Fresnel term at static blades' strip vertices, through the blade shader's functions.
 pub const FRESNEL_PROBE_COMP: &[u8] = spirv!("fresnel_probe.comp");
+/// `--msaa`: the depth pyramid over a multisampled depth image.
+pub const HIZ_MS_COMP: &[u8] = spirv!("hiz_ms.comp");
+/// `--msaa`: the resolve pass's full-target triangle.
+pub const RESOLVE_VERT: &[u8] = spirv!("resolve.vert");
+/// `--msaa`: the resolve in linear space, then the target's encoding.
+pub const RESOLVE_FRAG: &[u8] = spirv!("resolve.frag");

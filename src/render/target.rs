@@ -101,10 +101,13 @@ impl OffscreenTarget {
         }
     }
 
-    /// Note that a frame was recorded into the target with a readback: it leaves depth as an
-    /// attachment and colour as a copy source (the next frame's first barriers start there).
-    pub fn rendered(&mut self) {
-        self.depth_last = Access::DepthAttachmentReadWrite;
+    /// Note that a frame was recorded into the target with a readback: it leaves colour as a
+    /// copy source and, if the frame drew into it (`depth_used`), depth as an attachment (the
+    /// next frame's first barriers start there).
+    pub fn rendered(&mut self, depth_used: bool) {
+        if depth_used {
+            self.depth_last = Access::DepthAttachmentReadWrite;
+        }
         self.color_last = Access::TransferRead;
     }
 

@@ -457,7 +457,7 @@ impl Viewer {
             // The acquired image was never rendered nor presented: release it with a new swapchain.
             self.needs_recreate = true;
         } else {
-            surface.depth_used = true;
+            surface.depth_used |= renderer.uses_target_depth();
         }
         let result = submitted.and_then(|()| surface.swapchain.present(&self.device, index));
         if let (Some(buffer), Some(path)) = (readback, self.screenshot.take()) {

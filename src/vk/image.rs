@@ -21,12 +21,19 @@ pub struct ImageDesc<'a> {
     pub aspect: vk::ImageAspectFlags,
     /// Name of the image, its view and its allocation.
     pub name: &'a str,
+    /// Samples per texel (`TYPE_1` unless multisampled).
+    pub samples: vk::SampleCountFlags,
 }
 
 impl<'a> ImageDesc<'a> {
     /// A colour image of `format`.
     pub fn color(name: &'a str, format: vk::Format, extent: vk::Extent2D, usage: vk::ImageUsageFlags) -> Self {
-        Self { format, extent, usage, aspect: vk::ImageAspectFlags::COLOR, name }
+        Self { format, extent, usage, aspect: vk::ImageAspectFlags::COLOR, name, samples: vk::SampleCountFlags::TYPE_1 }
+    }
+
+    /// The same image with `samples` samples per texel.
+    pub fn multisampled(self, samples: vk::SampleCountFlags) -> Self {
+        Self { samples, ..self }
     }
 
     /// A depth attachment of `format`, also sampled (the cull's depth pyramid reads it).
@@ -37,6 +44,7 @@ impl<'a> ImageDesc<'a> {
             usage: vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::SAMPLED,
             aspect: vk::ImageAspectFlags::DEPTH,
             name,
+            samples: vk::SampleCountFlags::TYPE_1,
         }
     }
 
@@ -123,7 +131,7 @@ impl Image {
             .extent(vk::Extent3D { width: desc.extent.width, height: desc.extent.height, depth: 1 })
             .mip_levels(1)
             .array_layers(1)
-            .samples(vk::SampleCountFlags::TYPE_1)
+            .samples(desc.samples)
             .tiling(vk::ImageTiling::OPTIMAL)
             .usage(desc.usage)
             .sharing_mode(vk::SharingMode::EXCLUSIVE)

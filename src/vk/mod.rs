@@ -11,6 +11,7 @@ pub mod fault;
 pub mod image;
 pub mod instance;
 pub mod live;
+pub mod multisample;
 pub mod physical;
 pub mod pipeline;
 pub mod query;

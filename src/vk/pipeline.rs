@@ -60,6 +60,10 @@ pub struct GraphicsDesc<'a> {
     pub constants: &'a [u32],
     /// Stride of a vertex buffer with one `vec3` at location 0, or 0 for none (vertex pulling).
     pub vertex_stride: u32,
+    /// Rasterization samples (the attachments' sample count).
+    pub samples: vk::SampleCountFlags,
+    /// Alpha to coverage: the fragment's alpha picks how many of the pixel's samples it covers.
+    pub alpha_to_coverage: bool,
 }
 
 /// Map entries for `constants`: constant `i` at byte `4 i`.
@@ -129,11 +133,14 @@ pub fn graphics(device: &Device, desc: &GraphicsDesc) -> Result<vk::Pipeline> {
         .cull_mode(desc.cull)
         .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
         .line_width(1.0);
-    let multisample =
-        vk::PipelineMultisampleStateCreateInfo::default().rasterization_samples(vk::SampleCountFlags::TYPE_1);
+    let multisample = vk::PipelineMultisampleStateCreateInfo::default()
+        .rasterization_samples(desc.samples)
+        .alpha_to_coverage_enable(desc.alpha_to_coverage);
+    // No depth attachment (`UNDEFINED`): no depth test.
+    let has_depth = desc.depth_format != vk::Format::UNDEFINED;
     let depth = vk::PipelineDepthStencilStateCreateInfo::default()
-        .depth_test_enable(true)
-        .depth_write_enable(true)
+        .depth_test_enable(has_depth)
+        .depth_write_enable(has_depth)
         .depth_compare_op(desc.depth_compare);
     let blend_attachments =
         [vk::PipelineColorBlendAttachmentState::default().color_write_mask(vk::ColorComponentFlags::RGBA)];

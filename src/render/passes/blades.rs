@@ -115,8 +115,16 @@ impl BladePass {
         Ok(pass)
     }
 
-    /// The blade pipeline (two-sided blades: no culling) for `constants`.
+    /// The blade pipeline (two-sided blades: no culling) for `constants`. With alpha to coverage
+    /// (`--msaa`), an alpha-tested outline turns its alpha into sample coverage instead of
+    /// discarding (`FLAG_ALPHA_TO_COVERAGE`); an outline drawn as geometry has no alpha to use.
     fn pipeline(device: &Device, target: PipelineTarget, constants: &[u32], name: &str) -> Result<vk::Pipeline> {
+        let flags = constants[gpu::SPEC_RENDER_FLAGS as usize];
+        let alpha_to_coverage = target.alpha_to_coverage && flags & gpu::FLAG_SOLID_OUTLINE == 0;
+        let mut constants = constants.to_vec();
+        if alpha_to_coverage {
+            constants[gpu::SPEC_RENDER_FLAGS as usize] |= gpu::FLAG_ALPHA_TO_COVERAGE;
+        }
         pipeline::graphics(
             device,
             &pipeline::GraphicsDesc {
@@ -130,8 +138,10 @@ impl BladePass {
                 color_format: target.color,
                 depth_format: target.depth,
                 layout: target.layout,
-                constants,
+                constants: &constants,
                 vertex_stride: 0,
+                samples: target.samples,
+                alpha_to_coverage,
             },
         )
     }

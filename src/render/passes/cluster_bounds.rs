@@ -62,6 +62,8 @@ impl ClusterBoundsPass {
                 layout,
                 constants,
                 vertex_stride: 0,
+                samples: target.samples,
+                alpha_to_coverage: false,
             },
         );
         let pipeline = match built {

@@ -35,8 +35,9 @@ fn bindings() -> [Binding; 2] {
 }
 
 impl DepthPyramidPass {
-    /// Build the pipeline and `frames` sets.
-    pub fn new(device: &Device, scene: &SceneGpu, frames: usize) -> Result<Self> {
+    /// Build the pipeline and `frames` sets; `multisampled`: the depth it reads has several
+    /// samples per pixel (`--msaa`), of which it takes the farthest (`hiz_ms.comp`).
+    pub fn new(device: &Device, scene: &SceneGpu, frames: usize, multisampled: bool) -> Result<Self> {
         let mut pass = Self {
             pipeline: vk::Pipeline::null(),
             layout: vk::PipelineLayout::null(),
@@ -46,7 +47,7 @@ impl DepthPyramidPass {
             sampler: vk::Sampler::null(),
             pyramid: scene.depth_pyramid.descriptor(),
         };
-        if let Err(e) = pass.build(device, frames) {
+        if let Err(e) = pass.build(device, frames, multisampled) {
             // SAFETY: nothing was submitted with the pass; null handles are ignored.
             unsafe { Box::new(pass).destroy(device) };
             return Err(e);
@@ -54,14 +55,15 @@ impl DepthPyramidPass {
         Ok(pass)
     }
 
-    fn build(&mut self, device: &Device, frames: usize) -> Result<()> {
+    fn build(&mut self, device: &Device, frames: usize, multisampled: bool) -> Result<()> {
         self.set_layout = descriptor::set_layout(device, "depth pyramid set layout", &bindings())?;
         self.layout = pipeline::layout(device, "depth pyramid layout", &[self.set_layout], &[])?;
         let (pool, sets) =
             descriptor::allocate_sets(device, "depth pyramid sets", self.set_layout, &bindings(), frames as u32)?;
         (self.pool, self.sets) = (pool, sets);
         self.sampler = crate::vk::image::clamped_sampler(device, vk::Filter::NEAREST, "depth pyramid sampler")?;
-        self.pipeline = pipeline::compute(device, "depth pyramid", shaders::HIZ_COMP, self.layout, &[])?;
+        let shader = if multisampled { shaders::HIZ_MS_COMP } else { shaders::HIZ_COMP };
+        self.pipeline = pipeline::compute(device, "depth pyramid", shader, self.layout, &[])?;
         Ok(())
     }
 }

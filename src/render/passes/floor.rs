@@ -83,6 +83,8 @@ impl FloorPass {
                 layout: target.layout,
                 constants,
                 vertex_stride: 12,
+                samples: target.samples,
+                alpha_to_coverage: false,
             },
         );
         match built {

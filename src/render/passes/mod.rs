@@ -8,12 +8,14 @@ pub mod cluster_bounds;
 pub mod cull;
 pub mod depth_pyramid;
 pub mod floor;
+pub mod resolve;
 pub mod terrain;
 
 pub use blade_pose::BladePosePass;
 pub use blades::BladePass;
 pub use cluster_bounds::ClusterBoundsPass;
 pub use floor::FloorPass;
+pub use resolve::ResolvePass;
 pub use terrain::TerrainPass;
 
 use ash::vk;
@@ -33,6 +35,10 @@ pub struct PipelineTarget {
     pub depth: vk::Format,
     /// Fill or wireframe.
     pub polygon: vk::PolygonMode,
+    /// Samples of the attachments (`--msaa`).
+    pub samples: vk::SampleCountFlags,
+    /// Alpha to coverage for the alpha-tested blade outline (with `samples` > 1).
+    pub alpha_to_coverage: bool,
 }
 
 /// Bind the animation model's set (`SET_ANIMATION`) at `bind_point`.

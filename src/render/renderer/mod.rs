@@ -5,6 +5,7 @@
 //! (`render::graph`); fences, per-frame buffers, queries and deferred deletion are the frame
 //! ring's (`render::frame`).
 
+mod multisample;
 mod passes;
 
 use std::sync::Arc;
@@ -21,6 +22,7 @@ use crate::render::frame::{look, FrameRing, FrameUniforms, Replay, ReplayKey};
 pub use crate::render::frame::{Deletion, FrameSync, FrameTimings, PassTime};
 use crate::render::graph::{Graph, Outputs, PassContext};
 use crate::render::layouts::{build_frames, scene_layouts, SceneLayouts};
+use crate::render::msaa::{self, MultisampleTarget};
 use crate::render::passes::{BladePass, TerrainPass};
 use crate::render::scene_gpu::{pose_records, SceneGpu};
 use crate::render::settings::{check_pose_records, check_submission, polygon_mode};
@@ -45,6 +47,9 @@ pub struct Renderer {
     ring: FrameRing,
     /// The camera the cull tests against when frozen (`None`: the view's camera).
     cull_camera: Option<Camera>,
+    /// With `--msaa`: the multisampled images the scene passes draw into, made at the first
+    /// frame's extent and remade when the extent or the sample count changes.
+    multisampled: Option<MultisampleTarget>,
 }
 
 impl Renderer {
@@ -57,6 +62,7 @@ impl Renderer {
     ) -> Result<Self> {
         let polygon = polygon_mode(&device, settings.wireframe)?;
         check_submission(&device, &settings)?;
+        msaa::check(&device, &settings.msaa)?;
         if scene.field.is_some() {
             crate::render::settings::check_field(&settings)?;
         }
@@ -70,6 +76,7 @@ impl Renderer {
             graph: Graph::new(),
             ring: FrameRing::new(Vec::new()),
             cull_camera: None,
+            multisampled: None,
         };
         let view_distance = settings.culling.view_distance;
         let scene_gpu = SceneGpu::upload(&device, scene, renderer.animation.cluster_size, view_distance)?;
@@ -102,6 +109,7 @@ impl Renderer {
         }
         let polygon = polygon_mode(&device, settings.wireframe)?;
         check_submission(&device, &settings)?;
+        msaa::check(&device, &settings.msaa)?;
         if scene.field.is_some() {
             crate::render::settings::check_field(&settings)?;
         }
@@ -340,10 +348,11 @@ impl Renderer {
         uniforms: &FrameUniforms,
         outputs: Outputs,
     ) -> Result<Instant> {
-        let device = &*self.device;
         let started = Instant::now();
         self.graph.import(Resource::color(target.color), &[target.color_previous]);
         self.graph.import(Resource::depth(target.depth), &[target.depth_previous]);
+        let scene_view = self.scene_view(target)?;
+        let device = &*self.device;
         let prerecorded = self.settings.submission.strategy == Strategy::Prerecorded;
         let frame = self.ring.frame_mut(slot);
         let key = ReplayKey::new(target, outputs);
@@ -358,7 +367,14 @@ impl Renderer {
         frame.replay = None;
         let entry = prerecorded.then(|| self.graph.states().clone());
         let cmd = if prerecorded { frame.recorder.begin_reusable(device)? } else { frame.recorder.begin(device)? };
-        let ctx = PassContext { device, target, slot, descriptor_set: frame.descriptor_set, uniforms };
+        let ctx = PassContext {
+            device,
+            target: &scene_view,
+            output: target,
+            slot,
+            descriptor_set: frame.descriptor_set,
+            uniforms,
+        };
         frame.passes = self.graph.record(&ctx, cmd, &mut frame.scopes(), outputs)?;
         let culled = self.settings.culling.enabled && !self.settings.floor;
         frame.cull_segments = if culled { self.settings.culling.buckets().to_vec() } else { Vec::new() };
@@ -429,7 +445,7 @@ impl Renderer {
         let outputs = Outputs { readback: Some(target.readback.raw), present: false };
         // The target's next frame starts from what this one leaves, if it ran.
         self.submit_frame(slot, &view, camera, time, FrameSync::default(), outputs)?;
-        target.rendered();
+        target.rendered(self.uses_target_depth());
         // Headless: wait right away, so the picture and the timings are ready.
         Ok(self.ring.wait(&self.device, slot)?.expect("the frame was submitted"))
     }
@@ -462,6 +478,9 @@ impl Drop for Renderer {
                 model.destroy(device);
             }
             self.layouts.destroy(device);
+            if let Some(multisampled) = self.multisampled.take() {
+                multisampled.destroy(device);
+            }
             if let Some(scene) = self.scene.take() {
                 scene.destroy(device);
             }

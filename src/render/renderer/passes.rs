@@ -5,10 +5,12 @@ use ash::vk;
 use super::Renderer;
 use crate::error::Result;
 use crate::render::animation::model::PassSetup;
+use crate::render::gpu_constants as gpu;
+use crate::render::msaa::MSAA_COLOR_FORMAT;
 use crate::render::passes::blades::BladeSetup;
 use crate::render::passes::cull::{self, CullSetup};
 use crate::render::passes::depth_pyramid::DepthPyramidPass;
-use crate::render::passes::{BladePass, ClusterBoundsPass, FloorPass, PipelineTarget, TerrainPass};
+use crate::render::passes::{BladePass, ClusterBoundsPass, FloorPass, PipelineTarget, ResolvePass, TerrainPass};
 use crate::render::settings::sky_clear_color;
 use crate::render::specialization::Specialization;
 use crate::render::target::DEPTH_FORMAT;
@@ -25,11 +27,14 @@ impl Renderer {
         let scene = self.scene.as_ref().expect("uploaded");
         let model = self.model.as_deref().expect("built");
         let constants = self.specialization().constants();
+        let msaa = settings.msaa;
         let target = PipelineTarget {
             layout: self.layouts.pipeline_layout,
-            color: settings.color_format,
+            color: if msaa.enabled() { MSAA_COLOR_FORMAT } else { settings.color_format },
             depth: DEPTH_FORMAT,
             polygon,
+            samples: msaa.flag(),
+            alpha_to_coverage: msaa.enabled() && msaa.alpha_to_coverage,
         };
         // Uploaded data, as the upload left it (a new kind of read will wait for the upload).
         self.graph.import(Resource::color(scene.blade_alpha.raw), &[Access::FragmentShaderSampledRead]);
@@ -41,7 +46,7 @@ impl Renderer {
         let (keyframes, uploaded) = model.resources().keyframe_import();
         self.graph.import(keyframes, &uploaded);
         if settings.floor {
-            let sky = sky_clear_color(settings.encode_srgb);
+            let sky = self.sky();
             self.graph.add(TerrainPass::new(device, target, &constants, scene, sky)?);
             self.graph.add(FloorPass::new(device, target, &constants, &cpu_scene.blades, settings.segments)?);
         } else {
@@ -51,7 +56,20 @@ impl Renderer {
             let (set_layout, scene) = (self.layouts.set_layout, self.scene.as_ref().expect("uploaded"));
             self.graph.add(ClusterBoundsPass::new(&self.device, set_layout, target, &constants, scene)?);
         }
+        if msaa.enabled() {
+            // The target's encoding, not the multisampled scene's.
+            let mut resolve = constants;
+            resolve[gpu::SPEC_ENCODE_SRGB as usize] = u32::from(self.settings.encode_srgb);
+            let format = self.settings.color_format;
+            self.graph.add(ResolvePass::new(&self.device, format, &resolve, self.ring.slots())?);
+        }
         Ok(())
+    }
+
+    /// The terrain's clear colour as the scene's colour attachment stores it: encoded for an
+    /// UNORM target the shaders encode for, linear for the multisampled scene or an sRGB format.
+    fn sky(&self) -> [f32; 4] {
+        sky_clear_color(self.settings.encode_srgb && !self.settings.msaa.enabled())
     }
 
     /// The specialization constants of every scene pipeline for the settings and the model.
@@ -62,7 +80,8 @@ impl Renderer {
             settings.segments,
             settings.blades_per_instance,
             settings.submission.strategy.pushes_first_blade(),
-            settings.encode_srgb,
+            // Multisampled, the scene is drawn in linear light; the resolve pass encodes.
+            settings.encode_srgb && !settings.msaa.enabled(),
         );
         if settings.debug_lod {
             specialization.flags |= crate::render::specialization::FLAG_DEBUG_LOD;
@@ -95,9 +114,9 @@ impl Renderer {
         let model_passes = model.passes(device, &setup)?;
         let (before, after) = if culled { (Vec::new(), model_passes) } else { (model_passes, Vec::new()) };
         before.into_iter().for_each(|pass| self.graph.add_boxed(pass));
-        self.graph.add(TerrainPass::new(device, target, constants, scene, sky_clear_color(settings.encode_srgb))?);
+        self.graph.add(TerrainPass::new(device, target, constants, scene, self.sky())?);
         if culled && settings.culling.occlusion {
-            self.graph.add(DepthPyramidPass::new(device, scene, self.ring.slots())?);
+            self.graph.add(DepthPyramidPass::new(device, scene, self.ring.slots(), settings.msaa.enabled())?);
         }
         if culled {
             let stats = (0..self.ring.slots()).map(|slot| self.ring.frame(slot).cull_stats.raw).collect();

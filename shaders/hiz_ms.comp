@@ -1,0 +1,25 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// The depth pyramid over a multisampled depth image (`--msaa`): a pixel's depth is the farthest
+// (smallest: reversed Z) of its samples, so the pyramid stays conservative where a pixel is only
+// partly covered. The reduction is hiz.glsl's, as in hiz.comp.
+
+layout(set = 0, binding = 0) uniform sampler2DMS depth;
+
+ivec2 depth_size() {
+    return textureSize(depth);
+}
+
+float depth_texel(ivec2 p) {
+    float farthest = 1.0;
+    for (int s = 0; s < textureSamples(depth); s++) {
+        farthest = min(farthest, texelFetch(depth, p, s).r);
+    }
+    return farthest;
+}
+
+#include "hiz.glsl"
+
+void main() {
+    reduce_depth();
+}

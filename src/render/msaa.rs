@@ -1,0 +1,130 @@
+//! Multisample anti-aliasing (`--msaa N`): the scene passes draw into a multisampled colour and
+//! depth pair in linear light ([`MSAA_COLOR_FORMAT`], the shaders do not encode), the depth
+//! pyramid reads the farthest of each pixel's depth samples, and the resolve pass
+//! (`passes/resolve.rs`) averages each pixel's samples in linear space and encodes the result
+//! into the frame's target. Averaging the sRGB-encoded values a UNORM target holds would darken
+//! every edge; the hardware resolve of an sRGB target is not required to linearise either.
+
+use ash::vk;
+
+use crate::error::{Error, Result};
+use crate::render::target::{TargetView, DEPTH_FORMAT};
+use crate::vk::multisample::{self, AttachmentUse};
+use crate::vk::{Access, Device, Image, ImageDesc};
+
+/// Colour of the multisampled scene: linear, 16-bit float (colour attachment and sampled, both
+/// required of this format by the specification), values above 1 clamped by the resolve.
+pub const MSAA_COLOR_FORMAT: vk::Format = vk::Format::R16G16B16A16_SFLOAT;
+
+/// Samples per pixel and how the alpha-tested outline uses them.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Msaa {
+    /// Samples per pixel; 1 is no multisampling.
+    pub samples: u32,
+    /// The outline's alpha becomes sample coverage (alpha to coverage) instead of an alpha test.
+    pub alpha_to_coverage: bool,
+}
+
+impl Default for Msaa {
+    fn default() -> Self {
+        Self { samples: 1, alpha_to_coverage: true }
+    }
+}
+
+impl Msaa {
+    /// Whether the scene is multisampled.
+    pub fn enabled(&self) -> bool {
+        self.samples > 1
+    }
+
+    /// The sample-count flag of the scene's attachments.
+    pub fn flag(&self) -> vk::SampleCountFlags {
+        multisample::flag(self.samples).unwrap_or(vk::SampleCountFlags::TYPE_1)
+    }
+}
+
+/// The multisampled attachments as meadow uses them: colour drawn and resolved by a shader,
+/// depth drawn and read by the depth pyramid.
+fn attachments() -> [AttachmentUse; 2] {
+    let sampled = vk::ImageUsageFlags::SAMPLED;
+    [
+        AttachmentUse { format: MSAA_COLOR_FORMAT, usage: vk::ImageUsageFlags::COLOR_ATTACHMENT | sampled },
+        AttachmentUse { format: DEPTH_FORMAT, usage: vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | sampled },
+    ]
+}
+
+/// The sample counts `--msaa` accepts on `device`, ascending.
+pub fn supported_counts(device: &Device) -> Vec<u32> {
+    multisample::supported_counts(device, &attachments())
+}
+
+/// Refuse a sample count the device does not support for the formats in use (bad input).
+pub fn check(device: &Device, msaa: &Msaa) -> Result<()> {
+    let supported = supported_counts(device);
+    if supported.contains(&msaa.samples) {
+        return Ok(());
+    }
+    let list: Vec<String> = supported.iter().map(u32::to_string).collect();
+    Err(Error::BadInput(format!(
+        "--msaa {} is not supported by {} for the formats in use ({MSAA_COLOR_FORMAT:?} colour, {DEPTH_FORMAT:?} depth, both sampled); supported: {}",
+        msaa.samples,
+        device.info.name,
+        list.join(", ")
+    )))
+}
+
+/// The multisampled colour and depth the scene passes draw into.
+pub struct MultisampleTarget {
+    color: Image,
+    depth: Image,
+    samples: vk::SampleCountFlags,
+}
+
+impl MultisampleTarget {
+    /// Create both images at `extent` with `samples` samples.
+    pub fn new(device: &Device, extent: vk::Extent2D, samples: vk::SampleCountFlags) -> Result<Self> {
+        let usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::SAMPLED;
+        let color_desc = ImageDesc::color("multisampled colour", MSAA_COLOR_FORMAT, extent, usage);
+        let color = Image::new(device, &color_desc.multisampled(samples))?;
+        let depth_desc = ImageDesc::depth("multisampled depth", DEPTH_FORMAT, extent).multisampled(samples);
+        match Image::new(device, &depth_desc) {
+            Ok(depth) => Ok(Self { color, depth, samples }),
+            Err(e) => {
+                // SAFETY: never used.
+                unsafe { color.destroy(device) };
+                Err(e)
+            }
+        }
+    }
+
+    /// Whether the images fit a frame of `extent` with `samples` samples.
+    pub fn fits(&self, extent: vk::Extent2D, samples: vk::SampleCountFlags) -> bool {
+        self.color.extent == extent && self.samples == samples
+    }
+
+    /// The scene passes' view of it. Its images are tracked by the graph from their creation
+    /// (imported once, as `Nothing`), so the previous accesses here are never used.
+    pub fn view(&self) -> TargetView {
+        TargetView {
+            color: self.color.raw,
+            color_view: self.color.view,
+            depth: self.depth.raw,
+            depth_view: self.depth.view,
+            extent: self.color.extent,
+            color_previous: Access::Nothing,
+            depth_previous: Access::Nothing,
+        }
+    }
+
+    /// Free both images.
+    ///
+    /// # Safety
+    /// No pending work may use them.
+    pub unsafe fn destroy(self, device: &Device) {
+        // SAFETY: per the contract.
+        unsafe {
+            self.depth.destroy(device);
+            self.color.destroy(device);
+        }
+    }
+}

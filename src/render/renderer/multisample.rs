@@ -1,0 +1,44 @@
+//! The renderer's multisampled images (`--msaa`, `render::msaa`): what the scene passes draw
+//! into, made to fit each frame's target.
+
+use super::Renderer;
+use crate::error::Result;
+use crate::render::msaa::MultisampleTarget;
+use crate::render::target::TargetView;
+use crate::vk::{Access, Resource};
+
+impl Renderer {
+    /// What the scene passes draw into for a frame into `target`: the target itself, or with
+    /// `--msaa` the multisampled pair, (re)made to fit it. A replaced pair is destroyed once the
+    /// frames that used it have finished, and the graph forgets it.
+    pub(super) fn scene_view(&mut self, target: &TargetView) -> Result<TargetView> {
+        let msaa = self.settings.msaa;
+        let fits = |m: &MultisampleTarget| msaa.enabled() && m.fits(target.extent, msaa.flag());
+        if !self.multisampled.as_ref().is_none_or(fits) {
+            let old = self.multisampled.take().expect("checked");
+            let view = old.view();
+            self.graph.forget(Resource::color(view.color));
+            self.graph.forget(Resource::depth(view.depth));
+            self.ring.forget_replays();
+            // SAFETY: the frames that used it have finished (the deletion queue's rule).
+            self.ring.defer(&self.device, Box::new(move |device| unsafe { old.destroy(device) }));
+        }
+        if !msaa.enabled() {
+            return Ok(*target);
+        }
+        if self.multisampled.is_none() {
+            let made = MultisampleTarget::new(&self.device, target.extent, msaa.flag())?;
+            let view = made.view();
+            self.graph.import(Resource::color(view.color), &[Access::Nothing]);
+            self.graph.import(Resource::depth(view.depth), &[Access::Nothing]);
+            self.multisampled = Some(made);
+        }
+        Ok(self.multisampled.as_ref().expect("made").view())
+    }
+
+    /// Whether frames draw into the target's depth image (not with `--msaa`: the scene's depth
+    /// is the multisampled one). A target that tracks its depth's last access needs to know.
+    pub fn uses_target_depth(&self) -> bool {
+        !self.settings.msaa.enabled()
+    }
+}
