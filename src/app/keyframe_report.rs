@@ -1,6 +1,7 @@
 //! `meadow keyframes`: generate the keyframe table, report its compression figures (thesis 3.3),
 //! the measured encoding errors (4.4) and how well the curve representation matches the vertex
-//! one, and export the table as a 16-bit picture. CPU only.
+//! one, the pose error of the table against a direct solve, and export the table as a 16-bit
+//! picture. CPU only.
 
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
@@ -10,6 +11,7 @@ use super::output::check_output;
 use crate::error::Result;
 use crate::keyframes::compression::{BladeGeometry, CompressionReport};
 use crate::keyframes::encoding::{self, Encoding};
+use crate::keyframes::pose_error::PoseErrorReport;
 use crate::keyframes::{BladeModel, KeyframeLayout, KeyframeTable};
 
 /// `meadow keyframes` options.
@@ -51,6 +53,10 @@ pub fn keyframes(options: &KeyframeOptions) -> Result<String> {
         let _ = write!(out, "{}", CompressionReport::new(BladeGeometry::meadow(options.segments), options.poses));
         encoding_errors(&mut out);
         curve_against_vertex(&mut out, layout);
+        let started = Instant::now();
+        let pose_error = PoseErrorReport::measure(options.segments);
+        let _ = write!(out, "{pose_error}");
+        let _ = writeln!(out, "  (measured in {:.0} ms)", started.elapsed().as_secs_f64() * 1e3);
     }
     if let Some(path) = &options.export {
         export(&mut out, &table, path)?;
