@@ -27,8 +27,9 @@ pub struct KeyframeOptions {
     pub export: Option<PathBuf>,
 }
 
-/// `meadow keyframes`: generate the table, print its compression figures (thesis 3.3) and the
-/// measured encoding errors (4.4), optionally export the texture as a picture. CPU only.
+/// `meadow keyframes`: generate the table, print its compression figures (thesis 3.3), the
+/// measured encoding errors (4.4) and the pose error against a direct solve, optionally export
+/// the texture as a picture. CPU only.
 pub fn keyframes(options: &KeyframeOptions) -> Result<String> {
     if let Some(path) = &options.export {
         check_output(path, "--export")?;
