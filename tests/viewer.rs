@@ -146,6 +146,36 @@ fn culling_controls_change_what_is_drawn() {
 }
 
 #[test]
+fn msaa_toggles_live_through_resizes() {
+    // R: 4x with alpha to coverage (across a swapchain re-creation, which remakes the
+    // multisampled images), 4x with the alpha test, then off again: each rebuild runs clean,
+    // multisampling changes the blades' edges, and turning it off gives the first picture back.
+    let dir = scratch("viewer-msaa");
+    let path = dir.join("msaa.txt");
+    std::fs::write(
+        &path,
+        "0 pause\n2 screenshot off.png\n4 press r\n6 resize 200x120\n8 resize 256x160\n10 screenshot on.png\n\
+         12 press r\n14 press r\n16 screenshot back.png\n18 quit\n",
+    )
+    .expect("write script");
+    let output = view(&dir, &["--brute-force", "--script", path.to_str().expect("utf-8")]);
+    assert_clean(&output);
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    for state in ["4x MSAA alpha to coverage", "4x MSAA alpha test"] {
+        assert!(stdout.contains(state), "no '{state}' in {}", transcript(&output));
+    }
+    let load = |name: &str| Picture::load(&dir.join(name));
+    let (off, on, back) = (load("off.png"), load("on.png"), load("back.png"));
+    let (changed, _) = compare_rgb(&off.rgb, &on.rgb, 8);
+    assert!(
+        changed.within_fraction() < 0.99,
+        "MSAA changed {:.2} % of pixels",
+        100.0 * (1.0 - changed.within_fraction())
+    );
+    assert!(off.rgb == back.rgb, "turning MSAA off did not give the first picture back");
+}
+
+#[test]
 fn no_display_is_a_clear_error() {
     let output = meadow().env_remove("DISPLAY").env_remove("WAYLAND_DISPLAY").arg("view").output().expect("run meadow");
     assert_eq!(output.status.code(), Some(2), "{}", transcript(&output));

@@ -82,7 +82,7 @@ impl Viewer {
                 c.center.y = self.scene.ground(c.center.x, c.center.z) + c.radii.y;
             }
             "z" => self.toggle_cull_freeze(),
-            "m" | "n" | "b" | "v" | "x" | "t" | "o" | "y" | "f" | "plus" | "minus" | "[" | "]" => rebuild = true,
+            "m" | "n" | "b" | "v" | "x" | "t" | "o" | "y" | "f" | "r" | "plus" | "minus" | "[" | "]" => rebuild = true,
             _ => {}
         }
         if rebuild {
@@ -134,6 +134,9 @@ impl Viewer {
             "t" => cycle_cull_views(&mut self.settings),
             "o" | "y" => toggle_culling(&mut self.settings.culling, name),
             "f" => self.settings.wireframe = !self.settings.wireframe,
+            "r" => {
+                self.settings.msaa = next_msaa(self.settings.msaa, &crate::render::msaa::supported_counts(&self.device))
+            }
             "plus" | "minus" => step_segments(&mut self.settings, name == "plus"),
             "[" => blades = (blades / 2).max(1),
             "]" => blades = blades.saturating_mul(2),
@@ -173,7 +176,7 @@ impl Viewer {
     fn report_rebuild(&self) {
         let a = self.renderer.as_ref().expect("built").animation();
         println!(
-            "mode {}, smoothing {:?}, eval {:?}, {} segments, {} blades, {}{}{}{}{}",
+            "mode {}, smoothing {:?}, eval {:?}, {} segments, {} blades, {}{}{}{}{}{}",
             if self.settings.floor { "Floor".to_string() } else { format!("{:?}", a.mode) },
             a.smoothing,
             a.eval,
@@ -192,6 +195,14 @@ impl Viewer {
             },
             if self.settings.debug_bounds { ", cluster bounds" } else { "" },
             if self.settings.wireframe { ", wireframe" } else { "" },
+            match self.settings.msaa {
+                m if !m.enabled() => String::new(),
+                m => format!(
+                    ", {}x MSAA {}",
+                    m.samples,
+                    if m.alpha_to_coverage { "alpha to coverage" } else { "alpha test" }
+                ),
+            },
         );
     }
 
@@ -240,6 +251,19 @@ fn step_segments(s: &mut crate::render::RenderSettings, more: bool) {
     s.culling.lod_segments = crate::render::culling::LodSegments::halving(s.segments);
 }
 
+/// R: no multisampling, then each supported count with alpha to coverage, then the largest with
+/// the alpha test, then none again.
+fn next_msaa(m: crate::render::msaa::Msaa, supported: &[u32]) -> crate::render::msaa::Msaa {
+    use crate::render::msaa::Msaa;
+    let largest = supported.iter().copied().max().unwrap_or(1);
+    let next_count = supported.iter().copied().find(|&n| n > m.samples);
+    match (m.alpha_to_coverage, next_count) {
+        (true, Some(samples)) => Msaa { samples, alpha_to_coverage: true },
+        (true, None) if largest > 1 => Msaa { samples: largest, alpha_to_coverage: false },
+        _ => Msaa::default(),
+    }
+}
+
 /// T: the LOD bucket view, then the tile view, then the Fresnel term's, then none.
 fn cycle_cull_views(s: &mut crate::render::RenderSettings) {
     (s.debug_lod, s.debug_tiles, s.debug_fresnel) = match (s.debug_lod, s.debug_tiles, s.debug_fresnel) {
@@ -276,9 +300,9 @@ fn culling_state(culling: &crate::render::culling::Culling) -> String {
 }
 
 /// Every key name the viewer acts on (what `key_name` returns), for scripts to check against.
-pub(super) const KEY_NAMES: [&str; 37] = [
+pub(super) const KEY_NAMES: [&str; 38] = [
     "[", "]", "a", "b", "c", "d", "delete", "down", "e", "escape", "f", "f12", "g", "h", "i", "j", "k", "l", "left",
-    "m", "minus", "n", "o", "p", "plus", "q", "right", "s", "shift", "t", "u", "up", "v", "w", "x", "y", "z",
+    "m", "minus", "n", "o", "p", "plus", "q", "r", "right", "s", "shift", "t", "u", "up", "v", "w", "x", "y", "z",
 ];
 
 /// Name of a key as the help and scripts spell it.
@@ -314,6 +338,7 @@ pub(super) fn key_name(code: KeyCode) -> Option<&'static str> {
         KeyCode::KeyZ => "z",
         KeyCode::KeyF => "f",
         KeyCode::KeyP => "p",
+        KeyCode::KeyR => "r",
         KeyCode::F12 => "f12",
         KeyCode::Delete | KeyCode::Backspace => "delete",
         KeyCode::ArrowUp => "up",

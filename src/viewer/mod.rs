@@ -87,6 +87,7 @@ meadow viewer controls
   X               cluster bounds view    T                 LOD / tile / Fresnel view
   O               GPU culling / brute force             Y  LOD on/off
   Z               freeze the culling camera (fly out and look at what it keeps)
+  R               MSAA: off, 4x alpha to coverage, 4x alpha test (the device's counts)
   P               pause time             F12               screenshot
   Esc             quit";
 
