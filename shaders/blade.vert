@@ -30,8 +30,13 @@ layout(push_constant) uniform ClusterPush {
     uint first_blade;
 } cluster_push;
 
-layout(location = 0) out vec2 out_uv;         // u across, v root -> tip
-layout(location = 1) out vec4 out_lit;        // rgb: lit, fogged blade colour before the rim; a: fog transmittance
+// Centroid: with --msaa, a pixel a thin blade covers only at some samples is shaded inside the
+// blade, not at the pixel centre outside it (whose extrapolated u would read the outline's
+// transparent edge and discard every covered sample). Without multisampling it changes nothing.
+layout(location = 0) centroid out vec2 out_uv;         // u across, v root -> tip
+// u at the pixel centre (not centroid): alpha to coverage's footprint across the blade.
+layout(location = 2) out float out_u_center;
+layout(location = 1) centroid out vec4 out_lit;        // rgb: lit, fogged blade colour before the rim; a: fog transmittance
 
 
 // The animated blade at model level `m` (0..MODEL_SEGMENTS): local point, tangent, cos and sin
@@ -151,6 +156,7 @@ void main() {
         // Tail of the last instance: a degenerate point outside the clip volume.
         gl_Position = vec4(2.0, 2.0, 2.0, 1.0);
         out_uv = vec2(0.0);
+        out_u_center = 0.0;
         out_lit = vec4(0.0);
         return;
     }
@@ -238,6 +244,7 @@ void main() {
         }
     }
     out_uv = vec2(side, t);
+    out_u_center = side;
     out_lit = vec4(lit * fog, fog);
     gl_Position = frame.view_proj * vec4(world, 1.0);
 }

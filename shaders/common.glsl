@@ -51,6 +51,7 @@ layout(constant_id = SPEC_MODEL_SEGMENTS) const uint MODEL_SEGMENTS = 4u;
 // subgroup size (`render::passes::cull::workgroup_size`), so a slot's tile tests run once per subgroup;
 // on llvmpipe a 64-wide group ran them 8 times and cost 13 ms more at 1M blades.
 layout(constant_id = SPEC_CULL_GROUP) const uint CULL_GROUP = 64u;
+layout(constant_id = SPEC_MSAA_SAMPLES) const uint MSAA_SAMPLES = 1u;
 const uint STRIP_LEAD = BLADES_PER_INSTANCE > 1u ? 1u : 0u;     // repeats of a strip's first vertex
 const uint STRIP_STRIDE = 2u * (SEGMENTS + 1u) + 2u * STRIP_LEAD; // vertices per blade
 

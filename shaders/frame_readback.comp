@@ -13,7 +13,7 @@ layout(set = 0, binding = 1, std430) writeonly buffer Fields { uint fields[]; };
 layout(constant_id = SPEC_KEYFRAME_UVEC4S) const uint KEYFRAME_UVEC4S = 4096u;
 
 const uint FRAME_WORDS = 136u;     // 544 bytes
-const uint SPEC_WORDS = 12u;       // SPEC_* ids 0..=11
+const uint SPEC_WORDS = 13u;       // SPEC_* ids 0..=12
 
 void put_vec4(inout uint o, vec4 v) {
     for (uint i = 0u; i < 4u; i++) {
@@ -70,6 +70,7 @@ void main() {
     fields[FRAME_WORDS + SPEC_ENCODE_SRGB] = ENCODE_SRGB;
     fields[FRAME_WORDS + SPEC_MODEL_SEGMENTS] = MODEL_SEGMENTS;
     fields[FRAME_WORDS + SPEC_CULL_GROUP] = CULL_GROUP;
+    fields[FRAME_WORDS + SPEC_MSAA_SAMPLES] = MSAA_SAMPLES;
 
     uint s = FRAME_WORDS + SPEC_WORDS;
     fields[s + 0u] = MAX_SEGMENTS;

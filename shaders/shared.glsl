@@ -46,6 +46,7 @@
 #define SPEC_BLADES_PER_INSTANCE 8 // Blades per instance (1: the strip alone, no degenerate joins, no tail test).
 #define SPEC_ENCODE_SRGB 9 // 1 when the shaders encode sRGB (UNORM targets), 0 when the target's format does.
 #define SPEC_CULL_GROUP 11 // Invocations of a cull workgroup: the device's subgroup size, within 8..=64.
+#define SPEC_MSAA_SAMPLES 12 // Samples per pixel of the scene (`--msaa`; 1 without).
 #define SPEC_MODEL_SEGMENTS 10 // Segments of the animation model's levels (`--segments`); `SPEC_SEGMENTS` may be fewer (a LOD bucket).
 
 // `SPEC_RENDER_FLAGS` bits.
@@ -56,7 +57,6 @@
 #define FLAG_DEBUG_LOD 16u // Colour blades by their LOD bucket (`--debug-view lod`).
 #define FLAG_DEBUG_TILES 64u // Colour blades by the tile they belong to (`--debug-view tiles`).
 #define FLAG_DEBUG_FRESNEL 256u // Blades show Belyaev's Fresnel term alone (`--debug-view fresnel`).
-#define FLAG_ALPHA_TO_COVERAGE 512u // `--msaa` with alpha to coverage: the outline's alpha becomes sample coverage, no discard.
 #define FLAG_BLOCKS 128u // A block field (`scene::field`): blades are a stored block's, placed per cell around the origin.
 #define FLAG_SOLID_OUTLINE 32u // Far LOD buckets: the outline tapered in the geometry, no alpha test (early depth writes).
 

@@ -278,6 +278,9 @@ fn bad_bench_arguments_exit_2() {
         &["bench", "--preset", "lod", "--eval", "blade"][..],
         &["bench", "--preset", "lod", "--blades", "1000,2000"][..],
         &["bench", "--preset", "lod", "--segments", "2,4"][..],
+        &["bench", "--preset", "msaa", "--segments", "4"][..],
+        &["bench", "--preset", "msaa", "--blades", "1000,2000"][..],
+        &["bench", "--preset", "msaa", "--modes", "static"][..],
     ] {
         let output = meadow().args(args).output().expect("run");
         assert_eq!(output.status.code(), Some(2), "{args:?}: {}", transcript(&output));

@@ -82,12 +82,14 @@ fn every_supported_count_renders_and_others_are_refused() {
     }
 }
 
-/// The far-field band of a `width`×`height` picture from the default camera: rows from the
-/// hill's outline down to 40 % of the height, where the blades are a pixel wide or less.
+/// The far-field band of a `width`×`height` picture from the default camera: six 8-pixel block
+/// rows from 40 % of the height (at 320×180, just below the hill's outline), where the blades are
+/// a pixel wide or less.
 fn far_band(rgb: &[u8], width: u32, height: u32) -> (Vec<u8>, u32) {
-    let (top, bottom) = (height * 3 / 10, height * 6 / 10);
+    let top = height * 2 / 5 / 8 * 8;
+    let rows = 6 * 8;
     let row = 3 * width as usize;
-    (rgb[top as usize * row..bottom as usize * row].to_vec(), bottom - top)
+    (rgb[top as usize * row..(top + rows) as usize * row].to_vec(), rows)
 }
 
 #[test]
@@ -103,9 +105,11 @@ fn alpha_to_coverage_is_closer_to_a_supersampled_reference() {
     let (w, h) = (320, 180);
     let coverage = shot("a2c.png", &["--size", "320x180"]);
     let alpha_test = shot("alpha-test.png", &["--size", "320x180", "--no-alpha-to-coverage"]);
-    // Reference: twice the resolution, 4 samples, the alpha test (not the method under test),
-    // downsampled in linear light: 16 samples per pixel.
-    let big = shot("reference.png", &["--size", "640x360", "--no-alpha-to-coverage"]);
+    // The reference: twice the resolution with 4 samples, each sample tested against the outline
+    // (16 outline tests per pixel), downsampled in linear light. (An alpha-tested reference would
+    // test the outline once per pixel of the larger picture and keep every sample of the quad:
+    // the alpha test's own bias, at a finer scale.)
+    let big = shot("reference.png", &["--size", "640x360"]);
     let reference = downsample_2x_srgb(&big.rgb, 640, 360);
     let (reference, rows) = far_band(&reference, w, h);
     let error = |p: &Picture| {
@@ -115,4 +119,46 @@ fn alpha_to_coverage_is_closer_to_a_supersampled_reference() {
     let (with, without) = (error(&coverage), error(&alpha_test));
     eprintln!("far field against the reference: alpha to coverage {with:.3} %, alpha test {without:.3} %");
     assert!(with < without, "alpha to coverage {with:.3} % is not closer than the alpha test {without:.3} %");
+    // The far field is drawn, not sky: the comparison has something to compare.
+    let (band, _) = far_band(&coverage.rgb, w, h);
+    let sky = band.chunks_exact(3).filter(|p| p[2] > 200).count();
+    assert!(sky < band.len() / 3 / 4, "{sky} sky pixels in the far-field band");
+}
+
+#[test]
+fn the_msaa_preset_measures_cost_and_a_steadier_pan() {
+    let dir = scratch("bench-msaa");
+    let output = support::meadow()
+        .args(["bench", "--preset", "msaa", "--validation", "--device", support::DEVICE, "--blades", "8000"])
+        .args(["--size", "160x96", "--frames", "1", "--warmup", "0", "--out"])
+        .arg(&dir)
+        .output()
+        .expect("run meadow bench --preset msaa");
+    support::assert_clean(&output);
+    let doc: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("msaa.json")).expect("msaa.json")).expect("JSON");
+    assert_eq!(doc["kind"], "msaa");
+    let rows = doc["rows"].as_array().expect("rows");
+    assert_eq!(rows.len(), 2);
+    for row in rows {
+        let variants = row["variants"].as_array().expect("variants");
+        assert_eq!(variants.len(), 3);
+        assert_eq!(variants[0]["cost_ratio"], 1.0);
+        for v in variants {
+            assert!(v["gpu_ms"]["median"].as_f64().expect("ms") > 0.0, "{v}");
+            // The pan's 12 frames give 11 changes, each a measured, non-zero figure.
+            let changes = v["changes_percent"].as_array().expect("changes");
+            assert_eq!(changes.len(), 11);
+            assert!(changes.iter().all(|c| c.as_f64().expect("number") > 0.0), "{v}");
+        }
+        // Multisampling steadies the pan (the pictures are deterministic, so is this).
+        for v in &variants[1..] {
+            let ratio = v["change_ratio"].as_f64().expect("ratio");
+            assert!(ratio < 0.9, "{}: {}x the single-sampled change", row["label"], ratio);
+        }
+    }
+    let csv = std::fs::read_to_string(dir.join("msaa.csv")).expect("msaa.csv");
+    assert_eq!(csv.lines().count(), 1 + 2 * 3, "{csv}");
+    let crop = image::open(dir.join("msaa-far-field.png")).expect("the crop decodes");
+    assert!(crop.width() > 3 * 160 / 8 * 3 && crop.height() > 2 * 96 / 9 * 3, "{}x{}", crop.width(), crop.height());
 }

@@ -186,7 +186,8 @@ pub(crate) struct ViewArgs {
 #[derive(Args)]
 pub(crate) struct BenchArgs {
     /// thesis: the 15 rows of Table 6.2 at 1280x720; quick: a small smoke matrix; lod: brute force
-    /// against the GPU-driven cull and LOD on a 1M-blade field from four cameras.
+    /// against the GPU-driven cull and LOD on a 1M-blade field from four cameras; msaa: the cost
+    /// and the temporal stability (a slow pan) of --msaa with and without alpha to coverage.
     #[arg(long, value_enum, default_value = "quick")]
     pub(crate) preset: PresetArg,
     /// Blade counts (comma-separated), replacing the preset's (lod: one, the stored field's).
@@ -210,7 +211,8 @@ pub(crate) struct BenchArgs {
     /// Frames per variant measured.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=10_000))]
     pub(crate) frames: Option<u32>,
-    /// Directory for bench.json, bench.csv and bench.png (lod: lod.json, lod.csv and lod.png).
+    /// Directory for bench.json, bench.csv and bench.png (lod: lod.json, lod.csv and lod.png;
+    /// msaa: msaa.json, msaa.csv and msaa-far-field.png).
     #[arg(long, default_value = "bench-out")]
     pub(crate) out: PathBuf,
     /// Compare two bench.json files instead of measuring; exit 1 on a regression.
@@ -285,6 +287,7 @@ pub(crate) enum PresetArg {
     Thesis,
     Quick,
     Lod,
+    Msaa,
 }
 
 #[derive(Clone, Copy, ValueEnum)]

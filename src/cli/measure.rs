@@ -108,6 +108,7 @@ pub(crate) fn bench(args: BenchArgs) -> crate::Result<(u8, Option<u64>)> {
         PresetArg::Thesis => bench::BenchOptions::thesis(args.out.clone()),
         PresetArg::Quick => bench::BenchOptions::quick(args.out.clone()),
         PresetArg::Lod => return lod(args),
+        PresetArg::Msaa => return msaa(args),
     };
     let preset_blades: Vec<u32> = options.rows.iter().map(|r| r.0).collect();
     let preset_segments: Vec<u32> = options.rows.iter().map(|r| r.1).collect();
@@ -181,6 +182,47 @@ fn lod(args: BenchArgs) -> crate::Result<(u8, Option<u64>)> {
         |doc| {
             print!("{}", lod::table(&doc));
             println!("wrote {}/lod.json, lod.csv and lod.png", options.out.display());
+        },
+    ))
+}
+
+/// `meadow bench --preset msaa`: the default scene's blade count (one), size, warm-up and
+/// frames can be changed; modes, evaluation placements and segment counts cannot.
+fn msaa(args: BenchArgs) -> crate::Result<(u8, Option<u64>)> {
+    use crate::harness::bench::msaa::{self, MsaaBenchOptions};
+    use crate::Error;
+    for (given, flag) in [
+        (!args.modes.is_empty(), "--modes"),
+        (!args.eval.is_empty(), "--eval"),
+        (!args.segments.is_empty(), "--segments"),
+    ] {
+        if given {
+            return Err(Error::bad_input(format!(
+                "{flag} does not apply to --preset msaa: it renders the default scene"
+            )));
+        }
+    }
+    let mut options = MsaaBenchOptions::preset(args.out.clone());
+    match args.blades.as_slice() {
+        [] => {}
+        &[blades] => options.blades = blades,
+        _ => return Err(Error::bad_input("--preset msaa takes one --blades count")),
+    }
+    options.size = args.size.unwrap_or(options.size);
+    options.warmup = args.warmup.unwrap_or(options.warmup);
+    options.frames = args.frames.unwrap_or(options.frames);
+    Ok(measure(
+        &args.gpu,
+        "frames",
+        &options.out,
+        |device, progress| {
+            let run = msaa::run(device, &options, progress)?;
+            msaa::write(&run, &options.out)?;
+            Ok(run.doc)
+        },
+        |doc| {
+            print!("{}", msaa::table(&doc));
+            println!("wrote {}/msaa.json, msaa.csv and msaa-far-field.png", options.out.display());
         },
     ))
 }

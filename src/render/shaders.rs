@@ -10,6 +10,8 @@ macro_rules! spirv {
 pub const BLADE_VERT: &[u8] = spirv!("blade.vert");
 /// Blade fragment shader (alpha test, lighting).
 pub const BLADE_FRAG: &[u8] = spirv!("blade.frag");
+/// Blade fragment shader with `--msaa` and alpha to coverage: the outline's coverage per sample.
+pub const BLADE_COVERAGE_FRAG: &[u8] = spirv!("blade_coverage.frag");
 /// Terrain vertex shader (height-field pulling).
 pub const TERRAIN_VERT: &[u8] = spirv!("terrain.vert");
 /// Terrain fragment shader.

@@ -10,7 +10,7 @@ pub use crate::render::gpu_constants::{
 };
 
 /// Number of specialization constants, one per `SPEC_*` id of `shaders/shared.glsl`.
-pub const COUNT: usize = 12;
+pub const COUNT: usize = 13;
 
 /// The constants; each field's `constant_id` is the `SPEC_*` named in its doc (`Self::pairs`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -40,6 +40,8 @@ pub struct Specialization {
     pub model_segments: u32,
     /// `SPEC_CULL_GROUP`: invocations of a cull workgroup (`passes::cull::workgroup_size`).
     pub cull_group: u32,
+    /// `SPEC_MSAA_SAMPLES`: samples per pixel of the scene (`--msaa`).
+    pub msaa_samples: u32,
 }
 
 impl Specialization {
@@ -74,6 +76,7 @@ impl Specialization {
             encode_srgb: u32::from(encode_srgb),
             model_segments: segments,
             cull_group: 64,
+            msaa_samples: 1,
         }
     }
 
@@ -92,6 +95,7 @@ impl Specialization {
             (gpu::SPEC_ENCODE_SRGB, self.encode_srgb),
             (gpu::SPEC_MODEL_SEGMENTS, self.model_segments),
             (gpu::SPEC_CULL_GROUP, self.cull_group),
+            (gpu::SPEC_MSAA_SAMPLES, self.msaa_samples),
         ]
     }
 
@@ -121,6 +125,7 @@ const IDS: [u32; COUNT] = [
     gpu::SPEC_ENCODE_SRGB,
     gpu::SPEC_MODEL_SEGMENTS,
     gpu::SPEC_CULL_GROUP,
+    gpu::SPEC_MSAA_SAMPLES,
 ];
 
 /// Whether `ids` is a permutation of `0..COUNT`: dense, so `constants()` fills every slot.
@@ -159,6 +164,7 @@ mod tests {
             encode_srgb: 109,
             model_segments: 110,
             cull_group: 111,
+            msaa_samples: 112,
         };
         assert_eq!(spec.pairs().map(|(id, _)| id), IDS);
         let constants = spec.constants();

@@ -18,6 +18,7 @@ use crate::vk::Device;
 
 mod compare;
 pub mod lod;
+pub mod msaa;
 mod report;
 
 pub use compare::{compare, load};

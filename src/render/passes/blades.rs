@@ -116,21 +116,18 @@ impl BladePass {
     }
 
     /// The blade pipeline (two-sided blades: no culling) for `constants`. With alpha to coverage
-    /// (`--msaa`), an alpha-tested outline turns its alpha into sample coverage instead of
-    /// discarding (`FLAG_ALPHA_TO_COVERAGE`); an outline drawn as geometry has no alpha to use.
+    /// (`--msaa`), an alpha-tested outline is shaded by `blade_coverage.frag`, which writes the
+    /// outline's coverage of each sample as the sample mask; an outline drawn as geometry has no
+    /// alpha test to replace.
     fn pipeline(device: &Device, target: PipelineTarget, constants: &[u32], name: &str) -> Result<vk::Pipeline> {
         let flags = constants[gpu::SPEC_RENDER_FLAGS as usize];
-        let alpha_to_coverage = target.alpha_to_coverage && flags & gpu::FLAG_SOLID_OUTLINE == 0;
-        let mut constants = constants.to_vec();
-        if alpha_to_coverage {
-            constants[gpu::SPEC_RENDER_FLAGS as usize] |= gpu::FLAG_ALPHA_TO_COVERAGE;
-        }
+        let per_sample = target.alpha_to_coverage && flags & gpu::FLAG_SOLID_OUTLINE == 0;
         pipeline::graphics(
             device,
             &pipeline::GraphicsDesc {
                 name,
                 vertex: shaders::BLADE_VERT,
-                fragment: shaders::BLADE_FRAG,
+                fragment: if per_sample { shaders::BLADE_COVERAGE_FRAG } else { shaders::BLADE_FRAG },
                 topology: vk::PrimitiveTopology::TRIANGLE_STRIP,
                 cull: vk::CullModeFlags::NONE,
                 polygon: target.polygon,
@@ -138,10 +135,10 @@ impl BladePass {
                 color_format: target.color,
                 depth_format: target.depth,
                 layout: target.layout,
-                constants: &constants,
+                constants,
                 vertex_stride: 0,
                 samples: target.samples,
-                alpha_to_coverage,
+                alpha_to_coverage: false,
             },
         )
     }

@@ -83,6 +83,7 @@ impl Renderer {
             // Multisampled, the scene is drawn in linear light; the resolve pass encodes.
             settings.encode_srgb && !settings.msaa.enabled(),
         );
+        specialization.msaa_samples = settings.msaa.samples;
         if settings.debug_lod {
             specialization.flags |= crate::render::specialization::FLAG_DEBUG_LOD;
         }
