@@ -58,10 +58,18 @@ pub fn supported_counts(device: &Device) -> Vec<u32> {
     multisample::supported_counts(device, &attachments())
 }
 
-/// Refuse a sample count the device does not support for the formats in use (bad input).
+/// Refuse a sample count the device does not support for the formats in use (bad input), and
+/// alpha to coverage where the samples are not at the standard locations its shader tests
+/// (`blade_coverage.frag`).
 pub fn check(device: &Device, msaa: &Msaa) -> Result<()> {
     let supported = supported_counts(device);
     if supported.contains(&msaa.samples) {
+        if msaa.enabled() && msaa.alpha_to_coverage && device.limits().standard_sample_locations == vk::FALSE {
+            return Err(Error::BadInput(format!(
+                "--msaa {}: {} does not place samples at the standard locations alpha to coverage tests; add --no-alpha-to-coverage",
+                msaa.samples, device.info.name
+            )));
+        }
         return Ok(());
     }
     let list: Vec<String> = supported.iter().map(u32::to_string).collect();
