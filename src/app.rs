@@ -209,6 +209,23 @@ pub struct RenderReport {
     pub budget: Option<(f32, f32)>,
     /// A block field's size and density (`None`: `blades` stored blades).
     pub field: Option<crate::scene::field::FieldSpec>,
+    /// What the device made the renderer do differently from the options (a fallback).
+    pub notes: Vec<String>,
+}
+
+/// One line per setting the device made the renderer change (`Renderer::new`'s fallbacks).
+fn fallback_notes(device: &Device, asked: &AnimationSettings, used: &AnimationSettings) -> Vec<String> {
+    use crate::render::animation::keyframe_gpu::texture_format;
+    let mut notes = Vec::new();
+    if asked.mode == crate::render::animation::Mode::Texture && asked.encoding != used.encoding {
+        notes.push(format!(
+            "{} cannot sample {:?}: keyframes encoded {:?} instead",
+            device.info.name,
+            texture_format(asked.encoding),
+            used.encoding
+        ));
+    }
+    notes
 }
 
 /// Check the picture size and blade count against the device before allocating anything.
@@ -348,6 +365,7 @@ pub fn render(device: &Arc<Device>, options: &RenderOptions) -> Result<RenderRep
         Ok(frames)
     })();
     let triangles = renderer.triangles();
+    let notes = fallback_notes(device, &options.animation, renderer.animation());
     drop(renderer);
     // SAFETY: render_offscreen waited for its fence; nothing else uses the target.
     unsafe { target.destroy(device) };
@@ -363,6 +381,7 @@ pub fn render(device: &Arc<Device>, options: &RenderOptions) -> Result<RenderRep
         size: options.size,
         budget: options.budget_ms.zip(frames_scale),
         field: options.field,
+        notes,
     })
 }
 

@@ -118,5 +118,8 @@ fn print_render(report: &RenderReport) {
         let mut gpu: Vec<f64> = report.frames.iter().map(|f| f.gpu_ms).collect();
         println!("gpu median over {} frames: {:.3} ms", gpu.len(), app::median(&mut gpu));
     }
+    for note in &report.notes {
+        println!("note: {note}");
+    }
     println!("wrote {} ({}x{})", report.out.display(), report.size.0, report.size.1);
 }

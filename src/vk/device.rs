@@ -83,6 +83,14 @@ fn enabled_features(instance: &Instance, physical: vk::PhysicalDevice, name: &st
     if supported13.synchronization2 == vk::FALSE || supported13.dynamic_rendering == vk::FALSE {
         return Err(Error::Environment(format!("{name} lacks synchronization2 or dynamic rendering")));
     }
+    // The depth-only layouts (DEPTH_ATTACHMENT_OPTIMAL, DEPTH_READ_ONLY_OPTIMAL) need it; Vulkan
+    // 1.2 requires every device to support it, so a device without it is refused.
+    let hidden = super::capabilities::hidden()?;
+    if supported12.separate_depth_stencil_layouts == vk::FALSE || hidden.separate_depth_stencil_layouts {
+        return Err(Error::Environment(format!(
+            "{name} lacks separateDepthStencilLayouts (the depth-only image layouts meadow uses)"
+        )));
+    }
     let core = vk::PhysicalDeviceFeatures {
         pipeline_statistics_query: supported.pipeline_statistics_query,
         multi_draw_indirect: supported.multi_draw_indirect,
@@ -120,8 +128,9 @@ fn create_logical(
     extensions: &[*const std::ffi::c_char],
 ) -> Result<ash::Device> {
     let mut features13 = vk::PhysicalDeviceVulkan13Features::default().synchronization2(true).dynamic_rendering(true);
-    let mut features12 =
-        vk::PhysicalDeviceVulkan12Features::default().draw_indirect_count(features.draw_indirect_count);
+    let mut features12 = vk::PhysicalDeviceVulkan12Features::default()
+        .draw_indirect_count(features.draw_indirect_count)
+        .separate_depth_stencil_layouts(true);
     let mut features2 = vk::PhysicalDeviceFeatures2::default()
         .features(features.core)
         .push_next(&mut features12)
@@ -165,7 +174,7 @@ impl Device {
         let queue_family = chosen.queue_family.expect("usable devices have a queue family");
 
         // SAFETY: physical comes from this instance.
-        let (properties, memory, families) = unsafe {
+        let (mut properties, memory, families) = unsafe {
             (
                 instance.raw.get_physical_device_properties(physical),
                 instance.raw.get_physical_device_memory_properties(physical),
@@ -173,6 +182,7 @@ impl Device {
             )
         };
         let features = enabled_features(&instance, physical, &chosen.info.name)?;
+        super::capabilities::hidden()?.limit(&mut properties.limits);
         let mut subgroup = vk::PhysicalDeviceSubgroupProperties::default();
         let mut properties2 = vk::PhysicalDeviceProperties2::default().push_next(&mut subgroup);
         // SAFETY: physical comes from this Vulkan 1.1+ instance; the chain is valid.
@@ -223,9 +233,19 @@ impl Device {
         Ok(Arc::new(device))
     }
 
-    /// Core device limits.
+    /// Core device limits (as `MEADOW_HIDE` leaves them).
     pub fn limits(&self) -> &vk::PhysicalDeviceLimits {
         &self.properties.limits
+    }
+
+    /// What `format` supports with optimal tiling (nothing when `MEADOW_HIDE` hides it).
+    pub fn format_features(&self, format: vk::Format) -> vk::FormatFeatureFlags {
+        if super::capabilities::hidden().is_ok_and(|h| h.hides(format)) {
+            return vk::FormatFeatureFlags::empty();
+        }
+        // SAFETY: valid physical device and format.
+        unsafe { self.instance.raw.get_physical_device_format_properties(self.physical, format) }
+            .optimal_tiling_features
     }
 
     /// Size of the largest device-local heap.

@@ -3,6 +3,7 @@
 //! before destroying.
 
 pub mod buffer;
+pub mod capabilities;
 pub mod commands;
 pub mod debug;
 pub mod descriptor;

@@ -43,6 +43,9 @@ pub fn supported_counts(device: &Device, attachments: &[AttachmentUse]) -> Vec<u
             )
         };
         mask &= properties.map_or(vk::SampleCountFlags::TYPE_1, |p| p.sample_counts);
+        if device.format_features(attachment.format).is_empty() {
+            mask = vk::SampleCountFlags::TYPE_1;
+        }
     }
     (0..7).map(|bit| 1u32 << bit).filter(|&n| n == 1 || mask.contains(vk::SampleCountFlags::from_raw(n))).collect()
 }

@@ -31,6 +31,18 @@ pub fn texture_format(encoding: Encoding) -> vk::Format {
     }
 }
 
+/// The encoding a keyframe texture can use on `device`: `encoding` when its format can be
+/// sampled, else rgba8x2 (R8G8B8A8_UNORM, whose sampling every device supports). The default
+/// unorm16 samples R16G16B16A16_UNORM, which the specification does not require.
+pub fn sampled_encoding(device: &Device, encoding: Encoding) -> Encoding {
+    let features = device.format_features(texture_format(encoding));
+    if features.contains(vk::FormatFeatureFlags::SAMPLED_IMAGE) {
+        encoding
+    } else {
+        Encoding::Rgba8x2
+    }
+}
+
 impl KeyframeTexture {
     /// Rows the table for `poses` needs, checked against the device before generating it (and
     /// against the 16-bit row fields of `--eval blade` pose records).

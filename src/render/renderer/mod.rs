@@ -66,6 +66,7 @@ impl Renderer {
         if scene.field.is_some() {
             crate::render::settings::check_field(&settings)?;
         }
+        let animation = for_device(&device, animation);
         let mut renderer = Self {
             device: device.clone(),
             settings,
@@ -101,6 +102,7 @@ impl Renderer {
     /// statistics, cluster size) needs a new renderer: refused. On failure the renderer keeps
     /// its previous passes and model.
     pub fn rebuild(&mut self, scene: &Scene, settings: RenderSettings, animation: AnimationSettings) -> Result<()> {
+        let animation = for_device(&self.device, animation);
         let (old, device) = (&self.settings, self.device.clone());
         let same_frames = (old.frames_in_flight, old.color_format, old.pipeline_statistics, old.encode_srgb)
             == (settings.frames_in_flight, settings.color_format, settings.pipeline_statistics, settings.encode_srgb);
@@ -463,6 +465,13 @@ impl Renderer {
         self.graph.set_states(entry);
         recorded
     }
+}
+
+/// `animation` as `device` can run it: a keyframe texture whose format the device cannot sample
+/// falls back to one it can (`keyframe_gpu::sampled_encoding`; `Renderer::animation` tells).
+fn for_device(device: &Device, mut animation: AnimationSettings) -> AnimationSettings {
+    animation.encoding = crate::render::animation::keyframe_gpu::sampled_encoding(device, animation.encoding);
+    animation
 }
 
 impl Drop for Renderer {

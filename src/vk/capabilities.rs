@@ -1,0 +1,92 @@
+//! A capability mask for the tests: `MEADOW_HIDE` hides what lavapipe has and other devices may
+//! lack, so that every fallback and refusal runs here. A comma-separated list of:
+//!
+//! - `separateDepthStencilLayouts`: the Vulkan 1.2 feature is reported unsupported;
+//! - `maxPerStageDescriptorStorageBuffers=N`: the limit reads N;
+//! - `format:NAME` (e.g. `format:R16G16B16A16_UNORM`): the format reports no features.
+//!
+//! Read once per process. An entry meadow does not know is refused (a typo must not pass as a
+//! mask that hides nothing).
+
+use std::sync::OnceLock;
+
+use ash::vk;
+
+use crate::error::{Error, Result};
+
+/// What `MEADOW_HIDE` hides.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Hidden {
+    /// `separateDepthStencilLayouts` reads unsupported.
+    pub separate_depth_stencil_layouts: bool,
+    /// `maxPerStageDescriptorStorageBuffers` reads this.
+    pub max_storage_buffers: Option<u32>,
+    /// Formats that report no features.
+    pub formats: Vec<vk::Format>,
+}
+
+/// Formats a mask may name: those meadow queries before use (the default keyframe texture's,
+/// the multisampled scene colour's).
+const FORMATS: [(&str, vk::Format); 2] =
+    [("R16G16B16A16_UNORM", vk::Format::R16G16B16A16_UNORM), ("R16G16B16A16_SFLOAT", vk::Format::R16G16B16A16_SFLOAT)];
+
+impl Hidden {
+    /// Parse a mask.
+    pub fn parse(text: &str) -> Result<Self> {
+        let mut hidden = Self::default();
+        for entry in text.split(',').map(str::trim).filter(|e| !e.is_empty()) {
+            let unknown = || Error::Environment(format!("MEADOW_HIDE: unknown entry '{entry}'"));
+            if entry == "separateDepthStencilLayouts" {
+                hidden.separate_depth_stencil_layouts = true;
+            } else if let Some(n) = entry.strip_prefix("maxPerStageDescriptorStorageBuffers=") {
+                hidden.max_storage_buffers = Some(n.parse().map_err(|_| unknown())?);
+            } else if let Some(name) = entry.strip_prefix("format:") {
+                let (_, format) = FORMATS.iter().find(|(n, _)| *n == name).ok_or_else(unknown)?;
+                hidden.formats.push(*format);
+            } else {
+                return Err(unknown());
+            }
+        }
+        Ok(hidden)
+    }
+
+    /// Apply the limit override to `limits`.
+    pub fn limit(&self, limits: &mut vk::PhysicalDeviceLimits) {
+        if let Some(n) = self.max_storage_buffers {
+            limits.max_per_stage_descriptor_storage_buffers = n;
+        }
+    }
+
+    /// Whether `format` is hidden.
+    pub fn hides(&self, format: vk::Format) -> bool {
+        self.formats.contains(&format)
+    }
+}
+
+/// The process's mask (`MEADOW_HIDE`; empty when unset).
+pub fn hidden() -> Result<&'static Hidden> {
+    static HIDDEN: OnceLock<std::result::Result<Hidden, String>> = OnceLock::new();
+    let parsed = HIDDEN
+        .get_or_init(|| Hidden::parse(&std::env::var("MEADOW_HIDE").unwrap_or_default()).map_err(|e| e.to_string()));
+    parsed.as_ref().map_err(|e| Error::Environment(e.clone()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn parses_every_kind_of_entry_and_refuses_unknown_ones() {
+        let h = Hidden::parse(
+            "separateDepthStencilLayouts, maxPerStageDescriptorStorageBuffers=4,format:R16G16B16A16_SFLOAT",
+        )
+        .expect("valid");
+        assert!(h.separate_depth_stencil_layouts);
+        assert_eq!(h.max_storage_buffers, Some(4));
+        assert!(h.hides(vk::Format::R16G16B16A16_SFLOAT) && !h.hides(vk::Format::R16G16B16A16_UNORM));
+        assert_eq!(Hidden::parse("").expect("empty"), Hidden::default());
+        for bad in ["timestampz", "format:D32_SFLOAT", "maxPerStageDescriptorStorageBuffers=four"] {
+            assert!(Hidden::parse(bad).is_err(), "{bad}");
+        }
+    }
+}

@@ -1,0 +1,71 @@
+//! What lavapipe has and other devices may lack, hidden by the capability mask (`MEADOW_HIDE`,
+//! `vk::capabilities`), through the binary: each fallback renders, each refusal is one clear
+//! line with its exit code, validation-clean.
+
+mod support;
+
+use std::process::Output;
+
+use meadow::imagediff::box_filtered_difference;
+use support::{meadow, scratch, transcript, Picture};
+
+const SCENE: [&str; 6] = ["--blades", "3000", "--size", "160x96", "--mode", "texture"];
+
+/// `meadow render --validation SCENE extra --out out` with `MEADOW_HIDE=hide`.
+fn render_hiding(hide: &str, extra: &[&str], out: &std::path::Path) -> Output {
+    meadow()
+        .env("MEADOW_HIDE", hide)
+        .args(["render", "--validation", "--device", support::DEVICE])
+        .args(SCENE)
+        .args(extra)
+        .arg("--out")
+        .arg(out)
+        .output()
+        .expect("run meadow")
+}
+
+#[test]
+fn keyframes_fall_back_to_a_format_the_device_can_sample() {
+    let dir = scratch("portability-format");
+    let (hidden, normal) = (dir.join("hidden.png"), dir.join("normal.png"));
+    let output = render_hiding("format:R16G16B16A16_UNORM", &[], &hidden);
+    support::assert_clean(&output);
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(
+        stdout.contains("cannot sample R16G16B16A16_UNORM: keyframes encoded Rgba8x2 instead"),
+        "{}",
+        transcript(&output)
+    );
+    let output = render_hiding("", &[], &normal);
+    support::assert_clean(&output);
+    assert!(!String::from_utf8_lossy(&output.stdout).contains("note:"), "{}", transcript(&output));
+    // The 8-bit pair encodes the same poses to within its rounding: the same picture, nearly.
+    let (a, b) = (Picture::load(&hidden), Picture::load(&normal));
+    let diff = box_filtered_difference(&a.rgb, &b.rgb, a.width, a.height, 8);
+    assert!(diff.mean_percent < 0.5, "{diff:?}");
+}
+
+#[test]
+fn missing_features_limits_and_formats_are_refused_in_one_line() {
+    let dir = scratch("portability-refusals");
+    let cases: [(&str, &[&str], i32, &str); 4] = [
+        ("separateDepthStencilLayouts", &[], 1, "lacks separateDepthStencilLayouts"),
+        ("maxPerStageDescriptorStorageBuffers=4", &[], 1, "allows 4 storage buffers per shader stage"),
+        ("format:R16G16B16A16_SFLOAT", &["--msaa", "4"], 2, "supported: 1"),
+        ("timestampz", &[], 1, "MEADOW_HIDE: unknown entry 'timestampz'"),
+    ];
+    for (hide, extra, code, message) in cases {
+        let out = dir.join("refused.png");
+        let output = render_hiding(hide, extra, &out);
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(code), "{hide}: {}", transcript(&output));
+        let errors: Vec<&str> = stderr.lines().filter(|l| l.starts_with("error: ")).collect();
+        assert_eq!(errors.len(), 1, "{hide}: {stderr}");
+        assert!(errors[0].contains(message), "{hide}: {stderr}");
+        assert!(transcript(&output).contains("validation: 0 messages"), "{hide}: {}", transcript(&output));
+        assert!(!out.exists(), "{hide}: a refused render wrote {}", out.display());
+    }
+    // Without the mask, multisampling is there: the refusal above came from the mask.
+    let output = render_hiding("", &["--msaa", "4"], &dir.join("msaa.png"));
+    support::assert_clean(&output);
+}
