@@ -213,6 +213,17 @@ pub struct RenderReport {
     pub notes: Vec<String>,
 }
 
+/// `--budget-ms` steers by the measured GPU time: refused on a queue without timestamps.
+pub fn check_timestamps_for_budget(device: &Device, budget_ms: Option<f32>) -> Result<()> {
+    match budget_ms.is_some() && !device.has_timestamps() {
+        true => Err(Error::Environment(format!(
+            "--budget-ms needs GPU timestamps, which {} cannot write on its queue",
+            device.info.name
+        ))),
+        false => Ok(()),
+    }
+}
+
 /// One line per setting the device made the renderer change (`Renderer::new`'s fallbacks).
 fn fallback_notes(device: &Device, asked: &AnimationSettings, used: &AnimationSettings) -> Vec<String> {
     use crate::render::animation::keyframe_gpu::texture_format;
@@ -335,6 +346,7 @@ pub fn render(device: &Arc<Device>, options: &RenderOptions) -> Result<RenderRep
         culled,
     )?;
     options.check_clusters()?;
+    check_timestamps_for_budget(device, options.budget_ms)?;
     if options.budget_ms.is_some() && !options.culling.enabled {
         return Err(Error::bad_input("--budget-ms sets the LOD scale of the GPU-driven path: drop --brute-force"));
     }

@@ -69,3 +69,37 @@ fn missing_features_limits_and_formats_are_refused_in_one_line() {
     let output = render_hiding("", &["--msaa", "4"], &dir.join("msaa.png"));
     support::assert_clean(&output);
 }
+
+#[test]
+fn without_timestamps_render_says_unavailable_and_the_measuring_commands_refuse() {
+    let dir = scratch("portability-timestamps");
+    let out = dir.join("untimed.png");
+    let output = render_hiding("timestamps", &["--frames", "2"], &out);
+    support::assert_clean(&output);
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(stdout.contains("gpu: unavailable (") && !stdout.contains("gpu median"), "{}", transcript(&output));
+    assert!(out.exists());
+    // With timestamps, the same render measures its passes.
+    let output = render_hiding("", &["--frames", "2"], &dir.join("timed.png"));
+    assert!(String::from_utf8_lossy(&output.stdout).contains("gpu median over 2 frames"), "{}", transcript(&output));
+    let measuring: [&[&str]; 4] = [
+        &["bench", "--preset", "quick"],
+        &["overhead", "--blades", "1000"],
+        &["timing", "--blades", "1000", "--frames", "1"],
+        &["render", "--blades", "1000", "--budget-ms", "10"],
+    ];
+    for args in measuring {
+        let target = dir.join("refused");
+        let output = meadow()
+            .env("MEADOW_HIDE", "timestamps")
+            .args(args)
+            .args(["--device", support::DEVICE, "--out"])
+            .arg(&target)
+            .output()
+            .expect("run meadow");
+        assert_eq!(output.status.code(), Some(1), "{args:?}: {}", transcript(&output));
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert!(stderr.starts_with("error: ") && stderr.contains("timestamps"), "{args:?}: {stderr}");
+        assert!(!target.exists(), "{args:?} left {}", target.display());
+    }
+}

@@ -99,7 +99,11 @@ fn print_render(report: &RenderReport) {
         println!("cull: {}", cull.summary());
     }
     let passes: Vec<String> = last.passes.iter().map(|p| format!("{} {:.3} ms", p.name, p.ms)).collect();
-    println!("gpu: {:.3} ms ({}); read-back copy {:.3} ms", last.gpu_ms, passes.join(", "), last.readback_ms);
+    if last.gpu_available {
+        println!("gpu: {:.3} ms ({}); read-back copy {:.3} ms", last.gpu_ms, passes.join(", "), last.readback_ms);
+    } else {
+        println!("gpu: unavailable ({} writes no timestamps on its queue)", report.device.name);
+    }
     let cpu = last.cpu_record_ms + last.cpu_submit_ms + last.cpu_wait_ms;
     println!(
         "cpu: {cpu:.3} ms (record {:.3} ms, submit {:.3} ms, wait {:.3} ms); setup {:.0} ms",
@@ -114,7 +118,7 @@ fn print_render(report: &RenderReport) {
             app::median(&mut last)
         );
     }
-    if report.frames.len() > 1 {
+    if report.frames.len() > 1 && last.gpu_available {
         let mut gpu: Vec<f64> = report.frames.iter().map(|f| f.gpu_ms).collect();
         println!("gpu median over {} frames: {:.3} ms", gpu.len(), app::median(&mut gpu));
     }

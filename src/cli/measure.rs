@@ -27,6 +27,12 @@ pub(crate) fn measure<T>(
         bar
     });
     let (result, validation) = app::with_device(&gpu.options(), false, |device| {
+        if !device.has_timestamps() {
+            return Err(crate::Error::Environment(format!(
+                "{} cannot write timestamps on its queue: GPU times cannot be measured",
+                device.info.name
+            )));
+        }
         app::output::write_set(out, || {
             run(device, &mut |done, total| {
                 if let Some(bar) = &bar {

@@ -280,6 +280,7 @@ impl Viewer {
     /// Build the renderer for `animation` and the current settings, after the shared checks.
     fn build_renderer(&mut self, animation: crate::render::animation::AnimationSettings) -> Result<()> {
         self.check_scene(self.scene.blades.len() as u32, &animation)?;
+        crate::app::check_timestamps_for_budget(&self.device, self.options.scene.budget_ms)?;
         self.renderer = Some(Renderer::new(self.device.clone(), &self.scene, self.settings, animation)?);
         Ok(())
     }

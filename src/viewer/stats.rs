@@ -14,6 +14,8 @@ pub(super) struct Stats {
     frames: u32,
     cpu_ms: f64,
     gpu_ms: f64,
+    /// Whether the last frame's GPU times were measured (the queue writes timestamps).
+    gpu_available: bool,
     passes: Vec<(&'static str, f64)>,
     /// The cull's counts of the last frame read back, if the cull ran.
     cull: Option<crate::render::culling::CullCounts>,
@@ -28,6 +30,7 @@ impl Stats {
             frames: 0,
             cpu_ms: 0.0,
             gpu_ms: 0.0,
+            gpu_available: true,
             passes: Vec::new(),
             cull: None,
             last: String::new(),
@@ -38,6 +41,7 @@ impl Stats {
         self.frames += 1;
         self.cpu_ms += t.cpu_record_ms + t.cpu_submit_ms + t.cpu_wait_ms;
         self.gpu_ms += t.gpu_ms;
+        self.gpu_available = t.gpu_available;
         self.cull = t.cull;
         for p in &t.passes {
             match self.passes.iter_mut().find(|(n, _)| *n == p.name) {
@@ -59,13 +63,11 @@ impl Stats {
             Some(cull) => format!("cull: {}", cull.summary()),
             None => format!("{blades} blades, {triangles} triangles (brute force)"),
         };
-        self.last = format!(
-            "{:.1} fps, cpu {:.2} ms, gpu {:.2} ms ({}), {drawn}, {device}",
-            n / elapsed,
-            self.cpu_ms / n,
-            self.gpu_ms / n,
-            passes.join(", ")
-        );
+        let gpu = match self.gpu_available {
+            true => format!("gpu {:.2} ms ({})", self.gpu_ms / n, passes.join(", ")),
+            false => "gpu unavailable (no timestamps)".to_string(),
+        };
+        self.last = format!("{:.1} fps, cpu {:.2} ms, {gpu}, {drawn}, {device}", n / elapsed, self.cpu_ms / n);
         window.set_title(&format!("meadow - {}", self.last));
         if self.since_print.elapsed() >= Duration::from_secs(3) {
             println!("stats: {}", self.last);

@@ -2,6 +2,7 @@
 //! lack, so that every fallback and refusal runs here. A comma-separated list of:
 //!
 //! - `separateDepthStencilLayouts`: the Vulkan 1.2 feature is reported unsupported;
+//! - `timestamps`: the queue family's `timestampValidBits` reads 0;
 //! - `maxPerStageDescriptorStorageBuffers=N`: the limit reads N;
 //! - `format:NAME` (e.g. `format:R16G16B16A16_UNORM`): the format reports no features.
 //!
@@ -19,6 +20,8 @@ use crate::error::{Error, Result};
 pub struct Hidden {
     /// `separateDepthStencilLayouts` reads unsupported.
     pub separate_depth_stencil_layouts: bool,
+    /// `timestampValidBits` reads 0.
+    pub timestamps: bool,
     /// `maxPerStageDescriptorStorageBuffers` reads this.
     pub max_storage_buffers: Option<u32>,
     /// Formats that report no features.
@@ -38,6 +41,8 @@ impl Hidden {
             let unknown = || Error::Environment(format!("MEADOW_HIDE: unknown entry '{entry}'"));
             if entry == "separateDepthStencilLayouts" {
                 hidden.separate_depth_stencil_layouts = true;
+            } else if entry == "timestamps" {
+                hidden.timestamps = true;
             } else if let Some(n) = entry.strip_prefix("maxPerStageDescriptorStorageBuffers=") {
                 hidden.max_storage_buffers = Some(n.parse().map_err(|_| unknown())?);
             } else if let Some(name) = entry.strip_prefix("format:") {
@@ -78,10 +83,10 @@ mod tests {
     #[test]
     fn parses_every_kind_of_entry_and_refuses_unknown_ones() {
         let h = Hidden::parse(
-            "separateDepthStencilLayouts, maxPerStageDescriptorStorageBuffers=4,format:R16G16B16A16_SFLOAT",
+            "separateDepthStencilLayouts, timestamps, maxPerStageDescriptorStorageBuffers=4,format:R16G16B16A16_SFLOAT",
         )
         .expect("valid");
-        assert!(h.separate_depth_stencil_layouts);
+        assert!(h.separate_depth_stencil_layouts && h.timestamps);
         assert_eq!(h.max_storage_buffers, Some(4));
         assert!(h.hides(vk::Format::R16G16B16A16_SFLOAT) && !h.hides(vk::Format::R16G16B16A16_UNORM));
         assert_eq!(Hidden::parse("").expect("empty"), Hidden::default());

@@ -225,12 +225,21 @@ impl Device {
             debug_utils,
             queue,
             queue_family,
-            timestamp_valid_bits: families[queue_family as usize].timestamp_valid_bits,
+            timestamp_valid_bits: match super::capabilities::hidden()?.timestamps {
+                true => 0,
+                false => families[queue_family as usize].timestamp_valid_bits,
+            },
             subgroup_size,
             allocator: ManuallyDrop::new(Mutex::new(allocator)),
         };
         device.set_name(device.queue, "main queue");
         Ok(Arc::new(device))
+    }
+
+    /// Whether the queue can write timestamps (`timestampValidBits` > 0): GPU times are
+    /// measured, or "unavailable".
+    pub fn has_timestamps(&self) -> bool {
+        self.timestamp_valid_bits > 0
     }
 
     /// Core device limits (as `MEADOW_HIDE` leaves them).

@@ -45,8 +45,12 @@ pub struct FrameTimings {
     pub cpu_submit_ms: f64,
     /// CPU time blocked on the frame fence.
     pub cpu_wait_ms: f64,
-    /// GPU time of the frame's passes: from its first timestamp to the end of its last pass.
+    /// GPU time of the frame's passes: from its first timestamp to the end of its last pass (0
+    /// when `gpu_available` is false).
     pub gpu_ms: f64,
+    /// Whether the GPU times were measured: false when the queue cannot write timestamps
+    /// (`timestampValidBits` = 0); every GPU time then reads 0 and is reported "unavailable".
+    pub gpu_available: bool,
     /// GPU time after the passes: the copy of the picture to the host (`render`, the harness),
     /// reported apart from `gpu_ms`.
     pub readback_ms: f64,
@@ -290,6 +294,7 @@ impl Frame {
             cpu_submit_ms: (submitted - recorded).as_secs_f64() * 1e3,
             cpu_wait_ms: (wait[1] - wait[0]).as_secs_f64() * 1e3,
             gpu_ms: clock.elapsed_ms(first, passes_end),
+            gpu_available: clock.available(),
             readback_ms: clock.elapsed_ms(passes_end, last),
             passes,
             gpu_span_ns: (clock.ns(first), clock.ns(last)),
