@@ -103,3 +103,29 @@ fn without_timestamps_render_says_unavailable_and_the_measuring_commands_refuse(
         assert!(!target.exists(), "{args:?} left {}", target.display());
     }
 }
+
+#[test]
+fn debug_utils_is_optional_without_validation() {
+    let dir = scratch("portability-debug-utils");
+    let render_plain = |hide: &str, name: &str| {
+        let out = dir.join(name);
+        let output = meadow()
+            .env("MEADOW_HIDE", hide)
+            .args(["render", "--device", support::DEVICE])
+            .args(SCENE)
+            .arg("--out")
+            .arg(&out)
+            .output()
+            .expect("run meadow");
+        assert_eq!(output.status.code(), Some(0), "{hide}: {}", transcript(&output));
+        std::fs::read(&out).expect("png")
+    };
+    // No names, no labels, no messenger: the same picture.
+    assert!(render_plain("debug_utils", "without.png") == render_plain("", "with.png"));
+    // Validation counts its messages through the extension: refused, in one line.
+    let output = render_hiding("debug_utils", &[], &dir.join("validated.png"));
+    assert_eq!(output.status.code(), Some(1), "{}", transcript(&output));
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(stderr.lines().filter(|l| l.starts_with("error: ")).count(), 1, "{stderr}");
+    assert!(stderr.contains("VK_EXT_debug_utils"), "{stderr}");
+}

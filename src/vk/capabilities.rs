@@ -3,6 +3,7 @@
 //!
 //! - `separateDepthStencilLayouts`: the Vulkan 1.2 feature is reported unsupported;
 //! - `timestamps`: the queue family's `timestampValidBits` reads 0;
+//! - `debug_utils`: the loader reads as lacking `VK_EXT_debug_utils`;
 //! - `maxPerStageDescriptorStorageBuffers=N`: the limit reads N;
 //! - `format:NAME` (e.g. `format:R16G16B16A16_UNORM`): the format reports no features.
 //!
@@ -22,6 +23,8 @@ pub struct Hidden {
     pub separate_depth_stencil_layouts: bool,
     /// `timestampValidBits` reads 0.
     pub timestamps: bool,
+    /// `VK_EXT_debug_utils` reads absent.
+    pub debug_utils: bool,
     /// `maxPerStageDescriptorStorageBuffers` reads this.
     pub max_storage_buffers: Option<u32>,
     /// Formats that report no features.
@@ -43,6 +46,8 @@ impl Hidden {
                 hidden.separate_depth_stencil_layouts = true;
             } else if entry == "timestamps" {
                 hidden.timestamps = true;
+            } else if entry == "debug_utils" {
+                hidden.debug_utils = true;
             } else if let Some(n) = entry.strip_prefix("maxPerStageDescriptorStorageBuffers=") {
                 hidden.max_storage_buffers = Some(n.parse().map_err(|_| unknown())?);
             } else if let Some(name) = entry.strip_prefix("format:") {

@@ -9,13 +9,18 @@ pub fn begin_label(device: &Device, cmd: vk::CommandBuffer, name: &str, color: [
     let Ok(name) = std::ffi::CString::new(name) else {
         return;
     };
+    let Some(debug_utils) = &device.debug_utils else {
+        return;
+    };
     let label = vk::DebugUtilsLabelEXT::default().label_name(&name).color(color);
     // SAFETY: cmd is recording.
-    unsafe { device.debug_utils.cmd_begin_debug_utils_label(cmd, &label) };
+    unsafe { debug_utils.cmd_begin_debug_utils_label(cmd, &label) };
 }
 
 /// Close the innermost labelled region.
 pub fn end_label(device: &Device, cmd: vk::CommandBuffer) {
-    // SAFETY: cmd is recording, with an open label.
-    unsafe { device.debug_utils.cmd_end_debug_utils_label(cmd) };
+    if let Some(debug_utils) = &device.debug_utils {
+        // SAFETY: cmd is recording, with an open label.
+        unsafe { debug_utils.cmd_end_debug_utils_label(cmd) };
+    }
 }

@@ -49,8 +49,8 @@ pub struct Device {
     pub calibrated_timestamps: Option<ash::ext::calibrated_timestamps::Device>,
     /// The logical device and its function table.
     pub raw: ash::Device,
-    /// Debug-utils device functions (object names, labels).
-    pub debug_utils: ash::ext::debug_utils::Device,
+    /// Debug-utils device functions (object names, labels), when the instance has the extension.
+    pub debug_utils: Option<ash::ext::debug_utils::Device>,
     /// The one graphics+compute queue.
     pub queue: vk::Queue,
     /// Its family index.
@@ -199,7 +199,8 @@ impl Device {
         let raw = create_logical(&instance, physical, queue_family, &features, &extensions)?;
         // SAFETY: the family was requested with one queue.
         let queue = unsafe { raw.get_device_queue(queue_family, 0) };
-        let debug_utils = ash::ext::debug_utils::Device::new(&instance.raw, &raw);
+        let debug_utils =
+            instance.debug_utils.as_ref().map(|_| ash::ext::debug_utils::Device::new(&instance.raw, &raw));
         let calibrated_timestamps =
             calibrated.then(|| ash::ext::calibrated_timestamps::Device::new(&instance.raw, &raw));
 
@@ -315,12 +316,12 @@ impl Device {
 
     /// Give a Vulkan object a debug name (shown by validation messages and captures).
     pub fn set_name<T: vk::Handle>(&self, handle: T, name: &str) {
-        let Ok(name) = std::ffi::CString::new(name) else {
+        let (Some(debug_utils), Ok(name)) = (&self.debug_utils, std::ffi::CString::new(name)) else {
             return;
         };
         let info = vk::DebugUtilsObjectNameInfoEXT::default().object_handle(handle).object_name(&name);
         // SAFETY: the handle belongs to this device; naming failure is harmless, so it is ignored.
-        let _ = unsafe { self.debug_utils.set_debug_utils_object_name(&info) };
+        let _ = unsafe { debug_utils.set_debug_utils_object_name(&info) };
     }
 
     /// Wait until the device is idle. Only for teardown and rebuilds, never inside a frame.

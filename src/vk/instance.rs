@@ -43,10 +43,22 @@ pub struct Instance {
     pub entry: ash::Entry,
     /// The instance handle and its function table.
     pub raw: ash::Instance,
-    /// Debug-utils instance functions (object names, labels, messenger).
-    pub debug_utils: ash::ext::debug_utils::Instance,
+    /// Debug-utils instance functions (object names, labels, messenger), when the loader has
+    /// `VK_EXT_debug_utils` (optional without validation; `--validation` needs it).
+    pub debug_utils: Option<ash::ext::debug_utils::Instance>,
     messenger: vk::DebugUtilsMessengerEXT,
     counter: Option<Arc<ValidationCounter>>,
+}
+
+/// Whether the loader offers `VK_EXT_debug_utils` (and `MEADOW_HIDE` does not hide it).
+fn debug_utils_available(entry: &ash::Entry) -> Result<bool> {
+    if super::capabilities::hidden()?.debug_utils {
+        return Ok(false);
+    }
+    // SAFETY: plain query on a valid entry.
+    let available =
+        unsafe { entry.enumerate_instance_extension_properties(None) }.vk("vkEnumerateInstanceExtensionProperties")?;
+    Ok(available.iter().any(|e| e.extension_name_as_c_str() == Ok(ash::ext::debug_utils::NAME)))
 }
 
 /// Load the Vulkan loader and check that it supports API 1.3.
@@ -121,7 +133,14 @@ impl Instance {
         let layers = layers(&entry, desc.validation)?;
 
         let mut extensions = desc.extensions.to_vec();
-        extensions.push(ash::ext::debug_utils::NAME.as_ptr());
+        let has_debug_utils = debug_utils_available(&entry)?;
+        if has_debug_utils {
+            extensions.push(ash::ext::debug_utils::NAME.as_ptr());
+        } else if desc.validation {
+            return Err(Error::Environment(
+                "--validation counts messages through VK_EXT_debug_utils, which the Vulkan loader lacks".into(),
+            ));
+        }
 
         let app_info = vk::ApplicationInfo::default()
             .application_name(c"meadow")
@@ -150,11 +169,11 @@ impl Instance {
             ),
             result => Error::vulkan("vkCreateInstance", result),
         })?;
-        let debug_utils = ash::ext::debug_utils::Instance::new(&entry, &raw);
-        let messenger = match messenger_info {
+        let debug_utils = has_debug_utils.then(|| ash::ext::debug_utils::Instance::new(&entry, &raw));
+        let messenger = match (messenger_info, &debug_utils) {
             // SAFETY: the counter behind user_data is kept alive by `self.counter`. The create
             // info was chained into the instance's; unlink it before reusing it on its own.
-            Some(mut info) => match unsafe {
+            (Some(mut info), Some(debug_utils)) => match unsafe {
                 info.p_next = std::ptr::null();
                 debug_utils.create_debug_utils_messenger(&info, None)
             } {
@@ -165,7 +184,7 @@ impl Instance {
                     return Err(Error::vulkan("vkCreateDebugUtilsMessengerEXT", result));
                 }
             },
-            None => vk::DebugUtilsMessengerEXT::null(),
+            _ => vk::DebugUtilsMessengerEXT::null(),
         };
         Ok(Self { entry, raw, debug_utils, messenger, counter })
     }
@@ -182,8 +201,10 @@ impl Drop for Instance {
         // SAFETY: owners of device objects hold an Arc to this instance, so everything created from
         // it has been destroyed when the last reference drops.
         unsafe {
-            if self.messenger != vk::DebugUtilsMessengerEXT::null() {
-                self.debug_utils.destroy_debug_utils_messenger(self.messenger, None);
+            if let (false, Some(debug_utils)) =
+                (self.messenger == vk::DebugUtilsMessengerEXT::null(), &self.debug_utils)
+            {
+                debug_utils.destroy_debug_utils_messenger(self.messenger, None);
             }
             self.raw.destroy_instance(None);
         }
