@@ -228,6 +228,13 @@ pub fn check_timestamps_for_budget(device: &Device, budget_ms: Option<f32>) -> R
 fn fallback_notes(device: &Device, asked: &AnimationSettings, used: &AnimationSettings) -> Vec<String> {
     use crate::render::animation::keyframe_gpu::texture_format;
     let mut notes = Vec::new();
+    let preferred = crate::vk::device::DEPTH_FORMATS[0];
+    if device.depth_format != preferred {
+        notes.push(format!(
+            "{} cannot attach and sample {preferred:?}: depth in {:?} instead",
+            device.info.name, device.depth_format
+        ));
+    }
     if asked.mode == crate::render::animation::Mode::Texture && asked.encoding != used.encoding {
         notes.push(format!(
             "{} cannot sample {:?}: keyframes encoded {:?} instead",

@@ -162,3 +162,27 @@ fn the_msaa_preset_measures_cost_and_a_steadier_pan() {
     let crop = image::open(dir.join("msaa-far-field.png")).expect("the crop decodes");
     assert!(crop.width() > 3 * 160 / 8 * 3 && crop.height() > 2 * 96 / 9 * 3, "{}x{}", crop.width(), crop.height());
 }
+
+#[test]
+fn every_submission_strategy_draws_multisampled() {
+    // Secondary command buffers inherit the attachments' sample count and depth format; a
+    // pre-recorded frame replays into the same multisampled images.
+    let dir = scratch("msaa-submission");
+    for strategy in ["instanced", "per-cluster", "indirect", "mdi", "secondary", "prerecorded"] {
+        let args = [
+            "--brute-force",
+            "--blades",
+            "3000",
+            "--size",
+            "160x96",
+            "--msaa",
+            "4",
+            "--frames",
+            "2",
+            "--clusters",
+            "16",
+        ];
+        let args: Vec<&str> = args.into_iter().chain(["--submission", strategy]).collect();
+        render(&args, &dir.join(format!("{strategy}.png")));
+    }
+}

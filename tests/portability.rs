@@ -129,3 +129,28 @@ fn debug_utils_is_optional_without_validation() {
     assert_eq!(stderr.lines().filter(|l| l.starts_with("error: ")).count(), 1, "{stderr}");
     assert!(stderr.contains("VK_EXT_debug_utils"), "{stderr}");
 }
+
+#[test]
+fn depth_falls_back_to_the_24_and_16_bit_formats() {
+    let dir = scratch("portability-depth");
+    let reference = dir.join("d32.png");
+    support::assert_clean(&render_hiding("", &[], &reference));
+    let reference = Picture::load(&reference);
+    for (hide, format) in
+        [("format:D32_SFLOAT", "X8_D24_UNORM_PACK32"), ("format:D32_SFLOAT,format:X8_D24_UNORM_PACK32", "D16_UNORM")]
+    {
+        for extra in [&[][..], &["--msaa", "4", "--brute-force"][..]] {
+            let out = dir.join("fallback.png");
+            let output = render_hiding(hide, extra, &out);
+            support::assert_clean(&output);
+            let stdout = String::from_utf8_lossy(&output.stdout);
+            assert!(stdout.contains(&format!("depth in {format} instead")), "{hide}: {}", transcript(&output));
+            if extra.is_empty() {
+                // Reversed Z keeps even 16 bits close over the field: nearly the same picture.
+                let picture = Picture::load(&out);
+                let diff = box_filtered_difference(&picture.rgb, &reference.rgb, picture.width, picture.height, 8);
+                assert!(diff.mean_percent < 0.5, "{hide}: {diff:?}");
+            }
+        }
+    }
+}

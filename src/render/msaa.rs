@@ -8,7 +8,7 @@
 use ash::vk;
 
 use crate::error::{Error, Result};
-use crate::render::target::{TargetView, DEPTH_FORMAT};
+use crate::render::target::TargetView;
 use crate::vk::multisample::{self, AttachmentUse};
 use crate::vk::{Access, Device, Image, ImageDesc};
 
@@ -45,17 +45,17 @@ impl Msaa {
 
 /// The multisampled attachments as meadow uses them: colour drawn and resolved by a shader,
 /// depth drawn and read by the depth pyramid.
-fn attachments() -> [AttachmentUse; 2] {
+fn attachments(device: &Device) -> [AttachmentUse; 2] {
     let sampled = vk::ImageUsageFlags::SAMPLED;
     [
         AttachmentUse { format: MSAA_COLOR_FORMAT, usage: vk::ImageUsageFlags::COLOR_ATTACHMENT | sampled },
-        AttachmentUse { format: DEPTH_FORMAT, usage: vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | sampled },
+        AttachmentUse { format: device.depth_format, usage: vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | sampled },
     ]
 }
 
 /// The sample counts `--msaa` accepts on `device`, ascending.
 pub fn supported_counts(device: &Device) -> Vec<u32> {
-    multisample::supported_counts(device, &attachments())
+    multisample::supported_counts(device, &attachments(device))
 }
 
 /// Refuse a sample count the device does not support for the formats in use (bad input), and
@@ -74,9 +74,10 @@ pub fn check(device: &Device, msaa: &Msaa) -> Result<()> {
     }
     let list: Vec<String> = supported.iter().map(u32::to_string).collect();
     Err(Error::BadInput(format!(
-        "--msaa {} is not supported by {} for the formats in use ({MSAA_COLOR_FORMAT:?} colour, {DEPTH_FORMAT:?} depth, both sampled); supported: {}",
+        "--msaa {} is not supported by {} for the formats in use ({MSAA_COLOR_FORMAT:?} colour, {:?} depth, both sampled); supported: {}",
         msaa.samples,
         device.info.name,
+        device.depth_format,
         list.join(", ")
     )))
 }
@@ -94,7 +95,7 @@ impl MultisampleTarget {
         let usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::SAMPLED;
         let color_desc = ImageDesc::color("multisampled colour", MSAA_COLOR_FORMAT, extent, usage);
         let color = Image::new(device, &color_desc.multisampled(samples))?;
-        let depth_desc = ImageDesc::depth("multisampled depth", DEPTH_FORMAT, extent).multisampled(samples);
+        let depth_desc = ImageDesc::depth("multisampled depth", device.depth_format, extent).multisampled(samples);
         match Image::new(device, &depth_desc) {
             Ok(depth) => Ok(Self { color, depth, samples }),
             Err(e) => {

@@ -8,8 +8,6 @@ use crate::vk::{Access, Buffer, BufferDesc, Device, Image, ImageDesc};
 
 /// Colour format of offscreen targets: UNORM, the shaders encode sRGB themselves.
 pub const OFFSCREEN_FORMAT: vk::Format = vk::Format::R8G8B8A8_UNORM;
-/// Depth format (reversed Z).
-pub const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
 
 /// What a frame renders into, and how the colour image is used before and after.
 #[derive(Clone, Copy, Debug)]
@@ -61,7 +59,7 @@ impl OffscreenTarget {
                 vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC,
             ),
         )?;
-        let depth = match Image::new(device, &ImageDesc::depth("offscreen depth", DEPTH_FORMAT, extent)) {
+        let depth = match Image::new(device, &ImageDesc::depth("offscreen depth", device.depth_format, extent)) {
             Ok(depth) => depth,
             Err(e) => {
                 // SAFETY: unused.

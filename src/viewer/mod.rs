@@ -23,7 +23,6 @@ use crate::app::{self, GpuOptions, RenderOptions};
 use crate::error::{Error, Result, VkContext};
 use crate::render::frame::Deletion;
 use crate::render::graph::Outputs;
-use crate::render::target::DEPTH_FORMAT;
 use crate::render::{RenderSettings, Renderer};
 use crate::scene::Scene;
 use crate::vk::swapchain::{swapchain_counts, PresentMode, Swapchain};
@@ -361,7 +360,8 @@ impl Viewer {
         if has_area {
             let surface = self.surface.as_mut().expect("surface exists");
             let extent = surface.swapchain.extent;
-            surface.depth = Some(Image::new(&self.device, &ImageDesc::depth("swapchain depth", DEPTH_FORMAT, extent))?);
+            surface.depth =
+                Some(Image::new(&self.device, &ImageDesc::depth("swapchain depth", self.device.depth_format, extent))?);
             surface.depth_used = false;
         }
         self.needs_recreate = false;

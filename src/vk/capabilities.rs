@@ -31,10 +31,14 @@ pub struct Hidden {
     pub formats: Vec<vk::Format>,
 }
 
-/// Formats a mask may name: those meadow queries before use (the default keyframe texture's,
-/// the multisampled scene colour's).
-const FORMATS: [(&str, vk::Format); 2] =
-    [("R16G16B16A16_UNORM", vk::Format::R16G16B16A16_UNORM), ("R16G16B16A16_SFLOAT", vk::Format::R16G16B16A16_SFLOAT)];
+/// Formats a mask may name: those meadow queries before use and can do without (the default
+/// keyframe texture's, the multisampled scene colour's, the preferred depth formats).
+const FORMATS: [(&str, vk::Format); 4] = [
+    ("R16G16B16A16_UNORM", vk::Format::R16G16B16A16_UNORM),
+    ("R16G16B16A16_SFLOAT", vk::Format::R16G16B16A16_SFLOAT),
+    ("D32_SFLOAT", vk::Format::D32_SFLOAT),
+    ("X8_D24_UNORM_PACK32", vk::Format::X8_D24_UNORM_PACK32),
+];
 
 impl Hidden {
     /// Parse a mask.
@@ -95,7 +99,7 @@ mod tests {
         assert_eq!(h.max_storage_buffers, Some(4));
         assert!(h.hides(vk::Format::R16G16B16A16_SFLOAT) && !h.hides(vk::Format::R16G16B16A16_UNORM));
         assert_eq!(Hidden::parse("").expect("empty"), Hidden::default());
-        for bad in ["timestampz", "format:D32_SFLOAT", "maxPerStageDescriptorStorageBuffers=four"] {
+        for bad in ["timestampz", "format:D16_UNORM", "maxPerStageDescriptorStorageBuffers=four"] {
             assert!(Hidden::parse(bad).is_err(), "{bad}");
         }
     }

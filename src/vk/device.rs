@@ -59,8 +59,21 @@ pub struct Device {
     pub timestamp_valid_bits: u32,
     /// `subgroupSize` (Vulkan 1.1): how many invocations the device runs in lockstep.
     pub subgroup_size: u32,
+    /// The depth format of every depth attachment (reversed Z, also sampled by the depth
+    /// pyramid): the first of [`DEPTH_FORMATS`] the device can attach and sample.
+    pub depth_format: vk::Format,
     allocator: ManuallyDrop<Mutex<Allocator>>,
 }
+
+/// Depth formats in order of preference: D32_SFLOAT (not required of a device), then the
+/// 24-bit and the 16-bit UNORM formats (D16_UNORM attachment and sampling are required).
+pub const DEPTH_FORMATS: [vk::Format; 3] =
+    [vk::Format::D32_SFLOAT, vk::Format::X8_D24_UNORM_PACK32, vk::Format::D16_UNORM];
+
+/// What meadow does with a depth format: attach it and sample it (the depth pyramid).
+const DEPTH_FEATURES: vk::FormatFeatureFlags = vk::FormatFeatureFlags::from_raw(
+    vk::FormatFeatureFlags::DEPTH_STENCIL_ATTACHMENT.as_raw() | vk::FormatFeatureFlags::SAMPLED_IMAGE.as_raw(),
+);
 
 /// The features meadow enables on `physical`.
 struct EnabledFeatures {
@@ -231,8 +244,14 @@ impl Device {
                 false => families[queue_family as usize].timestamp_valid_bits,
             },
             subgroup_size,
+            depth_format: vk::Format::UNDEFINED,
             allocator: ManuallyDrop::new(Mutex::new(allocator)),
         };
+        let mut device = device;
+        device.depth_format =
+            DEPTH_FORMATS.into_iter().find(|&f| device.format_features(f).contains(DEPTH_FEATURES)).ok_or_else(
+                || Error::Environment(format!("{} can attach and sample none of {DEPTH_FORMATS:?}", device.info.name)),
+            )?;
         device.set_name(device.queue, "main queue");
         Ok(Arc::new(device))
     }

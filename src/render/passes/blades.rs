@@ -13,7 +13,6 @@ use crate::render::passes::{self, PipelineTarget};
 use crate::render::scene_gpu::SceneGpu;
 use crate::render::shaders;
 use crate::render::submission::{self, BladeDraws, IndirectDraws, SecondaryRecorders, Strategy};
-use crate::render::target::DEPTH_FORMAT;
 use crate::scene::bezier::{self, Batching};
 use crate::vk::upload::UploadBatch;
 use crate::vk::{pipeline, Access, Device};
@@ -23,6 +22,9 @@ pub struct BladePass {
     pipeline: vk::Pipeline,
     layout: vk::PipelineLayout,
     color_format: vk::Format,
+    /// Depth format and sample count of the attachments (secondary command buffers inherit them).
+    depth_format: vk::Format,
+    samples: vk::SampleCountFlags,
     strategy: Strategy,
     /// Vertices per instance (a strip, or K strips joined by degenerate triangles).
     vertices: u32,
@@ -91,6 +93,8 @@ impl BladePass {
             pipeline,
             layout: target.layout,
             color_format: target.color,
+            depth_format: target.depth,
+            samples: target.samples,
             strategy: setup.submission.strategy,
             vertices: Batching::new(setup.segments, setup.blades_per_instance).vertices_per_instance(),
             instances: scene.blade_count.div_ceil(setup.blades_per_instance),
@@ -243,8 +247,8 @@ impl BladePass {
         let formats = [self.color_format];
         let mut rendering = vk::CommandBufferInheritanceRenderingInfo::default()
             .color_attachment_formats(&formats)
-            .depth_attachment_format(DEPTH_FORMAT)
-            .rasterization_samples(vk::SampleCountFlags::TYPE_1);
+            .depth_attachment_format(self.depth_format)
+            .rasterization_samples(self.samples);
         let inheritance = vk::CommandBufferInheritanceInfo::default().push_next(&mut rendering);
         let begin = vk::CommandBufferBeginInfo::default()
             .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT | vk::CommandBufferUsageFlags::RENDER_PASS_CONTINUE)

@@ -13,7 +13,6 @@ use crate::render::passes::depth_pyramid::DepthPyramidPass;
 use crate::render::passes::{BladePass, ClusterBoundsPass, FloorPass, PipelineTarget, ResolvePass, TerrainPass};
 use crate::render::settings::sky_clear_color;
 use crate::render::specialization::Specialization;
-use crate::render::target::DEPTH_FORMAT;
 use crate::scene::Scene;
 use crate::vk::{Access, Resource};
 
@@ -31,7 +30,7 @@ impl Renderer {
         let target = PipelineTarget {
             layout: self.layouts.pipeline_layout,
             color: if msaa.enabled() { MSAA_COLOR_FORMAT } else { settings.color_format },
-            depth: DEPTH_FORMAT,
+            depth: self.device.depth_format,
             polygon,
             samples: msaa.flag(),
             alpha_to_coverage: msaa.enabled() && msaa.alpha_to_coverage,
