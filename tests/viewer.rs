@@ -176,6 +176,27 @@ fn msaa_toggles_live_through_resizes() {
 }
 
 #[test]
+fn a_device_without_a_swapchain_is_not_chosen_for_a_window() {
+    // MEADOW_HIDE=swapchain: no device offers VK_KHR_swapchain. The viewer says so in one line
+    // (exit 1) instead of failing inside vkCreateDevice; a headless render still runs.
+    let dir = scratch("viewer-no-swapchain");
+    let output = view_with(&dir, &["--frames", "2"], &[("MEADOW_HIDE", "swapchain")]);
+    assert_eq!(output.status.code(), Some(1), "{}", transcript(&output));
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    let errors: Vec<&str> = stderr.lines().filter(|l| l.starts_with("error: ")).collect();
+    assert_eq!(errors.len(), 1, "{stderr}");
+    assert!(errors[0].contains("lacks VK_KHR_swapchain"), "{stderr}");
+    let out = dir.join("headless.png");
+    let output = meadow()
+        .env("MEADOW_HIDE", "swapchain")
+        .args(["render", "--blades", "1000", "--size", "64x64", "--device", support::DEVICE, "--out"])
+        .arg(&out)
+        .output()
+        .expect("run meadow");
+    assert_eq!(output.status.code(), Some(0), "{}", transcript(&output));
+}
+
+#[test]
 fn no_display_is_a_clear_error() {
     let output = meadow().env_remove("DISPLAY").env_remove("WAYLAND_DISPLAY").arg("view").output().expect("run meadow");
     assert_eq!(output.status.code(), Some(2), "{}", transcript(&output));

@@ -4,6 +4,7 @@
 //! - `separateDepthStencilLayouts`: the Vulkan 1.2 feature is reported unsupported;
 //! - `timestamps`: the queue family's `timestampValidBits` reads 0;
 //! - `debug_utils`: the loader reads as lacking `VK_EXT_debug_utils`;
+//! - `swapchain`: every device reads as lacking `VK_KHR_swapchain`;
 //! - `maxPerStageDescriptorStorageBuffers=N`: the limit reads N;
 //! - `format:NAME` (e.g. `format:R16G16B16A16_UNORM`): the format reports no features.
 //!
@@ -25,6 +26,8 @@ pub struct Hidden {
     pub timestamps: bool,
     /// `VK_EXT_debug_utils` reads absent.
     pub debug_utils: bool,
+    /// `VK_KHR_swapchain` reads absent.
+    pub swapchain: bool,
     /// `maxPerStageDescriptorStorageBuffers` reads this.
     pub max_storage_buffers: Option<u32>,
     /// Formats that report no features.
@@ -52,6 +55,8 @@ impl Hidden {
                 hidden.timestamps = true;
             } else if entry == "debug_utils" {
                 hidden.debug_utils = true;
+            } else if entry == "swapchain" {
+                hidden.swapchain = true;
             } else if let Some(n) = entry.strip_prefix("maxPerStageDescriptorStorageBuffers=") {
                 hidden.max_storage_buffers = Some(n.parse().map_err(|_| unknown())?);
             } else if let Some(name) = entry.strip_prefix("format:") {

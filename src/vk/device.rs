@@ -182,7 +182,7 @@ impl Device {
     /// Select a physical device and create the logical device on it.
     pub fn new(instance: Arc<Instance>, desc: &DeviceDesc) -> Result<Arc<Self>> {
         let candidates = enumerate(&instance)?;
-        let chosen = select(&candidates, &desc.selector)?;
+        let chosen = select(&candidates, &desc.selector, desc.swapchain)?;
         let physical = chosen.raw;
         let queue_family = chosen.queue_family.expect("usable devices have a queue family");
 
@@ -204,6 +204,11 @@ impl Device {
         let mut extensions = Vec::new();
         if desc.swapchain {
             extensions.push(ash::khr::swapchain::NAME.as_ptr());
+        }
+        if chosen.portability_subset {
+            // Required on a portability-subset implementation (MoltenVK); meadow uses none of
+            // the features it may leave out.
+            extensions.push(ash::khr::portability_subset::NAME.as_ptr());
         }
         let calibrated = supports_calibrated_timestamps(&instance, physical);
         if calibrated {

@@ -55,10 +55,15 @@ fn debug_utils_available(entry: &ash::Entry) -> Result<bool> {
     if super::capabilities::hidden()?.debug_utils {
         return Ok(false);
     }
+    has_instance_extension(entry, ash::ext::debug_utils::NAME)
+}
+
+/// Whether the loader (or an implicit layer) offers the instance extension `name`.
+fn has_instance_extension(entry: &ash::Entry, name: &std::ffi::CStr) -> Result<bool> {
     // SAFETY: plain query on a valid entry.
     let available =
         unsafe { entry.enumerate_instance_extension_properties(None) }.vk("vkEnumerateInstanceExtensionProperties")?;
-    Ok(available.iter().any(|e| e.extension_name_as_c_str() == Ok(ash::ext::debug_utils::NAME)))
+    Ok(available.iter().any(|e| e.extension_name_as_c_str() == Ok(name)))
 }
 
 /// Load the Vulkan loader and check that it supports API 1.3.
@@ -153,7 +158,15 @@ impl Instance {
         let mut validation_features =
             vk::ValidationFeaturesEXT::default().enabled_validation_features(&enabled_features);
 
+        // Portability implementations (MoltenVK) are listed only when asked for.
+        let flags = if has_instance_extension(&entry, ash::khr::portability_enumeration::NAME)? {
+            extensions.push(ash::khr::portability_enumeration::NAME.as_ptr());
+            vk::InstanceCreateFlags::ENUMERATE_PORTABILITY_KHR
+        } else {
+            vk::InstanceCreateFlags::empty()
+        };
         let mut create_info = vk::InstanceCreateInfo::default()
+            .flags(flags)
             .application_info(&app_info)
             .enabled_layer_names(&layers)
             .enabled_extension_names(&extensions);

@@ -122,6 +122,18 @@ pub(crate) struct Candidate {
     pub(crate) raw: vk::PhysicalDevice,
     /// Its graphics+compute family, if it has one.
     pub(crate) queue_family: Option<u32>,
+    /// Whether it offers `VK_KHR_swapchain` (what a window needs; `MEADOW_HIDE=swapchain` hides it).
+    pub(crate) swapchain: bool,
+    /// Whether it is a portability-subset implementation (MoltenVK): `VK_KHR_portability_subset`
+    /// must then be enabled.
+    pub(crate) portability_subset: bool,
+}
+
+/// Whether `raw` offers the device extension `name`.
+fn has_extension(instance: &Instance, raw: vk::PhysicalDevice, name: &CStr) -> bool {
+    // SAFETY: raw comes from this instance.
+    let available = unsafe { instance.raw.enumerate_device_extension_properties(raw) }.unwrap_or_default();
+    available.iter().any(|e| e.extension_name_as_c_str() == Ok(name))
 }
 
 pub(crate) fn enumerate(instance: &Instance) -> Result<Vec<Candidate>> {
@@ -157,7 +169,10 @@ pub(crate) fn enumerate(instance: &Instance) -> Result<Vec<Candidate>> {
                 driver_info: c_chars(&driver.driver_info),
                 usable: props.api_version >= vk::API_VERSION_1_3 && queue_family.is_some(),
             };
-            Candidate { info, raw, queue_family }
+            let hidden = super::capabilities::hidden().is_ok_and(|h| h.swapchain);
+            let swapchain = !hidden && has_extension(instance, raw, ash::khr::swapchain::NAME);
+            let portability_subset = has_extension(instance, raw, ash::khr::portability_subset::NAME);
+            Candidate { info, raw, queue_family, swapchain, portability_subset }
         })
         .collect())
 }
@@ -167,8 +182,13 @@ pub fn list_devices(instance: &Instance) -> Result<Vec<DeviceInfo>> {
     Ok(enumerate(instance)?.into_iter().map(|c| c.info).collect())
 }
 
-/// The candidate `selector` names, if meadow can run on it.
-pub(crate) fn select<'a>(candidates: &'a [Candidate], selector: &DeviceSelector) -> Result<&'a Candidate> {
+/// The candidate `selector` names, if meadow can run on it (and present to a window, when
+/// `swapchain`: the best device is chosen among those that can).
+pub(crate) fn select<'a>(
+    candidates: &'a [Candidate],
+    selector: &DeviceSelector,
+    swapchain: bool,
+) -> Result<&'a Candidate> {
     if candidates.is_empty() {
         return Err(Error::Environment(
             "no Vulkan device found: install mesa-vulkan-drivers for the lavapipe CPU device".into(),
@@ -178,9 +198,15 @@ pub(crate) fn select<'a>(candidates: &'a [Candidate], selector: &DeviceSelector)
     let chosen = match selector {
         DeviceSelector::Best => candidates
             .iter()
-            .filter(|c| c.info.usable)
+            .filter(|c| c.info.usable && (c.swapchain || !swapchain))
             .min_by_key(|c| (kind_rank(c.info.kind), c.info.index))
-            .ok_or_else(|| Error::Environment(format!("no device supports Vulkan 1.3: {}", listing())))?,
+            .ok_or_else(|| match swapchain && candidates.iter().any(|c| c.info.usable) {
+                true => Error::Environment(format!(
+                    "no Vulkan 1.3 device offers VK_KHR_swapchain for a window: {}",
+                    listing()
+                )),
+                false => Error::Environment(format!("no device supports Vulkan 1.3: {}", listing())),
+            })?,
         DeviceSelector::Index(index) => candidates
             .get(*index)
             .ok_or_else(|| Error::bad_input(format!("--device {index}: no such device (have {})", listing())))?,
@@ -193,6 +219,12 @@ pub(crate) fn select<'a>(candidates: &'a [Candidate], selector: &DeviceSelector)
     if !chosen.info.usable {
         return Err(Error::bad_input(format!(
             "--device: {} cannot run meadow (needs Vulkan 1.3 and a graphics+compute queue)",
+            chosen.info.name
+        )));
+    }
+    if swapchain && !chosen.swapchain {
+        return Err(Error::Environment(format!(
+            "{} lacks VK_KHR_swapchain: it cannot present to a window",
             chosen.info.name
         )));
     }
