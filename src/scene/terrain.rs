@@ -56,18 +56,21 @@ impl Terrain {
         self.heights[(z * (self.cells + 1) + x) as usize]
     }
 
-    /// Height of the rendered surface at world (x, z), clamped to the field.
-    pub fn height_at(&self, x: f32, z: f32) -> f32 {
+    /// The heights at the corners of the cell under world (x, z) (h00, h10, h01, h11, clamped to
+    /// the field) and the point's position inside it, in [0, 1]².
+    fn cell_at(&self, x: f32, z: f32) -> ([f32; 4], f32, f32) {
         let step = self.cell_size();
         let gx = ((x - self.origin()) / step).clamp(0.0, self.cells as f32);
         let gz = ((z - self.origin()) / step).clamp(0.0, self.cells as f32);
         let cx = (gx.floor() as u32).min(self.cells - 1);
         let cz = (gz.floor() as u32).min(self.cells - 1);
-        let (fx, fz) = (gx - cx as f32, gz - cz as f32);
-        let h00 = self.grid(cx, cz);
-        let h10 = self.grid(cx + 1, cz);
-        let h01 = self.grid(cx, cz + 1);
-        let h11 = self.grid(cx + 1, cz + 1);
+        let corners = [self.grid(cx, cz), self.grid(cx + 1, cz), self.grid(cx, cz + 1), self.grid(cx + 1, cz + 1)];
+        (corners, gx - cx as f32, gz - cz as f32)
+    }
+
+    /// Height of the rendered surface at world (x, z), clamped to the field.
+    pub fn height_at(&self, x: f32, z: f32) -> f32 {
+        let ([h00, h10, h01, h11], fx, fz) = self.cell_at(x, z);
         if fx >= fz {
             h00 + fx * (h10 - h00) + fz * (h11 - h10)
         } else {
@@ -79,16 +82,8 @@ impl Terrain {
     /// the cell the point lies in (`grid_terrain_normal` in shaders/terrain.glsl, which the
     /// blades' Fresnel term uses).
     pub fn normal_at(&self, x: f32, z: f32) -> glam::Vec3 {
+        let ([h00, h10, h01, h11], fx, fz) = self.cell_at(x, z);
         let step = self.cell_size();
-        let gx = ((x - self.origin()) / step).clamp(0.0, self.cells as f32);
-        let gz = ((z - self.origin()) / step).clamp(0.0, self.cells as f32);
-        let cx = (gx.floor() as u32).min(self.cells - 1);
-        let cz = (gz.floor() as u32).min(self.cells - 1);
-        let (fx, fz) = (gx - cx as f32, gz - cz as f32);
-        let h00 = self.grid(cx, cz);
-        let h10 = self.grid(cx + 1, cz);
-        let h01 = self.grid(cx, cz + 1);
-        let h11 = self.grid(cx + 1, cz + 1);
         let dx = h10 - h00 + fz * ((h11 - h01) - (h10 - h00));
         let dz = h01 - h00 + fx * ((h11 - h10) - (h01 - h00));
         glam::Vec3::new(-dx, step, -dz).normalize()

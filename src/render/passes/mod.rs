@@ -8,6 +8,7 @@ pub mod cluster_bounds;
 pub mod cull;
 pub mod depth_pyramid;
 pub mod floor;
+pub mod frame_sets;
 pub mod resolve;
 pub mod terrain;
 
@@ -15,6 +16,7 @@ pub use blade_pose::BladePosePass;
 pub use blades::BladePass;
 pub use cluster_bounds::ClusterBoundsPass;
 pub use floor::FloorPass;
+pub use frame_sets::FrameSets;
 pub use resolve::ResolvePass;
 pub use terrain::TerrainPass;
 

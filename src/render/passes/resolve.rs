@@ -8,19 +8,16 @@ use ash::vk;
 
 use crate::error::Result;
 use crate::render::graph::{Attachment, Declaration, Load, Pass, PassContext, Rendering};
-use crate::render::passes;
+use crate::render::passes::{self, FrameSets};
 use crate::render::shaders;
 use crate::vk::descriptor::{self, Binding, Resource as Descriptor};
 use crate::vk::{pipeline, Access, Device, Resource};
 
-/// The pipeline, its set per frame in flight and the sampler the multisampled colour is read with.
+/// The pipeline and its set per frame in flight (`FrameSets`), with the sampler the
+/// multisampled colour is read with.
 pub struct ResolvePass {
     pipeline: vk::Pipeline,
-    layout: vk::PipelineLayout,
-    set_layout: vk::DescriptorSetLayout,
-    pool: vk::DescriptorPool,
-    sets: Vec<vk::DescriptorSet>,
-    sampler: vk::Sampler,
+    sets: FrameSets,
 }
 
 fn bindings() -> [Binding; 1] {
@@ -32,30 +29,8 @@ impl ResolvePass {
     /// Build the pipeline for targets of `format`; `constants` decide the encoding
     /// (`SPEC_ENCODE_SRGB`: the target's, not the multisampled scene's).
     pub fn new(device: &Device, format: vk::Format, constants: &[u32], frames: usize) -> Result<Self> {
-        let mut pass = Self {
-            pipeline: vk::Pipeline::null(),
-            layout: vk::PipelineLayout::null(),
-            set_layout: vk::DescriptorSetLayout::null(),
-            pool: vk::DescriptorPool::null(),
-            sets: Vec::new(),
-            sampler: vk::Sampler::null(),
-        };
-        if let Err(e) = pass.build(device, format, constants, frames) {
-            // SAFETY: nothing was submitted with the pass; null handles are ignored.
-            unsafe { Box::new(pass).destroy(device) };
-            return Err(e);
-        }
-        Ok(pass)
-    }
-
-    fn build(&mut self, device: &Device, format: vk::Format, constants: &[u32], frames: usize) -> Result<()> {
-        self.set_layout = descriptor::set_layout(device, "resolve set layout", &bindings())?;
-        self.layout = pipeline::layout(device, "resolve layout", &[self.set_layout], &[])?;
-        let (pool, sets) =
-            descriptor::allocate_sets(device, "resolve sets", self.set_layout, &bindings(), frames as u32)?;
-        (self.pool, self.sets) = (pool, sets);
-        self.sampler = crate::vk::image::clamped_sampler(device, vk::Filter::NEAREST, "resolve sampler")?;
-        self.pipeline = pipeline::graphics(
+        let sets = FrameSets::new(device, "resolve", &bindings(), frames)?;
+        let built = pipeline::graphics(
             device,
             &pipeline::GraphicsDesc {
                 name: "resolve",
@@ -67,14 +42,21 @@ impl ResolvePass {
                 depth_compare: vk::CompareOp::ALWAYS,
                 color_format: format,
                 depth_format: vk::Format::UNDEFINED,
-                layout: self.layout,
+                layout: sets.layout,
                 constants,
                 vertex_stride: 0,
                 samples: vk::SampleCountFlags::TYPE_1,
                 alpha_to_coverage: false,
             },
-        )?;
-        Ok(())
+        );
+        match built {
+            Ok(pipeline) => Ok(Self { pipeline, sets }),
+            Err(e) => {
+                // SAFETY: nothing was submitted with them.
+                unsafe { sets.destroy(device) };
+                Err(e)
+            }
+        }
     }
 }
 
@@ -100,9 +82,9 @@ impl Pass for ResolvePass {
 
     fn record(&self, ctx: &PassContext, cmd: vk::CommandBuffer) -> Result<()> {
         let device = ctx.device;
-        let set = self.sets[ctx.slot];
+        let set = self.sets.sets[ctx.slot];
         let scene = vk::DescriptorImageInfo {
-            sampler: self.sampler,
+            sampler: self.sets.sampler,
             image_view: ctx.target.color_view,
             image_layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
         };
@@ -112,25 +94,18 @@ impl Pass for ResolvePass {
         // SAFETY: cmd is recording inside this pass's rendering instance; the set matches the layout.
         unsafe {
             device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline);
-            device.raw.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::GRAPHICS, self.layout, 0, &[set], &[]);
+            device.raw.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::GRAPHICS, self.sets.layout, 0, &[set], &[]);
             device.raw.cmd_draw(cmd, 3, 1, 0, 0);
         }
         Ok(())
     }
 
     unsafe fn destroy(self: Box<Self>, device: &Device) {
-        // SAFETY: per the contract; destroying null handles is a no-op; the sets go with the pool.
+        // SAFETY: per the contract.
         unsafe {
             crate::vk::live::destroyed(self.pipeline);
             device.raw.destroy_pipeline(self.pipeline, None);
-            crate::vk::live::destroyed(self.sampler);
-            device.raw.destroy_sampler(self.sampler, None);
-            crate::vk::live::destroyed(self.pool);
-            device.raw.destroy_descriptor_pool(self.pool, None);
-            crate::vk::live::destroyed(self.layout);
-            device.raw.destroy_pipeline_layout(self.layout, None);
-            crate::vk::live::destroyed(self.set_layout);
-            device.raw.destroy_descriptor_set_layout(self.set_layout, None);
+            self.sets.destroy(device);
         }
     }
 }

@@ -1,0 +1,71 @@
+//! What a pass that reads a frame's own image needs (the depth pyramid reads the frame's depth,
+//! the resolve its multisampled colour): a set layout and pipeline layout, one descriptor set per
+//! frame in flight (pointed at the frame's image when the pass is recorded: that set's previous
+//! use ended with the slot's fence) and a nearest, clamped sampler.
+
+use ash::vk;
+
+use crate::error::Result;
+use crate::vk::descriptor::{self, Binding};
+use crate::vk::{pipeline, Device};
+
+/// A set per frame in flight, their layouts and a sampler.
+pub struct FrameSets {
+    /// The sets' layout.
+    pub set_layout: vk::DescriptorSetLayout,
+    /// The pipeline layout of that one set.
+    pub layout: vk::PipelineLayout,
+    pool: vk::DescriptorPool,
+    /// One set per frame in flight, by slot.
+    pub sets: Vec<vk::DescriptorSet>,
+    /// Nearest, clamped.
+    pub sampler: vk::Sampler,
+}
+
+impl FrameSets {
+    /// Build `frames` sets of `bindings`, named after `name`. On failure nothing is left.
+    pub fn new(device: &Device, name: &str, bindings: &[Binding], frames: usize) -> Result<Self> {
+        let mut made = Self {
+            set_layout: vk::DescriptorSetLayout::null(),
+            layout: vk::PipelineLayout::null(),
+            pool: vk::DescriptorPool::null(),
+            sets: Vec::new(),
+            sampler: vk::Sampler::null(),
+        };
+        let built = (|| {
+            made.set_layout = descriptor::set_layout(device, &format!("{name} set layout"), bindings)?;
+            made.layout = pipeline::layout(device, &format!("{name} layout"), &[made.set_layout], &[])?;
+            let sets =
+                descriptor::allocate_sets(device, &format!("{name} sets"), made.set_layout, bindings, frames as u32)?;
+            (made.pool, made.sets) = sets;
+            made.sampler = crate::vk::image::clamped_sampler(device, vk::Filter::NEAREST, &format!("{name} sampler"))?;
+            Ok(())
+        })();
+        match built {
+            Ok(()) => Ok(made),
+            Err(e) => {
+                // SAFETY: nothing was submitted with them; null handles are ignored.
+                unsafe { made.destroy(device) };
+                Err(e)
+            }
+        }
+    }
+
+    /// Destroy everything (the sets go with the pool).
+    ///
+    /// # Safety
+    /// No pending work may use them.
+    pub unsafe fn destroy(&self, device: &Device) {
+        // SAFETY: per the contract; destroying null handles is a no-op.
+        unsafe {
+            crate::vk::live::destroyed(self.sampler);
+            device.raw.destroy_sampler(self.sampler, None);
+            crate::vk::live::destroyed(self.pool);
+            device.raw.destroy_descriptor_pool(self.pool, None);
+            crate::vk::live::destroyed(self.layout);
+            device.raw.destroy_pipeline_layout(self.layout, None);
+            crate::vk::live::destroyed(self.set_layout);
+            device.raw.destroy_descriptor_set_layout(self.set_layout, None);
+        }
+    }
+}
