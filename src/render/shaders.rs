@@ -26,6 +26,8 @@ pub const BLADE_FORCES_COMP: &[u8] = spirv!("blade_forces.comp");
 pub const BLADE_POSE_COMP: &[u8] = spirv!("blade_pose.comp");
 /// Test: decodes the keyframe texture / uniform array through the vertex shader's decoder.
 pub const KEYFRAME_DECODE_COMP: &[u8] = spirv!("keyframe_decode.comp");
+/// Test: the keyframe selection and smoothing (`kf_select`, `kf_level`) for a buffer of forces.
+pub const KEYFRAME_POSE_COMP: &[u8] = spirv!("keyframe_pose.comp");
 /// Floor reference: transform only.
 pub const FLOOR_VERT: &[u8] = spirv!("floor.vert");
 /// Floor reference: flat colour.
