@@ -27,13 +27,18 @@ impl Renderer {
             return Ok(*target);
         }
         if self.multisampled.is_none() {
-            let made = MultisampleTarget::new(&self.device, target.extent, msaa.flag())?;
-            let view = made.view();
-            self.graph.import(Resource::color(view.color), &[Access::Nothing]);
-            self.graph.import(Resource::depth(view.depth), &[Access::Nothing]);
-            self.multisampled = Some(made);
+            self.multisampled = Some(MultisampleTarget::new(&self.device, target.extent, msaa.flag())?);
         }
-        Ok(self.multisampled.as_ref().expect("made").view())
+        let view = self.multisampled.as_ref().expect("made").view();
+        // Imported when made, and again if the graph lost track of it: a frame that failed to
+        // record or submit (or `record_only`) puts the states back as they were before it,
+        // when the images, never used by the GPU, had not been imported yet.
+        for resource in [Resource::color(view.color), Resource::depth(view.depth)] {
+            if !self.graph.states().get(resource).is_some_and(|s| s.is_imported()) {
+                self.graph.import(resource, &[Access::Nothing]);
+            }
+        }
+        Ok(view)
     }
 
     /// Whether frames draw into the target's depth image (not with `--msaa`: the scene's depth
