@@ -62,8 +62,6 @@ pub struct GraphicsDesc<'a> {
     pub vertex_stride: u32,
     /// Rasterization samples (the attachments' sample count).
     pub samples: vk::SampleCountFlags,
-    /// Alpha to coverage: the fragment's alpha picks how many of the pixel's samples it covers.
-    pub alpha_to_coverage: bool,
 }
 
 /// Map entries for `constants`: constant `i` at byte `4 i`.
@@ -133,9 +131,7 @@ pub fn graphics(device: &Device, desc: &GraphicsDesc) -> Result<vk::Pipeline> {
         .cull_mode(desc.cull)
         .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
         .line_width(1.0);
-    let multisample = vk::PipelineMultisampleStateCreateInfo::default()
-        .rasterization_samples(desc.samples)
-        .alpha_to_coverage_enable(desc.alpha_to_coverage);
+    let multisample = vk::PipelineMultisampleStateCreateInfo::default().rasterization_samples(desc.samples);
     // No depth attachment (`UNDEFINED`): no depth test.
     let has_depth = desc.depth_format != vk::Format::UNDEFINED;
     let depth = vk::PipelineDepthStencilStateCreateInfo::default()

@@ -142,7 +142,6 @@ impl BladePass {
                 constants,
                 vertex_stride: 0,
                 samples: target.samples,
-                alpha_to_coverage: false,
             },
         )
     }

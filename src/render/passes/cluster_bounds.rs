@@ -63,7 +63,6 @@ impl ClusterBoundsPass {
                 constants,
                 vertex_stride: 0,
                 samples: target.samples,
-                alpha_to_coverage: false,
             },
         );
         let pipeline = match built {

@@ -84,7 +84,6 @@ impl FloorPass {
                 constants,
                 vertex_stride: 12,
                 samples: target.samples,
-                alpha_to_coverage: false,
             },
         );
         match built {

@@ -46,7 +46,6 @@ impl ResolvePass {
                 constants,
                 vertex_stride: 0,
                 samples: vk::SampleCountFlags::TYPE_1,
-                alpha_to_coverage: false,
             },
         );
         match built {

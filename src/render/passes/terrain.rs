@@ -44,7 +44,6 @@ impl TerrainPass {
                 constants,
                 vertex_stride: 0,
                 samples: target.samples,
-                alpha_to_coverage: false,
             },
         )?;
         Ok(Self { pipeline, layout: target.layout, heights: scene.heights.raw, cells: scene.terrain_cells, sky })
