@@ -1,5 +1,8 @@
 //! GPU tests of the shared data layout and of the validation harness itself.
 
+#[path = "support/compute.rs"]
+mod compute;
+
 use std::sync::Arc;
 
 use ash::vk;
@@ -11,7 +14,7 @@ use meadow::render::specialization::{self, Specialization};
 use meadow::render::uniforms::FrameUniforms;
 use meadow::scene::{BladeInstance, Scene};
 use meadow::vk::descriptor::{self, Binding, Resource};
-use meadow::vk::{commands, pipeline, sync, Access, Buffer, BufferDesc, Device, DeviceSelector};
+use meadow::vk::{pipeline, Buffer, BufferDesc, Device, DeviceSelector};
 
 fn options() -> GpuOptions {
     GpuOptions { validation: true, device: DeviceSelector::parse("llvmpipe") }
@@ -52,17 +55,7 @@ fn run_compute(
             (1, vk::DescriptorType::STORAGE_BUFFER, Resource::Buffer(output.descriptor())),
         ],
     );
-    let submitted = commands::submit_and_wait(device, "readback", |cmd| {
-        // SAFETY: all objects are live; host writes are visible at submission.
-        unsafe {
-            device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipe);
-            device.raw.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::COMPUTE, layout, 0, &sets, &[]);
-            device.raw.cmd_dispatch(cmd, groups, 1, 1);
-        }
-        let to_host = sync::buffer_barrier(output.raw, &[Access::ComputeShaderWrite], &[Access::HostRead]);
-        sync::cmd_barriers(device, cmd, &[to_host], &[]);
-        Ok(())
-    });
+    let submitted = compute::dispatch(device, "readback", (pipe, layout), &sets, &[], groups, output.raw);
     let words = bytemuck::cast_slice::<u8, u32>(output.mapped()).to_vec();
     // SAFETY: submit_and_wait waited for the dispatch.
     unsafe {

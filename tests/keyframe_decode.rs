@@ -2,6 +2,9 @@
 //! keyframe texture and uniform array, against the CPU decode of every encoding; and the decoded
 //! values against the generated poses, within each encoding's error bound.
 
+#[path = "support/compute.rs"]
+mod compute;
+
 use std::f32::consts::FRAC_PI_2;
 use std::sync::Arc;
 
@@ -15,7 +18,7 @@ use meadow::render::shaders;
 use meadow::render::uniforms::FrameUniforms;
 use meadow::vk::descriptor::{self, Binding, Resource};
 use meadow::vk::upload::UploadBatch;
-use meadow::vk::{commands, pipeline, sync, Access, Buffer, BufferDesc, Device, DeviceSelector};
+use meadow::vk::{pipeline, Buffer, BufferDesc, Device, DeviceSelector};
 
 const SEGMENTS: u32 = 3;
 
@@ -126,7 +129,8 @@ fn decode_on_gpu(device: &Arc<Device>, source: Source) -> meadow::Result<(Keyfra
             (3, vk::DescriptorType::STORAGE_BUFFER, Resource::Buffer(out.descriptor())),
         ],
     );
-    let submitted = dispatch(device, pipe, layout, &sets, count, out.raw);
+    let groups = (count as u32).div_ceil(64);
+    let submitted = compute::dispatch(device, "decode", (pipe, layout), &sets, &[], groups, out.raw);
     let decoded = bytemuck::cast_slice::<u8, [f32; 4]>(out.mapped()).to_vec();
     // SAFETY: submit_and_wait waited.
     unsafe {
@@ -159,32 +163,6 @@ fn frame_buffer(device: &Arc<Device>, table: &KeyframeTable) -> meadow::Result<B
         ),
         bytemuck::bytes_of(&uniforms),
     )
-}
-
-/// Run the decode shader over `count` keyframes and make its output visible to the host.
-fn dispatch(
-    device: &Arc<Device>,
-    pipe: vk::Pipeline,
-    layout: vk::PipelineLayout,
-    sets: &[vk::DescriptorSet],
-    count: usize,
-    out: vk::Buffer,
-) -> meadow::Result<()> {
-    commands::submit_and_wait(device, "decode", |cmd| {
-        // SAFETY: all objects are live.
-        unsafe {
-            device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipe);
-            device.raw.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::COMPUTE, layout, 0, sets, &[]);
-            device.raw.cmd_dispatch(cmd, (count as u32).div_ceil(64), 1, 1);
-        }
-        sync::cmd_barriers(
-            device,
-            cmd,
-            &[sync::buffer_barrier(out, &[Access::ComputeShaderWrite], &[Access::HostRead])],
-            &[],
-        );
-        Ok(())
-    })
 }
 
 #[test]

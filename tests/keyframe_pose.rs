@@ -5,6 +5,9 @@
 //! with `KeyframeTable::pose_for`, the code the report measures. Then report entries are
 //! recomputed from the GPU's poses: the report's numbers are those of the poses the renderer draws.
 
+#[path = "support/compute.rs"]
+mod compute;
+
 use std::f32::consts::FRAC_PI_2;
 use std::sync::Arc;
 
@@ -20,7 +23,7 @@ use meadow::render::shaders;
 use meadow::render::specialization::Specialization;
 use meadow::render::uniforms::FrameUniforms;
 use meadow::vk::descriptor::{self, Binding, Resource};
-use meadow::vk::{commands, pipeline, sync, Access, Buffer, BufferDesc, Device, DeviceSelector};
+use meadow::vk::{pipeline, Buffer, BufferDesc, Device, DeviceSelector};
 
 /// `meadow keyframes --report`'s default segments.
 const SEGMENTS: u32 = 4;
@@ -151,7 +154,9 @@ fn poses_on_gpu(device: &Arc<Device>, smoothing: Smoothing, forces: &[(f32, f32)
             (2, vk::DescriptorType::STORAGE_BUFFER, Resource::Buffer(out.descriptor())),
         ],
     );
-    let submitted = dispatch(device, pipe, layout, &[sets[0], model.resources().set], forces.len(), out.raw);
+    let groups = (forces.len() as u32).div_ceil(64);
+    let sets = [sets[0], model.resources().set];
+    let submitted = compute::dispatch(device, "keyframe pose", (pipe, layout), &sets, &[], groups, out.raw);
     let poses = bytemuck::cast_slice::<u8, Vec4>(out.mapped()).chunks(SEGMENTS as usize + 1).map(pose_of).collect();
     // SAFETY: submit_and_wait waited.
     unsafe {
@@ -171,32 +176,6 @@ fn poses_on_gpu(device: &Arc<Device>, smoothing: Smoothing, forces: &[(f32, f32)
 /// A pose from the shader's levels (xyz point, w twist).
 fn pose_of(levels: &[Vec4]) -> Pose {
     Pose { backbone: levels.iter().map(|l| l.truncate()).collect(), twist: levels.iter().map(|l| l.w).collect() }
-}
-
-/// Run the shader over `count` forces and make its output visible to the host.
-fn dispatch(
-    device: &Arc<Device>,
-    pipe: vk::Pipeline,
-    layout: vk::PipelineLayout,
-    sets: &[vk::DescriptorSet],
-    count: usize,
-    out: vk::Buffer,
-) -> meadow::Result<()> {
-    commands::submit_and_wait(device, "keyframe pose", |cmd| {
-        // SAFETY: all objects are live.
-        unsafe {
-            device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipe);
-            device.raw.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::COMPUTE, layout, 0, sets, &[]);
-            device.raw.cmd_dispatch(cmd, (count as u32).div_ceil(64), 1, 1);
-        }
-        sync::cmd_barriers(
-            device,
-            cmd,
-            &[sync::buffer_barrier(out, &[Access::ComputeShaderWrite], &[Access::HostRead])],
-            &[],
-        );
-        Ok(())
-    })
 }
 
 /// The table as the GPU reads it: every component through the unorm16 round trip of

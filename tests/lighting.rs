@@ -1,6 +1,9 @@
 //! Belyaev §2.3's Fresnel term: evaluated by the shader's own functions at read-back strip
 //! vertices and checked against the formula on the CPU, and shown to grow towards contour areas.
 
+#[path = "support/compute.rs"]
+mod compute;
+
 mod support;
 
 use std::sync::Arc;
@@ -12,7 +15,7 @@ use meadow::render::shaders;
 use meadow::scene::camera::Camera;
 use meadow::scene::{bezier, Scene};
 use meadow::vk::descriptor::{self, Binding, Resource};
-use meadow::vk::{commands, pipeline, sync, Access, Buffer, BufferDesc, Device, DeviceSelector};
+use meadow::vk::{pipeline, Buffer, BufferDesc, Device, DeviceSelector};
 
 /// Ks of lighting.glsl (`FRESNEL_KS`); `ks_is_the_shaders` keeps the two in step.
 const KS: [f32; 3] = [0.26, 0.30, 0.34];
@@ -61,18 +64,9 @@ fn probe(device: &Arc<Device>, scene: &Scene, camera: Vec3) -> meadow::Result<Ve
     let t = &scene.terrain;
     let params: [f32; 9] =
         [camera.x, camera.y, camera.z, 0.0, t.origin(), t.cell_size(), t.cells as f32, 0.0, f32::from_bits(vertices)];
-    let submitted = commands::submit_and_wait(device, "probe", |cmd| {
-        // SAFETY: all objects are live; host writes are visible at submission.
-        unsafe {
-            device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipe);
-            device.raw.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::COMPUTE, layout, 0, &sets, &[]);
-            device.raw.cmd_push_constants(cmd, layout, vk::ShaderStageFlags::COMPUTE, 0, bytemuck::cast_slice(&params));
-            device.raw.cmd_dispatch(cmd, (count as u32).div_ceil(64), 1, 1);
-        }
-        let to_host = sync::buffer_barrier(output.raw, &[Access::ComputeShaderWrite], &[Access::HostRead]);
-        sync::cmd_barriers(device, cmd, &[to_host], &[]);
-        Ok(())
-    });
+    let groups = (count as u32).div_ceil(64);
+    let submitted =
+        compute::dispatch(device, "probe", (pipe, layout), &sets, bytemuck::cast_slice(&params), groups, output.raw);
     let floats = bytemuck::cast_slice::<u8, f32>(output.mapped()).to_vec();
     // SAFETY: submit_and_wait waited for the dispatch.
     unsafe {
