@@ -114,15 +114,7 @@ impl MultisampleTarget {
     /// The scene passes' view of it. Its images are tracked by the graph from their creation
     /// (imported once, as `Nothing`), so the previous accesses here are never used.
     pub fn view(&self) -> TargetView {
-        TargetView {
-            color: self.color.raw,
-            color_view: self.color.view,
-            depth: self.depth.raw,
-            depth_view: self.depth.view,
-            extent: self.color.extent,
-            color_previous: Access::Nothing,
-            depth_previous: Access::Nothing,
-        }
+        TargetView::of(&self.color, &self.depth, (Access::Nothing, Access::Nothing))
     }
 
     /// Free both images.

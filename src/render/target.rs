@@ -28,6 +28,21 @@ pub struct TargetView {
     pub depth_previous: Access,
 }
 
+impl TargetView {
+    /// The view of a `color` and `depth` image pair, last accessed as given.
+    pub fn of(color: &Image, depth: &Image, previous: (Access, Access)) -> Self {
+        TargetView {
+            color: color.raw,
+            color_view: color.view,
+            depth: depth.raw,
+            depth_view: depth.view,
+            extent: color.extent,
+            color_previous: previous.0,
+            depth_previous: previous.1,
+        }
+    }
+}
+
 /// Bytes of device memory an offscreen target of `extent` needs (colour, depth, readback).
 pub fn offscreen_bytes(extent: vk::Extent2D) -> u64 {
     3 * 4 * u64::from(extent.width) * u64::from(extent.height)
@@ -88,15 +103,7 @@ impl OffscreenTarget {
 
     /// The view the renderer draws into.
     pub fn view(&self) -> TargetView {
-        TargetView {
-            color: self.color.raw,
-            color_view: self.color.view,
-            depth: self.depth.raw,
-            depth_view: self.depth.view,
-            extent: self.color.extent,
-            color_previous: self.color_last,
-            depth_previous: self.depth_last,
-        }
+        TargetView::of(&self.color, &self.depth, (self.color_last, self.depth_last))
     }
 
     /// Note that a frame was recorded into the target with a readback: it leaves colour as a
