@@ -154,24 +154,14 @@ pub(crate) fn bench(args: BenchArgs) -> crate::Result<(u8, Option<u64>)> {
 /// animation both ways); `--blades` and `--segments` take one value each.
 fn lod(args: BenchArgs) -> crate::Result<(u8, Option<u64>)> {
     use crate::harness::bench::lod::{self, LodBenchOptions};
-    use crate::Error;
-    for (given, flag) in [(!args.modes.is_empty(), "--modes"), (!args.eval.is_empty(), "--eval")] {
-        if given {
-            return Err(Error::bad_input(format!(
-                "{flag} does not apply to --preset lod: it renders texture keyframes, brute force and GPU-driven"
-            )));
-        }
-    }
+    let why = "--preset lod: it renders texture keyframes, brute force and GPU-driven";
+    refuse(why, &[(!args.modes.is_empty(), "--modes"), (!args.eval.is_empty(), "--eval")])?;
     let mut options = LodBenchOptions::preset(args.out.clone());
-    match args.blades.as_slice() {
-        [] => {}
-        &[blades] => options.set_stored_blades(blades),
-        _ => return Err(Error::bad_input("--preset lod takes one --blades count (the stored field's)")),
+    if let Some(blades) = at_most_one(&args.blades, "--preset lod takes one --blades count (the stored field's)")? {
+        options.set_stored_blades(blades);
     }
-    match args.segments.as_slice() {
-        [] => {}
-        &[segments] => options.segments = segments,
-        _ => return Err(Error::bad_input("--preset lod takes one --segments count")),
+    if let Some(segments) = at_most_one(&args.segments, "--preset lod takes one --segments count")? {
+        options.segments = segments;
     }
     options.size = args.size.unwrap_or(options.size);
     options.warmup = args.warmup.unwrap_or(options.warmup);
@@ -196,23 +186,15 @@ fn lod(args: BenchArgs) -> crate::Result<(u8, Option<u64>)> {
 /// frames can be changed; modes, evaluation placements and segment counts cannot.
 fn msaa(args: BenchArgs) -> crate::Result<(u8, Option<u64>)> {
     use crate::harness::bench::msaa::{self, MsaaBenchOptions};
-    use crate::Error;
-    for (given, flag) in [
+    let given = [
         (!args.modes.is_empty(), "--modes"),
         (!args.eval.is_empty(), "--eval"),
         (!args.segments.is_empty(), "--segments"),
-    ] {
-        if given {
-            return Err(Error::bad_input(format!(
-                "{flag} does not apply to --preset msaa: it renders the default scene"
-            )));
-        }
-    }
+    ];
+    refuse("--preset msaa: it renders the default scene", &given)?;
     let mut options = MsaaBenchOptions::preset(args.out.clone());
-    match args.blades.as_slice() {
-        [] => {}
-        &[blades] => options.blades = blades,
-        _ => return Err(Error::bad_input("--preset msaa takes one --blades count")),
+    if let Some(blades) = at_most_one(&args.blades, "--preset msaa takes one --blades count")? {
+        options.blades = blades;
     }
     options.size = args.size.unwrap_or(options.size);
     options.warmup = args.warmup.unwrap_or(options.warmup);
@@ -231,6 +213,23 @@ fn msaa(args: BenchArgs) -> crate::Result<(u8, Option<u64>)> {
             println!("wrote {}/msaa.json, msaa.csv and msaa-far-field.png", options.out.display());
         },
     ))
+}
+
+/// Refuse the first flag `given` that does not apply to a preset, saying why (`why`).
+fn refuse(why: &str, given: &[(bool, &str)]) -> crate::Result<()> {
+    match given.iter().find(|(given, _)| *given) {
+        Some((_, flag)) => Err(crate::Error::bad_input(format!("{flag} does not apply to {why}"))),
+        None => Ok(()),
+    }
+}
+
+/// The one value of a list flag a preset takes at most once, or `message` as bad input.
+fn at_most_one(values: &[u32], message: &str) -> crate::Result<Option<u32>> {
+    match values {
+        [] => Ok(None),
+        &[value] => Ok(Some(value)),
+        _ => Err(crate::Error::bad_input(message)),
+    }
 }
 
 /// `values` sorted, each once.
