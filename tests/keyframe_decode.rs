@@ -4,6 +4,8 @@
 
 #[path = "support/compute.rs"]
 mod compute;
+#[path = "support/frame_uniforms.rs"]
+mod frame_uniforms;
 
 use std::f32::consts::FRAC_PI_2;
 use std::sync::Arc;
@@ -154,15 +156,7 @@ fn frame_buffer(device: &Arc<Device>, table: &KeyframeTable) -> meadow::Result<B
         keyframe_shape: UVec4::new(SEGMENTS, 0, 0, 0),
         ..bytemuck::Zeroable::zeroed()
     };
-    Buffer::with_data(
-        device,
-        &BufferDesc::upload(
-            "decode frame",
-            std::mem::size_of::<FrameUniforms>() as u64,
-            vk::BufferUsageFlags::UNIFORM_BUFFER,
-        ),
-        bytemuck::bytes_of(&uniforms),
-    )
+    frame_uniforms::upload(device, "decode frame", &uniforms)
 }
 
 #[test]

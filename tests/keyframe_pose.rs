@@ -7,6 +7,8 @@
 
 #[path = "support/compute.rs"]
 mod compute;
+#[path = "support/frame_uniforms.rs"]
+mod frame_uniforms;
 
 use std::f32::consts::FRAC_PI_2;
 use std::sync::Arc;
@@ -114,15 +116,7 @@ fn poses_on_gpu(device: &Arc<Device>, smoothing: Smoothing, forces: &[(f32, f32)
     model.specialize(&mut specialization);
     let mut uniforms: FrameUniforms = bytemuck::Zeroable::zeroed();
     model.fill_uniforms(&mut uniforms);
-    let frame = Buffer::with_data(
-        device,
-        &BufferDesc::upload(
-            "pose frame",
-            std::mem::size_of::<FrameUniforms>() as u64,
-            vk::BufferUsageFlags::UNIFORM_BUFFER,
-        ),
-        bytemuck::bytes_of(&uniforms),
-    )?;
+    let frame = frame_uniforms::upload(device, "pose frame", &uniforms)?;
     let force_data: Vec<[f32; 2]> = forces.iter().map(|&(fx, fz)| [fx, fz]).collect();
     let forces_buffer = Buffer::with_data(
         device,

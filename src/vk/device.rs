@@ -75,6 +75,15 @@ const DEPTH_FEATURES: vk::FormatFeatureFlags = vk::FormatFeatureFlags::from_raw(
     vk::FormatFeatureFlags::DEPTH_STENCIL_ATTACHMENT.as_raw() | vk::FormatFeatureFlags::SAMPLED_IMAGE.as_raw(),
 );
 
+/// What `format` supports on `physical` with optimal tiling (nothing when `MEADOW_HIDE` hides it).
+fn format_features(instance: &Instance, physical: vk::PhysicalDevice, format: vk::Format) -> vk::FormatFeatureFlags {
+    if super::capabilities::hidden().is_ok_and(|h| h.hides(format)) {
+        return vk::FormatFeatureFlags::empty();
+    }
+    // SAFETY: physical comes from this instance; any format may be queried.
+    unsafe { instance.raw.get_physical_device_format_properties(physical, format) }.optimal_tiling_features
+}
+
 /// The features meadow enables on `physical`.
 struct EnabledFeatures {
     /// Optional core features, enabled when supported.
@@ -196,6 +205,12 @@ impl Device {
         };
         let features = enabled_features(&instance, physical, &chosen.info.name)?;
         super::capabilities::hidden()?.limit(&mut properties.limits);
+        let depth_format = DEPTH_FORMATS
+            .into_iter()
+            .find(|&f| format_features(&instance, physical, f).contains(DEPTH_FEATURES))
+            .ok_or_else(|| {
+                Error::Environment(format!("{} can attach and sample none of {DEPTH_FORMATS:?}", chosen.info.name))
+            })?;
         let mut subgroup = vk::PhysicalDeviceSubgroupProperties::default();
         let mut properties2 = vk::PhysicalDeviceProperties2::default().push_next(&mut subgroup);
         // SAFETY: physical comes from this Vulkan 1.1+ instance; the chain is valid.
@@ -249,14 +264,9 @@ impl Device {
                 false => families[queue_family as usize].timestamp_valid_bits,
             },
             subgroup_size,
-            depth_format: vk::Format::UNDEFINED,
+            depth_format,
             allocator: ManuallyDrop::new(Mutex::new(allocator)),
         };
-        let mut device = device;
-        device.depth_format =
-            DEPTH_FORMATS.into_iter().find(|&f| device.format_features(f).contains(DEPTH_FEATURES)).ok_or_else(
-                || Error::Environment(format!("{} can attach and sample none of {DEPTH_FORMATS:?}", device.info.name)),
-            )?;
         device.set_name(device.queue, "main queue");
         Ok(Arc::new(device))
     }
@@ -274,12 +284,7 @@ impl Device {
 
     /// What `format` supports with optimal tiling (nothing when `MEADOW_HIDE` hides it).
     pub fn format_features(&self, format: vk::Format) -> vk::FormatFeatureFlags {
-        if super::capabilities::hidden().is_ok_and(|h| h.hides(format)) {
-            return vk::FormatFeatureFlags::empty();
-        }
-        // SAFETY: valid physical device and format.
-        unsafe { self.instance.raw.get_physical_device_format_properties(self.physical, format) }
-            .optimal_tiling_features
+        format_features(&self.instance, self.physical, format)
     }
 
     /// Size of the largest device-local heap.
