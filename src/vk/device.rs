@@ -84,6 +84,14 @@ fn format_features(instance: &Instance, physical: vk::PhysicalDevice, format: vk
     unsafe { instance.raw.get_physical_device_format_properties(physical, format) }.optimal_tiling_features
 }
 
+/// The first of [`DEPTH_FORMATS`] `physical` can attach and sample, or a refusal naming `name`.
+fn depth_format(instance: &Instance, physical: vk::PhysicalDevice, name: &str) -> Result<vk::Format> {
+    DEPTH_FORMATS
+        .into_iter()
+        .find(|&f| format_features(instance, physical, f).contains(DEPTH_FEATURES))
+        .ok_or_else(|| Error::Environment(format!("{name} can attach and sample none of {DEPTH_FORMATS:?}")))
+}
+
 /// The features meadow enables on `physical`.
 struct EnabledFeatures {
     /// Optional core features, enabled when supported.
@@ -205,12 +213,7 @@ impl Device {
         };
         let features = enabled_features(&instance, physical, &chosen.info.name)?;
         super::capabilities::hidden()?.limit(&mut properties.limits);
-        let depth_format = DEPTH_FORMATS
-            .into_iter()
-            .find(|&f| format_features(&instance, physical, f).contains(DEPTH_FEATURES))
-            .ok_or_else(|| {
-                Error::Environment(format!("{} can attach and sample none of {DEPTH_FORMATS:?}", chosen.info.name))
-            })?;
+        let depth_format = depth_format(&instance, physical, &chosen.info.name)?;
         let mut subgroup = vk::PhysicalDeviceSubgroupProperties::default();
         let mut properties2 = vk::PhysicalDeviceProperties2::default().push_next(&mut subgroup);
         // SAFETY: physical comes from this Vulkan 1.1+ instance; the chain is valid.
