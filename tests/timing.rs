@@ -176,17 +176,20 @@ fn timing_reports_the_cull_counts() {
 
 #[test]
 fn the_frame_time_is_the_passes_and_the_read_back_copy_is_apart() {
-    // `gpu:` spans the passes only (they run back to back: their sum); the copy of the picture to
-    // the host after them is reported on its own.
+    // `gpu:` spans the passes only: their times and the time between them add up to it, read
+    // from the same timestamps (only the 3-decimal rounding differs). The copy of the picture to
+    // the host after the last pass is reported on its own: were it inside `gpu:`, the sum would
+    // miss it. No bound on the time between passes: it depends on the machine's load.
     let dir = support::scratch("timing-readback");
     let output = support::render(&["--blades", "3000", "--size", "640x360"], &dir.join("x.png"));
     let stdout = String::from_utf8_lossy(&output.stdout);
     let line = stdout.lines().find(|l| l.starts_with("gpu: ")).expect("a gpu line");
     let numbers: Vec<f64> =
         line.split(|c: char| !(c.is_ascii_digit() || c == '.')).filter_map(|w| w.parse().ok()).collect();
-    let (frame, passes, copy) = (numbers[0], &numbers[1..numbers.len() - 1], numbers[numbers.len() - 1]);
-    let sum: f64 = passes.iter().sum();
-    assert!(line.contains("; read-back copy ") && passes.len() >= 2, "{line}");
-    assert!((frame - sum).abs() <= 0.05 * frame + 0.5, "frame {frame} ms, passes {sum} ms: {line}");
+    let (frame, parts, copy) = (numbers[0], &numbers[1..numbers.len() - 1], numbers[numbers.len() - 1]);
+    let sum: f64 = parts.iter().sum();
+    assert!(line.contains("; between passes ") && line.contains("); read-back copy ") && parts.len() >= 3, "{line}");
+    let rounding = 0.0005 * (parts.len() + 1) as f64 + 1e-6;
+    assert!((frame - sum).abs() <= rounding, "frame {frame} ms, passes and between {sum} ms: {line}");
     assert!(copy > 0.0, "the copy of 640x360 pixels took no time: {line}");
 }

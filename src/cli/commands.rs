@@ -100,7 +100,13 @@ fn print_render(report: &RenderReport) {
     }
     let passes: Vec<String> = last.passes.iter().map(|p| format!("{} {:.3} ms", p.name, p.ms)).collect();
     if last.gpu_available {
-        println!("gpu: {:.3} ms ({}); read-back copy {:.3} ms", last.gpu_ms, passes.join(", "), last.readback_ms);
+        println!(
+            "gpu: {:.3} ms ({}; between passes {:.3} ms); read-back copy {:.3} ms",
+            last.gpu_ms,
+            passes.join(", "),
+            last.between_passes_ms,
+            last.readback_ms
+        );
     } else {
         println!("gpu: unavailable ({} writes no timestamps on its queue)", report.device.name);
     }

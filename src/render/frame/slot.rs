@@ -54,6 +54,10 @@ pub struct FrameTimings {
     /// GPU time after the passes: the copy of the picture to the host (`render`, the harness),
     /// reported apart from `gpu_ms`.
     pub readback_ms: f64,
+    /// GPU time inside `gpu_ms` outside every pass: from the frame's first timestamp to the first
+    /// pass's start and from each pass's end to the next one's start (the device scheduling the
+    /// next command; barriers are inside the pass they precede).
+    pub between_passes_ms: f64,
     /// GPU time per pass.
     pub passes: Vec<PassTime>,
     /// First and last timestamp of the frame, in nanoseconds of the device's timestamp clock.
@@ -289,6 +293,9 @@ impl Frame {
         // copy to the host).
         let (first, last) = (ticks[0], ticks[ticks.len() - 1]);
         let passes_end = self.passes.last().map_or(last, |p| ticks[p.end as usize]);
+        let ends = std::iter::once(first).chain(self.passes.iter().map(|p| ticks[p.end as usize]));
+        let between_passes_ms =
+            self.passes.iter().zip(ends).map(|(p, end)| clock.elapsed_ms(end, ticks[p.begin as usize])).sum();
         Some(FrameTimings {
             cpu_record_ms: (recorded - started).as_secs_f64() * 1e3,
             cpu_submit_ms: (submitted - recorded).as_secs_f64() * 1e3,
@@ -296,6 +303,7 @@ impl Frame {
             gpu_ms: clock.elapsed_ms(first, passes_end),
             gpu_available: clock.available(),
             readback_ms: clock.elapsed_ms(passes_end, last),
+            between_passes_ms,
             passes,
             gpu_span_ns: (clock.ns(first), clock.ns(last)),
             cpu_spans: Some([started, recorded, submitted]),
