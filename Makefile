@@ -23,8 +23,9 @@ test: deps
 	$(CARGO) fmt --all -- --check
 	$(CARGO) clippy --all-targets -- -D warnings
 	$(CARGO) test --release
-	# A 1 000-frame soak of the viewer's own lifecycle (swapchain re-creations, frame ring,
-	# deferred deletions) by brute force: the cull's dispatches grow lavapipe's memory (README).
+	# 1 000-frame soaks of the viewer's own lifecycle (swapchain re-creations, frame ring,
+	# deferred deletions), culled and by brute force: no memory or live-object growth.
+	FRAMES=1000 ./scripts/soak.sh
 	FRAMES=1000 ./scripts/soak.sh --brute-force
 
 # Regenerate tests/golden/*.png from the current renderer (review the pictures before committing).

@@ -5,7 +5,18 @@
 #define MEADOW_BINDINGS_GLSL
 #include "common.glsl"
 
+#ifdef FRAME_FROM_STORAGE
+// The cull's passes read this frame's uniforms through a storage binding of the same buffer (same
+// std140 layout). Lavapipe before Mesa 23 "inlines" uniform-buffer values that decide branches:
+// when a compute pipeline's `if` or loop bound reads only uniforms, each dispatch after a
+// descriptor bind compiles a new variant with this frame's values folded in, and keeps every one
+// (`update_inline_shader_state` in lvp_execute.c has no variant cache before 23.1). The cull tests
+// its toggles and counts that way, so the viewer's memory grew by about 1.1 MB a frame, all of it
+// JIT code. Storage buffers are never inlined.
+layout(set = SET_SCENE, binding = BINDING_FRAME_STORAGE, std140) readonly buffer FrameStorage { FrameUniforms frame; };
+#else
 layout(set = SET_SCENE, binding = BINDING_FRAME, std140) uniform Frame { FrameUniforms frame; };
+#endif
 layout(set = SET_SCENE, binding = BINDING_BLADES, std430) readonly buffer Blades { BladeInstance blades[]; };
 layout(set = SET_SCENE, binding = BINDING_HEIGHTS, std430) readonly buffer Heights { float heights[]; };
 layout(set = SET_SCENE, binding = BINDING_BLADE_ALPHA) uniform sampler2D blade_alpha;

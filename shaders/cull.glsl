@@ -7,6 +7,7 @@
 // threads are scheduled.
 #ifndef MEADOW_CULL_GLSL
 #define MEADOW_CULL_GLSL
+#define FRAME_FROM_STORAGE
 #include "bindings.glsl"
 #include "field.glsl"
 #include "rings.glsl"

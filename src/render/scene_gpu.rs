@@ -69,10 +69,12 @@ pub mod binding {
     pub const DEPTH_PYRAMID: u32 = gpu::BINDING_DEPTH_PYRAMID;
     /// A block field's room for verdicts.
     pub const CULL_ALLOC: u32 = gpu::BINDING_CULL_ALLOC;
+    /// `FrameUniforms` again, as the cull's passes read it: a storage buffer (shaders/bindings.glsl).
+    pub const FRAME_STORAGE: u32 = gpu::BINDING_FRAME_STORAGE;
 }
 
 /// Layout of set `SET_SCENE`, shared by the scene passes and the animation's compute passes.
-pub fn bindings() -> [Binding; 15] {
+pub fn bindings() -> [Binding; 16] {
     let vs = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::COMPUTE;
     let cs = vk::ShaderStageFlags::COMPUTE;
     let vs_cs = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::COMPUTE;
@@ -96,6 +98,7 @@ pub fn bindings() -> [Binding; 15] {
         Binding { binding: binding::CULL_RESULTS, kind: storage, stages: cs },
         Binding { binding: binding::DEPTH_PYRAMID, kind: storage, stages: cs },
         Binding { binding: binding::CULL_ALLOC, kind: storage, stages: cs },
+        Binding { binding: binding::FRAME_STORAGE, kind: storage, stages: cs },
     ]
 }
 
@@ -366,6 +369,7 @@ impl SceneGpu {
                 (binding::CULL_RESULTS, storage, Resource::Buffer(self.cull_results.descriptor())),
                 (binding::DEPTH_PYRAMID, storage, Resource::Buffer(self.depth_pyramid.descriptor())),
                 (binding::CULL_ALLOC, storage, Resource::Buffer(self.cull_alloc.descriptor())),
+                (binding::FRAME_STORAGE, storage, Resource::Buffer(frame.uniforms.descriptor())),
             ],
         );
     }

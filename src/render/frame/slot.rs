@@ -168,8 +168,10 @@ impl Parts {
         self.recorder = Some(CommandRecorder::new(device, &format!("frame {index} commands"))?);
         self.fence = sync::fence(device, true, &format!("frame {index} fence"))?;
         let vec4 = 16u64;
+        let uniform_and_storage = vk::BufferUsageFlags::UNIFORM_BUFFER | vk::BufferUsageFlags::STORAGE_BUFFER;
         for (name, size, usage) in [
-            ("uniforms", std::mem::size_of::<FrameUniforms>() as u64, vk::BufferUsageFlags::UNIFORM_BUFFER),
+            // A storage buffer too: the cull reads it through `scene_gpu::binding::FRAME_STORAGE`.
+            ("uniforms", std::mem::size_of::<FrameUniforms>() as u64, uniform_and_storage),
             ("corner forces", vec4 * u64::from(corners), vk::BufferUsageFlags::STORAGE_BUFFER),
             ("emitters", vec4 * u64::from(emitters.max(1)), vk::BufferUsageFlags::STORAGE_BUFFER),
         ] {
