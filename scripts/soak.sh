@@ -17,14 +17,22 @@ run() {
 fields() { awk '{print $3, $5, $7}'; }
 check() {
     local label=$1 samples=$2
+    # A viewer that failed, or printed too few samples, fails the soak: no samples is no evidence.
+    if (( $(grep -c '^sample:' <<<"$samples") < 2 )); then
+        echo "soak ($label): the viewer printed fewer than 2 samples"
+        return 1
+    fi
     read -r f0 r0 l0 <<<"$(sed -n 2p <<<"$samples" | fields)"
     read -r f1 r1 l1 <<<"$(tail -n 1 <<<"$samples" | fields)"
     echo "soak ($label): frames $f0 -> $f1: RSS $r0 -> $r1 KiB ($((r1 - r0)) KiB), live Vulkan objects $l0 -> $l1"
-    [[ $label == validation ]] && return 0
+    [[ $label == validation ]] && return 0  # the layer keeps memory of its own: reported only
     if (( r1 - r0 > 4096 )); then echo "soak: RSS grew by $((r1 - r0)) KiB (> 4096)"; return 1; fi
     if (( l1 != l0 )); then echo "soak: live Vulkan objects grew from $l0 to $l1"; return 1; fi
 }
 status=0
-check plain "$(run "$@")" || status=1
-check validation "$(run --validation "$@")"
+# `run` failing (the viewer's exit status, through pipefail) fails the soak.
+plain=$(run "$@") || { echo "soak (plain): the viewer failed or printed no samples"; exit 1; }
+check plain "$plain" || status=1
+with_validation=$(run --validation "$@") || { echo "soak (validation): the viewer failed or printed no samples"; exit 1; }
+check validation "$with_validation" || status=1
 exit $status

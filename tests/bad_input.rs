@@ -177,3 +177,38 @@ fn a_missing_driver_is_a_runtime_error_with_its_messages_counted() {
     assert!(!counted.starts_with("0 "), "the loader's complaints are counted: {counted}");
     assert!(!dir.join("x.png").exists());
 }
+
+/// Issue 11: a script line of megabytes (an unknown action, key or value) is refused in one
+/// bounded line, before any display is needed.
+#[test]
+fn a_huge_script_line_is_refused_in_a_bounded_line() {
+    let dir = scratch("bad-huge-script");
+    let words = [
+        "q".repeat(10_000_000),
+        format!("press {}", "a".repeat(10_000_000)),
+        format!("camera {}", "1".repeat(10_000_000)),
+    ];
+    for (i, words) in words.iter().enumerate() {
+        let script = dir.join(format!("long-{i}.txt"));
+        std::fs::write(&script, format!("2 {words}\n")).expect("write script");
+        let output = meadow()
+            .arg("view")
+            .arg("--script")
+            .arg(&script)
+            .env_remove("DISPLAY")
+            .env_remove("WAYLAND_DISPLAY")
+            .output()
+            .expect("run meadow");
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(
+            output.status.code(),
+            Some(2),
+            "case {i}: exit {:?}, {} bytes of stderr",
+            output.status.code(),
+            stderr.len()
+        );
+        assert_eq!(stderr.lines().count(), 1, "case {i}: {} lines", stderr.lines().count());
+        assert!(stderr.starts_with("error: --script ") && stderr.contains("line 1: "), "case {i}: {:.300}", stderr);
+        assert!(stderr.len() < 600, "case {i}: {} bytes of error", stderr.len());
+    }
+}

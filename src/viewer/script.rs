@@ -75,7 +75,8 @@ impl Script {
             // The line as written, cut short: a megabyte line is not echoed whole.
             let shown: String = raw.chars().take(80).collect();
             let cut = if shown.len() < raw.len() { "…" } else { "" };
-            let fail = |what: &str| format!("line {}: {what}: '{shown}{cut}'", n + 1);
+            // What went wrong may quote a word of the line: bounded too.
+            let fail = |what: &str| format!("line {}: {}: '{shown}{cut}'", n + 1, bounded(what, 160));
             let mut words = line.split_whitespace();
             let frame: u64 =
                 words.next().and_then(|w| w.parse().ok()).ok_or_else(|| fail("expected a frame number"))?;
@@ -93,7 +94,7 @@ impl Script {
             };
             let key = |name: &str| match super::keys::KEY_NAMES.contains(&name.to_lowercase().as_str()) {
                 true => Ok(name.to_lowercase()),
-                false => Err(fail(&format!("unknown key '{name}' (the help, H, names them)"))),
+                false => Err(fail(&format!("unknown key '{}' (the help, H, names them)", bounded(name, 40)))),
             };
             let action = match verb {
                 "camera" => {
@@ -121,7 +122,7 @@ impl Script {
                 "restore" => none(Action::Restore)?,
                 "screenshot" => Action::Screenshot(one("screenshot PATH")?.to_string()),
                 "quit" => none(Action::Quit)?,
-                other => return Err(fail(&format!("unknown action '{other}'"))),
+                other => return Err(fail(&format!("unknown action '{}'", bounded(other, 40)))),
             };
             actions.push((frame, action));
         }
@@ -138,6 +139,14 @@ impl Script {
     /// Whether any action is left.
     pub fn is_empty(&self) -> bool {
         self.actions.is_empty()
+    }
+}
+
+/// Text of the script as an error message shows it: at most `most` characters.
+fn bounded(word: &str, most: usize) -> String {
+    match word.char_indices().nth(most) {
+        Some((end, _)) => format!("{}…", &word[..end]),
+        None => word.to_string(),
     }
 }
 
@@ -174,8 +183,15 @@ mod tests {
         assert!(Script::parse("3 pause 2\n").is_err());
         assert!(Script::parse("3 press warp\n").unwrap_err().contains("unknown key 'warp'"));
         assert!(Script::parse("3 key nope down\n").is_err());
-        let long = format!("3 dance {}\n", "x".repeat(10_000_000));
-        let e = Script::parse(&long).unwrap_err();
-        assert!(e.len() < 200, "{} bytes of error", e.len());
+        for long in [
+            format!("3 dance {}\n", "x".repeat(10_000_000)),
+            format!("3 {}\n", "q".repeat(10_000_000)),
+            format!("3 press {}\n", "a".repeat(10_000_000)),
+            format!("3 camera {}\n", "1".repeat(10_000_000)),
+            format!("3 resize {}x9\n", "9".repeat(10_000_000)),
+        ] {
+            let e = Script::parse(&long).unwrap_err();
+            assert!(e.len() < 300, "{} bytes of error", e.len());
+        }
     }
 }
