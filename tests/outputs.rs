@@ -50,7 +50,10 @@ fn a_target_that_is_not_a_regular_file_is_refused_before_any_work() {
         let output = meadow().args(&args).arg(&fifo).output().expect("run");
         assert_eq!(output.status.code(), Some(2), "{}", transcript(&output));
         let stderr = String::from_utf8_lossy(&output.stderr);
-        assert!(stderr.contains("exists and is not a regular file") && stderr.lines().count() == 1, "{stderr}");
+        // The message names the flag given (`keyframes` has `--export`, not `--out`).
+        let flag = args.last().expect("the output flag");
+        let expected = format!("error: {flag} {}: exists and is not a regular file", fifo.display());
+        assert_eq!(stderr.trim(), expected);
         // Refused up front: nothing was rendered or generated.
         let stdout = String::from_utf8_lossy(&output.stdout);
         assert!(!stdout.contains("gpu:") && !stdout.contains("wrote"), "{stdout}");
@@ -123,30 +126,94 @@ fn a_path_that_names_a_directory_is_refused_before_any_work() {
     refused_up_front(&timing, "names a directory", &dir);
 }
 
+/// A tiny run of a measuring command writing its set into `out` (and, for timing, a trace).
+fn measuring(command: &str, out: &Path, trace: &Path) -> Vec<String> {
+    let common = ["--device", support::DEVICE, "--size", "32x32", "--frames", "2", "--warmup", "0"];
+    let own: &[&str] = match command {
+        "bench" => &["--blades", "300", "--segments", "2", "--modes", "static"],
+        "overhead" => &["--blades", "300", "--segments", "1", "--clusters", "1", "--strategies", "instanced"],
+        _ => &["--blades", "300"],
+    };
+    let mut args: Vec<String> = [command].iter().chain(&common).chain(own).map(|s| s.to_string()).collect();
+    if command == "timing" {
+        args.extend(["--trace".into(), trace.display().to_string()]);
+    }
+    args.extend(["--out".into(), out.display().to_string()]);
+    args
+}
+
 #[test]
 fn a_measuring_command_writes_its_whole_set_or_nothing() {
-    // A write failing half-way through the set (the JSON, CSV, PNG and trace) leaves none of
-    // them and no temporary, and the output directory the run created is gone again.
-    let dir = support::scratch("outputs-set");
+    // A write failing half-way through the set, at each of its files in turn (the JSON, CSV,
+    // chart and trace: the later ones fail after earlier ones were written), leaves none of them
+    // and no temporary, and the output directory the run created is gone again.
+    for (command, set) in [
+        ("bench", &["bench.csv", "bench.json", "bench.png"][..]),
+        ("overhead", &["overhead.csv", "overhead.json", "overhead.png"]),
+        ("timing", &["timing.json", "timing.png"]),
+    ] {
+        let dir = support::scratch(&format!("outputs-set-{command}"));
+        let (out, trace) = (dir.join("run"), dir.join("trace.json"));
+        let files = set.len() + usize::from(command == "timing");
+        for n in 1..=files {
+            let output = meadow()
+                .args(measuring(command, &out, &trace))
+                .env("MEADOW_INJECT_WRITE_FAILURE", n.to_string())
+                .output()
+                .expect("run");
+            assert_eq!(output.status.code(), Some(1), "{command}, file {n}: {}", transcript(&output));
+            let stderr = String::from_utf8_lossy(&output.stderr);
+            assert!(stderr.starts_with("error: ") && stderr.contains("no space left"), "{command}, file {n}: {stderr}");
+            assert_eq!(
+                leftovers(&dir),
+                Vec::<String>::new(),
+                "{command}, file {n}: a half set or a temporary was left"
+            );
+        }
+        // The control: the same command without the fault writes the whole set, and says so.
+        let output = meadow().args(measuring(command, &out, &trace)).output().expect("run");
+        assert_eq!(output.status.code(), Some(0), "{}", transcript(&output));
+        let mut written = leftovers(&out);
+        written.sort();
+        assert_eq!(written, set, "{command}");
+        let stdout = String::from_utf8_lossy(&output.stdout);
+        assert!(set.iter().all(|f| stdout.contains(f)), "{command}: the wrote line: {stdout}");
+        assert_eq!(trace.exists(), command == "timing", "{command}: the trace");
+    }
+}
+
+#[test]
+fn a_file_of_a_set_that_is_not_a_regular_file_is_refused_before_any_work() {
+    // A FIFO where a file of the set goes: exit 2 naming --out before the device is even opened
+    // (no `gpu` or timing output), and the FIFO kept.
+    for (command, file) in [("bench", "bench.png"), ("overhead", "overhead.csv"), ("timing", "timing.json")] {
+        let dir = support::scratch(&format!("outputs-set-fifo-{command}"));
+        let out = dir.join("run");
+        std::fs::create_dir(&out).expect("output directory");
+        let fifo = out.join(file);
+        assert!(std::process::Command::new("mkfifo").arg(&fifo).status().expect("run mkfifo").success());
+        let output = meadow().args(measuring(command, &out, &dir.join("trace.json"))).output().expect("run");
+        assert_eq!(output.status.code(), Some(2), "{command}: {}", transcript(&output));
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        let expected = format!("error: --out {}: exists and is not a regular file", fifo.display());
+        assert_eq!(stderr.trim(), expected, "{command}");
+        assert!(output.stdout.is_empty(), "{command}: work was done: {}", transcript(&output));
+        assert!(!std::fs::symlink_metadata(&fifo).expect("still there").is_file(), "{command}: FIFO replaced");
+        assert_eq!(leftovers(&out), [file], "{command}");
+    }
+}
+
+#[test]
+fn timing_of_one_frame_is_refused() {
+    // One frame has no interval to histogram: refused up front rather than "writing" a chart.
+    let dir = support::scratch("outputs-timing-one-frame");
     let out = dir.join("run");
-    let trace = dir.join("trace.json");
-    let args = |out: &Path| -> Vec<String> {
-        ["timing", "--device", support::DEVICE, "--blades", "300", "--size", "32x32", "--frames", "2", "--warmup", "0"]
-            .iter()
-            .map(|s| s.to_string())
-            .chain(["--trace".into(), trace.display().to_string(), "--out".into(), out.display().to_string()])
-            .collect()
-    };
-    let output = meadow().args(args(&out)).env("MEADOW_INJECT_WRITE_FAILURE", "1").output().expect("run");
-    assert_eq!(output.status.code(), Some(1), "{}", transcript(&output));
-    assert_eq!(leftovers(&dir), Vec::<String>::new(), "a half set or a temporary was left");
-    // The control: the same command without the fault writes the whole set.
-    let output = meadow().args(args(&out)).output().expect("run");
-    assert_eq!(output.status.code(), Some(0), "{}", transcript(&output));
-    let mut written = leftovers(&out);
-    written.sort();
-    assert_eq!(written, ["timing.json", "timing.png"]);
-    assert!(trace.exists(), "the trace");
+    let args = ["timing", "--device", support::DEVICE, "--blades", "100", "--frames", "1", "--out"];
+    let output = meadow().args(args).arg(&out).output().expect("run");
+    assert_eq!(output.status.code(), Some(2), "{}", transcript(&output));
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(stderr.starts_with("error: --frames 1: ") && stderr.lines().count() == 1, "{stderr}");
+    assert_eq!(leftovers(&dir), Vec::<String>::new());
 }
 
 #[test]

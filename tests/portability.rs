@@ -85,7 +85,7 @@ fn without_timestamps_render_says_unavailable_and_the_measuring_commands_refuse(
     let measuring: [&[&str]; 4] = [
         &["bench", "--preset", "quick"],
         &["overhead", "--blades", "1000"],
-        &["timing", "--blades", "1000", "--frames", "1"],
+        &["timing", "--blades", "1000", "--frames", "2"],
         &["render", "--blades", "1000", "--budget-ms", "10"],
     ];
     for args in measuring {

@@ -8,8 +8,9 @@
 //! only when all were written; a failure or Ctrl-C before that leaves none of them, and removes
 //! the output directory if the set created it.
 //!
-//! `MEADOW_INJECT_WRITE_FAILURE=1` makes every write fail half-way, as a full disk would (for
-//! the tests: a full filesystem cannot be mounted everywhere the tests run).
+//! `MEADOW_INJECT_WRITE_FAILURE=N` makes the N-th file the process writes (from 1) fail half-way,
+//! as a full disk would (for the tests: a full filesystem cannot be mounted everywhere the tests
+//! run); N past the first file of a set fails the set after some of it was written.
 
 use std::cell::RefCell;
 use std::io::Write;
@@ -105,7 +106,7 @@ pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<()> {
     let tmp = temporary(path);
     let written = (|| {
         let mut file = std::fs::OpenOptions::new().write(true).create_new(true).open(&tmp)?;
-        if std::env::var_os("MEADOW_INJECT_WRITE_FAILURE").is_some_and(|v| v == "1") {
+        if injected_failure() {
             file.write_all(&bytes[..bytes.len() / 2])?;
             return Err(std::io::Error::new(std::io::ErrorKind::StorageFull, "no space left (injected)"));
         }
@@ -122,6 +123,13 @@ pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<()> {
         let _ = std::fs::remove_file(&tmp);
     }
     written.map_err(io)
+}
+
+/// Whether this write is the one `MEADOW_INJECT_WRITE_FAILURE` makes fail.
+fn injected_failure() -> bool {
+    static WRITES: AtomicU64 = AtomicU64::new(0);
+    let n = WRITES.fetch_add(1, Ordering::Relaxed) + 1;
+    std::env::var("MEADOW_INJECT_WRITE_FAILURE").ok().and_then(|v| v.parse::<u64>().ok()) == Some(n)
 }
 
 /// Encode an image as PNG in memory (so that every byte of it goes through `write_atomically`).

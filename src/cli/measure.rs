@@ -9,16 +9,21 @@ use crate::app;
 use crate::harness::bench::Column;
 
 /// Run a measuring command on the device of `gpu`: a progress bar with ETA on a terminal (none
-/// otherwise) fed by `run`'s `progress(done, total)`, then `report` of its result. What `run`
-/// writes is one set in `out` (`app::output::write_set`): all of it or, on a failure or Ctrl-C
-/// (exit 130, checked after every frame), none. Returns the exit code and the validation count.
+/// otherwise) fed by `run`'s `progress(done, total)`, then `report` of its result and a `wrote`
+/// line. What `run` writes is one set, the `files` in `out` (`app::output::write_set`): all of
+/// it or, on a failure or Ctrl-C (exit 130, checked after every frame), none. Each file's path is
+/// checked before any work (exit 2 when it exists and is not a regular file). Returns the exit
+/// code and the validation count.
 pub(crate) fn measure<T>(
     gpu: &GpuArgs,
     unit: &str,
-    out: &std::path::Path,
+    (out, files): (&std::path::Path, &[&str]),
     run: impl FnOnce(&std::sync::Arc<crate::vk::Device>, &mut dyn FnMut(u64, u64)) -> crate::Result<T>,
     report: impl FnOnce(T),
 ) -> (u8, Option<u64>) {
+    if let Some(e) = files.iter().find_map(|f| app::output::check_target(&out.join(f), "--out").err()) {
+        return (finish(Err(e)), None);
+    }
     app::interrupt::install();
     let bar = std::io::IsTerminal::is_terminal(&std::io::stderr()).then(|| {
         let bar = indicatif::ProgressBar::new(0);
@@ -45,7 +50,13 @@ pub(crate) fn measure<T>(
     if let Some(bar) = bar {
         bar.finish_and_clear();
     }
-    (finish(result.map(report)), validation)
+    let wrote = |doc| {
+        report(doc);
+        let (last, first) = files.split_last().expect("a set has files");
+        let first = if first.is_empty() { String::new() } else { format!("{} and ", first.join(", ")) };
+        println!("wrote {}/{first}{last}", out.display());
+    };
+    (finish(result.map(wrote)), validation)
 }
 
 /// `meadow timing`. Returns the exit code and validation count.
@@ -53,11 +64,15 @@ pub(crate) fn timing(args: TimingArgs) -> (u8, Option<u64>) {
     use crate::harness::timing::{self, TimingOptions};
     let mut render = args.scene.options(PathBuf::new(), args.frames);
     render.submission = args.submission.submission();
+    if args.frames < 2 {
+        let e = format!("--frames {}: timing measures the intervals between frames (2 at least)", args.frames);
+        return (finish(Err(crate::Error::bad_input(e))), None);
+    }
     let options = TimingOptions { render, warmup: args.warmup, trace: args.trace, out: args.out };
     measure(
         &args.gpu,
         "runs",
-        &options.out,
+        (&options.out, &timing::FILES),
         |device, progress| {
             let (doc, intervals) = timing::run(device, &options, progress)?;
             timing::write(&doc, &intervals, &options.out)?;
@@ -68,7 +83,6 @@ pub(crate) fn timing(args: TimingArgs) -> (u8, Option<u64>) {
             if let Some(trace) = &options.trace {
                 println!("wrote {}", trace.display());
             }
-            println!("wrote {}/timing.json and timing.png", options.out.display());
         },
     )
 }
@@ -89,7 +103,7 @@ pub(crate) fn overhead(args: OverheadArgs) -> (u8, Option<u64>) {
     measure(
         &args.gpu,
         "frames",
-        &options.out,
+        (&options.out, &overhead::FILES),
         |device, progress| {
             let doc = overhead::run(device, &options, progress)?;
             overhead::write(&doc, &options.out)?;
@@ -97,7 +111,6 @@ pub(crate) fn overhead(args: OverheadArgs) -> (u8, Option<u64>) {
         },
         |doc| {
             print!("{}", overhead::table(&doc));
-            println!("wrote {}/overhead.json, overhead.csv and overhead.png", options.out.display());
         },
     )
 }
@@ -136,7 +149,7 @@ pub(crate) fn bench(args: BenchArgs) -> crate::Result<(u8, Option<u64>)> {
     Ok(measure(
         &args.gpu,
         "frames",
-        &options.out,
+        (&options.out, &bench::FILES),
         |device, progress| {
             let doc = bench::run(device, &options, progress)?;
             bench::write(&doc, &options.out)?;
@@ -145,7 +158,6 @@ pub(crate) fn bench(args: BenchArgs) -> crate::Result<(u8, Option<u64>)> {
         |doc| {
             print!("{}", bench::table(&doc));
             print!("\n{}", bench::statistics_table(&doc));
-            println!("wrote {}/bench.json, bench.csv and bench.png", options.out.display());
         },
     ))
 }
@@ -169,7 +181,7 @@ fn lod(args: BenchArgs) -> crate::Result<(u8, Option<u64>)> {
     Ok(measure(
         &args.gpu,
         "frames",
-        &options.out,
+        (&options.out, &lod::FILES),
         |device, progress| {
             let doc = lod::run(device, &options, progress)?;
             lod::write(&doc, &options.out)?;
@@ -177,7 +189,6 @@ fn lod(args: BenchArgs) -> crate::Result<(u8, Option<u64>)> {
         },
         |doc| {
             print!("{}", lod::table(&doc));
-            println!("wrote {}/lod.json, lod.csv and lod.png", options.out.display());
         },
     ))
 }
@@ -202,7 +213,7 @@ fn msaa(args: BenchArgs) -> crate::Result<(u8, Option<u64>)> {
     Ok(measure(
         &args.gpu,
         "frames",
-        &options.out,
+        (&options.out, &msaa::FILES),
         |device, progress| {
             let run = msaa::run(device, &options, progress)?;
             msaa::write(&run, &options.out)?;
@@ -210,7 +221,6 @@ fn msaa(args: BenchArgs) -> crate::Result<(u8, Option<u64>)> {
         },
         |doc| {
             print!("{}", msaa::table(&doc));
-            println!("wrote {}/msaa.json, msaa.csv and msaa-far-field.png", options.out.display());
         },
     ))
 }

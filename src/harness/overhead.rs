@@ -225,11 +225,15 @@ pub fn csv(doc: &Value) -> String {
 }
 
 /// Write overhead.json, overhead.csv and overhead.png into `dir`.
+/// The files of a run, one set: the report, its table, its chart.
+pub const FILES: [&str; 3] = ["overhead.json", "overhead.csv", "overhead.png"];
+
 pub fn write(doc: &Value, dir: &Path) -> Result<()> {
     let text = serde_json::to_string_pretty(doc).expect("a JSON value serialises");
-    write_text(&dir.join("overhead.json"), &text)?;
-    write_text(&dir.join("overhead.csv"), &csv(doc))?;
-    plot(doc, &dir.join("overhead.png"))
+    let [json, table, chart] = FILES;
+    write_text(&dir.join(json), &text)?;
+    write_text(&dir.join(table), &csv(doc))?;
+    plot(doc, &dir.join(chart))
 }
 
 /// `overhead.png`: CPU record + submit per frame, recording ns per draw and GPU ms against the

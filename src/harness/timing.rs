@@ -470,11 +470,13 @@ pub fn report(doc: &Value) -> String {
 
 /// Write timing.json and timing.png (histogram of the frame intervals with 2 frames in flight)
 /// into `dir`.
+/// The files of a run, one set (the trace, when asked for, is written apart): the report and the
+/// histogram of frame intervals.
+pub const FILES: [&str; 2] = ["timing.json", "timing.png"];
+
 pub fn write(doc: &Value, intervals: &[f64], dir: &std::path::Path) -> Result<()> {
-    crate::app::write_text(&dir.join("timing.json"), &serde_json::to_string_pretty(doc).expect("serialises"))?;
-    if intervals.is_empty() {
-        return Ok(());
-    }
+    let [json, chart] = FILES;
+    crate::app::write_text(&dir.join(json), &serde_json::to_string_pretty(doc).expect("serialises"))?;
     let title = format!(
         "Frame intervals, 2 in flight: {} blades x {} seg, {}",
         doc["blades"],
@@ -482,12 +484,5 @@ pub fn write(doc: &Value, intervals: &[f64], dir: &std::path::Path) -> Result<()
         doc["mode"].as_str().unwrap_or("?")
     );
     let bins = (intervals.len() / 3).clamp(5, 40);
-    crate::harness::plot::histogram(
-        &dir.join("timing.png"),
-        (1000, 560),
-        &title,
-        "ms between GPU frame ends",
-        intervals,
-        bins,
-    )
+    crate::harness::plot::histogram(&dir.join(chart), (1000, 560), &title, "ms between GPU frame ends", intervals, bins)
 }

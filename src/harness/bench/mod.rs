@@ -22,7 +22,7 @@ pub mod msaa;
 mod report;
 
 pub use compare::{compare, load};
-pub use report::{best, csv, median, plot, statistics_table, table, write};
+pub use report::{best, csv, median, plot, statistics_table, table, write, FILES};
 
 use crate::harness::document::{document, statistics_json, summary};
 use crate::harness::Progress;

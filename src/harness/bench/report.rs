@@ -134,11 +134,15 @@ pub fn csv(doc: &Value) -> String {
 }
 
 /// Write bench.json, bench.csv and bench.png into `dir`.
+/// The files of a run, one set: the report, its table, its chart.
+pub const FILES: [&str; 3] = ["bench.json", "bench.csv", "bench.png"];
+
 pub fn write(doc: &Value, dir: &Path) -> Result<()> {
     let text = serde_json::to_string_pretty(doc).expect("a JSON value serialises");
-    write_text(&dir.join("bench.json"), &text)?;
-    write_text(&dir.join("bench.csv"), &csv(doc))?;
-    plot(doc, &dir.join("bench.png"))
+    let [json, table, chart] = FILES;
+    write_text(&dir.join(json), &text)?;
+    write_text(&dir.join(table), &csv(doc))?;
+    plot(doc, &dir.join(chart))
 }
 
 /// `bench.png`: per segment count, the median frame time of every variant against the blade

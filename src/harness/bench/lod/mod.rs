@@ -28,7 +28,7 @@ use crate::vk::Device;
 
 mod report;
 
-pub use report::{csv, plot, table, write};
+pub use report::{csv, plot, table, write, FILES};
 
 /// Side in pixels of the blocks the pictures are averaged over before they are compared.
 pub const DIFF_BLOCK: u32 = 8;

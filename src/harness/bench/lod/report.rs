@@ -109,11 +109,15 @@ pub fn csv(doc: &Value) -> String {
 }
 
 /// Write lod.json, lod.csv and lod.png into `dir`.
+/// The files of a run, one set: the report, its table, its chart.
+pub const FILES: [&str; 3] = ["lod.json", "lod.csv", "lod.png"];
+
 pub fn write(doc: &Value, dir: &Path) -> Result<()> {
     let text = serde_json::to_string_pretty(doc).expect("a JSON value serialises");
-    write_text(&dir.join("lod.json"), &text)?;
-    write_text(&dir.join("lod.csv"), &csv(doc))?;
-    plot(doc, &dir.join("lod.png"))
+    let [json, table, chart] = FILES;
+    write_text(&dir.join(json), &text)?;
+    write_text(&dir.join(table), &csv(doc))?;
+    plot(doc, &dir.join(chart))
 }
 
 /// `lod.png`, three bar charts with a bar group per row: the median frame time of brute force

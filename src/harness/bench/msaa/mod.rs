@@ -33,7 +33,7 @@ use crate::vk::Device;
 
 mod report;
 
-pub use report::{csv, table, write};
+pub use report::{csv, table, write, FILES};
 
 /// Side in pixels of the blocks frames are averaged over before they are compared.
 pub const DIFF_BLOCK: u32 = 8;

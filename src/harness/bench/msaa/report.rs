@@ -65,13 +65,17 @@ pub fn csv(doc: &Value) -> String {
 }
 
 /// `msaa.json`, `msaa.csv` and `msaa-far-field.png` into `dir`.
+/// The files of a run, one set: the report, its table, the far-field pictures.
+pub const FILES: [&str; 3] = ["msaa.json", "msaa.csv", "msaa-far-field.png"];
+
 pub fn write(run: &MsaaRun, dir: &Path) -> Result<()> {
     let text = serde_json::to_string_pretty(&run.doc).expect("a JSON value serialises");
-    write_text(&dir.join("msaa.json"), &text)?;
-    write_text(&dir.join("msaa.csv"), &csv(&run.doc))?;
+    let [json, table, picture] = FILES;
+    write_text(&dir.join(json), &text)?;
+    write_text(&dir.join(table), &csv(&run.doc))?;
     let size = &run.doc["resolution"];
     let (w, h) = (size[0].as_u64().unwrap_or(0) as u32, size[1].as_u64().unwrap_or(0) as u32);
-    write_atomically(&dir.join("msaa-far-field.png"), &encode_png(&far_field(&run.pictures, w, h))?)
+    write_atomically(&dir.join(picture), &encode_png(&far_field(&run.pictures, w, h))?)
 }
 
 /// The far field of every picture (a row of variants per row), magnified, with 4-pixel white
