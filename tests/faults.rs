@@ -1,7 +1,8 @@
-//! Injected failures (`vk::fault`, `MEADOW_INJECT_*`): a memory allocation that runs out at any
+//! Injected failures (`vk::fault`, `MEADOW_INJECT_*`): device or host memory that runs out at any
 //! point of start-up or rendering exits 1 with its own message, writes nothing, and destroys
 //! everything it made (validation, which reports leaked objects at device destruction, stays
-//! at 0 messages). Submission and surface failures: `tests/graph.rs`, `tests/viewer.rs`.
+//! at 0 messages); a refused free fails the run. Submission and surface failures, and memory
+//! running out in the middle of a viewer session: `tests/graph.rs`, `tests/viewer.rs`.
 
 mod support;
 
@@ -16,9 +17,15 @@ fn running_out_of_memory_anywhere_exits_1_cleanly() {
     let clean = meadow().args(args).arg(&out).output().expect("run");
     assert_eq!(clean.status.code(), Some(0), "{}", transcript(&clean));
     std::fs::remove_file(&out).expect("the control wrote its picture");
-    // The first allocation, one during the scene upload, one of the frames and targets.
-    for nth in ["1", "5", "12", "25"] {
-        let output = meadow().args(args).arg(&out).env("MEADOW_INJECT_ALLOC_FAILURE", nth).output().expect("run");
+    // Every allocation in turn, until a run makes fewer than N and renders.
+    let mut failed = 0;
+    for nth in 1..=200 {
+        let output =
+            meadow().args(args).arg(&out).env("MEADOW_INJECT_ALLOC_FAILURE", nth.to_string()).output().expect("run");
+        if output.status.code() == Some(0) {
+            break;
+        }
+        failed += 1;
         assert_eq!(output.status.code(), Some(1), "allocation {nth}: {}", transcript(&output));
         let stderr = String::from_utf8_lossy(&output.stderr);
         assert!(
@@ -30,4 +37,60 @@ fn running_out_of_memory_anywhere_exits_1_cleanly() {
         assert!(String::from_utf8_lossy(&output.stdout).contains("validation: 0 messages"), "{}", transcript(&output));
         assert!(!out.exists(), "allocation {nth}: a picture was written");
     }
+    assert!(failed >= 20, "only {failed} allocations made");
+    assert!(out.exists(), "the run past the last allocation renders");
+}
+
+#[test]
+fn running_out_of_host_memory_exits_1_with_its_own_message() {
+    // `MEADOW_INJECT_HOST_MEMORY_FAILURE=N`: the N-th vkCreateShaderModule (one per pipeline
+    // stage) reports VK_ERROR_OUT_OF_HOST_MEMORY. Every one of them in turn, until a run makes
+    // fewer modules than N and succeeds: each failure is clean (this found a leaked pipeline of
+    // the animation model when a pass after it failed).
+    let dir = scratch("faults-host");
+    let out = dir.join("x.png");
+    let args = ["render", "--validation", "--device", support::DEVICE, "--blades", "2000", "--size", "64x64", "--out"];
+    let mut failed = 0;
+    for nth in 1..=64 {
+        let output = meadow()
+            .args(args)
+            .arg(&out)
+            .env("MEADOW_INJECT_HOST_MEMORY_FAILURE", nth.to_string())
+            .output()
+            .expect("run");
+        if output.status.code() == Some(0) {
+            break;
+        }
+        failed += 1;
+        assert_eq!(output.status.code(), Some(1), "module {nth}: {}", transcript(&output));
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(
+            stderr.trim(),
+            "error: vkCreateShaderModule (injected failure): out of host memory (try fewer blades, segments or pixels)",
+            "module {nth}"
+        );
+        assert!(String::from_utf8_lossy(&output.stdout).contains("validation: 0 messages"), "{}", transcript(&output));
+        assert!(!out.exists(), "module {nth}: a picture was written");
+    }
+    // Terrain, cull, poses and blades at least (two modules per graphics pipeline).
+    assert!(failed >= 8, "only {failed} shader modules made");
+    assert!(out.exists(), "the run past the last module renders");
+}
+
+#[test]
+fn a_free_the_allocator_refuses_is_reported_and_fails_the_run() {
+    // `MEADOW_INJECT_FREE_FAILURE=N`: the allocator reports an error for the N-th free. The
+    // destructor cannot return it: it is logged, and the run exits 1 saying so.
+    let dir = scratch("faults-free");
+    let out = dir.join("x.png");
+    let args = ["render", "--device", support::DEVICE, "--blades", "2000", "--size", "64x64", "--out"];
+    let output = meadow().args(args).arg(&out).env("MEADOW_INJECT_FREE_FAILURE", "3").output().expect("run");
+    assert_eq!(output.status.code(), Some(1), "{}", transcript(&output));
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(stderr.contains("freeing the memory of `") && stderr.contains("injected failure"), "{stderr}");
+    assert_eq!(stderr.lines().last(), Some("error: the allocator refused 1 free(s) (logged above)"), "{stderr}");
+    // The control: the same run without the fault exits 0 and logs nothing.
+    let output = meadow().args(args).arg(&out).output().expect("run");
+    assert_eq!(output.status.code(), Some(0), "{}", transcript(&output));
+    assert!(output.stderr.is_empty(), "{}", transcript(&output));
 }

@@ -94,9 +94,17 @@ pub fn run(cli: Cli) -> ExitCode {
         Command::Timing(args) => Ok(measure::timing(args)),
         Command::Devices(args) => Ok(commands::devices(args)),
     };
-    match ran {
+    let code = match ran {
         Ok((code, validation)) => exit_code(code, validation),
         Err(code) => ExitCode::from(code),
+    };
+    // A free the allocator refused is a bug the destructors could only log: the run fails.
+    match crate::vk::device::free_errors() {
+        0 => code,
+        n => {
+            eprintln!("error: the allocator refused {n} free(s) (logged above)");
+            ExitCode::from(1)
+        }
     }
 }
 

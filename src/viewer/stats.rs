@@ -84,5 +84,9 @@ pub(super) fn sample(frame: u64) -> String {
         .ok()
         .and_then(|s| s.lines().find_map(|l| l.strip_prefix("VmRSS:")?.trim().strip_suffix("kB")?.trim().parse().ok()))
         .unwrap_or(0u64);
-    format!("sample: frame {frame} rss_kib {rss_kib} live_vulkan_objects {}", crate::vk::live::total())
+    let allocations = crate::vk::fault::calls(crate::vk::fault::Fault::Allocation);
+    format!(
+        "sample: frame {frame} rss_kib {rss_kib} live_vulkan_objects {} allocations {allocations}",
+        crate::vk::live::total()
+    )
 }

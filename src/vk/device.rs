@@ -339,9 +339,16 @@ impl Device {
     }
 
     /// Return `allocation` to the allocator. Its error (a double free, a foreign allocation: a
-    /// bug) cannot be returned from the destructors that call this, so it is logged, not lost.
+    /// bug) cannot be returned from the destructors that call this, so it is logged and counted
+    /// ([`free_errors`]): the command then exits 1 (`cli::run`). `MEADOW_INJECT_FREE_FAILURE`
+    /// (`vk::fault`) reports one.
     pub fn free(&self, allocation: gpu_allocator::vulkan::Allocation, name: &str) {
-        if let Err(e) = self.allocator().free(allocation) {
+        let mut result = self.allocator().free(allocation);
+        if super::fault::fails(super::fault::Fault::Free) {
+            result = Err(gpu_allocator::AllocationError::Internal("injected failure".into()));
+        }
+        if let Err(e) = result {
+            FREE_ERRORS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
             log::error!("freeing the memory of `{name}`: {e}");
         }
     }
@@ -373,6 +380,13 @@ impl Drop for Device {
             self.raw.destroy_device(None);
         }
     }
+}
+
+static FREE_ERRORS: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+
+/// How many frees the allocator refused in this process (`Device::free`).
+pub fn free_errors() -> u64 {
+    FREE_ERRORS.load(std::sync::atomic::Ordering::Relaxed)
 }
 
 /// `1.5 GiB`, `32.0 MiB`, `512 B`.

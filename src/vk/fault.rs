@@ -3,7 +3,13 @@
 //! fails these calls on its own. `MEADOW_INJECT_ALLOC_FAILURE=N`: the N-th memory allocation of
 //! the process runs out of device memory; `MEADOW_INJECT_ACQUIRE_FAILURE=N` and
 //! `MEADOW_INJECT_PRESENT_FAILURE=N`: the N-th `vkAcquireNextImageKHR` / `vkQueuePresentKHR` loses
-//! the surface. (Submissions: `MEADOW_INJECT_SUBMIT_FAILURE`, `render::frame::FrameRing`.)
+//! the surface; `MEADOW_INJECT_HOST_MEMORY_FAILURE=N`: the N-th `vkCreateShaderModule` (every
+//! pipeline makes one) runs out of host memory; `MEADOW_INJECT_FREE_FAILURE=N`: the allocator
+//! reports an error for the N-th free (the memory is freed). (Submissions:
+//! `MEADOW_INJECT_SUBMIT_FAILURE`, `render::frame::FrameRing`.)
+//!
+//! Every call of a kind is counted, asked for or not: [`calls`] tells a test where a run is (the
+//! viewer's `sample:` lines print the allocations made), so it can aim a failure at one moment.
 
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::OnceLock;
@@ -17,7 +23,13 @@ pub enum Fault {
     Acquire,
     /// `vkQueuePresentKHR`.
     Present,
+    /// `vkCreateShaderModule`, failing with `VK_ERROR_OUT_OF_HOST_MEMORY`.
+    HostMemory,
+    /// `Allocator::free`.
+    Free,
 }
+
+const KINDS: usize = 5;
 
 impl Fault {
     fn variable(self) -> &'static str {
@@ -25,25 +37,30 @@ impl Fault {
             Fault::Allocation => "MEADOW_INJECT_ALLOC_FAILURE",
             Fault::Acquire => "MEADOW_INJECT_ACQUIRE_FAILURE",
             Fault::Present => "MEADOW_INJECT_PRESENT_FAILURE",
+            Fault::HostMemory => "MEADOW_INJECT_HOST_MEMORY_FAILURE",
+            Fault::Free => "MEADOW_INJECT_FREE_FAILURE",
         }
     }
 
-    fn calls(self) -> &'static AtomicU64 {
-        static CALLS: [AtomicU64; 3] = [AtomicU64::new(0), AtomicU64::new(0), AtomicU64::new(0)];
+    fn counter(self) -> &'static AtomicU64 {
+        static CALLS: [AtomicU64; KINDS] = [const { AtomicU64::new(0) }; KINDS];
         &CALLS[self as usize]
     }
+}
+
+/// Calls of kind `fault` made so far in this process.
+pub fn calls(fault: Fault) -> u64 {
+    fault.counter().load(Ordering::Relaxed)
 }
 
 /// Count one call of kind `fault`; true when it is the one to fail. The variables are read once
 /// per process (acquire and present ask every frame).
 pub fn fails(fault: Fault) -> bool {
-    static NTH: OnceLock<[Option<u64>; 3]> = OnceLock::new();
+    static NTH: OnceLock<[Option<u64>; KINDS]> = OnceLock::new();
     let nth = NTH.get_or_init(|| {
-        [Fault::Allocation, Fault::Acquire, Fault::Present]
+        [Fault::Allocation, Fault::Acquire, Fault::Present, Fault::HostMemory, Fault::Free]
             .map(|f| std::env::var(f.variable()).ok().and_then(|v| v.trim().parse::<u64>().ok()))
     });
-    let Some(nth) = nth[fault as usize] else {
-        return false;
-    };
-    fault.calls().fetch_add(1, Ordering::Relaxed) + 1 == nth
+    let call = fault.counter().fetch_add(1, Ordering::Relaxed) + 1;
+    nth[fault as usize] == Some(call)
 }

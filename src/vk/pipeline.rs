@@ -11,6 +11,9 @@ pub fn shader_module(device: &Device, name: &str, spirv: &[u8]) -> Result<vk::Sh
     let words = ash::util::read_spv(&mut std::io::Cursor::new(spirv))
         .map_err(|e| Error::Environment(format!("shader {name} is not valid SPIR-V: {e}")))?;
     let info = vk::ShaderModuleCreateInfo::default().code(&words);
+    if super::fault::fails(super::fault::Fault::HostMemory) {
+        return Err(Error::vulkan("vkCreateShaderModule (injected failure)", vk::Result::ERROR_OUT_OF_HOST_MEMORY));
+    }
     // SAFETY: valid SPIR-V produced by glslang at build time.
     let module =
         super::live::created(unsafe { device.raw.create_shader_module(&info, None) }.vk("vkCreateShaderModule")?);

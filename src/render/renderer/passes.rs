@@ -114,14 +114,27 @@ impl Renderer {
         let model_passes = model.passes(device, &setup)?;
         let (before, after) = if culled { (Vec::new(), model_passes) } else { (model_passes, Vec::new()) };
         before.into_iter().for_each(|pass| self.graph.add_boxed(pass));
-        self.graph.add(TerrainPass::new(device, target, constants, scene, self.sky())?);
-        if culled && settings.culling.occlusion {
-            self.graph.add(DepthPyramidPass::new(device, scene, self.ring.slots(), settings.msaa.enabled())?);
-        }
-        if culled {
-            let stats = (0..self.ring.slots()).map(|slot| self.ring.frame(slot).cull_stats.raw).collect();
-            let setup = CullSetup { layout: target.layout, constants, frame_stats: stats };
-            cull::add_passes(&mut self.graph, device, &setup, scene)?;
+        let sky = self.sky();
+        let (graph, slots) = (&mut self.graph, self.ring.slots());
+        let built = (|| {
+            graph.add(TerrainPass::new(device, target, constants, scene, sky)?);
+            if culled && settings.culling.occlusion {
+                graph.add(DepthPyramidPass::new(device, scene, slots, settings.msaa.enabled())?);
+            }
+            if culled {
+                let stats = (0..slots).map(|slot| self.ring.frame(slot).cull_stats.raw).collect();
+                let setup = CullSetup { layout: target.layout, constants, frame_stats: stats };
+                cull::add_passes(graph, device, &setup, scene)?;
+            }
+            Ok(())
+        })();
+        if let Err(e) = built {
+            // The model's passes are not in the graph yet: the graph's teardown would miss them.
+            for pass in after {
+                // SAFETY: never recorded.
+                unsafe { pass.destroy(device) };
+            }
+            return Err(e);
         }
         after.into_iter().for_each(|pass| self.graph.add_boxed(pass));
         let setup = BladeSetup {
