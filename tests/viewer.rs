@@ -263,3 +263,82 @@ fn a_lost_surface_at_acquire_or_present_exits_1_with_its_own_message_and_no_leak
     // The control: without the fault the same session runs its 20 frames.
     assert_clean(&view(&dir, &["--frames", "20"]));
 }
+
+#[test]
+fn a_screenshot_that_cannot_be_written_fails_the_session_and_leaves_nothing() {
+    // The write fault (`MEADOW_INJECT_WRITE_FAILURE=1`, a full disk) on the exit screenshot and
+    // on a script's: exit 1, one line, validation clean, no picture and no temporary.
+    let dir = scratch("viewer-screenshot-full");
+    std::fs::write(dir.join("shot.txt"), "2 screenshot scripted.png\n4 quit\n").expect("script");
+    for args in [&["--frames", "3", "--screenshot", "exit.png"][..], &["--script", "shot.txt"]] {
+        let output = view_with(&dir, args, &[("MEADOW_INJECT_WRITE_FAILURE", "1")]);
+        assert_eq!(output.status.code(), Some(1), "{args:?}: {}", transcript(&output));
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert!(stderr.starts_with("error: ") && stderr.contains(".png: no space left (injected)"), "{stderr}");
+        assert_eq!(stderr.lines().count(), 1, "{stderr}");
+        assert!(String::from_utf8_lossy(&output.stdout).contains("validation: 0 messages"), "{}", transcript(&output));
+        let mut left: Vec<String> = std::fs::read_dir(&dir)
+            .expect("dir")
+            .map(|e| e.expect("entry").file_name().into_string().expect("utf-8"))
+            .collect();
+        left.sort();
+        assert_eq!(left, ["shot.txt"], "{args:?}: a picture or a temporary was left");
+    }
+    // The control: without the fault the scripted screenshot is written.
+    let output = view(&dir, &["--script", "shot.txt"]);
+    assert_clean(&output);
+    assert!(image::open(dir.join("scripted.png")).is_ok(), "the control's screenshot");
+}
+
+/// The allocations made after `frame` frames, from the viewer's `sample:` lines.
+fn allocations_after(output: &Output, frame: u64) -> u64 {
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    let prefix = format!("sample: frame {frame} ");
+    let line = stdout.lines().find(|l| l.starts_with(&prefix)).unwrap_or_else(|| panic!("{}", transcript(output)));
+    line.rsplit(' ').next().and_then(|n| n.parse().ok()).unwrap_or_else(|| panic!("allocations in '{line}'"))
+}
+
+#[test]
+fn memory_running_out_in_the_middle_of_a_session_exits_1_cleanly() {
+    // A resize at frame 5 makes a new depth image: the first allocation after frame 5's sample,
+    // counted on a clean run, is made to fail. The session stops with its own message, having
+    // destroyed everything (validation counts leaks), instead of at start-up.
+    let dir = scratch("viewer-oom-mid-session");
+    std::fs::write(dir.join("resize.txt"), "5 resize 200x120\n10 quit\n").expect("script");
+    let clean = view(&dir, &["--script", "resize.txt", "--sample-every", "1"]);
+    assert_clean(&clean);
+    let (at_start, before_resize) = (allocations_after(&clean, 1), allocations_after(&clean, 5));
+    assert_eq!(allocations_after(&clean, 4), before_resize, "frames 1-5 allocate nothing");
+    assert!(allocations_after(&clean, 6) > before_resize, "the resize allocates");
+    let nth = (before_resize + 1).to_string();
+    let output =
+        view_with(&dir, &["--script", "resize.txt", "--sample-every", "1"], &[("MEADOW_INJECT_ALLOC_FAILURE", &nth)]);
+    assert_eq!(output.status.code(), Some(1), "{}", transcript(&output));
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(stderr.starts_with("error: allocating `") && stderr.contains("out of device memory"), "{stderr}");
+    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(
+        stdout.contains("sample: frame 5 ") && stdout.contains("validation: 0 messages"),
+        "{}",
+        transcript(&output)
+    );
+    assert!(at_start <= before_resize);
+}
+
+#[test]
+fn without_timestamps_the_viewer_says_gpu_unavailable() {
+    // `MEADOW_HIDE=timestamps`: the viewer runs, and its stats (title and printed line) say the
+    // GPU time is unavailable instead of showing zeros. The control shows GPU times.
+    let dir = scratch("viewer-no-timestamps");
+    let output = view_with(&dir, &["--frames", "60"], &[("MEADOW_HIDE", "timestamps")]);
+    assert_clean(&output);
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    let stats = stdout.lines().find(|l| l.starts_with("stats: ")).unwrap_or_else(|| panic!("{}", transcript(&output)));
+    assert!(stats.contains("gpu unavailable (no timestamps)"), "{stats}");
+    let control = view(&dir, &["--frames", "60"]);
+    assert_clean(&control);
+    let stdout = String::from_utf8_lossy(&control.stdout);
+    let stats = stdout.lines().find(|l| l.starts_with("stats: ")).unwrap_or_else(|| panic!("{}", transcript(&control)));
+    assert!(stats.contains(", gpu ") && stats.contains(" ms (") && !stats.contains("unavailable"), "{stats}");
+}
