@@ -43,6 +43,11 @@ fn assert_follows_schema(doc: &Value) {
     for key in ["device", "driver", "driver_info", "build_profile", "git_commit", "resolution", "rows"] {
         assert!(!doc[key].is_null(), "missing {key}");
     }
+    // The schema documents the read-back copy next to gpu_ms, per variant and per frame.
+    let variant = &schema["properties"]["rows"]["items"]["properties"]["variants"]["items"]["properties"];
+    assert_eq!(variant["readback_ms"], variant["gpu_ms"], "readback_ms is summarised like gpu_ms");
+    let frame = &variant["frames"]["items"]["properties"];
+    assert_eq!(frame["readback_ms"], frame["gpu_ms"], "a frame's readback_ms is a time like its gpu_ms");
 }
 
 /// Two rows of six variants, each with two measured frames of positive times and the pipeline
@@ -58,11 +63,16 @@ fn assert_rows_measured(doc: &Value) {
             let frames = v["frames"].as_array().expect("frames");
             assert_eq!(frames.len(), 2, "measured frames per variant");
             for f in frames {
-                assert!(f["gpu_ms"].as_f64().expect("gpu_ms") > 0.0);
+                let gpu = f["gpu_ms"].as_f64().expect("gpu_ms");
+                assert!(gpu > 0.0 && f["readback_ms"].as_f64().expect("readback_ms") > 0.0, "{f}");
                 assert!(f["passes_ms"]["blades"].as_f64().expect("blade pass") > 0.0);
+                // gpu_ms is the passes' span: it holds every pass (and not the copy after them).
+                let passes: f64 = f["passes_ms"].as_object().expect("passes").values().filter_map(Value::as_f64).sum();
+                assert!(passes <= gpu + 1e-6, "passes {passes} ms outside gpu_ms {gpu}: {f}");
             }
             let s = &v["gpu_ms"];
             assert!(s["p5"].as_f64() <= s["median"].as_f64() && s["median"].as_f64() <= s["p99"].as_f64());
+            assert!(s["median"].as_f64() > Some(0.0) && v["readback_ms"]["median"].as_f64() > Some(0.0), "{v}");
             // Pipeline statistics: every blade vertex shaded once (strip of 2 (segments + 1)
             // vertices), some primitives rasterised, fragments shaded. The floor draws the same
             // vertices through an index list, which the driver splits into batches that may

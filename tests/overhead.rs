@@ -73,7 +73,11 @@ fn overhead_reports_every_strategy() {
             _ => (clusters, clusters),
         };
         assert_eq!((executed, recorded), (expect_executed, expect_recorded), "{strategy} x {clusters}");
-        assert!(row["gpu_ms"].as_f64().expect("gpu ms") > 0.0);
+        // The passes' GPU time, and the read-back copy after them apart.
+        assert!(row["gpu_ms"].as_f64().expect("gpu ms") > 0.0 && row["readback_ms"].as_f64() > Some(0.0), "{row}");
+        for f in row["frames"].as_array().expect("frames") {
+            assert!(f["gpu_ms"].as_f64() > Some(0.0) && f["readback_ms"].as_f64() > Some(0.0), "{f}");
+        }
         assert!(row["cpu_submit_us"].as_f64().expect("submit") > 0.0);
         let record = row["cpu_record_us"].as_f64().expect("record");
         assert!(record >= 0.0);
