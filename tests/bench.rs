@@ -43,6 +43,11 @@ fn assert_follows_schema(doc: &Value) {
     for key in ["device", "driver", "driver_info", "build_profile", "git_commit", "resolution", "rows"] {
         assert!(!doc[key].is_null(), "missing {key}");
     }
+    // The schema documents the read-back copy next to gpu_ms, per variant and per frame.
+    let variant = &schema["properties"]["rows"]["items"]["properties"]["variants"]["items"]["properties"];
+    assert_eq!(variant["readback_ms"], variant["gpu_ms"], "readback_ms is summarised like gpu_ms");
+    let frame = &variant["frames"]["items"]["properties"];
+    assert_eq!(frame["readback_ms"], frame["gpu_ms"], "a frame's readback_ms is a time like its gpu_ms");
 }
 
 /// Two rows of six variants, each with two measured frames of positive times and the pipeline
@@ -58,11 +63,16 @@ fn assert_rows_measured(doc: &Value) {
             let frames = v["frames"].as_array().expect("frames");
             assert_eq!(frames.len(), 2, "measured frames per variant");
             for f in frames {
-                assert!(f["gpu_ms"].as_f64().expect("gpu_ms") > 0.0);
+                let gpu = f["gpu_ms"].as_f64().expect("gpu_ms");
+                assert!(gpu > 0.0 && f["readback_ms"].as_f64().expect("readback_ms") > 0.0, "{f}");
                 assert!(f["passes_ms"]["blades"].as_f64().expect("blade pass") > 0.0);
+                // gpu_ms is the passes' span: it holds every pass (and not the copy after them).
+                let passes: f64 = f["passes_ms"].as_object().expect("passes").values().filter_map(Value::as_f64).sum();
+                assert!(passes <= gpu + 1e-6, "passes {passes} ms outside gpu_ms {gpu}: {f}");
             }
             let s = &v["gpu_ms"];
             assert!(s["p5"].as_f64() <= s["median"].as_f64() && s["median"].as_f64() <= s["p99"].as_f64());
+            assert!(s["median"].as_f64() > Some(0.0) && v["readback_ms"]["median"].as_f64() > Some(0.0), "{v}");
             // Pipeline statistics: every blade vertex shaded once (strip of 2 (segments + 1)
             // vertices), some primitives rasterised, fragments shaded. The floor draws the same
             // vertices through an index list, which the driver splits into batches that may
@@ -172,6 +182,140 @@ fn assert_compare_flags_a_regression(dir: &std::path::Path, doc: &Value) {
             "{name}: {stderr}"
         );
     }
+}
+
+/// The committed thesis run (docs/bench-thesis/bench.json) cut to its first row: a real document
+/// with five frames a variant, for the --compare cases that need no GPU.
+fn thesis_row() -> Value {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/bench-thesis/bench.json");
+    let mut doc: Value = serde_json::from_str(&std::fs::read_to_string(path).expect("thesis")).expect("JSON");
+    doc["rows"] = Value::from(vec![doc["rows"][0].clone()]);
+    doc
+}
+
+/// `doc` with the static variant's frame times replaced by `times` (its frames repeated as needed)
+/// and its median set to theirs.
+fn with_static_times(doc: &Value, times: &[f64]) -> Value {
+    let mut out = doc.clone();
+    let v = &mut out["rows"][0]["variants"][0];
+    assert_eq!(v["variant"], "static");
+    let frames = v["frames"].as_array().expect("frames").clone();
+    let frames: Vec<Value> = times
+        .iter()
+        .zip(frames.iter().cycle())
+        .map(|(t, f)| {
+            let mut f = f.clone();
+            f["gpu_ms"] = Value::from(*t);
+            f
+        })
+        .collect();
+    let mut sorted = times.to_vec();
+    sorted.sort_by(f64::total_cmp);
+    v["frames"] = Value::from(frames);
+    v["gpu_ms"]["median"] = Value::from(sorted[sorted.len() / 2]);
+    out
+}
+
+/// The report line of the static variant.
+fn static_line(output: &std::process::Output) -> String {
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    let line = stdout.lines().find(|l| l.split_whitespace().nth(2) == Some("static"));
+    line.unwrap_or_else(|| panic!("no static line: {}", transcript(output))).to_string()
+}
+
+/// Panic unless `output` exited 2 with one `error:` line containing every one of `expect`.
+fn assert_refused(name: &str, output: &std::process::Output, expect: &[&str]) {
+    assert_eq!(output.status.code(), Some(2), "{name}: {}", transcript(output));
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(stderr.starts_with("error: ") && stderr.lines().count() == 1, "{name}: {stderr}");
+    for e in expect {
+        assert!(stderr.contains(e), "{name}: no '{e}' in {stderr}");
+    }
+}
+
+#[test]
+fn compare_refuses_what_it_cannot_compare() {
+    let dir = scratch("bench-compare-refusals");
+    let base = thesis_row();
+    let base_median = base["rows"][0]["variants"][0]["gpu_ms"]["median"].as_f64().expect("median");
+    // A median (and frames) of 1e308: 100 (new - old) / old overflows either way, and with only
+    // the median at 1e308 too. Refused with the variant and both medians, not "-inf% faster".
+    let huge = with_static_times(&base, &[1e308; 5]);
+    let mut huge_median = base.clone();
+    huge_median["rows"][0]["variants"][0]["gpu_ms"]["median"] = Value::from(1e308);
+    for (name, old, new) in
+        [("huge old", &huge, &base), ("huge new", &base, &huge), ("median only", &base, &huge_median)]
+    {
+        let output = compare(&dir, old, new, &[]);
+        assert_refused(name, &output, &["static", "1e308", &base_median.to_string(), "not finite"]);
+    }
+    // A frame beyond f64 cannot reach the significance test: the JSON is refused when read.
+    let text = serde_json::to_string(&base).expect("serialise");
+    let frame = format!("\"gpu_ms\":{}", base["rows"][0]["variants"][0]["frames"][0]["gpu_ms"]);
+    assert!(text.contains(&frame), "{frame}");
+    let (old, new) = (dir.join("old.json"), dir.join("new.json"));
+    std::fs::write(&old, &text).expect("write");
+    std::fs::write(&new, text.replacen(&frame, "\"gpu_ms\":1e999", 1)).expect("write");
+    let output = meadow().arg("bench").arg("--compare").arg(&old).arg(&new).output().expect("run");
+    assert_refused("a frame of 1e999", &output, &["new.json", "not a bench.json", "out of range"]);
+    // Schema violations name the field: a negative median, rows that are not an array in an
+    // otherwise whole document.
+    let mut negative = base.clone();
+    negative["rows"][0]["variants"][0]["gpu_ms"]["median"] = Value::from(-3.0);
+    let mut oops = base.clone();
+    oops["rows"] = Value::from("oops");
+    for (name, new, field) in
+        [("a negative median", negative, ": /rows/0/variants/0/gpu_ms/median: "), ("rows: oops", oops, ": /rows: ")]
+    {
+        assert_refused(name, &compare(&dir, &base, &new, &[]), &["not a bench.json", field]);
+    }
+    for threshold in ["0", "NaN", "inf", "-inf"] {
+        let output = compare(&dir, &base, &base, &["--threshold", threshold]);
+        assert_refused(&format!("--threshold {threshold}"), &output, &["--threshold"]);
+    }
+    // Every field that makes two runs comparable (present mode: bench renders offscreen and
+    // records none).
+    for (field, other) in [
+        ("device", Value::from("another GPU")),
+        ("driver", Value::from("llvmpipe 0.0.2")),
+        ("resolution", serde_json::json!([640, 360])),
+        ("build_profile", Value::from("debug")),
+        ("lp_num_threads", Value::from("4")),
+    ] {
+        let mut new = base.clone();
+        assert_ne!(new[field], other, "{field}");
+        new[field] = other;
+        assert_refused(field, &compare(&dir, &base, &new, &[]), &["not comparable", field]);
+    }
+}
+
+#[test]
+fn compare_flags_only_a_significant_change_beyond_the_threshold() {
+    let dir = scratch("bench-compare-judged");
+    let thesis = thesis_row();
+    // Beyond the threshold (median 10.2 -> 13.0 ms, +27 %) but not significant: the slow frames
+    // come and go in both runs (p 0.25).
+    let noisy = with_static_times(&thesis, &[10.0, 10.2, 9.9, 10.1, 13.0, 9.8, 10.3, 13.5]);
+    let noisier = with_static_times(&thesis, &[13.0, 9.9, 10.1, 13.1, 10.0, 13.4, 10.2, 13.0]);
+    let output = compare(&dir, &noisy, &noisier, &[]);
+    assert_eq!(output.status.code(), Some(0), "{}", transcript(&output));
+    let line = static_line(&output);
+    assert!(line.contains("27.5%") && line.ends_with("within noise (not significant)"), "{line}");
+    // Significant (every new frame slower, p < 0.001) but within the 10 % threshold (+4.9 %).
+    let steady = with_static_times(&thesis, &[10.0, 10.1, 10.2, 10.3, 10.0, 10.1, 10.2, 10.3]);
+    let slower = with_static_times(&thesis, &[10.5, 10.6, 10.7, 10.8, 10.5, 10.6, 10.7, 10.8]);
+    let output = compare(&dir, &steady, &slower, &[]);
+    assert_eq!(output.status.code(), Some(0), "{}", transcript(&output));
+    let line = static_line(&output);
+    assert!(line.contains("4.9%") && line.ends_with(" 0.000"), "not flagged: {line}");
+    // The controls: the same two runs with a 2 % threshold are a regression; the noisy ones
+    // are still not.
+    let output = compare(&dir, &steady, &slower, &["--threshold", "2"]);
+    assert_eq!(output.status.code(), Some(1), "{}", transcript(&output));
+    assert!(static_line(&output).ends_with("REGRESSION"), "{}", transcript(&output));
+    let output = compare(&dir, &noisy, &noisier, &["--threshold", "2"]);
+    assert_eq!(output.status.code(), Some(0), "{}", transcript(&output));
+    assert!(static_line(&output).ends_with("(not significant)"), "{}", transcript(&output));
 }
 
 #[test]

@@ -73,7 +73,11 @@ fn overhead_reports_every_strategy() {
             _ => (clusters, clusters),
         };
         assert_eq!((executed, recorded), (expect_executed, expect_recorded), "{strategy} x {clusters}");
-        assert!(row["gpu_ms"].as_f64().expect("gpu ms") > 0.0);
+        // The passes' GPU time, and the read-back copy after them apart.
+        assert!(row["gpu_ms"].as_f64().expect("gpu ms") > 0.0 && row["readback_ms"].as_f64() > Some(0.0), "{row}");
+        for f in row["frames"].as_array().expect("frames") {
+            assert!(f["gpu_ms"].as_f64() > Some(0.0) && f["readback_ms"].as_f64() > Some(0.0), "{f}");
+        }
         assert!(row["cpu_submit_us"].as_f64().expect("submit") > 0.0);
         let record = row["cpu_record_us"].as_f64().expect("record");
         assert!(record >= 0.0);
@@ -90,6 +94,55 @@ fn overhead_reports_every_strategy() {
         let fields: Vec<&str> = line.split(',').collect();
         assert_eq!(fields.len(), 6, "{line}");
         assert!(fields[5].parse::<f64>().expect("gpu_ms") > 0.0, "{line}");
+    }
+}
+
+/// `meadow overhead` of 200 blades at 1 and 8 clusters with `MEADOW_HIDE=hide`, asserted clean:
+/// `(strategy, clusters) -> unsupported reason` of every row (`None`: measured, GPU time > 0).
+fn overhead_hiding(hide: &str) -> Vec<(String, u64, Option<String>)> {
+    let dir = scratch(&format!("overhead-hide-{hide}"));
+    let output = meadow()
+        .env("MEADOW_HIDE", hide)
+        .args(["overhead", "--validation", "--device", support::DEVICE, "--blades", "200", "--segments", "1"])
+        .args(["--clusters", "1,8", "--frames", "1", "--warmup", "0", "--size", "32x24", "--out"])
+        .arg(&dir)
+        .output()
+        .expect("run meadow overhead");
+    assert_clean(&output);
+    let doc: Value = serde_json::from_str(&std::fs::read_to_string(dir.join("overhead.json")).expect("overhead.json"))
+        .expect("JSON");
+    let rows = doc["rows"].as_array().expect("rows");
+    assert_eq!(rows.len(), 2 * STRATEGIES.len(), "{hide}: {}", transcript(&output));
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    let mut out = Vec::new();
+    for row in rows {
+        let (strategy, clusters) = (row["strategy"].as_str().expect("strategy"), row["clusters"].as_u64().expect("n"));
+        let why = row["unsupported"].as_str().map(str::to_string);
+        match &why {
+            Some(why) => assert!(stdout.contains(&format!("{strategy:<12} unsupported: {why}")), "{stdout}"),
+            None => assert!(row["gpu_ms"].as_f64() > Some(0.0), "{hide}: {strategy} x {clusters} measured: {row}"),
+        }
+        out.push((strategy.to_string(), clusters, why));
+    }
+    out
+}
+
+#[test]
+fn draw_features_the_device_lacks_make_only_what_needs_them_unsupported() {
+    // Without drawIndirectCount: mdi-count, at any count; every other strategy runs.
+    for (strategy, clusters, why) in overhead_hiding("drawIndirectCount") {
+        let expect = (strategy == "mdi-count").then(|| "no drawIndirectCount".to_string());
+        assert_eq!(why, expect, "{strategy} x {clusters}");
+    }
+    // Without multiDrawIndirect the spec makes maxDrawIndirectCount 1: one draw of either
+    // multi-draw is valid; of 8, mdi lacks the feature and mdi-count exceeds the limit.
+    for (strategy, clusters, why) in overhead_hiding("multiDrawIndirect") {
+        let expect = match (strategy.as_str(), clusters) {
+            ("mdi", 8) => Some("no multiDrawIndirect".to_string()),
+            ("mdi-count", 8) => Some("8 draws exceed maxDrawIndirectCount 1".to_string()),
+            _ => None,
+        };
+        assert_eq!(why, expect, "{strategy} x {clusters}");
     }
 }
 

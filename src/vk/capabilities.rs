@@ -5,6 +5,9 @@
 //! - `timestamps`: the queue family's `timestampValidBits` reads 0;
 //! - `debug_utils`: the loader reads as lacking `VK_EXT_debug_utils`;
 //! - `swapchain`: every device reads as lacking `VK_KHR_swapchain`;
+//! - `multiDrawIndirect`: the core feature is reported unsupported (and not enabled), and
+//!   `maxDrawIndirectCount` reads 1, as the spec requires of a device without it;
+//! - `drawIndirectCount`: the Vulkan 1.2 feature is reported unsupported (and not enabled);
 //! - `maxPerStageDescriptorStorageBuffers=N`: the limit reads N;
 //! - `format:NAME` (e.g. `format:R16G16B16A16_UNORM`): the format reports no features.
 //!
@@ -28,6 +31,10 @@ pub struct Hidden {
     pub debug_utils: bool,
     /// `VK_KHR_swapchain` reads absent.
     pub swapchain: bool,
+    /// `multiDrawIndirect` reads unsupported and `maxDrawIndirectCount` 1.
+    pub multi_draw_indirect: bool,
+    /// `drawIndirectCount` reads unsupported.
+    pub draw_indirect_count: bool,
     /// `maxPerStageDescriptorStorageBuffers` reads this.
     pub max_storage_buffers: Option<u32>,
     /// Formats that report no features.
@@ -57,6 +64,10 @@ impl Hidden {
                 hidden.debug_utils = true;
             } else if entry == "swapchain" {
                 hidden.swapchain = true;
+            } else if entry == "multiDrawIndirect" {
+                hidden.multi_draw_indirect = true;
+            } else if entry == "drawIndirectCount" {
+                hidden.draw_indirect_count = true;
             } else if let Some(n) = entry.strip_prefix("maxPerStageDescriptorStorageBuffers=") {
                 hidden.max_storage_buffers = Some(n.parse().map_err(|_| unknown())?);
             } else if let Some(name) = entry.strip_prefix("format:") {
@@ -69,10 +80,14 @@ impl Hidden {
         Ok(hidden)
     }
 
-    /// Apply the limit override to `limits`.
+    /// Apply the limit overrides to `limits`: `maxDrawIndirectCount` "must also be 1" when
+    /// `multiDrawIndirect` is not supported (VkPhysicalDeviceFeatures).
     pub fn limit(&self, limits: &mut vk::PhysicalDeviceLimits) {
         if let Some(n) = self.max_storage_buffers {
             limits.max_per_stage_descriptor_storage_buffers = n;
+        }
+        if self.multi_draw_indirect {
+            limits.max_draw_indirect_count = 1;
         }
     }
 
@@ -101,10 +116,17 @@ mod tests {
         )
         .expect("valid");
         assert!(h.separate_depth_stencil_layouts && h.timestamps);
+        assert!(!h.multi_draw_indirect && !h.draw_indirect_count);
         assert_eq!(h.max_storage_buffers, Some(4));
+        let draws = Hidden::parse("multiDrawIndirect,drawIndirectCount").expect("valid");
+        assert!(draws.multi_draw_indirect && draws.draw_indirect_count);
+        let mut limits = vk::PhysicalDeviceLimits { max_draw_indirect_count: 1 << 20, ..Default::default() };
+        draws.limit(&mut limits);
+        assert_eq!(limits.max_draw_indirect_count, 1, "the spec's limit without multiDrawIndirect");
         assert!(h.hides(vk::Format::R16G16B16A16_SFLOAT) && !h.hides(vk::Format::R16G16B16A16_UNORM));
         assert_eq!(Hidden::parse("").expect("empty"), Hidden::default());
-        for bad in ["timestampz", "format:D16_UNORM", "maxPerStageDescriptorStorageBuffers=four"] {
+        for bad in ["timestampz", "format:D16_UNORM", "maxPerStageDescriptorStorageBuffers=four", "multiDrawIndirect=0"]
+        {
             assert!(Hidden::parse(bad).is_err(), "{bad}");
         }
     }

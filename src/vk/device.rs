@@ -123,12 +123,16 @@ fn enabled_features(instance: &Instance, physical: vk::PhysicalDevice, name: &st
     }
     let core = vk::PhysicalDeviceFeatures {
         pipeline_statistics_query: supported.pipeline_statistics_query,
-        multi_draw_indirect: supported.multi_draw_indirect,
+        multi_draw_indirect: match hidden.multi_draw_indirect {
+            true => vk::FALSE,
+            false => supported.multi_draw_indirect,
+        },
         draw_indirect_first_instance: supported.draw_indirect_first_instance,
         fill_mode_non_solid: supported.fill_mode_non_solid,
         ..Default::default()
     };
-    Ok(EnabledFeatures { core, draw_indirect_count: supported12.draw_indirect_count == vk::TRUE })
+    let draw_indirect_count = supported12.draw_indirect_count == vk::TRUE && !hidden.draw_indirect_count;
+    Ok(EnabledFeatures { core, draw_indirect_count })
 }
 
 /// Whether `physical` has VK_EXT_calibrated_timestamps and can correlate its timestamps with

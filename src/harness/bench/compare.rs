@@ -42,7 +42,8 @@ pub fn load(path: &Path) -> Result<Value> {
 
 /// Compare two runs: per (row, variant) change of the median GPU time in %. Returns the report
 /// and whether any change is a significant regression beyond `threshold_pct`; refuses a
-/// non-positive threshold, runs that are not comparable and medians that are not positive.
+/// non-positive threshold, runs that are not comparable, medians that are not positive and
+/// changes that are not finite.
 pub fn compare(old: &Value, new: &Value, threshold_pct: f64) -> Result<(String, bool)> {
     if !(threshold_pct.is_finite() && threshold_pct > 0.0) {
         return Err(Error::bad_input(format!("--threshold {threshold_pct}: must be a positive percentage")));
@@ -67,46 +68,71 @@ pub fn compare(old: &Value, new: &Value, threshold_pct: f64) -> Result<(String, 
         for v in row["variants"].as_array().into_iter().flatten() {
             let name = v["variant"].as_str().unwrap_or("");
             let Some(old_v) = variant(old_row, name) else { continue };
-            let (Some(a), Some(b)) = (old_v["gpu_ms"]["median"].as_f64(), v["gpu_ms"]["median"].as_f64()) else {
-                continue;
-            };
-            if !(a.is_finite() && a > 0.0 && b.is_finite() && b > 0.0) {
-                return Err(Error::bad_input(format!(
-                    "{} blades x {} segments, {name}: medians {a} and {b} ms are not both positive",
-                    row["blades"], row["segments"]
-                )));
+            if let Some((line, flagged)) = judge(row, name, old_v, v, threshold_pct)? {
+                out.push_str(&line);
+                regressed |= flagged;
             }
-            let change = 100.0 * (b - a) / a;
-            let (before, after) = (samples(old_v), samples(v));
-            let judged = before.len() >= MIN_FRAMES && after.len() >= MIN_FRAMES;
-            let p_slower = judged.then(|| mann_whitney_greater(&before, &after));
-            let p_faster = judged.then(|| mann_whitney_greater(&after, &before));
-            let beyond = change.abs() > threshold_pct;
-            let (p, significant) = match change > 0.0 {
-                true => (p_slower, p_slower.is_some_and(|p| p < ALPHA)),
-                false => (p_faster, p_faster.is_some_and(|p| p < ALPHA)),
-            };
-            let flag = match (beyond, significant, change > 0.0, judged) {
-                (true, true, true, _) => {
-                    regressed = true;
-                    "  REGRESSION"
-                }
-                (true, true, false, _) => "  faster",
-                (true, false, _, true) => "  within noise (not significant)",
-                (true, false, _, false) => "  not judged (fewer than 4 frames a side)",
-                _ => "",
-            };
-            let p = p.map_or("-".to_string(), |p| format!("{p:.3}"));
-            out.push_str(&format!(
-                "{:>9} {:>4} {:<16} {:>10.3} {:>10.3} {:>7.1}% {:>7}{flag}\n",
-                row["blades"], row["segments"], name, a, b, change, p
-            ));
         }
     }
     out.push_str(&format!(
         "noise threshold: {threshold_pct:.1} %; flagged when beyond it and significant (one-sided Mann-Whitney, p < {ALPHA})\n"
     ));
     Ok((out, regressed))
+}
+
+/// The report line of variant `name` of `row`, measured as `old_v` then `v`, and whether it is a
+/// regression; `None` when either has no median (unsupported). Refuses medians that are not
+/// positive and a change that is not finite (a median near `f64::MAX` overflows
+/// `100 (new - old) / old`, which would read as an infinite speed-up or regression).
+fn judge(row: &Value, name: &str, old_v: &Value, v: &Value, threshold_pct: f64) -> Result<Option<(String, bool)>> {
+    let (Some(a), Some(b)) = (old_v["gpu_ms"]["median"].as_f64(), v["gpu_ms"]["median"].as_f64()) else {
+        return Ok(None);
+    };
+    let at = format!("{} blades x {} segments, {name}", row["blades"], row["segments"]);
+    if !(a.is_finite() && a > 0.0 && b.is_finite() && b > 0.0) {
+        return Err(Error::bad_input(format!("{at}: medians {} and {} ms are not both positive", ms(a), ms(b))));
+    }
+    let change = 100.0 * (b - a) / a;
+    if !change.is_finite() {
+        return Err(Error::bad_input(format!(
+            "{at}: medians {} and {} ms give a change that is not finite",
+            ms(a),
+            ms(b)
+        )));
+    }
+    // Every sample is finite: serde_json refuses a number out of f64's range when parsing, and
+    // a `Value` cannot hold NaN or an infinity.
+    let (before, after) = (samples(old_v), samples(v));
+    let judged = before.len() >= MIN_FRAMES && after.len() >= MIN_FRAMES;
+    let (slower, faster) = (b > a, b < a);
+    let p = judged.then(|| match slower {
+        true => mann_whitney_greater(&before, &after),
+        false => mann_whitney_greater(&after, &before),
+    });
+    let beyond = change.abs() > threshold_pct;
+    let significant = p.is_some_and(|p| p < ALPHA);
+    let flag = match (beyond, significant, judged) {
+        (true, true, _) if slower => "  REGRESSION",
+        (true, true, _) if faster => "  faster",
+        (true, false, true) => "  within noise (not significant)",
+        (true, false, false) => "  not judged (fewer than 4 frames a side)",
+        _ => "",
+    };
+    let p = p.map_or("-".to_string(), |p| format!("{p:.3}"));
+    let line = format!(
+        "{:>9} {:>4} {:<16} {:>10.3} {:>10.3} {:>7.1}% {:>7}{flag}\n",
+        row["blades"], row["segments"], name, a, b, change, p
+    );
+    Ok(Some((line, beyond && significant && slower)))
+}
+
+/// A time in ms for a message: as written between 1e-6 and 1e9 (and 0), in scientific notation
+/// outside (Rust writes `1e308` out in 309 digits).
+fn ms(x: f64) -> String {
+    match x == 0.0 || (1e-6..1e9).contains(&x.abs()) {
+        true => format!("{x}"),
+        false => format!("{x:e}"),
+    }
 }
 
 /// Variant `name` of a row.
@@ -207,6 +233,12 @@ mod tests {
         }
         let zero = doc(&[0.0, 0.0, 0.0, 0.0]);
         assert!(compare(&base, &zero, 10.0).is_err() && compare(&zero, &base, 10.0).is_err());
+        // 100 (new - old) / old overflows: refused both ways, the medians written short.
+        let huge = doc(&[1e308, 1e308, 1e308, 1e308]);
+        for (a, b) in [(&huge, &base), (&base, &huge)] {
+            let e = compare(a, b, 10.0).expect_err("not finite").to_string();
+            assert!(e.contains("static") && e.contains("1e308") && e.contains("not finite"), "{e}");
+        }
         let mut other = base.clone();
         other["device"] = json!("another GPU");
         let e = compare(&base, &other, 10.0).expect_err("not comparable").to_string();
