@@ -287,6 +287,15 @@ fn compare_refuses_what_it_cannot_compare() {
         new[field] = other;
         assert_refused(field, &compare(&dir, &base, &new, &[]), &["not comparable", field]);
     }
+    // A run from before the read-back copy was reported apart (the thesis run: no readback_ms)
+    // against one after it.
+    let mut apart = base.clone();
+    apart["rows"][0]["variants"][0]["readback_ms"] = apart["rows"][0]["variants"][0]["gpu_ms"].clone();
+    assert_refused("copy apart", &compare(&dir, &base, &apart, &[]), &["not comparable", "read-back copy"]);
+    // Nothing in common: an empty report would pass a CI gate.
+    let mut other_row = base.clone();
+    other_row["rows"][0]["blades"] = Value::from(12345);
+    assert_refused("no row in common", &compare(&dir, &base, &other_row, &[]), &["no blade count"]);
 }
 
 #[test]

@@ -53,11 +53,17 @@ pub fn compare(old: &Value, new: &Value, threshold_pct: f64) -> Result<(String, 
     if !differences.is_empty() {
         return Err(Error::bad_input(format!("the runs are not comparable: {}", differences.join(", "))));
     }
+    if copy_apart(old) != copy_apart(new) {
+        return Err(Error::bad_input(
+            "the runs are not comparable: one run's gpu_ms includes the read-back copy (no readback_ms: recorded \
+             before meadow reported the copy apart)",
+        ));
+    }
     let mut out = format!(
         "{:>9} {:>4} {:<16} {:>10} {:>10} {:>8} {:>7}\n",
         "blades", "seg", "variant", "old ms", "new ms", "change", "p"
     );
-    let mut regressed = false;
+    let (mut regressed, mut compared) = (false, 0);
     for row in new["rows"].as_array().into_iter().flatten() {
         let same = old["rows"]
             .as_array()
@@ -71,13 +77,24 @@ pub fn compare(old: &Value, new: &Value, threshold_pct: f64) -> Result<(String, 
             if let Some((line, flagged)) = judge(row, name, old_v, v, threshold_pct)? {
                 out.push_str(&line);
                 regressed |= flagged;
+                compared += 1;
             }
         }
+    }
+    if compared == 0 {
+        // An empty report would pass a CI gate.
+        return Err(Error::bad_input("the runs have no blade count, segment count and variant measured in both"));
     }
     out.push_str(&format!(
         "noise threshold: {threshold_pct:.1} %; flagged when beyond it and significant (one-sided Mann-Whitney, p < {ALPHA})\n"
     ));
     Ok((out, regressed))
+}
+
+/// Whether `doc`'s GPU times leave out the read-back copy (its variants carry `readback_ms`).
+fn copy_apart(doc: &Value) -> bool {
+    let rows = doc["rows"].as_array().into_iter().flatten();
+    rows.flat_map(|r| r["variants"].as_array().into_iter().flatten()).any(|v| v.get("readback_ms").is_some())
 }
 
 /// The report line of variant `name` of `row`, measured as `old_v` then `v`, and whether it is a
