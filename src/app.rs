@@ -150,9 +150,12 @@ impl RenderOptions {
         if matches!(strategy, Strategy::Instanced | Strategy::Prerecorded) || clusters <= self.stored_blades() {
             return Ok(());
         }
+        // Name the strategy too: `--clusters` may not have been given (its default is 64).
         Err(Error::bad_input(format!(
-            "--clusters {clusters} exceeds --blades {}: a cluster holds a blade at least",
-            self.stored_blades()
+            "--clusters {clusters} exceeds --blades {}: a cluster holds a blade at least (--submission {} splits \
+             the blades into --clusters clusters, 64 unless given)",
+            self.stored_blades(),
+            strategy.name()
         )))
     }
 

@@ -155,6 +155,13 @@ fn command_line_corner_cases() {
     assert_eq!(output.status.code(), Some(2), "{}", transcript(&output));
     assert!(String::from_utf8_lossy(&output.stderr).contains("--clusters 500 exceeds --blades 100"));
     assert!(!timing_out.exists(), "timing created its directory before refusing");
+    // Without --clusters, a per-cluster strategy on a small field: the message says where the 64
+    // comes from instead of blaming a flag that was not given.
+    refused(
+        "clusters-default",
+        &["--blades", "63", "--brute-force", "--submission", "per-cluster"],
+        "(--submission per-cluster splits the blades into --clusters clusters, 64 unless given)",
+    );
 }
 
 /// No Vulkan driver, with validation: a runtime failure (exit 1) with one `error:` line, and the

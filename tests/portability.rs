@@ -154,3 +154,64 @@ fn depth_falls_back_to_the_24_and_16_bit_formats() {
         }
     }
 }
+
+#[test]
+fn the_floor_with_per_blade_evaluation_runs_no_pose_pass() {
+    // `--mode floor` draws pre-expanded static blades: `--eval blade` has nothing to evaluate, so
+    // the frame's passes are the terrain and the floor's blades. The control: the same
+    // evaluation with keyframes runs the pose pass.
+    let dir = scratch("portability-floor-eval");
+    let passes = |mode: &str| {
+        let output = meadow()
+            .args(["render", "--validation", "--device", support::DEVICE, "--blades", "2000", "--size", "64x64"])
+            .args(["--mode", mode, "--eval", "blade", "--brute-force", "--out"])
+            .arg(dir.join(format!("{mode}.png")))
+            .output()
+            .expect("run meadow");
+        support::assert_clean(&output);
+        let stdout = String::from_utf8_lossy(&output.stdout).into_owned();
+        let line = stdout.lines().find(|l| l.starts_with("gpu: ")).map(str::to_owned);
+        line.unwrap_or_else(|| panic!("{}", transcript(&output)))
+    };
+    let floor = passes("floor");
+    assert!(floor.contains("(terrain ") && floor.contains(", blades ") && !floor.contains("blade poses"), "{floor}");
+    let texture = passes("texture");
+    assert!(texture.contains("blade poses"), "{texture}");
+}
+
+#[test]
+fn the_storage_buffer_limit_refuses_exactly_below_what_meadow_binds() {
+    // From the spec minimum (4) up: each refusal names a stage and how many storage buffers it
+    // binds; at that many, the next stage's need shows, until the render runs. So the test
+    // follows meadow's real need as bindings are added, instead of a number written here.
+    let dir = scratch("portability-storage-limit");
+    let out = dir.join("x.png");
+    let mut limit = 4u32;
+    let mut needs = Vec::new();
+    loop {
+        let output = render_hiding(&format!("maxPerStageDescriptorStorageBuffers={limit}"), &[], &out);
+        if output.status.code() == Some(0) {
+            break;
+        }
+        assert_eq!(output.status.code(), Some(1), "limit {limit}: {}", transcript(&output));
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        let said = format!("allows {limit} storage buffers per shader stage; meadow's ");
+        assert!(stderr.contains(&said), "limit {limit}: {stderr}");
+        let binds: u32 = stderr
+            .split(" stage binds ")
+            .nth(1)
+            .and_then(|rest| rest.split(|c: char| !c.is_ascii_digit()).next())
+            .and_then(|n| n.parse().ok())
+            .unwrap_or_else(|| panic!("limit {limit}: {stderr}"));
+        assert!(binds > limit, "limit {limit}: refused although its stage binds {binds}");
+        needs.push(binds);
+        limit = binds;
+        assert!(needs.len() < 8, "{needs:?}");
+    }
+    assert!(!needs.is_empty(), "the spec minimum of 4 is enough: no refusal to test");
+    // The last need found is what the device must allow: that many renders (the loop's end), one
+    // fewer is refused.
+    support::assert_clean(&render_hiding(&format!("maxPerStageDescriptorStorageBuffers={limit}"), &[], &out));
+    let below = render_hiding(&format!("maxPerStageDescriptorStorageBuffers={}", limit - 1), &[], &out);
+    assert_eq!(below.status.code(), Some(1), "{needs:?}: {}", transcript(&below));
+}
