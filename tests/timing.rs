@@ -193,3 +193,37 @@ fn the_frame_time_is_the_passes_and_the_read_back_copy_is_apart() {
     assert!((frame - sum).abs() <= rounding, "frame {frame} ms, passes and between {sum} ms: {line}");
     assert!(copy > 0.0, "the copy of 640x360 pixels took no time: {line}");
 }
+
+#[test]
+fn a_wrapping_timestamp_counter_keeps_the_timeline_in_order() {
+    // `MEADOW_HIDE=timestampValidBits=26`: the counter wraps every 2^26 ns (67 ms), as a GPU with
+    // few valid bits does. Each run lasts longer than two wraps, so its frames cross one: spans are
+    // subtracted modulo the bits, and frames are placed on an unwrapped timeline (before, a wrap
+    // read as a frame 2^26 ns long or going back in time: 0 fps, -162 % GPU busy).
+    let dir = scratch("timing-wrap");
+    let output = meadow()
+        .env("MEADOW_HIDE", "timestampValidBits=26")
+        .args(["timing", "--validation", "--device", support::DEVICE, "--blades", "300", "--size", "32x32"])
+        .args(["--frames", "120", "--warmup", "0", "--out"])
+        .arg(&dir)
+        .output()
+        .expect("run meadow timing");
+    assert_clean(&output);
+    let doc: Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("timing.json")).expect("timing.json")).expect("JSON");
+    assert_eq!(doc["timestamp_valid_bits"], 26);
+    let wrap_s = (1u64 << 26) as f64 * 1e-9;
+    for run in doc["frames_in_flight"].as_array().expect("runs") {
+        let f = |k: &str| run[k].as_f64().unwrap_or_else(|| panic!("{k} in {run}"));
+        assert!(f("wall_s") > 2.0 * wrap_s, "the run did not last two wraps: {run}");
+        let (busy, overlap) = (f("gpu_busy_fraction"), f("cpu_gpu_overlap_fraction"));
+        assert!(busy > 0.05 && busy <= 1.0 + 1e-9, "GPU busy {busy}: {run}");
+        assert!((0.0..=1.0).contains(&overlap), "overlap {overlap}: {run}");
+        let fps = f("fps");
+        let expected = 120.0 / f("wall_s");
+        assert!(fps > 0.3 * expected && fps < 3.0 * expected, "fps {fps} against {expected} frames per wall second");
+        let interval = &run["frame_interval_ms"];
+        let (p5, max) = (interval["p5"].as_f64().expect("p5"), interval["max"].as_f64().expect("max"));
+        assert!(p5 > 0.0 && max < wrap_s * 1e3, "intervals {interval}");
+    }
+}

@@ -77,7 +77,8 @@ pub fn calibrate(device: &Device) -> Result<Option<ClockMapping>> {
     let after = Instant::now();
     let valid = device.timestamp_valid_bits;
     let mask = if valid >= 64 { u64::MAX } else { (1u64 << valid) - 1 };
-    let gpu_ns = (stamps[0] & mask) as f64 * f64::from(device.limits().timestamp_period);
+    // Placed on the frames' timeline by `run_one` (the counter may wrap between here and them).
+    let gpu_ns = (stamps[0] & mask) as f64;
     // `Instant` reads CLOCK_MONOTONIC on Linux but hides its value: the midpoint of the two reads
     // around the call stands for the calibrated sample, within half their distance.
     let half = (after - before) / 2;
@@ -114,7 +115,9 @@ fn run_one(device: &Arc<Device>, scene: &Scene, options: &TimingOptions, frames_
     let target = OffscreenTarget::new(device, extent)?;
     let camera = render.camera.unwrap_or_else(|| scene.default_camera());
     let result = (|| {
-        let calibrated = calibrate(device)?;
+        let period = f64::from(device.limits().timestamp_period);
+        let calibrated =
+            calibrate(device)?.map(|m| ClockMapping { gpu_ns: renderer.place_timestamp(m.gpu_ns as u64, period), ..m });
         let total = options.warmup + render.frames;
         let mut frames = Vec::new();
         let mut in_flight: Vec<Option<u32>> = vec![None; frames_in_flight];

@@ -3,6 +3,8 @@
 //!
 //! - `separateDepthStencilLayouts`: the Vulkan 1.2 feature is reported unsupported;
 //! - `timestamps`: the queue family's `timestampValidBits` reads 0;
+//! - `timestampValidBits=N` (1..=64): it reads at most N, so the ticks wrap every 2^N (lavapipe
+//!   has 64 bits, desktop GPUs often 36 to 64);
 //! - `debug_utils`: the loader reads as lacking `VK_EXT_debug_utils`;
 //! - `swapchain`: every device reads as lacking `VK_KHR_swapchain`;
 //! - `multiDrawIndirect`: the core feature is reported unsupported (and not enabled), and
@@ -27,6 +29,8 @@ pub struct Hidden {
     pub separate_depth_stencil_layouts: bool,
     /// `timestampValidBits` reads 0.
     pub timestamps: bool,
+    /// `timestampValidBits` reads at most this.
+    pub timestamp_bits: Option<u32>,
     /// `VK_EXT_debug_utils` reads absent.
     pub debug_utils: bool,
     /// `VK_KHR_swapchain` reads absent.
@@ -68,6 +72,9 @@ impl Hidden {
                 hidden.multi_draw_indirect = true;
             } else if entry == "drawIndirectCount" {
                 hidden.draw_indirect_count = true;
+            } else if let Some(n) = entry.strip_prefix("timestampValidBits=") {
+                let bits = n.parse().ok().filter(|b| (1..=64).contains(b)).ok_or_else(unknown)?;
+                hidden.timestamp_bits = Some(bits);
             } else if let Some(n) = entry.strip_prefix("maxPerStageDescriptorStorageBuffers=") {
                 hidden.max_storage_buffers = Some(n.parse().map_err(|_| unknown())?);
             } else if let Some(name) = entry.strip_prefix("format:") {
@@ -125,8 +132,15 @@ mod tests {
         assert_eq!(limits.max_draw_indirect_count, 1, "the spec's limit without multiDrawIndirect");
         assert!(h.hides(vk::Format::R16G16B16A16_SFLOAT) && !h.hides(vk::Format::R16G16B16A16_UNORM));
         assert_eq!(Hidden::parse("").expect("empty"), Hidden::default());
-        for bad in ["timestampz", "format:D16_UNORM", "maxPerStageDescriptorStorageBuffers=four", "multiDrawIndirect=0"]
-        {
+        assert_eq!(Hidden::parse("timestampValidBits=36").expect("valid").timestamp_bits, Some(36));
+        for bad in [
+            "timestampz",
+            "format:D16_UNORM",
+            "maxPerStageDescriptorStorageBuffers=four",
+            "multiDrawIndirect=0",
+            "timestampValidBits=0",
+            "timestampValidBits=65",
+        ] {
             assert!(Hidden::parse(bad).is_err(), "{bad}");
         }
     }

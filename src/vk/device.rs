@@ -266,9 +266,9 @@ impl Device {
             debug_utils,
             queue,
             queue_family,
-            timestamp_valid_bits: match super::capabilities::hidden()?.timestamps {
-                true => 0,
-                false => families[queue_family as usize].timestamp_valid_bits,
+            timestamp_valid_bits: match super::capabilities::hidden()? {
+                hidden if hidden.timestamps => 0,
+                hidden => families[queue_family as usize].timestamp_valid_bits.min(hidden.timestamp_bits.unwrap_or(64)),
             },
             subgroup_size,
             depth_format,

@@ -33,6 +33,11 @@ impl TimestampQueries {
         Ok(Self { pool, capacity, written: 0, period_ns: f64::from(device.limits().timestamp_period), valid_mask })
     }
 
+    /// The bits of a tick that count (`timestampValidBits`), as a mask.
+    pub fn valid_mask(&self) -> u64 {
+        self.valid_mask
+    }
+
     /// Whether timestamps are written (the queue has `timestampValidBits`).
     pub fn available(&self) -> bool {
         self.pool != vk::QueryPool::null()
@@ -127,9 +132,45 @@ fn elapsed_ticks(start: u64, end: u64, mask: u64) -> u64 {
     end.wrapping_sub(start) & mask
 }
 
+/// One queue's raw timestamps placed on a line of ticks that keeps counting up when the counter
+/// wraps (`timestampValidBits` < 64): each tick is the previous one plus their difference modulo
+/// the valid bits. Place ticks in the order the queue wrote them, each less than 2^bits ticks after
+/// the one before (a frame's, then the next frame's).
+#[derive(Clone, Copy, Debug)]
+pub struct Timeline {
+    mask: u64,
+    /// The last tick placed: (raw, placed).
+    last: Option<(u64, u64)>,
+}
+
+impl Timeline {
+    /// A line for a counter of `mask`'s bits (`TimestampQueries::valid_mask`).
+    pub fn new(mask: u64) -> Self {
+        Self { mask, last: None }
+    }
+
+    /// Where raw tick `raw` falls on the line.
+    pub fn place(&mut self, raw: u64) -> u64 {
+        let raw = raw & self.mask;
+        let placed = match self.last {
+            None => raw,
+            Some((last_raw, last_placed)) => last_placed + elapsed_ticks(last_raw, raw, self.mask),
+        };
+        self.last = Some((raw, placed));
+        placed
+    }
+}
+
 #[cfg(test)]
 mod tests {
-    use super::elapsed_ticks;
+    use super::{elapsed_ticks, Timeline};
+
+    #[test]
+    fn a_wrapping_counter_keeps_counting_up_on_the_timeline() {
+        let mut line = Timeline::new((1 << 8) - 1);
+        let placed: Vec<u64> = [250u64, 253, 3, 100, 255, 1].iter().map(|&t| line.place(t)).collect();
+        assert_eq!(placed, [250, 253, 259, 356, 511, 513]);
+    }
 
     #[test]
     fn spans_are_integer_differences_modulo_the_valid_bits() {

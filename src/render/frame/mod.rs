@@ -12,6 +12,7 @@ use ash::vk;
 
 use crate::error::{Error, Result, VkContext};
 use crate::vk::commands;
+use crate::vk::query::Timeline;
 use crate::vk::{sync, Device};
 
 pub use crate::render::uniforms::{look, FrameUniforms};
@@ -52,13 +53,18 @@ pub struct FrameRing {
     /// Acquire semaphores a failed submission left signalled (or about to be): nothing waits on
     /// them, so they are only destroyed with the ring, after the device is idle.
     parked: Vec<vk::Semaphore>,
+    /// The queue's timestamps, unwrapped: frames complete in submission order, so their ticks are
+    /// placed in the order the queue wrote them.
+    timeline: Timeline,
 }
 
 impl FrameRing {
     /// A ring of `frames`. `MEADOW_INJECT_SUBMIT_FAILURE=N` makes the N-th submission fail.
     pub fn new(frames: Vec<Frame>) -> Self {
         let inject_failure = std::env::var("MEADOW_INJECT_SUBMIT_FAILURE").ok().and_then(|v| v.parse().ok());
+        let timeline = Timeline::new(frames.first().map_or(0, |f| f.timestamps.valid_mask()));
         Self {
+            timeline,
             frames,
             next: 0,
             last_submitted: None,
@@ -68,6 +74,12 @@ impl FrameRing {
             inject_failure,
             parked: Vec::new(),
         }
+    }
+
+    /// Place a raw timestamp of the queue read before the frames (a calibration's) on the frames'
+    /// timeline (`FrameTimings` nanoseconds); returns it in nanoseconds.
+    pub fn place_timestamp(&mut self, raw: u64, period_ns: f64) -> f64 {
+        self.timeline.place(raw) as f64 * period_ns
     }
 
     /// Make the `nth` submission from now on (1 = the next) fail, for tests.
@@ -109,7 +121,7 @@ impl FrameRing {
         let ended = Instant::now();
         let had_pending = frame.pending.is_some();
         frame.run_deletions(device);
-        let timings = frame.timings([started, ended]);
+        let timings = frame.timings([started, ended], &mut self.timeline);
         if had_pending {
             self.completed += 1;
             self.run_after_frames(device);
@@ -130,7 +142,10 @@ impl FrameRing {
     /// a frame).
     pub fn wait_all(&mut self, device: &Device) -> Result<Vec<(usize, FrameTimings)>> {
         let mut done = Vec::new();
-        for slot in 0..self.frames.len() {
+        // Oldest first (`next` is the slot submitted longest ago): the timeline places the queue's
+        // timestamps in the order they were written.
+        let (slots, oldest) = (self.frames.len(), self.next);
+        for slot in (0..slots).map(|i| (oldest + i) % slots) {
             if let Some(t) = self.wait(device, slot)? {
                 done.push((slot, t));
             }

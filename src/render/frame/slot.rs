@@ -12,7 +12,7 @@ use crate::render::graph::{Outputs, RecordedPass, Scopes};
 use crate::render::target::TargetView;
 use crate::render::uniforms::FrameUniforms;
 use crate::vk::commands::CommandRecorder;
-use crate::vk::query::{PipelineStatistics, StatisticsQueries, TimestampQueries};
+use crate::vk::query::{PipelineStatistics, StatisticsQueries, Timeline, TimestampQueries};
 use crate::vk::tracker::ResourceStates;
 use crate::vk::{sync, Buffer, BufferDesc, Device};
 
@@ -272,10 +272,12 @@ impl Frame {
     }
 
     /// The timings of the submission just waited for (`pending`), from the copied queries.
-    pub(super) fn timings(&mut self, wait: [Instant; 2]) -> Option<FrameTimings> {
+    pub(super) fn timings(&mut self, wait: [Instant; 2], timeline: &mut Timeline) -> Option<FrameTimings> {
         let [started, recorded, submitted] = self.pending.take()?;
         let copied = self.query_results.mapped();
         let ticks = self.timestamps.read_ticks(copied);
+        // Positions on the queue's unwrapped line (spans subtract the raw ticks modulo the bits).
+        let placed: Vec<u64> = ticks.iter().map(|&tick| timeline.place(tick)).collect();
         let clock = &self.timestamps;
         let statistics = match &self.statistics {
             Some(queries) => queries.read(&copied[STATISTICS_OFFSET as usize..]),
@@ -287,7 +289,7 @@ impl Frame {
             .map(|p| PassTime {
                 name: p.name,
                 ms: clock.elapsed_ms(ticks[p.begin as usize], ticks[p.end as usize]),
-                start_ns: clock.ns(ticks[p.begin as usize]),
+                start_ns: clock.ns(placed[p.begin as usize]),
                 statistics: p.statistics.and_then(|q| statistics.get(q as usize).copied()),
             })
             .collect();
@@ -307,7 +309,7 @@ impl Frame {
             readback_ms: clock.elapsed_ms(passes_end, last),
             between_passes_ms,
             passes,
-            gpu_span_ns: (clock.ns(first), clock.ns(last)),
+            gpu_span_ns: (clock.ns(placed[0]), clock.ns(placed[placed.len() - 1])),
             cpu_spans: Some([started, recorded, submitted]),
             cpu_wait: Some(wait),
             cull: (!self.cull_segments.is_empty()).then(|| {

@@ -291,6 +291,12 @@ impl Renderer {
         &mut self.animation.wind
     }
 
+    /// Place a raw timestamp of the queue, read before the frames, on their timeline (their
+    /// `FrameTimings` nanoseconds, which keep counting when the counter wraps); in nanoseconds.
+    pub fn place_timestamp(&mut self, raw: u64, period_ns: f64) -> f64 {
+        self.ring.place_timestamp(raw, period_ns)
+    }
+
     /// Wait until the next frame slot is free (its fence signalled) and return the slot with
     /// the timings of the frame it rendered last, if any. Only that slot's fence is waited: the
     /// other frames in flight keep running.
