@@ -24,12 +24,18 @@ fn a_write_that_fails_half_way_leaves_nothing() {
     ] {
         let dir = support::scratch(name);
         let path = &dir.join("x.png");
-        let output = meadow().args(&args).arg(path).env("MEADOW_INJECT_WRITE_FAILURE", "1").output().expect("run");
-        assert_eq!(output.status.code(), Some(1), "{}", transcript(&output));
-        let stderr = String::from_utf8_lossy(&output.stderr);
-        assert!(stderr.starts_with("error: ") && stderr.contains("no space left"), "{stderr}");
-        assert!(!path.exists(), "{} was written", path.display());
-        assert_eq!(leftovers(&dir), Vec::<String>::new(), "temporary files left");
+        // Half-way through the bytes, and at sync_all after all of them (a disk that fills while
+        // the page cache is written back: the error must not be lost on drop).
+        for (fault, said) in [("1", "no space left (injected)"), ("1:sync", "no space left at sync (injected)")] {
+            let output =
+                meadow().args(&args).arg(path).env("MEADOW_INJECT_WRITE_FAILURE", fault).output().expect("run");
+            assert_eq!(output.status.code(), Some(1), "{fault}: {}", transcript(&output));
+            let stderr = String::from_utf8_lossy(&output.stderr);
+            assert!(stderr.starts_with("error: ") && stderr.contains(said) && stderr.lines().count() == 1, "{stderr}");
+            assert!(!String::from_utf8_lossy(&output.stdout).contains("wrote"), "{fault}: {}", transcript(&output));
+            assert!(!path.exists(), "{fault}: {} was written", path.display());
+            assert_eq!(leftovers(&dir), Vec::<String>::new(), "{fault}: temporary files left");
+        }
         // The control: without the fault the same command writes the file.
         let output = meadow().args(&args).arg(path).output().expect("run");
         assert_eq!(output.status.code(), Some(0), "{}", transcript(&output));

@@ -11,6 +11,8 @@
 //! `MEADOW_INJECT_WRITE_FAILURE=N` makes the N-th file the process writes (from 1) fail half-way,
 //! as a full disk would (for the tests: a full filesystem cannot be mounted everywhere the tests
 //! run); N past the first file of a set fails the set after some of it was written.
+//! `MEADOW_INJECT_WRITE_FAILURE=N:sync` writes all of the N-th file and fails its `sync_all`, as a
+//! disk that fills while the page cache is written back does.
 
 use std::cell::RefCell;
 use std::io::Write;
@@ -106,12 +108,16 @@ pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<()> {
     let tmp = temporary(path);
     let written = (|| {
         let mut file = std::fs::OpenOptions::new().write(true).create_new(true).open(&tmp)?;
-        if injected_failure() {
+        let injected = injected_failure();
+        if injected == Some(Stage::Write) {
             file.write_all(&bytes[..bytes.len() / 2])?;
             return Err(std::io::Error::new(std::io::ErrorKind::StorageFull, "no space left (injected)"));
         }
         file.write_all(bytes)?;
         file.flush()?;
+        if injected == Some(Stage::Sync) {
+            return Err(std::io::Error::new(std::io::ErrorKind::StorageFull, "no space left at sync (injected)"));
+        }
         file.sync_all()?;
         let staged = STAGED.with(|s| s.borrow_mut().as_mut().map(|set| set.push((tmp.clone(), path.to_path_buf()))));
         match staged {
@@ -125,11 +131,25 @@ pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<()> {
     written.map_err(io)
 }
 
-/// Whether this write is the one `MEADOW_INJECT_WRITE_FAILURE` makes fail.
-fn injected_failure() -> bool {
+/// Where an injected write failure strikes.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Stage {
+    /// Half-way through the bytes.
+    Write,
+    /// At `sync_all`, after every byte was written and flushed.
+    Sync,
+}
+
+/// Whether this write is the one `MEADOW_INJECT_WRITE_FAILURE` makes fail, and where.
+fn injected_failure() -> Option<Stage> {
     static WRITES: AtomicU64 = AtomicU64::new(0);
     let n = WRITES.fetch_add(1, Ordering::Relaxed) + 1;
-    std::env::var("MEADOW_INJECT_WRITE_FAILURE").ok().and_then(|v| v.parse::<u64>().ok()) == Some(n)
+    let value = std::env::var("MEADOW_INJECT_WRITE_FAILURE").ok()?;
+    let (nth, stage) = match value.strip_suffix(":sync") {
+        Some(nth) => (nth, Stage::Sync),
+        None => (value.as_str(), Stage::Write),
+    };
+    (nth.parse::<u64>().ok()? == n).then_some(stage)
 }
 
 /// Encode an image as PNG in memory (so that every byte of it goes through `write_atomically`).
