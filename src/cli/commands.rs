@@ -66,6 +66,8 @@ pub(crate) fn finish(result: crate::Result<()>) -> u8 {
         Ok(()) => 0,
         Err(e) => {
             eprintln!("error: {e}");
+            // What the loader said while failing to create the instance, after the error.
+            crate::vk::instance::print_held_messages();
             e.exit_code() as u8
         }
     }

@@ -174,10 +174,20 @@ impl Instance {
             // Chained into the create info, the messenger also reports on vkCreate/DestroyInstance.
             create_info = create_info.push_next(&mut validation_features).push_next(messenger_info);
         }
+        *held() = Some(Vec::new());
         // SAFETY: every pointer in create_info refers to locals alive for this call.
-        let raw = unsafe { entry.create_instance(&create_info, None) }.map_err(|result| match result {
+        let created = unsafe { entry.create_instance(&create_info, None) };
+        if created.is_ok() {
+            print_held_messages();
+        }
+        let raw = created.map_err(|result| match result {
             vk::Result::ERROR_EXTENSION_NOT_PRESENT => Error::Environment(
                 "the Vulkan loader lacks a required instance extension (VK_EXT_debug_utils or a surface extension)"
+                    .into(),
+            ),
+            vk::Result::ERROR_INCOMPATIBLE_DRIVER => Error::Environment(
+                "no Vulkan driver found (vkCreateInstance: VK_ERROR_INCOMPATIBLE_DRIVER): install one, such as \
+                 mesa-vulkan-drivers (lavapipe)"
                     .into(),
             ),
             result => Error::vulkan("vkCreateInstance", result),
@@ -224,7 +234,23 @@ impl Drop for Instance {
     }
 }
 
-/// Debug messenger callback: print the message on stderr and count it.
+/// While the instance is being created, messages (the loader's, when it finds no driver) are held
+/// here instead of printed: a failure's `error:` line comes first, then what the loader said
+/// ([`print_held_messages`]).
+static HELD: std::sync::Mutex<Option<Vec<String>>> = std::sync::Mutex::new(None);
+
+fn held() -> std::sync::MutexGuard<'static, Option<Vec<String>>> {
+    HELD.lock().unwrap_or_else(|poisoned| poisoned.into_inner())
+}
+
+/// Print the messages held while an instance was being created (after its error, if it failed).
+pub fn print_held_messages() {
+    for line in held().take().unwrap_or_default() {
+        eprintln!("{line}");
+    }
+}
+
+/// Debug messenger callback: print the message on stderr (or hold it, see [`HELD`]) and count it.
 unsafe extern "system" fn on_debug_message(
     severity: vk::DebugUtilsMessageSeverityFlagsEXT,
     kind: vk::DebugUtilsMessageTypeFlagsEXT,
@@ -247,10 +273,14 @@ unsafe extern "system" fn on_debug_message(
             })
             .unwrap_or_default()
     };
-    eprintln!(
+    let line = format!(
         "validation [{severity:?} {kind:?}] {}: {}",
         id.as_deref().unwrap_or("-"),
         message.as_deref().unwrap_or("(no message)")
     );
+    match held().as_mut() {
+        Some(lines) => lines.push(line),
+        None => eprintln!("{line}"),
+    }
     vk::FALSE
 }
