@@ -69,13 +69,14 @@ pub fn with_device_extensions<T>(
 }
 
 /// List the physical devices.
-pub fn devices(options: &GpuOptions) -> (Result<Vec<DeviceInfo>>, Option<u64>) {
+pub fn devices(options: &GpuOptions) -> (Result<(Vec<DeviceInfo>, bool)>, Option<u64>) {
     let instance = match Instance::create(&InstanceDesc { validation: options.validation, extensions: &[] }) {
         Ok(instance) => instance,
         Err((e, messages)) => return (Err(e), messages),
     };
     let counter = instance.validation_counter();
-    let result = crate::vk::device::list_devices(&instance);
+    let portability = instance.portability_enumeration;
+    let result = crate::vk::device::list_devices(&instance).map(|devices| (devices, portability));
     drop(instance);
     (result, counter.map(|c| c.count()))
 }

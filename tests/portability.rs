@@ -215,3 +215,21 @@ fn the_storage_buffer_limit_refuses_exactly_below_what_meadow_binds() {
     let below = render_hiding(&format!("maxPerStageDescriptorStorageBuffers={}", limit - 1), &[], &out);
     assert_eq!(below.status.code(), Some(1), "{needs:?}: {}", transcript(&below));
 }
+
+#[test]
+fn portability_enumeration_is_requested_when_the_loader_offers_it() {
+    // The loader here offers VK_KHR_portability_enumeration: meadow enables it (so MoltenVK
+    // devices would be listed) and says so; hidden, the instance is made without it and the
+    // devices are still listed. No device here is a portability subset (none says so).
+    for (hide, said) in [
+        ("", "loader: VK_KHR_portability_enumeration enabled"),
+        ("portability_enumeration", "loader: no VK_KHR_portability_enumeration"),
+    ] {
+        let output = meadow().env("MEADOW_HIDE", hide).args(["devices", "--validation"]).output().expect("run meadow");
+        support::assert_clean(&output);
+        let stdout = String::from_utf8_lossy(&output.stdout);
+        assert!(stdout.lines().next().is_some_and(|l| l.starts_with(said)), "{hide}: {stdout}");
+        assert!(stdout.lines().any(|l| l.starts_with("0: llvmpipe")), "{hide}: {stdout}");
+        assert!(!stdout.contains("portability subset"), "{hide}: {stdout}");
+    }
+}

@@ -52,7 +52,14 @@ pub(crate) fn keyframes(args: KeyframeArgs) -> (u8, Option<u64>) {
 /// `meadow devices`.
 pub(crate) fn devices(args: GpuArgs) -> (u8, Option<u64>) {
     let (result, validation) = app::devices(&args.options());
-    let code = finish(result.map(|devices| {
+    let code = finish(result.map(|(devices, portability)| {
+        println!(
+            "{}",
+            match portability {
+                true => "loader: VK_KHR_portability_enumeration enabled (portability implementations are listed)",
+                false => "loader: no VK_KHR_portability_enumeration (portability implementations such as MoltenVK are not listed)",
+            }
+        );
         for device in devices {
             println!("{device}");
         }

@@ -7,6 +7,7 @@
 //!   has 64 bits, desktop GPUs often 36 to 64);
 //! - `debug_utils`: the loader reads as lacking `VK_EXT_debug_utils`;
 //! - `swapchain`: every device reads as lacking `VK_KHR_swapchain`;
+//! - `portability_enumeration`: the loader reads as lacking `VK_KHR_portability_enumeration`;
 //! - `multiDrawIndirect`: the core feature is reported unsupported (and not enabled), and
 //!   `maxDrawIndirectCount` reads 1, as the spec requires of a device without it;
 //! - `drawIndirectCount`: the Vulkan 1.2 feature is reported unsupported (and not enabled);
@@ -35,6 +36,8 @@ pub struct Hidden {
     pub debug_utils: bool,
     /// `VK_KHR_swapchain` reads absent.
     pub swapchain: bool,
+    /// `VK_KHR_portability_enumeration` reads absent from the loader.
+    pub portability_enumeration: bool,
     /// `multiDrawIndirect` reads unsupported and `maxDrawIndirectCount` 1.
     pub multi_draw_indirect: bool,
     /// `drawIndirectCount` reads unsupported.
@@ -68,6 +71,8 @@ impl Hidden {
                 hidden.debug_utils = true;
             } else if entry == "swapchain" {
                 hidden.swapchain = true;
+            } else if entry == "portability_enumeration" {
+                hidden.portability_enumeration = true;
             } else if entry == "multiDrawIndirect" {
                 hidden.multi_draw_indirect = true;
             } else if entry == "drawIndirectCount" {

@@ -46,6 +46,10 @@ pub struct Instance {
     /// Debug-utils instance functions (object names, labels, messenger), when the loader has
     /// `VK_EXT_debug_utils` (optional without validation; `--validation` needs it).
     pub debug_utils: Option<ash::ext::debug_utils::Instance>,
+    /// Whether portability implementations (MoltenVK) are listed: the loader offers
+    /// `VK_KHR_portability_enumeration` (and `MEADOW_HIDE` does not hide it), so it was enabled
+    /// with `ENUMERATE_PORTABILITY_KHR`.
+    pub portability_enumeration: bool,
     messenger: vk::DebugUtilsMessengerEXT,
     counter: Option<Arc<ValidationCounter>>,
 }
@@ -159,7 +163,9 @@ impl Instance {
             vk::ValidationFeaturesEXT::default().enabled_validation_features(&enabled_features);
 
         // Portability implementations (MoltenVK) are listed only when asked for.
-        let flags = if has_instance_extension(&entry, ash::khr::portability_enumeration::NAME)? {
+        let portability_enumeration = !super::capabilities::hidden()?.portability_enumeration
+            && has_instance_extension(&entry, ash::khr::portability_enumeration::NAME)?;
+        let flags = if portability_enumeration {
             extensions.push(ash::khr::portability_enumeration::NAME.as_ptr());
             vk::InstanceCreateFlags::ENUMERATE_PORTABILITY_KHR
         } else {
@@ -209,7 +215,7 @@ impl Instance {
             },
             _ => vk::DebugUtilsMessengerEXT::null(),
         };
-        Ok(Self { entry, raw, debug_utils, messenger, counter })
+        Ok(Self { entry, raw, debug_utils, portability_enumeration, messenger, counter })
     }
 
     /// The validation counter, when validation is on. Keep a clone to read the final count after

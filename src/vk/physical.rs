@@ -49,13 +49,15 @@ pub struct DeviceInfo {
     pub driver_info: String,
     /// Whether meadow can run on it (API 1.3, a graphics+compute queue).
     pub usable: bool,
+    /// A portability-subset implementation (MoltenVK): `VK_KHR_portability_subset` is enabled on it.
+    pub portability_subset: bool,
 }
 
 impl std::fmt::Display for DeviceInfo {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(
             f,
-            "{}: {} ({}, Vulkan {}, driver {} {} [{}]){}",
+            "{}: {} ({}, Vulkan {}, driver {} {} [{}]){}{}",
             self.index,
             self.name,
             kind_name(self.kind),
@@ -63,7 +65,8 @@ impl std::fmt::Display for DeviceInfo {
             self.driver_name,
             self.driver_version,
             self.driver_info,
-            if self.usable { "" } else { " - unusable: needs Vulkan 1.3 and a graphics queue" }
+            if self.usable { "" } else { " - unusable: needs Vulkan 1.3 and a graphics queue" },
+            if self.portability_subset { " - portability subset (VK_KHR_portability_subset enabled)" } else { "" }
         )
     }
 }
@@ -168,10 +171,11 @@ pub(crate) fn enumerate(instance: &Instance) -> Result<Vec<Candidate>> {
                 driver_name: c_chars(&driver.driver_name),
                 driver_info: c_chars(&driver.driver_info),
                 usable: props.api_version >= vk::API_VERSION_1_3 && queue_family.is_some(),
+                portability_subset: has_extension(instance, raw, ash::khr::portability_subset::NAME),
             };
             let hidden = super::capabilities::hidden().is_ok_and(|h| h.swapchain);
             let swapchain = !hidden && has_extension(instance, raw, ash::khr::swapchain::NAME);
-            let portability_subset = has_extension(instance, raw, ash::khr::portability_subset::NAME);
+            let portability_subset = info.portability_subset;
             Candidate { info, raw, queue_family, swapchain, portability_subset }
         })
         .collect())
