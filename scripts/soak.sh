@@ -7,7 +7,9 @@
 # memory of its own). Extra arguments go to `meadow view` (e.g. --brute-force).
 set -euo pipefail
 frames=${FRAMES:-10000}
-every=$((frames / 10))
+# A multiple of the 50-frame re-creation period: samples fall at the same point of its cycle (a
+# retired swapchain still queued holds objects for a few frames after each re-creation).
+every=$(( (frames / 10 + 49) / 50 * 50 ))
 meadow=${MEADOW:-target/release/meadow}
 run() {
     xvfb-run -a -s "-screen 0 640x480x24" "$meadow" view --blades 2000 --size 96x64 --frames "$frames" \

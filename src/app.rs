@@ -56,14 +56,26 @@ pub fn with_device_extensions<T>(
     swapchain: bool,
     body: impl FnOnce(&Arc<Device>) -> Result<T>,
 ) -> (Result<T>, Option<u64>) {
+    with_instance(options, extensions, |instance| {
+        let desc = DeviceDesc { selector: options.device.clone(), swapchain, surface: None };
+        Device::new(instance, &desc).and_then(|device| body(&device))
+    })
+}
+
+/// Run `body` with an instance (it makes the device itself: the viewer chooses one that can
+/// present to its window), then count validation messages once everything is gone.
+pub fn with_instance<T>(
+    options: &GpuOptions,
+    extensions: &[*const std::ffi::c_char],
+    body: impl FnOnce(Arc<Instance>) -> Result<T>,
+) -> (Result<T>, Option<u64>) {
     let instance = match Instance::create(&InstanceDesc { validation: options.validation, extensions }) {
         Ok(instance) => Arc::new(instance),
         // The loader's messages about a missing driver are counted too.
         Err((e, messages)) => return (Err(e), messages),
     };
     let counter = instance.validation_counter();
-    let result = Device::new(instance, &DeviceDesc { selector: options.device.clone(), swapchain })
-        .and_then(|device| body(&device));
+    let result = body(instance);
     // Every Arc<Device> and Arc<Instance> is gone here: teardown messages are counted.
     (result, counter.map(|c| c.count()))
 }

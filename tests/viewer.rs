@@ -197,6 +197,33 @@ fn a_device_without_a_swapchain_is_not_chosen_for_a_window() {
 }
 
 #[test]
+fn a_device_whose_queue_cannot_present_to_the_window_is_not_chosen() {
+    // MEADOW_HIDE=present: no queue can present to the window's surface. The window exists
+    // before the device is chosen, so this is known then: the named device is refused, and with
+    // no --device none is chosen, each in one line (exit 1), validation clean, nothing leaked.
+    let dir = scratch("viewer-no-present");
+    let named = view_with(&dir, &["--frames", "2"], &[("MEADOW_HIDE", "present")]);
+    let xvfb = which("xvfb-run").expect("xvfb-run");
+    let best = Command::new(xvfb)
+        .env("MEADOW_HIDE", "present")
+        .args(["-a", "-s", "-screen 0 640x480x24"])
+        .arg(env!("CARGO_BIN_EXE_meadow"))
+        .args(["view", "--validation", "--blades", "1000", "--size", "64x64", "--frames", "2"])
+        .env_remove("WAYLAND_DISPLAY")
+        .output()
+        .expect("run xvfb-run");
+    for (output, said) in [
+        (named, "its graphics+compute queue cannot present to this window's surface"),
+        (best, "no Vulkan 1.3 device with VK_KHR_swapchain can present to this window"),
+    ] {
+        assert_eq!(output.status.code(), Some(1), "{}", transcript(&output));
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert!(stderr.starts_with("error: ") && stderr.lines().count() == 1 && stderr.contains(said), "{stderr}");
+        assert!(String::from_utf8_lossy(&output.stdout).contains("validation: 0 messages"), "{}", transcript(&output));
+    }
+}
+
+#[test]
 fn no_display_is_a_clear_error() {
     let output = meadow().env_remove("DISPLAY").env_remove("WAYLAND_DISPLAY").arg("view").output().expect("run meadow");
     assert_eq!(output.status.code(), Some(2), "{}", transcript(&output));

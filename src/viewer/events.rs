@@ -13,7 +13,7 @@ use winit::window::WindowId;
 
 use super::keys::key_name;
 use super::script::Action;
-use super::{Viewer, HELP};
+use super::Viewer;
 use crate::error::{Error, Result};
 
 impl Viewer {
@@ -95,14 +95,8 @@ impl Viewer {
 }
 
 impl ApplicationHandler for Viewer {
-    fn resumed(&mut self, event_loop: &ActiveEventLoop) {
-        if self.surface.is_none() {
-            println!("{HELP}");
-            if let Err(e) = self.create_surface(event_loop) {
-                self.fail(event_loop, e);
-            }
-        }
-    }
+    /// The window exists before the viewer (`session`).
+    fn resumed(&mut self, _: &ActiveEventLoop) {}
 
     fn window_event(&mut self, event_loop: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
         let result = match event {

@@ -6,6 +6,7 @@ pub mod controls;
 mod events;
 mod keys;
 pub mod script;
+mod session;
 mod stats;
 mod surface;
 
@@ -14,9 +15,8 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use ash::vk;
-use winit::dpi::PhysicalSize;
 use winit::event_loop::{ActiveEventLoop, EventLoop};
-use winit::raw_window_handle::{HasDisplayHandle, HasWindowHandle};
+use winit::raw_window_handle::HasDisplayHandle;
 use winit::window::Window;
 
 use crate::app::{self, GpuOptions, RenderOptions};
@@ -122,10 +122,10 @@ pub fn run(gpu: &GpuOptions, options: ViewerOptions) -> (Result<ViewerReport>, O
             Err(e) => return (Err(e), None),
         };
     app::interrupt::install();
-    app::with_device_extensions(gpu, extensions, true, |device| {
-        let mut viewer = Viewer::new(device.clone(), options)?;
-        event_loop.run_app(&mut viewer).map_err(|e| Error::Environment(format!("event loop: {e}")))?;
-        viewer.finish()
+    app::with_instance(gpu, extensions, |instance| {
+        let mut session = session::Session::new(instance, gpu.device.clone(), options);
+        event_loop.run_app(&mut session).map_err(|e| Error::Environment(format!("event loop: {e}")))?;
+        session.finish()
     })
 }
 
@@ -284,24 +284,16 @@ impl Viewer {
         Ok(())
     }
 
-    fn create_surface(&mut self, event_loop: &ActiveEventLoop) -> Result<()> {
-        let (w, h) = self.options.scene.size;
-        let attributes = Window::default_attributes().with_title("meadow").with_inner_size(PhysicalSize::new(w, h));
-        let window = event_loop.create_window(attributes).map_err(|e| Error::Environment(format!("window: {e}")))?;
+    /// Take the window and its surface (`session`, which chose the device for it): the swapchain,
+    /// its depth image and the renderer. The surface is destroyed on failure.
+    fn adopt(&mut self, window: Window, raw: vk::SurfaceKHR) -> Result<()> {
         let instance = &self.device.instance;
-        let display = window.display_handle().map_err(|e| Error::Environment(format!("window: {e}")))?;
-        let handle = window.window_handle().map_err(|e| Error::Environment(format!("window: {e}")))?;
-        // SAFETY: the window outlives the surface (Surface drops the swapchain first).
-        let raw = unsafe {
-            ash_window::create_surface(&instance.entry, &instance.raw, display.as_raw(), handle.as_raw(), None)
-        }
-        .vk("vkCreate*SurfaceKHR")
-        .map(crate::vk::live::created)?;
         let swapchain = match Swapchain::new(&self.device, raw, self.options.present) {
             Ok(swapchain) => swapchain,
             Err(e) => {
                 // SAFETY: unused surface.
                 unsafe { ash::khr::surface::Instance::new(&instance.entry, &instance.raw).destroy_surface(raw, None) };
+                crate::vk::live::destroyed(raw);
                 return Err(e);
             }
         };

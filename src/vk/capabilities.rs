@@ -7,6 +7,7 @@
 //!   has 64 bits, desktop GPUs often 36 to 64);
 //! - `debug_utils`: the loader reads as lacking `VK_EXT_debug_utils`;
 //! - `swapchain`: every device reads as lacking `VK_KHR_swapchain`;
+//! - `present`: no device's queue reads as able to present to the window's surface;
 //! - `portability_enumeration`: the loader reads as lacking `VK_KHR_portability_enumeration`;
 //! - `multiDrawIndirect`: the core feature is reported unsupported (and not enabled), and
 //!   `maxDrawIndirectCount` reads 1, as the spec requires of a device without it;
@@ -36,6 +37,8 @@ pub struct Hidden {
     pub debug_utils: bool,
     /// `VK_KHR_swapchain` reads absent.
     pub swapchain: bool,
+    /// No queue can present to the window's surface.
+    pub present: bool,
     /// `VK_KHR_portability_enumeration` reads absent from the loader.
     pub portability_enumeration: bool,
     /// `multiDrawIndirect` reads unsupported and `maxDrawIndirectCount` 1.
@@ -71,6 +74,8 @@ impl Hidden {
                 hidden.debug_utils = true;
             } else if entry == "swapchain" {
                 hidden.swapchain = true;
+            } else if entry == "present" {
+                hidden.present = true;
             } else if entry == "portability_enumeration" {
                 hidden.portability_enumeration = true;
             } else if entry == "multiDrawIndirect" {

@@ -23,6 +23,8 @@ pub struct DeviceDesc {
     pub selector: DeviceSelector,
     /// Enable `VK_KHR_swapchain` (the viewer).
     pub swapchain: bool,
+    /// The window's surface: only a device whose queue can present to it is chosen.
+    pub surface: Option<vk::SurfaceKHR>,
 }
 
 /// The logical device and everything created with it: queue, allocator, debug-utils functions.
@@ -202,7 +204,10 @@ fn create_allocator(
 impl Device {
     /// Select a physical device and create the logical device on it.
     pub fn new(instance: Arc<Instance>, desc: &DeviceDesc) -> Result<Arc<Self>> {
-        let candidates = enumerate(&instance)?;
+        let mut candidates = enumerate(&instance)?;
+        if let Some(surface) = desc.surface {
+            presenting(&instance, &mut candidates, surface)?;
+        }
         let chosen = select(&candidates, &desc.selector, desc.swapchain)?;
         let physical = chosen.raw;
         let queue_family = chosen.queue_family.expect("usable devices have a queue family");
@@ -384,6 +389,22 @@ impl Drop for Device {
             self.raw.destroy_device(None);
         }
     }
+}
+
+/// Mark which candidates' queue can present to `surface` (`MEADOW_HIDE=present`: none).
+fn presenting(
+    instance: &Instance,
+    candidates: &mut [super::physical::Candidate],
+    surface: vk::SurfaceKHR,
+) -> Result<()> {
+    let hidden = super::capabilities::hidden()?.present;
+    let loader = ash::khr::surface::Instance::new(&instance.entry, &instance.raw);
+    for c in candidates.iter_mut() {
+        // SAFETY: the device and the surface come from this instance.
+        let supported = |family| unsafe { loader.get_physical_device_surface_support(c.raw, family, surface) };
+        c.presents = Some(!hidden && c.queue_family.is_some_and(|family| supported(family).unwrap_or(false)));
+    }
+    Ok(())
 }
 
 static FREE_ERRORS: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);

@@ -127,6 +127,9 @@ pub(crate) struct Candidate {
     pub(crate) queue_family: Option<u32>,
     /// Whether it offers `VK_KHR_swapchain` (what a window needs; `MEADOW_HIDE=swapchain` hides it).
     pub(crate) swapchain: bool,
+    /// With a window: whether its queue family can present to the window's surface
+    /// (`MEADOW_HIDE=present` says none can); `None` without a window.
+    pub(crate) presents: Option<bool>,
     /// Whether it is a portability-subset implementation (MoltenVK): `VK_KHR_portability_subset`
     /// must then be enabled.
     pub(crate) portability_subset: bool,
@@ -176,7 +179,7 @@ pub(crate) fn enumerate(instance: &Instance) -> Result<Vec<Candidate>> {
             let hidden = super::capabilities::hidden().is_ok_and(|h| h.swapchain);
             let swapchain = !hidden && has_extension(instance, raw, ash::khr::swapchain::NAME);
             let portability_subset = info.portability_subset;
-            Candidate { info, raw, queue_family, swapchain, portability_subset }
+            Candidate { info, raw, queue_family, swapchain, presents: None, portability_subset }
         })
         .collect())
 }
@@ -187,7 +190,8 @@ pub fn list_devices(instance: &Instance) -> Result<Vec<DeviceInfo>> {
 }
 
 /// The candidate `selector` names, if meadow can run on it (and present to a window, when
-/// `swapchain`: the best device is chosen among those that can).
+/// `swapchain`: the best device is chosen among those that offer `VK_KHR_swapchain` and whose
+/// queue can present to the window's surface, `Candidate::presents`).
 pub(crate) fn select<'a>(
     candidates: &'a [Candidate],
     selector: &DeviceSelector,
@@ -202,14 +206,21 @@ pub(crate) fn select<'a>(
     let chosen = match selector {
         DeviceSelector::Best => candidates
             .iter()
-            .filter(|c| c.info.usable && (c.swapchain || !swapchain))
+            .filter(|c| c.info.usable && (!swapchain || (c.swapchain && c.presents != Some(false))))
             .min_by_key(|c| (kind_rank(c.info.kind), c.info.index))
-            .ok_or_else(|| match swapchain && candidates.iter().any(|c| c.info.usable) {
-                true => Error::Environment(format!(
-                    "no Vulkan 1.3 device offers VK_KHR_swapchain for a window: {}",
-                    listing()
-                )),
-                false => Error::Environment(format!("no device supports Vulkan 1.3: {}", listing())),
+            .ok_or_else(|| {
+                let offers = |c: &&Candidate| c.info.usable && c.swapchain;
+                match (swapchain, candidates.iter().any(|c| c.info.usable), candidates.iter().any(|c| offers(&c))) {
+                    (true, true, true) => Error::Environment(format!(
+                        "no Vulkan 1.3 device with VK_KHR_swapchain can present to this window: {}",
+                        listing()
+                    )),
+                    (true, true, false) => Error::Environment(format!(
+                        "no Vulkan 1.3 device offers VK_KHR_swapchain for a window: {}",
+                        listing()
+                    )),
+                    _ => Error::Environment(format!("no device supports Vulkan 1.3: {}", listing())),
+                }
             })?,
         DeviceSelector::Index(index) => candidates
             .get(*index)
@@ -229,6 +240,12 @@ pub(crate) fn select<'a>(
     if swapchain && !chosen.swapchain {
         return Err(Error::Environment(format!(
             "{} lacks VK_KHR_swapchain: it cannot present to a window",
+            chosen.info.name
+        )));
+    }
+    if swapchain && chosen.presents == Some(false) {
+        return Err(Error::Environment(format!(
+            "{}: its graphics+compute queue cannot present to this window's surface",
             chosen.info.name
         )));
     }

@@ -6,6 +6,7 @@
 //! ring's (`render::frame`).
 
 mod multisample;
+mod offscreen;
 mod passes;
 
 use std::sync::Arc;
@@ -30,7 +31,7 @@ pub use crate::render::settings::{
     RenderSettings, BLADES_PER_INSTANCE_RANGE, DEFAULT_BLADES_PER_INSTANCE, SEGMENTS_RANGE,
 };
 use crate::render::submission::Strategy;
-use crate::render::target::{OffscreenTarget, TargetView};
+use crate::render::target::TargetView;
 use crate::scene::{Camera, Scene};
 use crate::vk::{Access, Device, Resource};
 
@@ -438,38 +439,6 @@ impl Renderer {
     /// Wait for every frame in flight (before reading a screenshot; never inside a frame).
     pub fn wait_all_frames(&mut self) -> Result<()> {
         self.ring.wait_all(&self.device).map(|_| ())
-    }
-
-    /// Render one frame into `target` and copy it to the target's readback buffer; returns when
-    /// the GPU is done, so `target.pixels()` holds the picture.
-    pub fn render_offscreen(
-        &mut self,
-        target: &mut OffscreenTarget,
-        camera: &Camera,
-        time: f32,
-    ) -> Result<FrameTimings> {
-        let (slot, _) = self.begin_frame()?;
-        let view = target.view();
-        let outputs = Outputs { readback: Some(target.readback.raw), present: false };
-        // The target's next frame starts from what this one leaves, if it ran.
-        self.submit_frame(slot, &view, camera, time, FrameSync::default(), outputs)?;
-        target.rendered(self.uses_target_depth());
-        // Headless: wait right away, so the picture and the timings are ready.
-        Ok(self.ring.wait(&self.device, slot)?.expect("the frame was submitted"))
-    }
-
-    /// The CPU side of one frame without its submission, for benchmarks (`benches/recording.rs`):
-    /// take the next slot, write its uniforms and corner forces, and record the passes into
-    /// `target` as `submit_frame` does. The command buffer is left executable and never
-    /// submitted: the slot's fence stays signalled and its next `begin` resets the buffer.
-    pub fn record_only(&mut self, target: &TargetView, camera: &Camera, time: f32) -> Result<()> {
-        let (slot, _) = self.begin_frame()?;
-        let uniforms = self.prepare_frame(slot, target, camera, time);
-        // Never submitted: the resources stay as the last submitted frame left them.
-        let entry = self.graph.states().clone();
-        let recorded = self.record_frame(slot, target, &uniforms, Outputs::default()).map(|_| ());
-        self.graph.set_states(entry);
-        recorded
     }
 }
 

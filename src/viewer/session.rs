@@ -1,0 +1,123 @@
+//! The viewer's start: the window and its surface exist before the device, so that the device
+//! chosen is one whose queue can present to that surface (`vkGetPhysicalDeviceSurfaceSupportKHR`),
+//! not the first with `VK_KHR_swapchain`. Winit creates windows once the event loop runs
+//! (`resumed`), so the session starts there and then hands every event to the viewer.
+
+use std::sync::Arc;
+
+use ash::vk;
+use winit::application::ApplicationHandler;
+use winit::dpi::PhysicalSize;
+use winit::event::WindowEvent;
+use winit::event_loop::ActiveEventLoop;
+use winit::raw_window_handle::{HasDisplayHandle, HasWindowHandle};
+use winit::window::{Window, WindowId};
+
+use super::{Viewer, ViewerOptions, ViewerReport, HELP};
+use crate::error::{Error, Result, VkContext};
+use crate::vk::device::{DeviceDesc, DeviceSelector};
+use crate::vk::{Device, Instance};
+
+/// Where a viewer session is.
+pub(super) enum Session {
+    /// Before the window: what the viewer is started with.
+    Starting { instance: Arc<Instance>, selector: DeviceSelector, options: Box<ViewerOptions> },
+    /// The window, device and viewer exist.
+    Running(Box<Viewer>),
+    /// Starting failed (nothing is left to tear down).
+    Failed(Error),
+}
+
+impl Session {
+    /// A session that will open its window and choose its device when the event loop starts.
+    pub(super) fn new(instance: Arc<Instance>, selector: DeviceSelector, options: ViewerOptions) -> Self {
+        Session::Starting { instance, selector, options: Box::new(options) }
+    }
+
+    /// The viewer's report, or why the session failed.
+    pub(super) fn finish(self) -> Result<ViewerReport> {
+        match self {
+            Session::Running(mut viewer) => viewer.finish(),
+            Session::Failed(e) => Err(e),
+            Session::Starting { .. } => Err(Error::Environment("the event loop ended before the window opened".into())),
+        }
+    }
+
+    /// Open the window, make its surface, choose a device that can present to it, and start the
+    /// viewer on them.
+    fn start(
+        instance: Arc<Instance>,
+        selector: DeviceSelector,
+        options: ViewerOptions,
+        event_loop: &ActiveEventLoop,
+    ) -> Result<Viewer> {
+        let (w, h) = options.scene.size;
+        let attributes = Window::default_attributes().with_title("meadow").with_inner_size(PhysicalSize::new(w, h));
+        let window = event_loop.create_window(attributes).map_err(|e| Error::Environment(format!("window: {e}")))?;
+        let raw = surface(&instance, &window)?;
+        let destroy_surface = |instance: &Instance| {
+            // SAFETY: nothing was made from the surface.
+            unsafe { ash::khr::surface::Instance::new(&instance.entry, &instance.raw).destroy_surface(raw, None) };
+            crate::vk::live::destroyed(raw);
+        };
+        let desc = DeviceDesc { selector, swapchain: true, surface: Some(raw) };
+        let device = match Device::new(instance.clone(), &desc) {
+            Ok(device) => device,
+            Err(e) => {
+                destroy_surface(&instance);
+                return Err(e);
+            }
+        };
+        let mut viewer = match Viewer::new(device, options) {
+            Ok(viewer) => viewer,
+            Err(e) => {
+                destroy_surface(&instance);
+                return Err(e);
+            }
+        };
+        println!("{HELP}");
+        // The viewer owns the surface from here (destroyed with its swapchain, or on failure).
+        viewer.adopt(window, raw)?;
+        Ok(viewer)
+    }
+}
+
+/// The window's Vulkan surface.
+fn surface(instance: &Instance, window: &Window) -> Result<vk::SurfaceKHR> {
+    let display = window.display_handle().map_err(|e| Error::Environment(format!("window: {e}")))?;
+    let handle = window.window_handle().map_err(|e| Error::Environment(format!("window: {e}")))?;
+    // SAFETY: the window outlives the surface (the viewer drops the swapchain and surface first).
+    unsafe { ash_window::create_surface(&instance.entry, &instance.raw, display.as_raw(), handle.as_raw(), None) }
+        .vk("vkCreate*SurfaceKHR")
+        .map(crate::vk::live::created)
+}
+
+impl ApplicationHandler for Session {
+    fn resumed(&mut self, event_loop: &ActiveEventLoop) {
+        let placeholder = Session::Failed(Error::Environment("starting".into()));
+        *self = match std::mem::replace(self, placeholder) {
+            Session::Starting { instance, selector, options } => {
+                match Session::start(instance, selector, *options, event_loop) {
+                    Ok(viewer) => Session::Running(Box::new(viewer)),
+                    Err(e) => {
+                        event_loop.exit();
+                        Session::Failed(e)
+                    }
+                }
+            }
+            other => other,
+        };
+    }
+
+    fn window_event(&mut self, event_loop: &ActiveEventLoop, id: WindowId, event: WindowEvent) {
+        if let Session::Running(viewer) = self {
+            viewer.window_event(event_loop, id, event);
+        }
+    }
+
+    fn about_to_wait(&mut self, event_loop: &ActiveEventLoop) {
+        if let Session::Running(viewer) = self {
+            viewer.about_to_wait(event_loop);
+        }
+    }
+}
