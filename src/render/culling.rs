@@ -50,7 +50,7 @@ impl LodSegments {
     /// 7: 7, 1), so every bucket's levels are levels of the animation model: no bucket
     /// interpolates between them.
     pub fn halving(segments: u32) -> Self {
-        let next = |s: &u32| (*s > 1).then(|| (1..=s / 2).rev().find(|d| s % d == 0).expect("1 divides"));
+        let next = |s: &u32| (*s > 1).then(|| (1..=s / 2).rev().find(|d| s.is_multiple_of(*d)).expect("1 divides"));
         let counts: Vec<u32> = std::iter::successors(Some(segments.max(1)), next).collect();
         Self::new(&counts).expect("halvings of 1..=16 decrease and fit")
     }

@@ -468,7 +468,7 @@ impl Viewer {
         }
         self.frames += 1;
         self.injected_last = false;
-        if self.options.sample_every.is_some_and(|n| self.frames % n == 0) {
+        if self.options.sample_every.is_some_and(|n| self.frames.is_multiple_of(n)) {
             println!("{}", stats::sample(self.frames));
         }
         let (blades, terrain) = renderer.triangles();
