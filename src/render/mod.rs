@@ -11,6 +11,7 @@ pub mod gpu_constants;
 pub mod graph;
 pub mod layouts;
 pub mod msaa;
+pub mod overlay;
 pub mod passes;
 pub mod renderer;
 pub mod scene_gpu;

@@ -52,3 +52,7 @@ pub const HIZ_MS_COMP: &[u8] = spirv!("hiz_ms.comp");
 pub const RESOLVE_VERT: &[u8] = spirv!("resolve.vert");
 /// `--msaa`: the resolve in linear space, then the target's encoding.
 pub const RESOLVE_FRAG: &[u8] = spirv!("resolve.frag");
+/// The egui overlay: egui's vertices pulled from a storage buffer, points to clip space.
+pub const OVERLAY_VERT: &[u8] = spirv!("overlay.vert");
+/// The egui overlay: vertex colour times texel, gamma-space sRGB, premultiplied alpha.
+pub const OVERLAY_FRAG: &[u8] = spirv!("overlay.frag");

@@ -65,6 +65,38 @@ pub struct GraphicsDesc<'a> {
     pub vertex_stride: u32,
     /// Rasterization samples (the attachments' sample count).
     pub samples: vk::SampleCountFlags,
+    /// How fragments combine with the colour attachment.
+    pub blend: Blend,
+}
+
+/// How a pipeline's fragments combine with its colour attachment.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Blend {
+    /// The fragment replaces the pixel (the scene passes).
+    #[default]
+    Opaque,
+    /// Premultiplied alpha, `colour = src + (1 - src.a) dst` (egui's overlay). The attachment's
+    /// alpha becomes `src.a (1 - dst.a) + dst.a`, as egui_glow blends: an opaque target stays
+    /// opaque.
+    PremultipliedAlpha,
+}
+
+impl Blend {
+    /// The attachment's blend state.
+    fn attachment(self) -> vk::PipelineColorBlendAttachmentState {
+        let opaque = vk::PipelineColorBlendAttachmentState::default().color_write_mask(vk::ColorComponentFlags::RGBA);
+        match self {
+            Blend::Opaque => opaque,
+            Blend::PremultipliedAlpha => opaque
+                .blend_enable(true)
+                .src_color_blend_factor(vk::BlendFactor::ONE)
+                .dst_color_blend_factor(vk::BlendFactor::ONE_MINUS_SRC_ALPHA)
+                .color_blend_op(vk::BlendOp::ADD)
+                .src_alpha_blend_factor(vk::BlendFactor::ONE_MINUS_DST_ALPHA)
+                .dst_alpha_blend_factor(vk::BlendFactor::ONE)
+                .alpha_blend_op(vk::BlendOp::ADD),
+        }
+    }
 }
 
 /// Map entries for `constants`: constant `i` at byte `4 i`.
@@ -141,8 +173,7 @@ pub fn graphics(device: &Device, desc: &GraphicsDesc) -> Result<vk::Pipeline> {
         .depth_test_enable(has_depth)
         .depth_write_enable(has_depth)
         .depth_compare_op(desc.depth_compare);
-    let blend_attachments =
-        [vk::PipelineColorBlendAttachmentState::default().color_write_mask(vk::ColorComponentFlags::RGBA)];
+    let blend_attachments = [desc.blend.attachment()];
     let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachments);
     let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
     let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);

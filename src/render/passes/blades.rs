@@ -142,6 +142,7 @@ impl BladePass {
                 constants,
                 vertex_stride: 0,
                 samples: target.samples,
+                blend: pipeline::Blend::Opaque,
             },
         )
     }

@@ -63,6 +63,7 @@ impl ClusterBoundsPass {
                 constants,
                 vertex_stride: 0,
                 samples: target.samples,
+                blend: pipeline::Blend::Opaque,
             },
         );
         let pipeline = match built {

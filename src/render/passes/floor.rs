@@ -84,6 +84,7 @@ impl FloorPass {
                 constants,
                 vertex_stride: 12,
                 samples: target.samples,
+                blend: pipeline::Blend::Opaque,
             },
         );
         match built {

@@ -9,6 +9,7 @@ pub mod cull;
 pub mod depth_pyramid;
 pub mod floor;
 pub mod frame_sets;
+pub mod overlay;
 pub mod resolve;
 pub mod terrain;
 

@@ -46,6 +46,7 @@ impl ResolvePass {
                 constants,
                 vertex_stride: 0,
                 samples: vk::SampleCountFlags::TYPE_1,
+                blend: pipeline::Blend::Opaque,
             },
         );
         match built {

@@ -44,6 +44,7 @@ impl TerrainPass {
                 constants,
                 vertex_stride: 0,
                 samples: target.samples,
+                blend: pipeline::Blend::Opaque,
             },
         )?;
         Ok(Self { pipeline, layout: target.layout, heights: scene.heights.raw, cells: scene.terrain_cells, sky })

@@ -7,8 +7,11 @@
 
 mod multisample;
 mod offscreen;
+mod overlay;
 mod passes;
 
+use std::cell::RefCell;
+use std::rc::Rc;
 use std::sync::Arc;
 use std::time::Instant;
 
@@ -24,6 +27,7 @@ pub use crate::render::frame::{Deletion, FrameSync, FrameTimings, PassTime};
 use crate::render::graph::{Graph, Outputs, PassContext};
 use crate::render::layouts::{build_frames, scene_layouts, SceneLayouts};
 use crate::render::msaa::{self, MultisampleTarget};
+use crate::render::overlay::OverlayGpu;
 use crate::render::passes::{BladePass, TerrainPass};
 use crate::render::scene_gpu::{pose_records, SceneGpu};
 use crate::render::settings::{check_pose_records, check_submission, polygon_mode};
@@ -51,6 +55,8 @@ pub struct Renderer {
     /// With `--msaa`: the multisampled images the scene passes draw into, made at the first
     /// frame's extent and remade when the extent or the sample count changes.
     multisampled: Option<MultisampleTarget>,
+    /// The egui overlay's GPU state (`set_overlay`), shared with its passes; made on first use.
+    overlay: Option<Rc<RefCell<OverlayGpu>>>,
 }
 
 impl Renderer {
@@ -79,6 +85,7 @@ impl Renderer {
             ring: FrameRing::new(Vec::new()),
             cull_camera: None,
             multisampled: None,
+            overlay: None,
         };
         let view_distance = settings.culling.view_distance;
         let scene_gpu = SceneGpu::upload(&device, scene, renderer.animation.cluster_size, view_distance)?;
@@ -415,7 +422,7 @@ impl Renderer {
         sync: FrameSync,
         outputs: Outputs,
     ) -> Result<()> {
-        let uniforms = self.prepare_frame(slot, target, camera, time);
+        let uniforms = self.prepare_frame(slot, target, camera, time)?;
         // The resource states move on only if the frame is submitted: a frame that failed to
         // record or submit never runs, and the next frame's barriers must not assume it did.
         let entry = self.graph.states().clone();
@@ -425,15 +432,17 @@ impl Renderer {
         if submitted.is_err() {
             self.graph.set_states(entry);
         }
+        self.overlay_submitted(submitted.is_ok());
         submitted
     }
 
-    /// Write the uniforms and forces of `slot`'s frame; returns the uniforms.
-    fn prepare_frame(&mut self, slot: usize, target: &TargetView, camera: &Camera, time: f32) -> FrameUniforms {
+    /// Write the uniforms, forces and overlay of `slot`'s frame; returns the uniforms.
+    fn prepare_frame(&mut self, slot: usize, target: &TargetView, camera: &Camera, time: f32) -> Result<FrameUniforms> {
         let uniforms = self.frame_uniforms(camera, time, target.extent);
         self.ring.frame_mut(slot).uniforms.write(0, &[uniforms]);
         self.update_model(slot, camera, time);
-        uniforms
+        self.prepare_overlay(slot, target.extent)?;
+        Ok(uniforms)
     }
 
     /// Wait for every frame in flight (before reading a screenshot; never inside a frame).
@@ -469,5 +478,7 @@ impl Drop for Renderer {
                 scene.destroy(device);
             }
         }
+        // SAFETY: the device is idle.
+        unsafe { self.destroy_overlay() };
     }
 }

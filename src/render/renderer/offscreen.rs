@@ -34,7 +34,7 @@ impl Renderer {
     /// submitted: the slot's fence stays signalled and its next `begin` resets the buffer.
     pub fn record_only(&mut self, target: &TargetView, camera: &Camera, time: f32) -> Result<()> {
         let (slot, _) = self.begin_frame()?;
-        let uniforms = self.prepare_frame(slot, target, camera, time);
+        let uniforms = self.prepare_frame(slot, target, camera, time)?;
         // Never submitted: the resources stay as the last submitted frame left them.
         let entry = self.graph.states().clone();
         let recorded = self.record_frame(slot, target, &uniforms, Outputs::default()).map(|_| ());

@@ -18,8 +18,8 @@ use crate::vk::{Access, Resource};
 
 impl Renderer {
     /// The passes, in order: terrain, the cull's passes, the animation model's compute passes
-    /// (before the terrain without the cull), blades (or the floor), and the debug views asked
-    /// for.
+    /// (before the terrain without the cull), blades (or the floor), the debug views asked for,
+    /// the resolve with `--msaa`, and the overlay's passes once there is an overlay.
     pub(super) fn build_graph(&mut self, cpu_scene: &Scene, polygon: vk::PolygonMode) -> Result<()> {
         let device = &*self.device;
         let settings = &self.settings;
@@ -62,6 +62,8 @@ impl Renderer {
             let format = self.settings.color_format;
             self.graph.add(ResolvePass::new(&self.device, format, &resolve, self.ring.slots())?);
         }
+        // Last, over the frame's output (the resolved one with `--msaa`).
+        self.add_overlay_passes();
         Ok(())
     }
 
