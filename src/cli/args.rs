@@ -179,6 +179,15 @@ pub(crate) struct ViewArgs {
     /// Every N frames print `sample: frame F rss_kib R live_vulkan_objects L` (`make soak`).
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
     pub(crate) sample_every: Option<u64>,
+    /// No overlay (panels and timing graphs): for measurements. F1 hides and shows it otherwise.
+    #[arg(long)]
+    pub(crate) no_ui: bool,
+    /// Screenshots include the overlay (by default they show the scene only).
+    #[arg(long, conflicts_with = "no_ui")]
+    pub(crate) screenshot_ui: bool,
+    /// Where the overlay's capture button writes its traces (an existing directory).
+    #[arg(long, value_name = "DIR")]
+    pub(crate) capture_dir: Option<PathBuf>,
     #[command(flatten)]
     pub(crate) gpu: GpuArgs,
 }

@@ -28,6 +28,9 @@ pub(crate) fn view(args: ViewArgs) -> Result<(u8, Option<u64>), u8> {
         screenshot: args.screenshot,
         inject_out_of_date: args.inject_out_of_date,
         sample_every: args.sample_every,
+        ui: !args.no_ui,
+        screenshot_ui: args.screenshot_ui,
+        capture_dir: args.capture_dir,
     };
     let (result, validation) = crate::viewer::run(&args.gpu.options(), options);
     let code = finish(result.map(|report| {

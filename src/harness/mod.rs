@@ -10,6 +10,7 @@ pub mod document;
 pub mod overhead;
 pub mod plot;
 pub mod timing;
+pub mod trace;
 
 /// Frames counted towards a measuring command's progress report (`progress(done, total)`).
 pub(crate) struct Progress<'a> {

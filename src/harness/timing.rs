@@ -91,18 +91,18 @@ pub fn calibrate(device: &Device) -> Result<Option<ClockMapping>> {
 }
 
 /// One frame of a run.
-struct Frame {
-    index: u32,
-    timings: FrameTimings,
+pub(crate) struct Frame {
+    pub(crate) index: u32,
+    pub(crate) timings: FrameTimings,
 }
 
 /// A run with `frames_in_flight` frames in flight.
-struct Run {
-    frames_in_flight: usize,
-    frames: Vec<Frame>,
-    mapping: ClockMapping,
-    started: Instant,
-    ended: Instant,
+pub(crate) struct Run {
+    pub(crate) frames_in_flight: usize,
+    pub(crate) frames: Vec<Frame>,
+    pub(crate) mapping: ClockMapping,
+    pub(crate) started: Instant,
+    pub(crate) ended: Instant,
 }
 
 /// Render `frames` frames with `frames_in_flight` in flight into one offscreen target. Each
@@ -115,9 +115,7 @@ fn run_one(device: &Arc<Device>, scene: &Scene, options: &TimingOptions, frames_
     let target = OffscreenTarget::new(device, extent)?;
     let camera = render.camera.unwrap_or_else(|| scene.default_camera());
     let result = (|| {
-        let period = f64::from(device.limits().timestamp_period);
-        let calibrated =
-            calibrate(device)?.map(|m| ClockMapping { gpu_ns: renderer.place_timestamp(m.gpu_ns as u64, period), ..m });
+        let calibrated = super::trace::calibrated(device, &mut renderer)?;
         let total = options.warmup + render.frames;
         let mut frames = Vec::new();
         let mut in_flight: Vec<Option<u32>> = vec![None; frames_in_flight];
@@ -150,28 +148,7 @@ fn run_one(device: &Arc<Device>, scene: &Scene, options: &TimingOptions, frames_
         frames.sort_by_key(|f| f.index);
         let mapping = match calibrated {
             Some(mapping) => mapping,
-            None => {
-                // Each frame's GPU end happened before its fence wait returned: an upper bound of
-                // the offset per frame. The tightest is the frame whose wait returned soonest after
-                // its GPU end (with frames in flight, a wait may start long after that frame ended).
-                let first = frames.first().ok_or_else(|| Error::bad_input("no frame rendered"))?;
-                let reference = first.timings.gpu_span_ns.1;
-                let best =
-                    frames.iter().filter_map(|f| Some((f, f.timings.cpu_wait?[1]))).min_by(|(a, ra), (b, rb)| {
-                        let bound = |f: &Frame, r: &Instant| {
-                            (*r - started).as_secs_f64() - (f.timings.gpu_span_ns.1 - reference) * 1e-9
-                        };
-                        bound(a, ra).total_cmp(&bound(b, rb))
-                    });
-                let (frame, returned) = best.map_or((first, ended), |(f, r)| (f, r));
-                let wait = frame.timings.cpu_wait.map_or(0.0, |w| (w[1] - w[0]).as_secs_f64() * 1e9);
-                ClockMapping {
-                    cpu: returned,
-                    gpu_ns: frame.timings.gpu_span_ns.1,
-                    deviation_ns: wait,
-                    method: "estimated",
-                }
-            }
+            None => estimated_mapping(&frames, started, ended)?,
         };
         frames.retain(|f| f.index >= options.warmup);
         Ok(Run { frames_in_flight, frames, mapping, started, ended })
@@ -180,6 +157,24 @@ fn run_one(device: &Arc<Device>, scene: &Scene, options: &TimingOptions, frames_
     // SAFETY: the renderer waited for its frames when dropped.
     unsafe { target.destroy(device) };
     result
+}
+
+/// The mapping of GPU to CPU time without calibrated timestamps, from `frames` (in order) rendered
+/// between `started` and `ended`.
+pub(crate) fn estimated_mapping(frames: &[Frame], started: Instant, ended: Instant) -> Result<ClockMapping> {
+    // Each frame's GPU end happened before its fence wait returned: an upper bound of
+    // the offset per frame. The tightest is the frame whose wait returned soonest after
+    // its GPU end (with frames in flight, a wait may start long after that frame ended).
+    let first = frames.first().ok_or_else(|| Error::bad_input("no frame rendered"))?;
+    let reference = first.timings.gpu_span_ns.1;
+    let best = frames.iter().filter_map(|f| Some((f, f.timings.cpu_wait?[1]))).min_by(|(a, ra), (b, rb)| {
+        let bound =
+            |f: &Frame, r: &Instant| (*r - started).as_secs_f64() - (f.timings.gpu_span_ns.1 - reference) * 1e-9;
+        bound(a, ra).total_cmp(&bound(b, rb))
+    });
+    let (frame, returned) = best.map_or((first, ended), |(f, r)| (f, r));
+    let wait = frame.timings.cpu_wait.map_or(0.0, |w| (w[1] - w[0]).as_secs_f64() * 1e9);
+    Ok(ClockMapping { cpu: returned, gpu_ns: frame.timings.gpu_span_ns.1, deviation_ns: wait, method: "estimated" })
 }
 
 /// Intersection length of two sorted lists of disjoint intervals.
@@ -295,7 +290,7 @@ pub fn run(
         }),
     );
     if let Some(path) = &options.trace {
-        crate::app::write_text(path, &serde_json::to_string(&trace(&runs, anchor)).expect("serialises"))?;
+        crate::app::write_text(path, &serde_json::to_string(&super::trace::trace(&runs, anchor)).expect("serialises"))?;
     }
     Ok((doc, intervals_2))
 }
@@ -349,53 +344,6 @@ fn pass_percentiles(base: &Run) -> Vec<Value> {
             json!({ "pass": name, "gpu_ms": summary(&ms) })
         })
         .collect()
-}
-
-/// Chrome trace-event JSON (chrome://tracing, ui.perfetto.dev): process 1 is the CPU (record,
-/// submit, fence wait per frame), process 2 the GPU (frame and passes); one thread per run.
-fn trace(runs: &[Run], anchor: Instant) -> Value {
-    let us = |s: f64| s * 1e6;
-    let mut events = vec![
-        json!({"ph": "M", "pid": 1, "name": "process_name", "args": {"name": "CPU"}}),
-        json!({"ph": "M", "pid": 2, "name": "process_name", "args": {"name": "GPU (queue)"}}),
-    ];
-    for run in runs {
-        let tid = run.frames_in_flight;
-        let label = format!("{} frame(s) in flight", run.frames_in_flight);
-        for pid in [1, 2] {
-            events.push(json!({"ph": "M", "pid": pid, "tid": tid, "name": "thread_name", "args": {"name": label}}));
-        }
-        let since = |t: Instant| (t - anchor).as_secs_f64();
-        for f in &run.frames {
-            let t = &f.timings;
-            let frame = format!("frame {}", f.index);
-            if let Some([started, recorded, submitted]) = t.cpu_spans {
-                events.push(json!({"ph": "X", "pid": 1, "tid": tid, "name": "record", "ts": us(since(started)),
-                    "dur": us((recorded - started).as_secs_f64()), "args": {"frame": frame}}));
-                events.push(json!({"ph": "X", "pid": 1, "tid": tid, "name": "submit", "ts": us(since(recorded)),
-                    "dur": us((submitted - recorded).as_secs_f64()), "args": {"frame": frame}}));
-            }
-            if let Some([a, b]) = t.cpu_wait {
-                events.push(json!({"ph": "X", "pid": 1, "tid": tid, "name": "fence wait", "ts": us(since(a)),
-                    "dur": us((b - a).as_secs_f64()), "args": {"frame": frame}}));
-            }
-            let at = |ns: f64| us(run.mapping.seconds_since(anchor, ns));
-            events.push(json!({"ph": "X", "pid": 2, "tid": tid, "name": frame, "ts": at(t.gpu_span_ns.0),
-                "dur": (t.gpu_span_ns.1 - t.gpu_span_ns.0) * 1e-3,
-                "args": {"clock": run.mapping.method, "deviation_ns": run.mapping.deviation_ns}}));
-            for p in &t.passes {
-                let mut args = json!({"frame": frame});
-                if let Some(s) = p.statistics {
-                    for (k, v) in s.fields() {
-                        args[k] = json!(v);
-                    }
-                }
-                events.push(json!({"ph": "X", "pid": 2, "tid": tid, "name": p.name, "ts": at(p.start_ns),
-                    "dur": p.ms * 1e3, "args": args}));
-            }
-        }
-    }
-    json!({ "traceEvents": events, "displayTimeUnit": "ms" })
 }
 
 /// The report printed by `meadow timing`.

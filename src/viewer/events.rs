@@ -22,6 +22,7 @@ impl Viewer {
         for action in self.script.due(self.tick) {
             self.act(action)?;
         }
+        self.apply_ui_actions()?;
         self.tick += 1;
         let now = Instant::now();
         let dt = if self.fixed_step { 1.0 / 60.0 } else { (now - self.last_tick).as_secs_f32().min(0.1) };
@@ -47,7 +48,10 @@ impl Viewer {
         event_loop.set_control_flow(ControlFlow::Poll);
         self.render()?;
         if self.options.frames.is_some_and(|n| self.frames >= n)
-            || (self.options.script.is_some() && self.script.is_empty() && self.options.frames.is_none())
+            || (self.options.script.is_some()
+                && self.script.is_empty()
+                && !self.ui.as_ref().is_some_and(|ui| ui.scripted_pending())
+                && self.options.frames.is_none())
         {
             self.quit = true;
         }
@@ -88,6 +92,8 @@ impl Viewer {
                 self.needs_recreate = true;
             }
             Action::Screenshot(path) => self.screenshot = Some(PathBuf::from(path)),
+            Action::UiClick(label) => self.scripted_ui(|ui| ui.click(&label))?,
+            Action::UiDrag(dx, label) => self.scripted_ui(|ui| ui.drag(&label, dx))?,
             Action::Quit => self.quit = true,
         }
         Ok(())
@@ -99,6 +105,13 @@ impl ApplicationHandler for Viewer {
     fn resumed(&mut self, _: &ActiveEventLoop) {}
 
     fn window_event(&mut self, event_loop: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
+        // The overlay sees every event first; one it takes (a click on a control) goes no further.
+        if let (Some(ui), Some(surface)) = (self.ui.as_mut(), self.surface.as_ref()) {
+            let passes_through = matches!(event, WindowEvent::CloseRequested | WindowEvent::Resized(_));
+            if ui.on_event(&surface.window, &event) && !passes_through {
+                return;
+            }
+        }
         let result = match event {
             WindowEvent::CloseRequested => {
                 self.quit = true;

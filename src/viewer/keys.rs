@@ -6,12 +6,34 @@ use std::path::PathBuf;
 use glam::{Vec2, Vec3, Vec4};
 use winit::keyboard::KeyCode;
 
-use super::{Viewer, HELP};
+use super::Viewer;
 use crate::error::Result;
 use crate::keyframes::Smoothing;
 use crate::render::animation::{Eval, Mode};
 use crate::scene::Scene;
 use crate::wind::{Collider, PointSource};
+
+/// The controls, printed at start and by H.
+pub(super) const HELP: &str = "\
+meadow viewer controls
+  W A S D / Q E   move / down, up       right mouse drag  look
+  Shift           faster                 wheel             speed
+  G               walk on the ground     H                 this help
+  M               mode static/texture/uniform/floor   N  smoothing nearest/linear/slerp
+  B               evaluation per vertex / per blade (compute)
+  + / -           segments               [ / ]             blades / 2, x 2
+  J / L           wind direction -/+15   I / K             wind strength +/-
+  U               gusts on/off           C                 calm areas on/off
+  left click      drop a wind source (drag to move)   Delete  remove the last source
+  arrow keys      drive the collider sphere through the grass
+  V               force debug view       F                 wireframe
+  X               cluster bounds view    T                 LOD / tile / Fresnel view
+  O               GPU culling / brute force             Y  LOD on/off
+  Z               freeze the culling camera (fly out and look at what it keeps)
+  R               MSAA: off, 4x alpha to coverage, 4x alpha test (the device's counts)
+  P               pause time             F12               screenshot
+  F1              the overlay: every control, live GPU timing, trace capture
+  Esc             quit";
 
 impl Viewer {
     /// A named key went down or up (from the window or a script).
@@ -82,6 +104,7 @@ impl Viewer {
                 c.center.y = self.scene.ground(c.center.x, c.center.z) + c.radii.y;
             }
             "z" => self.toggle_cull_freeze(),
+            "f1" => self.toggle_overlay(),
             "m" | "n" | "b" | "v" | "x" | "t" | "o" | "y" | "f" | "r" | "plus" | "minus" | "[" | "]" => rebuild = true,
             _ => {}
         }
@@ -300,9 +323,10 @@ fn culling_state(culling: &crate::render::culling::Culling) -> String {
 }
 
 /// Every key name the viewer acts on (what `key_name` returns), for scripts to check against.
-pub(super) const KEY_NAMES: [&str; 38] = [
-    "[", "]", "a", "b", "c", "d", "delete", "down", "e", "escape", "f", "f12", "g", "h", "i", "j", "k", "l", "left",
-    "m", "minus", "n", "o", "p", "plus", "q", "r", "right", "s", "shift", "t", "u", "up", "v", "w", "x", "y", "z",
+pub(super) const KEY_NAMES: [&str; 39] = [
+    "[", "]", "a", "b", "c", "d", "delete", "down", "e", "escape", "f", "f1", "f12", "g", "h", "i", "j", "k", "l",
+    "left", "m", "minus", "n", "o", "p", "plus", "q", "r", "right", "s", "shift", "t", "u", "up", "v", "w", "x", "y",
+    "z",
 ];
 
 /// Name of a key as the help and scripts spell it.
@@ -340,6 +364,7 @@ pub(super) fn key_name(code: KeyCode) -> Option<&'static str> {
         KeyCode::KeyP => "p",
         KeyCode::KeyR => "r",
         KeyCode::F12 => "f12",
+        KeyCode::F1 => "f1",
         KeyCode::Delete | KeyCode::Backspace => "delete",
         KeyCode::ArrowUp => "up",
         KeyCode::ArrowDown => "down",

@@ -5,10 +5,12 @@
 pub mod controls;
 mod events;
 mod keys;
+mod overlay;
 pub mod script;
 mod session;
 mod stats;
 mod surface;
+mod ui;
 
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -55,6 +57,12 @@ pub struct ViewerOptions {
     pub inject_out_of_date: Option<u32>,
     /// Print a `sample:` line (resident memory, live Vulkan objects) every N frames (the soak).
     pub sample_every: Option<u64>,
+    /// Show the overlay (`--no-ui`: false).
+    pub ui: bool,
+    /// Screenshots include the overlay.
+    pub screenshot_ui: bool,
+    /// Where the overlay's captures go (checked at start).
+    pub capture_dir: Option<PathBuf>,
 }
 
 /// What a viewer session did.
@@ -70,26 +78,6 @@ pub struct ViewerReport {
     pub stats: String,
 }
 
-const HELP: &str = "\
-meadow viewer controls
-  W A S D / Q E   move / down, up       right mouse drag  look
-  Shift           faster                 wheel             speed
-  G               walk on the ground     H                 this help
-  M               mode static/texture/uniform/floor   N  smoothing nearest/linear/slerp
-  B               evaluation per vertex / per blade (compute)
-  + / -           segments               [ / ]             blades / 2, x 2
-  J / L           wind direction -/+15   I / K             wind strength +/-
-  U               gusts on/off           C                 calm areas on/off
-  left click      drop a wind source (drag to move)   Delete  remove the last source
-  arrow keys      drive the collider sphere through the grass
-  V               force debug view       F                 wireframe
-  X               cluster bounds view    T                 LOD / tile / Fresnel view
-  O               GPU culling / brute force             Y  LOD on/off
-  Z               freeze the culling camera (fly out and look at what it keeps)
-  R               MSAA: off, 4x alpha to coverage, 4x alpha test (the device's counts)
-  P               pause time             F12               screenshot
-  Esc             quit";
-
 /// Run the viewer; returns its report and the validation message count.
 pub fn run(gpu: &GpuOptions, options: ViewerOptions) -> (Result<ViewerReport>, Option<u64>) {
     // Every output the session will write, checked before any work.
@@ -102,6 +90,9 @@ pub fn run(gpu: &GpuOptions, options: ViewerOptions) -> (Result<ViewerReport>, O
         if let Err(e) = app::output::check_output(path, flag) {
             return (Err(e), None);
         }
+    }
+    if let Some(dir) = options.capture_dir.as_ref().filter(|d| !d.is_dir()) {
+        return (Err(Error::bad_input(format!("--capture-dir {}: not a directory", dir.display()))), None);
     }
     let set = |name: &str| std::env::var_os(name).is_some_and(|v| !v.is_empty());
     if !set("DISPLAY") && !set("WAYLAND_DISPLAY") {
@@ -158,6 +149,13 @@ struct Viewer {
     budget: Option<crate::render::budget::FrameBudget>,
     /// The last render call was an injected out-of-date result (`--inject-out-of-date`).
     injected_last: bool,
+    /// The overlay (`None` with `--no-ui`).
+    ui: Option<ui::Ui>,
+    /// What the overlay's controls asked for, applied before the next frame.
+    ui_actions: Vec<ui::UiAction>,
+    /// A trace capture in progress, and how many were written.
+    capture: Option<overlay::Capture>,
+    captures_written: u32,
     error: Option<Error>,
     quit: bool,
 }
@@ -205,6 +203,10 @@ impl Viewer {
             last_tick: Instant::now(),
             stats: Stats::new(),
             injected_last: false,
+            ui: None,
+            ui_actions: Vec::new(),
+            capture: None,
+            captures_written: 0,
             budget: options
                 .scene
                 .budget_ms
@@ -281,6 +283,9 @@ impl Viewer {
         self.check_scene(self.scene.blades.len() as u32, &animation)?;
         crate::app::check_timestamps_for_budget(&self.device, self.options.scene.budget_ms)?;
         self.renderer = Some(Renderer::new(self.device.clone(), &self.scene, self.settings, animation)?);
+        if let Some(ui) = self.ui.as_mut() {
+            ui.renderer_replaced();
+        }
         Ok(())
     }
 
@@ -298,6 +303,7 @@ impl Viewer {
             }
         };
         self.settings.color_format = swapchain.format;
+        self.make_ui(&window);
         self.surface = Some(Surface { swapchain, depth: None, depth_used: false, window });
         self.recreate()?;
         self.build_renderer(self.options.scene.animation.clone())
@@ -413,9 +419,10 @@ impl Viewer {
             }
         }
         let readback = self.screenshot_buffer()?;
-        let renderer = self.renderer.as_mut().expect("renderer built");
-        let (slot, timings) = match renderer.begin_frame() {
-            Ok(frame) => frame,
+        let begun = self.renderer.as_mut().expect("renderer built").begin_frame();
+        let begun = begun.and_then(|(slot, timings)| self.frame_begun(timings, readback.is_some()).map(|()| slot));
+        let slot = match begun {
+            Ok(slot) => slot,
             Err(e) => {
                 if let Some(buffer) = readback {
                     // SAFETY: never used by the GPU.
@@ -424,12 +431,7 @@ impl Viewer {
                 return Err(e);
             }
         };
-        if let Some(t) = timings {
-            self.stats.add(&t);
-            if let Some(budget) = self.budget.as_mut() {
-                renderer.set_lod_scale(budget.update(t.gpu_ms));
-            }
-        }
+        let renderer = self.renderer.as_mut().expect("renderer built");
         let surface = self.surface.as_mut().expect("surface exists");
         let acquired = surface.swapchain.acquire(renderer.acquire_semaphore(slot));
         let Ok(Some((index, suboptimal))) = acquired else {

@@ -13,6 +13,8 @@
 //! 70       minimise
 //! 80       restore
 //! 90       screenshot    shot.png
+//! 92       ui-click      GPU culling        # the overlay's control of that label
+//! 94       ui-drag       40 wind strength   # drag a slider 40 pixels right
 //! 100      quit
 //! ```
 //!
@@ -45,6 +47,10 @@ pub enum Action {
     Restore,
     /// Write the next frame to a PNG.
     Screenshot(String),
+    /// Click the overlay's control of this label (pointer events through egui's input).
+    UiClick(String),
+    /// Drag the overlay's control of this label (a slider) by a number of pixels to the right.
+    UiDrag(f32, String),
     /// Close the viewer.
     Quit,
 }
@@ -121,6 +127,15 @@ impl Script {
                 "minimise" | "minimize" => none(Action::Minimise)?,
                 "restore" => none(Action::Restore)?,
                 "screenshot" => Action::Screenshot(one("screenshot PATH")?.to_string()),
+                "ui-click" if !args.is_empty() => Action::UiClick(args.join(" ")),
+                "ui-drag" => match args.split_first() {
+                    Some((dx, label)) if !label.is_empty() => {
+                        let dx = crate::cli::values::finite_f32(dx).map_err(|e| fail(&e))?;
+                        Action::UiDrag(dx, label.join(" "))
+                    }
+                    _ => return Err(fail("ui-drag DX_PIXELS LABEL")),
+                },
+                "ui-click" => return Err(fail("ui-click LABEL")),
                 "quit" => none(Action::Quit)?,
                 other => return Err(fail(&format!("unknown action '{}'", bounded(other, 40)))),
             };

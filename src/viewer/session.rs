@@ -13,7 +13,8 @@ use winit::event_loop::ActiveEventLoop;
 use winit::raw_window_handle::{HasDisplayHandle, HasWindowHandle};
 use winit::window::{Window, WindowId};
 
-use super::{Viewer, ViewerOptions, ViewerReport, HELP};
+use super::keys::HELP;
+use super::{Viewer, ViewerOptions, ViewerReport};
 use crate::error::{Error, Result, VkContext};
 use crate::vk::device::{DeviceDesc, DeviceSelector};
 use crate::vk::{Device, Instance};

@@ -134,8 +134,9 @@ fn elapsed_ticks(start: u64, end: u64, mask: u64) -> u64 {
 
 /// One queue's raw timestamps placed on a line of ticks that keeps counting up when the counter
 /// wraps (`timestampValidBits` < 64): each tick is the previous one plus their difference modulo
-/// the valid bits. Place ticks in the order the queue wrote them, each less than 2^bits ticks after
-/// the one before (a frame's, then the next frame's).
+/// the valid bits, read as signed (a difference past half the range is a step back: a clock
+/// sample taken while earlier frames were still in flight). Place ticks about in the order the
+/// queue wrote them, each less than 2^(bits-1) ticks from the one before.
 #[derive(Clone, Copy, Debug)]
 pub struct Timeline {
     mask: u64,
@@ -154,7 +155,14 @@ impl Timeline {
         let raw = raw & self.mask;
         let placed = match self.last {
             None => raw,
-            Some((last_raw, last_placed)) => last_placed + elapsed_ticks(last_raw, raw, self.mask),
+            Some((last_raw, last_placed)) => {
+                let ahead = elapsed_ticks(last_raw, raw, self.mask);
+                let half = self.mask / 2 + 1;
+                match ahead >= half {
+                    true => last_placed.wrapping_sub(elapsed_ticks(raw, last_raw, self.mask)),
+                    false => last_placed.wrapping_add(ahead),
+                }
+            }
         };
         self.last = Some((raw, placed));
         placed
@@ -168,8 +176,16 @@ mod tests {
     #[test]
     fn a_wrapping_counter_keeps_counting_up_on_the_timeline() {
         let mut line = Timeline::new((1 << 8) - 1);
-        let placed: Vec<u64> = [250u64, 253, 3, 100, 255, 1].iter().map(|&t| line.place(t)).collect();
-        assert_eq!(placed, [250, 253, 259, 356, 511, 513]);
+        let placed: Vec<u64> = [250u64, 253, 3, 100, 200, 1].iter().map(|&t| line.place(t)).collect();
+        assert_eq!(placed, [250, 253, 259, 356, 456, 513]);
+        // A step back (a clock sample taken before frames in flight finished), across the wrap.
+        assert_eq!(line.place(250), 506);
+        assert_eq!(line.place(4), 516);
+        // 64 valid bits: a step back stays a step back.
+        let mut line = Timeline::new(u64::MAX);
+        assert_eq!(line.place(1_000_000), 1_000_000);
+        assert_eq!(line.place(999_990), 999_990);
+        assert_eq!(line.place(1_000_020), 1_000_020);
     }
 
     #[test]
