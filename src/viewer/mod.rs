@@ -172,10 +172,11 @@ impl Viewer {
         )?;
         let scene = o.scene();
         let camera = o.camera.unwrap_or_else(|| scene.default_camera());
-        // The options' settings, into the swapchain's format, without statistics queries.
+        // The options' settings, into the swapchain's format; statistics queries for the
+        // overlay's timing panel (none with --no-ui, for measurements).
         let settings = RenderSettings {
             color_format: vk::Format::B8G8R8A8_UNORM,
-            pipeline_statistics: false,
+            pipeline_statistics: options.ui,
             ..o.offscreen_settings(options.frames_in_flight)
         };
         let fixed_step = options.script.is_some() || options.frames.is_some();

@@ -7,6 +7,7 @@ use egui::{Color32, Rect, Sense, Stroke, Ui, Vec2};
 
 use crate::render::culling::CullCounts;
 use crate::render::FrameTimings;
+use crate::vk::query::PipelineStatistics;
 
 /// Frames the graph and the percentiles cover.
 pub const HISTORY: usize = 240;
@@ -26,6 +27,8 @@ pub struct TimingHistory {
     names: Vec<&'static str>,
     cull: Option<CullCounts>,
     gpu_available: bool,
+    /// The last frame's pipeline statistics per counted pass.
+    statistics: Vec<(&'static str, PipelineStatistics)>,
 }
 
 impl TimingHistory {
@@ -46,6 +49,7 @@ impl TimingHistory {
         });
         self.cull = t.cull;
         self.gpu_available = t.gpu_available;
+        self.statistics = t.passes.iter().filter_map(|p| Some((p.name, p.statistics?))).collect();
     }
 
     /// The `q`-quantile (0..=1) of the kept frames' GPU time, nearest rank.
@@ -82,6 +86,28 @@ impl TimingHistory {
             Some(c) => ui.label(format!("cull: {}", c.summary())),
             None => ui.label("cull: off (brute force)"),
         };
+        self.statistics_grid(ui);
+    }
+
+    /// The last frame's pipeline statistics of each counted graphics pass.
+    fn statistics_grid(&self, ui: &mut Ui) {
+        if self.statistics.is_empty() {
+            ui.label("pipeline statistics: none (no pipelineStatisticsQuery, or --no-ui)");
+            return;
+        }
+        egui::Grid::new("statistics").striped(true).show(ui, |ui| {
+            for heading in ["pass", "vertices", "VS", "clipped prims", "FS"] {
+                ui.label(heading);
+            }
+            ui.end_row();
+            for (name, s) in &self.statistics {
+                ui.label(*name);
+                for n in [s.input_vertices, s.vertex_invocations, s.clipping_primitives, s.fragment_invocations] {
+                    ui.label(n.to_string());
+                }
+                ui.end_row();
+            }
+        });
     }
 
     /// Stacked bars, one column per frame (oldest left), one colour per pass.
