@@ -10,7 +10,7 @@ use std::process::{Command, Output};
 
 use support::{assert_clean, scratch, transcript, Picture};
 
-/// `xvfb-run meadow view --validation` at 800x600 with `args`, in `dir`.
+/// `xvfb-run meadow view --validation` at 1280x720 with `args`, in `dir`.
 fn view(dir: &Path, args: &[&str]) -> Output {
     view_scaled(dir, args, "1")
 }
@@ -21,7 +21,7 @@ fn view_scaled(dir: &Path, args: &[&str], scale: &str) -> Output {
         .env("WINIT_X11_SCALE_FACTOR", scale)
         .args(["-a", "-s", "-screen 0 1280x1024x24"])
         .arg(env!("CARGO_BIN_EXE_meadow"))
-        .args(["view", "--validation", "--device", support::DEVICE, "--blades", "3000", "--size", "800x600"])
+        .args(["view", "--validation", "--device", support::DEVICE, "--blades", "3000", "--size", "1280x720"])
         .args(args)
         .current_dir(dir)
         .env_remove("WAYLAND_DISPLAY")
@@ -40,7 +40,9 @@ fn clicks_and_drags_on_the_controls_change_the_viewer() {
     let s = script(
         &dir,
         "controls.txt",
-        "5 ui-click GPU culling\n10 ui-drag 60 wind strength\n15 ui-click uniform\n20 ui-click gusts\n30 quit\n",
+        "5 ui-click GPU culling\n10 ui-drag 60 wind strength\n15 ui-click uniform\n20 ui-click gusts\n\
+         22 ui-click GPU culling\n25 ui-click occlusion\n28 ui-click 3 in flight\n31 ui-click Immediate\n\
+         34 ui-click frame budget\n40 quit\n",
     );
     let output = view(&dir, &["--script", &s]);
     assert_clean(&output);
@@ -54,12 +56,24 @@ fn clicks_and_drags_on_the_controls_change_the_viewer() {
     let gusts = line("gusts off", "");
     assert!(culling.is_some() && wind.is_some() && mode.is_some() && gusts.is_some(), "{}", transcript(&output));
     assert!(culling < wind && wind < mode && mode < gusts, "{}", transcript(&output));
+    // The culling panel's own tests, frames in flight (a new renderer), the present mode (a new
+    // swapchain) and the frame budget.
+    let occlusion = line("culling Culling { enabled: true,", "occlusion: false");
+    let in_flight = line("3 frames in flight", "");
+    let present = line("present mode Immediate", "");
+    let budget = line("frame budget 50 ms", "");
+    assert!(
+        gusts < occlusion && occlusion < in_flight && in_flight < present && present < budget,
+        "{}",
+        transcript(&output)
+    );
+    assert!(budget.is_some(), "{}", transcript(&output));
     // The control: the same frames without the clicks change nothing.
     let s = script(&dir, "idle.txt", "30 quit\n");
     let idle = view(&dir, &["--script", &s]);
     assert_clean(&idle);
     let stdout = String::from_utf8_lossy(&idle.stdout);
-    let changed = ["mode ", "wind strength", "gusts "];
+    let changed = ["mode ", "wind strength", "gusts ", "culling ", "present mode", "frame budget"];
     assert!(!stdout.lines().any(|l| changed.iter().any(|c| l.starts_with(c))), "{}", transcript(&idle));
     // A control that is not there, and the overlay turned off: one line, exit 2.
     for (args, said) in [
@@ -103,7 +117,7 @@ fn a_screenshot_with_the_overlay_differs_from_one_without_only_inside_its_panels
     let with_ui = view(&dir.join("ui"), &["--script", &s, "--screenshot-ui"]);
     assert_clean(&with_ui);
     let rects = panels(&with_ui);
-    assert_eq!(rects.len(), 2, "the controls and the timing panels: {rects:?}");
+    assert_eq!(rects.len(), 3, "the controls, timing and view panels: {rects:?}");
     let (a, b) = (Picture::load(&dir.join("plain/shot.png")), Picture::load(&dir.join("ui/shot.png")));
     assert_eq!((a.width, a.height), (b.width, b.height));
     let inside = |x: u32, y: u32| rects.iter().any(|r| x >= r[0] && x < r[2] && y >= r[1] && y < r[3]);

@@ -66,10 +66,7 @@ impl Viewer {
             walk: self.control.walk,
             calm: self.calm_off.is_none(),
             budget: self.budget.as_ref().map(|b| (b.target_ms, b.scale)),
-            presentation: format!(
-                "{:?} presentation, {} frames in flight (set at start)",
-                o.present, o.frames_in_flight
-            ),
+            present: (surface.swapchain.present_mode(), surface.swapchain.present_modes()),
             capture: match (&o.capture_dir, &self.capture) {
                 (None, _) => Err("no capture: start with --capture-dir DIR"),
                 (Some(_), Some(_)) => Err("capturing..."),
@@ -120,6 +117,19 @@ impl Viewer {
                 UiAction::RemoveSource(i) => self.remove_emitter(i, true),
                 UiAction::RemoveCollider(i) => self.remove_emitter(i, false),
                 UiAction::Capture(frames) => self.start_capture(frames as usize)?,
+                UiAction::Culling(culling) => {
+                    self.rebuild_with(crate::render::RenderSettings { culling, ..self.settings })?
+                }
+                UiAction::LodScale(scale) => self.renderer.as_mut().expect("renderer built").set_lod_scale(scale),
+                UiAction::Budget(target) => self.set_budget(target)?,
+                UiAction::Present(mode) => {
+                    let surface = self.surface.as_mut().expect("surface exists");
+                    surface.swapchain.set_present_mode(mode)?;
+                    self.options.present = mode;
+                    self.needs_recreate = true;
+                    println!("present mode {mode:?}");
+                }
+                UiAction::FramesInFlight(n) => self.replace_renderer(n)?,
             }
         }
         Ok(())
@@ -141,6 +151,54 @@ impl Viewer {
                 "--script: ui-click and ui-drag need the overlay shown (not --no-ui, not hidden by F1)",
             )),
         }
+    }
+
+    /// Rebuild the passes with `settings` (the culling panel), as a key's rebuild does: a setting
+    /// the device cannot take is reported and the previous one kept.
+    fn rebuild_with(&mut self, settings: crate::render::RenderSettings) -> Result<()> {
+        let renderer = self.renderer.as_ref().expect("renderer built");
+        let animation = renderer.animation().clone();
+        let lod_scale = renderer.settings().culling.lod_scale;
+        let settings = crate::render::RenderSettings {
+            culling: crate::render::culling::Culling { lod_scale, ..settings.culling },
+            ..settings
+        };
+        let checked = self.check_scene(self.scene.blades.len() as u32, &animation);
+        let renderer = self.renderer.as_mut().expect("renderer built");
+        match checked.and_then(|()| renderer.rebuild(&self.scene, settings, animation)) {
+            Ok(()) => {
+                self.settings = settings;
+                println!("culling {:?}", settings.culling);
+            }
+            Err(e) => println!("cannot apply the culling settings: {e}"),
+        }
+        Ok(())
+    }
+
+    /// Hold the GPU frame near `target` ms, or stop (the LOD scale stays where it is).
+    fn set_budget(&mut self, target: Option<f32>) -> Result<()> {
+        crate::app::check_timestamps_for_budget(&self.device, target)?;
+        let scale = self.renderer.as_ref().expect("renderer built").settings().culling.lod_scale;
+        self.budget = target.map(|ms| crate::render::budget::FrameBudget::new(ms, scale));
+        println!("frame budget {}", target.map_or("off".to_string(), |ms| format!("{ms:.0} ms")));
+        Ok(())
+    }
+
+    /// A new renderer with `frames` frames in flight (the frames are the renderer's); the old one
+    /// finishes its frames first. One the device cannot take is reported and the old count kept.
+    fn replace_renderer(&mut self, frames: usize) -> Result<()> {
+        let animation = self.renderer.as_ref().expect("renderer built").animation().clone();
+        let old = self.settings;
+        self.settings.frames_in_flight = frames;
+        self.renderer = None;
+        if let Err(e) = self.build_renderer(animation.clone()) {
+            println!("cannot use {frames} frames in flight: {e}");
+            self.settings = old;
+            return self.build_renderer(animation);
+        }
+        self.options.frames_in_flight = frames;
+        println!("{frames} frames in flight");
+        Ok(())
     }
 
     fn remove_emitter(&mut self, i: usize, source: bool) {

@@ -62,6 +62,8 @@ pub struct Swapchain {
     /// Whether images can be copied out (TRANSFER_SRC supported).
     pub screenshots: bool,
     present_mode: vk::PresentModeKHR,
+    /// The present modes the surface supports.
+    modes: Vec<vk::PresentModeKHR>,
 }
 
 impl Swapchain {
@@ -103,7 +105,30 @@ impl Swapchain {
             extent: vk::Extent2D::default(),
             screenshots: false,
             present_mode: mode.raw(),
+            modes,
         })
+    }
+
+    /// The present modes the surface supports, of those meadow names.
+    pub fn present_modes(&self) -> Vec<PresentMode> {
+        [PresentMode::Fifo, PresentMode::Mailbox, PresentMode::Immediate]
+            .into_iter()
+            .filter(|m| self.modes.contains(&m.raw()))
+            .collect()
+    }
+
+    /// Present with `mode` from the next re-creation on (the caller re-creates).
+    pub fn set_present_mode(&mut self, mode: PresentMode) -> Result<()> {
+        if !self.modes.contains(&mode.raw()) {
+            return Err(Error::bad_input(format!("present mode {mode:?}: not supported here")));
+        }
+        self.present_mode = mode.raw();
+        Ok(())
+    }
+
+    /// The present mode of the next re-creation.
+    pub fn present_mode(&self) -> PresentMode {
+        self.present_modes().into_iter().find(|m| m.raw() == self.present_mode).unwrap_or_default()
     }
 
     /// Create (or re-create, handing over the old one) the swapchain for a window of `size`.

@@ -125,7 +125,9 @@ impl Ui {
         self.input.handle_platform_output(window, full.platform_output);
         let ppp = full.pixels_per_point;
         self.panels = panels.iter().map(|r| [r.min.x * ppp, r.min.y * ppp, r.max.x * ppp, r.max.y * ppp]).collect();
-        self.widgets = out.widgets;
+        // A control past the window's edge cannot be clicked: scripts are told it is not shown.
+        let screen = ctx.content_rect();
+        self.widgets = out.widgets.into_iter().filter(|(_, r)| screen.contains(r.center())).collect();
         let primitives = ctx.tessellate(full.shapes, ppp);
         let textures = self.keep_textures(full.textures_delta);
         (OverlayFrame { primitives, textures, pixels_per_point: ppp }, out.actions)
@@ -183,14 +185,18 @@ fn press(at: egui::Pos2, pressed: bool) -> egui::Event {
     egui::Event::PointerButton { pos: at, button: egui::PointerButton::Primary, pressed, modifiers: Default::default() }
 }
 
-/// The panels: the controls (top left) and GPU timing (top right); returns their rectangles
-/// (points). Neither scrolls, so a control stays where it was drawn (scripts click by label).
+/// The panels: the scene and animation controls (top left), GPU timing (top right), the view
+/// (bottom right); returns their rectangles (points). None scrolls, so a control stays where it
+/// was drawn (scripts click by label).
 fn show(ctx: &egui::Context, view: &UiView, history: &TimingHistory, out: &mut PanelOutput) -> Vec<egui::Rect> {
     let controls = egui::Window::new("meadow").default_pos([8.0, 8.0]).default_width(300.0).show(ctx, |ui| {
         egui::CollapsingHeader::new("Scene").default_open(true).show(ui, |ui| panels::scene(ui, view, out));
         egui::CollapsingHeader::new("Animation").default_open(true).show(ui, |ui| panels::animation(ui, view, out));
-        egui::CollapsingHeader::new("View").default_open(true).show(ui, |ui| panels::view(ui, view, out));
     });
+    let view_panel = egui::Window::new("view")
+        .anchor(egui::Align2::RIGHT_BOTTOM, [-8.0, -8.0])
+        .default_width(360.0)
+        .show(ctx, |ui| panels::view(ui, view, out));
     let timing = egui::Window::new("GPU timing")
         .anchor(egui::Align2::RIGHT_TOP, [-8.0, 8.0])
         .default_width(360.0)
@@ -208,5 +214,5 @@ fn show(ctx: &egui::Context, view: &UiView, history: &TimingHistory, out: &mut P
                 }
             }
         });
-    [controls, timing].into_iter().flatten().map(|w| w.response.rect).collect()
+    [controls, timing, view_panel].into_iter().flatten().map(|w| w.response.rect).collect()
 }

@@ -6,7 +6,9 @@ use egui::Ui;
 
 use crate::keyframes::Smoothing;
 use crate::render::animation::{AnimationSettings, Eval, Mode};
+use crate::render::culling::Culling;
 use crate::render::RenderSettings;
+use crate::vk::swapchain::PresentMode;
 
 /// What a widget asks the viewer to do.
 #[derive(Clone, Debug, PartialEq)]
@@ -25,6 +27,16 @@ pub enum UiAction {
     RemoveCollider(usize),
     /// Write the trace of the next `frames` frames into `--capture-dir`.
     Capture(u32),
+    /// Cull and LOD with these settings (tests, LOD kinds, view distance): passes rebuilt.
+    Culling(Culling),
+    /// The LOD scale (no rebuild; the frame budget sets it when there is one).
+    LodScale(f32),
+    /// Hold the GPU frame near this many ms (`--budget-ms`), or stop.
+    Budget(Option<f32>),
+    /// Present with this mode (the swapchain is re-created).
+    Present(PresentMode),
+    /// Frames in flight (a new renderer).
+    FramesInFlight(usize),
 }
 
 /// What the panels produce in a frame: the actions asked for, and where each labelled control
@@ -67,8 +79,8 @@ pub struct UiView<'a> {
     pub calm: bool,
     /// `--budget-ms` and the LOD scale it sets.
     pub budget: Option<(f32, f32)>,
-    /// Present mode and frames in flight (set at start).
-    pub presentation: String,
+    /// The present mode and those the surface supports.
+    pub present: (PresentMode, Vec<PresentMode>),
     /// Frames `--capture-dir` can take, or why there is no capture.
     pub capture: Result<(), &'static str>,
 }
@@ -117,10 +129,64 @@ pub fn scene(ui: &mut Ui, view: &UiView, out: &mut PanelOutput) {
     let lod = s.culling.density || s.culling.segment_lod || s.culling.solid_outline;
     toggle(ui, out, "y", lod, format!("LOD {:?}", s.culling.buckets()).as_str());
     toggle(ui, out, "z", view.frozen, "freeze the culling camera");
-    match view.budget {
-        Some((ms, scale)) => ui.label(format!("frame budget {ms} ms: LOD scale {scale:.2}")),
-        None => ui.label("no frame budget (--budget-ms)"),
-    };
+    if s.culling.enabled {
+        culling(ui, s.culling, out);
+    }
+    budget(ui, view, out);
+}
+
+/// The cull's tests and LOD kinds, one checkbox each, and the view distance.
+fn culling(ui: &mut Ui, c: Culling, out: &mut PanelOutput) {
+    let mut next = c;
+    ui.horizontal_wrapped(|ui| {
+        ui.label("cull:");
+        for (label, on) in [
+            ("frustum", &mut next.frustum),
+            ("distance", &mut next.distance),
+            ("orientation", &mut next.orientation),
+            ("occlusion", &mut next.occlusion),
+        ] {
+            out.widget(label, ui.checkbox(on, label));
+        }
+    });
+    ui.horizontal_wrapped(|ui| {
+        ui.label("LOD:");
+        for (label, on) in [
+            ("density", &mut next.density),
+            ("segment buckets", &mut next.segment_lod),
+            ("outline as geometry", &mut next.solid_outline),
+        ] {
+            out.widget(label, ui.checkbox(on, label));
+        }
+    });
+    let distance = egui::Slider::new(&mut next.view_distance, 10.0..=1000.0).logarithmic(true).text("view distance m");
+    // A rebuild per dragged step would be slow: the distance applies when the drag ends.
+    let slider = out.widget("view distance m", ui.add(distance));
+    if next != c && (slider.drag_stopped() || !slider.dragged()) {
+        out.act(UiAction::Culling(next));
+    }
+}
+
+/// The frame budget (on, its target) or, without one, the LOD scale.
+fn budget(ui: &mut Ui, view: &UiView, out: &mut PanelOutput) {
+    let mut on = view.budget.is_some();
+    let (mut ms, scale) = view.budget.unwrap_or((50.0, view.settings.culling.lod_scale));
+    if out.widget("frame budget", ui.checkbox(&mut on, "frame budget")).changed() {
+        out.act(UiAction::Budget(on.then_some(ms)));
+    }
+    if on {
+        let target = egui::Slider::new(&mut ms, 5.0..=500.0).logarithmic(true).text("target GPU ms");
+        if out.widget("target GPU ms", ui.add(target)).changed() {
+            out.act(UiAction::Budget(Some(ms)));
+        }
+        ui.label(format!("LOD scale {scale:.2} (set by the budget)"));
+    } else {
+        let mut lod_scale = scale;
+        let slider = egui::Slider::new(&mut lod_scale, 0.25..=2.0).text("LOD scale");
+        if out.widget("LOD scale", ui.add(slider)).changed() {
+            out.act(UiAction::LodScale(lod_scale));
+        }
+    }
 }
 
 /// Animation: model, evaluation placement, smoothing, wind, gusts, sources, colliders, calm areas.
@@ -202,5 +268,23 @@ pub fn view(ui: &mut Ui, view: &UiView, out: &mut PanelOutput) {
     });
     toggle(ui, out, "p", view.paused, "pause time");
     toggle(ui, out, "g", view.walk, "walk on the ground");
-    ui.label(&view.presentation);
+    let (present, supported) = &view.present;
+    ui.horizontal(|ui| {
+        for mode in supported {
+            let label = format!("{mode:?}");
+            if out.widget(&label, ui.selectable_label(mode == present, &label)).clicked() && mode != present {
+                out.act(UiAction::Present(*mode));
+            }
+        }
+    });
+    ui.horizontal(|ui| {
+        ui.label("frames in flight");
+        for n in 1..=3usize {
+            let label = format!("{n} in flight");
+            let chosen = n == view.settings.frames_in_flight;
+            if out.widget(&label, ui.selectable_label(chosen, n.to_string())).clicked() && !chosen {
+                out.act(UiAction::FramesInFlight(n));
+            }
+        }
+    });
 }
