@@ -8,73 +8,53 @@ mod support;
 
 use support::{meadow, scratch, transcript};
 
-#[test]
-fn running_out_of_memory_anywhere_exits_1_cleanly() {
-    let dir = scratch("faults-alloc");
+/// Make the N-th call of `variable`'s kind fail in a small render, for N = 1, 2, ... until a run
+/// makes fewer such calls and renders: each failure exits 1 with one `error:` line that `said`
+/// accepts, validation clean (leaks are reported at device destruction), and no picture. Returns
+/// how many calls failed.
+fn fail_each(name: &str, variable: &str, said: impl Fn(&str) -> bool) -> u32 {
+    let dir = scratch(name);
     let out = dir.join("x.png");
     let args = ["render", "--validation", "--device", support::DEVICE, "--blades", "2000", "--size", "64x64", "--out"];
-    // The control: how many allocations a clean run makes is not fixed here, but it renders.
+    // The control: how many calls a clean run makes is not fixed here, but it renders.
     let clean = meadow().args(args).arg(&out).output().expect("run");
     assert_eq!(clean.status.code(), Some(0), "{}", transcript(&clean));
     std::fs::remove_file(&out).expect("the control wrote its picture");
-    // Every allocation in turn, until a run makes fewer than N and renders.
     let mut failed = 0;
     for nth in 1..=200 {
-        let output =
-            meadow().args(args).arg(&out).env("MEADOW_INJECT_ALLOC_FAILURE", nth.to_string()).output().expect("run");
+        let output = meadow().args(args).arg(&out).env(variable, nth.to_string()).output().expect("run");
         if output.status.code() == Some(0) {
             break;
         }
         failed += 1;
-        assert_eq!(output.status.code(), Some(1), "allocation {nth}: {}", transcript(&output));
+        assert_eq!(output.status.code(), Some(1), "{variable}={nth}: {}", transcript(&output));
         let stderr = String::from_utf8_lossy(&output.stderr);
-        assert!(
-            stderr.starts_with("error: allocating `")
-                && stderr.contains("out of device memory")
-                && stderr.lines().count() == 1,
-            "allocation {nth}: {stderr}"
-        );
+        assert!(stderr.lines().count() == 1 && said(stderr.trim()), "{variable}={nth}: {stderr}");
         assert!(String::from_utf8_lossy(&output.stdout).contains("validation: 0 messages"), "{}", transcript(&output));
-        assert!(!out.exists(), "allocation {nth}: a picture was written");
+        assert!(!out.exists(), "{variable}={nth}: a picture was written");
     }
+    assert!(out.exists(), "{variable}: the run past the last call renders");
+    failed
+}
+
+#[test]
+fn running_out_of_memory_anywhere_exits_1_cleanly() {
+    // Every allocation in turn.
+    let said = |e: &str| e.starts_with("error: allocating `") && e.contains("out of device memory");
+    let failed = fail_each("faults-alloc", "MEADOW_INJECT_ALLOC_FAILURE", said);
     assert!(failed >= 20, "only {failed} allocations made");
-    assert!(out.exists(), "the run past the last allocation renders");
 }
 
 #[test]
 fn running_out_of_host_memory_exits_1_with_its_own_message() {
     // `MEADOW_INJECT_HOST_MEMORY_FAILURE=N`: the N-th vkCreateShaderModule (one per pipeline
-    // stage) reports VK_ERROR_OUT_OF_HOST_MEMORY. Every one of them in turn, until a run makes
-    // fewer modules than N and succeeds: each failure is clean (this found a leaked pipeline of
-    // the animation model when a pass after it failed).
-    let dir = scratch("faults-host");
-    let out = dir.join("x.png");
-    let args = ["render", "--validation", "--device", support::DEVICE, "--blades", "2000", "--size", "64x64", "--out"];
-    let mut failed = 0;
-    for nth in 1..=64 {
-        let output = meadow()
-            .args(args)
-            .arg(&out)
-            .env("MEADOW_INJECT_HOST_MEMORY_FAILURE", nth.to_string())
-            .output()
-            .expect("run");
-        if output.status.code() == Some(0) {
-            break;
-        }
-        failed += 1;
-        assert_eq!(output.status.code(), Some(1), "module {nth}: {}", transcript(&output));
-        let stderr = String::from_utf8_lossy(&output.stderr);
-        assert_eq!(
-            stderr.trim(),
-            "error: vkCreateShaderModule (injected failure): out of host memory (try fewer blades, segments or pixels)",
-            "module {nth}"
-        );
-        assert!(String::from_utf8_lossy(&output.stdout).contains("validation: 0 messages"), "{}", transcript(&output));
-        assert!(!out.exists(), "module {nth}: a picture was written");
-    }
+    // stage) reports VK_ERROR_OUT_OF_HOST_MEMORY, every one in turn (this found a leaked pipeline
+    // of the animation model when a pass after it failed).
+    let expected =
+        "error: vkCreateShaderModule (injected failure): out of host memory (try fewer blades, segments or pixels)";
+    let failed = fail_each("faults-host", "MEADOW_INJECT_HOST_MEMORY_FAILURE", |e| e == expected);
     // Terrain, cull, poses and blades at least (two modules per graphics pipeline).
     assert!(failed >= 8, "only {failed} shader modules made");
-    assert!(out.exists(), "the run past the last module renders");
 }
 
 #[test]

@@ -148,18 +148,24 @@ fn reused_and_secondary_recordings_stay_valid_with_frames_in_flight() {
 
 /// The GPU-driven path reports what its cull kept: every count after each test, and the drawn
 /// blades per LOD bucket adding up to the total.
-#[test]
-fn timing_reports_the_cull_counts() {
-    let dir = scratch("timing-cull");
+/// `meadow timing --validation ARGS --warmup 0` with `MEADOW_HIDE=hide`, clean; its timing.json.
+fn timing_doc(name: &str, args: &[&str], hide: &str) -> Value {
+    let dir = scratch(name);
     let output = meadow()
-        .args(["timing", "--validation", "--device", support::DEVICE, "--blades", "5000", "--size", "160x90"])
-        .args(["--frames", "2", "--warmup", "0", "--out"])
+        .env("MEADOW_HIDE", hide)
+        .args(["timing", "--validation", "--device", support::DEVICE, "--warmup", "0"])
+        .args(args)
+        .arg("--out")
         .arg(&dir)
         .output()
         .expect("run meadow timing");
     assert_clean(&output);
-    let doc: Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.join("timing.json")).expect("timing.json")).expect("JSON");
+    serde_json::from_str(&std::fs::read_to_string(dir.join("timing.json")).expect("timing.json")).expect("JSON")
+}
+
+#[test]
+fn timing_reports_the_cull_counts() {
+    let doc = timing_doc("timing-cull", &["--blades", "5000", "--size", "160x90", "--frames", "2"], "");
     let cull = &doc["cull"];
     let n = |k: &str| cull[k].as_u64().unwrap_or_else(|| panic!("{k} in {cull}"));
     assert_eq!(n("considered"), 5000);
@@ -200,17 +206,8 @@ fn a_wrapping_timestamp_counter_keeps_the_timeline_in_order() {
     // few valid bits does. Each run lasts longer than two wraps, so its frames cross one: spans are
     // subtracted modulo the bits, and frames are placed on an unwrapped timeline (before, a wrap
     // read as a frame 2^26 ns long or going back in time: 0 fps, -162 % GPU busy).
-    let dir = scratch("timing-wrap");
-    let output = meadow()
-        .env("MEADOW_HIDE", "timestampValidBits=26")
-        .args(["timing", "--validation", "--device", support::DEVICE, "--blades", "300", "--size", "32x32"])
-        .args(["--frames", "120", "--warmup", "0", "--out"])
-        .arg(&dir)
-        .output()
-        .expect("run meadow timing");
-    assert_clean(&output);
-    let doc: Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.join("timing.json")).expect("timing.json")).expect("JSON");
+    let args = ["--blades", "300", "--size", "32x32", "--frames", "120"];
+    let doc = timing_doc("timing-wrap", &args, "timestampValidBits=26");
     assert_eq!(doc["timestamp_valid_bits"], 26);
     let wrap_s = (1u64 << 26) as f64 * 1e-9;
     for run in doc["frames_in_flight"].as_array().expect("runs") {

@@ -42,7 +42,7 @@ fn clicks_and_drags_on_the_controls_change_the_viewer() {
         "controls.txt",
         "5 ui-click GPU culling\n10 ui-drag 60 wind strength\n15 ui-click uniform\n20 ui-click gusts\n\
          22 ui-click GPU culling\n25 ui-click occlusion\n28 ui-click 3 in flight\n31 ui-click Immediate\n\
-         34 ui-click frame budget\n40 quit\n",
+         34 ui-click frame budget\n36 ui-click add a calm area here\n39 ui-click remove calm #0\n45 quit\n",
     );
     let output = view(&dir, &["--script", &s]);
     assert_clean(&output);
@@ -68,12 +68,15 @@ fn clicks_and_drags_on_the_controls_change_the_viewer() {
         transcript(&output)
     );
     assert!(budget.is_some(), "{}", transcript(&output));
+    // The calm areas' list: one added under the camera, then removed.
+    let (added, removed) = (line("calm area ", " to "), line("calm area #0 removed", ""));
+    assert!(budget < added && added < removed, "{}", transcript(&output));
     // The control: the same frames without the clicks change nothing.
     let s = script(&dir, "idle.txt", "30 quit\n");
     let idle = view(&dir, &["--script", &s]);
     assert_clean(&idle);
     let stdout = String::from_utf8_lossy(&idle.stdout);
-    let changed = ["mode ", "wind strength", "gusts ", "culling ", "present mode", "frame budget"];
+    let changed = ["mode ", "wind strength", "gusts ", "culling ", "present mode", "frame budget", "calm area"];
     assert!(!stdout.lines().any(|l| changed.iter().any(|c| l.starts_with(c))), "{}", transcript(&idle));
     // A control that is not there, and the overlay turned off: one line, exit 2.
     for (args, said) in [

@@ -116,6 +116,20 @@ impl Viewer {
                 }
                 UiAction::RemoveSource(i) => self.remove_emitter(i, true),
                 UiAction::RemoveCollider(i) => self.remove_emitter(i, false),
+                UiAction::AddCalm => {
+                    let p = self.control.camera.position;
+                    let at = glam::Vec2::new(p.x, p.z);
+                    let area = crate::wind::CalmArea { min: at - 2.0, max: at + 2.0 };
+                    self.renderer.as_mut().expect("renderer built").wind_mut().calm.push(area);
+                    println!("calm area {:.1}, {:.1} to {:.1}, {:.1}", area.min.x, area.min.y, area.max.x, area.max.y);
+                }
+                UiAction::RemoveCalm(i) => {
+                    let calm = &mut self.renderer.as_mut().expect("renderer built").wind_mut().calm;
+                    if i < calm.len() {
+                        calm.remove(i);
+                        println!("calm area #{i} removed");
+                    }
+                }
                 UiAction::Capture(frames) => self.start_capture(frames as usize)?,
                 UiAction::Culling(culling) => {
                     self.rebuild_with(crate::render::RenderSettings { culling, ..self.settings })?

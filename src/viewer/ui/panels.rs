@@ -25,6 +25,10 @@ pub enum UiAction {
     RemoveSource(usize),
     /// Remove collider `index`.
     RemoveCollider(usize),
+    /// Add a 4 m calm area centred under the camera.
+    AddCalm,
+    /// Remove calm area `index`.
+    RemoveCalm(usize),
     /// Write the trace of the next `frames` frames into `--capture-dir`.
     Capture(u32),
     /// Cull and LOD with these settings (tests, LOD kinds, view distance): passes rebuilt.
@@ -220,6 +224,22 @@ pub fn animation(ui: &mut Ui, view: &UiView, out: &mut PanelOutput) {
         out.act(UiAction::Gusts(gusts));
     }
     toggle(ui, out, "c", view.calm, &format!("calm areas ({})", a.wind.calm.len()));
+    if view.calm {
+        for (i, area) in a.wind.calm.iter().enumerate() {
+            ui.horizontal(|ui| {
+                ui.label(format!(
+                    "calm #{i}: {:.1}, {:.1} to {:.1}, {:.1}",
+                    area.min.x, area.min.y, area.max.x, area.max.y
+                ));
+                if out.widget(&format!("remove calm #{i}"), ui.small_button("x")).clicked() {
+                    out.act(UiAction::RemoveCalm(i));
+                }
+            });
+        }
+        if out.widget("add a calm area here", ui.button("add a calm area here")).clicked() {
+            out.act(UiAction::AddCalm);
+        }
+    }
     ui.label(format!("{} wind sources (left click drops one)", a.wind.sources.len()));
     for (i, source) in a.wind.sources.iter().enumerate() {
         ui.horizontal(|ui| {
