@@ -9,7 +9,10 @@ use winit::keyboard::KeyCode;
 use super::Viewer;
 use crate::error::Result;
 use crate::keyframes::Smoothing;
+use crate::render::animation::AnimationSettings;
 use crate::render::animation::{Eval, Mode};
+use crate::render::culling::Culling;
+use crate::render::RenderSettings;
 use crate::scene::Scene;
 use crate::wind::{Collider, PointSource};
 
@@ -130,19 +133,17 @@ impl Viewer {
             println!("cannot apply '{name}': a --field has a density, not a blade count");
             return Ok(());
         }
-        let renderer = self.renderer.as_ref().expect("renderer built");
-        let old_animation = renderer.animation().clone();
-        let old_settings = self.settings;
+        let mut animation = self.renderer.as_ref().expect("renderer built").animation().clone();
+        let mut settings = self.settings;
         let old_blades = self.scene.blades.len() as u32;
-        let mut animation = old_animation.clone();
         let mut blades = old_blades;
         match name {
             // Static, texture, uniform, then the floor reference (static blades, pre-expanded).
-            "m" => match (animation.mode, self.settings.floor) {
-                (_, true) => self.settings.floor = false,
+            "m" => match (animation.mode, settings.floor) {
+                (_, true) => settings.floor = false,
                 (Mode::Static, false) => animation.mode = Mode::Texture,
                 (Mode::Texture, false) => animation.mode = Mode::Uniform,
-                (Mode::Uniform, false) => (animation.mode, self.settings.floor) = (Mode::Static, true),
+                (Mode::Uniform, false) => (animation.mode, settings.floor) = (Mode::Static, true),
             },
             "n" => {
                 animation.smoothing = match animation.smoothing {
@@ -152,47 +153,83 @@ impl Viewer {
                 }
             }
             "b" => animation.eval = if animation.eval == Eval::Vertex { Eval::Blade } else { Eval::Vertex },
-            "v" => self.settings.debug_force = !self.settings.debug_force,
-            "x" => self.settings.debug_bounds = !self.settings.debug_bounds,
-            "t" => cycle_cull_views(&mut self.settings),
-            "o" | "y" => toggle_culling(&mut self.settings.culling, name),
-            "f" => self.settings.wireframe = !self.settings.wireframe,
-            "r" => {
-                self.settings.msaa = next_msaa(self.settings.msaa, &crate::render::msaa::supported_counts(&self.device))
-            }
-            "plus" | "minus" => step_segments(&mut self.settings, name == "plus"),
+            "v" => settings.debug_force = !settings.debug_force,
+            "x" => settings.debug_bounds = !settings.debug_bounds,
+            "t" => cycle_cull_views(&mut settings),
+            "o" | "y" => toggle_culling(&mut settings.culling, name),
+            "f" => settings.wireframe = !settings.wireframe,
+            "r" => settings.msaa = next_msaa(settings.msaa, &crate::render::msaa::supported_counts(&self.device)),
+            "plus" | "minus" => step_segments(&mut settings, name == "plus"),
             "[" => blades = (blades / 2).max(1),
             "]" => blades = blades.saturating_mul(2),
             _ => {}
         }
+        let what = format!("'{name}'");
         if blades == old_blades {
-            // Same scene: new passes and model; the old ones are freed behind the frames in
-            // flight (the frame ring's deletion queue), the frames keep running.
-            let checked = self.check_scene(blades, &animation);
-            let renderer = self.renderer.as_mut().expect("renderer built");
-            if let Err(e) = checked.and_then(|()| renderer.rebuild(&self.scene, self.settings, animation)) {
-                println!("cannot apply '{name}': {e}");
-                self.settings = old_settings;
-            }
-            self.report_rebuild();
+            self.rebuild_passes(&what, settings, animation);
             return Ok(());
         }
-        // A new scene: the old renderer's frames finish and its memory is freed before the new
-        // one is built.
+        self.replace_renderer(&what, blades, settings, animation).map(|_| ())
+    }
+
+    /// Rebuild the passes (and the model, if `animation` changed) on the same scene with
+    /// `settings`: the old ones are freed behind the frames in flight (the frame ring's deletion
+    /// queue), the frames keep running. The LOD scale the frame budget or the overlay set live is
+    /// kept. A change the device cannot take is reported (as `what`) and the previous settings
+    /// kept. Returns whether it applied.
+    pub(super) fn rebuild_passes(
+        &mut self,
+        what: &str,
+        settings: RenderSettings,
+        animation: AnimationSettings,
+    ) -> bool {
+        let renderer = self.renderer.as_ref().expect("renderer built");
+        let lod_scale = renderer.settings().culling.lod_scale;
+        let settings = RenderSettings { culling: Culling { lod_scale, ..settings.culling }, ..settings };
+        let checked = self.check_scene(self.scene.blades.len() as u32, &animation);
+        let renderer = self.renderer.as_mut().expect("renderer built");
+        let applied = match checked.and_then(|()| renderer.rebuild(&self.scene, settings, animation)) {
+            Ok(()) => {
+                self.settings = settings;
+                true
+            }
+            Err(e) => {
+                println!("cannot apply {what}: {e}");
+                false
+            }
+        };
+        self.report_rebuild();
+        applied
+    }
+
+    /// A new renderer for `blades` blades (a new scene when the count changes), `settings` and
+    /// `animation`: the old renderer's frames finish and its memory is freed before the new one
+    /// is built. One the device cannot take is reported (as `what`) and the previous scene,
+    /// settings and animation built again. Returns whether it applied.
+    pub(super) fn replace_renderer(
+        &mut self,
+        what: &str,
+        blades: u32,
+        settings: RenderSettings,
+        animation: AnimationSettings,
+    ) -> Result<bool> {
+        let old_animation = self.renderer.as_ref().expect("renderer built").animation().clone();
+        let (old_settings, old_blades) = (self.settings, self.scene.blades.len() as u32);
         self.renderer = None;
+        self.settings = settings;
         if blades != old_blades {
             self.scene = Scene::generate(blades, self.options.scene.seed);
         }
         if let Err(e) = self.build_renderer(animation) {
-            println!("cannot apply '{name}': {e}");
+            println!("cannot apply {what}: {e}");
             self.settings = old_settings;
             if blades != old_blades {
                 self.scene = Scene::generate(old_blades, self.options.scene.seed);
             }
-            return self.build_renderer(old_animation);
+            return self.build_renderer(old_animation).map(|()| false);
         }
         self.report_rebuild();
-        Ok(())
+        Ok(true)
     }
 
     /// Print what the renderer now draws.

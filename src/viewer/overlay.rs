@@ -132,7 +132,11 @@ impl Viewer {
                 }
                 UiAction::Capture(frames) => self.start_capture(frames as usize)?,
                 UiAction::Culling(culling) => {
-                    self.rebuild_with(crate::render::RenderSettings { culling, ..self.settings })?
+                    let animation = self.renderer.as_ref().expect("renderer built").animation().clone();
+                    let settings = crate::render::RenderSettings { culling, ..self.settings };
+                    if self.rebuild_passes("the culling settings", settings, animation) {
+                        println!("culling {:?}", self.settings.culling);
+                    }
                 }
                 UiAction::LodScale(scale) => self.renderer.as_mut().expect("renderer built").set_lod_scale(scale),
                 UiAction::Budget(target) => self.set_budget(target)?,
@@ -143,7 +147,16 @@ impl Viewer {
                     self.needs_recreate = true;
                     println!("present mode {mode:?}");
                 }
-                UiAction::FramesInFlight(n) => self.replace_renderer(n)?,
+                UiAction::FramesInFlight(frames_in_flight) => {
+                    // The frames are the renderer's: a new one.
+                    let animation = self.renderer.as_ref().expect("renderer built").animation().clone();
+                    let settings = crate::render::RenderSettings { frames_in_flight, ..self.settings };
+                    let what = format!("{frames_in_flight} frames in flight");
+                    if self.replace_renderer(&what, self.scene.blades.len() as u32, settings, animation)? {
+                        self.options.frames_in_flight = frames_in_flight;
+                        println!("{what}");
+                    }
+                }
             }
         }
         Ok(())
@@ -167,51 +180,12 @@ impl Viewer {
         }
     }
 
-    /// Rebuild the passes with `settings` (the culling panel), as a key's rebuild does: a setting
-    /// the device cannot take is reported and the previous one kept.
-    fn rebuild_with(&mut self, settings: crate::render::RenderSettings) -> Result<()> {
-        let renderer = self.renderer.as_ref().expect("renderer built");
-        let animation = renderer.animation().clone();
-        let lod_scale = renderer.settings().culling.lod_scale;
-        let settings = crate::render::RenderSettings {
-            culling: crate::render::culling::Culling { lod_scale, ..settings.culling },
-            ..settings
-        };
-        let checked = self.check_scene(self.scene.blades.len() as u32, &animation);
-        let renderer = self.renderer.as_mut().expect("renderer built");
-        match checked.and_then(|()| renderer.rebuild(&self.scene, settings, animation)) {
-            Ok(()) => {
-                self.settings = settings;
-                println!("culling {:?}", settings.culling);
-            }
-            Err(e) => println!("cannot apply the culling settings: {e}"),
-        }
-        Ok(())
-    }
-
     /// Hold the GPU frame near `target` ms, or stop (the LOD scale stays where it is).
     fn set_budget(&mut self, target: Option<f32>) -> Result<()> {
         crate::app::check_timestamps_for_budget(&self.device, target)?;
         let scale = self.renderer.as_ref().expect("renderer built").settings().culling.lod_scale;
         self.budget = target.map(|ms| crate::render::budget::FrameBudget::new(ms, scale));
         println!("frame budget {}", target.map_or("off".to_string(), |ms| format!("{ms:.0} ms")));
-        Ok(())
-    }
-
-    /// A new renderer with `frames` frames in flight (the frames are the renderer's); the old one
-    /// finishes its frames first. One the device cannot take is reported and the old count kept.
-    fn replace_renderer(&mut self, frames: usize) -> Result<()> {
-        let animation = self.renderer.as_ref().expect("renderer built").animation().clone();
-        let old = self.settings;
-        self.settings.frames_in_flight = frames;
-        self.renderer = None;
-        if let Err(e) = self.build_renderer(animation.clone()) {
-            println!("cannot use {frames} frames in flight: {e}");
-            self.settings = old;
-            return self.build_renderer(animation);
-        }
-        self.options.frames_in_flight = frames;
-        println!("{frames} frames in flight");
         Ok(())
     }
 
