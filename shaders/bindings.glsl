@@ -66,6 +66,17 @@ layout(set = SET_ANIMATION, binding = BINDING_POSES, std430) writeonly buffer Po
 #else
 layout(set = SET_ANIMATION, binding = BINDING_POSES, std430) readonly buffer Poses { uint poses[]; };
 #endif
+// With the cull and pose records: each drawn blade's strip levels, placed and lit once per blade by
+// blade_levels.comp, so blade.vert only widens and projects them. Entry i of the visible list owns
+// MODEL_SEGMENTS + 1 levels from level i * (MODEL_SEGMENTS + 1); its bucket's SEGMENTS + 1 are
+// written. A level is LEVEL_UVEC2S uvec2: the centre line's point (f32 x3, relative to the origin
+// like every position), the full width across as a horizontal vector (half floats x, z), the lit
+// and fogged colour and the fog transmittance (half floats), as blade.vert computed per vertex.
+#ifdef LEVELS_WRITER
+layout(set = SET_ANIMATION, binding = BINDING_LEVELS, std430) writeonly buffer Levels { uvec2 levels[]; };
+#else
+layout(set = SET_ANIMATION, binding = BINDING_LEVELS, std430) readonly buffer Levels { uvec2 levels[]; };
+#endif
 const float POSE_SCALE = 2.0; // local point / height lies within ±POSE_SCALE
 
 #endif

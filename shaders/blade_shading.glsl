@@ -14,7 +14,7 @@ layout(location = 0) out vec4 out_color;
 
 const float ALPHA_CUTOFF = 0.35; // scene::alpha::ALPHA_CUTOFF
 
-// `scene::alpha` (half_width, the edge ramp) and SOLID_INSET of blade.vert.
+// `scene::alpha` (half_width, the edge ramp) and SOLID_INSET of blade_place.glsl.
 float outline_half_width(float v) {
     return 0.5 * (1.0 - pow(v, 2.2)) * (0.8 + 0.2 * min(v / 0.08, 1.0));
 }

@@ -33,6 +33,7 @@
 #define BINDING_KEYFRAMES 0 // Keyframe texture.
 #define BINDING_KEYFRAME_WORDS 1 // Keyframe uniform array.
 #define BINDING_POSES 2 // Per-blade pose records written by a model's compute pass (`--eval blade`).
+#define BINDING_LEVELS 3 // With the cull and pose records: each drawn blade's strip levels placed and lit (blade_levels.comp), read by blade.vert.
 
 // Specialization-constant ids (`layout(constant_id = SPEC_*)`), filled by
 // `render::specialization::Specialization`.
@@ -59,6 +60,7 @@
 #define FLAG_DEBUG_TILES 64u // Colour blades by the tile they belong to (`--debug-view tiles`).
 #define FLAG_DEBUG_FRESNEL 256u // Blades show Belyaev's Fresnel term alone (`--debug-view fresnel`).
 #define FLAG_BLOCKS 128u // A block field (`scene::field`): blades are a stored block's, placed per cell around the origin.
+#define FLAG_LEVELS 512u // blade.vert reads each drawn blade's levels placed and lit by blade_levels.comp (with the cull and pose records).
 #define FLAG_SOLID_OUTLINE 32u // Far LOD buckets: the outline tapered in the geometry, no alpha test (early depth writes).
 
 // Culling and LOD switches (`cull_lod.z` of the frame uniforms, `render::culling::Culling`).
@@ -111,5 +113,6 @@
 #define MAX_LOD_BUCKETS 8u // Segment LOD buckets (`--lod-segments`).
 #define POSE_DISPATCH_WORD 32u // In the cull's `draws`, after the buckets' draws: the blade-pose pass's indirect dispatch (x, y, z), then the visible list's length.
 #define POSE_GROUP 64u // Invocations of a blade-pose workgroup.
+#define LEVEL_UVEC2S 3u // `uvec2`s of one strip level of a drawn blade (bindings.glsl, `Levels`).
 
 #endif

@@ -189,10 +189,17 @@ fn with_the_cull_the_default_evaluates_each_drawn_blade_once() {
     let stored = [&wind[..], &["--blades", "6000"]].concat();
     let (auto, passes) = render_with_passes("auto", &stored);
     assert!(passes.contains("blade poses"), "no pose pass with the cull: {passes}");
+    // The drawn blades' levels are placed and lit once, after the poses (blade_levels.comp).
+    assert!(passes.contains("blade poses") && passes.contains("blade levels"), "no levels pass: {passes}");
+    assert!(passes.find("blade poses") < passes.find("blade levels"), "levels before poses: {passes}");
     let (per_vertex, passes) = render_with_passes("auto-vertex", &[&stored[..], &["--eval", "vertex"]].concat());
     assert!(!passes.contains("blade poses"), "--eval vertex ran the pose pass: {passes}");
+    assert!(!passes.contains("blade levels"), "--eval vertex ran the levels pass: {passes}");
     let (_, passes) = render_with_passes("auto-brute", &[&stored[..], &["--brute-force"]].concat());
     assert!(!passes.contains("blade poses"), "brute force ran the pose pass: {passes}");
+    // Brute force with per-blade records lights per vertex: the levels follow the cull's list.
+    let (_, passes) = render_with_passes("brute-blade", &[&stored[..], &["--brute-force", "--eval", "blade"]].concat());
+    assert!(passes.contains("blade poses") && !passes.contains("blade levels"), "brute force: {passes}");
     let (stats, _) = compare_rgb(&per_vertex.rgb, &auto.rgb, 3);
     assert!(stats.within_fraction() > 0.995, "stored: {:.3} % within ±3", 100.0 * stats.within_fraction());
     let still = render("auto-static", &[&stored[..], &["--mode", "static"]].concat());

@@ -35,6 +35,17 @@ pub fn most_pose_records(device: &Device, segments: u32) -> u64 {
     u64::from(device.limits().max_storage_buffer_range) / pose_bytes(1, segments)
 }
 
+/// Bytes of the placed, lit levels of `records` drawn blades of `segments` segments
+/// (`shaders/blade_levels.comp`): `segments + 1` levels of `LEVEL_UVEC2S` uvec2 per record.
+pub fn level_bytes(records: u32, segments: u32) -> u64 {
+    8 * u64::from(gpu_constants::LEVEL_UVEC2S) * u64::from(records.max(1)) * u64::from(segments + 1)
+}
+
+/// Placed levels for `records` pose records: as many as one storage buffer holds.
+pub fn level_records(device: &Device, records: u32, segments: u32) -> u32 {
+    u64::from(records).min(u64::from(device.limits().max_storage_buffer_range) / level_bytes(1, segments)) as u32
+}
+
 /// Binding numbers of set 0, generated from `shaders/shared.glsl` (`BINDING_*`).
 pub mod binding {
     use crate::render::gpu_constants as gpu;

@@ -24,6 +24,8 @@ pub const FRAME_READBACK_COMP: &[u8] = spirv!("frame_readback.comp");
 pub const BLADE_FORCES_COMP: &[u8] = spirv!("blade_forces.comp");
 /// `--eval blade`: per-blade pose records.
 pub const BLADE_POSE_COMP: &[u8] = spirv!("blade_pose.comp");
+/// With the cull and pose records: each drawn blade's levels placed and lit once.
+pub const BLADE_LEVELS_COMP: &[u8] = spirv!("blade_levels.comp");
 /// Test: decodes the keyframe texture / uniform array through the vertex shader's decoder.
 pub const KEYFRAME_DECODE_COMP: &[u8] = spirv!("keyframe_decode.comp");
 /// Test: the keyframe selection and smoothing (`kf_select`, `kf_level`) for a buffer of forces.

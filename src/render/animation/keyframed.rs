@@ -13,7 +13,6 @@ use crate::render::animation::{AnimationSettings, Eval, KeyframeTexture, Keyfram
 use crate::render::gpu_constants as gpu;
 use crate::render::graph::Pass;
 use crate::render::passes::BladePosePass;
-use crate::render::scene_gpu::pose_bytes;
 use crate::render::specialization::Specialization;
 use crate::render::uniforms::FrameUniforms;
 use crate::vk::upload::UploadBatch;
@@ -49,11 +48,11 @@ impl KeyframeModel {
                 return Err(e);
             }
         };
-        let bytes = match settings.eval {
-            Eval::Blade => pose_bytes(blades, segments),
-            Eval::Vertex => 4 * u64::from(gpu::POSE_WORDS),
+        let records = match settings.eval {
+            Eval::Blade => blades.max(1),
+            Eval::Vertex => 0,
         };
-        let set = AnimationSet::upload(device, set_layout, batch, keyframes, words, bytes)?;
+        let set = AnimationSet::upload(device, set_layout, batch, keyframes, words, (records, segments))?;
         Ok(Self { settings: settings.clone(), segments, layout, set })
     }
 
@@ -109,7 +108,7 @@ impl AnimationModel for KeyframeModel {
 
     fn blade_input(&self) -> BladeInput {
         match self.per_blade() {
-            true => BladeInput::PoseRecords(self.set.poses.raw),
+            true => BladeInput::PoseRecords(self.set.per_blade.poses.raw, self.set.per_blade.levels.raw),
             false => BladeInput::PerVertex,
         }
     }

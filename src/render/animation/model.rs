@@ -31,9 +31,9 @@ use crate::wind::{Attenuation, Wind};
 pub enum BladeInput {
     /// The model's per-vertex path in `blade.vert`, chosen by its specialization constants.
     PerVertex,
-    /// Pose records in this buffer (`POSE_WORDS` words per level, written by the model's passes
-    /// before the blade pass).
-    PoseRecords(vk::Buffer),
+    /// Pose records (`POSE_WORDS` words per level, written by the model's passes before the
+    /// blade pass), and the buffer of placed levels the cull's path turns them into.
+    PoseRecords(vk::Buffer, vk::Buffer),
 }
 
 /// What a model's per-frame update reads.
@@ -131,24 +131,72 @@ pub fn write_wind_forces(frame: &mut Frame, input: &FrameInput) {
 }
 
 /// Layout of set `SET_ANIMATION`, the same for every model (the blade shaders declare it all).
-pub fn bindings() -> [Binding; 3] {
+pub fn bindings() -> [Binding; 4] {
     let vs_cs = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::COMPUTE;
     [
         Binding { binding: gpu::BINDING_KEYFRAMES, kind: vk::DescriptorType::COMBINED_IMAGE_SAMPLER, stages: vs_cs },
         Binding { binding: gpu::BINDING_KEYFRAME_WORDS, kind: vk::DescriptorType::UNIFORM_BUFFER, stages: vs_cs },
         Binding { binding: gpu::BINDING_POSES, kind: vk::DescriptorType::STORAGE_BUFFER, stages: vs_cs },
+        Binding { binding: gpu::BINDING_LEVELS, kind: vk::DescriptorType::STORAGE_BUFFER, stages: vs_cs },
     ]
 }
 
+/// Pose records and, with the cull, the drawn blades' placed levels: the two per-blade buffers of
+/// a model that evaluates once per blade (`--eval blade`).
+pub struct PerBlade {
+    /// Pose records.
+    pub poses: Buffer,
+    /// Placed, lit levels (`passes::BladeLevelsPass`), as many records as `level_records`.
+    pub levels: Buffer,
+    /// Records `levels` holds.
+    pub level_records: u32,
+}
+
+impl PerBlade {
+    /// Room for `records` records of `segments` segments (a stand-in of one level each with
+    /// `records` 0).
+    pub fn new(device: &Device, records: u32, segments: u32) -> Result<Self> {
+        use crate::render::scene_gpu::{level_bytes, level_records, pose_bytes};
+        let usage = vk::BufferUsageFlags::STORAGE_BUFFER;
+        let (pose_size, level_records) = match records {
+            0 => (4 * u64::from(gpu::POSE_WORDS), 0),
+            _ => (pose_bytes(records, segments), level_records(device, records, segments)),
+        };
+        let level_size = match level_records {
+            0 => 8 * u64::from(gpu::LEVEL_UVEC2S),
+            _ => level_bytes(level_records, segments),
+        };
+        let poses = Buffer::new(device, &BufferDesc::gpu_only("blade poses", pose_size, usage))?;
+        match Buffer::new(device, &BufferDesc::gpu_only("blade levels", level_size, usage)) {
+            Ok(levels) => Ok(Self { poses, levels, level_records }),
+            Err(e) => {
+                // SAFETY: never used.
+                unsafe { poses.destroy(device) };
+                Err(e)
+            }
+        }
+    }
+
+    /// # Safety
+    /// No pending GPU work may use them.
+    unsafe fn destroy(self, device: &Device) {
+        // SAFETY: per the contract.
+        unsafe {
+            self.poses.destroy(device);
+            self.levels.destroy(device);
+        }
+    }
+}
+
 /// A model's resources, bound as set `SET_ANIMATION`: the keyframe table as a texture and as a
-/// uniform array, and the pose records.
+/// uniform array, the pose records and the drawn blades' placed levels.
 pub struct AnimationSet {
     /// The keyframe texture (a 1×1 stand-in for models without keyframes).
     pub keyframes: KeyframeTexture,
     /// The keyframe uniform array (a stand-in of one `uvec4` for models without keyframes).
     pub words: KeyframeUniforms,
-    /// Pose records (a stand-in of one level without `--eval blade`).
-    pub poses: Buffer,
+    /// Pose records and placed levels (stand-ins of one level without `--eval blade`).
+    pub per_blade: PerBlade,
     pool: vk::DescriptorPool,
     /// The set.
     pub set: vk::DescriptorSet,
@@ -161,7 +209,7 @@ impl AnimationSet {
         set_layout: vk::DescriptorSetLayout,
         keyframes: KeyframeTexture,
         words: KeyframeUniforms,
-        poses: Buffer,
+        per_blade: PerBlade,
     ) -> Result<Self> {
         let (pool, sets) = match descriptor::allocate_sets(device, "animation set", set_layout, &bindings(), 1) {
             Ok(allocated) => allocated,
@@ -170,12 +218,12 @@ impl AnimationSet {
                 unsafe {
                     keyframes.destroy(device);
                     words.buffer.destroy(device);
-                    poses.destroy(device);
+                    per_blade.destroy(device);
                 }
                 return Err(e);
             }
         };
-        let resources = Self { keyframes, words, poses, pool, set: sets[0] };
+        let resources = Self { keyframes, words, per_blade, pool, set: sets[0] };
         let image = vk::DescriptorImageInfo {
             sampler: resources.keyframes.sampler,
             image_view: resources.keyframes.image.view,
@@ -194,28 +242,32 @@ impl AnimationSet {
                 (
                     gpu::BINDING_POSES,
                     vk::DescriptorType::STORAGE_BUFFER,
-                    Descriptor::Buffer(resources.poses.descriptor()),
+                    Descriptor::Buffer(resources.per_blade.poses.descriptor()),
+                ),
+                (
+                    gpu::BINDING_LEVELS,
+                    vk::DescriptorType::STORAGE_BUFFER,
+                    Descriptor::Buffer(resources.per_blade.levels.descriptor()),
                 ),
             ],
         );
         Ok(resources)
     }
 
-    /// Submit `batch` (the uploads of `keyframes` and `words`), create `pose_bytes` of pose
-    /// records and fill the set; everything is freed if a step fails.
+    /// Submit `batch` (the uploads of `keyframes` and `words`), create room for `records` pose
+    /// records and placed levels of `segments` segments (0: stand-ins) and fill the set;
+    /// everything is freed if a step fails.
     pub fn upload(
         device: &Device,
         set_layout: vk::DescriptorSetLayout,
         batch: UploadBatch,
         keyframes: KeyframeTexture,
         words: KeyframeUniforms,
-        pose_bytes: u64,
+        (records, segments): (u32, u32),
     ) -> Result<Self> {
-        let usage = vk::BufferUsageFlags::STORAGE_BUFFER;
-        let poses =
-            batch.submit().and_then(|()| Buffer::new(device, &BufferDesc::gpu_only("blade poses", pose_bytes, usage)));
-        match poses {
-            Ok(poses) => Self::new(device, set_layout, keyframes, words, poses),
+        let per_blade = batch.submit().and_then(|()| PerBlade::new(device, records, segments));
+        match per_blade {
+            Ok(per_blade) => Self::new(device, set_layout, keyframes, words, per_blade),
             Err(e) => {
                 // SAFETY: the batch waited for its submission, or never submitted.
                 unsafe {
@@ -243,7 +295,7 @@ impl AnimationSet {
             device.raw.destroy_descriptor_pool(self.pool, None);
             self.keyframes.destroy(device);
             self.words.buffer.destroy(device);
-            self.poses.destroy(device);
+            self.per_blade.destroy(device);
         }
     }
 }

@@ -42,7 +42,7 @@ impl BladePosePass {
             pipeline: pipeline::compute(device, "blade poses", shaders::BLADE_POSE_COMP, setup.layout, &constants)?,
             layout: setup.layout,
             animation: set.set,
-            poses: set.poses.raw,
+            poses: set.per_blade.poses.raw,
             blade_count: scene.blade_count,
             reads: [scene.blades.raw, scene.clusters.raw],
             keyframes: set.keyframes.image.raw,

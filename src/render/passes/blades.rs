@@ -86,8 +86,14 @@ impl BladePass {
             (scene.blades.raw, Access::VertexShaderStorageRead),
             (scene.clusters.raw, Access::VertexShaderStorageRead),
         ];
-        if let BladeInput::PoseRecords(poses) = setup.input {
+        if let BladeInput::PoseRecords(poses, levels) = setup.input {
             reads.push((poses, Access::VertexShaderStorageRead));
+            // With the cull, the placed levels stand for the records (`BladeLevelsPass`). The
+            // shader still names the records (a specialization constant skips them), and
+            // synchronization validation counts static use: both are declared.
+            if setup.constants[gpu::SPEC_RENDER_FLAGS as usize] & gpu::FLAG_LEVELS != 0 {
+                reads.push((levels, Access::VertexShaderStorageRead));
+            }
         }
         let mut pass = Self {
             pipeline,

@@ -2,6 +2,7 @@
 //! what it reads and writes, and records its own binds and draws or dispatches; the graph adds the
 //! barriers, the rendering instance, the label and the GPU scopes.
 
+pub mod blade_levels;
 pub mod blade_pose;
 pub mod blades;
 pub mod cluster_bounds;
@@ -13,6 +14,7 @@ pub mod overlay;
 pub mod resolve;
 pub mod terrain;
 
+pub use blade_levels::BladeLevelsPass;
 pub use blade_pose::BladePosePass;
 pub use blades::BladePass;
 pub use cluster_bounds::ClusterBoundsPass;

@@ -148,7 +148,8 @@ impl Renderer {
         let mut states = previous.3.states().clone();
         if let Some(old_model) = &previous.2 {
             states.forget(old_model.resources().keyframe_import().0);
-            states.forget(Resource::Buffer(old_model.resources().poses.raw));
+            states.forget(Resource::Buffer(old_model.resources().per_blade.poses.raw));
+            states.forget(Resource::Buffer(old_model.resources().per_blade.levels.raw));
         }
         self.graph.set_states(states);
         let built = self.build_graph(scene, polygon);
@@ -216,12 +217,14 @@ impl Renderer {
     }
 
     /// Entries of the cull's visible list a frame may fill: its capacity, and with pose records
-    /// (`--eval blade`) at most one per record (`scene_gpu::pose_records`).
+    /// (`--eval blade`) at most one per record (`scene_gpu::pose_records`) and per placed level
+    /// record (`PerBlade::level_records`).
     fn visible_limit(&self) -> u32 {
         let scene = self.scene_gpu();
         match self.model.as_deref().map(|m| m.blade_input()) {
-            Some(BladeInput::PoseRecords(_)) => {
-                scene.visible_capacity.min(pose_records(&self.device, scene, self.settings.segments))
+            Some(BladeInput::PoseRecords(..)) => {
+                let levels = self.model.as_deref().map_or(0, |m| m.resources().per_blade.level_records);
+                scene.visible_capacity.min(pose_records(&self.device, scene, self.settings.segments)).min(levels)
             }
             _ => scene.visible_capacity,
         }

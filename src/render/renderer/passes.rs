@@ -4,13 +4,15 @@ use ash::vk;
 
 use super::Renderer;
 use crate::error::Result;
-use crate::render::animation::model::PassSetup;
+use crate::render::animation::model::{BladeInput, PassSetup};
 use crate::render::gpu_constants as gpu;
 use crate::render::msaa::MSAA_COLOR_FORMAT;
 use crate::render::passes::blades::BladeSetup;
 use crate::render::passes::cull::{self, CullSetup};
 use crate::render::passes::depth_pyramid::DepthPyramidPass;
-use crate::render::passes::{BladePass, ClusterBoundsPass, FloorPass, PipelineTarget, ResolvePass, TerrainPass};
+use crate::render::passes::{
+    BladeLevelsPass, BladePass, ClusterBoundsPass, FloorPass, PipelineTarget, ResolvePass, TerrainPass,
+};
 use crate::render::settings::sky_clear_color;
 use crate::render::specialization::Specialization;
 use crate::scene::Scene;
@@ -99,6 +101,10 @@ impl Renderer {
         }
         if let (false, Some(model)) = (settings.floor, self.model.as_deref()) {
             model.specialize(&mut specialization);
+            // With the cull, the drawn blades' levels are placed and lit once (`BladeLevelsPass`).
+            if settings.culling.enabled && matches!(model.blade_input(), BladeInput::PoseRecords(..)) {
+                specialization.flags |= gpu::FLAG_LEVELS;
+            }
         }
         specialization.cull_group = cull::workgroup_size(self.device.subgroup_size);
         specialization
@@ -113,7 +119,19 @@ impl Renderer {
         let model = self.model.as_deref().expect("built");
         let culled = settings.culling.enabled;
         let setup = PassSetup { layout: target.layout, constants, scene, culled };
-        let model_passes = model.passes(device, &setup)?;
+        let mut model_passes = model.passes(device, &setup)?;
+        if constants[gpu::SPEC_RENDER_FLAGS as usize] & gpu::FLAG_LEVELS != 0 {
+            match BladeLevelsPass::new(device, &setup, model.resources()) {
+                Ok(pass) => model_passes.push(Box::new(pass)),
+                Err(e) => {
+                    for pass in model_passes {
+                        // SAFETY: never recorded.
+                        unsafe { pass.destroy(device) };
+                    }
+                    return Err(e);
+                }
+            }
+        }
         let (before, after) = if culled { (Vec::new(), model_passes) } else { (model_passes, Vec::new()) };
         before.into_iter().for_each(|pass| self.graph.add_boxed(pass));
         let sky = self.sky();

@@ -1,0 +1,93 @@
+//! Blade-levels pass (with the cull and pose records): a compute dispatch, one invocation per
+//! entry of the cull's visible list, that places each drawn blade's strip levels in the world and
+//! lights them once — the blade's record, a block field's placement, the terrain normal, Belyaev's
+//! lighting, the fog — so the blade pass's vertex shader only widens and projects them
+//! (`shaders/blade_levels.comp`). llvmpipe runs vertex shaders on one thread and compute on all of
+//! them; the work also drops from once per strip vertex to once per level. It reads the model's
+//! pose records (whatever model wrote them) and writes `PerBlade::levels`; the graph orders it
+//! after the pose pass and before the blade pass, and this frame's write after the previous
+//! frame's reads.
+
+use ash::vk;
+
+use crate::error::Result;
+use crate::render::animation::model::{AnimationSet, PassSetup};
+use crate::render::gpu_constants as gpu;
+use crate::render::graph::{Declaration, Pass, PassContext};
+use crate::render::passes;
+use crate::render::shaders;
+use crate::vk::{pipeline, Access, Device};
+
+/// The compute pipeline and the buffers it touches.
+pub struct BladeLevelsPass {
+    pipeline: vk::Pipeline,
+    layout: vk::PipelineLayout,
+    animation: vk::DescriptorSet,
+    /// Pose records (read), placed levels (written).
+    poses: vk::Buffer,
+    levels: vk::Buffer,
+    /// The stored blades (a block field's are placed per cell) and the terrain heights.
+    reads: [vk::Buffer; 2],
+    /// The cull's visible list and its `draws` (the buckets' ranges, and the indirect dispatch
+    /// the scan wrote at `POSE_DISPATCH_WORD`).
+    visible: vk::Buffer,
+    draws: vk::Buffer,
+}
+
+impl BladeLevelsPass {
+    /// Build the pipeline on the scene's pipeline layout, from and into the buffers of `set`.
+    pub fn new(device: &Device, setup: &PassSetup, set: &AnimationSet) -> Result<Self> {
+        let scene = setup.scene;
+        let mut constants = setup.constants.to_vec();
+        constants[gpu::SPEC_RENDER_FLAGS as usize] |= gpu::FLAG_CULLED;
+        Ok(Self {
+            pipeline: pipeline::compute(device, "blade levels", shaders::BLADE_LEVELS_COMP, setup.layout, &constants)?,
+            layout: setup.layout,
+            animation: set.set,
+            poses: set.per_blade.poses.raw,
+            levels: set.per_blade.levels.raw,
+            reads: [scene.blades.raw, scene.heights.raw],
+            visible: scene.visible.raw,
+            draws: scene.draws.raw,
+        })
+    }
+}
+
+impl Pass for BladeLevelsPass {
+    fn name(&self) -> &'static str {
+        "blade levels"
+    }
+
+    fn declare(&self, _: &PassContext) -> Option<Declaration> {
+        Some(
+            Declaration::compute()
+                .buffer(self.levels, Access::ComputeShaderWrite)
+                .buffer(self.poses, Access::ComputeShaderRead)
+                .buffer(self.reads[0], Access::ComputeShaderRead)
+                .buffer(self.reads[1], Access::ComputeShaderRead)
+                .buffer(self.visible, Access::ComputeShaderRead)
+                .buffer(self.draws, Access::ComputeShaderRead)
+                .buffer(self.draws, Access::IndirectCommandRead),
+        )
+    }
+
+    fn record(&self, ctx: &PassContext, cmd: vk::CommandBuffer) -> Result<()> {
+        let device = ctx.device;
+        passes::bind_scene_set(device, ctx, cmd, self.layout, vk::PipelineBindPoint::COMPUTE);
+        passes::bind_animation_set(device, cmd, self.layout, vk::PipelineBindPoint::COMPUTE, self.animation);
+        // SAFETY: cmd is recording outside a rendering instance; both sets are bound.
+        unsafe {
+            device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipeline);
+            device.raw.cmd_dispatch_indirect(cmd, self.draws, 4 * u64::from(gpu::POSE_DISPATCH_WORD));
+        }
+        Ok(())
+    }
+
+    unsafe fn destroy(self: Box<Self>, device: &Device) {
+        // SAFETY: per the contract.
+        unsafe {
+            crate::vk::live::destroyed(self.pipeline);
+            device.raw.destroy_pipeline(self.pipeline, None)
+        };
+    }
+}
