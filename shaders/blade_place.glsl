@@ -53,7 +53,10 @@ LevelPose recorded_level(uint record, float height, uint level, uint segments) {
 
 // A level placed in the world: its centre-line point, the unit vector across it (turned by the
 // twist), its full width (the cull's fade and widening applied; the outline's taper is the vertex
-// shader's) and its tangent.
+// shader's) and its tangent. The fade narrows a blade the density LOD is about to drop and leaves
+// its height: shrinking both made the thinned field's mid and far distance less like brute
+// force's (1M blades, default camera: 8x8 mean difference 0.455 % shrinking both, 0.415 % the
+// width alone).
 struct PlacedLevel {
     vec3 centre;
     vec3 width_dir;
@@ -64,7 +67,7 @@ struct PlacedLevel {
 PlacedLevel place_level(BladeInstance blade, LevelPose pose, vec2 lod_scale) {
     vec3 across = vec3(cos(blade.facing), 0.0, -sin(blade.facing));
     vec3 normal_dir = vec3(sin(blade.facing), 0.0, cos(blade.facing));
-    vec3 local = pose.local * lod_scale.x;
+    vec3 local = pose.local;
     PlacedLevel placed;
     // The width turns about +y by the twist: the blade faces the wind (Zhang Xia §3.2.5).
     placed.width_dir = across * pose.twist_cs.x - normal_dir * pose.twist_cs.y;

@@ -35,7 +35,7 @@ layout(set = SET_SCENE, binding = BINDING_DEPTH_PYRAMID, std430) readonly buffer
 // kept fraction is 1 out to about the full-density distance d0 (`lod.y`) and falls as 1/d² beyond,
 // as the screen area of a square metre of ground does.
 const float A1 = 0.25;
-// Blades fade (shrink to nothing) over the top FADE_BAND of the kept fraction, so a blade the
+// Blades fade (narrow to nothing) over the top FADE_BAND of the kept fraction, so a blade the
 // density LOD is about to drop is already gone when it is dropped: no popping.
 const float FADE_BAND = 0.3;
 // Edge-on blades: |cos| of the angle between the view direction and the blade's width direction
@@ -310,13 +310,14 @@ int blade_bucket(Frustum f, BladeInstance blade, uint rank, uint count, vec3 nor
             failed = STAT_DENSITY;
             return -1;
         }
-        // Fading blades cover about a third of a full one (height and width both shrink): the
+        // Fading blades cover half of a full one on average (their width shrinks linearly, their
+        // height stays: blade_place.glsl says why): the
         // survivors widen so that the expected covered area stays that of the whole tile.
         float fade = clamp((keep - w) / (FADE_BAND * keep), 0.0, 1.0);
-        float covered = min(keep * (1.0 - 2.0 * FADE_BAND / 3.0), 1.0);
+        float covered = min(keep * (1.0 - 0.5 * FADE_BAND), 1.0);
         scale = vec2(fade, min(1.0 / covered, frame.lod.w));
     }
-    float reach = scale.x * (blade.height + 0.5 * blade.width * scale.y);
+    float reach = blade.height + 0.5 * blade.width * scale.x * scale.y;
     if (culling(CULL_FRUSTUM) && !sphere_in_frustum(f, blade.position, reach)) {
         failed = STAT_FRUSTUM;
         return -1;

@@ -134,10 +134,10 @@ impl Cull<'_> {
                 return Err(gpu::STAT_DENSITY);
             }
             let fade = ((keep - w) / (FADE_BAND * keep)).clamp(0.0, 1.0);
-            let covered = (keep * (1.0 - 2.0 * FADE_BAND / 3.0)).min(1.0);
+            let covered = (keep * (1.0 - 0.5 * FADE_BAND)).min(1.0);
             scale = Vec2::new(fade, (1.0 / covered).min(self.u.lod.w));
         }
-        let reach = scale.x * (blade.height + 0.5 * blade.width * scale.y);
+        let reach = blade.height + 0.5 * blade.width * scale.x * scale.y;
         let outside = self.planes.iter().any(|p| p.truncate().dot(position) + p.w < -reach);
         if (self.on(gpu::CULL_FRUSTUM) && outside) || (self.on(gpu::CULL_DISTANCE) && d - reach > self.u.lod.x) {
             return Err(gpu::STAT_FRUSTUM);
