@@ -156,6 +156,7 @@ void main() {
     }
     PlacedLevel placed = place_level(blade, pose, lod_scale);
     world = placed.centre + placed.width_dir * ((side - 0.5) * placed.width * outline_width(t));
-    out_lit = shade_blade(blade, t, world, placed.width_dir, placed.tangent, pose.force, SEGMENTS, blade_terrain_normal(blade));
+    out_lit = shade_blade(blade, t, world, placed.width_dir, placed.tangent, pose.force, SEGMENTS,
+        blade_terrain_normal(blade), lod_scale.y);
     gl_Position = frame.view_proj * vec4(world, 1.0);
 }

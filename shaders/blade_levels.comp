@@ -55,7 +55,8 @@ void main() {
         float t = float(level) / float(segments);
         LevelPose pose = recorded_level(i, blade.height, level, segments);
         PlacedLevel placed = place_level(blade, pose, lod_scale);
-        vec4 lit = shade_blade(blade, t, placed.centre, placed.width_dir, placed.tangent, pose.force, segments, terrain_normal);
+        vec4 lit = shade_blade(blade, t, placed.centre, placed.width_dir, placed.tangent, pose.force, segments,
+            terrain_normal, lod_scale.y);
         vec3 across = placed.width_dir * placed.width;
         uint at = base + level * LEVEL_UVEC2S;
         levels[at] = floatBitsToUint(placed.centre.xy);

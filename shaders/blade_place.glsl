@@ -110,11 +110,16 @@ vec3 blade_terrain_normal(BladeInstance blade) {
 // `width_dir` and its centre line along `world_tangent`, under force `force_magnitude`: rgb the
 // lit colour times the fog's transmittance, a the transmittance (blade.frag adds the sky's part).
 // `terrain_normal`: `blade_terrain_normal` (per blade; unused by the debug views but fresnel).
+// `represents`: the blades this one stands for, its widening by the density LOD (1 without).
 vec4 shade_blade(BladeInstance blade, float t, vec3 world, vec3 width_dir, vec3 world_tangent,
-    float force_magnitude, uint segments, vec3 terrain_normal) {
-    // Diffuse colour, darker at the root and brighter towards the tip (thesis 4.1).
-    float hue = unpack_variation(blade.variation, 0);
-    float brightness = 0.75 + 0.5 * unpack_variation(blade.variation, 1);
+    float force_magnitude, uint segments, vec3 terrain_normal, float represents) {
+    // Diffuse colour, darker at the root and brighter towards the tip (thesis 4.1). A blade the
+    // density LOD widened covers for `represents` blades, whose hues and brightnesses would have
+    // averaged out over its area: its own stray from the mean by 1/sqrt(represents), the spread of
+    // such a mean, so a thinned patch keeps the whole patch's average colour and its variation.
+    float spread = inversesqrt(max(represents, 1.0));
+    float hue = 0.5 + (unpack_variation(blade.variation, 0) - 0.5) * spread;
+    float brightness = 0.75 + 0.5 * (0.5 + (unpack_variation(blade.variation, 1) - 0.5) * spread);
     vec3 root_color = mix(vec3(0.045, 0.12, 0.02), vec3(0.08, 0.13, 0.02), hue);
     vec3 tip_color = mix(vec3(0.22, 0.42, 0.06), vec3(0.42, 0.45, 0.10), hue);
     vec3 diffuse = mix(root_color, tip_color, t) * brightness;
@@ -138,10 +143,11 @@ vec4 shade_blade(BladeInstance blade, float t, vec3 world, vec3 width_dir, vec3 
     vec3 n = normalize(cross(width_dir, world_tangent));
     n = dot(n, frame.camera_position.xyz - world) < 0.0 ? -n : n;
     float fog = fog_transmittance(world, frame.camera_position, frame.sky_color);
-    vec3 lit = blade_radiance(diffuse, diffuse, n, frame.sun_direction.xyz, t);
+    float l6 = height_six(t, segments, MODEL_SEGMENTS);
+    vec3 lit = blade_radiance_l6(diffuse, diffuse, n, frame.sun_direction.xyz, t, l6);
     if ((RENDER_FLAGS & (FLAG_DEBUG_FORCE | FLAG_DEBUG_LOD | FLAG_DEBUG_TILES)) == 0u) {
         // Belyaev §2.3's Fresnel term on contour areas, over the terrain normal under the root.
-        vec3 fresnel = blade_fresnel(terrain_normal, normalize(frame.camera_position.xyz - world), t);
+        vec3 fresnel = blade_fresnel_l6(terrain_normal, normalize(frame.camera_position.xyz - world), l6);
         lit = lit + fresnel;
         if ((RENDER_FLAGS & FLAG_DEBUG_FRESNEL) != 0u) {
             lit = fresnel; // the term alone, unfogged

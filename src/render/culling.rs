@@ -13,11 +13,13 @@ pub const MAX_LOD_BUCKETS: usize = gpu::MAX_LOD_BUCKETS as usize;
 /// Default view distance in metres (`--view-distance`).
 pub const DEFAULT_VIEW_DISTANCE: f32 = 150.0;
 /// Distance in metres out to which the density LOD keeps every blade (Belyaev §2.2), at LOD
-/// scale 1. 8 m until fading blades kept their height and tiles their progressive order
-/// (`scene::tiles::progressive_order`); those brought the 1M-blade default view's 8x8 mean
-/// difference from brute force from 0.455 % to 0.415 % at 8 m, and 6.5 m now measures 0.458 %
-/// with 28 % fewer blades drawn (`meadow bench --preset lod`).
-pub const FULL_DENSITY_DISTANCE: f32 = 6.5;
+/// scale 1. It was 8 m; then fading blades kept their height, tiles took a progressive order
+/// (`scene::tiles::progressive_order`), coarse strips were lit with the mean of l^6 over their
+/// stretch (`height_six` in lighting.glsl) and widened blades with their patch's mean colour.
+/// Measured at 1M blades from the default view (8x8 mean difference from brute force, blades
+/// drawn): 8 m before, 0.455 % and 143 598; 6.5 m after, 0.405 % and 103 833; 6 m, 0.438 % and
+/// 91 203; 5.5 m, 0.473 % and 78 991.
+pub const FULL_DENSITY_DISTANCE: f32 = 6.0;
 /// Projected height in pixels one blade segment may span before the LOD picks more segments,
 /// at LOD scale 1.
 pub const PIXELS_PER_SEGMENT: f32 = 8.0;
