@@ -1,6 +1,6 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// Cull, step 3 of 3: one workgroup per ring slot writes each blade the count pass drew (its
+// Cull, step 3 of 3: one workgroup per ring slot that draws (the scan lists them) writes each blade the count pass drew (its
 // verdict in `cull_results`, the visible entry's second word included) to the visible list at
 // bucket base + slot offset + its rank among the slot's blades of its bucket. Invocation i
 // takes the i-th contiguous run of the slot's candidates: it counts its run per bucket, one
@@ -15,7 +15,8 @@ shared uint prefix[MAX_LOD_BUCKETS][CULL_GROUP];
 
 
 void main() {
-    uint slot = gl_WorkGroupID.x;
+    // One workgroup per slot that draws (the scan's list, dispatched indirectly).
+    uint slot = draws[EMIT_SLOTS_WORD + gl_WorkGroupID.x];
     uint lane = gl_LocalInvocationID.x;
     BladeTile tile;
     ivec2 cell;

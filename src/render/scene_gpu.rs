@@ -168,8 +168,9 @@ pub fn max_ring_slots(tiles: u32) -> u32 {
 /// Bytes of the cull's buffers for `blades` stored blades, `slots` ring slots and a visible list
 /// of `visible` entries.
 fn cull_bytes(blades: u64, slots: u32, visible: u32) -> [u64; 4] {
-    // The buckets' indirect draws, then the blade-pose dispatch and the list's length.
-    let draws = 4 * u64::from(gpu_constants::POSE_DISPATCH_WORD) + 16;
+    // The buckets' indirect draws, the blade-pose dispatch and the list's length, the emit
+    // pass's dispatch, then the slots that draw.
+    let draws = 4 * (u64::from(gpu_constants::EMIT_SLOTS_WORD) + u64::from(slots));
     [
         8 * u64::from(visible.max(1)),
         4 * u64::from(gpu_constants::SLOT_WORDS) * u64::from(slots),
@@ -409,5 +410,8 @@ impl SceneGpu {
     }
 }
 
-// The blade-pose dispatch follows the buckets' draws in `draws` (`shaders/shared.glsl`).
+// The blade-pose dispatch follows the buckets' draws in `draws`, then the emit pass's dispatch
+// and its slots (`shaders/shared.glsl`).
 const _: () = assert!(gpu_constants::POSE_DISPATCH_WORD == 4 * gpu_constants::MAX_LOD_BUCKETS);
+const _: () = assert!(gpu_constants::EMIT_DISPATCH_WORD == gpu_constants::POSE_DISPATCH_WORD + 4);
+const _: () = assert!(gpu_constants::EMIT_SLOTS_WORD == gpu_constants::EMIT_DISPATCH_WORD + 4);

@@ -1,15 +1,17 @@
-//! Cull step 3 (`shaders/cull_emit.comp`): one workgroup per ring slot reads the count pass's
+//! Cull step 3 (`shaders/cull_emit.comp`): one workgroup per ring slot that draws (the scan
+//! lists them and writes the indirect dispatch) reads the count pass's
 //! verdicts and writes each drawn blade (its index and its LOD fade and widening) into the
 //! visible list at its bucket's base plus its slot's offset plus its rank in the slot: the same
 //! list on every run and thread count, buckets then slots near to far.
 
 use super::{CullSetup, CullStep, Groups};
 use crate::error::Result;
+use crate::render::gpu_constants as gpu;
 use crate::render::scene_gpu::SceneGpu;
 use crate::render::shaders;
 use crate::vk::{Access, Device};
 
-/// The emitting dispatch, one workgroup per ring slot.
+/// The emitting dispatch, one workgroup per ring slot that draws.
 pub fn pass(device: &Device, setup: &CullSetup, scene: &SceneGpu) -> Result<CullStep> {
     let read = Access::ComputeShaderRead;
     let uses = vec![
@@ -20,8 +22,10 @@ pub fn pass(device: &Device, setup: &CullSetup, scene: &SceneGpu) -> Result<Cull
         (scene.cull_alloc.raw, read),
         (scene.slot_counts.raw, read),
         (scene.draws.raw, read),
+        (scene.draws.raw, Access::IndirectCommandRead),
         (scene.visible.raw, Access::ComputeShaderWrite),
     ];
-    let step = CullStep::new(device, ("cull emit", shaders::CULL_EMIT_COMP), setup, uses, Groups::PerSlot)?;
+    let groups = Groups::Indirect(scene.draws.raw, gpu::EMIT_DISPATCH_WORD);
+    let step = CullStep::new(device, ("cull emit", shaders::CULL_EMIT_COMP), setup, uses, groups)?;
     Ok(step)
 }

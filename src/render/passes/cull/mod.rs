@@ -60,6 +60,8 @@ enum Groups {
     PerSlot,
     /// One.
     One,
+    /// As many as the scan wrote into this buffer at this word (`EMIT_DISPATCH_WORD`).
+    Indirect(vk::Buffer, u32),
 }
 
 /// One cull dispatch as a pass of the graph: its pipeline, its declared uses (and a per-frame
@@ -100,15 +102,15 @@ impl Pass for CullStep {
 
     fn record(&self, ctx: &PassContext, cmd: vk::CommandBuffer) -> Result<()> {
         let device = ctx.device;
-        let groups = match self.groups {
-            Groups::PerSlot => ctx.uniforms.cull_tiles.y,
-            Groups::One => 1,
-        };
         passes::bind_scene_set(device, ctx, cmd, self.layout, vk::PipelineBindPoint::COMPUTE);
         // SAFETY: cmd is recording outside a rendering instance; set 0 is bound.
         unsafe {
             device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipeline);
-            device.raw.cmd_dispatch(cmd, groups, 1, 1);
+            match self.groups {
+                Groups::PerSlot => device.raw.cmd_dispatch(cmd, ctx.uniforms.cull_tiles.y, 1, 1),
+                Groups::One => device.raw.cmd_dispatch(cmd, 1, 1, 1),
+                Groups::Indirect(buffer, word) => device.raw.cmd_dispatch_indirect(cmd, buffer, 4 * u64::from(word)),
+            }
         }
         Ok(())
     }
