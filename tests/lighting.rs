@@ -181,3 +181,69 @@ fn the_fresnel_debug_view_shows_the_term_alone() {
     let sum = |p: &support::Picture| -> u64 { p.rgb.iter().skip(1).step_by(3).map(|&g| u64::from(g)).sum() };
     assert!(sum(&term) < sum(&lit), "the debug view is not darker than the lit picture");
 }
+
+/// Run height_six_probe.comp: `height_six` at levels 0..=s of strips of s = 1..=16 segments of a
+/// 16-segment model, strip after strip.
+fn height_six_probe(device: &Arc<Device>) -> meadow::Result<Vec<f32>> {
+    const MODEL: usize = 16;
+    let values = (1..=MODEL).map(|s| s + 1).sum::<usize>();
+    let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
+    let output = Buffer::new(device, &BufferDesc::readback("height six probe", 4 * values as u64, storage))?;
+    let bindings =
+        [Binding { binding: 0, kind: vk::DescriptorType::STORAGE_BUFFER, stages: vk::ShaderStageFlags::COMPUTE }];
+    let set_layout = descriptor::set_layout(device, "height six set layout", &bindings)?;
+    let layout = pipeline::layout(device, "height six layout", &[set_layout], &[])?;
+    let pipe = pipeline::compute(device, "height six probe", shaders::HEIGHT_SIX_PROBE_COMP, layout, &[])?;
+    let (pool, sets) = descriptor::allocate_sets(device, "height six", set_layout, &bindings, 1)?;
+    descriptor::write(
+        device,
+        sets[0],
+        &[(0, vk::DescriptorType::STORAGE_BUFFER, Resource::Buffer(output.descriptor()))],
+    );
+    let submitted = compute::dispatch(device, "height six", (pipe, layout), &sets, &[], 1, output.raw);
+    let floats = bytemuck::cast_slice::<u8, f32>(output.mapped()).to_vec();
+    // SAFETY: submit_and_wait waited for the dispatch.
+    unsafe {
+        device.raw.destroy_descriptor_pool(pool, None);
+        device.raw.destroy_pipeline(pipe, None);
+        device.raw.destroy_pipeline_layout(layout, None);
+        device.raw.destroy_descriptor_set_layout(set_layout, None);
+        output.destroy(device);
+    }
+    submitted?;
+    Ok(floats)
+}
+
+#[test]
+fn coarse_strips_are_lit_with_the_mean_of_l6_over_each_level() {
+    // A strip interpolates its per-level colour linearly. For the l^6 height terms to come out
+    // as they do on the full blade, each level of a coarser strip takes the mean of l^6 over the
+    // stretch it stands for: the strip's piecewise-linear l^6 then integrates to exactly 1/7 (the
+    // trapezoid rule over stretch means), where the point values integrate to more (1 segment:
+    // 1/2, several times too bright). The model's own strip keeps the point values.
+    let options = GpuOptions { validation: true, device: DeviceSelector::parse("llvmpipe") };
+    let (result, messages) = with_device(&options, false, height_six_probe);
+    let values = result.expect("probe");
+    assert_eq!(messages, Some(0), "validation messages");
+    let mut at = 0;
+    for s in 1..=16usize {
+        let levels = &values[at..at + s + 1];
+        at += s + 1;
+        let h = 0.5 / s as f64;
+        for (level, &value) in levels.iter().enumerate() {
+            let t = level as f64 / s as f64;
+            let expected = if s == 16 {
+                t.powi(6)
+            } else {
+                let (a, b) = ((t - h).max(0.0), (t + h).min(1.0));
+                (b.powi(7) - a.powi(7)) / (7.0 * (b - a))
+            };
+            assert!((f64::from(value) - expected).abs() < 2e-6, "{s} segments, level {level}: {value} vs {expected}");
+        }
+        let trapezoid: f64 =
+            levels.windows(2).map(|w| 0.5 * (f64::from(w[0]) + f64::from(w[1]))).sum::<f64>() / s as f64;
+        if s < 16 {
+            assert!((trapezoid - 1.0 / 7.0).abs() < 1e-5, "{s} segments integrate to {trapezoid}");
+        }
+    }
+}

@@ -251,4 +251,41 @@ mod tests {
             assert!((q as f64 - expected).abs() < 0.25 * expected, "{quadrants:?}");
         }
     }
+
+    /// The largest deviation, in units of the expected count, of the 4x4 sub-cells of the square
+    /// [0, 1)² from an even share of `blades`.
+    fn worst_cell_deviation(blades: &[BladeInstance]) -> f64 {
+        let mut cells = [0usize; 16];
+        for b in blades {
+            let (x, z) = ((b.position[0] * 4.0) as usize, (b.position[2] * 4.0) as usize);
+            cells[x.min(3) + 4 * z.min(3)] += 1;
+        }
+        let expected = blades.len() as f64 / 16.0;
+        cells.iter().map(|&c| (c as f64 - expected).abs() / expected).fold(0.0, f64::max)
+    }
+
+    #[test]
+    fn progressive_order_thins_evenly_at_every_prefix_where_random_order_clumps() {
+        // 2048 roots scattered at random over a unit square, as a tile's. Every prefix of 1/8,
+        // 1/4 and 1/2 of them puts within 25 % of an even share in each of 16 sub-cells; in the
+        // scattered order (the control) some sub-cell of some prefix strays further, as Poisson
+        // counts of 16 to 64 do.
+        let mut rng = crate::scene::rng::Rng::new(11);
+        let scattered: Vec<BladeInstance> = (0..2048)
+            .map(|_| BladeInstance { position: [rng.range(0.0, 1.0), 0.0, rng.range(0.0, 1.0)], ..Default::default() })
+            .collect();
+        let mut ordered = scattered.clone();
+        progressive_order(&mut ordered);
+        let mut sorted = |v: &[BladeInstance]| {
+            let mut keys: Vec<[u32; 2]> =
+                v.iter().map(|b| [b.position[0].to_bits(), b.position[2].to_bits()]).collect();
+            keys.sort_unstable();
+            keys
+        };
+        assert_eq!(sorted(&ordered), sorted(&scattered), "a permutation of the same blades");
+        let prefixes = [256, 512, 1024];
+        let worst = |v: &[BladeInstance]| prefixes.iter().map(|&k| worst_cell_deviation(&v[..k])).fold(0.0, f64::max);
+        assert!(worst(&ordered) < 0.25, "progressive: {}", worst(&ordered));
+        assert!(worst(&scattered) > 0.25, "scattered (control): {}", worst(&scattered));
+    }
 }
