@@ -22,7 +22,7 @@ layout(set = SET_SCENE, binding = BINDING_DRAWS, std430) readonly buffer Draws {
 layout(local_size_x = POSE_GROUP) in;
 
 // Segments of the LOD bucket whose draw covers list entry `i` (`cull_lod.y`: 4 bits per bucket).
-uint bucket_segments(uint i) {
+uint entry_segments(uint i) {
     uint buckets = frame.cull_lod.x;
     for (uint b = 0u; b < buckets; b++) {
         // VkDrawIndirectCommand: vertexCount, instanceCount, firstVertex, firstInstance.
@@ -42,7 +42,7 @@ void main() {
         return;
     }
     uvec2 entry = visible[i];
-    uint segments = bucket_segments(i);
+    uint segments = entry_segments(i);
     if (entry.x == VISIBLE_PADDING || segments == 0u) {
         return;
     }

@@ -3,9 +3,10 @@
 // `--eval blade`: the per-blade half of the animation — force interpolation (eq. 3.6), delayed
 // attenuation (4.5), the blade frame, the keyframe selection (eq. 3.10–3.12) and the blend of
 // every chain level (eq. 3.13/3.14) — done once per blade instead of once per vertex (three
-// times per vertex, for the tangent). The evaluated levels go to the pose records blade.vert
-// reads (bindings.glsl). The thesis' chapter 7 future work, with a compute pass. With the cull, it
-// runs after it over the drawn blades only.
+// times per vertex, for the tangent). The evaluated levels go to the pose records (bindings.glsl):
+// blade.vert reads them without the cull; with it, blade_levels.comp places and lights them for
+// the drawn blades. The thesis' chapter 7 future work, with a compute pass. With the cull, it runs
+// after it over the drawn blades only.
 #define POSE_WRITER
 #include "bindings.glsl"
 #include "bezier.glsl"

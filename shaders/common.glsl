@@ -47,7 +47,7 @@ layout(constant_id = SPEC_SEGMENTS) const uint SEGMENTS = 4u;
 layout(constant_id = SPEC_BLADES_PER_INSTANCE) const uint BLADES_PER_INSTANCE = 1u;
 layout(constant_id = SPEC_ENCODE_SRGB) const uint ENCODE_SRGB = 1u;
 layout(constant_id = SPEC_MODEL_SEGMENTS) const uint MODEL_SEGMENTS = 4u;
-// Invocations of the cull's count and emit workgroups (one workgroup per ring slot): the device's
+// Invocations of the cull's count and emit workgroups (one per ring slot, or per slot that draws): the device's
 // subgroup size (`render::passes::cull::workgroup_size`), so a slot's tile tests run once per subgroup;
 // on llvmpipe a 64-wide group ran them 8 times and cost 13 ms more at 1M blades.
 layout(constant_id = SPEC_CULL_GROUP) const uint CULL_GROUP = 64u;

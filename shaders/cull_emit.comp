@@ -1,11 +1,12 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// Cull, step 3 of 3: one workgroup per ring slot that draws (the scan lists them) writes each blade the count pass drew (its
-// verdict in `cull_results`, the visible entry's second word included) to the visible list at
-// bucket base + slot offset + its rank among the slot's blades of its bucket. Invocation i
-// takes the i-th contiguous run of the slot's candidates: it counts its run per bucket, one
-// prefix sum over the runs gives each run its start, and it writes its run in order. The list is the same on every run and thread count:
-// buckets, then slots near to far, then stored order (the order brute force draws a tile in).
+// Cull, step 3 of 3: one workgroup per ring slot that draws (the scan lists them) writes each
+// blade the count pass drew (its verdict in `cull_results`, the visible entry's second word
+// included) to the visible list at bucket base + slot offset + its rank among the slot's blades
+// of its bucket. Invocation i takes the i-th contiguous run of the slot's candidates: it counts
+// its run per bucket, one prefix sum over the runs gives each run its start, and it writes its
+// run in order. The list is the same on every run and thread count: buckets, then slots near to
+// far, then stored order (the order brute force draws a tile in).
 #define CULL_WRITER
 #include "cull.glsl"
 

@@ -30,6 +30,44 @@ bool slot_draws(uint slot) {
     return sum > 0u;
 }
 
+// Lane 0, once the totals are known: one indirect draw per LOD bucket (padding each bucket's last
+// instance), the pose and levels passes' dispatch over the list, and the emit pass's dispatch over
+// the slots that draw.
+void write_dispatches() {
+    // Each instance draws BLADES_PER_INSTANCE consecutive entries of the list (strips joined by
+    // degenerate triangles, blade.vert), so a bucket starts at a multiple of it and its last
+    // instance's tail is padded with VISIBLE_PADDING entries, which draw nothing.
+    const uint batch = BLADES_PER_INSTANCE;
+    const uint lead = batch > 1u ? 1u : 0u;
+    uint first = 0u;
+    for (uint b = 0u; b < MAX_LOD_BUCKETS; b++) {
+        // The visible list holds cull_lod.w entries: past them, the farthest are dropped.
+        uint room = frame.cull_lod.w - min(first, frame.cull_lod.w);
+        uint count = b < frame.cull_lod.x ? min(totals[b], room / batch * batch) : 0u;
+        uint instances = (count + batch - 1u) / batch;
+        for (uint pad = first + count; pad < first + instances * batch; pad++) {
+            visible[pad] = uvec2(VISIBLE_PADDING, 0u);
+        }
+        // VkDrawIndirectCommand: vertexCount, instanceCount, firstVertex, firstInstance.
+        draws[4u * b] = (2u * (bucket_segments(b) + 1u) + 2u * lead) * batch;
+        draws[4u * b + 1u] = instances;
+        draws[4u * b + 2u] = 0u;
+        draws[4u * b + 3u] = first / batch;
+        first += instances * batch;
+    }
+    // The blade-pose pass (`--eval blade`) and the levels pass evaluate each entry once.
+    draws[POSE_DISPATCH_WORD] = (first + POSE_GROUP - 1u) / POSE_GROUP;
+    draws[POSE_DISPATCH_WORD + 1u] = 1u;
+    draws[POSE_DISPATCH_WORD + 2u] = 1u;
+    draws[POSE_DISPATCH_WORD + 3u] = first;
+    // The emit pass runs over the slots that draw: most of the rings are empty (off screen, too
+    // far, outside the field), and a workgroup costs llvmpipe about 1.7 µs even when it returns
+    // at once (4 ms for the 2401 slots of a 1M-blade field).
+    draws[EMIT_DISPATCH_WORD] = drawing_slots;
+    draws[EMIT_DISPATCH_WORD + 1u] = 1u;
+    draws[EMIT_DISPATCH_WORD + 2u] = 1u;
+}
+
 void main() {
     uint lane = gl_LocalInvocationID.x;
     uint slots = frame.cull_tiles.y;
@@ -92,38 +130,7 @@ void main() {
         }
     }
     if (lane == 0u) {
-        // Each instance draws BLADES_PER_INSTANCE consecutive entries of the list (strips joined
-        // by degenerate triangles, blade.vert), so a bucket starts at a multiple of it and its
-        // last instance's tail is padded with VISIBLE_PADDING entries, which draw nothing.
-        const uint batch = BLADES_PER_INSTANCE;
-        const uint lead = batch > 1u ? 1u : 0u;
-        uint first = 0u;
-        for (uint b = 0u; b < MAX_LOD_BUCKETS; b++) {
-            // The visible list holds cull_lod.w entries: past them, the farthest are dropped.
-            uint room = frame.cull_lod.w - min(first, frame.cull_lod.w);
-            uint count = b < frame.cull_lod.x ? min(totals[b], room / batch * batch) : 0u;
-            uint instances = (count + batch - 1u) / batch;
-            for (uint pad = first + count; pad < first + instances * batch; pad++) {
-                visible[pad] = uvec2(VISIBLE_PADDING, 0u);
-            }
-            // VkDrawIndirectCommand: vertexCount, instanceCount, firstVertex, firstInstance.
-            draws[4u * b] = (2u * (bucket_segments(b) + 1u) + 2u * lead) * batch;
-            draws[4u * b + 1u] = instances;
-            draws[4u * b + 2u] = 0u;
-            draws[4u * b + 3u] = first / batch;
-            first += instances * batch;
-        }
-        // The blade-pose pass (`--eval blade`) evaluates each entry of the list once.
-        draws[POSE_DISPATCH_WORD] = (first + POSE_GROUP - 1u) / POSE_GROUP;
-        draws[POSE_DISPATCH_WORD + 1u] = 1u;
-        draws[POSE_DISPATCH_WORD + 2u] = 1u;
-        draws[POSE_DISPATCH_WORD + 3u] = first;
-        // The emit pass runs over the slots that draw: most of the rings are empty (off screen,
-        // too far, outside the field), and a workgroup costs llvmpipe about 1.7 µs even when it
-        // returns at once (4 ms for the 2401 slots of a 1M-blade field).
-        draws[EMIT_DISPATCH_WORD] = drawing_slots;
-        draws[EMIT_DISPATCH_WORD + 1u] = 1u;
-        draws[EMIT_DISPATCH_WORD + 2u] = 1u;
+        write_dispatches();
     }
     barrier();
     if (lane < SLOT_WORDS) {

@@ -18,11 +18,6 @@ vec3 blade_radiance_l6(vec3 ka, vec3 kd, vec3 n, vec3 l_dir, float l, float l6) 
     return ka * ia + kd * id * (max(ndl, 0.0) + translucency * max(-ndl, 0.0));
 }
 
-vec3 blade_radiance(vec3 ka, vec3 kd, vec3 n, vec3 l_dir, float l) {
-    float l2 = l * l;
-    return blade_radiance_l6(ka, kd, n, l_dir, l, l2 * l2 * l2);
-}
-
 // The height factor l^6 of the terms above at strip level t of a blade drawn with `segments`
 // segments, when its model has `model_segments`. Lit per vertex, a strip interpolates the colour
 // linearly between levels, which the linear terms survive but l^6 does not: a one-segment blade

@@ -323,7 +323,12 @@ pub fn check_scene(
                 "--eval blade with {blades} blades needs {groups} workgroups, over the device's maxComputeWorkGroupCount[0] of {max}"
             )));
         }
-        let bytes = crate::render::scene_gpu::pose_bytes(records, segments);
+        let mut bytes = crate::render::scene_gpu::pose_bytes(records, segments);
+        if culled {
+            // And the drawn blades' placed levels (`PerBlade`).
+            let levels = crate::render::scene_gpu::level_records(device, records, segments);
+            bytes += crate::render::scene_gpu::level_bytes(levels, segments);
+        }
         device.check_budget(bytes, &format!("--eval blade with {blades} blades x {segments} segments"))?;
     }
     let emitters = animation.wind.sources.len() + animation.wind.colliders.len();

@@ -130,3 +130,40 @@ fn a_bounded_field_ends_where_its_size_says() {
     let (bounded, unbounded) = (drawn(&run("20")), drawn(&run("infinite")));
     assert!(bounded > 0 && bounded * 2 < unbounded, "20 m field: {bounded}, unbounded: {unbounded}");
 }
+
+#[test]
+fn a_longer_view_distance_set_live_stops_at_the_rings_the_buffers_hold() {
+    // The viewer's slider rebuilds the passes, not the cull's buffers, which hold the rings of
+    // the view distance the field was uploaded with: past it the rings stop (the frame's ring
+    // count is clamped) instead of the cull writing past its buffers. The control: uploaded with
+    // the longer distance, the frame has more rings.
+    let options = GpuOptions { validation: true, device: DeviceSelector::parse("llvmpipe") };
+    let (result, messages) = with_device(&options, false, |device| {
+        let scene = Scene::blocks(FieldSpec { size: None, density: 400.0 }, 1);
+        let animation = AnimationSettings { mode: Mode::Static, ..Default::default() };
+        let with_distance = |view_distance: f32| {
+            let mut culling = Culling::default_for(4);
+            culling.view_distance = view_distance;
+            settings(culling)
+        };
+        let camera = camera(0.0, 0.0);
+        let rings = |renderer: &Renderer| renderer.frame_uniforms(&camera, 0.0, EXTENT).cull_tiles.y;
+        let mut target = OffscreenTarget::new(device, EXTENT)?;
+        let mut renderer = Renderer::new(device.clone(), &scene, with_distance(40.0), animation.clone())?;
+        let uploaded = rings(&renderer);
+        renderer.rebuild(&scene, with_distance(300.0), animation.clone())?;
+        let live = rings(&renderer);
+        let drawn: u32 =
+            renderer.render_offscreen(&mut target, &camera, 0.0)?.cull.expect("the cull ran").drawn.iter().sum();
+        drop(renderer);
+        let control = rings(&Renderer::new(device.clone(), &scene, with_distance(300.0), animation)?);
+        // SAFETY: render_offscreen waited for its frame.
+        unsafe { target.destroy(device) };
+        Ok((uploaded, live, drawn, control))
+    });
+    assert_eq!(messages, Some(0), "validation messages");
+    let (uploaded, live, drawn, control) = result.expect("rendered");
+    assert_eq!(live, uploaded, "the rings stop at the uploaded ones");
+    assert!(control > uploaded, "uploaded for 300 m: {control} rings against {uploaded}");
+    assert!(drawn > 0);
+}

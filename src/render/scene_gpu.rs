@@ -46,6 +46,33 @@ pub fn level_records(device: &Device, records: u32, segments: u32) -> u32 {
     u64::from(records).min(u64::from(device.limits().max_storage_buffer_range) / level_bytes(1, segments)) as u32
 }
 
+/// Placed levels to make room for (`PerBlade`): one per entry the cull's list may hold, at most
+/// `records`; none without the cull, which alone places them.
+pub fn level_room(scene: &SceneGpu, records: u32, culled: bool) -> u32 {
+    if culled {
+        scene.visible_capacity.min(records)
+    } else {
+        0
+    }
+}
+
+/// Entries of the cull's visible list a frame may fill: its capacity, and with pose records
+/// (`--eval blade`, `per_blade` the model's room for placed levels) at most one per record
+/// (`pose_records`) and per placed level when the model has room for them (with the cull).
+pub fn visible_limit(device: &Device, scene: &SceneGpu, segments: u32, per_blade: Option<u32>) -> u32 {
+    match per_blade {
+        None => scene.visible_capacity,
+        Some(levels) => {
+            let records = scene.visible_capacity.min(pose_records(device, scene, segments));
+            if levels > 0 {
+                records.min(levels)
+            } else {
+                records
+            }
+        }
+    }
+}
+
 /// Binding numbers of set 0, generated from `shaders/shared.glsl` (`BINDING_*`).
 pub mod binding {
     use crate::render::gpu_constants as gpu;
@@ -145,6 +172,9 @@ pub struct SceneGpu {
     pub visible: Buffer,
     /// Entries of `visible`.
     pub visible_capacity: u32,
+    /// Ring slots the cull's buffers hold (`slot_counts`, the slot list in `draws`): a block
+    /// field's for the view distance it was uploaded with.
+    pub slot_capacity: u32,
     /// The cull's `SLOT_WORDS` words per ring slot.
     pub slot_counts: Buffer,
     /// The cull's `VkDrawIndirectCommand` per LOD bucket.
@@ -293,6 +323,7 @@ impl SceneGpu {
                 field: scene.field.clone(),
                 verdict_capacity: verdict_capacity(scene),
                 visible_capacity: capacity.1,
+                slot_capacity: capacity.0,
                 cull_alloc: partial.cull.pop().expect("created"),
                 depth_pyramid: partial.cull.pop().expect("created"),
                 cull_results: partial.cull.pop().expect("created"),

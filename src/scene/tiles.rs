@@ -1,7 +1,7 @@
 //! Spatial tiles: the field split into square tiles, the unit the cull pass tests first (Zhang
 //! Xia §5.1–5.2 grass grids, thesis §5.3). The blades of a tile are contiguous in the blade
-//! buffer and keep the scatter's random order inside it, so the first k blades of a tile are an
-//! even thinning of the whole tile: the density LOD keeps a prefix (Belyaev §2.2).
+//! buffer, in a progressive order inside it (`progressive_order`), so the first k blades of a tile
+//! are an even thinning of the whole tile: the density LOD keeps a prefix (Belyaev §2.2).
 
 use bytemuck::{Pod, Zeroable};
 
@@ -276,7 +276,7 @@ mod tests {
             .collect();
         let mut ordered = scattered.clone();
         progressive_order(&mut ordered);
-        let mut sorted = |v: &[BladeInstance]| {
+        let sorted = |v: &[BladeInstance]| {
             let mut keys: Vec<[u32; 2]> =
                 v.iter().map(|b| [b.position[0].to_bits(), b.position[2].to_bits()]).collect();
             keys.sort_unstable();

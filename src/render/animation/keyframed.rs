@@ -28,14 +28,14 @@ pub struct KeyframeModel {
 }
 
 impl KeyframeModel {
-    /// Generate the table for `segments`, upload it both ways, and make room for the pose records
-    /// of `blades` blades when they are evaluated per blade.
+    /// Generate the table for `segments`, upload it both ways, and make room for `room` pose
+    /// records and placed levels when blades are evaluated per blade.
     pub fn new(
         device: &Device,
         set_layout: vk::DescriptorSetLayout,
         settings: &AnimationSettings,
         segments: u32,
-        blades: u32,
+        room: (u32, u32),
     ) -> Result<Self> {
         let mut batch = UploadBatch::new(device);
         let (keyframes, table) = KeyframeTexture::new(&mut batch, segments, settings)?;
@@ -48,11 +48,11 @@ impl KeyframeModel {
                 return Err(e);
             }
         };
-        let records = match settings.eval {
-            Eval::Blade => blades.max(1),
-            Eval::Vertex => 0,
+        let room = match settings.eval {
+            Eval::Blade => (room.0.max(1), room.1),
+            Eval::Vertex => (0, 0),
         };
-        let set = AnimationSet::upload(device, set_layout, batch, keyframes, words, (records, segments))?;
+        let set = AnimationSet::upload(device, set_layout, batch, keyframes, words, (room, segments))?;
         Ok(Self { settings: settings.clone(), segments, layout, set })
     }
 

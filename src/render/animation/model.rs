@@ -98,18 +98,21 @@ pub trait AnimationModel {
     unsafe fn destroy(self: Box<Self>, device: &Device);
 }
 
-/// Build the model `settings` asks for (`segments` per blade, `blades` blades).
+/// Build the model `settings` asks for (`segments` per blade), with room for `records` pose
+/// records and `levels` placed levels (0 without the cull: nothing places them) when it
+/// evaluates per blade.
 pub fn build(
     device: &Device,
     set_layout: vk::DescriptorSetLayout,
     settings: &AnimationSettings,
     segments: u32,
-    blades: u32,
+    (records, levels): (u32, u32),
 ) -> Result<Box<dyn AnimationModel>> {
     Ok(match settings.mode {
         Mode::Static => Box::new(super::still::StaticModel::new(device, set_layout)?),
         Mode::Texture | Mode::Uniform => {
-            Box::new(super::keyframed::KeyframeModel::new(device, set_layout, settings, segments, blades)?)
+            let room = (records, levels);
+            Box::new(super::keyframed::KeyframeModel::new(device, set_layout, settings, segments, room)?)
         }
     })
 }
@@ -153,15 +156,16 @@ pub struct PerBlade {
 }
 
 impl PerBlade {
-    /// Room for `records` records of `segments` segments (a stand-in of one level each with
-    /// `records` 0).
-    pub fn new(device: &Device, records: u32, segments: u32) -> Result<Self> {
+    /// Room for `records` pose records and `levels` placed levels of `segments` segments, as
+    /// many as one storage buffer holds (a stand-in of one level for a count of 0).
+    pub fn new(device: &Device, (records, levels): (u32, u32), segments: u32) -> Result<Self> {
         use crate::render::scene_gpu::{level_bytes, level_records, pose_bytes};
         let usage = vk::BufferUsageFlags::STORAGE_BUFFER;
-        let (pose_size, level_records) = match records {
-            0 => (4 * u64::from(gpu::POSE_WORDS), 0),
-            _ => (pose_bytes(records, segments), level_records(device, records, segments)),
+        let pose_size = match records {
+            0 => 4 * u64::from(gpu::POSE_WORDS),
+            _ => pose_bytes(records, segments),
         };
+        let level_records = level_records(device, levels, segments);
         let level_size = match level_records {
             0 => 8 * u64::from(gpu::LEVEL_UVEC2S),
             _ => level_bytes(level_records, segments),
@@ -254,8 +258,8 @@ impl AnimationSet {
         Ok(resources)
     }
 
-    /// Submit `batch` (the uploads of `keyframes` and `words`), create room for `records` pose
-    /// records and placed levels of `segments` segments (0: stand-ins) and fill the set;
+    /// Submit `batch` (the uploads of `keyframes` and `words`), create room for `room` pose
+    /// records and placed levels of `segments` segments (`PerBlade::new`) and fill the set;
     /// everything is freed if a step fails.
     pub fn upload(
         device: &Device,
@@ -263,9 +267,9 @@ impl AnimationSet {
         batch: UploadBatch,
         keyframes: KeyframeTexture,
         words: KeyframeUniforms,
-        (records, segments): (u32, u32),
+        (room, segments): ((u32, u32), u32),
     ) -> Result<Self> {
-        let per_blade = batch.submit().and_then(|()| PerBlade::new(device, records, segments));
+        let per_blade = batch.submit().and_then(|()| PerBlade::new(device, room, segments));
         match per_blade {
             Ok(per_blade) => Self::new(device, set_layout, keyframes, words, per_blade),
             Err(e) => {

@@ -32,7 +32,7 @@ impl StaticModel {
                 return Err(e);
             }
         };
-        Ok(Self { set: AnimationSet::upload(device, set_layout, batch, keyframes, words, (0, 0))? })
+        Ok(Self { set: AnimationSet::upload(device, set_layout, batch, keyframes, words, ((0, 0), 0))? })
     }
 }
 

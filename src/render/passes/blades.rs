@@ -87,13 +87,12 @@ impl BladePass {
             (scene.clusters.raw, Access::VertexShaderStorageRead),
         ];
         if let BladeInput::PoseRecords(poses, levels) = setup.input {
-            reads.push((poses, Access::VertexShaderStorageRead));
             // With the cull, the placed levels stand for the records (`BladeLevelsPass`). The
-            // shader still names the records (a specialization constant skips them), and
-            // synchronization validation counts static use: both are declared.
-            if setup.constants[gpu::SPEC_RENDER_FLAGS as usize] & gpu::FLAG_LEVELS != 0 {
-                reads.push((levels, Access::VertexShaderStorageRead));
-            }
+            // shader names both (a specialization constant skips one), and synchronization
+            // validation counts static use: both are declared, whichever path runs, so a
+            // previous graph's write of either is ordered before this pass.
+            reads.push((poses, Access::VertexShaderStorageRead));
+            reads.push((levels, Access::VertexShaderStorageRead));
         }
         let mut pass = Self {
             pipeline,

@@ -97,7 +97,8 @@ impl Renderer {
         let path = (settings.culling.enabled, settings.floor);
         check_pose_records(&device, &renderer.animation, (scene_gpu.blade_count, settings.segments), path.0, path.1)?;
         let layout = renderer.layouts.animation_layout;
-        renderer.model = Some(model::build(&device, layout, &renderer.animation, settings.segments, records)?);
+        let room = (records, crate::render::scene_gpu::level_room(scene_gpu, records, settings.culling.enabled));
+        renderer.model = Some(model::build(&device, layout, &renderer.animation, settings.segments, room)?);
         renderer.build_graph(scene, polygon)?;
         Ok(renderer)
     }
@@ -125,14 +126,21 @@ impl Renderer {
         }
         // The same animation at the same segment count keeps its model (and its state): only the
         // passes are rebuilt, with no upload.
-        let keep_model = animation == self.animation && settings.segments == self.settings.segments;
+        // (With the cull or without it, the model has room for placed levels or none.)
+        let keep_model = animation == self.animation
+            && settings.segments == self.settings.segments
+            && settings.culling.enabled == self.settings.culling.enabled;
         let records = pose_records(&device, self.scene_gpu(), settings.segments);
         let blades = self.scene_gpu().blade_count;
         check_pose_records(&device, &animation, (blades, settings.segments), settings.culling.enabled, settings.floor)?;
         let model = match keep_model {
             true => None,
             false => {
-                Some(model::build(&device, self.layouts.animation_layout, &animation, settings.segments, records)?)
+                let room = (
+                    records,
+                    crate::render::scene_gpu::level_room(self.scene_gpu(), records, settings.culling.enabled),
+                );
+                Some(model::build(&device, self.layouts.animation_layout, &animation, settings.segments, room)?)
             }
         };
         let previous = (
@@ -216,18 +224,15 @@ impl Renderer {
         (BladePass::triangles(scene, self.settings.segments), TerrainPass::triangles(scene))
     }
 
-    /// Entries of the cull's visible list a frame may fill: its capacity, and with pose records
-    /// (`--eval blade`) at most one per record (`scene_gpu::pose_records`) and per placed level
-    /// record (`PerBlade::level_records`).
+    /// Entries of the cull's visible list a frame may fill (`scene_gpu::visible_limit`).
     fn visible_limit(&self) -> u32 {
-        let scene = self.scene_gpu();
-        match self.model.as_deref().map(|m| m.blade_input()) {
-            Some(BladeInput::PoseRecords(..)) => {
-                let levels = self.model.as_deref().map_or(0, |m| m.resources().per_blade.level_records);
-                scene.visible_capacity.min(pose_records(&self.device, scene, self.settings.segments)).min(levels)
+        let per_blade = match self.model.as_deref() {
+            Some(m) if matches!(m.blade_input(), BladeInput::PoseRecords(..)) => {
+                Some(m.resources().per_blade.level_records)
             }
-            _ => scene.visible_capacity,
-        }
+            _ => None,
+        };
+        crate::render::scene_gpu::visible_limit(&self.device, self.scene_gpu(), self.settings.segments, per_blade)
     }
 
     /// The uniforms of a frame seen from `camera` at simulation time `time` into `extent`.
@@ -258,6 +263,9 @@ impl Renderer {
         if let (Some(field), Some(origin)) = (&scene.field, &origin) {
             let verdicts = scene.verdict_capacity;
             field_gpu::fill_uniforms(&mut uniforms, field, origin, &scene.grid, culling.view_distance, verdicts);
+            // A longer view distance set live (the viewer) than the one the cull's buffers were
+            // made for: the rings stop where the buffers do.
+            uniforms.cull_tiles.y = uniforms.cull_tiles.y.min(scene.slot_capacity);
         }
         self.model.as_deref().expect("built").fill_uniforms(&mut uniforms);
         uniforms

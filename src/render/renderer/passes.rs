@@ -102,7 +102,8 @@ impl Renderer {
         if let (false, Some(model)) = (settings.floor, self.model.as_deref()) {
             model.specialize(&mut specialization);
             // With the cull, the drawn blades' levels are placed and lit once (`BladeLevelsPass`).
-            if settings.culling.enabled && matches!(model.blade_input(), BladeInput::PoseRecords(..)) {
+            let placed = model.resources().per_blade.level_records > 0;
+            if settings.culling.enabled && placed && matches!(model.blade_input(), BladeInput::PoseRecords(..)) {
                 specialization.flags |= gpu::FLAG_LEVELS;
             }
         }

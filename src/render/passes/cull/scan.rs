@@ -1,7 +1,8 @@
 //! Cull step 2 (`shaders/cull_scan.comp`): one workgroup turns the slot counts into offsets (a
-//! prefix sum in slot order, near to far), writes one indirect draw per LOD bucket and the
-//! frame's counts into the frame's host-visible buffer (read after its fence). Every word it
-//! writes is written whole each frame: there is no counter to clear.
+//! prefix sum in slot order, near to far), writes one indirect draw per LOD bucket, the pose and
+//! levels passes' indirect dispatch, the list of slots that draw with the emit pass's indirect
+//! dispatch over them, and the frame's counts into the frame's host-visible buffer (read after
+//! its fence). Every word it writes is written whole each frame: there is no counter to clear.
 
 use super::{CullSetup, CullStep, Groups};
 use crate::error::Result;
