@@ -72,14 +72,9 @@ impl Pass for BladeLevelsPass {
     }
 
     fn record(&self, ctx: &PassContext, cmd: vk::CommandBuffer) -> Result<()> {
-        let device = ctx.device;
-        passes::bind_scene_set(device, ctx, cmd, self.layout, vk::PipelineBindPoint::COMPUTE);
-        passes::bind_animation_set(device, cmd, self.layout, vk::PipelineBindPoint::COMPUTE, self.animation);
-        // SAFETY: cmd is recording outside a rendering instance; both sets are bound.
-        unsafe {
-            device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipeline);
-            device.raw.cmd_dispatch_indirect(cmd, self.draws, 4 * u64::from(gpu::POSE_DISPATCH_WORD));
-        }
+        passes::bind_blade_compute(ctx, cmd, (self.layout, self.pipeline), self.animation);
+        // SAFETY: cmd is recording outside a rendering instance; both sets and the pipeline are bound.
+        unsafe { ctx.device.raw.cmd_dispatch_indirect(cmd, self.draws, 4 * u64::from(gpu::POSE_DISPATCH_WORD)) };
         Ok(())
     }
 

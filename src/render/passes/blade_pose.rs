@@ -74,11 +74,9 @@ impl Pass for BladePosePass {
 
     fn record(&self, ctx: &PassContext, cmd: vk::CommandBuffer) -> Result<()> {
         let device = ctx.device;
-        passes::bind_scene_set(device, ctx, cmd, self.layout, vk::PipelineBindPoint::COMPUTE);
-        passes::bind_animation_set(device, cmd, self.layout, vk::PipelineBindPoint::COMPUTE, self.animation);
-        // SAFETY: cmd is recording outside a rendering instance; set 0 is bound.
+        passes::bind_blade_compute(ctx, cmd, (self.layout, self.pipeline), self.animation);
+        // SAFETY: cmd is recording outside a rendering instance; both sets and the pipeline are bound.
         unsafe {
-            device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipeline);
             match self.culled {
                 Some((_, draws)) => {
                     device.raw.cmd_dispatch_indirect(cmd, draws, 4 * u64::from(gpu::POSE_DISPATCH_WORD))

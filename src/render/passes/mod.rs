@@ -58,6 +58,21 @@ pub fn bind_animation_set(
     unsafe { device.raw.cmd_bind_descriptor_sets(cmd, bind_point, layout, gpu::SET_ANIMATION, &[set], &[]) };
 }
 
+/// Bind both scene sets (the frame's and the animation model's `animation`) and `pipeline` for
+/// compute: what the per-blade passes (poses, levels) record before their dispatch.
+pub fn bind_blade_compute(
+    ctx: &PassContext,
+    cmd: vk::CommandBuffer,
+    (layout, pipeline): (vk::PipelineLayout, vk::Pipeline),
+    animation: vk::DescriptorSet,
+) {
+    let device = ctx.device;
+    bind_scene_set(device, ctx, cmd, layout, vk::PipelineBindPoint::COMPUTE);
+    bind_animation_set(device, cmd, layout, vk::PipelineBindPoint::COMPUTE, animation);
+    // SAFETY: cmd is recording outside a rendering instance; the pipeline uses `layout`.
+    unsafe { device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline) };
+}
+
 /// Bind the frame's set (`SET_SCENE`) at `bind_point`.
 pub fn bind_scene_set(
     device: &Device,
