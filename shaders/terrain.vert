@@ -1,7 +1,8 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// Terrain by vertex pulling: 6 vertices per grid cell, heights from a storage buffer. Cell split
-// (0,0)-(1,0)-(1,1) and (0,0)-(1,1)-(0,1), as `scene::terrain::Terrain::height_at`.
+// Terrain by vertex pulling, indexed: vertex v is grid vertex (v % (cells + 1), v / (cells + 1)),
+// heights from a storage buffer; the index buffer splits each cell (0,0)-(1,0)-(1,1) and
+// (0,0)-(1,1)-(0,1), as `scene::terrain::Terrain::height_at` (`render::scene_gpu::terrain_indices`).
 #include "bindings.glsl"
 #include "field.glsl"
 
@@ -22,7 +23,6 @@ vec3 ground_color(vec3 normal, vec3 world) {
     return apply_fog(color, world, frame.camera_position, frame.sky_color);
 }
 
-const uvec2 CORNERS[6] = uvec2[6](uvec2(0, 0), uvec2(1, 0), uvec2(1, 1), uvec2(0, 0), uvec2(1, 1), uvec2(0, 1));
 
 float height(int x, int z) {
     int n = int(frame.params.z) + 1;
@@ -33,8 +33,7 @@ float height(int x, int z) {
 
 void main() {
     uint cells = frame.params.z;
-    uint cell = uint(gl_VertexIndex) / 6u;
-    uvec2 grid = uvec2(cell % cells, cell / cells) + CORNERS[uint(gl_VertexIndex) % 6u];
+    uvec2 grid = uvec2(uint(gl_VertexIndex) % (cells + 1u), uint(gl_VertexIndex) / (cells + 1u));
     if ((RENDER_FLAGS & FLAG_BLOCKS) != 0u) {
         // A block field: a grid of FIELD_TERRAIN_CELLS² cells centred on O's cell, evaluated on
         // the relief, its cell edge (terrain.x) a divisor or multiple of the block edge so the

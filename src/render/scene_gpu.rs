@@ -150,6 +150,8 @@ pub struct SceneGpu {
     pub heights: Buffer,
     /// Terrain cells per side.
     pub terrain_cells: u32,
+    /// The terrain's triangle list over its `(cells + 1)²` grid vertices (`terrain_indices`).
+    pub terrain_indices: Buffer,
     /// Terrain grid origin and cell size.
     pub terrain_origin: f32,
     /// Cell edge in metres.
@@ -187,6 +189,21 @@ pub struct SceneGpu {
     pub cull_alloc: Buffer,
     /// Verdicts `cull_results` holds.
     pub verdict_capacity: u32,
+}
+
+/// The terrain's triangle list, cell by cell in rows: vertex (x, z) of the `(cells + 1)²` grid is
+/// `z (cells + 1) + x`, and a cell splits into (0,0)-(1,0)-(1,1) and (0,0)-(1,1)-(0,1), as
+/// `scene::terrain::Terrain::height_at`. Indexed, a grid vertex shared by six triangles is shaded
+/// about once instead of six times (a block field's terrain evaluates the relief's sixteen sines
+/// and cosines per vertex).
+pub fn terrain_indices(cells: u32) -> Vec<u32> {
+    let row = cells + 1;
+    (0..cells * cells)
+        .flat_map(|cell| {
+            let v = (cell / cells) * row + cell % cells;
+            [v, v + 1, v + row + 1, v, v + row + 1, v + row]
+        })
+        .collect()
 }
 
 /// Ring slots the cull may dispatch for a grid of `tiles` per side: the rings around a tile of
@@ -249,6 +266,7 @@ const PYRAMID_BYTES: u64 = 4 * gpu_constants::PYRAMID_FLOATS as u64;
 struct Partial {
     blades: Option<Buffer>,
     heights: Option<Buffer>,
+    terrain_indices: Option<Buffer>,
     clusters: Option<Buffer>,
     blade_alpha: Option<Image>,
     tiles: Option<Buffer>,
@@ -261,8 +279,8 @@ impl Partial {
     unsafe fn destroy(self, device: &Device) {
         // SAFETY: per the contract.
         unsafe {
-            for buffer in [self.blades, self.heights, self.clusters, self.tiles].into_iter().flatten().chain(self.cull)
-            {
+            let scene = [self.blades, self.heights, self.terrain_indices, self.clusters, self.tiles];
+            for buffer in scene.into_iter().flatten().chain(self.cull) {
                 buffer.destroy(device);
             }
             if let Some(image) = self.blade_alpha {
@@ -281,7 +299,7 @@ impl SceneGpu {
         let blades = blade_count
             * (std::mem::size_of::<crate::scene::BladeInstance>() + std::mem::size_of::<BladeCluster>() + 16 + 8 + 8)
                 as u64;
-        let heights = (terrain_cells + 1).pow(2) * 4;
+        let heights = (terrain_cells + 1).pow(2) * 4 + terrain_cells.pow(2) * 24;
         let alpha = u64::from(alpha::WIDTH * alpha::HEIGHT);
         let tiles = u64::from(MAX_TILES_PER_SIDE).pow(2) * std::mem::size_of::<BladeTile>() as u64
             + cull_bytes(0, max_ring_slots(MAX_TILES_PER_SIDE), 0)[1]
@@ -307,6 +325,7 @@ impl SceneGpu {
                 blades: partial.blades.take().expect("uploaded"),
                 blade_count: scene.blades.len() as u32,
                 heights: partial.heights.take().expect("uploaded"),
+                terrain_indices: partial.terrain_indices.take().expect("uploaded"),
                 terrain_cells: if scene.field.is_some() {
                     gpu_constants::FIELD_TERRAIN_CELLS
                 } else {
@@ -353,6 +372,10 @@ impl SceneGpu {
         let vertex_compute_read: &'static [Access] = &[Access::VertexShaderStorageRead, Access::ComputeShaderRead];
         partial.blades = Some(batch.buffer("blades", &scene.blades, storage, vertex_compute_read)?);
         partial.heights = Some(batch.buffer("terrain heights", &scene.terrain.heights, storage, vertex_read)?);
+        let cells = if scene.field.is_some() { gpu_constants::FIELD_TERRAIN_CELLS } else { scene.terrain.cells };
+        let indices = terrain_indices(cells);
+        let usage = vk::BufferUsageFlags::INDEX_BUFFER;
+        partial.terrain_indices = Some(batch.buffer("terrain indices", &indices, usage, &[Access::IndexRead])?);
         let clusters = grid.assign(&scene.blades);
         partial.clusters = Some(batch.buffer("blade clusters", &clusters, storage, vertex_compute_read)?);
         let desc = ImageDesc::color(
@@ -436,6 +459,7 @@ impl SceneGpu {
             self.cull_alloc.destroy(device);
             self.blade_alpha.destroy(device);
             self.heights.destroy(device);
+            self.terrain_indices.destroy(device);
             self.blades.destroy(device);
         }
     }

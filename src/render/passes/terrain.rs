@@ -1,5 +1,5 @@
-//! Terrain pass: the height field, 6 vertices per cell pulled from the heights buffer. The first
-//! pass of a frame: it clears colour to the sky and depth to the far plane (0, reversed Z).
+//! Terrain pass: the height field, an indexed triangle list over its grid vertices pulled from the
+//! heights buffer. The first pass of a frame: it clears colour to the sky and depth to the far plane (0, reversed Z).
 
 use ash::vk;
 
@@ -15,6 +15,7 @@ pub struct TerrainPass {
     pipeline: vk::Pipeline,
     layout: vk::PipelineLayout,
     heights: vk::Buffer,
+    indices: vk::Buffer,
     cells: u32,
     sky: [f32; 4],
 }
@@ -47,7 +48,14 @@ impl TerrainPass {
                 blend: pipeline::Blend::Opaque,
             },
         )?;
-        Ok(Self { pipeline, layout: target.layout, heights: scene.heights.raw, cells: scene.terrain_cells, sky })
+        Ok(Self {
+            pipeline,
+            layout: target.layout,
+            heights: scene.heights.raw,
+            indices: scene.terrain_indices.raw,
+            cells: scene.terrain_cells,
+            sky,
+        })
     }
 
     /// Triangles drawn.
@@ -67,14 +75,18 @@ impl Pass for TerrainPass {
         let clear_depth = vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: 0.0, stencil: 0 } };
         rendering.color.as_mut().expect("scene colour").load = Load::Clear(clear_color);
         rendering.depth.as_mut().expect("scene depth").load = Load::Clear(clear_depth);
-        Some(Declaration::graphics(rendering).buffer(self.heights, Access::VertexShaderStorageRead))
+        let declaration = Declaration::graphics(rendering).buffer(self.heights, Access::VertexShaderStorageRead);
+        Some(declaration.buffer(self.indices, Access::IndexRead))
     }
 
     fn record(&self, ctx: &PassContext, cmd: vk::CommandBuffer) -> Result<()> {
         let device = ctx.device;
         passes::bind_graphics(device, ctx, cmd, self.layout, self.pipeline);
         // SAFETY: cmd is recording inside this pass's rendering instance; set 0 is bound.
-        unsafe { device.raw.cmd_draw(cmd, 6 * self.cells * self.cells, 1, 0, 0) };
+        unsafe {
+            device.raw.cmd_bind_index_buffer(cmd, self.indices, 0, vk::IndexType::UINT32);
+            device.raw.cmd_draw_indexed(cmd, 6 * self.cells * self.cells, 1, 0, 0, 0);
+        }
         Ok(())
     }
 

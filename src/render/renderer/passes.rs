@@ -43,6 +43,7 @@ impl Renderer {
         self.graph.import(Resource::Buffer(scene.blades.raw), &vertex_compute);
         self.graph.import(Resource::Buffer(scene.clusters.raw), &vertex_compute);
         self.graph.import(Resource::Buffer(scene.heights.raw), &[Access::VertexShaderStorageRead]);
+        self.graph.import(Resource::Buffer(scene.terrain_indices.raw), &[Access::IndexRead]);
         self.graph.import(Resource::Buffer(scene.tiles.raw), &[Access::ComputeShaderRead]);
         let (keyframes, uploaded) = model.resources().keyframe_import();
         self.graph.import(keyframes, &uploaded);
