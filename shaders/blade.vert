@@ -48,15 +48,12 @@ LevelPose pose_levels(vec3 p[4], KfSelection sel, float height, uint m) {
 }
 
 // A LOD bucket draws SEGMENTS <= MODEL_SEGMENTS segments: strip level `level` lies at model level
-// level * MODEL_SEGMENTS / SEGMENTS, between two stored levels when SEGMENTS does not divide
-// MODEL_SEGMENTS (a constant test: the interpolation compiles out otherwise). The fewer-segment
-// blade samples the same curve.
-const bool LEVELS_ALIGN = (MODEL_SEGMENTS % SEGMENTS) == 0u;
-
+// level * MODEL_SEGMENTS / SEGMENTS (`model_level`), between two stored levels when SEGMENTS does
+// not divide MODEL_SEGMENTS (a constant test: the interpolation compiles out otherwise). The
+// fewer-segment blade samples the same curve.
 LevelPose animated(uint blade_index, uint record, BladeInstance blade, vec3 p[4], uint level, float t) {
-    float at = float(level * MODEL_SEGMENTS) / float(SEGMENTS);
-    uint m0 = LEVELS_ALIGN ? level * (MODEL_SEGMENTS / SEGMENTS) : uint(at);
-    float frac = LEVELS_ALIGN ? 0.0 : at - float(m0);
+    float frac;
+    uint m0 = model_level(level, SEGMENTS, frac);
     uint m1 = min(m0 + 1u, MODEL_SEGMENTS);
     if ((RENDER_FLAGS & FLAG_EVAL_BLADE) != 0u) {
         return recorded_level(record, blade.height, level, SEGMENTS);
@@ -74,7 +71,7 @@ LevelPose animated(uint blade_index, uint record, BladeInstance blade, vec3 p[4]
         pose.twist_cs = vec2(cos(c1.w * t), sin(c1.w * t));
     } else {
         pose = pose_levels(p, sel, blade.height, m0);
-        if (!LEVELS_ALIGN && frac > 0.0) {
+        if (frac > 0.0) {
             LevelPose next = pose_levels(p, sel, blade.height, m1);
             pose.local = mix(pose.local, next.local, frac);
             pose.tangent = mix(pose.tangent, next.tangent, frac);

@@ -36,13 +36,23 @@ LevelPose pose_records(uint record, float height, uint m) {
 // level * MODEL_SEGMENTS / segments, between two stored levels when `segments` does not divide
 // MODEL_SEGMENTS (a constant test where `segments` is the constant SEGMENTS). The fewer-segment
 // blade samples the same curve.
-LevelPose recorded_level(uint record, float height, uint level, uint segments) {
-    bool align = (MODEL_SEGMENTS % segments) == 0u;
+// Model level m0 below strip level `level` of a `segments`-segment strip, and how far towards
+// m0 + 1 it lies (0 when `segments` divides MODEL_SEGMENTS).
+uint model_level(uint level, uint segments, out float frac) {
+    if ((MODEL_SEGMENTS % segments) == 0u) {
+        frac = 0.0;
+        return level * (MODEL_SEGMENTS / segments);
+    }
     float at = float(level * MODEL_SEGMENTS) / float(segments);
-    uint m0 = align ? level * (MODEL_SEGMENTS / segments) : uint(at);
-    float frac = align ? 0.0 : at - float(m0);
+    frac = at - floor(at);
+    return uint(at);
+}
+
+LevelPose recorded_level(uint record, float height, uint level, uint segments) {
+    float frac;
+    uint m0 = model_level(level, segments, frac);
     LevelPose pose = pose_records(record, height, m0);
-    if (!align && frac > 0.0) {
+    if (frac > 0.0) {
         LevelPose next = pose_records(record, height, min(m0 + 1u, MODEL_SEGMENTS));
         pose.local = mix(pose.local, next.local, frac);
         pose.tangent = mix(pose.tangent, next.tangent, frac);

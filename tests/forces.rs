@@ -1,6 +1,9 @@
 //! Per-blade forces on the GPU (the vertex shader's `blade_force`) against the CPU reference,
 //! and the cluster-discretisation experiment of thesis fig. 4.7/4.8.
 
+#[path = "support/compute.rs"]
+mod compute;
+
 use std::sync::Arc;
 
 use ash::vk;
@@ -12,7 +15,7 @@ use meadow::render::uniforms::FrameUniforms;
 use meadow::scene::clusters::{BladeCluster, ClusterGrid};
 use meadow::scene::{BladeInstance, Scene};
 use meadow::vk::descriptor::{self, Binding, Resource};
-use meadow::vk::{commands, pipeline, sync, Access, Buffer, BufferDesc, Device, DeviceSelector};
+use meadow::vk::{pipeline, Buffer, BufferDesc, Device, DeviceSelector};
 use meadow::wind::{Attenuation, CalmArea, Collider, GlobalWind, PointSource, Wind};
 
 fn options() -> GpuOptions {
@@ -56,35 +59,13 @@ fn gpu_forces(device: &Arc<Device>, case: &Case) -> meadow::Result<(Vec<Vec2>, V
     descriptor::write(device, sets[0], &writes);
     let out = buffers.last().expect("output").raw;
     let groups = (case.blades.len() as u32).div_ceil(64);
-    let submitted = commands::submit_and_wait(device, "forces", |cmd| {
-        // SAFETY: all objects are live; host writes are visible at submission.
-        unsafe {
-            device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipe);
-            device.raw.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::COMPUTE, layout, 0, &sets, &[]);
-            device.raw.cmd_dispatch(cmd, groups, 1, 1);
-        }
-        sync::cmd_barriers(
-            device,
-            cmd,
-            &[sync::buffer_barrier(out, &[Access::ComputeShaderWrite], &[Access::HostRead])],
-            &[],
-        );
-        Ok(())
-    });
+    let submitted = compute::dispatch(device, "forces", (pipe, layout), &sets, &[], groups, out);
     let gpu: Vec<Vec2> = bytemuck::cast_slice::<u8, [f32; 2]>(buffers.last().expect("output").mapped())
         .iter()
         .map(|f| Vec2::from(*f))
         .collect();
     // SAFETY: submit_and_wait waited for the dispatch.
-    unsafe {
-        device.raw.destroy_descriptor_pool(pool, None);
-        device.raw.destroy_pipeline(pipe, None);
-        device.raw.destroy_pipeline_layout(layout, None);
-        device.raw.destroy_descriptor_set_layout(set_layout, None);
-        for buffer in buffers {
-            buffer.destroy(device);
-        }
-    }
+    unsafe { compute::teardown(device, (pool, pipe, layout, set_layout), buffers) };
     submitted?;
     let cpu = cpu_forces(case, &clusters, &corners, &emitters);
     Ok((gpu, cpu))

@@ -58,14 +58,7 @@ fn run_compute(
     let submitted = compute::dispatch(device, "readback", (pipe, layout), &sets, &[], groups, output.raw);
     let words = bytemuck::cast_slice::<u8, u32>(output.mapped()).to_vec();
     // SAFETY: submit_and_wait waited for the dispatch.
-    unsafe {
-        device.raw.destroy_descriptor_pool(pool, None);
-        device.raw.destroy_pipeline(pipe, None);
-        device.raw.destroy_pipeline_layout(layout, None);
-        device.raw.destroy_descriptor_set_layout(set_layout, None);
-        input.destroy(device);
-        output.destroy(device);
-    }
+    unsafe { compute::teardown(device, (pool, pipe, layout, set_layout), [input, output]) };
     submitted.map(|()| words)
 }
 

@@ -136,13 +136,7 @@ fn decode_on_gpu(device: &Arc<Device>, source: Source) -> meadow::Result<(Keyfra
     let decoded = bytemuck::cast_slice::<u8, [f32; 4]>(out.mapped()).to_vec();
     // SAFETY: submit_and_wait waited.
     unsafe {
-        device.raw.destroy_descriptor_pool(pool, None);
-        device.raw.destroy_pipeline(pipe, None);
-        device.raw.destroy_pipeline_layout(layout, None);
-        device.raw.destroy_descriptor_set_layout(set_layout, None);
-        frame.destroy(device);
-        out.destroy(device);
-        words.buffer.destroy(device);
+        compute::teardown(device, (pool, pipe, layout, set_layout), [frame, out, words.buffer]);
         texture.destroy(device);
     }
     submitted.map(|()| (table, decoded))

@@ -154,13 +154,7 @@ fn poses_on_gpu(device: &Arc<Device>, smoothing: Smoothing, forces: &[(f32, f32)
     let poses = bytemuck::cast_slice::<u8, Vec4>(out.mapped()).chunks(SEGMENTS as usize + 1).map(pose_of).collect();
     // SAFETY: submit_and_wait waited.
     unsafe {
-        device.raw.destroy_descriptor_pool(pool, None);
-        device.raw.destroy_pipeline(pipe, None);
-        device.raw.destroy_pipeline_layout(layout, None);
-        device.raw.destroy_descriptor_set_layout(set_layout, None);
-        frame.destroy(device);
-        forces_buffer.destroy(device);
-        out.destroy(device);
+        compute::teardown(device, (pool, pipe, layout, set_layout), [frame, forces_buffer, out]);
         model.destroy(device);
         device.raw.destroy_descriptor_set_layout(animation_layout, None);
     }

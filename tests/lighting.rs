@@ -69,7 +69,7 @@ fn probe(device: &Arc<Device>, scene: &Scene, camera: Vec3) -> meadow::Result<Ve
         compute::dispatch(device, "probe", (pipe, layout), &sets, bytemuck::cast_slice(&params), groups, output.raw);
     let floats = bytemuck::cast_slice::<u8, f32>(output.mapped()).to_vec();
     // SAFETY: submit_and_wait waited for the dispatch.
-    unsafe { teardown(device, (pool, pipe, layout, set_layout), [blades, heights, output]) };
+    unsafe { compute::teardown(device, (pool, pipe, layout, set_layout), [blades, heights, output]) };
     submitted?;
     Ok(floats
         .chunks_exact(PROBE_FLOATS)
@@ -80,27 +80,6 @@ fn probe(device: &Arc<Device>, scene: &Scene, camera: Vec3) -> meadow::Result<Ve
             fresnel: Vec3::new(f[7], f[8], f[9]),
         })
         .collect())
-}
-
-/// Destroy a probe's objects and buffers.
-///
-/// # Safety
-/// No pending work may use them.
-unsafe fn teardown<const N: usize>(
-    device: &Device,
-    (pool, pipe, layout, set_layout): (vk::DescriptorPool, vk::Pipeline, vk::PipelineLayout, vk::DescriptorSetLayout),
-    buffers: [Buffer; N],
-) {
-    // SAFETY: per the contract.
-    unsafe {
-        device.raw.destroy_descriptor_pool(pool, None);
-        device.raw.destroy_pipeline(pipe, None);
-        device.raw.destroy_pipeline_layout(layout, None);
-        device.raw.destroy_descriptor_set_layout(set_layout, None);
-        for buffer in buffers {
-            buffer.destroy(device);
-        }
-    }
 }
 
 /// Is = Ks · l⁶ · (1 − N_L·V)¹⁰ on the CPU (lighting.glsl's reading of Belyaev §2.3).
@@ -216,7 +195,7 @@ fn height_six_probe(device: &Arc<Device>) -> meadow::Result<Vec<f32>> {
     let submitted = compute::dispatch(device, "height six", (pipe, layout), &sets, &[], 1, output.raw);
     let floats = bytemuck::cast_slice::<u8, f32>(output.mapped()).to_vec();
     // SAFETY: submit_and_wait waited for the dispatch.
-    unsafe { teardown(device, (pool, pipe, layout, set_layout), [output]) };
+    unsafe { compute::teardown(device, (pool, pipe, layout, set_layout), [output]) };
     submitted?;
     Ok(floats)
 }
