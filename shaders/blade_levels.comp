@@ -25,9 +25,8 @@ layout(local_size_x = POSE_GROUP) in;
 uint entry_segments(uint i) {
     uint buckets = frame.cull_lod.x;
     for (uint b = 0u; b < buckets; b++) {
-        // VkDrawIndirectCommand: vertexCount, instanceCount, firstVertex, firstInstance.
-        uint first = draws[b * 4u + 3u] * BLADES_PER_INSTANCE;
-        uint end = first + draws[b * 4u + 1u] * BLADES_PER_INSTANCE;
+        uint first = draws[b * DRAW_WORDS + DRAW_FIRST_INSTANCE] * BLADES_PER_INSTANCE;
+        uint end = first + draws[b * DRAW_WORDS + DRAW_INSTANCES] * BLADES_PER_INSTANCE;
         if (i >= first && i < end) {
             return ((frame.cull_lod.y >> (4u * b)) & 15u) + 1u;
         }

@@ -52,8 +52,20 @@ layout(constant_id = SPEC_MODEL_SEGMENTS) const uint MODEL_SEGMENTS = 4u;
 // on llvmpipe a 64-wide group ran them 8 times and cost 13 ms more at 1M blades.
 layout(constant_id = SPEC_CULL_GROUP) const uint CULL_GROUP = 64u;
 layout(constant_id = SPEC_MSAA_SAMPLES) const uint MSAA_SAMPLES = 1u;
-const uint STRIP_LEAD = BLADES_PER_INSTANCE > 1u ? 1u : 0u;     // repeats of a strip's first vertex
-const uint STRIP_STRIDE = 2u * (SEGMENTS + 1u) + 2u * STRIP_LEAD; // vertices per blade
+// Brute force draws strips, joined by repeating a strip's first and last vertices. With the cull
+// (FLAG_CULLED), the LOD buckets draw indexed triangle lists instead (`scene::bezier::BladeMesh`):
+// no joins, and a blade whose outline is geometry (FLAG_SOLID_OUTLINE: zero width at the tip)
+// ends in one tip vertex, its top segment one triangle.
+const uint TIP_VERTICES = (RENDER_FLAGS & FLAG_SOLID_OUTLINE) != 0u ? 1u : 2u;
+const uint STRIP_LEAD = (RENDER_FLAGS & FLAG_CULLED) == 0u && BLADES_PER_INSTANCE > 1u ? 1u : 0u; // repeats of a strip's first vertex
+const uint STRIP_STRIDE = (RENDER_FLAGS & FLAG_CULLED) != 0u
+    ? 2u * SEGMENTS + TIP_VERTICES
+    : 2u * (SEGMENTS + 1u) + 2u * STRIP_LEAD; // vertices per blade
+
+// Triangles of one blade of `segments` segments in a LOD bucket's list (a collapsed tip has one).
+uint bucket_blade_triangles(uint segments) {
+    return 2u * segments - (2u - TIP_VERTICES);
+}
 
 // Per-blade cluster record (std430, 8 bytes): eq. 3.7 weights precomputed.
 struct BladeCluster {

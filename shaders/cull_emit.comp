@@ -68,7 +68,7 @@ void main() {
     for (uint b = 0u; b < MAX_LOD_BUCKETS; b++) {
         // Bucket base (the draw's firstInstance, instances of BLADES_PER_INSTANCE entries) + the
         // slot's offset + the runs before this one.
-        at[b] = draws[4u * b + 3u] * BLADES_PER_INSTANCE + slot_counts[slot * SLOT_WORDS + b] + prefix[b][lane];
+        at[b] = draws[DRAW_WORDS * b + DRAW_FIRST_INSTANCE] * BLADES_PER_INSTANCE + slot_counts[slot * SLOT_WORDS + b] + prefix[b][lane];
     }
     for (uint rank = begin; rank < end; rank++) {
         uvec2 result = cull_results[verdict_index(tile, base, rank)];

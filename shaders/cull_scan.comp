@@ -34,12 +34,14 @@ bool slot_draws(uint slot) {
 // instance), the pose and levels passes' dispatch over the list, and the emit pass's dispatch over
 // the slots that draw.
 void write_dispatches() {
-    // Each instance draws BLADES_PER_INSTANCE consecutive entries of the list (strips joined by
-    // degenerate triangles, blade.vert), so a bucket starts at a multiple of it and its last
-    // instance's tail is padded with VISIBLE_PADDING entries, which draw nothing.
+    // Each instance draws BLADES_PER_INSTANCE consecutive entries of the list (the bucket's
+    // blade triangle list repeated, blade.vert), so a bucket starts at a multiple of it and its
+    // last instance's tail is padded with VISIBLE_PADDING entries, which draw nothing.
     const uint batch = BLADES_PER_INSTANCE;
-    const uint lead = batch > 1u ? 1u : 0u;
     uint first = 0u;
+    // The buckets' index lists follow each other in the blade pass's index buffer
+    // (`scene::bezier::bucket_indices`).
+    uint first_index = 0u;
     for (uint b = 0u; b < MAX_LOD_BUCKETS; b++) {
         // The visible list holds cull_lod.w entries: past them, the farthest are dropped.
         uint room = frame.cull_lod.w - min(first, frame.cull_lod.w);
@@ -48,12 +50,16 @@ void write_dispatches() {
         for (uint pad = first + count; pad < first + instances * batch; pad++) {
             visible[pad] = uvec2(VISIBLE_PADDING, 0u);
         }
-        // VkDrawIndirectCommand: vertexCount, instanceCount, firstVertex, firstInstance.
-        draws[4u * b] = (2u * (bucket_segments(b) + 1u) + 2u * lead) * batch;
-        draws[4u * b + 1u] = instances;
-        draws[4u * b + 2u] = 0u;
-        draws[4u * b + 3u] = first / batch;
+        // VkDrawIndexedIndirectCommand: indexCount, instanceCount, firstIndex, vertexOffset,
+        // firstInstance.
+        uint indices = 3u * bucket_blade_triangles(bucket_segments(b)) * batch;
+        draws[DRAW_WORDS * b] = indices;
+        draws[DRAW_WORDS * b + DRAW_INSTANCES] = instances;
+        draws[DRAW_WORDS * b + 2u] = first_index;
+        draws[DRAW_WORDS * b + 3u] = 0u;
+        draws[DRAW_WORDS * b + DRAW_FIRST_INSTANCE] = first / batch;
         first += instances * batch;
+        first_index += indices;
     }
     // The blade-pose pass (`--eval blade`) and the levels pass evaluate each entry once.
     draws[POSE_DISPATCH_WORD] = (first + POSE_GROUP - 1u) / POSE_GROUP;

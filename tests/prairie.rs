@@ -85,7 +85,7 @@ fn gpu_counts_equal_the_cpu_reference_of_the_same_tests() {
         let renderer = Renderer::new(device.clone(), &scene, settings(culling, 1), Default::default())?;
         Ok(cameras
             .iter()
-            .map(|c| reference_counts(&scene, &renderer.frame_uniforms(c, 0.5, EXTENT)))
+            .map(|c| reference_counts(&scene, &renderer.frame_uniforms(c, 0.5, EXTENT), culling.solid_outline))
             .collect::<Vec<_>>())
     });
     assert_eq!(messages, Some(0));

@@ -16,11 +16,12 @@ const EDGE_ON: f32 = 0.97;
 
 /// What the cull keeps of `scene` with the frame's `uniforms` (`Renderer::frame_uniforms`).
 /// The occlusion test needs the GPU's depth of the frame: the reference is for uniforms without
-/// `CULL_OCCLUSION` (refused otherwise).
-pub fn reference_counts(scene: &Scene, uniforms: &FrameUniforms) -> CullCounts {
+/// `CULL_OCCLUSION` (refused otherwise). `collapsed_tip`: how the blades are drawn
+/// (`scene::bezier::BladeMesh`), for the triangle count.
+pub fn reference_counts(scene: &Scene, uniforms: &FrameUniforms, collapsed_tip: bool) -> CullCounts {
     assert_eq!(uniforms.cull_lod.z & gpu::CULL_OCCLUSION, 0, "the CPU reference has no depth pyramid");
     let cull = Cull { scene, u: uniforms, planes: planes(uniforms.cull_view_proj) };
-    let mut counts = CullCounts::default();
+    let mut counts = CullCounts { collapsed_tip, ..CullCounts::default() };
     let buckets = uniforms.cull_lod.x as usize;
     for b in 0..buckets {
         counts.segments[b] = ((uniforms.cull_lod.y >> (4 * b)) & 15) + 1;

@@ -5,6 +5,7 @@ use glam::{UVec4, Vec4};
 
 use crate::render::gpu_constants as gpu;
 use crate::render::uniforms::FrameUniforms;
+use crate::scene::bezier::BladeMesh;
 use crate::scene::tiles::TileGrid;
 use crate::scene::Camera;
 
@@ -184,6 +185,9 @@ pub struct CullCounts {
     pub drawn: [u32; MAX_LOD_BUCKETS],
     /// Segments of each bucket (0 past the last).
     pub segments: [u32; MAX_LOD_BUCKETS],
+    /// Whether the buckets' blades end in one tip vertex (`bezier::BladeMesh`, the outline as
+    /// geometry).
+    pub collapsed_tip: bool,
     /// Blades of every tile.
     pub considered: u32,
     /// Blades of the tiles that passed the tile tests.
@@ -203,8 +207,9 @@ pub struct CullCounts {
 }
 
 impl CullCounts {
-    /// Decode the `SLOT_WORDS` words the scan wrote, for buckets of `segments`.
-    pub fn from_words(words: &[u32], segments: &[u32]) -> Self {
+    /// Decode the `SLOT_WORDS` words the scan wrote, for buckets of `segments` (their blades'
+    /// tips collapsed or not).
+    pub fn from_words(words: &[u32], segments: &[u32], collapsed_tip: bool) -> Self {
         let stat = |i: u32| words[i as usize];
         let mut counts = Self {
             considered: stat(gpu::STAT_CONSIDERED),
@@ -215,6 +220,7 @@ impl CullCounts {
             after_occlusion: stat(gpu::STAT_OCCLUSION),
             tiles_visible: stat(gpu::STAT_TILES_VISIBLE),
             tiles: stat(gpu::STAT_TILES_TOTAL),
+            collapsed_tip,
             ..Self::default()
         };
         for (b, &s) in segments.iter().enumerate() {
@@ -251,9 +257,10 @@ impl CullCounts {
         )
     }
 
-    /// Blade triangles drawn.
+    /// Blade triangles drawn (`bezier::BladeMesh::triangles` per blade).
     pub fn triangles(&self) -> u64 {
-        self.drawn.iter().zip(self.segments).map(|(&d, s)| 2 * u64::from(d) * u64::from(s)).sum()
+        let per_blade = |segments| u64::from(BladeMesh { segments, collapsed_tip: self.collapsed_tip }.triangles());
+        self.drawn.iter().zip(self.segments).filter(|(_, s)| *s > 0).map(|(&d, s)| u64::from(d) * per_blade(s)).sum()
     }
 }
 

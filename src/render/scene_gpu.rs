@@ -179,7 +179,7 @@ pub struct SceneGpu {
     pub slot_capacity: u32,
     /// The cull's `SLOT_WORDS` words per ring slot.
     pub slot_counts: Buffer,
-    /// The cull's `VkDrawIndirectCommand` per LOD bucket.
+    /// The cull's `VkDrawIndexedIndirectCommand` per LOD bucket, then its dispatches.
     pub draws: Buffer,
     /// The count pass's verdict per candidate blade, for the emit pass.
     pub cull_results: Buffer,
@@ -467,6 +467,8 @@ impl SceneGpu {
 
 // The blade-pose dispatch follows the buckets' draws in `draws`, then the emit pass's dispatch
 // and its slots (`shaders/shared.glsl`).
-const _: () = assert!(gpu_constants::POSE_DISPATCH_WORD == 4 * gpu_constants::MAX_LOD_BUCKETS);
+const _: () = assert!(gpu_constants::POSE_DISPATCH_WORD == gpu_constants::DRAW_WORDS * gpu_constants::MAX_LOD_BUCKETS);
+const _: () =
+    assert!(gpu_constants::DRAW_WORDS as usize * 4 == std::mem::size_of::<ash::vk::DrawIndexedIndirectCommand>());
 const _: () = assert!(gpu_constants::EMIT_DISPATCH_WORD == gpu_constants::POSE_DISPATCH_WORD + 4);
 const _: () = assert!(gpu_constants::EMIT_SLOTS_WORD == gpu_constants::EMIT_DISPATCH_WORD + 4);

@@ -87,6 +87,53 @@ impl Batching {
     }
 }
 
+/// A LOD bucket's blade as an indexed triangle list (the cull's draws, blade.vert): the strip's
+/// triangles in the strip's order and winding, without the degenerate ones. No joins between the
+/// blades of an instance, and with `collapsed_tip` (the outline drawn as geometry, zero wide at
+/// the tip) one tip vertex: the top segment is one triangle. Against the joined strips, a
+/// 1-segment blade shades 3 vertices instead of 6 and sets up 1 triangle instead of 6.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct BladeMesh {
+    /// Segments.
+    pub segments: u32,
+    /// One tip vertex instead of two.
+    pub collapsed_tip: bool,
+}
+
+impl BladeMesh {
+    /// Vertices of one blade: strip vertex `j` is vertex `j`.
+    pub fn vertices(&self) -> u32 {
+        strip_vertices(self.segments) - u32::from(self.collapsed_tip)
+    }
+
+    /// Triangles of one blade.
+    pub fn triangles(&self) -> u32 {
+        2 * self.segments - u32::from(self.collapsed_tip)
+    }
+
+    /// Indices of `blades` blades (blade k's vertices from `k * vertices()`): strip triangle `i`
+    /// is `(i, i+1, i+2)` for even `i` and `(i+1, i, i+2)` for odd `i`, as Vulkan assembles a
+    /// strip, so each triangle is the strip's own.
+    pub fn indices(&self, blades: u32) -> Vec<u32> {
+        let stride = self.vertices();
+        (0..blades)
+            .flat_map(|k| {
+                (0..self.triangles()).flat_map(move |i| {
+                    let t = if i % 2 == 0 { [i, i + 1, i + 2] } else { [i + 1, i, i + 2] };
+                    t.map(|v| k * stride + v)
+                })
+            })
+            .collect()
+    }
+}
+
+/// The index lists of the cull's LOD buckets, one after the other (`segments` per bucket,
+/// `blades` per instance), as `cull_scan.comp` addresses them (`firstIndex` of bucket b is the
+/// length of the lists before it).
+pub fn bucket_indices(segments: &[u32], collapsed_tip: bool, blades: u32) -> Vec<u32> {
+    segments.iter().flat_map(|&segments| BladeMesh { segments, collapsed_tip }.indices(blades)).collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -143,6 +190,35 @@ mod tests {
             let repeats = w[0] == w[1] || w[1] == w[2] || w[0] == w[2];
             assert!(repeats || (same_blade && w[1].1 == w[0].1 + 1 && w[2].1 == w[1].1 + 1), "{w:?}");
         }
+    }
+
+    #[test]
+    fn a_blade_mesh_is_its_strip_without_the_degenerate_triangles() {
+        for segments in [1, 2, 3, 4, 8, 16] {
+            let strip = strip_vertices(segments);
+            // Vulkan's strip triangles, as vertex pairs (level, side); the tip's two vertices
+            // are one when it collapses.
+            for collapsed_tip in [false, true] {
+                let mesh = BladeMesh { segments, collapsed_tip };
+                let at = |v: u32| if collapsed_tip && v == strip - 1 { strip - 2 } else { v };
+                let expected: Vec<[u32; 3]> = (0..strip - 2)
+                    .map(|i| if i % 2 == 0 { [i, i + 1, i + 2] } else { [i + 1, i, i + 2] }.map(at))
+                    .filter(|t| t[0] != t[1] && t[1] != t[2] && t[0] != t[2])
+                    .collect();
+                let indices = mesh.indices(3);
+                assert_eq!(indices.len() as u32, 3 * 3 * mesh.triangles());
+                let first: Vec<[u32; 3]> =
+                    indices[..3 * mesh.triangles() as usize].chunks(3).map(|t| [t[0], t[1], t[2]]).collect();
+                assert_eq!(first, expected, "{mesh:?}");
+                assert!(indices.iter().all(|&v| v < 3 * mesh.vertices()));
+                // Blade k's triangles are blade 0's, moved by k blades.
+                let third = &indices[6 * mesh.triangles() as usize..];
+                assert!(third.iter().zip(&indices).all(|(&b, &a)| b == a + 2 * mesh.vertices()));
+            }
+        }
+        assert_eq!(BladeMesh { segments: 1, collapsed_tip: true }.indices(1), vec![0, 1, 2]);
+        let lists = bucket_indices(&[4, 1], true, 2);
+        assert_eq!(lists.len(), 3 * 2 * (7 + 1));
     }
 
     #[test]

@@ -123,6 +123,8 @@ pub struct Frame {
     pub cull_stats: Buffer,
     /// Segments of the LOD buckets of the frame's cull (empty: no cull ran).
     pub cull_segments: Vec<u32>,
+    /// Whether the frame's buckets drew blades with one tip vertex (the outline as geometry).
+    pub cull_collapsed_tip: bool,
     /// Set 0 of the scene passes, pointing at this frame's uniforms.
     pub descriptor_set: vk::DescriptorSet,
     /// Timestamps of this frame's passes.
@@ -243,6 +245,7 @@ impl Frame {
             emitters: next(),
             cull_stats: next(),
             cull_segments: Vec::new(),
+            cull_collapsed_tip: false,
             query_results: next(),
             descriptor_set,
             timestamps: parts.timestamps.expect("created"),
@@ -314,7 +317,7 @@ impl Frame {
             cpu_wait: Some(wait),
             cull: (!self.cull_segments.is_empty()).then(|| {
                 let words: &[u32] = bytemuck::cast_slice(self.cull_stats.mapped());
-                CullCounts::from_words(words, &self.cull_segments)
+                CullCounts::from_words(words, &self.cull_segments, self.cull_collapsed_tip)
             }),
         })
     }

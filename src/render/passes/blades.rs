@@ -15,7 +15,7 @@ use crate::render::shaders;
 use crate::render::submission::{self, BladeDraws, IndirectDraws, SecondaryRecorders, Strategy};
 use crate::scene::bezier::{self, Batching};
 use crate::vk::upload::UploadBatch;
-use crate::vk::{pipeline, Access, Device};
+use crate::vk::{pipeline, Access, Buffer, Device};
 
 /// The blade pipeline and its draws.
 pub struct BladePass {
@@ -46,6 +46,8 @@ pub struct BladePass {
     /// indirect draws the cull writes, one per bucket.
     buckets: Vec<vk::Pipeline>,
     draws: vk::Buffer,
+    /// With the cull: the buckets' blade triangle lists (`bezier::bucket_indices`).
+    indices: Option<Buffer>,
 }
 
 /// How the blade pass is built.
@@ -69,8 +71,6 @@ pub struct BladeSetup<'a> {
     /// Segments of the LOD buckets the cull sorts blades into (`None`: brute force, every blade
     /// at `segments`).
     pub buckets: Option<&'a [u32]>,
-    /// With the cull: draw the outline as geometry instead of alpha-testing it (`--lod outline`).
-    pub solid_outline: bool,
 }
 
 impl BladePass {
@@ -80,7 +80,7 @@ impl BladePass {
         // With the cull, the buckets' pipelines draw (`build_buckets`): no pipeline of its own.
         let pipeline = match setup.buckets {
             Some(_) => vk::Pipeline::null(),
-            None => Self::pipeline(device, target, setup.constants, "blades")?,
+            None => Self::pipeline(device, target, setup.constants, "blades", vk::PrimitiveTopology::TRIANGLE_STRIP)?,
         };
         let mut reads = vec![
             (scene.blades.raw, Access::VertexShaderStorageRead),
@@ -111,6 +111,7 @@ impl BladePass {
             animation: setup.animation,
             buckets: Vec::new(),
             draws: scene.draws.raw,
+            indices: None,
         };
         let built = match setup.buckets {
             Some(buckets) => pass.build_buckets(device, scene, setup, buckets),
@@ -128,7 +129,13 @@ impl BladePass {
     /// (`--msaa`), an alpha-tested outline is shaded by `blade_coverage.frag`, which writes the
     /// outline's coverage of each sample as the sample mask; an outline drawn as geometry has no
     /// alpha test to replace.
-    fn pipeline(device: &Device, target: PipelineTarget, constants: &[u32], name: &str) -> Result<vk::Pipeline> {
+    fn pipeline(
+        device: &Device,
+        target: PipelineTarget,
+        constants: &[u32],
+        name: &str,
+        topology: vk::PrimitiveTopology,
+    ) -> Result<vk::Pipeline> {
         let flags = constants[gpu::SPEC_RENDER_FLAGS as usize];
         let per_sample = target.alpha_to_coverage && flags & gpu::FLAG_SOLID_OUTLINE == 0;
         pipeline::graphics(
@@ -137,7 +144,7 @@ impl BladePass {
                 name,
                 vertex: shaders::BLADE_VERT,
                 fragment: if per_sample { shaders::BLADE_COVERAGE_FRAG } else { shaders::BLADE_FRAG },
-                topology: vk::PrimitiveTopology::TRIANGLE_STRIP,
+                topology,
                 cull: vk::CullModeFlags::NONE,
                 polygon: target.polygon,
                 depth_compare: vk::CompareOp::GREATER,
@@ -152,20 +159,29 @@ impl BladePass {
         )
     }
 
-    /// One pipeline per LOD bucket, reading the cull's visible list, and the reads of its draws.
+    /// One pipeline per LOD bucket, reading the cull's visible list, its index list and the
+    /// reads of its draws. Each bucket draws indexed triangle lists (`bezier::BladeMesh`): the
+    /// strips' triangles without their joins, and with the outline as geometry one tip vertex.
     fn build_buckets(&mut self, device: &Device, scene: &SceneGpu, setup: &BladeSetup, buckets: &[u32]) -> Result<()> {
-        let solid_outline = setup.solid_outline;
+        // The outline as geometry, no alpha test: early depth rejects the overdraw. The cull's
+        // scan reads the same flag (`FLAG_SOLID_OUTLINE` in every pipeline's constants) for the
+        // lists' lengths.
+        let collapsed_tip = setup.constants[gpu::SPEC_RENDER_FLAGS as usize] & gpu::FLAG_SOLID_OUTLINE != 0;
         for (b, &segments) in buckets.iter().enumerate() {
             let mut constants = setup.constants.to_vec();
             constants[gpu::SPEC_SEGMENTS as usize] = segments;
             constants[gpu::SPEC_RENDER_FLAGS as usize] |= gpu::FLAG_CULLED;
-            if solid_outline {
-                // The outline as geometry, no alpha test: early depth rejects the overdraw.
-                constants[gpu::SPEC_RENDER_FLAGS as usize] |= gpu::FLAG_SOLID_OUTLINE;
-            }
             let name = format!("blades, LOD bucket {b} ({segments} segments)");
-            self.buckets.push(Self::pipeline(device, setup.target, &constants, &name)?);
+            let list = vk::PrimitiveTopology::TRIANGLE_LIST;
+            self.buckets.push(Self::pipeline(device, setup.target, &constants, &name, list)?);
         }
+        let indices = bezier::bucket_indices(buckets, collapsed_tip, setup.blades_per_instance);
+        let mut batch = UploadBatch::new(device);
+        let usage = vk::BufferUsageFlags::INDEX_BUFFER;
+        let buffer = batch.buffer("blade bucket indices", &indices, usage, &[Access::IndexRead])?;
+        self.reads.push((buffer.raw, Access::IndexRead));
+        self.indices = Some(buffer);
+        batch.submit()?;
         self.reads.push((scene.visible.raw, Access::VertexShaderStorageRead));
         self.reads.push((scene.draws.raw, Access::IndirectCommandRead));
         Ok(())
@@ -307,12 +323,15 @@ impl Pass for BladePass {
         }
         // Nearest bucket first: with the list near to far inside each bucket, early depth rejects
         // what the near blades hide.
-        let stride = std::mem::size_of::<vk::DrawIndirectCommand>() as u32;
+        let stride = std::mem::size_of::<vk::DrawIndexedIndirectCommand>() as u32;
+        let indices = self.indices.as_ref().expect("built with the buckets");
+        // SAFETY: cmd is recording inside the rendering instance; the buffer holds u32 indices.
+        unsafe { device.raw.cmd_bind_index_buffer(cmd, indices.raw, 0, vk::IndexType::UINT32) };
         for (b, &pipeline) in self.buckets.iter().enumerate() {
             // SAFETY: cmd is recording inside the rendering instance; the cull wrote the command.
             unsafe {
                 device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
-                device.raw.cmd_draw_indirect(cmd, self.draws, u64::from(stride) * b as u64, 1, stride);
+                device.raw.cmd_draw_indexed_indirect(cmd, self.draws, u64::from(stride) * b as u64, 1, stride);
             }
         }
         Ok(())
@@ -326,6 +345,9 @@ impl Pass for BladePass {
             }
             if let Some(indirect) = self.indirect.take() {
                 indirect.destroy(device);
+            }
+            if let Some(indices) = self.indices.take() {
+                indices.destroy(device);
             }
             for pipeline in self.buckets.drain(..) {
                 crate::vk::live::destroyed(pipeline);

@@ -405,6 +405,7 @@ impl Renderer {
         frame.passes = self.graph.record(&ctx, cmd, &mut frame.scopes(), outputs)?;
         let culled = self.settings.culling.enabled && !self.settings.floor;
         frame.cull_segments = if culled { self.settings.culling.buckets().to_vec() } else { Vec::new() };
+        frame.cull_collapsed_tip = culled && self.settings.culling.solid_outline;
         if culled {
             // The frame's counts, read by the host after the fence.
             self.graph.release(device, cmd, &[(Resource::Buffer(frame.cull_stats.raw), Access::HostRead)]);

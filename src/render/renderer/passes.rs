@@ -108,6 +108,11 @@ impl Renderer {
                 specialization.flags |= gpu::FLAG_LEVELS;
             }
         }
+        if settings.culling.enabled && settings.culling.solid_outline {
+            // The buckets' pipelines draw the outline as geometry; the cull's scan sizes their
+            // index lists by it (a collapsed tip, `bezier::BladeMesh`).
+            specialization.flags |= gpu::FLAG_SOLID_OUTLINE;
+        }
         specialization.cull_group = cull::workgroup_size(self.device.subgroup_size);
         specialization
     }
@@ -169,7 +174,6 @@ impl Renderer {
             input: model.blade_input(),
             animation: model.resources().set,
             buckets: culled.then(|| settings.culling.buckets()),
-            solid_outline: settings.culling.solid_outline,
         };
         self.graph.add(BladePass::new(device, scene, &setup)?);
         Ok(())

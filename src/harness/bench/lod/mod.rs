@@ -18,7 +18,7 @@ use crate::error::{Error, Result};
 use crate::harness::document::{document, summary};
 use crate::harness::Progress;
 use crate::imagediff::box_filtered_difference;
-use crate::render::animation::AnimationSettings;
+use crate::render::animation::{AnimationSettings, Eval};
 use crate::render::culling::{CullCounts, Culling};
 use crate::render::target::offscreen_bytes;
 use crate::render::{FrameTimings, OffscreenTarget, RenderSettings, Renderer};
@@ -102,36 +102,22 @@ impl Field {
         }
     }
 
-    /// Every check of the field against the device before anything is allocated: one renderer's
-    /// (`check_scene`), then two renderers and two targets together against the budget.
+    /// Every check of the field against the device before anything is allocated: each
+    /// renderer's (`check_scene`), then two renderers and two targets together against the budget.
     fn check(&self, device: &Device, segments: u32, size: (u32, u32)) -> Result<()> {
+        let culled = animation(true);
         match self {
             Field::Stored { blades, .. } => {
-                crate::app::check_scene(device, *blades, segments, size, &AnimationSettings::default(), false, true)?;
+                crate::app::check_scene(device, *blades, segments, size, &animation(false), false, false)?;
+                crate::app::check_scene(device, *blades, segments, size, &culled, false, true)?;
                 let cells = Terrain::cells_for(crate::scene::blades::field_size(*blades));
                 let one = crate::render::scene_gpu::SceneGpu::memory_bytes(u64::from(*blades), u64::from(cells))
                     + offscreen_bytes(vk::Extent2D { width: size.0, height: size.1 });
                 device.check_budget(2 * one, &format!("--preset lod with {blades} blades (two renderers)"))
             }
             Field::Blocks { .. } => {
-                crate::app::check_scene(
-                    device,
-                    REFERENCE_BLADES,
-                    segments,
-                    size,
-                    &AnimationSettings::default(),
-                    false,
-                    false,
-                )?;
-                crate::app::check_scene(
-                    device,
-                    self.blades(),
-                    segments,
-                    size,
-                    &AnimationSettings::default(),
-                    false,
-                    true,
-                )
+                crate::app::check_scene(device, REFERENCE_BLADES, segments, size, &animation(false), false, false)?;
+                crate::app::check_scene(device, self.blades(), segments, size, &culled, false, true)
             }
         }
     }
@@ -329,8 +315,15 @@ fn measure_rows(
     Ok(rows)
 }
 
-/// The scene of `field` and its two renderers: texture keyframes without wind
-/// (`AnimationSettings::default()`), one frame in flight, pipeline statistics off.
+/// A variant's animation: texture keyframes without wind (`AnimationSettings::default()`),
+/// evaluated where its path does by default (`Eval::default_for`, as `--eval auto`: per vertex by
+/// brute force, once per drawn blade with the cull).
+fn animation(culled: bool) -> AnimationSettings {
+    AnimationSettings { eval: Eval::default_for(culled), ..AnimationSettings::default() }
+}
+
+/// The scene of `field` and its two renderers, each with its path's `animation`, one frame in
+/// flight, pipeline statistics off.
 fn build(device: &Arc<Device>, field: &Field, segments: u32) -> Result<Built> {
     let scenes = field.scenes();
     let renderers = [Culling::brute_force(segments), Culling::default_for(segments)]
@@ -338,7 +331,7 @@ fn build(device: &Arc<Device>, field: &Field, segments: u32) -> Result<Built> {
         .zip(&scenes)
         .map(|(culling, scene)| {
             let settings = RenderSettings::offscreen(segments, culling);
-            Renderer::new(device.clone(), scene, settings, AnimationSettings::default())
+            Renderer::new(device.clone(), scene, settings, animation(culling.enabled))
         })
         .collect::<Result<Vec<_>>>()?;
     Ok(Built { field: field.clone(), scenes, renderers })
