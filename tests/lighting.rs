@@ -11,6 +11,7 @@ use std::sync::Arc;
 use ash::vk;
 use glam::Vec3;
 use meadow::app::{with_device, GpuOptions};
+use meadow::render::frame::look;
 use meadow::render::shaders;
 use meadow::scene::camera::Camera;
 use meadow::scene::{bezier, Scene};
@@ -174,30 +175,35 @@ fn the_fresnel_debug_view_shows_the_term_alone() {
     assert!(sum(&term) < sum(&lit), "the debug view is not darker than the lit picture");
 }
 
-/// Run height_six_probe.comp: `height_six` at levels 0..=s of strips of s = 1..=16 segments of a
-/// 16-segment model, strip after strip.
-fn height_six_probe(device: &Arc<Device>) -> meadow::Result<Vec<f32>> {
-    const MODEL: usize = 16;
-    let values = (1..=MODEL).map(|s| s + 1).sum::<usize>();
+/// Run a probe shader (`spirv`) of one dispatch of `groups` workgroups that writes `values` floats
+/// to the storage buffer at set 0, binding 0.
+fn float_probe(device: &Arc<Device>, name: &str, spirv: &[u8], values: usize, groups: u32) -> meadow::Result<Vec<f32>> {
     let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
-    let output = Buffer::new(device, &BufferDesc::readback("height six probe", 4 * values as u64, storage))?;
+    let output = Buffer::new(device, &BufferDesc::readback(name, 4 * values as u64, storage))?;
     let bindings =
         [Binding { binding: 0, kind: vk::DescriptorType::STORAGE_BUFFER, stages: vk::ShaderStageFlags::COMPUTE }];
-    let set_layout = descriptor::set_layout(device, "height six set layout", &bindings)?;
-    let layout = pipeline::layout(device, "height six layout", &[set_layout], &[])?;
-    let pipe = pipeline::compute(device, "height six probe", shaders::HEIGHT_SIX_PROBE_COMP, layout, &[])?;
-    let (pool, sets) = descriptor::allocate_sets(device, "height six", set_layout, &bindings, 1)?;
+    let set_layout = descriptor::set_layout(device, name, &bindings)?;
+    let layout = pipeline::layout(device, name, &[set_layout], &[])?;
+    let pipe = pipeline::compute(device, name, spirv, layout, &[])?;
+    let (pool, sets) = descriptor::allocate_sets(device, name, set_layout, &bindings, 1)?;
     descriptor::write(
         device,
         sets[0],
         &[(0, vk::DescriptorType::STORAGE_BUFFER, Resource::Buffer(output.descriptor()))],
     );
-    let submitted = compute::dispatch(device, "height six", (pipe, layout), &sets, &[], 1, output.raw);
+    let submitted = compute::dispatch(device, name, (pipe, layout), &sets, &[], groups, output.raw);
     let floats = bytemuck::cast_slice::<u8, f32>(output.mapped()).to_vec();
     // SAFETY: submit_and_wait waited for the dispatch.
     unsafe { compute::teardown(device, (pool, pipe, layout, set_layout), [output]) };
     submitted?;
     Ok(floats)
+}
+
+/// Run height_six_probe.comp: `height_six` at levels 0..=s of strips of s = 1..=16 segments of a
+/// 16-segment model, strip after strip.
+fn height_six_probe(device: &Arc<Device>) -> meadow::Result<Vec<f32>> {
+    let values = (1..=16).map(|s| s + 1).sum::<usize>();
+    float_probe(device, "height six probe", shaders::HEIGHT_SIX_PROBE_COMP, values, 1)
 }
 
 #[test]
@@ -232,4 +238,29 @@ fn coarse_strips_are_lit_with_the_mean_of_l6_over_each_level() {
             assert!((trapezoid - 1.0 / 7.0).abs() < 1e-5, "{s} segments integrate to {trapezoid}");
         }
     }
+}
+
+#[test]
+fn the_srgb_encoding_is_within_half_a_level_of_the_exact_curve() {
+    // The UNORM targets are encoded in the shaders by a three-square-root fit of the sRGB curve
+    // (`encode_output`), and the clear colour by its CPU mirror: within half a level of 8 bits of
+    // the exact transfer everywhere, so at most one level off after rounding, and the mirror
+    // agrees with the shader.
+    const VALUES: usize = 4096; // SRGB_PROBE_VALUES of srgb_probe.comp
+    let options = GpuOptions { validation: true, device: DeviceSelector::parse("llvmpipe") };
+    let (result, messages) =
+        with_device(&options, false, |device| float_probe(device, "srgb probe", shaders::SRGB_PROBE_COMP, VALUES, 64));
+    let encoded = result.expect("probe");
+    assert_eq!(messages, Some(0), "validation messages");
+    let mut worst: f32 = 0.0;
+    for (i, &gpu) in encoded.iter().enumerate() {
+        let linear = i as f32 / (VALUES - 1) as f32;
+        let exact = look::encode_srgb_exact(linear);
+        worst = worst.max((gpu - exact).abs() * 255.0);
+        assert!((gpu - look::encode_srgb(linear)).abs() < 2e-6, "{linear}: shader {gpu}, CPU mirror");
+    }
+    assert!(worst < 0.45, "largest error {worst} of a level");
+    // The probe reads what it should: the ends are exact, the middle is the sRGB curve, not linear.
+    assert_eq!((encoded[0], encoded[VALUES - 1]), (0.0, 1.0));
+    assert!((encoded[VALUES / 2] - 0.7353).abs() < 1e-3, "{}", encoded[VALUES / 2]);
 }

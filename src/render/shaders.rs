@@ -50,6 +50,8 @@ pub const CULL_EMIT_COMP: &[u8] = spirv!("cull_emit.comp");
 pub const FRESNEL_PROBE_COMP: &[u8] = spirv!("fresnel_probe.comp");
 /// Test: `height_six`, the l^6 coarse strip levels are lit with, at every level of every strip.
 pub const HEIGHT_SIX_PROBE_COMP: &[u8] = spirv!("height_six_probe.comp");
+/// Test: `encode_output`, the sRGB transfer of the UNORM targets, over [0, 1].
+pub const SRGB_PROBE_COMP: &[u8] = spirv!("srgb_probe.comp");
 /// `--msaa`: the depth pyramid over a multisampled depth image.
 pub const HIZ_MS_COMP: &[u8] = spirv!("hiz_ms.comp");
 /// `--msaa`: the resolve pass's full-target triangle.

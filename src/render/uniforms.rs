@@ -69,10 +69,23 @@ pub mod look {
     /// Fog density per metre.
     pub const FOG_DENSITY: f32 = 0.012;
 
-    /// sRGB transfer of one linear channel (the clear colour must match the shaders' encoding).
+    /// sRGB transfer of one linear channel as the shaders encode it (`encode_output` of
+    /// lighting.glsl: the curve by Ian Taylor's three-square-root fit), so the clear colour
+    /// matches the fogged fragments.
     pub fn encode_srgb(linear: f32) -> f32 {
         let c = linear.clamp(0.0, 1.0);
-        if c <= 0.003_130_8 {
+        if c < 0.003_130_8 {
+            c * 12.92
+        } else {
+            let (s1, s2, s3) = (c.sqrt(), c.sqrt().sqrt(), c.sqrt().sqrt().sqrt());
+            0.585_122_4 * s1 + 0.783_140_36 * s2 - 0.368_262_74 * s3
+        }
+    }
+
+    /// The exact sRGB transfer (IEC 61966-2-1) `encode_srgb` approximates.
+    pub fn encode_srgb_exact(linear: f32) -> f32 {
+        let c = linear.clamp(0.0, 1.0);
+        if c < 0.003_130_8 {
             c * 12.92
         } else {
             1.055 * c.powf(1.0 / 2.4) - 0.055
