@@ -79,7 +79,7 @@ vec3 apply_fog(vec3 color, vec3 world, vec4 camera_position, vec4 sky) {
 // The curve 1.055 c^(1/2.4) - 0.055 by Ian Taylor's fit in three square roots ("sRGB
 // approximations for HLSL", 2012): within 0.41/255 of it over [0, 1] (tests/lighting.rs), where
 // a pow per channel is a log2 and an exp2 that llvmpipe evaluates in software for every fragment
-// (`render::frame::look::encode_srgb` mirrors it for the clear colour).
+// (`render::uniforms::look::encode_srgb` mirrors it for the clear colour).
 vec3 encode_output(vec3 linear) {
     if (ENCODE_SRGB == 0u) {
         return linear;
