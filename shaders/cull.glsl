@@ -1,6 +1,7 @@
 // The GPU-driven cull (thesis §5.3, Zhang Xia §5.2, Belyaev §2.2, Jahrmann & Wimmer 2017), shared
-// by its two per-slot passes: cull_count.comp counts what each ring slot draws (one workgroup per
-// slot of the rings around the centre tile, `scene::tiles::ring_cell`, so slots go near to far),
+// by its per-slot passes: cull_tiles.comp runs the tile tests of every slot of the rings around
+// the centre tile (`scene::tiles::ring_cell`, so slots go near to far) and lists those with
+// candidates, cull_count.comp counts what each listed slot draws (one workgroup per slot),
 // cull_emit.comp writes the visible list from its verdicts (one workgroup per slot that draws);
 // inside a tile, blades keep their stored (progressive) order. Every decision is a pure function of the tile, the
 // blade and the frame's uniforms: the two passes agree, and the output does not depend on how
@@ -20,7 +21,14 @@ layout(set = SET_SCENE, binding = BINDING_CULL_STATS, std430) buffer CullStats {
 // second word (`visible_scale`).
 layout(set = SET_SCENE, binding = BINDING_CULL_RESULTS, std430) buffer CullResults { uvec2 cull_results[]; };
 const uint NOT_DRAWN = 0xffffffffu;
-layout(set = SET_SCENE, binding = BINDING_CULL_ALLOC, std430) buffer CullAlloc { uint next_verdict; uint verdict_base[]; };
+// Written by the tiles pass (cull_tiles.comp): the count pass's indirect dispatch (x, y, z, and
+// x again), then per ring slot its first verdict (a block field's), then the slots with
+// candidates in slot order (`listed_slot`).
+layout(set = SET_SCENE, binding = BINDING_CULL_ALLOC, std430) buffer CullAlloc { uvec4 count_dispatch; uint verdict_base[]; };
+// The k-th slot with candidates.
+uint listed_slot(uint k) {
+    return verdict_base[frame.cull_tiles.y + k];
+}
 // A slot whose verdicts did not fit (`cull_alloc` ran out): it draws nothing.
 const uint NO_ROOM = 0xffffffffu;
 

@@ -1,22 +1,22 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// Cull, step 1 of 3: one workgroup per ring slot runs the tile tests and the blade tests
-// (cull.glsl), writes each candidate blade's verdict to `cull_results` (a block field's slot
-// first takes room for its candidates from `cull_alloc`), and how many blades of its slot each
-// LOD bucket draws, and the counts after each test, to its
-// `SLOT_WORDS` words of `slot_counts`. Every word of every slot is written (zeros for an empty
-// or culled slot): nothing accumulates across frames or workgroups, so there is no counter to
-// clear. Each invocation counts in registers, then adds its counts into shared memory once:
-// integer sums, whose result does not depend on the order the invocations run in.
+// Cull, step 2 of 4: one workgroup per ring slot the tiles pass listed (cull_tiles.comp: the
+// slots with candidates) runs the tile tests again (the same function of the same inputs: the
+// same candidates) and the blade tests, writes each candidate blade's verdict to `cull_results`
+// (a block field's from the slot's first verdict, `cull_alloc`), and how many blades of its slot
+// each LOD bucket draws, and the counts after each test, to its `SLOT_WORDS` words of
+// `slot_counts` (the tiles pass wrote the other slots'). Every word of every slot is written
+// each frame: nothing accumulates across frames or workgroups, so there is no counter to clear.
+// Each invocation counts in registers, then adds its counts into shared memory once: integer
+// sums, whose result does not depend on the order the invocations run in.
 #include "cull.glsl"
 
 layout(local_size_x_id = SPEC_CULL_GROUP) in;
 
 shared uint counts[SLOT_WORDS];
-shared uint slot_base;
 
 void main() {
-    uint slot = gl_WorkGroupID.x;
+    uint slot = listed_slot(gl_WorkGroupID.x);
     uint lane = gl_LocalInvocationID.x;
     for (uint w = lane; w < SLOT_WORDS; w += CULL_GROUP) {
         counts[w] = 0u;
@@ -34,15 +34,8 @@ void main() {
         if ((RENDER_FLAGS & FLAG_BLOCKS) != 0u && candidates > 0u) {
             // The terrain under the cell, only for cells that have candidates.
             cache_cell_heights(cell);
-            // Room for this slot's verdicts: the order slots take it in varies, what each slot
-            // writes there and where the emit pass reads it do not.
-            if (lane == 0u) {
-                uint first = atomicAdd(next_verdict, candidates);
-                slot_base = first + candidates <= frame.cull_tiles.x ? first : NO_ROOM;
-                verdict_base[slot] = slot_base;
-            }
-            barrier();
-            base = slot_base;
+            // Room for this slot's verdicts, from the tiles pass's prefix sum.
+            base = verdict_base[slot];
             candidates = base == NO_ROOM ? 0u : candidates;
         }
         if (lane == 0u) {

@@ -1,6 +1,6 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// Cull, step 3 of 3: one workgroup per ring slot that draws (the scan lists them) writes each
+// Cull, step 4 of 4: one workgroup per ring slot that draws (the scan lists them) writes each
 // blade the count pass drew (its verdict in `cull_results`, the visible entry's second word
 // included) to the visible list at bucket base + slot offset + its rank among the slot's blades
 // of its bucket. Invocation i takes the i-th contiguous run of the slot's candidates: it counts

@@ -1,6 +1,6 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// Cull, step 2 of 3: one workgroup turns the per-slot bucket counts into offsets (an exclusive
+// Cull, step 3 of 4: one workgroup turns the per-slot bucket counts into offsets (an exclusive
 // prefix sum over the slots, in slot order: near to far), writes one indirect draw per LOD bucket
 // (its instances are bucket b's blades, from firstInstance = the blades of the buckets before it)
 // and the blade-pose pass's indirect dispatch, lists the slots that draw (in slot order) with the

@@ -331,7 +331,7 @@ fn rebuilt_passes_are_freed_behind_the_frames_in_flight() {
     for (queued, _) in &pending {
         assert_eq!(*queued, 1, "the old passes and model wait behind the frames in flight: {pending:?}");
     }
-    let cull = ["depth pyramid", "cull count", "cull scan", "cull emit"];
+    let cull = ["depth pyramid", "cull tiles", "cull count", "cull scan", "cull emit"];
     let with_cull = |before: &[&'static str], after: &[&'static str]| [before, &cull[..], after].concat();
     assert_eq!(pending[0].1, with_cull(&["terrain"], &["blades", "cluster bounds"]));
     // With the cull, the per-blade evaluation reads its visible list: after it, and the drawn

@@ -185,7 +185,8 @@ pub struct SceneGpu {
     pub cull_results: Buffer,
     /// The depth pyramid (`PYRAMID_FLOATS` floats) the occlusion test reads.
     pub depth_pyramid: Buffer,
-    /// A block field's next free verdict (cleared each frame) and each slot's first verdict.
+    /// The cull tiles pass's output: the count pass's dispatch, each slot's first verdict (a block
+    /// field's), the slots with candidates.
     pub cull_alloc: Buffer,
     /// Verdicts `cull_results` holds.
     pub verdict_capacity: u32,
@@ -210,6 +211,12 @@ pub fn terrain_indices(cells: u32) -> Vec<u32> {
 /// the grid reach at most `tiles − 1` tiles away.
 pub fn max_ring_slots(tiles: u32) -> u32 {
     (2 * tiles - 1) * (2 * tiles - 1)
+}
+
+/// Bytes of `cull_alloc` for `slots` ring slots: the count pass's dispatch (4 words), each slot's
+/// first verdict, the listed slots (`shaders/cull_tiles.comp`).
+fn cull_alloc_bytes(slots: u32) -> u64 {
+    4 * (4 + 2 * u64::from(slots))
 }
 
 /// Bytes of the cull's buffers for `blades` stored blades, `slots` ring slots and a visible list
@@ -303,6 +310,7 @@ impl SceneGpu {
         let alpha = u64::from(alpha::WIDTH * alpha::HEIGHT);
         let tiles = u64::from(MAX_TILES_PER_SIDE).pow(2) * std::mem::size_of::<BladeTile>() as u64
             + cull_bytes(0, max_ring_slots(MAX_TILES_PER_SIDE), 0)[1]
+            + cull_alloc_bytes(max_ring_slots(MAX_TILES_PER_SIDE))
             + 8 * u64::from(FIELD_VISIBLE)
             + 8 * u64::from(FIELD_VERDICTS)
             + PYRAMID_BYTES;
@@ -397,7 +405,7 @@ impl SceneGpu {
             ("cull draws", draws, indirect),
             ("cull results", results, storage),
             ("depth pyramid", PYRAMID_BYTES, storage),
-            ("cull verdict room", 4 * (1 + u64::from(slots_count)), storage | vk::BufferUsageFlags::TRANSFER_DST),
+            ("cull verdict room", cull_alloc_bytes(slots_count), indirect),
         ] {
             partial.cull.push(Buffer::new(device, &BufferDesc::gpu_only(name, size, usage))?);
         }

@@ -40,7 +40,9 @@ pub const CLUSTER_BOUNDS_VERT: &[u8] = spirv!("cluster_bounds.vert");
 pub const CLUSTER_BOUNDS_FRAG: &[u8] = spirv!("cluster_bounds.frag");
 /// The depth pyramid of the terrain (Hi-Z) the cull's occlusion test reads.
 pub const HIZ_COMP: &[u8] = spirv!("hiz.comp");
-/// Cull step 1: per ring slot, the tile and blade tests and the counts per LOD bucket.
+/// Cull step 1: the tile tests of every ring slot, the list of slots with candidates.
+pub const CULL_TILES_COMP: &[u8] = spirv!("cull_tiles.comp");
+/// Cull step 2: per listed slot, the blade tests and the counts per LOD bucket.
 pub const CULL_COUNT_COMP: &[u8] = spirv!("cull_count.comp");
 /// Cull step 2: offsets by prefix sum, the indirect draws and the frame's counts.
 pub const CULL_SCAN_COMP: &[u8] = spirv!("cull_scan.comp");

@@ -1,7 +1,7 @@
-//! Cull step 1 (`shaders/cull_count.comp`): one workgroup per ring slot runs the tile tests
-//! (frustum, distance, the density LOD's prefix) and the blade tests, and writes the slot's
-//! counts per LOD bucket and after each test, and each candidate's verdict. Reads the scene,
-//! writes the slot counts and the verdicts.
+//! Cull step 2 (`shaders/cull_count.comp`): one workgroup per ring slot the tiles pass listed
+//! (its indirect dispatch) runs the tile tests again and the blade tests, and writes the slot's
+//! counts per LOD bucket and after each test, and each candidate's verdict. Reads the scene and
+//! the tiles pass's list and room, writes the slot counts and the verdicts.
 
 use super::{CullSetup, CullStep, Groups};
 use crate::error::Result;
@@ -9,7 +9,7 @@ use crate::render::scene_gpu::SceneGpu;
 use crate::render::shaders;
 use crate::vk::{Access, Device};
 
-/// The counting dispatch, one workgroup per ring slot.
+/// The counting dispatch, one workgroup per listed ring slot.
 pub fn pass(device: &Device, setup: &CullSetup, scene: &SceneGpu) -> Result<CullStep> {
     let read = Access::ComputeShaderRead;
     let uses = vec![
@@ -19,10 +19,10 @@ pub fn pass(device: &Device, setup: &CullSetup, scene: &SceneGpu) -> Result<Cull
         (scene.heights.raw, read),
         (scene.slot_counts.raw, Access::ComputeShaderWrite),
         (scene.cull_results.raw, Access::ComputeShaderWrite),
-        // A block field's verdict counter: atomically read and written.
+        // The listed slots, their room and the dispatch over them.
         (scene.cull_alloc.raw, read),
-        (scene.cull_alloc.raw, Access::ComputeShaderWrite),
+        (scene.cull_alloc.raw, Access::IndirectCommandRead),
     ];
-    let step = CullStep::new(device, ("cull count", shaders::CULL_COUNT_COMP), setup, uses, Groups::PerSlot)?;
-    Ok(step)
+    let groups = Groups::Indirect(scene.cull_alloc.raw, 0);
+    CullStep::new(device, ("cull count", shaders::CULL_COUNT_COMP), setup, uses, groups)
 }

@@ -1,4 +1,4 @@
-//! Cull step 3 (`shaders/cull_emit.comp`): one workgroup per ring slot that draws (the scan
+//! Cull step 4 (`shaders/cull_emit.comp`): one workgroup per ring slot that draws (the scan
 //! lists them and writes the indirect dispatch) reads the count pass's
 //! verdicts and writes each drawn blade (its index and its LOD fade and widening) into the
 //! visible list at its bucket's base plus its slot's offset plus its rank in the slot: the same

@@ -1,18 +1,16 @@
 //! The GPU-driven cull (thesis §5.3, Zhang Xia §5.2, Belyaev §2.2, Jahrmann & Wimmer 2017) as
-//! three compute passes of the graph, each one dispatch: `count` (per ring slot around the
-//! culling camera's tile: tile tests, blade tests, counts per LOD bucket), `scan` (offsets, the
-//! indirect draws, the frame's counts for the host) and `emit` (the visible list, in a
-//! deterministic near-to-far order), each a [`CullStep`] with its own shader and declared uses; a
-//! block field adds `clear` before them (its verdict counter, by `vkCmdFillBuffer`). The blade
-//! pass then draws each bucket indirectly (`passes::blades`). The graph orders them by what each
-//! declares (`shaders/cull*.comp`).
+//! four compute passes of the graph, each one dispatch: `tiles` (the tile tests of every ring
+//! slot around the culling camera's tile; lists the slots with candidates), `count` (per listed
+//! slot: blade tests, counts per LOD bucket), `scan` (offsets, the indirect draws, the frame's
+//! counts for the host) and `emit` (the visible list, in a deterministic near-to-far order), each
+//! a [`CullStep`] with its own shader and declared uses. Every word they write is written each
+//! frame: there is no counter to clear. The blade pass then draws each bucket indirectly
+//! (`passes::blades`). The graph orders them by what each declares (`shaders/cull*.comp`).
 
-pub mod clear;
 pub mod count;
 pub mod emit;
 pub mod scan;
-
-pub use clear::CullClearPass;
+pub mod tiles;
 
 use ash::vk;
 
@@ -22,7 +20,7 @@ use crate::render::passes;
 use crate::render::scene_gpu::SceneGpu;
 use crate::vk::{pipeline, Access, Device};
 
-/// What the three cull passes share: the scene pipeline layout and specialization constants,
+/// What the cull passes share: the scene pipeline layout and specialization constants,
 /// and the frames' host-visible count buffers the scan writes.
 pub struct CullSetup<'a> {
     /// The scene pipeline layout (set 0 holds every buffer the cull touches).
@@ -33,11 +31,9 @@ pub struct CullSetup<'a> {
     pub frame_stats: Vec<vk::Buffer>,
 }
 
-/// Add the three passes to `graph`, in order.
+/// Add the four passes to `graph`, in order.
 pub fn add_passes(graph: &mut Graph, device: &Device, setup: &CullSetup, scene: &SceneGpu) -> Result<()> {
-    if scene.field.is_some() {
-        graph.add(CullClearPass::new(scene));
-    }
+    graph.add(tiles::pass(device, setup, scene)?);
     graph.add(count::pass(device, setup, scene)?);
     graph.add(scan::pass(device, setup, scene)?);
     graph.add(emit::pass(device, setup, scene)?);
@@ -56,17 +52,16 @@ pub fn workgroup_size(subgroup_size: u32) -> u32 {
 /// How many workgroups a cull step dispatches.
 #[derive(Clone, Copy)]
 enum Groups {
-    /// One per ring slot of this frame (`FrameUniforms::cull_tiles.y`).
-    PerSlot,
     /// One.
     One,
-    /// As many as the scan wrote into this buffer at this word (`EMIT_DISPATCH_WORD`).
+    /// As many as an earlier step wrote into this buffer at this word (the tiles pass's list for
+    /// the count, the scan's `EMIT_DISPATCH_WORD` for the emit).
     Indirect(vk::Buffer, u32),
 }
 
 /// One cull dispatch as a pass of the graph: its pipeline, its declared uses (and a per-frame
-/// buffer it writes, for the scan) and its workgroup count. `count`, `scan` and `emit` each build
-/// one with their own shader and uses.
+/// buffer it writes, for the scan) and its workgroup count. `tiles`, `count`, `scan` and `emit`
+/// each build one with their own shader and uses.
 pub struct CullStep {
     name: &'static str,
     pipeline: vk::Pipeline,
@@ -107,7 +102,6 @@ impl Pass for CullStep {
         unsafe {
             device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipeline);
             match self.groups {
-                Groups::PerSlot => device.raw.cmd_dispatch(cmd, ctx.uniforms.cull_tiles.y, 1, 1),
                 Groups::One => device.raw.cmd_dispatch(cmd, 1, 1, 1),
                 Groups::Indirect(buffer, word) => device.raw.cmd_dispatch_indirect(cmd, buffer, 4 * u64::from(word)),
             }

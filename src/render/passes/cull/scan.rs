@@ -1,4 +1,4 @@
-//! Cull step 2 (`shaders/cull_scan.comp`): one workgroup turns the slot counts into offsets (a
+//! Cull step 3 (`shaders/cull_scan.comp`): one workgroup turns the slot counts into offsets (a
 //! prefix sum in slot order, near to far), writes one indirect draw per LOD bucket, the pose and
 //! levels passes' indirect dispatch, the list of slots that draw with the emit pass's indirect
 //! dispatch over them, and the frame's counts into the frame's host-visible buffer (read after

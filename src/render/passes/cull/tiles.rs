@@ -1,0 +1,26 @@
+//! Cull step 1 (`shaders/cull_tiles.comp`): one workgroup runs the tile tests of every ring slot
+//! (frustum, distance, occlusion, the density LOD's prefix), writes the counts of the slots
+//! without candidates, and lists the others near to far with the count pass's indirect dispatch
+//! and, in a block field, each one's room for verdicts (a prefix sum: no atomics, no counter).
+//! Reads the scene, writes the slot counts and `cull_alloc`.
+
+use super::{CullSetup, CullStep, Groups};
+use crate::error::Result;
+use crate::render::scene_gpu::SceneGpu;
+use crate::render::shaders;
+use crate::vk::{Access, Device};
+
+/// The tile tests' dispatch: one workgroup.
+pub fn pass(device: &Device, setup: &CullSetup, scene: &SceneGpu) -> Result<CullStep> {
+    let read = Access::ComputeShaderRead;
+    let uses = vec![
+        (scene.tiles.raw, read),
+        (scene.depth_pyramid.raw, read),
+        (scene.heights.raw, read),
+        (scene.slot_counts.raw, Access::ComputeShaderWrite),
+        // Written, then read back by the invocation that wrote it.
+        (scene.cull_alloc.raw, read),
+        (scene.cull_alloc.raw, Access::ComputeShaderWrite),
+    ];
+    CullStep::new(device, ("cull tiles", shaders::CULL_TILES_COMP), setup, uses, Groups::One)
+}
