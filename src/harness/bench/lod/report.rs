@@ -8,6 +8,7 @@ use serde_json::Value;
 use super::VARIANTS;
 use crate::app::write_text;
 use crate::error::Result;
+use crate::harness::plot::BarPanel;
 
 /// The variant `name` of a row.
 fn variant<'a>(row: &'a Value, name: &str) -> &'a Value {
@@ -122,20 +123,34 @@ pub fn write(doc: &Value, dir: &Path) -> Result<()> {
 
 /// `lod.png`, three bar charts with a bar group per row: the median frame time of brute force
 /// and GPU-driven, the speed-up (brute / GPU-driven), and the box-filtered difference (mean and
-/// 99th-percentile block).
+/// 99th-percentile block) of the rows that have one (not a row of two scenes).
 pub fn plot(doc: &Value, path: &Path) -> Result<()> {
-    use crate::harness::plot::{bar_panels, BarPanel};
+    let rows = doc["rows"].as_array().map_or(0, Vec::len) as u32;
+    let height = (180 + 90 * rows).clamp(420, 4000);
+    let title = format!(
+        "meadow bench --preset lod: {} at {}x{}, {} segments",
+        doc["device"].as_str().unwrap_or("?"),
+        doc["resolution"][0],
+        doc["resolution"][1],
+        doc["options"]["segments"]
+    );
+    crate::harness::plot::bar_panels(path, (1680, height), &title, &panels(doc), 3)
+}
+
+/// The panels of `lod.png`.
+fn panels(doc: &Value) -> Vec<BarPanel> {
     let rows: Vec<&Value> = doc["rows"].as_array().into_iter().flatten().collect();
     let labels: Vec<String> = rows.iter().map(|r| r["label"].as_str().unwrap_or("").to_string()).collect();
     let values = |f: &dyn Fn(&Value) -> f64| -> Vec<f64> { rows.iter().map(|r| f(r)).collect() };
     let number = |v: &Value| v.as_f64().unwrap_or(0.0);
+    let compared: Vec<&Value> = rows.iter().copied().filter(|r| r["diff"].is_object()).collect();
     let panel = |title: &str, value_label: &str, groups: Vec<(String, Vec<f64>)>| BarPanel {
         title: title.into(),
         value_label: value_label.into(),
         categories: labels.clone(),
         groups,
     };
-    let panels = [
+    let mut panels = vec![
         panel(
             "frame time",
             "GPU ms (median)",
@@ -145,24 +160,20 @@ pub fn plot(doc: &Value, path: &Path) -> Result<()> {
             ],
         ),
         panel("speed-up", "brute force / GPU-driven", vec![(String::new(), values(&|r| number(&r["ratio"])))]),
-        panel(
-            "difference to brute force",
-            "% of full scale, 8x8 blocks",
-            vec![
-                ("mean".into(), values(&|r| number(&r["diff"]["mean_percent"]))),
-                ("p99 block".into(), values(&|r| number(&r["diff"]["p99_percent"]))),
-            ],
-        ),
     ];
-    let height = (180 + 90 * rows.len() as u32).clamp(420, 4000);
-    let title = format!(
-        "meadow bench --preset lod: {} at {}x{}, {} segments",
-        doc["device"].as_str().unwrap_or("?"),
-        doc["resolution"][0],
-        doc["resolution"][1],
-        doc["options"]["segments"]
-    );
-    bar_panels(path, (1680, height), &title, &panels, 3)
+    // Only the rows with a difference: a row of two scenes (the unbounded field) has none.
+    if !compared.is_empty() {
+        panels.push(BarPanel {
+            title: "difference to brute force".into(),
+            value_label: "% of full scale, 8x8 blocks".into(),
+            categories: compared.iter().map(|r| r["label"].as_str().unwrap_or("").to_string()).collect(),
+            groups: vec![
+                ("mean".into(), compared.iter().map(|r| number(&r["diff"]["mean_percent"])).collect()),
+                ("p99 block".into(), compared.iter().map(|r| number(&r["diff"]["p99_percent"])).collect()),
+            ],
+        });
+    }
+    panels
 }
 
 #[cfg(test)]
@@ -170,6 +181,21 @@ mod tests {
     use serde_json::json;
 
     use super::*;
+
+    #[test]
+    fn the_difference_panel_has_only_the_rows_with_a_difference() {
+        let mut doc = doc();
+        let titles = |doc: &Value| panels(doc).iter().map(|p| p.title.clone()).collect::<Vec<_>>();
+        assert_eq!(titles(&doc), ["frame time", "speed-up", "difference to brute force"]);
+        // A row of two scenes (an unbounded field against the stored reference) has none.
+        doc["rows"][1]["diff"] = Value::Null;
+        let all = panels(&doc);
+        assert_eq!(all[0].categories.len(), 2);
+        assert_eq!(all[2].categories, ["stored, \"above\""]);
+        assert_eq!(all[2].groups[0].1, [1.25]);
+        doc["rows"][0]["diff"] = Value::Null;
+        assert_eq!(titles(&doc), ["frame time", "speed-up"], "no difference, no panel");
+    }
 
     fn doc() -> Value {
         let variant = |name: &str, ms: f64, drawn: u64| {
