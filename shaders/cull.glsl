@@ -22,12 +22,19 @@ layout(set = SET_SCENE, binding = BINDING_CULL_STATS, std430) buffer CullStats {
 layout(set = SET_SCENE, binding = BINDING_CULL_RESULTS, std430) buffer CullResults { uvec2 cull_results[]; };
 const uint NOT_DRAWN = 0xffffffffu;
 // Written by the tiles pass (cull_tiles.comp): the count pass's indirect dispatch (x, y, z, and
-// x again), then per ring slot its first verdict (a block field's), then the slots with
-// candidates in slot order (`listed_slot`).
-layout(set = SET_SCENE, binding = BINDING_CULL_ALLOC, std430) buffer CullAlloc { uvec4 count_dispatch; uint verdict_base[]; };
+// x again), then per ring slot its first verdict (a block field's), then per ring slot its
+// candidates (the tile tests' result, read by the count and emit passes), then the slots with
+// candidates in slot order.
+layout(set = SET_SCENE, binding = BINDING_CULL_ALLOC, std430) buffer CullAlloc { uvec4 count_dispatch; uint alloc_words[]; };
+uint verdict_base(uint slot) {
+    return alloc_words[slot];
+}
+uint slot_candidates(uint slot) {
+    return alloc_words[frame.cull_tiles.y + slot];
+}
 // The k-th slot with candidates.
 uint listed_slot(uint k) {
-    return verdict_base[frame.cull_tiles.y + k];
+    return alloc_words[2u * frame.cull_tiles.y + k];
 }
 // A slot whose verdicts did not fit (`cull_alloc` ran out): it draws nothing.
 const uint NO_ROOM = 0xffffffffu;

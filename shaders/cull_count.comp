@@ -1,8 +1,7 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // Cull, step 2 of 4: one workgroup per ring slot the tiles pass listed (cull_tiles.comp: the
-// slots with candidates) runs the tile tests again (the same function of the same inputs: the
-// same candidates) and the blade tests, writes each candidate blade's verdict to `cull_results`
+// slots with candidates, and how many) runs the blade tests, writes each candidate blade's verdict to `cull_results`
 // (a block field's from the slot's first verdict, `cull_alloc`), and how many blades of its slot
 // each LOD bucket draws, and the counts after each test, to its `SLOT_WORDS` words of
 // `slot_counts` (the tiles pass wrote the other slots'). Every word of every slot is written
@@ -26,23 +25,23 @@ void main() {
     ivec2 cell;
     if (slot_record(slot, tile, cell)) {
         Frustum f = culling_frustum();
-        bool tile_visible;
         vec3 normal = tile_normal(tile);
-        uint candidates = tile_candidates(f, tile, normal, tile_visible);
+        // A listed slot passed the tile tests with candidates (the tiles pass).
+        uint candidates = slot_candidates(slot);
         uint base = 0u;
         // `candidates` is the workgroup's: the barriers below are reached by all or none.
         if ((RENDER_FLAGS & FLAG_BLOCKS) != 0u && candidates > 0u) {
             // The terrain under the cell, only for cells that have candidates.
             cache_cell_heights(cell);
             // Room for this slot's verdicts, from the tiles pass's prefix sum.
-            base = verdict_base[slot];
+            base = verdict_base(slot);
             candidates = base == NO_ROOM ? 0u : candidates;
         }
         if (lane == 0u) {
             counts[STAT_CONSIDERED] = tile.count;
             counts[STAT_TILES_TOTAL] = 1u;
-            counts[STAT_TILES] = tile_visible ? tile.count : 0u;
-            counts[STAT_TILES_VISIBLE] = tile_visible ? 1u : 0u;
+            counts[STAT_TILES] = tile.count;
+            counts[STAT_TILES_VISIBLE] = 1u;
         }
         uint passed[STAT_OCCLUSION - STAT_DENSITY + 1u] = uint[](0u, 0u, 0u, 0u);
         uint drawn[MAX_LOD_BUCKETS] = uint[](0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);

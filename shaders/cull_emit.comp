@@ -24,9 +24,9 @@ void main() {
     if (!slot_record(slot, tile, cell)) {
         return;
     }
-    bool tile_visible;
-    uint candidates = tile_candidates(culling_frustum(), tile, tile_normal(tile), tile_visible);
-    uint base = (RENDER_FLAGS & FLAG_BLOCKS) != 0u && candidates > 0u ? verdict_base[slot] : 0u;
+    // The tile tests' result, from the tiles pass.
+    uint candidates = slot_candidates(slot);
+    uint base = (RENDER_FLAGS & FLAG_BLOCKS) != 0u && candidates > 0u ? verdict_base(slot) : 0u;
     if (base == NO_ROOM) {
         return;
     }

@@ -2,8 +2,9 @@
 #extension GL_GOOGLE_include_directive : require
 // Cull, step 1 of 4: one workgroup runs the tile tests of every ring slot (cull.glsl,
 // `tile_candidates`), a SIMD lane per slot. A slot without candidates gets its `SLOT_WORDS` words
-// here (the count pass skips it). The slots with candidates are listed in slot order (near to
-// far) after the slots' words of `cull_alloc`, with the count pass's indirect dispatch over them:
+// here (the count pass skips it). Every slot's candidates go to `cull_alloc` (the count and
+// emit passes read them: the tile tests run once per slot and frame), and the slots with
+// candidates are listed in slot order (near to far) with the count pass's indirect dispatch:
 // an empty workgroup costs llvmpipe about 0.9 µs, 5.6 ms over the 6 241 slots of an unbounded
 // field at 150 m, most of them off screen. A block field's slots take their verdicts' room by a
 // prefix sum of their candidates in slot order: no atomics, no counter to clear.
@@ -46,8 +47,7 @@ void main() {
         bool recorded = slot_record(slot, tile, cell);
         bool tile_visible = false;
         uint candidates = recorded ? tile_candidates(f, tile, tile_normal(tile), tile_visible) : 0u;
-        // Kept here until the scan below (this invocation reads it back).
-        verdict_base[slot] = candidates;
+        alloc_words[slots + slot] = candidates;
         if (candidates == 0u) {
             write_empty_slot(slot, recorded, tile, tile_visible);
         }
@@ -74,14 +74,14 @@ void main() {
     uint at = run_listed[lane];
     uint first = run_candidates[lane];
     for (uint slot = begin; slot < end; slot++) {
-        uint candidates = verdict_base[slot];
+        uint candidates = alloc_words[slots + slot];
         if (candidates > 0u) {
-            verdict_base[slots + at] = slot;
+            alloc_words[2u * slots + at] = slot;
             at++;
         }
         // A block field's verdicts: the slots nearer than this one took the room before it.
         bool fits = (RENDER_FLAGS & FLAG_BLOCKS) == 0u || first + candidates <= frame.cull_tiles.x;
-        verdict_base[slot] = fits ? first : NO_ROOM;
+        alloc_words[slot] = fits ? first : NO_ROOM;
         first += candidates;
     }
 }

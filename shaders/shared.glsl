@@ -26,7 +26,7 @@
 #define BINDING_CULL_STATS 11 // Per-frame, host-visible: the cull's counts of this frame (`STAT_*`).
 #define BINDING_CULL_RESULTS 12 // The count pass's verdict per candidate blade (bucket, packed scale), read by the emit pass.
 #define BINDING_DEPTH_PYRAMID 13 // Min-depth pyramid of this frame's terrain depth (`PYRAMID_*`), written by hiz.comp.
-#define BINDING_CULL_ALLOC 14 // Written by the cull tiles pass: the count pass's dispatch (4 words), each slot's first verdict (a block field's), the slots with candidates.
+#define BINDING_CULL_ALLOC 14 // Written by the cull tiles pass: the count pass's dispatch (4 words), each slot's first verdict (a block field's) and candidates, the slots with candidates.
 #define BINDING_FRAME_STORAGE 15 // The same `FrameUniforms` as `BINDING_FRAME`, read by the cull's passes as a storage buffer (bindings.glsl says why).
 
 // Set `SET_ANIMATION`: every model fills all three (the blade shaders declare them all).

@@ -186,7 +186,7 @@ pub struct SceneGpu {
     /// The depth pyramid (`PYRAMID_FLOATS` floats) the occlusion test reads.
     pub depth_pyramid: Buffer,
     /// The cull tiles pass's output: the count pass's dispatch, each slot's first verdict (a block
-    /// field's), the slots with candidates.
+    /// field's) and candidates, the slots with candidates.
     pub cull_alloc: Buffer,
     /// Verdicts `cull_results` holds.
     pub verdict_capacity: u32,
@@ -214,9 +214,9 @@ pub fn max_ring_slots(tiles: u32) -> u32 {
 }
 
 /// Bytes of `cull_alloc` for `slots` ring slots: the count pass's dispatch (4 words), each slot's
-/// first verdict, the listed slots (`shaders/cull_tiles.comp`).
+/// first verdict, each slot's candidates, the listed slots (`shaders/cull_tiles.comp`).
 fn cull_alloc_bytes(slots: u32) -> u64 {
-    4 * (4 + 2 * u64::from(slots))
+    4 * (4 + 3 * u64::from(slots))
 }
 
 /// Bytes of the cull's buffers for `blades` stored blades, `slots` ring slots and a visible list
