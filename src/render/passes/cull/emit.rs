@@ -15,9 +15,9 @@ use crate::vk::{Access, Device};
 pub fn pass(device: &Device, setup: &CullSetup, scene: &SceneGpu) -> Result<CullStep> {
     let read = Access::ComputeShaderRead;
     let uses = vec![
+        // A stored field's tiles (where a slot's blades start); the tile tests' result is the
+        // tiles pass's, in `cull_alloc`.
         (scene.tiles.raw, read),
-        (scene.depth_pyramid.raw, read),
-        (scene.heights.raw, read),
         (scene.cull_results.raw, read),
         (scene.cull_alloc.raw, read),
         (scene.slot_counts.raw, read),
