@@ -14,8 +14,16 @@
 // its toggles and counts that way, so the viewer's memory grew by about 1.1 MB a frame, all of it
 // JIT code. Storage buffers are never inlined.
 layout(set = SET_SCENE, binding = BINDING_FRAME_STORAGE, std140) readonly buffer FrameStorage { FrameUniforms frame; };
+// The same values through the uniform buffer, for reads that only enter arithmetic (never alone
+// a branch or a loop bound, so never inlined): llvmpipe (Mesa 22.3) loads a uniform at a constant
+// offset once for all lanes, where a storage load is a loop over the SIMD lanes with a bounds
+// test and a branch per lane (`emit_load_mem`). The cull's per-blade tests and the levels pass
+// read the camera, the LOD constants and the relief's waves this way.
+layout(set = SET_SCENE, binding = BINDING_FRAME, std140) uniform FrameValues { FrameUniforms frame_values; };
 #else
 layout(set = SET_SCENE, binding = BINDING_FRAME, std140) uniform Frame { FrameUniforms frame; };
+// One binding outside the cull: `frame_values` is `frame`.
+#define frame_values frame
 #endif
 layout(set = SET_SCENE, binding = BINDING_BLADES, std430) readonly buffer Blades { BladeInstance blades[]; };
 layout(set = SET_SCENE, binding = BINDING_HEIGHTS, std430) readonly buffer Heights { float heights[]; };
@@ -31,7 +39,7 @@ layout(set = SET_SCENE, binding = BINDING_TILES, std430) readonly buffer Tiles {
 // (`visible_scale`, `visible_unpack`).
 // Fade in [0, 1] and widening in [1, lod.w] as unorm8, both exact at 1 (no LOD: the same blade).
 uint visible_scale(float root_y, vec2 scale) {
-    vec2 unit = vec2(scale.x, (scale.y - 1.0) / max(frame.lod.w - 1.0, 1e-6));
+    vec2 unit = vec2(scale.x, (scale.y - 1.0) / max(frame_values.lod.w - 1.0, 1e-6));
     uvec2 bytes = uvec2(round(clamp(unit, 0.0, 1.0) * 255.0));
     return (packHalf2x16(vec2(root_y, 0.0)) & 0xffffu) | (bytes.x << 16) | (bytes.y << 24);
 }
@@ -39,7 +47,7 @@ uint visible_scale(float root_y, vec2 scale) {
 // (root height, fade, widening) of a visible entry's second word.
 vec3 visible_unpack(uint word) {
     return vec3(unpackHalf2x16(word & 0xffffu).x, float((word >> 16) & 255u) / 255.0,
-        1.0 + float(word >> 24) / 255.0 * (frame.lod.w - 1.0));
+        1.0 + float(word >> 24) / 255.0 * (frame_values.lod.w - 1.0));
 }
 
 // A visible entry that draws nothing: the padding of a bucket's last instance (cull_scan.comp).

@@ -113,7 +113,7 @@ vec3 lod_color(uint segments) {
 vec3 blade_terrain_normal(BladeInstance blade) {
     return (RENDER_FLAGS & FLAG_BLOCKS) != 0u
         ? relief_normal(blade.position.xz)
-        : grid_terrain_normal(blade.position.xz, frame.terrain.x, frame.terrain.y, frame.params.z);
+        : grid_terrain_normal(blade.position.xz, frame_values.terrain.x, frame_values.terrain.y, frame.params.z);
 }
 
 // The colour at height t of `blade` (a strip of `segments` segments) at `world`, its width along
@@ -142,7 +142,7 @@ vec4 shade_blade(BladeInstance blade, float t, vec3 world, vec3 width_dir, vec3 
     }
     if ((RENDER_FLAGS & FLAG_DEBUG_TILES) != 0u) {
         // A colour per tile of the cull (`scene::tiles`), from a hash of its cell.
-        uvec2 cell = uvec2(max((blade.position.xz - vec2(frame.tile_grid.x)) / frame.tile_grid.y, vec2(0.0)));
+        uvec2 cell = uvec2(max((blade.position.xz - vec2(frame_values.tile_grid.x)) / frame_values.tile_grid.y, vec2(0.0)));
         uint h = (cell.x * 73856093u) ^ (cell.y * 19349663u);
         h = (h ^ (h >> 13)) * 0x5bd1e995u;
         diffuse = (0.15 + 0.6 * vec3(h & 255u, (h >> 8) & 255u, (h >> 16) & 255u) / 255.0) * mix(0.5, 1.0, t);
@@ -151,13 +151,13 @@ vec4 shade_blade(BladeInstance blade, float t, vec3 world, vec3 width_dir, vec3 
     // triangle parity cannot flip it. Belyaev §2.3 is linear in the diffuse colour, and so is the
     // fog: colour = lit * rim + sky * (1 - fog) in blade.frag.
     vec3 n = normalize(cross(width_dir, world_tangent));
-    n = dot(n, frame.camera_position.xyz - world) < 0.0 ? -n : n;
-    float fog = fog_transmittance(world, frame.camera_position, frame.sky_color);
+    n = dot(n, frame_values.camera_position.xyz - world) < 0.0 ? -n : n;
+    float fog = fog_transmittance(world, frame_values.camera_position, frame_values.sky_color);
     float l6 = height_six(t, segments, MODEL_SEGMENTS);
-    vec3 lit = blade_radiance_l6(diffuse, diffuse, n, frame.sun_direction.xyz, t, l6);
+    vec3 lit = blade_radiance_l6(diffuse, diffuse, n, frame_values.sun_direction.xyz, t, l6);
     if ((RENDER_FLAGS & (FLAG_DEBUG_FORCE | FLAG_DEBUG_LOD | FLAG_DEBUG_TILES)) == 0u) {
         // Belyaev §2.3's Fresnel term on contour areas, over the terrain normal under the root.
-        vec3 fresnel = blade_fresnel_l6(terrain_normal, normalize(frame.camera_position.xyz - world), l6);
+        vec3 fresnel = blade_fresnel_l6(terrain_normal, normalize(frame_values.camera_position.xyz - world), l6);
         lit = lit + fresnel;
         if ((RENDER_FLAGS & FLAG_DEBUG_FRESNEL) != 0u) {
             lit = fresnel; // the term alone, unfogged

@@ -79,7 +79,7 @@ struct Frustum {
 };
 
 Frustum culling_frustum() {
-    mat4 m = frame.cull_view_proj;
+    mat4 m = frame_values.cull_view_proj;
     vec4 r0 = vec4(m[0][0], m[1][0], m[2][0], m[3][0]);
     vec4 r1 = vec4(m[0][1], m[1][1], m[2][1], m[3][1]);
     vec4 r2 = vec4(m[0][2], m[1][2], m[2][2], m[3][2]);
@@ -117,13 +117,13 @@ bool sphere_in_frustum(Frustum f, vec3 centre, float radius) {
 // near / (w - r) (reversed infinite Z: clip z is the near distance for every point). The rectangle
 // is tested at the finest level where it spans at most two texels; larger ones are not tested.
 bool occluded(vec3 centre, float radius) {
-    vec4 c = frame.view_proj * vec4(centre, 1.0);
+    vec4 c = frame_values.view_proj * vec4(centre, 1.0);
     float nearest_w = c.w - radius;
     if (nearest_w <= 1e-3) {
         return false;
     }
     vec2 ndc = c.xy / c.w;
-    vec2 grow = (frame.tile_grid.zw * radius + abs(ndc) * radius) / nearest_w;
+    vec2 grow = (frame_values.tile_grid.zw * radius + abs(ndc) * radius) / nearest_w;
     vec2 lo = clamp((ndc - grow) * 0.5 + 0.5, 0.0, 1.0);
     vec2 hi = clamp((ndc + grow) * 0.5 + 0.5, 0.0, 1.0);
     float nearest_depth = c.z / nearest_w;
@@ -157,8 +157,8 @@ float terrain_height(int x, int z) {
 
 // The terrain normal at world (x, z), from central differences of the height grid.
 vec3 terrain_normal(vec2 xz) {
-    float step = frame.terrain.y;
-    ivec2 g = ivec2(round((xz - vec2(frame.terrain.x)) / step));
+    float step = frame_values.terrain.y;
+    ivec2 g = ivec2(round((xz - vec2(frame_values.terrain.x)) / step));
     float dx = terrain_height(g.x + 1, g.y) - terrain_height(g.x - 1, g.y);
     float dz = terrain_height(g.x, g.y + 1) - terrain_height(g.x, g.y - 1);
     return normalize(vec3(-dx, 2.0 * step, -dz));
@@ -177,7 +177,7 @@ float density_visible(float n_dot_r) {
 }
 
 float density_keep(float d, float n_dot_r) {
-    float d0 = frame.lod.y;
+    float d0 = frame_values.lod.y;
     return density_visible(n_dot_r) / (A1 + A1 * (d * d) / (d0 * d0));
 }
 
@@ -189,7 +189,7 @@ float density_keep(float d, float n_dot_r) {
 // if the interval holds 0. A 2 % margin covers rounding (the bound only saves work; the blade
 // test decides).
 float density_keep_bound(vec3 n, BladeTile tile, float nearest) {
-    vec3 eye = frame.cull_eye.xyz;
+    vec3 eye = frame_values.cull_eye.xyz;
     bvec3 positive = greaterThanEqual(n, vec3(0.0));
     float most = dot(n, eye - mix(tile.max, tile.min, positive));
     float least = dot(n, eye - mix(tile.min, tile.max, positive));
@@ -198,14 +198,14 @@ float density_keep_bound(vec3 n, BladeTile tile, float nearest) {
     float lo = clamp(least >= 0.0 ? least / far : least / near, -1.0, 1.0);
     float hi = clamp(most >= 0.0 ? most / near : most / far, -1.0, 1.0);
     float visible = lo <= 0.0 && hi >= 0.0 ? 1.0 : max(density_visible(lo), density_visible(hi));
-    float d0 = frame.lod.y;
+    float d0 = frame_values.lod.y;
     return 1.02 * visible / (A1 + A1 * (nearest * nearest) / (d0 * d0));
 }
 
 // The tile of ring slot `slot`: a tile of the stored field, or in a block field (FLAG_BLOCKS) the
 // cell around O's cell with the block's blades and bounds. False when the slot holds nothing.
 bool slot_record(uint slot, out BladeTile tile, out ivec2 cell) {
-    cell = frame.field_cells.xy + ring_cell(slot);
+    cell = frame_values.field_cells.xy + ring_cell(slot);
     if ((RENDER_FLAGS & FLAG_BLOCKS) != 0u) {
         field_cell_bounds(cell, tile.min, tile.max);
         tile.first = 0u;
@@ -239,8 +239,8 @@ shared float cell_heights[HEIGHT_CACHE][HEIGHT_CACHE];
 
 // The cache's first vertex (grid coordinates) for `cell`.
 ivec2 cache_first_vertex(ivec2 cell) {
-    vec2 corner = vec2(cell - frame.field_cells.xy) * frame.field.x;
-    return ivec2(floor((corner - terrain_grid_offset()) / frame.terrain.x));
+    vec2 corner = vec2(cell - frame_values.field_cells.xy) * frame_values.field.x;
+    return ivec2(floor((corner - terrain_grid_offset()) / frame_values.terrain.x));
 }
 
 // Every invocation of the workgroup calls it (it ends with a barrier).
@@ -248,14 +248,14 @@ void cache_cell_heights(ivec2 cell) {
     ivec2 first = cache_first_vertex(cell);
     for (uint i = gl_LocalInvocationIndex; i < HEIGHT_CACHE * HEIGHT_CACHE; i += CULL_GROUP) {
         ivec2 v = first + ivec2(i % HEIGHT_CACHE, i / HEIGHT_CACHE);
-        cell_heights[i / HEIGHT_CACHE][i % HEIGHT_CACHE] = relief_height(vec2(v) * frame.terrain.x + terrain_grid_offset());
+        cell_heights[i / HEIGHT_CACHE][i % HEIGHT_CACHE] = relief_height(vec2(v) * frame_values.terrain.x + terrain_grid_offset());
     }
     barrier();
 }
 
 // The drawn terrain's height at `p` (relative to O) inside the cached cell.
 float cached_height(ivec2 cell, vec2 p) {
-    vec2 g = (p - terrain_grid_offset()) / frame.terrain.x;
+    vec2 g = (p - terrain_grid_offset()) / frame_values.terrain.x;
     ivec2 c = clamp(ivec2(floor(g)) - cache_first_vertex(cell), ivec2(0), ivec2(int(HEIGHT_CACHE) - 2));
     vec2 f = clamp(g - vec2(c + cache_first_vertex(cell)), vec2(0.0), vec2(1.0));
     return terrain_mesh_height(f, cell_heights[c.y][c.x], cell_heights[c.y][c.x + 1], cell_heights[c.y + 1][c.x],
@@ -281,13 +281,13 @@ uint visible_blade(BladeTile tile, uint slot, uint rank) {
 
 // What the tile tests (frustum, distance, occlusion) leave of a tile: how many of its blades (a prefix) go to the blade tests.
 uint tile_candidates(Frustum f, BladeTile tile, vec3 normal, out bool tile_visible) {
-    vec3 eye = frame.cull_eye.xyz;
+    vec3 eye = frame_values.cull_eye.xyz;
     float nearest = length(clamp(eye, tile.min, tile.max) - eye);
     tile_visible = tile.count > 0u;
     if (culling(CULL_FRUSTUM) && !box_in_frustum(f, tile.min, tile.max)) {
         tile_visible = false;
     }
-    if (culling(CULL_DISTANCE) && nearest > frame.lod.x) {
+    if (culling(CULL_DISTANCE) && nearest > frame_values.lod.x) {
         tile_visible = false;
     }
     if (tile_visible && culling(CULL_OCCLUSION)) {
@@ -314,7 +314,7 @@ uint bucket_segments(uint b) {
 // `failed` (a `STAT_*` index: the counts after that test do not include it). `scale` is
 // (fade, widening) for the vertex shader.
 int blade_bucket(Frustum f, BladeInstance blade, uint rank, uint count, vec3 normal, out uint failed, out vec2 scale) {
-    vec3 to_eye = frame.cull_eye.xyz - blade.position;
+    vec3 to_eye = frame_values.cull_eye.xyz - blade.position;
     float d = max(length(to_eye), 1e-3);
     scale = vec2(1.0);
     failed = 0u;
@@ -330,14 +330,14 @@ int blade_bucket(Frustum f, BladeInstance blade, uint rank, uint count, vec3 nor
         // survivors widen so that the expected covered area stays that of the whole tile.
         float fade = clamp((keep - w) / (FADE_BAND * keep), 0.0, 1.0);
         float covered = min(keep * (1.0 - 0.5 * FADE_BAND), 1.0);
-        scale = vec2(fade, min(1.0 / covered, frame.lod.w));
+        scale = vec2(fade, min(1.0 / covered, frame_values.lod.w));
     }
     float reach = blade.height + 0.5 * blade.width * scale.x * scale.y;
     if (culling(CULL_FRUSTUM) && !sphere_in_frustum(f, blade.position, reach)) {
         failed = STAT_FRUSTUM;
         return -1;
     }
-    if (culling(CULL_DISTANCE) && d - reach > frame.lod.x) {
+    if (culling(CULL_DISTANCE) && d - reach > frame_values.lod.x) {
         failed = STAT_FRUSTUM;
         return -1;
     }
@@ -360,8 +360,8 @@ int blade_bucket(Frustum f, BladeInstance blade, uint rank, uint count, vec3 nor
         // A fading blade counts as shorter by its fade: it keeps its height but is narrowing to
         // nothing, and its curve matters less than its width (full height here drew 11 % more
         // triangles at 1M blades for no measured gain in the 8x8 difference from brute force).
-        float pixels = scale.x * blade.height * frame.cull_eye.w / d;
-        float needed = pixels / frame.lod.z;
+        float pixels = scale.x * blade.height * frame_values.cull_eye.w / d;
+        float needed = pixels / frame_values.lod.z;
         for (uint b = 1u; b < buckets; b++) {
             if (float(bucket_segments(b)) >= needed) {
                 bucket = b;

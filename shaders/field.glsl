@@ -12,8 +12,8 @@ const float FIELD_ROOT_SINK = 0.01;
 float relief_height(vec2 p) {
     float h = 0.0;
     for (uint k = 0u; k < RELIEF_WAVES; k++) {
-        vec4 w = frame.relief_waves[k];
-        vec4 phase = frame.relief_phases[k / 2u];
+        vec4 w = frame_values.relief_waves[k];
+        vec4 phase = frame_values.relief_phases[k / 2u];
         vec2 sc = (k & 1u) == 0u ? phase.xy : phase.zw;
         float a = dot(w.xy, p);
         h += w.z * (sc.x * cos(a) + sc.y * sin(a));
@@ -24,8 +24,8 @@ float relief_height(vec2 p) {
 vec3 relief_normal(vec2 p) {
     vec2 slope = vec2(0.0);
     for (uint k = 0u; k < RELIEF_WAVES; k++) {
-        vec4 w = frame.relief_waves[k];
-        vec4 phase = frame.relief_phases[k / 2u];
+        vec4 w = frame_values.relief_waves[k];
+        vec4 phase = frame_values.relief_phases[k / 2u];
         vec2 sc = (k & 1u) == 0u ? phase.xy : phase.zw;
         float a = dot(w.xy, p);
         slope += w.z * w.xy * (sc.y * cos(a) - sc.x * sin(a));
@@ -55,7 +55,7 @@ uint cell_hash(ivec2 cell) {
 
 // The terrain grid (terrain.vert): vertex v lies at v * step + offset relative to O.
 vec2 terrain_grid_offset() {
-    return vec2(0.5 * frame.field.x - 0.5 * float(FIELD_TERRAIN_CELLS) * frame.terrain.x);
+    return vec2(0.5 * frame_values.field.x - 0.5 * float(FIELD_TERRAIN_CELLS) * frame_values.terrain.x);
 }
 
 // Height of the drawn terrain (the relief at the grid's vertices, flat between them, split as
@@ -69,7 +69,7 @@ float terrain_mesh_height(vec2 f, float h00, float h10, float h01, float h11) {
 // height (y) is left to the caller (the cull sets it on the drawn terrain).
 BladeInstance field_blade(ivec2 cell, uint index) {
     BladeInstance blade = blades[index];
-    float edge = frame.field.x;
+    float edge = frame_values.field.x;
     uint h = cell_hash(cell);
     vec2 p = blade.position.xz - vec2(0.5 * edge);
     float facing = blade.facing;
@@ -84,7 +84,7 @@ BladeInstance field_blade(ivec2 cell, uint index) {
         p = vec2(p.y, -p.x);
         facing += 0.5 * PI;
     }
-    vec2 at = vec2(cell - frame.field_cells.xy) * edge + p + vec2(0.5 * edge);
+    vec2 at = vec2(cell - frame_values.field_cells.xy) * edge + p + vec2(0.5 * edge);
     blade.position = vec3(at.x, 0.0, at.y);
     blade.facing = facing;
     return blade;
@@ -93,10 +93,10 @@ BladeInstance field_blade(ivec2 cell, uint index) {
 // The box of every blade of `cell` in any pose, relative to O: the relief at the cell's centre
 // within the slope bound, padded by the longest blade.
 void field_cell_bounds(ivec2 cell, out vec3 lo, out vec3 hi) {
-    float edge = frame.field.x;
-    vec2 corner = vec2(cell - frame.field_cells.xy) * edge;
+    float edge = frame_values.field.x;
+    vec2 corner = vec2(cell - frame_values.field_cells.xy) * edge;
     vec2 centre = corner + vec2(0.5 * edge);
-    float spread = frame.field.y * 0.7072 * edge;
+    float spread = frame_values.field.y * 0.7072 * edge;
     float reach = 0.56; // scene::blades::HEIGHT_RANGE.1 + WIDTH_RANGE.1 / 2
     float h = relief_height(centre);
     lo = vec3(corner.x - reach, h - spread - FIELD_ROOT_SINK, corner.y - reach);
@@ -109,7 +109,7 @@ void field_cell_bounds(ivec2 cell, out vec3 lo, out vec3 hi) {
 // blade_pose.comp, so both place it alike.
 BladeInstance visible_instance(uvec2 entry, out uint blade_index) {
     if ((RENDER_FLAGS & FLAG_BLOCKS) != 0u) {
-        ivec2 cell = frame.field_cells.xy + ring_cell(entry.x >> 16);
+        ivec2 cell = frame_values.field_cells.xy + ring_cell(entry.x >> 16);
         blade_index = entry.x & 0xffffu;
         BladeInstance blade = field_blade(cell, blade_index);
         blade.position.y = visible_unpack(entry.y).x;
