@@ -97,10 +97,13 @@ void field_cell_bounds(ivec2 cell, out vec3 lo, out vec3 hi) {
     vec2 corner = vec2(cell - frame_values.field_cells.xy) * edge;
     vec2 centre = corner + vec2(0.5 * edge);
     float spread = frame_values.field.y * 0.7072 * edge;
-    float reach = 0.56; // scene::blades::HEIGHT_RANGE.1 + WIDTH_RANGE.1 / 2
+    // `scene::tiles::blade_reach` of the longest and widest blade (scene::blades::HEIGHT_RANGE.1,
+    // WIDTH_RANGE.1): up, and across with the density LOD's widest widening (`lod.w`).
+    float up = 0.55 + 0.5 * 0.016;
+    float across = 0.55 + 0.5 * 0.016 * max(frame_values.lod.w, 1.0);
     float h = relief_height(centre);
-    lo = vec3(corner.x - reach, h - spread - FIELD_ROOT_SINK, corner.y - reach);
-    hi = vec3(corner.x + edge + reach, h + spread + reach, corner.y + edge + reach);
+    lo = vec3(corner.x - across, h - spread - FIELD_ROOT_SINK, corner.y - across);
+    hi = vec3(corner.x + edge + across, h + spread + up, corner.y + edge + across);
 }
 
 // The blade of a visible entry of the cull's list (`visible_blade` of cull.glsl) and the index

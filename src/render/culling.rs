@@ -6,6 +6,7 @@ use glam::{UVec4, Vec4};
 use crate::render::gpu_constants as gpu;
 use crate::render::uniforms::FrameUniforms;
 use crate::scene::bezier::BladeMesh;
+use crate::scene::blades;
 use crate::scene::tiles::TileGrid;
 use crate::scene::Camera;
 
@@ -24,8 +25,6 @@ pub const FULL_DENSITY_DISTANCE: f32 = 6.0;
 /// Projected height in pixels one blade segment may span before the LOD picks more segments,
 /// at LOD scale 1.
 pub const PIXELS_PER_SEGMENT: f32 = 8.0;
-/// The most a surviving blade widens to cover for the blades the density LOD dropped.
-pub const MAX_WIDENING: f32 = 6.0;
 
 /// The segment counts of the LOD buckets, decreasing: bucket 0 is the nearest.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -158,8 +157,12 @@ impl Culling {
         let scale = self.lod_scale;
         uniforms.cull_view_proj = camera.view_projection(aspect);
         uniforms.cull_eye = eye.extend(pixels_per_metre);
-        uniforms.lod =
-            Vec4::new(self.view_distance, FULL_DENSITY_DISTANCE * scale, PIXELS_PER_SEGMENT / scale, MAX_WIDENING);
+        uniforms.lod = Vec4::new(
+            self.view_distance,
+            FULL_DENSITY_DISTANCE * scale,
+            PIXELS_PER_SEGMENT / scale,
+            blades::MAX_WIDENING,
+        );
         uniforms.tile_grid = Vec4::new(grid.origin, grid.tile_size, p11 / aspect, p11);
         uniforms.cull_tiles = UVec4::new(grid.tiles, grid.ring_slots(centre), centre.0, centre.1);
         let bits = if frozen { self.bits() & !gpu::CULL_OCCLUSION } else { self.bits() };

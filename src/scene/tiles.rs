@@ -5,6 +5,7 @@
 
 use bytemuck::{Pod, Zeroable};
 
+use crate::scene::blades::MAX_WIDENING;
 use crate::scene::BladeInstance;
 
 /// Smallest tile edge in metres.
@@ -171,17 +172,23 @@ pub fn progressive_order(blades: &mut [BladeInstance]) {
     }
 }
 
-/// The tile of `blades` (starting at `first`): its box holds every blade in any pose. A blade
-/// bends about its root but keeps its length, so every point of it lies within `height + width/2`
-/// of the root: the box of the roots padded by that much (never below the root).
+/// How far a blade reaches from its root in any pose: along each horizontal axis, and up. It
+/// bends about its root but keeps its length, and its width is horizontal and at most
+/// `MAX_WIDENING` times its own (the density LOD's widening).
+pub fn blade_reach(blade: &BladeInstance) -> (f32, f32) {
+    (blade.height + 0.5 * blade.width * MAX_WIDENING, blade.height + 0.5 * blade.width)
+}
+
+/// The tile of `blades` (starting at `first`): its box holds every blade in any pose, widened or
+/// not: the box of the roots padded by `blade_reach` (never below the root).
 fn bounds(blades: &[BladeInstance], first: u32) -> BladeTile {
     let mut tile = BladeTile { min: [f32::MAX; 3], first, max: [f32::MIN; 3], count: blades.len() as u32 };
     for blade in blades {
-        let reach = blade.height + 0.5 * blade.width;
+        let (across, up) = blade_reach(blade);
         for axis in 0..3 {
-            let below = if axis == 1 { 0.0 } else { reach };
+            let (below, above) = if axis == 1 { (0.0, up) } else { (across, across) };
             tile.min[axis] = tile.min[axis].min(blade.position[axis] - below);
-            tile.max[axis] = tile.max[axis].max(blade.position[axis] + reach);
+            tile.max[axis] = tile.max[axis].max(blade.position[axis] + above);
         }
     }
     if blades.is_empty() {
@@ -224,10 +231,11 @@ mod tests {
             for blade in &scene.blades[tile.first as usize..(tile.first + tile.count) as usize] {
                 let [x, y, z] = blade.position;
                 assert_eq!(grid.index(x, z), t as u32);
-                let reach = blade.height + 0.5 * blade.width;
-                assert!(x - reach >= tile.min[0] && x + reach <= tile.max[0]);
-                assert!(z - reach >= tile.min[2] && z + reach <= tile.max[2]);
-                assert!(y >= tile.min[1] && y + reach <= tile.max[1]);
+                let (across, up) = blade_reach(blade);
+                assert!(across > up, "the reach across counts the widening");
+                assert!(x - across >= tile.min[0] && x + across <= tile.max[0]);
+                assert!(z - across >= tile.min[2] && z + across <= tile.max[2]);
+                assert!(y >= tile.min[1] && y + up <= tile.max[1]);
             }
         }
         assert_eq!(next as usize, scene.blades.len());
