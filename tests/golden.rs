@@ -52,7 +52,9 @@ fn check_golden(name: &str, args: &[&str]) {
 /// instead of 8 (other blades drawn past 6 m: 11 % of pixels moved, 1.1 % mean of 8x8 blocks,
 /// alike by eye). All five were renewed when the terrain became lit per vertex: at most 1 in 255
 /// on any channel of the four brute-force ones. Renewed when the widening cap went from 6 to 12
-/// (`scene::blades::MAX_WIDENING`): 0.17 % of pixels moved, scattered over the far hills.
+/// (`scene::blades::MAX_WIDENING`): 0.17 % of pixels moved, scattered over the far hills; and
+/// when full density ended at 5.5 m instead of 6 (2.7 % of pixels moved, 0.12 % mean of 8x8
+/// blocks, over the mid and far hills, alike by eye).
 #[test]
 fn default_view_culled_with_lod() {
     check_golden("default_view_culled", &["--blades", "20000", "--size", "320x180", "--seed", "1"]);

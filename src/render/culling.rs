@@ -20,8 +20,12 @@ pub const DEFAULT_VIEW_DISTANCE: f32 = 150.0;
 /// stretch (`height_six` in lighting.glsl) and widened blades with their patch's mean colour.
 /// Measured at 1M blades from the default view (8x8 mean difference from brute force, blades
 /// drawn): 8 m before, 0.455 % and 143 598; 6.5 m after, 0.405 % and 103 833; 6 m, 0.438 % and
-/// 91 203; 5.5 m, 0.473 % and 78 991.
-pub const FULL_DENSITY_DISTANCE: f32 = 6.0;
+/// 91 203; 5.5 m, 0.473 % and 78 991. With the widening cap raised from 6 to 12 (`bench --preset
+/// lod`, mean / p99 block, blades drawn, unbounded frame against the 100k brute-force one): 6 m,
+/// 0.42 % / 2.60 %, 91 266, 0.73x; 5.5 m, 0.45 % / 2.85 %, 79 057, 0.65x; 5 m, 0.50 % / 3.17 %,
+/// 67 614, 0.64x. 5.5 m keeps the 1M bound (0.5 %) with a margin and is nearest the unbounded
+/// field's 0.5x.
+pub const FULL_DENSITY_DISTANCE: f32 = 5.5;
 /// Projected height in pixels one blade segment may span before the LOD picks more segments,
 /// at LOD scale 1.
 pub const PIXELS_PER_SEGMENT: f32 = 8.0;
