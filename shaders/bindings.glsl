@@ -1,5 +1,5 @@
 // The descriptor sets of the scene pipelines: the scene and this frame's uniforms and forces
-// (`SET_SCENE`, `render::scene_gpu::bindings`), then the animation model's resources
+// (`SET_SCENE`, `render::scene_set::bindings`), then the animation model's resources
 // (`SET_ANIMATION`, `render::animation::model::bindings`). Numbers are in shared.glsl.
 #ifndef MEADOW_BINDINGS_GLSL
 #define MEADOW_BINDINGS_GLSL
@@ -26,6 +26,23 @@ layout(set = SET_SCENE, binding = BINDING_FRAME, std140) uniform Frame { FrameUn
 #define frame_values frame
 #endif
 layout(set = SET_SCENE, binding = BINDING_BLADES, std430) readonly buffer Blades { BladeInstance blades[]; };
+// The same records as two RGBA32UI texels each: the scene's shaders read a blade with
+// `blade_record`, two vector gathers on llvmpipe instead of a load per SIMD lane and word
+// (`vk::buffer::TexelView`).
+layout(set = SET_SCENE, binding = BINDING_BLADE_TEXELS) uniform usamplerBuffer blade_texels;
+
+BladeInstance blade_record(uint index) {
+    uvec4 a = texelFetch(blade_texels, int(2u * index));
+    uvec4 b = texelFetch(blade_texels, int(2u * index + 1u));
+    BladeInstance blade;
+    blade.position = uintBitsToFloat(a.xyz);
+    blade.facing = uintBitsToFloat(a.w);
+    blade.height = uintBitsToFloat(b.x);
+    blade.width = uintBitsToFloat(b.y);
+    blade.stiffness = uintBitsToFloat(b.z);
+    blade.variation = b.w;
+    return blade;
+}
 layout(set = SET_SCENE, binding = BINDING_HEIGHTS, std430) readonly buffer Heights { float heights[]; };
 layout(set = SET_SCENE, binding = BINDING_BLADE_ALPHA) uniform sampler2D blade_alpha;
 layout(set = SET_SCENE, binding = BINDING_CLUSTERS, std430) readonly buffer Clusters { BladeCluster clusters[]; };

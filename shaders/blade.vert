@@ -138,7 +138,7 @@ void main() {
     if ((RENDER_FLAGS & FLAG_CULLED) != 0u) {
         blade = visible_instance(entry, blade_index);
     } else {
-        blade = blades[blade_index];
+        blade = blade_record(blade_index);
     }
     vec3 p[4];
     neutral_control_points(blade.height, unpack_variation(blade.variation, 2), p);

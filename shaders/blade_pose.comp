@@ -39,7 +39,7 @@ void main() {
         if (i >= frame.params.y) {
             return;
         }
-        blade = blades[i];
+        blade = blade_record(i);
     }
     float force;
     KfSelection sel = kf_select_blade(blade_index, blade, force);

@@ -68,7 +68,7 @@ float terrain_mesh_height(vec2 f, float h00, float h10, float h01, float h11) {
 // per the cell's hash (a variation of the block, Belyaev §2.1), positioned relative to O; its
 // height (y) is left to the caller (the cull sets it on the drawn terrain).
 BladeInstance field_blade(ivec2 cell, uint index) {
-    BladeInstance blade = blades[index];
+    BladeInstance blade = blade_record(index);
     float edge = frame_values.field.x;
     uint h = cell_hash(cell);
     vec2 p = blade.position.xz - vec2(0.5 * edge);
@@ -119,7 +119,7 @@ BladeInstance visible_instance(uvec2 entry, out uint blade_index) {
         return blade;
     }
     blade_index = entry.x;
-    return blades[entry.x];
+    return blade_record(entry.x);
 }
 
 #endif

@@ -8,7 +8,7 @@
 #define MEADOW_SHARED_GLSL
 
 // Descriptor sets of the scene pipelines.
-#define SET_SCENE 0 // The scene and this frame's uniforms and forces (`render::scene_gpu::bindings`).
+#define SET_SCENE 0 // The scene and this frame's uniforms and forces (`render::scene_set::bindings`).
 #define SET_ANIMATION 1 // The animation model's resources (`render::animation::model::bindings`).
 
 // Set `SET_SCENE`.
@@ -28,6 +28,8 @@
 #define BINDING_DEPTH_PYRAMID 13 // Min-depth pyramid of this frame's terrain depth (`PYRAMID_*`), written by hiz.comp.
 #define BINDING_CULL_ALLOC 14 // Written by the cull tiles pass: the count pass's dispatch (4 words), each slot's first verdict (a block field's) and candidates, the slots with candidates.
 #define BINDING_FRAME_STORAGE 15 // The same `FrameUniforms` as `BINDING_FRAME`, read by the cull's passes as a storage buffer (bindings.glsl says why).
+#define BINDING_DEPTH_PYRAMID_TEXELS 16 // The depth pyramid as R32 texels, read by the occlusion test (`vk::buffer::TexelView` says why).
+#define BINDING_BLADE_TEXELS 17 // The blades again as RGBA32UI texels, two per `BladeInstance` (`blade_record` in bindings.glsl).
 
 // Set `SET_ANIMATION`: every model fills all three (the blade shaders declare them all).
 #define BINDING_KEYFRAMES 0 // Keyframe texture.

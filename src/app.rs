@@ -282,6 +282,15 @@ pub fn check_limits(device: &Device, blades: u32, size: (u32, u32), terrain_cell
             max_range / std::mem::size_of::<BladeInstance>() as u64
         )));
     }
+    // The scene's shaders read the blades as two texels each (`vk::TexelView`).
+    let max_texels = u64::from(limits.max_texel_buffer_elements);
+    if 2 * u64::from(blades) > max_texels {
+        return Err(Error::bad_input(format!(
+            "--blades {blades} needs {} blade texels, over the device's maxTexelBufferElements of {max_texels} (at most {} blades)",
+            2 * u64::from(blades),
+            max_texels / 2
+        )));
+    }
     let extent = vk::Extent2D { width: size.0, height: size.1 };
     let total = crate::render::scene_gpu::SceneGpu::memory_bytes(u64::from(blades), u64::from(terrain_cells))
         + offscreen_bytes(extent);

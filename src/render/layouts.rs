@@ -8,7 +8,8 @@ use crate::error::Result;
 use crate::render::animation::{self, model};
 use crate::render::frame::Frame;
 use crate::render::renderer::RenderSettings;
-use crate::render::scene_gpu::{self, SceneGpu};
+use crate::render::scene_gpu::SceneGpu;
+use crate::render::scene_set;
 use crate::render::submission;
 use crate::vk::{descriptor, pipeline, Device};
 
@@ -29,10 +30,10 @@ pub struct SceneLayouts {
 /// The layouts of `SET_SCENE` and `SET_ANIMATION` and the scene pipeline layout (the pool comes
 /// with the frames).
 pub fn scene_layouts(device: &Device) -> Result<SceneLayouts> {
-    check_storage_buffers(device, &[&scene_gpu::bindings(), &model::bindings()])?;
+    check_storage_buffers(device, &[&scene_set::bindings(), &model::bindings()])?;
     let mut layouts = SceneLayouts::default();
     let built = (|| {
-        layouts.set_layout = descriptor::set_layout(device, "scene set layout", &scene_gpu::bindings())?;
+        layouts.set_layout = descriptor::set_layout(device, "scene set layout", &scene_set::bindings())?;
         layouts.animation_layout = descriptor::set_layout(device, "animation set layout", &model::bindings())?;
         // Sets in `SET_SCENE`, `SET_ANIMATION` order.
         layouts.pipeline_layout = pipeline::layout(
@@ -99,7 +100,7 @@ pub fn build_frames(
     scene: &SceneGpu,
     settings: &RenderSettings,
 ) -> Result<Vec<Frame>> {
-    let bindings = scene_gpu::bindings();
+    let bindings = scene_set::bindings();
     let count = settings.frames_in_flight as u32;
     let (pool, sets) = descriptor::allocate_sets(device, "scene sets", layouts.set_layout, &bindings, count)?;
     layouts.pool = pool;

@@ -15,6 +15,7 @@ pub mod overlay;
 pub mod passes;
 pub mod renderer;
 pub mod scene_gpu;
+pub mod scene_set;
 pub mod settings;
 pub mod shaders;
 pub mod specialization;

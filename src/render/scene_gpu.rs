@@ -8,13 +8,14 @@ use ash::vk;
 use crate::error::Result;
 use crate::render::frame::Frame;
 use crate::render::gpu_constants;
+use crate::render::scene_set::{binding, BLADE_READS};
 use crate::render::settings::BLADES_PER_INSTANCE_RANGE;
 use crate::scene::clusters::{BladeCluster, ClusterGrid};
 use crate::scene::tiles::{BladeTile, TileGrid, MAX_TILES_PER_SIDE};
 use crate::scene::{alpha, Scene};
-use crate::vk::descriptor::{self, Binding, Resource};
+use crate::vk::descriptor::{self, Resource};
 use crate::vk::upload::UploadBatch;
-use crate::vk::{Access, Buffer, BufferDesc, Device, Image, ImageDesc};
+use crate::vk::{Access, Buffer, BufferDesc, Device, Image, ImageDesc, TexelView};
 
 /// Bytes of the `--eval blade` pose records: `segments + 1` records of `POSE_WORDS` words per
 /// blade (`shaders/bindings.glsl`).
@@ -73,73 +74,6 @@ pub fn visible_limit(device: &Device, scene: &SceneGpu, segments: u32, per_blade
     }
 }
 
-/// Binding numbers of set 0, generated from `shaders/shared.glsl` (`BINDING_*`).
-pub mod binding {
-    use crate::render::gpu_constants as gpu;
-
-    /// `FrameUniforms` uniform buffer.
-    pub const FRAME: u32 = gpu::BINDING_FRAME;
-    /// `BladeInstance[]` storage buffer.
-    pub const BLADES: u32 = gpu::BINDING_BLADES;
-    /// Terrain heights storage buffer.
-    pub const HEIGHTS: u32 = gpu::BINDING_HEIGHTS;
-    /// Blade alpha texture.
-    pub const BLADE_ALPHA: u32 = gpu::BINDING_BLADE_ALPHA;
-    /// `BladeCluster[]` storage buffer.
-    pub const CLUSTERS: u32 = gpu::BINDING_CLUSTERS;
-    /// Per-frame corner forces.
-    pub const CORNERS: u32 = gpu::BINDING_CORNERS;
-    /// Per-frame point sources and colliders.
-    pub const EMITTERS: u32 = gpu::BINDING_EMITTERS;
-    /// `BladeTile[]` storage buffer.
-    pub const TILES: u32 = gpu::BINDING_TILES;
-    /// The cull's visible list.
-    pub const VISIBLE: u32 = gpu::BINDING_VISIBLE;
-    /// The cull's per-slot counts and offsets.
-    pub const SLOT_COUNTS: u32 = gpu::BINDING_SLOT_COUNTS;
-    /// The cull's indirect draws.
-    pub const DRAWS: u32 = gpu::BINDING_DRAWS;
-    /// Per-frame: the cull's counts of the frame, host-visible.
-    pub const CULL_STATS: u32 = gpu::BINDING_CULL_STATS;
-    /// The count pass's verdict per candidate blade.
-    pub const CULL_RESULTS: u32 = gpu::BINDING_CULL_RESULTS;
-    /// The depth pyramid of the frame's terrain.
-    pub const DEPTH_PYRAMID: u32 = gpu::BINDING_DEPTH_PYRAMID;
-    /// A block field's room for verdicts.
-    pub const CULL_ALLOC: u32 = gpu::BINDING_CULL_ALLOC;
-    /// `FrameUniforms` again, as the cull's passes read it: a storage buffer (shaders/bindings.glsl).
-    pub const FRAME_STORAGE: u32 = gpu::BINDING_FRAME_STORAGE;
-}
-
-/// Layout of set `SET_SCENE`, shared by the scene passes and the animation's compute passes.
-pub fn bindings() -> [Binding; 16] {
-    let vs = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::COMPUTE;
-    let cs = vk::ShaderStageFlags::COMPUTE;
-    let vs_cs = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::COMPUTE;
-    let all = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT | vk::ShaderStageFlags::COMPUTE;
-    let storage = vk::DescriptorType::STORAGE_BUFFER;
-    let sampled = vk::DescriptorType::COMBINED_IMAGE_SAMPLER;
-    let uniform = vk::DescriptorType::UNIFORM_BUFFER;
-    [
-        Binding { binding: binding::FRAME, kind: uniform, stages: all },
-        Binding { binding: binding::BLADES, kind: storage, stages: vs_cs },
-        Binding { binding: binding::HEIGHTS, kind: storage, stages: vs },
-        Binding { binding: binding::BLADE_ALPHA, kind: sampled, stages: vk::ShaderStageFlags::FRAGMENT },
-        Binding { binding: binding::CLUSTERS, kind: storage, stages: vs_cs },
-        Binding { binding: binding::CORNERS, kind: storage, stages: vs_cs },
-        Binding { binding: binding::EMITTERS, kind: storage, stages: vs_cs },
-        Binding { binding: binding::TILES, kind: storage, stages: cs },
-        Binding { binding: binding::VISIBLE, kind: storage, stages: vs_cs },
-        Binding { binding: binding::SLOT_COUNTS, kind: storage, stages: cs },
-        Binding { binding: binding::DRAWS, kind: storage, stages: cs },
-        Binding { binding: binding::CULL_STATS, kind: storage, stages: cs },
-        Binding { binding: binding::CULL_RESULTS, kind: storage, stages: cs },
-        Binding { binding: binding::DEPTH_PYRAMID, kind: storage, stages: cs },
-        Binding { binding: binding::CULL_ALLOC, kind: storage, stages: cs },
-        Binding { binding: binding::FRAME_STORAGE, kind: storage, stages: cs },
-    ]
-}
-
 /// Device-local copies of the scene and of its animation data.
 pub struct SceneGpu {
     /// One `BladeInstance` per blade.
@@ -183,8 +117,12 @@ pub struct SceneGpu {
     pub draws: Buffer,
     /// The count pass's verdict per candidate blade, for the emit pass.
     pub cull_results: Buffer,
-    /// The depth pyramid (`PYRAMID_FLOATS` floats) the occlusion test reads.
+    /// The blades as RGBA32UI texels, two per blade, as the scene's shaders read them.
+    pub blade_texels: TexelView,
+    /// The depth pyramid (`PYRAMID_FLOATS` floats) the depth-pyramid pass writes.
     pub depth_pyramid: Buffer,
+    /// The same floats as R32 texels: the occlusion test reads them (`TexelView` says why).
+    pub depth_pyramid_texels: TexelView,
     /// The cull tiles pass's output: the count pass's dispatch, each slot's first verdict (a block
     /// field's) and candidates, the slots with candidates.
     pub cull_alloc: Buffer,
@@ -278,6 +216,8 @@ struct Partial {
     blade_alpha: Option<Image>,
     tiles: Option<Buffer>,
     cull: Vec<Buffer>,
+    pyramid_texels: Option<TexelView>,
+    blade_texels: Option<TexelView>,
 }
 
 impl Partial {
@@ -292,6 +232,9 @@ impl Partial {
             }
             if let Some(image) = self.blade_alpha {
                 image.destroy(device);
+            }
+            for view in [self.pyramid_texels, self.blade_texels].into_iter().flatten() {
+                view.destroy(device);
             }
         }
     }
@@ -331,6 +274,7 @@ impl SceneGpu {
         match result {
             Ok(sampler) => Ok(Self {
                 blades: partial.blades.take().expect("uploaded"),
+                blade_texels: partial.blade_texels.take().expect("created"),
                 blade_count: scene.blades.len() as u32,
                 heights: partial.heights.take().expect("uploaded"),
                 terrain_indices: partial.terrain_indices.take().expect("uploaded"),
@@ -352,6 +296,7 @@ impl SceneGpu {
                 visible_capacity: capacity.1,
                 slot_capacity: capacity.0,
                 cull_alloc: partial.cull.pop().expect("created"),
+                depth_pyramid_texels: partial.pyramid_texels.take().expect("created"),
                 depth_pyramid: partial.cull.pop().expect("created"),
                 cull_results: partial.cull.pop().expect("created"),
                 draws: partial.cull.pop().expect("created"),
@@ -378,7 +323,11 @@ impl SceneGpu {
         let vertex_read: &'static [Access] = &[Access::VertexShaderStorageRead];
         // Blades and clusters are also read by the blade-pose compute pass.
         let vertex_compute_read: &'static [Access] = &[Access::VertexShaderStorageRead, Access::ComputeShaderRead];
-        partial.blades = Some(batch.buffer("blades", &scene.blades, storage, vertex_compute_read)?);
+        // The scene's shaders read the blades as texels (`blade_record`).
+        let texel_usage = storage | vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER;
+        partial.blades = Some(batch.buffer("blades", &scene.blades, texel_usage, BLADE_READS)?);
+        let blades = partial.blades.as_ref().expect("uploaded");
+        partial.blade_texels = Some(TexelView::new(device, blades, vk::Format::R32G32B32A32_UINT, "blade texels")?);
         partial.heights = Some(batch.buffer("terrain heights", &scene.terrain.heights, storage, vertex_read)?);
         let cells = if scene.field.is_some() { gpu_constants::FIELD_TERRAIN_CELLS } else { scene.terrain.cells };
         let indices = terrain_indices(cells);
@@ -404,11 +353,13 @@ impl SceneGpu {
             ("cull slot counts", slots, storage),
             ("cull draws", draws, indirect),
             ("cull results", results, storage),
-            ("depth pyramid", PYRAMID_BYTES, storage),
+            ("depth pyramid", PYRAMID_BYTES, storage | vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER),
             ("cull verdict room", cull_alloc_bytes(slots_count), indirect),
         ] {
             partial.cull.push(Buffer::new(device, &BufferDesc::gpu_only(name, size, usage))?);
         }
+        let pyramid = &partial.cull[4];
+        partial.pyramid_texels = Some(TexelView::new(device, pyramid, vk::Format::R32_SFLOAT, "depth pyramid texels")?);
         let sampler = crate::vk::image::clamped_sampler(device, vk::Filter::LINEAR, "blade alpha sampler")?;
         Ok(sampler)
     }
@@ -417,6 +368,7 @@ impl SceneGpu {
     pub fn write_descriptors(&self, device: &Device, set: vk::DescriptorSet, frame: &Frame) {
         let storage = vk::DescriptorType::STORAGE_BUFFER;
         let sampled = vk::DescriptorType::COMBINED_IMAGE_SAMPLER;
+        let texels = vk::DescriptorType::UNIFORM_TEXEL_BUFFER;
         let image = |sampler, image_view| {
             Resource::Image(vk::DescriptorImageInfo {
                 sampler,
@@ -430,6 +382,7 @@ impl SceneGpu {
             &[
                 (binding::FRAME, vk::DescriptorType::UNIFORM_BUFFER, Resource::Buffer(frame.uniforms.descriptor())),
                 (binding::BLADES, storage, Resource::Buffer(self.blades.descriptor())),
+                (binding::BLADE_TEXELS, texels, Resource::Texels(self.blade_texels.raw)),
                 (binding::HEIGHTS, storage, Resource::Buffer(self.heights.descriptor())),
                 (binding::BLADE_ALPHA, sampled, image(self.sampler, self.blade_alpha.view)),
                 (binding::CLUSTERS, storage, Resource::Buffer(self.clusters.descriptor())),
@@ -442,6 +395,7 @@ impl SceneGpu {
                 (binding::CULL_STATS, storage, Resource::Buffer(frame.cull_stats.descriptor())),
                 (binding::CULL_RESULTS, storage, Resource::Buffer(self.cull_results.descriptor())),
                 (binding::DEPTH_PYRAMID, storage, Resource::Buffer(self.depth_pyramid.descriptor())),
+                (binding::DEPTH_PYRAMID_TEXELS, texels, Resource::Texels(self.depth_pyramid_texels.raw)),
                 (binding::CULL_ALLOC, storage, Resource::Buffer(self.cull_alloc.descriptor())),
                 (binding::FRAME_STORAGE, storage, Resource::Buffer(frame.uniforms.descriptor())),
             ],
@@ -463,6 +417,8 @@ impl SceneGpu {
             self.slot_counts.destroy(device);
             self.draws.destroy(device);
             self.cull_results.destroy(device);
+            self.depth_pyramid_texels.destroy(device);
+            self.blade_texels.destroy(device);
             self.depth_pyramid.destroy(device);
             self.cull_alloc.destroy(device);
             self.blade_alpha.destroy(device);

@@ -84,6 +84,8 @@ pub enum Resource {
     Buffer(vk::DescriptorBufferInfo),
     /// A combined image sampler.
     Image(vk::DescriptorImageInfo),
+    /// A uniform texel buffer's view (`TexelView`).
+    Texels(vk::BufferView),
 }
 
 /// Write descriptors into `set`: `(binding, type, resource)`.
@@ -92,14 +94,21 @@ pub fn write(device: &Device, set: vk::DescriptorSet, writes: &[(u32, vk::Descri
         .iter()
         .map(|(_, _, r)| match r {
             Resource::Buffer(info) => [*info],
-            Resource::Image(_) => [vk::DescriptorBufferInfo::default()],
+            Resource::Image(_) | Resource::Texels(_) => [vk::DescriptorBufferInfo::default()],
         })
         .collect();
     let image_infos: Vec<[vk::DescriptorImageInfo; 1]> = writes
         .iter()
         .map(|(_, _, r)| match r {
             Resource::Image(info) => [*info],
-            Resource::Buffer(_) => [vk::DescriptorImageInfo::default()],
+            Resource::Buffer(_) | Resource::Texels(_) => [vk::DescriptorImageInfo::default()],
+        })
+        .collect();
+    let texel_views: Vec<[vk::BufferView; 1]> = writes
+        .iter()
+        .map(|(_, _, r)| match r {
+            Resource::Texels(view) => [*view],
+            Resource::Buffer(_) | Resource::Image(_) => [vk::BufferView::null()],
         })
         .collect();
     let raw: Vec<_> = writes
@@ -110,6 +119,7 @@ pub fn write(device: &Device, set: vk::DescriptorSet, writes: &[(u32, vk::Descri
             match resource {
                 Resource::Buffer(_) => w.buffer_info(&buffer_infos[i]),
                 Resource::Image(_) => w.image_info(&image_infos[i]),
+                Resource::Texels(_) => w.texel_buffer_view(&texel_views[i]),
             }
         })
         .collect();

@@ -21,7 +21,7 @@ pub mod sync;
 pub mod tracker;
 pub mod upload;
 
-pub use buffer::{Buffer, BufferDesc};
+pub use buffer::{Buffer, BufferDesc, TexelView};
 pub use device::{Device, DeviceDesc, DeviceSelector};
 pub use image::{Image, ImageDesc};
 pub use instance::{Instance, InstanceDesc, ValidationCounter};

@@ -63,7 +63,7 @@ impl Pass for BladeLevelsPass {
             Declaration::compute()
                 .buffer(self.levels, Access::ComputeShaderWrite)
                 .buffer(self.poses, Access::ComputeShaderRead)
-                .buffer(self.reads[0], Access::ComputeShaderRead)
+                .buffer(self.reads[0], Access::ComputeShaderSampledRead)
                 .buffer(self.reads[1], Access::ComputeShaderRead)
                 .buffer(self.visible, Access::ComputeShaderRead)
                 .buffer(self.draws, Access::ComputeShaderRead)

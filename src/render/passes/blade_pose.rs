@@ -59,7 +59,7 @@ impl Pass for BladePosePass {
     fn declare(&self, _: &PassContext) -> Option<Declaration> {
         let declaration = Declaration::compute()
             .buffer(self.poses, Access::ComputeShaderWrite)
-            .buffer(self.reads[0], Access::ComputeShaderRead)
+            .buffer(self.reads[0], Access::ComputeShaderSampledRead)
             .buffer(self.reads[1], Access::ComputeShaderRead)
             .uses(Resource::color(self.keyframes), Access::ComputeShaderSampledRead);
         let declaration = match self.culled {

@@ -83,7 +83,7 @@ impl BladePass {
             None => Self::pipeline(device, target, setup.constants, "blades", vk::PrimitiveTopology::TRIANGLE_STRIP)?,
         };
         let mut reads = vec![
-            (scene.blades.raw, Access::VertexShaderStorageRead),
+            (scene.blades.raw, Access::VertexShaderSampledRead),
             (scene.clusters.raw, Access::VertexShaderStorageRead),
         ];
         if let BladeInput::PoseRecords(poses, levels) = setup.input {

@@ -40,7 +40,7 @@ impl Renderer {
         // Uploaded data, as the upload left it (a new kind of read will wait for the upload).
         self.graph.import(Resource::color(scene.blade_alpha.raw), &[Access::FragmentShaderSampledRead]);
         let vertex_compute = [Access::VertexShaderStorageRead, Access::ComputeShaderRead];
-        self.graph.import(Resource::Buffer(scene.blades.raw), &vertex_compute);
+        self.graph.import(Resource::Buffer(scene.blades.raw), crate::render::scene_set::BLADE_READS);
         self.graph.import(Resource::Buffer(scene.clusters.raw), &vertex_compute);
         self.graph.import(Resource::Buffer(scene.heights.raw), &[Access::VertexShaderStorageRead]);
         self.graph.import(Resource::Buffer(scene.terrain_indices.raw), &[Access::IndexRead]);

@@ -14,8 +14,8 @@ pub fn pass(device: &Device, setup: &CullSetup, scene: &SceneGpu) -> Result<Cull
     let read = Access::ComputeShaderRead;
     let uses = vec![
         (scene.tiles.raw, read),
-        (scene.depth_pyramid.raw, read),
-        (scene.blades.raw, read),
+        (scene.depth_pyramid.raw, Access::ComputeShaderSampledRead),
+        (scene.blades.raw, Access::ComputeShaderSampledRead),
         (scene.heights.raw, read),
         (scene.slot_counts.raw, Access::ComputeShaderWrite),
         (scene.cull_results.raw, Access::ComputeShaderWrite),
