@@ -73,7 +73,11 @@ const uint VISIBLE_PADDING = 0xffffffffu;
 #ifdef CULL_WRITER
 layout(set = SET_SCENE, binding = BINDING_VISIBLE, std430) writeonly buffer Visible { uvec2 visible[]; };
 #else
-layout(set = SET_SCENE, binding = BINDING_VISIBLE, std430) readonly buffer Visible { uvec2 visible[]; };
+// Its readers fetch it as RG32UI texels (`vk::buffer::TexelView`).
+layout(set = SET_SCENE, binding = BINDING_VISIBLE_TEXELS) uniform usamplerBuffer visible_texels;
+uvec2 visible_entry(uint i) {
+    return texelFetch(visible_texels, int(i)).xy;
+}
 #endif
 layout(set = SET_ANIMATION, binding = BINDING_KEYFRAMES) uniform sampler2D keyframe_texture;
 // Keyframes as a uniform array (thesis 4.4.2): two keyframe words per uvec4 half; the array fills
@@ -100,7 +104,12 @@ layout(set = SET_ANIMATION, binding = BINDING_POSES, std430) readonly buffer Pos
 #ifdef LEVELS_WRITER
 layout(set = SET_ANIMATION, binding = BINDING_LEVELS, std430) writeonly buffer Levels { uvec2 levels[]; };
 #else
-layout(set = SET_ANIMATION, binding = BINDING_LEVELS, std430) readonly buffer Levels { uvec2 levels[]; };
+// blade.vert fetches them as RG32UI texels (`vk::buffer::TexelView`): llvmpipe runs vertex
+// shaders on one thread, where a storage load per SIMD lane and word costs most.
+layout(set = SET_ANIMATION, binding = BINDING_LEVEL_TEXELS) uniform usamplerBuffer level_texels;
+uvec2 level_word(uint i) {
+    return texelFetch(level_texels, int(i)).xy;
+}
 #endif
 const float POSE_SCALE = 2.0; // local point / height lies within ±POSE_SCALE
 

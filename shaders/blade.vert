@@ -97,7 +97,7 @@ void main() {
         // Entry `blade_index` of the cull's list (instance * BLADES_PER_INSTANCE + k, the
         // bucket's first instance counting from its base); a bucket's last instance ends in
         // VISIBLE_PADDING.
-        entry = visible[blade_index];
+        entry = visible_entry(blade_index);
         tail = entry.x == VISIBLE_PADDING;
         blade_index = entry.x;
         lod_scale = visible_unpack(entry.y).yz;
@@ -124,9 +124,9 @@ void main() {
     if ((RENDER_FLAGS & FLAG_LEVELS) != 0u) {
         // Placed and lit once per level by blade_levels.comp: widen and project.
         uint at = (record * (MODEL_SEGMENTS + 1u) + level) * LEVEL_UVEC2S;
-        uvec2 a = levels[at];
-        uvec2 b = levels[at + 1u];
-        uvec2 c = levels[at + 2u];
+        uvec2 a = level_word(at);
+        uvec2 b = level_word(at + 1u);
+        uvec2 c = level_word(at + 2u);
         vec2 across = unpackHalf2x16(b.y);
         world = vec3(uintBitsToFloat(a), uintBitsToFloat(b.x))
             + vec3(across.x, 0.0, across.y) * ((side - 0.5) * outline_width(t));

@@ -40,7 +40,7 @@ void main() {
     if (i >= draws[POSE_DISPATCH_WORD + 3u]) {
         return;
     }
-    uvec2 entry = visible[i];
+    uvec2 entry = visible_entry(i);
     uint segments = entry_segments(i);
     if (entry.x == VISIBLE_PADDING || segments == 0u) {
         return;

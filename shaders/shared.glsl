@@ -30,12 +30,14 @@
 #define BINDING_FRAME_STORAGE 15 // The same `FrameUniforms` as `BINDING_FRAME`, read by the cull's passes as a storage buffer (bindings.glsl says why).
 #define BINDING_DEPTH_PYRAMID_TEXELS 16 // The depth pyramid as R32 texels, read by the occlusion test (`vk::buffer::TexelView` says why).
 #define BINDING_BLADE_TEXELS 17 // The blades again as RGBA32UI texels, two per `BladeInstance` (`blade_record` in bindings.glsl).
+#define BINDING_VISIBLE_TEXELS 18 // The cull's visible list again as RG32UI texels, as its readers fetch it (`visible_entry` in bindings.glsl).
 
 // Set `SET_ANIMATION`: every model fills all three (the blade shaders declare them all).
 #define BINDING_KEYFRAMES 0 // Keyframe texture.
 #define BINDING_KEYFRAME_WORDS 1 // Keyframe uniform array.
 #define BINDING_POSES 2 // Per-blade pose records written by a model's compute pass (`--eval blade`).
 #define BINDING_LEVELS 3 // With the cull and pose records: each drawn blade's strip levels placed and lit (blade_levels.comp), read by blade.vert.
+#define BINDING_LEVEL_TEXELS 4 // The placed levels again as RG32UI texels, as blade.vert fetches them (`level_word` in bindings.glsl).
 
 // Specialization-constant ids (`layout(constant_id = SPEC_*)`), filled by
 // `render::specialization::Specialization`.

@@ -106,6 +106,8 @@ pub struct SceneGpu {
     pub field: Option<crate::scene::Field>,
     /// The cull's visible list: (blade index, packed scale) per drawn blade.
     pub visible: Buffer,
+    /// The visible list as RG32UI texels, as its readers fetch it.
+    pub visible_texels: TexelView,
     /// Entries of `visible`.
     pub visible_capacity: u32,
     /// Ring slots the cull's buffers hold (`slot_counts`, the slot list in `draws`): a block
@@ -218,6 +220,7 @@ struct Partial {
     cull: Vec<Buffer>,
     pyramid_texels: Option<TexelView>,
     blade_texels: Option<TexelView>,
+    visible_texels: Option<TexelView>,
 }
 
 impl Partial {
@@ -233,7 +236,7 @@ impl Partial {
             if let Some(image) = self.blade_alpha {
                 image.destroy(device);
             }
-            for view in [self.pyramid_texels, self.blade_texels].into_iter().flatten() {
+            for view in [self.pyramid_texels, self.blade_texels, self.visible_texels].into_iter().flatten() {
                 view.destroy(device);
             }
         }
@@ -302,6 +305,7 @@ impl SceneGpu {
                 draws: partial.cull.pop().expect("created"),
                 slot_counts: partial.cull.pop().expect("created"),
                 visible: partial.cull.pop().expect("created"),
+                visible_texels: partial.visible_texels.take().expect("created"),
             }),
             Err(e) => {
                 // SAFETY: the batch waited for its submission or never submitted.
@@ -349,7 +353,7 @@ impl SceneGpu {
         let [visible, slots, draws, results] = cull_bytes(u64::from(verdicts), slots, visible_entries);
         let indirect = storage | vk::BufferUsageFlags::INDIRECT_BUFFER;
         for (name, size, usage) in [
-            ("visible blades", visible, storage),
+            ("visible blades", visible, storage | vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER),
             ("cull slot counts", slots, storage),
             ("cull draws", draws, indirect),
             ("cull results", results, storage),
@@ -358,6 +362,8 @@ impl SceneGpu {
         ] {
             partial.cull.push(Buffer::new(device, &BufferDesc::gpu_only(name, size, usage))?);
         }
+        let entries = &partial.cull[0];
+        partial.visible_texels = Some(TexelView::new(device, entries, vk::Format::R32G32_UINT, "visible texels")?);
         let pyramid = &partial.cull[4];
         partial.pyramid_texels = Some(TexelView::new(device, pyramid, vk::Format::R32_SFLOAT, "depth pyramid texels")?);
         let sampler = crate::vk::image::clamped_sampler(device, vk::Filter::LINEAR, "blade alpha sampler")?;
@@ -383,6 +389,7 @@ impl SceneGpu {
                 (binding::FRAME, vk::DescriptorType::UNIFORM_BUFFER, Resource::Buffer(frame.uniforms.descriptor())),
                 (binding::BLADES, storage, Resource::Buffer(self.blades.descriptor())),
                 (binding::BLADE_TEXELS, texels, Resource::Texels(self.blade_texels.raw)),
+                (binding::VISIBLE_TEXELS, texels, Resource::Texels(self.visible_texels.raw)),
                 (binding::HEIGHTS, storage, Resource::Buffer(self.heights.descriptor())),
                 (binding::BLADE_ALPHA, sampled, image(self.sampler, self.blade_alpha.view)),
                 (binding::CLUSTERS, storage, Resource::Buffer(self.clusters.descriptor())),
@@ -419,6 +426,7 @@ impl SceneGpu {
             self.cull_results.destroy(device);
             self.depth_pyramid_texels.destroy(device);
             self.blade_texels.destroy(device);
+            self.visible_texels.destroy(device);
             self.depth_pyramid.destroy(device);
             self.cull_alloc.destroy(device);
             self.blade_alpha.destroy(device);

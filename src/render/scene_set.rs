@@ -47,6 +47,8 @@ pub mod binding {
     pub const DEPTH_PYRAMID_TEXELS: u32 = gpu::BINDING_DEPTH_PYRAMID_TEXELS;
     /// The blades again, as the scene's shaders read them: two RGBA32UI texels each.
     pub const BLADE_TEXELS: u32 = gpu::BINDING_BLADE_TEXELS;
+    /// The visible list again, as its readers fetch it: RG32UI texels.
+    pub const VISIBLE_TEXELS: u32 = gpu::BINDING_VISIBLE_TEXELS;
 }
 
 /// How the blades are left after the upload and imported into each graph: the scene's shaders
@@ -59,7 +61,7 @@ pub const BLADE_READS: &[Access] = &[
 ];
 
 /// Layout of set `SET_SCENE`, shared by the scene passes and the animation's compute passes.
-pub fn bindings() -> [Binding; 18] {
+pub fn bindings() -> [Binding; 19] {
     let vs = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::COMPUTE;
     let cs = vk::ShaderStageFlags::COMPUTE;
     let vs_cs = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::COMPUTE;
@@ -87,5 +89,6 @@ pub fn bindings() -> [Binding; 18] {
         Binding { binding: binding::FRAME_STORAGE, kind: storage, stages: cs },
         Binding { binding: binding::DEPTH_PYRAMID_TEXELS, kind: texels, stages: cs },
         Binding { binding: binding::BLADE_TEXELS, kind: texels, stages: vs_cs },
+        Binding { binding: binding::VISIBLE_TEXELS, kind: texels, stages: vs_cs },
     ]
 }

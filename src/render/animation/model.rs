@@ -23,7 +23,7 @@ use crate::render::uniforms::FrameUniforms;
 use crate::scene::clusters::ClusterGrid;
 use crate::vk::descriptor::{self, Binding, Resource as Descriptor};
 use crate::vk::upload::UploadBatch;
-use crate::vk::{Access, Buffer, BufferDesc, Device, Resource};
+use crate::vk::{Access, Buffer, BufferDesc, Device, Resource, TexelView};
 use crate::wind::{Attenuation, Wind};
 
 /// How the blade pass poses a blade.
@@ -134,13 +134,14 @@ pub fn write_wind_forces(frame: &mut Frame, input: &FrameInput) {
 }
 
 /// Layout of set `SET_ANIMATION`, the same for every model (the blade shaders declare it all).
-pub fn bindings() -> [Binding; 4] {
+pub fn bindings() -> [Binding; 5] {
     let vs_cs = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::COMPUTE;
     [
         Binding { binding: gpu::BINDING_KEYFRAMES, kind: vk::DescriptorType::COMBINED_IMAGE_SAMPLER, stages: vs_cs },
         Binding { binding: gpu::BINDING_KEYFRAME_WORDS, kind: vk::DescriptorType::UNIFORM_BUFFER, stages: vs_cs },
         Binding { binding: gpu::BINDING_POSES, kind: vk::DescriptorType::STORAGE_BUFFER, stages: vs_cs },
         Binding { binding: gpu::BINDING_LEVELS, kind: vk::DescriptorType::STORAGE_BUFFER, stages: vs_cs },
+        Binding { binding: gpu::BINDING_LEVEL_TEXELS, kind: vk::DescriptorType::UNIFORM_TEXEL_BUFFER, stages: vs_cs },
     ]
 }
 
@@ -151,6 +152,8 @@ pub struct PerBlade {
     pub poses: Buffer,
     /// Placed, lit levels (`passes::BladeLevelsPass`), as many records as `level_records`.
     pub levels: Buffer,
+    /// The placed levels as RG32UI texels, as blade.vert fetches them.
+    pub level_texels: TexelView,
     /// Records `levels` holds.
     pub level_records: u32,
 }
@@ -171,11 +174,23 @@ impl PerBlade {
             _ => level_bytes(level_records, segments),
         };
         let poses = Buffer::new(device, &BufferDesc::gpu_only("blade poses", pose_size, usage))?;
-        match Buffer::new(device, &BufferDesc::gpu_only("blade levels", level_size, usage)) {
-            Ok(levels) => Ok(Self { poses, levels, level_records }),
+        let level_usage = usage | vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER;
+        let levels = match Buffer::new(device, &BufferDesc::gpu_only("blade levels", level_size, level_usage)) {
+            Ok(levels) => levels,
             Err(e) => {
                 // SAFETY: never used.
                 unsafe { poses.destroy(device) };
+                return Err(e);
+            }
+        };
+        match TexelView::new(device, &levels, vk::Format::R32G32_UINT, "blade level texels") {
+            Ok(level_texels) => Ok(Self { poses, levels, level_texels, level_records }),
+            Err(e) => {
+                // SAFETY: never used.
+                unsafe {
+                    poses.destroy(device);
+                    levels.destroy(device);
+                }
                 Err(e)
             }
         }
@@ -187,6 +202,7 @@ impl PerBlade {
         // SAFETY: per the contract.
         unsafe {
             self.poses.destroy(device);
+            self.level_texels.destroy(device);
             self.levels.destroy(device);
         }
     }
@@ -252,6 +268,11 @@ impl AnimationSet {
                     gpu::BINDING_LEVELS,
                     vk::DescriptorType::STORAGE_BUFFER,
                     Descriptor::Buffer(resources.per_blade.levels.descriptor()),
+                ),
+                (
+                    gpu::BINDING_LEVEL_TEXELS,
+                    vk::DescriptorType::UNIFORM_TEXEL_BUFFER,
+                    Descriptor::Texels(resources.per_blade.level_texels.raw),
                 ),
             ],
         );

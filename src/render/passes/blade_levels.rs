@@ -65,7 +65,7 @@ impl Pass for BladeLevelsPass {
                 .buffer(self.poses, Access::ComputeShaderRead)
                 .buffer(self.reads[0], Access::ComputeShaderSampledRead)
                 .buffer(self.reads[1], Access::ComputeShaderRead)
-                .buffer(self.visible, Access::ComputeShaderRead)
+                .buffer(self.visible, Access::ComputeShaderSampledRead)
                 .buffer(self.draws, Access::ComputeShaderRead)
                 .buffer(self.draws, Access::IndirectCommandRead),
         )

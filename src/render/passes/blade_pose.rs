@@ -64,7 +64,7 @@ impl Pass for BladePosePass {
             .uses(Resource::color(self.keyframes), Access::ComputeShaderSampledRead);
         let declaration = match self.culled {
             Some((visible, draws)) => declaration
-                .buffer(visible, Access::ComputeShaderRead)
+                .buffer(visible, Access::ComputeShaderSampledRead)
                 .buffer(draws, Access::ComputeShaderRead)
                 .buffer(draws, Access::IndirectCommandRead),
             None => declaration,

@@ -92,7 +92,7 @@ impl BladePass {
             // validation counts static use: both are declared, whichever path runs, so a
             // previous graph's write of either is ordered before this pass.
             reads.push((poses, Access::VertexShaderStorageRead));
-            reads.push((levels, Access::VertexShaderStorageRead));
+            reads.push((levels, Access::VertexShaderSampledRead));
         }
         let mut pass = Self {
             pipeline,
@@ -182,7 +182,7 @@ impl BladePass {
         self.reads.push((buffer.raw, Access::IndexRead));
         self.indices = Some(buffer);
         batch.submit()?;
-        self.reads.push((scene.visible.raw, Access::VertexShaderStorageRead));
+        self.reads.push((scene.visible.raw, Access::VertexShaderSampledRead));
         self.reads.push((scene.draws.raw, Access::IndirectCommandRead));
         Ok(())
     }
