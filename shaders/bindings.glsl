@@ -25,8 +25,7 @@ layout(set = SET_SCENE, binding = BINDING_FRAME, std140) uniform Frame { FrameUn
 // One binding outside the cull: `frame_values` is `frame`.
 #define frame_values frame
 #endif
-layout(set = SET_SCENE, binding = BINDING_BLADES, std430) readonly buffer Blades { BladeInstance blades[]; };
-// The same records as two RGBA32UI texels each: the scene's shaders read a blade with
+// The blades (`BladeInstance`) as two RGBA32UI texels each: the scene's shaders read a blade with
 // `blade_record`, two vector gathers on llvmpipe instead of a load per SIMD lane and word
 // (`vk::buffer::TexelView`).
 layout(set = SET_SCENE, binding = BINDING_BLADE_TEXELS) uniform usamplerBuffer blade_texels;

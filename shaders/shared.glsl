@@ -13,7 +13,7 @@
 
 // Set `SET_SCENE`.
 #define BINDING_FRAME 0 // `FrameUniforms` uniform buffer.
-#define BINDING_BLADES 1 // `BladeInstance[]` storage buffer.
+// Binding 1 is free (the blades' storage binding, before they were read as texels).
 #define BINDING_HEIGHTS 2 // Terrain heights storage buffer.
 #define BINDING_BLADE_ALPHA 3 // Blade alpha texture.
 #define BINDING_CLUSTERS 4 // `BladeCluster[]` storage buffer.
@@ -25,18 +25,18 @@
 #define BINDING_DRAWS 10 // The cull's indirect draw arguments, one `VkDrawIndirectCommand` per LOD bucket.
 #define BINDING_CULL_STATS 11 // Per-frame, host-visible: the cull's counts of this frame (`STAT_*`).
 #define BINDING_CULL_RESULTS 12 // The count pass's verdict per candidate blade (bucket, packed scale), read by the emit pass.
-#define BINDING_DEPTH_PYRAMID 13 // Min-depth pyramid of this frame's terrain depth (`PYRAMID_*`), written by hiz.comp.
+// Binding 13 is free (the depth pyramid's storage binding; hiz.comp writes it through its own set).
 #define BINDING_CULL_ALLOC 14 // Written by the cull tiles pass: the count pass's dispatch (4 words), each slot's first verdict (a block field's) and candidates, the slots with candidates.
 #define BINDING_FRAME_STORAGE 15 // The same `FrameUniforms` as `BINDING_FRAME`, read by the cull's passes as a storage buffer (bindings.glsl says why).
 #define BINDING_DEPTH_PYRAMID_TEXELS 16 // The depth pyramid as R32 texels, read by the occlusion test (`vk::buffer::TexelView` says why).
-#define BINDING_BLADE_TEXELS 17 // The blades again as RGBA32UI texels, two per `BladeInstance` (`blade_record` in bindings.glsl).
+#define BINDING_BLADE_TEXELS 17 // The blades as RGBA32UI texels, two per `BladeInstance` (`blade_record` in bindings.glsl).
 #define BINDING_VISIBLE_TEXELS 18 // The cull's visible list again as RG32UI texels, as its readers fetch it (`visible_entry` in bindings.glsl).
 
-// Set `SET_ANIMATION`: every model fills all three (the blade shaders declare them all).
+// Set `SET_ANIMATION`: every model fills all five (the blade shaders declare them all).
 #define BINDING_KEYFRAMES 0 // Keyframe texture.
 #define BINDING_KEYFRAME_WORDS 1 // Keyframe uniform array.
 #define BINDING_POSES 2 // Per-blade pose records written by a model's compute pass (`--eval blade`).
-#define BINDING_LEVELS 3 // With the cull and pose records: each drawn blade's strip levels placed and lit (blade_levels.comp), read by blade.vert.
+#define BINDING_LEVELS 3 // With the cull and pose records: each drawn blade's strip levels placed and lit, written by blade_levels.comp (blade.vert reads `BINDING_LEVEL_TEXELS`).
 #define BINDING_LEVEL_TEXELS 4 // The placed levels again as RG32UI texels, as blade.vert fetches them (`level_word` in bindings.glsl).
 
 // Specialization-constant ids (`layout(constant_id = SPEC_*)`), filled by

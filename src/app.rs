@@ -18,9 +18,10 @@ use ash::vk;
 use crate::error::{Error, Result};
 use crate::render::animation::{AnimationSettings, KeyframeTexture, KeyframeUniforms};
 use crate::render::budget::FrameBudget;
+use crate::render::scene_gpu::FIELD_VISIBLE;
 use crate::render::submission::Submission;
 use crate::render::target::offscreen_bytes;
-use crate::render::{FrameTimings, OffscreenTarget, RenderSettings, Renderer};
+use crate::render::{gpu_constants as gpu, FrameTimings, OffscreenTarget, RenderSettings, Renderer};
 use crate::scene::{blades, BladeInstance, Camera, Scene};
 use crate::vk::device::{format_bytes, DeviceInfo};
 use crate::vk::{Device, DeviceDesc, DeviceSelector, Instance, InstanceDesc};
@@ -282,8 +283,15 @@ pub fn check_limits(device: &Device, blades: u32, size: (u32, u32), terrain_cell
             max_range / std::mem::size_of::<BladeInstance>() as u64
         )));
     }
-    // The scene's shaders read the blades as two texels each (`vk::TexelView`).
+    // The scene's shaders read the blades as two texels each, a block field's visible list and
+    // the depth pyramid as one per entry (`vk::buffer::TexelView`).
     let max_texels = u64::from(limits.max_texel_buffer_elements);
+    let fixed = u64::from(gpu::PYRAMID_FLOATS).max(u64::from(FIELD_VISIBLE));
+    if fixed > max_texels {
+        return Err(Error::bad_input(format!(
+            "the device's maxTexelBufferElements of {max_texels} is below the {fixed} texels meadow's cull reads"
+        )));
+    }
     if 2 * u64::from(blades) > max_texels {
         return Err(Error::bad_input(format!(
             "--blades {blades} needs {} blade texels, over the device's maxTexelBufferElements of {max_texels} (at most {} blades)",

@@ -42,9 +42,13 @@ pub fn level_bytes(records: u32, segments: u32) -> u64 {
     8 * u64::from(gpu_constants::LEVEL_UVEC2S) * u64::from(records.max(1)) * u64::from(segments + 1)
 }
 
-/// Placed levels for `records` pose records: as many as one storage buffer holds.
+/// Placed levels for `records` pose records: as many as one storage buffer holds, and as its
+/// texel view (RG32UI, `maxTexelBufferElements`) reaches.
 pub fn level_records(device: &Device, records: u32, segments: u32) -> u32 {
-    u64::from(records).min(u64::from(device.limits().max_storage_buffer_range) / level_bytes(1, segments)) as u32
+    let limits = device.limits();
+    let by_range = u64::from(limits.max_storage_buffer_range) / level_bytes(1, segments);
+    let by_texels = u64::from(limits.max_texel_buffer_elements) / (level_bytes(1, segments) / 8);
+    u64::from(records).min(by_range).min(by_texels) as u32
 }
 
 /// Placed levels to make room for (`PerBlade`): one per entry the cull's list may hold, at most
@@ -325,7 +329,7 @@ impl SceneGpu {
         let mut batch = UploadBatch::new(device);
         let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
         let vertex_read: &'static [Access] = &[Access::VertexShaderStorageRead];
-        // Blades and clusters are also read by the blade-pose compute pass.
+        // Clusters are also read by the blade-pose compute pass.
         let vertex_compute_read: &'static [Access] = &[Access::VertexShaderStorageRead, Access::ComputeShaderRead];
         // The scene's shaders read the blades as texels (`blade_record`).
         let texel_usage = storage | vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER;
@@ -387,7 +391,6 @@ impl SceneGpu {
             set,
             &[
                 (binding::FRAME, vk::DescriptorType::UNIFORM_BUFFER, Resource::Buffer(frame.uniforms.descriptor())),
-                (binding::BLADES, storage, Resource::Buffer(self.blades.descriptor())),
                 (binding::BLADE_TEXELS, texels, Resource::Texels(self.blade_texels.raw)),
                 (binding::VISIBLE_TEXELS, texels, Resource::Texels(self.visible_texels.raw)),
                 (binding::HEIGHTS, storage, Resource::Buffer(self.heights.descriptor())),
@@ -401,7 +404,6 @@ impl SceneGpu {
                 (binding::DRAWS, storage, Resource::Buffer(self.draws.descriptor())),
                 (binding::CULL_STATS, storage, Resource::Buffer(frame.cull_stats.descriptor())),
                 (binding::CULL_RESULTS, storage, Resource::Buffer(self.cull_results.descriptor())),
-                (binding::DEPTH_PYRAMID, storage, Resource::Buffer(self.depth_pyramid.descriptor())),
                 (binding::DEPTH_PYRAMID_TEXELS, texels, Resource::Texels(self.depth_pyramid_texels.raw)),
                 (binding::CULL_ALLOC, storage, Resource::Buffer(self.cull_alloc.descriptor())),
                 (binding::FRAME_STORAGE, storage, Resource::Buffer(frame.uniforms.descriptor())),

@@ -13,8 +13,6 @@ pub mod binding {
 
     /// `FrameUniforms` uniform buffer.
     pub const FRAME: u32 = gpu::BINDING_FRAME;
-    /// `BladeInstance[]` storage buffer.
-    pub const BLADES: u32 = gpu::BINDING_BLADES;
     /// Terrain heights storage buffer.
     pub const HEIGHTS: u32 = gpu::BINDING_HEIGHTS;
     /// Blade alpha texture.
@@ -37,31 +35,25 @@ pub mod binding {
     pub const CULL_STATS: u32 = gpu::BINDING_CULL_STATS;
     /// The count pass's verdict per candidate blade.
     pub const CULL_RESULTS: u32 = gpu::BINDING_CULL_RESULTS;
-    /// The depth pyramid of the frame's terrain.
-    pub const DEPTH_PYRAMID: u32 = gpu::BINDING_DEPTH_PYRAMID;
     /// A block field's room for verdicts.
     pub const CULL_ALLOC: u32 = gpu::BINDING_CULL_ALLOC;
     /// `FrameUniforms` again, as the cull's passes read it: a storage buffer (shaders/bindings.glsl).
     pub const FRAME_STORAGE: u32 = gpu::BINDING_FRAME_STORAGE;
-    /// The depth pyramid again, as the occlusion test reads it: R32 texels.
+    /// The depth pyramid (`PYRAMID_*`), as the occlusion test reads it: R32 texels (the
+    /// depth-pyramid pass writes the buffer through its own set).
     pub const DEPTH_PYRAMID_TEXELS: u32 = gpu::BINDING_DEPTH_PYRAMID_TEXELS;
-    /// The blades again, as the scene's shaders read them: two RGBA32UI texels each.
+    /// The blades (`BladeInstance`), as the scene's shaders read them: two RGBA32UI texels each.
     pub const BLADE_TEXELS: u32 = gpu::BINDING_BLADE_TEXELS;
     /// The visible list again, as its readers fetch it: RG32UI texels.
     pub const VISIBLE_TEXELS: u32 = gpu::BINDING_VISIBLE_TEXELS;
 }
 
 /// How the blades are left after the upload and imported into each graph: the scene's shaders
-/// read them as texels (vertex and compute), the tests' probes as storage.
-pub const BLADE_READS: &[Access] = &[
-    Access::VertexShaderSampledRead,
-    Access::ComputeShaderSampledRead,
-    Access::VertexShaderStorageRead,
-    Access::ComputeShaderRead,
-];
+/// read them as texels, in the vertex and compute stages.
+pub const BLADE_READS: &[Access] = &[Access::VertexShaderSampledRead, Access::ComputeShaderSampledRead];
 
 /// Layout of set `SET_SCENE`, shared by the scene passes and the animation's compute passes.
-pub fn bindings() -> [Binding; 19] {
+pub fn bindings() -> [Binding; 17] {
     let vs = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::COMPUTE;
     let cs = vk::ShaderStageFlags::COMPUTE;
     let vs_cs = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::COMPUTE;
@@ -72,19 +64,17 @@ pub fn bindings() -> [Binding; 19] {
     let texels = vk::DescriptorType::UNIFORM_TEXEL_BUFFER;
     [
         Binding { binding: binding::FRAME, kind: uniform, stages: all },
-        Binding { binding: binding::BLADES, kind: storage, stages: vs_cs },
         Binding { binding: binding::HEIGHTS, kind: storage, stages: vs },
         Binding { binding: binding::BLADE_ALPHA, kind: sampled, stages: vk::ShaderStageFlags::FRAGMENT },
         Binding { binding: binding::CLUSTERS, kind: storage, stages: vs_cs },
         Binding { binding: binding::CORNERS, kind: storage, stages: vs_cs },
         Binding { binding: binding::EMITTERS, kind: storage, stages: vs_cs },
         Binding { binding: binding::TILES, kind: storage, stages: cs },
-        Binding { binding: binding::VISIBLE, kind: storage, stages: vs_cs },
+        Binding { binding: binding::VISIBLE, kind: storage, stages: cs },
         Binding { binding: binding::SLOT_COUNTS, kind: storage, stages: cs },
         Binding { binding: binding::DRAWS, kind: storage, stages: cs },
         Binding { binding: binding::CULL_STATS, kind: storage, stages: cs },
         Binding { binding: binding::CULL_RESULTS, kind: storage, stages: cs },
-        Binding { binding: binding::DEPTH_PYRAMID, kind: storage, stages: cs },
         Binding { binding: binding::CULL_ALLOC, kind: storage, stages: cs },
         Binding { binding: binding::FRAME_STORAGE, kind: storage, stages: cs },
         Binding { binding: binding::DEPTH_PYRAMID_TEXELS, kind: texels, stages: cs },

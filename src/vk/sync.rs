@@ -23,13 +23,14 @@ pub enum Access {
     VertexShaderStorageRead,
     /// Uniform buffer read in the vertex shader.
     VertexShaderUniformRead,
-    /// Image sampled in the vertex shader (keyframe textures).
+    /// Image sampled, or uniform texel buffer fetched, in the vertex shader (keyframe textures,
+    /// `buffer::TexelView`s).
     VertexShaderSampledRead,
     /// Image sampled in the fragment shader.
     FragmentShaderSampledRead,
     /// Storage buffer or image read in a compute shader.
     ComputeShaderRead,
-    /// Image sampled in a compute shader.
+    /// Image sampled, or uniform texel buffer fetched, in a compute shader.
     ComputeShaderSampledRead,
     /// Uniform buffer read in a compute shader.
     ComputeShaderUniformRead,

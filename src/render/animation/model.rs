@@ -140,7 +140,11 @@ pub fn bindings() -> [Binding; 5] {
         Binding { binding: gpu::BINDING_KEYFRAMES, kind: vk::DescriptorType::COMBINED_IMAGE_SAMPLER, stages: vs_cs },
         Binding { binding: gpu::BINDING_KEYFRAME_WORDS, kind: vk::DescriptorType::UNIFORM_BUFFER, stages: vs_cs },
         Binding { binding: gpu::BINDING_POSES, kind: vk::DescriptorType::STORAGE_BUFFER, stages: vs_cs },
-        Binding { binding: gpu::BINDING_LEVELS, kind: vk::DescriptorType::STORAGE_BUFFER, stages: vs_cs },
+        Binding {
+            binding: gpu::BINDING_LEVELS,
+            kind: vk::DescriptorType::STORAGE_BUFFER,
+            stages: vk::ShaderStageFlags::COMPUTE,
+        },
         Binding { binding: gpu::BINDING_LEVEL_TEXELS, kind: vk::DescriptorType::UNIFORM_TEXEL_BUFFER, stages: vs_cs },
     ]
 }
@@ -223,7 +227,7 @@ pub struct AnimationSet {
 }
 
 impl AnimationSet {
-    /// Allocate the set and point it at the three resources (destroyed with the set on failure).
+    /// Allocate the set and point it at the model's resources (destroyed with the set on failure).
     pub fn new(
         device: &Device,
         set_layout: vk::DescriptorSetLayout,
