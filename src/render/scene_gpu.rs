@@ -366,6 +366,7 @@ impl SceneGpu {
         ] {
             partial.cull.push(Buffer::new(device, &BufferDesc::gpu_only(name, size, usage))?);
         }
+        // Texel views of three of them, by their place in the list above.
         let entries = &partial.cull[0];
         partial.visible_texels = Some(TexelView::new(device, entries, vk::Format::R32G32_UINT, "visible texels")?);
         let pyramid = &partial.cull[4];

@@ -90,36 +90,15 @@ pub enum Resource {
 
 /// Write descriptors into `set`: `(binding, type, resource)`.
 pub fn write(device: &Device, set: vk::DescriptorSet, writes: &[(u32, vk::DescriptorType, Resource)]) {
-    let buffer_infos: Vec<[vk::DescriptorBufferInfo; 1]> = writes
-        .iter()
-        .map(|(_, _, r)| match r {
-            Resource::Buffer(info) => [*info],
-            Resource::Image(_) | Resource::Texels(_) => [vk::DescriptorBufferInfo::default()],
-        })
-        .collect();
-    let image_infos: Vec<[vk::DescriptorImageInfo; 1]> = writes
-        .iter()
-        .map(|(_, _, r)| match r {
-            Resource::Image(info) => [*info],
-            Resource::Buffer(_) | Resource::Texels(_) => [vk::DescriptorImageInfo::default()],
-        })
-        .collect();
-    let texel_views: Vec<[vk::BufferView; 1]> = writes
-        .iter()
-        .map(|(_, _, r)| match r {
-            Resource::Texels(view) => [*view],
-            Resource::Buffer(_) | Resource::Image(_) => [vk::BufferView::null()],
-        })
-        .collect();
+    // Each write points at its one resource where `writes` holds it.
     let raw: Vec<_> = writes
         .iter()
-        .enumerate()
-        .map(|(i, (binding, kind, resource))| {
+        .map(|(binding, kind, resource)| {
             let w = vk::WriteDescriptorSet::default().dst_set(set).dst_binding(*binding).descriptor_type(*kind);
             match resource {
-                Resource::Buffer(_) => w.buffer_info(&buffer_infos[i]),
-                Resource::Image(_) => w.image_info(&image_infos[i]),
-                Resource::Texels(_) => w.texel_buffer_view(&texel_views[i]),
+                Resource::Buffer(info) => w.buffer_info(std::slice::from_ref(info)),
+                Resource::Image(info) => w.image_info(std::slice::from_ref(info)),
+                Resource::Texels(view) => w.texel_buffer_view(std::slice::from_ref(view)),
             }
         })
         .collect();
