@@ -5,6 +5,9 @@
 #define MEADOW_FIELD_GLSL
 #include "rings.glsl"
 
+const float TALLEST_BLADE = 0.55; // scene::blades::TALLEST
+const float WIDEST_BLADE = 0.016; // scene::blades::WIDEST
+
 // Roots are sunk this far below the drawn terrain (as a stored field's, `scene::blades::ROOT_SINK`).
 const float FIELD_ROOT_SINK = 0.01;
 
@@ -97,10 +100,10 @@ void field_cell_bounds(ivec2 cell, out vec3 lo, out vec3 hi) {
     vec2 corner = vec2(cell - frame_values.field_cells.xy) * edge;
     vec2 centre = corner + vec2(0.5 * edge);
     float spread = frame_values.field.y * 0.7072 * edge;
-    // `scene::tiles::blade_reach` of the longest and widest blade (scene::blades::HEIGHT_RANGE.1,
-    // WIDTH_RANGE.1): up, and across with the density LOD's widest widening (`lod.w`).
-    float up = 0.55 + 0.5 * 0.016;
-    float across = 0.55 + 0.5 * 0.016 * max(frame_values.lod.w, 1.0);
+    // `scene::tiles::blade_reach` of the tallest and widest blade: up, and across with the
+    // density LOD's widest widening (`lod.w`).
+    float up = TALLEST_BLADE + 0.5 * WIDEST_BLADE;
+    float across = TALLEST_BLADE + 0.5 * WIDEST_BLADE * max(frame_values.lod.w, 1.0);
     float h = relief_height(centre);
     lo = vec3(corner.x - across, h - spread - FIELD_ROOT_SINK, corner.y - across);
     hi = vec3(corner.x + edge + across, h + spread + up, corner.y + edge + across);

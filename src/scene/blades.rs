@@ -11,9 +11,13 @@ use crate::scene::terrain::Terrain;
 /// Blades per square metre; the field grows with the blade count.
 pub const DENSITY_PER_M2: f32 = 400.0;
 /// Blade heights are drawn from this range (metres).
-pub const HEIGHT_RANGE: (f32, f32) = (0.25, 0.55);
+pub const HEIGHT_RANGE: (f32, f32) = (0.25, TALLEST);
 /// Blade widths (metres).
-pub const WIDTH_RANGE: (f32, f32) = (0.008, 0.016);
+pub const WIDTH_RANGE: (f32, f32) = (0.008, WIDEST);
+/// The tallest blade (metres; shaders/field.glsl bounds a block field's cells with it).
+pub const TALLEST: f32 = 0.55;
+/// The widest blade (metres; shaders/field.glsl bounds a block field's cells with it).
+pub const WIDEST: f32 = 0.016;
 /// Joint stiffness relative to the reference blade.
 pub const STIFFNESS_RANGE: (f32, f32) = (0.6, 1.4);
 /// Roots are sunk this far (metres) so a blade never floats above a slope.
