@@ -112,7 +112,7 @@ vec3 lod_color(uint segments) {
 // The terrain's normal under the blade's root (Belyaev §2.3's N_L).
 vec3 blade_terrain_normal(BladeInstance blade) {
     return (RENDER_FLAGS & FLAG_BLOCKS) != 0u
-        ? relief_normal(blade.position.xz)
+        ? field_ground_normal(blade.position.xz)
         : grid_terrain_normal(blade.position.xz, frame_values.terrain.x, frame_values.terrain.y, frame.params.z);
 }
 

@@ -233,42 +233,11 @@ vec3 tile_normal(BladeTile tile) {
     return (RENDER_FLAGS & FLAG_BLOCKS) != 0u ? relief_normal(centre) : terrain_normal(centre);
 }
 
-// A block field: the relief at the terrain grid's vertices over this workgroup's cell, computed
-// once by the workgroup (`cache_cell_heights`), so a blade's root costs a bilinear lookup instead
-// of the relief's sixteen sines and cosines, and sits on the terrain as drawn.
-const uint HEIGHT_CACHE = 6u; // vertices per side: a 4 m cell over a grid of 1 m or more, plus one
-shared float cell_heights[HEIGHT_CACHE][HEIGHT_CACHE];
-
-// The cache's first vertex (grid coordinates) for `cell`.
-ivec2 cache_first_vertex(ivec2 cell) {
-    vec2 corner = vec2(cell - frame_values.field_cells.xy) * frame_values.field.x;
-    return ivec2(floor((corner - terrain_grid_offset()) / frame_values.terrain.x));
-}
-
-// Every invocation of the workgroup calls it (it ends with a barrier).
-void cache_cell_heights(ivec2 cell) {
-    ivec2 first = cache_first_vertex(cell);
-    for (uint i = gl_LocalInvocationIndex; i < HEIGHT_CACHE * HEIGHT_CACHE; i += CULL_GROUP) {
-        ivec2 v = first + ivec2(i % HEIGHT_CACHE, i / HEIGHT_CACHE);
-        cell_heights[i / HEIGHT_CACHE][i % HEIGHT_CACHE] = relief_height(vec2(v) * frame_values.terrain.x + terrain_grid_offset());
-    }
-    barrier();
-}
-
-// The drawn terrain's height at `p` (relative to O) inside the cached cell.
-float cached_height(ivec2 cell, vec2 p) {
-    vec2 g = (p - terrain_grid_offset()) / frame_values.terrain.x;
-    ivec2 c = clamp(ivec2(floor(g)) - cache_first_vertex(cell), ivec2(0), ivec2(int(HEIGHT_CACHE) - 2));
-    vec2 f = clamp(g - vec2(c + cache_first_vertex(cell)), vec2(0.0), vec2(1.0));
-    return terrain_mesh_height(f, cell_heights[c.y][c.x], cell_heights[c.y][c.x + 1], cell_heights[c.y + 1][c.x],
-        cell_heights[c.y + 1][c.x + 1]);
-}
-
 // Blade `rank` of a slot's tile, placed (a block field's blade set in its cell, on the terrain).
 BladeInstance tile_blade(BladeTile tile, ivec2 cell, uint rank) {
     if ((RENDER_FLAGS & FLAG_BLOCKS) != 0u) {
         BladeInstance blade = field_blade(cell, rank);
-        blade.position.y = cached_height(cell, blade.position.xz) - FIELD_ROOT_SINK;
+        blade.position.y = field_ground_height(blade.position.xz) - FIELD_ROOT_SINK;
         return blade;
     }
     BladeInstance blade = blade_record(tile.first + rank);

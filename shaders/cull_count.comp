@@ -30,9 +30,7 @@ void main() {
         uint candidates = slot_candidates(slot);
         uint base = 0u;
         // `candidates` is the workgroup's: the barriers below are reached by all or none.
-        if ((RENDER_FLAGS & FLAG_BLOCKS) != 0u && candidates > 0u) {
-            // The terrain under the cell, only for cells that have candidates.
-            cache_cell_heights(cell);
+        if ((RENDER_FLAGS & FLAG_BLOCKS) != 0u) {
             // Room for this slot's verdicts, from the tiles pass's prefix sum.
             base = verdict_base(slot);
             candidates = base == NO_ROOM ? 0u : candidates;

@@ -67,6 +67,34 @@ float terrain_mesh_height(vec2 f, float h00, float h10, float h01, float h11) {
     return f.x >= f.y ? h00 + f.x * (h10 - h00) + f.y * (h11 - h10) : h00 + f.y * (h01 - h00) + f.x * (h11 - h01);
 }
 
+#ifndef RELIEF_GRID_WRITER
+// The grid cell under `p` (relative to O), clamped to the grid, and where `p` lies in it.
+ivec2 relief_cell(vec2 p, out vec2 f) {
+    vec2 g = (p - terrain_grid_offset()) / frame_values.terrain.x;
+    ivec2 c = clamp(ivec2(floor(g)), ivec2(0), ivec2(int(FIELD_TERRAIN_CELLS) - 1));
+    f = clamp(g - vec2(c), vec2(0.0), vec2(1.0));
+    return c;
+}
+
+// Height of the drawn terrain at `p` (relative to O): the grid's heights at the corners of its
+// cell, split as terrain.vert splits it, so a root sits on the terrain as drawn.
+float field_ground_height(vec2 p) {
+    vec2 f;
+    ivec2 c = relief_cell(p, f);
+    return terrain_mesh_height(f, relief_vertex(c).x, relief_vertex(c + ivec2(1, 0)).x, relief_vertex(c + ivec2(0, 1)).x,
+        relief_vertex(c + ivec2(1, 1)).x);
+}
+
+// The relief's normal at `p`: the grid vertices' normals, interpolated bilinearly.
+vec3 field_ground_normal(vec2 p) {
+    vec2 f;
+    ivec2 c = relief_cell(p, f);
+    vec3 bottom = mix(relief_vertex(c).yzw, relief_vertex(c + ivec2(1, 0)).yzw, f.x);
+    vec3 top = mix(relief_vertex(c + ivec2(0, 1)).yzw, relief_vertex(c + ivec2(1, 1)).yzw, f.x);
+    return normalize(mix(bottom, top, f.y));
+}
+#endif
+
 // Blade `index` of the stored block as placed in `cell`: turned by a quarter turn k and mirrored
 // per the cell's hash (a variation of the block, Belyaev §2.1), positioned relative to O; its
 // height (y) is left to the caller (the cull sets it on the drawn terrain).

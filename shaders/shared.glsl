@@ -31,6 +31,8 @@
 #define BINDING_DEPTH_PYRAMID_TEXELS 16 // The depth pyramid as R32 texels, read by the occlusion test (`vk::buffer::TexelView` says why).
 #define BINDING_BLADE_TEXELS 17 // The blades as RGBA32UI texels, two per `BladeInstance` (`blade_record` in bindings.glsl).
 #define BINDING_VISIBLE_TEXELS 18 // The cull's visible list again as RG32UI texels, as its readers fetch it (`visible_entry` in bindings.glsl).
+#define BINDING_RELIEF_GRID 19 // A block field's terrain grid: the relief's height and normal at each vertex, written each frame by relief_grid.comp.
+#define BINDING_RELIEF_GRID_TEXELS 20 // The same grid as RGBA32F texels, as its readers fetch it (`relief_vertex` in bindings.glsl).
 
 // Set `SET_ANIMATION`: every model fills all five (the blade shaders declare them all).
 #define BINDING_KEYFRAMES 0 // Keyframe texture.

@@ -38,10 +38,11 @@ void main() {
         // A block field: a grid of FIELD_TERRAIN_CELLS² cells centred on O's cell, evaluated on
         // the relief, its cell edge (terrain.x) a divisor or multiple of the block edge so the
         // lattice stays put when O moves by a block.
-        float step = frame.terrain.x;
-        vec2 p = (vec2(grid) - vec2(0.5 * float(cells))) * step + vec2(0.5 * frame.field.x);
-        vec3 world = vec3(p.x, relief_height(p), p.y);
-        out_color = ground_color(relief_normal(p), world);
+        // The relief at the vertex: relief_grid.comp evaluated it this frame.
+        vec4 relief = relief_vertex(ivec2(grid));
+        vec2 p = vec2(grid) * frame.terrain.x + terrain_grid_offset();
+        vec3 world = vec3(p.x, relief.x, p.y);
+        out_color = ground_color(relief.yzw, world);
         gl_Position = frame.view_proj * vec4(world, 1.0);
         return;
     }

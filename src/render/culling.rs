@@ -27,8 +27,15 @@ pub const DEFAULT_VIEW_DISTANCE: f32 = 150.0;
 /// field's 0.5x.
 pub const FULL_DENSITY_DISTANCE: f32 = 5.5;
 /// Projected height in pixels one blade segment may span before the LOD picks more segments,
-/// at LOD scale 1.
-pub const PIXELS_PER_SEGMENT: f32 = 8.0;
+/// at LOD scale 1. llvmpipe pays per triangle (a visible blade triangle costs its setup, binning
+/// and the 4x4 blocks it touches; the fragment shader's work hardly counts: a constant colour
+/// changed nothing), and a blade of 4, 2 and 1 segments is 7, 3 and 1 triangles. Measured with
+/// `bench --preset lod` (1M default view, 8x8 mean / p99 block against brute force, blade
+/// triangles; unbounded field's GPU frame): 8 px, 0.45 % / 2.85 %, 277 745, 126 ms; 12 px,
+/// 0.46 % / 2.94 %, 208 057, 108 ms; 16 px, 0.48 % / 2.98 %, 171 689, 108 ms; 20 px, 0.50 % /
+/// 3.14 %, 149 351, 108 ms. 16 px keeps the 1M bound (0.5 %) with the unbounded field's blade
+/// triangles down from 301 492 to 205 410.
+pub const PIXELS_PER_SEGMENT: f32 = 16.0;
 
 /// The segment counts of the LOD buckets, decreasing: bucket 0 is the nearest.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -66,7 +66,7 @@ pub fn terrain_step(view_distance: f32) -> f32 {
     let span = 2.0 * (view_distance + BLOCK_SIZE);
     let cells = gpu::FIELD_TERRAIN_CELLS as f32;
     let mut step = BLOCK_SIZE;
-    // At least 1 m: the cull caches a cell's vertices (`shaders/cull.glsl`, HEIGHT_CACHE).
+    // At least 1 m: the relief's shortest wave is 6 m long.
     while step > 1.0 && cells * 0.5 * step >= span {
         step *= 0.5;
     }

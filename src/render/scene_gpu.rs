@@ -127,6 +127,11 @@ pub struct SceneGpu {
     pub blade_texels: TexelView,
     /// The depth pyramid (`PYRAMID_FLOATS` floats) the depth-pyramid pass writes.
     pub depth_pyramid: Buffer,
+    /// A block field's terrain grid, `(FIELD_TERRAIN_CELLS + 1)²` vertices of (height, normal),
+    /// which `passes::relief_grid` writes each frame; a stored field's holds one unused texel.
+    pub relief_grid: Buffer,
+    /// The same grid as RGBA32F texels, as the terrain, the cull and the blades read it.
+    pub relief_texels: TexelView,
     /// The same floats as R32 texels: the occlusion test reads them (`TexelView` says why).
     pub depth_pyramid_texels: TexelView,
     /// The cull tiles pass's output: the count pass's dispatch, each slot's first verdict (a block
@@ -209,6 +214,21 @@ pub fn cull_capacity(scene: &Scene, view_distance: f32) -> (u32, u32) {
     }
 }
 
+/// Bytes of the relief grid: a block field's `(FIELD_TERRAIN_CELLS + 1)²` texels of 16 bytes, or
+/// one texel (never read: a stored field's terrain is `heights`).
+fn relief_grid_bytes(field: bool) -> u64 {
+    let vertices = if field { u64::from(gpu_constants::FIELD_TERRAIN_CELLS + 1).pow(2) } else { 1 };
+    16 * vertices
+}
+
+impl SceneGpu {
+    /// The relief grid, for the passes that read it: a block field's, which `passes::relief_grid`
+    /// writes each frame (`None`: a stored field, whose terrain is `heights`).
+    pub fn relief_grid_read(&self) -> Option<vk::Buffer> {
+        self.field.is_some().then_some(self.relief_grid.raw)
+    }
+}
+
 /// Bytes of the depth pyramid.
 const PYRAMID_BYTES: u64 = 4 * gpu_constants::PYRAMID_FLOATS as u64;
 
@@ -225,6 +245,7 @@ struct Partial {
     pyramid_texels: Option<TexelView>,
     blade_texels: Option<TexelView>,
     visible_texels: Option<TexelView>,
+    relief_texels: Option<TexelView>,
 }
 
 impl Partial {
@@ -240,7 +261,9 @@ impl Partial {
             if let Some(image) = self.blade_alpha {
                 image.destroy(device);
             }
-            for view in [self.pyramid_texels, self.blade_texels, self.visible_texels].into_iter().flatten() {
+            for view in
+                [self.pyramid_texels, self.blade_texels, self.visible_texels, self.relief_texels].into_iter().flatten()
+            {
                 view.destroy(device);
             }
         }
@@ -256,7 +279,7 @@ impl SceneGpu {
         let blades = blade_count
             * (std::mem::size_of::<crate::scene::BladeInstance>() + std::mem::size_of::<BladeCluster>() + 16 + 8 + 8)
                 as u64;
-        let heights = (terrain_cells + 1).pow(2) * 4 + terrain_cells.pow(2) * 24;
+        let heights = (terrain_cells + 1).pow(2) * 4 + terrain_cells.pow(2) * 24 + relief_grid_bytes(true);
         let alpha = u64::from(alpha::WIDTH * alpha::HEIGHT);
         let tiles = u64::from(MAX_TILES_PER_SIDE).pow(2) * std::mem::size_of::<BladeTile>() as u64
             + cull_bytes(0, max_ring_slots(MAX_TILES_PER_SIDE), 0)[1]
@@ -310,6 +333,8 @@ impl SceneGpu {
                 slot_counts: partial.cull.pop().expect("created"),
                 visible: partial.cull.pop().expect("created"),
                 visible_texels: partial.visible_texels.take().expect("created"),
+                relief_texels: partial.relief_texels.take().expect("created"),
+                relief_grid: partial.cull.pop().expect("created"),
             }),
             Err(e) => {
                 // SAFETY: the batch waited for its submission or never submitted.
@@ -356,7 +381,9 @@ impl SceneGpu {
         let verdicts = verdict_capacity(scene);
         let [visible, slots, draws, results] = cull_bytes(u64::from(verdicts), slots, visible_entries);
         let indirect = storage | vk::BufferUsageFlags::INDIRECT_BUFFER;
+        let relief = relief_grid_bytes(scene.field.is_some());
         for (name, size, usage) in [
+            ("relief grid", relief, storage | vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER),
             ("visible blades", visible, storage | vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER),
             ("cull slot counts", slots, storage),
             ("cull draws", draws, indirect),
@@ -366,10 +393,13 @@ impl SceneGpu {
         ] {
             partial.cull.push(Buffer::new(device, &BufferDesc::gpu_only(name, size, usage))?);
         }
-        // Texel views of three of them, by their place in the list above.
-        let entries = &partial.cull[0];
+        // Texel views of four of them, by their place in the list above.
+        let grid = &partial.cull[0];
+        partial.relief_texels =
+            Some(TexelView::new(device, grid, vk::Format::R32G32B32A32_SFLOAT, "relief grid texels")?);
+        let entries = &partial.cull[1];
         partial.visible_texels = Some(TexelView::new(device, entries, vk::Format::R32G32_UINT, "visible texels")?);
-        let pyramid = &partial.cull[4];
+        let pyramid = &partial.cull[5];
         partial.pyramid_texels = Some(TexelView::new(device, pyramid, vk::Format::R32_SFLOAT, "depth pyramid texels")?);
         let sampler = crate::vk::image::clamped_sampler(device, vk::Filter::LINEAR, "blade alpha sampler")?;
         Ok(sampler)
@@ -408,6 +438,8 @@ impl SceneGpu {
                 (binding::DEPTH_PYRAMID_TEXELS, texels, Resource::Texels(self.depth_pyramid_texels.raw)),
                 (binding::CULL_ALLOC, storage, Resource::Buffer(self.cull_alloc.descriptor())),
                 (binding::FRAME_STORAGE, storage, Resource::Buffer(frame.uniforms.descriptor())),
+                (binding::RELIEF_GRID, storage, Resource::Buffer(self.relief_grid.descriptor())),
+                (binding::RELIEF_GRID_TEXELS, texels, Resource::Texels(self.relief_texels.raw)),
             ],
         );
     }
@@ -430,6 +462,8 @@ impl SceneGpu {
             self.depth_pyramid_texels.destroy(device);
             self.blade_texels.destroy(device);
             self.visible_texels.destroy(device);
+            self.relief_texels.destroy(device);
+            self.relief_grid.destroy(device);
             self.depth_pyramid.destroy(device);
             self.cull_alloc.destroy(device);
             self.blade_alpha.destroy(device);

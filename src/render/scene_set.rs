@@ -46,6 +46,10 @@ pub mod binding {
     pub const BLADE_TEXELS: u32 = gpu::BINDING_BLADE_TEXELS;
     /// The visible list again, as its readers fetch it: RG32UI texels.
     pub const VISIBLE_TEXELS: u32 = gpu::BINDING_VISIBLE_TEXELS;
+    /// A block field's terrain grid (height and normal per vertex), as `relief_grid.comp` writes it.
+    pub const RELIEF_GRID: u32 = gpu::BINDING_RELIEF_GRID;
+    /// The same grid as RGBA32F texels, as its readers fetch it.
+    pub const RELIEF_GRID_TEXELS: u32 = gpu::BINDING_RELIEF_GRID_TEXELS;
 }
 
 /// How the blades are left after the upload and imported into each graph: the scene's shaders
@@ -53,7 +57,7 @@ pub mod binding {
 pub const BLADE_READS: &[Access] = &[Access::VertexShaderSampledRead, Access::ComputeShaderSampledRead];
 
 /// Layout of set `SET_SCENE`, shared by the scene passes and the animation's compute passes.
-pub fn bindings() -> [Binding; 17] {
+pub fn bindings() -> [Binding; 19] {
     let vs = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::COMPUTE;
     let cs = vk::ShaderStageFlags::COMPUTE;
     let vs_cs = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::COMPUTE;
@@ -80,5 +84,7 @@ pub fn bindings() -> [Binding; 17] {
         Binding { binding: binding::DEPTH_PYRAMID_TEXELS, kind: texels, stages: cs },
         Binding { binding: binding::BLADE_TEXELS, kind: texels, stages: vs_cs },
         Binding { binding: binding::VISIBLE_TEXELS, kind: texels, stages: vs_cs },
+        Binding { binding: binding::RELIEF_GRID, kind: storage, stages: cs },
+        Binding { binding: binding::RELIEF_GRID_TEXELS, kind: texels, stages: vs_cs },
     ]
 }

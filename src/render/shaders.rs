@@ -38,6 +38,8 @@ pub const FLOOR_FRAG: &[u8] = spirv!("floor.frag");
 pub const CLUSTER_BOUNDS_VERT: &[u8] = spirv!("cluster_bounds.vert");
 /// Debug view: line colour.
 pub const CLUSTER_BOUNDS_FRAG: &[u8] = spirv!("cluster_bounds.frag");
+/// A block field's terrain grid: the relief's height and normal at each vertex, each frame.
+pub const RELIEF_GRID_COMP: &[u8] = spirv!("relief_grid.comp");
 /// The depth pyramid of the terrain (Hi-Z) the cull's occlusion test reads.
 pub const HIZ_COMP: &[u8] = spirv!("hiz.comp");
 /// Cull step 1: the tile tests of every ring slot, the list of slots with candidates.

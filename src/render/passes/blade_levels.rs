@@ -28,6 +28,8 @@ pub struct BladeLevelsPass {
     levels: vk::Buffer,
     /// The stored blades (a block field's are placed per cell) and the terrain heights.
     reads: [vk::Buffer; 2],
+    /// A block field's relief grid (the terrain normal under each root).
+    relief_grid: Option<vk::Buffer>,
     /// The cull's visible list and its `draws` (the buckets' ranges, and the indirect dispatch
     /// the scan wrote at `POSE_DISPATCH_WORD`).
     visible: vk::Buffer,
@@ -47,6 +49,7 @@ impl BladeLevelsPass {
             poses: set.per_blade.poses.raw,
             levels: set.per_blade.levels.raw,
             reads: [scene.blades.raw, scene.heights.raw],
+            relief_grid: scene.relief_grid_read(),
             visible: scene.visible.raw,
             draws: scene.draws.raw,
         })
@@ -59,8 +62,12 @@ impl Pass for BladeLevelsPass {
     }
 
     fn declare(&self, _: &PassContext) -> Option<Declaration> {
+        let declaration = match self.relief_grid {
+            Some(grid) => Declaration::compute().buffer(grid, Access::ComputeShaderSampledRead),
+            None => Declaration::compute(),
+        };
         Some(
-            Declaration::compute()
+            declaration
                 .buffer(self.levels, Access::ComputeShaderWrite)
                 .buffer(self.poses, Access::ComputeShaderRead)
                 .buffer(self.reads[0], Access::ComputeShaderSampledRead)

@@ -94,6 +94,8 @@ impl BladePass {
             reads.push((poses, Access::VertexShaderStorageRead));
             reads.push((levels, Access::VertexShaderSampledRead));
         }
+        // A block field's terrain normal under each root (per vertex without placed levels).
+        reads.extend(scene.relief_grid_read().map(|grid| (grid, Access::VertexShaderSampledRead)));
         let mut pass = Self {
             pipeline,
             layout: target.layout,

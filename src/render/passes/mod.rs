@@ -11,6 +11,7 @@ pub mod depth_pyramid;
 pub mod floor;
 pub mod frame_sets;
 pub mod overlay;
+pub mod relief_grid;
 pub mod resolve;
 pub mod terrain;
 
@@ -20,6 +21,7 @@ pub use blades::BladePass;
 pub use cluster_bounds::ClusterBoundsPass;
 pub use floor::FloorPass;
 pub use frame_sets::FrameSets;
+pub use relief_grid::ReliefGridPass;
 pub use resolve::ResolvePass;
 pub use terrain::TerrainPass;
 

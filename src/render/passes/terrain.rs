@@ -1,5 +1,5 @@
 //! Terrain pass: the height field, an indexed triangle list over its grid vertices pulled from the
-//! heights buffer. The first pass of a frame: it clears colour to the sky and depth to the far plane (0, reversed Z).
+//! heights buffer (a block field's from the relief grid, `passes::relief_grid`, which runs before it). The first pass that draws: it clears colour to the sky and depth to the far plane (0, reversed Z).
 
 use ash::vk;
 
@@ -15,6 +15,8 @@ pub struct TerrainPass {
     pipeline: vk::Pipeline,
     layout: vk::PipelineLayout,
     heights: vk::Buffer,
+    /// A block field's relief grid, which the vertex shader reads instead of `heights`.
+    relief_grid: Option<vk::Buffer>,
     indices: vk::Buffer,
     cells: u32,
     sky: [f32; 4],
@@ -52,6 +54,7 @@ impl TerrainPass {
             pipeline,
             layout: target.layout,
             heights: scene.heights.raw,
+            relief_grid: scene.relief_grid_read(),
             indices: scene.terrain_indices.raw,
             cells: scene.terrain_cells,
             sky,
@@ -75,7 +78,10 @@ impl Pass for TerrainPass {
         let clear_depth = vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: 0.0, stencil: 0 } };
         rendering.color.as_mut().expect("scene colour").load = Load::Clear(clear_color);
         rendering.depth.as_mut().expect("scene depth").load = Load::Clear(clear_depth);
-        let declaration = Declaration::graphics(rendering).buffer(self.heights, Access::VertexShaderStorageRead);
+        let mut declaration = Declaration::graphics(rendering).buffer(self.heights, Access::VertexShaderStorageRead);
+        if let Some(grid) = self.relief_grid {
+            declaration = declaration.buffer(grid, Access::VertexShaderSampledRead);
+        }
         Some(declaration.buffer(self.indices, Access::IndexRead))
     }
 

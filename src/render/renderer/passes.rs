@@ -11,7 +11,7 @@ use crate::render::passes::blades::BladeSetup;
 use crate::render::passes::cull::{self, CullSetup};
 use crate::render::passes::depth_pyramid::DepthPyramidPass;
 use crate::render::passes::{
-    BladeLevelsPass, BladePass, ClusterBoundsPass, FloorPass, PipelineTarget, ResolvePass, TerrainPass,
+    BladeLevelsPass, BladePass, ClusterBoundsPass, FloorPass, PipelineTarget, ReliefGridPass, ResolvePass, TerrainPass,
 };
 use crate::render::settings::sky_clear_color;
 use crate::render::specialization::Specialization;
@@ -144,6 +144,9 @@ impl Renderer {
         let sky = self.sky();
         let (graph, slots) = (&mut self.graph, self.ring.slots());
         let built = (|| {
+            if let Some(relief) = ReliefGridPass::new(device, target.layout, constants, scene)? {
+                graph.add(relief);
+            }
             graph.add(TerrainPass::new(device, target, constants, scene, sky)?);
             if culled && settings.culling.occlusion {
                 graph.add(DepthPyramidPass::new(device, scene, slots, settings.msaa.enabled())?);

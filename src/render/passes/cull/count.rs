@@ -23,6 +23,9 @@ pub fn pass(device: &Device, setup: &CullSetup, scene: &SceneGpu) -> Result<Cull
         (scene.cull_alloc.raw, read),
         (scene.cull_alloc.raw, Access::IndirectCommandRead),
     ];
+    // A block field's roots sit on the relief grid.
+    let mut uses = uses;
+    uses.extend(scene.relief_grid_read().map(|grid| (grid, Access::ComputeShaderSampledRead)));
     let groups = Groups::Indirect(scene.cull_alloc.raw, 0);
     CullStep::new(device, ("cull count", shaders::CULL_COUNT_COMP), setup, uses, groups)
 }
