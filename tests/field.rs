@@ -1,5 +1,6 @@
 //! Camera-following blocks (`--field`, Belyaev §2.1) on lavapipe: the same view 100 km from the
-//! origin renders identically, GPU memory does not depend on where the camera is, grass reaches
+//! origin renders identically, GPU memory does not depend on where the camera is, the drawn
+//! terrain lies on the relief (the relief-grid pass), grass reaches
 //! the view distance, and bad field input is refused.
 
 mod support;
@@ -66,6 +67,35 @@ fn a_view_100_km_away_renders_as_it_does_at_the_origin_with_the_same_memory() {
         assert!(stats.within_fraction() >= 0.999, "{:.4} within ±3", stats.within_fraction());
         assert_eq!(far_bytes, near_bytes, "GPU memory moved with the camera");
     }
+}
+
+#[test]
+fn the_drawn_terrain_follows_the_relief() {
+    // The relief-grid pass evaluates the relief on the GPU at the terrain grid's vertices (every
+    // 2 m, at even world coordinates here); at a vertex on a hill, the drawn terrain lies where
+    // the CPU's relief says. Looking up from 0.3 m under it, the terrain (drawn without face
+    // culling) hides the sky; from 0.8 m over it, above the tallest blade, the sky shows. A
+    // terrain drawn anywhere else (flat, or a grid shifted by a cell) shows the sky from under it.
+    let relief = Scene::blocks(FieldSpec { size: None, density: 400.0 }, 1).field.expect("a field").relief;
+    let hill = (0..40)
+        .flat_map(|i| (0..40).map(move |j| (2.0 * i as f32, 2.0 * j as f32)))
+        .find(|&(x, z)| relief.height(f64::from(x), f64::from(z)) > 0.5)
+        .expect("a vertex on a hill");
+    let ground = relief.height(f64::from(hill.0), f64::from(hill.1)) as f32;
+    let looking_up =
+        |dy: f32| Camera { position: Vec3::new(hill.0, ground + dy, hill.1), yaw_deg: 0.0, pitch_deg: 80.0 };
+    let views = render(Culling::default_for(4), &[looking_up(-0.3), looking_up(0.8)]);
+    let centre = |rgba: &[u8]| -> Vec<[u8; 3]> {
+        let (w, h) = (EXTENT.width as usize, EXTENT.height as usize);
+        let rows = h / 2 - 10..h / 2 + 10;
+        rows.flat_map(|y| (w / 2 - 10..w / 2 + 10).map(move |x| (y * w + x) * 4))
+            .map(|i| [rgba[i], rgba[i + 1], rgba[i + 2]])
+            .collect()
+    };
+    let (under, over) = (centre(&views[0].0), centre(&views[1].0));
+    let sky = over[0];
+    assert!(over.iter().all(|&p| p == sky), "from over the hill the sky fills the centre");
+    assert!(under.iter().all(|&p| p != sky), "from under the hill ({ground:.2} m) the terrain hides the sky");
 }
 
 #[test]
