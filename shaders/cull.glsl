@@ -183,20 +183,20 @@ float density_keep(float d, float n_dot_r) {
     return density_visible(n_dot_r) / (A1 + A1 * (d * d) / (d0 * d0));
 }
 
-// An upper bound of `density_keep` over the roots of a tile whose nearest point is `nearest`
-// away, under normal n. A root p has (n, r) = n · (eye - p) / |eye - p|: n · (eye - p) is linear
+// An upper bound of `density_keep` over roots inside the box box_lo..box_hi, whose nearest point is
+// `nearest` away, under normal n. A root p has (n, r) = n · (eye - p) / |eye - p|: n · (eye - p) is linear
 // in p, so its range over the box is at two corners, and |eye - p| lies between the box's nearest
 // and farthest distances. The numerator is 1 at (n, r) = 0, rises towards 0 from below and has
 // one minimum above it (at about 0.24), so on an interval its largest value is at an end, or 1
 // if the interval holds 0. A 2 % margin covers rounding (the bound only saves work; the blade
 // test decides).
-float density_keep_bound(vec3 n, BladeTile tile, float nearest) {
+float density_keep_bound(vec3 n, vec3 box_lo, vec3 box_hi, float nearest) {
     vec3 eye = frame_values.cull_eye.xyz;
     bvec3 positive = greaterThanEqual(n, vec3(0.0));
-    float most = dot(n, eye - mix(tile.max, tile.min, positive));
-    float least = dot(n, eye - mix(tile.min, tile.max, positive));
+    float most = dot(n, eye - mix(box_hi, box_lo, positive));
+    float least = dot(n, eye - mix(box_lo, box_hi, positive));
     float near = max(nearest, 1e-3);
-    float far = length(max(abs(eye - tile.min), abs(eye - tile.max)));
+    float far = length(max(abs(eye - box_lo), abs(eye - box_hi)));
     float lo = clamp(least >= 0.0 ? least / far : least / near, -1.0, 1.0);
     float hi = clamp(most >= 0.0 ? most / near : most / far, -1.0, 1.0);
     float visible = lo <= 0.0 && hi >= 0.0 ? 1.0 : max(density_visible(lo), density_visible(hi));
@@ -271,8 +271,18 @@ uint tile_candidates(Frustum f, BladeTile tile, vec3 normal, out bool tile_visib
     if (!culling(LOD_DENSITY)) {
         return tile.count;
     }
-    // Blade r is kept when (r + 0.5) / count < keep: a prefix (one more for rounding).
-    float keep = density_keep_bound(normal, tile, nearest);
+    // Blade r is kept when (r + 0.5) / count < keep: a prefix (one more for rounding). The bound
+    // holds over the roots (the blade test measures from the root): a block field's cell gives
+    // its roots' box, tighter than the tile box by the blades' reach (up, and across with the
+    // widening: at the unbounded field's default view the count pass went from 12.7 to 11.7 ms,
+    // the blades it keeps unchanged). A stored tile's box is padded per tile (`scene::tiles`),
+    // so its bound keeps the whole box.
+    vec3 lo = tile.min;
+    vec3 hi = tile.max;
+    if ((RENDER_FLAGS & FLAG_BLOCKS) != 0u) {
+        field_cell_roots(tile, lo, hi);
+    }
+    float keep = density_keep_bound(normal, lo, hi, length(clamp(eye, lo, hi) - eye));
     return uint(clamp(ceil(keep * float(tile.count) - 0.5) + 1.0, 0.0, float(tile.count)));
 }
 

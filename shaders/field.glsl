@@ -137,6 +137,16 @@ void field_cell_bounds(ivec2 cell, out vec3 lo, out vec3 hi) {
     hi = vec3(corner.x + edge + across, h + spread + up, corner.y + edge + across);
 }
 
+// The box of the roots of a cell whose box `field_cell_bounds` gave (lo, hi: replaced): the
+// cell's square, from the lowest root to the highest (the box's top less the tallest reach up,
+// less the sink).
+void field_cell_roots(BladeTile cell_box, out vec3 lo, out vec3 hi) {
+    float up = TALLEST_BLADE + 0.5 * WIDEST_BLADE;
+    float across = TALLEST_BLADE + 0.5 * WIDEST_BLADE * max(frame_values.lod.w, 1.0);
+    lo = cell_box.min + vec3(across, 0.0, across);
+    hi = cell_box.max - vec3(across, up + FIELD_ROOT_SINK, across);
+}
+
 // The blade of a visible entry of the cull's list (`visible_blade` of cull.glsl) and the index
 // its force weights use: a stored blade, or in a block field (FLAG_BLOCKS) the ring slot (high
 // bits) and the block's blade, at the root height the cull found. Shared by blade.vert and
