@@ -2,8 +2,8 @@
 #extension GL_GOOGLE_include_directive : require
 // Blade levels (with the cull and pose records): each drawn blade's strip levels placed in the
 // world and lit once, for blade.vert to widen and project. The vertex shader did this at every
-// strip vertex — the blade's record, a block field's placement, the terrain normal under the root
-// (eight sines and cosines of the relief), Belyaev's lighting and the fog — and llvmpipe runs
+// strip vertex — the blade's record, a block field's placement, the terrain normal under the root,
+// Belyaev's lighting and the fog — and llvmpipe runs
 // vertex shaders on one thread, where this compute pass runs on all of them, once per level
 // instead of once per side. Same functions as the per-vertex path (blade_place.glsl); the fog and
 // the Fresnel term's view vector are taken at the centre line, not at each edge.

@@ -29,7 +29,6 @@ void main() {
         // A listed slot passed the tile tests with candidates (the tiles pass).
         uint candidates = slot_candidates(slot);
         uint base = 0u;
-        // `candidates` is the workgroup's: the barriers below are reached by all or none.
         if ((RENDER_FLAGS & FLAG_BLOCKS) != 0u) {
             // Room for this slot's verdicts, from the tiles pass's prefix sum.
             base = verdict_base(slot);

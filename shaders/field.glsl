@@ -127,7 +127,10 @@ void field_cell_bounds(ivec2 cell, out vec3 lo, out vec3 hi) {
     float edge = frame_values.field.x;
     vec2 corner = vec2(cell - frame_values.field_cells.xy) * edge;
     vec2 centre = corner + vec2(0.5 * edge);
-    float spread = frame_values.field.y * 0.7072 * edge;
+    // `render::field_gpu::cell_spread`: the drawn terrain interpolates the relief at the grid's
+    // vertices, which past 156 m of view distance lie outside the cell.
+    float reach = 0.7072 * edge + 1.4143 * max(frame_values.terrain.x - 0.5 * edge, 0.0);
+    float spread = frame_values.field.y * reach;
     // `scene::tiles::blade_reach` of the tallest and widest blade: up, and across with the
     // density LOD's widest widening (`lod.w`).
     float up = TALLEST_BLADE + 0.5 * WIDEST_BLADE;
@@ -138,8 +141,8 @@ void field_cell_bounds(ivec2 cell, out vec3 lo, out vec3 hi) {
 }
 
 // The box of the roots of a cell whose box `field_cell_bounds` gave (lo, hi: replaced): the
-// cell's square, from the lowest root to the highest (the box's top less the tallest reach up,
-// less the sink).
+// cell's square, from the lowest root to the highest the relief's spread allows (the box's top
+// less the tallest reach up, less the sink).
 void field_cell_roots(BladeTile cell_box, out vec3 lo, out vec3 hi) {
     float up = TALLEST_BLADE + 0.5 * WIDEST_BLADE;
     float across = TALLEST_BLADE + 0.5 * WIDEST_BLADE * max(frame_values.lod.w, 1.0);

@@ -8,7 +8,7 @@
 #include "bindings.glsl"
 #include "field.glsl"
 
-layout(local_size_x = 64) in;
+layout(local_size_x = RELIEF_GROUP) in;
 
 void main() {
     uint n = FIELD_TERRAIN_CELLS + 1u;

@@ -124,6 +124,7 @@
 #define EMIT_DISPATCH_WORD 44u // In the cull's `draws`: the emit pass's indirect dispatch (x, y, z), one workgroup per ring slot that draws.
 #define EMIT_SLOTS_WORD 48u // In the cull's `draws`, from here: the ring slots that draw, near to far (written by the scan, read by the emit pass).
 #define POSE_GROUP 64u // Invocations of a blade-pose workgroup.
+#define RELIEF_GROUP 64u // Invocations of a relief-grid workgroup (relief_grid.comp).
 #define LEVEL_UVEC2S 3u // `uvec2`s of one strip level of a drawn blade (bindings.glsl, `Levels`).
 
 #endif

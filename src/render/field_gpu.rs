@@ -76,6 +76,16 @@ pub fn terrain_step(view_distance: f32) -> f32 {
     step
 }
 
+/// How far the drawn terrain over a block cell can rise or fall from the relief at the cell's
+/// centre, for terrain cells of `step` metres and a relief whose slope is at most `slope_bound`
+/// (`shaders/field.glsl`, `field_cell_bounds`, computes the same). The terrain interpolates the
+/// relief at the grid's vertices: with cells of at most half a block they lie in the block's
+/// square, within 0.7071 of its edge from the centre; coarser cells reach √2 (step − edge / 2)
+/// further.
+pub fn cell_spread(slope_bound: f32, step: f32) -> f32 {
+    slope_bound * (0.7072 * BLOCK_SIZE + 1.4143 * (step - 0.5 * BLOCK_SIZE).max(0.0))
+}
+
 /// The grid of force corners around O (positions relative to O): the rings' cells and a cell
 /// more, centred on O's cell, at `cluster_size`.
 pub fn cluster_grid(view_distance: f32, cluster_size: f32) -> ClusterGrid {
@@ -107,6 +117,82 @@ pub fn fill_uniforms(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The drawn terrain's height at `p` (relative to O at `o`): the relief at the four vertices
+    /// of its grid cell (`terrain_grid_offset` in field.glsl), split as terrain.vert splits it.
+    fn drawn_height(relief: &field::Relief, o: DVec2, step: f64, p: DVec2) -> f64 {
+        let offset = 0.5 * f64::from(BLOCK_SIZE) - 0.5 * f64::from(gpu::FIELD_TERRAIN_CELLS) * step;
+        let g = (p - DVec2::splat(offset)) / step;
+        let c = g.floor();
+        let f = g - c;
+        let h = |dx: f64, dz: f64| {
+            let v = (c + DVec2::new(dx, dz)) * step + DVec2::splat(offset) + o;
+            relief.height(v.x, v.y)
+        };
+        let (h00, h10, h01, h11) = (h(0.0, 0.0), h(1.0, 0.0), h(0.0, 1.0), h(1.0, 1.0));
+        if f.x >= f.y {
+            h00 + f.x * (h10 - h00) + f.y * (h11 - h10)
+        } else {
+            h00 + f.y * (h01 - h00) + f.x * (h11 - h01)
+        }
+    }
+
+    #[test]
+    fn a_cells_drawn_terrain_stays_within_its_spread_at_every_grid_step() {
+        // The cull's cell and root boxes (field.glsl) bound the roots by the relief at the cell's
+        // centre ± `cell_spread`: the roots sit on the drawn terrain, which at view distances past
+        // 156 m interpolates vertices outside the cell.
+        let relief = field::Relief::generate(1);
+        let slope = relief.slope_bound();
+        let mut widest = [0.0f64; 4];
+        for (k, view) in [40.0, 150.0, 300.0, 600.0].into_iter().enumerate() {
+            let step = terrain_step(view);
+            let spread = f64::from(cell_spread(slope, step));
+            for o in [DVec2::ZERO, DVec2::new(4.0, -8.0), DVec2::new(100_012.0, 36.0)] {
+                for (cx, cz) in [(0, 0), (1, 0), (-3, 2), (5, -7)] {
+                    let corner = DVec2::new(f64::from(cx), f64::from(cz)) * f64::from(BLOCK_SIZE);
+                    let centre = corner + DVec2::splat(0.5 * f64::from(BLOCK_SIZE));
+                    let mid = relief.height(o.x + centre.x, o.y + centre.y);
+                    for i in 0..=16 {
+                        for j in 0..=16 {
+                            let p = corner + DVec2::new(f64::from(i), f64::from(j)) * f64::from(BLOCK_SIZE) / 16.0;
+                            let off = (drawn_height(&relief, o, f64::from(step), p) - mid).abs();
+                            assert!(off <= spread, "step {step}: {off} past the spread {spread}");
+                            widest[k] = widest[k].max(off);
+                        }
+                    }
+                }
+            }
+        }
+        assert!(widest.iter().all(|&w| w > 0.0));
+    }
+
+    #[test]
+    fn coarse_grid_steps_need_the_wider_spread() {
+        // One steep wave 11 m long along x, sampled by 8 m cells: the drawn terrain cuts
+        // across crests and troughs, and over some cells strays past what cells of half a block
+        // allow, never past `cell_spread` for its step.
+        let mut relief = field::Relief::generate(1);
+        let cycles = (field::WORLD_PERIOD / 11.0).round();
+        relief.waves = [Vec4::ZERO; field::WAVES];
+        relief.waves[0] = Vec4::new(cycles * std::f32::consts::TAU / field::WORLD_PERIOD, 0.0, 1.0, 0.8);
+        relief.cycles[0] = (cycles as i32, 0);
+        let slope = relief.slope_bound();
+        let step = terrain_step(600.0);
+        assert_eq!(step, 8.0);
+        let mut widest = 0.0f64;
+        for cx in -8..8 {
+            let corner = DVec2::new(f64::from(cx) * f64::from(BLOCK_SIZE), 0.0);
+            let mid = relief.height(corner.x + 2.0, 2.0);
+            for i in 0..=16 {
+                let p = corner + DVec2::new(f64::from(i) * 0.25, 0.0);
+                widest = widest.max((drawn_height(&relief, DVec2::ZERO, f64::from(step), p) - mid).abs());
+            }
+        }
+        let (fine, coarse) = (f64::from(cell_spread(slope, 2.0)), f64::from(cell_spread(slope, step)));
+        assert!(widest > fine, "{widest} within the spread of half-block cells {fine}");
+        assert!(widest <= coarse, "{widest} past the spread {coarse}");
+    }
 
     #[test]
     fn origins_are_cell_corners_and_cameras_stay_near_them() {

@@ -144,8 +144,7 @@ pub struct SceneGpu {
 /// The terrain's triangle list, cell by cell in rows: vertex (x, z) of the `(cells + 1)²` grid is
 /// `z (cells + 1) + x`, and a cell splits into (0,0)-(1,0)-(1,1) and (0,0)-(1,1)-(0,1), as
 /// `scene::terrain::Terrain::height_at`. Indexed, a grid vertex shared by six triangles is shaded
-/// about once instead of six times (a block field's terrain evaluates the relief's sixteen sines
-/// and cosines per vertex).
+/// about once instead of six times.
 pub fn terrain_indices(cells: u32) -> Vec<u32> {
     let row = cells + 1;
     (0..cells * cells)

@@ -16,9 +16,6 @@ use crate::render::scene_gpu::SceneGpu;
 use crate::render::shaders;
 use crate::vk::{pipeline, Access, Device};
 
-/// Invocations per workgroup of `relief_grid.comp`.
-const GROUP: u32 = 64;
-
 /// The compute pipeline and the grid it writes.
 pub struct ReliefGridPass {
     pipeline: vk::Pipeline,
@@ -59,7 +56,7 @@ impl Pass for ReliefGridPass {
         // SAFETY: cmd is recording outside a rendering instance; set 0 is bound.
         unsafe {
             device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipeline);
-            device.raw.cmd_dispatch(cmd, vertices.div_ceil(GROUP), 1, 1);
+            device.raw.cmd_dispatch(cmd, vertices.div_ceil(gpu::RELIEF_GROUP), 1, 1);
         }
         Ok(())
     }

@@ -1,5 +1,7 @@
 //! Terrain pass: the height field, an indexed triangle list over its grid vertices pulled from the
-//! heights buffer (a block field's from the relief grid, `passes::relief_grid`, which runs before it). The first pass that draws: it clears colour to the sky and depth to the far plane (0, reversed Z).
+//! heights buffer (a block field's from the relief grid, `passes::relief_grid`, added with it and
+//! run before it). The first pass that draws: it clears colour to the sky and depth to the far
+//! plane (0, reversed Z).
 
 use ash::vk;
 

@@ -6,6 +6,7 @@ use super::Renderer;
 use crate::error::Result;
 use crate::render::animation::model::{BladeInput, PassSetup};
 use crate::render::gpu_constants as gpu;
+use crate::render::graph::Graph;
 use crate::render::msaa::MSAA_COLOR_FORMAT;
 use crate::render::passes::blades::BladeSetup;
 use crate::render::passes::cull::{self, CullSetup};
@@ -13,13 +14,14 @@ use crate::render::passes::depth_pyramid::DepthPyramidPass;
 use crate::render::passes::{
     BladeLevelsPass, BladePass, ClusterBoundsPass, FloorPass, PipelineTarget, ReliefGridPass, ResolvePass, TerrainPass,
 };
+use crate::render::scene_gpu::SceneGpu;
 use crate::render::settings::sky_clear_color;
 use crate::render::specialization::Specialization;
 use crate::scene::Scene;
-use crate::vk::{Access, Resource};
+use crate::vk::{Access, Device, Resource};
 
 impl Renderer {
-    /// The passes, in order: terrain, the cull's passes, the animation model's compute passes
+    /// The passes, in order: a block field's relief grid, terrain, the cull's passes, the animation model's compute passes
     /// (before the terrain without the cull), blades (or the floor), the debug views asked for,
     /// the resolve with `--msaa`, and the overlay's passes once there is an overlay.
     pub(super) fn build_graph(&mut self, cpu_scene: &Scene, polygon: vk::PolygonMode) -> Result<()> {
@@ -49,7 +51,7 @@ impl Renderer {
         self.graph.import(keyframes, &uploaded);
         if settings.floor {
             let sky = self.sky();
-            self.graph.add(TerrainPass::new(device, target, &constants, scene, sky)?);
+            add_terrain(&mut self.graph, device, target, &constants, scene, sky)?;
             self.graph.add(FloorPass::new(device, target, &constants, &cpu_scene.blades, settings.segments)?);
         } else {
             self.add_blade_passes(target, &constants)?;
@@ -117,7 +119,7 @@ impl Renderer {
         specialization
     }
 
-    /// Terrain, the cull (depth pyramid, count, scan, emit), the model's passes (after the cull,
+    /// A block field's relief grid, terrain, the cull (depth pyramid, tiles, count, scan, emit), the model's passes (after the cull,
     /// whose visible list they read; before the terrain without it) and the blade pass.
     fn add_blade_passes(&mut self, target: PipelineTarget, constants: &[u32]) -> Result<()> {
         let device = &*self.device;
@@ -144,10 +146,7 @@ impl Renderer {
         let sky = self.sky();
         let (graph, slots) = (&mut self.graph, self.ring.slots());
         let built = (|| {
-            if let Some(relief) = ReliefGridPass::new(device, target.layout, constants, scene)? {
-                graph.add(relief);
-            }
-            graph.add(TerrainPass::new(device, target, constants, scene, sky)?);
+            add_terrain(graph, device, target, constants, scene, sky)?;
             if culled && settings.culling.occlusion {
                 graph.add(DepthPyramidPass::new(device, scene, slots, settings.msaa.enabled())?);
             }
@@ -181,4 +180,21 @@ impl Renderer {
         self.graph.add(BladePass::new(device, scene, &setup)?);
         Ok(())
     }
+}
+
+/// The terrain pass, after the relief-grid pass that a block field's terrain reads (together, so
+/// no path draws the grid unwritten).
+fn add_terrain(
+    graph: &mut Graph,
+    device: &Device,
+    target: PipelineTarget,
+    constants: &[u32],
+    scene: &SceneGpu,
+    sky: [f32; 4],
+) -> Result<()> {
+    if let Some(relief) = ReliefGridPass::new(device, target.layout, constants, scene)? {
+        graph.add(relief);
+    }
+    graph.add(TerrainPass::new(device, target, constants, scene, sky)?);
+    Ok(())
 }

@@ -12,7 +12,7 @@ use crate::vk::{Access, Device};
 /// The counting dispatch, one workgroup per listed ring slot.
 pub fn pass(device: &Device, setup: &CullSetup, scene: &SceneGpu) -> Result<CullStep> {
     let read = Access::ComputeShaderRead;
-    let uses = vec![
+    let mut uses = vec![
         (scene.tiles.raw, read),
         (scene.depth_pyramid.raw, Access::ComputeShaderSampledRead),
         (scene.blades.raw, Access::ComputeShaderSampledRead),
@@ -24,7 +24,6 @@ pub fn pass(device: &Device, setup: &CullSetup, scene: &SceneGpu) -> Result<Cull
         (scene.cull_alloc.raw, Access::IndirectCommandRead),
     ];
     // A block field's roots sit on the relief grid.
-    let mut uses = uses;
     uses.extend(scene.relief_grid_read().map(|grid| (grid, Access::ComputeShaderSampledRead)));
     let groups = Groups::Indirect(scene.cull_alloc.raw, 0);
     CullStep::new(device, ("cull count", shaders::CULL_COUNT_COMP), setup, uses, groups)
