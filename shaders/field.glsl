@@ -56,9 +56,10 @@ uint cell_hash(ivec2 cell) {
     return h ^ (h >> 12);
 }
 
-// The terrain grid (terrain.vert): vertex v lies at v * step + offset relative to O.
+// The terrain grid (terrain.vert): vertex v lies at v * step + offset relative to O, the offset
+// keeping the vertices on the world's lattice (`render::field_gpu::terrain_grid_offset`).
 vec2 terrain_grid_offset() {
-    return vec2(0.5 * frame_values.field.x - 0.5 * float(FIELD_TERRAIN_CELLS) * frame_values.terrain.x);
+    return frame_values.terrain.zw;
 }
 
 // Height of the drawn terrain (the relief at the grid's vertices, flat between them, split as

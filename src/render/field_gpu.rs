@@ -3,7 +3,7 @@
 //! follows it, and the field's part of the frame's uniforms. Everything the GPU sees is relative
 //! to O, so a field 100 km from the world's origin renders as one at the origin does.
 
-use glam::{DVec2, IVec2, IVec4, Vec3, Vec4};
+use glam::{DVec2, IVec2, IVec4, Vec2, Vec3, Vec4};
 
 use crate::render::gpu_constants as gpu;
 use crate::render::uniforms::FrameUniforms;
@@ -76,6 +76,20 @@ pub fn terrain_step(view_distance: f32) -> f32 {
     step
 }
 
+/// Where the terrain grid's vertex 0 lies relative to O (O's cell `cell`), per axis: about half the
+/// grid before O's cell, on the world's lattice of `step`-metre cells, so the vertices stay put
+/// in the world when O moves by a block whatever the step (8 m cells, past 316 m of view
+/// distance, would otherwise move by 4 m at every other block). `shaders/field.glsl` reads it as
+/// `terrain_grid_offset`.
+pub fn terrain_grid_offset(cell: IVec2, step: f32) -> Vec2 {
+    let base = 0.5 * f64::from(BLOCK_SIZE) - 0.5 * f64::from(gpu::FIELD_TERRAIN_CELLS) * f64::from(step);
+    let axis = |c: i32| {
+        let first = f64::from(c) * f64::from(BLOCK_SIZE) + base;
+        (base + (-first).rem_euclid(f64::from(step))) as f32
+    };
+    Vec2::new(axis(cell.x), axis(cell.y))
+}
+
 /// How far the drawn terrain over a block cell can rise or fall from the relief at the cell's
 /// centre, for terrain cells of `step` metres and a relief whose slope is at most `slope_bound`
 /// (`shaders/field.glsl`, `field_cell_bounds`, computes the same). The terrain interpolates the
@@ -109,7 +123,9 @@ pub fn fill_uniforms(
     let cells = field.spec.cells().unwrap_or(0) as i32;
     uniforms.field_cells = IVec4::new(origin.cell.x, origin.cell.y, cells, 0);
     uniforms.field = Vec4::new(BLOCK_SIZE, field.relief.slope_bound(), grid.origin, grid.origin);
-    uniforms.terrain = Vec4::new(terrain_step(view_distance), grid.cluster_size, 0.0, 0.0);
+    let step = terrain_step(view_distance);
+    let offset = terrain_grid_offset(origin.cell, step);
+    uniforms.terrain = Vec4::new(step, grid.cluster_size, offset.x, offset.y);
     uniforms.params.z = gpu::FIELD_TERRAIN_CELLS;
     uniforms.cull_tiles = glam::UVec4::new(verdicts, ring_slots(view_distance), 0, 0);
 }
@@ -121,12 +137,13 @@ mod tests {
     /// The drawn terrain's height at `p` (relative to O at `o`): the relief at the four vertices
     /// of its grid cell (`terrain_grid_offset` in field.glsl), split as terrain.vert splits it.
     fn drawn_height(relief: &field::Relief, o: DVec2, step: f64, p: DVec2) -> f64 {
-        let offset = 0.5 * f64::from(BLOCK_SIZE) - 0.5 * f64::from(gpu::FIELD_TERRAIN_CELLS) * step;
-        let g = (p - DVec2::splat(offset)) / step;
+        let cell = (o / f64::from(BLOCK_SIZE)).floor().as_ivec2();
+        let offset = terrain_grid_offset(cell, step as f32).as_dvec2();
+        let g = (p - offset) / step;
         let c = g.floor();
         let f = g - c;
         let h = |dx: f64, dz: f64| {
-            let v = (c + DVec2::new(dx, dz)) * step + DVec2::splat(offset) + o;
+            let v = (c + DVec2::new(dx, dz)) * step + offset + o;
             relief.height(v.x, v.y)
         };
         let (h00, h10, h01, h11) = (h(0.0, 0.0), h(1.0, 0.0), h(0.0, 1.0), h(1.0, 1.0));
@@ -168,25 +185,54 @@ mod tests {
     }
 
     #[test]
+    fn the_terrain_grid_stays_put_in_the_world_when_o_moves() {
+        for view in [40.0, 150.0, 300.0, 500.0] {
+            let step = terrain_step(view);
+            let mut lattice = None;
+            for c in [-25_001, -3, -2, -1, 0, 1, 2, 3, 7, 25_000] {
+                let cell = IVec2::new(c, -c);
+                let offset = terrain_grid_offset(cell, step).as_dvec2();
+                // Vertex 0 in the world, modulo the step: the same for every O.
+                let world = cell.as_dvec2() * f64::from(BLOCK_SIZE) + offset;
+                let phase = (world.x.rem_euclid(f64::from(step)), world.y.rem_euclid(f64::from(step)));
+                assert_eq!(*lattice.get_or_insert(phase), phase, "view {view} m, O's cell {cell}");
+                // The grid still spans the view distance around O's cell on both sides.
+                let first = offset.x.max(offset.y);
+                let last = offset.x.min(offset.y) + f64::from(gpu::FIELD_TERRAIN_CELLS) * f64::from(step);
+                assert!(
+                    first <= -f64::from(view) && last >= f64::from(view + BLOCK_SIZE),
+                    "view {view}: {first}..{last}"
+                );
+            }
+        }
+    }
+
+    #[test]
     fn coarse_grid_steps_need_the_wider_spread() {
-        // One steep wave 11 m long along x, sampled by 8 m cells: the drawn terrain cuts
-        // across crests and troughs, and over some cells strays past what cells of half a block
-        // allow, never past `cell_spread` for its step.
+        // One steep wave about 15 m long, across the grid's diagonal, sampled by 8 m cells: the
+        // drawn terrain cuts across crests and troughs, and over some cells strays past what
+        // cells of half a block allow, never past `cell_spread` for its step.
         let mut relief = field::Relief::generate(1);
-        let cycles = (field::WORLD_PERIOD / 11.0).round();
+        let (m, n) = (44, 52);
+        let k = std::f32::consts::TAU / field::WORLD_PERIOD;
         relief.waves = [Vec4::ZERO; field::WAVES];
-        relief.waves[0] = Vec4::new(cycles * std::f32::consts::TAU / field::WORLD_PERIOD, 0.0, 1.0, 0.8);
-        relief.cycles[0] = (cycles as i32, 0);
+        relief.waves[0] = Vec4::new(m as f32 * k, n as f32 * k, 1.0, 0.8);
+        relief.cycles[0] = (m, n);
         let slope = relief.slope_bound();
-        let step = terrain_step(600.0);
+        let step = terrain_step(500.0);
         assert_eq!(step, 8.0);
+        let edge = f64::from(BLOCK_SIZE);
         let mut widest = 0.0f64;
-        for cx in -8..8 {
-            let corner = DVec2::new(f64::from(cx) * f64::from(BLOCK_SIZE), 0.0);
-            let mid = relief.height(corner.x + 2.0, 2.0);
-            for i in 0..=16 {
-                let p = corner + DVec2::new(f64::from(i) * 0.25, 0.0);
-                widest = widest.max((drawn_height(&relief, DVec2::ZERO, f64::from(step), p) - mid).abs());
+        for cx in -4..4 {
+            for cz in -4..4 {
+                let corner = DVec2::new(f64::from(cx), f64::from(cz)) * edge;
+                let mid = relief.height(corner.x + 0.5 * edge, corner.y + 0.5 * edge);
+                for i in 0..=8 {
+                    for j in 0..=8 {
+                        let p = corner + DVec2::new(f64::from(i), f64::from(j)) * edge / 8.0;
+                        widest = widest.max((drawn_height(&relief, DVec2::ZERO, f64::from(step), p) - mid).abs());
+                    }
+                }
             }
         }
         let (fine, coarse) = (f64::from(cell_spread(slope, 2.0)), f64::from(cell_spread(slope, step)));
