@@ -11,7 +11,7 @@ struct FrameUniforms {
     vec4 camera_position;   // xyz eye, w simulation time (s)
     vec4 sun_direction;     // xyz unit vector towards the sun, w unused
     vec4 sky_color;         // rgb linear sky, w fog density (1/m)
-    vec4 terrain;           // x grid origin (x = z), y cell size (m), zw unused; a block field: x the grid's cell edge, y the force clusters' edge, zw the grid's offset from O
+    vec4 terrain;           // x grid origin (x = z), y cell size (m), zw unused; a block field: x cell edge, y cluster edge, zw grid offset
     uvec4 params;           // x segments, y blade count, z terrain cells per side, w unused
     uvec4 keyframes;        // x magnitudes, y angles, z point sources, w cluster corners per side
     uvec4 keyframe_shape;   // x records per pose, y colliders (emitters after the sources), zw unused

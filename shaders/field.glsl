@@ -82,8 +82,10 @@ ivec2 relief_cell(vec2 p, out vec2 f) {
 float field_ground_height(vec2 p) {
     vec2 f;
     ivec2 c = relief_cell(p, f);
-    return terrain_mesh_height(f, relief_vertex(c).x, relief_vertex(c + ivec2(1, 0)).x, relief_vertex(c + ivec2(0, 1)).x,
-        relief_vertex(c + ivec2(1, 1)).x);
+    float h00 = relief_vertex(c).x;
+    float h10 = relief_vertex(c + ivec2(1, 0)).x;
+    float h01 = relief_vertex(c + ivec2(0, 1)).x;
+    return terrain_mesh_height(f, h00, h10, h01, relief_vertex(c + ivec2(1, 1)).x);
 }
 
 // The relief's normal at `p`: the grid vertices' normals, interpolated bilinearly.

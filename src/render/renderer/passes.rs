@@ -21,8 +21,8 @@ use crate::scene::Scene;
 use crate::vk::{Access, Device, Resource};
 
 impl Renderer {
-    /// The passes, in order: a block field's relief grid, terrain, the cull's passes, the animation model's compute passes
-    /// (before the terrain without the cull), blades (or the floor), the debug views asked for,
+    /// The passes, in order: a block field's relief grid, terrain, the cull's passes, the
+    /// animation model's compute passes (before the terrain without the cull), blades (or the floor), the debug views asked for,
     /// the resolve with `--msaa`, and the overlay's passes once there is an overlay.
     pub(super) fn build_graph(&mut self, cpu_scene: &Scene, polygon: vk::PolygonMode) -> Result<()> {
         let device = &*self.device;
@@ -119,8 +119,9 @@ impl Renderer {
         specialization
     }
 
-    /// A block field's relief grid, terrain, the cull (depth pyramid, tiles, count, scan, emit), the model's passes (after the cull,
-    /// whose visible list they read; before the terrain without it) and the blade pass.
+    /// A block field's relief grid, terrain, the cull (depth pyramid, tiles, count, scan, emit),
+    /// the model's passes (after the cull, whose visible list they read; before the terrain
+    /// without it) and the blade pass.
     fn add_blade_passes(&mut self, target: PipelineTarget, constants: &[u32]) -> Result<()> {
         let device = &*self.device;
         let settings = &self.settings;
