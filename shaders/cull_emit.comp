@@ -12,6 +12,14 @@
 
 layout(local_size_x_id = SPEC_CULL_GROUP) in;
 
+// The count pass's verdicts (`cull_results`) as texels: llvmpipe gathers a texel fetch across the
+// SIMD lanes, where it loads storage one lane at a time.
+layout(set = SET_SCENE, binding = BINDING_CULL_RESULT_TEXELS) uniform usamplerBuffer verdict_texels;
+
+uvec2 verdict(uint index) {
+    return texelFetch(verdict_texels, int(index)).xy;
+}
+
 shared uint prefix[MAX_LOD_BUCKETS][CULL_GROUP];
 
 
@@ -41,7 +49,7 @@ void main() {
         own[b] = 0u;
     }
     for (uint rank = begin; rank < end; rank++) {
-        uint bucket = cull_results[verdict_index(tile, base, rank)].x;
+        uint bucket = verdict(verdict_index(tile, base, rank)).x;
         // Constant indices only: llvmpipe keeps the counters in registers.
         for (uint b = 0u; b < MAX_LOD_BUCKETS; b++) {
             own[b] += bucket == b ? 1u : 0u;
@@ -71,7 +79,7 @@ void main() {
         at[b] = draws[DRAW_WORDS * b + DRAW_FIRST_INSTANCE] * BLADES_PER_INSTANCE + slot_counts[slot * SLOT_WORDS + b] + prefix[b][lane];
     }
     for (uint rank = begin; rank < end; rank++) {
-        uvec2 result = cull_results[verdict_index(tile, base, rank)];
+        uvec2 result = verdict(verdict_index(tile, base, rank));
         uint position = 0u;
         for (uint b = 0u; b < MAX_LOD_BUCKETS; b++) {
             position = result.x == b ? at[b] : position;

@@ -32,6 +32,7 @@
 #define BINDING_BLADE_TEXELS 17 // The blades as RGBA32UI texels, two per `BladeInstance` (`blade_record` in bindings.glsl).
 #define BINDING_VISIBLE_TEXELS 18 // The cull's visible list again as RG32UI texels, as its readers fetch it (`visible_entry` in bindings.glsl).
 #define BINDING_RELIEF_GRID 19 // A block field's terrain grid: the relief's height and normal at each vertex, written each frame by relief_grid.comp.
+#define BINDING_CULL_RESULT_TEXELS 21 // The same verdicts as `BINDING_CULL_RESULTS`, as RG32UI texels: the emit pass reads them (a vector gather on llvmpipe).
 #define BINDING_RELIEF_GRID_TEXELS 20 // The same grid as RGBA32F texels, as its readers fetch it (`relief_vertex` in bindings.glsl).
 
 // Set `SET_ANIMATION`: every model fills all five (the blade shaders declare them all).

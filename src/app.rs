@@ -18,7 +18,7 @@ use ash::vk;
 use crate::error::{Error, Result};
 use crate::render::animation::{AnimationSettings, KeyframeTexture, KeyframeUniforms};
 use crate::render::budget::FrameBudget;
-use crate::render::scene_gpu::FIELD_VISIBLE;
+use crate::render::scene_gpu::{FIELD_VERDICTS, FIELD_VISIBLE};
 use crate::render::submission::Submission;
 use crate::render::target::offscreen_bytes;
 use crate::render::{gpu_constants as gpu, FrameTimings, OffscreenTarget, RenderSettings, Renderer};
@@ -284,9 +284,10 @@ pub fn check_limits(device: &Device, blades: u32, size: (u32, u32), terrain_cell
         )));
     }
     // The scene's shaders read the blades as two texels each, a block field's visible list and
-    // the depth pyramid as one per entry (`vk::buffer::TexelView`).
+    // verdicts and the depth pyramid as one per entry (`vk::buffer::TexelView`); a stored field's
+    // verdicts are one per blade.
     let max_texels = u64::from(limits.max_texel_buffer_elements);
-    let fixed = u64::from(gpu::PYRAMID_FLOATS).max(u64::from(FIELD_VISIBLE));
+    let fixed = u64::from(gpu::PYRAMID_FLOATS).max(u64::from(FIELD_VISIBLE)).max(u64::from(FIELD_VERDICTS));
     if fixed > max_texels {
         return Err(Error::bad_input(format!(
             "the device's maxTexelBufferElements of {max_texels} is below the {fixed} texels meadow's cull reads"

@@ -123,6 +123,8 @@ pub struct SceneGpu {
     pub draws: Buffer,
     /// The count pass's verdict per candidate blade, for the emit pass.
     pub cull_results: Buffer,
+    /// The same verdicts as RG32UI texels, as the emit pass reads them (`TexelView` says why).
+    pub cull_result_texels: TexelView,
     /// The blades as RGBA32UI texels, two per blade, as the scene's shaders read them.
     pub blade_texels: TexelView,
     /// The depth pyramid (`PYRAMID_FLOATS` floats) the depth-pyramid pass writes.
@@ -245,6 +247,7 @@ struct Partial {
     blade_texels: Option<TexelView>,
     visible_texels: Option<TexelView>,
     relief_texels: Option<TexelView>,
+    result_texels: Option<TexelView>,
 }
 
 impl Partial {
@@ -261,7 +264,9 @@ impl Partial {
                 image.destroy(device);
             }
             for view in
-                [self.pyramid_texels, self.blade_texels, self.visible_texels, self.relief_texels].into_iter().flatten()
+                [self.pyramid_texels, self.blade_texels, self.visible_texels, self.relief_texels, self.result_texels]
+                    .into_iter()
+                    .flatten()
             {
                 view.destroy(device);
             }
@@ -328,6 +333,7 @@ impl SceneGpu {
                 depth_pyramid_texels: partial.pyramid_texels.take().expect("created"),
                 depth_pyramid: partial.cull.pop().expect("created"),
                 cull_results: partial.cull.pop().expect("created"),
+                cull_result_texels: partial.result_texels.take().expect("created"),
                 draws: partial.cull.pop().expect("created"),
                 slot_counts: partial.cull.pop().expect("created"),
                 visible: partial.cull.pop().expect("created"),
@@ -386,18 +392,20 @@ impl SceneGpu {
             ("visible blades", visible, storage | vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER),
             ("cull slot counts", slots, storage),
             ("cull draws", draws, indirect),
-            ("cull results", results, storage),
+            ("cull results", results, storage | vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER),
             ("depth pyramid", PYRAMID_BYTES, storage | vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER),
             ("cull verdict room", cull_alloc_bytes(slots_count), indirect),
         ] {
             partial.cull.push(Buffer::new(device, &BufferDesc::gpu_only(name, size, usage))?);
         }
-        // Texel views of four of them, by their place in the list above.
+        // Texel views of five of them, by their place in the list above.
         let grid = &partial.cull[0];
         partial.relief_texels =
             Some(TexelView::new(device, grid, vk::Format::R32G32B32A32_SFLOAT, "relief grid texels")?);
         let entries = &partial.cull[1];
         partial.visible_texels = Some(TexelView::new(device, entries, vk::Format::R32G32_UINT, "visible texels")?);
+        let results = &partial.cull[4];
+        partial.result_texels = Some(TexelView::new(device, results, vk::Format::R32G32_UINT, "cull result texels")?);
         let pyramid = &partial.cull[5];
         partial.pyramid_texels = Some(TexelView::new(device, pyramid, vk::Format::R32_SFLOAT, "depth pyramid texels")?);
         let sampler = crate::vk::image::clamped_sampler(device, vk::Filter::LINEAR, "blade alpha sampler")?;
@@ -439,6 +447,7 @@ impl SceneGpu {
                 (binding::FRAME_STORAGE, storage, Resource::Buffer(frame.uniforms.descriptor())),
                 (binding::RELIEF_GRID, storage, Resource::Buffer(self.relief_grid.descriptor())),
                 (binding::RELIEF_GRID_TEXELS, texels, Resource::Texels(self.relief_texels.raw)),
+                (binding::CULL_RESULT_TEXELS, texels, Resource::Texels(self.cull_result_texels.raw)),
             ],
         );
     }
@@ -458,6 +467,7 @@ impl SceneGpu {
             self.slot_counts.destroy(device);
             self.draws.destroy(device);
             self.cull_results.destroy(device);
+            self.cull_result_texels.destroy(device);
             self.depth_pyramid_texels.destroy(device);
             self.blade_texels.destroy(device);
             self.visible_texels.destroy(device);

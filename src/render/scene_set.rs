@@ -50,6 +50,7 @@ pub mod binding {
     pub const RELIEF_GRID: u32 = gpu::BINDING_RELIEF_GRID;
     /// The same grid as RGBA32F texels, as its readers fetch it.
     pub const RELIEF_GRID_TEXELS: u32 = gpu::BINDING_RELIEF_GRID_TEXELS;
+    pub const CULL_RESULT_TEXELS: u32 = gpu::BINDING_CULL_RESULT_TEXELS;
 }
 
 /// How the blades are left after the upload and imported into each graph: the scene's shaders
@@ -57,7 +58,7 @@ pub mod binding {
 pub const BLADE_READS: &[Access] = &[Access::VertexShaderSampledRead, Access::ComputeShaderSampledRead];
 
 /// Layout of set `SET_SCENE`, shared by the scene passes and the animation's compute passes.
-pub fn bindings() -> [Binding; 19] {
+pub fn bindings() -> [Binding; 20] {
     let vs = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::COMPUTE;
     let cs = vk::ShaderStageFlags::COMPUTE;
     let vs_cs = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::COMPUTE;
@@ -86,5 +87,6 @@ pub fn bindings() -> [Binding; 19] {
         Binding { binding: binding::VISIBLE_TEXELS, kind: texels, stages: vs_cs },
         Binding { binding: binding::RELIEF_GRID, kind: storage, stages: cs },
         Binding { binding: binding::RELIEF_GRID_TEXELS, kind: texels, stages: vs_cs },
+        Binding { binding: binding::CULL_RESULT_TEXELS, kind: texels, stages: cs },
     ]
 }
