@@ -3,7 +3,7 @@
 // Terrain by vertex pulling, indexed: vertex v is grid vertex (v % (cells + 1), v / (cells + 1)),
 // heights from a storage buffer (a block field's from the relief grid, relief_grid.comp); the
 // index buffer splits each cell (0,0)-(1,0)-(1,1) and
-// (0,0)-(1,1)-(0,1), as `scene::terrain::Terrain::height_at` (`render::scene_gpu::terrain_indices`).
+// (0,0)-(1,1)-(0,1), as `scene::terrain::Terrain::height_at` (`render::terrain_chunks::chunked_indices`).
 #include "bindings.glsl"
 #include "field.glsl"
 

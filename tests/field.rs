@@ -1,6 +1,7 @@
 //! Camera-following blocks (`--field`, Belyaev §2.1) on lavapipe: the same view 100 km from the
 //! origin renders identically, GPU memory does not depend on where the camera is, the drawn
-//! terrain lies on the relief (the relief-grid pass), grass reaches
+//! terrain lies on the relief (the relief-grid pass, recomputed when the camera crosses blocks),
+//! grass reaches
 //! the view distance, and bad field input is refused.
 
 mod support;
@@ -66,6 +67,22 @@ fn a_view_100_km_away_renders_as_it_does_at_the_origin_with_the_same_memory() {
         let (stats, _) = compare_rgb(far, near, 3);
         assert!(stats.within_fraction() >= 0.999, "{:.4} within ±3", stats.within_fraction());
         assert_eq!(far_bytes, near_bytes, "GPU memory moved with the camera");
+    }
+}
+
+/// The relief-grid pass dispatches only when the grid's place or relief changed
+/// (`passes::relief_grid`): a renderer that drew another block first, and then the same view
+/// twice (the second time without a dispatch), renders what a fresh renderer renders.
+#[test]
+fn the_relief_grid_follows_the_camera_across_blocks() {
+    let culling = Culling::default_for(4);
+    let (first, there) = (camera(1.5, 2.5), camera(37.5, -21.5));
+    let moved = render(culling, &[first, there, there]);
+    let fresh = render(culling, &[there]);
+    assert_ne!(moved[0].0, fresh[0].0, "the two views must differ for the test to mean anything");
+    for (pixels, counts, _) in &moved[1..] {
+        assert_eq!(counts, &fresh[0].1);
+        assert!(pixels == &fresh[0].0, "a stale relief grid: the view differs from a fresh renderer's");
     }
 }
 

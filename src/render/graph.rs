@@ -153,6 +153,11 @@ pub trait Pass {
     /// labels and queries are the graph's. Set 0 is not bound by the graph.
     fn record(&self, ctx: &PassContext, cmd: vk::CommandBuffer) -> Result<()>;
 
+    /// The frame last recorded will not run (it failed to record or submit): forget anything the
+    /// pass assumed that frame's commands would leave behind (`ReliefGridPass` keeps what its
+    /// last dispatch computed). Nothing to forget by default.
+    fn frame_dropped(&self) {}
+
     /// Destroy the pass's pipelines and resources.
     ///
     /// # Safety
@@ -238,6 +243,13 @@ impl Graph {
     /// Replace the resource states (after replaying a recording that ends in them).
     pub fn set_states(&mut self, states: ResourceStates) {
         self.states = states;
+    }
+
+    /// The frame last recorded will not run: tell each pass (`Pass::frame_dropped`).
+    pub fn frame_dropped(&self) {
+        for pass in &self.passes {
+            pass.frame_dropped();
+        }
     }
 
     /// Record every pass into `cmd` with its barriers, rendering instance, label and queries,

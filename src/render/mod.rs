@@ -21,6 +21,7 @@ pub mod shaders;
 pub mod specialization;
 pub mod submission;
 pub mod target;
+pub mod terrain_chunks;
 pub mod uniforms;
 
 pub use renderer::{FrameTimings, PassTime, RenderSettings, Renderer};

@@ -3,6 +3,9 @@
 //! pass binds (the scene and one frame's uniforms and forces). What animates the blades is the
 //! animation model's (`render::animation::model`).
 
+use std::sync::atomic::AtomicU64;
+use std::sync::Arc;
+
 use ash::vk;
 
 use crate::error::Result;
@@ -88,8 +91,16 @@ pub struct SceneGpu {
     pub heights: Buffer,
     /// Terrain cells per side.
     pub terrain_cells: u32,
-    /// The terrain's triangle list over its `(cells + 1)²` grid vertices (`terrain_indices`).
+    /// The terrain's triangle list over its `(cells + 1)²` grid vertices, chunk by chunk
+    /// (`render::terrain_chunks`). Indexed, a grid vertex shared by six triangles is shaded about
+    /// once instead of six times.
     pub terrain_indices: Buffer,
+    /// The lowest and highest terrain height (a block field's relief: ± the sum of its
+    /// amplitudes), which bound the terrain chunks the terrain pass tests.
+    pub terrain_heights: (f32, f32),
+    /// Terrain triangles the terrain pass drew in the last frame it recorded (the chunks in view;
+    /// the whole grid before the first).
+    pub terrain_drawn: Arc<AtomicU64>,
     /// Terrain grid origin and cell size.
     pub terrain_origin: f32,
     /// Cell edge in metres.
@@ -141,20 +152,6 @@ pub struct SceneGpu {
     pub cull_alloc: Buffer,
     /// Verdicts `cull_results` holds.
     pub verdict_capacity: u32,
-}
-
-/// The terrain's triangle list, cell by cell in rows: vertex (x, z) of the `(cells + 1)²` grid is
-/// `z (cells + 1) + x`, and a cell splits into (0,0)-(1,0)-(1,1) and (0,0)-(1,1)-(0,1), as
-/// `scene::terrain::Terrain::height_at`. Indexed, a grid vertex shared by six triangles is shaded
-/// about once instead of six times.
-pub fn terrain_indices(cells: u32) -> Vec<u32> {
-    let row = cells + 1;
-    (0..cells * cells)
-        .flat_map(|cell| {
-            let v = (cell / cells) * row + cell % cells;
-            [v, v + 1, v + row + 1, v, v + row + 1, v + row]
-        })
-        .collect()
 }
 
 /// Ring slots the cull may dispatch for a grid of `tiles` per side: the rings around a tile of
@@ -304,6 +301,7 @@ impl SceneGpu {
             None => ClusterGrid::new(scene.terrain.size, cluster_size),
         };
         let capacity = cull_capacity(scene, view_distance);
+        let cells = if scene.field.is_some() { gpu_constants::FIELD_TERRAIN_CELLS } else { scene.terrain.cells };
         let result = Self::upload_into(device, scene, &grid, capacity, &mut partial);
         match result {
             Ok(sampler) => Ok(Self {
@@ -312,11 +310,9 @@ impl SceneGpu {
                 blade_count: scene.blades.len() as u32,
                 heights: partial.heights.take().expect("uploaded"),
                 terrain_indices: partial.terrain_indices.take().expect("uploaded"),
-                terrain_cells: if scene.field.is_some() {
-                    gpu_constants::FIELD_TERRAIN_CELLS
-                } else {
-                    scene.terrain.cells
-                },
+                terrain_cells: cells,
+                terrain_heights: crate::render::terrain_chunks::height_range(scene),
+                terrain_drawn: Arc::new(AtomicU64::new(2 * u64::from(cells).pow(2))),
                 terrain_origin: scene.terrain.origin(),
                 terrain_cell_size: scene.terrain.cell_size(),
                 blade_alpha: partial.blade_alpha.take().expect("uploaded"),
@@ -368,7 +364,7 @@ impl SceneGpu {
         partial.blade_texels = Some(TexelView::new(device, blades, vk::Format::R32G32B32A32_UINT, "blade texels")?);
         partial.heights = Some(batch.buffer("terrain heights", &scene.terrain.heights, storage, vertex_read)?);
         let cells = if scene.field.is_some() { gpu_constants::FIELD_TERRAIN_CELLS } else { scene.terrain.cells };
-        let indices = terrain_indices(cells);
+        let indices = crate::render::terrain_chunks::chunked_indices(cells);
         let usage = vk::BufferUsageFlags::INDEX_BUFFER;
         partial.terrain_indices = Some(batch.buffer("terrain indices", &indices, usage, &[Access::IndexRead])?);
         let clusters = grid.assign(&scene.blades);

@@ -115,6 +115,12 @@ impl Relief {
         })
     }
 
+    /// The largest height the relief can reach either side of 0 (Σ |a_k|), with a margin for the
+    /// GPU's f32 sums.
+    pub fn height_bound(&self) -> f32 {
+        1.001 * self.waves.iter().map(|w| w.z.abs()).sum::<f32>() + 1e-3
+    }
+
     /// The steepest slope the relief can have (Σ a_k |u_k|): bounds a cell's heights.
     pub fn slope_bound(&self) -> f32 {
         self.waves.iter().map(|w| w.z * Vec2::new(w.x, w.y).length()).sum()
@@ -146,6 +152,25 @@ pub fn cell_of(x: f64, z: f64) -> (i64, i64) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The terrain pass bounds its chunks by ± `height_bound`: no height the relief reaches, over
+    /// several seeds and far from the origin, lies outside; and the bound is not loose by more
+    /// than the waves' sum can explain (the highest sample reaches half of it).
+    #[test]
+    fn the_relief_stays_within_its_height_bound() {
+        for seed in [1, 3, 11] {
+            let relief = Relief::generate(seed);
+            let bound = f64::from(relief.height_bound());
+            let mut highest = 0.0f64;
+            for i in 0..20_000 {
+                let (x, z) = (f64::from(i) * 0.37 - 3000.0, f64::from(i % 211) * 1.9 + 1.0e5);
+                let h = relief.height(x, z);
+                assert!(h.abs() <= bound, "seed {seed}: height {h} at ({x}, {z}) past ±{bound}");
+                highest = highest.max(h.abs());
+            }
+            assert!(highest > 0.5 * bound, "seed {seed}: highest {highest} of bound {bound}");
+        }
+    }
 
     #[test]
     fn the_relief_is_gentle_and_its_phases_rebuild_it_anywhere() {

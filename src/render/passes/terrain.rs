@@ -1,7 +1,10 @@
 //! Terrain pass: the height field, an indexed triangle list over its grid vertices pulled from the
 //! heights buffer (a block field's from the relief grid, `passes::relief_grid`, added with it and
-//! run before it). The first pass that draws: it clears colour to the sky and depth to the far
+//! run before it), one draw per run of chunks in view (`render::terrain_chunks`). The first pass that draws: it clears colour to the sky and depth to the far
 //! plane (0, reversed Z).
+
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::Arc;
 
 use ash::vk;
 
@@ -10,6 +13,8 @@ use crate::render::graph::{Declaration, Load, Pass, PassContext};
 use crate::render::passes::{self, PipelineTarget};
 use crate::render::scene_gpu::SceneGpu;
 use crate::render::shaders;
+use crate::render::terrain_chunks::{self, GridPlacement, TerrainChunk};
+use crate::render::uniforms::FrameUniforms;
 use crate::vk::{pipeline, Access, Device};
 
 /// The terrain pipeline and what it draws.
@@ -20,7 +25,14 @@ pub struct TerrainPass {
     /// A block field's relief grid, which the vertex shader reads instead of `heights`.
     relief_grid: Option<vk::Buffer>,
     indices: vk::Buffer,
-    cells: u32,
+    /// The grid's chunks, each a range of `indices`.
+    chunks: Vec<TerrainChunk>,
+    /// A block field's grid (placed around O by `FrameUniforms::terrain`'s zw) or a stored one.
+    blocks: bool,
+    /// The terrain's height range.
+    height_range: (f32, f32),
+    /// Where it leaves the triangles of the chunks it drew (`SceneGpu::terrain_drawn`).
+    drawn: Arc<AtomicU64>,
     sky: [f32; 4],
 }
 
@@ -58,14 +70,24 @@ impl TerrainPass {
             heights: scene.heights.raw,
             relief_grid: scene.relief_grid_read(),
             indices: scene.terrain_indices.raw,
-            cells: scene.terrain_cells,
+            chunks: terrain_chunks::chunks(scene.terrain_cells),
+            blocks: scene.field.is_some(),
+            height_range: scene.terrain_heights,
+            drawn: Arc::clone(&scene.terrain_drawn),
             sky,
         })
     }
 
-    /// Triangles drawn.
+    /// Where this frame's grid lies (terrain.vert places it the same way).
+    fn placement(&self, uniforms: &FrameUniforms) -> GridPlacement {
+        let t = uniforms.terrain;
+        let (offset, step) = if self.blocks { ([t.z, t.w], t.x) } else { ([t.x, t.x], t.y) };
+        GridPlacement { offset, step, heights: self.height_range }
+    }
+
+    /// Triangles the pass drew in the last frame it recorded: the chunks in view.
     pub fn triangles(scene: &SceneGpu) -> u64 {
-        2 * u64::from(scene.terrain_cells).pow(2)
+        scene.terrain_drawn.load(Ordering::Relaxed)
     }
 }
 
@@ -93,8 +115,15 @@ impl Pass for TerrainPass {
         // SAFETY: cmd is recording inside this pass's rendering instance; set 0 is bound.
         unsafe {
             device.raw.cmd_bind_index_buffer(cmd, self.indices, 0, vk::IndexType::UINT32);
-            device.raw.cmd_draw_indexed(cmd, 6 * self.cells * self.cells, 1, 0, 0, 0);
         }
+        let placement = self.placement(ctx.uniforms);
+        let mut indices = 0;
+        for (first, count) in terrain_chunks::visible_runs(&self.chunks, &placement, &ctx.uniforms.view_proj) {
+            // SAFETY: as above; the run lies inside the index buffer (`chunks`).
+            unsafe { device.raw.cmd_draw_indexed(cmd, count, 1, first, 0, 0) };
+            indices += u64::from(count);
+        }
+        self.drawn.store(indices / 3, Ordering::Relaxed);
         Ok(())
     }
 

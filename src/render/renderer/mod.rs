@@ -443,6 +443,7 @@ impl Renderer {
             .and_then(|started| self.ring.submit(&self.device, slot, sync, started));
         if submitted.is_err() {
             self.graph.set_states(entry);
+            self.graph.frame_dropped();
         }
         self.overlay_submitted(submitted.is_ok());
         submitted

@@ -39,6 +39,7 @@ impl Renderer {
         let entry = self.graph.states().clone();
         let recorded = self.record_frame(slot, target, &uniforms, Outputs::default()).map(|_| ());
         self.graph.set_states(entry);
+        self.graph.frame_dropped();
         recorded
     }
 }
