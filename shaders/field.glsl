@@ -124,6 +124,9 @@ BladeInstance field_blade(ivec2 cell, uint index) {
     return blade;
 }
 
+const float CELL_SPREAD_INSIDE = 0.7072; // render::field_gpu::CELL_SPREAD_INSIDE
+const float CELL_SPREAD_OUTSIDE = 1.4143; // render::field_gpu::CELL_SPREAD_OUTSIDE
+
 // The box of every blade of `cell` in any pose, relative to O: the relief at the cell's centre
 // within the slope bound, padded by the longest blade.
 void field_cell_bounds(ivec2 cell, out vec3 lo, out vec3 hi) {
@@ -132,7 +135,7 @@ void field_cell_bounds(ivec2 cell, out vec3 lo, out vec3 hi) {
     vec2 centre = corner + vec2(0.5 * edge);
     // `render::field_gpu::cell_spread`: the drawn terrain interpolates the relief at the grid's
     // vertices, which past 156 m of view distance lie outside the cell.
-    float reach = 0.7072 * edge + 1.4143 * max(frame_values.terrain.x - 0.5 * edge, 0.0);
+    float reach = CELL_SPREAD_INSIDE * edge + CELL_SPREAD_OUTSIDE * max(frame_values.terrain.x - 0.5 * edge, 0.0);
     float spread = frame_values.field.y * reach;
     // `scene::tiles::blade_reach` of the tallest and widest blade: up, and across with the
     // density LOD's widest widening (`lod.w`).

@@ -97,8 +97,15 @@ pub fn terrain_grid_offset(cell: IVec2, step: f32) -> Vec2 {
 /// square, within 0.7071 of its edge from the centre; coarser cells reach √2 (step − edge / 2)
 /// further.
 pub fn cell_spread(slope_bound: f32, step: f32) -> f32 {
-    slope_bound * (0.7072 * BLOCK_SIZE + 1.4143 * (step - 0.5 * BLOCK_SIZE).max(0.0))
+    slope_bound * (CELL_SPREAD_INSIDE * BLOCK_SIZE + CELL_SPREAD_OUTSIDE * (step - 0.5 * BLOCK_SIZE).max(0.0))
 }
+
+/// `cell_spread`'s reach per metre of block edge inside the block's square: √½, rounded up
+/// (mirrored in `shaders/field.glsl`, checked by `tests/shader_sources.rs`).
+pub const CELL_SPREAD_INSIDE: f32 = 0.7072;
+/// `cell_spread`'s further reach per metre of a coarse terrain cell past half a block: √2,
+/// rounded up (mirrored in `shaders/field.glsl`).
+pub const CELL_SPREAD_OUTSIDE: f32 = 1.4143;
 
 /// The grid of force corners around O (positions relative to O): the rings' cells and a cell
 /// more, centred on O's cell, at `cluster_size`.
