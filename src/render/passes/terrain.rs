@@ -1,7 +1,7 @@
 //! Terrain pass: the height field, an indexed triangle list over its grid vertices pulled from the
 //! heights buffer (a block field's from the relief grid, `passes::relief_grid`, added with it and
-//! run before it), one draw per run of chunks in view (`render::terrain_chunks`). The first pass that draws: it clears colour to the sky and depth to the far
-//! plane (0, reversed Z).
+//! run before it), one draw per run of chunks in view (`render::terrain_chunks`). The first pass
+//! that draws: it clears colour to the sky and depth to the far plane (0, reversed Z).
 
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Arc;
