@@ -1,10 +1,10 @@
 //! The terrain grid in square chunks of cells, each a contiguous range of the index list, so the
 //! terrain pass draws only the chunks whose boxes meet the view frustum (tested on the CPU from
 //! the frame's view-projection: the grid's placement and the terrain's height range give each
-//! chunk's box). Measured at the unbounded field's default view (`meadow timing`, alternating
-//! runs), drawing only the front half of the grid took the terrain pass from about 8.3 to 6.0 ms
-//! with the picture bit-identical: llvmpipe shades every vertex and clips every triangle of a
-//! draw on the queue's one thread, on screen or not.
+//! chunk's box). llvmpipe shades every vertex and clips every triangle of a draw on the queue's
+//! one thread, on screen or not: at the unbounded field's default view (`meadow timing`, four
+//! alternating runs of 20 frames) the terrain's vertex shader invocations fell from 50 160 to
+//! 10 521 and the terrain pass from 6.2–6.6 to 5.5–5.6 ms, the picture bit-identical.
 
 use glam::{Mat4, Vec3, Vec4};
 
