@@ -51,10 +51,10 @@ layout(set = SET_SCENE, binding = BINDING_DEPTH_PYRAMID_TEXELS) uniform samplerB
 // Belyaev §2.2 constants of the trinomial a1 + a2 d + a3 d²: with a1 = A1 and a3 = A1 / d0², the
 // kept fraction is 1 out to about the full-density distance d0 (`lod.y`) and falls as 1/d² beyond,
 // as the screen area of a square metre of ground does.
-const float A1 = 0.25;
+const float A1 = 0.25; // render::culling::A1
 // Blades fade (narrow to nothing) over the top FADE_BAND of the kept fraction, so a blade the
 // density LOD is about to drop is already gone when it is dropped: no popping.
-const float FADE_BAND = 0.3;
+const float FADE_BAND = 0.3; // render::culling::FADE_BAND
 // Edge-on blades: |cos| of the angle between the view direction and the blade's width direction
 // above which a blade is culled (Jahrmann & Wimmer 2017 use 0.9; meadow's blades twist in the wind,
 // so only nearly exact edge-on views are dropped).
@@ -70,8 +70,17 @@ int slot_tile(uint slot) {
     return cell.y * n + cell.x;
 }
 
+// The frame's cull toggles and LOD buckets (`frame.cull_lod`), read once per invocation by
+// `read_cull_settings` before any test: a storage load is a loop over the SIMD lanes on llvmpipe,
+// which the per-blade tests would otherwise repeat for every blade and toggle.
+uvec4 cull_settings;
+
+void read_cull_settings() {
+    cull_settings = frame.cull_lod;
+}
+
 bool culling(uint bit) {
-    return (frame.cull_lod.z & bit) != 0u;
+    return (cull_settings.z & bit) != 0u;
 }
 
 // The culling camera's planes, normalised: -w <= x, y <= w and z <= w (reversed infinite Z: the
@@ -178,9 +187,17 @@ float density_visible(float n_dot_r) {
     return (1.0 - t) * n_dot_r + t;
 }
 
+// The far field (`render::culling::far_field_distance`): past the distance where the survivors of
+// a face-on patch reach the widening cap (`lod.w`), (1 - FADE_BAND / 2) keep = 1 / cap, the kept
+// fraction falls as 1/d³ instead of 1/d².
+float far_field(float d) {
+    float d0 = frame_values.lod.y;
+    return min(1.0, d0 * sqrt(frame_values.lod.w * (1.0 - 0.5 * FADE_BAND) / A1 - 1.0) / d);
+}
+
 float density_keep(float d, float n_dot_r) {
     float d0 = frame_values.lod.y;
-    return density_visible(n_dot_r) / (A1 + A1 * (d * d) / (d0 * d0));
+    return density_visible(n_dot_r) / (A1 + A1 * (d * d) / (d0 * d0)) * far_field(d);
 }
 
 // An upper bound of `density_keep` over roots inside the box box_lo..box_hi, whose nearest point is
@@ -201,7 +218,7 @@ float density_keep_bound(vec3 n, vec3 box_lo, vec3 box_hi, float nearest) {
     float hi = clamp(most >= 0.0 ? most / near : most / far, -1.0, 1.0);
     float visible = lo <= 0.0 && hi >= 0.0 ? 1.0 : max(density_visible(lo), density_visible(hi));
     float d0 = frame_values.lod.y;
-    return 1.02 * visible / (A1 + A1 * (nearest * nearest) / (d0 * d0));
+    return 1.02 * visible / (A1 + A1 * (nearest * nearest) / (d0 * d0)) * far_field(near);
 }
 
 // The tile of ring slot `slot`: a tile of the stored field, or in a block field (FLAG_BLOCKS) the
@@ -288,7 +305,7 @@ uint tile_candidates(Frustum f, BladeTile tile, vec3 normal, out bool tile_visib
 
 // Segments of LOD bucket `b`.
 uint bucket_segments(uint b) {
-    return ((frame.cull_lod.y >> (4u * b)) & 15u) + 1u;
+    return ((cull_settings.y >> (4u * b)) & 15u) + 1u;
 }
 
 // The blade tests. Returns the blade's LOD bucket, or -1 with the first test it failed in
@@ -334,7 +351,7 @@ int blade_bucket(Frustum f, BladeInstance blade, uint rank, uint count, vec3 nor
         failed = STAT_OCCLUSION;
         return -1;
     }
-    uint buckets = frame.cull_lod.x;
+    uint buckets = cull_settings.x;
     uint bucket = 0u;
     if (culling(LOD_SEGMENTS)) {
         // Projected height in pixels; the fewest segments that keep each under `lod.z` pixels.

@@ -15,6 +15,7 @@ layout(local_size_x_id = SPEC_CULL_GROUP) in;
 shared uint counts[SLOT_WORDS];
 
 void main() {
+    read_cull_settings();
     uint slot = listed_slot(gl_WorkGroupID.x);
     uint lane = gl_LocalInvocationID.x;
     for (uint w = lane; w < SLOT_WORDS; w += CULL_GROUP) {

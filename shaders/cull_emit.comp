@@ -24,6 +24,7 @@ shared uint prefix[MAX_LOD_BUCKETS][CULL_GROUP];
 
 
 void main() {
+    read_cull_settings();
     // One workgroup per slot that draws (the scan's list, dispatched indirectly).
     uint slot = draws[EMIT_SLOTS_WORD + gl_WorkGroupID.x];
     uint lane = gl_LocalInvocationID.x;
@@ -85,7 +86,7 @@ void main() {
             position = result.x == b ? at[b] : position;
             at[b] += result.x == b ? 1u : 0u;
         }
-        if (result.x != NOT_DRAWN && position < frame.cull_lod.w) {
+        if (result.x != NOT_DRAWN && position < cull_settings.w) {
             visible[position] = uvec2(visible_blade(tile, slot, rank), result.y);
         }
     }

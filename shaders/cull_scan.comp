@@ -75,6 +75,7 @@ void write_dispatches() {
 }
 
 void main() {
+    read_cull_settings();
     uint lane = gl_LocalInvocationID.x;
     uint slots = frame.cull_tiles.y;
     uint run = (slots + SCAN - 1u) / SCAN;

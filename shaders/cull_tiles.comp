@@ -33,6 +33,7 @@ void write_empty_slot(uint slot, bool recorded, BladeTile tile, bool tile_visibl
 }
 
 void main() {
+    read_cull_settings();
     uint lane = gl_LocalInvocationID.x;
     uint slots = frame.cull_tiles.y;
     uint per = (slots + RUNS - 1u) / RUNS;

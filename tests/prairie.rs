@@ -8,8 +8,9 @@ use ash::vk;
 use meadow::app::{with_device, GpuOptions};
 use meadow::imagediff::{box_filtered_difference, compare_rgb};
 use meadow::render::cull_reference::reference_counts;
-use meadow::render::culling::{CullCounts, Culling};
+use meadow::render::culling::{far_field_distance, CullCounts, Culling, FULL_DENSITY_DISTANCE};
 use meadow::render::{OffscreenTarget, RenderSettings, Renderer};
+use meadow::scene::blades::MAX_WIDENING;
 use meadow::scene::{Camera, Scene};
 use meadow::vk::DeviceSelector;
 use support::{render, scratch, Picture};
@@ -80,12 +81,28 @@ fn gpu_counts_equal_the_cpu_reference_of_the_same_tests() {
     let cameras = cameras(&scene);
     // Every test but occlusion, which needs this frame's depth on the GPU (tested below).
     let culling = Culling { occlusion: false, ..Culling::default_for(4) };
-    let rendered = render_all(&scene, settings(culling, 1), &cameras);
+    check_counts_against_the_reference(&scene, &cameras, culling);
+}
+
+#[test]
+fn gpu_counts_equal_the_cpu_reference_past_the_far_field() {
+    // At LOD scale 0.15 the far field (`far_field_distance`, 1/d³) begins 5.2 m away, inside the
+    // 7.1 m field: the default view and the edge camera see tiles past it.
+    let scene = Scene::generate(20_000, 4);
+    let cameras = cameras(&scene);
+    let culling = Culling { occlusion: false, lod_scale: 0.15, ..Culling::default_for(4) };
+    let far = far_field_distance(FULL_DENSITY_DISTANCE * culling.lod_scale, MAX_WIDENING);
+    assert!(far < 0.75 * scene.terrain.size, "the far field begins {far} m away");
+    check_counts_against_the_reference(&scene, &cameras, culling);
+}
+
+fn check_counts_against_the_reference(scene: &Scene, cameras: &[Camera], culling: Culling) {
+    let rendered = render_all(scene, settings(culling, 1), cameras);
     let (reference, messages) = with_device(&options(), false, |device| {
-        let renderer = Renderer::new(device.clone(), &scene, settings(culling, 1), Default::default())?;
+        let renderer = Renderer::new(device.clone(), scene, settings(culling, 1), Default::default())?;
         Ok(cameras
             .iter()
-            .map(|c| reference_counts(&scene, &renderer.frame_uniforms(c, 0.5, EXTENT), culling.solid_outline))
+            .map(|c| reference_counts(scene, &renderer.frame_uniforms(c, 0.5, EXTENT), culling.solid_outline))
             .collect::<Vec<_>>())
     });
     assert_eq!(messages, Some(0));

@@ -3,15 +3,13 @@
 
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
-use crate::render::culling::{CullCounts, MAX_LOD_BUCKETS};
+use crate::render::culling::{far_field_distance, CullCounts, A1, FADE_BAND, MAX_LOD_BUCKETS};
 use crate::render::gpu_constants as gpu;
 use crate::render::uniforms::FrameUniforms;
 use crate::scene::tiles::{ring_cell, BladeTile};
 use crate::scene::Scene;
 
-/// `A1`, `FADE_BAND` and `EDGE_ON` of `shaders/cull.glsl`.
-const A1: f32 = 0.25;
-const FADE_BAND: f32 = 0.3;
+/// `EDGE_ON` of `shaders/cull.glsl`.
 const EDGE_ON: f32 = 0.97;
 
 /// What the cull keeps of `scene` with the frame's `uniforms` (`Renderer::frame_uniforms`).
@@ -90,7 +88,11 @@ impl Cull<'_> {
         let t = (1.0 - n_dot_r.abs()).powi(2).powi(2).powi(2);
         let visible = (1.0 - t) * n_dot_r + t;
         let d0 = self.u.lod.y;
-        visible / (A1 + A1 * (d * d) / (d0 * d0))
+        visible / (A1 + A1 * (d * d) / (d0 * d0)) * self.far_field(d)
+    }
+
+    fn far_field(&self, d: f32) -> f32 {
+        (far_field_distance(self.u.lod.y, self.u.lod.w) / d).min(1.0)
     }
 
     fn candidates(&self, tile: &BladeTile) -> Option<u32> {
@@ -107,7 +109,7 @@ impl Cull<'_> {
             return Some(tile.count);
         }
         let d0 = self.u.lod.y;
-        let keep = 1.0 / (A1 + A1 * (nearest * nearest) / (d0 * d0));
+        let keep = 1.0 / (A1 + A1 * (nearest * nearest) / (d0 * d0)) * self.far_field(nearest.max(1e-3));
         Some((keep * tile.count as f32 - 0.5).ceil().clamp(0.0, tile.count as f32) as u32)
     }
 

@@ -26,6 +26,24 @@ pub const DEFAULT_VIEW_DISTANCE: f32 = 150.0;
 /// 67 614, 0.64x. 5.5 m keeps the 1M bound (0.5 %) with a margin and is nearest the unbounded
 /// field's 0.5x.
 pub const FULL_DENSITY_DISTANCE: f32 = 5.5;
+/// Where the density LOD's far field begins: past it the kept fraction falls as 1/d³ instead of
+/// Belyaev's 1/d² (`far_field` and `density_keep` in cull.glsl). Belyaev's 1/d² is the screen
+/// area of a square metre of ground seen face-on, and the survivors widen to keep the ground
+/// covered, up to `max_widening`. Past the distance where a face-on patch's survivors reach that
+/// cap, (1 − FADE_BAND / 2) keep = 1 / max_widening with keep = 1 / (A1 (1 + d²/d0²)), widening
+/// no longer holds the coverage, and over a grazing view the ground one pixel row sees grows as
+/// d³ (its width as d, its depth as d² / eye height): 1/d² keeps adding blades to pixels that
+/// are already covered many times, 1/d³ keeps the drawn blades per pixel constant. At d0 = 5.5 m
+/// and a cap of 12 it is 34.7 m.
+pub fn far_field_distance(full_density_distance: f32, max_widening: f32) -> f32 {
+    full_density_distance * (max_widening * (1.0 - 0.5 * FADE_BAND) / A1 - 1.0).sqrt()
+}
+
+/// `A1` and `FADE_BAND` of `shaders/cull.glsl` (Belyaev's a1; the band of the kept fraction over
+/// which blades fade).
+pub const A1: f32 = 0.25;
+/// See `A1`.
+pub const FADE_BAND: f32 = 0.3;
 /// Projected height in pixels one blade segment may span before the LOD picks more segments,
 /// at LOD scale 1. llvmpipe pays per triangle (a visible blade triangle costs its setup, binning
 /// and the 4x4 blocks it touches; the fragment shader's work hardly counts: a constant colour
@@ -281,6 +299,17 @@ impl CullCounts {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_far_field_begins_where_the_survivors_reach_the_widening_cap() {
+        for (d0, cap) in [(5.5, 12.0), (2.0, 6.0), (8.0, 24.0)] {
+            let d = far_field_distance(d0, cap);
+            let keep = 1.0 / (A1 + A1 * (d * d) / (d0 * d0));
+            let widening = 1.0 / (keep * (1.0 - 0.5 * FADE_BAND));
+            assert!((widening - cap).abs() < 1e-3 * cap, "d0 {d0}, cap {cap}: {d} m, widening {widening}");
+        }
+        assert!((far_field_distance(FULL_DENSITY_DISTANCE, blades::MAX_WIDENING) - 34.7).abs() < 0.05);
+    }
 
     #[test]
     fn lod_segments_are_checked() {
