@@ -35,6 +35,17 @@ layout(location = 0) centroid out vec2 out_uv;         // u across, v root -> ti
 layout(location = 2) out float out_u_center;
 layout(location = 1) centroid out vec4 out_lit;        // rgb: lit, fogged blade colour before the rim; a: fog transmittance
 
+// The solid outline's rim darkening over a one-segment blade's triangle, fitted affine in t (root,
+// tip): the one-segment bucket's fragment shader computes no rim (blade_shading.glsl).
+const float ONE_SEGMENT_SHADE_ROOT = 1.0027; // scene::alpha::ONE_SEGMENT_SHADE_ROOT
+const float ONE_SEGMENT_SHADE_TIP = 0.7780; // scene::alpha::ONE_SEGMENT_SHADE_TIP
+
+// The rim's fit at height t for the one-segment bucket's solid outline, 1 otherwise.
+float bucket_shade(float t) {
+    bool fitted = (RENDER_FLAGS & FLAG_SOLID_OUTLINE) != 0u && SEGMENTS == 1u;
+    return fitted ? mix(ONE_SEGMENT_SHADE_ROOT, ONE_SEGMENT_SHADE_TIP, t) : 1.0;
+}
+
 
 LevelPose pose_levels(vec3 p[4], KfSelection sel, float height, uint m) {
     vec4 here = deformed(p, sel, m, MODEL_SEGMENTS, height);
@@ -131,6 +142,7 @@ void main() {
         world = vec3(uintBitsToFloat(a), uintBitsToFloat(b.x))
             + vec3(across.x, 0.0, across.y) * ((side - 0.5) * outline_width(t));
         out_lit = vec4(unpackHalf2x16(c.x), unpackHalf2x16(c.y));
+        out_lit.rgb *= bucket_shade(t);
         gl_Position = frame.view_proj * vec4(world, 1.0);
         return;
     }
@@ -155,5 +167,6 @@ void main() {
     world = placed.centre + placed.width_dir * ((side - 0.5) * placed.width * outline_width(t));
     out_lit = shade_blade(blade, t, world, placed.width_dir, placed.tangent, pose.force, SEGMENTS,
         blade_terrain_normal(blade), lod_scale.y);
+    out_lit.rgb *= bucket_shade(t);
     gl_Position = frame.view_proj * vec4(world, 1.0);
 }

@@ -76,6 +76,12 @@ int outline_sample_mask(float u, float v) {
 #endif
 
 void main() {
+    if ((RENDER_FLAGS & FLAG_SOLID_OUTLINE) != 0u && SEGMENTS == 1u) {
+        // The one-segment bucket: blade.vert lit the blade with the rim's fit over its triangle
+        // (`scene::alpha::ONE_SEGMENT_SHADE_ROOT`); no (u, v) to interpolate, no rim to compute.
+        out_color = vec4(encode_output(in_lit.rgb + frame.sky_color.rgb * (1.0 - in_lit.a)), 1.0);
+        return;
+    }
     if ((RENDER_FLAGS & FLAG_SOLID_OUTLINE) != 0u) {
         // The outline is geometry (blade.vert narrows the quad to where the alpha reaches the
         // cutoff): no discard, so the depth test and write happen before shading and the
