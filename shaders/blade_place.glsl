@@ -8,6 +8,7 @@
 #include "lighting.glsl"
 #include "field.glsl"
 #include "terrain.glsl"
+#include "outline.glsl"
 
 // The animated blade at model level `m` (0..MODEL_SEGMENTS): local point, tangent, cos and sin
 // of the twist, force magnitude.
@@ -87,10 +88,6 @@ PlacedLevel place_level(BladeInstance blade, LevelPose pose, vec2 lod_scale) {
     return placed;
 }
 
-// `scene::alpha`: the outline's inset from its half width where alpha reaches the cutoff
-// (cutoff * edge - 0.06).
-const float SOLID_INSET = 0.35 * 0.22 - 0.06;
-
 // With FLAG_SOLID_OUTLINE: the part of a level's width at height t the alpha-tested outline
 // covers (`scene::alpha`: half_width less the cutoff's inset), drawn as geometry so the far
 // buckets need no texture or discard; 1 otherwise.
@@ -98,8 +95,7 @@ float outline_width(float t) {
     if ((RENDER_FLAGS & FLAG_SOLID_OUTLINE) == 0u) {
         return 1.0;
     }
-    float half_width = 0.5 * (1.0 - pow(t, 2.2)) * (0.8 + 0.2 * min(t / 0.08, 1.0));
-    return max(2.0 * (half_width - SOLID_INSET), 0.0);
+    return max(2.0 * (outline_half_width(t) - SOLID_INSET), 0.0);
 }
 
 // Debug view `lod`: one colour per segment count.

@@ -5,6 +5,7 @@
 #define MEADOW_BLADE_SHADING_GLSL
 #include "bindings.glsl"
 #include "lighting.glsl"
+#include "outline.glsl"
 
 layout(location = 0) centroid in vec2 in_uv; // centroid: see blade.vert
 layout(location = 1) centroid in vec4 in_lit;
@@ -13,23 +14,6 @@ layout(location = 2) in float in_u_center; // u at the pixel centre, for alpha t
 layout(location = 0) out vec4 out_color;
 
 const float ALPHA_CUTOFF = 0.35; // scene::alpha::ALPHA_CUTOFF
-
-// `scene::alpha` (half_width, the edge ramp) and SOLID_INSET of blade_place.glsl.
-float outline_half_width(float v) {
-    return 0.5 * (1.0 - pow(v, 2.2)) * (0.8 + 0.2 * min(v / 0.08, 1.0));
-}
-
-// v^2.2 on [0, 1] within 2.6e-4 (a least-squares fit through 0 with the largest error minimised):
-// four multiply-adds where pow is a log2 and an exp2 polynomial per fragment on llvmpipe.
-float pow_2_2(float v) {
-    return v * (-0.015108043 + v * (0.73099284 + v * (0.39241732 - 0.10855797 * v)));
-}
-
-// `outline_half_width` for the fragment shader (the solid outline's rim).
-float rim_half_width(float v) {
-    return 0.5 * (1.0 - pow_2_2(v)) * (0.8 + 0.2 * min(v / 0.08, 1.0));
-}
-const float SOLID_INSET = 0.35 * 0.22 - 0.06;
 
 #ifdef SAMPLE_COVERAGE
 // Alpha to coverage, per sample (`--msaa`, blade_coverage.frag): which of the pixel's samples lie
@@ -87,7 +71,7 @@ void main() {
         // cutoff): no discard, so the depth test and write happen before shading and the
         // overdraw behind nearer blades is rejected early. The rim's darkening is the alpha of
         // `scene::alpha` at this point of the outline, computed instead of sampled.
-        float half_width = rim_half_width(in_uv.y);
+        float half_width = outline_half_width(in_uv.y);
         float inside = half_width - abs(in_uv.x - 0.5) * 2.0 * max(half_width - SOLID_INSET, 0.0);
         float rim = clamp((inside + 0.06) / 0.22, 0.0, 1.0);
         vec3 solid = in_lit.rgb * mix(0.45, 1.0, rim) + frame.sky_color.rgb * (1.0 - in_lit.a);
