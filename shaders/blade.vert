@@ -46,7 +46,6 @@ float bucket_shade(float t) {
     return fitted ? mix(ONE_SEGMENT_SHADE_ROOT, ONE_SEGMENT_SHADE_TIP, t) : 1.0;
 }
 
-
 LevelPose pose_levels(vec3 p[4], KfSelection sel, float height, uint m) {
     vec4 here = deformed(p, sel, m, MODEL_SEGMENTS, height);
     vec4 below = m > 0u ? deformed(p, sel, m - 1u, MODEL_SEGMENTS, height) : here;

@@ -24,7 +24,7 @@ pub fn alpha(u: f32, v: f32) -> f32 {
     ((distance + 0.06) / edge).clamp(0.0, 1.0)
 }
 
-/// With the outline drawn as geometry (`--culling`'s solid outline, blade.vert), the factor the
+/// With the outline drawn as geometry (`--lod outline`, blade.vert), the factor the
 /// fragment shader darkens the blade's colour by at (u, v) of the narrowed quad: 0.45 at the rim
 /// to 1 inside, as `alpha` darkens the alpha-tested blade (blade_shading.glsl).
 pub fn solid_shade(u: f32, v: f32) -> f32 {
