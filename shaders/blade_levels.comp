@@ -8,43 +8,29 @@
 // instead of once per side. Same functions as the per-vertex path (blade_place.glsl); the fog and
 // the Fresnel term's view vector are taken at the centre line, not at each edge.
 //
-// One invocation per entry of the cull's visible list, dispatched indirectly by the scan's count
-// (`POSE_DISPATCH_WORD`), after the model's pose pass; the entry's bucket (its range of the list,
-// from the buckets' draws) gives its segment count, and only that many levels are written.
+// One dispatch per LOD bucket (visible_buckets.glsl), one invocation per entry of the bucket's
+// range of the cull's visible list, dispatched indirectly by the scan's count, after the model's
+// pose pass; the bucket's segment count (SEGMENTS) is how many levels are written.
 #define LEVELS_WRITER
 // Frame values decide loops and branches here: read them as storage (bindings.glsl says why).
 #define FRAME_FROM_STORAGE
 #include "bindings.glsl"
 #include "blade_place.glsl"
-
-layout(set = SET_SCENE, binding = BINDING_DRAWS, std430) readonly buffer Draws { uint draws[]; };
+#include "visible_buckets.glsl"
 
 layout(local_size_x = POSE_GROUP) in;
 
-// Segments of the LOD bucket whose draw covers list entry `i` (`cull_lod.y`: 4 bits per bucket).
-uint entry_segments(uint i) {
-    uint buckets = frame.cull_lod.x;
-    for (uint b = 0u; b < buckets; b++) {
-        uint first = draws[b * DRAW_WORDS + DRAW_FIRST_INSTANCE] * BLADES_PER_INSTANCE;
-        uint end = first + draws[b * DRAW_WORDS + DRAW_INSTANCES] * BLADES_PER_INSTANCE;
-        if (i >= first && i < end) {
-            return ((frame.cull_lod.y >> (4u * b)) & 15u) + 1u;
-        }
-    }
-    return 0u;
-}
-
 void main() {
-    uint i = gl_GlobalInvocationID.x;
-    // Past the list (the last workgroup's tail) or on a bucket's padding: nothing to draw.
-    if (i >= draws[POSE_DISPATCH_WORD + 3u]) {
+    uint i;
+    // Past the bucket (the last workgroup's tail) or on its padding: nothing to draw.
+    if (!bucket_entry(i)) {
         return;
     }
     uvec2 entry = visible_entry(i);
-    uint segments = entry_segments(i);
-    if (entry.x == VISIBLE_PADDING || segments == 0u) {
+    if (entry.x == VISIBLE_PADDING) {
         return;
     }
+    uint segments = SEGMENTS;
     uint blade_index;
     BladeInstance blade = visible_instance(entry, blade_index);
     vec2 lod_scale = visible_unpack(entry.y).yz;

@@ -36,19 +36,7 @@ LevelPose pose_records(uint record, float height, uint m) {
 // Strip level `level` of a `segments`-segment blade from its pose records: it lies at model level
 // level * MODEL_SEGMENTS / segments, between two stored levels when `segments` does not divide
 // MODEL_SEGMENTS (a constant test where `segments` is the constant SEGMENTS). The fewer-segment
-// blade samples the same curve.
-// Model level m0 below strip level `level` of a `segments`-segment strip, and how far towards
-// m0 + 1 it lies (0 when `segments` divides MODEL_SEGMENTS).
-uint model_level(uint level, uint segments, out float frac) {
-    if ((MODEL_SEGMENTS % segments) == 0u) {
-        frac = 0.0;
-        return level * (MODEL_SEGMENTS / segments);
-    }
-    float at = float(level * MODEL_SEGMENTS) / float(segments);
-    frac = at - floor(at);
-    return uint(at);
-}
-
+// blade samples the same curve (`model_level`, common.glsl, finds the two).
 LevelPose recorded_level(uint record, float height, uint level, uint segments) {
     float frac;
     uint m0 = model_level(level, segments, frac);

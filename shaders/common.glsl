@@ -47,6 +47,19 @@ layout(constant_id = SPEC_SEGMENTS) const uint SEGMENTS = 4u;
 layout(constant_id = SPEC_BLADES_PER_INSTANCE) const uint BLADES_PER_INSTANCE = 1u;
 layout(constant_id = SPEC_ENCODE_SRGB) const uint ENCODE_SRGB = 1u;
 layout(constant_id = SPEC_MODEL_SEGMENTS) const uint MODEL_SEGMENTS = 4u;
+
+// Model level m0 below strip level `level` of a `segments`-segment strip, and how far towards
+// m0 + 1 it lies (0 when `segments` divides MODEL_SEGMENTS). The pose pass writes, and the levels
+// pass and blade.vert read, the model levels this names.
+uint model_level(uint level, uint segments, out float frac) {
+    if ((MODEL_SEGMENTS % segments) == 0u) {
+        frac = 0.0;
+        return level * (MODEL_SEGMENTS / segments);
+    }
+    float at = float(level * MODEL_SEGMENTS) / float(segments);
+    frac = at - floor(at);
+    return uint(at);
+}
 // Invocations of the cull's count and emit workgroups (one per ring slot, or per slot that draws): the device's
 // subgroup size (`render::passes::cull::workgroup_size`), so a slot's tile tests run once per subgroup;
 // on llvmpipe a 64-wide group ran them 8 times and cost 13 ms more at 1M blades.

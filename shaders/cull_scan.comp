@@ -3,7 +3,7 @@
 // Cull, step 3 of 4: one workgroup turns the per-slot bucket counts into offsets (an exclusive
 // prefix sum over the slots, in slot order: near to far), writes one indirect draw per LOD bucket
 // (its instances are bucket b's blades, from firstInstance = the blades of the buckets before it)
-// and the blade-pose pass's indirect dispatch, lists the slots that draw (in slot order) with the
+// and the blade-pose and levels passes' indirect dispatch over each bucket, lists the slots that draw (in slot order) with the
 // emit pass's indirect dispatch over them, and sums the frame's counts into the host-visible
 // `cull_stats` (read after the frame's fence).
 // Invocation i sums the i-th contiguous run of slots, one invocation scans the run sums, then
@@ -31,7 +31,7 @@ bool slot_draws(uint slot) {
 }
 
 // Lane 0, once the totals are known: one indirect draw per LOD bucket (padding each bucket's last
-// instance), the pose and levels passes' dispatch over the list, and the emit pass's dispatch over
+// instance), the pose and levels passes' dispatch over each bucket, and the emit pass's dispatch over
 // the slots that draw.
 void write_dispatches() {
     // Each instance draws BLADES_PER_INSTANCE consecutive entries of the list (the bucket's
@@ -58,14 +58,14 @@ void write_dispatches() {
         draws[DRAW_WORDS * b + 2u] = first_index;
         draws[DRAW_WORDS * b + 3u] = 0u;
         draws[DRAW_WORDS * b + DRAW_FIRST_INSTANCE] = first / batch;
+        // The blade-pose and levels passes run one dispatch per bucket (its pipeline specialised
+        // for its segments), an invocation per entry, padding included.
+        draws[BUCKET_DISPATCH_WORD + 3u * b] = (instances * batch + POSE_GROUP - 1u) / POSE_GROUP;
+        draws[BUCKET_DISPATCH_WORD + 3u * b + 1u] = 1u;
+        draws[BUCKET_DISPATCH_WORD + 3u * b + 2u] = 1u;
         first += instances * batch;
         first_index += indices;
     }
-    // The blade-pose pass (`--eval blade`) and the levels pass evaluate each entry once.
-    draws[POSE_DISPATCH_WORD] = (first + POSE_GROUP - 1u) / POSE_GROUP;
-    draws[POSE_DISPATCH_WORD + 1u] = 1u;
-    draws[POSE_DISPATCH_WORD + 2u] = 1u;
-    draws[POSE_DISPATCH_WORD + 3u] = first;
     // The emit pass runs over the slots that draw: most of the rings are empty (off screen, too
     // far, outside the field), and a workgroup costs llvmpipe about 1.7 µs even when it returns
     // at once (4 ms for the 2401 slots of a 1M-blade field).

@@ -17,6 +17,12 @@ float depth_texel(ivec2 p) {
     return texelFetch(depth, p, 0).r;
 }
 
+// One gather: the four pixels around the corner they share, p + (1, 1).
+float depth_quad(ivec2 p) {
+    vec4 q = textureGather(depth, vec2(p + 1) / vec2(depth_size()), 0);
+    return min(min(q.x, q.y), min(q.z, q.w));
+}
+
 #include "hiz.glsl"
 
 void main() {

@@ -1,6 +1,6 @@
 // The depth pyramid's reduction (hiz.comp, hiz_ms.comp): the including shader declares the depth
-// image and defines `ivec2 depth_size()` and `float depth_texel(ivec2)`, the farthest depth of a
-// pixel.
+// image and defines `ivec2 depth_size()`, `float depth_texel(ivec2)`, the farthest depth of a
+// pixel, and `float depth_quad(ivec2 p)`, the farthest of the 2×2 pixels from p.
 #ifndef MEADOW_HIZ_GLSL
 #define MEADOW_HIZ_GLSL
 #include "shared.glsl"
@@ -20,9 +20,20 @@ void reduce_depth() {
     ivec2 lo = ivec2(texel * uvec2(size) / PYRAMID_SIDE);
     ivec2 hi = max(ivec2((texel + 1u) * uvec2(size) / PYRAMID_SIDE), lo + 1);
     float farthest = 1.0;
-    for (int y = lo.y; y < hi.y; y++) {
-        for (int x = lo.x; x < hi.x; x++) {
-            farthest = min(farthest, depth_texel(ivec2(x, y)));
+    if (all(greaterThanEqual(hi - lo, ivec2(2)))) {
+        // By 2×2 quads (a gather reads four pixels at once), the last of each row and column
+        // moved back to end at `hi`: they overlap, and the minimum does not mind. At 1280×720 a
+        // texel covers 5×2 or 5×3 pixels: 6 gathers instead of up to 15 fetches.
+        for (int y = lo.y; y < hi.y; y += 2) {
+            for (int x = lo.x; x < hi.x; x += 2) {
+                farthest = min(farthest, depth_quad(min(ivec2(x, y), hi - 2)));
+            }
+        }
+    } else {
+        for (int y = lo.y; y < hi.y; y++) {
+            for (int x = lo.x; x < hi.x; x++) {
+                farthest = min(farthest, depth_texel(ivec2(x, y)));
+            }
         }
     }
     pyramid[texel.y * PYRAMID_SIDE + texel.x] = farthest;

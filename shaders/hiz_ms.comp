@@ -18,6 +18,10 @@ float depth_texel(ivec2 p) {
     return farthest;
 }
 
+float depth_quad(ivec2 p) {
+    return min(min(depth_texel(p), depth_texel(p + ivec2(1, 0))), min(depth_texel(p + ivec2(0, 1)), depth_texel(p + 1)));
+}
+
 #include "hiz.glsl"
 
 void main() {

@@ -121,9 +121,9 @@
 #define DRAW_WORDS 5u // Words of one LOD bucket's draw in the cull's `draws` (a `VkDrawIndexedIndirectCommand`).
 #define DRAW_INSTANCES 1u // Its instanceCount word.
 #define DRAW_FIRST_INSTANCE 4u // Its firstInstance word.
-#define POSE_DISPATCH_WORD 40u // In the cull's `draws`, after the buckets' draws: the blade-pose pass's indirect dispatch (x, y, z), then the visible list's length.
-#define EMIT_DISPATCH_WORD 44u // In the cull's `draws`: the emit pass's indirect dispatch (x, y, z), one workgroup per ring slot that draws.
-#define EMIT_SLOTS_WORD 48u // In the cull's `draws`, from here: the ring slots that draw, near to far (written by the scan, read by the emit pass).
+#define BUCKET_DISPATCH_WORD 40u // In the cull's `draws`, after the buckets' draws: per LOD bucket, the blade-pose and levels passes' indirect dispatch (x, y, z) over its entries.
+#define EMIT_DISPATCH_WORD 64u // In the cull's `draws`: the emit pass's indirect dispatch (x, y, z), one workgroup per ring slot that draws.
+#define EMIT_SLOTS_WORD 67u // In the cull's `draws`, from here: the ring slots that draw, near to far (written by the scan, read by the emit pass).
 #define POSE_GROUP 64u // Invocations of a blade-pose workgroup.
 #define RELIEF_GROUP 64u // Invocations of a relief-grid workgroup (relief_grid.comp).
 #define LEVEL_UVEC2S 3u // `uvec2`s of one strip level of a drawn blade (bindings.glsl, `Levels`).

@@ -59,9 +59,10 @@ pub struct PassSetup<'a> {
     pub constants: &'a [u32],
     /// The scene on the GPU.
     pub scene: &'a SceneGpu,
-    /// Whether the cull runs before the blade pass: a model's per-blade pass then covers only
-    /// its visible list (added after the cull's passes).
-    pub culled: bool,
+    /// With the cull before the blade pass, the segments of its LOD buckets: a model's per-blade
+    /// pass then covers only its visible list, bucket by bucket (`passes::bucket_dispatch`), and is
+    /// added after the cull's passes. `None` without the cull.
+    pub buckets: Option<&'a [u32]>,
 }
 
 /// An animation model.

@@ -12,15 +12,15 @@ use ash::vk;
 
 use crate::error::Result;
 use crate::render::animation::model::{AnimationSet, PassSetup};
-use crate::render::gpu_constants as gpu;
 use crate::render::graph::{Declaration, Pass, PassContext};
 use crate::render::passes;
+use crate::render::passes::bucket_dispatch::BucketDispatch;
 use crate::render::shaders;
-use crate::vk::{pipeline, Access, Device};
+use crate::vk::{Access, Device};
 
-/// The compute pipeline and the buffers it touches.
+/// The compute pipelines (one per LOD bucket) and the buffers they touch.
 pub struct BladeLevelsPass {
-    pipeline: vk::Pipeline,
+    buckets: BucketDispatch,
     layout: vk::PipelineLayout,
     animation: vk::DescriptorSet,
     /// Pose records (read), placed levels (written).
@@ -30,8 +30,8 @@ pub struct BladeLevelsPass {
     reads: [vk::Buffer; 2],
     /// A block field's relief grid (the terrain normal under each root).
     relief_grid: Option<vk::Buffer>,
-    /// The cull's visible list and its `draws` (the buckets' ranges, and the indirect dispatch
-    /// the scan wrote at `POSE_DISPATCH_WORD`).
+    /// The cull's visible list and its `draws` (the buckets' ranges, and the indirect dispatches
+    /// the scan wrote at `BUCKET_DISPATCH_WORD`).
     visible: vk::Buffer,
     draws: vk::Buffer,
 }
@@ -40,10 +40,13 @@ impl BladeLevelsPass {
     /// Build the pipeline on the scene's pipeline layout, from and into the buffers of `set`.
     pub fn new(device: &Device, setup: &PassSetup, set: &AnimationSet) -> Result<Self> {
         let scene = setup.scene;
-        let mut constants = setup.constants.to_vec();
-        constants[gpu::SPEC_RENDER_FLAGS as usize] |= gpu::FLAG_CULLED;
+        let Some(buckets) = setup.buckets else {
+            return Err(crate::error::Error::Internal("the blade levels pass needs the cull's visible list".into()));
+        };
+        let (name, spirv) = ("blade levels", shaders::BLADE_LEVELS_COMP);
+        let constants = (setup.constants, buckets);
         Ok(Self {
-            pipeline: pipeline::compute(device, "blade levels", shaders::BLADE_LEVELS_COMP, setup.layout, &constants)?,
+            buckets: BucketDispatch::new(device, name, spirv, setup.layout, constants, scene.draws.raw)?,
             layout: setup.layout,
             animation: set.set,
             poses: set.per_blade.poses.raw,
@@ -79,17 +82,13 @@ impl Pass for BladeLevelsPass {
     }
 
     fn record(&self, ctx: &PassContext, cmd: vk::CommandBuffer) -> Result<()> {
-        passes::bind_blade_compute(ctx, cmd, (self.layout, self.pipeline), self.animation);
-        // SAFETY: cmd is recording outside a rendering instance; both sets and the pipeline are bound.
-        unsafe { ctx.device.raw.cmd_dispatch_indirect(cmd, self.draws, 4 * u64::from(gpu::POSE_DISPATCH_WORD)) };
+        passes::bind_blade_sets(ctx, cmd, self.layout, self.animation);
+        self.buckets.record(ctx.device, cmd);
         Ok(())
     }
 
     unsafe fn destroy(self: Box<Self>, device: &Device) {
         // SAFETY: per the contract.
-        unsafe {
-            crate::vk::live::destroyed(self.pipeline);
-            device.raw.destroy_pipeline(self.pipeline, None)
-        };
+        unsafe { self.buckets.destroy(device) };
     }
 }

@@ -4,7 +4,8 @@
 //! (`shaders/blade_pose.comp`, `render::scene_gpu::pose_bytes`). Its records are written here
 //! and read by the blade pass's vertex shader; the graph orders the two, and this frame's write
 //! after the previous frame's reads. With the cull it runs after it, indirectly, over the
-//! visible list: each drawn blade once, its records by list entry.
+//! visible list, one dispatch per LOD bucket (`passes::bucket_dispatch`): each drawn blade once,
+//! its records by list entry, the levels its bucket reads.
 
 use ash::vk;
 
@@ -13,40 +14,54 @@ use crate::render::animation::model::{AnimationSet, PassSetup};
 use crate::render::gpu_constants as gpu;
 use crate::render::graph::{Declaration, Pass, PassContext};
 use crate::render::passes;
+use crate::render::passes::bucket_dispatch::BucketDispatch;
 use crate::render::shaders;
 use crate::vk::{pipeline, Access, Device, Resource};
 
-/// The compute pipeline and the buffers it touches.
+/// How the pass dispatches: over the stored blades, or with the cull over its LOD buckets.
+enum Dispatch {
+    /// One invocation per stored blade, every model level.
+    Stored(vk::Pipeline, u32),
+    /// One dispatch per bucket of the visible list (which it reads).
+    Buckets(BucketDispatch, vk::Buffer),
+}
+
+/// The compute pipelines and the buffers they touch.
 pub struct BladePosePass {
-    pipeline: vk::Pipeline,
+    dispatch: Dispatch,
     layout: vk::PipelineLayout,
     animation: vk::DescriptorSet,
     poses: vk::Buffer,
-    blade_count: u32,
     reads: [vk::Buffer; 2],
     keyframes: vk::Image,
-    /// With the cull: its visible list and its `draws` (the indirect dispatch the scan wrote,
-    /// `POSE_DISPATCH_WORD`), one invocation per drawn blade.
-    culled: Option<(vk::Buffer, vk::Buffer)>,
+    /// The cull's `draws` (the buckets' ranges and dispatches), with the cull.
+    draws: Option<vk::Buffer>,
 }
 
 impl BladePosePass {
     /// Build the pipeline on the scene's pipeline layout, writing the records of `set`.
     pub fn new(device: &Device, setup: &PassSetup, set: &AnimationSet) -> Result<Self> {
         let scene = setup.scene;
-        let mut constants = setup.constants.to_vec();
-        if setup.culled {
-            constants[gpu::SPEC_RENDER_FLAGS as usize] |= gpu::FLAG_CULLED;
-        }
+        let (name, spirv) = ("blade poses", shaders::BLADE_POSE_COMP);
+        let dispatch = match setup.buckets {
+            Some(buckets) => {
+                let constants = (setup.constants, buckets);
+                let buckets = BucketDispatch::new(device, name, spirv, setup.layout, constants, scene.draws.raw)?;
+                Dispatch::Buckets(buckets, scene.visible.raw)
+            }
+            None => {
+                let pipeline = pipeline::compute(device, name, spirv, setup.layout, setup.constants)?;
+                Dispatch::Stored(pipeline, scene.blade_count)
+            }
+        };
         Ok(Self {
-            pipeline: pipeline::compute(device, "blade poses", shaders::BLADE_POSE_COMP, setup.layout, &constants)?,
+            dispatch,
             layout: setup.layout,
             animation: set.set,
             poses: set.per_blade.poses.raw,
-            blade_count: scene.blade_count,
             reads: [scene.blades.raw, scene.clusters.raw],
             keyframes: set.keyframes.image.raw,
-            culled: setup.culled.then_some((scene.visible.raw, scene.draws.raw)),
+            draws: setup.buckets.map(|_| scene.draws.raw),
         })
     }
 }
@@ -62,36 +77,41 @@ impl Pass for BladePosePass {
             .buffer(self.reads[0], Access::ComputeShaderSampledRead)
             .buffer(self.reads[1], Access::ComputeShaderRead)
             .uses(Resource::color(self.keyframes), Access::ComputeShaderSampledRead);
-        let declaration = match self.culled {
-            Some((visible, draws)) => declaration
-                .buffer(visible, Access::ComputeShaderSampledRead)
+        let declaration = match (&self.dispatch, self.draws) {
+            (Dispatch::Buckets(_, visible), Some(draws)) => declaration
+                .buffer(*visible, Access::ComputeShaderSampledRead)
                 .buffer(draws, Access::ComputeShaderRead)
                 .buffer(draws, Access::IndirectCommandRead),
-            None => declaration,
+            _ => declaration,
         };
         Some(declaration)
     }
 
     fn record(&self, ctx: &PassContext, cmd: vk::CommandBuffer) -> Result<()> {
         let device = ctx.device;
-        passes::bind_blade_compute(ctx, cmd, (self.layout, self.pipeline), self.animation);
-        // SAFETY: cmd is recording outside a rendering instance; both sets and the pipeline are bound.
-        unsafe {
-            match self.culled {
-                Some((_, draws)) => {
-                    device.raw.cmd_dispatch_indirect(cmd, draws, 4 * u64::from(gpu::POSE_DISPATCH_WORD))
-                }
-                None => device.raw.cmd_dispatch(cmd, self.blade_count.div_ceil(gpu::POSE_GROUP), 1, 1),
+        match &self.dispatch {
+            Dispatch::Stored(pipeline, blades) => {
+                passes::bind_blade_compute(ctx, cmd, (self.layout, *pipeline), self.animation);
+                // SAFETY: cmd is recording outside a rendering instance; both sets and the pipeline are bound.
+                unsafe { device.raw.cmd_dispatch(cmd, blades.div_ceil(gpu::POSE_GROUP), 1, 1) };
+            }
+            Dispatch::Buckets(buckets, _) => {
+                passes::bind_blade_sets(ctx, cmd, self.layout, self.animation);
+                buckets.record(device, cmd);
             }
         }
         Ok(())
     }
 
     unsafe fn destroy(self: Box<Self>, device: &Device) {
-        // SAFETY: per the contract.
-        unsafe {
-            crate::vk::live::destroyed(self.pipeline);
-            device.raw.destroy_pipeline(self.pipeline, None)
-        };
+        match self.dispatch {
+            Dispatch::Stored(pipeline, _) => {
+                crate::vk::live::destroyed(pipeline);
+                // SAFETY: per the contract.
+                unsafe { device.raw.destroy_pipeline(pipeline, None) };
+            }
+            // SAFETY: per the contract.
+            Dispatch::Buckets(buckets, _) => unsafe { buckets.destroy(device) },
+        }
     }
 }

@@ -5,6 +5,7 @@
 pub mod blade_levels;
 pub mod blade_pose;
 pub mod blades;
+pub mod bucket_dispatch;
 pub mod cluster_bounds;
 pub mod cull;
 pub mod depth_pyramid;
@@ -68,11 +69,17 @@ pub fn bind_blade_compute(
     (layout, pipeline): (vk::PipelineLayout, vk::Pipeline),
     animation: vk::DescriptorSet,
 ) {
+    bind_blade_sets(ctx, cmd, layout, animation);
+    // SAFETY: cmd is recording outside a rendering instance; the pipeline uses `layout`.
+    unsafe { ctx.device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline) };
+}
+
+/// Bind the frame's and the animation model's sets for a blade compute pass on `layout` (its
+/// pipelines are bound by the caller: one per LOD bucket, `bucket_dispatch`).
+pub fn bind_blade_sets(ctx: &PassContext, cmd: vk::CommandBuffer, layout: vk::PipelineLayout, animation: vk::DescriptorSet) {
     let device = ctx.device;
     bind_scene_set(device, ctx, cmd, layout, vk::PipelineBindPoint::COMPUTE);
     bind_animation_set(device, cmd, layout, vk::PipelineBindPoint::COMPUTE, animation);
-    // SAFETY: cmd is recording outside a rendering instance; the pipeline uses `layout`.
-    unsafe { device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline) };
 }
 
 /// Bind the frame's set (`SET_SCENE`) at `bind_point`.

@@ -128,7 +128,8 @@ impl Renderer {
         let scene = self.scene.as_ref().expect("uploaded");
         let model = self.model.as_deref().expect("built");
         let culled = settings.culling.enabled;
-        let setup = PassSetup { layout: target.layout, constants, scene, culled };
+        let buckets = culled.then(|| settings.culling.buckets());
+        let setup = PassSetup { layout: target.layout, constants, scene, buckets };
         let mut model_passes = model.passes(device, &setup)?;
         if constants[gpu::SPEC_RENDER_FLAGS as usize] & gpu::FLAG_LEVELS != 0 {
             match BladeLevelsPass::new(device, &setup, model.resources()) {

@@ -1,0 +1,73 @@
+//! The per-blade compute passes after the cull (blade poses, blade levels) as one indirect
+//! dispatch per LOD bucket, each with its pipeline specialised for the bucket's segments
+//! (`SEGMENTS`): a bucket's blades then write the levels its strip reads and no more, with no
+//! loop or branch on a segment count that varies across the SIMD lanes (`shaders/visible_buckets.glsl`).
+//! The cull's scan writes each bucket's dispatch at `BUCKET_DISPATCH_WORD` of its `draws`; an
+//! empty bucket dispatches no workgroup.
+
+use ash::vk;
+
+use crate::error::Result;
+use crate::render::gpu_constants as gpu;
+use crate::vk::{pipeline, Device};
+
+/// One compute pipeline per LOD bucket, and the `draws` buffer their dispatches come from.
+pub struct BucketDispatch {
+    pipelines: Vec<vk::Pipeline>,
+    draws: vk::Buffer,
+}
+
+impl BucketDispatch {
+    /// Build `spirv` once per bucket of `buckets` (segments each) on `layout`, from `constants`
+    /// with `SPEC_SEGMENTS` set to the bucket's segments and `FLAG_CULLED`.
+    pub fn new(
+        device: &Device,
+        name: &str,
+        spirv: &[u8],
+        layout: vk::PipelineLayout,
+        (constants, buckets): (&[u32], &[u32]),
+        draws: vk::Buffer,
+    ) -> Result<Self> {
+        let mut built = Self { pipelines: Vec::with_capacity(buckets.len()), draws };
+        for (b, &segments) in buckets.iter().enumerate() {
+            let mut constants = constants.to_vec();
+            constants[gpu::SPEC_SEGMENTS as usize] = segments;
+            constants[gpu::SPEC_RENDER_FLAGS as usize] |= gpu::FLAG_CULLED;
+            let label = format!("{name}, LOD bucket {b} ({segments} segments)");
+            match pipeline::compute(device, &label, spirv, layout, &constants) {
+                Ok(pipeline) => built.pipelines.push(pipeline),
+                Err(e) => {
+                    // SAFETY: the pipelines built so far were never recorded.
+                    unsafe { built.destroy(device) };
+                    return Err(e);
+                }
+            }
+        }
+        Ok(built)
+    }
+
+    /// Record each bucket's dispatch; the sets are bound.
+    pub fn record(&self, device: &Device, cmd: vk::CommandBuffer) {
+        for (b, &pipeline) in self.pipelines.iter().enumerate() {
+            let word = gpu::BUCKET_DISPATCH_WORD + 3 * b as u32;
+            // SAFETY: cmd is recording outside a rendering instance; the pipeline uses the bound
+            // layout, and `draws` holds the scan's dispatch at `word`.
+            unsafe {
+                device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline);
+                device.raw.cmd_dispatch_indirect(cmd, self.draws, 4 * u64::from(word));
+            }
+        }
+    }
+
+    /// Destroy the pipelines.
+    ///
+    /// # Safety
+    /// No pending GPU work may use them.
+    pub unsafe fn destroy(self, device: &Device) {
+        for pipeline in self.pipelines {
+            crate::vk::live::destroyed(pipeline);
+            // SAFETY: per the contract.
+            unsafe { device.raw.destroy_pipeline(pipeline, None) };
+        }
+    }
+}
