@@ -481,8 +481,11 @@ impl SceneGpu {
 
 // The blade-pose dispatch follows the buckets' draws in `draws`, then the emit pass's dispatch
 // and its slots (`shaders/shared.glsl`).
-const _: () = assert!(gpu_constants::BUCKET_DISPATCH_WORD == gpu_constants::DRAW_WORDS * gpu_constants::MAX_LOD_BUCKETS);
+const _: () =
+    assert!(gpu_constants::BUCKET_DISPATCH_WORD == gpu_constants::DRAW_WORDS * gpu_constants::MAX_LOD_BUCKETS);
 const _: () =
     assert!(gpu_constants::DRAW_WORDS as usize * 4 == std::mem::size_of::<ash::vk::DrawIndexedIndirectCommand>());
-const _: () = assert!(gpu_constants::EMIT_DISPATCH_WORD == gpu_constants::BUCKET_DISPATCH_WORD + 3 * gpu_constants::MAX_LOD_BUCKETS);
+const _: () = assert!(
+    gpu_constants::EMIT_DISPATCH_WORD == gpu_constants::BUCKET_DISPATCH_WORD + 3 * gpu_constants::MAX_LOD_BUCKETS
+);
 const _: () = assert!(gpu_constants::EMIT_SLOTS_WORD == gpu_constants::EMIT_DISPATCH_WORD + 3);

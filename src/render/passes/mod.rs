@@ -76,7 +76,12 @@ pub fn bind_blade_compute(
 
 /// Bind the frame's and the animation model's sets for a blade compute pass on `layout` (its
 /// pipelines are bound by the caller: one per LOD bucket, `bucket_dispatch`).
-pub fn bind_blade_sets(ctx: &PassContext, cmd: vk::CommandBuffer, layout: vk::PipelineLayout, animation: vk::DescriptorSet) {
+pub fn bind_blade_sets(
+    ctx: &PassContext,
+    cmd: vk::CommandBuffer,
+    layout: vk::PipelineLayout,
+    animation: vk::DescriptorSet,
+) {
     let device = ctx.device;
     bind_scene_set(device, ctx, cmd, layout, vk::PipelineBindPoint::COMPUTE);
     bind_animation_set(device, cmd, layout, vk::PipelineBindPoint::COMPUTE, animation);
