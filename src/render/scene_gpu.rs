@@ -169,8 +169,8 @@ fn cull_alloc_bytes(slots: u32) -> u64 {
 /// Bytes of the cull's buffers for `blades` stored blades, `slots` ring slots and a visible list
 /// of `visible` entries.
 fn cull_bytes(blades: u64, slots: u32, visible: u32) -> [u64; 4] {
-    // The buckets' indirect draws, the blade-pose dispatch and the list's length, the emit
-    // pass's dispatch, then the slots that draw.
+    // The buckets' indirect draws, their pose and levels dispatches, the emit pass's dispatch,
+    // then the slots that draw.
     let draws = 4 * (u64::from(gpu_constants::EMIT_SLOTS_WORD) + u64::from(slots));
     [
         8 * u64::from(visible.max(1)),
@@ -479,8 +479,8 @@ impl SceneGpu {
     }
 }
 
-// The blade-pose dispatch follows the buckets' draws in `draws`, then the emit pass's dispatch
-// and its slots (`shaders/shared.glsl`).
+// The buckets' pose and levels dispatches follow their draws in `draws`, then the emit pass's
+// dispatch and its slots (`shaders/shared.glsl`).
 const _: () =
     assert!(gpu_constants::BUCKET_DISPATCH_WORD == gpu_constants::DRAW_WORDS * gpu_constants::MAX_LOD_BUCKETS);
 const _: () =
