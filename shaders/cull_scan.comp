@@ -3,9 +3,9 @@
 // Cull, step 3 of 4: one workgroup turns the per-slot bucket counts into offsets (an exclusive
 // prefix sum over the slots, in slot order: near to far), writes one indirect draw per LOD bucket
 // (its instances are bucket b's blades, from firstInstance = the blades of the buckets before it)
-// and the blade-pose and levels passes' indirect dispatch over each bucket, lists the slots that draw (in slot order) with the
-// emit pass's indirect dispatch over them, and sums the frame's counts into the host-visible
-// `cull_stats` (read after the frame's fence).
+// and the blade-pose and levels passes' indirect dispatch over each bucket, lists the slots that
+// draw (in slot order) with the emit pass's indirect dispatch over them, and sums the frame's
+// counts into the host-visible `cull_stats` (read after the frame's fence).
 // Invocation i sums the i-th contiguous run of slots, one invocation scans the run sums, then
 // each invocation writes its run's offsets: three barriers (a parallel scan needs two per step,
 // and llvmpipe's barriers cost more than the additions they save).
@@ -31,8 +31,8 @@ bool slot_draws(uint slot) {
 }
 
 // Lane 0, once the totals are known: one indirect draw per LOD bucket (padding each bucket's last
-// instance), the pose and levels passes' dispatch over each bucket, and the emit pass's dispatch over
-// the slots that draw.
+// instance), the pose and levels passes' dispatch over each bucket, and the emit pass's dispatch
+// over the slots that draw.
 void write_dispatches() {
     // Each instance draws BLADES_PER_INSTANCE consecutive entries of the list (the bucket's
     // blade triangle list repeated, blade.vert), so a bucket starts at a multiple of it and its
