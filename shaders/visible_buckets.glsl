@@ -12,18 +12,20 @@
 layout(set = SET_SCENE, binding = BINDING_DRAWS, std430) readonly buffer Draws { uint draws[]; };
 
 // The visible-list entry of this invocation: the first entry of the bucket drawn with SEGMENTS
-// segments (bucket counts strictly decrease: one bucket has them) plus the invocation's index;
-// false past the bucket's entries. The bucket is found by selects on the frame's values, not a
-// branch (bindings.glsl says why a branch on uniforms alone costs on lavapipe).
+// segments (bucket counts strictly decrease: at most one bucket has them) plus the invocation's
+// index; false past the bucket's entries, or when this frame draws no such bucket. The bucket is
+// found by selects on the frame's values, not a branch (bindings.glsl says why a branch on
+// uniforms alone costs on lavapipe).
 bool bucket_entry(out uint i) {
-    uint bucket = 0u;
+    uint bucket = MAX_LOD_BUCKETS;
     for (uint b = 0u; b < MAX_LOD_BUCKETS; b++) {
         uint segments = ((frame_values.cull_lod.y >> (4u * b)) & 15u) + 1u;
         uint match = uint(b < frame_values.cull_lod.x) & uint(segments == SEGMENTS);
         bucket = match != 0u ? b : bucket;
     }
-    uint first = draws[bucket * DRAW_WORDS + DRAW_FIRST_INSTANCE] * BLADES_PER_INSTANCE;
-    uint count = draws[bucket * DRAW_WORDS + DRAW_INSTANCES] * BLADES_PER_INSTANCE;
+    uint at = min(bucket, MAX_LOD_BUCKETS - 1u) * DRAW_WORDS;
+    uint first = draws[at + DRAW_FIRST_INSTANCE] * BLADES_PER_INSTANCE;
+    uint count = bucket < MAX_LOD_BUCKETS ? draws[at + DRAW_INSTANCES] * BLADES_PER_INSTANCE : 0u;
     i = first + gl_GlobalInvocationID.x;
     return gl_GlobalInvocationID.x < count;
 }
