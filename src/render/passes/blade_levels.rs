@@ -30,10 +30,8 @@ pub struct BladeLevelsPass {
     reads: [vk::Buffer; 2],
     /// A block field's relief grid (the terrain normal under each root).
     relief_grid: Option<vk::Buffer>,
-    /// The cull's visible list and its `draws` (the buckets' ranges, and the indirect dispatches
-    /// the scan wrote at `BUCKET_DISPATCH_WORD`).
+    /// The cull's visible list (the buckets' ranges and dispatches are the `buckets`' reads).
     visible: vk::Buffer,
-    draws: vk::Buffer,
 }
 
 impl BladeLevelsPass {
@@ -54,7 +52,6 @@ impl BladeLevelsPass {
             reads: [scene.blades.raw, scene.heights.raw],
             relief_grid: scene.relief_grid_read(),
             visible: scene.visible.raw,
-            draws: scene.draws.raw,
         })
     }
 }
@@ -69,16 +66,13 @@ impl Pass for BladeLevelsPass {
             Some(grid) => Declaration::compute().buffer(grid, Access::ComputeShaderSampledRead),
             None => Declaration::compute(),
         };
-        Some(
-            declaration
-                .buffer(self.levels, Access::ComputeShaderWrite)
-                .buffer(self.poses, Access::ComputeShaderRead)
-                .buffer(self.reads[0], Access::ComputeShaderSampledRead)
-                .buffer(self.reads[1], Access::ComputeShaderRead)
-                .buffer(self.visible, Access::ComputeShaderSampledRead)
-                .buffer(self.draws, Access::ComputeShaderRead)
-                .buffer(self.draws, Access::IndirectCommandRead),
-        )
+        let declaration = declaration
+            .buffer(self.levels, Access::ComputeShaderWrite)
+            .buffer(self.poses, Access::ComputeShaderRead)
+            .buffer(self.reads[0], Access::ComputeShaderSampledRead)
+            .buffer(self.reads[1], Access::ComputeShaderRead)
+            .buffer(self.visible, Access::ComputeShaderSampledRead);
+        Some(self.buckets.declare(declaration))
     }
 
     fn record(&self, ctx: &PassContext, cmd: vk::CommandBuffer) -> Result<()> {

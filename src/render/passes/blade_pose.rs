@@ -34,8 +34,6 @@ pub struct BladePosePass {
     poses: vk::Buffer,
     reads: [vk::Buffer; 2],
     keyframes: vk::Image,
-    /// The cull's `draws` (the buckets' ranges and dispatches), with the cull.
-    draws: Option<vk::Buffer>,
 }
 
 impl BladePosePass {
@@ -61,7 +59,6 @@ impl BladePosePass {
             poses: set.per_blade.poses.raw,
             reads: [scene.blades.raw, scene.clusters.raw],
             keyframes: set.keyframes.image.raw,
-            draws: setup.buckets.map(|_| scene.draws.raw),
         })
     }
 }
@@ -77,12 +74,11 @@ impl Pass for BladePosePass {
             .buffer(self.reads[0], Access::ComputeShaderSampledRead)
             .buffer(self.reads[1], Access::ComputeShaderRead)
             .uses(Resource::color(self.keyframes), Access::ComputeShaderSampledRead);
-        let declaration = match (&self.dispatch, self.draws) {
-            (Dispatch::Buckets(_, visible), Some(draws)) => declaration
-                .buffer(*visible, Access::ComputeShaderSampledRead)
-                .buffer(draws, Access::ComputeShaderRead)
-                .buffer(draws, Access::IndirectCommandRead),
-            _ => declaration,
+        let declaration = match &self.dispatch {
+            Dispatch::Buckets(buckets, visible) => {
+                buckets.declare(declaration.buffer(*visible, Access::ComputeShaderSampledRead))
+            }
+            Dispatch::Stored(..) => declaration,
         };
         Some(declaration)
     }

@@ -9,7 +9,8 @@ use ash::vk;
 
 use crate::error::Result;
 use crate::render::gpu_constants as gpu;
-use crate::vk::{pipeline, Device};
+use crate::render::graph::Declaration;
+use crate::vk::{pipeline, Access, Device};
 
 /// One compute pipeline per LOD bucket, and the `draws` buffer their dispatches come from.
 pub struct BucketDispatch {
@@ -44,6 +45,12 @@ impl BucketDispatch {
             }
         }
         Ok(built)
+    }
+
+    /// Add what the dispatches read to a pass's declaration: `draws`, by the shaders (the buckets'
+    /// ranges) and as the indirect dispatches.
+    pub fn declare(&self, declaration: Declaration) -> Declaration {
+        declaration.buffer(self.draws, Access::ComputeShaderRead).buffer(self.draws, Access::IndirectCommandRead)
     }
 
     /// Record each bucket's dispatch; the sets are bound.
