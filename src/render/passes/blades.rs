@@ -9,7 +9,7 @@ use crate::error::{Result, VkContext};
 use crate::render::animation::BladeInput;
 use crate::render::gpu_constants as gpu;
 use crate::render::graph::{Declaration, Pass, PassContext};
-use crate::render::passes::{self, PipelineTarget};
+use crate::render::passes::{self, bucket_dispatch, PipelineTarget};
 use crate::render::scene_gpu::SceneGpu;
 use crate::render::shaders;
 use crate::render::submission::{self, BladeDraws, IndirectDraws, SecondaryRecorders, Strategy};
@@ -170,9 +170,7 @@ impl BladePass {
         // lists' lengths.
         let collapsed_tip = setup.constants[gpu::SPEC_RENDER_FLAGS as usize] & gpu::FLAG_SOLID_OUTLINE != 0;
         for (b, &segments) in buckets.iter().enumerate() {
-            let mut constants = setup.constants.to_vec();
-            constants[gpu::SPEC_SEGMENTS as usize] = segments;
-            constants[gpu::SPEC_RENDER_FLAGS as usize] |= gpu::FLAG_CULLED;
+            let constants = bucket_dispatch::bucket_constants(setup.constants, segments);
             let name = format!("blades, LOD bucket {b} ({segments} segments)");
             let list = vk::PrimitiveTopology::TRIANGLE_LIST;
             self.buckets.push(Self::pipeline(device, setup.target, &constants, &name, list)?);

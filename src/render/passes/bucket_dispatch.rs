@@ -12,6 +12,15 @@ use crate::render::gpu_constants as gpu;
 use crate::render::graph::Declaration;
 use crate::vk::{pipeline, Access, Device};
 
+/// The specialization constants of a LOD bucket's pipelines (this module's and the blade pass's
+/// draws): the scene's `constants` with `SPEC_SEGMENTS` the bucket's `segments` and `FLAG_CULLED`.
+pub fn bucket_constants(constants: &[u32], segments: u32) -> Vec<u32> {
+    let mut constants = constants.to_vec();
+    constants[gpu::SPEC_SEGMENTS as usize] = segments;
+    constants[gpu::SPEC_RENDER_FLAGS as usize] |= gpu::FLAG_CULLED;
+    constants
+}
+
 /// One compute pipeline per LOD bucket, and the `draws` buffer their dispatches come from.
 pub struct BucketDispatch {
     pipelines: Vec<vk::Pipeline>,
@@ -19,8 +28,8 @@ pub struct BucketDispatch {
 }
 
 impl BucketDispatch {
-    /// Build `spirv` once per bucket of `buckets` (segments each) on `layout`, from `constants`
-    /// with `SPEC_SEGMENTS` set to the bucket's segments and `FLAG_CULLED`.
+    /// Build `spirv` once per bucket of `buckets` (segments each) on `layout`, from
+    /// `bucket_constants` of `constants`.
     pub fn new(
         device: &Device,
         name: &str,
@@ -31,9 +40,7 @@ impl BucketDispatch {
     ) -> Result<Self> {
         let mut built = Self { pipelines: Vec::with_capacity(buckets.len()), draws };
         for (b, &segments) in buckets.iter().enumerate() {
-            let mut constants = constants.to_vec();
-            constants[gpu::SPEC_SEGMENTS as usize] = segments;
-            constants[gpu::SPEC_RENDER_FLAGS as usize] |= gpu::FLAG_CULLED;
+            let constants = bucket_constants(constants, segments);
             let label = format!("{name}, LOD bucket {b} ({segments} segments)");
             match pipeline::compute(device, &label, spirv, layout, &constants) {
                 Ok(pipeline) => built.pipelines.push(pipeline),
