@@ -62,6 +62,12 @@ vec2 terrain_grid_offset() {
     return frame_values.terrain.zw;
 }
 
+// Whether the far terrain is drawn in cells of two grid steps (`render::field_gpu::terrain_coarsens`):
+// when a block spans an even number of cells.
+bool terrain_coarsens() {
+    return 2.0 * frame_values.terrain.x <= frame_values.field.x;
+}
+
 // Height of the drawn terrain (the relief at the grid's vertices, flat between them, split as
 // terrain.vert splits a cell) from the heights of the cell's four vertices.
 float terrain_mesh_height(vec2 f, float h00, float h10, float h01, float h11) {
@@ -135,7 +141,13 @@ void field_cell_bounds(ivec2 cell, out vec3 lo, out vec3 hi) {
     vec2 centre = corner + vec2(0.5 * edge);
     // `render::field_gpu::cell_spread`: the drawn terrain interpolates the relief at the grid's
     // vertices, which past 156 m of view distance lie outside the cell.
-    float reach = CELL_SPREAD_INSIDE * edge + CELL_SPREAD_OUTSIDE * max(frame_values.terrain.x - 0.5 * edge, 0.0);
+    // The drawn cells' edge: two steps where the grid's vertices slide onto the far terrain's
+    // coarse mesh (`render::field_gpu::drawn_step`).
+    float step = frame_values.terrain.x;
+    vec2 g = abs((centre - terrain_grid_offset()) / step - vec2(float(FIELD_TERRAIN_CELLS / 2u)));
+    bool morphs = terrain_coarsens() && max(g.x, g.y) + 0.5 * edge / step + 2.0 > float(TERRAIN_MORPH_CELLS);
+    float drawn = morphs ? 2.0 * step : step;
+    float reach = CELL_SPREAD_INSIDE * edge + CELL_SPREAD_OUTSIDE * max(drawn - 0.5 * edge, 0.0);
     float spread = frame_values.field.y * reach;
     // `scene::tiles::blade_reach` of the tallest and widest blade: up, and across with the
     // density LOD's widest widening (`lod.w`).

@@ -7,11 +7,13 @@
 mod support;
 
 use ash::vk;
-use glam::Vec3;
+use glam::{IVec2, Vec3};
 use meadow::app::{with_device, GpuOptions};
 use meadow::imagediff::compare_rgb;
 use meadow::render::animation::{AnimationSettings, Mode};
 use meadow::render::culling::{CullCounts, Culling};
+use meadow::render::field_gpu::{self, Origin};
+use meadow::render::gpu_constants;
 use meadow::render::{OffscreenTarget, RenderSettings, Renderer};
 use meadow::scene::field::FieldSpec;
 use meadow::scene::{Camera, Scene};
@@ -113,6 +115,56 @@ fn the_drawn_terrain_follows_the_relief() {
     let sky = over[0];
     assert!(over.iter().all(|&p| p == sky), "from over the hill the sky fills the centre");
     assert!(under.iter().all(|&p| p != sky), "from under the hill ({ground:.2} m) the terrain hides the sky");
+}
+
+/// The relief grid the GPU wrote (`shaders/relief_grid.comp`) is the relief at the grid's vertices
+/// near the camera and, past the morph band, the far chunks' coarse mesh: every odd vertex the
+/// mean of its coarse edge's or diagonal's even vertices (`render::field_gpu::terrain_morph`), so
+/// the coarse chunks meet the fine ones without cracks and the roots sit on them.
+#[test]
+fn the_far_terrain_is_the_coarse_mesh_the_relief_grid_morphs_to() {
+    let scene = Scene::blocks(FieldSpec { size: None, density: 400.0 }, 1);
+    let relief = scene.field.as_ref().expect("a field").relief.clone();
+    let camera = camera(37.5, -21.5);
+    let options = GpuOptions { validation: true, device: DeviceSelector::parse("llvmpipe") };
+    let (grid, messages) = with_device(&options, false, |device| {
+        let animation = AnimationSettings { mode: Mode::Static, ..Default::default() };
+        let mut renderer = Renderer::new(device.clone(), &scene, settings(Culling::default_for(4)), animation)?;
+        let mut target = OffscreenTarget::new(device, EXTENT)?;
+        renderer.render_offscreen(&mut target, &camera, 0.0)?;
+        let grid = renderer.read_relief_grid();
+        drop(renderer);
+        // SAFETY: render_offscreen waited for its frame.
+        unsafe { target.destroy(device) };
+        grid
+    });
+    assert_eq!(messages, Some(0), "validation messages");
+    let grid = grid.expect("read back");
+    let n = gpu_constants::FIELD_TERRAIN_CELLS + 1;
+    assert_eq!(grid.len(), (n * n) as usize);
+    let origin = Origin::under(&camera);
+    let step = field_gpu::terrain_step(Culling::default_for(4).view_distance);
+    assert!(field_gpu::terrain_coarsens(step));
+    let offset = field_gpu::terrain_grid_offset(origin.cell, step).as_dvec2();
+    let relief_at = |v: IVec2| {
+        let w = origin.world + offset + v.as_dvec2() * f64::from(step);
+        relief.height(w.x, w.y)
+    };
+    let (mut worst, mut moved) = (0.0f64, 0.0f64);
+    for z in 0..n as i32 {
+        for x in 0..n as i32 {
+            let v = IVec2::new(x, z);
+            let odd = IVec2::new(x & 1, z & 1);
+            let k = f64::from(field_gpu::terrain_morph(v.as_uvec2()));
+            let coarse =
+                if odd == IVec2::ZERO { relief_at(v) } else { 0.5 * (relief_at(v - odd) + relief_at(v + odd)) };
+            let expected = relief_at(v) + k * (coarse - relief_at(v));
+            worst = worst.max((f64::from(grid[(z * n as i32 + x) as usize][0]) - expected).abs());
+            moved = moved.max((expected - relief_at(v)).abs());
+        }
+    }
+    assert!(worst < 1e-3, "the GPU's grid is {worst} m off the morphed relief");
+    assert!(moved > 0.02, "the morph moves no vertex ({moved} m): the test would mean nothing");
 }
 
 #[test]

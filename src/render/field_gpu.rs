@@ -100,6 +100,43 @@ pub fn cell_spread(slope_bound: f32, step: f32) -> f32 {
     slope_bound * (CELL_SPREAD_INSIDE * BLOCK_SIZE + CELL_SPREAD_OUTSIDE * (step - 0.5 * BLOCK_SIZE).max(0.0))
 }
 
+/// Whether a block field's far terrain is drawn in cells of two grid steps
+/// (`render::terrain_chunks`): only when a block spans an even number of cells, so the coarse
+/// lattice (the grid's even vertices) stays put in the world as O moves by blocks. Mirrored in
+/// `shaders/field.glsl`.
+pub fn terrain_coarsens(step: f32) -> bool {
+    2.0 * step <= BLOCK_SIZE
+}
+
+/// How far grid vertex `v`'s height has slid from the relief onto the coarse mesh (an odd
+/// vertex's coarse height is the mean of the two even vertices of the coarse edge or diagonal it
+/// halves): 0 within `TERRAIN_MORPH_CELLS` of the grid's centre (Chebyshev), 1 from
+/// `TERRAIN_FINE_CELLS` on, where the coarse chunks begin, linear between (CDLOD's morph, by the
+/// grid's place rather than the camera's, so the grid is still a function of O's cell). Mirrors
+/// `shaders/relief_grid.comp`.
+pub fn terrain_morph(v: glam::UVec2) -> f32 {
+    let centre = (gpu::FIELD_TERRAIN_CELLS / 2) as i32;
+    let d = (v.x as i32 - centre).abs().max((v.y as i32 - centre).abs());
+    let band = (gpu::TERRAIN_FINE_CELLS - gpu::TERRAIN_MORPH_CELLS) as f32;
+    ((d - gpu::TERRAIN_MORPH_CELLS as i32) as f32 / band).clamp(0.0, 1.0)
+}
+
+/// The edge of the drawn terrain's cells under a block cell whose centre lies at grid coordinates
+/// `g` (vertex units): the grid's `step`, or two steps where a vertex the cell's ground
+/// interpolates may have slid onto the coarse mesh (`terrain_morph`). `cell_spread` of it bounds
+/// the cell's roots. Mirrors `field_cell_bounds` in `shaders/field.glsl`.
+pub fn drawn_step(step: f32, g: Vec2) -> f32 {
+    let centre = (gpu::FIELD_TERRAIN_CELLS / 2) as f32;
+    let d = (g - Vec2::splat(centre)).abs().max_element();
+    // The cell's half edge, the cell of vertices around it and their coarse neighbours.
+    let reach = 0.5 * BLOCK_SIZE / step + 2.0;
+    if terrain_coarsens(step) && d + reach > gpu::TERRAIN_MORPH_CELLS as f32 {
+        2.0 * step
+    } else {
+        step
+    }
+}
+
 /// `cell_spread`'s reach per metre of block edge inside the block's square: √½, rounded up
 /// (mirrored in `shaders/field.glsl`, checked by `tests/shader_sources.rs`).
 pub const CELL_SPREAD_INSIDE: f32 = 0.7072;
@@ -141,24 +178,105 @@ pub fn fill_uniforms(
 mod tests {
     use super::*;
 
-    /// The drawn terrain's height at `p` (relative to O at `o`): the relief at the four vertices
-    /// of its grid cell (`terrain_grid_offset` in field.glsl), split as terrain.vert splits it.
-    fn drawn_height(relief: &field::Relief, o: DVec2, step: f64, p: DVec2) -> f64 {
+    /// The height of grid vertex `v` of the grid around O at `o` (world): the relief there, an
+    /// odd vertex slid by `terrain_morph` onto the mean of the coarse edge's or diagonal's two
+    /// even vertices (`shaders/relief_grid.comp`).
+    fn vertex_height(relief: &field::Relief, o: DVec2, step: f64, v: IVec2) -> f64 {
         let cell = (o / f64::from(BLOCK_SIZE)).floor().as_ivec2();
         let offset = terrain_grid_offset(cell, step as f32).as_dvec2();
-        let g = (p - offset) / step;
-        let c = g.floor();
-        let f = g - c;
-        let h = |dx: f64, dz: f64| {
-            let v = (c + DVec2::new(dx, dz)) * step + offset + o;
-            relief.height(v.x, v.y)
+        let at = |v: IVec2| {
+            let w = v.as_dvec2() * step + offset + o;
+            relief.height(w.x, w.y)
         };
-        let (h00, h10, h01, h11) = (h(0.0, 0.0), h(1.0, 0.0), h(0.0, 1.0), h(1.0, 1.0));
+        let odd = IVec2::new(v.x & 1, v.y & 1);
+        let k = f64::from(terrain_morph(v.as_uvec2()));
+        if !terrain_coarsens(step as f32) || odd == IVec2::ZERO || k == 0.0 {
+            return at(v);
+        }
+        at(v) + k * (0.5 * (at(v - odd) + at(v + odd)) - at(v))
+    }
+
+    /// The mesh over `corner` (its cell's four vertices' heights) at `f` in the cell, split as
+    /// terrain.vert splits it.
+    fn split(f: DVec2, corner: impl Fn(i32, i32) -> f64) -> f64 {
+        let (h00, h10, h01, h11) = (corner(0, 0), corner(1, 0), corner(0, 1), corner(1, 1));
         if f.x >= f.y {
             h00 + f.x * (h10 - h00) + f.y * (h11 - h10)
         } else {
             h00 + f.y * (h01 - h00) + f.x * (h11 - h01)
         }
+    }
+
+    /// Where `p` (relative to O at `o`) lies in the grid, in vertex units.
+    fn grid_coordinates(o: DVec2, step: f64, p: DVec2) -> DVec2 {
+        let cell = (o / f64::from(BLOCK_SIZE)).floor().as_ivec2();
+        (p - terrain_grid_offset(cell, step as f32).as_dvec2()) / step
+    }
+
+    /// The drawn terrain's height at `p` (relative to O at `o`): the grid's heights at the four
+    /// vertices of its cell (`terrain_grid_offset` in field.glsl), split as terrain.vert splits
+    /// it: what the cull's roots read (`field_ground_height`).
+    fn drawn_height(relief: &field::Relief, o: DVec2, step: f64, p: DVec2) -> f64 {
+        let g = grid_coordinates(o, step, p);
+        let c = g.floor();
+        split(g - c, |dx, dz| vertex_height(relief, o, step, c.as_ivec2() + IVec2::new(dx, dz)))
+    }
+
+    /// The coarse mesh's height at `p`: the relief at the four even vertices of the cell of two
+    /// steps around `p`, split the same way (a far chunk's coarse range, `terrain_chunks`).
+    fn coarse_height(relief: &field::Relief, o: DVec2, step: f64, p: DVec2) -> f64 {
+        let g = grid_coordinates(o, step, p) * 0.5;
+        let c = g.floor();
+        let cell = (o / f64::from(BLOCK_SIZE)).floor().as_ivec2();
+        let offset = terrain_grid_offset(cell, step as f32).as_dvec2();
+        split(g - c, |dx, dz| {
+            let w = (c + DVec2::new(f64::from(dx), f64::from(dz))) * 2.0 * step + offset + o;
+            relief.height(w.x, w.y)
+        })
+    }
+
+    #[test]
+    fn the_grid_is_the_coarse_mesh_past_the_morph_and_the_relief_inside_it() {
+        // Past TERRAIN_FINE_CELLS the far chunks draw cells of two steps; the grid the fine
+        // chunks draw and the roots read is that mesh there (no crack where they meet, roots on
+        // the ground as drawn), and the relief's own mesh within TERRAIN_MORPH_CELLS.
+        let relief = field::Relief::generate(1);
+        let step = terrain_step(150.0);
+        assert!(terrain_coarsens(step));
+        assert!(!terrain_coarsens(terrain_step(300.0)), "a block of one cell has no even lattice");
+        let o = DVec2::new(4.0, -8.0);
+        let cell = (o / f64::from(BLOCK_SIZE)).floor().as_ivec2();
+        let offset = terrain_grid_offset(cell, step).as_dvec2();
+        let centre = f64::from(gpu::FIELD_TERRAIN_CELLS / 2);
+        let (mut far, mut near, mut band) = (0, 0, 0.0f64);
+        for i in 0..400 {
+            // Points along a diagonal spiral out to the grid's edge, in vertex units.
+            let angle = f64::from(i) * 0.37;
+            let radius = f64::from(i) / 400.0 * (centre - 1.0);
+            let g = DVec2::splat(centre) + radius * DVec2::new(angle.cos(), angle.sin());
+            let p = g * f64::from(step) + offset;
+            let d = (g - DVec2::splat(centre)).abs().max_element();
+            let drawn = drawn_height(&relief, o, f64::from(step), p);
+            if d >= f64::from(gpu::TERRAIN_FINE_CELLS) {
+                let coarse = coarse_height(&relief, o, f64::from(step), p);
+                assert!((drawn - coarse).abs() < 1e-9, "{g}: {drawn} off the coarse mesh {coarse}");
+                far += 1;
+            } else if d + 1.0 < f64::from(gpu::TERRAIN_MORPH_CELLS) {
+                let fine = {
+                    let c = g.floor();
+                    split(g - c, |dx, dz| {
+                        let w = (c + DVec2::new(f64::from(dx), f64::from(dz))) * f64::from(step) + offset + o;
+                        relief.height(w.x, w.y)
+                    })
+                };
+                assert!((drawn - fine).abs() < 1e-12, "{g}: {drawn} is not the relief's mesh {fine}");
+                near += 1;
+            } else {
+                band = band.max((drawn - coarse_height(&relief, o, f64::from(step), p)).abs());
+            }
+        }
+        assert!(far > 50 && near > 20, "{far} far and {near} near points");
+        assert!(band > 1e-3, "the band between moves nothing ({band} m): the test would mean nothing");
     }
 
     #[test]
@@ -171,11 +289,16 @@ mod tests {
         let mut widest = [0.0f64; 4];
         for (k, view) in [40.0, 150.0, 300.0, 600.0].into_iter().enumerate() {
             let step = terrain_step(view);
-            let spread = f64::from(cell_spread(slope, step));
             for o in [DVec2::ZERO, DVec2::new(4.0, -8.0), DVec2::new(100_012.0, 36.0)] {
-                for (cx, cz) in [(0, 0), (1, 0), (-3, 2), (5, -7)] {
+                // Near O, in the morph band and in the far chunks (`drawn_step`).
+                let cells = [(0, 0), (1, 0), (-3, 2), (5, -7), (7, 3), (-9, -10), (14, -2), (-18, 17)];
+                for (cx, cz) in
+                    cells.into_iter().filter(|&(x, z): &(i32, i32)| 4.0 * (x.abs().max(z.abs()) as f32) < 38.0 * step)
+                {
                     let corner = DVec2::new(f64::from(cx), f64::from(cz)) * f64::from(BLOCK_SIZE);
                     let centre = corner + DVec2::splat(0.5 * f64::from(BLOCK_SIZE));
+                    let g = grid_coordinates(o, f64::from(step), centre).as_vec2();
+                    let spread = f64::from(cell_spread(slope, drawn_step(step, g)));
                     let mid = relief.height(o.x + centre.x, o.y + centre.y);
                     for i in 0..=16 {
                         for j in 0..=16 {
@@ -199,9 +322,11 @@ mod tests {
             for c in [-25_001, -3, -2, -1, 0, 1, 2, 3, 7, 25_000] {
                 let cell = IVec2::new(c, -c);
                 let offset = terrain_grid_offset(cell, step).as_dvec2();
-                // Vertex 0 in the world, modulo the step: the same for every O.
+                // Vertex 0 in the world, modulo the step (two steps where the far chunks are
+                // coarse: their lattice, the even vertices, stays put too): the same for every O.
                 let world = cell.as_dvec2() * f64::from(BLOCK_SIZE) + offset;
-                let phase = (world.x.rem_euclid(f64::from(step)), world.y.rem_euclid(f64::from(step)));
+                let lattice_step = f64::from(if terrain_coarsens(step) { 2.0 * step } else { step });
+                let phase = (world.x.rem_euclid(lattice_step), world.y.rem_euclid(lattice_step));
                 assert_eq!(*lattice.get_or_insert(phase), phase, "view {view} m, O's cell {cell}");
                 // The grid still spans the view distance around O's cell on both sides.
                 let first = offset.x.max(offset.y);

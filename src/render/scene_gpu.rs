@@ -364,7 +364,7 @@ impl SceneGpu {
         partial.blade_texels = Some(TexelView::new(device, blades, vk::Format::R32G32B32A32_UINT, "blade texels")?);
         partial.heights = Some(batch.buffer("terrain heights", &scene.terrain.heights, storage, vertex_read)?);
         let cells = if scene.field.is_some() { gpu_constants::FIELD_TERRAIN_CELLS } else { scene.terrain.cells };
-        let indices = crate::render::terrain_chunks::chunked_indices(cells);
+        let indices = crate::render::terrain_chunks::chunked_indices(cells, scene.field.is_some());
         let usage = vk::BufferUsageFlags::INDEX_BUFFER;
         partial.terrain_indices = Some(batch.buffer("terrain indices", &indices, usage, &[Access::IndexRead])?);
         let clusters = grid.assign(&scene.blades);
@@ -384,7 +384,11 @@ impl SceneGpu {
         let indirect = storage | vk::BufferUsageFlags::INDIRECT_BUFFER;
         let relief = relief_grid_bytes(scene.field.is_some());
         for (name, size, usage) in [
-            ("relief grid", relief, storage | vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER),
+            (
+                "relief grid",
+                relief,
+                storage | vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC,
+            ),
             ("visible blades", visible, storage | vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER),
             ("cull slot counts", slots, storage),
             ("cull draws", draws, indirect),

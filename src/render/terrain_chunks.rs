@@ -5,15 +5,27 @@
 //! one thread, on screen or not: at the unbounded field's default view (`meadow timing`, four
 //! alternating runs of 20 frames) the terrain's vertex shader invocations fell from 50 160 to
 //! 10 521 and the terrain pass from 6.2–6.6 to 5.5–5.6 ms, the picture bit-identical.
+//!
+//! A block field's far chunks (past `TERRAIN_FINE_CELLS` from the grid's centre, where the
+//! cells are a few pixels across) also have a coarse range: the same ground in cells of two grid
+//! steps, a quarter of the triangles. The relief grid's odd vertices slide onto that coarse mesh
+//! over the band from `TERRAIN_MORPH_CELLS` (`render::field_gpu::terrain_morph`, CDLOD-style),
+//! so a fine chunk meets a coarse one without cracks, and the cull's roots, which interpolate the
+//! grid, sit on the terrain as drawn.
 
 use glam::{Mat4, Vec3, Vec4};
 
+use crate::render::gpu_constants as gpu;
 use crate::scene::Scene;
 
 /// Cells per side of a chunk (the last row and column of chunks may be narrower).
 pub const CHUNK_CELLS: u32 = 16;
 
-/// One chunk: its cells `lo..hi` (x, z) and its range of the index list.
+const _: () = assert!(gpu::TERRAIN_FINE_CELLS.is_multiple_of(CHUNK_CELLS) && CHUNK_CELLS.is_multiple_of(2));
+const _: () = assert!(gpu::TERRAIN_MORPH_CELLS < gpu::TERRAIN_FINE_CELLS);
+const _: () = assert!(gpu::FIELD_TERRAIN_CELLS.is_multiple_of(CHUNK_CELLS));
+
+/// One chunk: its cells `lo..hi` (x, z) and its ranges of the index list.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TerrainChunk {
     /// First cell (x, z).
@@ -24,10 +36,21 @@ pub struct TerrainChunk {
     pub first_index: u32,
     /// Indices of its triangles (6 per cell).
     pub index_count: u32,
+    /// A far chunk of a block field's grid: (first index, index count) of the same ground in
+    /// cells of two steps (6 per 2×2 cells), after every chunk's fine range.
+    pub coarse: Option<(u32, u32)>,
 }
 
-/// The chunks of a grid of `cells` per side, row by row of chunks.
-pub fn chunks(cells: u32) -> Vec<TerrainChunk> {
+/// Whether a chunk of `cells` cells `lo..hi` lies wholly past `TERRAIN_FINE_CELLS` from the
+/// centre of a block field's grid (Chebyshev), where it has a coarse range.
+fn is_far(cells: u32, lo: [u32; 2], hi: [u32; 2]) -> bool {
+    let (near, far) = (cells / 2 - gpu::TERRAIN_FINE_CELLS, cells / 2 + gpu::TERRAIN_FINE_CELLS);
+    (0..2).any(|axis| hi[axis] <= near || lo[axis] >= far)
+}
+
+/// The chunks of a grid of `cells` per side, row by row of chunks; `blocks`: a block field's grid
+/// (`FIELD_TERRAIN_CELLS`), whose far chunks get a coarse range.
+pub fn chunks(cells: u32, blocks: bool) -> Vec<TerrainChunk> {
     let per_side = cells.div_ceil(CHUNK_CELLS);
     let mut first_index = 0;
     let mut out = Vec::with_capacity((per_side * per_side) as usize);
@@ -36,8 +59,15 @@ pub fn chunks(cells: u32) -> Vec<TerrainChunk> {
             let lo = [cx * CHUNK_CELLS, cz * CHUNK_CELLS];
             let hi = [(lo[0] + CHUNK_CELLS).min(cells), (lo[1] + CHUNK_CELLS).min(cells)];
             let index_count = 6 * (hi[0] - lo[0]) * (hi[1] - lo[1]);
-            out.push(TerrainChunk { lo, hi, first_index, index_count });
+            out.push(TerrainChunk { lo, hi, first_index, index_count, coarse: None });
             first_index += index_count;
+        }
+    }
+    if blocks && cells == gpu::FIELD_TERRAIN_CELLS {
+        for chunk in out.iter_mut().filter(|c| is_far(cells, c.lo, c.hi)) {
+            let count = chunk.index_count / 4;
+            chunk.coarse = Some((first_index, count));
+            first_index += count;
         }
     }
     out
@@ -46,17 +76,27 @@ pub fn chunks(cells: u32) -> Vec<TerrainChunk> {
 /// The terrain's triangle list, chunk by chunk (`chunks`) and row by row of cells inside a chunk:
 /// vertex (x, z) of the `(cells + 1)²` grid is `z (cells + 1) + x`, and a cell splits into
 /// (0,0)-(1,0)-(1,1) and (0,0)-(1,1)-(0,1), as `scene::terrain::Terrain::height_at` and the
-/// relief's drawn mesh (`terrain_mesh_height` in field.glsl) split it.
-pub fn chunked_indices(cells: u32) -> Vec<u32> {
+/// relief's drawn mesh (`terrain_mesh_height` in field.glsl) split it. Then the far chunks' coarse
+/// ranges, their cells of 2×2 cells split the same way: each fine triangle of the relief grid
+/// lies in one coarse triangle, so the grid with its odd vertices on the coarse mesh is that mesh.
+pub fn chunked_indices(cells: u32, blocks: bool) -> Vec<u32> {
     let row = cells + 1;
+    let all = chunks(cells, blocks);
     let mut indices = Vec::with_capacity(6 * (cells * cells) as usize);
-    for chunk in chunks(cells) {
-        for z in chunk.lo[1]..chunk.hi[1] {
-            for x in chunk.lo[0]..chunk.hi[0] {
+    let mut cell_triangles = |chunk: &TerrainChunk, s: u32| {
+        for z in (chunk.lo[1]..chunk.hi[1]).step_by(s as usize) {
+            for x in (chunk.lo[0]..chunk.hi[0]).step_by(s as usize) {
                 let v = z * row + x;
-                indices.extend_from_slice(&[v, v + 1, v + row + 1, v, v + row + 1, v + row]);
+                let (r, d) = (s * row, s);
+                indices.extend_from_slice(&[v, v + d, v + r + d, v, v + r + d, v + r]);
             }
         }
+    };
+    for chunk in &all {
+        cell_triangles(chunk, 1);
+    }
+    for chunk in all.iter().filter(|c| c.coarse.is_some()) {
+        cell_triangles(chunk, 2);
     }
     indices
 }
@@ -118,8 +158,13 @@ pub fn box_meets_frustum(planes: &[Vec4; 5], lo: Vec3, hi: Vec3) -> bool {
 }
 
 /// The runs of consecutive chunks that meet the frustum, as (first index, index count) of one
-/// draw each.
-pub fn visible_runs(chunks: &[TerrainChunk], placement: &GridPlacement, view_proj: &Mat4) -> Vec<(u32, u32)> {
+/// draw each; `coarse`: far chunks draw their coarse range (`field_gpu::terrain_coarsens`).
+pub fn visible_runs(
+    chunks: &[TerrainChunk],
+    placement: &GridPlacement,
+    view_proj: &Mat4,
+    coarse: bool,
+) -> Vec<(u32, u32)> {
     let planes = frustum_planes(view_proj);
     let mut runs: Vec<(u32, u32)> = Vec::new();
     for chunk in chunks {
@@ -127,9 +172,10 @@ pub fn visible_runs(chunks: &[TerrainChunk], placement: &GridPlacement, view_pro
         if !box_meets_frustum(&planes, lo, hi) {
             continue;
         }
+        let (start, n) = chunk.coarse.filter(|_| coarse).unwrap_or((chunk.first_index, chunk.index_count));
         match runs.last_mut() {
-            Some((first, count)) if *first + *count == chunk.first_index => *count += chunk.index_count,
-            _ => runs.push((chunk.first_index, chunk.index_count)),
+            Some((first, count)) if *first + *count == start => *count += n,
+            _ => runs.push((start, n)),
         }
     }
     runs
@@ -156,10 +202,10 @@ mod tests {
                     [v, v + 1, v + row + 1, v, v + row + 1, v + row]
                 })
                 .collect();
-            let chunked = chunked_indices(cells);
+            let chunked = chunked_indices(cells, false);
             assert_eq!(chunked.len(), row_major.len(), "{cells} cells");
             assert_eq!(triangles(&chunked), triangles(&row_major), "{cells} cells");
-            let all = chunks(cells);
+            let all = chunks(cells, false);
             let total: u32 = all.iter().map(|c| c.index_count).sum();
             assert_eq!(total as usize, chunked.len());
             for chunk in &all {
@@ -170,6 +216,52 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// A block field's far chunks have a coarse range of a quarter of their triangles on the even
+    /// vertices, and each fine triangle of the chunk lies in one coarse triangle (so the grid with
+    /// its odd vertices on the coarse mesh is that mesh); the chunks near the centre have none.
+    #[test]
+    fn far_chunks_hold_their_fine_triangles_in_coarse_ones() {
+        let cells = gpu::FIELD_TERRAIN_CELLS;
+        let row = cells + 1;
+        let all = chunks(cells, true);
+        let indices = chunked_indices(cells, true);
+        let total: u32 = all.iter().map(|c| c.index_count + c.coarse.map_or(0, |(_, n)| n)).sum();
+        assert_eq!(total as usize, indices.len());
+        assert!(chunks(cells, false).iter().all(|c| c.coarse.is_none()));
+        let vertex = |v: u32| glam::DVec2::new(f64::from(v % row), f64::from(v / row));
+        let (near, far) = (cells / 2 - gpu::TERRAIN_FINE_CELLS, cells / 2 + gpu::TERRAIN_FINE_CELLS);
+        let mut coarse_chunks = 0;
+        for chunk in &all {
+            let inside = (0..2).all(|a| chunk.lo[a] >= near && chunk.hi[a] <= far);
+            let Some((first, count)) = chunk.coarse else {
+                assert!(inside, "{chunk:?}: a far chunk without a coarse range");
+                continue;
+            };
+            assert!(!inside, "{chunk:?}: a chunk of the fine square with a coarse range");
+            coarse_chunks += 1;
+            assert_eq!(count * 4, chunk.index_count);
+            let coarse: Vec<[glam::DVec2; 3]> = indices[first as usize..(first + count) as usize]
+                .chunks(3)
+                .map(|t| [vertex(t[0]), vertex(t[1]), vertex(t[2])])
+                .collect();
+            assert!(coarse.iter().flatten().all(|v| v.x % 2.0 == 0.0 && v.y % 2.0 == 0.0));
+            let fine = &indices[chunk.first_index as usize..(chunk.first_index + chunk.index_count) as usize];
+            for t in fine.chunks(3) {
+                // The fine triangle's centroid and corners in the same coarse triangle.
+                let corners = [vertex(t[0]), vertex(t[1]), vertex(t[2])];
+                let centroid = (corners[0] + corners[1] + corners[2]) / 3.0;
+                let holds = |tri: &[glam::DVec2; 3], p: glam::DVec2| {
+                    let edge = |a: glam::DVec2, b: glam::DVec2| (b - a).perp_dot(p - a);
+                    let e = [edge(tri[0], tri[1]), edge(tri[1], tri[2]), edge(tri[2], tri[0])];
+                    e.iter().all(|&x| x >= 0.0) || e.iter().all(|&x| x <= 0.0)
+                };
+                let owner = coarse.iter().find(|tri| holds(tri, centroid)).expect("a coarse triangle under it");
+                assert!(corners.iter().all(|&c| holds(owner, c)), "{corners:?} straddles {owner:?}");
+            }
+        }
+        assert_eq!(coarse_chunks, 100 - 16, "the 4×4 chunks around the centre are fine");
     }
 
     /// Every grid vertex inside the clip volume belongs to a drawn chunk, for cameras looking
@@ -186,10 +278,10 @@ mod tests {
             Camera { position: Vec3::new(0.0, 80.0, 0.0), yaw_deg: 30.0, pitch_deg: -80.0 },
             Camera { position: Vec3::new(-300.0, 2.0, -300.0), yaw_deg: 45.0, pitch_deg: -20.0 },
         ];
-        let all = chunks(cells);
+        let all = chunks(cells, true);
         for camera in cameras {
             let view_proj = camera.view_projection(16.0 / 9.0);
-            let runs = visible_runs(&all, &placement, &view_proj);
+            let runs = visible_runs(&all, &placement, &view_proj, false);
             let drawn = |chunk: &TerrainChunk| runs.iter().any(|&(f, n)| (f..f + n).contains(&chunk.first_index));
             let drawn_chunks = all.iter().filter(|c| drawn(c)).count();
             assert!(drawn_chunks < all.len(), "{camera:?}: no chunk culled");

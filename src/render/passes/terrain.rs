@@ -9,6 +9,7 @@ use std::sync::Arc;
 use ash::vk;
 
 use crate::error::Result;
+use crate::render::field_gpu;
 use crate::render::graph::{Declaration, Load, Pass, PassContext};
 use crate::render::passes::{self, PipelineTarget};
 use crate::render::scene_gpu::SceneGpu;
@@ -70,7 +71,7 @@ impl TerrainPass {
             heights: scene.heights.raw,
             relief_grid: scene.relief_grid_read(),
             indices: scene.terrain_indices.raw,
-            chunks: terrain_chunks::chunks(scene.terrain_cells),
+            chunks: terrain_chunks::chunks(scene.terrain_cells, scene.field.is_some()),
             blocks: scene.field.is_some(),
             height_range: scene.terrain_heights,
             drawn: Arc::clone(&scene.terrain_drawn),
@@ -118,7 +119,11 @@ impl Pass for TerrainPass {
         }
         let placement = self.placement(ctx.uniforms);
         let mut indices = 0;
-        for (first, count) in terrain_chunks::visible_runs(&self.chunks, &placement, &ctx.uniforms.view_proj) {
+        // A block field's far chunks in cells of two steps, when the relief grid's odd vertices
+        // morph onto them (`field_gpu::terrain_coarsens`).
+        let coarse = self.blocks && field_gpu::terrain_coarsens(placement.step);
+        let view_proj = &ctx.uniforms.view_proj;
+        for (first, count) in terrain_chunks::visible_runs(&self.chunks, &placement, view_proj, coarse) {
             // SAFETY: as above; the run lies inside the index buffer (`chunks`).
             unsafe { device.raw.cmd_draw_indexed(cmd, count, 1, first, 0, 0) };
             indices += u64::from(count);

@@ -5,6 +5,7 @@
 //! (`render::graph`); fences, per-frame buffers, queries and deferred deletion are the frame
 //! ring's (`render::frame`).
 
+mod inspect;
 mod multisample;
 mod offscreen;
 mod overlay;

@@ -1,0 +1,37 @@
+//! Read-backs of the renderer's GPU state after a frame, for tests and diagnostics: what a pass
+//! wrote, as the GPU holds it.
+
+use super::Renderer;
+use crate::error::Result;
+use crate::vk::{commands, sync, Access, Buffer, BufferDesc};
+
+impl Renderer {
+    /// A block field's relief grid as the relief-grid pass last wrote it (`shaders/relief_grid.comp`):
+    /// per vertex of the `(FIELD_TERRAIN_CELLS + 1)²` grid, row by row, the drawn terrain's height
+    /// and the relief's normal; empty for a stored field. Call it between frames (after
+    /// `render_offscreen`, which waits): it copies the buffer and waits for the copy.
+    pub fn read_relief_grid(&self) -> Result<Vec<[f32; 4]>> {
+        let scene = self.scene_gpu();
+        let Some(grid) = scene.relief_grid_read() else {
+            return Ok(Vec::new());
+        };
+        let size = scene.relief_grid.size;
+        let usage = ash::vk::BufferUsageFlags::TRANSFER_DST;
+        let out = Buffer::new(&self.device, &BufferDesc::readback("relief grid read-back", size, usage))?;
+        let copied = commands::submit_and_wait(&self.device, "relief grid read-back", |cmd| {
+            let before = sync::buffer_barrier(grid, &[Access::ComputeShaderWrite], &[Access::TransferRead]);
+            sync::cmd_barriers(&self.device, cmd, &[before], &[]);
+            let region = ash::vk::BufferCopy { src_offset: 0, dst_offset: 0, size };
+            // SAFETY: both buffers are live and at least `size` bytes; the frame that wrote the
+            // grid has completed (the caller's contract) and the barrier orders its writes.
+            unsafe { self.device.raw.cmd_copy_buffer(cmd, grid, out.raw, &[region]) };
+            let after = sync::buffer_barrier(out.raw, &[Access::TransferWrite], &[Access::HostRead]);
+            sync::cmd_barriers(&self.device, cmd, &[after], &[]);
+            Ok(())
+        });
+        let texels = bytemuck::cast_slice::<u8, [f32; 4]>(out.mapped()).to_vec();
+        // SAFETY: submit_and_wait waited for the copy (or never submitted it).
+        unsafe { out.destroy(&self.device) };
+        copied.map(|()| texels)
+    }
+}
