@@ -78,12 +78,15 @@ PlacedLevel place_level(BladeInstance blade, LevelPose pose, vec2 lod_scale) {
 
 // With FLAG_SOLID_OUTLINE: the part of a level's width at height t the alpha-tested outline
 // covers (`scene::alpha`: half_width less the cutoff's inset), drawn as geometry so the far
-// buckets need no texture or discard; 1 otherwise.
+// buckets need no texture or discard; 1 otherwise. The width is concave in t and the strip joins
+// its levels by straight edges, so a coarse strip is thinner than the outline (a one-segment
+// blade's triangle covers 59 % of it): STRIP_AREA widens it back to the outline's area
+// (`scene::alpha::strip_area_scale`), the coverage a far blade a pixel or less across shows.
 float outline_width(float t) {
     if ((RENDER_FLAGS & FLAG_SOLID_OUTLINE) == 0u) {
         return 1.0;
     }
-    return max(2.0 * (outline_half_width(t) - SOLID_INSET), 0.0);
+    return max(2.0 * (outline_half_width(t) - SOLID_INSET), 0.0) * STRIP_AREA;
 }
 
 // Debug view `lod`: one colour per segment count.
@@ -138,6 +141,13 @@ vec4 shade_blade(BladeInstance blade, float t, vec3 world, vec3 width_dir, vec3 
     n = dot(n, frame_values.camera_position.xyz - world) < 0.0 ? -n : n;
     float fog = fog_transmittance(world, frame_values.camera_position, frame_values.sky_color);
     float l6 = height_six(t, segments, MODEL_SEGMENTS);
+    if ((RENDER_FLAGS & FLAG_SOLID_OUTLINE) != 0u) {
+        // The strip's colour is linear between levels over its straight-edged width, where brute
+        // force's is over the outline's: STRIP_L6 gives the strip brute force's area-weighted
+        // mean of l^6 (`scene::alpha::strip_l6_scale`; the 2-segment bucket was 26 % over it and
+        // the 1M field's horizon up to 0.7 % brighter than brute force).
+        l6 *= STRIP_L6;
+    }
     vec3 lit = blade_radiance_l6(diffuse, diffuse, n, frame_values.sun_direction.xyz, t, l6);
     if ((RENDER_FLAGS & (FLAG_DEBUG_FORCE | FLAG_DEBUG_LOD | FLAG_DEBUG_TILES)) == 0u) {
         // Belyaev §2.3's Fresnel term on contour areas, over the terrain normal under the root.

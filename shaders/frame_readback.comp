@@ -13,7 +13,7 @@ layout(set = 0, binding = 1, std430) writeonly buffer Fields { uint fields[]; };
 layout(constant_id = SPEC_KEYFRAME_UVEC4S) const uint KEYFRAME_UVEC4S = 4096u;
 
 const uint FRAME_WORDS = 136u;     // 544 bytes
-const uint SPEC_WORDS = 13u;       // SPEC_* ids 0..=12
+const uint SPEC_WORDS = 15u;       // SPEC_* ids 0..=14
 
 void put_vec4(inout uint o, vec4 v) {
     for (uint i = 0u; i < 4u; i++) {
@@ -71,6 +71,8 @@ void main() {
     fields[FRAME_WORDS + SPEC_MODEL_SEGMENTS] = MODEL_SEGMENTS;
     fields[FRAME_WORDS + SPEC_CULL_GROUP] = CULL_GROUP;
     fields[FRAME_WORDS + SPEC_MSAA_SAMPLES] = MSAA_SAMPLES;
+    fields[FRAME_WORDS + SPEC_STRIP_AREA] = floatBitsToUint(STRIP_AREA);
+    fields[FRAME_WORDS + SPEC_STRIP_L6] = floatBitsToUint(STRIP_L6);
 
     uint s = FRAME_WORDS + SPEC_WORDS;
     fields[s + 0u] = MAX_SEGMENTS;

@@ -56,6 +56,8 @@
 #define SPEC_ENCODE_SRGB 9 // 1 when the shaders encode sRGB (UNORM targets), 0 when the target's format does.
 #define SPEC_CULL_GROUP 11 // Invocations of a cull workgroup: the device's subgroup size, within 8..=64.
 #define SPEC_MSAA_SAMPLES 12 // Samples per pixel of the scene (`--msaa`; 1 without).
+#define SPEC_STRIP_AREA 13 // A float: the solid outline's width scale for a strip of `SPEC_SEGMENTS` (`scene::alpha::strip_area_scale`).
+#define SPEC_STRIP_L6 14 // A float: the l^6 scale for a strip of `SPEC_SEGMENTS` over the model's (`scene::alpha::strip_l6_scale`).
 #define SPEC_MODEL_SEGMENTS 10 // Segments of the animation model's levels (`--segments`); `SPEC_SEGMENTS` may be fewer (a LOD bucket).
 
 // `SPEC_RENDER_FLAGS` bits.

@@ -133,6 +133,8 @@ fn every_frame_uniform_and_specialization_constant_reads_back_through_a_compute_
         model_segments: 2010,
         cull_group: 2011,
         msaa_samples: 2012,
+        strip_area: 1.25f32.to_bits(),
+        strip_l6: 0.75f32.to_bits(),
     };
     let input = (vk::DescriptorType::UNIFORM_BUFFER, bytemuck::bytes_of(&uniforms));
     let (result, messages) = with_device(&options(), false, |device| {
@@ -158,6 +160,8 @@ fn every_frame_uniform_and_specialization_constant_reads_back_through_a_compute_
     assert_eq!(seen(gpu::SPEC_MODEL_SEGMENTS), spec.model_segments, "MODEL_SEGMENTS");
     assert_eq!(seen(gpu::SPEC_CULL_GROUP), spec.cull_group, "CULL_GROUP");
     assert_eq!(seen(gpu::SPEC_MSAA_SAMPLES), spec.msaa_samples, "MSAA_SAMPLES");
+    assert_eq!(seen(gpu::SPEC_STRIP_AREA), spec.strip_area, "STRIP_AREA");
+    assert_eq!(seen(gpu::SPEC_STRIP_L6), spec.strip_l6, "STRIP_L6");
     // The shaders see the constants build.rs generated for Rust.
     let shared = &words[FRAME_WORDS + specialization::COUNT..];
     let flags = gpu::FLAG_DEBUG_FORCE | gpu::FLAG_EVAL_BLADE | gpu::FLAG_CLUSTER_PUSH;

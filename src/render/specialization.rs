@@ -10,7 +10,7 @@ pub use crate::render::gpu_constants::{
 };
 
 /// Number of specialization constants, one per `SPEC_*` id of `shaders/shared.glsl`.
-pub const COUNT: usize = 13;
+pub const COUNT: usize = 15;
 
 /// The constants; each field's `constant_id` is the `SPEC_*` named in its doc (`Self::pairs`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -42,6 +42,12 @@ pub struct Specialization {
     pub cull_group: u32,
     /// `SPEC_MSAA_SAMPLES`: samples per pixel of the scene (`--msaa`).
     pub msaa_samples: u32,
+    /// `SPEC_STRIP_AREA`: an `f32`'s bits, the solid outline's width scale for a strip of
+    /// `segments` (`scene::alpha::strip_area_scale`; a LOD bucket's, `bucket_constants`).
+    pub strip_area: u32,
+    /// `SPEC_STRIP_L6`: an `f32`'s bits, the l^6 scale of a strip of `segments` over the model's
+    /// (`scene::alpha::strip_l6_scale`).
+    pub strip_l6: u32,
 }
 
 impl Specialization {
@@ -77,6 +83,8 @@ impl Specialization {
             model_segments: segments,
             cull_group: 64,
             msaa_samples: 1,
+            strip_area: 1.0f32.to_bits(),
+            strip_l6: 1.0f32.to_bits(),
         }
     }
 
@@ -96,6 +104,8 @@ impl Specialization {
             (gpu::SPEC_MODEL_SEGMENTS, self.model_segments),
             (gpu::SPEC_CULL_GROUP, self.cull_group),
             (gpu::SPEC_MSAA_SAMPLES, self.msaa_samples),
+            (gpu::SPEC_STRIP_AREA, self.strip_area),
+            (gpu::SPEC_STRIP_L6, self.strip_l6),
         ]
     }
 
@@ -126,6 +136,8 @@ const IDS: [u32; COUNT] = [
     gpu::SPEC_MODEL_SEGMENTS,
     gpu::SPEC_CULL_GROUP,
     gpu::SPEC_MSAA_SAMPLES,
+    gpu::SPEC_STRIP_AREA,
+    gpu::SPEC_STRIP_L6,
 ];
 
 /// Whether `ids` is a permutation of `0..COUNT`: dense, so `constants()` fills every slot.
@@ -165,6 +177,8 @@ mod tests {
             model_segments: 110,
             cull_group: 111,
             msaa_samples: 112,
+            strip_area: 113,
+            strip_l6: 114,
         };
         assert_eq!(spec.pairs().map(|(id, _)| id), IDS);
         let constants = spec.constants();

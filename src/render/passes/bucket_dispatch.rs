@@ -10,13 +10,18 @@ use ash::vk;
 use crate::error::Result;
 use crate::render::gpu_constants as gpu;
 use crate::render::graph::Declaration;
+use crate::scene::alpha;
 use crate::vk::{pipeline, Access, Device};
 
 /// The specialization constants of a LOD bucket's pipelines (this module's and the blade pass's
-/// draws): the scene's `constants` with `SPEC_SEGMENTS` the bucket's `segments` and `FLAG_CULLED`.
+/// draws): the scene's `constants` with `SPEC_SEGMENTS` the bucket's `segments`, its strip's
+/// outline scales (`SPEC_STRIP_AREA`, `SPEC_STRIP_L6`) and `FLAG_CULLED`.
 pub fn bucket_constants(constants: &[u32], segments: u32) -> Vec<u32> {
     let mut constants = constants.to_vec();
     constants[gpu::SPEC_SEGMENTS as usize] = segments;
+    let model = constants[gpu::SPEC_MODEL_SEGMENTS as usize];
+    constants[gpu::SPEC_STRIP_AREA as usize] = alpha::strip_area_scale(segments).to_bits();
+    constants[gpu::SPEC_STRIP_L6 as usize] = alpha::strip_l6_scale(segments, model).to_bits();
     constants[gpu::SPEC_RENDER_FLAGS as usize] |= gpu::FLAG_CULLED;
     constants
 }
