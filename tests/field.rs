@@ -145,20 +145,16 @@ fn the_far_terrain_is_the_coarse_mesh_the_relief_grid_morphs_to() {
     let origin = Origin::under(&camera);
     let step = field_gpu::terrain_step(Culling::default_for(4).view_distance);
     assert!(field_gpu::terrain_coarsens(step));
-    let offset = field_gpu::terrain_grid_offset(origin.cell, step).as_dvec2();
+    let offset = field_gpu::terrain_grid_offset(origin.cell, step);
     let relief_at = |v: IVec2| {
-        let w = origin.world + offset + v.as_dvec2() * f64::from(step);
+        let w = origin.world + offset.as_dvec2() + v.as_dvec2() * f64::from(step);
         relief.height(w.x, w.y)
     };
     let (mut worst, mut moved) = (0.0f64, 0.0f64);
     for z in 0..n as i32 {
         for x in 0..n as i32 {
             let v = IVec2::new(x, z);
-            let odd = IVec2::new(x & 1, z & 1);
-            let k = f64::from(field_gpu::terrain_morph(v.as_uvec2()));
-            let coarse =
-                if odd == IVec2::ZERO { relief_at(v) } else { 0.5 * (relief_at(v - odd) + relief_at(v + odd)) };
-            let expected = relief_at(v) + k * (coarse - relief_at(v));
+            let expected = field_gpu::drawn_vertex_height(&relief, origin.world, offset, step, v);
             worst = worst.max((f64::from(grid[(z * n as i32 + x) as usize][0]) - expected).abs());
             moved = moved.max((expected - relief_at(v)).abs());
         }

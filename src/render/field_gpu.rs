@@ -121,6 +121,23 @@ pub fn terrain_morph(v: glam::UVec2) -> f32 {
     ((d - gpu::TERRAIN_MORPH_CELLS as i32) as f32 / band).clamp(0.0, 1.0)
 }
 
+/// The drawn terrain's height at grid vertex `v` (`shaders/relief_grid.comp` on the CPU): the
+/// relief there, an odd vertex slid by `terrain_morph` onto the mean of the two even vertices of
+/// the coarse edge or diagonal it halves. `origin` is O in the world, `offset` the grid's
+/// `terrain_grid_offset`.
+pub fn drawn_vertex_height(relief: &field::Relief, origin: DVec2, offset: Vec2, step: f32, v: IVec2) -> f64 {
+    let at = |v: IVec2| {
+        let w = origin + offset.as_dvec2() + v.as_dvec2() * f64::from(step);
+        relief.height(w.x, w.y)
+    };
+    let odd = IVec2::new(v.x & 1, v.y & 1);
+    let k = f64::from(terrain_morph(v.as_uvec2()));
+    if !terrain_coarsens(step) || odd == IVec2::ZERO || k == 0.0 {
+        return at(v);
+    }
+    at(v) + k * (0.5 * (at(v - odd) + at(v + odd)) - at(v))
+}
+
 /// The edge of the drawn terrain's cells under a block cell whose centre lies at grid coordinates
 /// `g` (vertex units): the grid's `step`, or two steps where a vertex the cell's ground
 /// interpolates may have slid onto the coarse mesh (`terrain_morph`). `cell_spread` of it bounds
@@ -178,22 +195,10 @@ pub fn fill_uniforms(
 mod tests {
     use super::*;
 
-    /// The height of grid vertex `v` of the grid around O at `o` (world): the relief there, an
-    /// odd vertex slid by `terrain_morph` onto the mean of the coarse edge's or diagonal's two
-    /// even vertices (`shaders/relief_grid.comp`).
+    /// The height of grid vertex `v` of the grid around O at `o` (world).
     fn vertex_height(relief: &field::Relief, o: DVec2, step: f64, v: IVec2) -> f64 {
         let cell = (o / f64::from(BLOCK_SIZE)).floor().as_ivec2();
-        let offset = terrain_grid_offset(cell, step as f32).as_dvec2();
-        let at = |v: IVec2| {
-            let w = v.as_dvec2() * step + offset + o;
-            relief.height(w.x, w.y)
-        };
-        let odd = IVec2::new(v.x & 1, v.y & 1);
-        let k = f64::from(terrain_morph(v.as_uvec2()));
-        if !terrain_coarsens(step as f32) || odd == IVec2::ZERO || k == 0.0 {
-            return at(v);
-        }
-        at(v) + k * (0.5 * (at(v - odd) + at(v + odd)) - at(v))
+        drawn_vertex_height(relief, o, terrain_grid_offset(cell, step as f32), step as f32, v)
     }
 
     /// The mesh over `corner` (its cell's four vertices' heights) at `f` in the cell, split as
