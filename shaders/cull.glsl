@@ -36,6 +36,33 @@ uint slot_candidates(uint slot) {
 uint listed_slot(uint k) {
     return alloc_words[2u * frame.cull_tiles.y + k];
 }
+
+// Workgroup k of n visits item `spread(k, n)`: k * s mod n, with s near n / golden ratio and prime
+// to n (a bijection of 0..n whose contiguous runs sample the whole range evenly). llvmpipe hands a
+// dispatch's workgroups to its threads in contiguous blocks (`lp_cs_tpool_queue_task`: thread i
+// takes the i-th n / threads of them, not one at a time), and the slots go near to far: a near
+// slot holds up to a whole tile of candidates, a far one a few. In slot order the first thread got
+// nearly all the work; spread, every block holds near and far slots alike. Only the order the
+// workgroups run in changes: each still writes its own slot's words. k, s < n <= 65 536 ring slots
+// (`field_gpu::max_view_distance`, `scene_gpu::max_ring_slots`): k * s fits in 32 bits.
+uint spread(uint k, uint n) {
+    uint s = uint(float(n) * 0.618034);
+    for (;;) {
+        uint a = max(s, 1u);
+        uint b = n;
+        while (b != 0u) {
+            uint r = a % b;
+            a = b;
+            b = r;
+        }
+        if (a == 1u) {
+            break;
+        }
+        s++;
+    }
+    return n == 0u ? 0u : (k * max(s, 1u)) % n;
+}
+
 // A slot whose verdicts did not fit (`cull_alloc` ran out): it draws nothing.
 const uint NO_ROOM = 0xffffffffu;
 

@@ -16,7 +16,7 @@ shared uint counts[SLOT_WORDS];
 
 void main() {
     read_cull_settings();
-    uint slot = listed_slot(gl_WorkGroupID.x);
+    uint slot = listed_slot(spread(gl_WorkGroupID.x, count_dispatch.w));
     uint lane = gl_LocalInvocationID.x;
     for (uint w = lane; w < SLOT_WORDS; w += CULL_GROUP) {
         counts[w] = 0u;

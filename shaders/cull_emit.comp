@@ -25,8 +25,9 @@ shared uint prefix[MAX_LOD_BUCKETS][CULL_GROUP];
 
 void main() {
     read_cull_settings();
-    // One workgroup per slot that draws (the scan's list, dispatched indirectly).
-    uint slot = draws[EMIT_SLOTS_WORD + gl_WorkGroupID.x];
+    // One workgroup per slot that draws (the scan's list, dispatched indirectly), spread over
+    // llvmpipe's threads as in the count pass.
+    uint slot = draws[EMIT_SLOTS_WORD + spread(gl_WorkGroupID.x, draws[EMIT_DISPATCH_WORD])];
     uint lane = gl_LocalInvocationID.x;
     BladeTile tile;
     ivec2 cell;
