@@ -3,6 +3,7 @@
 //! PNG and text files atomically. [`crate::cli`] parses arguments into these options and prints
 //! what they return.
 
+mod host_heap;
 pub mod interrupt;
 mod keyframe_report;
 pub mod output;
@@ -70,6 +71,9 @@ pub fn with_instance<T>(
     extensions: &[*const std::ffi::c_char],
     body: impl FnOnce(Arc<Instance>) -> Result<T>,
 ) -> (Result<T>, Option<u64>) {
+    // Before the driver allocates: a software device's per-frame scene memory is reused instead
+    // of faulted in again each frame.
+    host_heap::keep_freed_memory();
     let instance = match Instance::create(&InstanceDesc { validation: options.validation, extensions }) {
         Ok(instance) => Arc::new(instance),
         // The loader's messages about a missing driver are counted too.
