@@ -6,9 +6,9 @@
 //! free top of a heap back to the kernel once it exceeds 128 KiB (`M_TRIM_THRESHOLD`), so every
 //! frame faults the same pages in again and the kernel zeroes them: at the unbounded field's
 //! default view, 364 000 page faults in a `meadow timing` run (about 3 000 a frame) and the blade
-//! pass 62 ms; with the freed memory kept for reuse, 77 000 and 53 ms. A hardware driver's command
-//! memory is not affected either way. The heap keeps at most what the largest frame used; the
-//! soaks (`make test`) check that it does not grow.
+//! pass 62 ms; with the freed memory kept for reuse, 77 000 and 53 ms. A hardware driver does not
+//! bin triangles in host memory, so there is little for it to keep. The heap keeps at most what
+//! the largest frame used; the soaks (`make test`) check that it does not grow.
 
 /// Keep freed heap memory for reuse instead of returning it to the kernel (glibc's
 /// `M_TRIM_THRESHOLD`, 1 GiB). Idempotent; a no-op where the C library is not glibc.
@@ -17,8 +17,8 @@ pub fn keep_freed_memory() {
     {
         static ONCE: std::sync::Once = std::sync::Once::new();
         ONCE.call_once(|| {
-            // SAFETY: mallopt only sets an allocator parameter; it is called before any thread
-            // of the driver exists and takes no pointers.
+            // SAFETY: mallopt takes no pointers, and glibc sets the parameter under the
+            // allocator's own lock, so other threads' allocations are not disturbed.
             let set = unsafe { libc::mallopt(libc::M_TRIM_THRESHOLD, TRIM_THRESHOLD) };
             if set != 1 {
                 log::warn!("mallopt(M_TRIM_THRESHOLD) was refused: the heap returns freed memory to the kernel");
