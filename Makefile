@@ -4,7 +4,7 @@
 #   make test  installs what is missing, then fmt, clippy and the whole test suite on lavapipe
 CARGO ?= cargo
 
-.PHONY: deps run test goldens build soak
+.PHONY: deps run test goldens build soak pictures bench-docs
 
 deps:
 	@./scripts/install-deps.sh
@@ -36,3 +36,26 @@ goldens: deps
 # 4 MiB or any growth of live Vulkan objects (scripts/soak.sh; FRAMES=N for another length).
 soak: build
 	FRAMES=$${FRAMES:-10000} ./scripts/soak.sh
+
+# The pictures of README.md and docs/ that renders make (a few minutes on lavapipe), each with the
+# command written beside it in the docs; the viewer's screenshots under Xvfb
+# (scripts/viewer/showcase.txt writes docs/viewer-force.png and docs/viewer.png).
+MEADOW ?= ./target/release/meadow
+WIND_FEATURES = --blades 60000 --size 960x540 --camera 0,5,7,0,-42 --time 1.5 --calm=-5,-4,-1,0 \
+	--source 3,-1,0.25,2 --collider sphere:0,0.2,2.5,0.45 --attenuation blade --cluster-size 0.5
+pictures: build
+	$(MEADOW) render --blades 1000000 --segments 4 --validation --out docs/meadow-1m.png
+	$(MEADOW) render --field infinite --out docs/prairie-field.png
+	$(MEADOW) render --field infinite --debug-view lod --out docs/prairie-field-lod.png
+	$(MEADOW) render $(WIND_FEATURES) --wind 0,0.9 --out docs/wind-features.png
+	$(MEADOW) render $(WIND_FEATURES) --wind 0,0.5 --debug-view force --out docs/wind-features-force.png
+	xvfb-run -a -s "-screen 0 1280x720x24" $(MEADOW) view --size 960x540 --script scripts/viewer/showcase.txt
+
+# The benchmark results and charts in docs/ (docs/benchmarks.md, docs/gpu-timing.md): about an
+# hour on lavapipe, most of it the thesis preset. Run it on a quiet machine.
+bench-docs: build
+	$(MEADOW) bench --preset thesis --out docs/bench-thesis
+	$(MEADOW) bench --preset lod --out docs/bench-lod
+	$(MEADOW) bench --preset msaa --out docs/bench-msaa
+	$(MEADOW) overhead --out docs/overhead
+	$(MEADOW) timing --trace docs/timing/trace.json --out docs/timing
