@@ -51,7 +51,7 @@ pictures: build
 	$(MEADOW) render $(WIND_FEATURES) --wind 0,0.5 --debug-view force --out docs/wind-features-force.png
 	xvfb-run -a -s "-screen 0 1280x720x24" $(MEADOW) view --size 960x540 --script scripts/viewer/showcase.txt
 
-# The benchmark results and charts in docs/ (docs/benchmarks.md, docs/gpu-timing.md): about an
+# The benchmark results and charts in docs/ (docs/benchmarks.md, docs/gpu-timing.md): over half an
 # hour on lavapipe, most of it the thesis preset. Run it on a quiet machine.
 bench-docs: build
 	$(MEADOW) bench --preset thesis --out docs/bench-thesis
