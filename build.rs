@@ -1,31 +1,51 @@
-//! Compiles every `shaders/*.{vert,frag,comp}` to SPIR-V with glslang into `OUT_DIR`.
+//! Compiles the GLSL of `shaders/` (the library's) and `tests/shaders/` (the tests' own) to SPIR-V
+//! with glslang into `OUT_DIR/spirv/`.
 //!
-//! Shared headers (`shaders/*.glsl`) are pulled in with `#include` (GL_GOOGLE_include_directive);
-//! glslang's `--depfile` tells us every file a shader read, so cargo re-runs this script when any
-//! source or header changes. A compile error fails the build with glslang's own message (file and
-//! line); a missing glslang names the Debian package to install.
+//! Both trees are walked recursively: a folder per concern (`shaders/cull/`, `shaders/blades/`,
+//! ...). Every `.vert`, `.frag` and `.comp` file is a shader; `.glsl` files are headers, pulled in
+//! with `#include "folder/name.glsl"` (GL_GOOGLE_include_directive, resolved from `shaders/`, so a
+//! test's shader includes the library's headers the same way). glslang's `--depfile` tells us
+//! every file a shader read, and each one is a `cargo:rerun-if-changed`, as are the folders (a new
+//! file). A compile error fails the build with glslang's own message (file and line); a missing
+//! glslang names the Debian package to install.
 //!
-//! It also writes `OUT_DIR/gpu_constants.rs` from `shaders/shared.glsl`, the one source of truth
-//! for the integer constants both sides use (bindings, specialization-constant ids, flag bits,
-//! limits); `render::gpu_constants` includes it. The parser is strict: a line it does not
+//! Variants by defines: a shader line `// variant NAME: DEFINE DEFINE=VALUE ...` builds the shader
+//! a second time with those defines, as `<path>.NAME.spv`. Every shader is built once per backend
+//! profile (`vk::profile::Profile`), with `MEADOW_PROFILE_LAVAPIPE` or `MEADOW_PROFILE_GENERIC`
+//! defined: `OUT_DIR/spirv/<profile>/<path>[.<variant>].spv`, the tests' under `tests/`. The
+//! library embeds its own (`render::shaders`); the tests' are not part of it.
+//!
+//! It also writes `OUT_DIR/gpu_constants.rs` from `shaders/common/shared.glsl`, the one source of
+//! truth for the integer constants both sides use (bindings, specialization-constant ids, flag
+//! bits, limits); `render::gpu_constants` includes it. The parser is strict: a line it does not
 //! understand fails the build with its file and line.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
+use std::sync::Mutex;
 
 #[path = "build/shared_glsl.rs"]
 mod shared_glsl;
 
 const STAGES: [&str; 3] = ["vert", "frag", "comp"];
 
+/// The backend profiles, with the define each one's shaders are built with.
+const PROFILES: [(&str, &str); 2] = [("lavapipe", "MEADOW_PROFILE_LAVAPIPE"), ("generic", "MEADOW_PROFILE_GENERIC")];
+
+/// One glslang run: a shader, in one profile and variant.
+struct Job {
+    source: PathBuf,
+    spv: PathBuf,
+    defines: Vec<String>,
+}
+
 fn main() {
     let manifest = PathBuf::from(std::env::var("CARGO_MANIFEST_DIR").expect("cargo sets CARGO_MANIFEST_DIR"));
     let out_dir = PathBuf::from(std::env::var("OUT_DIR").expect("cargo sets OUT_DIR"));
     let shader_dir = manifest.join("shaders");
-    println!("cargo:rerun-if-changed={}", shader_dir.display());
 
     embed_git_commit(&manifest);
-    let shared = shader_dir.join("shared.glsl");
+    let shared = shader_dir.join("common/shared.glsl");
     let constants = std::fs::read_to_string(&shared)
         .map_err(|e| format!("cannot read {}: {e}", shared.display()))
         .and_then(|text| shared_glsl::rust_constants(&shared, &text))
@@ -33,59 +53,138 @@ fn main() {
     std::fs::write(out_dir.join("gpu_constants.rs"), constants)
         .unwrap_or_else(|e| fail(&format!("cannot write gpu_constants.rs: {e}")));
 
-    let glslang = std::env::var("GLSLANG_VALIDATOR").unwrap_or_else(|_| "glslangValidator".into());
-    let mut sources: Vec<PathBuf> = std::fs::read_dir(&shader_dir)
-        .unwrap_or_else(|e| fail(&format!("cannot read {}: {e}", shader_dir.display())))
-        .filter_map(|entry| entry.ok().map(|e| e.path()))
-        .collect();
-    sources.sort();
-
-    let mut failures = Vec::new();
-    for source in &sources {
-        let ext = source.extension().and_then(|e| e.to_str()).unwrap_or("");
-        if source.is_file() && ext == "glsl" {
+    let mut jobs = Vec::new();
+    for (tree, prefix) in [(shader_dir.clone(), ""), (manifest.join("tests/shaders"), "tests/")] {
+        for source in walk(&tree) {
             println!("cargo:rerun-if-changed={}", source.display());
-        }
-        if !STAGES.contains(&ext) {
-            continue;
-        }
-        println!("cargo:rerun-if-changed={}", source.display());
-        let file_name = source.file_name().and_then(|n| n.to_str()).expect("utf-8 shader name");
-        let spv = out_dir.join(format!("{file_name}.spv"));
-        let dep = out_dir.join(format!("{file_name}.d"));
-        let output = Command::new(&glslang)
-            .arg("-V")
-            .args(["--target-env", "vulkan1.2"])
-            .arg("-g") // debug info: names in validation messages and captures
-            .arg(format!("-I{}", shader_dir.display()))
-            .arg("--depfile")
-            .arg(&dep)
-            .arg("-o")
-            .arg(&spv)
-            .arg(source)
-            .output();
-        let output = match output {
-            Ok(output) => output,
-            Err(e) if e.kind() == std::io::ErrorKind::NotFound => fail(
-                "glslangValidator not found: install the Debian package `glslang-tools` \
-                 (sudo apt-get install glslang-tools), or set GLSLANG_VALIDATOR",
-            ),
-            Err(e) => fail(&format!("cannot run {glslang}: {e}")),
-        };
-        if !output.status.success() {
-            // glslang prints its diagnostics on stdout ("ERROR: path:line: message").
-            let mut text = String::from_utf8_lossy(&output.stdout).into_owned();
-            text.push_str(&String::from_utf8_lossy(&output.stderr));
-            failures.push(format!("{}:\n{}", source.display(), text.trim_end()));
-            continue;
-        }
-        for include in depfile_inputs(&dep) {
-            println!("cargo:rerun-if-changed={}", include.display());
+            let ext = source.extension().and_then(|e| e.to_str()).unwrap_or("");
+            if !STAGES.contains(&ext) {
+                continue;
+            }
+            let relative = source.strip_prefix(&tree).expect("under its tree").to_str().expect("utf-8 shader path");
+            let text = std::fs::read_to_string(&source)
+                .unwrap_or_else(|e| fail(&format!("cannot read {}: {e}", source.display())));
+            let variants = variants(&text).unwrap_or_else(|e| fail(&format!("{}: {e}", source.display())));
+            for (profile, profile_define) in PROFILES {
+                let base = out_dir.join("spirv").join(profile).join(format!("{prefix}{relative}"));
+                let named = std::iter::once((None, Vec::new())).chain(variants.iter().map(|(n, d)| (Some(n), d.clone())));
+                for (name, mut defines) in named {
+                    defines.push(profile_define.to_owned());
+                    let spv = match name {
+                        Some(name) => PathBuf::from(format!("{}.{name}.spv", base.display())),
+                        None => PathBuf::from(format!("{}.spv", base.display())),
+                    };
+                    jobs.push(Job { source: source.clone(), spv, defines });
+                }
+            }
         }
     }
+
+    println!("cargo:rerun-if-env-changed=GLSLANG_VALIDATOR");
+    let glslang = std::env::var("GLSLANG_VALIDATOR").unwrap_or_else(|_| "glslangValidator".into());
+    let failures = Mutex::new(Vec::new());
+    let queue = Mutex::new(jobs.iter());
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get()).min(4);
+    std::thread::scope(|scope| {
+        for _ in 0..threads {
+            scope.spawn(|| loop {
+                let Some(job) = queue.lock().expect("queue").next() else { break };
+                if let Err(message) = compile(&glslang, &shader_dir, job) {
+                    failures.lock().expect("failures").push(message);
+                }
+            });
+        }
+    });
+    let mut failures = failures.into_inner().expect("failures");
     if !failures.is_empty() {
+        failures.sort();
+        failures.dedup();
         fail(&format!("shader compilation failed\n{}", failures.join("\n")));
     }
+}
+
+/// Every file under `dir`, sorted, folders first watched for new files (`cargo:rerun-if-changed`).
+fn walk(dir: &Path) -> Vec<PathBuf> {
+    let mut files = Vec::new();
+    let mut folders = vec![dir.to_path_buf()];
+    while let Some(folder) = folders.pop() {
+        println!("cargo:rerun-if-changed={}", folder.display());
+        let entries = std::fs::read_dir(&folder).unwrap_or_else(|e| fail(&format!("cannot read {}: {e}", folder.display())));
+        for entry in entries {
+            let path = entry.unwrap_or_else(|e| fail(&format!("cannot read {}: {e}", folder.display()))).path();
+            if path.is_dir() {
+                folders.push(path);
+            } else {
+                files.push(path);
+            }
+        }
+    }
+    files.sort();
+    files
+}
+
+/// The `// variant NAME: DEFINE DEFINE=VALUE ...` lines of a shader: (name, `-D` arguments).
+fn variants(text: &str) -> Result<Vec<(String, Vec<String>)>, String> {
+    let mut found: Vec<(String, Vec<String>)> = Vec::new();
+    for (index, line) in text.lines().enumerate() {
+        let Some(rest) = line.trim().strip_prefix("// variant ") else { continue };
+        let at = |why: &str| format!("line {}: {why}: `{line}`", index + 1);
+        let (name, defines) = rest.split_once(':').ok_or_else(|| at("a variant is `// variant NAME: DEFINES`"))?;
+        let name = name.trim();
+        if name.is_empty() || !name.chars().all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '_') {
+            return Err(at("a variant's name is lower-case letters, digits and `_`"));
+        }
+        let defines: Vec<String> = defines.split_whitespace().map(str::to_owned).collect();
+        let valid = |d: &String| {
+            let name = d.split_once('=').map_or(d.as_str(), |(n, _)| n);
+            !name.is_empty() && name.chars().all(|c| c.is_ascii_uppercase() || c.is_ascii_digit() || c == '_')
+        };
+        if defines.is_empty() || !defines.iter().all(valid) {
+            return Err(at("a variant defines one or more NAME or NAME=VALUE, names in upper case"));
+        }
+        if found.iter().any(|(n, _)| n == name) {
+            return Err(at("the variant is named twice"));
+        }
+        found.push((name.to_owned(), defines));
+    }
+    Ok(found)
+}
+
+/// Compile one job; the error is glslang's message with the shader's path.
+fn compile(glslang: &str, include_dir: &Path, job: &Job) -> Result<(), String> {
+    let parent = job.spv.parent().expect("spv in a folder");
+    std::fs::create_dir_all(parent).map_err(|e| format!("cannot create {}: {e}", parent.display()))?;
+    let dep = job.spv.with_extension("d");
+    let output = Command::new(glslang)
+        .arg("-V")
+        .args(["--target-env", "vulkan1.2"])
+        .arg("-g") // debug info: names in validation messages and captures
+        .arg(format!("-I{}", include_dir.display()))
+        .args(job.defines.iter().map(|d| format!("-D{d}")))
+        .arg("--depfile")
+        .arg(&dep)
+        .arg("-o")
+        .arg(&job.spv)
+        .arg(&job.source)
+        .output();
+    let output = match output {
+        Ok(output) => output,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => fail(
+            "glslangValidator not found: install the Debian package `glslang-tools` \
+             (sudo apt-get install glslang-tools), or set GLSLANG_VALIDATOR",
+        ),
+        Err(e) => return Err(format!("cannot run {glslang}: {e}")),
+    };
+    if !output.status.success() {
+        // glslang prints its diagnostics on stdout ("ERROR: path:line: message").
+        let mut text = String::from_utf8_lossy(&output.stdout).into_owned();
+        text.push_str(&String::from_utf8_lossy(&output.stderr));
+        return Err(format!("{} ({}):\n{}", job.source.display(), job.defines.join(" "), text.trim_end()));
+    }
+    for include in depfile_inputs(&dep) {
+        println!("cargo:rerun-if-changed={}", include.display());
+    }
+    Ok(())
 }
 
 /// Set `MEADOW_GIT_COMMIT` to the checked-out commit, and rebuild when it moves.
@@ -97,14 +196,24 @@ fn embed_git_commit(manifest: &Path) {
         }
     }
     // HEAD names a branch; a commit moves the branch's ref (loose or packed), not HEAD, so watch
-    // those too, or the embedded commit goes stale after the first build.
-    let git = manifest.join(".git");
-    println!("cargo:rerun-if-changed={}", git.join("HEAD").display());
-    println!("cargo:rerun-if-changed={}", git.join("packed-refs").display());
+    // those too, or the embedded commit goes stale after the first build. In a worktree, HEAD is
+    // in the worktree's git folder and the refs in the common one.
+    let git_path = |flag: &str| {
+        let out = Command::new("git").args(["rev-parse", flag]).current_dir(manifest).output().ok()?;
+        out.status.success().then(|| manifest.join(String::from_utf8_lossy(&out.stdout).trim()))
+    };
+    let (Some(git), Some(common)) = (git_path("--git-dir"), git_path("--git-common-dir")) else {
+        return;
+    };
+    // A missing file would re-run this script on every build: watch only those that exist.
+    let mut watched = vec![git.join("HEAD"), common.join("packed-refs")];
     if let Ok(head) = std::fs::read_to_string(git.join("HEAD")) {
         if let Some(reference) = head.trim().strip_prefix("ref: ") {
-            println!("cargo:rerun-if-changed={}", git.join(reference).display());
+            watched.push(common.join(reference));
         }
+    }
+    for path in watched.iter().filter(|p| p.is_file()) {
+        println!("cargo:rerun-if-changed={}", path.display());
     }
 }
 

@@ -1,4 +1,4 @@
-//! The parser of `shaders/shared.glsl` for `build.rs` (a module of its own so that
+//! The parser of `shaders/common/shared.glsl` for `build.rs` (a module of its own so that
 //! `tests/shader_sources.rs` can test it too).
 
 use std::path::Path;

@@ -117,7 +117,7 @@ fn the_drawn_terrain_follows_the_relief() {
     assert!(under.iter().all(|&p| p != sky), "from under the hill ({ground:.2} m) the terrain hides the sky");
 }
 
-/// The relief grid the GPU wrote (`shaders/relief_grid.comp`) is the relief at the grid's vertices
+/// The relief grid the GPU wrote (`shaders/terrain/relief_grid.comp`) is the relief at the grid's vertices
 /// near the camera and, past the morph band, the far chunks' coarse mesh: every odd vertex the
 /// mean of its coarse edge's or diagonal's even vertices (`render::field_gpu::terrain_morph`), so
 /// the coarse chunks meet the fine ones without cracks and the roots sit on them.

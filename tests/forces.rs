@@ -1,6 +1,8 @@
 //! Per-blade forces on the GPU (the vertex shader's `blade_force`) against the CPU reference,
 //! and the cluster-discretisation experiment of thesis fig. 4.7/4.8.
 
+#[path = "support/probes.rs"]
+mod probes;
 #[path = "support/compute.rs"]
 mod compute;
 
@@ -10,7 +12,6 @@ use ash::vk;
 use glam::{UVec4, Vec2, Vec4};
 use meadow::app::{with_device, GpuOptions};
 use meadow::render::animation;
-use meadow::render::shaders;
 use meadow::render::uniforms::FrameUniforms;
 use meadow::scene::clusters::{BladeCluster, ClusterGrid};
 use meadow::scene::{BladeInstance, Scene};
@@ -46,7 +47,7 @@ fn gpu_forces(device: &Arc<Device>, case: &Case) -> meadow::Result<(Vec<Vec2>, V
     let pipe = pipeline::compute(
         device,
         "blade forces",
-        shaders::BLADE_FORCES_COMP,
+        probes::BLADE_FORCES_COMP.code(device.profile),
         layout,
         &[0, 1, 0, 1, attenuation, 0, 0],
     )?;

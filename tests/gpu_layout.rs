@@ -1,5 +1,7 @@
 //! GPU tests of the shared data layout and of the validation harness itself.
 
+#[path = "support/probes.rs"]
+mod probes;
 #[path = "support/compute.rs"]
 mod compute;
 
@@ -9,7 +11,6 @@ use ash::vk;
 use glam::{Mat4, UVec4, Vec4};
 use meadow::app::{with_device, GpuOptions};
 use meadow::render::gpu_constants as gpu;
-use meadow::render::shaders;
 use meadow::render::specialization::{self, Specialization};
 use meadow::render::uniforms::FrameUniforms;
 use meadow::scene::{BladeInstance, Scene};
@@ -66,7 +67,7 @@ fn run_compute(
 fn read_back(device: &Arc<Device>, blades: &[BladeInstance]) -> meadow::Result<Vec<u32>> {
     let input = (vk::DescriptorType::STORAGE_BUFFER, bytemuck::cast_slice(blades));
     let groups = (blades.len() as u32).div_ceil(64);
-    run_compute(device, shaders::BLADE_READBACK_COMP, &[], input, 8 * blades.len(), groups)
+    run_compute(device, probes::BLADE_READBACK_COMP.code(device.profile), &[], input, 8 * blades.len(), groups)
 }
 
 #[test]
@@ -138,7 +139,7 @@ fn every_frame_uniform_and_specialization_constant_reads_back_through_a_compute_
     };
     let input = (vk::DescriptorType::UNIFORM_BUFFER, bytemuck::bytes_of(&uniforms));
     let (result, messages) = with_device(&options(), false, |device| {
-        run_compute(device, shaders::FRAME_READBACK_COMP, &spec.constants(), input, READBACK_WORDS, 1)
+        run_compute(device, probes::FRAME_READBACK_COMP.code(device.profile), &spec.constants(), input, READBACK_WORDS, 1)
     });
     let words = result.expect("readback ran");
     assert_eq!(messages, Some(0), "validation messages");

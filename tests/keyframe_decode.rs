@@ -2,6 +2,8 @@
 //! keyframe texture and uniform array, against the CPU decode of every encoding; and the decoded
 //! values against the generated poses, within each encoding's error bound.
 
+#[path = "support/probes.rs"]
+mod probes;
 #[path = "support/compute.rs"]
 mod compute;
 #[path = "support/frame_uniforms.rs"]
@@ -16,7 +18,6 @@ use meadow::app::{with_device, GpuOptions};
 use meadow::keyframes::encoding::{self as enc, Encoding, Packing};
 use meadow::keyframes::KeyframeTable;
 use meadow::render::animation::{AnimationSettings, KeyframeTexture, KeyframeUniforms};
-use meadow::render::shaders;
 use meadow::render::uniforms::FrameUniforms;
 use meadow::vk::descriptor::{self, Binding, Resource};
 use meadow::vk::upload::UploadBatch;
@@ -107,7 +108,7 @@ fn decode_on_gpu(device: &Arc<Device>, source: Source) -> meadow::Result<(Keyfra
     let pipe = pipeline::compute(
         device,
         "keyframe decode",
-        shaders::KEYFRAME_DECODE_COMP,
+        probes::KEYFRAME_DECODE_COMP.code(device.profile),
         layout,
         // constant_id 0: uniform array size, 1: mode (texture), 3: encoding or packing.
         &[KeyframeUniforms::capacity(device), 1, 0, source.code(), 0, 0, 0],

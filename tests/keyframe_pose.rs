@@ -1,10 +1,12 @@
-//! The GPU's keyframe selection and smoothing against the CPU's: `shaders/keyframe_pose.comp` runs
+//! The GPU's keyframe selection and smoothing against the CPU's: `tests/shaders/probes/keyframe_pose.comp` runs
 //! `kf_select` and `kf_level` (keyframes.glsl, as blade.vert and blade_pose.comp call them) on the
 //! renderer's own animation model — its keyframe texture (unorm16, the default), frame uniforms
 //! and specialization constants — for the pose-error report's forces, and every level is compared
 //! with `KeyframeTable::pose_for`, the code the report measures. Then report entries are
 //! recomputed from the GPU's poses: the report's numbers are those of the poses the renderer draws.
 
+#[path = "support/probes.rs"]
+mod probes;
 #[path = "support/compute.rs"]
 mod compute;
 #[path = "support/frame_uniforms.rs"]
@@ -21,7 +23,6 @@ use meadow::keyframes::pose::{self, Pose};
 use meadow::keyframes::pose_error::{self, ErrorStats, PoseErrorReport, SMOOTHINGS};
 use meadow::keyframes::{BladeModel, KeyframeLayout, KeyframeTable, Smoothing};
 use meadow::render::animation::{model, AnimationSettings, Eval, Mode};
-use meadow::render::shaders;
 use meadow::render::specialization::Specialization;
 use meadow::render::uniforms::FrameUniforms;
 use meadow::vk::descriptor::{self, Binding, Resource};
@@ -137,7 +138,7 @@ fn poses_on_gpu(device: &Arc<Device>, smoothing: Smoothing, forces: &[(f32, f32)
     let set_layout = descriptor::set_layout(device, "pose set layout", &bindings)?;
     let layout = pipeline::layout(device, "pose layout", &[set_layout, animation_layout], &[])?;
     let constants = specialization.constants();
-    let pipe = pipeline::compute(device, "keyframe pose", shaders::KEYFRAME_POSE_COMP, layout, &constants)?;
+    let pipe = pipeline::compute(device, "keyframe pose", probes::KEYFRAME_POSE_COMP.code(device.profile), layout, &constants)?;
     let (pool, sets) = descriptor::allocate_sets(device, "pose", set_layout, &bindings, 1)?;
     descriptor::write(
         device,

@@ -1,6 +1,8 @@
 //! Belyaev §2.3's Fresnel term: evaluated by the shader's own functions at read-back strip
 //! vertices and checked against the formula on the CPU, and shown to grow towards contour areas.
 
+#[path = "support/probes.rs"]
+mod probes;
 #[path = "support/compute.rs"]
 mod compute;
 
@@ -12,7 +14,6 @@ use ash::vk;
 use glam::Vec3;
 use meadow::app::{with_device, GpuOptions};
 use meadow::render::frame::look;
-use meadow::render::shaders;
 use meadow::scene::camera::Camera;
 use meadow::scene::{bezier, Scene};
 use meadow::vk::descriptor::{self, Binding, Resource};
@@ -56,7 +57,7 @@ fn probe(device: &Arc<Device>, scene: &Scene, camera: Vec3) -> meadow::Result<Ve
     let set_layout = descriptor::set_layout(device, "probe set layout", &bindings)?;
     let push = vk::PushConstantRange { stage_flags: vk::ShaderStageFlags::COMPUTE, offset: 0, size: 36 };
     let layout = pipeline::layout(device, "probe layout", &[set_layout], &[push])?;
-    let pipe = pipeline::compute(device, "fresnel probe", shaders::FRESNEL_PROBE_COMP, layout, &[])?;
+    let pipe = pipeline::compute(device, "fresnel probe", probes::FRESNEL_PROBE_COMP.code(device.profile), layout, &[])?;
     let (pool, sets) = descriptor::allocate_sets(device, "probe", set_layout, &bindings, 1)?;
     let resources = [&blades, &heights, &output].map(|b| Resource::Buffer(b.descriptor()));
     let writes: Vec<_> =
@@ -155,7 +156,7 @@ fn fresnel_term_grows_towards_contour_areas() {
 
 #[test]
 fn ks_is_the_shaders() {
-    let source = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/shaders/lighting.glsl")).unwrap();
+    let source = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/shaders/common/lighting.glsl")).unwrap();
     let declared = format!("const vec3 FRESNEL_KS = vec3({:.2}, {:.2}, {:.2});", KS[0], KS[1], KS[2]);
     assert!(source.contains(&declared), "lighting.glsl does not declare {declared}");
 }
@@ -203,7 +204,7 @@ fn float_probe(device: &Arc<Device>, name: &str, spirv: &[u8], values: usize, gr
 /// 16-segment model, strip after strip.
 fn height_six_probe(device: &Arc<Device>) -> meadow::Result<Vec<f32>> {
     let values = (1..=16).map(|s| s + 1).sum::<usize>();
-    float_probe(device, "height six probe", shaders::HEIGHT_SIX_PROBE_COMP, values, 1)
+    float_probe(device, "height six probe", probes::HEIGHT_SIX_PROBE_COMP.code(device.profile), values, 1)
 }
 
 #[test]
@@ -249,7 +250,7 @@ fn the_srgb_encoding_is_within_half_a_level_of_the_exact_curve() {
     const VALUES: usize = 4096; // SRGB_PROBE_VALUES of srgb_probe.comp
     let options = GpuOptions { validation: true, device: DeviceSelector::parse("llvmpipe") };
     let (result, messages) =
-        with_device(&options, false, |device| float_probe(device, "srgb probe", shaders::SRGB_PROBE_COMP, VALUES, 64));
+        with_device(&options, false, |device| float_probe(device, "srgb probe", probes::SRGB_PROBE_COMP.code(device.profile), VALUES, 64));
     let encoded = result.expect("probe");
     assert_eq!(messages, Some(0), "validation messages");
     let mut worst: f32 = 0.0;

@@ -108,14 +108,31 @@ fn unresolved(path: &[String]) -> Option<String> {
         .map(|item| format!("`{item}` is not defined in {}", file.strip_prefix(root()).unwrap_or(&file).display()))
 }
 
+/// Every file under `shaders/` and `tests/shaders/`, folders walked recursively.
 fn shader_sources() -> Vec<PathBuf> {
-    let mut files: Vec<PathBuf> = std::fs::read_dir(root().join("shaders"))
-        .expect("shaders/")
-        .map(|e| e.expect("entry").path())
-        .filter(|p| p.is_file())
-        .collect();
+    let mut files = Vec::new();
+    let mut folders = vec![root().join("shaders"), root().join("tests/shaders")];
+    while let Some(folder) = folders.pop() {
+        for entry in std::fs::read_dir(&folder).expect("shader folder") {
+            let path = entry.expect("entry").path();
+            if path.is_dir() {
+                folders.push(path);
+            } else {
+                files.push(path);
+            }
+        }
+    }
     files.sort();
     files
+}
+
+#[test]
+fn the_walk_reaches_every_folder_of_both_trees() {
+    let files = shader_sources();
+    let nested = |tree: &str| files.iter().filter(|f| f.strip_prefix(root().join(tree)).is_ok_and(|r| r.components().count() > 1)).count();
+    assert!(nested("shaders") >= 30, "library shaders in folders: {}", nested("shaders"));
+    assert!(nested("tests/shaders") >= 8, "test probes in folders: {}", nested("tests/shaders"));
+    assert!(files.iter().any(|f| f.ends_with("shaders/common/shared.glsl")));
 }
 
 #[test]
@@ -126,7 +143,7 @@ fn every_rust_path_cited_by_a_shader_or_build_script_comment_exists() {
     files.push(root().join("build/shared_glsl.rs"));
     let (mut checked, mut errors) = (0, Vec::new());
     for file in &files {
-        let is_shader = file.starts_with(root().join("shaders"));
+        let is_shader = file.starts_with(root().join("shaders")) || file.starts_with(root().join("tests/shaders"));
         for (line, comment) in comments(file) {
             for path in paths(&comment) {
                 let at =
@@ -192,7 +209,7 @@ fn float_constants_mirrored_from_rust_have_the_rust_values() {
 
 #[test]
 fn shared_glsl_generates_documented_constants() {
-    let path = root().join("shaders/shared.glsl");
+    let path = root().join("shaders/common/shared.glsl");
     let text = std::fs::read_to_string(&path).expect("shared.glsl");
     let rust = shared_glsl::rust_constants(&path, &text).expect("shared.glsl parses");
     assert!(rust.contains("pub const MAX_SEGMENTS: u32 = 16;"), "{rust}");

@@ -65,7 +65,7 @@ fn blade_count_and_segments_change_the_triangle_count() {
     assert!(stdout.contains("(18000 blades + "), "{stdout}");
 }
 
-/// Yellow to red: the cluster-bounds lines (`shaders/cluster_bounds.vert`), never grass or sky.
+/// Yellow to red: the cluster-bounds lines (`shaders/debug/cluster_bounds.vert`), never grass or sky.
 fn is_bounds_line([r, g, b]: [u8; 3]) -> bool {
     r > 180 && b < 90 && r > g
 }

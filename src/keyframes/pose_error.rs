@@ -7,7 +7,7 @@
 //!   the full circle, so every mirror quadrant).
 //! - Tables: `KeyframeTable::generate(&BladeModel::new(S), KeyframeLayout::for_poses(K))`, the
 //!   renderer's vertex table (`render::animation::KeyframeTexture::new`), read with `pose_for`, the
-//!   CPU mirror of `kf_select` + `kf_level` in `shaders/keyframes.glsl`, in f32 (the GPU reads
+//!   CPU mirror of `kf_select` + `kf_level` in `shaders/animation/keyframes.glsl`, in f32 (the GPU reads
 //!   the table through a 16- or 32-bit encoding: 4.4, its errors are reported apart;
 //!   `tests/keyframe_pose.rs` runs the shader's functions for these forces and compares).
 //! - Error of one pose: the largest distance between corresponding backbone points (levels

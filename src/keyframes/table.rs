@@ -1,7 +1,7 @@
 //! The keyframe table (thesis 3.2.3–3.2.6): poses indexed by force magnitude and by the angle
 //! between the force and the blade's normal, a quarter of them stored thanks to the mirror
 //! symmetry of fig. 3.8–3.9, and the selection and smoothing the vertex shader performs
-//! (`shaders/keyframes.glsl` mirrors `select` and `blend`).
+//! (`shaders/animation/keyframes.glsl` mirrors `select` and `blend`).
 
 use std::f32::consts::FRAC_PI_2;
 

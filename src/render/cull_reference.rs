@@ -1,4 +1,4 @@
-//! The cull's tests on the CPU (`shaders/cull.glsl`, same formulas in the same order, in `f32`):
+//! The cull's tests on the CPU (`shaders/cull/cull.glsl`, same formulas in the same order, in `f32`):
 //! the reference the tests hold the GPU's counts to. Not used when rendering.
 
 use glam::{Mat4, Vec2, Vec3, Vec4};
@@ -9,7 +9,7 @@ use crate::render::uniforms::FrameUniforms;
 use crate::scene::tiles::{ring_cell, BladeTile};
 use crate::scene::Scene;
 
-/// `EDGE_ON` of `shaders/cull.glsl`.
+/// `EDGE_ON` of `shaders/cull/cull.glsl`.
 const EDGE_ON: f32 = 0.97;
 
 /// What the cull keeps of `scene` with the frame's `uniforms` (`Renderer::frame_uniforms`).

@@ -39,7 +39,7 @@ pub fn far_field_distance(full_density_distance: f32, max_widening: f32) -> f32 
     full_density_distance * (max_widening * (1.0 - 0.5 * FADE_BAND) / A1 - 1.0).sqrt()
 }
 
-/// `A1` and `FADE_BAND` of `shaders/cull.glsl` (Belyaev's a1; the band of the kept fraction over
+/// `A1` and `FADE_BAND` of `shaders/cull/cull.glsl` (Belyaev's a1; the band of the kept fraction over
 /// which blades fade).
 pub const A1: f32 = 0.25;
 /// See `A1`.
@@ -210,7 +210,7 @@ impl Culling {
     }
 }
 
-/// What the cull did in one frame (`shaders/shared.glsl`, `STAT_*`).
+/// What the cull did in one frame (`shaders/common/shared.glsl`, `STAT_*`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct CullCounts {
     /// Blades drawn per LOD bucket.

@@ -79,7 +79,7 @@ pub fn terrain_step(view_distance: f32) -> f32 {
 /// Where the terrain grid's vertex 0 lies relative to O (O's cell `cell`), per axis: about half the
 /// grid before O's cell, on the world's lattice of `step`-metre cells, so the vertices stay put
 /// in the world when O moves by a block whatever the step (8 m cells, past 316 m of view
-/// distance, would otherwise move by 4 m at every other block). `shaders/field.glsl` reads it as
+/// distance, would otherwise move by 4 m at every other block). `shaders/common/field.glsl` reads it as
 /// `terrain_grid_offset`.
 pub fn terrain_grid_offset(cell: IVec2, step: f32) -> Vec2 {
     let base = 0.5 * f64::from(BLOCK_SIZE) - 0.5 * f64::from(gpu::FIELD_TERRAIN_CELLS) * f64::from(step);
@@ -92,7 +92,7 @@ pub fn terrain_grid_offset(cell: IVec2, step: f32) -> Vec2 {
 
 /// How far the drawn terrain over a block cell can rise or fall from the relief at the cell's
 /// centre, for terrain cells of `step` metres and a relief whose slope is at most `slope_bound`
-/// (`shaders/field.glsl`, `field_cell_bounds`, computes the same). The terrain interpolates the
+/// (`shaders/common/field.glsl`, `field_cell_bounds`, computes the same). The terrain interpolates the
 /// relief at the grid's vertices: with cells of at most half a block they lie in the block's
 /// square, within 0.7071 of its edge from the centre; coarser cells reach √2 (step − edge / 2)
 /// further.
@@ -103,7 +103,7 @@ pub fn cell_spread(slope_bound: f32, step: f32) -> f32 {
 /// Whether a block field's far terrain is drawn in cells of two grid steps
 /// (`render::terrain_chunks`): only when a block spans an even number of cells, so the coarse
 /// lattice (the grid's even vertices) stays put in the world as O moves by blocks. Mirrored in
-/// `shaders/field.glsl`.
+/// `shaders/common/field.glsl`.
 pub fn terrain_coarsens(step: f32) -> bool {
     2.0 * step <= BLOCK_SIZE
 }
@@ -113,7 +113,7 @@ pub fn terrain_coarsens(step: f32) -> bool {
 /// halves): 0 within `TERRAIN_MORPH_CELLS` of the grid's centre (Chebyshev), 1 from
 /// `TERRAIN_FINE_CELLS` on, where the coarse chunks begin, linear between (CDLOD's morph, by the
 /// grid's place rather than the camera's, so the grid is still a function of O's cell). Mirrors
-/// `shaders/relief_grid.comp`.
+/// `shaders/terrain/relief_grid.comp`.
 pub fn terrain_morph(v: glam::UVec2) -> f32 {
     let centre = (gpu::FIELD_TERRAIN_CELLS / 2) as i32;
     let d = (v.x as i32 - centre).abs().max((v.y as i32 - centre).abs());
@@ -121,7 +121,7 @@ pub fn terrain_morph(v: glam::UVec2) -> f32 {
     ((d - gpu::TERRAIN_MORPH_CELLS as i32) as f32 / band).clamp(0.0, 1.0)
 }
 
-/// The drawn terrain's height at grid vertex `v` (`shaders/relief_grid.comp` on the CPU): the
+/// The drawn terrain's height at grid vertex `v` (`shaders/terrain/relief_grid.comp` on the CPU): the
 /// relief there, an odd vertex slid by `terrain_morph` onto the mean of the two even vertices of
 /// the coarse edge or diagonal it halves. `origin` is O in the world, `offset` the grid's
 /// `terrain_grid_offset`.
@@ -141,7 +141,7 @@ pub fn drawn_vertex_height(relief: &field::Relief, origin: DVec2, offset: Vec2, 
 /// The edge of the drawn terrain's cells under a block cell whose centre lies at grid coordinates
 /// `g` (vertex units): the grid's `step`, or two steps where a vertex the cell's ground
 /// interpolates may have slid onto the coarse mesh (`terrain_morph`). `cell_spread` of it bounds
-/// the cell's roots. Mirrors `field_cell_bounds` in `shaders/field.glsl`.
+/// the cell's roots. Mirrors `field_cell_bounds` in `shaders/common/field.glsl`.
 pub fn drawn_step(step: f32, g: Vec2) -> f32 {
     let centre = (gpu::FIELD_TERRAIN_CELLS / 2) as f32;
     let d = (g - Vec2::splat(centre)).abs().max_element();
@@ -155,10 +155,10 @@ pub fn drawn_step(step: f32, g: Vec2) -> f32 {
 }
 
 /// `cell_spread`'s reach per metre of block edge inside the block's square: √½, rounded up
-/// (mirrored in `shaders/field.glsl`, checked by `tests/shader_sources.rs`).
+/// (mirrored in `shaders/common/field.glsl`, checked by `tests/shader_sources.rs`).
 pub const CELL_SPREAD_INSIDE: f32 = 0.7072;
 /// `cell_spread`'s further reach per metre of a coarse terrain cell past half a block: √2,
-/// rounded up (mirrored in `shaders/field.glsl`).
+/// rounded up (mirrored in `shaders/common/field.glsl`).
 pub const CELL_SPREAD_OUTSIDE: f32 = 1.4143;
 
 /// The grid of force corners around O (positions relative to O): the rings' cells and a cell
@@ -170,7 +170,7 @@ pub fn cluster_grid(view_distance: f32, cluster_size: f32) -> ClusterGrid {
 }
 
 /// The field's part of the frame's uniforms (FrameUniforms' field part, `terrain` and
-/// `params.z` re-read for a field as `shaders/common.glsl` says).
+/// `params.z` re-read for a field as `shaders/common/common.glsl` says).
 pub fn fill_uniforms(
     uniforms: &mut FrameUniforms,
     field: &Field,

@@ -60,7 +60,7 @@ pub fn supported_counts(device: &Device) -> Vec<u32> {
 
 /// Refuse a sample count the device does not support for the formats in use (bad input), and
 /// alpha to coverage where the samples are not at the standard locations its shader tests
-/// (`blade_coverage.frag`).
+/// (`blade.frag`, variant `coverage`).
 pub fn check(device: &Device, msaa: &Msaa) -> Result<()> {
     let supported = supported_counts(device);
     if supported.contains(&msaa.samples) {

@@ -21,7 +21,7 @@ use crate::vk::upload::UploadBatch;
 use crate::vk::{Access, Buffer, BufferDesc, Device, Image, ImageDesc, TexelView};
 
 /// Bytes of the `--eval blade` pose records: `segments + 1` records of `POSE_WORDS` words per
-/// blade (`shaders/bindings.glsl`).
+/// blade (`shaders/common/bindings.glsl`).
 pub fn pose_bytes(blades: u32, segments: u32) -> u64 {
     4 * u64::from(gpu_constants::POSE_WORDS) * u64::from(blades.max(1)) * u64::from(segments + 1)
 }
@@ -40,7 +40,7 @@ pub fn most_pose_records(device: &Device, segments: u32) -> u64 {
 }
 
 /// Bytes of the placed, lit levels of `records` drawn blades of `segments` segments
-/// (`shaders/blade_levels.comp`): `segments + 1` levels of `LEVEL_UVEC2S` uvec2 per record.
+/// (`shaders/blades/blade_levels.comp`): `segments + 1` levels of `LEVEL_UVEC2S` uvec2 per record.
 pub fn level_bytes(records: u32, segments: u32) -> u64 {
     8 * u64::from(gpu_constants::LEVEL_UVEC2S) * u64::from(records.max(1)) * u64::from(segments + 1)
 }
@@ -161,7 +161,7 @@ pub fn max_ring_slots(tiles: u32) -> u32 {
 }
 
 /// Bytes of `cull_alloc` for `slots` ring slots: the count pass's dispatch (4 words), each slot's
-/// first verdict, each slot's candidates, the listed slots (`shaders/cull_tiles.comp`).
+/// first verdict, each slot's candidates, the listed slots (`shaders/cull/cull_tiles.comp`).
 fn cull_alloc_bytes(slots: u32) -> u64 {
     4 * (4 + 3 * u64::from(slots))
 }
@@ -189,7 +189,7 @@ const VISIBLE_PADDING: u32 = gpu_constants::MAX_LOD_BUCKETS * (*BLADES_PER_INSTA
 pub const FIELD_VISIBLE: u32 = 1 << 22;
 
 /// Most verdicts of a block field's candidates in a frame (32 MiB): its slots take room for theirs
-/// each frame, and a slot finding none draws nothing (`shaders/cull_count.comp`).
+/// each frame, and a slot finding none draws nothing (`shaders/cull/cull_count.comp`).
 pub const FIELD_VERDICTS: u32 = 1 << 22;
 
 /// Verdicts `cull_results` holds for `scene`: one per stored blade, or `FIELD_VERDICTS`.
@@ -484,7 +484,7 @@ impl SceneGpu {
 }
 
 // The buckets' pose and levels dispatches follow their draws in `draws`, then the emit pass's
-// dispatch and its slots (`shaders/shared.glsl`).
+// dispatch and its slots (`shaders/common/shared.glsl`).
 const _: () =
     assert!(gpu_constants::BUCKET_DISPATCH_WORD == gpu_constants::DRAW_WORDS * gpu_constants::MAX_LOD_BUCKETS);
 const _: () =

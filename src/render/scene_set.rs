@@ -1,4 +1,4 @@
-//! Set `SET_SCENE`, which every scene pass binds: its binding numbers (`shaders/shared.glsl`),
+//! Set `SET_SCENE`, which every scene pass binds: its binding numbers (`shaders/common/shared.glsl`),
 //! descriptor types and stages (`bindings`), and how the upload leaves the blades for the graph
 //! (`BLADE_READS`). `render::scene_gpu` fills it with the scene's resources.
 
@@ -7,7 +7,7 @@ use ash::vk;
 use crate::vk::descriptor::Binding;
 use crate::vk::Access;
 
-/// Binding numbers of set 0, generated from `shaders/shared.glsl` (`BINDING_*`).
+/// Binding numbers of set 0, generated from `shaders/common/shared.glsl` (`BINDING_*`).
 pub mod binding {
     use crate::render::gpu_constants as gpu;
 
@@ -37,7 +37,7 @@ pub mod binding {
     pub const CULL_RESULTS: u32 = gpu::BINDING_CULL_RESULTS;
     /// A block field's room for verdicts.
     pub const CULL_ALLOC: u32 = gpu::BINDING_CULL_ALLOC;
-    /// `FrameUniforms` again, as the cull's passes read it: a storage buffer (shaders/bindings.glsl).
+    /// `FrameUniforms` again, as the cull's passes read it: a storage buffer (shaders/common/bindings.glsl).
     pub const FRAME_STORAGE: u32 = gpu::BINDING_FRAME_STORAGE;
     /// The depth pyramid (`PYRAMID_*`), as the occlusion test reads it: R32 texels (the
     /// depth-pyramid pass writes the buffer through its own set).

@@ -1,15 +1,15 @@
-//! Specialization constants of the scene pipelines (`shaders/common.glsl`, `bindings.glsl`): how
+//! Specialization constants of the scene pipelines (`shaders/common/common.glsl`, `bindings.glsl`): how
 //! the blades are animated is compiled into each pipeline, so a configuration pays only for its
 //! own path (llvmpipe, like most GPUs, runs both sides of a uniform branch as masked code).
 
 use crate::render::gpu_constants as gpu;
 
-/// `RENDER_FLAGS` bits, generated from `shaders/shared.glsl`.
+/// `RENDER_FLAGS` bits, generated from `shaders/common/shared.glsl`.
 pub use crate::render::gpu_constants::{
     FLAG_CLUSTER_PUSH, FLAG_CULLED, FLAG_DEBUG_FORCE, FLAG_DEBUG_LOD, FLAG_EVAL_BLADE,
 };
 
-/// Number of specialization constants, one per `SPEC_*` id of `shaders/shared.glsl`.
+/// Number of specialization constants, one per `SPEC_*` id of `shaders/common/shared.glsl`.
 pub const COUNT: usize = 15;
 
 /// The constants; each field's `constant_id` is the `SPEC_*` named in its doc (`Self::pairs`).
@@ -88,7 +88,7 @@ impl Specialization {
         }
     }
 
-    /// Every constant as `(constant_id, value)`, the ids generated from `shaders/shared.glsl`.
+    /// Every constant as `(constant_id, value)`, the ids generated from `shaders/common/shared.glsl`.
     pub fn pairs(&self) -> [(u32, u32); COUNT] {
         [
             (gpu::SPEC_KEYFRAME_UVEC4S, self.keyframe_uvec4s),
@@ -155,7 +155,7 @@ const fn dense(ids: &[u32; COUNT]) -> bool {
     true
 }
 
-const _: () = assert!(dense(&IDS), "the SPEC_* ids of shaders/shared.glsl must be 0..COUNT, each once");
+const _: () = assert!(dense(&IDS), "the SPEC_* ids of shaders/common/shared.glsl must be 0..COUNT, each once");
 
 #[cfg(test)]
 mod tests {

@@ -1,10 +1,10 @@
 //! The uniform block every pass reads (`FrameUniforms`, std140, mirrored in
-//! `shaders/common.glsl`), and the light and atmosphere it carries.
+//! `shaders/common/common.glsl`), and the light and atmosphere it carries.
 
 use bytemuck::{Pod, Zeroable};
 use glam::{IVec4, Mat4, UVec4, Vec3, Vec4};
 
-/// Per-frame constants, std140 (`shaders/common.glsl`, struct `FrameUniforms`).
+/// Per-frame constants, std140 (`shaders/common/common.glsl`, struct `FrameUniforms`).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct FrameUniforms {

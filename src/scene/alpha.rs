@@ -7,7 +7,7 @@
 pub const WIDTH: u32 = 64;
 /// Texture height (root to tip).
 pub const HEIGHT: u32 = 256;
-/// Alpha below which a fragment is discarded (must match `shaders/blade.frag`).
+/// Alpha below which a fragment is discarded (must match `shaders/blades/blade.frag`).
 pub const ALPHA_CUTOFF: f32 = 0.35;
 
 /// Half-width of the outline at height `v`, as a fraction of the quad width.
@@ -51,7 +51,7 @@ pub const ONE_SEGMENT_SHADE_TIP: f32 = 0.7780;
 const SOLID_INSET: f32 = ALPHA_CUTOFF * 0.22 - 0.06;
 
 /// The solid outline's width at height `t`, as a fraction of the quad width: where the
-/// alpha-tested outline passes the cutoff (`outline_width` in `shaders/blade_place.glsl`).
+/// alpha-tested outline passes the cutoff (`outline_width` in `shaders/blades/blade_place.glsl`).
 pub fn solid_width(t: f32) -> f32 {
     (2.0 * (half_width(t) - SOLID_INSET)).max(0.0)
 }

@@ -1,5 +1,5 @@
 //! Blade geometry (thesis 4.1): two parallel cubic Bézier splines; S segments give S quads.
-//! The vertex shader (`shaders/blade.glsl`) evaluates exactly these functions; the CPU copy is
+//! The vertex shader (`shaders/blades/blade.vert`) evaluates exactly these functions; the CPU copy is
 //! used by tests and, with keyframes, by the pose generator.
 
 use glam::Vec3;

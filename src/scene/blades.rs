@@ -14,9 +14,9 @@ pub const DENSITY_PER_M2: f32 = 400.0;
 pub const HEIGHT_RANGE: (f32, f32) = (0.25, TALLEST);
 /// Blade widths (metres).
 pub const WIDTH_RANGE: (f32, f32) = (0.008, WIDEST);
-/// The tallest blade (metres; shaders/field.glsl bounds a block field's cells with it).
+/// The tallest blade (metres; shaders/common/field.glsl bounds a block field's cells with it).
 pub const TALLEST: f32 = 0.55;
-/// The widest blade (metres; shaders/field.glsl bounds a block field's cells with it).
+/// The widest blade (metres; shaders/common/field.glsl bounds a block field's cells with it).
 pub const WIDEST: f32 = 0.016;
 /// Joint stiffness relative to the reference blade.
 pub const STIFFNESS_RANGE: (f32, f32) = (0.6, 1.4);
@@ -31,7 +31,7 @@ pub const ROOT_SINK: f32 = 0.01;
 pub const MAX_WIDENING: f32 = 12.0;
 
 /// One blade as stored in the blade storage buffer: 32 bytes, `std430`-compatible
-/// (`shaders/common.glsl`, struct `BladeInstance`).
+/// (`shaders/common/common.glsl`, struct `BladeInstance`).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct BladeInstance {

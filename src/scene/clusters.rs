@@ -7,7 +7,7 @@ use glam::Vec2;
 
 use crate::scene::BladeInstance;
 
-/// Per-blade interpolation record (`shaders/common.glsl`, `BladeCluster`): 8 bytes.
+/// Per-blade interpolation record (`shaders/common/common.glsl`, `BladeCluster`): 8 bytes.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
 pub struct BladeCluster {

@@ -19,7 +19,7 @@ pub const MAX_BLOCK_BLADES: u32 = 1 << 16;
 /// Sine waves of the relief.
 pub const WAVES: usize = 8;
 /// The world repeats every this many metres in x and z: the relief's waves have whole periods in
-/// it and the blocks' variations repeat (`shaders/field.glsl`, `cell_hash`). A field far from
+/// it and the blocks' variations repeat (`shaders/common/field.glsl`, `cell_hash`). A field far from
 /// the origin is then the same field, which is how the tests see that precision holds there.
 pub const WORLD_PERIOD: f32 = 1000.0;
 /// Cells in a world period.

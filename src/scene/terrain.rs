@@ -79,7 +79,7 @@ impl Terrain {
     }
 
     /// Surface normal at world (x, z): the gradient of the bilinear patch through the heights of
-    /// the cell the point lies in (`grid_terrain_normal` in shaders/terrain.glsl, which the
+    /// the cell the point lies in (`grid_terrain_normal` in shaders/terrain/terrain.glsl, which the
     /// blades' Fresnel term uses).
     pub fn normal_at(&self, x: f32, z: f32) -> glam::Vec3 {
         let ([h00, h10, h01, h11], fx, fz) = self.cell_at(x, z);

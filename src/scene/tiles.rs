@@ -15,7 +15,7 @@ pub const MIN_TILE_SIZE: f32 = 2.0;
 /// `maxComputeWorkGroupCount[0]` (65 535 on every device).
 pub const MAX_TILES_PER_SIDE: u32 = 64;
 
-/// One tile as the cull pass reads it (`shaders/common.glsl`, `BladeTile`): 32 bytes.
+/// One tile as the cull pass reads it (`shaders/common/common.glsl`, `BladeTile`): 32 bytes.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct BladeTile {
@@ -68,7 +68,7 @@ impl TileGrid {
     }
 
     /// Slots of the rings around tile `centre` that cover the whole grid: `(2R + 1)²` with R the
-    /// largest Chebyshev distance from `centre` to a tile (`shaders/cull.glsl`, `ring_cell`).
+    /// largest Chebyshev distance from `centre` to a tile (`shaders/cull/cull.glsl`, `ring_cell`).
     pub fn ring_slots(&self, centre: (u32, u32)) -> u32 {
         let far = |c: u32| c.max(self.tiles - 1 - c);
         let r = far(centre.0).max(far(centre.1));
@@ -78,7 +78,7 @@ impl TileGrid {
 
 /// Offset (dx, dz) of ring slot `slot` from the centre tile: slot 0 is the centre, ring r ≥ 1
 /// holds slots `(2r − 1)² .. (2r + 1)²`, walked along its four sides. The CPU twin of
-/// `ring_cell` in `shaders/cull.glsl`, so nearer rings come first: near-to-far order.
+/// `ring_cell` in `shaders/cull/cull.glsl`, so nearer rings come first: near-to-far order.
 pub fn ring_cell(slot: u32) -> (i32, i32) {
     if slot == 0 {
         return (0, 0);

@@ -61,6 +61,8 @@ pub struct Device {
     pub timestamp_valid_bits: u32,
     /// `subgroupSize` (Vulkan 1.1): how many invocations the device runs in lockstep.
     pub subgroup_size: u32,
+    /// The backend profile the shaders and the scene's bindings are built for (`MEADOW_PROFILE`).
+    pub profile: super::profile::Profile,
     /// The depth format of every depth attachment (reversed Z, also sampled by the depth
     /// pyramid): the first of [`DEPTH_FORMATS`] the device can attach and sample.
     pub depth_format: vk::Format,
@@ -209,6 +211,7 @@ impl Device {
             presenting(&instance, &mut candidates, surface)?;
         }
         let chosen = select(&candidates, &desc.selector, desc.swapchain)?;
+        let profile = super::profile::Profile::choose(&chosen.info.driver_name)?;
         let physical = chosen.raw;
         let queue_family = chosen.queue_family.expect("usable devices have a queue family");
 
@@ -276,6 +279,7 @@ impl Device {
                 hidden => families[queue_family as usize].timestamp_valid_bits.min(hidden.timestamp_bits.unwrap_or(64)),
             },
             subgroup_size,
+            profile,
             depth_format,
             allocator: ManuallyDrop::new(Mutex::new(allocator)),
         };

@@ -15,6 +15,7 @@ pub mod live;
 pub mod multisample;
 pub mod physical;
 pub mod pipeline;
+pub mod profile;
 pub mod query;
 pub mod swapchain;
 pub mod sync;

@@ -50,7 +50,7 @@ pub enum Eval {
     #[default]
     Vertex,
     /// Once per blade in a compute pass that evaluates every level (point, tangent, twist) into
-    /// records the vertex shader reads (`shaders/blade_pose.comp`).
+    /// records the vertex shader reads (`shaders/animation/blade_pose.comp`).
     Blade,
 }
 
@@ -157,7 +157,7 @@ pub fn emitters(wind: &Wind, time: f32) -> Vec<Vec4> {
     out
 }
 
-/// The force the vertex shader computes for a blade (`shaders/forces.glsl`), on the CPU: the
+/// The force the vertex shader computes for a blade (`shaders/animation/forces.glsl`), on the CPU: the
 /// reference for GPU read-back tests.
 pub fn blade_force(
     grid: &ClusterGrid,

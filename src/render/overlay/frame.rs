@@ -4,7 +4,7 @@
 //! frame is prepared (`OverlayGpu::prepare`), after the slot's fence: its previous use of these
 //! buffers and of the set has finished.
 //!
-//! Vertices are pulled from a storage buffer (the project's style, `shaders/overlay.vert`), five
+//! Vertices are pulled from a storage buffer (the project's style, `shaders/overlay/overlay.vert`), five
 //! words each, written field by field from egui's `Vertex` (so neither its layout nor its
 //! `bytemuck` feature matters); the meshes share one index buffer and one vertex buffer per
 //! frame, each draw at its own first index and vertex offset.
@@ -17,7 +17,7 @@ use crate::render::overlay::textures::Textures;
 use crate::vk::descriptor::{self, Resource as Descriptor};
 use crate::vk::{Buffer, BufferDesc, Device};
 
-/// 32-bit words of one vertex in the storage buffer (`shaders/overlay.vert`).
+/// 32-bit words of one vertex in the storage buffer (`shaders/overlay/overlay.vert`).
 pub const VERTEX_WORDS: usize = 5;
 /// The smallest buffer made (then doubled as needed).
 const MIN_BUFFER_BYTES: u64 = 64 << 10;

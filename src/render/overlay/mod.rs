@@ -108,8 +108,8 @@ impl OverlayGpu {
             device,
             &pipeline::GraphicsDesc {
                 name: "overlay",
-                vertex: shaders::OVERLAY_VERT,
-                fragment: shaders::OVERLAY_FRAG,
+                vertex: shaders::OVERLAY_VERT.code(device.profile),
+                fragment: shaders::OVERLAY_FRAG.code(device.profile),
                 topology: vk::PrimitiveTopology::TRIANGLE_LIST,
                 // egui's winding is not consistent.
                 cull: vk::CullModeFlags::NONE,

@@ -1,5 +1,5 @@
 //! egui's textures on the GPU, by `egui::TextureId`: the images (`R8G8B8A8_UNORM`, egui's
-//! gamma-space sRGB bytes as they are, see `shaders/overlay.frag`), one descriptor set each
+//! gamma-space sRGB bytes as they are, see `shaders/overlay/overlay.frag`), one descriptor set each
 //! (its own small pool: a replaced texture's set is freed with it, behind the frames that may
 //! still bind it), the samplers egui's `TextureOptions` ask for, and the copies and frees
 //! waiting for a frame.

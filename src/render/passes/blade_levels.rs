@@ -2,7 +2,7 @@
 //! entry of the cull's visible list, that places each drawn blade's strip levels in the world and
 //! lights them once — the blade's record, a block field's placement, the terrain normal, Belyaev's
 //! lighting, the fog — so the blade pass's vertex shader only widens and projects them
-//! (`shaders/blade_levels.comp`). llvmpipe runs vertex shaders on one thread and compute on all of
+//! (`shaders/blades/blade_levels.comp`). llvmpipe runs vertex shaders on one thread and compute on all of
 //! them; the work also drops from once per strip vertex to once per level. It reads the model's
 //! pose records (whatever model wrote them) and writes `PerBlade::levels`; the graph orders it
 //! after the pose pass and before the blade pass, and this frame's write after the previous
@@ -41,7 +41,7 @@ impl BladeLevelsPass {
         let Some(buckets) = setup.buckets else {
             return Err(crate::error::Error::Internal("the blade levels pass needs the cull's visible list".into()));
         };
-        let (name, spirv) = ("blade levels", shaders::BLADE_LEVELS_COMP);
+        let (name, spirv) = ("blade levels", shaders::BLADE_LEVELS_COMP.code(device.profile));
         let constants = (setup.constants, buckets);
         Ok(Self {
             buckets: BucketDispatch::new(device, name, spirv, setup.layout, constants, scene.draws.raw)?,

@@ -1,7 +1,7 @@
 //! Blade-pose pass (`--eval blade`): a compute dispatch, one invocation per blade, that does the
 //! animation once per blade instead of once per vertex — force, keyframe selection, the blend of
 //! every level — and writes each level's point, tangent and twist (12 bytes) for the blade pass
-//! (`shaders/blade_pose.comp`, `render::scene_gpu::pose_bytes`). Its records are written here
+//! (`shaders/animation/blade_pose.comp`, `render::scene_gpu::pose_bytes`). Its records are written here
 //! and read by the blade pass's vertex shader; the graph orders the two, and this frame's write
 //! after the previous frame's reads. With the cull it runs after it, indirectly, over the
 //! visible list, one dispatch per LOD bucket (`passes::bucket_dispatch`): each drawn blade once,
@@ -40,7 +40,7 @@ impl BladePosePass {
     /// Build the pipeline on the scene's pipeline layout, writing the records of `set`.
     pub fn new(device: &Device, setup: &PassSetup, set: &AnimationSet) -> Result<Self> {
         let scene = setup.scene;
-        let (name, spirv) = ("blade poses", shaders::BLADE_POSE_COMP);
+        let (name, spirv) = ("blade poses", shaders::BLADE_POSE_COMP.code(device.profile));
         let dispatch = match setup.buckets {
             Some(buckets) => {
                 let constants = (setup.constants, buckets);

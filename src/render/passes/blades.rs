@@ -128,7 +128,7 @@ impl BladePass {
     }
 
     /// The blade pipeline (two-sided blades: no culling) for `constants`. With alpha to coverage
-    /// (`--msaa`), an alpha-tested outline is shaded by `blade_coverage.frag`, which writes the
+    /// (`--msaa`), an alpha-tested outline is shaded by `blade.frag`'s variant `coverage`, which writes the
     /// outline's coverage of each sample as the sample mask; an outline drawn as geometry has no
     /// alpha test to replace.
     fn pipeline(
@@ -144,8 +144,8 @@ impl BladePass {
             device,
             &pipeline::GraphicsDesc {
                 name,
-                vertex: shaders::BLADE_VERT,
-                fragment: if per_sample { shaders::BLADE_COVERAGE_FRAG } else { shaders::BLADE_FRAG },
+                vertex: shaders::BLADE_VERT.code(device.profile),
+                fragment: if per_sample { shaders::BLADE_COVERAGE_FRAG.code(device.profile) } else { shaders::BLADE_FRAG.code(device.profile) },
                 topology,
                 cull: vk::CullModeFlags::NONE,
                 polygon: target.polygon,

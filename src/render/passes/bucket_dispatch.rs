@@ -1,7 +1,7 @@
 //! The per-blade compute passes after the cull (blade poses, blade levels) as one indirect
 //! dispatch per LOD bucket, each with its pipeline specialised for the bucket's segments
 //! (`SEGMENTS`): a bucket's blades then write the levels its strip reads and no more, with no
-//! loop or branch on a segment count that varies across the SIMD lanes (`shaders/visible_buckets.glsl`).
+//! loop or branch on a segment count that varies across the SIMD lanes (`shaders/blades/visible_buckets.glsl`).
 //! The cull's scan writes each bucket's dispatch at `BUCKET_DISPATCH_WORD` of its `draws`; an
 //! empty bucket dispatches no workgroup.
 

@@ -1,6 +1,6 @@
 //! Cluster-bounds debug view (`--debug-view bounds`): the edges of every force cluster (thesis
 //! 3.2.2) drawn as lines over the finished picture, each corner coloured by this frame's force
-//! there (`shaders/cluster_bounds.vert`). A pass of its own pipeline layout (set 0 and a push
+//! there (`shaders/debug/cluster_bounds.vert`). A pass of its own pipeline layout (set 0 and a push
 //! constant with the grid), added to the graph with one line.
 
 use ash::vk;
@@ -50,8 +50,8 @@ impl ClusterBoundsPass {
             device,
             &pipeline::GraphicsDesc {
                 name: "cluster bounds",
-                vertex: shaders::CLUSTER_BOUNDS_VERT,
-                fragment: shaders::CLUSTER_BOUNDS_FRAG,
+                vertex: shaders::CLUSTER_BOUNDS_VERT.code(device.profile),
+                fragment: shaders::CLUSTER_BOUNDS_FRAG.code(device.profile),
                 topology: vk::PrimitiveTopology::LINE_LIST,
                 cull: vk::CullModeFlags::NONE,
                 polygon: vk::PolygonMode::FILL,

@@ -1,6 +1,6 @@
-//! Depth pyramid (Hi-Z) pass (`shaders/hiz.comp`): after the terrain, one dispatch reduces this
+//! Depth pyramid (Hi-Z) pass (`shaders/depth_pyramid/hiz.comp`): after the terrain, one dispatch reduces this
 //! frame's depth to three levels of farthest depth over the picture, which the cull tests tiles
-//! and blades against (`CULL_OCCLUSION`, `shaders/cull.glsl`). It reads the target's depth image
+//! and blades against (`CULL_OCCLUSION`, `shaders/cull/cull.glsl`). It reads the target's depth image
 //! (sampled, then back to an attachment for the blades: the graph's barriers), so its set, one
 //! per frame in flight, is pointed at the depth view of the frame being recorded: that set's
 //! previous use ended with the slot's fence.
@@ -36,7 +36,7 @@ impl DepthPyramidPass {
     /// samples per pixel (`--msaa`), of which it takes the farthest (`hiz_ms.comp`).
     pub fn new(device: &Device, scene: &SceneGpu, frames: usize, multisampled: bool) -> Result<Self> {
         let sets = FrameSets::new(device, "depth pyramid", &bindings(), frames)?;
-        let shader = if multisampled { shaders::HIZ_MS_COMP } else { shaders::HIZ_COMP };
+        let shader = if multisampled { shaders::HIZ_MS_COMP.code(device.profile) } else { shaders::HIZ_COMP.code(device.profile) };
         match pipeline::compute(device, "depth pyramid", shader, sets.layout, &[]) {
             Ok(pipeline) => Ok(Self { pipeline, sets, pyramid: scene.depth_pyramid.descriptor() }),
             Err(e) => {

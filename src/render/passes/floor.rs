@@ -72,8 +72,8 @@ impl FloorPass {
             device,
             &pipeline::GraphicsDesc {
                 name: "floor",
-                vertex: shaders::FLOOR_VERT,
-                fragment: shaders::FLOOR_FRAG,
+                vertex: shaders::FLOOR_VERT.code(device.profile),
+                fragment: shaders::FLOOR_FRAG.code(device.profile),
                 topology: vk::PrimitiveTopology::TRIANGLE_LIST,
                 cull: vk::CullModeFlags::NONE,
                 polygon: target.polygon,

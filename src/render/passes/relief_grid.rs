@@ -1,6 +1,6 @@
 //! Relief-grid pass (a block field's): one compute dispatch, first in the frame, that evaluates the
 //! relief (a sum of sine waves, `scene::field::Relief`) at every vertex of the terrain grid around
-//! O, height and normal (`shaders/relief_grid.comp`). The terrain pass draws the grid from it, the
+//! O, height and normal (`shaders/terrain/relief_grid.comp`). The terrain pass draws the grid from it, the
 //! cull's count pass sets each candidate's root on it, and the blades' lighting takes the terrain
 //! normal under each root from it: a texel fetch per corner instead of the relief's eight waves
 //! per terrain vertex, candidate root and drawn blade. Writes `SceneGpu::relief_grid`; the graph
@@ -70,7 +70,7 @@ impl ReliefGridPass {
         let Some(grid) = scene.relief_grid_read() else {
             return Ok(None);
         };
-        let pipeline = pipeline::compute(device, "relief grid", shaders::RELIEF_GRID_COMP, layout, constants)?;
+        let pipeline = pipeline::compute(device, "relief grid", shaders::RELIEF_GRID_COMP.code(device.profile), layout, constants)?;
         Ok(Some(Self { pipeline, layout, grid, written: Cell::new(None) }))
     }
 }

@@ -34,8 +34,8 @@ impl ResolvePass {
             device,
             &pipeline::GraphicsDesc {
                 name: "resolve",
-                vertex: shaders::RESOLVE_VERT,
-                fragment: shaders::RESOLVE_FRAG,
+                vertex: shaders::RESOLVE_VERT.code(device.profile),
+                fragment: shaders::RESOLVE_FRAG.code(device.profile),
                 topology: vk::PrimitiveTopology::TRIANGLE_LIST,
                 cull: vk::CullModeFlags::NONE,
                 polygon: vk::PolygonMode::FILL,

@@ -50,8 +50,8 @@ impl TerrainPass {
             device,
             &pipeline::GraphicsDesc {
                 name: "terrain",
-                vertex: shaders::TERRAIN_VERT,
-                fragment: shaders::TERRAIN_FRAG,
+                vertex: shaders::TERRAIN_VERT.code(device.profile),
+                fragment: shaders::TERRAIN_FRAG.code(device.profile),
                 topology: vk::PrimitiveTopology::TRIANGLE_LIST,
                 cull: vk::CullModeFlags::NONE,
                 polygon: target.polygon,

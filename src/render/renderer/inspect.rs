@@ -6,7 +6,7 @@ use crate::error::Result;
 use crate::vk::{commands, sync, Access, Buffer, BufferDesc};
 
 impl Renderer {
-    /// A block field's relief grid as the relief-grid pass last wrote it (`shaders/relief_grid.comp`):
+    /// A block field's relief grid as the relief-grid pass last wrote it (`shaders/terrain/relief_grid.comp`):
     /// per vertex of the `(FIELD_TERRAIN_CELLS + 1)²` grid, row by row, the drawn terrain's height
     /// and the relief's normal; empty for a stored field. Call it between frames (after
     /// `render_offscreen`, which waits): it copies the buffer and waits for the copy.

@@ -1,4 +1,4 @@
-//! Cull step 2 (`shaders/cull_count.comp`): one workgroup per ring slot the tiles pass listed
+//! Cull step 2 (`shaders/cull/cull_count.comp`): one workgroup per ring slot the tiles pass listed
 //! (its indirect dispatch) runs the tile tests again and the blade tests, and writes the slot's
 //! counts per LOD bucket and after each test, and each candidate's verdict. Reads the scene and
 //! the tiles pass's list and room, writes the slot counts and the verdicts.
@@ -26,5 +26,5 @@ pub fn pass(device: &Device, setup: &CullSetup, scene: &SceneGpu) -> Result<Cull
     // A block field's roots sit on the relief grid.
     uses.extend(scene.relief_grid_read().map(|grid| (grid, Access::ComputeShaderSampledRead)));
     let groups = Groups::Indirect(scene.cull_alloc.raw, 0);
-    CullStep::new(device, ("cull count", shaders::CULL_COUNT_COMP), setup, uses, groups)
+    CullStep::new(device, ("cull count", shaders::CULL_COUNT_COMP.code(device.profile)), setup, uses, groups)
 }

@@ -1,4 +1,4 @@
-//! Cull step 4 (`shaders/cull_emit.comp`): one workgroup per ring slot that draws (the scan
+//! Cull step 4 (`shaders/cull/cull_emit.comp`): one workgroup per ring slot that draws (the scan
 //! lists them and writes the indirect dispatch) reads the count pass's
 //! verdicts and writes each drawn blade (its index and its LOD fade and widening) into the
 //! visible list at its bucket's base plus its slot's offset plus its rank in the slot: the same
@@ -27,6 +27,6 @@ pub fn pass(device: &Device, setup: &CullSetup, scene: &SceneGpu) -> Result<Cull
         (scene.visible.raw, Access::ComputeShaderWrite),
     ];
     let groups = Groups::Indirect(scene.draws.raw, gpu::EMIT_DISPATCH_WORD);
-    let step = CullStep::new(device, ("cull emit", shaders::CULL_EMIT_COMP), setup, uses, groups)?;
+    let step = CullStep::new(device, ("cull emit", shaders::CULL_EMIT_COMP.code(device.profile)), setup, uses, groups)?;
     Ok(step)
 }

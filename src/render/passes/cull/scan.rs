@@ -1,4 +1,4 @@
-//! Cull step 3 (`shaders/cull_scan.comp`): one workgroup turns the slot counts into offsets (a
+//! Cull step 3 (`shaders/cull/cull_scan.comp`): one workgroup turns the slot counts into offsets (a
 //! prefix sum in slot order, near to far), writes one indirect draw per LOD bucket, the pose and
 //! levels passes' indirect dispatch, the list of slots that draw with the emit pass's indirect
 //! dispatch over them, and the frame's counts into the frame's host-visible buffer (read after
@@ -19,7 +19,7 @@ pub fn pass(device: &Device, setup: &CullSetup, scene: &SceneGpu) -> Result<Cull
         // The padding of each bucket's last instance.
         (scene.visible.raw, Access::ComputeShaderWrite),
     ];
-    let mut step = CullStep::new(device, ("cull scan", shaders::CULL_SCAN_COMP), setup, uses, Groups::One)?;
+    let mut step = CullStep::new(device, ("cull scan", shaders::CULL_SCAN_COMP.code(device.profile)), setup, uses, Groups::One)?;
     // Each frame's host-visible counts, by frame slot.
     step.per_frame = setup.frame_stats.clone();
     Ok(step)

@@ -1,4 +1,4 @@
-//! Cull step 1 (`shaders/cull_tiles.comp`): one workgroup runs the tile tests of every ring slot
+//! Cull step 1 (`shaders/cull/cull_tiles.comp`): one workgroup runs the tile tests of every ring slot
 //! (frustum, distance, occlusion, the density LOD's prefix), writes the counts of the slots
 //! without candidates, and lists the others near to far with the count pass's indirect dispatch
 //! and, in a block field, each one's room for verdicts (a prefix sum: no atomics, no counter).
@@ -22,5 +22,5 @@ pub fn pass(device: &Device, setup: &CullSetup, scene: &SceneGpu) -> Result<Cull
         (scene.cull_alloc.raw, read),
         (scene.cull_alloc.raw, Access::ComputeShaderWrite),
     ];
-    CullStep::new(device, ("cull tiles", shaders::CULL_TILES_COMP), setup, uses, Groups::One)
+    CullStep::new(device, ("cull tiles", shaders::CULL_TILES_COMP.code(device.profile)), setup, uses, Groups::One)
 }

@@ -1,0 +1,114 @@
+// Shared GPU data layout. The Rust mirrors are `render::uniforms::FrameUniforms` and
+// `scene::blades::BladeInstance`; their sizes and offsets are asserted at compile time in Rust and
+// read back through `blade_readback.comp` in the tests.
+#ifndef MEADOW_COMMON_GLSL
+#define MEADOW_COMMON_GLSL
+#include "common/shared.glsl"
+
+// Per-frame constants (std140, 544 bytes).
+struct FrameUniforms {
+    mat4 view_proj;         // world -> clip (reversed infinite Z, Vulkan y down)
+    vec4 camera_position;   // xyz eye, w simulation time (s)
+    vec4 sun_direction;     // xyz unit vector towards the sun, w unused
+    vec4 sky_color;         // rgb linear sky, w fog density (1/m)
+    vec4 terrain;           // x grid origin (x = z), y cell size (m), zw unused; a block field: x cell edge, y cluster edge, zw grid offset
+    uvec4 params;           // x segments, y blade count, z terrain cells per side, w unused
+    uvec4 keyframes;        // x magnitudes, y angles, z point sources, w cluster corners per side
+    uvec4 keyframe_shape;   // x records per pose, y colliders (emitters after the sources), zw unused
+    mat4 cull_view_proj;    // world -> clip of the culling camera (the view's, or a frozen one)
+    vec4 cull_eye;          // xyz culling camera position, w pixels per metre at 1 m (viewport height / (2 tan(fov_y / 2)))
+    vec4 lod;               // x view distance (m), y full-density distance (m, LOD scale applied), z pixels per segment (LOD scale applied), w largest widening
+    vec4 tile_grid;         // x origin (x = z), y tile edge (m), z and w the view's projection P00 and P11 (occlusion)
+    uvec4 cull_tiles;       // x tiles per side (a block field: verdicts cull_results holds), y ring slots, z centre tile x, w centre tile z
+    uvec4 cull_lod;         // x LOD buckets, y their segment counts minus 1 (4 bits each, bucket 0 lowest), z CULL_* / LOD_* bits, w entries of the visible list
+    // Block fields: positions are relative to an origin O, the corner of the block cell under
+    // the camera (the camera, the view matrix and the emitters too).
+    vec4 relief_waves[RELIEF_WAVES]; // xy wave vector (2π / wavelength), z amplitude, w unused
+    vec4 relief_phases[RELIEF_WAVES / 2u]; // sin, cos of u_k · O + φ_k, two waves per vec4
+    ivec4 field_cells;      // xy O's cell, z cells of a bounded field per side (0: unbounded), w unused
+    vec4 field;             // x block edge (m), y relief slope bound, zw the force corners' origin relative to O
+};
+
+
+// How the blades are animated is fixed per pipeline by specialization constants, not read from
+// uniforms: llvmpipe (and most GPUs) compile a uniform branch into masked code that pays for every
+// path, so each configuration gets its own pipeline with the other paths compiled out.
+// `render::specialization::Specialization` fills them; the ids and codes are in shared.glsl.
+layout(constant_id = SPEC_ANIMATION_MODE) const uint ANIMATION_MODE = MODE_STATIC;
+layout(constant_id = SPEC_SMOOTHING) const uint SMOOTHING = 0u;
+layout(constant_id = SPEC_KEYFRAME_ENCODING) const uint KEYFRAME_ENCODING = 1u;
+layout(constant_id = SPEC_ATTENUATION) const uint ATTENUATION = ATTENUATION_CLUSTER;
+layout(constant_id = SPEC_REPRESENTATION) const uint REPRESENTATION = REPRESENTATION_LEVELS;
+layout(constant_id = SPEC_RENDER_FLAGS) const uint RENDER_FLAGS = 0u; // FLAG_* bits
+// Blade geometry (`scene::bezier::Batching`): with constants, the vertex shader's divisions by
+// the strip length become multiplications, and one blade per instance needs none at all.
+// Arrays of levels are sized by MAX_SEGMENTS + 1, never by SEGMENTS.
+layout(constant_id = SPEC_SEGMENTS) const uint SEGMENTS = 4u;
+layout(constant_id = SPEC_BLADES_PER_INSTANCE) const uint BLADES_PER_INSTANCE = 1u;
+layout(constant_id = SPEC_ENCODE_SRGB) const uint ENCODE_SRGB = 1u;
+layout(constant_id = SPEC_MODEL_SEGMENTS) const uint MODEL_SEGMENTS = 4u;
+
+// Model level m0 below strip level `level` of a `segments`-segment strip, and how far towards
+// m0 + 1 it lies (0 when `segments` divides MODEL_SEGMENTS). The pose pass writes, and the levels
+// pass and blade.vert read, the model levels this names.
+uint model_level(uint level, uint segments, out float frac) {
+    if ((MODEL_SEGMENTS % segments) == 0u) {
+        frac = 0.0;
+        return level * (MODEL_SEGMENTS / segments);
+    }
+    float at = float(level * MODEL_SEGMENTS) / float(segments);
+    frac = at - floor(at);
+    return uint(at);
+}
+// Invocations of the cull's count and emit workgroups (one per ring slot, or per slot that draws): the device's
+// subgroup size (`render::passes::cull::workgroup_size`), so a slot's tile tests run once per subgroup;
+// on llvmpipe a 64-wide group ran them 8 times and cost 13 ms more at 1M blades.
+layout(constant_id = SPEC_CULL_GROUP) const uint CULL_GROUP = 64u;
+layout(constant_id = SPEC_MSAA_SAMPLES) const uint MSAA_SAMPLES = 1u;
+// With the solid outline (a LOD bucket's pipeline, `render::passes::bucket_dispatch::bucket_constants`):
+// the strip of SEGMENTS segments widened to cover the alpha-tested outline's area, and its l^6
+// scaled so its area-weighted mean is brute force's (`scene::alpha`).
+layout(constant_id = SPEC_STRIP_AREA) const float STRIP_AREA = 1.0;
+layout(constant_id = SPEC_STRIP_L6) const float STRIP_L6 = 1.0;
+// Brute force draws strips, joined by repeating a strip's first and last vertices. With the cull
+// (FLAG_CULLED), the LOD buckets draw indexed triangle lists instead (`scene::bezier::BladeMesh`):
+// no joins, and a blade whose outline is geometry (FLAG_SOLID_OUTLINE: zero width at the tip)
+// ends in one tip vertex, its top segment one triangle.
+const uint TIP_VERTICES = (RENDER_FLAGS & FLAG_SOLID_OUTLINE) != 0u ? 1u : 2u;
+const uint STRIP_LEAD = (RENDER_FLAGS & FLAG_CULLED) == 0u && BLADES_PER_INSTANCE > 1u ? 1u : 0u; // repeats of a strip's first vertex
+const uint STRIP_STRIDE = (RENDER_FLAGS & FLAG_CULLED) != 0u
+    ? 2u * SEGMENTS + TIP_VERTICES
+    : 2u * (SEGMENTS + 1u) + 2u * STRIP_LEAD; // vertices per blade
+
+// Triangles of one blade of `segments` segments in a LOD bucket's list (a collapsed tip has one).
+uint bucket_blade_triangles(uint segments) {
+    return 2u * segments - (2u - TIP_VERTICES);
+}
+
+// Per-blade cluster record (std430, 8 bytes): eq. 3.7 weights precomputed.
+struct BladeCluster {
+    uint corner;            // corner of the cluster with the smallest x and z
+    uint weights;           // unorm8 x4: (x0,z0) (x1,z0) (x0,z1) (x1,z1)
+};
+
+// One blade (std430, 32 bytes).
+struct BladeInstance {
+    vec3 position;          // root, world space
+    float facing;           // radians about +y; normal = (sin, 0, cos)
+    float height;           // backbone length (m)
+    float width;            // m
+    float stiffness;        // relative joint stiffness
+    uint variation;         // unorm8 x4: hue, brightness, lean, spare (the debug view's force in blade.frag)
+};
+
+// One tile of blades (std430, 32 bytes, `scene::tiles::BladeTile`).
+struct BladeTile {
+    vec3 min;               // bounds of every blade of the tile in any pose
+    uint first;             // first blade
+    vec3 max;
+    uint count;             // blades
+};
+
+const float PI = 3.14159265;
+
+#endif

@@ -1,0 +1,146 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// Cull, step 3 of 4: one workgroup turns the per-slot bucket counts into offsets (an exclusive
+// prefix sum over the slots, in slot order: near to far), writes one indirect draw per LOD bucket
+// (its instances are bucket b's blades, from firstInstance = the blades of the buckets before it)
+// and the blade-pose and levels passes' indirect dispatch over each bucket, lists the slots that
+// draw (in slot order) with the emit pass's indirect dispatch over them, and sums the frame's
+// counts into the host-visible `cull_stats` (read after the frame's fence).
+// Invocation i sums the i-th contiguous run of slots, one invocation scans the run sums, then
+// each invocation writes its run's offsets: three barriers (a parallel scan needs two per step,
+// and llvmpipe's barriers cost more than the additions they save).
+#define CULL_WRITER
+#include "cull/cull.glsl"
+
+const uint SCAN = 256u;
+layout(local_size_x = SCAN) in;
+
+shared uint run_start[MAX_LOD_BUCKETS][SCAN];
+shared uint totals[SLOT_WORDS];
+// Per run: the slots of the run that draw, then (after the scan) where the run's go in the list.
+shared uint run_slots[SCAN];
+shared uint drawing_slots;
+
+// Whether `slot` draws a blade (its bucket counts, before they become offsets).
+bool slot_draws(uint slot) {
+    uint sum = 0u;
+    for (uint b = 0u; b < MAX_LOD_BUCKETS; b++) {
+        sum += slot_counts[slot * SLOT_WORDS + b];
+    }
+    return sum > 0u;
+}
+
+// Lane 0, once the totals are known: one indirect draw per LOD bucket (padding each bucket's last
+// instance), the pose and levels passes' dispatch over each bucket, and the emit pass's dispatch
+// over the slots that draw.
+void write_dispatches() {
+    // Each instance draws BLADES_PER_INSTANCE consecutive entries of the list (the bucket's
+    // blade triangle list repeated, blade.vert), so a bucket starts at a multiple of it and its
+    // last instance's tail is padded with VISIBLE_PADDING entries, which draw nothing.
+    const uint batch = BLADES_PER_INSTANCE;
+    uint first = 0u;
+    // The buckets' index lists follow each other in the blade pass's index buffer
+    // (`scene::bezier::bucket_indices`).
+    uint first_index = 0u;
+    for (uint b = 0u; b < MAX_LOD_BUCKETS; b++) {
+        // The visible list holds cull_lod.w entries: past them, the farthest are dropped.
+        uint room = frame.cull_lod.w - min(first, frame.cull_lod.w);
+        uint count = b < frame.cull_lod.x ? min(totals[b], room / batch * batch) : 0u;
+        uint instances = (count + batch - 1u) / batch;
+        for (uint pad = first + count; pad < first + instances * batch; pad++) {
+            visible[pad] = uvec2(VISIBLE_PADDING, 0u);
+        }
+        // VkDrawIndexedIndirectCommand: indexCount, instanceCount, firstIndex, vertexOffset,
+        // firstInstance.
+        uint indices = 3u * bucket_blade_triangles(bucket_segments(b)) * batch;
+        draws[DRAW_WORDS * b] = indices;
+        draws[DRAW_WORDS * b + DRAW_INSTANCES] = instances;
+        draws[DRAW_WORDS * b + 2u] = first_index;
+        draws[DRAW_WORDS * b + 3u] = 0u;
+        draws[DRAW_WORDS * b + DRAW_FIRST_INSTANCE] = first / batch;
+        // The blade-pose and levels passes run one dispatch per bucket (its pipeline specialised
+        // for its segments), an invocation per entry, padding included.
+        draws[BUCKET_DISPATCH_WORD + 3u * b] = (instances * batch + POSE_GROUP - 1u) / POSE_GROUP;
+        draws[BUCKET_DISPATCH_WORD + 3u * b + 1u] = 1u;
+        draws[BUCKET_DISPATCH_WORD + 3u * b + 2u] = 1u;
+        first += instances * batch;
+        first_index += indices;
+    }
+    // The emit pass runs over the slots that draw: most of the rings are empty (off screen, too
+    // far, outside the field), and a workgroup costs llvmpipe about 1.7 µs even when it returns
+    // at once (4 ms for the 2401 slots of a 1M-blade field).
+    draws[EMIT_DISPATCH_WORD] = drawing_slots;
+    draws[EMIT_DISPATCH_WORD + 1u] = 1u;
+    draws[EMIT_DISPATCH_WORD + 2u] = 1u;
+}
+
+void main() {
+    read_cull_settings();
+    uint lane = gl_LocalInvocationID.x;
+    uint slots = frame.cull_tiles.y;
+    uint run = (slots + SCAN - 1u) / SCAN;
+    uint begin = min(lane * run, slots);
+    uint end = min(begin + run, slots);
+    uint own[SLOT_WORDS] = uint[](0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
+    uint own_slots = 0u;
+    for (uint slot = begin; slot < end; slot++) {
+        for (uint w = 0u; w < SLOT_WORDS; w++) {
+            own[w] += slot_counts[slot * SLOT_WORDS + w];
+        }
+        own_slots += slot_draws(slot) ? 1u : 0u;
+    }
+    run_slots[lane] = own_slots;
+    for (uint b = 0u; b < MAX_LOD_BUCKETS; b++) {
+        run_start[b][lane] = own[b];
+    }
+    if (lane < SLOT_WORDS) {
+        totals[lane] = 0u;
+    }
+    barrier();
+    if (lane == 0u) {
+        for (uint b = 0u; b < MAX_LOD_BUCKETS; b++) {
+            uint sum = 0u;
+            for (uint i = 0u; i < SCAN; i++) {
+                uint count = run_start[b][i];
+                run_start[b][i] = sum;
+                sum += count;
+            }
+            totals[b] = sum;
+        }
+        uint listed = 0u;
+        for (uint i = 0u; i < SCAN; i++) {
+            uint count = run_slots[i];
+            run_slots[i] = listed;
+            listed += count;
+        }
+        drawing_slots = listed;
+    }
+    for (uint w = MAX_LOD_BUCKETS; w < SLOT_WORDS; w++) {
+        atomicAdd(totals[w], own[w]);
+    }
+    barrier();
+    uint at[MAX_LOD_BUCKETS];
+    for (uint b = 0u; b < MAX_LOD_BUCKETS; b++) {
+        at[b] = run_start[b][lane];
+    }
+    uint listed = run_slots[lane];
+    for (uint slot = begin; slot < end; slot++) {
+        if (slot_draws(slot)) {
+            draws[EMIT_SLOTS_WORD + listed] = slot;
+            listed += 1u;
+        }
+        for (uint b = 0u; b < MAX_LOD_BUCKETS; b++) {
+            // Exclusive offset of this slot's blades inside bucket b.
+            uint count = slot_counts[slot * SLOT_WORDS + b];
+            slot_counts[slot * SLOT_WORDS + b] = at[b];
+            at[b] += count;
+        }
+    }
+    if (lane == 0u) {
+        write_dispatches();
+    }
+    barrier();
+    if (lane < SLOT_WORDS) {
+        cull_stats[lane] = totals[lane];
+    }
+}
