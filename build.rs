@@ -67,7 +67,8 @@ fn main() {
             let variants = variants(&text).unwrap_or_else(|e| fail(&format!("{}: {e}", source.display())));
             for (profile, profile_define) in PROFILES {
                 let base = out_dir.join("spirv").join(profile).join(format!("{prefix}{relative}"));
-                let named = std::iter::once((None, Vec::new())).chain(variants.iter().map(|(n, d)| (Some(n), d.clone())));
+                let named =
+                    std::iter::once((None, Vec::new())).chain(variants.iter().map(|(n, d)| (Some(n), d.clone())));
                 for (name, mut defines) in named {
                     defines.push(profile_define.to_owned());
                     let spv = match name {
@@ -109,7 +110,8 @@ fn walk(dir: &Path) -> Vec<PathBuf> {
     let mut folders = vec![dir.to_path_buf()];
     while let Some(folder) = folders.pop() {
         println!("cargo:rerun-if-changed={}", folder.display());
-        let entries = std::fs::read_dir(&folder).unwrap_or_else(|e| fail(&format!("cannot read {}: {e}", folder.display())));
+        let entries =
+            std::fs::read_dir(&folder).unwrap_or_else(|e| fail(&format!("cannot read {}: {e}", folder.display())));
         for entry in entries {
             let path = entry.unwrap_or_else(|e| fail(&format!("cannot read {}: {e}", folder.display()))).path();
             if path.is_dir() {

@@ -1,10 +1,10 @@
 //! Per-blade forces on the GPU (the vertex shader's `blade_force`) against the CPU reference,
 //! and the cluster-discretisation experiment of thesis fig. 4.7/4.8.
 
-#[path = "support/probes.rs"]
-mod probes;
 #[path = "support/compute.rs"]
 mod compute;
+#[path = "support/probes.rs"]
+mod probes;
 
 use std::sync::Arc;
 

@@ -1,9 +1,9 @@
 //! GPU tests of the shared data layout and of the validation harness itself.
 
-#[path = "support/probes.rs"]
-mod probes;
 #[path = "support/compute.rs"]
 mod compute;
+#[path = "support/probes.rs"]
+mod probes;
 
 use std::sync::Arc;
 
@@ -139,7 +139,14 @@ fn every_frame_uniform_and_specialization_constant_reads_back_through_a_compute_
     };
     let input = (vk::DescriptorType::UNIFORM_BUFFER, bytemuck::bytes_of(&uniforms));
     let (result, messages) = with_device(&options(), false, |device| {
-        run_compute(device, probes::FRAME_READBACK_COMP.code(device.profile), &spec.constants(), input, READBACK_WORDS, 1)
+        run_compute(
+            device,
+            probes::FRAME_READBACK_COMP.code(device.profile),
+            &spec.constants(),
+            input,
+            READBACK_WORDS,
+            1,
+        )
     });
     let words = result.expect("readback ran");
     assert_eq!(messages, Some(0), "validation messages");

@@ -2,12 +2,12 @@
 //! keyframe texture and uniform array, against the CPU decode of every encoding; and the decoded
 //! values against the generated poses, within each encoding's error bound.
 
-#[path = "support/probes.rs"]
-mod probes;
 #[path = "support/compute.rs"]
 mod compute;
 #[path = "support/frame_uniforms.rs"]
 mod frame_uniforms;
+#[path = "support/probes.rs"]
+mod probes;
 
 use std::f32::consts::FRAC_PI_2;
 use std::sync::Arc;

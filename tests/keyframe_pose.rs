@@ -5,12 +5,12 @@
 //! with `KeyframeTable::pose_for`, the code the report measures. Then report entries are
 //! recomputed from the GPU's poses: the report's numbers are those of the poses the renderer draws.
 
-#[path = "support/probes.rs"]
-mod probes;
 #[path = "support/compute.rs"]
 mod compute;
 #[path = "support/frame_uniforms.rs"]
 mod frame_uniforms;
+#[path = "support/probes.rs"]
+mod probes;
 
 use std::f32::consts::FRAC_PI_2;
 use std::sync::Arc;
@@ -138,7 +138,13 @@ fn poses_on_gpu(device: &Arc<Device>, smoothing: Smoothing, forces: &[(f32, f32)
     let set_layout = descriptor::set_layout(device, "pose set layout", &bindings)?;
     let layout = pipeline::layout(device, "pose layout", &[set_layout, animation_layout], &[])?;
     let constants = specialization.constants();
-    let pipe = pipeline::compute(device, "keyframe pose", probes::KEYFRAME_POSE_COMP.code(device.profile), layout, &constants)?;
+    let pipe = pipeline::compute(
+        device,
+        "keyframe pose",
+        probes::KEYFRAME_POSE_COMP.code(device.profile),
+        layout,
+        &constants,
+    )?;
     let (pool, sets) = descriptor::allocate_sets(device, "pose", set_layout, &bindings, 1)?;
     descriptor::write(
         device,

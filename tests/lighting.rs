@@ -1,10 +1,10 @@
 //! Belyaev §2.3's Fresnel term: evaluated by the shader's own functions at read-back strip
 //! vertices and checked against the formula on the CPU, and shown to grow towards contour areas.
 
-#[path = "support/probes.rs"]
-mod probes;
 #[path = "support/compute.rs"]
 mod compute;
+#[path = "support/probes.rs"]
+mod probes;
 
 mod support;
 
@@ -57,7 +57,8 @@ fn probe(device: &Arc<Device>, scene: &Scene, camera: Vec3) -> meadow::Result<Ve
     let set_layout = descriptor::set_layout(device, "probe set layout", &bindings)?;
     let push = vk::PushConstantRange { stage_flags: vk::ShaderStageFlags::COMPUTE, offset: 0, size: 36 };
     let layout = pipeline::layout(device, "probe layout", &[set_layout], &[push])?;
-    let pipe = pipeline::compute(device, "fresnel probe", probes::FRESNEL_PROBE_COMP.code(device.profile), layout, &[])?;
+    let pipe =
+        pipeline::compute(device, "fresnel probe", probes::FRESNEL_PROBE_COMP.code(device.profile), layout, &[])?;
     let (pool, sets) = descriptor::allocate_sets(device, "probe", set_layout, &bindings, 1)?;
     let resources = [&blades, &heights, &output].map(|b| Resource::Buffer(b.descriptor()));
     let writes: Vec<_> =
@@ -249,8 +250,9 @@ fn the_srgb_encoding_is_within_half_a_level_of_the_exact_curve() {
     // agrees with the shader.
     const VALUES: usize = 4096; // SRGB_PROBE_VALUES of srgb_probe.comp
     let options = GpuOptions { validation: true, device: DeviceSelector::parse("llvmpipe") };
-    let (result, messages) =
-        with_device(&options, false, |device| float_probe(device, "srgb probe", probes::SRGB_PROBE_COMP.code(device.profile), VALUES, 64));
+    let (result, messages) = with_device(&options, false, |device| {
+        float_probe(device, "srgb probe", probes::SRGB_PROBE_COMP.code(device.profile), VALUES, 64)
+    });
     let encoded = result.expect("probe");
     assert_eq!(messages, Some(0), "validation messages");
     let mut worst: f32 = 0.0;

@@ -129,7 +129,9 @@ fn shader_sources() -> Vec<PathBuf> {
 #[test]
 fn the_walk_reaches_every_folder_of_both_trees() {
     let files = shader_sources();
-    let nested = |tree: &str| files.iter().filter(|f| f.strip_prefix(root().join(tree)).is_ok_and(|r| r.components().count() > 1)).count();
+    let nested = |tree: &str| {
+        files.iter().filter(|f| f.strip_prefix(root().join(tree)).is_ok_and(|r| r.components().count() > 1)).count()
+    };
     assert!(nested("shaders") >= 30, "library shaders in folders: {}", nested("shaders"));
     assert!(nested("tests/shaders") >= 8, "test probes in folders: {}", nested("tests/shaders"));
     assert!(files.iter().any(|f| f.ends_with("shaders/common/shared.glsl")));

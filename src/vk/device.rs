@@ -211,8 +211,7 @@ impl Device {
             presenting(&instance, &mut candidates, surface)?;
         }
         let chosen = select(&candidates, &desc.selector, desc.swapchain)?;
-        let profile = super::profile::Profile::choose(&chosen.info.driver_name)?;
-        let physical = chosen.raw;
+        let (physical, profile) = (chosen.raw, super::profile::Profile::choose(&chosen.info.driver_name)?);
         let queue_family = chosen.queue_family.expect("usable devices have a queue family");
 
         // SAFETY: physical comes from this instance.

@@ -145,7 +145,11 @@ impl BladePass {
             &pipeline::GraphicsDesc {
                 name,
                 vertex: shaders::BLADE_VERT.code(device.profile),
-                fragment: if per_sample { shaders::BLADE_COVERAGE_FRAG.code(device.profile) } else { shaders::BLADE_FRAG.code(device.profile) },
+                fragment: if per_sample {
+                    shaders::BLADE_COVERAGE_FRAG.code(device.profile)
+                } else {
+                    shaders::BLADE_FRAG.code(device.profile)
+                },
                 topology,
                 cull: vk::CullModeFlags::NONE,
                 polygon: target.polygon,

@@ -36,7 +36,11 @@ impl DepthPyramidPass {
     /// samples per pixel (`--msaa`), of which it takes the farthest (`hiz_ms.comp`).
     pub fn new(device: &Device, scene: &SceneGpu, frames: usize, multisampled: bool) -> Result<Self> {
         let sets = FrameSets::new(device, "depth pyramid", &bindings(), frames)?;
-        let shader = if multisampled { shaders::HIZ_MS_COMP.code(device.profile) } else { shaders::HIZ_COMP.code(device.profile) };
+        let shader = if multisampled {
+            shaders::HIZ_MS_COMP.code(device.profile)
+        } else {
+            shaders::HIZ_COMP.code(device.profile)
+        };
         match pipeline::compute(device, "depth pyramid", shader, sets.layout, &[]) {
             Ok(pipeline) => Ok(Self { pipeline, sets, pyramid: scene.depth_pyramid.descriptor() }),
             Err(e) => {

@@ -70,7 +70,13 @@ impl ReliefGridPass {
         let Some(grid) = scene.relief_grid_read() else {
             return Ok(None);
         };
-        let pipeline = pipeline::compute(device, "relief grid", shaders::RELIEF_GRID_COMP.code(device.profile), layout, constants)?;
+        let pipeline = pipeline::compute(
+            device,
+            "relief grid",
+            shaders::RELIEF_GRID_COMP.code(device.profile),
+            layout,
+            constants,
+        )?;
         Ok(Some(Self { pipeline, layout, grid, written: Cell::new(None) }))
     }
 }

@@ -19,7 +19,8 @@ pub fn pass(device: &Device, setup: &CullSetup, scene: &SceneGpu) -> Result<Cull
         // The padding of each bucket's last instance.
         (scene.visible.raw, Access::ComputeShaderWrite),
     ];
-    let mut step = CullStep::new(device, ("cull scan", shaders::CULL_SCAN_COMP.code(device.profile)), setup, uses, Groups::One)?;
+    let mut step =
+        CullStep::new(device, ("cull scan", shaders::CULL_SCAN_COMP.code(device.profile)), setup, uses, Groups::One)?;
     // Each frame's host-visible counts, by frame slot.
     step.per_frame = setup.frame_stats.clone();
     Ok(step)
