@@ -149,6 +149,31 @@ fn a_screenshot_with_the_overlay_differs_from_one_without_only_inside_its_panels
 }
 
 #[test]
+fn renderer_replacements_keep_the_overlay_s_texture_copies_validation_clean() {
+    // `]` 13 times, one a frame: a new renderer (and scene) each time, to which the viewer
+    // resends egui's font whole, patched in the same frame with the new blade count's glyphs.
+    // Those copies into one texture once raced (7 SYNC-HAZARD-WRITE-AFTER-WRITE in this run);
+    // now a texture's pending copies never overlap (`render::overlay::textures::queue`).
+    let dir = scratch("ui-replace");
+    let presses: String = (1..=13).map(|frame| format!("{} press ]\n", frame + 1)).collect();
+    let s = script(&dir, "double.txt", &format!("{presses}20 quit\n"));
+    let output = Command::new("xvfb-run")
+        .args(["-a", "-s", "-screen 0 1280x1024x24"])
+        .arg(env!("CARGO_BIN_EXE_meadow"))
+        .args(["view", "--validation", "--device", support::DEVICE, "--blades", "1", "--size", "640x360"])
+        .args(["--script", &s])
+        .current_dir(&dir)
+        .env_remove("WAYLAND_DISPLAY")
+        .output()
+        .expect("run xvfb-run");
+    assert_clean(&output);
+    // Each press replaced the renderer: 2, 4, ... 8192 blades.
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    let replaced = (1..=13).filter(|n| stdout.contains(&format!(" segments, {} blades,", 1u32 << n))).count();
+    assert_eq!(replaced, 13, "{}", transcript(&output));
+}
+
+#[test]
 fn the_capture_button_writes_a_trace_whose_spans_nest_in_their_frames() {
     let dir = scratch("ui-capture");
     std::fs::create_dir_all(dir.join("captures")).expect("dir");
