@@ -177,12 +177,17 @@ impl RenderOptions {
         )))
     }
 
-    /// Refuse what a block field cannot do, before any work (`render::settings::check_field`).
+    /// Refuse what a block field cannot do, before any work (`render::settings::check_field`),
+    /// and a `--camera` past the distance it is drawn within (`scene::field::MAX_DISTANCE`).
     pub fn check_field(&self) -> Result<()> {
-        match self.field {
-            Some(_) => crate::render::settings::check_field(&self.offscreen_settings(1)),
-            None => Ok(()),
+        if self.field.is_none() {
+            return Ok(());
         }
+        if let Some(camera) = &self.camera {
+            crate::scene::field::check_camera(camera.position)
+                .map_err(|e| Error::bad_input(format!("--camera: {e}")))?;
+        }
+        crate::render::settings::check_field(&self.offscreen_settings(1))
     }
 
     /// The renderer settings of these options for offscreen targets with pipeline statistics

@@ -205,6 +205,32 @@ fn bad_field_input_is_refused() {
 }
 
 #[test]
+fn a_camera_past_the_block_index_is_refused_and_one_inside_it_draws() {
+    // 2³¹ cells of 4 m end at 8.59e9 m: past `scene::field::MAX_DISTANCE` (8e9 m) a camera is
+    // refused with one line before any work (it once drew nothing, and exited 0).
+    refused(&["--field", "infinite", "--camera", "1e10,1.7,0,0,0"], "8e9 m from the origin");
+    refused(&["--field", "infinite", "--camera", "0,1.7,-8.1e9,0,0"], "8e9 m from the origin");
+    // At 8e9 m (whole kilometres: the same place, the world repeats) the view draws what it
+    // draws at the origin.
+    let dir = scratch("field-far");
+    let drawn = |x: &str| -> String {
+        let output = meadow()
+            .args(["render", "--validation", "--device", support::DEVICE, "--size", "160x90", "--mode", "static"])
+            .args(["--field", "infinite", "--camera", &format!("{x},1.7,0,30,-10"), "--out"])
+            .arg(dir.join("far.png"))
+            .output()
+            .expect("run meadow");
+        support::assert_clean(&output);
+        let stdout = String::from_utf8_lossy(&output.stdout).to_string();
+        let cull = stdout.lines().find(|l| l.starts_with("cull:")).expect("a cull line");
+        cull.split("drawn ").nth(1).expect("drawn").split(' ').next().expect("count").to_string()
+    };
+    let (near, far) = (drawn("0"), drawn("8e9"));
+    assert!(near.parse::<u64>().expect("a count") > 1000, "{near} blades drawn at the origin");
+    assert_eq!(far, near, "blades drawn at 8e9 m and at the origin");
+}
+
+#[test]
 fn a_bounded_field_ends_where_its_size_says() {
     // Standing 10 m outside a 20 m field looking at it: grass, but less than the unbounded field.
     let dir = scratch("field-bounded");

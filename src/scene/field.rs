@@ -143,6 +143,28 @@ pub fn block_blades(spec: &FieldSpec, seed: u64) -> Vec<BladeInstance> {
         .collect()
 }
 
+/// How far from the world's origin, in x and z, a block field is drawn (metres). The GPU holds
+/// a cell's integer coordinates in 32 bits (`render::field_gpu::Origin::cell`,
+/// `shaders/field.glsl`), and the cull adds up to 127 rings to the camera's cell: 2³¹ cells of
+/// `BLOCK_SIZE` end at 8.59e9 m, so 8e9 m keeps every cell it visits in range. (Positions are
+/// `f32`: out there a camera moves in steps of 512 m, and wrapping the index would not help.)
+pub const MAX_DISTANCE: f32 = 8.0e9;
+const _: () = assert!((MAX_DISTANCE / BLOCK_SIZE) as i64 + 128 < i32::MAX as i64);
+
+/// Refuse a camera at `position` over a block field farther than `MAX_DISTANCE` from the
+/// origin in x or z (or not finite): one line for the caller's `error:`.
+pub fn check_camera(position: glam::Vec3) -> Result<(), String> {
+    let within = |v: f32| v.abs() <= MAX_DISTANCE;
+    if within(position.x) && within(position.z) {
+        return Ok(());
+    }
+    Err(format!(
+        "a camera at x {} m, z {} m is past {MAX_DISTANCE:e} m from the origin, where a block field ends (its \
+         cells are indexed in 32 bits)",
+        position.x, position.z
+    ))
+}
+
 /// The integer cell holding world (x, z).
 pub fn cell_of(x: f64, z: f64) -> (i64, i64) {
     let b = f64::from(BLOCK_SIZE);
@@ -212,5 +234,16 @@ mod tests {
             .iter()
             .all(|b| (0.0..BLOCK_SIZE).contains(&b.position[0]) && (0.0..BLOCK_SIZE).contains(&b.position[2])));
         assert_eq!(cell_of(-0.5, 4.0), (-1, 1));
+    }
+
+    #[test]
+    fn cameras_past_the_cell_index_are_refused() {
+        assert!(check_camera(glam::Vec3::new(MAX_DISTANCE, 1.7, -MAX_DISTANCE)).is_ok());
+        assert!(check_camera(glam::Vec3::new(1.0e10, 1.7, 0.0)).is_err());
+        assert!(check_camera(glam::Vec3::new(0.0, 1.7, -1.0e10)).is_err());
+        assert!(check_camera(glam::Vec3::new(f32::NAN, 1.7, 0.0)).is_err());
+        // The farthest cell the cull visits still fits.
+        let (x, _) = cell_of(f64::from(MAX_DISTANCE), 0.0);
+        assert!(x + 128 < i64::from(i32::MAX), "{x}");
     }
 }

@@ -164,6 +164,14 @@ impl Viewer {
     fn new(device: Arc<Device>, options: ViewerOptions) -> Result<Self> {
         let o = &options.scene;
         o.check_field()?;
+        if o.field.is_some() {
+            for (frame, action) in options.script.iter().flat_map(|s| &s.actions) {
+                if let script::Action::Camera(camera) = action {
+                    crate::scene::field::check_camera(camera.position)
+                        .map_err(|e| Error::bad_input(format!("--script: frame {frame}: {e}")))?;
+                }
+            }
+        }
         crate::app::check_limits(
             &device,
             o.stored_blades(),

@@ -435,6 +435,10 @@ impl Renderer {
         sync: FrameSync,
         outputs: Outputs,
     ) -> Result<()> {
+        if self.scene_gpu().field.is_some() {
+            // A block field's cells are indexed in 32 bits (the CLI refuses such cameras first).
+            crate::scene::field::check_camera(camera.position).map_err(Error::bad_input)?;
+        }
         let uniforms = self.prepare_frame(slot, target, camera, time)?;
         // The resource states move on only if the frame is submitted: a frame that failed to
         // record or submit never runs, and the next frame's barriers must not assume it did.
