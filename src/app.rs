@@ -1,12 +1,14 @@
 //! The commands behind the CLI: `render`, `devices` and `keyframes` ([`keyframes`]), and what the
-//! other tools share: opening a device ([`with_device`]), the limit and scene checks, and writing
-//! PNG and text files atomically. [`crate::cli`] parses arguments into these options and prints
-//! what they return.
+//! other tools share: opening a device ([`with_device`]), the limit and scene checks, writing PNG
+//! and text files atomically, and the parsers of the values the command line and the viewer's
+//! scripts take ([`values`]). [`crate::cli`] parses arguments into these options and prints what
+//! they return.
 
 mod host_heap;
 pub mod interrupt;
 mod keyframe_report;
 pub mod output;
+pub mod values;
 
 pub use keyframe_report::{keyframes, KeyframeOptions};
 

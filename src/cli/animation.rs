@@ -3,7 +3,7 @@
 
 use clap::{Args, ValueEnum};
 
-use super::values;
+use crate::app::values;
 use crate::harness::bench::Column;
 use crate::keyframes::encoding::{Encoding, Packing};
 use crate::keyframes::{Representation, Smoothing};

@@ -7,7 +7,7 @@ use clap::{Args, ValueEnum};
 
 use super::animation::{AnimationArgs, DebugViewArg, EvalArg, ModeArg};
 use super::culling::CullArgs;
-use super::values;
+use crate::app::values;
 use crate::app::{GpuOptions, RenderOptions};
 use crate::scene::Camera;
 use crate::vk::swapchain::PresentMode;

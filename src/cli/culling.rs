@@ -3,7 +3,7 @@
 
 use clap::{Args, ValueEnum};
 
-use super::values;
+use crate::app::values;
 use crate::render::culling::{Culling, LodSegments, DEFAULT_VIEW_DISTANCE};
 
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]

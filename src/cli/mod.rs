@@ -1,14 +1,13 @@
-//! The command line of the `meadow` binary: clap's types ([`args`], [`animation`]), the value
-//! parsers ([`values`]) and the dispatch of each subcommand to [`crate::app`], [`crate::harness`]
-//! or [`crate::viewer`] ([`commands`], [`measure`]). `src/main.rs` only calls [`parse()`] and
-//! [`run`].
+//! The command line of the `meadow` binary: clap's types ([`args`], [`animation`]; their value
+//! parsers are [`crate::app::values`], which the viewer's scripts share) and the dispatch of each
+//! subcommand to [`crate::app`], [`crate::harness`] or [`crate::viewer`] ([`commands`],
+//! [`measure`]). `src/main.rs` only calls [`parse()`] and [`run`].
 
 pub mod animation;
 pub mod args;
 pub mod commands;
 mod culling;
 pub mod measure;
-pub mod values;
 
 use std::process::ExitCode;
 

@@ -104,9 +104,9 @@ impl Script {
             };
             let action = match verb {
                 "camera" => {
-                    Action::Camera(crate::cli::values::camera(one("camera X,Y,Z,YAW,PITCH")?).map_err(|e| fail(&e))?)
+                    Action::Camera(crate::app::values::camera(one("camera X,Y,Z,YAW,PITCH")?).map_err(|e| fail(&e))?)
                 }
-                "time" => Action::Time(crate::cli::values::time(one("time SECONDS")?).map_err(|e| fail(&e))?),
+                "time" => Action::Time(crate::app::values::time(one("time SECONDS")?).map_err(|e| fail(&e))?),
                 "pause" => none(Action::Pause)?,
                 "key" => match args.as_slice() {
                     [name, "down"] => Action::Key(key(name)?, true),
@@ -117,11 +117,11 @@ impl Script {
                 "click" => {
                     let xy = one("click X,Y")?;
                     let (x, y) = xy.split_once(',').ok_or_else(|| fail("click X,Y"))?;
-                    let parse = |v: &str| crate::cli::values::finite_f32(v).map(f64::from).map_err(|e| fail(&e));
+                    let parse = |v: &str| crate::app::values::finite_f32(v).map(f64::from).map_err(|e| fail(&e));
                     Action::Click(parse(x)?, parse(y)?)
                 }
                 "resize" => {
-                    let (w, h) = crate::cli::values::size(one("resize WxH")?).map_err(|e| fail(&e))?;
+                    let (w, h) = crate::app::values::size(one("resize WxH")?).map_err(|e| fail(&e))?;
                     Action::Resize(w, h)
                 }
                 "minimise" | "minimize" => none(Action::Minimise)?,
@@ -130,7 +130,7 @@ impl Script {
                 "ui-click" if !args.is_empty() => Action::UiClick(args.join(" ")),
                 "ui-drag" => match args.split_first() {
                     Some((dx, label)) if !label.is_empty() => {
-                        let dx = crate::cli::values::finite_f32(dx).map_err(|e| fail(&e))?;
+                        let dx = crate::app::values::finite_f32(dx).map_err(|e| fail(&e))?;
                         Action::UiDrag(dx, label.join(" "))
                     }
                     _ => return Err(fail("ui-drag DX_PIXELS LABEL")),

@@ -1,5 +1,6 @@
-//! Parsers for command-line values. Each rejects what the renderer cannot use with a message
-//! naming the value; clap turns the `Err` into one `error: …` line and exit code 2.
+//! Parsers for the values of the command line and of the viewer's scripts. Each rejects what the
+//! renderer cannot use with a message naming the value; clap turns the `Err` into one `error: …`
+//! line and exit code 2, a script into one naming its line.
 
 use glam::{Vec2, Vec3};
 
