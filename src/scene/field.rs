@@ -22,9 +22,8 @@ pub const WAVES: usize = 8;
 /// it and the blocks' variations repeat (`shaders/common/field.glsl`, `cell_hash`). A field far from
 /// the origin is then the same field, which is how the tests see that precision holds there.
 pub const WORLD_PERIOD: f32 = 1000.0;
-/// Cells in a world period.
+/// Cells in a world period (the shaders' `PERIOD_CELLS`; `render::field_gpu` asserts they agree).
 pub const PERIOD_CELLS: i32 = (WORLD_PERIOD / BLOCK_SIZE) as i32;
-const _: () = assert!(PERIOD_CELLS as u32 == crate::render::gpu_constants::PERIOD_CELLS);
 
 /// The highest density a block holds (`MAX_BLOCK_BLADES` in `BLOCK_SIZE`²).
 pub fn max_density() -> f32 {
