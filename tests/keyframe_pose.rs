@@ -22,7 +22,7 @@ use meadow::keyframes::encoding::{self as enc, Encoding};
 use meadow::keyframes::pose::{self, Pose};
 use meadow::keyframes::pose_error::{self, ErrorStats, PoseErrorReport, SMOOTHINGS};
 use meadow::keyframes::{BladeModel, KeyframeLayout, KeyframeTable, Smoothing};
-use meadow::render::animation::{model, AnimationSettings, Eval, Mode};
+use meadow::render::animation::{build_model, model, AnimationSettings, Eval, Mode};
 use meadow::render::specialization::Specialization;
 use meadow::render::uniforms::FrameUniforms;
 use meadow::vk::descriptor::{self, Binding, Resource};
@@ -111,7 +111,7 @@ fn settings(smoothing: Smoothing) -> AnimationSettings {
 /// 0..=SEGMENTS of each force, as poses of the unit blade.
 fn poses_on_gpu(device: &Arc<Device>, smoothing: Smoothing, forces: &[(f32, f32)]) -> meadow::Result<Vec<Pose>> {
     let animation_layout = descriptor::set_layout(device, "animation set layout", &model::bindings())?;
-    let model = model::build(device, animation_layout, &settings(smoothing), SEGMENTS, (1, 0))?;
+    let model = build_model(device, animation_layout, &settings(smoothing), SEGMENTS, (1, 0))?;
     // As `Renderer::specialization`: the blade geometry, then the model's constants.
     let mut specialization = Specialization::new(false, SEGMENTS, 1, false, true);
     model.specialize(&mut specialization);

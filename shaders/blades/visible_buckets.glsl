@@ -1,6 +1,6 @@
 // The per-blade passes after the cull (blade_pose.comp, blade_levels.comp) run one dispatch per
 // LOD bucket, each with its pipeline specialised for the bucket's segments (SEGMENTS,
-// `render::passes::bucket_dispatch`), so a one-segment blade's pose and levels cost what its two
+// `render::recording::bucket_dispatch`), so a one-segment blade's pose and levels cost what its two
 // levels need: no loop or branch on a segment count varying across the SIMD lanes, which llvmpipe
 // runs for every lane (a store masked off still costs its loop over the lanes). The scan wrote
 // each bucket's draw and dispatch (cull_scan.comp); a bucket's entries are the contiguous range

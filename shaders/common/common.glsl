@@ -65,7 +65,7 @@ uint model_level(uint level, uint segments, out float frac) {
 // on llvmpipe a 64-wide group ran them 8 times and cost 13 ms more at 1M blades.
 layout(constant_id = SPEC_CULL_GROUP) const uint CULL_GROUP = 64u;
 layout(constant_id = SPEC_MSAA_SAMPLES) const uint MSAA_SAMPLES = 1u;
-// With the solid outline (a LOD bucket's pipeline, `render::passes::bucket_dispatch::bucket_constants`):
+// With the solid outline (a LOD bucket's pipeline, `render::recording::bucket_dispatch::bucket_constants`):
 // the strip of SEGMENTS segments widened to cover the alpha-tested outline's area, and its l^6
 // scaled so its area-weighted mean is brute force's (`scene::alpha`).
 layout(constant_id = SPEC_STRIP_AREA) const float STRIP_AREA = 1.0;

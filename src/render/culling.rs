@@ -69,7 +69,7 @@ impl LodSegments {
         if counts.is_empty() || counts.len() > MAX_LOD_BUCKETS {
             return Err(format!("give 1 to {MAX_LOD_BUCKETS} segment counts"));
         }
-        if let Some(bad) = counts.iter().find(|c| !crate::render::settings::SEGMENTS_RANGE.contains(c)) {
+        if let Some(bad) = counts.iter().find(|c| !crate::render::limits::SEGMENTS_RANGE.contains(c)) {
             return Err(format!("{bad} segments is outside 1..={}", gpu::MAX_SEGMENTS));
         }
         if counts.windows(2).any(|w| w[1] >= w[0]) {

@@ -7,9 +7,9 @@ use ash::vk;
 use crate::error::Result;
 use crate::render::animation::{self, model};
 use crate::render::frame::Frame;
-use crate::render::renderer::RenderSettings;
 use crate::render::scene_gpu::SceneGpu;
 use crate::render::scene_set;
+use crate::render::settings::RenderSettings;
 use crate::render::submission;
 use crate::vk::{descriptor, pipeline, Device};
 

@@ -8,8 +8,7 @@ use crate::render::frame::look;
 use crate::render::submission::{Strategy, Submission};
 use crate::vk::Device;
 
-/// Blade segments allowed (thesis 4.1 levels of detail).
-pub const SEGMENTS_RANGE: std::ops::RangeInclusive<u32> = 1..=crate::render::gpu_constants::MAX_SEGMENTS;
+pub use crate::render::limits::{BLADES_PER_INSTANCE_RANGE, SEGMENTS_RANGE};
 
 /// How the renderer is built.
 #[derive(Clone, Copy, Debug)]
@@ -76,8 +75,6 @@ impl RenderSettings {
     }
 }
 
-/// Blades per instance allowed.
-pub const BLADES_PER_INSTANCE_RANGE: std::ops::RangeInclusive<u32> = 1..=1024;
 /// Default blades per instance without the cull: one (classic instancing, the thesis' path).
 pub const DEFAULT_BLADES_PER_INSTANCE: u32 = 1;
 /// Default blades per instance of the cull's indirect draws: 32 entries of the visible list per

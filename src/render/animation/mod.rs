@@ -2,23 +2,46 @@
 //! forces the CPU computes at cluster corners (thesis 3.2.2) and for the point emitters, and the
 //! seam every animation model plugs into (`model::AnimationModel`): today's static blades
 //! (`still`) and keyframes from a texture or a uniform array, per vertex or per blade
-//! (`keyframed`, thesis ch. 3–4), with their GPU tables (`keyframe_gpu`).
+//! (`keyframed`, thesis ch. 3–4), with their GPU tables (`keyframe_gpu`) and the per-blade pose
+//! pass (`pose_pass`).
 
 pub mod keyframe_gpu;
 pub mod keyframed;
 pub mod model;
+pub mod pose_pass;
 pub mod still;
 
 pub use keyframe_gpu::{texture_format, KeyframeTexture, KeyframeUniforms};
 pub use model::{AnimationModel, BladeInput};
 
+use ash::vk;
 use glam::{Vec2, Vec4};
 
 use crate::keyframes::encoding::{Encoding, Packing};
 use crate::keyframes::{Representation, Smoothing};
 use crate::render::gpu_constants;
 use crate::scene::clusters::ClusterGrid;
+use crate::vk::Device;
 use crate::wind::{Attenuation, Wind};
+
+/// Build the model `settings` asks for (`segments` per blade), with room for `records` pose
+/// records and `levels` placed levels (0 without the cull: nothing places them) when it
+/// evaluates per blade.
+pub fn build_model(
+    device: &Device,
+    set_layout: vk::DescriptorSetLayout,
+    settings: &AnimationSettings,
+    segments: u32,
+    (records, levels): (u32, u32),
+) -> crate::error::Result<Box<dyn AnimationModel>> {
+    Ok(match settings.mode {
+        Mode::Static => Box::new(still::StaticModel::new(device, set_layout)?),
+        Mode::Texture | Mode::Uniform => {
+            let room = (records, levels);
+            Box::new(keyframed::KeyframeModel::new(device, set_layout, settings, segments, room)?)
+        }
+    })
+}
 
 /// How blades are posed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]

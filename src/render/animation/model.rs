@@ -13,7 +13,7 @@ use ash::vk;
 use glam::Vec2;
 
 use crate::error::Result;
-use crate::render::animation::{self, AnimationSettings, KeyframeTexture, KeyframeUniforms, Mode};
+use crate::render::animation::{self, KeyframeTexture, KeyframeUniforms};
 use crate::render::frame::Frame;
 use crate::render::gpu_constants as gpu;
 use crate::render::graph::Pass;
@@ -60,7 +60,7 @@ pub struct PassSetup<'a> {
     /// The scene on the GPU.
     pub scene: &'a SceneGpu,
     /// With the cull before the blade pass, the segments of its LOD buckets: a model's per-blade
-    /// pass then covers only its visible list, bucket by bucket (`passes::bucket_dispatch`), and is
+    /// pass then covers only its visible list, bucket by bucket (`render::recording::bucket_dispatch`), and is
     /// added after the cull's passes. `None` without the cull.
     pub buckets: Option<&'a [u32]>,
 }
@@ -97,25 +97,6 @@ pub trait AnimationModel {
     /// # Safety
     /// No pending GPU work may use them.
     unsafe fn destroy(self: Box<Self>, device: &Device);
-}
-
-/// Build the model `settings` asks for (`segments` per blade), with room for `records` pose
-/// records and `levels` placed levels (0 without the cull: nothing places them) when it
-/// evaluates per blade.
-pub fn build(
-    device: &Device,
-    set_layout: vk::DescriptorSetLayout,
-    settings: &AnimationSettings,
-    segments: u32,
-    (records, levels): (u32, u32),
-) -> Result<Box<dyn AnimationModel>> {
-    Ok(match settings.mode {
-        Mode::Static => Box::new(super::still::StaticModel::new(device, set_layout)?),
-        Mode::Texture | Mode::Uniform => {
-            let room = (records, levels);
-            Box::new(super::keyframed::KeyframeModel::new(device, set_layout, settings, segments, room)?)
-        }
-    })
 }
 
 /// The thesis' per-frame forces: the wind at the cluster corners (eq. 4.1 sources, calm areas)

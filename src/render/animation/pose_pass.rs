@@ -1,11 +1,12 @@
-//! Blade-pose pass (`--eval blade`): a compute dispatch, one invocation per blade, that does the
-//! animation once per blade instead of once per vertex — force, keyframe selection, the blend of
-//! every level — and writes each level's point, tangent and twist (12 bytes) for the blade pass
-//! (`shaders/animation/blade_pose.comp`, `render::scene_gpu::pose_bytes`). Its records are written here
-//! and read by the blade pass's vertex shader; the graph orders the two, and this frame's write
-//! after the previous frame's reads. With the cull it runs after it, indirectly, over the
-//! visible list, one dispatch per LOD bucket (`passes::bucket_dispatch`): each drawn blade once,
-//! its records by list entry, the levels its bucket reads.
+//! Blade-pose pass (`--eval blade`), the keyframe model's own: a compute dispatch, one invocation
+//! per blade, that does the animation once per blade instead of once per vertex — force, keyframe
+//! selection, the blend of every level — and writes each level's point, tangent and twist (12
+//! bytes) for the blade pass (`shaders/animation/blade_pose.comp`,
+//! `render::scene_gpu::pose_bytes`). Its records are written here and read by the blade pass's
+//! vertex shader; the graph orders the two, and this frame's write after the previous frame's
+//! reads. With the cull it runs after it, indirectly, over the visible list, one dispatch per LOD
+//! bucket (`render::recording::bucket_dispatch`): each drawn blade once, its records by list
+//! entry, the levels its bucket reads.
 
 use ash::vk;
 
@@ -13,8 +14,8 @@ use crate::error::Result;
 use crate::render::animation::model::{AnimationSet, PassSetup};
 use crate::render::gpu_constants as gpu;
 use crate::render::graph::{Declaration, Pass, PassContext};
-use crate::render::passes;
-use crate::render::passes::bucket_dispatch::BucketDispatch;
+use crate::render::recording;
+use crate::render::recording::bucket_dispatch::BucketDispatch;
 use crate::render::shaders;
 use crate::vk::{pipeline, Access, Device, Resource};
 
@@ -87,12 +88,12 @@ impl Pass for BladePosePass {
         let device = ctx.device;
         match &self.dispatch {
             Dispatch::Stored(pipeline, blades) => {
-                passes::bind_blade_compute(ctx, cmd, (self.layout, *pipeline), self.animation);
+                recording::bind_blade_compute(ctx, cmd, (self.layout, *pipeline), self.animation);
                 // SAFETY: cmd is recording outside a rendering instance; both sets and the pipeline are bound.
                 unsafe { device.raw.cmd_dispatch(cmd, blades.div_ceil(gpu::POSE_GROUP), 1, 1) };
             }
             Dispatch::Buckets(buckets, _) => {
-                passes::bind_blade_sets(ctx, cmd, self.layout, self.animation);
+                recording::bind_blade_sets(ctx, cmd, self.layout, self.animation);
                 buckets.record(device, cmd);
             }
         }

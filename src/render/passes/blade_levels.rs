@@ -13,8 +13,8 @@ use ash::vk;
 use crate::error::Result;
 use crate::render::animation::model::{AnimationSet, PassSetup};
 use crate::render::graph::{Declaration, Pass, PassContext};
-use crate::render::passes;
-use crate::render::passes::bucket_dispatch::BucketDispatch;
+use crate::render::recording;
+use crate::render::recording::bucket_dispatch::BucketDispatch;
 use crate::render::shaders;
 use crate::vk::{Access, Device};
 
@@ -76,7 +76,7 @@ impl Pass for BladeLevelsPass {
     }
 
     fn record(&self, ctx: &PassContext, cmd: vk::CommandBuffer) -> Result<()> {
-        passes::bind_blade_sets(ctx, cmd, self.layout, self.animation);
+        recording::bind_blade_sets(ctx, cmd, self.layout, self.animation);
         self.buckets.record(ctx.device, cmd);
         Ok(())
     }

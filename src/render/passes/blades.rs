@@ -9,7 +9,8 @@ use crate::error::{Result, VkContext};
 use crate::render::animation::BladeInput;
 use crate::render::gpu_constants as gpu;
 use crate::render::graph::{Declaration, Pass, PassContext};
-use crate::render::passes::{self, bucket_dispatch, PipelineTarget};
+use crate::render::passes::{self, PipelineTarget};
+use crate::render::recording::{self, bucket_dispatch};
 use crate::render::scene_gpu::SceneGpu;
 use crate::render::shaders;
 use crate::render::submission::{self, BladeDraws, IndirectDraws, SecondaryRecorders, Strategy};
@@ -286,7 +287,7 @@ impl BladePass {
             device.raw.begin_command_buffer(secondary, &begin).vk("vkBeginCommandBuffer")?;
         }
         passes::bind_graphics(device, ctx, secondary, self.layout, self.pipeline);
-        passes::bind_animation_set(device, secondary, self.layout, vk::PipelineBindPoint::GRAPHICS, self.animation);
+        recording::bind_animation_set(device, secondary, self.layout, vk::PipelineBindPoint::GRAPHICS, self.animation);
         let draws = BladeDraws::PerCluster { vertices: self.strip, ranges, layout: self.layout };
         submission::record_draws(device, secondary, &draws);
         // SAFETY: recording.
@@ -314,7 +315,7 @@ impl Pass for BladePass {
         let device = ctx.device;
         let first = self.buckets.first().copied().unwrap_or(self.pipeline);
         passes::bind_graphics(device, ctx, cmd, self.layout, first);
-        passes::bind_animation_set(device, cmd, self.layout, vk::PipelineBindPoint::GRAPHICS, self.animation);
+        recording::bind_animation_set(device, cmd, self.layout, vk::PipelineBindPoint::GRAPHICS, self.animation);
         // Defined for every draw: per-cluster draws push their own first blade.
         let push = submission::ClusterPush { first_blade: 0 };
         // SAFETY: cmd is recording inside this pass's rendering instance; the layout has the range.

@@ -3,9 +3,7 @@
 //! barriers, the rendering instance, the label and the GPU scopes.
 
 pub mod blade_levels;
-pub mod blade_pose;
 pub mod blades;
-pub mod bucket_dispatch;
 pub mod cluster_bounds;
 pub mod cull;
 pub mod depth_pyramid;
@@ -17,7 +15,6 @@ pub mod resolve;
 pub mod terrain;
 
 pub use blade_levels::BladeLevelsPass;
-pub use blade_pose::BladePosePass;
 pub use blades::BladePass;
 pub use cluster_bounds::ClusterBoundsPass;
 pub use floor::FloorPass;
@@ -28,8 +25,8 @@ pub use terrain::TerrainPass;
 
 use ash::vk;
 
-use crate::render::gpu_constants as gpu;
 use crate::render::graph::{Attachment, Load, PassContext, Rendering};
+use crate::render::recording;
 use crate::vk::Device;
 
 /// The pipeline layout and attachment formats every scene pipeline is built for.
@@ -47,56 +44,6 @@ pub struct PipelineTarget {
     pub samples: vk::SampleCountFlags,
     /// Alpha to coverage for the alpha-tested blade outline (with `samples` > 1).
     pub alpha_to_coverage: bool,
-}
-
-/// Bind the animation model's set (`SET_ANIMATION`) at `bind_point`.
-pub fn bind_animation_set(
-    device: &Device,
-    cmd: vk::CommandBuffer,
-    layout: vk::PipelineLayout,
-    bind_point: vk::PipelineBindPoint,
-    set: vk::DescriptorSet,
-) {
-    // SAFETY: cmd is recording; the set matches the layout's animation set.
-    unsafe { device.raw.cmd_bind_descriptor_sets(cmd, bind_point, layout, gpu::SET_ANIMATION, &[set], &[]) };
-}
-
-/// Bind both scene sets (the frame's and the animation model's `animation`) and `pipeline` for
-/// compute: what the per-blade passes (poses, levels) record before their dispatch.
-pub fn bind_blade_compute(
-    ctx: &PassContext,
-    cmd: vk::CommandBuffer,
-    (layout, pipeline): (vk::PipelineLayout, vk::Pipeline),
-    animation: vk::DescriptorSet,
-) {
-    bind_blade_sets(ctx, cmd, layout, animation);
-    // SAFETY: cmd is recording outside a rendering instance; the pipeline uses `layout`.
-    unsafe { ctx.device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline) };
-}
-
-/// Bind the frame's and the animation model's sets for a blade compute pass on `layout` (its
-/// pipelines are bound by the caller: one per LOD bucket, `bucket_dispatch`).
-pub fn bind_blade_sets(
-    ctx: &PassContext,
-    cmd: vk::CommandBuffer,
-    layout: vk::PipelineLayout,
-    animation: vk::DescriptorSet,
-) {
-    let device = ctx.device;
-    bind_scene_set(device, ctx, cmd, layout, vk::PipelineBindPoint::COMPUTE);
-    bind_animation_set(device, cmd, layout, vk::PipelineBindPoint::COMPUTE, animation);
-}
-
-/// Bind the frame's set (`SET_SCENE`) at `bind_point`.
-pub fn bind_scene_set(
-    device: &Device,
-    ctx: &PassContext,
-    cmd: vk::CommandBuffer,
-    layout: vk::PipelineLayout,
-    bind_point: vk::PipelineBindPoint,
-) {
-    // SAFETY: cmd is recording; the set matches the layout's scene set.
-    unsafe { device.raw.cmd_bind_descriptor_sets(cmd, bind_point, layout, gpu::SET_SCENE, &[ctx.descriptor_set], &[]) };
 }
 
 /// Set the viewport and scissor to the whole target (dynamic state of every scene pipeline).
@@ -126,7 +73,7 @@ pub fn bind_graphics(
     layout: vk::PipelineLayout,
     pipeline: vk::Pipeline,
 ) {
-    bind_scene_set(device, ctx, cmd, layout, vk::PipelineBindPoint::GRAPHICS);
+    recording::bind_scene_set(device, ctx, cmd, layout, vk::PipelineBindPoint::GRAPHICS);
     set_full_viewport(device, cmd, ctx.target.extent);
     // SAFETY: cmd is recording.
     unsafe { device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline) };

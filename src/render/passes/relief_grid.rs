@@ -22,7 +22,7 @@ use ash::vk;
 use crate::error::Result;
 use crate::render::gpu_constants as gpu;
 use crate::render::graph::{Declaration, Pass, PassContext};
-use crate::render::passes;
+use crate::render::recording;
 use crate::render::scene_gpu::SceneGpu;
 use crate::render::shaders;
 use crate::render::uniforms::FrameUniforms;
@@ -97,7 +97,7 @@ impl Pass for ReliefGridPass {
         }
         self.written.set(Some(key));
         let device = ctx.device;
-        passes::bind_scene_set(device, ctx, cmd, self.layout, vk::PipelineBindPoint::COMPUTE);
+        recording::bind_scene_set(device, ctx, cmd, self.layout, vk::PipelineBindPoint::COMPUTE);
         let vertices = (gpu::FIELD_TERRAIN_CELLS + 1).pow(2);
         // SAFETY: cmd is recording outside a rendering instance; set 0 is bound.
         unsafe {

@@ -16,7 +16,7 @@ use ash::vk;
 
 use crate::error::Result;
 use crate::render::graph::{Declaration, Graph, Pass, PassContext};
-use crate::render::passes;
+use crate::render::recording;
 use crate::render::scene_gpu::SceneGpu;
 use crate::vk::{pipeline, Access, Device};
 
@@ -97,7 +97,7 @@ impl Pass for CullStep {
 
     fn record(&self, ctx: &PassContext, cmd: vk::CommandBuffer) -> Result<()> {
         let device = ctx.device;
-        passes::bind_scene_set(device, ctx, cmd, self.layout, vk::PipelineBindPoint::COMPUTE);
+        recording::bind_scene_set(device, ctx, cmd, self.layout, vk::PipelineBindPoint::COMPUTE);
         // SAFETY: cmd is recording outside a rendering instance; set 0 is bound.
         unsafe {
             device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipeline);
