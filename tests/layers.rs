@@ -482,28 +482,53 @@ fn reexports(file: &Path) -> Vec<(String, String)> {
     out
 }
 
-/// The entry of `ORDER` a module belongs to (`render::passes::cull` to `render::passes`), the
-/// names the crate root and `render` re-export resolved to the module they come from; `None`
-/// for the crate root, an error for a path to no module.
-fn layer_of(
-    module: &[String],
-    lib: &[(String, String)],
-    render: &[(String, String)],
-) -> Result<Option<String>, String> {
-    let through =
-        |names: &[(String, String)], name: &str| names.iter().find(|(n, _)| n == name).map(|(_, m)| m.clone());
-    match module {
-        [] => Ok(None),
-        [top] if top == "render" => Ok(Some("render".into())),
-        [top, sub, ..] if top == "render" => {
-            if is_module(&module[..2]) {
-                Ok(Some(format!("render::{sub}")))
-            } else {
-                through(render, sub).map(|m| Some(format!("render::{m}"))).ok_or(format!("render::{sub}"))
+/// What paths from the crate root name besides modules: the names the crate root and `render`
+/// re-export (with the child module each comes from), and the exported macros (`crate::name`,
+/// with the module that defines each).
+struct Names {
+    lib: Vec<(String, String)>,
+    render: Vec<(String, String)>,
+    macros: Vec<(String, Vec<String>)>,
+}
+
+impl Names {
+    fn read() -> Self {
+        let mut macros = Vec::new();
+        for file in rust_files(&src()) {
+            let text = read(&file);
+            let toks = tokens(&text);
+            for w in toks.windows(3) {
+                if let [(_, Tok::Ident("macro_rules")), (_, Tok::Other), (_, Tok::Ident(name))] = w {
+                    macros.push((name.to_string(), module_of(&file)));
+                }
             }
         }
-        [top, ..] if is_module(&module[..1]) => Ok(Some(top.clone())),
-        [top, ..] => through(lib, top).map(Some).ok_or(top.clone()),
+        Self { lib: reexports(&src().join("lib.rs")), render: reexports(&src().join("render/mod.rs")), macros }
+    }
+
+    /// The entry of `ORDER` a module belongs to (`render::passes::cull` to `render::passes`),
+    /// names resolved to the module they come from; `None` for the crate root, an error for a
+    /// path to nothing known.
+    fn layer_of(&self, module: &[String]) -> Result<Option<String>, String> {
+        let through =
+            |names: &[(String, String)], name: &str| names.iter().find(|(n, _)| n == name).map(|(_, m)| m.clone());
+        match module {
+            [] => Ok(None),
+            [top] if top == "render" => Ok(Some("render".into())),
+            [top, sub, ..] if top == "render" => {
+                if is_module(&module[..2]) {
+                    Ok(Some(format!("render::{sub}")))
+                } else {
+                    through(&self.render, sub).map(|m| Some(format!("render::{m}"))).ok_or(format!("render::{sub}"))
+                }
+            }
+            [top, ..] if is_module(&module[..1]) => Ok(Some(top.clone())),
+            [top, ..] => match (through(&self.lib, top), self.macros.iter().find(|(n, _)| n == top)) {
+                (Some(m), _) => Ok(Some(m)),
+                (None, Some((_, defined))) => self.layer_of(defined),
+                (None, None) => Err(top.clone()),
+            },
+        }
     }
 }
 
@@ -525,8 +550,7 @@ fn module_uses() -> Vec<(String, usize, Vec<String>, Vec<String>)> {
 
 #[test]
 fn no_module_uses_one_above_it() {
-    let lib = reexports(&src().join("lib.rs"));
-    let render = reexports(&src().join("render/mod.rs"));
+    let names = Names::read();
     let rank = |layer: &str| ORDER.iter().position(|&l| l == layer);
     let mut offences = Vec::new();
     for layer in ORDER {
@@ -536,7 +560,7 @@ fn no_module_uses_one_above_it() {
         }
     }
     for (file, line, module, path) in module_uses() {
-        let (user, used) = match (layer_of(&module, &lib, &render), layer_of(&path, &lib, &render)) {
+        let (user, used) = match (names.layer_of(&module), names.layer_of(&path)) {
             (Ok(Some(user)), Ok(Some(used))) => (user, used),
             (Ok(_), Ok(None)) | (Ok(None), _) => continue,
             (Err(bad), _) | (_, Err(bad)) => {

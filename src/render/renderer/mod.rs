@@ -141,13 +141,8 @@ impl Renderer {
                     records,
                     crate::render::scene_gpu::level_room(self.scene_gpu(), records, settings.culling.enabled),
                 );
-                Some(animation::build_model(
-                    &device,
-                    self.layouts.animation_layout,
-                    &animation,
-                    settings.segments,
-                    room,
-                )?)
+                let layout = self.layouts.animation_layout;
+                Some(animation::build_model(&device, layout, &animation, settings.segments, room)?)
             }
         };
         let previous = (
