@@ -21,7 +21,7 @@ use glam::{UVec4, Vec4};
 
 use crate::error::{Error, Result};
 use crate::render::animation::model::{AnimationModel, BladeInput, FrameInput};
-use crate::render::animation::{self, AnimationSettings};
+use crate::render::animation::{self, build_model, AnimationSettings};
 use crate::render::field_gpu::{self, Origin};
 use crate::render::frame::{look, FrameRing, FrameUniforms, Replay, ReplayKey};
 pub use crate::render::frame::{Deletion, FrameSync, FrameTimings, PassTime};
@@ -99,7 +99,7 @@ impl Renderer {
         check_pose_records(&device, &renderer.animation, (scene_gpu.blade_count, settings.segments), path.0, path.1)?;
         let layout = renderer.layouts.animation_layout;
         let room = (records, crate::render::scene_gpu::level_room(scene_gpu, records, settings.culling.enabled));
-        renderer.model = Some(animation::build_model(&device, layout, &renderer.animation, settings.segments, room)?);
+        renderer.model = Some(build_model(&device, layout, &renderer.animation, settings.segments, room)?);
         renderer.build_graph(scene, polygon)?;
         Ok(renderer)
     }
@@ -141,8 +141,7 @@ impl Renderer {
                     records,
                     crate::render::scene_gpu::level_room(self.scene_gpu(), records, settings.culling.enabled),
                 );
-                let layout = self.layouts.animation_layout;
-                Some(animation::build_model(&device, layout, &animation, settings.segments, room)?)
+                Some(build_model(&device, self.layouts.animation_layout, &animation, settings.segments, room)?)
             }
         };
         let previous = (
