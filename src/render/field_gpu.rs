@@ -11,7 +11,7 @@ use crate::scene::clusters::ClusterGrid;
 use crate::scene::field::{self, BLOCK_SIZE};
 use crate::scene::{Camera, Field};
 
-// The shaders' world period (`cell_hash` in `shaders/field.glsl`) is the scene's.
+// The shaders' world period (`cell_hash` in `shaders/common/field.glsl`) is the scene's.
 const _: () = assert!(field::PERIOD_CELLS as u32 == gpu::PERIOD_CELLS);
 
 /// `--field SIZE|infinite`, parsed: a side in metres, or `None` for an unbounded field.
