@@ -17,6 +17,7 @@
 
 mod frame;
 mod textures;
+mod uploads;
 
 use ash::vk;
 

@@ -37,7 +37,7 @@ pub use crate::render::settings::{
 };
 use crate::render::submission::Strategy;
 use crate::render::target::TargetView;
-use crate::scene::{Camera, Scene};
+use crate::scene::{field::check_camera, Camera, Scene};
 use crate::vk::{Access, Device, Resource};
 
 /// The scene on the GPU, its passes in a graph, and the frames in flight: build, then render
@@ -435,10 +435,8 @@ impl Renderer {
         sync: FrameSync,
         outputs: Outputs,
     ) -> Result<()> {
-        if self.scene_gpu().field.is_some() {
-            // A block field's cells are indexed in 32 bits (the CLI refuses such cameras first).
-            crate::scene::field::check_camera(camera.position).map_err(Error::bad_input)?;
-        }
+        // A block field's cells are indexed in 32 bits (the CLI refuses such cameras first).
+        self.scene_gpu().field.as_ref().map_or(Ok(()), |_| check_camera(camera.position)).map_err(Error::bad_input)?;
         let uniforms = self.prepare_frame(slot, target, camera, time)?;
         // The resource states move on only if the frame is submitted: a frame that failed to
         // record or submit never runs, and the next frame's barriers must not assume it did.
