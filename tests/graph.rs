@@ -1,16 +1,22 @@
 //! The pass graph and the frame ring on lavapipe: barriers derived from declarations (a wrong
-//! declaration is caught), declarations the graph refuses, and a failed submission that reports
-//! an error instead of hanging.
+//! declaration is caught), declarations the graph refuses, a failed submission that reports
+//! an error instead of hanging, query pools sized by the graph (40 passes timed), a run-once
+//! pass, and `Prerecorded` replays that never go stale. (The test pass of a ping-pong chain is
+//! `tests/graph_pass.rs`.)
 
+#[path = "support/glsl.rs"]
+mod glsl;
 mod support;
 
+use std::cell::Cell;
+use std::rc::Rc;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use ash::vk;
 use ash::vk::Handle;
 use meadow::app::{with_device, GpuOptions};
-use meadow::render::graph::{Declaration, Graph, Pass, PassContext, Rendering, Scopes};
+use meadow::render::graph::{Declaration, Graph, Pass, PassContext, Rendering, Runs, Scopes};
 use meadow::render::target::TargetView;
 use meadow::vk::commands::{self, CommandRecorder};
 use meadow::vk::query::TimestampQueries;
@@ -82,6 +88,7 @@ impl Pass for DrawPass {
             extent: vk::Extent2D { width: 4, height: 4 },
             color: None,
             depth: None,
+            depth_write: false,
             pipeline: vk::Pipeline::null(),
             secondary: false,
         };
@@ -120,9 +127,14 @@ fn run(device: &Arc<Device>, graph: &mut Graph, release: &[(Resource, Access)]) 
             slot: 0,
             descriptor_set: vk::DescriptorSet::null(),
             uniforms: &uniforms,
+            clock: Default::default(),
+            step: 0,
+            temporals: &[],
         };
+        let plan = graph.plan(&ctx)?;
+        assert!(plan.timestamps() <= timestamps.capacity());
         let mut scopes = Scopes { timestamps: &mut timestamps, statistics: None };
-        graph.record(&ctx, cmd, &mut scopes, Default::default())?;
+        graph.record(&ctx, &plan, cmd, &mut scopes, Default::default())?;
         graph.release(device, cmd, release);
         recorder.end(device)?;
         let fence = meadow::vk::sync::fence(device, false, "graph test fence")?;
@@ -341,4 +353,208 @@ fn rebuilt_passes_are_freed_behind_the_frames_in_flight() {
     assert_eq!(pending[3].1, ["terrain", "blades"], "the floor stands in for the blade pass");
     assert_eq!(after, 0, "freed once the frames finished");
     assert!(refused);
+}
+
+fn brute_force(frames_in_flight: usize) -> meadow::render::RenderSettings {
+    use meadow::render::{culling::Culling, RenderSettings};
+    let culling = Culling { enabled: false, ..Culling::default_for(2) };
+    RenderSettings { frames_in_flight, ..RenderSettings::offscreen(2, culling) }
+}
+
+/// Fills its own buffer: one of many passes.
+struct NumberedFill {
+    name: &'static str,
+    buffer: Buffer,
+}
+
+impl Pass for NumberedFill {
+    fn name(&self) -> &'static str {
+        self.name
+    }
+    fn declare(&self, _: &PassContext) -> Option<Declaration> {
+        Some(Declaration::compute().buffer(self.buffer.raw, Access::TransferWrite))
+    }
+    fn record(&self, ctx: &PassContext, cmd: vk::CommandBuffer) -> meadow::Result<()> {
+        // SAFETY: recording outside a rendering instance; the buffer is live.
+        unsafe { ctx.device.raw.cmd_fill_buffer(cmd, self.buffer.raw, 0, vk::WHOLE_SIZE, FILL) };
+        Ok(())
+    }
+    unsafe fn destroy(self: Box<Self>, device: &Device) {
+        // SAFETY: per the contract.
+        unsafe { self.buffer.destroy(device) };
+    }
+}
+
+#[test]
+fn a_graph_of_forty_passes_reports_forty_pass_times() {
+    use meadow::render::{OffscreenTarget, Renderer};
+    let (result, messages) = with_device(&options(), false, |device| {
+        let scene = meadow::scene::Scene::generate(300, 3);
+        let mut renderer = Renderer::new(device.clone(), &scene, brute_force(2), Default::default())?;
+        let own = renderer.pass_names().len();
+        let mut names = Vec::new();
+        for i in 0..40 - own {
+            let name: &'static str = Box::leak(format!("fill {i}").into_boxed_str());
+            let usage = vk::BufferUsageFlags::TRANSFER_DST;
+            let buffer = Buffer::new(device, &BufferDesc::gpu_only(name, 64, usage))?;
+            renderer.add_pass(Box::new(NumberedFill { name, buffer }));
+            names.push(name);
+        }
+        let mut target = OffscreenTarget::new(device, vk::Extent2D { width: 16, height: 16 })?;
+        let camera = meadow::scene::Camera::default_for(&scene.terrain);
+        let timings = renderer.render_offscreen(&mut target, &camera, 0.0)?;
+        let graph = renderer.pass_names();
+        drop(renderer);
+        // SAFETY: the renderer waited for the device on drop.
+        unsafe { target.destroy(device) };
+        Ok((names, graph, timings))
+    });
+    let (names, graph, timings) = result.expect("device");
+    assert_eq!(messages, Some(0));
+    assert_eq!(graph.len(), 40);
+    let timed: Vec<&str> = timings.passes.iter().map(|p| p.name).collect();
+    assert_eq!(timed, graph, "every pass of the graph is timed, in order");
+    assert_eq!(&timed[..names.len()], &names[..], "passes added from outside run first");
+    for pair in timings.passes.windows(2) {
+        assert!(pair[1].start_ns >= pair[0].start_ns, "{pair:?}");
+    }
+    assert!(timings.passes.iter().all(|p| p.ms.is_finite() && p.ms >= 0.0));
+}
+
+/// A run-once pass: counts its runs on the GPU (`tests/shaders/count_runs.comp`) and its
+/// recordings on the CPU; it runs again when its input changes.
+struct CountRunsPass {
+    input: Rc<Cell<u32>>,
+    recorded: Rc<Cell<u32>>,
+    runs: vk::Buffer,
+    pipeline: glsl::ComputePipeline,
+}
+
+impl Pass for CountRunsPass {
+    fn name(&self) -> &'static str {
+        "count runs"
+    }
+    fn runs(&self, _: &PassContext) -> Runs {
+        Runs::OnChange(u64::from(self.input.get()))
+    }
+    fn declare(&self, _: &PassContext) -> Option<Declaration> {
+        let declaration = Declaration::compute()
+            .buffer(self.runs, Access::ComputeShaderRead)
+            .buffer(self.runs, Access::ComputeShaderWrite)
+            .step("to host")
+            .buffer(self.runs, Access::HostRead);
+        Some(declaration)
+    }
+    fn record(&self, ctx: &PassContext, cmd: vk::CommandBuffer) -> meadow::Result<()> {
+        if ctx.step == 0 {
+            self.recorded.set(self.recorded.get() + 1);
+            self.pipeline.dispatch(ctx.device, cmd, 0, bytemuck::bytes_of(&self.input.get()), 1);
+        }
+        Ok(())
+    }
+    unsafe fn destroy(self: Box<Self>, device: &Device) {
+        // SAFETY: per the contract.
+        unsafe { self.pipeline.destroy(device) };
+    }
+}
+
+#[test]
+fn a_run_once_pass_runs_once_and_again_only_when_its_input_changes() {
+    use meadow::render::{OffscreenTarget, Renderer};
+    let (result, messages) = with_device(&options(), false, |device| {
+        let usage = vk::BufferUsageFlags::STORAGE_BUFFER;
+        let mut runs = Buffer::new(device, &BufferDesc::readback("runs", 8, usage))?;
+        runs.write(0, &[0u32, 0]);
+        let pipeline = glsl::ComputePipeline::new(device, "count_runs.comp", 1, 4, 1)?;
+        pipeline.write(device, 0, &[runs.raw]);
+        let (input, recorded) = (Rc::new(Cell::new(7)), Rc::new(Cell::new(0)));
+        let scene = meadow::scene::Scene::generate(300, 3);
+        let mut renderer = Renderer::new(device.clone(), &scene, brute_force(2), Default::default())?;
+        let pass = CountRunsPass { input: input.clone(), recorded: recorded.clone(), runs: runs.raw, pipeline };
+        renderer.add_pass(Box::new(pass));
+        let mut target = OffscreenTarget::new(device, vk::Extent2D { width: 16, height: 16 })?;
+        let camera = meadow::scene::Camera::default_for(&scene.terrain);
+        let mut seen = Vec::new();
+        // Three frames with input 7; then input 9, whose first frame fails to submit; two more.
+        for frame in 0..6 {
+            if frame == 3 {
+                input.set(9);
+                renderer.inject_submit_failure(1);
+            }
+            let rendered = renderer.render_offscreen(&mut target, &camera, 0.0);
+            assert_eq!(rendered.is_err(), frame == 3, "frame {frame}");
+            renderer.wait_all_frames()?;
+            let words = bytemuck::cast_slice::<u8, u32>(runs.mapped()).to_vec();
+            seen.push((words[0], words[1], recorded.get()));
+        }
+        drop(renderer);
+        // SAFETY: the renderer waited for the device on drop.
+        unsafe {
+            target.destroy(device);
+            runs.destroy(device);
+        }
+        Ok(seen)
+    });
+    let seen = result.expect("device");
+    assert_eq!(messages, Some(0));
+    // (GPU runs, input of the last run, recordings) after each frame: the dropped frame's run is
+    // recorded again by the next frame and counts once.
+    assert_eq!(seen, [(1, 7, 1), (1, 7, 1), (1, 7, 1), (1, 7, 2), (2, 9, 3), (2, 9, 3)]);
+}
+
+/// 3 000 blades over 40 m of terrain: 80 cells a side, 5 × 5 chunks (`terrain_chunks`).
+fn wide_sparse_field() -> meadow::scene::Scene {
+    use meadow::scene::{blades, terrain::Terrain, tiles};
+    let terrain = Terrain::generate(40.0, 5);
+    let mut blades = blades::scatter(&terrain, 3000, 5);
+    let tile_grid = tiles::TileGrid::new(terrain.size);
+    let tiles = tiles::arrange(&tile_grid, &mut blades);
+    meadow::scene::Scene { terrain, blades, tile_grid, tiles, field: None }
+}
+
+#[test]
+fn a_prerecorded_replay_with_a_moving_camera_gives_the_pictures_of_recording_each_frame() {
+    use meadow::render::submission::{Strategy, Submission};
+    use meadow::render::{OffscreenTarget, Renderer};
+    let (result, messages) = with_device(&options(), false, |device| {
+        let scene = wide_sparse_field();
+        let mut pictures = Vec::new();
+        let mut replayed = Vec::new();
+        for strategy in [Strategy::Instanced, Strategy::Prerecorded] {
+            let settings =
+                meadow::render::RenderSettings { submission: Submission { strategy, clusters: 1 }, ..brute_force(2) };
+            let mut renderer = Renderer::new(device.clone(), &scene, settings, Default::default())?;
+            let mut target = OffscreenTarget::new(device, vk::Extent2D { width: 64, height: 48 })?;
+            // From the middle of the field: other terrain chunks in view whichever way it looks.
+            let eye = glam::Vec3::new(0.0, scene.terrain.height_at(0.0, 0.0) + 1.7, 0.0);
+            let start = meadow::scene::Camera { position: eye, yaw_deg: 0.0, pitch_deg: -20.0 };
+            let mut frames = Vec::new();
+            let mut replays = Vec::new();
+            // Turning 40 degrees a frame (other terrain chunks in view each frame), then still.
+            for frame in 0..12 {
+                let turn = 40.0 * frame.min(8) as f32;
+                let camera = meadow::scene::Camera { yaw_deg: start.yaw_deg + turn, ..start };
+                let timings = renderer.render_offscreen(&mut target, &camera, 0.25)?;
+                frames.push(target.pixels().to_vec());
+                replays.push(timings.replayed);
+            }
+            drop(renderer);
+            // SAFETY: the renderer waited for the device on drop.
+            unsafe { target.destroy(device) };
+            pictures.push(frames);
+            replayed.push(replays);
+        }
+        Ok((pictures, replayed))
+    });
+    let (pictures, replayed) = result.expect("device");
+    assert_eq!(messages, Some(0));
+    for (frame, (recorded, replay)) in pictures[0].iter().zip(&pictures[1]).enumerate() {
+        assert!(recorded == replay, "frame {frame}: the prerecorded picture differs");
+    }
+    let differing = |a: &[u8], b: &[u8]| a.iter().zip(b).filter(|(x, y)| x != y).count();
+    let turns: Vec<usize> = pictures[0][..9].windows(2).map(|pair| differing(&pair[0], &pair[1])).collect();
+    assert!(turns.iter().all(|&d| d > 0), "the camera's turn changes the picture: {turns:?}");
+    assert!(replayed[0].iter().all(|r| !r), "recorded every frame: {:?}", replayed[0]);
+    // The still frames (past the first of each slot) replay the kept recordings.
+    assert!(replayed[1][10..].iter().all(|&r| r), "{:?}", replayed[1]);
 }

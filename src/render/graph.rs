@@ -3,16 +3,28 @@
 //!
 //! - **barriers**: it tracks each resource's last access across passes and frames
 //!   (`vk::tracker`) and derives every barrier through `vk::sync::transition`, image layouts,
-//!   swapchain acquire and present included;
+//!   swapchain acquire and present included, and between the steps of a pass (a chain of
+//!   dependent dispatches, `Declaration::step`);
+//! - **time**: the frame clock (`FrameClock`), and temporal pairs (`Temporal`: ping-pong
+//!   resources declared once, swapped when a frame that wrote them is submitted);
+//! - **when a pass runs**: every frame, or once and again when its inputs change (`Runs`);
 //! - **rendering instances**: a graphics pass names its attachments and how they load; the graph
 //!   begins and ends the dynamic-rendering instance around the pass's draws;
-//! - **GPU scopes**: a debug label, a timestamp pair and, for graphics passes, a
-//!   pipeline-statistics query around each pass, so every report lists every pass with no
-//!   per-pass code;
+//! - **GPU scopes**: a debug label, a timestamp pair (and one per named step) and, for graphics
+//!   passes, a pipeline-statistics query around each pass, so every report lists every pass with
+//!   no per-pass code. The frame's queries are sized from its plan: any number of passes;
+//! - **replays**: whether a kept recording still holds for this frame (`Plan::replay`);
 //! - **outputs**: the frame's last uses of its target (present, a copy for the host to read).
 //!
 //! A pass records only its own commands: adding a pass is one file that implements [`Pass`] and
-//! one `graph.add(…)` line.
+//! one `graph.add(…)` line (or `Renderer::add_pass` from outside the library).
+
+mod declaration;
+mod recording;
+mod temporal;
+
+pub use declaration::{Attachment, Declaration, Kind, Load, Rendering, Step, Use};
+pub use temporal::{FrameClock, Temporal, TemporalPair, DEFAULT_DT};
 
 use ash::vk;
 
@@ -21,9 +33,11 @@ use crate::render::target::TargetView;
 use crate::render::uniforms::FrameUniforms;
 use crate::vk::query::{StatisticsQueries, TimestampQueries};
 use crate::vk::tracker::{Barriers, Resource, ResourceStates};
-use crate::vk::{debug, image, sync, Access, Device};
+use crate::vk::{image, sync, Access, Device};
+use recording::{record_pass, StepStates};
 
 /// What a frame's passes are recorded for.
+#[derive(Clone, Copy)]
 pub struct PassContext<'a> {
     /// The device.
     pub device: &'a Device,
@@ -38,107 +52,49 @@ pub struct PassContext<'a> {
     pub descriptor_set: vk::DescriptorSet,
     /// The frame's uniforms as written for the GPU (what a pass sizes its dispatches by).
     pub uniforms: &'a FrameUniforms,
+    /// The frame's clock: its `time` and `dt` from the caller, its `index` from the graph.
+    pub clock: FrameClock,
+    /// The step being recorded (`Declaration::step`; 0 for a pass of one step). Set by the graph.
+    pub step: usize,
+    /// The graph's temporal pairs as they stand this frame. Set by the graph.
+    pub temporals: &'a [TemporalPair],
 }
 
-/// How an attachment's contents start.
-#[derive(Clone, Copy)]
-pub enum Load {
-    /// Cleared to a value.
-    Clear(vk::ClearValue),
-    /// Kept from the previous pass.
-    Keep,
-    /// Undefined: the pass writes every pixel (or does not use the contents).
-    Discard,
-}
-
-/// One attachment of a graphics pass.
-#[derive(Clone, Copy)]
-pub struct Attachment {
-    /// The image (tracked as a resource).
-    pub image: vk::Image,
-    /// The view drawn into.
-    pub view: vk::ImageView,
-    /// How its contents start.
-    pub load: Load,
-    /// Whether its contents are stored for a later pass (depth a later pass does not read is not).
-    pub store: bool,
-}
-
-/// The rendering instance of a graphics pass.
-#[derive(Clone, Copy)]
-pub struct Rendering {
-    /// Render area, from the origin.
-    pub extent: vk::Extent2D,
-    /// Colour attachment.
-    pub color: Option<Attachment>,
-    /// Depth attachment (reversed Z: depth test and write).
-    pub depth: Option<Attachment>,
-    /// The pass's first pipeline. Bound before its statistics query begins: lavapipe (Mesa 22.3)
-    /// emits the bound graphics state at `vkCmdBeginQuery` and crashes when there is none.
-    pub pipeline: vk::Pipeline,
-    /// The draws come from secondary command buffers. Such a pass goes uncounted by the
-    /// statistics queries (that would need `inheritedQueries`).
-    pub secondary: bool,
-}
-
-/// What kind of work a pass records.
-pub enum Kind {
-    /// Dispatches, outside any rendering instance.
-    Compute,
-    /// Draws inside a rendering instance the graph opens.
-    Graphics(Rendering),
-}
-
-/// What a pass does this frame: its kind and every resource it touches, with how.
-pub struct Declaration {
-    /// Compute or graphics.
-    pub kind: Kind,
-    /// `(resource, access)` uses, attachments excluded (the graph adds those).
-    pub uses: Vec<(Resource, Access)>,
-}
-
-impl Declaration {
-    /// A compute pass.
-    pub fn compute() -> Self {
-        Self { kind: Kind::Compute, uses: Vec::new() }
+impl PassContext<'_> {
+    /// `pair` as it stands this frame.
+    pub fn temporal(&self, pair: Temporal) -> TemporalPair {
+        self.temporals[pair.0]
     }
 
-    /// A graphics pass with its rendering instance.
-    pub fn graphics(rendering: Rendering) -> Self {
-        Self { kind: Kind::Graphics(rendering), uses: Vec::new() }
+    /// The resource of `pair` written this frame.
+    pub fn current(&self, pair: Temporal) -> Resource {
+        self.temporal(pair).current()
     }
 
-    /// The pass uses `resource` as `access`.
-    pub fn uses(mut self, resource: Resource, access: Access) -> Self {
-        self.uses.push((resource, access));
-        self
+    /// The resource of `pair` the last submitted frame wrote.
+    pub fn previous(&self, pair: Temporal) -> Resource {
+        self.temporal(pair).previous()
     }
 
-    /// The pass uses buffer `buffer` as `access`.
-    pub fn buffer(self, buffer: vk::Buffer, access: Access) -> Self {
-        self.uses(Resource::Buffer(buffer), access)
-    }
-
-    /// Every use grouped by resource, in order of first appearance, the attachments included.
-    fn grouped(&self) -> Vec<(Resource, Vec<Access>)> {
-        let mut groups: Vec<(Resource, Vec<Access>)> = Vec::new();
-        let mut add = |resource: Resource, access: Access| match groups.iter_mut().find(|(r, _)| *r == resource) {
-            Some((_, accesses)) => accesses.push(access),
-            None => groups.push((resource, vec![access])),
-        };
-        if let Kind::Graphics(rendering) = &self.kind {
-            if let Some(color) = rendering.color {
-                add(Resource::color(color.image), Access::ColorAttachmentWrite);
-            }
-            if let Some(depth) = rendering.depth {
-                add(Resource::depth(depth.image), Access::DepthAttachmentReadWrite);
-            }
+    /// The resource a use names this frame.
+    fn resolve(&self, resource: Use) -> Resource {
+        match resource {
+            Use::Resource(resource) => resource,
+            Use::Current(pair) => self.current(pair),
+            Use::Previous(pair) => self.previous(pair),
         }
-        for &(resource, access) in &self.uses {
-            add(resource, access);
-        }
-        groups
     }
+}
+
+/// When a pass runs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Runs {
+    /// Every frame (it may still skip a frame by declaring nothing).
+    EveryFrame,
+    /// Once, and again when the key changes: the key is a digest of every input the pass's
+    /// output depends on (an atlas bake: the blade look). A run counts once its frame is
+    /// submitted; a dropped frame's run is run again.
+    OnChange(u64),
 }
 
 /// A pass of the graph: one file, its own pipelines, its declaration, its commands.
@@ -149,9 +105,26 @@ pub trait Pass {
     /// What the pass does this frame, or `None` to skip it this frame.
     fn declare(&self, ctx: &PassContext) -> Option<Declaration>;
 
-    /// Record the pass's commands: binds and dispatches or draws. Barriers, the rendering instance,
-    /// labels and queries are the graph's. Set 0 is not bound by the graph.
+    /// Record the pass's commands for step `ctx.step` of its declaration: binds and dispatches
+    /// or draws. Barriers (before each step), the rendering instance, labels and queries are the
+    /// graph's. Set 0 is not bound by the graph.
     fn record(&self, ctx: &PassContext, cmd: vk::CommandBuffer) -> Result<()>;
+
+    /// When the pass runs: every frame by default.
+    fn runs(&self, _ctx: &PassContext) -> Runs {
+        Runs::EveryFrame
+    }
+
+    /// What this frame's commands of the pass are a function of, besides the resources and the
+    /// target a replay is already checked against: `Some(key)` when the commands recorded for an
+    /// earlier frame with the same key are this frame's too (a `Prerecorded` replay may reuse
+    /// them), `None` when they must be recorded anew. `None` by default: a pass that decides
+    /// on the CPU what to draw (a per-frame draw list, culled chunks), writes per-frame data in
+    /// `record`, or keeps state of its own, is never replayed stale. Passes that use a temporal
+    /// pair or run on change are recorded anew whatever they say.
+    fn replay_key(&self, _ctx: &PassContext) -> Option<u64> {
+        None
+    }
 
     /// The frame last recorded will not run (it failed to record or submit): forget anything the
     /// pass assumed that frame's commands would leave behind (`ReliefGridPass` keeps what its
@@ -165,16 +138,28 @@ pub trait Pass {
     unsafe fn destroy(self: Box<Self>, device: &Device);
 }
 
-/// The queries a frame's passes are measured with.
+/// The queries a frame's passes are measured with. Their pools must hold what the frame's plan
+/// needs (`Plan::timestamps`, `Plan::statistics`).
 pub struct Scopes<'a> {
-    /// Timestamps: two per pass, and one at each end of the frame.
+    /// Timestamps: two per pass and per named step, and one at each end of the frame.
     pub timestamps: &'a mut TimestampQueries,
     /// Pipeline statistics, one query per counted graphics pass, when available.
     pub statistics: Option<&'a mut StatisticsQueries>,
 }
 
-/// A pass as recorded in a frame: which queries measured it.
+/// A named step of a pass as recorded: which timestamps measured it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct RecordedStep {
+    /// The step's name.
+    pub name: &'static str,
+    /// Timestamp written before the step (before its barriers).
+    pub begin: u32,
+    /// Timestamp written after it.
+    pub end: u32,
+}
+
+/// A pass as recorded in a frame: which queries measured it.
+#[derive(Clone, Debug, PartialEq, Eq)]
 pub struct RecordedPass {
     /// The pass's name.
     pub name: &'static str,
@@ -184,6 +169,8 @@ pub struct RecordedPass {
     pub end: u32,
     /// Its pipeline-statistics query, if counted.
     pub statistics: Option<u32>,
+    /// Its named steps.
+    pub steps: Vec<RecordedStep>,
 }
 
 /// What the frame's target goes on to after the passes.
@@ -195,11 +182,76 @@ pub struct Outputs {
     pub present: bool,
 }
 
-/// Passes in order, and the states of the resources they touch.
+/// One pass in the graph.
+struct Node {
+    pass: Box<dyn Pass>,
+    /// The key of its last submitted run (`Runs::OnChange`).
+    ran: Option<u64>,
+}
+
+/// The passes a frame records, with their declarations: made by `Graph::plan`, recorded by
+/// `Graph::record`.
+pub struct Plan {
+    /// `(node, declaration, run key)` of each pass that runs.
+    entries: Vec<(usize, Declaration, Option<u64>)>,
+    /// The frame's replay key: `None` when the frame must be recorded anew.
+    replay: Option<Vec<u64>>,
+}
+
+impl Plan {
+    /// Timestamps the frame writes at most.
+    pub fn timestamps(&self) -> u32 {
+        2 + self.entries.iter().map(|(_, d, _)| 2 + 2 * d.timed_steps()).sum::<u32>()
+    }
+
+    /// Pipeline-statistics queries the frame uses at most (one per graphics pass).
+    pub fn statistics(&self) -> u32 {
+        self.entries.iter().filter(|(_, d, _)| matches!(d.kind, Kind::Graphics(_))).count() as u32
+    }
+
+    /// What the frame's commands are a function of, besides the resource states and the target
+    /// (`Pass::replay_key` of each pass, and which passes run): equal keys, equal commands.
+    /// `None`: the frame must be recorded.
+    pub fn replay(&self) -> Option<&[u64]> {
+        self.replay.as_deref()
+    }
+}
+
+/// The context the passes see: `ctx` with the graph's clock index and temporal pairs.
+fn context<'a>(ctx: &PassContext<'a>, temporals: &'a [TemporalPair], frames: u64) -> PassContext<'a> {
+    let clock = FrameClock { index: frames, ..ctx.clock };
+    PassContext { clock, step: 0, temporals, ..*ctx }
+}
+
+/// Passes in order, the states of the resources they touch, the temporal pairs and the clock.
 #[derive(Default)]
 pub struct Graph {
-    passes: Vec<Box<dyn Pass>>,
+    nodes: Vec<Node>,
+    /// The first `extensions` nodes were added from outside the renderer (`add_extension`): a
+    /// rebuilt graph keeps them (`adopt`).
+    extensions: usize,
     states: ResourceStates,
+    temporals: Vec<TemporalPair>,
+    /// Frames submitted.
+    frames: u64,
+    /// What the last recorded frame changes once it is submitted.
+    pending: Pending,
+}
+
+/// What a recorded frame changes once it is submitted: the pairs it wrote swap, the runs on
+/// change it recorded count.
+#[derive(Default)]
+struct Pending {
+    swaps: Vec<usize>,
+    runs: Vec<(usize, u64)>,
+}
+
+/// What a rebuilt graph keeps from the one it replaces: the passes added from outside, the
+/// temporal pairs and the clock.
+pub struct Kept {
+    nodes: Vec<Node>,
+    temporals: Vec<TemporalPair>,
+    frames: u64,
 }
 
 impl Graph {
@@ -210,17 +262,57 @@ impl Graph {
 
     /// Append a pass: passes run in the order they were added.
     pub fn add(&mut self, pass: impl Pass + 'static) {
-        self.passes.push(Box::new(pass));
+        self.add_boxed(Box::new(pass));
     }
 
     /// Append a pass built elsewhere (an animation model's compute passes).
     pub fn add_boxed(&mut self, pass: Box<dyn Pass>) {
-        self.passes.push(pass);
+        self.nodes.push(Node { pass, ran: None });
+    }
+
+    /// Add a pass from outside the renderer's own (a simulation, a bake): it runs before them,
+    /// after the extensions added before it, and a rebuilt graph keeps it (`keep`, `adopt`).
+    pub fn add_extension(&mut self, pass: Box<dyn Pass>) {
+        self.nodes.insert(self.extensions, Node { pass, ran: None });
+        self.extensions += 1;
+    }
+
+    /// Declare a temporal pair over `pair` (two resources of one shape). At first `pair[0]` is
+    /// current: written by the first frame, and `pair[1]` is previous.
+    pub fn temporal(&mut self, pair: [Resource; 2]) -> Temporal {
+        self.temporals.push(TemporalPair { pair, current: 0 });
+        Temporal(self.temporals.len() - 1)
+    }
+
+    /// `pair` as it stands (before the next frame).
+    pub fn temporal_pair(&self, pair: Temporal) -> TemporalPair {
+        self.temporals[pair.0]
+    }
+
+    /// Frames submitted so far: the next frame's `FrameClock::index`.
+    pub fn frames_submitted(&self) -> u64 {
+        self.frames
+    }
+
+    /// Take what a rebuilt graph keeps (the extensions, the temporal pairs, the clock).
+    pub fn keep(&mut self) -> Kept {
+        let nodes = self.nodes.drain(..self.extensions).collect();
+        self.extensions = 0;
+        Kept { nodes, temporals: std::mem::take(&mut self.temporals), frames: self.frames }
+    }
+
+    /// Take over what `kept` holds, before any pass of this graph is added.
+    pub fn adopt(&mut self, kept: Kept) {
+        self.extensions = kept.nodes.len();
+        let own = std::mem::replace(&mut self.nodes, kept.nodes);
+        self.nodes.extend(own);
+        self.temporals = kept.temporals;
+        self.frames = kept.frames;
     }
 
     /// The names of the passes, in order.
     pub fn pass_names(&self) -> Vec<&'static str> {
-        self.passes.iter().map(|p| p.name()).collect()
+        self.nodes.iter().map(|n| n.pass.name()).collect()
     }
 
     /// `resource` was last accessed by `accesses` (uploaded data, a target's previous frame, an
@@ -245,18 +337,70 @@ impl Graph {
         self.states = states;
     }
 
-    /// The frame last recorded will not run: tell each pass (`Pass::frame_dropped`).
-    pub fn frame_dropped(&self) {
-        for pass in &self.passes {
-            pass.frame_dropped();
+    /// The frame last recorded (or replayed) was submitted: the temporal pairs it wrote swap, its
+    /// runs on change count, and the clock moves on.
+    pub fn frame_submitted(&mut self) {
+        let pending = std::mem::take(&mut self.pending);
+        for pair in pending.swaps {
+            let t = &mut self.temporals[pair];
+            t.current = 1 - t.current;
+        }
+        for (node, key) in pending.runs {
+            self.nodes[node].ran = Some(key);
+        }
+        self.frames += 1;
+    }
+
+    /// The frame last recorded will not run: nothing it wrote swaps or counts, and each pass is
+    /// told (`Pass::frame_dropped`).
+    pub fn frame_dropped(&mut self) {
+        self.pending = Pending::default();
+        for node in &self.nodes {
+            node.pass.frame_dropped();
         }
     }
 
-    /// Record every pass into `cmd` with its barriers, rendering instance, label and queries,
-    /// then the outputs. `ctx.target`'s images must have been imported for this frame.
+    /// The passes that run this frame, with their declarations, and the frame's replay key. A
+    /// graphics pass of several steps is refused.
+    pub fn plan(&self, ctx: &PassContext) -> Result<Plan> {
+        let ctx = context(ctx, &self.temporals, self.frames);
+        let mut entries = Vec::with_capacity(self.nodes.len());
+        let mut replay = Some(Vec::with_capacity(self.nodes.len()));
+        for (index, node) in self.nodes.iter().enumerate() {
+            let pass = node.pass.as_ref();
+            let run = match pass.runs(&ctx) {
+                Runs::EveryFrame => None,
+                Runs::OnChange(key) if node.ran == Some(key) => {
+                    replay.as_mut().map(|k| k.push(u64::MAX));
+                    continue;
+                }
+                Runs::OnChange(key) => Some(key),
+            };
+            let Some(declaration) = pass.declare(&ctx) else {
+                replay.as_mut().map(|k| k.push(u64::MAX - 1));
+                continue;
+            };
+            if declaration.steps.len() > 1 && matches!(declaration.kind, Kind::Graphics(_)) {
+                return Err(Error::Internal(format!("graphics pass `{}` declares several steps", pass.name())));
+            }
+            if let Some(keys) = &mut replay {
+                let key = (run.is_none() && !declaration.is_temporal()).then(|| pass.replay_key(&ctx)).flatten();
+                match key {
+                    Some(key) => keys.extend([key, declaration.steps.len() as u64]),
+                    None => replay = None,
+                }
+            }
+            entries.push((index, declaration, run));
+        }
+        Ok(Plan { entries, replay })
+    }
+
+    /// Record the passes of `plan` into `cmd` with their barriers, rendering instance, label and
+    /// queries, then the outputs. `ctx.target`'s images must have been imported for this frame.
     pub fn record(
         &mut self,
         ctx: &PassContext,
+        plan: &Plan,
         cmd: vk::CommandBuffer,
         scopes: &mut Scopes,
         outputs: Outputs,
@@ -267,17 +411,24 @@ impl Graph {
             statistics.reset(device, cmd);
         }
         scopes.timestamps.write(device, cmd);
-        let mut recorded = Vec::with_capacity(self.passes.len());
-        for pass in &self.passes {
-            let Some(declaration) = pass.declare(ctx) else { continue };
-            let barriers = transitions(&mut self.states, pass.name(), &declaration)?;
-            // The pass's time starts before its barriers (it includes waiting for its inputs).
-            // Measured on lavapipe: a timestamp written after the barrier is taken before the
-            // pass's binned work is rasterized, and the blade pass read 0.5 ms of a 63 ms frame.
-            let begin = scopes.timestamps.write(device, cmd);
-            sync::cmd_barriers(device, cmd, &barriers.buffers, &barriers.images);
-            recorded.push(record_pass(ctx, cmd, scopes, pass.as_ref(), &declaration, begin)?);
+        self.pending = Pending::default();
+        let mut recorded = Vec::with_capacity(plan.entries.len());
+        let mut pending = Pending::default();
+        {
+            let ctx = context(ctx, &self.temporals, self.frames);
+            for (index, declaration, run) in &plan.entries {
+                let pass = self.nodes[*index].pass.as_ref();
+                let mut states = StepStates { states: &mut self.states, ctx: &ctx, name: pass.name(), declaration };
+                recorded.push(record_pass(&ctx, cmd, scopes, pass, &mut states)?);
+                pending.swaps.extend(declaration.writes_current().map(|t| t.0));
+                if let Some(key) = run {
+                    pending.runs.push((*index, *key));
+                }
+            }
         }
+        pending.swaps.sort_unstable();
+        pending.swaps.dedup();
+        self.pending = pending;
         self.record_outputs(ctx, cmd, outputs);
         scopes.timestamps.write(device, cmd);
         Ok(recorded)
@@ -315,109 +466,9 @@ impl Graph {
     /// # Safety
     /// No pending GPU work may use them.
     pub unsafe fn destroy(self, device: &Device) {
-        for pass in self.passes {
+        for node in self.nodes {
             // SAFETY: per the contract.
-            unsafe { pass.destroy(device) };
+            unsafe { node.pass.destroy(device) };
         }
     }
-}
-
-/// The barriers `declaration` needs after the tracked states; the states move on to its uses.
-/// A declaration that uses an image never imported, or one image in two layouts, is refused.
-fn transitions(states: &mut ResourceStates, name: &str, declaration: &Declaration) -> Result<Barriers> {
-    let mut barriers = Barriers::default();
-    for (resource, accesses) in declaration.grouped() {
-        if resource.is_image() {
-            if !states.get(resource).is_some_and(|s| s.is_imported()) {
-                return Err(Error::Internal(format!("pass `{name}` uses an image never imported: {resource:?}")));
-            }
-            if !sync::one_layout(&accesses) {
-                return Err(Error::Internal(format!("pass `{name}` declares one image in two layouts: {accesses:?}")));
-            }
-        }
-        if let Some(hazard) = states.access(resource, &accesses) {
-            barriers.push(resource, &hazard);
-        }
-    }
-    Ok(barriers)
-}
-
-/// Record one pass inside its label, timestamps, statistics query and rendering instance.
-fn record_pass(
-    ctx: &PassContext,
-    cmd: vk::CommandBuffer,
-    scopes: &mut Scopes,
-    pass: &dyn Pass,
-    declaration: &Declaration,
-    begin: u32,
-) -> Result<RecordedPass> {
-    let device = ctx.device;
-    let graphics = match &declaration.kind {
-        Kind::Graphics(rendering) => Some(rendering),
-        Kind::Compute => None,
-    };
-    let color = if graphics.is_some() { [0.3, 0.6, 0.2, 1.0] } else { [0.7, 0.5, 0.2, 1.0] };
-    debug::begin_label(device, cmd, pass.name(), color);
-    let counted = graphics.filter(|r| !r.secondary);
-    let statistics = match (counted, scopes.statistics.as_deref_mut()) {
-        (Some(rendering), Some(queries)) => {
-            // SAFETY: cmd is recording, outside a rendering instance (see `Rendering::pipeline`).
-            unsafe { device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, rendering.pipeline) };
-            Some(queries.begin(device, cmd))
-        }
-        _ => None,
-    };
-    if let Some(rendering) = graphics {
-        begin_rendering(device, cmd, rendering);
-    }
-    // A failed recording (a secondary command buffer) fails the frame, after the instance and
-    // scopes are closed: a frame without a pass must not be measured.
-    let result = pass.record(ctx, cmd);
-    if graphics.is_some() {
-        // SAFETY: matches begin_rendering.
-        unsafe { device.raw.cmd_end_rendering(cmd) };
-    }
-    if let (Some(query), Some(queries)) = (statistics, scopes.statistics.as_deref()) {
-        queries.end(device, cmd, query);
-    }
-    let end = scopes.timestamps.write(device, cmd);
-    debug::end_label(device, cmd);
-    result.map(|()| RecordedPass { name: pass.name(), begin, end, statistics })
-}
-
-/// Begin the rendering instance of a graphics pass (the attachments are in their layouts: the
-/// graph's barriers put them there).
-fn begin_rendering(device: &Device, cmd: vk::CommandBuffer, rendering: &Rendering) {
-    let info = |attachment: Attachment, layout| {
-        let (load, clear) = match attachment.load {
-            Load::Clear(value) => (vk::AttachmentLoadOp::CLEAR, value),
-            Load::Keep => (vk::AttachmentLoadOp::LOAD, vk::ClearValue::default()),
-            Load::Discard => (vk::AttachmentLoadOp::DONT_CARE, vk::ClearValue::default()),
-        };
-        let store = if attachment.store { vk::AttachmentStoreOp::STORE } else { vk::AttachmentStoreOp::DONT_CARE };
-        vk::RenderingAttachmentInfo::default()
-            .image_view(attachment.view)
-            .image_layout(layout)
-            .load_op(load)
-            .store_op(store)
-            .clear_value(clear)
-    };
-    let color: Vec<_> =
-        rendering.color.map(|c| info(c, vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)).into_iter().collect();
-    let depth = rendering.depth.map(|d| info(d, vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL));
-    let flags = if rendering.secondary {
-        vk::RenderingFlags::CONTENTS_SECONDARY_COMMAND_BUFFERS
-    } else {
-        vk::RenderingFlags::empty()
-    };
-    let mut begin = vk::RenderingInfo::default()
-        .flags(flags)
-        .render_area(vk::Rect2D { offset: vk::Offset2D::default(), extent: rendering.extent })
-        .layer_count(1)
-        .color_attachments(&color);
-    if let Some(depth) = &depth {
-        begin = begin.depth_attachment(depth);
-    }
-    // SAFETY: cmd is recording outside a rendering instance; the views are live.
-    unsafe { device.raw.cmd_begin_rendering(cmd, &begin) };
 }

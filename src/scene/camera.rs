@@ -1,4 +1,5 @@
-//! The camera: position and yaw/pitch in degrees; perspective with reversed, infinite Z.
+//! The camera: position and yaw/pitch in degrees; perspective with reversed, infinite Z. And the
+//! orthographic view of a bake (an atlas rendered from the side): reversed Z over a finite depth.
 //!
 //! Yaw 0 looks along -z; positive yaw turns left (counter-clockwise seen from above). Pitch is
 //! positive upwards.
@@ -56,6 +57,47 @@ impl Camera {
     }
 }
 
+/// An orthographic view: a box `2 half_extent.x` wide, `2 half_extent.y` high and from `near` to
+/// `far` deep in front of `position`, looking along `forward` with `up` upwards in the picture.
+/// Reversed Z like the perspective camera (near → 1, far → 0), over a finite range: depth keeps
+/// its precision for the box it bakes (an atlas of blades seen from the side).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct OrthographicCamera {
+    /// Eye position in world space (the centre of the box's near face).
+    pub position: Vec3,
+    /// Unit view direction.
+    pub forward: Vec3,
+    /// World direction that is up in the picture (not parallel to `forward`).
+    pub up: Vec3,
+    /// Half the box's width and height in metres.
+    pub half_extent: glam::Vec2,
+    /// Near plane in metres (may be 0 or negative: the box may start behind the eye).
+    pub near: f32,
+    /// Far plane in metres (finite).
+    pub far: f32,
+}
+
+impl OrthographicCamera {
+    /// World → view.
+    pub fn view(&self) -> Mat4 {
+        Mat4::look_to_rh(self.position, self.forward, self.up)
+    }
+
+    /// View → clip for Vulkan: reversed Z (glam maps near → 0 and far → 1; the planes swapped
+    /// map near → 1 and far → 0) and y pointing down.
+    pub fn projection(&self) -> Mat4 {
+        let h = self.half_extent;
+        let mut proj = Mat4::orthographic_rh(-h.x, h.x, -h.y, h.y, self.far, self.near);
+        proj.y_axis.y = -proj.y_axis.y;
+        proj
+    }
+
+    /// World → clip.
+    pub fn view_projection(&self) -> Mat4 {
+        self.projection() * self.view()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -79,5 +121,29 @@ mod tests {
         assert!((near.z - 1.0).abs() < 1e-5 && far.z > 0.0 && far.z < 1e-3);
         let up = vp.project_point3(Vec3::new(0.0, 1.0, -5.0));
         assert!(up.y < 0.0, "world up is towards the top of the image (negative y in Vulkan clip space)");
+    }
+
+    #[test]
+    fn orthographic_reversed_z_over_a_finite_box() {
+        let c = OrthographicCamera {
+            position: Vec3::new(10.0, 0.5, 0.0),
+            forward: Vec3::NEG_X,
+            up: Vec3::Y,
+            half_extent: glam::Vec2::new(2.0, 0.5),
+            near: 0.0,
+            far: 20.0,
+        };
+        let vp = c.view_projection();
+        let near = vp.project_point3(Vec3::new(10.0, 0.5, 0.0));
+        let far = vp.project_point3(Vec3::new(-10.0, 0.5, 0.0));
+        let middle = vp.project_point3(Vec3::new(0.0, 0.5, 0.0));
+        assert!((near.z - 1.0).abs() < 1e-6 && far.z.abs() < 1e-6, "{near} {far}");
+        assert!((middle.z - 0.5).abs() < 1e-6, "depth is linear in an orthographic box: {middle}");
+        // The box's top edge is at the top of the picture, its side edge at the side; no
+        // perspective: the same at every depth.
+        let top = vp.project_point3(Vec3::new(5.0, 1.0, 0.0));
+        assert!((top.y + 1.0).abs() < 1e-6, "{top}");
+        let side = [vp.project_point3(Vec3::new(9.0, 0.5, 2.0)), vp.project_point3(Vec3::new(-9.0, 0.5, 2.0))];
+        assert!(side.iter().all(|p| (p.x.abs() - 1.0).abs() < 1e-6), "{side:?}");
     }
 }

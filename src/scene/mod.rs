@@ -11,7 +11,7 @@ pub mod terrain;
 pub mod tiles;
 
 pub use blades::BladeInstance;
-pub use camera::Camera;
+pub use camera::{Camera, OrthographicCamera};
 pub use terrain::Terrain;
 
 /// Terrain and blades of one field.

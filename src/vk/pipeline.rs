@@ -53,6 +53,9 @@ pub struct GraphicsDesc<'a> {
     pub polygon: vk::PolygonMode,
     /// Depth comparison (meadow uses reversed Z: GREATER).
     pub depth_compare: vk::CompareOp,
+    /// Whether fragments that pass the test write their depth. A pipeline that only tests (blended
+    /// plants, decals) draws in a pass whose `graph::Rendering::depth_write` is false.
+    pub depth_write: bool,
     /// Colour attachment format.
     pub color_format: vk::Format,
     /// Depth attachment format.
@@ -171,7 +174,7 @@ pub fn graphics(device: &Device, desc: &GraphicsDesc) -> Result<vk::Pipeline> {
     let has_depth = desc.depth_format != vk::Format::UNDEFINED;
     let depth = vk::PipelineDepthStencilStateCreateInfo::default()
         .depth_test_enable(has_depth)
-        .depth_write_enable(has_depth)
+        .depth_write_enable(has_depth && desc.depth_write)
         .depth_compare_op(desc.depth_compare);
     let blend_attachments = [desc.blend.attachment()];
     let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachments);

@@ -33,6 +33,26 @@ impl TimestampQueries {
         Ok(Self { pool, capacity, written: 0, period_ns: f64::from(device.limits().timestamp_period), valid_mask })
     }
 
+    /// Make room for `capacity` timestamps: a smaller pool is replaced by one that holds them
+    /// (its name kept). Record a frame's `reset` after this.
+    ///
+    /// # Safety
+    /// No pending work may use the pool.
+    pub unsafe fn reserve(&mut self, device: &Device, name: &str, capacity: u32) -> Result<()> {
+        if capacity <= self.capacity {
+            return Ok(());
+        }
+        let grown = Self::new(device, name, capacity)?;
+        // SAFETY: per the contract.
+        unsafe { std::mem::replace(self, grown).destroy(device) };
+        Ok(())
+    }
+
+    /// Timestamps the pool holds.
+    pub fn capacity(&self) -> u32 {
+        self.capacity
+    }
+
     /// The bits of a tick that count (`timestampValidBits`), as a mask.
     pub fn valid_mask(&self) -> u64 {
         self.valid_mask
@@ -277,6 +297,20 @@ impl StatisticsQueries {
         let pool = super::live::created(unsafe { device.raw.create_query_pool(&info, None) }.vk("vkCreateQueryPool")?);
         device.set_name(pool, name);
         Ok(Some(Self { pool, capacity, used: 0 }))
+    }
+
+    /// Make room for `capacity` queries, as `TimestampQueries::reserve`.
+    ///
+    /// # Safety
+    /// No pending work may use the pool.
+    pub unsafe fn reserve(&mut self, device: &Device, name: &str, capacity: u32) -> Result<()> {
+        if capacity <= self.capacity {
+            return Ok(());
+        }
+        let Some(grown) = Self::new(device, name, capacity)? else { return Ok(()) };
+        // SAFETY: per the contract.
+        unsafe { std::mem::replace(self, grown).destroy(device) };
+        Ok(())
     }
 
     /// Reset every query; record before the first `begin` of a frame, outside a render pass.

@@ -46,6 +46,9 @@ pub enum Access {
     ColorAttachmentWrite,
     /// Read and written as a depth attachment (test and write).
     DepthAttachmentReadWrite,
+    /// Read as a depth attachment (test without write): in the attachment layout, so a pass
+    /// that only tests follows one that writes with no layout change.
+    DepthAttachmentRead,
     /// Handed to the presentation engine.
     Present,
     /// A swapchain image just acquired: contents discarded, and the transition starts at the
@@ -98,6 +101,11 @@ impl Access {
             Access::DepthAttachmentReadWrite => (
                 S::EARLY_FRAGMENT_TESTS | S::LATE_FRAGMENT_TESTS,
                 A::DEPTH_STENCIL_ATTACHMENT_READ | A::DEPTH_STENCIL_ATTACHMENT_WRITE,
+                L::DEPTH_ATTACHMENT_OPTIMAL,
+            ),
+            Access::DepthAttachmentRead => (
+                S::EARLY_FRAGMENT_TESTS | S::LATE_FRAGMENT_TESTS,
+                A::DEPTH_STENCIL_ATTACHMENT_READ,
                 L::DEPTH_ATTACHMENT_OPTIMAL,
             ),
             // Presentation is ordered by the semaphore; the barrier only changes the layout.
@@ -314,6 +322,20 @@ mod tests {
         assert_eq!(t.dst_access, A::TRANSFER_READ);
         let h = transition(&[Access::TransferWrite], &[Access::HostRead]);
         assert_eq!((h.dst_stages, h.dst_access), (S::HOST, A::HOST_READ));
+    }
+
+    #[test]
+    fn depth_tested_without_write_after_a_depth_write() {
+        // Blended plants after the blades: a read after write in the same layout, and the next
+        // frame's depth write waits for the test (write after read, nothing to make available).
+        let t = transition(&[Access::DepthAttachmentReadWrite], &[Access::DepthAttachmentRead]);
+        assert_eq!(t.src_access, A::DEPTH_STENCIL_ATTACHMENT_WRITE);
+        assert_eq!(t.dst_access, A::DEPTH_STENCIL_ATTACHMENT_READ);
+        assert_eq!((t.old_layout, t.new_layout), (L::DEPTH_ATTACHMENT_OPTIMAL, L::DEPTH_ATTACHMENT_OPTIMAL));
+        let war = transition(&[Access::DepthAttachmentRead], &[Access::DepthAttachmentReadWrite]);
+        assert_eq!(war.src_access, A::NONE);
+        assert!(war.src_stages.contains(S::LATE_FRAGMENT_TESTS));
+        assert_eq!(Access::DepthAttachmentRead.writes(), A::NONE);
     }
 
     #[test]

@@ -100,6 +100,11 @@ impl Pass for BladePosePass {
         Ok(())
     }
 
+    fn replay_key(&self, _: &PassContext) -> Option<u64> {
+        // Dispatches sized at construction.
+        Some(0)
+    }
+
     unsafe fn destroy(self: Box<Self>, device: &Device) {
         match self.dispatch {
             Dispatch::Stored(pipeline, _) => {

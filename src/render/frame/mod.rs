@@ -4,7 +4,7 @@
 
 mod slot;
 
-pub use slot::{Frame, FrameTimings, PassTime, Replay, ReplayKey, MAX_PASSES};
+pub use slot::{Frame, FrameTimings, PassTime, Replay, ReplayKey, StepTime};
 
 use std::time::Instant;
 

@@ -16,12 +16,9 @@ use crate::vk::query::{PipelineStatistics, StatisticsQueries, Timeline, Timestam
 use crate::vk::tracker::ResourceStates;
 use crate::vk::{sync, Buffer, BufferDesc, Device};
 
-/// Passes a frame can measure.
-pub const MAX_PASSES: u32 = 15;
-/// Timestamps per frame: a pair per pass and one at each end of the frame.
-const TIMESTAMPS: u32 = 2 * MAX_PASSES + 2;
-/// Bytes of a frame's query results: 64-bit timestamps, then six 64-bit counters per query.
-const QUERY_RESULT_BYTES: u64 = 8 * TIMESTAMPS as u64 + 48 * MAX_PASSES as u64;
+/// Passes a frame's queries measure before they grow: the frame's plan sizes them
+/// (`Frame::reserve_queries`), so any number of passes is measured.
+const FIRST_PASSES: u32 = 16;
 
 /// GPU time of one pass.
 #[derive(Clone, Copy, Debug)]
@@ -34,6 +31,17 @@ pub struct PassTime {
     pub start_ns: f64,
     /// What the pass made the pipeline do, when statistics were asked for and supported.
     pub statistics: Option<PipelineStatistics>,
+}
+
+/// GPU time of one named step of a pass (`graph::Declaration::step`).
+#[derive(Clone, Copy, Debug)]
+pub struct StepTime {
+    /// The pass's name.
+    pub pass: &'static str,
+    /// The step's name.
+    pub name: &'static str,
+    /// Milliseconds, its barriers included.
+    pub ms: f64,
 }
 
 /// What one frame cost.
@@ -60,6 +68,10 @@ pub struct FrameTimings {
     pub between_passes_ms: f64,
     /// GPU time per pass.
     pub passes: Vec<PassTime>,
+    /// GPU time of the passes' named steps, inside their pass's time.
+    pub steps: Vec<StepTime>,
+    /// Whether the frame was a kept recording submitted again (`Prerecorded`), not recorded.
+    pub replayed: bool,
     /// First and last timestamp of the frame, in nanoseconds of the device's timestamp clock.
     pub gpu_span_ns: (f64, f64),
     /// When recording started, ended, and submission returned (`None` only in `Default`).
@@ -102,6 +114,8 @@ pub struct Replay {
     pub entry: ResourceStates,
     /// The states it leaves.
     pub exit: ResourceStates,
+    /// What its passes' commands were a function of (`graph::Plan::replay`).
+    pub passes: Vec<u64>,
 }
 
 /// Everything one frame in flight owns. The fence guards all of it: the CPU waits on it before
@@ -131,8 +145,8 @@ pub struct Frame {
     pub timestamps: TimestampQueries,
     /// Pipeline statistics of this frame's passes, when asked for and supported.
     pub statistics: Option<StatisticsQueries>,
-    /// Host-visible copy of the timestamps (from 0) and statistics (from `STATISTICS_OFFSET`),
-    /// written by the frame's last commands.
+    /// Host-visible copy of the timestamps (from 0) and statistics (after the timestamps'
+    /// `copy_size`), written by the frame's last commands.
     pub query_results: Buffer,
     /// The passes recorded, in order, with the queries that measured them.
     pub passes: Vec<RecordedPass>,
@@ -144,15 +158,22 @@ pub struct Frame {
     /// `Prerecorded` submission: what the command buffer was recorded for; while it holds, it is
     /// submitted again as is.
     pub replay: Option<Replay>,
+    /// Whether the submission in flight is a replay of `replay`.
+    pub replayed: bool,
+    /// The frame's index in the ring (names its objects).
+    index: usize,
     /// Destroyed once this frame's fence has signalled.
     pub(super) deletions: Vec<Deletion>,
 }
 
+/// The readback buffer of frame `index`'s query results.
+fn query_results(device: &Device, index: usize, bytes: u64) -> Result<Buffer> {
+    let name = format!("frame {index} query results");
+    Buffer::new(device, &BufferDesc::readback(&name, bytes, vk::BufferUsageFlags::TRANSFER_DST))
+}
+
 /// Bytes of `Frame::cull_stats`.
 const CULL_STATS_BYTES: u64 = 4 * crate::render::gpu_constants::SLOT_WORDS as u64;
-
-/// Offset of the statistics in `Frame::query_results`.
-const STATISTICS_OFFSET: u64 = 8 * TIMESTAMPS as u64;
 
 /// The parts of a `Frame` created so far (freed if creation fails half-way).
 #[derive(Default)]
@@ -182,13 +203,13 @@ impl Parts {
         let name = format!("frame {index} cull counts");
         let stats = BufferDesc::readback(&name, CULL_STATS_BYTES, vk::BufferUsageFlags::STORAGE_BUFFER);
         self.buffers.push(Buffer::new(device, &stats)?);
-        let name = format!("frame {index} query results");
-        let results = BufferDesc::readback(&name, QUERY_RESULT_BYTES, vk::BufferUsageFlags::TRANSFER_DST);
-        self.buffers.push(Buffer::new(device, &results)?);
-        self.timestamps = Some(TimestampQueries::new(device, &format!("frame {index} timestamps"), TIMESTAMPS)?);
+        let timestamps = TimestampQueries::new(device, &format!("frame {index} timestamps"), 2 * FIRST_PASSES + 2)?;
+        let timestamps = self.timestamps.insert(timestamps);
         if statistics {
-            self.statistics = StatisticsQueries::new(device, &format!("frame {index} statistics"), MAX_PASSES)?;
+            self.statistics = StatisticsQueries::new(device, &format!("frame {index} statistics"), FIRST_PASSES)?;
         }
+        let bytes = timestamps.copy_size() + self.statistics.as_ref().map_or(0, |s| s.copy_size());
+        self.buffers.push(query_results(device, index, bytes)?);
         self.acquire = sync::semaphore(device, &format!("frame {index} acquire"))?;
         Ok(())
     }
@@ -254,6 +275,8 @@ impl Frame {
             acquire: parts.acquire,
             pending: None,
             replay: None,
+            replayed: false,
+            index,
             deletions: Vec::new(),
         })
     }
@@ -263,13 +286,46 @@ impl Frame {
         Scopes { timestamps: &mut self.timestamps, statistics: self.statistics.as_mut() }
     }
 
+    /// Make room in the queries and their results for a frame that writes `timestamps`
+    /// timestamps and uses `statistics` statistics queries. Returns the results buffer it
+    /// replaced, destroyed (forget it in the graph).
+    ///
+    /// # Safety
+    /// No pending work may use the frame's queries (its fence has signalled). Its kept recording
+    /// names them: drop it first.
+    pub unsafe fn reserve_queries(
+        &mut self,
+        device: &Device,
+        timestamps: u32,
+        statistics: u32,
+    ) -> Result<Option<vk::Buffer>> {
+        let index = self.index;
+        // SAFETY: per the contract.
+        unsafe {
+            self.timestamps.reserve(device, &format!("frame {index} timestamps"), timestamps)?;
+            if let Some(queries) = &mut self.statistics {
+                queries.reserve(device, &format!("frame {index} statistics"), statistics)?;
+            }
+        }
+        let bytes = self.timestamps.copy_size() + self.statistics.as_ref().map_or(0, |s| s.copy_size());
+        if bytes <= self.query_results.size {
+            return Ok(None);
+        }
+        let grown = query_results(device, index, bytes)?;
+        let old = std::mem::replace(&mut self.query_results, grown);
+        let raw = old.raw;
+        // SAFETY: per the contract.
+        unsafe { old.destroy(device) };
+        Ok(Some(raw))
+    }
+
     /// Record the copy of the frame's query results into `query_results` (after the last
     /// query); returns the buffer, whose host read the caller orders after the copies.
     pub fn record_query_copies(&self, device: &Device, cmd: vk::CommandBuffer) -> vk::Buffer {
         let results = self.query_results.raw;
         self.timestamps.record_copy(device, cmd, results, 0);
         if let Some(statistics) = &self.statistics {
-            statistics.record_copy(device, cmd, results, STATISTICS_OFFSET);
+            statistics.record_copy(device, cmd, results, self.timestamps.copy_size());
         }
         results
     }
@@ -283,7 +339,7 @@ impl Frame {
         let placed: Vec<u64> = ticks.iter().map(|&tick| timeline.place(tick)).collect();
         let clock = &self.timestamps;
         let statistics = match &self.statistics {
-            Some(queries) => queries.read(&copied[STATISTICS_OFFSET as usize..]),
+            Some(queries) => queries.read(&copied[self.timestamps.copy_size() as usize..]),
             None => Vec::new(),
         };
         let passes = self
@@ -294,6 +350,16 @@ impl Frame {
                 ms: clock.elapsed_ms(ticks[p.begin as usize], ticks[p.end as usize]),
                 start_ns: clock.ns(placed[p.begin as usize]),
                 statistics: p.statistics.and_then(|q| statistics.get(q as usize).copied()),
+            })
+            .collect();
+        let steps = self
+            .passes
+            .iter()
+            .flat_map(|p| p.steps.iter().map(move |s| (p.name, s)))
+            .map(|(pass, s)| StepTime {
+                pass,
+                name: s.name,
+                ms: clock.elapsed_ms(ticks[s.begin as usize], ticks[s.end as usize]),
             })
             .collect();
         // The frame's first timestamp, the last pass's end, and the last one (after the outputs'
@@ -312,6 +378,8 @@ impl Frame {
             readback_ms: clock.elapsed_ms(passes_end, last),
             between_passes_ms,
             passes,
+            steps,
+            replayed: self.replayed,
             gpu_span_ns: (clock.ns(placed[0]), clock.ns(placed[placed.len() - 1])),
             cpu_spans: Some([started, recorded, submitted]),
             cpu_wait: Some(wait),

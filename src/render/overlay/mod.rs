@@ -116,6 +116,7 @@ impl OverlayGpu {
                 cull: vk::CullModeFlags::NONE,
                 polygon: vk::PolygonMode::FILL,
                 depth_compare: vk::CompareOp::ALWAYS,
+                depth_write: true,
                 color_format: format,
                 depth_format: vk::Format::UNDEFINED,
                 layout: self.layout,

@@ -87,6 +87,7 @@ pub fn scene_rendering(ctx: &PassContext, pipeline: vk::Pipeline, store_depth: b
         extent: target.extent,
         color: Some(Attachment { image: target.color, view: target.color_view, load: Load::Keep, store: true }),
         depth: Some(Attachment { image: target.depth, view: target.depth_view, load: Load::Keep, store: store_depth }),
+        depth_write: true,
         pipeline,
         secondary,
     }

@@ -111,6 +111,7 @@ impl Pass for OverlayPass {
             color: Some(color),
             depth: None,
             pipeline: overlay.pipeline(),
+            depth_write: false,
             secondary: false,
         };
         let images = unique(frame.draws.iter().map(|d| d.image));

@@ -40,6 +40,7 @@ impl ResolvePass {
                 cull: vk::CullModeFlags::NONE,
                 polygon: vk::PolygonMode::FILL,
                 depth_compare: vk::CompareOp::ALWAYS,
+                depth_write: true,
                 color_format: format,
                 depth_format: vk::Format::UNDEFINED,
                 layout: sets.layout,
@@ -73,6 +74,7 @@ impl Pass for ResolvePass {
             color: Some(color),
             depth: None,
             pipeline: self.pipeline,
+            depth_write: false,
             secondary: false,
         };
         Some(
@@ -98,6 +100,11 @@ impl Pass for ResolvePass {
             device.raw.cmd_draw(cmd, 3, 1, 0, 0);
         }
         Ok(())
+    }
+
+    fn replay_key(&self, ctx: &PassContext) -> Option<u64> {
+        // Its set, written in `record`, names the multisampled colour view.
+        Some(ash::vk::Handle::as_raw(ctx.target.color_view))
     }
 
     unsafe fn destroy(self: Box<Self>, device: &Device) {

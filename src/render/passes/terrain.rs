@@ -56,6 +56,7 @@ impl TerrainPass {
                 cull: vk::CullModeFlags::NONE,
                 polygon: target.polygon,
                 depth_compare: vk::CompareOp::GREATER,
+                depth_write: true,
                 color_format: target.color,
                 depth_format: target.depth,
                 layout: target.layout,
@@ -130,6 +131,16 @@ impl Pass for TerrainPass {
         }
         self.drawn.store(indices / 3, Ordering::Relaxed);
         Ok(())
+    }
+
+    fn replay_key(&self, ctx: &PassContext) -> Option<u64> {
+        // The chunks in view are chosen on the CPU: a replay holds while they are the same.
+        use std::hash::{Hash, Hasher};
+        let placement = self.placement(ctx.uniforms);
+        let coarse = self.blocks && field_gpu::terrain_coarsens(placement.step);
+        let mut hasher = std::collections::hash_map::DefaultHasher::new();
+        terrain_chunks::visible_runs(&self.chunks, &placement, &ctx.uniforms.view_proj, coarse).hash(&mut hasher);
+        Some(hasher.finish())
     }
 
     unsafe fn destroy(self: Box<Self>, device: &Device) {

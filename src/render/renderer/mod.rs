@@ -5,16 +5,17 @@
 //! (`render::graph`); fences, per-frame buffers, queries and deferred deletion are the frame
 //! ring's (`render::frame`).
 
+mod extensions;
 mod inspect;
 mod multisample;
 mod offscreen;
 mod overlay;
 mod passes;
+mod record;
 
 use std::cell::RefCell;
 use std::rc::Rc;
 use std::sync::Arc;
-use std::time::Instant;
 
 use ash::vk;
 use glam::{UVec4, Vec4};
@@ -23,9 +24,9 @@ use crate::error::{Error, Result};
 use crate::render::animation::model::{AnimationModel, BladeInput, FrameInput};
 use crate::render::animation::{self, build_model, AnimationSettings};
 use crate::render::field_gpu::{self, Origin};
-use crate::render::frame::{look, FrameRing, FrameUniforms, Replay, ReplayKey};
+use crate::render::frame::{look, FrameRing, FrameUniforms};
 pub use crate::render::frame::{Deletion, FrameSync, FrameTimings, PassTime};
-use crate::render::graph::{Graph, Outputs, PassContext};
+use crate::render::graph::{Graph, Outputs, DEFAULT_DT};
 use crate::render::layouts::{build_frames, scene_layouts, SceneLayouts};
 use crate::render::msaa::{self, MultisampleTarget};
 use crate::render::overlay::OverlayGpu;
@@ -35,10 +36,9 @@ use crate::render::settings::{check_pose_records, check_submission, polygon_mode
 pub use crate::render::settings::{
     RenderSettings, BLADES_PER_INSTANCE_RANGE, DEFAULT_BLADES_PER_INSTANCE, SEGMENTS_RANGE,
 };
-use crate::render::submission::Strategy;
 use crate::render::target::TargetView;
 use crate::scene::{field::check_camera, Camera, Scene};
-use crate::vk::{Access, Device, Resource};
+use crate::vk::{Device, Resource};
 
 /// The scene on the GPU, its passes in a graph, and the frames in flight: build, then render
 /// frames into any target. Every object it owns is destroyed on drop, after the device is idle.
@@ -58,6 +58,8 @@ pub struct Renderer {
     multisampled: Option<MultisampleTarget>,
     /// The egui overlay's GPU state (`set_overlay`), shared with its passes; made on first use.
     overlay: Option<Rc<RefCell<OverlayGpu>>>,
+    /// The simulation's fixed step (`FrameClock::dt`).
+    time_step: f32,
 }
 
 impl Renderer {
@@ -87,6 +89,7 @@ impl Renderer {
             cull_camera: None,
             multisampled: None,
             overlay: None,
+            time_step: DEFAULT_DT,
         };
         let view_distance = settings.culling.view_distance;
         let scene_gpu = SceneGpu::upload(&device, scene, renderer.animation.cluster_size, view_distance)?;
@@ -144,7 +147,7 @@ impl Renderer {
                 Some(build_model(&device, self.layouts.animation_layout, &animation, settings.segments, room)?)
             }
         };
-        let previous = (
+        let mut previous = (
             std::mem::replace(&mut self.settings, settings),
             std::mem::replace(&mut self.animation, animation),
             match model {
@@ -161,6 +164,9 @@ impl Renderer {
             states.forget(Resource::Buffer(old_model.resources().per_blade.levels.raw));
         }
         self.graph.set_states(states);
+        // The passes added from outside, the temporal pairs and the clock carry over.
+        let kept = previous.3.keep();
+        self.graph.adopt(kept);
         let built = self.build_graph(scene, polygon);
         // Pre-recorded command buffers name the old pipelines: record again.
         self.ring.forget_replays();
@@ -175,7 +181,9 @@ impl Renderer {
                     Some(old_model) => self.model.replace(old_model),
                     None => None,
                 };
-                let new_graph = std::mem::replace(&mut self.graph, old_graph);
+                let mut new_graph = std::mem::replace(&mut self.graph, old_graph);
+                let kept = new_graph.keep();
+                self.graph.adopt(kept);
                 self.retire(new_model, new_graph);
                 return Err(e);
             }
@@ -366,62 +374,6 @@ impl Renderer {
         self.ring.inject_submit_failure(nth);
     }
 
-    /// Record the frame of `slot` into `target` (after `begin_frame`), or replay a pre-recorded
-    /// one whose barriers assumed the same target and resource states. Returns when recording
-    /// began.
-    fn record_frame(
-        &mut self,
-        slot: usize,
-        target: &TargetView,
-        uniforms: &FrameUniforms,
-        outputs: Outputs,
-    ) -> Result<Instant> {
-        let started = Instant::now();
-        self.graph.import(Resource::color(target.color), &[target.color_previous]);
-        self.graph.import(Resource::depth(target.depth), &[target.depth_previous]);
-        let scene_view = self.scene_view(target)?;
-        let device = &*self.device;
-        let prerecorded = self.settings.submission.strategy == Strategy::Prerecorded;
-        let frame = self.ring.frame_mut(slot);
-        let key = ReplayKey::new(target, outputs);
-        if let Some(replay) = frame.replay.as_ref().filter(|r| prerecorded && r.target == key) {
-            if &replay.entry == self.graph.states() {
-                // Uniforms and forces live in buffers written before: the same commands render
-                // this frame.
-                self.graph.set_states(replay.exit.clone());
-                return Ok(started);
-            }
-        }
-        frame.replay = None;
-        let entry = prerecorded.then(|| self.graph.states().clone());
-        let cmd = if prerecorded { frame.recorder.begin_reusable(device)? } else { frame.recorder.begin(device)? };
-        let ctx = PassContext {
-            device,
-            target: &scene_view,
-            output: target,
-            slot,
-            descriptor_set: frame.descriptor_set,
-            uniforms,
-        };
-        frame.passes = self.graph.record(&ctx, cmd, &mut frame.scopes(), outputs)?;
-        let culled = self.settings.culling.enabled && !self.settings.floor;
-        frame.cull_segments = if culled { self.settings.culling.buckets().to_vec() } else { Vec::new() };
-        frame.cull_collapsed_tip = culled && self.settings.culling.solid_outline;
-        if culled {
-            // The frame's counts, read by the host after the fence.
-            self.graph.release(device, cmd, &[(Resource::Buffer(frame.cull_stats.raw), Access::HostRead)]);
-        }
-        // The queries' results, copied on the GPU for the host to read after the fence.
-        let results = Resource::Buffer(frame.record_query_copies(device, cmd));
-        self.graph.import(results, &[Access::TransferWrite]);
-        self.graph.release(device, cmd, &[(results, Access::HostRead)]);
-        frame.recorder.end(device)?;
-        if let Some(entry) = entry {
-            frame.replay = Some(Replay { target: key, entry, exit: self.graph.states().clone() });
-        }
-        Ok(started)
-    }
-
     /// Record and submit the frame of `slot` (after `begin_frame`) into `target`: uniforms and
     /// corner forces written, passes recorded with their barriers, then `outputs` (a copy to the
     /// host, presentation), and the submission waits and signals `sync`'s semaphores (a
@@ -442,11 +394,14 @@ impl Renderer {
         // record or submit never runs, and the next frame's barriers must not assume it did.
         let entry = self.graph.states().clone();
         let submitted = self
-            .record_frame(slot, target, &uniforms, outputs)
+            .record_frame(slot, target, record::FrameIn { uniforms: &uniforms, time }, outputs)
             .and_then(|started| self.ring.submit(&self.device, slot, sync, started));
-        if submitted.is_err() {
-            self.graph.set_states(entry);
-            self.graph.frame_dropped();
+        match submitted {
+            Ok(()) => self.graph.frame_submitted(),
+            Err(_) => {
+                self.graph.set_states(entry);
+                self.graph.frame_dropped();
+            }
         }
         self.overlay_submitted(submitted.is_ok());
         submitted

@@ -37,7 +37,8 @@ impl Renderer {
         let uniforms = self.prepare_frame(slot, target, camera, time)?;
         // Never submitted: the resources stay as the last submitted frame left them.
         let entry = self.graph.states().clone();
-        let recorded = self.record_frame(slot, target, &uniforms, Outputs::default()).map(|_| ());
+        let frame = super::record::FrameIn { uniforms: &uniforms, time };
+        let recorded = self.record_frame(slot, target, frame, Outputs::default()).map(|_| ());
         self.graph.set_states(entry);
         self.graph.frame_dropped();
         recorded
