@@ -131,7 +131,7 @@ fn run(device: &Arc<Device>, graph: &mut Graph, release: &[(Resource, Access)]) 
             step: 0,
             temporals: &[],
         };
-        let plan = graph.plan(&ctx)?;
+        let plan = graph.plan(&ctx, false)?;
         assert!(plan.timestamps() <= timestamps.capacity());
         let mut scopes = Scopes { timestamps: &mut timestamps, statistics: None };
         graph.record(&ctx, &plan, cmd, &mut scopes, Default::default())?;

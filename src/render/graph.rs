@@ -360,12 +360,13 @@ impl Graph {
         }
     }
 
-    /// The passes that run this frame, with their declarations, and the frame's replay key. A
-    /// graphics pass of several steps is refused.
-    pub fn plan(&self, ctx: &PassContext) -> Result<Plan> {
+    /// The passes that run this frame, with their declarations, and, when `keyed` (a frame that
+    /// may replay a kept recording), the frame's replay key. A graphics pass of several steps is
+    /// refused.
+    pub fn plan(&self, ctx: &PassContext, keyed: bool) -> Result<Plan> {
         let ctx = context(ctx, &self.temporals, self.frames);
         let mut entries = Vec::with_capacity(self.nodes.len());
-        let mut replay = Some(Vec::with_capacity(self.nodes.len()));
+        let mut replay = keyed.then(|| Vec::with_capacity(2 * self.nodes.len()));
         for (index, node) in self.nodes.iter().enumerate() {
             let pass = node.pass.as_ref();
             let run = match pass.runs(&ctx) {

@@ -49,7 +49,7 @@ impl Renderer {
             step: 0,
             temporals: &[],
         };
-        let plan = self.graph.plan(&ctx)?;
+        let plan = self.graph.plan(&ctx, prerecorded)?;
         frame.replayed = false;
         if let (true, Some(replay), Some(passes)) = (prerecorded, frame.replay.as_ref(), plan.replay()) {
             if replay.target == key && replay.passes == passes && &replay.entry == self.graph.states() {
