@@ -372,13 +372,17 @@ impl Graph {
             let run = match pass.runs(&ctx) {
                 Runs::EveryFrame => None,
                 Runs::OnChange(key) if node.ran == Some(key) => {
-                    replay.as_mut().map(|k| k.push(u64::MAX));
+                    if let Some(keys) = replay.as_mut() {
+                        keys.push(u64::MAX);
+                    }
                     continue;
                 }
                 Runs::OnChange(key) => Some(key),
             };
             let Some(declaration) = pass.declare(&ctx) else {
-                replay.as_mut().map(|k| k.push(u64::MAX - 1));
+                if let Some(keys) = replay.as_mut() {
+                    keys.push(u64::MAX - 1);
+                }
                 continue;
             };
             if declaration.steps.len() > 1 && matches!(declaration.kind, Kind::Graphics(_)) {
