@@ -5,6 +5,7 @@
 //! they return.
 
 mod host_heap;
+pub mod input;
 pub mod interrupt;
 mod keyframe_report;
 pub mod output;
@@ -21,6 +22,7 @@ use ash::vk;
 use crate::error::{Error, Result};
 use crate::render::animation::{AnimationSettings, KeyframeTexture, KeyframeUniforms};
 use crate::render::budget::FrameBudget;
+use crate::render::msaa::Msaa;
 use crate::render::scene_gpu::{FIELD_VERDICTS, FIELD_VISIBLE};
 use crate::render::submission::Submission;
 use crate::render::target::offscreen_bytes;
@@ -274,8 +276,10 @@ fn fallback_notes(device: &Device, asked: &AnimationSettings, used: &AnimationSe
     notes
 }
 
-/// Check the picture size and blade count against the device before allocating anything.
-pub fn check_limits(device: &Device, blades: u32, size: (u32, u32), terrain_cells: u32) -> Result<()> {
+/// Check the picture size, its multisampling and the blade count against the device before
+/// allocating anything; the memory budget counts the scene and every target of a frame (the
+/// offscreen pair and its readback, and the multisampled pair: `msaa::target_bytes`).
+pub fn check_limits(device: &Device, blades: u32, (size, msaa): ((u32, u32), Msaa), terrain_cells: u32) -> Result<()> {
     let limits = device.limits();
     let max_dim = limits.max_image_dimension2_d.min(limits.max_framebuffer_width).min(limits.max_framebuffer_height);
     if size.0 > max_dim || size.1 > max_dim {
@@ -312,9 +316,18 @@ pub fn check_limits(device: &Device, blades: u32, size: (u32, u32), terrain_cell
         )));
     }
     let extent = vk::Extent2D { width: size.0, height: size.1 };
+    crate::render::msaa::check(device, &msaa)?;
     let total = crate::render::scene_gpu::SceneGpu::memory_bytes(u64::from(blades), u64::from(terrain_cells))
-        + offscreen_bytes(extent);
-    device.check_budget(total, &format!("rendering {blades} blades at {}x{}", size.0, size.1))
+        + frame_target_bytes(extent, &msaa);
+    let msaa_said = if msaa.enabled() { format!(" with --msaa {}", msaa.samples) } else { String::new() };
+    device.check_budget(total, &format!("rendering {blades} blades at {}x{}{msaa_said}", size.0, size.1))?;
+    crate::render::msaa::check_target(device, extent, &msaa, &format!("--size {}x{}", size.0, size.1))
+}
+
+/// Bytes of device memory a frame's targets of `extent` take: the offscreen colour, depth and
+/// readback, and the multisampled colour and depth with `msaa`.
+pub fn frame_target_bytes(extent: vk::Extent2D, msaa: &Msaa) -> u64 {
+    offscreen_bytes(extent) + crate::render::msaa::target_bytes(extent, msaa)
 }
 
 /// Every check of a scene against the device and meadow's limits, before anything is allocated:
@@ -327,11 +340,11 @@ pub fn check_scene(
     size: (u32, u32),
     animation: &AnimationSettings,
     floor: bool,
-    culled: bool,
+    (culled, msaa): (bool, Msaa),
 ) -> Result<()> {
     use crate::render::animation::{Eval, Mode, MAX_EMITTERS};
     let field_m = crate::scene::blades::field_size(blades);
-    check_limits(device, blades, size, crate::scene::terrain::Terrain::cells_for(field_m))?;
+    check_limits(device, blades, (size, msaa), crate::scene::terrain::Terrain::cells_for(field_m))?;
     KeyframeTexture::check_limits(device, animation.poses)?;
     if floor {
         // Pre-expanded vertices (12 bytes) and triangle-list indices (4 bytes), plus their
@@ -400,7 +413,7 @@ pub fn render(device: &Arc<Device>, options: &RenderOptions) -> Result<RenderRep
         options.size,
         &options.animation,
         options.floor,
-        culled,
+        (culled, options.msaa),
     )?;
     options.check_clusters()?;
     check_timestamps_for_budget(device, options.budget_ms)?;
@@ -423,6 +436,7 @@ pub fn render(device: &Arc<Device>, options: &RenderOptions) -> Result<RenderRep
     let result = (|| {
         let mut frames = Vec::new();
         for _ in 0..options.frames {
+            interrupt::check()?;
             let timings = renderer.render_offscreen(&mut target, &camera, options.time)?;
             if let Some(budget) = budget.as_mut() {
                 frames_scale = Some(budget.scale);

@@ -59,12 +59,15 @@ pub enum Error {
     /// Drawing a chart failed (the measuring harness draws PNG charts).
     #[error("plot: {0}")]
     Plot(String),
-    /// Ctrl-C stopped a measuring command before it wrote anything (exit 130, as a shell
-    /// reports SIGINT).
-    #[error("interrupted: nothing written")]
-    Interrupted,
+    /// SIGINT (Ctrl-C), SIGTERM or SIGHUP stopped a command before it wrote anything (exit 128
+    /// + the signal's number, as a shell reports it: 130, 143, 129; `app::interrupt`).
+    #[error("interrupted by {}: nothing written", signal_name(.signal))]
+    Interrupted {
+        /// The signal's number.
+        signal: i32,
+    },
     /// Reading or writing a file failed.
-    #[error("{path}: {source}")]
+    #[error("{}: {source}", quoted(.path))]
     Io {
         /// The file.
         path: String,
@@ -74,11 +77,12 @@ pub enum Error {
 }
 
 impl Error {
-    /// Process exit code for this error: 2 for bad input, 130 for Ctrl-C, 1 otherwise.
+    /// Process exit code for this error: 2 for bad input, 128 + the signal for a signal (130
+    /// for Ctrl-C), 1 otherwise.
     pub fn exit_code(&self) -> i32 {
         match self {
             Error::BadInput(_) => 2,
-            Error::Interrupted => 130,
+            Error::Interrupted { signal } => 128 + signal,
             _ => 1,
         }
     }
@@ -110,6 +114,34 @@ impl Error {
     pub fn bad_input(message: impl Into<String>) -> Self {
         Error::BadInput(message.into())
     }
+}
+
+/// The name of a signal that stops a command.
+fn signal_name(signal: &i32) -> String {
+    match *signal {
+        libc::SIGINT => "SIGINT".into(),
+        libc::SIGTERM => "SIGTERM".into(),
+        libc::SIGHUP => "SIGHUP".into(),
+        other => format!("signal {other}"),
+    }
+}
+
+/// Most characters of user text an error message quotes ([`quoted`]).
+pub const QUOTE_CHARS: usize = 80;
+
+/// User text (a value, a label, a name, a path) as every error message quotes it: whole up to
+/// [`QUOTE_CHARS`] characters, else its first and last characters around `…` and how long it
+/// was, so a 10 MB device name or label cannot make a 10 MB error line (the end of a long path,
+/// its file name, stays readable).
+pub fn quoted(text: &str) -> std::borrow::Cow<'_, str> {
+    let chars = text.chars().count();
+    if chars <= QUOTE_CHARS {
+        return text.into();
+    }
+    let keep = QUOTE_CHARS / 2 - 1;
+    let head: String = text.chars().take(keep).collect();
+    let tail: String = text.chars().skip(chars - keep).collect();
+    format!("{head}…{tail} ({} bytes)", text.len()).into()
 }
 
 /// Result alias of the library.

@@ -243,7 +243,7 @@ fn ctrl_c_stops_a_measuring_command_with_exit_130_and_nothing_written() {
         let output = child.wait_with_output().expect("wait");
         assert_eq!(output.status.code(), Some(130), "{name}: {}", transcript(&output));
         let stderr = String::from_utf8_lossy(&output.stderr);
-        assert_eq!(stderr.trim(), "error: interrupted: nothing written", "{name}");
+        assert_eq!(stderr.trim(), "error: interrupted by SIGINT: nothing written", "{name}");
         assert_eq!(leftovers(&dir), Vec::<String>::new(), "{name} left something");
     }
 }

@@ -5,8 +5,11 @@
 //!
 //! A command that writes several files (`bench`, `overhead`, `timing`) writes them as one set
 //! ([`write_set`]): every file goes to its synced temporary first, and they are renamed into place
-//! only when all were written; a failure or Ctrl-C before that leaves none of them, and removes
-//! the output directory if the set created it.
+//! only when all were written; a failure or a signal before that leaves none of them. The output
+//! directory is created by the set's first file, and removed again (with the parents it needed)
+//! when the set fails. Temporaries have short names of their own (`.meadow-PID-N.tmp`), so an
+//! output name as long as the file system takes has one too. Two outputs of one command that
+//! name the same file are refused before any work ([`check_distinct`]).
 //!
 //! `MEADOW_INJECT_WRITE_FAILURE=N` makes the N-th file the process writes (from 1) fail half-way,
 //! as a full disk would (for the tests: a full filesystem cannot be mounted everywhere the tests
@@ -19,7 +22,12 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
 
-use crate::error::{Error, Result};
+use crate::error::{quoted, Error, Result};
+
+/// A path as an error message quotes it (`error::quoted`: a 4000-byte path is cut in the middle).
+pub fn shown(path: &Path) -> String {
+    quoted(&path.display().to_string()).into_owned()
+}
 
 /// Refuse `path` when it exists and is not a regular file (or a link to one). `flag` names the
 /// option in the message.
@@ -27,12 +35,12 @@ pub fn check_target(path: &Path, flag: &str) -> Result<()> {
     // `x.png/` names a directory: the file could never be created (and `x.png/..` is no name).
     let text = path.as_os_str().to_string_lossy();
     if text.ends_with(std::path::is_separator) || path.file_name().is_none() {
-        return Err(Error::bad_input(format!("{flag} {}: names a directory, not a file", path.display())));
+        return Err(Error::bad_input(format!("{flag} {}: names a directory, not a file", shown(path))));
     }
     match std::fs::metadata(path) {
-        Ok(meta) if meta.is_dir() => Err(Error::bad_input(format!("{flag} {}: is a directory", path.display()))),
+        Ok(meta) if meta.is_dir() => Err(Error::bad_input(format!("{flag} {}: is a directory", shown(path)))),
         Ok(meta) if !meta.is_file() => {
-            Err(Error::bad_input(format!("{flag} {}: exists and is not a regular file", path.display())))
+            Err(Error::bad_input(format!("{flag} {}: exists and is not a regular file", shown(path))))
         }
         _ => Ok(()),
     }
@@ -43,43 +51,125 @@ pub fn check_target(path: &Path, flag: &str) -> Result<()> {
 pub fn check_output(path: &Path, flag: &str) -> Result<()> {
     let parent = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
     if !parent.is_dir() {
-        return Err(Error::bad_input(format!(
-            "{flag} {}: directory {} does not exist",
-            path.display(),
-            parent.display()
-        )));
+        return Err(Error::bad_input(format!("{flag} {}: directory {} does not exist", shown(path), shown(parent))));
     }
     check_target(path, flag)
 }
 
-/// A temporary name next to `path`, unique in this process.
+/// A temporary name next to `path`, unique in this process, and never longer than a name meadow
+/// itself makes: a 255-byte output name (the longest most file systems take) still has a
+/// temporary the file system accepts.
 fn temporary(path: &Path) -> PathBuf {
     static NEXT: AtomicU64 = AtomicU64::new(0);
-    let name = path.file_name().map_or_else(|| "meadow".into(), |n| n.to_string_lossy().into_owned());
     let n = NEXT.fetch_add(1, Ordering::Relaxed);
-    path.with_file_name(format!(".{name}.{}.{n}.tmp", std::process::id()))
+    path.with_file_name(format!(".meadow-{}-{n}.tmp", std::process::id()))
+}
+
+/// `path` as the file system resolves it: absolute, through every symbolic link of the part that
+/// exists, with `.` and `..` of the part that does not exist yet applied by name. Two outputs
+/// that resolve alike are the same file.
+fn resolved(path: &Path) -> PathBuf {
+    use std::path::Component;
+    let absolute = match path.is_absolute() {
+        true => path.to_path_buf(),
+        false => std::env::current_dir().unwrap_or_default().join(path),
+    };
+    let components: Vec<Component> = absolute.components().collect();
+    for exists in (1..=components.len()).rev() {
+        let Ok(mut at) = components[..exists].iter().collect::<PathBuf>().canonicalize() else { continue };
+        for component in &components[exists..] {
+            match component {
+                Component::ParentDir => {
+                    at.pop();
+                }
+                Component::CurDir => {}
+                other => at.push(other),
+            }
+        }
+        return at;
+    }
+    absolute
+}
+
+/// Refuse two outputs of one command that name the same file, before any work: the second write
+/// would replace the first, and both would be reported written. Paths are compared resolved
+/// ([`resolved`]), and by device and inode when the file exists (a hard link is the same file).
+/// `outputs` are (flag, path); a set's members are `--out` with the set's names ([`set_members`]).
+pub fn check_distinct<'a>(outputs: impl IntoIterator<Item = (&'a str, PathBuf)>) -> Result<()> {
+    use std::os::unix::fs::MetadataExt;
+    let identity = |path: &Path| std::fs::metadata(path).ok().map(|m| (m.dev(), m.ino()));
+    let mut seen: Vec<(&str, PathBuf, PathBuf, Option<(u64, u64)>)> = Vec::new();
+    for (flag, path) in outputs {
+        let (at, id) = (resolved(&path), identity(&path));
+        let same = seen.iter().find(|(_, _, a, i)| *a == at || (id.is_some() && *i == id));
+        if let Some((first, given, ..)) = same {
+            return Err(Error::bad_input(format!(
+                "{first} {} and {flag} {} name the same file: give each output its own",
+                shown(given),
+                shown(&path)
+            )));
+        }
+        seen.push((flag, path, at, id));
+    }
+    Ok(())
+}
+
+/// The files of a set written into `dir`, as [`check_distinct`] takes them.
+pub fn set_members<'a>(dir: &'a Path, files: &'a [&'a str]) -> impl Iterator<Item = (&'static str, PathBuf)> + 'a {
+    files.iter().map(move |f| ("--out", dir.join(f)))
+}
+
+/// Before any work: refuse an output directory that exists and is not a directory (the set
+/// could never be written into it), and each file of the set that exists and is not a regular
+/// file.
+pub fn check_set(dir: &Path, files: &[&str]) -> Result<()> {
+    if std::fs::metadata(dir).is_ok_and(|m| !m.is_dir()) {
+        return Err(Error::bad_input(format!("--out {}: exists and is not a directory", shown(dir))));
+    }
+    files.iter().try_for_each(|f| check_target(&dir.join(f), "--out"))
+}
+
+/// The set being written on this thread: its directory, the directories its first file needed
+/// (outermost first; removed again when the set fails), and the (temporary, target) pairs
+/// written so far, renamed at its end.
+struct Staged {
+    dir: PathBuf,
+    created: Vec<PathBuf>,
+    files: Vec<(PathBuf, PathBuf)>,
 }
 
 thread_local! {
-    /// Inside [`write_set`]: the (temporary, target) pairs written so far, renamed at its end.
-    static STAGED: RefCell<Option<Vec<(PathBuf, PathBuf)>>> = const { RefCell::new(None) };
+    /// Inside [`write_set`]: what the set wrote so far.
+    static STAGED: RefCell<Option<Staged>> = const { RefCell::new(None) };
+}
+
+/// Create `dir` with its missing parents; returns those it created, outermost first.
+fn create_dirs(dir: &Path) -> Result<Vec<PathBuf>> {
+    let missing: Vec<PathBuf> =
+        dir.ancestors().take_while(|d| !d.as_os_str().is_empty() && !d.exists()).map(Path::to_path_buf).collect();
+    std::fs::create_dir_all(dir).map_err(|source| Error::Io { path: dir.display().to_string(), source })?;
+    Ok(missing.into_iter().rev().collect())
 }
 
 /// Run `work`, which writes files through [`write_atomically`], and publish what it wrote as one
-/// set: renamed into place only if `work` succeeds, every temporary removed otherwise. `dir`, the
-/// set's directory, is created first if missing, and removed again (when empty) if the set fails.
+/// set: renamed into place only if `work` succeeds and no signal came (`interrupt`), every
+/// temporary removed otherwise. `dir`, the set's directory, is created when the first file is
+/// written (a run refused or stopped before leaves no empty folder), and removed again, with the
+/// parents it needed, if the set fails.
 pub fn write_set<T>(dir: &Path, work: impl FnOnce() -> Result<T>) -> Result<T> {
-    let created = !dir.exists();
-    std::fs::create_dir_all(dir).map_err(|source| Error::Io { path: dir.display().to_string(), source })?;
-    STAGED.with(|s| *s.borrow_mut() = Some(Vec::new()));
+    let set = Staged { dir: dir.to_path_buf(), created: Vec::new(), files: Vec::new() };
+    STAGED.with(|s| *s.borrow_mut() = Some(set));
     let result = work();
-    let staged = STAGED.with(|s| s.borrow_mut().take()).unwrap_or_default();
-    let published = result.and_then(|value| publish(&staged).map(|()| value));
+    let staged = STAGED.with(|s| s.borrow_mut().take()).expect("staged above");
+    let published = result.and_then(|value| {
+        super::interrupt::check()?;
+        publish(&staged.files).map(|()| value)
+    });
     if published.is_err() {
-        for (tmp, _) in &staged {
+        for (tmp, _) in &staged.files {
             let _ = std::fs::remove_file(tmp);
         }
-        if created {
+        for dir in staged.created.iter().rev() {
             let _ = std::fs::remove_dir(dir);
         }
     }
@@ -101,10 +191,22 @@ fn publish(staged: &[(PathBuf, PathBuf)]) -> Result<()> {
 }
 
 /// Write `bytes` to `path` whole or not at all (see the module comment); inside [`write_set`],
-/// the rename waits for the set.
+/// the rename waits for the set. A signal that came while the bytes were written (`interrupt`)
+/// publishes nothing: [`Error::Interrupted`].
 pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<()> {
     check_target(path, "output")?;
     let io = |source: std::io::Error| Error::Io { path: path.display().to_string(), source };
+    // A set's directory is made by its first file.
+    let set_dir = STAGED.with(|s| s.borrow().as_ref().map(|set| set.dir.clone()));
+    let in_set = set_dir.is_some_and(|dir| path.starts_with(dir));
+    if let Some(parent) = path.parent().filter(|p| in_set && !p.as_os_str().is_empty() && !p.exists()) {
+        let created = create_dirs(parent)?;
+        STAGED.with(|s| {
+            if let Some(set) = s.borrow_mut().as_mut() {
+                set.created.extend(created);
+            }
+        });
+    }
     let tmp = temporary(path);
     let written = (|| {
         let mut file = std::fs::OpenOptions::new().write(true).create_new(true).open(&tmp)?;
@@ -118,17 +220,22 @@ pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<()> {
         if injected == Some(Stage::Sync) {
             return Err(std::io::Error::new(std::io::ErrorKind::StorageFull, "no space left at sync (injected)"));
         }
-        file.sync_all()?;
-        let staged = STAGED.with(|s| s.borrow_mut().as_mut().map(|set| set.push((tmp.clone(), path.to_path_buf()))));
+        file.sync_all()
+    })()
+    .map_err(io)
+    .and_then(|()| super::interrupt::check())
+    .and_then(|()| {
+        let pair = (tmp.clone(), path.to_path_buf());
+        let staged = STAGED.with(|s| s.borrow_mut().as_mut().map(|set| set.files.push(pair)));
         match staged {
             Some(()) => Ok(()),
-            None => std::fs::rename(&tmp, path),
+            None => std::fs::rename(&tmp, path).map_err(io),
         }
-    })();
+    });
     if written.is_err() {
         let _ = std::fs::remove_file(&tmp);
     }
-    written.map_err(io)
+    written
 }
 
 /// Where an injected write failure strikes.

@@ -4,14 +4,15 @@
 
 use glam::{Vec2, Vec3};
 
+use crate::error::quoted;
 use crate::render::renderer::{BLADES_PER_INSTANCE_RANGE, SEGMENTS_RANGE};
 use crate::scene::Camera;
 
 /// A finite `f32` (Rust's parser accepts "NaN" and "inf": they are refused here).
 pub fn finite_f32(text: &str) -> Result<f32, String> {
-    let value: f32 = text.trim().parse().map_err(|_| format!("'{text}' is not a number"))?;
+    let value: f32 = text.trim().parse().map_err(|_| format!("'{text}' is not a number", text = quoted(text)))?;
     if !value.is_finite() {
-        return Err(format!("'{text}' is not a finite number"));
+        return Err(format!("'{text}' is not a finite number", text = quoted(text)));
     }
     Ok(value)
 }
@@ -20,7 +21,7 @@ pub fn finite_f32(text: &str) -> Result<f32, String> {
 pub fn positive_f32(text: &str) -> Result<f32, String> {
     let value = finite_f32(text)?;
     if value <= 0.0 {
-        return Err(format!("'{text}' must be above 0"));
+        return Err(format!("'{text}' must be above 0", text = quoted(text)));
     }
     Ok(value)
 }
@@ -29,7 +30,7 @@ pub fn positive_f32(text: &str) -> Result<f32, String> {
 pub fn lod_segments(text: &str) -> Result<crate::render::culling::LodSegments, String> {
     let counts = text
         .split(',')
-        .map(|s| s.trim().parse::<u32>().map_err(|_| format!("'{s}' is not a whole number of segments")))
+        .map(|s| s.trim().parse::<u32>().map_err(|_| format!("'{s}' is not a whole number of segments", s = quoted(s))))
         .collect::<Result<Vec<u32>, String>>()
         .map_err(|e| if text.trim().is_empty() { "give at least one segment count".into() } else { e })?;
     crate::render::culling::LodSegments::new(&counts)
@@ -40,7 +41,8 @@ pub fn field(text: &str) -> Result<crate::render::field_gpu::FieldSize, String> 
     if text.trim() == "infinite" {
         return Ok(crate::render::field_gpu::FieldSize(None));
     }
-    let size = finite_f32(text).map_err(|_| format!("'{text}' is neither a size in metres nor 'infinite'"))?;
+    let size = finite_f32(text)
+        .map_err(|_| format!("'{text}' is neither a size in metres nor 'infinite'", text = quoted(text)))?;
     if size <= 0.0 {
         return Err(format!("a field of {size} m is empty: give a size above 0 or 'infinite'"));
     }
@@ -63,7 +65,8 @@ pub fn density(text: &str) -> Result<f32, String> {
 
 /// Blade count, at least 1. Device limits are checked once the device is known.
 pub fn blade_count(text: &str) -> Result<u32, String> {
-    let value: u64 = text.trim().parse().map_err(|_| format!("'{text}' is not a whole number of blades"))?;
+    let value: u64 =
+        text.trim().parse().map_err(|_| format!("'{text}' is not a whole number of blades", text = quoted(text)))?;
     match value {
         0 => Err("at least 1 blade is needed".into()),
         v if v > u64::from(u32::MAX) => {
@@ -75,7 +78,8 @@ pub fn blade_count(text: &str) -> Result<u32, String> {
 
 /// Segments per blade in `1..=16`.
 pub fn segments(text: &str) -> Result<u32, String> {
-    let value: u32 = text.trim().parse().map_err(|_| format!("'{text}' is not a whole number of segments"))?;
+    let value: u32 =
+        text.trim().parse().map_err(|_| format!("'{text}' is not a whole number of segments", text = quoted(text)))?;
     if !SEGMENTS_RANGE.contains(&value) {
         return Err(format!("{value} segments is outside {}..={}", SEGMENTS_RANGE.start(), SEGMENTS_RANGE.end()));
     }
@@ -84,7 +88,7 @@ pub fn segments(text: &str) -> Result<u32, String> {
 
 /// Blades per instance in `1..=1024`.
 pub fn blades_per_instance(text: &str) -> Result<u32, String> {
-    let value: u32 = text.trim().parse().map_err(|_| format!("'{text}' is not a whole number"))?;
+    let value: u32 = text.trim().parse().map_err(|_| format!("'{text}' is not a whole number", text = quoted(text)))?;
     if !BLADES_PER_INSTANCE_RANGE.contains(&value) {
         return Err(format!(
             "{value} blades per instance is outside {}..={}",
@@ -97,9 +101,15 @@ pub fn blades_per_instance(text: &str) -> Result<u32, String> {
 
 /// `WIDTHxHEIGHT`, both at least 1. The device's maximum is checked later.
 pub fn size(text: &str) -> Result<(u32, u32), String> {
-    let (w, h) =
-        text.trim().split_once(['x', 'X']).ok_or_else(|| format!("'{text}' is not WIDTHxHEIGHT (e.g. 1280x720)"))?;
-    let parse = |s: &str| s.trim().parse::<u32>().map_err(|_| format!("'{text}' is not WIDTHxHEIGHT (e.g. 1280x720)"));
+    let (w, h) = text
+        .trim()
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("'{text}' is not WIDTHxHEIGHT (e.g. 1280x720)", text = quoted(text)))?;
+    let parse = |s: &str| {
+        s.trim()
+            .parse::<u32>()
+            .map_err(|_| format!("'{text}' is not WIDTHxHEIGHT (e.g. 1280x720)", text = quoted(text)))
+    };
     let (w, h) = (parse(w)?, parse(h)?);
     if w == 0 || h == 0 {
         return Err(format!("size {w}x{h} is empty: width and height must be at least 1"));
@@ -111,7 +121,7 @@ pub fn size(text: &str) -> Result<(u32, u32), String> {
 pub fn camera(text: &str) -> Result<Camera, String> {
     let parts: Vec<&str> = text.split(',').collect();
     if parts.len() != 5 {
-        return Err(format!("'{text}' is not X,Y,Z,YAW_DEG,PITCH_DEG (five numbers)"));
+        return Err(format!("'{text}' is not X,Y,Z,YAW_DEG,PITCH_DEG (five numbers)", text = quoted(text)));
     }
     let values = parts.iter().map(|p| finite_f32(p)).collect::<Result<Vec<_>, _>>()?;
     if values[4].abs() > 89.0 {
@@ -146,7 +156,7 @@ mod tests {
 fn numbers(text: &str, counts: &[usize], shape: &str) -> Result<Vec<f32>, String> {
     let parts: Vec<&str> = text.split(',').collect();
     if !counts.contains(&parts.len()) {
-        return Err(format!("'{text}' is not {shape}"));
+        return Err(format!("'{text}' is not {shape}", text = quoted(text)));
     }
     parts.iter().map(|p| finite_f32(p)).collect()
 }
@@ -177,15 +187,16 @@ pub fn source(text: &str) -> Result<crate::wind::PointSource, String> {
 pub fn calm(text: &str) -> Result<crate::wind::CalmArea, String> {
     let v = numbers(text, &[4], "X0,Z0,X1,Z1")?;
     if v[0] >= v[2] || v[1] >= v[3] {
-        return Err(format!("calm area '{text}' is inverted or empty: need X0 < X1 and Z0 < Z1"));
+        return Err(format!("calm area '{text}' is inverted or empty: need X0 < X1 and Z0 < Z1", text = quoted(text)));
     }
     Ok(crate::wind::CalmArea { min: Vec2::new(v[0], v[1]), max: Vec2::new(v[2], v[3]) })
 }
 
 /// `sphere:X,Y,Z,R` or `ellipsoid:X,Y,Z,RX,RY,RZ`, radii > 0.
 pub fn collider(text: &str) -> Result<crate::wind::Collider, String> {
-    let (kind, rest) =
-        text.split_once(':').ok_or_else(|| format!("'{text}' is not sphere:X,Y,Z,R or ellipsoid:X,Y,Z,RX,RY,RZ"))?;
+    let (kind, rest) = text
+        .split_once(':')
+        .ok_or_else(|| format!("'{text}' is not sphere:X,Y,Z,R or ellipsoid:X,Y,Z,RX,RY,RZ", text = quoted(text)))?;
     let (center, radii) = match kind {
         "sphere" => {
             let v = numbers(rest, &[4], "sphere:X,Y,Z,R")?;
@@ -195,17 +206,18 @@ pub fn collider(text: &str) -> Result<crate::wind::Collider, String> {
             let v = numbers(rest, &[6], "ellipsoid:X,Y,Z,RX,RY,RZ")?;
             (glam::Vec3::new(v[0], v[1], v[2]), glam::Vec3::new(v[3], v[4], v[5]))
         }
-        other => return Err(format!("unknown collider '{other}': use sphere or ellipsoid")),
+        other => return Err(format!("unknown collider '{other}': use sphere or ellipsoid", other = quoted(other))),
     };
     if radii.min_element() <= 0.0 {
-        return Err(format!("collider radius in '{text}' must be positive"));
+        return Err(format!("collider radius in '{text}' must be positive", text = quoted(text)));
     }
     Ok(crate::wind::Collider { center, radii })
 }
 
 /// Keyframe poses over the full circle, 8..=1 000 000.
 pub fn poses(text: &str) -> Result<u32, String> {
-    let value: u32 = text.trim().parse().map_err(|_| format!("'{text}' is not a whole number of poses"))?;
+    let value: u32 =
+        text.trim().parse().map_err(|_| format!("'{text}' is not a whole number of poses", text = quoted(text)))?;
     if !(8..=1_000_000).contains(&value) {
         return Err(format!("{value} poses is outside 8..=1000000"));
     }
@@ -254,13 +266,14 @@ pub fn strategy(text: &str) -> Result<crate::render::submission::Strategy, Strin
     use crate::render::submission::Strategy;
     Strategy::parse(text.trim()).ok_or_else(|| {
         let names: Vec<&str> = Strategy::ALL.iter().map(|s| s.name()).collect();
-        format!("'{text}' is not a strategy (one of {})", names.join(", "))
+        format!("'{}' is not a strategy (one of {})", quoted(text), names.join(", "))
     })
 }
 
 /// Clusters (draws) of `meadow overhead`: `1..=1_000_000`.
 pub fn clusters(text: &str) -> Result<u32, String> {
-    let value: u64 = text.trim().parse().map_err(|_| format!("'{text}' is not a whole number of clusters"))?;
+    let value: u64 =
+        text.trim().parse().map_err(|_| format!("'{text}' is not a whole number of clusters", text = quoted(text)))?;
     match value {
         0 => Err("at least 1 cluster is needed".into()),
         v if v > 1_000_000 => Err(format!("{v} clusters is more than the 1000000 draws meadow records per frame")),

@@ -21,10 +21,9 @@ pub(crate) fn measure<T>(
     run: impl FnOnce(&std::sync::Arc<crate::vk::Device>, &mut dyn FnMut(u64, u64)) -> crate::Result<T>,
     report: impl FnOnce(T),
 ) -> (u8, Option<u64>) {
-    if let Some(e) = files.iter().find_map(|f| app::output::check_target(&out.join(f), "--out").err()) {
+    if let Err(e) = app::output::check_set(out, files) {
         return (finish(Err(e)), None);
     }
-    app::interrupt::install();
     let bar = std::io::IsTerminal::is_terminal(&std::io::stderr()).then(|| {
         let bar = indicatif::ProgressBar::new(0);
         let template = format!("{{bar:40}} {{pos}}/{{len}} {unit}, {{elapsed}} elapsed, ETA {{eta}}");
@@ -69,6 +68,10 @@ pub(crate) fn timing(args: TimingArgs) -> (u8, Option<u64>) {
         return (finish(Err(crate::Error::bad_input(e))), None);
     }
     let options = TimingOptions { render, warmup: args.warmup, trace: args.trace, out: args.out };
+    let trace = options.trace.iter().map(|t| ("--trace", t.clone()));
+    if let Err(e) = app::output::check_distinct(app::output::set_members(&options.out, &timing::FILES).chain(trace)) {
+        return (finish(Err(e)), None);
+    }
     measure(
         &args.gpu,
         "runs",

@@ -63,10 +63,25 @@ pub fn parse() -> Result<Cli, ExitCode> {
             Err(ExitCode::from(2))
         }
         Err(e) => {
-            eprintln!("{}", one_line(&e.to_string()));
+            eprintln!("{}", bounded(&one_line(&e.to_string())));
             Err(ExitCode::from(2))
         }
     }
+}
+
+/// Clap's message with every long argument it quotes (a value, or the value of `--flag=value`)
+/// quoted as every error quotes user text (`error::quoted`): a 100 kB value is not echoed whole.
+fn bounded(text: &str) -> String {
+    let mut text = text.to_string();
+    for arg in std::env::args_os().skip(1) {
+        let arg = arg.to_string_lossy();
+        for value in [arg.as_ref(), arg.split_once('=').map_or("", |(_, v)| v)] {
+            if value.chars().count() > crate::error::QUOTE_CHARS && text.contains(value) {
+                text = text.replace(value, &crate::error::quoted(value));
+            }
+        }
+    }
+    text
 }
 
 /// Clap's error as one line: its first line already reads "error: …"; a missing required
@@ -84,6 +99,8 @@ fn one_line(text: &str) -> String {
 /// Run the parsed command. The exit code is the command's, or 1 when the validation layer
 /// (`--validation`) reported anything, whose message count is printed last.
 pub fn run(cli: Cli) -> ExitCode {
+    // Every command stops cleanly on SIGINT, SIGTERM and SIGHUP, leaving nothing behind.
+    crate::app::interrupt::install();
     let ran = match cli.command {
         Command::Render(args) => Ok(commands::render(args)),
         Command::View(args) => commands::view(args),

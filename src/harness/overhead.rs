@@ -46,7 +46,7 @@ pub struct OverheadOptions {
 pub fn run(device: &Arc<Device>, options: &OverheadOptions, mut progress: impl FnMut(u64, u64)) -> Result<Value> {
     check(options)?;
     let cells = crate::scene::Terrain::cells_for(crate::scene::blades::field_size(options.blades));
-    crate::app::check_limits(device, options.blades, options.size, cells)?;
+    crate::app::check_limits(device, options.blades, (options.size, Default::default()), cells)?;
     // Created only once the input is known good: bad input leaves no empty directory.
     let scene = Scene::generate(options.blades, 1);
     let camera = scene.default_camera();

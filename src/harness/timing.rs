@@ -241,7 +241,7 @@ pub fn run(
         render.size,
         &render.animation,
         render.floor,
-        render.culling.enabled,
+        (render.culling.enabled, render.msaa),
     )?;
     let scene = render.scene();
     let mut runs = Vec::new();

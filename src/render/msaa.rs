@@ -53,6 +53,39 @@ fn attachments(device: &Device) -> [AttachmentUse; 2] {
     ]
 }
 
+/// Bytes per sample of the multisampled colour ([`MSAA_COLOR_FORMAT`]) and depth (at most 4).
+const SAMPLE_BYTES: [u64; 2] = [8, 4];
+
+/// Bytes of device memory the multisampled colour and depth of a frame of `extent` take (none
+/// without multisampling): counted by every budget check with the frame's other targets.
+pub fn target_bytes(extent: vk::Extent2D, msaa: &Msaa) -> u64 {
+    match msaa.enabled() {
+        true => {
+            let samples = u64::from(extent.width) * u64::from(extent.height) * u64::from(msaa.samples);
+            samples * SAMPLE_BYTES.iter().sum::<u64>()
+        }
+        false => 0,
+    }
+}
+
+/// Refuse a frame of `extent` whose multisampled images the device cannot create (past a
+/// format's `maxExtent` or `maxResourceSize`); `what` names the request (`--size 8192x8192`).
+pub fn check_target(device: &Device, extent: vk::Extent2D, msaa: &Msaa, what: &str) -> Result<()> {
+    if !msaa.enabled() {
+        return Ok(());
+    }
+    for (attachment, bytes) in attachments(device).iter().zip(SAMPLE_BYTES) {
+        multisample::check_extent(
+            device,
+            attachment,
+            bytes,
+            (extent, msaa.samples),
+            &format!("{what} --msaa {}", msaa.samples),
+        )?;
+    }
+    Ok(())
+}
+
 /// The sample counts `--msaa` accepts on `device`, ascending.
 pub fn supported_counts(device: &Device) -> Vec<u32> {
     multisample::supported_counts(device, &attachments(device))

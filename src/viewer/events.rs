@@ -74,15 +74,12 @@ impl Viewer {
                 self.dragging = false;
             }
             Action::Resize(w, h) => {
-                // Past the device's largest image no swapchain can follow: refused, like --size.
-                let limits = self.device.limits();
-                let most =
-                    limits.max_image_dimension2_d.min(limits.max_framebuffer_width).min(limits.max_framebuffer_height);
-                if w > most || h > most {
-                    return Err(Error::bad_input(format!(
-                        "--script: resize {w}x{h} exceeds the device's maxImageDimension2D/maxFramebufferWidth of {most}"
-                    )));
-                }
+                // What the device cannot render at (its largest image, the multisampled images'
+                // maxResourceSize, the budget) no swapchain can follow: refused, like --size.
+                let blades = self.scene.blades.len() as u32;
+                let cells = crate::scene::Terrain::cells_for(crate::scene::blades::field_size(blades));
+                crate::app::check_limits(&self.device, blades, ((w, h), self.settings.msaa), cells)
+                    .map_err(|e| Error::bad_input(format!("--script: resize {w}x{h}: {e}")))?;
                 let _ = window.request_inner_size(PhysicalSize::new(w, h));
                 self.needs_recreate = true;
             }
@@ -169,8 +166,11 @@ impl ApplicationHandler for Viewer {
         if self.surface.is_none() || self.error.is_some() {
             return;
         }
-        if crate::app::interrupt::requested() {
-            self.quit = true;
+        // A signal (Ctrl-C, SIGTERM, SIGHUP) ends the session at once, without the exit
+        // screenshot: nothing is written after it (`app::interrupt`).
+        if let Err(e) = crate::app::interrupt::check() {
+            self.fail(event_loop, e);
+            return;
         }
         if !self.quit {
             if let Err(e) = self.tick(event_loop) {

@@ -85,11 +85,15 @@ pub fn run(gpu: &GpuOptions, options: ViewerOptions) -> (Result<ViewerReport>, O
         script::Action::Screenshot(path) => Some((std::path::Path::new(path.as_str()), "script screenshot")),
         _ => None,
     });
-    let shots = options.screenshot.iter().map(|p| (p.as_path(), "--screenshot")).chain(script_shots);
-    for (path, flag) in shots {
+    let shots: Vec<_> = options.screenshot.iter().map(|p| (p.as_path(), "--screenshot")).chain(script_shots).collect();
+    for &(path, flag) in &shots {
         if let Err(e) = app::output::check_output(path, flag) {
             return (Err(e), None);
         }
+    }
+    // Two screenshots to one file: the second would replace the first.
+    if let Err(e) = app::output::check_distinct(shots.iter().map(|&(path, flag)| (flag, path.to_path_buf()))) {
+        return (Err(e), None);
     }
     if let Some(dir) = options.capture_dir.as_ref().filter(|d| !d.is_dir()) {
         return (Err(Error::bad_input(format!("--capture-dir {}: not a directory", dir.display()))), None);
@@ -112,7 +116,6 @@ pub fn run(gpu: &GpuOptions, options: ViewerOptions) -> (Result<ViewerReport>, O
             Ok(extensions) => extensions,
             Err(e) => return (Err(e), None),
         };
-    app::interrupt::install();
     app::with_instance(gpu, extensions, |instance| {
         let mut session = session::Session::new(instance, gpu.device.clone(), options);
         event_loop.run_app(&mut session).map_err(|e| Error::Environment(format!("event loop: {e}")))?;
@@ -175,7 +178,7 @@ impl Viewer {
         crate::app::check_limits(
             &device,
             o.stored_blades(),
-            o.size,
+            (o.size, o.msaa),
             crate::scene::Terrain::cells_for(crate::scene::blades::field_size(o.stored_blades())),
         )?;
         let scene = o.scene();
@@ -283,7 +286,7 @@ impl Viewer {
             size,
             animation,
             settings.floor,
-            settings.culling.enabled,
+            (settings.culling.enabled, settings.msaa),
         )
     }
 

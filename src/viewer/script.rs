@@ -21,8 +21,12 @@
 //! Frames are counted from the first rendered frame; actions of a frame run before it renders.
 //! With a script (or `--frames`), simulation time advances by a fixed 1/60 s per frame.
 
-use crate::error::{Error, Result};
+use crate::error::{quoted, Error, Result};
 use crate::scene::Camera;
+
+/// Largest script `--script` reads (a session of a million actions is about 20 MB: more than any
+/// test or soak plays).
+const MOST_BYTES: u64 = 32 << 20;
 
 /// One scripted action.
 #[derive(Clone, Debug, PartialEq)]
@@ -65,9 +69,9 @@ pub struct Script {
 impl Script {
     /// Read and parse a script file.
     pub fn load(path: &std::path::Path) -> Result<Self> {
-        let text =
-            std::fs::read_to_string(path).map_err(|e| Error::bad_input(format!("--script {}: {e}", path.display())))?;
-        Self::parse(&text).map_err(|e| Error::bad_input(format!("--script {}: {e}", path.display())))
+        let text = crate::app::input::read_text(path, "--script", MOST_BYTES, 4)?;
+        Self::parse(&text)
+            .map_err(|e| Error::bad_input(format!("--script {}: {e}", quoted(&path.display().to_string()))))
     }
 
     /// Parse the text of a script.
@@ -78,11 +82,9 @@ impl Script {
             if line.is_empty() {
                 continue;
             }
-            // The line as written, cut short: a megabyte line is not echoed whole.
-            let shown: String = raw.chars().take(80).collect();
-            let cut = if shown.len() < raw.len() { "…" } else { "" };
-            // What went wrong may quote a word of the line: bounded too.
-            let fail = |what: &str| format!("line {}: {}: '{shown}{cut}'", n + 1, bounded(what, 160));
+            // The line as written, bounded (`error::quoted`): a megabyte line is not echoed whole.
+            // What went wrong may quote a word of the line, bounded where it is quoted.
+            let fail = |what: &str| format!("line {}: {what}: '{}'", n + 1, quoted(raw));
             let mut words = line.split_whitespace();
             let frame: u64 =
                 words.next().and_then(|w| w.parse().ok()).ok_or_else(|| fail("expected a frame number"))?;
@@ -96,11 +98,11 @@ impl Script {
             };
             let none = |action: Action| match args.is_empty() {
                 true => Ok(action),
-                false => Err(fail(&format!("{verb} takes no arguments"))),
+                false => Err(fail(&format!("{} takes no arguments", quoted(verb)))),
             };
             let key = |name: &str| match super::keys::KEY_NAMES.contains(&name.to_lowercase().as_str()) {
                 true => Ok(name.to_lowercase()),
-                false => Err(fail(&format!("unknown key '{}' (the help, H, names them)", bounded(name, 40)))),
+                false => Err(fail(&format!("unknown key '{}' (the help, H, names them)", quoted(name)))),
             };
             let action = match verb {
                 "camera" => {
@@ -137,7 +139,7 @@ impl Script {
                 },
                 "ui-click" => return Err(fail("ui-click LABEL")),
                 "quit" => none(Action::Quit)?,
-                other => return Err(fail(&format!("unknown action '{}'", bounded(other, 40)))),
+                other => return Err(fail(&format!("unknown action '{}'", quoted(other)))),
             };
             actions.push((frame, action));
         }
@@ -154,14 +156,6 @@ impl Script {
     /// Whether any action is left.
     pub fn is_empty(&self) -> bool {
         self.actions.is_empty()
-    }
-}
-
-/// Text of the script as an error message shows it: at most `most` characters.
-fn bounded(word: &str, most: usize) -> String {
-    match word.char_indices().nth(most) {
-        Some((end, _)) => format!("{}…", &word[..end]),
-        None => word.to_string(),
     }
 }
 

@@ -53,6 +53,7 @@ impl Session {
         event_loop: &ActiveEventLoop,
     ) -> Result<Viewer> {
         let (w, h) = options.scene.size;
+        check_window_size(&instance, &selector, (w, h), event_loop)?;
         let attributes = Window::default_attributes().with_title("meadow").with_inner_size(PhysicalSize::new(w, h));
         let window = event_loop.create_window(attributes).map_err(|e| Error::Environment(format!("window: {e}")))?;
         let raw = surface(&instance, &window)?;
@@ -81,6 +82,35 @@ impl Session {
         viewer.adopt(window, raw)?;
         Ok(viewer)
     }
+}
+
+/// Largest window side winit's X11 backend takes: the protocol's 16-bit sizes (`CARD16`); winit
+/// panics past it. Wayland's sizes are 32-bit.
+const X11_MAX_SIDE: u32 = u16::MAX as u32;
+
+/// Refuse a window size the device cannot render at or the platform cannot make, before the
+/// window exists (exit 2).
+fn check_window_size(
+    instance: &Instance,
+    selector: &DeviceSelector,
+    (w, h): (u32, u32),
+    event_loop: &ActiveEventLoop,
+) -> Result<()> {
+    let device = crate::vk::device::window_side_limit(instance, selector)?;
+    if w > device || h > device {
+        return Err(Error::bad_input(format!(
+            "--size {w}x{h} exceeds the device's maxImageDimension2D/maxFramebufferWidth of {device}"
+        )));
+    }
+    use winit::platform::x11::ActiveEventLoopExtX11;
+    let (platform, name) = match event_loop.is_x11() {
+        true => (X11_MAX_SIDE, "an X11 window"),
+        false => (i32::MAX as u32, "a window"),
+    };
+    if w > platform || h > platform {
+        return Err(Error::bad_input(format!("--size {w}x{h}: {name} is at most {platform} pixels a side")));
+    }
+    Ok(())
 }
 
 /// The window's Vulkan surface.

@@ -203,6 +203,20 @@ fn create_allocator(
     })
 }
 
+/// The largest picture side (`maxImageDimension2D`, `maxFramebufferWidth` and `Height`, the
+/// smallest of them) of the device `selector` picks for a window, known before the window exists:
+/// the window's size is checked against it first (a window past what the device renders is of
+/// no use, and past what the platform takes it cannot even be made). Which devices can present
+/// to the window is not known yet; `Device::new` chooses among those, and the viewer checks the
+/// chosen one's limits again.
+pub fn window_side_limit(instance: &Instance, selector: &DeviceSelector) -> Result<u32> {
+    let candidates = enumerate(instance)?;
+    let chosen = select(&candidates, selector, true)?;
+    // SAFETY: the handle comes from this instance.
+    let limits = unsafe { instance.raw.get_physical_device_properties(chosen.raw) }.limits;
+    Ok(limits.max_image_dimension2_d.min(limits.max_framebuffer_width).min(limits.max_framebuffer_height))
+}
+
 impl Device {
     /// Select a physical device and create the logical device on it.
     pub fn new(instance: Arc<Instance>, desc: &DeviceDesc) -> Result<Arc<Self>> {
@@ -243,6 +257,8 @@ impl Device {
         if calibrated {
             extensions.push(ash::ext::calibrated_timestamps::NAME.as_ptr());
         }
+        // lavapipe crashes inside vkCreateDevice under a tight `ulimit -v`: said first.
+        super::address_space::check_device(properties.device_type, &chosen.info.name)?;
         let raw = create_logical(&instance, physical, queue_family, &features, &extensions)?;
         // SAFETY: the family was requested with one queue.
         let queue = unsafe { raw.get_device_queue(queue_family, 0) };
@@ -330,7 +346,11 @@ impl Device {
                 format_bytes(MEMORY_BUDGET_BYTES)
             )));
         }
-        Ok(())
+        // A software device's memory is mapped into this process: under `ulimit -v` too.
+        match self.info.kind == vk::PhysicalDeviceType::CPU {
+            true => super::address_space::check_headroom(bytes, what),
+            false => Ok(()),
+        }
     }
 
     /// Lock the allocator.

@@ -2,6 +2,7 @@
 //! destroyed explicitly by their owners; owners hold an `Arc<Device>` and wait for their GPU work
 //! before destroying.
 
+pub mod address_space;
 pub mod buffer;
 pub mod capabilities;
 pub mod commands;

@@ -2,6 +2,7 @@
 
 use ash::vk;
 
+use crate::error::{Error, Result, VkContext};
 use crate::vk::Device;
 
 /// One attachment: its format and how it is used (attachment, and sampled when a pass reads it).
@@ -48,6 +49,49 @@ pub fn supported_counts(device: &Device, attachments: &[AttachmentUse]) -> Vec<u
         }
     }
     (0..7).map(|bit| 1u32 << bit).filter(|&n| n == 1 || mask.contains(vk::SampleCountFlags::from_raw(n))).collect()
+}
+
+/// Refuse an image of `attachment` (texels of `texel_bytes`) at `extent` with `samples` samples
+/// that the device cannot create: past the format's `maxExtent` or `maxResourceSize`
+/// (`vkGetPhysicalDeviceImageFormatProperties`). `what` names the request in the message.
+pub fn check_extent(
+    device: &Device,
+    attachment: &AttachmentUse,
+    texel_bytes: u64,
+    (extent, samples): (vk::Extent2D, u32),
+    what: &str,
+) -> Result<()> {
+    // SAFETY: valid physical device and enums.
+    let properties = unsafe {
+        device.instance.raw.get_physical_device_image_format_properties(
+            device.physical,
+            attachment.format,
+            vk::ImageType::TYPE_2D,
+            vk::ImageTiling::OPTIMAL,
+            attachment.usage,
+            vk::ImageCreateFlags::empty(),
+        )
+    }
+    .vk("vkGetPhysicalDeviceImageFormatProperties")?;
+    let max = properties.max_extent;
+    if extent.width > max.width || extent.height > max.height {
+        return Err(Error::bad_input(format!(
+            "{what}: a {:?} image of {}x{} is over the device's maxExtent of {}x{} for it",
+            attachment.format, extent.width, extent.height, max.width, max.height
+        )));
+    }
+    let bytes = u64::from(extent.width) * u64::from(extent.height) * u64::from(samples) * texel_bytes;
+    if bytes > properties.max_resource_size {
+        return Err(Error::bad_input(format!(
+            "{what}: a {samples}-sample {:?} image of {}x{} takes {}, over the device's maxResourceSize of {} for it",
+            attachment.format,
+            extent.width,
+            extent.height,
+            super::device::format_bytes(bytes),
+            super::device::format_bytes(properties.max_resource_size)
+        )));
+    }
+    Ok(())
 }
 
 fn is_depth(format: vk::Format) -> bool {

@@ -227,7 +227,11 @@ pub(crate) fn select<'a>(
             .ok_or_else(|| Error::bad_input(format!("--device {index}: no such device (have {})", listing())))?,
         DeviceSelector::Name(name) => {
             candidates.iter().find(|c| c.info.name.to_lowercase().contains(name.as_str())).ok_or_else(|| {
-                Error::bad_input(format!("--device {name}: no device name contains it (have {})", listing()))
+                Error::bad_input(format!(
+                    "--device {}: no device name contains it (have {})",
+                    crate::error::quoted(name),
+                    listing()
+                ))
             })?
         }
     };

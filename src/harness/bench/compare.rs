@@ -9,7 +9,7 @@ use std::path::Path;
 
 use serde_json::Value;
 
-use crate::error::{Error, Result};
+use crate::error::{quoted, Error, Result};
 
 /// The schema every bench.json follows (`docs/bench.schema.json`).
 const SCHEMA: &str = include_str!("../../../docs/bench.schema.json");
@@ -21,21 +21,32 @@ const ALPHA: f64 = 0.05;
 /// p-value is 1/70).
 const MIN_FRAMES: usize = 4;
 
+/// Largest bench.json `--compare` reads: a thesis run with every frame's sample is well under a
+/// megabyte.
+const MOST_BYTES: u64 = 64 << 20;
+
+/// Memory a parsed document takes per byte of its text, at most: a `serde_json::Value` of 32
+/// bytes per two-byte number (`0,`), twice that while its array grows.
+const PARSED_PER_BYTE: u64 = 32;
+
 /// Fields that must be equal for two runs to be comparable.
 const SAME_RUN: [&str; 5] = ["device", "driver", "resolution", "build_profile", "lp_num_threads"];
 
 /// Read a bench.json and validate it against the schema (bad input, exit 2, when it does not
 /// follow it).
 pub fn load(path: &Path) -> Result<Value> {
-    let text = std::fs::read_to_string(path).map_err(|e| Error::bad_input(format!("{}: {e}", path.display())))?;
-    let doc: Value = serde_json::from_str(&text)
-        .map_err(|e| Error::bad_input(format!("{}: not a bench.json: {e}", path.display())))?;
+    let text = crate::app::input::read_text(path, "--compare", MOST_BYTES, PARSED_PER_BYTE)?;
+    let shown = quoted(&path.display().to_string()).into_owned();
+    let doc: Value =
+        serde_json::from_str(&text).map_err(|e| Error::bad_input(format!("{shown}: not a bench.json: {e}")))?;
     let schema: Value = serde_json::from_str(SCHEMA).expect("docs/bench.schema.json is JSON");
     let validator = jsonschema::validator_for(&schema).expect("docs/bench.schema.json is a valid schema");
     if let Some(e) = validator.iter_errors(&doc).next() {
         let at = e.instance_path().to_string();
         let at = if at.is_empty() { "the document".to_string() } else { at };
-        return Err(Error::bad_input(format!("{}: not a bench.json: {at}: {e}", path.display())));
+        // The schema's message quotes the offending value: bounded like every quote of input.
+        let (at, e) = (quoted(&at), quoted(&e.to_string()).into_owned());
+        return Err(Error::bad_input(format!("{shown}: not a bench.json: {at}: {e}")));
     }
     Ok(doc)
 }
@@ -48,8 +59,11 @@ pub fn compare(old: &Value, new: &Value, threshold_pct: f64) -> Result<(String, 
     if !(threshold_pct.is_finite() && threshold_pct > 0.0) {
         return Err(Error::bad_input(format!("--threshold {threshold_pct}: must be a positive percentage")));
     }
-    let differences: Vec<String> =
-        SAME_RUN.iter().filter(|&&k| old[k] != new[k]).map(|&k| format!("{k} {} vs {}", old[k], new[k])).collect();
+    let differences: Vec<String> = SAME_RUN
+        .iter()
+        .filter(|&&k| old[k] != new[k])
+        .map(|&k| format!("{k} {} vs {}", quoted(&old[k].to_string()), quoted(&new[k].to_string())))
+        .collect();
     if !differences.is_empty() {
         return Err(Error::bad_input(format!("the runs are not comparable: {}", differences.join(", "))));
     }
@@ -105,7 +119,7 @@ fn judge(row: &Value, name: &str, old_v: &Value, v: &Value, threshold_pct: f64) 
     let (Some(a), Some(b)) = (old_v["gpu_ms"]["median"].as_f64(), v["gpu_ms"]["median"].as_f64()) else {
         return Ok(None);
     };
-    let at = format!("{} blades x {} segments, {name}", row["blades"], row["segments"]);
+    let at = format!("{} blades x {} segments, {}", row["blades"], row["segments"], quoted(name));
     if !(a.is_finite() && a > 0.0 && b.is_finite() && b > 0.0) {
         return Err(Error::bad_input(format!("{at}: medians {} and {} ms are not both positive", ms(a), ms(b))));
     }

@@ -165,7 +165,7 @@ pub fn run(device: &Arc<Device>, options: &BenchOptions, mut progress: impl FnMu
     // Every row's limits before the output directory exists: bad input leaves no empty directory.
     for &(blades, _) in &options.rows {
         let cells = crate::scene::Terrain::cells_for(crate::scene::blades::field_size(blades));
-        crate::app::check_limits(device, blades, options.size, cells)?;
+        crate::app::check_limits(device, blades, (options.size, Default::default()), cells)?;
     }
     let extent = vk::Extent2D { width: options.size.0, height: options.size.1 };
     let total = (options.rows.len() * variants.len()) as u64 * u64::from(options.warmup + options.frames);
@@ -197,7 +197,7 @@ fn measure_row(
     frames: &mut Progress,
 ) -> Result<Value> {
     let cells = crate::scene::Terrain::cells_for(crate::scene::blades::field_size(blades));
-    crate::app::check_limits(device, blades, options.size, cells)?;
+    crate::app::check_limits(device, blades, (options.size, Default::default()), cells)?;
     let scene = Scene::generate(blades, 1);
     let camera = scene.default_camera();
     let extent = vk::Extent2D { width: options.size.0, height: options.size.1 };
@@ -216,7 +216,7 @@ fn measure_row(
                 options.size,
                 &animation_of(v),
                 v.mode == Column::Floor,
-                false,
+                (false, Default::default()),
             ) {
                 Err(Error::BadInput(why)) => {
                     unsupported.push(json!({ "variant": v.name(), "unsupported": why }));

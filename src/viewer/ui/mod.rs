@@ -107,7 +107,11 @@ impl Ui {
         let found = exact.or_else(|| prefixed.next().filter(|_| prefixed.next().is_none()));
         found.map(|(_, rect)| *rect).ok_or_else(|| {
             let known: Vec<&str> = self.widgets.iter().map(|(l, _)| l.as_str()).collect();
-            Error::bad_input(format!("--script: no control '{label}' on screen (shown: {})", known.join(", ")))
+            Error::bad_input(format!(
+                "--script: no control '{}' on screen (shown: {})",
+                crate::error::quoted(label),
+                known.join(", ")
+            ))
         })
     }
 

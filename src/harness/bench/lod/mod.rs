@@ -108,16 +108,40 @@ impl Field {
         let culled = animation(true);
         match self {
             Field::Stored { blades, .. } => {
-                crate::app::check_scene(device, *blades, segments, size, &animation(false), false, false)?;
-                crate::app::check_scene(device, *blades, segments, size, &culled, false, true)?;
+                crate::app::check_scene(
+                    device,
+                    *blades,
+                    segments,
+                    size,
+                    &animation(false),
+                    false,
+                    (false, Default::default()),
+                )?;
+                crate::app::check_scene(device, *blades, segments, size, &culled, false, (true, Default::default()))?;
                 let cells = Terrain::cells_for(crate::scene::blades::field_size(*blades));
                 let one = crate::render::scene_gpu::SceneGpu::memory_bytes(u64::from(*blades), u64::from(cells))
                     + offscreen_bytes(vk::Extent2D { width: size.0, height: size.1 });
                 device.check_budget(2 * one, &format!("--preset lod with {blades} blades (two renderers)"))
             }
             Field::Blocks { .. } => {
-                crate::app::check_scene(device, REFERENCE_BLADES, segments, size, &animation(false), false, false)?;
-                crate::app::check_scene(device, self.blades(), segments, size, &culled, false, true)
+                crate::app::check_scene(
+                    device,
+                    REFERENCE_BLADES,
+                    segments,
+                    size,
+                    &animation(false),
+                    false,
+                    (false, Default::default()),
+                )?;
+                crate::app::check_scene(
+                    device,
+                    self.blades(),
+                    segments,
+                    size,
+                    &culled,
+                    false,
+                    (true, Default::default()),
+                )
             }
         }
     }

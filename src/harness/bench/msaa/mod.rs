@@ -104,6 +104,7 @@ pub fn run(device: &Arc<Device>, options: &MsaaBenchOptions, mut progress: impl 
             8 * DIFF_BLOCK
         )));
     }
+    check(device, options, samples)?;
     let extent = vk::Extent2D { width: options.size.0, height: options.size.1 };
     let per_variant = u64::from(options.warmup + options.frames + options.pan_frames);
     let mut frames = Progress::new(ROWS.len() as u64 * 3 * per_variant, &mut progress);
@@ -134,6 +135,24 @@ pub fn run(device: &Arc<Device>, options: &MsaaBenchOptions, mut progress: impl 
         "rows": rows,
     });
     Ok(MsaaRun { doc: document(device, "msaa", options.size, fields), pictures })
+}
+
+/// Every check of the run against the device before anything is built: each row's scene at each
+/// variant (`app::check_scene`: limits, multisampled images), then what a row holds at once
+/// (three renderers, each with its target and multisampled pair) against the memory budget.
+fn check(device: &Device, options: &MsaaBenchOptions, samples: u32) -> Result<()> {
+    let (blades, size) = (options.blades, options.size);
+    for (_, culled) in ROWS {
+        for (_, msaa) in variants(samples) {
+            let animation = AnimationSettings::default();
+            crate::app::check_scene(device, blades, SEGMENTS, size, &animation, false, (culled, msaa))?;
+        }
+    }
+    let extent = vk::Extent2D { width: size.0, height: size.1 };
+    let cells = crate::scene::Terrain::cells_for(crate::scene::blades::field_size(blades));
+    let scene = crate::render::scene_gpu::SceneGpu::memory_bytes(u64::from(blades), u64::from(cells));
+    let row: u64 = variants(samples).iter().map(|(_, msaa)| scene + crate::app::frame_target_bytes(extent, msaa)).sum();
+    device.check_budget(row, &format!("--preset msaa with {blades} blades at {}x{} (three renderers)", size.0, size.1))
 }
 
 /// A target's picture as RGB8.
