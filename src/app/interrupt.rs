@@ -3,7 +3,9 @@
 //! [`Error::Interrupted`] (exit 128 + the signal's number, as a shell reports it); the viewer
 //! quits at its next frame without its exit screenshot. No file is published once a signal came
 //! (`output::write_atomically` and `output::write_set` check it before renaming), so a stopped
-//! command leaves neither a temporary nor a half set nor an empty output folder.
+//! command leaves neither a temporary nor a half set nor an empty output folder. A second signal
+//! before the command stopped ends it at once (the default effect), as a user pressing Ctrl-C
+//! twice expects.
 
 use std::sync::atomic::{AtomicI32, Ordering};
 use std::sync::Once;
@@ -16,9 +18,17 @@ const SIGNALS: [libc::c_int; 3] = [libc::SIGINT, libc::SIGTERM, libc::SIGHUP];
 /// The first signal received (0: none).
 static RECEIVED: AtomicI32 = AtomicI32::new(0);
 
-/// The handler: an atomic store, which is async-signal-safe.
+/// The handler: an atomic store, which is async-signal-safe. A second signal, while the command
+/// has not stopped yet (a long step between two checks), takes the signal's default effect at
+/// once: `signal` and `raise` are async-signal-safe too.
 extern "C" fn record(signal: libc::c_int) {
-    let _ = RECEIVED.compare_exchange(0, signal, Ordering::SeqCst, Ordering::SeqCst);
+    if RECEIVED.compare_exchange(0, signal, Ordering::SeqCst, Ordering::SeqCst).is_err() {
+        // SAFETY: restoring the default disposition and raising are async-signal-safe.
+        unsafe {
+            libc::signal(signal, libc::SIG_DFL);
+            libc::raise(signal);
+        }
+    }
 }
 
 /// Install the handler for [`SIGNALS`] (once per process; later calls do nothing). A failure to

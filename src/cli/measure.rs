@@ -11,7 +11,7 @@ use crate::harness::bench::Column;
 /// Run a measuring command on the device of `gpu`: a progress bar with ETA on a terminal (none
 /// otherwise) fed by `run`'s `progress(done, total)`, then `report` of its result and a `wrote`
 /// line. What `run` writes is one set, the `files` in `out` (`app::output::write_set`): all of
-/// it or, on a failure or Ctrl-C (exit 130, checked after every frame), none. Each file's path is
+/// it or, on a failure or a signal (Ctrl-C: exit 130; checked after every frame), none. Each file's path is
 /// checked before any work (exit 2 when it exists and is not a regular file). Returns the exit
 /// code and the validation count.
 pub(crate) fn measure<T>(

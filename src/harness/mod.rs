@@ -25,8 +25,8 @@ impl<'a> Progress<'a> {
         Self { done: 0, total, report }
     }
 
-    /// One frame rendered: counted and reported; `Err(Error::Interrupted)` once Ctrl-C was
-    /// pressed (the command then stops at this frame and writes nothing).
+    /// One frame rendered: counted and reported; `Err(Error::Interrupted)` once a signal came
+    /// (Ctrl-C, SIGTERM, SIGHUP: the command then stops at this frame and writes nothing).
     pub(crate) fn rendered(&mut self) -> crate::error::Result<()> {
         self.done += 1;
         (self.report)(self.done, self.total);
