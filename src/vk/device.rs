@@ -180,6 +180,11 @@ fn create_logical(
         .queue_create_infos(&queue_infos)
         .enabled_extension_names(extensions)
         .push_next(&mut features2);
+    // lavapipe crashes inside vkCreateDevice under a tight `ulimit -v`: said first.
+    // SAFETY: physical comes from this instance.
+    let properties = unsafe { instance.raw.get_physical_device_properties(physical) };
+    let name = properties.device_name_as_c_str().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    super::address_space::check_device(properties.device_type, &name)?;
     // SAFETY: every pointer in create_info refers to locals (or to `extensions`, static
     // extension names) alive for this call.
     unsafe { instance.raw.create_device(physical, &create_info, None) }.vk("vkCreateDevice")
@@ -257,8 +262,6 @@ impl Device {
         if calibrated {
             extensions.push(ash::ext::calibrated_timestamps::NAME.as_ptr());
         }
-        // lavapipe crashes inside vkCreateDevice under a tight `ulimit -v`: said first.
-        super::address_space::check_device(properties.device_type, &chosen.info.name)?;
         let raw = create_logical(&instance, physical, queue_family, &features, &extensions)?;
         // SAFETY: the family was requested with one queue.
         let queue = unsafe { raw.get_device_queue(queue_family, 0) };
