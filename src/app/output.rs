@@ -98,7 +98,9 @@ fn resolved(path: &Path) -> PathBuf {
 pub fn check_distinct<'a>(outputs: impl IntoIterator<Item = (&'a str, PathBuf)>) -> Result<()> {
     use std::os::unix::fs::MetadataExt;
     let identity = |path: &Path| std::fs::metadata(path).ok().map(|m| (m.dev(), m.ino()));
-    let mut seen: Vec<(&str, PathBuf, PathBuf, Option<(u64, u64)>)> = Vec::new();
+    // (flag, path as given, resolved, device and inode if it exists)
+    type Seen<'a> = (&'a str, PathBuf, PathBuf, Option<(u64, u64)>);
+    let mut seen: Vec<Seen> = Vec::new();
     for (flag, path) in outputs {
         let (at, id) = (resolved(&path), identity(&path));
         let same = seen.iter().find(|(_, _, a, i)| *a == at || (id.is_some() && *i == id));
