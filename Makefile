@@ -4,7 +4,7 @@
 #   make test  installs what is missing, then fmt, clippy and the whole test suite on lavapipe
 CARGO ?= cargo
 
-.PHONY: deps run test goldens build soak pictures bench-docs
+.PHONY: deps run test goldens build soak pictures bench-docs cli-docs
 
 deps:
 	@./scripts/install-deps.sh
@@ -31,6 +31,10 @@ test: deps
 # Regenerate tests/golden/*.png from the current renderer (review the pictures before committing).
 goldens: deps
 	MEADOW_UPDATE_GOLDENS=1 $(CARGO) test --release --test golden
+
+# Regenerate docs/cli.md from the clap definitions (tests/docs.rs fails while it differs).
+cli-docs:
+	MEADOW_UPDATE_DOCS=1 $(CARGO) test --release --test docs the_cli_reference_is_generated_from_the_parser
 
 # The viewer for 10 000 frames with swapchain re-creations: fails on resident-memory growth over
 # 4 MiB or any growth of live Vulkan objects (scripts/soak.sh; FRAMES=N for another length).

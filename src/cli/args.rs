@@ -31,6 +31,13 @@ pub(crate) struct KeyframeArgs {
 }
 
 #[derive(Args)]
+pub(crate) struct CompletionsArgs {
+    /// The shell to complete for.
+    #[arg(value_enum)]
+    pub(crate) shell: clap_complete::Shell,
+}
+
+#[derive(Args)]
 pub(crate) struct GpuArgs {
     /// Enable the Khronos validation layer with synchronization validation; exit non-zero if it
     /// reports anything.

@@ -3,7 +3,7 @@
 
 use std::path::PathBuf;
 
-use super::args::{GpuArgs, KeyframeArgs, RenderArgs, ViewArgs};
+use super::args::{CompletionsArgs, GpuArgs, KeyframeArgs, RenderArgs, ViewArgs};
 use crate::app::{self, RenderReport};
 use crate::viewer::ViewerOptions;
 
@@ -68,6 +68,22 @@ pub(crate) fn devices(args: GpuArgs) -> (u8, Option<u64>) {
         }
     }));
     (code, validation)
+}
+
+/// `meadow completions SHELL`: the script, written whole to standard output (or exit 1 with one
+/// `error:` line when it cannot be written, e.g. into a closed pipe).
+pub(crate) fn completions(args: CompletionsArgs) -> (u8, Option<u64>) {
+    use std::io::Write;
+    let mut script = Vec::new();
+    clap_complete::generate(args.shell, &mut super::command(), "meadow", &mut script);
+    let mut stdout = std::io::stdout().lock();
+    match stdout.write_all(&script).and_then(|()| stdout.flush()) {
+        Ok(()) => (0, None),
+        Err(e) => {
+            eprintln!("error: writing the {} completion script: {e}", args.shell);
+            (1, None)
+        }
+    }
 }
 
 /// The exit code of a command's result; an error is printed as one `error: …` line.

@@ -2,18 +2,21 @@
 //! parsers are [`crate::app::values`], which the viewer's scripts share) and the dispatch of each
 //! subcommand to [`crate::app`], [`crate::harness`] or [`crate::viewer`] ([`commands`],
 //! [`measure`]). `src/main.rs` only calls [`parse()`] and [`run`].
+//! [`command()`] is the parser itself, from which the completion scripts and the reference
+//! `docs/cli.md` ([`reference`]) are written.
 
 pub mod animation;
 pub mod args;
 pub mod commands;
 mod culling;
 pub mod measure;
+pub mod reference;
 
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
-use args::{BenchArgs, GpuArgs, KeyframeArgs, OverheadArgs, RenderArgs, TimingArgs, ViewArgs};
+use args::{BenchArgs, CompletionsArgs, GpuArgs, KeyframeArgs, OverheadArgs, RenderArgs, TimingArgs, ViewArgs};
 
 /// A real-time grass renderer on raw Vulkan.
 #[derive(Parser)]
@@ -42,6 +45,16 @@ pub(crate) enum Command {
     Devices(GpuArgs),
     /// Generate the keyframe table; report its compression figures and export it as a picture.
     Keyframes(KeyframeArgs),
+    /// Print the shell completion script of meadow, e.g. `meadow completions bash >
+    /// ~/.local/share/bash-completion/completions/meadow`.
+    Completions(CompletionsArgs),
+}
+
+/// The whole command line as clap sees it: what `meadow` parses, and what its completion
+/// scripts and `docs/cli.md` ([`reference`]) are written from.
+pub fn command() -> clap::Command {
+    use clap::CommandFactory;
+    Cli::command()
 }
 
 /// Parse the process arguments. `--help` and `--version` are printed and give `Err(SUCCESS)`; a
@@ -56,9 +69,8 @@ pub fn parse() -> Result<Cli, ExitCode> {
         }
         Err(e) if e.kind() == clap::error::ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
             // `meadow` alone: say what is missing, on one line, with the subcommands.
-            use clap::CommandFactory;
             let names: Vec<String> =
-                Cli::command().get_subcommands().map(|c| c.get_name().to_string()).filter(|n| n != "help").collect();
+                command().get_subcommands().map(|c| c.get_name().to_string()).filter(|n| n != "help").collect();
             eprintln!("error: a subcommand is needed: {} (meadow --help)", names.join(", "));
             Err(ExitCode::from(2))
         }
@@ -85,12 +97,14 @@ fn bounded(text: &str) -> String {
 }
 
 /// Clap's error as one line: its first line already reads "error: …"; a missing required
-/// argument is listed on the indented lines after it, which are kept (joined).
+/// argument is listed on the indented lines after it, which are kept (joined), and so is the list
+/// of possible values after an invalid one.
 fn one_line(text: &str) -> String {
     let mut lines = text.lines();
     let first = lines.next().unwrap_or("error: invalid arguments").trim_end().to_string();
     if !first.ends_with(':') {
-        return first;
+        let possible = text.lines().map(str::trim).find(|l| l.starts_with("[possible values:"));
+        return possible.map_or(first.clone(), |p| format!("{first} {p}"));
     }
     let listed: Vec<&str> = lines.map(str::trim).take_while(|l| !l.is_empty()).collect();
     format!("{first} {}", listed.join(", "))
@@ -109,6 +123,7 @@ pub fn run(cli: Cli) -> ExitCode {
         Command::Overhead(args) => Ok(measure::overhead(args)),
         Command::Timing(args) => Ok(measure::timing(args)),
         Command::Devices(args) => Ok(commands::devices(args)),
+        Command::Completions(args) => Ok(commands::completions(args)),
     };
     let code = match ran {
         Ok((code, validation)) => exit_code(code, validation),
