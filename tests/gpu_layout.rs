@@ -93,7 +93,7 @@ fn every_blade_field_reads_back_through_a_compute_shader() {
 }
 
 /// Words `frame_readback.comp` writes: the uniforms, one per `SPEC_*` id, six shared constants.
-const FRAME_WORDS: usize = 136;
+const FRAME_WORDS: usize = 140;
 const READBACK_WORDS: usize = FRAME_WORDS + specialization::COUNT + 6;
 
 #[test]
@@ -119,6 +119,7 @@ fn every_frame_uniform_and_specialization_constant_reads_back_through_a_compute_
         relief_phases: std::array::from_fn(|i| Vec4::splat(f(70 + i as u32)) + Vec4::new(0.0, 0.01, 0.02, 0.03)),
         field_cells: glam::IVec4::new(-1021, 1022, -1023, 1024),
         field: Vec4::new(f(80), f(81), f(82), f(83)),
+        relief_grid: UVec4::new(1025, 1026, 1027, 1028),
     };
     let spec = Specialization {
         keyframe_uvec4s: 2000,

@@ -213,6 +213,7 @@ const ORDER: &[&str] = &[
     "render::msaa",
     "render::budget",
     "render::scene_set",
+    "render::camera_grid",
     "render::terrain_chunks",
     "render::field_gpu",
     "render::culling",

@@ -79,19 +79,15 @@ uvec2 visible_entry(uint i) {
 }
 #endif
 // A block field's terrain grid (FIELD_TERRAIN_CELLS² cells around O, field.glsl's
-// `terrain_grid_offset`): per vertex, row by row, the relief's height and normal (x, yzw),
-// evaluated once per frame by relief_grid.comp; the terrain, the cull and the blades' lighting
-// read it instead of summing the relief's waves per vertex, blade and level.
+// `terrain_grid_offset`), a camera grid (camera_grid.glsl): per vertex, in the slot of its world
+// vertex, the relief's height, the coarse mesh's height there and the relief's normal (x, z),
+// filled as vertices enter the window by relief_grid.comp; the terrain, the cull and the blades'
+// lighting read it (field.glsl, `relief_vertex`) instead of summing the relief's waves per
+// vertex, blade and level.
 #ifdef RELIEF_GRID_WRITER
 layout(set = SET_SCENE, binding = BINDING_RELIEF_GRID, std430) writeonly buffer ReliefGrid { vec4 relief_grid[]; };
 #else
 layout(set = SET_SCENE, binding = BINDING_RELIEF_GRID_TEXELS) uniform samplerBuffer relief_texels;
-// Grid vertex v (clamped to the grid): (height, normal).
-vec4 relief_vertex(ivec2 v) {
-    int n = int(FIELD_TERRAIN_CELLS) + 1;
-    v = clamp(v, ivec2(0), ivec2(n - 1));
-    return texelFetch(relief_texels, v.y * n + v.x);
-}
 #endif
 layout(set = SET_ANIMATION, binding = BINDING_KEYFRAMES) uniform sampler2D keyframe_texture;
 // Keyframes as a uniform array (thesis 4.4.2): two keyframe words per uvec4 half; the array fills

@@ -5,7 +5,7 @@
 #define MEADOW_COMMON_GLSL
 #include "common/shared.glsl"
 
-// Per-frame constants (std140, 544 bytes).
+// Per-frame constants (std140, 560 bytes).
 struct FrameUniforms {
     mat4 view_proj;         // world -> clip (reversed infinite Z, Vulkan y down)
     vec4 camera_position;   // xyz eye, w simulation time (s)
@@ -27,6 +27,7 @@ struct FrameUniforms {
     vec4 relief_phases[RELIEF_WAVES / 2u]; // sin, cos of u_k · O + φ_k, two waves per vec4
     ivec4 field_cells;      // xy O's cell, z cells of a bounded field per side (0: unbounded), w unused
     vec4 field;             // x block edge (m), y relief slope bound, zw the force corners' origin relative to O
+    uvec4 relief_grid;      // xy the terrain grid's toroidal base (the slot of vertex 0, `render::camera_grid`), zw unused
 };
 
 

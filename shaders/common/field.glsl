@@ -3,6 +3,7 @@
 // wherever the camera is. Mirrors `scene::field` on the CPU.
 #ifndef MEADOW_FIELD_GLSL
 #define MEADOW_FIELD_GLSL
+#include "common/camera_grid.glsl"
 #include "common/rings.glsl"
 
 const float TALLEST_BLADE = 0.55; // scene::blades::TALLEST
@@ -75,6 +76,31 @@ float terrain_mesh_height(vec2 f, float h00, float h10, float h01, float h11) {
 }
 
 #ifndef RELIEF_GRID_WRITER
+// Grid vertex v (clamped to the grid): the drawn terrain's height there and the relief's normal.
+// The texel sits in the vertex's slot of the camera grid (the window's base in
+// `relief_grid.xy`); from TERRAIN_MORPH_CELLS to TERRAIN_FINE_CELLS (Chebyshev, from the grid's
+// centre) an odd vertex's height slides onto the coarse mesh's, and past them it is that mesh,
+// so fine and coarse chunks meet without cracks and the cull's roots, interpolating this grid,
+// sit on the terrain as drawn (`render::field_gpu::terrain_morph`, CDLOD's morph by the grid's
+// place). The normal stays the relief's.
+vec4 relief_vertex(ivec2 v) {
+    int n = int(FIELD_TERRAIN_CELLS) + 1;
+    v = clamp(v, ivec2(0), ivec2(n - 1));
+    uvec3 dims = uvec3(n, 1, n);
+    uvec3 base = uvec3(frame_values.relief_grid.x, 0u, frame_values.relief_grid.y);
+    vec4 t = texelFetch(relief_texels, int(camera_grid_slot(uvec3(v.x, 0, v.y), base, dims)));
+    float h = t.x;
+    if (terrain_coarsens() && ((v.x | v.y) & 1) != 0) {
+        ivec2 d = abs(v - ivec2(FIELD_TERRAIN_CELLS / 2u));
+        float band = float(TERRAIN_FINE_CELLS - TERRAIN_MORPH_CELLS);
+        float k = clamp(float(max(d.x, d.y) - int(TERRAIN_MORPH_CELLS)) / band, 0.0, 1.0);
+        if (k > 0.0) {
+            h = mix(h, t.y, k);
+        }
+    }
+    return vec4(h, t.z, sqrt(max(1.0 - t.z * t.z - t.w * t.w, 0.0)), t.w);
+}
+
 // The grid cell under `p` (relative to O), clamped to the grid, and where `p` lies in it.
 ivec2 relief_cell(vec2 p, out vec2 f) {
     vec2 g = (p - terrain_grid_offset()) / frame_values.terrain.x;

@@ -31,9 +31,9 @@
 #define BINDING_DEPTH_PYRAMID_TEXELS 16 // The depth pyramid as R32 texels, read by the occlusion test (`vk::buffer::TexelView` says why).
 #define BINDING_BLADE_TEXELS 17 // The blades as RGBA32UI texels, two per `BladeInstance` (`blade_record` in bindings.glsl).
 #define BINDING_VISIBLE_TEXELS 18 // The cull's visible list again as RG32UI texels, as its readers fetch it (`visible_entry` in bindings.glsl).
-#define BINDING_RELIEF_GRID 19 // A block field's terrain grid: the relief's height and normal at each vertex, written each frame by relief_grid.comp.
+#define BINDING_RELIEF_GRID 19 // A block field's terrain grid: a camera grid of the relief's height, the coarse mesh's and the normal at each vertex, filled by relief_grid.comp as vertices enter.
 #define BINDING_CULL_RESULT_TEXELS 21 // The same verdicts as `BINDING_CULL_RESULTS`, as RG32UI texels: the emit pass reads them (a vector gather on llvmpipe).
-#define BINDING_RELIEF_GRID_TEXELS 20 // The same grid as RGBA32F texels, as its readers fetch it (`relief_vertex` in bindings.glsl).
+#define BINDING_RELIEF_GRID_TEXELS 20 // The same grid as RGBA32F texels, as its readers fetch it (`relief_vertex` in field.glsl).
 
 // Set `SET_ANIMATION`: every model fills all five (the blade shaders declare them all).
 #define BINDING_KEYFRAMES 0 // Keyframe texture.
@@ -104,6 +104,11 @@
 #define TERRAIN_MORPH_CELLS 16u // Chebyshev cells from the grid's centre where odd vertices begin to slide onto the coarse mesh.
 #define PERIOD_CELLS 250 // Block cells in the world's period (`scene::field::PERIOD_CELLS`).
 
+// Camera-following grids (`render::camera_grid`, common/camera_grid.glsl).
+#define CAMERA_GRID_BOXES 3u // Boxes of cells that enter a window when it scrolls: one slab per axis.
+#define CAMERA_GRID_MAX_LEVELS 8u // Nested levels of one grid.
+#define CAMERA_GRID_GROUP 64u // Invocations of a fill workgroup (one cell each).
+
 // `SPEC_ANIMATION_MODE` codes.
 #define MODE_STATIC 0u // No animation.
 #define MODE_TEXTURE 1u // Keyframes from the keyframe texture.
@@ -129,7 +134,6 @@
 #define EMIT_DISPATCH_WORD 64u // In the cull's `draws`: the emit pass's indirect dispatch (x, y, z), one workgroup per ring slot that draws.
 #define EMIT_SLOTS_WORD 67u // In the cull's `draws`, from here: the ring slots that draw, near to far (written by the scan, read by the emit pass).
 #define POSE_GROUP 64u // Invocations of a blade-pose workgroup.
-#define RELIEF_GROUP 64u // Invocations of a relief-grid workgroup (relief_grid.comp).
 #define LEVEL_UVEC2S 3u // `uvec2`s of one strip level of a drawn blade (bindings.glsl, `Levels`).
 
 #endif

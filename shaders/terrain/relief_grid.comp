@@ -1,40 +1,43 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// A block field's terrain grid (terrain.vert's FIELD_TERRAIN_CELLS² cells around O): the relief's
-// height and normal at every vertex, once per frame (`render::passes::relief_grid`), for the terrain, the
-// cull's root heights and the blades' terrain normal (field.glsl: `relief_vertex`,
-// `field_ground_height`, `field_ground_normal`). Vertex v lies at v * step + offset relative to O.
+// A block field's terrain grid (terrain.vert's FIELD_TERRAIN_CELLS² cells around O), a camera
+// grid (`render::camera_grid`, one level of (FIELD_TERRAIN_CELLS + 1)² vertices on the world's
+// lattice of the grid's step): the vertices that entered the window since the last fill
+// (`render::passes::relief_grid`), each with what depends on its place in the world alone: the
+// relief's height, the coarse mesh's height there and the relief's normal. Readers apply the
+// camera-relative morph between the two heights (common/field.glsl: `relief_vertex`,
+// `field_ground_height`, `field_ground_normal`). Local vertex v lies at v * step + offset
+// relative to O.
 #define RELIEF_GRID_WRITER
 #include "common/bindings.glsl"
 #include "common/field.glsl"
+#include "common/camera_grid.glsl"
 
-layout(local_size_x = RELIEF_GROUP) in;
+layout(local_size_x = CAMERA_GRID_GROUP) in;
+
+layout(push_constant) uniform Fill {
+    CameraGridFill fill;
+};
 
 void main() {
-    uint n = FIELD_TERRAIN_CELLS + 1u;
-    uint i = gl_GlobalInvocationID.x;
-    if (i >= n * n) {
-        return;
-    }
-    uvec2 v = uvec2(i % n, i / n);
+    uvec3 local = camera_grid_entered(fill, gl_GlobalInvocationID.x);
+    uvec2 v = local.xz;
     float step = frame.terrain.x;
     vec2 p = vec2(v) * step + terrain_grid_offset();
     float h = relief_height(p);
-    // The far terrain (`render::terrain_chunks`): from TERRAIN_MORPH_CELLS to TERRAIN_FINE_CELLS
-    // (Chebyshev, from the grid's centre) an odd vertex slides onto the coarse mesh of cells of
-    // two steps, split (0,0)-(1,1) like the fine ones: the middle of the coarse edge along x or
-    // z, or of the coarse cell's diagonal (`render::field_gpu::terrain_morph`). Past it the fine
-    // grid is the coarse mesh, so fine and coarse chunks meet without cracks and the cull's
-    // roots, interpolating this grid, sit on the terrain as drawn. The normal stays the relief's.
+    // The far terrain (`render::terrain_chunks`) draws cells of two steps: the coarse mesh's
+    // height at an odd vertex is the mean of the two even vertices of the coarse edge along x or
+    // z, or of the coarse cell's diagonal, that it halves (split (0,0)-(1,1) like the fine
+    // cells). The grid keeps its vertex 0 on the coarse lattice (`terrain_grid_offset`), so a
+    // vertex's parity is its place in the world's.
+    float coarse = h;
     uvec2 odd = v & 1u;
     if (terrain_coarsens() && (odd.x | odd.y) != 0u) {
-        ivec2 d = abs(ivec2(v) - ivec2(FIELD_TERRAIN_CELLS / 2u));
-        float band = float(TERRAIN_FINE_CELLS - TERRAIN_MORPH_CELLS);
-        float k = clamp(float(max(d.x, d.y) - int(TERRAIN_MORPH_CELLS)) / band, 0.0, 1.0);
-        if (k > 0.0) {
-            vec2 across = vec2(odd) * step;
-            h = mix(h, 0.5 * (relief_height(p - across) + relief_height(p + across)), k);
-        }
+        vec2 across = vec2(odd) * step;
+        coarse = 0.5 * (relief_height(p - across) + relief_height(p + across));
     }
-    relief_grid[i] = vec4(h, relief_normal(p));
+    // A normal's y is above 0: x and z say it (`relief_vertex` rebuilds y).
+    vec3 n = relief_normal(p);
+    uvec3 dims = fill.dims.xyz;
+    relief_grid[camera_grid_slot(local, fill.base.xyz, dims)] = vec4(h, coarse, n.x, n.z);
 }

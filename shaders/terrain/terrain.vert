@@ -39,7 +39,7 @@ void main() {
         // A block field: a grid of FIELD_TERRAIN_CELLS² cells centred on O's cell, evaluated on
         // the relief, its cell edge (terrain.x) a divisor or multiple of the block edge so the
         // lattice stays put when O moves by a block.
-        // The relief at the vertex: relief_grid.comp evaluated it this frame.
+        // The drawn terrain at the vertex: relief_grid.comp filled it when it entered the grid.
         vec4 relief = relief_vertex(ivec2(grid));
         vec2 p = vec2(grid) * frame.terrain.x + terrain_grid_offset();
         vec3 world = vec3(p.x, relief.x, p.y);

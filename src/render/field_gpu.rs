@@ -3,8 +3,9 @@
 //! follows it, and the field's part of the frame's uniforms. Everything the GPU sees is relative
 //! to O, so a field 100 km from the world's origin renders as one at the origin does.
 
-use glam::{DVec2, IVec2, IVec4, Vec2, Vec3, Vec4};
+use glam::{DVec2, DVec3, I64Vec2, I64Vec3, IVec2, IVec4, UVec3, UVec4, Vec2, Vec3, Vec4};
 
+use crate::render::camera_grid::GridShape;
 use crate::render::gpu_constants as gpu;
 use crate::render::uniforms::FrameUniforms;
 use crate::scene::clusters::ClusterGrid;
@@ -79,18 +80,37 @@ pub fn terrain_step(view_distance: f32) -> f32 {
     step
 }
 
-/// Where the terrain grid's vertex 0 lies relative to O (O's cell `cell`), per axis: about half the
-/// grid before O's cell, on the world's lattice of `step`-metre cells, so the vertices stay put
-/// in the world when O moves by a block whatever the step (8 m cells, past 316 m of view
-/// distance, would otherwise move by 4 m at every other block). `shaders/common/field.glsl` reads it as
-/// `terrain_grid_offset`.
-pub fn terrain_grid_offset(cell: IVec2, step: f32) -> Vec2 {
+/// The terrain grid's vertex 0 on the world's lattice of `step`-metre cells (its index: world
+/// position / step), for O's cell `cell`: about half the grid before O's cell, so the vertices
+/// stay put in the world when O moves by a block whatever the step (8 m cells, past 316 m of view
+/// distance, would otherwise move by 4 m at every other block). The grid is a camera grid
+/// (`relief_grid_shape`) whose window starts here.
+pub fn terrain_grid_first(cell: IVec2, step: f32) -> I64Vec2 {
     let base = 0.5 * f64::from(BLOCK_SIZE) - 0.5 * f64::from(gpu::FIELD_TERRAIN_CELLS) * f64::from(step);
-    let axis = |c: i32| {
-        let first = f64::from(c) * f64::from(BLOCK_SIZE) + base;
-        (base + (-first).rem_euclid(f64::from(step))) as f32
-    };
-    Vec2::new(axis(cell.x), axis(cell.y))
+    let axis = |c: i32| ((f64::from(c) * f64::from(BLOCK_SIZE) + base) / f64::from(step)).ceil() as i64;
+    I64Vec2::new(axis(cell.x), axis(cell.y))
+}
+
+/// Where the terrain grid's vertex 0 (`terrain_grid_first`) lies relative to O (O's cell
+/// `cell`), per axis. `shaders/common/field.glsl` reads it as `terrain_grid_offset`.
+pub fn terrain_grid_offset(cell: IVec2, step: f32) -> Vec2 {
+    let first = terrain_grid_first(cell, step).as_dvec2() * f64::from(step);
+    (first - cell.as_dvec2() * f64::from(BLOCK_SIZE)).as_vec2()
+}
+
+/// The terrain grid as a camera grid: one level of (`FIELD_TERRAIN_CELLS` + 1)² vertices, x and
+/// z, on the lattice of `step`, a texel of 16 bytes each (the relief's height, the coarse mesh's
+/// height, the normal's x and z: `shaders/terrain/relief_grid.comp`).
+pub fn relief_grid_shape(step: f32) -> GridShape {
+    let n = gpu::FIELD_TERRAIN_CELLS + 1;
+    let step = f64::from(step);
+    GridShape { dims: UVec3::new(n, 1, n), cell: DVec3::new(step, 1.0, step), levels: 1, texel_bytes: 16 }
+}
+
+/// The terrain grid's window for O's cell `cell`: its first vertex, x and z (y 0).
+pub fn relief_grid_window(cell: IVec2, step: f32) -> I64Vec3 {
+    let first = terrain_grid_first(cell, step);
+    I64Vec3::new(first.x, 0, first.y)
 }
 
 /// How far the drawn terrain over a block cell can rise or fall from the relief at the cell's
@@ -115,8 +135,8 @@ pub fn terrain_coarsens(step: f32) -> bool {
 /// vertex's coarse height is the mean of the two even vertices of the coarse edge or diagonal it
 /// halves): 0 within `TERRAIN_MORPH_CELLS` of the grid's centre (Chebyshev), 1 from
 /// `TERRAIN_FINE_CELLS` on, where the coarse chunks begin, linear between (CDLOD's morph, by the
-/// grid's place rather than the camera's, so the grid is still a function of O's cell). Mirrors
-/// `shaders/terrain/relief_grid.comp`.
+/// grid's place rather than the camera's). The grid stores both heights, a function of the
+/// world vertex alone, and its readers apply this (`relief_vertex`, `shaders/common/field.glsl`).
 pub fn terrain_morph(v: glam::UVec2) -> f32 {
     let centre = (gpu::FIELD_TERRAIN_CELLS / 2) as i32;
     let d = (v.x as i32 - centre).abs().max((v.y as i32 - centre).abs());
@@ -124,10 +144,10 @@ pub fn terrain_morph(v: glam::UVec2) -> f32 {
     ((d - gpu::TERRAIN_MORPH_CELLS as i32) as f32 / band).clamp(0.0, 1.0)
 }
 
-/// The drawn terrain's height at grid vertex `v` (`shaders/terrain/relief_grid.comp` on the CPU): the
-/// relief there, an odd vertex slid by `terrain_morph` onto the mean of the two even vertices of
-/// the coarse edge or diagonal it halves. `origin` is O in the world, `offset` the grid's
-/// `terrain_grid_offset`.
+/// The drawn terrain's height at grid vertex `v` (`relief_vertex` of `shaders/common/field.glsl`
+/// on the CPU): the relief there, an odd vertex slid by `terrain_morph` onto the mean of the two
+/// even vertices of the coarse edge or diagonal it halves. `origin` is O in the world, `offset` the
+/// grid's `terrain_grid_offset`.
 pub fn drawn_vertex_height(relief: &field::Relief, origin: DVec2, offset: Vec2, step: f32, v: IVec2) -> f64 {
     let at = |v: IVec2| {
         let w = origin + offset.as_dvec2() + v.as_dvec2() * f64::from(step);
@@ -139,6 +159,19 @@ pub fn drawn_vertex_height(relief: &field::Relief, origin: DVec2, offset: Vec2, 
         return at(v);
     }
     at(v) + k * (0.5 * (at(v - odd) + at(v + odd)) - at(v))
+}
+
+/// The drawn terrain's height at grid vertex `v` from its texel in the relief grid (the relief's
+/// height, the coarse mesh's height, the normal's x and z): `relief_vertex` in
+/// `shaders/common/field.glsl`, on the CPU.
+pub fn drawn_grid_height(texel: [f32; 4], v: IVec2, step: f32) -> f32 {
+    let k = terrain_morph(v.as_uvec2());
+    let odd = ((v.x | v.y) & 1) != 0;
+    if terrain_coarsens(step) && odd && k > 0.0 {
+        texel[0] * (1.0 - k) + texel[1] * k
+    } else {
+        texel[0]
+    }
 }
 
 /// The edge of the drawn terrain's cells under a block cell whose centre lies at grid coordinates
@@ -190,6 +223,9 @@ pub fn fill_uniforms(
     let step = terrain_step(view_distance);
     let offset = terrain_grid_offset(origin.cell, step);
     uniforms.terrain = Vec4::new(step, grid.cluster_size, offset.x, offset.y);
+    let dims = relief_grid_shape(step).dims;
+    let base = relief_grid_window(origin.cell, step).rem_euclid(dims.as_i64vec3());
+    uniforms.relief_grid = UVec4::new(base.x as u32, base.z as u32, 0, 0);
     uniforms.params.z = gpu::FIELD_TERRAIN_CELLS;
     uniforms.cull_tiles = glam::UVec4::new(verdicts, ring_slots(view_distance), 0, 0);
 }

@@ -3,6 +3,7 @@
 
 pub mod animation;
 pub mod budget;
+pub mod camera_grid;
 pub mod cull_reference;
 pub mod culling;
 pub mod field_gpu;

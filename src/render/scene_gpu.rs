@@ -212,16 +212,20 @@ pub fn cull_capacity(scene: &Scene, view_distance: f32) -> (u32, u32) {
     }
 }
 
-/// Bytes of the relief grid: a block field's `(FIELD_TERRAIN_CELLS + 1)²` texels of 16 bytes, or
-/// one texel (never read: a stored field's terrain is `heights`).
+/// Bytes of the relief grid: a block field's camera grid (`field_gpu::relief_grid_shape`, the
+/// same at every step), or one texel (never read: a stored field's terrain is `heights`).
 fn relief_grid_bytes(field: bool) -> u64 {
-    let vertices = if field { u64::from(gpu_constants::FIELD_TERRAIN_CELLS + 1).pow(2) } else { 1 };
-    16 * vertices
+    let shape = crate::render::field_gpu::relief_grid_shape(1.0);
+    if field {
+        shape.bytes()
+    } else {
+        u64::from(shape.texel_bytes)
+    }
 }
 
 impl SceneGpu {
     /// The relief grid, for the passes that read it: a block field's, which `passes::relief_grid`
-    /// writes each frame (`None`: a stored field, whose terrain is `heights`).
+    /// fills as the camera moves (`None`: a stored field, whose terrain is `heights`).
     pub fn relief_grid_read(&self) -> Option<vk::Buffer> {
         self.field.is_some().then_some(self.relief_grid.raw)
     }

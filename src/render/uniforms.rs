@@ -46,9 +46,12 @@ pub struct FrameUniforms {
     pub field_cells: IVec4,
     /// Block fields: x block edge, y relief slope bound, zw the force corners' origin relative to O.
     pub field: Vec4,
+    /// Block fields: xy the terrain grid's toroidal base (`render::camera_grid`: the slot of
+    /// its vertex 0, x and z).
+    pub relief_grid: UVec4,
 }
 
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 544);
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 560);
 const _: () = assert!(std::mem::offset_of!(FrameUniforms, cull_view_proj) == 176);
 const _: () = assert!(std::mem::offset_of!(FrameUniforms, cull_lod) == 304);
 const _: () = assert!(std::mem::offset_of!(FrameUniforms, camera_position) == 64);

@@ -1,26 +1,33 @@
-//! Relief-grid pass (a block field's): one compute dispatch, first in the frame, that evaluates the
-//! relief (a sum of sine waves, `scene::field::Relief`) at every vertex of the terrain grid around
-//! O, height and normal (`shaders/terrain/relief_grid.comp`). The terrain pass draws the grid from it, the
+//! Relief-grid pass (a block field's): the terrain grid around O as a camera grid
+//! (`render::camera_grid`, one level of (`FIELD_TERRAIN_CELLS` + 1)² vertices on the world's
+//! lattice of the grid's step), first in the frame. When O moves to another block and the grid's
+//! window moves on its lattice, one compute dispatch evaluates the relief (a sum of sine waves,
+//! `scene::field::Relief`) at the vertices that entered, written over the slots of those that
+//! left (`shaders/terrain/relief_grid.comp`): the relief's height, the coarse mesh's height and the
+//! normal, each a function of the world vertex alone. The terrain pass draws the grid from it, the
 //! cull's count pass sets each candidate's root on it, and the blades' lighting takes the terrain
-//! normal under each root from it: a texel fetch per corner instead of the relief's eight waves
-//! per terrain vertex, candidate root and drawn blade. Writes `SceneGpu::relief_grid`; the graph
-//! orders this frame's write after the previous frame's reads.
+//! normal under each root from it, through `relief_vertex` (`shaders/common/field.glsl`), which finds the vertex's
+//! slot from the window's toroidal base in the frame's uniforms and applies the terrain's morph.
+//! Writes `SceneGpu::relief_grid`; the graph orders this frame's write after the previous frame's
+//! reads.
 //!
-//! The grid depends only on where it lies (O's cell, the cell edge and the offset that keeps it on
-//! the world's lattice) and on the relief, so a frame whose values match the last frame's that
-//! dispatched records no dispatch: the grid in the buffer is already this frame's (0.45 ms of the
-//! unbounded default view's frame; the camera crosses a 4 m block, and the grid is recomputed, only
-//! now and then). The pass still declares its write, so the graph's barriers are those of a frame
-//! that writes. A frame that is recorded but not run (`Pass::frame_dropped`) forgets the key; a
+//! A frame whose window is the last filled one records no dispatch (the camera crosses a 4 m
+//! block only now and then). A frame whose window moved fills it whole for now (`record` says
+//! why), through the same fill a scroll of entered vertices uses. The pass still declares its
+//! write, so the graph's barriers are those of a frame that writes. A change of the grid's step
+//! (the view distance) or of the relief
+//! refills it whole, as does the frame after one recorded but not run (`Pass::frame_dropped`). A
 //! block field is drawn only through the cull, whose frames are recorded anew each time (no
 //! `Prerecorded` replay of an old recording).
 
-use std::cell::Cell;
+use std::cell::{Cell, RefCell};
 
 use ash::vk;
+use glam::IVec2;
 
-use crate::error::Result;
-use crate::render::gpu_constants as gpu;
+use crate::error::{Error, Result};
+use crate::render::camera_grid::{self, CameraGrid};
+use crate::render::field_gpu;
 use crate::render::graph::{Declaration, Pass, PassContext};
 use crate::render::recording;
 use crate::render::scene_gpu::SceneGpu;
@@ -28,56 +35,59 @@ use crate::render::shaders;
 use crate::render::uniforms::FrameUniforms;
 use crate::vk::{pipeline, Access, Device};
 
-/// The compute pipeline and the grid it writes.
+/// The compute pipeline, its layout (set 0 and the fill's push constants) and the grid it fills.
 pub struct ReliefGridPass {
     pipeline: vk::Pipeline,
     layout: vk::PipelineLayout,
-    grid: vk::Buffer,
-    /// The values the last recorded dispatch computed the grid for (`GridKey`).
-    written: Cell<Option<GridKey>>,
+    buffer: vk::Buffer,
+    /// The window the buffer holds.
+    grid: RefCell<CameraGrid>,
+    /// What the grid's values are a function of besides the vertex.
+    source: Cell<Option<Source>>,
 }
 
-/// What the grid is a function of, from the frame's uniforms: O's cell, the terrain grid's cell
-/// edge and offset, the relief's waves and their phases at O.
+/// The grid's step and the relief's waves, from the frame's uniforms: a change refills the grid.
 #[derive(Clone, Copy, PartialEq)]
-struct GridKey {
-    cell: [i32; 2],
-    terrain: [f32; 4],
+struct Source {
+    step: f32,
     waves: [[f32; 4]; 8],
-    phases: [[f32; 4]; 4],
 }
 
-impl GridKey {
+impl Source {
     fn of(uniforms: &FrameUniforms) -> Self {
-        Self {
-            cell: [uniforms.field_cells.x, uniforms.field_cells.y],
-            terrain: uniforms.terrain.to_array(),
-            waves: uniforms.relief_waves.map(|w| w.to_array()),
-            phases: uniforms.relief_phases.map(|p| p.to_array()),
-        }
+        Self { step: uniforms.terrain.x, waves: uniforms.relief_waves.map(|w| w.to_array()) }
     }
 }
 
 impl ReliefGridPass {
-    /// Build the pipeline on the scene pipeline layout; `None` for a stored field (its terrain is
-    /// the uploaded `heights`).
+    /// Build the pipeline on a layout of its own (set 0 of `set_layout` and the fill's push
+    /// constants); `None` for a stored field (its terrain is the uploaded `heights`).
     pub fn new(
         device: &Device,
-        layout: vk::PipelineLayout,
+        set_layout: vk::DescriptorSetLayout,
         constants: &[u32],
         scene: &SceneGpu,
     ) -> Result<Option<Self>> {
-        let Some(grid) = scene.relief_grid_read() else {
+        let Some(buffer) = scene.relief_grid_read() else {
             return Ok(None);
         };
-        let pipeline = pipeline::compute(
-            device,
-            "relief grid",
-            shaders::RELIEF_GRID_COMP.code(device.profile),
-            layout,
-            constants,
-        )?;
-        Ok(Some(Self { pipeline, layout, grid, written: Cell::new(None) }))
+        // Any step: the shape is remade for the frame's step before the first fill.
+        let grid = CameraGrid::new(field_gpu::relief_grid_shape(1.0)).map_err(Error::Internal)?;
+        let range = camera_grid::push_constant_range();
+        let layout = pipeline::layout(device, "relief grid layout", &[set_layout], &[range])?;
+        let spirv = shaders::RELIEF_GRID_COMP.code(device.profile);
+        let pipeline = match pipeline::compute(device, "relief grid", spirv, layout, constants) {
+            Ok(pipeline) => pipeline,
+            Err(e) => {
+                // SAFETY: unused layout.
+                unsafe {
+                    crate::vk::live::destroyed(layout);
+                    device.raw.destroy_pipeline_layout(layout, None)
+                };
+                return Err(e);
+            }
+        };
+        Ok(Some(Self { pipeline, layout, buffer, grid: RefCell::new(grid), source: Cell::new(None) }))
     }
 }
 
@@ -87,36 +97,47 @@ impl Pass for ReliefGridPass {
     }
 
     fn declare(&self, _: &PassContext) -> Option<Declaration> {
-        Some(Declaration::compute().buffer(self.grid, Access::ComputeShaderWrite))
+        Some(Declaration::compute().buffer(self.buffer, Access::ComputeShaderWrite))
     }
 
     fn record(&self, ctx: &PassContext, cmd: vk::CommandBuffer) -> Result<()> {
-        let key = GridKey::of(ctx.uniforms);
-        if self.written.get() == Some(key) {
+        let uniforms = ctx.uniforms;
+        let source = Source::of(uniforms);
+        let mut grid = self.grid.borrow_mut();
+        if self.source.get() != Some(source) {
+            *grid = CameraGrid::new(field_gpu::relief_grid_shape(source.step)).map_err(Error::Internal)?;
+            self.source.set(Some(source));
+        }
+        let cell = IVec2::new(uniforms.field_cells.x, uniforms.field_cells.y);
+        let window = field_gpu::relief_grid_window(cell, source.step);
+        if grid.window(0) == Some(window) {
             return Ok(());
         }
-        self.written.set(Some(key));
+        // The whole window, not only the vertices that entered: the relief is evaluated relative
+        // to this frame's O in f32, so a vertex filled under another O differs in its last bits,
+        // and a scrolled grid would not draw the bit-identical picture a fresh renderer draws
+        // (`tests/field.rs`). Filling only what enters waits for a fill exact in the world (the
+        // relief's phases taken on the world period).
+        grid.invalidate();
+        let scroll = grid.scroll_to(0, window).expect("an empty grid fills");
         let device = ctx.device;
         recording::bind_scene_set(device, ctx, cmd, self.layout, vk::PipelineBindPoint::COMPUTE);
-        let vertices = (gpu::FIELD_TERRAIN_CELLS + 1).pow(2);
-        // SAFETY: cmd is recording outside a rendering instance; set 0 is bound.
-        unsafe {
-            device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipeline);
-            device.raw.cmd_dispatch(cmd, vertices.div_ceil(gpu::RELIEF_GROUP), 1, 1);
-        }
+        camera_grid::record_fill(device, cmd, (self.layout, self.pipeline), &scroll, grid.shape().dims);
         Ok(())
     }
 
     fn frame_dropped(&self) {
-        // The dispatch may not have run: the next frame computes the grid again.
-        self.written.set(None);
+        // The dispatch may not have run: the next frame fills the grid whole.
+        self.grid.borrow_mut().invalidate();
     }
 
     unsafe fn destroy(self: Box<Self>, device: &Device) {
         // SAFETY: per the contract.
         unsafe {
             crate::vk::live::destroyed(self.pipeline);
-            device.raw.destroy_pipeline(self.pipeline, None)
-        };
+            device.raw.destroy_pipeline(self.pipeline, None);
+            crate::vk::live::destroyed(self.layout);
+            device.raw.destroy_pipeline_layout(self.layout, None);
+        }
     }
 }

@@ -6,10 +6,11 @@ use crate::error::Result;
 use crate::vk::{commands, sync, Access, Buffer, BufferDesc};
 
 impl Renderer {
-    /// A block field's relief grid as the relief-grid pass last wrote it (`shaders/terrain/relief_grid.comp`):
-    /// per vertex of the `(FIELD_TERRAIN_CELLS + 1)²` grid, row by row, the drawn terrain's height
-    /// and the relief's normal; empty for a stored field. Call it between frames (after
-    /// `render_offscreen`, which waits): it copies the buffer and waits for the copy.
+    /// A block field's relief grid as the relief-grid pass last filled it
+    /// (`shaders/terrain/relief_grid.comp`): its texels in slot order (a camera grid,
+    /// `render::camera_grid::slot`), each the relief's height, the coarse mesh's height and the
+    /// normal's x and z at its world vertex; empty for a stored field. Call it between frames
+    /// (after `render_offscreen`, which waits): it copies the buffer and waits for the copy.
     pub fn read_relief_grid(&self) -> Result<Vec<[f32; 4]>> {
         let scene = self.scene_gpu();
         let Some(grid) = scene.relief_grid_read() else {

@@ -51,7 +51,8 @@ impl Renderer {
         self.graph.import(keyframes, &uploaded);
         if settings.floor {
             let sky = self.sky();
-            add_terrain(&mut self.graph, device, target, &constants, scene, sky)?;
+            let set_layout = self.layouts.set_layout;
+            add_terrain(&mut self.graph, device, (target, set_layout), &constants, scene, sky)?;
             self.graph.add(FloorPass::new(device, target, &constants, &cpu_scene.blades, settings.segments)?);
         } else {
             self.add_blade_passes(target, &constants)?;
@@ -146,9 +147,9 @@ impl Renderer {
         let (before, after) = if culled { (Vec::new(), model_passes) } else { (model_passes, Vec::new()) };
         before.into_iter().for_each(|pass| self.graph.add_boxed(pass));
         let sky = self.sky();
-        let (graph, slots) = (&mut self.graph, self.ring.slots());
+        let (graph, slots, set_layout) = (&mut self.graph, self.ring.slots(), self.layouts.set_layout);
         let built = (|| {
-            add_terrain(graph, device, target, constants, scene, sky)?;
+            add_terrain(graph, device, (target, set_layout), constants, scene, sky)?;
             if culled && settings.culling.occlusion {
                 graph.add(DepthPyramidPass::new(device, scene, slots, settings.msaa.enabled())?);
             }
@@ -185,16 +186,16 @@ impl Renderer {
 }
 
 /// The terrain pass, after the relief-grid pass that a block field's terrain reads (together, so
-/// no path draws the grid unwritten).
+/// no path draws the grid unwritten). `set_layout`: set 0's, for the relief grid's own layout.
 fn add_terrain(
     graph: &mut Graph,
     device: &Device,
-    target: PipelineTarget,
+    (target, set_layout): (PipelineTarget, vk::DescriptorSetLayout),
     constants: &[u32],
     scene: &SceneGpu,
     sky: [f32; 4],
 ) -> Result<()> {
-    if let Some(relief) = ReliefGridPass::new(device, target.layout, constants, scene)? {
+    if let Some(relief) = ReliefGridPass::new(device, set_layout, constants, scene)? {
         graph.add(relief);
     }
     graph.add(TerrainPass::new(device, target, constants, scene, sky)?);

@@ -12,7 +12,7 @@ layout(set = 0, binding = 0, std140) uniform Frame { FrameUniforms frame; };
 layout(set = 0, binding = 1, std430) writeonly buffer Fields { uint fields[]; };
 layout(constant_id = SPEC_KEYFRAME_UVEC4S) const uint KEYFRAME_UVEC4S = 4096u;
 
-const uint FRAME_WORDS = 136u;     // 544 bytes
+const uint FRAME_WORDS = 140u;     // 560 bytes
 const uint SPEC_WORDS = 15u;       // SPEC_* ids 0..=14
 
 void put_vec4(inout uint o, vec4 v) {
@@ -57,6 +57,7 @@ void main() {
     }
     put_uvec4(o, uvec4(frame.field_cells));
     put_vec4(o, frame.field);
+    put_uvec4(o, frame.relief_grid);
 
     fields[FRAME_WORDS + SPEC_KEYFRAME_UVEC4S] = KEYFRAME_UVEC4S;
     fields[FRAME_WORDS + SPEC_ANIMATION_MODE] = ANIMATION_MODE;
