@@ -2,8 +2,8 @@
 //! (`render::camera_grid`, one level of (`FIELD_TERRAIN_CELLS` + 1)² vertices on the world's
 //! lattice of the grid's step), first in the frame. When O moves to another block and the grid's
 //! window moves on its lattice, one compute dispatch evaluates the relief (a sum of sine waves,
-//! `scene::field::Relief`) at the vertices that entered, written over the slots of those that
-//! left (`shaders/terrain/relief_grid.comp`): the relief's height, the coarse mesh's height and the
+//! `scene::field::Relief`) at the window's vertices, each in the slot of its world vertex
+//! (`shaders/terrain/relief_grid.comp`): the relief's height, the coarse mesh's height and the
 //! normal, each a function of the world vertex alone. The terrain pass draws the grid from it, the
 //! cull's count pass sets each candidate's root on it, and the blades' lighting takes the terrain
 //! normal under each root from it, through `relief_vertex` (`shaders/common/field.glsl`), which finds the vertex's
@@ -15,8 +15,8 @@
 //! block only now and then). A frame whose window moved fills it whole for now (`record` says
 //! why), through the same fill a scroll of entered vertices uses. The pass still declares its
 //! write, so the graph's barriers are those of a frame that writes. A change of the grid's step
-//! (the view distance) or of the relief
-//! refills it whole, as does the frame after one recorded but not run (`Pass::frame_dropped`). A
+//! (the view distance) or of the relief refills it, as does the frame after one recorded but not
+//! run (`Pass::frame_dropped`). A
 //! block field is drawn only through the cull, whose frames are recorded anew each time (no
 //! `Prerecorded` replay of an old recording).
 
