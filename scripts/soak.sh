@@ -11,6 +11,9 @@ frames=${FRAMES:-10000}
 # retired swapchain still queued holds objects for a few frames after each re-creation).
 every=$(( (frames / 10 + 49) / 50 * 50 ))
 meadow=${MEADOW:-target/release/meadow}
+# The soaks run on the lavapipe profile (`vk::profile`), whatever the environment says: its rule
+# (a value that decides control flow is read through storage) is what keeps lavapipe's memory flat.
+export MEADOW_PROFILE=lavapipe
 run() {
     xvfb-run -a -s "-screen 0 640x480x24" "$meadow" view --blades 2000 --size 96x64 --frames "$frames" \
         --inject-out-of-date 50 --sample-every "$every" "$@" | grep '^sample:'

@@ -22,10 +22,11 @@ use meadow::keyframes::encoding::{self as enc, Encoding};
 use meadow::keyframes::pose::{self, Pose};
 use meadow::keyframes::pose_error::{self, ErrorStats, PoseErrorReport, SMOOTHINGS};
 use meadow::keyframes::{BladeModel, KeyframeLayout, KeyframeTable, Smoothing};
-use meadow::render::animation::{build_model, model, AnimationSettings, Eval, Mode};
+use meadow::render::animation::{build_model, AnimationSettings, Eval, Mode};
+use meadow::render::layouts;
 use meadow::render::specialization::Specialization;
 use meadow::render::uniforms::FrameUniforms;
-use meadow::vk::descriptor::{self, Binding, Resource};
+use meadow::vk::descriptor::{Resource, SetLayout};
 use meadow::vk::{pipeline, Buffer, BufferDesc, Device, DeviceSelector};
 
 /// `meadow keyframes --report`'s default segments.
@@ -110,8 +111,10 @@ fn settings(smoothing: Smoothing) -> AnimationSettings {
 /// Run `keyframe_pose.comp` for `forces` on the renderer's model for `smoothing`: the levels
 /// 0..=SEGMENTS of each force, as poses of the unit blade.
 fn poses_on_gpu(device: &Arc<Device>, smoothing: Smoothing, forces: &[(f32, f32)]) -> meadow::Result<Vec<Pose>> {
-    let animation_layout = descriptor::set_layout(device, "animation set layout", &model::bindings())?;
-    let model = build_model(device, animation_layout, &settings(smoothing), SEGMENTS, (1, 0))?;
+    // Set 1 as the renderer makes it (reflected from the scene shaders), set 0 as the probe binds it.
+    let (_, animation) = layouts::scene_bindings(device.profile)?;
+    let animation_layout = SetLayout::new(device, "animation set layout", animation)?;
+    let model = build_model(device, &animation_layout, &settings(smoothing), SEGMENTS, (1, 0))?;
     // As `Renderer::specialization`: the blade geometry, then the model's constants.
     let mut specialization = Specialization::new(false, SEGMENTS, 1, false, true);
     model.specialize(&mut specialization);
@@ -129,41 +132,27 @@ fn poses_on_gpu(device: &Arc<Device>, smoothing: Smoothing, forces: &[(f32, f32)
         device,
         &BufferDesc::readback("pose levels", 16 * levels as u64, vk::BufferUsageFlags::STORAGE_BUFFER),
     )?;
-    let cs = vk::ShaderStageFlags::COMPUTE;
-    let bindings = [
-        Binding { binding: 0, kind: vk::DescriptorType::UNIFORM_BUFFER, stages: cs },
-        Binding { binding: 1, kind: vk::DescriptorType::STORAGE_BUFFER, stages: cs },
-        Binding { binding: 2, kind: vk::DescriptorType::STORAGE_BUFFER, stages: cs },
-    ];
-    let set_layout = descriptor::set_layout(device, "pose set layout", &bindings)?;
-    let layout = pipeline::layout(device, "pose layout", &[set_layout, animation_layout], &[])?;
+    let code = probes::KEYFRAME_POSE_COMP.code(device.profile);
+    let probe = SetLayout::reflected(device, "pose set layout", &[("keyframe_pose.comp", code)], 0)?;
+    let layout = pipeline::layout(device, "pose layout", &[probe.raw, animation_layout.raw], &[])?;
     let constants = specialization.constants();
-    let pipe = pipeline::compute(
-        device,
-        "keyframe pose",
-        probes::KEYFRAME_POSE_COMP.code(device.profile),
-        layout,
-        &constants,
-    )?;
-    let (pool, sets) = descriptor::allocate_sets(device, "pose", set_layout, &bindings, 1)?;
-    descriptor::write(
-        device,
-        sets[0],
-        &[
-            (0, vk::DescriptorType::UNIFORM_BUFFER, Resource::Buffer(frame.descriptor())),
-            (1, vk::DescriptorType::STORAGE_BUFFER, Resource::Buffer(forces_buffer.descriptor())),
-            (2, vk::DescriptorType::STORAGE_BUFFER, Resource::Buffer(out.descriptor())),
-        ],
-    );
+    let pipe = pipeline::compute(device, "keyframe pose", code, layout, &constants)?;
+    let (pool, sets) = probe.allocate(device, "pose", 1)?;
+    let resources = [
+        (0, Resource::Buffer(frame.descriptor())),
+        (1, Resource::Buffer(forces_buffer.descriptor())),
+        (2, Resource::Buffer(out.descriptor())),
+    ];
+    probe.write(device, sets[0], "pose set", &resources)?;
     let groups = (forces.len() as u32).div_ceil(64);
     let sets = [sets[0], model.resources().set];
     let submitted = compute::dispatch(device, "keyframe pose", (pipe, layout), &sets, &[], groups, out.raw);
     let poses = bytemuck::cast_slice::<u8, Vec4>(out.mapped()).chunks(SEGMENTS as usize + 1).map(pose_of).collect();
     // SAFETY: submit_and_wait waited.
     unsafe {
-        compute::teardown(device, (pool, pipe, layout, set_layout), [frame, forces_buffer, out]);
+        compute::teardown(device, (pool, pipe, layout, probe.raw), [frame, forces_buffer, out]);
         model.destroy(device);
-        device.raw.destroy_descriptor_set_layout(animation_layout, None);
+        animation_layout.destroy(device);
     }
     submitted.map(|()| poses)
 }

@@ -180,7 +180,7 @@ fn the_path_scanner_finds_groups_and_rejects_missing_items() {
     assert!(unresolved(&path("render::forces::blade_force")).is_some());
     assert!(unresolved(&path("render::animation::no_such_fn")).is_some());
     assert!(unresolved(&path("render::animation::blade_force")).is_none());
-    assert!(unresolved(&path("render::scene_set::binding::EMITTERS")).is_none());
+    assert!(unresolved(&path("render::layouts::scene_bindings")).is_none());
 }
 
 #[test]

@@ -1,33 +1,45 @@
 // The descriptor sets of the scene pipelines: the scene and this frame's uniforms and forces
-// (`SET_SCENE`, `render::scene_set::bindings`), then the animation model's resources
-// (`SET_ANIMATION`, `render::animation::model::bindings`). Numbers are in shared.glsl.
+// (`SET_SCENE`, `render::layouts::scene_bindings`), then the animation model's resources
+// (`SET_ANIMATION`). Numbers are in shared.glsl; the set layouts are reflected from the shaders.
 #ifndef MEADOW_BINDINGS_GLSL
 #define MEADOW_BINDINGS_GLSL
 #include "common/common.glsl"
 
-#ifdef FRAME_FROM_STORAGE
-// The cull's passes read this frame's uniforms through a storage binding of the same buffer (same
-// std140 layout). Lavapipe before Mesa 23 "inlines" uniform-buffer values that decide branches:
-// when a compute pipeline's `if` or loop bound reads only uniforms, each dispatch after a
-// descriptor bind compiles a new variant with this frame's values folded in, and keeps every one
-// (`update_inline_shader_state` in lvp_execute.c has no variant cache before 23.1). The cull tests
-// its toggles and counts that way, so the viewer's memory grew by about 1.1 MB a frame, all of it
-// JIT code. Storage buffers are never inlined.
+// Backend profiles (`vk::profile::Profile`; build.rs builds every shader once with
+// MEADOW_PROFILE_LAVAPIPE and once with MEADOW_PROFILE_GENERIC defined). The generic profile binds
+// each resource once, as the shader reads it. The lavapipe profile binds some twice (its "twins"),
+// for Mesa 22.3's llvmpipe:
+// - THE RULE: a value that decides control flow (an `if`, a loop bound) is read through a storage
+//   binding, never a uniform one. Lavapipe before Mesa 23.1 "inlines" uniform-buffer values that
+//   decide branches: when a compute pipeline's `if` or loop bound reads only uniforms, each
+//   dispatch after a descriptor bind compiles a new variant with this frame's values folded in,
+//   and keeps every one (`update_inline_shader_state` in lvp_execute.c has no variant cache before
+//   23.1). The cull tests its toggles and counts that way, so the viewer's memory grew by about
+//   1.1 MB a frame, all of it JIT code. Storage buffers are never inlined. The cull's passes
+//   (FRAME_FROM_STORAGE) therefore read `frame` from a storage binding of the same buffer (same
+//   std140 layout), and `frame_values`, for reads that only enter arithmetic, from the uniform
+//   one: llvmpipe loads a uniform at a constant offset once for all lanes, where a storage load is
+//   a loop over the SIMD lanes with a bounds test and a branch per lane (`emit_load_mem`).
+// - Storage buffers that shaders gather from are read through texel views (`blade_record`,
+//   `visible_entry`, `relief_vertex`, `level_word`, the cull's verdicts and depth pyramid): a
+//   vector gather on llvmpipe instead of a load per SIMD lane and word (`vk::buffer::TexelView`).
+#if defined(MEADOW_PROFILE_LAVAPIPE)
+#define TEXEL_TWINS
+#elif !defined(MEADOW_PROFILE_GENERIC)
+#error "build.rs defines MEADOW_PROFILE_LAVAPIPE or MEADOW_PROFILE_GENERIC"
+#endif
+
+#if defined(FRAME_FROM_STORAGE) && defined(TEXEL_TWINS)
 layout(set = SET_SCENE, binding = BINDING_FRAME_STORAGE, std140) readonly buffer FrameStorage { FrameUniforms frame; };
-// The same values through the uniform buffer, for reads that only enter arithmetic (never alone
-// a branch or a loop bound, so never inlined): llvmpipe (Mesa 22.3) loads a uniform at a constant
-// offset once for all lanes, where a storage load is a loop over the SIMD lanes with a bounds
-// test and a branch per lane (`emit_load_mem`). The cull's per-blade tests and the levels pass
-// read the camera, the LOD constants and the relief's waves this way.
 layout(set = SET_SCENE, binding = BINDING_FRAME, std140) uniform FrameValues { FrameUniforms frame_values; };
 #else
 layout(set = SET_SCENE, binding = BINDING_FRAME, std140) uniform Frame { FrameUniforms frame; };
-// One binding outside the cull: `frame_values` is `frame`.
+// One binding: `frame_values` is `frame`.
 #define frame_values frame
 #endif
+#ifdef TEXEL_TWINS
 // The blades (`BladeInstance`) as two RGBA32UI texels each: the scene's shaders read a blade with
-// `blade_record`, two vector gathers on llvmpipe instead of a load per SIMD lane and word
-// (`vk::buffer::TexelView`).
+// `blade_record`.
 layout(set = SET_SCENE, binding = BINDING_BLADE_TEXELS) uniform usamplerBuffer blade_texels;
 
 BladeInstance blade_record(uint index) {
@@ -42,6 +54,12 @@ BladeInstance blade_record(uint index) {
     blade.variation = b.w;
     return blade;
 }
+#else
+layout(set = SET_SCENE, binding = BINDING_BLADES, std430) readonly buffer Blades { BladeInstance blades[]; };
+BladeInstance blade_record(uint index) {
+    return blades[index];
+}
+#endif
 layout(set = SET_SCENE, binding = BINDING_HEIGHTS, std430) readonly buffer Heights { float heights[]; };
 layout(set = SET_SCENE, binding = BINDING_BLADE_ALPHA) uniform sampler2D blade_alpha;
 layout(set = SET_SCENE, binding = BINDING_CLUSTERS, std430) readonly buffer Clusters { BladeCluster clusters[]; };
@@ -71,11 +89,16 @@ const uint VISIBLE_PADDING = 0xffffffffu;
 
 #ifdef CULL_WRITER
 layout(set = SET_SCENE, binding = BINDING_VISIBLE, std430) writeonly buffer Visible { uvec2 visible[]; };
-#else
+#elif defined(TEXEL_TWINS)
 // Its readers fetch it as RG32UI texels (`vk::buffer::TexelView`).
 layout(set = SET_SCENE, binding = BINDING_VISIBLE_TEXELS) uniform usamplerBuffer visible_texels;
 uvec2 visible_entry(uint i) {
     return texelFetch(visible_texels, int(i)).xy;
+}
+#else
+layout(set = SET_SCENE, binding = BINDING_VISIBLE, std430) readonly buffer Visible { uvec2 visible[]; };
+uvec2 visible_entry(uint i) {
+    return visible[i];
 }
 #endif
 // A block field's terrain grid (FIELD_TERRAIN_CELLS² cells around O, field.glsl's
@@ -86,8 +109,16 @@ uvec2 visible_entry(uint i) {
 // vertex, blade and level.
 #ifdef RELIEF_GRID_WRITER
 layout(set = SET_SCENE, binding = BINDING_RELIEF_GRID, std430) writeonly buffer ReliefGrid { vec4 relief_grid[]; };
-#else
+#elif defined(TEXEL_TWINS)
 layout(set = SET_SCENE, binding = BINDING_RELIEF_GRID_TEXELS) uniform samplerBuffer relief_texels;
+vec4 relief_texel(int i) {
+    return texelFetch(relief_texels, i);
+}
+#else
+layout(set = SET_SCENE, binding = BINDING_RELIEF_GRID, std430) readonly buffer ReliefGrid { vec4 relief_grid[]; };
+vec4 relief_texel(int i) {
+    return relief_grid[i];
+}
 #endif
 layout(set = SET_ANIMATION, binding = BINDING_KEYFRAMES) uniform sampler2D keyframe_texture;
 // Keyframes as a uniform array (thesis 4.4.2): two keyframe words per uvec4 half; the array fills
@@ -113,12 +144,17 @@ layout(set = SET_ANIMATION, binding = BINDING_POSES, std430) readonly buffer Pos
 // and fogged colour and the fog transmittance (half floats), as blade.vert computed per vertex.
 #ifdef LEVELS_WRITER
 layout(set = SET_ANIMATION, binding = BINDING_LEVELS, std430) writeonly buffer Levels { uvec2 levels[]; };
-#else
+#elif defined(TEXEL_TWINS)
 // blade.vert fetches them as RG32UI texels (`vk::buffer::TexelView`): llvmpipe runs vertex
 // shaders on one thread, where a storage load per SIMD lane and word costs most.
 layout(set = SET_ANIMATION, binding = BINDING_LEVEL_TEXELS) uniform usamplerBuffer level_texels;
 uvec2 level_word(uint i) {
     return texelFetch(level_texels, int(i)).xy;
+}
+#else
+layout(set = SET_ANIMATION, binding = BINDING_LEVELS, std430) readonly buffer Levels { uvec2 levels[]; };
+uvec2 level_word(uint i) {
+    return levels[i];
 }
 #endif
 const float POSE_SCALE = 2.0; // local point / height lies within ±POSE_SCALE

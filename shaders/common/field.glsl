@@ -88,7 +88,7 @@ vec4 relief_vertex(ivec2 v) {
     v = clamp(v, ivec2(0), ivec2(n - 1));
     uvec3 dims = uvec3(n, 1, n);
     uvec3 base = uvec3(frame_values.relief_grid.x, 0u, frame_values.relief_grid.y);
-    vec4 t = texelFetch(relief_texels, int(camera_grid_slot(uvec3(v.x, 0, v.y), base, dims)));
+    vec4 t = relief_texel(int(camera_grid_slot(uvec3(v.x, 0, v.y), base, dims)));
     float h = t.x;
     if (terrain_coarsens() && ((v.x | v.y) & 1) != 0) {
         ivec2 d = abs(v - ivec2(FIELD_TERRAIN_CELLS / 2u));

@@ -8,12 +8,12 @@
 #define MEADOW_SHARED_GLSL
 
 // Descriptor sets of the scene pipelines.
-#define SET_SCENE 0 // The scene and this frame's uniforms and forces (`render::scene_set::bindings`).
-#define SET_ANIMATION 1 // The animation model's resources (`render::animation::model::bindings`).
+#define SET_SCENE 0 // The scene and this frame's uniforms and forces (`render::layouts::scene_bindings`).
+#define SET_ANIMATION 1 // The animation model's resources (`render::animation::model::AnimationSet`).
 
 // Set `SET_SCENE`.
 #define BINDING_FRAME 0 // `FrameUniforms` uniform buffer.
-// Binding 1 is free (the blades' storage binding, before they were read as texels).
+#define BINDING_BLADES 1 // The blades (`BladeInstance[]`) as a storage buffer: the generic profile's (the lavapipe profile reads `BINDING_BLADE_TEXELS`).
 #define BINDING_HEIGHTS 2 // Terrain heights storage buffer.
 #define BINDING_BLADE_ALPHA 3 // Blade alpha texture.
 #define BINDING_CLUSTERS 4 // `BladeCluster[]` storage buffer.
@@ -25,9 +25,9 @@
 #define BINDING_DRAWS 10 // The cull's indirect draw arguments, one `VkDrawIndirectCommand` per LOD bucket.
 #define BINDING_CULL_STATS 11 // Per-frame, host-visible: the cull's counts of this frame (`STAT_*`).
 #define BINDING_CULL_RESULTS 12 // The count pass's verdict per candidate blade (bucket, packed scale), read by the emit pass.
-// Binding 13 is free (the depth pyramid's storage binding; hiz.comp writes it through its own set).
+#define BINDING_DEPTH_PYRAMID 13 // The depth pyramid as a storage buffer, read by the generic profile's occlusion test (hiz.comp writes it through its own set; the lavapipe profile reads `BINDING_DEPTH_PYRAMID_TEXELS`).
 #define BINDING_CULL_ALLOC 14 // Written by the cull tiles pass: the count pass's dispatch (4 words), each slot's first verdict (a block field's) and candidates, the slots with candidates.
-#define BINDING_FRAME_STORAGE 15 // The same `FrameUniforms` as `BINDING_FRAME`, read by the cull's passes as a storage buffer (bindings.glsl says why).
+#define BINDING_FRAME_STORAGE 15 // The lavapipe profile's: the same `FrameUniforms` as `BINDING_FRAME`, read by the cull's passes as a storage buffer (bindings.glsl's rule).
 #define BINDING_DEPTH_PYRAMID_TEXELS 16 // The depth pyramid as R32 texels, read by the occlusion test (`vk::buffer::TexelView` says why).
 #define BINDING_BLADE_TEXELS 17 // The blades as RGBA32UI texels, two per `BladeInstance` (`blade_record` in bindings.glsl).
 #define BINDING_VISIBLE_TEXELS 18 // The cull's visible list again as RG32UI texels, as its readers fetch it (`visible_entry` in bindings.glsl).

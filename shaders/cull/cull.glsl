@@ -72,9 +72,19 @@ const uint NO_ROOM = 0xffffffffu;
 uint verdict_index(BladeTile tile, uint base, uint rank) {
     return ((RENDER_FLAGS & FLAG_BLOCKS) != 0u ? base : tile.first) + rank;
 }
-// The depth pyramid (hiz.comp writes it as a storage buffer) read as texels: a vector gather on
-// llvmpipe instead of a load per SIMD lane (`vk::buffer::TexelView`).
-layout(set = SET_SCENE, binding = BINDING_DEPTH_PYRAMID_TEXELS) uniform samplerBuffer pyramid;
+// The depth pyramid (hiz.comp writes it as a storage buffer), in the lavapipe profile read as
+// texels: a vector gather on llvmpipe instead of a load per SIMD lane (`vk::buffer::TexelView`).
+#ifdef TEXEL_TWINS
+layout(set = SET_SCENE, binding = BINDING_DEPTH_PYRAMID_TEXELS) uniform samplerBuffer pyramid_texels;
+float pyramid_texel(uint i) {
+    return texelFetch(pyramid_texels, int(i)).x;
+}
+#else
+layout(set = SET_SCENE, binding = BINDING_DEPTH_PYRAMID, std430) readonly buffer Pyramid { float pyramid[]; };
+float pyramid_texel(uint i) {
+    return pyramid[i];
+}
+#endif
 
 // Belyaev §2.2 constants of the trinomial a1 + a2 d + a3 d²: with a1 = A1 and a3 = A1 / d0², the
 // kept fraction is 1 out to about the full-density distance d0 (`lod.y`) and falls as 1/d² beyond,
@@ -183,7 +193,7 @@ bool occluded(vec3 centre, float radius) {
     for (uint dy = 0u; dy < 3u; dy++) {
         for (uint dx = 0u; dx < 3u; dx++) {
             uvec2 t = min(first + uvec2(dx, dy), last); // past `last`: a texel already read
-            farthest = min(farthest, texelFetch(pyramid, int(base + t.y * side + t.x)).x);
+            farthest = min(farthest, pyramid_texel(base + t.y * side + t.x));
         }
     }
     return nearest_depth < farthest;

@@ -12,13 +12,18 @@
 
 layout(local_size_x_id = SPEC_CULL_GROUP) in;
 
-// The count pass's verdicts (`cull_results`) as texels: llvmpipe gathers a texel fetch across the
-// SIMD lanes, where it loads storage one lane at a time.
+// The count pass's verdicts (`cull_results`), in the lavapipe profile as texels: llvmpipe gathers
+// a texel fetch across the SIMD lanes, where it loads storage one lane at a time.
+#ifdef TEXEL_TWINS
 layout(set = SET_SCENE, binding = BINDING_CULL_RESULT_TEXELS) uniform usamplerBuffer verdict_texels;
-
 uvec2 verdict(uint index) {
     return texelFetch(verdict_texels, int(index)).xy;
 }
+#else
+uvec2 verdict(uint index) {
+    return cull_results[index];
+}
+#endif
 
 shared uint prefix[MAX_LOD_BUCKETS][CULL_GROUP];
 

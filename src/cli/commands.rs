@@ -102,7 +102,13 @@ pub(crate) fn finish(result: crate::Result<()>) -> u8 {
 /// What `meadow render` prints: device, scene, GPU and CPU cost of the last frame, the file.
 fn print_render(report: &RenderReport) {
     let d = &report.device;
-    println!("device: {} ({}, driver {} [{}])", d.name, d.api_version, d.driver_version, d.driver_info);
+    // The device was made with this profile (`Device::profile`); the choice is a function of the
+    // driver and the environment, so it is the same here.
+    let profile = crate::vk::profile::Profile::choose(&d.driver_name).map_or("unknown", |p| p.name());
+    println!(
+        "device: {} ({}, driver {} [{}]), profile {profile}",
+        d.name, d.api_version, d.driver_version, d.driver_info
+    );
     match report.field {
         Some(field) => println!(
             "scene: {} field of {} m blocks at {} blades/m² ({} blades stored) x {} segments",

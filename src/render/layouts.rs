@@ -1,45 +1,66 @@
 //! The descriptor-set and pipeline layouts the scene pipelines share (`SET_SCENE` for the scene
 //! and one frame's uniforms and forces, `SET_ANIMATION` for the animation model), and the frames
 //! in flight with their scene sets.
+//!
+//! Both set layouts come from the shaders themselves: each is the union of what the scene shaders
+//! (`render::shaders::SCENE`, every library shader that includes `common/bindings.glsl`) bind in
+//! that set, reflected from their SPIR-V for the device's backend profile (`vk::reflect`). A
+//! resource is declared once, in GLSL; its owner gives it by binding number
+//! (`SceneGpu::write_descriptors`, `AnimationSet::new`) and the layout decides its type.
 
 use ash::vk;
 
 use crate::error::Result;
-use crate::render::animation::{self, model};
+use crate::render::animation;
 use crate::render::frame::Frame;
+use crate::render::gpu_constants as gpu;
 use crate::render::scene_gpu::SceneGpu;
-use crate::render::scene_set;
 use crate::render::settings::RenderSettings;
+use crate::render::shaders;
 use crate::render::submission;
-use crate::vk::{descriptor, pipeline, Device};
+use crate::vk::descriptor::{self, Binding, SetLayout};
+use crate::vk::profile::Profile;
+use crate::vk::{pipeline, reflect, Device};
 
 /// The descriptor-set layouts of the scene pipelines (`SET_SCENE`, `SET_ANIMATION`), the
 /// pipeline layout they share, and the pool of the per-frame scene sets.
 #[derive(Default)]
 pub struct SceneLayouts {
     /// `SET_SCENE`.
-    pub set_layout: vk::DescriptorSetLayout,
+    pub scene: SetLayout,
     /// `SET_ANIMATION`.
-    pub animation_layout: vk::DescriptorSetLayout,
+    pub animation: SetLayout,
     /// Both sets and the push-constant range.
     pub pipeline_layout: vk::PipelineLayout,
     /// The per-frame scene sets' pool.
     pub pool: vk::DescriptorPool,
 }
 
+/// The bindings of sets `SET_SCENE` and `SET_ANIMATION`, as the scene shaders of `profile` use
+/// them (reflected).
+pub fn scene_bindings(profile: Profile) -> Result<(Vec<Binding>, Vec<Binding>)> {
+    let code: Vec<(&str, &[u8])> = shaders::SCENE.iter().map(|s| (s.path, s.code(profile))).collect();
+    let mut sets = reflect::merge(&code)?;
+    if let Some(&other) = sets.keys().find(|&&set| set != gpu::SET_SCENE && set != gpu::SET_ANIMATION) {
+        return Err(crate::error::Error::Internal(format!("a scene shader binds set {other}, not the scene's")));
+    }
+    Ok((sets.remove(&gpu::SET_SCENE).unwrap_or_default(), sets.remove(&gpu::SET_ANIMATION).unwrap_or_default()))
+}
+
 /// The layouts of `SET_SCENE` and `SET_ANIMATION` and the scene pipeline layout (the pool comes
 /// with the frames).
 pub fn scene_layouts(device: &Device) -> Result<SceneLayouts> {
-    check_storage_buffers(device, &[&scene_set::bindings(), &model::bindings()])?;
+    let (scene, animation) = scene_bindings(device.profile)?;
+    check_storage_buffers(device, &[&scene, &animation])?;
     let mut layouts = SceneLayouts::default();
     let built = (|| {
-        layouts.set_layout = descriptor::set_layout(device, "scene set layout", &scene_set::bindings())?;
-        layouts.animation_layout = descriptor::set_layout(device, "animation set layout", &model::bindings())?;
+        layouts.scene = SetLayout::new(device, "scene set layout", scene)?;
+        layouts.animation = SetLayout::new(device, "animation set layout", animation)?;
         // Sets in `SET_SCENE`, `SET_ANIMATION` order.
         layouts.pipeline_layout = pipeline::layout(
             device,
             "scene pipeline layout",
-            &[layouts.set_layout, layouts.animation_layout],
+            &[layouts.scene.raw, layouts.animation.raw],
             &[submission::push_constant_range()],
         )?;
         Ok(())
@@ -85,10 +106,8 @@ impl SceneLayouts {
             device.raw.destroy_descriptor_pool(self.pool, None);
             crate::vk::live::destroyed(self.pipeline_layout);
             device.raw.destroy_pipeline_layout(self.pipeline_layout, None);
-            crate::vk::live::destroyed(self.animation_layout);
-            device.raw.destroy_descriptor_set_layout(self.animation_layout, None);
-            crate::vk::live::destroyed(self.set_layout);
-            device.raw.destroy_descriptor_set_layout(self.set_layout, None);
+            self.animation.destroy(device);
+            self.scene.destroy(device);
         }
     }
 }
@@ -100,9 +119,8 @@ pub fn build_frames(
     scene: &SceneGpu,
     settings: &RenderSettings,
 ) -> Result<Vec<Frame>> {
-    let bindings = scene_set::bindings();
     let count = settings.frames_in_flight as u32;
-    let (pool, sets) = descriptor::allocate_sets(device, "scene sets", layouts.set_layout, &bindings, count)?;
+    let (pool, sets) = layouts.scene.allocate(device, "scene sets", count)?;
     layouts.pool = pool;
     let corners = scene.grid.corner_count();
     let emitters = animation::MAX_EMITTERS as u32;
@@ -110,8 +128,15 @@ pub fn build_frames(
     for (index, set) in sets.into_iter().enumerate() {
         match Frame::new(device, index, set, corners, emitters, settings.pipeline_statistics) {
             Ok(frame) => {
-                scene.write_descriptors(device, set, &frame);
+                let written = scene.write_descriptors(device, &layouts.scene, set, &frame);
                 frames.push(frame);
+                if let Err(e) = written {
+                    for frame in frames {
+                        // SAFETY: never submitted.
+                        unsafe { frame.destroy(device) };
+                    }
+                    return Err(e);
+                }
             }
             Err(e) => {
                 for frame in frames {
@@ -123,4 +148,68 @@ pub fn build_frames(
         }
     }
     Ok(frames)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use ash::vk::DescriptorType as T;
+
+    fn kind(bindings: &[Binding], binding: u32) -> Option<T> {
+        bindings.iter().find(|b| b.binding == binding).map(|b| b.kind)
+    }
+
+    #[test]
+    fn the_lavapipe_profile_binds_the_twins_and_the_generic_one_each_resource_once() {
+        let (scene, animation) = scene_bindings(Profile::Lavapipe).unwrap();
+        assert_eq!(kind(&scene, gpu::BINDING_FRAME_STORAGE), Some(T::STORAGE_BUFFER));
+        assert_eq!(kind(&scene, gpu::BINDING_BLADE_TEXELS), Some(T::UNIFORM_TEXEL_BUFFER));
+        assert_eq!(kind(&scene, gpu::BINDING_BLADES), None);
+        assert_eq!(kind(&animation, gpu::BINDING_LEVEL_TEXELS), Some(T::UNIFORM_TEXEL_BUFFER));
+
+        let (scene, animation) = scene_bindings(Profile::Generic).unwrap();
+        let texel = |b: &&Binding| b.kind == T::UNIFORM_TEXEL_BUFFER;
+        assert_eq!(scene.iter().chain(&animation).filter(texel).count(), 0, "{scene:?} {animation:?}");
+        assert_eq!(kind(&scene, gpu::BINDING_FRAME_STORAGE), None);
+        for binding in [gpu::BINDING_BLADES, gpu::BINDING_VISIBLE, gpu::BINDING_DEPTH_PYRAMID, gpu::BINDING_RELIEF_GRID]
+        {
+            assert_eq!(kind(&scene, binding), Some(T::STORAGE_BUFFER), "binding {binding}");
+        }
+        assert_eq!(kind(&animation, gpu::BINDING_LEVELS), Some(T::STORAGE_BUFFER));
+        // The frame's uniforms reach every stage in both.
+        let frame = scene.iter().find(|b| b.binding == gpu::BINDING_FRAME).unwrap();
+        assert_eq!(frame.kind, T::UNIFORM_BUFFER);
+        assert!(frame
+            .stages
+            .contains(vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT | vk::ShaderStageFlags::COMPUTE));
+    }
+
+    #[test]
+    fn in_the_lavapipe_profile_the_cull_reads_the_frame_through_storage() {
+        // bindings.glsl's rule: a value that decides control flow is read through a storage
+        // binding (lavapipe before Mesa 23.1 compiles and keeps a variant per uniform value).
+        for shader in
+            [shaders::CULL_TILES_COMP, shaders::CULL_COUNT_COMP, shaders::CULL_SCAN_COMP, shaders::CULL_EMIT_COMP]
+        {
+            let lavapipe = reflect::reflect(shader.path, shader.code(Profile::Lavapipe)).unwrap().descriptors;
+            let frame = lavapipe.iter().find(|d| d.binding == gpu::BINDING_FRAME_STORAGE && d.set == gpu::SET_SCENE);
+            assert_eq!(frame.map(|d| d.kind), Some(T::STORAGE_BUFFER), "{}", shader.path);
+            let generic = reflect::reflect(shader.path, shader.code(Profile::Generic)).unwrap().descriptors;
+            assert!(!generic.iter().any(|d| d.binding == gpu::BINDING_FRAME_STORAGE), "{}", shader.path);
+        }
+    }
+
+    #[test]
+    fn every_scene_shader_is_found_and_binds_only_the_scene_sets() {
+        let paths: Vec<&str> = shaders::SCENE.iter().map(|s| s.path).collect();
+        for expected in
+            ["blades/blade.vert", "blades/blade.frag.coverage", "cull/cull_count.comp", "terrain/relief_grid.comp"]
+        {
+            assert!(paths.contains(&expected), "{expected} not in {paths:?}");
+        }
+        assert!(!paths.contains(&"depth_pyramid/hiz.comp"), "hiz.comp has a set of its own");
+        for profile in [Profile::Lavapipe, Profile::Generic] {
+            scene_bindings(profile).unwrap();
+        }
+    }
 }

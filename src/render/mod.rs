@@ -18,7 +18,6 @@ pub mod passes;
 pub mod recording;
 pub mod renderer;
 pub mod scene_gpu;
-pub mod scene_set;
 pub mod settings;
 pub mod shaders;
 pub mod specialization;

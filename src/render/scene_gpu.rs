@@ -12,11 +12,10 @@ use crate::error::Result;
 use crate::render::frame::Frame;
 use crate::render::gpu_constants;
 use crate::render::limits::BLADES_PER_INSTANCE_RANGE;
-use crate::render::scene_set::{binding, BLADE_READS};
 use crate::scene::clusters::{BladeCluster, ClusterGrid};
 use crate::scene::tiles::{BladeTile, TileGrid, MAX_TILES_PER_SIDE};
 use crate::scene::{alpha, Scene};
-use crate::vk::descriptor::{self, Resource};
+use crate::vk::descriptor::{Resource, SetLayout};
 use crate::vk::upload::UploadBatch;
 use crate::vk::{Access, Buffer, BufferDesc, Device, Image, ImageDesc, TexelView};
 
@@ -363,7 +362,7 @@ impl SceneGpu {
         let vertex_compute_read: &'static [Access] = &[Access::VertexShaderStorageRead, Access::ComputeShaderRead];
         // The scene's shaders read the blades as texels (`blade_record`).
         let texel_usage = storage | vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER;
-        partial.blades = Some(batch.buffer("blades", &scene.blades, texel_usage, BLADE_READS)?);
+        partial.blades = Some(batch.buffer("blades", &scene.blades, texel_usage, device.profile.fetches())?);
         let blades = partial.blades.as_ref().expect("uploaded");
         partial.blade_texels = Some(TexelView::new(device, blades, vk::Format::R32G32B32A32_UINT, "blade texels")?);
         partial.heights = Some(batch.buffer("terrain heights", &scene.terrain.heights, storage, vertex_read)?);
@@ -416,44 +415,48 @@ impl SceneGpu {
         Ok(sampler)
     }
 
-    /// Point `set` at the scene resources and at one frame's uniforms, corners and emitters.
-    pub fn write_descriptors(&self, device: &Device, set: vk::DescriptorSet, frame: &Frame) {
-        let storage = vk::DescriptorType::STORAGE_BUFFER;
-        let sampled = vk::DescriptorType::COMBINED_IMAGE_SAMPLER;
-        let texels = vk::DescriptorType::UNIFORM_TEXEL_BUFFER;
-        let image = |sampler, image_view| {
-            Resource::Image(vk::DescriptorImageInfo {
-                sampler,
-                image_view,
-                image_layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-            })
-        };
-        descriptor::write(
-            device,
-            set,
-            &[
-                (binding::FRAME, vk::DescriptorType::UNIFORM_BUFFER, Resource::Buffer(frame.uniforms.descriptor())),
-                (binding::BLADE_TEXELS, texels, Resource::Texels(self.blade_texels.raw)),
-                (binding::VISIBLE_TEXELS, texels, Resource::Texels(self.visible_texels.raw)),
-                (binding::HEIGHTS, storage, Resource::Buffer(self.heights.descriptor())),
-                (binding::BLADE_ALPHA, sampled, image(self.sampler, self.blade_alpha.view)),
-                (binding::CLUSTERS, storage, Resource::Buffer(self.clusters.descriptor())),
-                (binding::CORNERS, storage, Resource::Buffer(frame.corners.descriptor())),
-                (binding::EMITTERS, storage, Resource::Buffer(frame.emitters.descriptor())),
-                (binding::TILES, storage, Resource::Buffer(self.tiles.descriptor())),
-                (binding::VISIBLE, storage, Resource::Buffer(self.visible.descriptor())),
-                (binding::SLOT_COUNTS, storage, Resource::Buffer(self.slot_counts.descriptor())),
-                (binding::DRAWS, storage, Resource::Buffer(self.draws.descriptor())),
-                (binding::CULL_STATS, storage, Resource::Buffer(frame.cull_stats.descriptor())),
-                (binding::CULL_RESULTS, storage, Resource::Buffer(self.cull_results.descriptor())),
-                (binding::DEPTH_PYRAMID_TEXELS, texels, Resource::Texels(self.depth_pyramid_texels.raw)),
-                (binding::CULL_ALLOC, storage, Resource::Buffer(self.cull_alloc.descriptor())),
-                (binding::FRAME_STORAGE, storage, Resource::Buffer(frame.uniforms.descriptor())),
-                (binding::RELIEF_GRID, storage, Resource::Buffer(self.relief_grid.descriptor())),
-                (binding::RELIEF_GRID_TEXELS, texels, Resource::Texels(self.relief_texels.raw)),
-                (binding::CULL_RESULT_TEXELS, texels, Resource::Texels(self.cull_result_texels.raw)),
-            ],
-        );
+    /// Point `set` (of `layout`, `SET_SCENE`) at the scene's resources and at one frame's
+    /// uniforms, corners and emitters: every resource by its binding number, of which the layout
+    /// (reflected from the scene shaders of the device's profile) writes those its shaders bind.
+    pub fn write_descriptors(
+        &self,
+        device: &Device,
+        layout: &SetLayout,
+        set: vk::DescriptorSet,
+        frame: &Frame,
+    ) -> Result<()> {
+        let alpha = Resource::Image(vk::DescriptorImageInfo {
+            sampler: self.sampler,
+            image_view: self.blade_alpha.view,
+            image_layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+        });
+        let buffer = |b: &Buffer| Resource::Buffer(b.descriptor());
+        let texels = |t: &TexelView| Resource::Texels(t.raw);
+        let resources = [
+            (gpu_constants::BINDING_FRAME, Resource::Buffer(frame.uniforms.descriptor())),
+            (gpu_constants::BINDING_FRAME_STORAGE, Resource::Buffer(frame.uniforms.descriptor())),
+            (gpu_constants::BINDING_BLADES, buffer(&self.blades)),
+            (gpu_constants::BINDING_BLADE_TEXELS, texels(&self.blade_texels)),
+            (gpu_constants::BINDING_HEIGHTS, buffer(&self.heights)),
+            (gpu_constants::BINDING_BLADE_ALPHA, alpha),
+            (gpu_constants::BINDING_CLUSTERS, buffer(&self.clusters)),
+            (gpu_constants::BINDING_CORNERS, Resource::Buffer(frame.corners.descriptor())),
+            (gpu_constants::BINDING_EMITTERS, Resource::Buffer(frame.emitters.descriptor())),
+            (gpu_constants::BINDING_TILES, buffer(&self.tiles)),
+            (gpu_constants::BINDING_VISIBLE, buffer(&self.visible)),
+            (gpu_constants::BINDING_VISIBLE_TEXELS, texels(&self.visible_texels)),
+            (gpu_constants::BINDING_SLOT_COUNTS, buffer(&self.slot_counts)),
+            (gpu_constants::BINDING_DRAWS, buffer(&self.draws)),
+            (gpu_constants::BINDING_CULL_STATS, Resource::Buffer(frame.cull_stats.descriptor())),
+            (gpu_constants::BINDING_CULL_RESULTS, buffer(&self.cull_results)),
+            (gpu_constants::BINDING_CULL_RESULT_TEXELS, texels(&self.cull_result_texels)),
+            (gpu_constants::BINDING_CULL_ALLOC, buffer(&self.cull_alloc)),
+            (gpu_constants::BINDING_DEPTH_PYRAMID, buffer(&self.depth_pyramid)),
+            (gpu_constants::BINDING_DEPTH_PYRAMID_TEXELS, texels(&self.depth_pyramid_texels)),
+            (gpu_constants::BINDING_RELIEF_GRID, buffer(&self.relief_grid)),
+            (gpu_constants::BINDING_RELIEF_GRID_TEXELS, texels(&self.relief_texels)),
+        ];
+        layout.write(device, set, "scene set", &resources)
     }
 
     /// Free everything.

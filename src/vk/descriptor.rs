@@ -79,6 +79,7 @@ pub fn allocate_sets(
 }
 
 /// What one descriptor write points at.
+#[derive(Clone)]
 pub enum Resource {
     /// A uniform or storage buffer range.
     Buffer(vk::DescriptorBufferInfo),
@@ -104,4 +105,92 @@ pub fn write(device: &Device, set: vk::DescriptorSet, writes: &[(u32, vk::Descri
         .collect();
     // SAFETY: the writes reference live resources and match the set's layout.
     unsafe { device.raw.update_descriptor_sets(&raw, &[]) };
+}
+
+/// A set layout with the bindings it was made of, as its sets are allocated and written.
+#[derive(Default)]
+pub struct SetLayout {
+    /// The layout.
+    pub raw: vk::DescriptorSetLayout,
+    /// Its bindings, by binding number.
+    pub bindings: Vec<Binding>,
+}
+
+impl SetLayout {
+    /// A named layout of `bindings`.
+    pub fn new(device: &Device, name: &str, bindings: Vec<Binding>) -> Result<Self> {
+        Ok(Self { raw: set_layout(device, name, &bindings)?, bindings })
+    }
+
+    /// The layout of set `set` as `shaders` (`(name, SPIR-V)`, e.g. a pipeline's stages) declare
+    /// it together (`vk::reflect::merge`): what a pass's shaders bind is the pass's layout, with
+    /// no list to keep beside the GLSL. A set no shader uses is an empty layout.
+    pub fn reflected(device: &Device, name: &str, shaders: &[(&str, &[u8])], set: u32) -> Result<Self> {
+        let bindings = super::reflect::merge(shaders)?.remove(&set).unwrap_or_default();
+        Self::new(device, name, bindings)
+    }
+
+    /// A pool for `count` sets of this layout, and the sets.
+    pub fn allocate(
+        &self,
+        device: &Device,
+        name: &str,
+        count: u32,
+    ) -> Result<(vk::DescriptorPool, Vec<vk::DescriptorSet>)> {
+        allocate_sets(device, name, self.raw, &self.bindings, count)
+    }
+
+    /// Point every binding of `set` (a set of this layout) at its resource in `resources`, by
+    /// binding number; resources for bindings the layout lacks are left out (a profile's twins,
+    /// a shader that does not read them). A binding with no resource, or with a resource of
+    /// another kind, is an error naming it (`what` names the set).
+    pub fn write(
+        &self,
+        device: &Device,
+        set: vk::DescriptorSet,
+        what: &str,
+        resources: &[(u32, Resource)],
+    ) -> Result<()> {
+        let mut writes = Vec::with_capacity(self.bindings.len());
+        for b in &self.bindings {
+            let resource = resources.iter().find(|(binding, _)| *binding == b.binding).map(|(_, r)| r);
+            let fits = |r: &Resource| {
+                use vk::DescriptorType as T;
+                match r {
+                    Resource::Buffer(_) => [T::UNIFORM_BUFFER, T::STORAGE_BUFFER].contains(&b.kind),
+                    Resource::Image(_) => {
+                        [T::COMBINED_IMAGE_SAMPLER, T::SAMPLED_IMAGE, T::STORAGE_IMAGE].contains(&b.kind)
+                    }
+                    Resource::Texels(_) => [T::UNIFORM_TEXEL_BUFFER, T::STORAGE_TEXEL_BUFFER].contains(&b.kind),
+                }
+            };
+            match resource {
+                Some(r) if fits(r) => writes.push((b.binding, b.kind, r.clone())),
+                Some(_) => {
+                    return Err(crate::error::Error::Internal(format!(
+                        "{what}: binding {} is a {:?}, and its resource is not",
+                        b.binding, b.kind
+                    )))
+                }
+                None => {
+                    return Err(crate::error::Error::Internal(format!(
+                        "{what}: the shaders bind {} ({:?}), and nothing is given for it",
+                        b.binding, b.kind
+                    )))
+                }
+            }
+        }
+        write(device, set, &writes);
+        Ok(())
+    }
+
+    /// # Safety
+    /// No set of it may be in use.
+    pub unsafe fn destroy(&self, device: &Device) {
+        // SAFETY: per the contract; destroying a null handle is a no-op.
+        unsafe {
+            super::live::destroyed(self.raw);
+            device.raw.destroy_descriptor_set_layout(self.raw, None);
+        }
+    }
 }

@@ -18,6 +18,7 @@ pub mod physical;
 pub mod pipeline;
 pub mod profile;
 pub mod query;
+pub mod reflect;
 pub mod swapchain;
 pub mod sync;
 pub mod tracker;

@@ -7,6 +7,7 @@
 //! any other `generic`.
 
 use crate::error::{Error, Result};
+use crate::vk::Access;
 
 /// A backend profile.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -27,6 +28,33 @@ impl Profile {
         match self {
             Profile::Lavapipe => "lavapipe",
             Profile::Generic => "generic",
+        }
+    }
+
+    /// How a vertex shader reads a buffer of the scene that the lavapipe profile fetches through
+    /// a texel view (its twin, `shaders/common/bindings.glsl`) and the generic one as storage: the
+    /// access the graph's barriers are derived for.
+    pub fn vertex_fetch(self) -> Access {
+        match self {
+            Profile::Lavapipe => Access::VertexShaderSampledRead,
+            Profile::Generic => Access::VertexShaderStorageRead,
+        }
+    }
+
+    /// `vertex_fetch` for a compute shader.
+    pub fn compute_fetch(self) -> Access {
+        match self {
+            Profile::Lavapipe => Access::ComputeShaderSampledRead,
+            Profile::Generic => Access::ComputeShaderRead,
+        }
+    }
+
+    /// `vertex_fetch` and `compute_fetch` together: how a buffer the scene's shaders fetch in
+    /// both stages is left by its upload and imported into each graph.
+    pub fn fetches(self) -> &'static [Access] {
+        match self {
+            Profile::Lavapipe => &[Access::VertexShaderSampledRead, Access::ComputeShaderSampledRead],
+            Profile::Generic => &[Access::VertexShaderStorageRead, Access::ComputeShaderRead],
         }
     }
 

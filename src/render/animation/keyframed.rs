@@ -4,8 +4,6 @@
 //! in the blade shader (as the thesis did), or once per blade in the blade-pose compute pass that
 //! writes pose records (`--eval blade`, the thesis' ch. 7 future work).
 
-use ash::vk;
-
 use crate::error::Result;
 use crate::keyframes::{KeyframeLayout, Representation};
 use crate::render::animation::model::{AnimationModel, AnimationSet, BladeInput, PassSetup};
@@ -15,6 +13,7 @@ use crate::render::gpu_constants as gpu;
 use crate::render::graph::Pass;
 use crate::render::specialization::Specialization;
 use crate::render::uniforms::FrameUniforms;
+use crate::vk::descriptor::SetLayout;
 use crate::vk::upload::UploadBatch;
 use crate::vk::Device;
 use crate::wind::Attenuation;
@@ -32,7 +31,7 @@ impl KeyframeModel {
     /// records and placed levels when blades are evaluated per blade.
     pub fn new(
         device: &Device,
-        set_layout: vk::DescriptorSetLayout,
+        set_layout: &SetLayout,
         settings: &AnimationSettings,
         segments: u32,
         room: (u32, u32),

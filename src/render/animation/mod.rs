@@ -29,7 +29,7 @@ use crate::wind::{Attenuation, Wind};
 /// evaluates per blade.
 pub fn build_model(
     device: &Device,
-    set_layout: vk::DescriptorSetLayout,
+    set_layout: &crate::vk::descriptor::SetLayout,
     settings: &AnimationSettings,
     segments: u32,
     (records, levels): (u32, u32),

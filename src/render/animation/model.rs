@@ -21,7 +21,7 @@ use crate::render::scene_gpu::SceneGpu;
 use crate::render::specialization::Specialization;
 use crate::render::uniforms::FrameUniforms;
 use crate::scene::clusters::ClusterGrid;
-use crate::vk::descriptor::{self, Binding, Resource as Descriptor};
+use crate::vk::descriptor::{Resource as Descriptor, SetLayout};
 use crate::vk::upload::UploadBatch;
 use crate::vk::{Access, Buffer, BufferDesc, Device, Resource, TexelView};
 use crate::wind::{Attenuation, Wind};
@@ -115,22 +115,6 @@ pub fn write_wind_forces(frame: &mut Frame, input: &FrameInput) {
     frame.emitters.write(0, &emitters);
 }
 
-/// Layout of set `SET_ANIMATION`, the same for every model (the blade shaders declare it all).
-pub fn bindings() -> [Binding; 5] {
-    let vs_cs = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::COMPUTE;
-    [
-        Binding { binding: gpu::BINDING_KEYFRAMES, kind: vk::DescriptorType::COMBINED_IMAGE_SAMPLER, stages: vs_cs },
-        Binding { binding: gpu::BINDING_KEYFRAME_WORDS, kind: vk::DescriptorType::UNIFORM_BUFFER, stages: vs_cs },
-        Binding { binding: gpu::BINDING_POSES, kind: vk::DescriptorType::STORAGE_BUFFER, stages: vs_cs },
-        Binding {
-            binding: gpu::BINDING_LEVELS,
-            kind: vk::DescriptorType::STORAGE_BUFFER,
-            stages: vk::ShaderStageFlags::COMPUTE,
-        },
-        Binding { binding: gpu::BINDING_LEVEL_TEXELS, kind: vk::DescriptorType::UNIFORM_TEXEL_BUFFER, stages: vs_cs },
-    ]
-}
-
 /// Pose records and, with the cull, the drawn blades' placed levels: the two per-blade buffers of
 /// a model that evaluates once per blade (`--eval blade`).
 pub struct PerBlade {
@@ -212,12 +196,12 @@ impl AnimationSet {
     /// Allocate the set and point it at the model's resources (destroyed with the set on failure).
     pub fn new(
         device: &Device,
-        set_layout: vk::DescriptorSetLayout,
+        set_layout: &SetLayout,
         keyframes: KeyframeTexture,
         words: KeyframeUniforms,
         per_blade: PerBlade,
     ) -> Result<Self> {
-        let (pool, sets) = match descriptor::allocate_sets(device, "animation set", set_layout, &bindings(), 1) {
+        let (pool, sets) = match set_layout.allocate(device, "animation set", 1) {
             Ok(allocated) => allocated,
             Err(e) => {
                 // SAFETY: nothing was submitted with them.
@@ -235,34 +219,28 @@ impl AnimationSet {
             image_view: resources.keyframes.image.view,
             image_layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
         };
-        descriptor::write(
+        // Every resource by its binding; the layout (reflected from the scene shaders) writes
+        // those its shaders bind.
+        let written = set_layout.write(
             device,
             resources.set,
+            "animation set",
             &[
-                (gpu::BINDING_KEYFRAMES, vk::DescriptorType::COMBINED_IMAGE_SAMPLER, Descriptor::Image(image)),
-                (
-                    gpu::BINDING_KEYFRAME_WORDS,
-                    vk::DescriptorType::UNIFORM_BUFFER,
-                    Descriptor::Buffer(resources.words.buffer.descriptor()),
-                ),
-                (
-                    gpu::BINDING_POSES,
-                    vk::DescriptorType::STORAGE_BUFFER,
-                    Descriptor::Buffer(resources.per_blade.poses.descriptor()),
-                ),
-                (
-                    gpu::BINDING_LEVELS,
-                    vk::DescriptorType::STORAGE_BUFFER,
-                    Descriptor::Buffer(resources.per_blade.levels.descriptor()),
-                ),
-                (
-                    gpu::BINDING_LEVEL_TEXELS,
-                    vk::DescriptorType::UNIFORM_TEXEL_BUFFER,
-                    Descriptor::Texels(resources.per_blade.level_texels.raw),
-                ),
+                (gpu::BINDING_KEYFRAMES, Descriptor::Image(image)),
+                (gpu::BINDING_KEYFRAME_WORDS, Descriptor::Buffer(resources.words.buffer.descriptor())),
+                (gpu::BINDING_POSES, Descriptor::Buffer(resources.per_blade.poses.descriptor())),
+                (gpu::BINDING_LEVELS, Descriptor::Buffer(resources.per_blade.levels.descriptor())),
+                (gpu::BINDING_LEVEL_TEXELS, Descriptor::Texels(resources.per_blade.level_texels.raw)),
             ],
         );
-        Ok(resources)
+        match written {
+            Ok(()) => Ok(resources),
+            Err(e) => {
+                // SAFETY: nothing was submitted with them.
+                unsafe { resources.destroy(device) };
+                Err(e)
+            }
+        }
     }
 
     /// Submit `batch` (the uploads of `keyframes` and `words`), create room for `room` pose
@@ -270,7 +248,7 @@ impl AnimationSet {
     /// everything is freed if a step fails.
     pub fn upload(
         device: &Device,
-        set_layout: vk::DescriptorSetLayout,
+        set_layout: &SetLayout,
         batch: UploadBatch,
         keyframes: KeyframeTexture,
         words: KeyframeUniforms,

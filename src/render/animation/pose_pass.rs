@@ -69,16 +69,15 @@ impl Pass for BladePosePass {
         "blade poses"
     }
 
-    fn declare(&self, _: &PassContext) -> Option<Declaration> {
+    fn declare(&self, ctx: &PassContext) -> Option<Declaration> {
+        let fetch = ctx.device.profile.compute_fetch();
         let declaration = Declaration::compute()
             .buffer(self.poses, Access::ComputeShaderWrite)
-            .buffer(self.reads[0], Access::ComputeShaderSampledRead)
+            .buffer(self.reads[0], fetch)
             .buffer(self.reads[1], Access::ComputeShaderRead)
             .uses(Resource::color(self.keyframes), Access::ComputeShaderSampledRead);
         let declaration = match &self.dispatch {
-            Dispatch::Buckets(buckets, visible) => {
-                buckets.declare(declaration.buffer(*visible, Access::ComputeShaderSampledRead))
-            }
+            Dispatch::Buckets(buckets, visible) => buckets.declare(declaration.buffer(*visible, fetch)),
             Dispatch::Stored(..) => declaration,
         };
         Some(declaration)

@@ -2,8 +2,6 @@
 //! and no pass: stand-ins fill its descriptor set, and the forces are still computed each frame
 //! (the debug views show them).
 
-use ash::vk;
-
 use crate::error::Result;
 use crate::render::animation::model::{AnimationModel, AnimationSet, BladeInput, PassSetup};
 use crate::render::animation::{KeyframeTexture, KeyframeUniforms};
@@ -11,6 +9,7 @@ use crate::render::gpu_constants as gpu;
 use crate::render::graph::Pass;
 use crate::render::specialization::Specialization;
 use crate::render::uniforms::FrameUniforms;
+use crate::vk::descriptor::SetLayout;
 use crate::vk::upload::UploadBatch;
 use crate::vk::Device;
 
@@ -21,7 +20,7 @@ pub struct StaticModel {
 
 impl StaticModel {
     /// Upload the stand-ins and fill the set.
-    pub fn new(device: &Device, set_layout: vk::DescriptorSetLayout) -> Result<Self> {
+    pub fn new(device: &Device, set_layout: &SetLayout) -> Result<Self> {
         let mut batch = UploadBatch::new(device);
         let keyframes = KeyframeTexture::stand_in(&mut batch)?;
         let words = match KeyframeUniforms::stand_in(&mut batch) {

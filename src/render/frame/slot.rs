@@ -193,7 +193,7 @@ impl Parts {
         let vec4 = 16u64;
         let uniform_and_storage = vk::BufferUsageFlags::UNIFORM_BUFFER | vk::BufferUsageFlags::STORAGE_BUFFER;
         for (name, size, usage) in [
-            // A storage buffer too: the cull reads it through `scene_set::binding::FRAME_STORAGE`.
+            // A storage buffer too: the lavapipe profile's cull reads it through `BINDING_FRAME_STORAGE`.
             ("uniforms", std::mem::size_of::<FrameUniforms>() as u64, uniform_and_storage),
             ("corner forces", vec4 * u64::from(corners), vk::BufferUsageFlags::STORAGE_BUFFER),
             ("emitters", vec4 * u64::from(emitters.max(1)), vk::BufferUsageFlags::STORAGE_BUFFER),

@@ -61,17 +61,18 @@ impl Pass for BladeLevelsPass {
         "blade levels"
     }
 
-    fn declare(&self, _: &PassContext) -> Option<Declaration> {
+    fn declare(&self, ctx: &PassContext) -> Option<Declaration> {
+        let fetch = ctx.device.profile.compute_fetch();
         let declaration = match self.relief_grid {
-            Some(grid) => Declaration::compute().buffer(grid, Access::ComputeShaderSampledRead),
+            Some(grid) => Declaration::compute().buffer(grid, fetch),
             None => Declaration::compute(),
         };
         let declaration = declaration
             .buffer(self.levels, Access::ComputeShaderWrite)
             .buffer(self.poses, Access::ComputeShaderRead)
-            .buffer(self.reads[0], Access::ComputeShaderSampledRead)
+            .buffer(self.reads[0], fetch)
             .buffer(self.reads[1], Access::ComputeShaderRead)
-            .buffer(self.visible, Access::ComputeShaderSampledRead);
+            .buffer(self.visible, fetch);
         Some(self.buckets.declare(declaration))
     }
 

@@ -84,7 +84,7 @@ impl BladePass {
             None => Self::pipeline(device, target, setup.constants, "blades", vk::PrimitiveTopology::TRIANGLE_STRIP)?,
         };
         let mut reads = vec![
-            (scene.blades.raw, Access::VertexShaderSampledRead),
+            (scene.blades.raw, device.profile.vertex_fetch()),
             (scene.clusters.raw, Access::VertexShaderStorageRead),
         ];
         if let BladeInput::PoseRecords(poses, levels) = setup.input {
@@ -93,10 +93,10 @@ impl BladePass {
             // validation counts static use: both are declared, whichever path runs, so a
             // previous graph's write of either is ordered before this pass.
             reads.push((poses, Access::VertexShaderStorageRead));
-            reads.push((levels, Access::VertexShaderSampledRead));
+            reads.push((levels, device.profile.vertex_fetch()));
         }
         // A block field's terrain normal under each root (per vertex without placed levels).
-        reads.extend(scene.relief_grid_read().map(|grid| (grid, Access::VertexShaderSampledRead)));
+        reads.extend(scene.relief_grid_read().map(|grid| (grid, device.profile.vertex_fetch())));
         let mut pass = Self {
             pipeline,
             layout: target.layout,
@@ -188,7 +188,7 @@ impl BladePass {
         self.reads.push((buffer.raw, Access::IndexRead));
         self.indices = Some(buffer);
         batch.submit()?;
-        self.reads.push((scene.visible.raw, Access::VertexShaderSampledRead));
+        self.reads.push((scene.visible.raw, device.profile.vertex_fetch()));
         self.reads.push((scene.draws.raw, Access::IndirectCommandRead));
         Ok(())
     }

@@ -13,7 +13,7 @@ use crate::render::graph::{Declaration, Pass, PassContext};
 use crate::render::passes::FrameSets;
 use crate::render::scene_gpu::SceneGpu;
 use crate::render::shaders;
-use crate::vk::descriptor::{self, Binding, Resource as Descriptor};
+use crate::vk::descriptor::Resource as Descriptor;
 use crate::vk::{pipeline, Access, Device, Resource};
 
 /// The pipeline, its own set per frame in flight (`FrameSets`), and the pyramid it writes.
@@ -23,24 +23,12 @@ pub struct DepthPyramidPass {
     pyramid: vk::DescriptorBufferInfo,
 }
 
-fn bindings() -> [Binding; 2] {
-    let cs = vk::ShaderStageFlags::COMPUTE;
-    [
-        Binding { binding: 0, kind: vk::DescriptorType::COMBINED_IMAGE_SAMPLER, stages: cs },
-        Binding { binding: 1, kind: vk::DescriptorType::STORAGE_BUFFER, stages: cs },
-    ]
-}
-
 impl DepthPyramidPass {
     /// Build the pipeline and `frames` sets; `multisampled`: the depth it reads has several
     /// samples per pixel (`--msaa`), of which it takes the farthest (`hiz_ms.comp`).
     pub fn new(device: &Device, scene: &SceneGpu, frames: usize, multisampled: bool) -> Result<Self> {
-        let sets = FrameSets::new(device, "depth pyramid", &bindings(), frames)?;
-        let shader = if multisampled {
-            shaders::HIZ_MS_COMP.code(device.profile)
-        } else {
-            shaders::HIZ_COMP.code(device.profile)
-        };
+        let shader = if multisampled { shaders::HIZ_MS_COMP } else { shaders::HIZ_COMP }.code(device.profile);
+        let sets = FrameSets::new(device, "depth pyramid", &[("hiz", shader)], frames)?;
         match pipeline::compute(device, "depth pyramid", shader, sets.layout, &[]) {
             Ok(pipeline) => Ok(Self { pipeline, sets, pyramid: scene.depth_pyramid.descriptor() }),
             Err(e) => {
@@ -73,14 +61,8 @@ impl Pass for DepthPyramidPass {
             image_layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
         };
         // The slot's previous frame has finished (its fence was waited): its set is free.
-        descriptor::write(
-            device,
-            set,
-            &[
-                (0, vk::DescriptorType::COMBINED_IMAGE_SAMPLER, Descriptor::Image(depth)),
-                (1, vk::DescriptorType::STORAGE_BUFFER, Descriptor::Buffer(self.pyramid)),
-            ],
-        );
+        let resources = [(0, Descriptor::Image(depth)), (1, Descriptor::Buffer(self.pyramid))];
+        self.sets.set_layout.write(device, set, "depth pyramid set", &resources)?;
         let groups = gpu::PYRAMID_SIDE / 16;
         // SAFETY: cmd is recording outside a rendering instance; the set matches the layout.
         unsafe {

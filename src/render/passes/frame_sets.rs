@@ -1,18 +1,19 @@
 //! What a pass that reads a frame's own image needs (the depth pyramid reads the frame's depth,
 //! the resolve its multisampled colour): a set layout and pipeline layout, one descriptor set per
 //! frame in flight (pointed at the frame's image when the pass is recorded: that set's previous
-//! use ended with the slot's fence) and a nearest, clamped sampler.
+//! use ended with the slot's fence) and a nearest, clamped sampler. The set's layout is what the
+//! pass's shaders bind in set 0 (reflected, `descriptor::SetLayout::reflected`).
 
 use ash::vk;
 
 use crate::error::Result;
-use crate::vk::descriptor::{self, Binding};
+use crate::vk::descriptor::SetLayout;
 use crate::vk::{pipeline, Device};
 
 /// A set per frame in flight, their layouts and a sampler.
 pub struct FrameSets {
     /// The sets' layout.
-    pub set_layout: vk::DescriptorSetLayout,
+    pub set_layout: SetLayout,
     /// The pipeline layout of that one set.
     pub layout: vk::PipelineLayout,
     pool: vk::DescriptorPool,
@@ -23,20 +24,20 @@ pub struct FrameSets {
 }
 
 impl FrameSets {
-    /// Build `frames` sets of `bindings`, named after `name`. On failure nothing is left.
-    pub fn new(device: &Device, name: &str, bindings: &[Binding], frames: usize) -> Result<Self> {
+    /// Build `frames` sets of set 0 of `shaders` (the pass's stages, `(name, SPIR-V)`), named
+    /// after `name`. On failure nothing is left.
+    pub fn new(device: &Device, name: &str, shaders: &[(&str, &[u8])], frames: usize) -> Result<Self> {
         let mut made = Self {
-            set_layout: vk::DescriptorSetLayout::null(),
+            set_layout: SetLayout::default(),
             layout: vk::PipelineLayout::null(),
             pool: vk::DescriptorPool::null(),
             sets: Vec::new(),
             sampler: vk::Sampler::null(),
         };
         let built = (|| {
-            made.set_layout = descriptor::set_layout(device, &format!("{name} set layout"), bindings)?;
-            made.layout = pipeline::layout(device, &format!("{name} layout"), &[made.set_layout], &[])?;
-            let sets =
-                descriptor::allocate_sets(device, &format!("{name} sets"), made.set_layout, bindings, frames as u32)?;
+            made.set_layout = SetLayout::reflected(device, &format!("{name} set layout"), shaders, 0)?;
+            made.layout = pipeline::layout(device, &format!("{name} layout"), &[made.set_layout.raw], &[])?;
+            let sets = made.set_layout.allocate(device, &format!("{name} sets"), frames as u32)?;
             (made.pool, made.sets) = sets;
             made.sampler = crate::vk::image::clamped_sampler(device, vk::Filter::NEAREST, &format!("{name} sampler"))?;
             Ok(())
@@ -64,8 +65,7 @@ impl FrameSets {
             device.raw.destroy_descriptor_pool(self.pool, None);
             crate::vk::live::destroyed(self.layout);
             device.raw.destroy_pipeline_layout(self.layout, None);
-            crate::vk::live::destroyed(self.set_layout);
-            device.raw.destroy_descriptor_set_layout(self.set_layout, None);
+            self.set_layout.destroy(device);
         }
     }
 }

@@ -10,7 +10,7 @@ use crate::error::Result;
 use crate::render::graph::{Attachment, Declaration, Load, Pass, PassContext, Rendering};
 use crate::render::passes::{self, FrameSets};
 use crate::render::shaders;
-use crate::vk::descriptor::{self, Binding, Resource as Descriptor};
+use crate::vk::descriptor::Resource as Descriptor;
 use crate::vk::{pipeline, Access, Device, Resource};
 
 /// The pipeline and its set per frame in flight (`FrameSets`), with the sampler the
@@ -20,16 +20,15 @@ pub struct ResolvePass {
     sets: FrameSets,
 }
 
-fn bindings() -> [Binding; 1] {
-    let fs = vk::ShaderStageFlags::FRAGMENT;
-    [Binding { binding: 0, kind: vk::DescriptorType::COMBINED_IMAGE_SAMPLER, stages: fs }]
-}
-
 impl ResolvePass {
     /// Build the pipeline for targets of `format`; `constants` decide the encoding
     /// (`SPEC_ENCODE_SRGB`: the target's, not the multisampled scene's).
     pub fn new(device: &Device, format: vk::Format, constants: &[u32], frames: usize) -> Result<Self> {
-        let sets = FrameSets::new(device, "resolve", &bindings(), frames)?;
+        let stages = [
+            ("resolve.vert", shaders::RESOLVE_VERT.code(device.profile)),
+            ("resolve.frag", shaders::RESOLVE_FRAG.code(device.profile)),
+        ];
+        let sets = FrameSets::new(device, "resolve", &stages, frames)?;
         let built = pipeline::graphics(
             device,
             &pipeline::GraphicsDesc {
@@ -91,7 +90,7 @@ impl Pass for ResolvePass {
             image_layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
         };
         // The slot's previous frame has finished (its fence was waited): its set is free.
-        descriptor::write(device, set, &[(0, vk::DescriptorType::COMBINED_IMAGE_SAMPLER, Descriptor::Image(scene))]);
+        self.sets.set_layout.write(device, set, "resolve set", &[(0, Descriptor::Image(scene))])?;
         passes::set_full_viewport(device, cmd, ctx.output.extent);
         // SAFETY: cmd is recording inside this pass's rendering instance; the set matches the layout.
         unsafe {

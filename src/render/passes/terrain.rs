@@ -106,7 +106,7 @@ impl Pass for TerrainPass {
         rendering.depth.as_mut().expect("scene depth").load = Load::Clear(clear_depth);
         let mut declaration = Declaration::graphics(rendering).buffer(self.heights, Access::VertexShaderStorageRead);
         if let Some(grid) = self.relief_grid {
-            declaration = declaration.buffer(grid, Access::VertexShaderSampledRead);
+            declaration = declaration.buffer(grid, ctx.device.profile.vertex_fetch());
         }
         Some(declaration.buffer(self.indices, Access::IndexRead))
     }

@@ -100,7 +100,7 @@ impl Renderer {
         let records = pose_records(&device, scene_gpu, settings.segments);
         let path = (settings.culling.enabled, settings.floor);
         check_pose_records(&device, &renderer.animation, (scene_gpu.blade_count, settings.segments), path.0, path.1)?;
-        let layout = renderer.layouts.animation_layout;
+        let layout = &renderer.layouts.animation;
         let room = (records, crate::render::scene_gpu::level_room(scene_gpu, records, settings.culling.enabled));
         renderer.model = Some(build_model(&device, layout, &renderer.animation, settings.segments, room)?);
         renderer.build_graph(scene, polygon)?;
@@ -144,7 +144,7 @@ impl Renderer {
                     records,
                     crate::render::scene_gpu::level_room(self.scene_gpu(), records, settings.culling.enabled),
                 );
-                Some(build_model(&device, self.layouts.animation_layout, &animation, settings.segments, room)?)
+                Some(build_model(&device, &self.layouts.animation, &animation, settings.segments, room)?)
             }
         };
         let mut previous = (

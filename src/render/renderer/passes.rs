@@ -42,7 +42,7 @@ impl Renderer {
         // Uploaded data, as the upload left it (a new kind of read will wait for the upload).
         self.graph.import(Resource::color(scene.blade_alpha.raw), &[Access::FragmentShaderSampledRead]);
         let vertex_compute = [Access::VertexShaderStorageRead, Access::ComputeShaderRead];
-        self.graph.import(Resource::Buffer(scene.blades.raw), crate::render::scene_set::BLADE_READS);
+        self.graph.import(Resource::Buffer(scene.blades.raw), self.device.profile.fetches());
         self.graph.import(Resource::Buffer(scene.clusters.raw), &vertex_compute);
         self.graph.import(Resource::Buffer(scene.heights.raw), &[Access::VertexShaderStorageRead]);
         self.graph.import(Resource::Buffer(scene.terrain_indices.raw), &[Access::IndexRead]);
@@ -58,7 +58,7 @@ impl Renderer {
             self.add_blade_passes(target, &constants)?;
         }
         if self.settings.debug_bounds {
-            let (set_layout, scene) = (self.layouts.set_layout, self.scene.as_ref().expect("uploaded"));
+            let (set_layout, scene) = (self.layouts.scene.raw, self.scene.as_ref().expect("uploaded"));
             self.graph.add(ClusterBoundsPass::new(&self.device, set_layout, target, &constants, scene)?);
         }
         if msaa.enabled() {

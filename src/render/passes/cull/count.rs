@@ -14,8 +14,8 @@ pub fn pass(device: &Device, setup: &CullSetup, scene: &SceneGpu) -> Result<Cull
     let read = Access::ComputeShaderRead;
     let mut uses = vec![
         (scene.tiles.raw, read),
-        (scene.depth_pyramid.raw, Access::ComputeShaderSampledRead),
-        (scene.blades.raw, Access::ComputeShaderSampledRead),
+        (scene.depth_pyramid.raw, device.profile.compute_fetch()),
+        (scene.blades.raw, device.profile.compute_fetch()),
         (scene.heights.raw, read),
         (scene.slot_counts.raw, Access::ComputeShaderWrite),
         (scene.cull_results.raw, Access::ComputeShaderWrite),
@@ -24,7 +24,7 @@ pub fn pass(device: &Device, setup: &CullSetup, scene: &SceneGpu) -> Result<Cull
         (scene.cull_alloc.raw, Access::IndirectCommandRead),
     ];
     // A block field's roots sit on the relief grid.
-    uses.extend(scene.relief_grid_read().map(|grid| (grid, Access::ComputeShaderSampledRead)));
+    uses.extend(scene.relief_grid_read().map(|grid| (grid, device.profile.compute_fetch())));
     let groups = Groups::Indirect(scene.cull_alloc.raw, 0);
     CullStep::new(device, ("cull count", shaders::CULL_COUNT_COMP.code(device.profile)), setup, uses, groups)
 }

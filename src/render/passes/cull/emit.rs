@@ -18,8 +18,8 @@ pub fn pass(device: &Device, setup: &CullSetup, scene: &SceneGpu) -> Result<Cull
         // A stored field's tiles (where a slot's blades start); the tile tests' result is the
         // tiles pass's, in `cull_alloc`.
         (scene.tiles.raw, read),
-        // The count pass's verdicts, fetched as texels.
-        (scene.cull_results.raw, Access::ComputeShaderSampledRead),
+        // The count pass's verdicts, fetched as texels in the lavapipe profile.
+        (scene.cull_results.raw, device.profile.compute_fetch()),
         (scene.cull_alloc.raw, read),
         (scene.slot_counts.raw, read),
         (scene.draws.raw, read),

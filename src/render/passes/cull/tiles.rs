@@ -15,7 +15,7 @@ pub fn pass(device: &Device, setup: &CullSetup, scene: &SceneGpu) -> Result<Cull
     let read = Access::ComputeShaderRead;
     let uses = vec![
         (scene.tiles.raw, read),
-        (scene.depth_pyramid.raw, Access::ComputeShaderSampledRead),
+        (scene.depth_pyramid.raw, device.profile.compute_fetch()),
         (scene.heights.raw, read),
         (scene.slot_counts.raw, Access::ComputeShaderWrite),
         // Written, then read back by the invocation that wrote it.

@@ -1,0 +1,338 @@
+//! What a SPIR-V module binds, read from the module itself (as niagara and kajiya derive their
+//! layouts): each descriptor's set, binding and type, and the module's stage. A pipeline's set
+//! layouts are the union of its stages' (`merge`), so a shader's declarations are the one place a
+//! binding is written down: no hand-kept list to keep in step with the GLSL.
+//!
+//! Only what the entry point uses counts: the descriptors its function and the functions it calls
+//! (transitively) refer to, so a header that declares twenty bindings costs a shader only the ones
+//! it reads. (glslang lists every declared global in the entry point's interface, used or not.)
+
+use std::collections::BTreeMap;
+
+use ash::vk;
+
+use crate::error::{Error, Result};
+use crate::vk::descriptor::Binding;
+
+/// One descriptor a module declares.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Descriptor {
+    /// `layout(set = …)`.
+    pub set: u32,
+    /// `layout(binding = …)`.
+    pub binding: u32,
+    /// Its type.
+    pub kind: vk::DescriptorType,
+}
+
+/// A module's stage and the descriptors its entry point uses, sorted by (set, binding).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Reflection {
+    /// The entry point's stage.
+    pub stage: vk::ShaderStageFlags,
+    /// The descriptors.
+    pub descriptors: Vec<Descriptor>,
+}
+
+const MAGIC: u32 = 0x0723_0203;
+const OP_ENTRY_POINT: u32 = 15;
+const OP_FUNCTION: u32 = 54;
+const OP_FUNCTION_END: u32 = 56;
+const OP_TYPE_IMAGE: u32 = 25;
+const OP_TYPE_SAMPLER: u32 = 26;
+const OP_TYPE_SAMPLED_IMAGE: u32 = 27;
+const OP_TYPE_ARRAY: u32 = 28;
+const OP_TYPE_RUNTIME_ARRAY: u32 = 29;
+const OP_TYPE_STRUCT: u32 = 30;
+const OP_TYPE_POINTER: u32 = 32;
+const OP_VARIABLE: u32 = 59;
+const OP_DECORATE: u32 = 71;
+const OP_TYPE_ACCELERATION_STRUCTURE: u32 = 5341;
+const DECORATION_BLOCK: u32 = 2;
+const DECORATION_BUFFER_BLOCK: u32 = 3;
+const DECORATION_BINDING: u32 = 33;
+const DECORATION_DESCRIPTOR_SET: u32 = 34;
+const STORAGE_UNIFORM_CONSTANT: u32 = 0;
+const STORAGE_UNIFORM: u32 = 2;
+const STORAGE_STORAGE_BUFFER: u32 = 12;
+const DIM_BUFFER: u32 = 5;
+const DIM_SUBPASS_DATA: u32 = 6;
+
+/// The types a descriptor's variable may point at.
+#[derive(Clone, Copy)]
+enum Type {
+    Image {
+        dim: u32,
+        sampled: u32,
+    },
+    Sampler,
+    /// Of the image type of this id.
+    SampledImage(u32),
+    Array,
+    Struct,
+    /// To the type of this id.
+    Pointer(u32),
+    AccelerationStructure,
+}
+
+/// What `reflect` reads from a module's instructions.
+#[derive(Default)]
+struct Module {
+    stage: Option<vk::ShaderStageFlags>,
+    /// The entry point's function.
+    entry: u32,
+    /// Every operand word of each function's instructions, by function id: the variables it
+    /// refers to and the functions it calls are among them.
+    functions: BTreeMap<u32, Vec<u32>>,
+    types: BTreeMap<u32, Type>,
+    sets: BTreeMap<u32, u32>,
+    bindings: BTreeMap<u32, u32>,
+    /// Struct id to `Block` or `BufferBlock`.
+    blocks: BTreeMap<u32, u32>,
+    /// (id, pointer type, storage class).
+    variables: Vec<(u32, u32, u32)>,
+}
+
+/// Read the instructions `reflect` needs.
+fn parse(spirv: &[u8]) -> std::result::Result<Module, String> {
+    if spirv.len() % 4 != 0 || spirv.len() < 20 {
+        return Err("not a SPIR-V module".into());
+    }
+    let words: Vec<u32> = spirv.chunks_exact(4).map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]])).collect();
+    if words[0] != MAGIC {
+        return Err("not a little-endian SPIR-V module".into());
+    }
+    let mut m = Module::default();
+    let mut function = None;
+    let mut at = 5;
+    while at < words.len() {
+        let count = (words[at] >> 16) as usize;
+        if count == 0 || at + count > words.len() {
+            return Err("truncated instruction".into());
+        }
+        let (op, args) = (words[at] & 0xffff, &words[at + 1..at + count]);
+        at += count;
+        match (op, function) {
+            (OP_FUNCTION, _) if args.len() >= 2 => function = Some(args[1]),
+            (OP_FUNCTION_END, _) => function = None,
+            (_, Some(f)) => m.functions.entry(f).or_default().extend_from_slice(args),
+            _ => {}
+        }
+        let Some(&id) = args.first() else { continue };
+        match op {
+            OP_ENTRY_POINT if m.stage.is_some() => return Err("more than one entry point".into()),
+            OP_ENTRY_POINT => {
+                let (stage, entry) = entry_point(args)?;
+                (m.stage, m.entry) = (Some(stage), entry);
+            }
+            OP_DECORATE => match (args.get(1).copied(), args.get(2).copied()) {
+                (Some(DECORATION_DESCRIPTOR_SET), Some(set)) => {
+                    m.sets.insert(id, set);
+                }
+                (Some(DECORATION_BINDING), Some(binding)) => {
+                    m.bindings.insert(id, binding);
+                }
+                (Some(d @ (DECORATION_BLOCK | DECORATION_BUFFER_BLOCK)), _) => {
+                    m.blocks.insert(id, d);
+                }
+                _ => {}
+            },
+            OP_TYPE_IMAGE if args.len() >= 7 => {
+                m.types.insert(id, Type::Image { dim: args[2], sampled: args[6] });
+            }
+            OP_TYPE_SAMPLER => {
+                m.types.insert(id, Type::Sampler);
+            }
+            OP_TYPE_SAMPLED_IMAGE => {
+                m.types.insert(id, Type::SampledImage(args.get(1).copied().unwrap_or(0)));
+            }
+            OP_TYPE_ARRAY | OP_TYPE_RUNTIME_ARRAY => {
+                m.types.insert(id, Type::Array);
+            }
+            OP_TYPE_STRUCT => {
+                m.types.insert(id, Type::Struct);
+            }
+            OP_TYPE_POINTER if args.len() >= 3 => {
+                m.types.insert(id, Type::Pointer(args[2]));
+            }
+            OP_TYPE_ACCELERATION_STRUCTURE => {
+                m.types.insert(id, Type::AccelerationStructure);
+            }
+            OP_VARIABLE if args.len() >= 3 => m.variables.push((args[1], id, args[2])),
+            _ => {}
+        }
+    }
+    Ok(m)
+}
+
+/// An `OpEntryPoint`'s stage and function (its arguments: execution model, function id, name,
+/// interface ids).
+fn entry_point(args: &[u32]) -> std::result::Result<(vk::ShaderStageFlags, u32), String> {
+    let stage = match args[0] {
+        0 => vk::ShaderStageFlags::VERTEX,
+        4 => vk::ShaderStageFlags::FRAGMENT,
+        5 => vk::ShaderStageFlags::COMPUTE,
+        model => return Err(format!("execution model {model}")),
+    };
+    let function = *args.get(1).ok_or("an entry point without a function")?;
+    Ok((stage, function))
+}
+
+impl Module {
+    /// Every id the entry point's function and the functions it calls refer to.
+    fn used(&self) -> std::collections::BTreeSet<u32> {
+        let mut reached = std::collections::BTreeSet::from([self.entry]);
+        let mut queue = vec![self.entry];
+        let mut used = std::collections::BTreeSet::new();
+        while let Some(f) = queue.pop() {
+            for &word in self.functions.get(&f).into_iter().flatten() {
+                used.insert(word);
+                if self.functions.contains_key(&word) && reached.insert(word) {
+                    queue.push(word);
+                }
+            }
+        }
+        used
+    }
+
+    /// The descriptor type of a variable of pointer type `pointer` in storage class `class`.
+    fn kind(&self, pointer: u32, class: u32) -> std::result::Result<vk::DescriptorType, String> {
+        use vk::DescriptorType as T;
+        let Some(&Type::Pointer(pointee)) = self.types.get(&pointer) else {
+            return Err("not a pointer".into());
+        };
+        Ok(match (class, self.types.get(&pointee)) {
+            (_, Some(Type::Array)) => {
+                return Err("arrays of descriptors are not supported (one descriptor per binding)".into())
+            }
+            (STORAGE_STORAGE_BUFFER, _) => T::STORAGE_BUFFER,
+            (STORAGE_UNIFORM, Some(Type::Struct)) => match self.blocks.get(&pointee) {
+                Some(&DECORATION_BUFFER_BLOCK) => T::STORAGE_BUFFER,
+                Some(_) => T::UNIFORM_BUFFER,
+                None => return Err("a uniform struct without Block".into()),
+            },
+            (STORAGE_UNIFORM_CONSTANT, Some(&Type::Image { dim, sampled })) => match (dim, sampled) {
+                (DIM_BUFFER, 1) => T::UNIFORM_TEXEL_BUFFER,
+                (DIM_BUFFER, _) => T::STORAGE_TEXEL_BUFFER,
+                (DIM_SUBPASS_DATA, _) => T::INPUT_ATTACHMENT,
+                (_, 1) => T::SAMPLED_IMAGE,
+                _ => T::STORAGE_IMAGE,
+            },
+            (STORAGE_UNIFORM_CONSTANT, Some(Type::SampledImage(image))) => match self.types.get(image) {
+                // `samplerBuffer`: a uniform texel buffer.
+                Some(Type::Image { dim: DIM_BUFFER, .. }) => T::UNIFORM_TEXEL_BUFFER,
+                _ => T::COMBINED_IMAGE_SAMPLER,
+            },
+            (STORAGE_UNIFORM_CONSTANT, Some(Type::Sampler)) => T::SAMPLER,
+            (STORAGE_UNIFORM_CONSTANT, Some(Type::AccelerationStructure)) => T::ACCELERATION_STRUCTURE_KHR,
+            _ => return Err(format!("storage class {class} of an unknown descriptor type")),
+        })
+    }
+}
+
+/// Reflect `spirv` (one entry point); `name` names it in errors.
+pub fn reflect(name: &str, spirv: &[u8]) -> Result<Reflection> {
+    let bad = |why: String| Error::Internal(format!("{name}: SPIR-V reflection: {why}"));
+    let module = parse(spirv).map_err(bad)?;
+    let stage = module.stage.ok_or_else(|| bad("no entry point".into()))?;
+    let used = module.used();
+    let mut descriptors = Vec::new();
+    for &(id, pointer, class) in &module.variables {
+        let (Some(&set), Some(&binding)) = (module.sets.get(&id), module.bindings.get(&id)) else {
+            continue;
+        };
+        if used.contains(&id) {
+            let kind = module.kind(pointer, class).map_err(|why| bad(format!("set {set} binding {binding}: {why}")))?;
+            descriptors.push(Descriptor { set, binding, kind });
+        }
+    }
+    descriptors.sort_by_key(|d| (d.set, d.binding));
+    Ok(Reflection { stage, descriptors })
+}
+
+/// The bindings of each set that `shaders` (one pipeline's stages, or every pipeline sharing a
+/// layout) use together, by set number: a binding's stages are those that use it. Two shaders
+/// giving one binding different types are an error naming both.
+pub fn merge(shaders: &[(&str, &[u8])]) -> Result<BTreeMap<u32, Vec<Binding>>> {
+    let mut sets: BTreeMap<u32, Vec<(Binding, &str)>> = BTreeMap::new();
+    for &(name, spirv) in shaders {
+        let reflection = reflect(name, spirv)?;
+        for d in reflection.descriptors {
+            let set = sets.entry(d.set).or_default();
+            match set.iter_mut().find(|(b, _)| b.binding == d.binding) {
+                Some((b, _)) if b.kind == d.kind => b.stages |= reflection.stage,
+                Some((b, first)) => {
+                    return Err(Error::Internal(format!(
+                        "set {} binding {}: {first} binds {:?}, {name} binds {:?}",
+                        d.set, d.binding, b.kind, d.kind
+                    )))
+                }
+                None => set.push((Binding { binding: d.binding, kind: d.kind, stages: reflection.stage }, name)),
+            }
+        }
+    }
+    Ok(sets
+        .into_iter()
+        .map(|(set, mut bindings)| {
+            bindings.sort_by_key(|(b, _)| b.binding);
+            (set, bindings.into_iter().map(|(b, _)| b).collect())
+        })
+        .collect())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::render::shaders;
+    use crate::vk::profile::Profile;
+
+    fn descriptors(spirv: &[u8]) -> Vec<(u32, u32, vk::DescriptorType)> {
+        reflect("test", spirv).unwrap().descriptors.iter().map(|d| (d.set, d.binding, d.kind)).collect()
+    }
+
+    #[test]
+    fn a_compute_shader_of_its_own_set() {
+        // hiz.comp: `sampler2D depth` at 0, the pyramid's storage buffer at 1, the push constants
+        // not a descriptor.
+        let reflection = reflect("hiz", shaders::HIZ_COMP.code(Profile::Lavapipe)).unwrap();
+        assert_eq!(reflection.stage, vk::ShaderStageFlags::COMPUTE);
+        assert_eq!(
+            descriptors(shaders::HIZ_COMP.code(Profile::Lavapipe)),
+            [(0, 0, vk::DescriptorType::COMBINED_IMAGE_SAMPLER), (0, 1, vk::DescriptorType::STORAGE_BUFFER)]
+        );
+    }
+
+    #[test]
+    fn only_what_the_entry_point_uses_counts() {
+        // floor.vert includes bindings.glsl (two sets of declarations) and reads the frame's
+        // uniforms alone.
+        let floor = descriptors(shaders::FLOOR_VERT.code(Profile::Lavapipe));
+        assert_eq!(floor, [(0, crate::render::gpu_constants::BINDING_FRAME, vk::DescriptorType::UNIFORM_BUFFER)]);
+        assert_eq!(
+            reflect("floor", shaders::FLOOR_FRAG.code(Profile::Lavapipe)).unwrap().stage,
+            vk::ShaderStageFlags::FRAGMENT
+        );
+    }
+
+    #[test]
+    fn stages_merge_and_conflicts_are_named() {
+        let vert = shaders::BLADE_VERT.code(Profile::Lavapipe);
+        let frag = shaders::BLADE_FRAG.code(Profile::Lavapipe);
+        let sets = merge(&[("blade.vert", vert), ("blade.frag", frag)]).unwrap();
+        let frame = sets[&0].iter().find(|b| b.binding == crate::render::gpu_constants::BINDING_FRAME).unwrap();
+        assert_eq!(frame.stages, vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT);
+        // hiz.comp's set 0 binding 0 is a combined image sampler; the blade shaders' a uniform buffer.
+        let error =
+            merge(&[("blade.vert", vert), ("hiz.comp", shaders::HIZ_COMP.code(Profile::Lavapipe))]).unwrap_err();
+        assert!(error.to_string().contains("set 0 binding 0: blade.vert binds"), "{error}");
+    }
+
+    #[test]
+    fn garbage_is_an_error_not_a_panic() {
+        assert!(reflect("empty", &[]).is_err());
+        assert!(reflect("text", b"#version 460\n void main() {}\n").is_err());
+        let mut truncated = shaders::FLOOR_VERT.code(Profile::Lavapipe).to_vec();
+        truncated.truncate(40);
+        assert!(reflect("truncated", &truncated).is_err());
+    }
+}
