@@ -95,7 +95,7 @@ struct Module {
 
 /// Read the instructions `reflect` needs.
 fn parse(spirv: &[u8]) -> std::result::Result<Module, String> {
-    if spirv.len() % 4 != 0 || spirv.len() < 20 {
+    if !spirv.len().is_multiple_of(4) || spirv.len() < 20 {
         return Err("not a SPIR-V module".into());
     }
     let words: Vec<u32> = spirv.chunks_exact(4).map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]])).collect();
