@@ -14,7 +14,6 @@ pub mod still;
 pub use keyframe_gpu::{texture_format, KeyframeTexture, KeyframeUniforms};
 pub use model::{AnimationModel, BladeInput};
 
-use ash::vk;
 use glam::{Vec2, Vec4};
 
 use crate::keyframes::encoding::{Encoding, Packing};
