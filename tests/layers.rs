@@ -212,7 +212,6 @@ const ORDER: &[&str] = &[
     "render::submission",
     "render::msaa",
     "render::budget",
-    "render::scene_set",
     "render::camera_grid",
     "render::terrain_chunks",
     "render::field_gpu",

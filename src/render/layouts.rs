@@ -213,3 +213,60 @@ mod tests {
         }
     }
 }
+
+/// `vk::reflect` on the library's own shaders (here, above `vk`, where the shaders are).
+#[cfg(test)]
+mod reflect_tests {
+    use super::*;
+    use crate::vk::reflect::{merge, reflect};
+
+    fn descriptors(spirv: &[u8]) -> Vec<(u32, u32, vk::DescriptorType)> {
+        reflect("test", spirv).unwrap().descriptors.iter().map(|d| (d.set, d.binding, d.kind)).collect()
+    }
+
+    #[test]
+    fn a_compute_shader_of_its_own_set() {
+        // hiz.comp: `sampler2D depth` at 0, the pyramid's storage buffer at 1, the push constants
+        // not a descriptor.
+        let reflection = reflect("hiz", shaders::HIZ_COMP.code(Profile::Lavapipe)).unwrap();
+        assert_eq!(reflection.stage, vk::ShaderStageFlags::COMPUTE);
+        assert_eq!(
+            descriptors(shaders::HIZ_COMP.code(Profile::Lavapipe)),
+            [(0, 0, vk::DescriptorType::COMBINED_IMAGE_SAMPLER), (0, 1, vk::DescriptorType::STORAGE_BUFFER)]
+        );
+    }
+
+    #[test]
+    fn only_what_the_entry_point_uses_counts() {
+        // floor.vert includes bindings.glsl (two sets of declarations) and reads the frame's
+        // uniforms alone.
+        let floor = descriptors(shaders::FLOOR_VERT.code(Profile::Lavapipe));
+        assert_eq!(floor, [(0, crate::render::gpu_constants::BINDING_FRAME, vk::DescriptorType::UNIFORM_BUFFER)]);
+        assert_eq!(
+            reflect("floor", shaders::FLOOR_FRAG.code(Profile::Lavapipe)).unwrap().stage,
+            vk::ShaderStageFlags::FRAGMENT
+        );
+    }
+
+    #[test]
+    fn stages_merge_and_conflicts_are_named() {
+        let vert = shaders::BLADE_VERT.code(Profile::Lavapipe);
+        let frag = shaders::BLADE_FRAG.code(Profile::Lavapipe);
+        let sets = merge(&[("blade.vert", vert), ("blade.frag", frag)]).unwrap();
+        let frame = sets[&0].iter().find(|b| b.binding == crate::render::gpu_constants::BINDING_FRAME).unwrap();
+        assert_eq!(frame.stages, vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT);
+        // hiz.comp's set 0 binding 0 is a combined image sampler; the blade shaders' a uniform buffer.
+        let error =
+            merge(&[("blade.vert", vert), ("hiz.comp", shaders::HIZ_COMP.code(Profile::Lavapipe))]).unwrap_err();
+        assert!(error.to_string().contains("set 0 binding 0: blade.vert binds"), "{error}");
+    }
+
+    #[test]
+    fn garbage_is_an_error_not_a_panic() {
+        assert!(reflect("empty", &[]).is_err());
+        assert!(reflect("text", b"#version 460\n void main() {}\n").is_err());
+        let mut truncated = shaders::FLOOR_VERT.code(Profile::Lavapipe).to_vec();
+        truncated.truncate(40);
+        assert!(reflect("truncated", &truncated).is_err());
+    }
+}

@@ -51,7 +51,7 @@ impl Renderer {
         self.graph.import(keyframes, &uploaded);
         if settings.floor {
             let sky = self.sky();
-            let set_layout = self.layouts.set_layout;
+            let set_layout = self.layouts.scene.raw;
             add_terrain(&mut self.graph, device, (target, set_layout), &constants, scene, sky)?;
             self.graph.add(FloorPass::new(device, target, &constants, &cpu_scene.blades, settings.segments)?);
         } else {
@@ -147,7 +147,7 @@ impl Renderer {
         let (before, after) = if culled { (Vec::new(), model_passes) } else { (model_passes, Vec::new()) };
         before.into_iter().for_each(|pass| self.graph.add_boxed(pass));
         let sky = self.sky();
-        let (graph, slots, set_layout) = (&mut self.graph, self.ring.slots(), self.layouts.set_layout);
+        let (graph, slots, set_layout) = (&mut self.graph, self.ring.slots(), self.layouts.scene.raw);
         let built = (|| {
             add_terrain(graph, device, (target, set_layout), constants, scene, sky)?;
             if culled && settings.culling.occlusion {
