@@ -415,9 +415,8 @@ impl SceneGpu {
         Ok(sampler)
     }
 
-    /// Point `set` (of `layout`, `SET_SCENE`) at the scene's resources and at one frame's
-    /// uniforms, corners and emitters: every resource by its binding number, of which the layout
-    /// (reflected from the scene shaders of the device's profile) writes those its shaders bind.
+    /// Point `set` (of `layout`, `SET_SCENE`, reflected) at the scene's and one frame's resources,
+    /// each by its binding number: the layout writes those its shaders bind.
     pub fn write_descriptors(
         &self,
         device: &Device,
@@ -430,8 +429,7 @@ impl SceneGpu {
             image_view: self.blade_alpha.view,
             image_layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
         });
-        let buffer = |b: &Buffer| Resource::Buffer(b.descriptor());
-        let texels = |t: &TexelView| Resource::Texels(t.raw);
+        let (buffer, texels) = (|b: &Buffer| Resource::Buffer(b.descriptor()), |t: &TexelView| Resource::Texels(t.raw));
         let resources = [
             (gpu_constants::BINDING_FRAME, Resource::Buffer(frame.uniforms.descriptor())),
             (gpu_constants::BINDING_FRAME_STORAGE, Resource::Buffer(frame.uniforms.descriptor())),
