@@ -32,17 +32,7 @@ pub fn supported_counts(device: &Device, attachments: &[AttachmentUse]) -> Vec<u
             mask &=
                 if depth { limits.sampled_image_depth_sample_counts } else { limits.sampled_image_color_sample_counts };
         }
-        // SAFETY: valid physical device and enums.
-        let properties = unsafe {
-            device.instance.raw.get_physical_device_image_format_properties(
-                device.physical,
-                attachment.format,
-                vk::ImageType::TYPE_2D,
-                vk::ImageTiling::OPTIMAL,
-                attachment.usage,
-                vk::ImageCreateFlags::empty(),
-            )
-        };
+        let properties = format_properties(device, attachment);
         mask &= properties.map_or(vk::SampleCountFlags::TYPE_1, |p| p.sample_counts);
         if device.format_features(attachment.format).is_empty() {
             mask = vk::SampleCountFlags::TYPE_1;
@@ -61,18 +51,7 @@ pub fn check_extent(
     (extent, samples): (vk::Extent2D, u32),
     what: &str,
 ) -> Result<()> {
-    // SAFETY: valid physical device and enums.
-    let properties = unsafe {
-        device.instance.raw.get_physical_device_image_format_properties(
-            device.physical,
-            attachment.format,
-            vk::ImageType::TYPE_2D,
-            vk::ImageTiling::OPTIMAL,
-            attachment.usage,
-            vk::ImageCreateFlags::empty(),
-        )
-    }
-    .vk("vkGetPhysicalDeviceImageFormatProperties")?;
+    let properties = format_properties(device, attachment).vk("vkGetPhysicalDeviceImageFormatProperties")?;
     let max = properties.max_extent;
     if extent.width > max.width || extent.height > max.height {
         return Err(Error::bad_input(format!(
@@ -92,6 +71,21 @@ pub fn check_extent(
         )));
     }
     Ok(())
+}
+
+/// The format's image properties for `attachment`'s usage as an optimally tiled 2-D image.
+fn format_properties(device: &Device, attachment: &AttachmentUse) -> ash::prelude::VkResult<vk::ImageFormatProperties> {
+    // SAFETY: valid physical device and enums.
+    unsafe {
+        device.instance.raw.get_physical_device_image_format_properties(
+            device.physical,
+            attachment.format,
+            vk::ImageType::TYPE_2D,
+            vk::ImageTiling::OPTIMAL,
+            attachment.usage,
+            vk::ImageCreateFlags::empty(),
+        )
+    }
 }
 
 fn is_depth(format: vk::Format) -> bool {
