@@ -144,7 +144,7 @@ pub fn block_blades(spec: &FieldSpec, seed: u64) -> Vec<BladeInstance> {
 
 /// How far from the world's origin, in x and z, a block field is drawn (metres). The GPU holds
 /// a cell's integer coordinates in 32 bits (`render::field_gpu::Origin::cell`,
-/// `shaders/field.glsl`), and the cull adds up to 127 rings to the camera's cell: 2³¹ cells of
+/// `shaders/common/field.glsl`), and the cull adds up to 127 rings to the camera's cell: 2³¹ cells of
 /// `BLOCK_SIZE` end at 8.59e9 m, so 8e9 m keeps every cell it visits in range. (Positions are
 /// `f32`: out there a camera moves in steps of 512 m, and wrapping the index would not help.)
 pub const MAX_DISTANCE: f32 = 8.0e9;

@@ -1,6 +1,6 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// Evaluates `blade_force` (shaders/forces.glsl, the function the blade vertex shader uses) for
+// Evaluates `blade_force` (shaders/animation/forces.glsl, the function the blade vertex shader uses) for
 // every blade and writes it out: GPU read-back of per-blade forces for tests and experiments.
 #include "common/common.glsl"
 
