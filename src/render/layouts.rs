@@ -1,6 +1,6 @@
 //! The descriptor-set and pipeline layouts the scene pipelines share (`SET_SCENE` for the scene
-//! and one frame's uniforms and forces, `SET_ANIMATION` for the animation model), and the frames
-//! in flight with their scene sets.
+//! and one frame's uniforms and forces, `SET_ANIMATION` for the animation model), and each frame
+//! in flight's uniforms and scene set (`SceneFrame`).
 //!
 //! Both set layouts come from the shaders themselves: each is the union of what the scene shaders
 //! (`render::shaders::SCENE`, every library shader that includes `common/bindings.glsl`) bind in
@@ -11,16 +11,14 @@
 use ash::vk;
 
 use crate::error::Result;
-use crate::render::animation;
-use crate::render::frame::Frame;
+use crate::render::frame::{FrameUniforms, PerFrame};
 use crate::render::gpu_constants as gpu;
 use crate::render::scene_gpu::SceneGpu;
-use crate::render::settings::RenderSettings;
 use crate::render::shaders;
 use crate::render::submission;
-use crate::vk::descriptor::{self, Binding, SetLayout};
+use crate::vk::descriptor::{self, Binding, Resource, SetLayout};
 use crate::vk::profile::Profile;
-use crate::vk::{pipeline, reflect, Device};
+use crate::vk::{pipeline, reflect, Buffer, BufferDesc, Destroy, Device, Guard};
 
 /// The descriptor-set layouts of the scene pipelines (`SET_SCENE`, `SET_ANIMATION`), the
 /// pipeline layout they share, and the pool of the per-frame scene sets.
@@ -106,48 +104,53 @@ impl SceneLayouts {
             device.raw.destroy_descriptor_pool(self.pool, None);
             crate::vk::live::destroyed(self.pipeline_layout);
             device.raw.destroy_pipeline_layout(self.pipeline_layout, None);
-            self.animation.destroy(device);
-            self.scene.destroy(device);
+            SetLayout::destroy(&self.animation, device);
+            SetLayout::destroy(&self.scene, device);
         }
     }
 }
 
-/// The frames in flight, each with its set 0 pointing at the scene and at its own uniforms.
-pub fn build_frames(
+/// The uniforms' and sets' part of one frame in flight (`frame::PerFrame`): the frame's
+/// uniforms and its set 0, which points at them, at the scene and at the frame's forces and cull
+/// counts.
+pub struct SceneFrame {
+    /// Host-visible `FrameUniforms`.
+    pub uniforms: Buffer,
+    /// Set 0 of the scene passes (it goes with `SceneLayouts::pool`).
+    pub set: vk::DescriptorSet,
+}
+
+impl Destroy for SceneFrame {
+    unsafe fn destroy(self, device: &Device) {
+        // SAFETY: per the contract (the set goes with its pool).
+        unsafe { self.uniforms.destroy(device) };
+    }
+}
+
+/// The uniforms and scene sets of `slots` frames in flight, each set pointed at the scene, at its
+/// frame's uniforms and at what `others(slot)` gives by binding number: the other subsystems'
+/// parts of that frame (its forces, its cull counts).
+pub fn scene_frames(
     device: &Device,
     layouts: &mut SceneLayouts,
     scene: &SceneGpu,
-    settings: &RenderSettings,
-) -> Result<Vec<Frame>> {
-    let count = settings.frames_in_flight as u32;
-    let (pool, sets) = layouts.scene.allocate(device, "scene sets", count)?;
+    slots: usize,
+    others: impl Fn(usize) -> Vec<(u32, Resource)>,
+) -> Result<PerFrame<SceneFrame>> {
+    let (pool, sets) = layouts.scene.allocate(device, "scene sets", slots as u32)?;
     layouts.pool = pool;
-    let corners = scene.grid.corner_count();
-    let emitters = animation::MAX_EMITTERS as u32;
-    let mut frames = Vec::with_capacity(sets.len());
-    for (index, set) in sets.into_iter().enumerate() {
-        match Frame::new(device, index, set, corners, emitters, settings.pipeline_statistics) {
-            Ok(frame) => {
-                let written = scene.write_descriptors(device, &layouts.scene, set, &frame);
-                frames.push(frame);
-                if let Err(e) = written {
-                    for frame in frames {
-                        // SAFETY: never submitted.
-                        unsafe { frame.destroy(device) };
-                    }
-                    return Err(e);
-                }
-            }
-            Err(e) => {
-                for frame in frames {
-                    // SAFETY: never submitted.
-                    unsafe { frame.destroy(device) };
-                }
-                return Err(e);
-            }
-        }
-    }
-    Ok(frames)
+    // A storage buffer too: the lavapipe profile's cull reads it through `BINDING_FRAME_STORAGE`.
+    let usage = vk::BufferUsageFlags::UNIFORM_BUFFER | vk::BufferUsageFlags::STORAGE_BUFFER;
+    let size = std::mem::size_of::<FrameUniforms>() as u64;
+    PerFrame::new(device, sets.len(), |slot| {
+        let uniforms = Buffer::new(device, &BufferDesc::upload(&format!("frame {slot} uniforms"), size, usage))?;
+        let frame = Guard::new(device, SceneFrame { uniforms, set: sets[slot] });
+        let mut own = others(slot);
+        own.push((gpu::BINDING_FRAME, Resource::Buffer(frame.uniforms.descriptor())));
+        own.push((gpu::BINDING_FRAME_STORAGE, Resource::Buffer(frame.uniforms.descriptor())));
+        scene.write_descriptors(device, &layouts.scene, frame.set, &own)?;
+        Ok(frame.take())
+    })
 }
 
 #[cfg(test)]

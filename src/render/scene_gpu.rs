@@ -9,7 +9,6 @@ use std::sync::Arc;
 use ash::vk;
 
 use crate::error::Result;
-use crate::render::frame::Frame;
 use crate::render::gpu_constants;
 use crate::render::limits::BLADES_PER_INSTANCE_RANGE;
 use crate::scene::clusters::{BladeCluster, ClusterGrid};
@@ -415,14 +414,15 @@ impl SceneGpu {
         Ok(sampler)
     }
 
-    /// Point `set` (of `layout`, `SET_SCENE`, reflected) at the scene's and one frame's resources,
-    /// each by its binding number: the layout writes those its shaders bind.
+    /// Point `set` (of `layout`, `SET_SCENE`, reflected) at the scene's resources and at `frame`'s
+    /// (one frame's own, given by their owners), each by its binding number: the layout writes
+    /// those its shaders bind.
     pub fn write_descriptors(
         &self,
         device: &Device,
         layout: &SetLayout,
         set: vk::DescriptorSet,
-        frame: &Frame,
+        frame: &[(u32, Resource)],
     ) -> Result<()> {
         let alpha = Resource::Image(vk::DescriptorImageInfo {
             sampler: self.sampler,
@@ -431,21 +431,16 @@ impl SceneGpu {
         });
         let (buffer, texels) = (|b: &Buffer| Resource::Buffer(b.descriptor()), |t: &TexelView| Resource::Texels(t.raw));
         let resources = [
-            (gpu_constants::BINDING_FRAME, Resource::Buffer(frame.uniforms.descriptor())),
-            (gpu_constants::BINDING_FRAME_STORAGE, Resource::Buffer(frame.uniforms.descriptor())),
             (gpu_constants::BINDING_BLADES, buffer(&self.blades)),
             (gpu_constants::BINDING_BLADE_TEXELS, texels(&self.blade_texels)),
             (gpu_constants::BINDING_HEIGHTS, buffer(&self.heights)),
             (gpu_constants::BINDING_BLADE_ALPHA, alpha),
             (gpu_constants::BINDING_CLUSTERS, buffer(&self.clusters)),
-            (gpu_constants::BINDING_CORNERS, Resource::Buffer(frame.corners.descriptor())),
-            (gpu_constants::BINDING_EMITTERS, Resource::Buffer(frame.emitters.descriptor())),
             (gpu_constants::BINDING_TILES, buffer(&self.tiles)),
             (gpu_constants::BINDING_VISIBLE, buffer(&self.visible)),
             (gpu_constants::BINDING_VISIBLE_TEXELS, texels(&self.visible_texels)),
             (gpu_constants::BINDING_SLOT_COUNTS, buffer(&self.slot_counts)),
             (gpu_constants::BINDING_DRAWS, buffer(&self.draws)),
-            (gpu_constants::BINDING_CULL_STATS, Resource::Buffer(frame.cull_stats.descriptor())),
             (gpu_constants::BINDING_CULL_RESULTS, buffer(&self.cull_results)),
             (gpu_constants::BINDING_CULL_RESULT_TEXELS, texels(&self.cull_result_texels)),
             (gpu_constants::BINDING_CULL_ALLOC, buffer(&self.cull_alloc)),
@@ -454,6 +449,7 @@ impl SceneGpu {
             (gpu_constants::BINDING_RELIEF_GRID, buffer(&self.relief_grid)),
             (gpu_constants::BINDING_RELIEF_GRID_TEXELS, texels(&self.relief_texels)),
         ];
+        let resources: Vec<_> = frame.iter().cloned().chain(resources).collect();
         layout.write(device, set, "scene set", &resources)
     }
 

@@ -10,6 +10,7 @@ pub mod debug;
 pub mod descriptor;
 pub mod device;
 pub mod fault;
+pub mod guard;
 pub mod image;
 pub mod instance;
 pub mod live;
@@ -26,6 +27,7 @@ pub mod upload;
 
 pub use buffer::{Buffer, BufferDesc, TexelView};
 pub use device::{Device, DeviceDesc, DeviceSelector};
+pub use guard::{Destroy, Guard};
 pub use image::{Image, ImageDesc};
 pub use instance::{Instance, InstanceDesc, ValidationCounter};
 pub use sync::Access;

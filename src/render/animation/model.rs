@@ -14,7 +14,6 @@ use glam::Vec2;
 
 use crate::error::Result;
 use crate::render::animation::{self, KeyframeTexture, KeyframeUniforms};
-use crate::render::frame::Frame;
 use crate::render::gpu_constants as gpu;
 use crate::render::graph::Pass;
 use crate::render::scene_gpu::SceneGpu;
@@ -23,7 +22,7 @@ use crate::render::uniforms::FrameUniforms;
 use crate::scene::clusters::ClusterGrid;
 use crate::vk::descriptor::{Resource as Descriptor, SetLayout};
 use crate::vk::upload::UploadBatch;
-use crate::vk::{Access, Buffer, BufferDesc, Device, Resource, TexelView};
+use crate::vk::{Access, Buffer, BufferDesc, Destroy, Device, Guard, Resource, TexelView};
 use crate::wind::{Attenuation, Wind};
 
 /// How the blade pass poses a blade.
@@ -80,10 +79,11 @@ pub trait AnimationModel {
     /// The model's resources: set `SET_ANIMATION`.
     fn resources(&self) -> &AnimationSet;
 
-    /// Write this frame's forces into the frame's host-visible buffers. By default the thesis'
-    /// forces: the wind at the cluster corners and the point emitters (3.2.2).
-    fn update(&self, frame: &mut Frame, input: &FrameInput) {
-        write_wind_forces(frame, input);
+    /// Write this frame's forces into its host-visible buffers (the animation's part of the
+    /// frame, `FrameForces`). By default the thesis' forces: the wind at the cluster corners and
+    /// the point emitters (3.2.2).
+    fn update(&self, forces: &mut FrameForces, input: &FrameInput) {
+        write_wind_forces(forces, input);
     }
 
     /// How the blade pass poses a blade.
@@ -101,7 +101,7 @@ pub trait AnimationModel {
 
 /// The thesis' per-frame forces: the wind at the cluster corners (eq. 4.1 sources, calm areas)
 /// and the point sources and colliders, at most `MAX_EMITTERS`, sources first.
-pub fn write_wind_forces(frame: &mut Frame, input: &FrameInput) {
+pub fn write_wind_forces(forces: &mut FrameForces, input: &FrameInput) {
     let corners = animation::corner_forces_at(input.grid, input.origin, input.wind, input.time, input.attenuation);
     let mut emitters = animation::emitters(input.wind, input.time);
     emitters.truncate(animation::MAX_EMITTERS);
@@ -111,8 +111,39 @@ pub fn write_wind_forces(frame: &mut Frame, input: &FrameInput) {
         e.x -= input.origin.x;
         e.y -= input.origin.y;
     }
-    frame.corners.write(0, &corners);
-    frame.emitters.write(0, &emitters);
+    forces.corners.write(0, &corners);
+    forces.emitters.write(0, &emitters);
+}
+
+/// The animation's part of one frame in flight (`frame::PerFrame`): the thesis' forces, written
+/// by the CPU before each submission (3.2.2) and read through set 0.
+pub struct FrameForces {
+    /// Host-visible forces at the cluster corners.
+    pub corners: Buffer,
+    /// Host-visible point sources and colliders at the frame's time.
+    pub emitters: Buffer,
+}
+
+impl FrameForces {
+    /// The forces of frame `slot`: room for `corners` corner forces and `emitters` emitters.
+    pub fn new(device: &Device, slot: usize, corners: u32, emitters: u32) -> Result<Self> {
+        let vec4 = 16u64;
+        let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
+        let buffer = |name: &str, count: u32| {
+            let name = format!("frame {slot} {name}");
+            Buffer::new(device, &BufferDesc::upload(&name, vec4 * u64::from(count.max(1)), storage))
+        };
+        let corners = Guard::new(device, buffer("corner forces", corners)?);
+        let emitters = buffer("emitters", emitters)?;
+        Ok(Self { corners: corners.take(), emitters })
+    }
+}
+
+impl Destroy for FrameForces {
+    unsafe fn destroy(self, device: &Device) {
+        // SAFETY: per the contract.
+        unsafe { (self.corners, self.emitters).destroy(device) };
+    }
 }
 
 /// Pose records and, with the cull, the drawn blades' placed levels: the two per-blade buffers of

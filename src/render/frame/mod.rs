@@ -1,9 +1,12 @@
 //! The frames in flight (`FrameRing`): round-robin use, fence waits, submission (a failed one
 //! never hangs), and the deletion queues that destroy what a frame may still use once its fence
-//! has signalled. What one frame owns is in `slot`.
+//! has signalled. What the ring owns of one frame is in `slot`; what a subsystem owns of each
+//! frame is its own `PerFrame`.
 
+mod per_frame;
 mod slot;
 
+pub use per_frame::PerFrame;
 pub use slot::{Frame, FrameTimings, PassTime, Replay, ReplayKey, StepTime};
 
 use std::time::Instant;

@@ -10,11 +10,10 @@ use crate::render::culling::CullCounts;
 use crate::render::frame::Deletion;
 use crate::render::graph::{Outputs, RecordedPass, Scopes};
 use crate::render::target::TargetView;
-use crate::render::uniforms::FrameUniforms;
 use crate::vk::commands::CommandRecorder;
 use crate::vk::query::{PipelineStatistics, StatisticsQueries, Timeline, TimestampQueries};
 use crate::vk::tracker::ResourceStates;
-use crate::vk::{sync, Buffer, BufferDesc, Device};
+use crate::vk::{sync, Buffer, BufferDesc, Destroy, Device, Guard};
 
 /// Passes a frame's queries measure before they grow: the frame's plan sizes them
 /// (`Frame::reserve_queries`), so any number of passes is measured.
@@ -78,7 +77,8 @@ pub struct FrameTimings {
     pub cpu_spans: Option<[Instant; 3]>,
     /// When the fence wait before reading these timings started and ended.
     pub cpu_wait: Option<[Instant; 2]>,
-    /// What the cull kept and drew (`None` with `--brute-force`).
+    /// What the cull kept and drew (`None` with `--brute-force`; filled in by the cull's own part
+    /// of the frame, `passes::cull::CullFrame`).
     pub cull: Option<CullCounts>,
 }
 
@@ -118,29 +118,16 @@ pub struct Replay {
     pub passes: Vec<u64>,
 }
 
-/// Everything one frame in flight owns. The fence guards all of it: the CPU waits on it before
-/// reusing the command buffer, rewriting the uniforms, reading the queries or running the
-/// deletions queued behind this frame.
+/// What the ring owns of one frame in flight: its commands, fence, queries and kept recording.
+/// The fence guards it and every subsystem's part of the same slot (`PerFrame`: the uniforms and
+/// set 0, the forces, the cull's counts): the CPU waits on it before reusing the command buffer,
+/// rewriting any of those parts, reading the queries or running the deletions queued behind
+/// this frame.
 pub struct Frame {
     /// Command pool and buffer, reset each use.
     pub recorder: CommandRecorder,
     /// Signalled when this frame's submission completes (created signalled).
     pub fence: vk::Fence,
-    /// Host-visible `FrameUniforms`.
-    pub uniforms: Buffer,
-    /// Host-visible forces at cluster corners, written before each submission (thesis 3.2.2).
-    pub corners: Buffer,
-    /// Host-visible point sources and colliders at this frame's time.
-    pub emitters: Buffer,
-    /// The cull's counts of the frame (`SLOT_WORDS` words), written by the cull's scan and read
-    /// after the fence.
-    pub cull_stats: Buffer,
-    /// Segments of the LOD buckets of the frame's cull (empty: no cull ran).
-    pub cull_segments: Vec<u32>,
-    /// Whether the frame's buckets drew blades with one tip vertex (the outline as geometry).
-    pub cull_collapsed_tip: bool,
-    /// Set 0 of the scene passes, pointing at this frame's uniforms.
-    pub descriptor_set: vk::DescriptorSet,
     /// Timestamps of this frame's passes.
     pub timestamps: TimestampQueries,
     /// Pipeline statistics of this frame's passes, when asked for and supported.
@@ -172,107 +159,30 @@ fn query_results(device: &Device, index: usize, bytes: u64) -> Result<Buffer> {
     Buffer::new(device, &BufferDesc::readback(&name, bytes, vk::BufferUsageFlags::TRANSFER_DST))
 }
 
-/// Bytes of `Frame::cull_stats`.
-const CULL_STATS_BYTES: u64 = 4 * crate::render::gpu_constants::SLOT_WORDS as u64;
-
-/// The parts of a `Frame` created so far (freed if creation fails half-way).
-#[derive(Default)]
-struct Parts {
-    recorder: Option<CommandRecorder>,
-    fence: vk::Fence,
-    buffers: Vec<Buffer>,
-    timestamps: Option<TimestampQueries>,
-    statistics: Option<StatisticsQueries>,
-    acquire: vk::Semaphore,
-}
-
-impl Parts {
-    fn create(&mut self, device: &Device, index: usize, corners: u32, emitters: u32, statistics: bool) -> Result<()> {
-        self.recorder = Some(CommandRecorder::new(device, &format!("frame {index} commands"))?);
-        self.fence = sync::fence(device, true, &format!("frame {index} fence"))?;
-        let vec4 = 16u64;
-        let uniform_and_storage = vk::BufferUsageFlags::UNIFORM_BUFFER | vk::BufferUsageFlags::STORAGE_BUFFER;
-        for (name, size, usage) in [
-            // A storage buffer too: the lavapipe profile's cull reads it through `BINDING_FRAME_STORAGE`.
-            ("uniforms", std::mem::size_of::<FrameUniforms>() as u64, uniform_and_storage),
-            ("corner forces", vec4 * u64::from(corners), vk::BufferUsageFlags::STORAGE_BUFFER),
-            ("emitters", vec4 * u64::from(emitters.max(1)), vk::BufferUsageFlags::STORAGE_BUFFER),
-        ] {
-            self.buffers.push(Buffer::new(device, &BufferDesc::upload(&format!("frame {index} {name}"), size, usage))?);
-        }
-        let name = format!("frame {index} cull counts");
-        let stats = BufferDesc::readback(&name, CULL_STATS_BYTES, vk::BufferUsageFlags::STORAGE_BUFFER);
-        self.buffers.push(Buffer::new(device, &stats)?);
-        let timestamps = TimestampQueries::new(device, &format!("frame {index} timestamps"), 2 * FIRST_PASSES + 2)?;
-        let timestamps = self.timestamps.insert(timestamps);
-        if statistics {
-            self.statistics = StatisticsQueries::new(device, &format!("frame {index} statistics"), FIRST_PASSES)?;
-        }
-        let bytes = timestamps.copy_size() + self.statistics.as_ref().map_or(0, |s| s.copy_size());
-        self.buffers.push(query_results(device, index, bytes)?);
-        self.acquire = sync::semaphore(device, &format!("frame {index} acquire"))?;
-        Ok(())
-    }
-
-    /// # Safety
-    /// Nothing was submitted with these parts.
-    unsafe fn destroy(self, device: &Device) {
-        // SAFETY: per the contract; destroying null handles is a no-op.
-        unsafe {
-            for buffer in self.buffers {
-                buffer.destroy(device);
-            }
-            if let Some(timestamps) = self.timestamps {
-                timestamps.destroy(device);
-            }
-            if let Some(statistics) = self.statistics {
-                statistics.destroy(device);
-            }
-            crate::vk::live::destroyed(self.acquire);
-            device.raw.destroy_semaphore(self.acquire, None);
-            crate::vk::live::destroyed(self.fence);
-            device.raw.destroy_fence(self.fence, None);
-            if let Some(recorder) = self.recorder {
-                recorder.destroy(device);
-            }
-        }
-    }
-}
-
 impl Frame {
-    /// Create the resources of frame `index`, with room for `corners` corner forces and
-    /// `emitters` emitters.
-    pub fn new(
-        device: &Device,
-        index: usize,
-        descriptor_set: vk::DescriptorSet,
-        corners: u32,
-        emitters: u32,
-        statistics: bool,
-    ) -> Result<Self> {
-        let mut parts = Parts::default();
-        if let Err(e) = parts.create(device, index, corners, emitters, statistics) {
-            // SAFETY: nothing was submitted.
-            unsafe { parts.destroy(device) };
-            return Err(e);
-        }
-        let mut buffers = parts.buffers.into_iter();
-        let mut next = || buffers.next().expect("four buffers");
+    /// Create the commands, fence, queries and acquire semaphore of frame `index` (pipeline
+    /// statistics too when `statistics`). On failure nothing is left.
+    pub fn new(device: &Device, index: usize, statistics: bool) -> Result<Self> {
+        let recorder = Guard::new(device, CommandRecorder::new(device, &format!("frame {index} commands"))?);
+        let fence = Guard::new(device, sync::fence(device, true, &format!("frame {index} fence"))?);
+        let name = format!("frame {index} timestamps");
+        let timestamps = Guard::new(device, TimestampQueries::new(device, &name, 2 * FIRST_PASSES + 2)?);
+        let statistics = match statistics {
+            true => StatisticsQueries::new(device, &format!("frame {index} statistics"), FIRST_PASSES)?,
+            false => None,
+        };
+        let statistics = Guard::new(device, statistics);
+        let bytes = timestamps.copy_size() + statistics.as_ref().map_or(0, |s| s.copy_size());
+        let query_results = Guard::new(device, query_results(device, index, bytes)?);
+        let acquire = Guard::new(device, sync::semaphore(device, &format!("frame {index} acquire"))?);
         Ok(Self {
-            recorder: parts.recorder.expect("created"),
-            fence: parts.fence,
-            uniforms: next(),
-            corners: next(),
-            emitters: next(),
-            cull_stats: next(),
-            cull_segments: Vec::new(),
-            cull_collapsed_tip: false,
-            query_results: next(),
-            descriptor_set,
-            timestamps: parts.timestamps.expect("created"),
-            statistics: parts.statistics,
+            recorder: recorder.take(),
+            fence: fence.take(),
+            timestamps: timestamps.take(),
+            statistics: statistics.take(),
+            query_results: query_results.take(),
             passes: Vec::new(),
-            acquire: parts.acquire,
+            acquire: acquire.take(),
             pending: None,
             replay: None,
             replayed: false,
@@ -383,10 +293,7 @@ impl Frame {
             gpu_span_ns: (clock.ns(placed[0]), clock.ns(placed[placed.len() - 1])),
             cpu_spans: Some([started, recorded, submitted]),
             cpu_wait: Some(wait),
-            cull: (!self.cull_segments.is_empty()).then(|| {
-                let words: &[u32] = bytemuck::cast_slice(self.cull_stats.mapped());
-                CullCounts::from_words(words, &self.cull_segments, self.cull_collapsed_tip)
-            }),
+            cull: None,
         })
     }
 
@@ -397,7 +304,7 @@ impl Frame {
         }
     }
 
-    /// Destroy everything (the descriptor set goes with its pool), the queued deletions first.
+    /// Destroy everything, the queued deletions first.
     ///
     /// # Safety
     /// The frame's fence must have signalled (or the device be idle).
@@ -409,10 +316,6 @@ impl Frame {
             if let Some(statistics) = self.statistics {
                 statistics.destroy(device);
             }
-            self.uniforms.destroy(device);
-            self.corners.destroy(device);
-            self.emitters.destroy(device);
-            self.cull_stats.destroy(device);
             self.query_results.destroy(device);
             crate::vk::live::destroyed(self.fence);
             device.raw.destroy_fence(self.fence, None);
@@ -420,5 +323,12 @@ impl Frame {
             device.raw.destroy_semaphore(self.acquire, None);
             self.recorder.destroy(device);
         }
+    }
+}
+
+impl Destroy for Frame {
+    unsafe fn destroy(self, device: &Device) {
+        // SAFETY: per the contract.
+        unsafe { Frame::destroy(self, device) };
     }
 }

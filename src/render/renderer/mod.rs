@@ -21,15 +21,17 @@ use ash::vk;
 use glam::{UVec4, Vec4};
 
 use crate::error::{Error, Result};
-use crate::render::animation::model::{AnimationModel, BladeInput, FrameInput};
+use crate::render::animation::model::{AnimationModel, BladeInput, FrameForces, FrameInput};
 use crate::render::animation::{self, build_model, AnimationSettings};
 use crate::render::field_gpu::{self, Origin};
-use crate::render::frame::{look, FrameRing, FrameUniforms};
+use crate::render::frame::{look, Frame, FrameRing, FrameUniforms, PerFrame};
 pub use crate::render::frame::{Deletion, FrameSync, FrameTimings, PassTime};
+use crate::render::gpu_constants as gpu;
 use crate::render::graph::{Graph, Outputs, DEFAULT_DT};
-use crate::render::layouts::{build_frames, scene_layouts, SceneLayouts};
+use crate::render::layouts::{scene_frames, scene_layouts, SceneFrame, SceneLayouts};
 use crate::render::msaa::{self, MultisampleTarget};
 use crate::render::overlay::OverlayGpu;
+use crate::render::passes::cull::CullFrame;
 use crate::render::passes::{BladePass, TerrainPass};
 use crate::render::scene_gpu::{pose_records, SceneGpu};
 use crate::render::settings::{check_pose_records, check_submission, polygon_mode};
@@ -38,7 +40,8 @@ pub use crate::render::settings::{
 };
 use crate::render::target::TargetView;
 use crate::scene::{field::check_camera, Camera, Scene};
-use crate::vk::{Device, Resource};
+use crate::vk::descriptor::Resource as Descriptor;
+use crate::vk::{Destroy, Device, Resource};
 
 /// The scene on the GPU, its passes in a graph, and the frames in flight: build, then render
 /// frames into any target. Every object it owns is destroyed on drop, after the device is idle.
@@ -51,6 +54,12 @@ pub struct Renderer {
     layouts: SceneLayouts,
     graph: Graph,
     ring: FrameRing,
+    /// Each frame's uniforms and set 0.
+    scene_frames: PerFrame<SceneFrame>,
+    /// Each frame's forces (the animation's part).
+    forces: PerFrame<FrameForces>,
+    /// Each frame's cull counts (the cull's part).
+    cull_frames: PerFrame<CullFrame>,
     /// The camera the cull tests against when frozen (`None`: the view's camera).
     cull_camera: Option<Camera>,
     /// With `--msaa`: the multisampled images the scene passes draw into, made at the first
@@ -86,6 +95,9 @@ impl Renderer {
             layouts: SceneLayouts::default(),
             graph: Graph::new(),
             ring: FrameRing::new(Vec::new()),
+            scene_frames: PerFrame::default(),
+            forces: PerFrame::default(),
+            cull_frames: PerFrame::default(),
             cull_camera: None,
             multisampled: None,
             overlay: None,
@@ -93,10 +105,10 @@ impl Renderer {
         };
         let view_distance = settings.culling.view_distance;
         let scene_gpu = SceneGpu::upload(&device, scene, renderer.animation.cluster_size, view_distance)?;
-        let scene_gpu = renderer.scene.insert(scene_gpu);
+        renderer.scene = Some(scene_gpu);
         renderer.layouts = scene_layouts(&device)?;
-        let frames = build_frames(&device, &mut renderer.layouts, scene_gpu, &settings)?;
-        renderer.ring = FrameRing::new(frames);
+        renderer.build_frames()?;
+        let scene_gpu = renderer.scene.as_ref().expect("uploaded");
         let records = pose_records(&device, scene_gpu, settings.segments);
         let path = (settings.culling.enabled, settings.floor);
         check_pose_records(&device, &renderer.animation, (scene_gpu.blade_count, settings.segments), path.0, path.1)?;
@@ -105,6 +117,27 @@ impl Renderer {
         renderer.model = Some(build_model(&device, layout, &renderer.animation, settings.segments, room)?);
         renderer.build_graph(scene, polygon)?;
         Ok(renderer)
+    }
+
+    /// The frames in flight: the ring's part of each (commands, fence, queries) and each
+    /// subsystem's (the forces, the cull counts, then the uniforms and set 0 that point at them).
+    fn build_frames(&mut self) -> Result<()> {
+        let (device, scene) = (&*self.device, self.scene.as_ref().expect("uploaded"));
+        let (slots, statistics) = (self.settings.frames_in_flight, self.settings.pipeline_statistics);
+        self.ring = FrameRing::new(PerFrame::new(device, slots, |i| Frame::new(device, i, statistics))?.into());
+        let (corners, emitters) = (scene.grid.corner_count(), animation::MAX_EMITTERS as u32);
+        self.forces = PerFrame::new(device, slots, |i| FrameForces::new(device, i, corners, emitters))?;
+        self.cull_frames = PerFrame::new(device, slots, |i| CullFrame::new(device, i))?;
+        let (forces, cull) = (&self.forces, &self.cull_frames);
+        let others = |slot: usize| {
+            vec![
+                (gpu::BINDING_CORNERS, Descriptor::Buffer(forces[slot].corners.descriptor())),
+                (gpu::BINDING_EMITTERS, Descriptor::Buffer(forces[slot].emitters.descriptor())),
+                (gpu::BINDING_CULL_STATS, Descriptor::Buffer(cull[slot].stats.descriptor())),
+            ]
+        };
+        self.scene_frames = scene_frames(device, &mut self.layouts, scene, slots, others)?;
+        Ok(())
     }
 
     /// Rebuild the passes and the animation model for new `settings` and `animation`, keeping the
@@ -305,7 +338,7 @@ impl Renderer {
             time,
             origin,
         };
-        self.model.as_deref().expect("built").update(self.ring.frame_mut(slot), &input);
+        self.model.as_deref().expect("built").update(&mut self.forces[slot], &input);
     }
 
     /// The animation the renderer was built with.
@@ -329,7 +362,13 @@ impl Renderer {
     /// the timings of the frame it rendered last, if any. Only that slot's fence is waited: the
     /// other frames in flight keep running.
     pub fn begin_frame(&mut self) -> Result<(usize, Option<FrameTimings>)> {
-        self.ring.begin(&self.device)
+        let (slot, timings) = self.ring.begin(&self.device)?;
+        Ok((slot, timings.map(|t| self.with_counts(slot, t))))
+    }
+
+    /// `timings` of `slot`'s last frame with what the subsystems' parts of it counted (the cull).
+    fn with_counts(&self, slot: usize, timings: FrameTimings) -> FrameTimings {
+        FrameTimings { cull: self.cull_frames[slot].counts(), ..timings }
     }
 
     /// The semaphore a swapchain image for `slot` is acquired with.
@@ -410,7 +449,7 @@ impl Renderer {
     /// Write the uniforms, forces and overlay of `slot`'s frame; returns the uniforms.
     fn prepare_frame(&mut self, slot: usize, target: &TargetView, camera: &Camera, time: f32) -> Result<FrameUniforms> {
         let uniforms = self.frame_uniforms(camera, time, target.extent);
-        self.ring.frame_mut(slot).uniforms.write(0, &[uniforms]);
+        self.scene_frames[slot].uniforms.write(0, &[uniforms]);
         self.update_model(slot, camera, time);
         self.prepare_overlay(slot, target.extent)?;
         Ok(uniforms)
@@ -438,6 +477,9 @@ impl Drop for Renderer {
         unsafe {
             std::mem::take(&mut self.graph).destroy(device);
             std::mem::replace(&mut self.ring, FrameRing::new(Vec::new())).destroy(device);
+            std::mem::take(&mut self.scene_frames).destroy(device);
+            std::mem::take(&mut self.forces).destroy(device);
+            std::mem::take(&mut self.cull_frames).destroy(device);
             if let Some(model) = self.model.take() {
                 model.destroy(device);
             }

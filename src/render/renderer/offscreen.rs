@@ -25,7 +25,8 @@ impl Renderer {
         self.submit_frame(slot, &view, camera, time, FrameSync::default(), outputs)?;
         target.rendered(self.uses_target_depth());
         // Headless: wait right away, so the picture and the timings are ready.
-        Ok(self.ring.wait(&self.device, slot)?.expect("the frame was submitted"))
+        let timings = self.ring.wait(&self.device, slot)?.expect("the frame was submitted");
+        Ok(self.with_counts(slot, timings))
     }
 
     /// The CPU side of one frame without its submission, for benchmarks (`benches/recording.rs`):

@@ -154,7 +154,7 @@ impl Renderer {
                 graph.add(DepthPyramidPass::new(device, scene, slots, settings.msaa.enabled())?);
             }
             if culled {
-                let stats = (0..slots).map(|slot| self.ring.frame(slot).cull_stats.raw).collect();
+                let stats = self.cull_frames.iter().map(|frame| frame.stats.raw).collect();
                 let setup = CullSetup { layout: target.layout, constants, frame_stats: stats };
                 cull::add_passes(graph, device, &setup, scene)?;
             }

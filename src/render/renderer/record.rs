@@ -43,7 +43,7 @@ impl Renderer {
             target: &scene_view,
             output: target,
             slot,
-            descriptor_set: frame.descriptor_set,
+            descriptor_set: self.scene_frames[slot].set,
             uniforms: frame_in.uniforms,
             clock,
             step: 0,
@@ -69,11 +69,14 @@ impl Renderer {
         let cmd = if prerecorded { frame.recorder.begin_reusable(device)? } else { frame.recorder.begin(device)? };
         frame.passes = self.graph.record(&ctx, &plan, cmd, &mut frame.scopes(), outputs)?;
         let culled = self.settings.culling.enabled && !self.settings.floor;
-        frame.cull_segments = if culled { self.settings.culling.buckets().to_vec() } else { Vec::new() };
-        frame.cull_collapsed_tip = culled && self.settings.culling.solid_outline;
+        let cull = &mut self.cull_frames[slot];
+        match culled {
+            true => cull.recorded(self.settings.culling.buckets(), self.settings.culling.solid_outline),
+            false => cull.recorded(&[], false),
+        }
         if culled {
             // The frame's counts, read by the host after the fence.
-            self.graph.release(device, cmd, &[(Resource::Buffer(frame.cull_stats.raw), Access::HostRead)]);
+            self.graph.release(device, cmd, &[(Resource::Buffer(cull.stats.raw), Access::HostRead)]);
         }
         // The queries' results, copied on the GPU for the host to read after the fence.
         let results = Resource::Buffer(frame.record_query_copies(device, cmd));

@@ -15,10 +15,12 @@ pub mod tiles;
 use ash::vk;
 
 use crate::error::Result;
+use crate::render::culling::CullCounts;
+use crate::render::gpu_constants::SLOT_WORDS;
 use crate::render::graph::{Declaration, Graph, Pass, PassContext};
 use crate::render::recording;
 use crate::render::scene_gpu::SceneGpu;
-use crate::vk::{pipeline, Access, Device};
+use crate::vk::{pipeline, Access, Buffer, BufferDesc, Destroy, Device};
 
 /// What the cull passes share: the scene pipeline layout and specialization constants,
 /// and the frames' host-visible count buffers the scan writes.
@@ -27,8 +29,53 @@ pub struct CullSetup<'a> {
     pub layout: vk::PipelineLayout,
     /// Specialization constants.
     pub constants: &'a [u32],
-    /// Each frame's `Frame::cull_stats`, by slot.
+    /// Each frame's counts buffer (`CullFrame::stats`), by slot.
     pub frame_stats: Vec<vk::Buffer>,
+}
+
+/// The cull's part of one frame in flight (`frame::PerFrame`): the counts its scan writes for
+/// the host, and how to read them. It outlives the passes (a rebuild keeps it: set 0 names it).
+pub struct CullFrame {
+    /// The frame's counts (`SLOT_WORDS` words), written by the scan, read after the fence.
+    pub stats: Buffer,
+    /// Segments of the LOD buckets of the frame's cull (empty: no cull ran).
+    segments: Vec<u32>,
+    /// Whether the frame's buckets drew blades with one tip vertex (the outline as geometry).
+    collapsed_tip: bool,
+}
+
+impl CullFrame {
+    /// The counts buffer of frame `slot`.
+    pub fn new(device: &Device, slot: usize) -> Result<Self> {
+        let name = format!("frame {slot} cull counts");
+        let bytes = 4 * u64::from(SLOT_WORDS);
+        let stats = Buffer::new(device, &BufferDesc::readback(&name, bytes, vk::BufferUsageFlags::STORAGE_BUFFER))?;
+        Ok(Self { stats, segments: Vec::new(), collapsed_tip: false })
+    }
+
+    /// The frame being recorded culls into buckets of `segments` (empty: it does not cull),
+    /// their tips collapsed or not.
+    pub fn recorded(&mut self, segments: &[u32], collapsed_tip: bool) {
+        self.segments.clear();
+        self.segments.extend_from_slice(segments);
+        self.collapsed_tip = collapsed_tip;
+    }
+
+    /// What the frame's cull kept and drew (its fence has signalled); `None` when it did not
+    /// cull.
+    pub fn counts(&self) -> Option<CullCounts> {
+        (!self.segments.is_empty()).then(|| {
+            let words: &[u32] = bytemuck::cast_slice(self.stats.mapped());
+            CullCounts::from_words(words, &self.segments, self.collapsed_tip)
+        })
+    }
+}
+
+impl Destroy for CullFrame {
+    unsafe fn destroy(self, device: &Device) {
+        // SAFETY: per the contract.
+        unsafe { self.stats.destroy(device) };
+    }
 }
 
 /// Add the four passes to `graph`, in order.
