@@ -461,3 +461,71 @@ fn committed_thesis_results_follow_the_schema() {
     assert!(violations.is_empty(), "docs/bench-thesis/bench.json: {violations:#?}");
     assert_eq!(doc["rows"].as_array().map(Vec::len), Some(15), "the 15 rows of Table 6.2");
 }
+
+/// Every committed v1 document (docs/bench-*, docs/overhead, docs/timing) reads through the type
+/// its command writes and reads, and writes back as it was: no field of theirs is unknown to
+/// the types (a field a struct lacked would be dropped) and none is misread.
+#[test]
+fn committed_v1_documents_read_and_write_back_through_their_types() {
+    use meadow::harness::bench::{lod::LodDocument, msaa::MsaaDocument, BenchDocument};
+    use meadow::harness::{overhead::OverheadDocument, timing::TimingDocument};
+    fn round_trip<T: serde::Serialize + serde::de::DeserializeOwned>(doc: &Value) -> Value {
+        let typed: T = serde_json::from_value(doc.clone()).unwrap_or_else(|e| panic!("{e}"));
+        serde_json::to_value(&typed).expect("serialises")
+    }
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    type Trip = fn(&Value) -> Value;
+    let documents: [(&str, Trip); 5] = [
+        ("docs/bench-thesis/bench.json", round_trip::<BenchDocument>),
+        ("docs/bench-lod/lod.json", round_trip::<LodDocument>),
+        ("docs/bench-msaa/msaa.json", round_trip::<MsaaDocument>),
+        ("docs/overhead/overhead.json", round_trip::<OverheadDocument>),
+        ("docs/timing/timing.json", round_trip::<TimingDocument>),
+    ];
+    for (path, trip) in documents {
+        let doc: Value = serde_json::from_str(&std::fs::read_to_string(root.join(path)).expect(path)).expect(path);
+        assert_eq!(doc["schema_version"], 1, "{path}");
+        let mut back = trip(&doc);
+        // The committed timing run predates `cull` (null by brute force, as written today).
+        if doc.get("cull").is_none() && back.get("cull") == Some(&Value::Null) {
+            back.as_object_mut().expect("object").remove("cull");
+        }
+        assert!(back == doc, "{path} changed on its way through its type");
+    }
+    // The control: a field renamed in a measured variant is an error naming the field.
+    let mut renamed: Value =
+        serde_json::from_str(&std::fs::read_to_string(root.join("docs/bench-thesis/bench.json")).expect("thesis"))
+            .expect("JSON");
+    let variant = renamed["rows"][0]["variants"][0].as_object_mut().expect("variant");
+    let wait = variant.remove("cpu_wait_ms").expect("cpu_wait_ms");
+    variant.insert("cpu_wait".into(), wait);
+    let e = serde_json::from_value::<BenchDocument>(renamed).expect_err("renamed field").to_string();
+    assert!(e.contains("missing field `cpu_wait_ms`"), "{e}");
+}
+
+/// `--compare` reads the committed v1 thesis run whole (no readback_ms, summaries without max),
+/// and refuses a measured variant missing a field the schema leaves optional (its frames, its
+/// CPU times) with one line naming it, where an untyped read saw no frames and judged nothing.
+#[test]
+fn compare_reads_v1_documents_and_names_a_missing_field() {
+    let dir = scratch("bench-compare-typed");
+    let thesis = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/bench-thesis/bench.json");
+    let output = meadow().arg("bench").arg("--compare").arg(&thesis).arg(&thesis).output().expect("run");
+    assert_eq!(output.status.code(), Some(0), "{}", transcript(&output));
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    let doc: Value = serde_json::from_str(&std::fs::read_to_string(&thesis).expect("thesis")).expect("JSON");
+    let rows = doc["rows"].as_array().expect("rows");
+    let measured =
+        rows.iter().flat_map(|r| r["variants"].as_array().expect("variants")).filter(|v| v["gpu_ms"].is_object());
+    let lines = stdout.lines().filter(|l| l.contains("    0.0% ")).count();
+    assert!(lines > 15 && lines == measured.count(), "a line per measured row x variant: {stdout}");
+    let base = thesis_row();
+    for field in ["frames", "cpu_record_submit_ms"] {
+        let mut broken = base.clone();
+        let v = broken["rows"][0]["variants"][2].as_object_mut().expect("variant");
+        let value = v.remove(field).expect(field);
+        v.insert(format!("{field}_renamed"), value);
+        let output = compare(&dir, &base, &broken, &[]);
+        assert_refused(field, &output, &["new.json", "not a bench.json", &format!("missing field `{field}`")]);
+    }
+}

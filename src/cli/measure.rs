@@ -74,7 +74,7 @@ pub(crate) fn timing(args: TimingArgs) -> (u8, Option<u64>) {
     }
     measure(
         &args.gpu,
-        "runs",
+        "frames",
         (&options.out, &timing::FILES),
         |device, progress| {
             let (doc, intervals) = timing::run(device, &options, progress)?;

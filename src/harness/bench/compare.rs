@@ -9,6 +9,7 @@ use std::path::Path;
 
 use serde_json::Value;
 
+use super::document::{BenchDocument, BenchRow, VariantMeasured};
 use crate::error::{quoted, Error, Result};
 
 /// The schema every bench.json follows (`docs/bench.schema.json`).
@@ -29,12 +30,27 @@ const MOST_BYTES: u64 = 64 << 20;
 /// bytes per two-byte number (`0,`), twice that while its array grows.
 const PARSED_PER_BYTE: u64 = 32;
 
-/// Fields that must be equal for two runs to be comparable.
-const SAME_RUN: [&str; 5] = ["device", "driver", "resolution", "build_profile", "lp_num_threads"];
+/// Fields that must be equal for two runs to be comparable: each as the document writes it.
+fn same_run(doc: &BenchDocument) -> [(&'static str, String); 5] {
+    let h = &doc.header;
+    [
+        ("device", json(&h.device)),
+        ("driver", json(&h.driver)),
+        ("resolution", json(&h.resolution)),
+        ("build_profile", json(&h.build_profile)),
+        ("lp_num_threads", json(&h.lp_num_threads)),
+    ]
+}
 
-/// Read a bench.json and validate it against the schema (bad input, exit 2, when it does not
-/// follow it).
-pub fn load(path: &Path) -> Result<Value> {
+/// A field's JSON text (`"llvmpipe"`, `[640,360]`, `null`).
+fn json(field: &impl serde::Serialize) -> String {
+    serde_json::to_string(field).expect("a document field serialises")
+}
+
+/// Read a bench.json: validated against the schema, then read as a [`BenchDocument`] (bad
+/// input, exit 2, naming the field, when it does not follow either: a measured variant without
+/// its `frames` is refused, not read as none).
+pub fn load(path: &Path) -> Result<BenchDocument> {
     let text = crate::app::input::read_text(path, "--compare", MOST_BYTES, PARSED_PER_BYTE)?;
     let shown = quoted(&path.display().to_string()).into_owned();
     let doc: Value =
@@ -48,21 +64,24 @@ pub fn load(path: &Path) -> Result<Value> {
         let (at, e) = (quoted(&at), quoted(&e.to_string()).into_owned());
         return Err(Error::bad_input(format!("{shown}: not a bench.json: {at}: {e}")));
     }
-    Ok(doc)
+    // The message names the field (`missing field \`frames\``): bounded like every quote of input.
+    serde_json::from_value(doc)
+        .map_err(|e| Error::bad_input(format!("{shown}: not a bench.json: {}", quoted(&e.to_string()))))
 }
 
 /// Compare two runs: per (row, variant) change of the median GPU time in %. Returns the report
 /// and whether any change is a significant regression beyond `threshold_pct`; refuses a
 /// non-positive threshold, runs that are not comparable, medians that are not positive and
 /// changes that are not finite.
-pub fn compare(old: &Value, new: &Value, threshold_pct: f64) -> Result<(String, bool)> {
+pub fn compare(old: &BenchDocument, new: &BenchDocument, threshold_pct: f64) -> Result<(String, bool)> {
     if !(threshold_pct.is_finite() && threshold_pct > 0.0) {
         return Err(Error::bad_input(format!("--threshold {threshold_pct}: must be a positive percentage")));
     }
-    let differences: Vec<String> = SAME_RUN
-        .iter()
-        .filter(|&&k| old[k] != new[k])
-        .map(|&k| format!("{k} {} vs {}", quoted(&old[k].to_string()), quoted(&new[k].to_string())))
+    let differences: Vec<String> = same_run(old)
+        .into_iter()
+        .zip(same_run(new))
+        .filter(|((_, a), (_, b))| a != b)
+        .map(|((k, a), (_, b))| format!("{k} {} vs {}", quoted(&a), quoted(&b)))
         .collect();
     if !differences.is_empty() {
         return Err(Error::bad_input(format!("the runs are not comparable: {}", differences.join(", "))));
@@ -78,21 +97,16 @@ pub fn compare(old: &Value, new: &Value, threshold_pct: f64) -> Result<(String, 
         "blades", "seg", "variant", "old ms", "new ms", "change", "p"
     );
     let (mut regressed, mut compared) = (false, 0);
-    for row in new["rows"].as_array().into_iter().flatten() {
-        let same = old["rows"]
-            .as_array()
-            .into_iter()
-            .flatten()
-            .find(|r| r["blades"] == row["blades"] && r["segments"] == row["segments"]);
+    for row in &new.rows {
+        let same = old.rows.iter().find(|r| r.blades == row.blades && r.segments == row.segments);
         let Some(old_row) = same else { continue };
-        for v in row["variants"].as_array().into_iter().flatten() {
-            let name = v["variant"].as_str().unwrap_or("");
-            let Some(old_v) = variant(old_row, name) else { continue };
-            if let Some((line, flagged)) = judge(row, name, old_v, v, threshold_pct)? {
-                out.push_str(&line);
-                regressed |= flagged;
-                compared += 1;
-            }
+        for v in &row.variants {
+            // Unsupported on either side: not compared.
+            let (Some(old_v), Some(new_v)) = (old_row.variant(&v.variant), v.outcome.measured()) else { continue };
+            let (line, flagged) = judge(row, &v.variant, old_v, new_v, threshold_pct)?;
+            out.push_str(&line);
+            regressed |= flagged;
+            compared += 1;
         }
     }
     if compared == 0 {
@@ -106,20 +120,24 @@ pub fn compare(old: &Value, new: &Value, threshold_pct: f64) -> Result<(String, 
 }
 
 /// Whether `doc`'s GPU times leave out the read-back copy (its variants carry `readback_ms`).
-fn copy_apart(doc: &Value) -> bool {
-    let rows = doc["rows"].as_array().into_iter().flatten();
-    rows.flat_map(|r| r["variants"].as_array().into_iter().flatten()).any(|v| v.get("readback_ms").is_some())
+fn copy_apart(doc: &BenchDocument) -> bool {
+    let mut variants = doc.rows.iter().flat_map(|r| &r.variants);
+    variants.any(|v| v.outcome.measured().is_some_and(|m| m.readback_ms.is_some()))
 }
 
 /// The report line of variant `name` of `row`, measured as `old_v` then `v`, and whether it is a
-/// regression; `None` when either has no median (unsupported). Refuses medians that are not
-/// positive and a change that is not finite (a median near `f64::MAX` overflows
-/// `100 (new - old) / old`, which would read as an infinite speed-up or regression).
-fn judge(row: &Value, name: &str, old_v: &Value, v: &Value, threshold_pct: f64) -> Result<Option<(String, bool)>> {
-    let (Some(a), Some(b)) = (old_v["gpu_ms"]["median"].as_f64(), v["gpu_ms"]["median"].as_f64()) else {
-        return Ok(None);
-    };
-    let at = format!("{} blades x {} segments, {}", row["blades"], row["segments"], quoted(name));
+/// regression. Refuses medians that are not positive and a change that is not finite (a median
+/// near `f64::MAX` overflows `100 (new - old) / old`, which would read as an infinite speed-up
+/// or regression).
+fn judge(
+    row: &BenchRow,
+    name: &str,
+    old_v: &VariantMeasured,
+    v: &VariantMeasured,
+    threshold_pct: f64,
+) -> Result<(String, bool)> {
+    let (a, b) = (old_v.gpu_ms.median, v.gpu_ms.median);
+    let at = format!("{} blades x {} segments, {}", row.blades, row.segments, quoted(name));
     if !(a.is_finite() && a > 0.0 && b.is_finite() && b > 0.0) {
         return Err(Error::bad_input(format!("{at}: medians {} and {} ms are not both positive", ms(a), ms(b))));
     }
@@ -132,7 +150,7 @@ fn judge(row: &Value, name: &str, old_v: &Value, v: &Value, threshold_pct: f64) 
         )));
     }
     // Every sample is finite: serde_json refuses a number out of f64's range when parsing, and
-    // a `Value` cannot hold NaN or an infinity.
+    // JSON cannot hold NaN or an infinity.
     let (before, after) = (samples(old_v), samples(v));
     let judged = before.len() >= MIN_FRAMES && after.len() >= MIN_FRAMES;
     let (slower, faster) = (b > a, b < a);
@@ -152,9 +170,9 @@ fn judge(row: &Value, name: &str, old_v: &Value, v: &Value, threshold_pct: f64) 
     let p = p.map_or("-".to_string(), |p| format!("{p:.3}"));
     let line = format!(
         "{:>9} {:>4} {:<16} {:>10.3} {:>10.3} {:>7.1}% {:>7}{flag}\n",
-        row["blades"], row["segments"], name, a, b, change, p
+        row.blades, row.segments, name, a, b, change, p
     );
-    Ok(Some((line, beyond && significant && slower)))
+    Ok((line, beyond && significant && slower))
 }
 
 /// A time in ms for a message: as written between 1e-6 and 1e9 (and 0), in scientific notation
@@ -166,14 +184,9 @@ fn ms(x: f64) -> String {
     }
 }
 
-/// Variant `name` of a row.
-fn variant<'a>(row: &'a Value, name: &str) -> Option<&'a Value> {
-    row["variants"].as_array()?.iter().find(|v| v["variant"] == name)
-}
-
 /// The per-frame GPU times of a variant.
-fn samples(v: &Value) -> Vec<f64> {
-    v["frames"].as_array().into_iter().flatten().filter_map(|f| f["gpu_ms"].as_f64()).collect()
+fn samples(v: &VariantMeasured) -> Vec<f64> {
+    v.frames.iter().map(|f| f.gpu_ms).collect()
 }
 
 /// One-sided p-value that `after` tends to be larger than `before` (Mann–Whitney U, normal
@@ -225,19 +238,19 @@ fn erfc(x: f64) -> f64 {
 
 #[cfg(test)]
 mod tests {
-    use serde_json::json;
-
+    use super::super::document::fixtures;
     use super::*;
 
-    fn doc(frames: &[f64]) -> Value {
-        let median = {
-            let mut s = frames.to_vec();
-            s.sort_by(f64::total_cmp);
-            s[s.len() / 2]
-        };
-        json!({"device": "d", "driver": "v", "resolution": [8, 8], "build_profile": "release", "lp_num_threads": null,
-            "rows": [{"blades": 1000, "segments": 4, "variants": [{"variant": "static",
-            "gpu_ms": {"median": median}, "frames": frames.iter().map(|f| json!({"gpu_ms": f})).collect::<Vec<_>>()}]}]})
+    /// A run of one row whose static variant's frames took `frames` ms, its median the
+    /// upper middle one.
+    fn doc(frames: &[f64]) -> BenchDocument {
+        let mut doc = fixtures::doc(vec![fixtures::row(1000, &[("static", frames)])]);
+        let mut sorted = frames.to_vec();
+        sorted.sort_by(f64::total_cmp);
+        if let crate::harness::document::Outcome::Measured(m) = &mut doc.rows[0].variants[0].outcome {
+            m.gpu_ms.median = sorted[sorted.len() / 2];
+        }
+        doc
     }
 
     #[test]
@@ -271,7 +284,7 @@ mod tests {
             assert!(e.contains("static") && e.contains("1e308") && e.contains("not finite"), "{e}");
         }
         let mut other = base.clone();
-        other["device"] = json!("another GPU");
+        other.header.device = "another GPU".into();
         let e = compare(&base, &other, 10.0).expect_err("not comparable").to_string();
         assert!(e.contains("not comparable") && e.contains("device"), "{e}");
     }

@@ -7,7 +7,6 @@ use std::path::PathBuf;
 use std::sync::Arc;
 
 use ash::vk;
-use serde_json::{json, Value};
 
 use crate::error::{Error, Result};
 use crate::render::animation::{AnimationSettings, Eval, Mode};
@@ -17,14 +16,17 @@ use crate::scene::{Camera, Scene};
 use crate::vk::Device;
 
 mod compare;
+pub mod document;
 pub mod lod;
 pub mod msaa;
 mod report;
 
 pub use compare::{compare, load};
+pub use document::{BenchDocument, BenchFrame, BenchRow, BenchVariant, VariantMeasured};
 pub use report::{best, csv, median, plot, statistics_table, table, write, FILES};
 
-use crate::harness::document::{document, statistics_json, summary};
+use crate::harness::document::{Header, Outcome};
+use crate::harness::measure::{measure, Offscreen, Schedule};
 use crate::harness::Progress;
 
 /// Thesis Table 6.2: (blades, segments, FPS N, FPS T, FPS U) on a GeForce 8800 GTS.
@@ -156,8 +158,8 @@ pub fn variants(options: &BenchOptions) -> Vec<Variant> {
     out
 }
 
-/// Run the benchmark; `progress(done, total)` after every frame. Returns the JSON document.
-pub fn run(device: &Arc<Device>, options: &BenchOptions, mut progress: impl FnMut(u64, u64)) -> Result<Value> {
+/// Run the benchmark; `progress(done, total)` after every frame. Returns the document.
+pub fn run(device: &Arc<Device>, options: &BenchOptions, mut progress: impl FnMut(u64, u64)) -> Result<BenchDocument> {
     let variants = variants(options);
     if variants.is_empty() || options.rows.is_empty() {
         return Err(Error::bad_input("nothing to measure: give at least one mode and one row"));
@@ -174,28 +176,24 @@ pub fn run(device: &Arc<Device>, options: &BenchOptions, mut progress: impl FnMu
     for &(blades, segments) in &options.rows {
         rows.push(measure_row(device, options, &variants, (blades, segments), &mut frames)?);
     }
-    Ok(document(
-        device,
-        "bench",
-        options.size,
-        json!({
-            "warmup": options.warmup,
-            "frames_per_variant": options.frames,
-            "memory_per_row_bytes": offscreen_bytes(extent),
-            "rows": rows,
-        }),
-    ))
+    Ok(BenchDocument {
+        header: Header::new(device, "bench", options.size),
+        warmup: options.warmup,
+        frames_per_variant: options.frames,
+        memory_per_row_bytes: offscreen_bytes(extent),
+        rows,
+    })
 }
 
 /// One row of the table: every variant the device supports at (`blades`, `segments`) built, then
-/// rendered interleaved. Returns the row's JSON, unsupported variants included with the reason.
+/// rendered interleaved. Returns the row, unsupported variants included with the reason.
 fn measure_row(
     device: &Arc<Device>,
     options: &BenchOptions,
     variants: &[Variant],
     (blades, segments): (u32, u32),
     frames: &mut Progress,
-) -> Result<Value> {
+) -> Result<BenchRow> {
     let cells = crate::scene::Terrain::cells_for(crate::scene::blades::field_size(blades));
     crate::app::check_limits(device, blades, (options.size, Default::default()), cells)?;
     let scene = Scene::generate(blades, 1);
@@ -219,7 +217,8 @@ fn measure_row(
                 (false, Default::default()),
             ) {
                 Err(Error::BadInput(why)) => {
-                    unsupported.push(json!({ "variant": v.name(), "unsupported": why }));
+                    unsupported
+                        .push(BenchVariant { variant: v.name(), outcome: Outcome::Unsupported { unsupported: why } });
                     frames.skipped(u64::from(options.warmup + options.frames));
                     false
                 }
@@ -240,10 +239,17 @@ fn measure_row(
     drop(renderers);
     // SAFETY: every renderer waited for its frames when dropped.
     unsafe { target.destroy(device) };
-    let samples = measured?;
-    let mut variant_json: Vec<Value> = runnable.iter().zip(&samples).map(|(v, f)| variant_json(v, f)).collect();
-    variant_json.extend(unsupported);
-    Ok(json!({ "blades": blades, "segments": segments, "triangles": triangles, "variants": variant_json }))
+    let measured = measured?;
+    let mut entries: Vec<BenchVariant> = runnable
+        .iter()
+        .enumerate()
+        .map(|(i, v)| {
+            let frames = measured.timings(i).map(BenchFrame::of).collect();
+            BenchVariant { variant: v.name(), outcome: Outcome::Measured(VariantMeasured::of(frames)) }
+        })
+        .collect();
+    entries.extend(unsupported);
+    Ok(BenchRow { blades, segments, triangles, variants: entries })
 }
 
 /// A renderer per variant, all into the offscreen format with pipeline statistics.
@@ -263,57 +269,23 @@ fn build_renderers(device: &Arc<Device>, scene: &Scene, segments: u32, variants:
         .collect()
 }
 
-/// Warm-up and measured rounds of one frame of each renderer, at a fixed simulation time step.
-/// Returns the measured frames (JSON) of each renderer.
+/// The measuring loop over `renderers`, into one target, from one camera, at a fixed simulation
+/// time step (round n at n / 60 s).
 fn render_interleaved(
     renderers: &mut [Renderer],
     target: &mut OffscreenTarget,
     camera: &Camera,
     options: &BenchOptions,
     frames: &mut Progress,
-) -> Result<Vec<Vec<Value>>> {
-    let mut samples: Vec<Vec<Value>> = vec![Vec::new(); renderers.len()];
-    for round in 0..options.warmup + options.frames {
-        let time = round as f32 / 60.0;
-        for (i, renderer) in renderers.iter_mut().enumerate() {
-            let t = renderer.render_offscreen(target, camera, time)?;
-            frames.rendered()?;
-            if round >= options.warmup {
-                let passes: serde_json::Map<String, Value> =
-                    t.passes.iter().map(|p| (p.name.to_string(), json!(p.ms))).collect();
-                samples[i].push(json!({
-                    "gpu_ms": t.gpu_ms,
-                    "readback_ms": t.readback_ms,
-                    "passes_ms": passes,
-                    "pipeline_statistics": statistics_json(&t.passes),
-                    "cpu_record_ms": t.cpu_record_ms,
-                    "cpu_submit_ms": t.cpu_submit_ms,
-                    "cpu_wait_ms": t.cpu_wait_ms,
-                }));
-            }
-        }
-    }
-    Ok(samples)
-}
-
-/// A variant's entry of a row: summaries of its measured `frames`, and the frames themselves.
-fn variant_json(v: &Variant, frames: &[Value]) -> Value {
-    let field = |name: &str| -> Vec<f64> { frames.iter().map(|f| f[name].as_f64().unwrap_or(0.0)).collect() };
-    let cpu: Vec<f64> = frames
-        .iter()
-        .map(|f| f["cpu_record_ms"].as_f64().unwrap_or(0.0) + f["cpu_submit_ms"].as_f64().unwrap_or(0.0))
-        .collect();
-    json!({
-        "variant": v.name(),
-        "gpu_ms": summary(&field("gpu_ms")),
-        // The copy of the picture to the host after the passes: not in `gpu_ms`.
-        "readback_ms": summary(&field("readback_ms")),
-        "cpu_record_submit_ms": summary(&cpu),
-        "cpu_wait_ms": summary(&field("cpu_wait_ms")),
-        // The counts are the same every frame (fixed scene and camera): the last frame's.
-        "pipeline_statistics": frames.last().map_or(Value::Null, |f| f["pipeline_statistics"].clone()),
-        "frames": frames,
-    })
+) -> Result<crate::harness::measure::Measured> {
+    let mut subject = Offscreen {
+        renderers,
+        targets: std::slice::from_mut(target),
+        camera: &|_, _| *camera,
+        time: &|round| round as f32 / 60.0,
+        after: None,
+    };
+    measure(&mut subject, Schedule { warmup: options.warmup, frames: options.frames }, frames)
 }
 
 /// The animation of a variant: the CLI's default wind (30°, strength 0.3, gusts).

@@ -12,10 +12,10 @@ use std::sync::Arc;
 
 use ash::vk;
 use glam::Vec3;
-use serde_json::{json, Value};
 
 use crate::error::{Error, Result};
-use crate::harness::document::{document, summary};
+use crate::harness::document::{pass_times, Header, Summary};
+use crate::harness::measure::{measure, Offscreen, Schedule};
 use crate::harness::Progress;
 use crate::imagediff::box_filtered_difference;
 use crate::render::animation::{AnimationSettings, Eval};
@@ -26,8 +26,13 @@ use crate::scene::camera::EYE_HEIGHT;
 use crate::scene::{Camera, Scene, Terrain};
 use crate::vk::Device;
 
+pub mod document;
 mod report;
 
+pub use document::{
+    CameraRecord, CountsRecord, DiffRecord, FieldRecord, LodDocument, LodFrame, LodMeasuredRow, LodOptionsRecord,
+    LodVariant, Reference,
+};
 pub use report::{csv, plot, table, write, FILES};
 
 /// Side in pixels of the blocks the pictures are averaged over before they are compared.
@@ -76,16 +81,15 @@ impl Field {
     }
 
     /// The field in the document.
-    pub fn json(&self) -> Value {
+    pub fn record(&self) -> FieldRecord {
         match self {
-            Field::Stored { blades, seed } => json!({ "kind": "stored", "blades": blades, "seed": seed }),
-            Field::Blocks { density, seed } => json!({
-                "kind": "blocks",
-                "size": "infinite",
-                "density": density,
-                "seed": seed,
-                "reference": { "kind": "stored", "blades": REFERENCE_BLADES, "view": "default" },
-            }),
+            Field::Stored { blades, seed } => FieldRecord::Stored { blades: *blades, seed: *seed },
+            Field::Blocks { density, seed } => FieldRecord::Blocks {
+                size: "infinite".into(),
+                density: f64::from(*density),
+                seed: *seed,
+                reference: Reference { kind: "stored".into(), blades: REFERENCE_BLADES, view: "default".into() },
+            },
         }
     }
 
@@ -259,21 +263,21 @@ impl LodBenchOptions {
     }
 
     /// The options as the document records them.
-    fn json(&self) -> Value {
-        json!({
-            "rows": self.rows.len(),
-            "size": [self.size.0, self.size.1],
-            "warmup": self.warmup,
-            "frames": self.frames,
-            "segments": self.segments,
-            "simulation_time_s": SIMULATION_TIME,
-            "diff_block": DIFF_BLOCK,
-        })
+    fn record(&self) -> LodOptionsRecord {
+        LodOptionsRecord {
+            rows: self.rows.len(),
+            size: [self.size.0, self.size.1],
+            warmup: self.warmup,
+            frames: self.frames,
+            segments: self.segments,
+            simulation_time_s: f64::from(SIMULATION_TIME),
+            diff_block: DIFF_BLOCK,
+        }
     }
 }
 
-/// Run the benchmark; `progress(done, total)` after every frame. Returns the JSON document.
-pub fn run(device: &Arc<Device>, options: &LodBenchOptions, mut progress: impl FnMut(u64, u64)) -> Result<Value> {
+/// Run the benchmark; `progress(done, total)` after every frame. Returns the document.
+pub fn run(device: &Arc<Device>, options: &LodBenchOptions, mut progress: impl FnMut(u64, u64)) -> Result<LodDocument> {
     if options.rows.is_empty() {
         return Err(Error::bad_input("nothing to measure: no rows"));
     }
@@ -301,13 +305,13 @@ pub fn run(device: &Arc<Device>, options: &LodBenchOptions, mut progress: impl F
         // SAFETY: measure_rows dropped its renderers, which waited for their frames.
         unsafe { target.destroy(device) };
     }
-    let fields = json!({
-        "options": options.json(),
-        "warmup": options.warmup,
-        "frames_per_variant": options.frames,
-        "rows": rows?,
-    });
-    Ok(document(device, "lod", options.size, fields))
+    Ok(LodDocument {
+        header: Header::new(device, "lod", options.size),
+        options: options.record(),
+        warmup: options.warmup,
+        frames_per_variant: options.frames,
+        rows: rows?,
+    })
 }
 
 /// The renderers of one field: brute force and GPU-driven, in the order of [`VARIANTS`].
@@ -324,7 +328,7 @@ fn measure_rows(
     options: &LodBenchOptions,
     targets: &mut [OffscreenTarget],
     frames: &mut Progress,
-) -> Result<Vec<Value>> {
+) -> Result<Vec<LodMeasuredRow>> {
     let mut built: Option<Built> = None;
     let mut rows = Vec::new();
     for row in &options.rows {
@@ -361,19 +365,11 @@ fn build(device: &Arc<Device>, field: &Field, segments: u32) -> Result<Built> {
     Ok(Built { field: field.clone(), scenes, renderers })
 }
 
-/// One measured frame of a variant.
-struct Sample {
-    gpu_ms: f64,
-    /// The passes whose name starts with "cull".
-    cull_ms: f64,
-    passes: Value,
-}
-
-impl Sample {
+impl LodFrame {
+    /// The frame of `t`: its GPU time, its cull passes' (those whose name starts with "cull").
     fn of(t: &FrameTimings) -> Self {
-        let passes: serde_json::Map<String, Value> = t.passes.iter().map(|p| (p.name.into(), json!(p.ms))).collect();
         let cull_ms = t.passes.iter().filter(|p| p.name.starts_with("cull")).fold(0.0, |sum, p| sum + p.ms);
-        Self { gpu_ms: t.gpu_ms, cull_ms, passes: Value::Object(passes) }
+        Self { gpu_ms: t.gpu_ms, cull_ms, passes_ms: pass_times(&t.passes) }
     }
 
     /// The cull passes' share of the frame (0 for a frame without GPU time).
@@ -387,7 +383,7 @@ impl Sample {
 }
 
 /// One row: both variants rendered interleaved from the row's camera, then their last pictures
-/// compared. Returns the row's JSON.
+/// compared. Returns the row.
 fn measure_row(
     row: &LodRow,
     scenes: &[Scene; 2],
@@ -395,7 +391,7 @@ fn measure_row(
     targets: &mut [OffscreenTarget],
     options: &LodBenchOptions,
     frames: &mut Progress,
-) -> Result<Value> {
+) -> Result<LodMeasuredRow> {
     // A stored field's view; an unbounded field's (and its reference's) default camera.
     let cameras = scenes.each_ref().map(|scene| match scene.field {
         Some(_) => scene.default_camera(),
@@ -403,92 +399,79 @@ fn measure_row(
         None => row.view.camera(&scene.terrain),
     });
     let camera = cameras[1];
-    let mut samples: Vec<Vec<Sample>> = renderers.iter().map(|_| Vec::new()).collect();
-    let mut cull = None;
-    for round in 0..options.warmup + options.frames {
-        for (i, (renderer, target)) in renderers.iter_mut().zip(targets.iter_mut()).enumerate() {
-            let t = renderer.render_offscreen(target, &cameras[i], SIMULATION_TIME)?;
-            frames.rendered()?;
-            if round >= options.warmup {
-                samples[i].push(Sample::of(&t));
-            }
-            if i == 1 {
-                cull = t.cull;
-            }
-        }
-    }
+    let mut subject =
+        Offscreen { renderers, targets, camera: &|i, _| cameras[i], time: &|_| SIMULATION_TIME, after: None };
+    let measured = measure(&mut subject, Schedule { warmup: options.warmup, frames: options.frames }, frames)?;
+    let (renderers, targets) = (subject.renderers, subject.targets);
+    let samples: Vec<Vec<LodFrame>> = (0..2).map(|i| measured.timings(i).map(LodFrame::of).collect()).collect();
+    // The GPU-driven renderer's last frame, warm-up or not.
+    let cull = measured.all(1).last().and_then(|f| f.timings.cull);
     let cull = cull.ok_or_else(|| Error::Internal("the GPU-driven renderer read back no cull counts".into()))?;
     let rgb =
         |t: &OffscreenTarget| -> Vec<u8> { t.pixels().chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect() };
     let (w, h) = options.size;
     let diff = box_filtered_difference(&rgb(&targets[0]), &rgb(&targets[1]), w, h, DIFF_BLOCK);
     let brute_triangles = renderers[0].triangles().0;
-    let variants = [
-        variant_json(VARIANTS[0], &samples[0], scenes[0].blades.len() as u64, brute_triangles, Value::Null),
-        variant_json(VARIANTS[1], &samples[1], cull.total_drawn(), cull.triangles(), counts_json(&cull)),
+    let [brute, culled]: [Vec<LodFrame>; 2] = samples.try_into().expect("two variants");
+    let variants = vec![
+        variant(VARIANTS[0], brute, scenes[0].blades.len() as u64, brute_triangles, None),
+        variant(VARIANTS[1], culled, cull.total_drawn(), cull.triangles(), Some(counts(&cull))),
     ];
-    let median = |v: &Value| v["gpu_ms"]["median"].as_f64().unwrap_or(0.0);
+    let median = |v: &LodVariant| v.gpu_ms.median;
     let ratio = if median(&variants[1]) > 0.0 { median(&variants[0]) / median(&variants[1]) } else { 0.0 };
-    Ok(json!({
-        "label": row.label,
-        "field": row.field.json(),
-        "blades": row.field.blades(),
-        "segments": options.segments,
-        "view": row.view.name(),
-        "camera": {
-            "position": camera.position.to_array(),
-            "yaw_deg": camera.yaw_deg,
-            "pitch_deg": camera.pitch_deg,
-        },
-        "ratio": ratio,
-        "cull_share": variants[1]["cull_share"],
+    let position = camera.position.to_array().map(f64::from);
+    Ok(LodMeasuredRow {
+        label: row.label.clone(),
+        field: row.field.record(),
+        blades: row.field.blades(),
+        segments: options.segments,
+        view: row.view.name().into(),
+        camera: CameraRecord { position, yaw_deg: f64::from(camera.yaw_deg), pitch_deg: f64::from(camera.pitch_deg) },
+        ratio,
+        cull_share: variants[1].cull_share,
         // Pictures of two different scenes are not compared.
-        "diff": if matches!(row.field, Field::Blocks { .. }) { Value::Null } else { json!({
-            "block": DIFF_BLOCK,
-            "mean_percent": diff.mean_percent,
-            "p99_percent": diff.p99_percent,
-            "max_percent": diff.max_percent,
-        }) },
-        "variants": variants,
-    }))
+        diff: (!matches!(row.field, Field::Blocks { .. })).then_some(DiffRecord {
+            block: DIFF_BLOCK,
+            mean_percent: diff.mean_percent,
+            p99_percent: diff.p99_percent,
+            max_percent: diff.max_percent,
+        }),
+        variants,
+    })
 }
 
 /// A variant's entry of a row: its frame times, what it drew, its cull counts (GPU-driven only)
 /// and its measured frames.
-fn variant_json(name: &str, samples: &[Sample], drawn: u64, triangles: u64, counts: Value) -> Value {
-    let gpu: Vec<f64> = samples.iter().map(|s| s.gpu_ms).collect();
-    let cull: Vec<f64> = samples.iter().map(|s| s.cull_ms).collect();
-    let share: Vec<f64> = samples.iter().map(Sample::cull_share).collect();
-    let frames: Vec<Value> =
-        samples.iter().map(|s| json!({ "gpu_ms": s.gpu_ms, "cull_ms": s.cull_ms, "passes_ms": s.passes })).collect();
-    json!({
-        "variant": name,
-        "gpu_ms": summary(&gpu),
-        "cull_ms": summary(&cull),
+fn variant(name: &str, frames: Vec<LodFrame>, drawn: u64, triangles: u64, counts: Option<CountsRecord>) -> LodVariant {
+    let of = |f: fn(&LodFrame) -> f64| Summary::of(&frames.iter().map(f).collect::<Vec<f64>>());
+    LodVariant {
+        variant: name.into(),
+        gpu_ms: of(|f| f.gpu_ms),
+        cull_ms: of(|f| f.cull_ms),
         // The median over the frames of each frame's cull passes / its GPU time.
-        "cull_share": summary(&share)["median"],
-        "drawn_blades": drawn,
-        "blade_triangles": triangles,
-        "counts": counts,
-        "frames": frames,
-    })
+        cull_share: of(LodFrame::cull_share).median,
+        drawn_blades: drawn,
+        blade_triangles: triangles,
+        counts,
+        frames,
+    }
 }
 
 /// What the cull kept after each test and drew per bucket.
-fn counts_json(c: &CullCounts) -> Value {
+fn counts(c: &CullCounts) -> CountsRecord {
     let buckets = c.segments.iter().take_while(|&&s| s > 0).count();
-    json!({
-        "considered": c.considered,
-        "after_tiles": c.after_tiles,
-        "after_density": c.after_density,
-        "after_frustum": c.after_frustum,
-        "after_orientation": c.after_orientation,
-        "after_occlusion": c.after_occlusion,
-        "tiles_visible": c.tiles_visible,
-        "tiles": c.tiles,
-        "drawn": &c.drawn[..buckets],
-        "bucket_segments": &c.segments[..buckets],
-        "total_drawn": c.total_drawn(),
-        "triangles": c.triangles(),
-    })
+    CountsRecord {
+        considered: c.considered,
+        after_tiles: c.after_tiles,
+        after_density: c.after_density,
+        after_frustum: c.after_frustum,
+        after_orientation: c.after_orientation,
+        after_occlusion: c.after_occlusion,
+        tiles_visible: c.tiles_visible,
+        tiles: c.tiles,
+        drawn: c.drawn[..buckets].to_vec(),
+        bucket_segments: c.segments[..buckets].to_vec(),
+        total_drawn: c.total_drawn(),
+        triangles: c.triangles(),
+    }
 }

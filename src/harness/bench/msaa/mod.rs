@@ -18,10 +18,10 @@ use std::path::PathBuf;
 use std::sync::Arc;
 
 use ash::vk;
-use serde_json::{json, Value};
 
 use crate::error::{Error, Result};
-use crate::harness::document::{document, summary};
+use crate::harness::document::{Header, Summary};
+use crate::harness::measure::{measure, Offscreen, Schedule};
 use crate::harness::Progress;
 use crate::imagediff::box_filtered_difference;
 use crate::render::animation::AnimationSettings;
@@ -31,8 +31,10 @@ use crate::render::{OffscreenTarget, RenderSettings, Renderer};
 use crate::scene::{Camera, Scene};
 use crate::vk::Device;
 
+pub mod document;
 mod report;
 
+pub use document::{MsaaDocument, MsaaOptionsRecord, MsaaRow, MsaaVariant};
 pub use report::{csv, table, write, FILES};
 
 /// Side in pixels of the blocks frames are averaged over before they are compared.
@@ -80,11 +82,11 @@ fn variants(samples: u32) -> [(String, Msaa); 3] {
     ]
 }
 
-/// What a run measured: the JSON document, and per row the last pan frame of each variant
-/// (RGB8, for the far-field crop).
+/// What a run measured: the document, and per row the last pan frame of each variant (RGB8, for
+/// the far-field crop).
 pub struct MsaaRun {
     /// The document (`msaa.json`).
-    pub doc: Value,
+    pub doc: MsaaDocument,
     /// Per row, per variant, the last pan picture.
     pub pictures: Vec<Vec<Vec<u8>>>,
 }
@@ -124,17 +126,21 @@ pub fn run(device: &Arc<Device>, options: &MsaaBenchOptions, mut progress: impl 
         // SAFETY: measure_row dropped its renderers, which waited for their frames.
         unsafe { target.destroy(device) };
     }
-    let (rows, pictures): (Vec<Value>, Vec<Vec<Vec<u8>>>) = measured?.into_iter().unzip();
-    let fields = json!({
-        "options": {
-            "blades": options.blades, "segments": SEGMENTS, "size": [options.size.0, options.size.1],
-            "warmup": options.warmup, "frames": options.frames, "pan_frames": options.pan_frames,
-            "pan_deg_per_frame": PAN_DEG_PER_FRAME, "simulation_time_s": SIMULATION_TIME,
-            "diff_block": DIFF_BLOCK, "samples": samples,
-        },
-        "rows": rows,
-    });
-    Ok(MsaaRun { doc: document(device, "msaa", options.size, fields), pictures })
+    let (rows, pictures): (Vec<MsaaRow>, Vec<Vec<Vec<u8>>>) = measured?.into_iter().unzip();
+    let recorded = MsaaOptionsRecord {
+        blades: options.blades,
+        segments: SEGMENTS,
+        size: [options.size.0, options.size.1],
+        warmup: options.warmup,
+        frames: options.frames,
+        pan_frames: options.pan_frames,
+        pan_deg_per_frame: f64::from(PAN_DEG_PER_FRAME),
+        simulation_time_s: f64::from(SIMULATION_TIME),
+        diff_block: DIFF_BLOCK,
+        samples,
+    };
+    let doc = MsaaDocument { header: Header::new(device, "msaa", options.size), options: recorded, rows };
+    Ok(MsaaRun { doc, pictures })
 }
 
 /// Every check of the run against the device before anything is built: each row's scene at each
@@ -161,7 +167,7 @@ fn rgb(target: &OffscreenTarget) -> Vec<u8> {
 }
 
 /// One row: its three renderers built, the cost measured interleaved, then the pan. Returns the
-/// row's JSON and each variant's last pan picture.
+/// row and each variant's last pan picture.
 fn measure_row(
     device: &Arc<Device>,
     scene: &Scene,
@@ -170,7 +176,7 @@ fn measure_row(
     targets: &mut [OffscreenTarget],
     options: &MsaaBenchOptions,
     frames: &mut Progress,
-) -> Result<(Value, Vec<Vec<u8>>)> {
+) -> Result<(MsaaRow, Vec<Vec<u8>>)> {
     let culling = if culled { Culling::default_for(SEGMENTS) } else { Culling::brute_force(SEGMENTS) };
     let variants = variants(samples);
     let mut renderers = variants
@@ -181,41 +187,43 @@ fn measure_row(
         })
         .collect::<Result<Vec<_>>>()?;
     let camera = scene.default_camera();
-    let mut gpu_ms = vec![Vec::new(); variants.len()];
-    for round in 0..options.warmup + options.frames {
-        for (i, (renderer, target)) in renderers.iter_mut().zip(targets.iter_mut()).enumerate() {
-            let t = renderer.render_offscreen(target, &camera, SIMULATION_TIME)?;
-            frames.rendered()?;
-            if round >= options.warmup {
-                gpu_ms[i].push(t.gpu_ms);
-            }
-        }
-    }
+    let mut cost = Offscreen {
+        renderers: &mut renderers,
+        targets: &mut *targets,
+        camera: &|_, _| camera,
+        time: &|_| SIMULATION_TIME,
+        after: None,
+    };
+    let measured = measure(&mut cost, Schedule { warmup: options.warmup, frames: options.frames }, frames)?;
+    let gpu_ms: Vec<Vec<f64>> = (0..variants.len()).map(|i| measured.timings(i).map(|t| t.gpu_ms).collect()).collect();
     let (changes, last) = pan(&mut renderers, targets, camera, options, frames)?;
-    let median = |ms: &[f64]| summary(ms)["median"].as_f64().unwrap_or(0.0);
+    let median = |ms: &[f64]| Summary::of(ms).median;
     let mean = |c: &[f64]| c.iter().sum::<f64>() / c.len().max(1) as f64;
     let (cost_off, change_off) = (median(&gpu_ms[0]), mean(&changes[0]));
-    let entries: Vec<Value> = variants
+    let entries: Vec<MsaaVariant> = variants
         .iter()
-        .enumerate()
-        .map(|(i, (name, m))| {
-            json!({
-                "variant": name, "samples": m.samples, "alpha_to_coverage": m.enabled() && m.alpha_to_coverage,
-                "gpu_ms": summary(&gpu_ms[i]), "frames_ms": gpu_ms[i],
-                "cost_ratio": if cost_off > 0.0 { median(&gpu_ms[i]) / cost_off } else { 0.0 },
-                "change_percent": mean(&changes[i]), "changes_percent": changes[i],
-                "change_ratio": if change_off > 0.0 { mean(&changes[i]) / change_off } else { 0.0 },
-            })
+        .zip(gpu_ms.into_iter().zip(changes))
+        .map(|((name, m), (gpu_ms, changes))| MsaaVariant {
+            variant: name.clone(),
+            samples: m.samples,
+            alpha_to_coverage: m.enabled() && m.alpha_to_coverage,
+            gpu_ms: Summary::of(&gpu_ms),
+            cost_ratio: if cost_off > 0.0 { median(&gpu_ms) / cost_off } else { 0.0 },
+            frames_ms: gpu_ms,
+            change_percent: mean(&changes),
+            change_ratio: if change_off > 0.0 { mean(&changes) / change_off } else { 0.0 },
+            changes_percent: changes,
         })
         .collect();
-    Ok((json!({ "label": label, "culled": culled, "blades": scene.blades.len(), "variants": entries }), last))
+    Ok((MsaaRow { label: label.into(), culled, blades: scene.blades.len(), variants: entries }, last))
 }
 
 /// What a pan measured: per variant, its frame-to-frame changes (%) and its last picture (RGB8).
 type Pan = (Vec<Vec<f64>>, Vec<Vec<u8>>);
 
-/// The pan: every variant renders each pan frame in turn; per variant, the 8×8-filtered mean
-/// change between consecutive frames, in % of full scale, and its last picture.
+/// The pan, through the measuring loop without warm-up: every variant renders each pan frame in
+/// turn; per variant, the 8×8-filtered mean change between consecutive frames, in % of full
+/// scale, and its last picture. Its frame times are not kept.
 fn pan(
     renderers: &mut [Renderer],
     targets: &mut [OffscreenTarget],
@@ -226,17 +234,20 @@ fn pan(
     let (w, h) = options.size;
     let mut previous: Vec<Option<Vec<u8>>> = vec![None; renderers.len()];
     let mut changes = vec![Vec::new(); renderers.len()];
-    for k in 0..options.pan_frames {
-        let camera = Camera { yaw_deg: start.yaw_deg + k as f32 * PAN_DEG_PER_FRAME, ..start };
-        for (i, (renderer, target)) in renderers.iter_mut().zip(targets.iter_mut()).enumerate() {
-            renderer.render_offscreen(target, &camera, SIMULATION_TIME)?;
-            frames.rendered()?;
-            let picture = rgb(target);
-            if let Some(before) = &previous[i] {
-                changes[i].push(box_filtered_difference(before, &picture, w, h, DIFF_BLOCK).mean_percent);
-            }
-            previous[i] = Some(picture);
+    let mut compare = |i: usize, target: &OffscreenTarget| {
+        let picture = rgb(target);
+        if let Some(before) = &previous[i] {
+            changes[i].push(box_filtered_difference(before, &picture, w, h, DIFF_BLOCK).mean_percent);
         }
-    }
+        previous[i] = Some(picture);
+    };
+    let mut subject = Offscreen {
+        renderers,
+        targets,
+        camera: &|_, k| Camera { yaw_deg: start.yaw_deg + k as f32 * PAN_DEG_PER_FRAME, ..start },
+        time: &|_| SIMULATION_TIME,
+        after: Some(&mut compare),
+    };
+    measure(&mut subject, Schedule { warmup: 0, frames: options.pan_frames }, frames)?;
     Ok((changes, previous.into_iter().map(Option::unwrap_or_default).collect()))
 }

@@ -3,62 +3,52 @@
 
 use std::path::Path;
 
-use serde_json::Value;
-
+use super::document::{MsaaDocument, MsaaRow, MsaaVariant};
 use super::MsaaRun;
 use crate::app::output::{encode_png, write_atomically};
 use crate::app::write_text;
 use crate::error::Result;
+use crate::harness::document::{number, to_json};
 
 /// Magnification of the far-field crops.
 const CROP_SCALE: u32 = 3;
 
 /// The rows' variants, flattened: (row, variant).
-fn entries(doc: &Value) -> impl Iterator<Item = (&Value, &Value)> {
-    doc["rows"]
-        .as_array()
-        .into_iter()
-        .flatten()
-        .flat_map(|row| row["variants"].as_array().into_iter().flatten().map(move |variant| (row, variant)))
+fn entries(doc: &MsaaDocument) -> impl Iterator<Item = (&MsaaRow, &MsaaVariant)> {
+    doc.rows.iter().flat_map(|row| row.variants.iter().map(move |variant| (row, variant)))
 }
 
 /// The table printed after a run: per row and variant, the median GPU time and its ratio to no
 /// MSAA, the mean frame-to-frame change of the pan and its ratio to no MSAA.
-pub fn table(doc: &Value) -> String {
+pub fn table(doc: &MsaaDocument) -> String {
     let mut out = format!(
         "{:<38} {:<24} | {:>9} {:>6} | {:>9} {:>7}\n",
         "row", "variant", "GPU ms", "cost", "change %", "change"
     );
     for (row, v) in entries(doc) {
-        let number = |v: &Value| v.as_f64().unwrap_or(0.0);
         out.push_str(&format!(
             "{:<38} {:<24} | {:>9.2} {:>5.2}x | {:>9.4} {:>6.2}x\n",
-            row["label"].as_str().unwrap_or(""),
-            v["variant"].as_str().unwrap_or(""),
-            number(&v["gpu_ms"]["median"]),
-            number(&v["cost_ratio"]),
-            number(&v["change_percent"]),
-            number(&v["change_ratio"]),
+            row.label, v.variant, v.gpu_ms.median, v.cost_ratio, v.change_percent, v.change_ratio,
         ));
     }
     out
 }
 
 /// Tidy CSV: one line per row and variant.
-pub fn csv(doc: &Value) -> String {
+pub fn csv(doc: &MsaaDocument) -> String {
     let mut out =
         String::from("row,variant,samples,alpha_to_coverage,gpu_ms_median,cost_ratio,change_percent,change_ratio\n");
     for (row, v) in entries(doc) {
         out.push_str(&format!(
             "\"{}\",{},{},{},{},{},{},{}\n",
-            row["label"].as_str().unwrap_or("").replace('"', "\"\""),
-            v["variant"].as_str().unwrap_or(""),
-            v["samples"],
-            v["alpha_to_coverage"],
-            v["gpu_ms"]["median"],
-            v["cost_ratio"],
-            v["change_percent"],
-            v["change_ratio"],
+            row.label.replace('"', "\"\""),
+            v.variant,
+            v.samples,
+            v.alpha_to_coverage,
+            number(v.gpu_ms.median),
+            number(v.cost_ratio),
+            number(v.change_percent),
+            number(v.change_ratio),
         ));
     }
     out
@@ -69,12 +59,11 @@ pub fn csv(doc: &Value) -> String {
 pub const FILES: [&str; 3] = ["msaa.json", "msaa.csv", "msaa-far-field.png"];
 
 pub fn write(run: &MsaaRun, dir: &Path) -> Result<()> {
-    let text = serde_json::to_string_pretty(&run.doc).expect("a JSON value serialises");
+    let text = to_json(&run.doc);
     let [json, table, picture] = FILES;
     write_text(&dir.join(json), &text)?;
     write_text(&dir.join(table), &csv(&run.doc))?;
-    let size = &run.doc["resolution"];
-    let (w, h) = (size[0].as_u64().unwrap_or(0) as u32, size[1].as_u64().unwrap_or(0) as u32);
+    let [w, h] = run.doc.header.resolution;
     write_atomically(&dir.join(picture), &encode_png(&far_field(&run.pictures, w, h))?)
 }
 
@@ -108,17 +97,42 @@ pub fn far_field(pictures: &[Vec<Vec<u8>>], width: u32, height: u32) -> image::R
 
 #[cfg(test)]
 mod tests {
-    use serde_json::json;
-
+    use super::super::MsaaOptionsRecord;
     use super::*;
 
-    fn doc() -> Value {
-        let variant = |name: &str, ms: f64, change: f64| {
-            json!({"variant": name, "samples": 4, "alpha_to_coverage": true, "gpu_ms": {"median": ms},
-                   "cost_ratio": ms / 100.0, "change_percent": change, "change_ratio": change / 0.5})
+    fn doc() -> MsaaDocument {
+        let variant = |name: &str, ms: f64, change: f64| MsaaVariant {
+            variant: name.into(),
+            samples: 4,
+            alpha_to_coverage: true,
+            gpu_ms: crate::harness::document::Summary::of(&[ms]),
+            frames_ms: vec![ms],
+            cost_ratio: ms / 100.0,
+            change_percent: change,
+            changes_percent: vec![change],
+            change_ratio: change / 0.5,
         };
-        json!({"resolution": [64, 72], "rows": [{"label": "default, \"a\"", "variants": [
-            variant("no MSAA", 100.0, 0.5), variant("4x alpha to coverage", 180.0, 0.3)]}]})
+        let row = MsaaRow {
+            label: "default, \"a\"".into(),
+            culled: true,
+            blades: 10,
+            variants: vec![variant("no MSAA", 100.0, 0.5), variant("4x alpha to coverage", 180.0, 0.3)],
+        };
+        let options = MsaaOptionsRecord {
+            blades: 10,
+            segments: 4,
+            size: [64, 72],
+            warmup: 0,
+            frames: 1,
+            pan_frames: 2,
+            pan_deg_per_frame: 0.05,
+            simulation_time_s: 0.0,
+            diff_block: 8,
+            samples: 4,
+        };
+        let mut header = crate::harness::bench::document::fixtures::header();
+        header.resolution = [64, 72];
+        MsaaDocument { header, options, rows: vec![row] }
     }
 
     #[test]

@@ -15,16 +15,23 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use ash::vk;
-use serde_json::{json, Value};
 
 use crate::app::RenderOptions;
 use crate::error::{Error, Result, VkContext};
-use crate::harness::document::{statistics_json, summary};
+use crate::harness::document::{statistics, CullSummary, Header, Summary};
+pub(crate) use crate::harness::measure::Frame;
+use crate::harness::measure::{measure, Schedule, Subject};
+use crate::harness::Progress;
 use crate::render::graph::Outputs;
 use crate::render::renderer::FrameSync;
-use crate::render::{FrameTimings, OffscreenTarget, Renderer};
-use crate::scene::Scene;
+use crate::render::target::TargetView;
+use crate::render::{OffscreenTarget, Renderer};
+use crate::scene::{Camera, Scene};
 use crate::vk::{Access, Device};
+
+pub mod document;
+
+pub use document::{ClockRecord, PassSummary, RunSummary, TimingDocument};
 
 /// What to measure.
 #[derive(Clone, Debug)]
@@ -90,12 +97,6 @@ pub fn calibrate(device: &Device) -> Result<Option<ClockMapping>> {
     }))
 }
 
-/// One frame of a run.
-pub(crate) struct Frame {
-    pub(crate) index: u32,
-    pub(crate) timings: FrameTimings,
-}
-
 /// A run with `frames_in_flight` frames in flight.
 pub(crate) struct Run {
     pub(crate) frames_in_flight: usize,
@@ -105,9 +106,64 @@ pub(crate) struct Run {
     pub(crate) ended: Instant,
 }
 
-/// Render `frames` frames with `frames_in_flight` in flight into one offscreen target. Each
-/// frame's first barrier waits for the previous frame's attachment writes (same queue).
-fn run_one(device: &Arc<Device>, scene: &Scene, options: &TimingOptions, frames_in_flight: usize) -> Result<Run> {
+/// The subject of a run: one renderer with frames in flight into one offscreen target. A frame
+/// is submitted without waiting; the frame that comes back is the one its slot held before.
+struct Pipelined<'a> {
+    renderer: &'a mut Renderer,
+    view: TargetView,
+    camera: Camera,
+    /// Simulation time of frame 0 (frame n shows `time + n / 60` s: a fixed step).
+    time: f32,
+    /// Per slot, the index of the frame in it.
+    in_flight: Vec<Option<u32>>,
+}
+
+impl Pipelined<'_> {
+    /// The next slot, and the frame it held (its timings now read back).
+    fn next_slot(&mut self) -> Result<(usize, Option<Frame>)> {
+        let (slot, done) = self.renderer.begin_frame()?;
+        let index = self.in_flight[slot].take();
+        Ok((slot, done.zip(index).map(|(timings, index)| Frame { index, timings })))
+    }
+}
+
+impl Subject for Pipelined<'_> {
+    fn variants(&self) -> usize {
+        1
+    }
+
+    fn frame(&mut self, _: usize, round: u32) -> Result<Option<Frame>> {
+        let (slot, done) = self.next_slot()?;
+        let time = self.time + round as f32 / 60.0;
+        self.renderer.submit_frame(slot, &self.view, &self.camera, time, FrameSync::default(), Outputs::default())?;
+        self.in_flight[slot] = Some(round);
+        // Each frame's first barrier waits for the previous frame's attachment writes (same queue).
+        self.view.color_previous = Access::ColorAttachmentWrite;
+        if self.renderer.uses_target_depth() {
+            self.view.depth_previous = Access::DepthAttachmentReadWrite;
+        }
+        Ok(done)
+    }
+
+    /// Each slot's last frame.
+    fn drain(&mut self, _: usize) -> Result<Vec<Frame>> {
+        let mut frames = Vec::new();
+        for _ in 0..self.in_flight.len() {
+            frames.extend(self.next_slot()?.1);
+        }
+        Ok(frames)
+    }
+}
+
+/// Render `frames` frames with `frames_in_flight` in flight into one offscreen target, through
+/// the measuring loop.
+fn run_one(
+    device: &Arc<Device>,
+    scene: &Scene,
+    options: &TimingOptions,
+    frames_in_flight: usize,
+    progress: &mut Progress,
+) -> Result<Run> {
     let render = &options.render;
     let settings = render.offscreen_settings(frames_in_flight);
     let mut renderer = Renderer::new(device.clone(), scene, settings, render.animation.clone())?;
@@ -116,36 +172,19 @@ fn run_one(device: &Arc<Device>, scene: &Scene, options: &TimingOptions, frames_
     let camera = render.camera.unwrap_or_else(|| scene.default_camera());
     let result = (|| {
         let calibrated = super::trace::calibrated(device, &mut renderer)?;
-        let total = options.warmup + render.frames;
-        let mut frames = Vec::new();
-        let mut in_flight: Vec<Option<u32>> = vec![None; frames_in_flight];
         let started = Instant::now();
-        let mut view = target.view();
-        for index in 0..total {
-            let (slot, done) = renderer.begin_frame()?;
-            if let (Some(timings), Some(done_index)) = (done, in_flight[slot].take()) {
-                frames.push(Frame { index: done_index, timings });
-            }
-            // Fixed simulation step: frame n shows time n / 60 s.
-            let time = render.time + index as f32 / 60.0;
-            renderer.submit_frame(slot, &view, &camera, time, FrameSync::default(), Outputs::default())?;
-            in_flight[slot] = Some(index);
-            // Ctrl-C: stop at this frame (the renderer waits for what is in flight on drop).
-            crate::app::interrupt::check()?;
-            view.color_previous = Access::ColorAttachmentWrite;
-            if renderer.uses_target_depth() {
-                view.depth_previous = Access::DepthAttachmentReadWrite;
-            }
-        }
-        // Drain: each slot's last frame.
-        for _ in 0..frames_in_flight {
-            let (slot, done) = renderer.begin_frame()?;
-            if let (Some(timings), Some(done_index)) = (done, in_flight[slot].take()) {
-                frames.push(Frame { index: done_index, timings });
-            }
-        }
+        let mut subject = Pipelined {
+            renderer: &mut renderer,
+            view: target.view(),
+            camera,
+            time: render.time,
+            in_flight: vec![None; frames_in_flight],
+        };
+        // Ctrl-C stops at a frame (the renderer waits for what is in flight on drop).
+        let schedule = Schedule { warmup: options.warmup, frames: render.frames };
+        let measured = measure(&mut subject, schedule, progress)?;
         let ended = Instant::now();
-        frames.sort_by_key(|f| f.index);
+        let mut frames = measured.into_frames().pop().expect("one variant");
         let mapping = match calibrated {
             Some(mapping) => mapping,
             None => estimated_mapping(&frames, started, ended)?,
@@ -220,13 +259,13 @@ fn spans(run: &Run, anchor: Instant) -> Spans {
     Spans { cpu, recording, gpu }
 }
 
-/// Run the measurement. Returns the JSON document and the frame intervals (ms) of the 2-in-flight
-/// run, for the histogram.
+/// Run the measurement; `progress(done, total)` after every frame. Returns the document and the
+/// frame intervals (ms) of the 2-in-flight run, for the histogram.
 pub fn run(
     device: &Arc<Device>,
     options: &TimingOptions,
     mut progress: impl FnMut(u64, u64),
-) -> Result<(Value, Vec<f64>)> {
+) -> Result<(TimingDocument, Vec<f64>)> {
     let render = &options.render;
     if let Some(trace) = &options.trace {
         crate::app::output::check_output(trace, "--trace")?;
@@ -244,10 +283,12 @@ pub fn run(
         (render.culling.enabled, render.msaa),
     )?;
     let scene = render.scene();
+    const IN_FLIGHT: [usize; 3] = [1, 2, 3];
+    let total = IN_FLIGHT.len() as u64 * u64::from(options.warmup + render.frames);
+    let mut frames = Progress::new(total, &mut progress);
     let mut runs = Vec::new();
-    for (i, fif) in [1usize, 2, 3].into_iter().enumerate() {
-        runs.push(run_one(device, &scene, options, fif)?);
-        progress(i as u64 + 1, 3);
+    for fif in IN_FLIGHT {
+        runs.push(run_one(device, &scene, options, fif, &mut frames)?);
     }
     let anchor = runs[0].started;
     let mut comparison = Vec::new();
@@ -262,33 +303,26 @@ pub fn run(
     // Per-pass percentiles and statistics: the 1-in-flight run, where frames do not queue.
     let base = &runs[0];
     let passes = pass_percentiles(base);
-    let gpu: Vec<f64> = base.frames.iter().map(|f| f.timings.gpu_ms).collect();
-    let record: Vec<f64> = base.frames.iter().map(|f| f.timings.cpu_record_ms).collect();
-    let submit: Vec<f64> = base.frames.iter().map(|f| f.timings.cpu_submit_ms).collect();
-    let statistics = base.frames.last().map_or(Value::Null, |f| statistics_json(&f.timings.passes));
-    let cull = crate::harness::document::cull_json(base.frames.last().and_then(|f| f.timings.cull.as_ref()));
-    let doc = crate::harness::document::document(
-        device,
-        "timing",
-        render.size,
-        json!({
-        "blades": render.blades,
-        "segments": render.segments,
-        "mode": if render.floor { "floor".into() } else { format!("{:?}", render.animation.mode).to_lowercase() },
-        "warmup": options.warmup,
-        "frames_per_run": render.frames,
-        "timestamp_period_ns": device.limits().timestamp_period,
-        "timestamp_valid_bits": device.timestamp_valid_bits,
-        "calibrated_timestamps": device.calibrated_timestamps.is_some(),
-        "gpu_frame_ms": summary(&gpu),
-        "cpu_record_ms": summary(&record),
-        "cpu_submit_ms": summary(&submit),
-        "passes": passes,
-        "pipeline_statistics": statistics,
-        "cull": cull,
-        "frames_in_flight": comparison,
-        }),
-    );
+    let of = |f: fn(&Frame) -> f64| Summary::of(&base.frames.iter().map(f).collect::<Vec<f64>>());
+    let last = base.frames.last();
+    let doc = TimingDocument {
+        header: Header::new(device, "timing", render.size),
+        blades: render.blades,
+        segments: render.segments,
+        mode: if render.floor { "floor".into() } else { format!("{:?}", render.animation.mode).to_lowercase() },
+        warmup: options.warmup,
+        frames_per_run: render.frames,
+        timestamp_period_ns: f64::from(device.limits().timestamp_period),
+        timestamp_valid_bits: device.timestamp_valid_bits,
+        calibrated_timestamps: device.calibrated_timestamps.is_some(),
+        gpu_frame_ms: of(|f| f.timings.gpu_ms),
+        cpu_record_ms: of(|f| f.timings.cpu_record_ms),
+        cpu_submit_ms: of(|f| f.timings.cpu_submit_ms),
+        passes,
+        pipeline_statistics: last.map(|f| statistics(&f.timings.passes)),
+        cull: last.and_then(|f| f.timings.cull.as_ref()).map(CullSummary::of),
+        frames_in_flight: comparison,
+    };
     if let Some(path) = &options.trace {
         crate::app::write_text(path, &serde_json::to_string(&super::trace::trace(&runs, anchor)).expect("serialises"))?;
     }
@@ -297,7 +331,7 @@ pub fn run(
 
 /// A run's entry of the frames-in-flight comparison, and its frame intervals (ms between
 /// consecutive GPU frame ends).
-fn compare_run(run: &Run, anchor: Instant) -> (Value, Vec<f64>) {
+fn compare_run(run: &Run, anchor: Instant) -> (RunSummary, Vec<f64>) {
     let s = spans(run, anchor);
     let wall = (run.ended - run.started).as_secs_f64();
     let measured = s.gpu.last().map_or(0.0, |g| g.1) - s.cpu.first().map_or(0.0, |c| c.0);
@@ -308,23 +342,23 @@ fn compare_run(run: &Run, anchor: Instant) -> (Value, Vec<f64>) {
     let waits: Vec<f64> = run.frames.iter().map(|f| f.timings.cpu_wait_ms).collect();
     // Frame interval: between consecutive GPU frame ends, what a viewer would see.
     let intervals: Vec<f64> = s.gpu.windows(2).map(|w| (w[1].1 - w[0].1) * 1e3).collect();
-    let entry = json!({
-        "frames_in_flight": run.frames_in_flight,
-        "frames": run.frames.len(),
-        "fps": if measured > 0.0 { run.frames.len() as f64 / measured } else { 0.0 },
-        "wall_s": wall,
-        "gpu_busy_fraction": if measured > 0.0 { gpu_busy / measured } else { 0.0 },
-        "cpu_work_ms_per_frame": cpu_busy * 1e3 / run.frames.len().max(1) as f64,
-        "cpu_gpu_overlap_fraction": if recording > 0.0 { both / recording } else { 0.0 },
-        "cpu_wait_ms": summary(&waits),
-        "frame_interval_ms": summary(&intervals),
-        "clock": { "method": run.mapping.method, "deviation_ns": run.mapping.deviation_ns },
-    });
+    let entry = RunSummary {
+        frames_in_flight: run.frames_in_flight,
+        frames: run.frames.len(),
+        fps: if measured > 0.0 { run.frames.len() as f64 / measured } else { 0.0 },
+        wall_s: wall,
+        gpu_busy_fraction: if measured > 0.0 { gpu_busy / measured } else { 0.0 },
+        cpu_work_ms_per_frame: cpu_busy * 1e3 / run.frames.len().max(1) as f64,
+        cpu_gpu_overlap_fraction: if recording > 0.0 { both / recording } else { 0.0 },
+        cpu_wait_ms: Summary::of(&waits),
+        frame_interval_ms: Summary::of(&intervals),
+        clock: ClockRecord { method: run.mapping.method.into(), deviation_ns: run.mapping.deviation_ns },
+    };
     (entry, intervals)
 }
 
 /// Per pass (in order of first appearance), the summary of its GPU times over the frames of `base`.
-fn pass_percentiles(base: &Run) -> Vec<Value> {
+fn pass_percentiles(base: &Run) -> Vec<PassSummary> {
     let mut names: Vec<&str> = Vec::new();
     for f in &base.frames {
         for p in &f.timings.passes {
@@ -341,75 +375,65 @@ fn pass_percentiles(base: &Run) -> Vec<Value> {
                 .iter()
                 .flat_map(|f| f.timings.passes.iter().filter(|p| p.name == *name).map(|p| p.ms))
                 .collect();
-            json!({ "pass": name, "gpu_ms": summary(&ms) })
+            PassSummary { pass: name.to_string(), gpu_ms: Summary::of(&ms) }
         })
         .collect()
 }
 
 /// The report printed by `meadow timing`.
-pub fn report(doc: &Value) -> String {
+pub fn report(doc: &TimingDocument) -> String {
     let mut out = String::new();
-    let f = |v: &Value, k: &str| v[k].as_f64().unwrap_or(0.0);
     out.push_str(&format!(
         "{:<14} {:>9} {:>9} {:>9} {:>9}   (1 frame in flight, {} frames)\n",
-        "GPU ms", "median", "p5", "p95", "p99", doc["frames_per_run"]
+        "GPU ms", "median", "p5", "p95", "p99", doc.frames_per_run
     ));
-    let line = |name: &str, s: &Value| {
-        format!("{:<14} {:>9.3} {:>9.3} {:>9.3} {:>9.3}\n", name, f(s, "median"), f(s, "p5"), f(s, "p95"), f(s, "p99"))
-    };
-    out.push_str(&line("frame", &doc["gpu_frame_ms"]));
-    for p in doc["passes"].as_array().into_iter().flatten() {
-        out.push_str(&line(p["pass"].as_str().unwrap_or(""), &p["gpu_ms"]));
+    let line =
+        |name: &str, s: &Summary| format!("{name:<14} {:>9.3} {:>9.3} {:>9.3} {:>9.3}\n", s.median, s.p5, s.p95, s.p99);
+    out.push_str(&line("frame", &doc.gpu_frame_ms));
+    for p in &doc.passes {
+        out.push_str(&line(&p.pass, &p.gpu_ms));
     }
-    if let Some(cull) = doc["cull"].as_object() {
-        let n = |k: &str| cull.get(k).and_then(Value::as_u64).unwrap_or(0);
+    if let Some(c) = &doc.cull {
         out.push_str(&format!(
             "cull: {} considered, {} after the tiles, {} density, {} frustum, {} orientation, {} occlusion: {} drawn, {} triangles (last frame)\n",
-            n("considered"),
-            n("after_tiles"),
-            n("after_density"),
-            n("after_frustum"),
-            n("after_orientation"),
-            n("after_occlusion"),
-            n("drawn"),
-            n("triangles")
+            c.considered,
+            c.after_tiles,
+            c.after_density,
+            c.after_frustum,
+            c.after_orientation,
+            c.after_occlusion,
+            c.drawn,
+            c.triangles
         ));
     }
-    out.push_str(&line("cpu record", &doc["cpu_record_ms"]));
-    out.push_str(&line("cpu submit", &doc["cpu_submit_ms"]));
+    out.push_str(&line("cpu record", &doc.cpu_record_ms));
+    out.push_str(&line("cpu submit", &doc.cpu_submit_ms));
     out.push_str(&format!(
         "\n{:<14} {:>12} {:>12} {:>12} {:>12}\n",
         "statistics", "vertices", "VS invoc.", "clip prims", "FS invoc."
     ));
-    if let Some(map) = doc["pipeline_statistics"].as_object() {
-        for (pass, s) in map {
-            let g = |k: &str| s[k].as_u64().unwrap_or(0);
-            out.push_str(&format!(
-                "{:<14} {:>12} {:>12} {:>12} {:>12}\n",
-                pass,
-                g("input_vertices"),
-                g("vertex_invocations"),
-                g("clipping_primitives"),
-                g("fragment_invocations")
-            ));
-        }
+    for (pass, s) in doc.pipeline_statistics.iter().flatten() {
+        out.push_str(&format!(
+            "{:<14} {:>12} {:>12} {:>12} {:>12}\n",
+            pass, s.input_vertices, s.vertex_invocations, s.clipping_primitives, s.fragment_invocations
+        ));
     }
     out.push_str(&format!(
         "\n{:>9} {:>8} {:>9} {:>11} {:>12} {:>11} {:>14}  clock\n",
         "in flight", "fps", "GPU busy", "CPU ms/fr", "CPU∩GPU", "wait ms", "interval p95"
     ));
-    for r in doc["frames_in_flight"].as_array().into_iter().flatten() {
+    for r in &doc.frames_in_flight {
         out.push_str(&format!(
             "{:>9} {:>8.2} {:>8.1}% {:>11.3} {:>11.1}% {:>11.2} {:>14.2}  {} ±{:.1} µs\n",
-            r["frames_in_flight"].as_u64().unwrap_or(0),
-            f(r, "fps"),
-            100.0 * f(r, "gpu_busy_fraction"),
-            f(r, "cpu_work_ms_per_frame"),
-            100.0 * f(r, "cpu_gpu_overlap_fraction"),
-            f(&r["cpu_wait_ms"], "median"),
-            f(&r["frame_interval_ms"], "p95"),
-            r["clock"]["method"].as_str().unwrap_or(""),
-            f(&r["clock"], "deviation_ns") * 1e-3,
+            r.frames_in_flight,
+            r.fps,
+            100.0 * r.gpu_busy_fraction,
+            r.cpu_work_ms_per_frame,
+            100.0 * r.cpu_gpu_overlap_fraction,
+            r.cpu_wait_ms.median,
+            r.frame_interval_ms.p95,
+            r.clock.method,
+            r.clock.deviation_ns * 1e-3,
         ));
     }
     out.push_str(
@@ -425,15 +449,10 @@ pub fn report(doc: &Value) -> String {
 /// histogram of frame intervals.
 pub const FILES: [&str; 2] = ["timing.json", "timing.png"];
 
-pub fn write(doc: &Value, intervals: &[f64], dir: &std::path::Path) -> Result<()> {
+pub fn write(doc: &TimingDocument, intervals: &[f64], dir: &std::path::Path) -> Result<()> {
     let [json, chart] = FILES;
-    crate::app::write_text(&dir.join(json), &serde_json::to_string_pretty(doc).expect("serialises"))?;
-    let title = format!(
-        "Frame intervals, 2 in flight: {} blades x {} seg, {}",
-        doc["blades"],
-        doc["segments"],
-        doc["mode"].as_str().unwrap_or("?")
-    );
+    crate::app::write_text(&dir.join(json), &crate::harness::document::to_json(doc))?;
+    let title = format!("Frame intervals, 2 in flight: {} blades x {} seg, {}", doc.blades, doc.segments, doc.mode);
     let bins = (intervals.len() / 3).clamp(5, 40);
     crate::harness::plot::histogram(&dir.join(chart), (1000, 560), &title, "ms between GPU frame ends", intervals, bins)
 }

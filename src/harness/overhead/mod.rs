@@ -9,17 +9,21 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use ash::vk;
-use serde_json::{json, Value};
 
 use crate::app::write_text;
 use crate::error::{Error, Result};
-use crate::harness::document::summary;
+use crate::harness::document::{number, to_json, Header, Outcome, Summary};
+use crate::harness::measure::{measure, Offscreen, Schedule};
 use crate::harness::Progress;
 use crate::render::animation::{AnimationSettings, Mode};
 use crate::render::submission::{Strategy, Submission};
 use crate::render::{OffscreenTarget, RenderSettings, Renderer};
 use crate::scene::{Camera, Scene};
 use crate::vk::Device;
+
+pub mod document;
+
+pub use document::{OverheadDocument, OverheadFrame, OverheadRow, StrategyMeasured};
 
 /// What to measure.
 #[derive(Clone, Debug)]
@@ -42,8 +46,12 @@ pub struct OverheadOptions {
     pub out: PathBuf,
 }
 
-/// Run the measurement; `progress(done, total)` after every frame. Returns the JSON document.
-pub fn run(device: &Arc<Device>, options: &OverheadOptions, mut progress: impl FnMut(u64, u64)) -> Result<Value> {
+/// Run the measurement; `progress(done, total)` after every frame. Returns the document.
+pub fn run(
+    device: &Arc<Device>,
+    options: &OverheadOptions,
+    mut progress: impl FnMut(u64, u64),
+) -> Result<OverheadDocument> {
     check(options)?;
     let cells = crate::scene::Terrain::cells_for(crate::scene::blades::field_size(options.blades));
     crate::app::check_limits(device, options.blades, (options.size, Default::default()), cells)?;
@@ -63,19 +71,15 @@ pub fn run(device: &Arc<Device>, options: &OverheadOptions, mut progress: impl F
     // SAFETY: every renderer waited for its frames when dropped (they are gone by now).
     unsafe { target.destroy(device) };
     result?;
-    Ok(crate::harness::document::document(
-        device,
-        "overhead",
-        options.size,
-        json!({
-        "worker_threads": std::thread::available_parallelism().map_or(2, |n| n.get()),
-        "blades": options.blades,
-        "segments": options.segments,
-        "warmup": options.warmup,
-        "frames_per_strategy": options.frames,
-        "rows": rows,
-        }),
-    ))
+    Ok(OverheadDocument {
+        header: Header::new(device, "overhead", options.size),
+        worker_threads: std::thread::available_parallelism().map_or(2, |n| n.get()),
+        blades: options.blades,
+        segments: options.segments,
+        warmup: options.warmup,
+        frames_per_strategy: options.frames,
+        rows,
+    })
 }
 
 /// Refuse options with nothing to measure, or clusters without blades.
@@ -106,14 +110,15 @@ fn measure_clusters(
     target: &mut OffscreenTarget,
     clusters: u32,
     progress: &mut Progress,
-    rows: &mut Vec<Value>,
+    rows: &mut Vec<OverheadRow>,
 ) -> Result<()> {
     let options = setup.options;
     // Build what the device supports; the rest is reported.
     let mut renderers = Vec::new();
     for &strategy in &options.strategies {
         if let Some(why) = strategy.unsupported(setup.device, clusters) {
-            rows.push(json!({ "clusters": clusters, "strategy": strategy.name(), "unsupported": why }));
+            let outcome = Outcome::Unsupported { unsupported: why };
+            rows.push(OverheadRow { clusters, strategy: strategy.name().into(), outcome });
             progress.skipped(u64::from(options.warmup + options.frames));
             continue;
         }
@@ -126,76 +131,79 @@ fn measure_clusters(
         let animation = AnimationSettings { mode: Mode::Static, ..Default::default() };
         renderers.push((strategy, Renderer::new(setup.device.clone(), &setup.scene, settings, animation)?));
     }
-    let mut frames: Vec<Vec<[f64; 4]>> = vec![Vec::new(); renderers.len()];
-    for round in 0..options.warmup + options.frames {
-        for (i, (_, renderer)) in renderers.iter_mut().enumerate() {
-            let t = renderer.render_offscreen(target, &setup.camera, 0.0)?;
-            progress.rendered()?;
-            if round >= options.warmup {
-                frames[i].push([t.cpu_record_ms * 1e3, t.cpu_submit_ms * 1e3, t.gpu_ms, t.readback_ms]);
-            }
-        }
-    }
-    for ((strategy, _), frames) in renderers.iter().zip(&frames) {
-        rows.push(strategy_row(*strategy, clusters, frames));
+    let (strategies, mut built): (Vec<Strategy>, Vec<Renderer>) = renderers.into_iter().unzip();
+    let mut subject = Offscreen {
+        renderers: &mut built,
+        targets: std::slice::from_mut(target),
+        camera: &|_, _| setup.camera,
+        time: &|_| 0.0,
+        after: None,
+    };
+    let measured = measure(&mut subject, Schedule { warmup: options.warmup, frames: options.frames }, progress)?;
+    for (i, strategy) in strategies.into_iter().enumerate() {
+        let frames = measured
+            .timings(i)
+            .map(|t| OverheadFrame {
+                cpu_record_us: t.cpu_record_ms * 1e3,
+                cpu_submit_us: t.cpu_submit_ms * 1e3,
+                gpu_ms: t.gpu_ms,
+                readback_ms: Some(t.readback_ms),
+            })
+            .collect();
+        let outcome = Outcome::Measured(strategy_row(strategy, clusters, frames));
+        rows.push(OverheadRow { clusters, strategy: strategy.name().into(), outcome });
     }
     Ok(())
 }
 
-/// The row of `strategy` at `clusters` from its measured frames (record µs, submit µs, GPU ms
-/// of the passes, GPU ms of the read-back copy after them).
-fn strategy_row(strategy: Strategy, clusters: u32, frames: &[[f64; 4]]) -> Value {
-    let column = |k: usize| summary(&frames.iter().map(|f| f[k]).collect::<Vec<f64>>());
-    let (record, submit, gpu) = (column(0), column(1), column(2));
-    let median = |s: &Value| s["median"].as_f64().unwrap_or(0.0);
-    let (record_us, submit_us, gpu_ms) = (median(&record), median(&submit), median(&gpu));
-    let cpu_draws = strategy.blade_draws(clusters);
+/// What `strategy` at `clusters` measured, from its measured frames.
+fn strategy_row(strategy: Strategy, clusters: u32, frames: Vec<OverheadFrame>) -> StrategyMeasured {
+    let column = |f: fn(&OverheadFrame) -> f64| Summary::of(&frames.iter().map(f).collect::<Vec<f64>>());
+    let record = column(|f| f.cpu_record_us);
+    let (record_us, submit_us, gpu_ms) =
+        (record.median, column(|f| f.cpu_submit_us).median, column(|f| f.gpu_ms).median);
     let gpu_draws = strategy.gpu_draws(clusters);
     let cpu_s = (record_us + submit_us) * 1e-6;
-    json!({
-        "clusters": clusters,
-        "strategy": strategy.name(),
-        "draw_calls_recorded": cpu_draws,
-        "draws_executed": gpu_draws,
-        "cpu_record_us": record_us,
-        "cpu_submit_us": submit_us,
-        "cpu_record_us_p95": record["p95"],
-        "ns_per_draw": record_us * 1e3 / f64::from(gpu_draws),
-        "draws_per_second": if cpu_s > 0.0 { f64::from(gpu_draws) / cpu_s } else { 0.0 },
-        "gpu_ms": gpu_ms,
-        "readback_ms": median(&column(3)),
-        "frames": frames
-            .iter()
-            .map(|f| json!({"cpu_record_us": f[0], "cpu_submit_us": f[1], "gpu_ms": f[2], "readback_ms": f[3]}))
-            .collect::<Vec<_>>(),
-    })
+    StrategyMeasured {
+        draw_calls_recorded: strategy.blade_draws(clusters),
+        draws_executed: gpu_draws,
+        cpu_record_us: record_us,
+        cpu_submit_us: submit_us,
+        cpu_record_us_p95: record.p95,
+        ns_per_draw: record_us * 1e3 / f64::from(gpu_draws),
+        draws_per_second: if cpu_s > 0.0 { f64::from(gpu_draws) / cpu_s } else { 0.0 },
+        gpu_ms,
+        readback_ms: Some(column(|f| f.readback_ms.unwrap_or(0.0)).median),
+        frames,
+    }
 }
 
 /// The report table.
-pub fn table(doc: &Value) -> String {
+pub fn table(doc: &OverheadDocument) -> String {
     let mut out = format!(
         "{:>8} {:<12} {:>7} {:>7} {:>11} {:>11} {:>10} {:>12} {:>9}\n",
         "clusters", "strategy", "calls", "draws", "record µs", "submit µs", "ns/draw", "draws/s", "GPU ms"
     );
-    for row in doc["rows"].as_array().into_iter().flatten() {
-        let clusters = row["clusters"].as_u64().unwrap_or(0);
-        let strategy = row["strategy"].as_str().unwrap_or("");
-        if let Some(why) = row["unsupported"].as_str() {
-            out.push_str(&format!("{clusters:>8} {strategy:<12} unsupported: {why}\n"));
-            continue;
-        }
-        let f = |k: &str| row[k].as_f64().unwrap_or(0.0);
+    for row in &doc.rows {
+        let (clusters, strategy) = (row.clusters, &row.strategy);
+        let m = match &row.outcome {
+            Outcome::Unsupported { unsupported: why } => {
+                out.push_str(&format!("{clusters:>8} {strategy:<12} unsupported: {why}\n"));
+                continue;
+            }
+            Outcome::Measured(m) => m,
+        };
         out.push_str(&format!(
             "{:>8} {:<12} {:>7} {:>7} {:>11.1} {:>11.1} {:>10.1} {:>12.3e} {:>9.2}\n",
             clusters,
             strategy,
-            row["draw_calls_recorded"].as_u64().unwrap_or(0),
-            row["draws_executed"].as_u64().unwrap_or(0),
-            f("cpu_record_us"),
-            f("cpu_submit_us"),
-            f("ns_per_draw"),
-            f("draws_per_second"),
-            f("gpu_ms"),
+            m.draw_calls_recorded,
+            m.draws_executed,
+            m.cpu_record_us,
+            m.cpu_submit_us,
+            m.ns_per_draw,
+            m.draws_per_second,
+            m.gpu_ms,
         ));
     }
     out.push_str(
@@ -206,18 +214,19 @@ pub fn table(doc: &Value) -> String {
 }
 
 /// Tidy CSV: one line per measured frame.
-pub fn csv(doc: &Value) -> String {
+pub fn csv(doc: &OverheadDocument) -> String {
     let mut out = String::from("clusters,strategy,frame,cpu_record_us,cpu_submit_us,gpu_ms\n");
-    for row in doc["rows"].as_array().into_iter().flatten() {
-        for (i, f) in row["frames"].as_array().into_iter().flatten().enumerate() {
+    for row in &doc.rows {
+        let Some(m) = row.outcome.measured() else { continue };
+        for (i, f) in m.frames.iter().enumerate() {
             out.push_str(&format!(
                 "{},{},{},{},{},{}\n",
-                row["clusters"],
-                row["strategy"].as_str().unwrap_or(""),
+                row.clusters,
+                row.strategy,
                 i,
-                f["cpu_record_us"],
-                f["cpu_submit_us"],
-                f["gpu_ms"]
+                number(f.cpu_record_us),
+                number(f.cpu_submit_us),
+                number(f.gpu_ms)
             ));
         }
     }
@@ -228,8 +237,8 @@ pub fn csv(doc: &Value) -> String {
 /// The files of a run, one set: the report, its table, its chart.
 pub const FILES: [&str; 3] = ["overhead.json", "overhead.csv", "overhead.png"];
 
-pub fn write(doc: &Value, dir: &Path) -> Result<()> {
-    let text = serde_json::to_string_pretty(doc).expect("a JSON value serialises");
+pub fn write(doc: &OverheadDocument, dir: &Path) -> Result<()> {
+    let text = to_json(doc);
     let [json, table, chart] = FILES;
     write_text(&dir.join(json), &text)?;
     write_text(&dir.join(table), &csv(doc))?;
@@ -238,35 +247,33 @@ pub fn write(doc: &Value, dir: &Path) -> Result<()> {
 
 /// `overhead.png`: CPU record + submit per frame, recording ns per draw and GPU ms against the
 /// cluster count, one series per strategy.
-pub fn plot(doc: &Value, path: &Path) -> Result<()> {
+pub fn plot(doc: &OverheadDocument, path: &Path) -> Result<()> {
     use crate::harness::plot::{line_panels, Panel, Scale, Series};
-    let rows: Vec<&Value> =
-        doc["rows"].as_array().into_iter().flatten().filter(|r| r["unsupported"].is_null()).collect();
+    let rows: Vec<(&OverheadRow, &StrategyMeasured)> =
+        doc.rows.iter().filter_map(|r| Some((r, r.outcome.measured()?))).collect();
     let mut strategies: Vec<&str> = Vec::new();
-    for r in &rows {
-        let s = r["strategy"].as_str().unwrap_or("");
-        if !strategies.contains(&s) {
-            strategies.push(s);
+    for (r, _) in &rows {
+        if !strategies.contains(&r.strategy.as_str()) {
+            strategies.push(&r.strategy);
         }
     }
-    let clusters: std::collections::BTreeSet<u64> = rows.iter().filter_map(|r| r["clusters"].as_u64()).collect();
+    let clusters: std::collections::BTreeSet<u32> = rows.iter().map(|(r, _)| r.clusters).collect();
     let x_scale = if clusters.len() > 1 { Scale::Log } else { Scale::Linear };
-    let series = |value: &dyn Fn(&Value) -> f64| -> Vec<Series> {
+    let series = |value: &dyn Fn(&StrategyMeasured) -> f64| -> Vec<Series> {
         strategies
             .iter()
             .map(|s| Series {
                 label: s.to_string(),
                 points: rows
                     .iter()
-                    .filter(|r| r["strategy"] == *s)
-                    .filter_map(|r| Some((r["clusters"].as_f64()?, value(r))))
+                    .filter(|(r, _)| r.strategy == *s)
+                    .map(|(r, m)| (f64::from(r.clusters), value(m)))
                     .filter(|p| p.1 > 0.0 && p.1.is_finite())
                     .collect(),
             })
             .filter(|s| !s.points.is_empty())
             .collect()
     };
-    let f = |r: &Value, k: &str| r[k].as_f64().unwrap_or(0.0);
     let panel = |title: &str, y: &str, series: Vec<Series>| Panel {
         title: title.into(),
         x_label: "clusters (draws)".into(),
@@ -276,13 +283,9 @@ pub fn plot(doc: &Value, path: &Path) -> Result<()> {
         series,
     };
     let panels: Vec<Panel> = [
-        panel(
-            "CPU record + submit per frame",
-            "µs (median)",
-            series(&|r| f(r, "cpu_record_us") + f(r, "cpu_submit_us")),
-        ),
-        panel("Recording per draw executed", "ns per draw", series(&|r| f(r, "ns_per_draw"))),
-        panel("GPU time per frame", "GPU ms (median)", series(&|r| f(r, "gpu_ms"))),
+        panel("CPU record + submit per frame", "µs (median)", series(&|m| m.cpu_record_us + m.cpu_submit_us)),
+        panel("Recording per draw executed", "ns per draw", series(&|m| m.ns_per_draw)),
+        panel("GPU time per frame", "GPU ms (median)", series(&|m| m.gpu_ms)),
     ]
     .into_iter()
     .filter(|p| !p.series.is_empty())
@@ -290,11 +293,6 @@ pub fn plot(doc: &Value, path: &Path) -> Result<()> {
     if panels.is_empty() {
         return Ok(());
     }
-    let title = format!(
-        "meadow overhead: {} blades x {} segments on {}",
-        doc["blades"],
-        doc["segments"],
-        doc["device"].as_str().unwrap_or("?")
-    );
+    let title = format!("meadow overhead: {} blades x {} segments on {}", doc.blades, doc.segments, doc.header.device);
     line_panels(path, (560 * panels.len() as u32, 480), &title, &panels, panels.len())
 }

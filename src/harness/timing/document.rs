@@ -1,0 +1,88 @@
+//! `timing.json`, typed: what `meadow timing` writes and its report reads.
+
+use serde::{Deserialize, Serialize};
+
+use crate::harness::document::{CullSummary, Header, PassStatistics, Summary};
+
+/// A `timing.json`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TimingDocument {
+    /// The fields every document carries.
+    #[serde(flatten)]
+    pub header: Header,
+    /// Blades asked for.
+    pub blades: u32,
+    /// Segments per blade.
+    pub segments: u32,
+    /// Animation mode (or `floor`).
+    pub mode: String,
+    /// Frames discarded at the start of each run.
+    pub warmup: u32,
+    /// Frames measured per run.
+    pub frames_per_run: u32,
+    /// The device's timestamp period.
+    pub timestamp_period_ns: f64,
+    /// Valid bits of the queue's timestamps.
+    pub timestamp_valid_bits: u32,
+    /// Whether the clocks were calibrated (`VK_EXT_calibrated_timestamps`).
+    pub calibrated_timestamps: bool,
+    /// GPU frame time, 1 frame in flight.
+    pub gpu_frame_ms: Summary,
+    /// CPU recording, 1 frame in flight.
+    pub cpu_record_ms: Summary,
+    /// CPU submission, 1 frame in flight.
+    pub cpu_submit_ms: Summary,
+    /// Per pass, its GPU time, 1 frame in flight.
+    pub passes: Vec<PassSummary>,
+    /// The last frame's pipeline statistics (`null` without frames).
+    pub pipeline_statistics: Option<PassStatistics>,
+    /// What the cull kept in the last frame (`null` by brute force; absent from older v1
+    /// documents).
+    #[serde(default)]
+    pub cull: Option<CullSummary>,
+    /// Per number of frames in flight, its run.
+    pub frames_in_flight: Vec<RunSummary>,
+}
+
+/// One pass's GPU time.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PassSummary {
+    /// Its name.
+    pub pass: String,
+    /// Its GPU time.
+    pub gpu_ms: Summary,
+}
+
+/// A run with a number of frames in flight.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RunSummary {
+    /// Frames in flight.
+    pub frames_in_flight: usize,
+    /// Frames measured.
+    pub frames: usize,
+    /// Frames per second of the measured span.
+    pub fps: f64,
+    /// Wall time of the run (s).
+    pub wall_s: f64,
+    /// GPU frame spans over the measured span.
+    pub gpu_busy_fraction: f64,
+    /// CPU record + submit per frame.
+    pub cpu_work_ms_per_frame: f64,
+    /// Share of the recording during which the GPU rendered an earlier frame.
+    pub cpu_gpu_overlap_fraction: f64,
+    /// CPU time blocked on fences.
+    pub cpu_wait_ms: Summary,
+    /// Between consecutive GPU frame ends.
+    pub frame_interval_ms: Summary,
+    /// How GPU time was mapped to CPU time.
+    pub clock: ClockRecord,
+}
+
+/// The mapping of the two clocks in the document.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ClockRecord {
+    /// `calibrated` or `estimated`.
+    pub method: String,
+    /// Its uncertainty (ns).
+    pub deviation_ns: f64,
+}
