@@ -90,6 +90,9 @@ pub(crate) fn measure(subject: &mut dyn Subject, schedule: Schedule, progress: &
     Ok(Measured { schedule, frames })
 }
 
+/// What sees each frame's picture: the variant, and the target it rendered into.
+pub(crate) type AfterFrame<'a> = &'a mut dyn FnMut(usize, &OffscreenTarget);
+
 /// The common subject: renderers that each render a frame offscreen and wait for it, into one
 /// target they share or one target each, from `camera(i, round)` at simulation time
 /// `time(round)`; `after(i, target)` sees each frame's picture.
@@ -103,7 +106,7 @@ pub(crate) struct Offscreen<'a> {
     /// The simulation time of round `round`, in seconds.
     pub time: &'a dyn Fn(u32) -> f32,
     /// Called with each rendered frame's variant and target.
-    pub after: Option<&'a mut dyn FnMut(usize, &OffscreenTarget)>,
+    pub after: Option<AfterFrame<'a>>,
 }
 
 impl Subject for Offscreen<'_> {
