@@ -1,9 +1,12 @@
 //! A pass defined outside the library, with its own shader (`tests/shaders/chain_step.comp`,
-//! compiled here), set layout and descriptor sets, added to the renderer's frames: a chain of
-//! three dependent dispatches over a ping-pong buffer declared once as a temporal pair. The graph
-//! derives the barriers between the steps (synchronization validation checks them), the result
-//! matches a CPU reference, the pair advances once per submitted frame, and a frame failed by
-//! `MEADOW_INJECT_SUBMIT_FAILURE` neither swaps it nor moves the frame clock.
+//! compiled here), its own set (`PassSet`: the layout reflected from the shader, resources given
+//! by the names the GLSL declares) and its own uniform block (`PassUniforms`, written by the
+//! graph each frame), added to the renderer's frames: a chain of three dependent dispatches over
+//! a ping-pong buffer declared once as a temporal pair. The graph derives the barriers between
+//! the steps (synchronization validation checks them), the result matches a CPU reference whose
+//! scale and bias change every frame as the uniforms do, the pair advances once per submitted
+//! frame, and a frame failed by `MEADOW_INJECT_SUBMIT_FAILURE` neither swaps it nor moves the
+//! frame clock.
 //!
 //! Alone in its test binary: it sets `MEADOW_INJECT_SUBMIT_FAILURE` for the renderer it builds.
 
@@ -17,21 +20,35 @@ use std::rc::Rc;
 use ash::vk;
 use meadow::app::{with_device, GpuOptions};
 use meadow::render::culling::Culling;
-use meadow::render::graph::{Declaration, Pass, PassContext, Temporal};
+use meadow::render::graph::{Declaration, Pass, PassContext, PassUniforms, Temporal};
+use meadow::render::recording::{PassSet, PassSetDesc};
 use meadow::render::{OffscreenTarget, RenderSettings, Renderer};
-use meadow::vk::{Access, Buffer, BufferDesc, Device, DeviceSelector, Resource};
+use meadow::vk::descriptor::Resource as Descriptor;
+use meadow::vk::{pipeline, Access, Buffer, BufferDesc, Device, DeviceSelector, Resource};
 
 /// Values in the ping-pong buffer.
 const N: u32 = 1000;
 /// The submission that fails (1-based).
 const FAILING: usize = 3;
 
+/// Frames in flight of the test's renderer.
+const FRAMES: usize = 2;
+
+/// The scale and bias of frame `index` (the pass's uniform block, `Params` in the shader).
+fn params(index: u64) -> [u32; 2] {
+    [3 + (index % 4) as u32, 1 + index as u32]
+}
+
 /// The chain: gather the previous frame's values into a scratch buffer, scale them into this
 /// frame's side, mix that side in place; then hand it to the host.
 struct ChainPass {
     pair: Temporal,
     scratch: vk::Buffer,
-    pipeline: glsl::ComputePipeline,
+    /// Set `side * FRAMES + slot` reads side 1 - side, writes side `side` and reads slot `slot`'s
+    /// uniforms.
+    set: PassSet,
+    pipeline: vk::Pipeline,
+    uniforms: PassUniforms,
     /// The frame index each recording saw (`PassContext::clock`).
     frames_seen: Rc<RefCell<Vec<u64>>>,
 }
@@ -65,16 +82,32 @@ impl Pass for ChainPass {
         if ctx.step == 3 {
             return Ok(());
         }
-        // Set k reads side 1 - k and writes side k.
-        let set = ctx.temporal(self.pair).current;
+        let set = ctx.temporal(self.pair).current * FRAMES + ctx.slot;
         let push = [ctx.step as u32, N, ctx.clock.index as u32];
-        self.pipeline.dispatch(ctx.device, cmd, set, bytemuck::cast_slice(&push), N.div_ceil(64));
+        let (device, bind) = (ctx.device, vk::PipelineBindPoint::COMPUTE);
+        self.set.bind(device, cmd, bind, set);
+        // SAFETY: cmd is recording outside a rendering instance; the set is bound.
+        unsafe {
+            device.raw.cmd_bind_pipeline(cmd, bind, self.pipeline);
+            let stages = vk::ShaderStageFlags::COMPUTE;
+            device.raw.cmd_push_constants(cmd, self.set.layout, stages, 0, bytemuck::cast_slice(&push));
+            device.raw.cmd_dispatch(cmd, N.div_ceil(64), 1, 1);
+        }
         Ok(())
+    }
+
+    fn uniforms(&self, ctx: &PassContext) -> Option<(&PassUniforms, Vec<u8>)> {
+        Some((&self.uniforms, bytemuck::cast_slice(&params(ctx.clock.index)).to_vec()))
     }
 
     unsafe fn destroy(self: Box<Self>, device: &Device) {
         // SAFETY: per the contract.
-        unsafe { self.pipeline.destroy(device) };
+        unsafe {
+            meadow::vk::live::destroyed(self.pipeline);
+            device.raw.destroy_pipeline(self.pipeline, None);
+            self.set.destroy(device);
+            self.uniforms.destroy(device);
+        }
     }
 }
 
@@ -82,9 +115,10 @@ impl Pass for ChainPass {
 fn reference_frame(previous: &[u32], frame: u32) -> Vec<u32> {
     let n = previous.len();
     let scratch: Vec<u32> = (0..n).map(|i| previous[(i + 1) % n].wrapping_add(i as u32).wrapping_add(frame)).collect();
+    let [scale, bias] = params(u64::from(frame));
     (0..n)
         .map(|i| {
-            let c = scratch[(i + 7) % n].wrapping_mul(3).wrapping_add(1);
+            let c = scratch[(i + 7) % n].wrapping_mul(scale).wrapping_add(bias);
             c ^ (c >> 5)
         })
         .collect()
@@ -119,19 +153,36 @@ fn run_chain(device: &std::sync::Arc<Device>, frames: usize) -> meadow::Result<O
     // The first frame reads side 1 (previous) and writes side 0 (current).
     sides[1].write(0, &initial);
     let scratch = Buffer::new(device, &BufferDesc::gpu_only("chain scratch", bytes, usage))?;
-    let pipeline = glsl::ComputePipeline::new(device, "chain_step.comp", 3, 12, 2)?;
-    for k in 0..2 {
-        pipeline.write(device, k, &[sides[1 - k].raw, sides[k].raw, scratch.raw]);
-    }
+    let spirv = glsl::compile("chain_step.comp");
+    let uniforms = PassUniforms::new(device, "test chain", 8, FRAMES)?;
+    let range = vk::PushConstantRange { stage_flags: vk::ShaderStageFlags::COMPUTE, offset: 0, size: 12 };
+    let desc = PassSetDesc {
+        name: "test chain",
+        shaders: &[("chain_step.comp", &spirv)],
+        before: &[],
+        push: &[range],
+        frames: 2 * FRAMES,
+    };
+    let whole = |b: &Buffer| Descriptor::Buffer(b.descriptor());
+    let set = PassSet::new(device, &desc, |index| {
+        let (side, slot) = (index / FRAMES, index % FRAMES);
+        vec![
+            ("Previous", whole(&sides[1 - side])),
+            ("Current", whole(&sides[side])),
+            ("Scratch", whole(&scratch)),
+            ("Params", uniforms.resource(slot)),
+        ]
+    })?;
+    let pipeline = pipeline::compute(device, "test chain", &spirv, set.layout, &[])?;
     let scene = meadow::scene::Scene::generate(300, 3);
     let settings = RenderSettings {
-        frames_in_flight: 2,
+        frames_in_flight: FRAMES,
         ..RenderSettings::offscreen(2, Culling { enabled: false, ..Culling::default_for(2) })
     };
     let mut renderer = Renderer::new(device.clone(), &scene, settings, Default::default())?;
     let pair = renderer.temporal([Resource::Buffer(sides[0].raw), Resource::Buffer(sides[1].raw)]);
     let frames_seen = Rc::new(RefCell::new(Vec::new()));
-    let pass = ChainPass { pair, scratch: scratch.raw, pipeline, frames_seen: frames_seen.clone() };
+    let pass = ChainPass { pair, scratch: scratch.raw, set, pipeline, uniforms, frames_seen: frames_seen.clone() };
     renderer.add_pass(Box::new(pass));
     let mut target = OffscreenTarget::new(device, vk::Extent2D { width: 16, height: 16 })?;
     let camera = meadow::scene::Camera::default_for(&scene.terrain);

@@ -9,7 +9,12 @@
 #define MEADOW_VISIBLE_BUCKETS_GLSL
 #include "common/bindings.glsl"
 
-layout(set = SET_SCENE, binding = BINDING_DRAWS, std430) readonly buffer Draws { uint draws[]; };
+// The cull's `Draws` (cull/cull.glsl declares it, the cull owns it), read in the including pass's
+// own set (`SET_PASS`) at binding `DRAWS_BINDING` of that pass's numbering (0 unless it says).
+#ifndef DRAWS_BINDING
+#define DRAWS_BINDING 0
+#endif
+layout(set = SET_PASS, binding = DRAWS_BINDING, std430) readonly buffer Draws { uint draws[]; };
 
 // The visible-list entry of this invocation: the first entry of the bucket drawn with SEGMENTS
 // segments (bucket counts strictly decrease: at most one bucket has them) plus the invocation's

@@ -31,7 +31,7 @@
 
 #if defined(FRAME_FROM_STORAGE) && defined(TEXEL_TWINS)
 layout(set = SET_SCENE, binding = BINDING_FRAME_STORAGE, std140) readonly buffer FrameStorage { FrameUniforms frame; };
-layout(set = SET_SCENE, binding = BINDING_FRAME, std140) uniform FrameValues { FrameUniforms frame_values; };
+layout(set = SET_SCENE, binding = BINDING_FRAME, std140) uniform Frame { FrameUniforms frame_values; };
 #else
 layout(set = SET_SCENE, binding = BINDING_FRAME, std140) uniform Frame { FrameUniforms frame; };
 // One binding: `frame_values` is `frame`.

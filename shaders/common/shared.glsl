@@ -10,6 +10,7 @@
 // Descriptor sets of the scene pipelines.
 #define SET_SCENE 0 // The scene and this frame's uniforms and forces (`render::layouts::scene_bindings`).
 #define SET_ANIMATION 1 // The animation model's resources (`render::animation::model::AnimationSet`).
+#define SET_PASS 2 // A pass's own set (`render::recording::pass_set::PassSet`): its bindings numbered in its own header, given by name.
 
 // Set `SET_SCENE`.
 #define BINDING_FRAME 0 // `FrameUniforms` uniform buffer.
@@ -21,18 +22,10 @@
 #define BINDING_EMITTERS 6 // Per-frame point sources and colliders.
 #define BINDING_TILES 7 // `BladeTile[]` storage buffer (`scene::tiles`).
 #define BINDING_VISIBLE 8 // The cull's output: (blade index, packed scale) per drawn blade, bucket by bucket.
-#define BINDING_SLOT_COUNTS 9 // The cull's per-slot counts (`SLOT_WORDS` per ring slot), turned into offsets by the scan.
-#define BINDING_DRAWS 10 // The cull's indirect draw arguments, one `VkDrawIndirectCommand` per LOD bucket.
-#define BINDING_CULL_STATS 11 // Per-frame, host-visible: the cull's counts of this frame (`STAT_*`).
-#define BINDING_CULL_RESULTS 12 // The count pass's verdict per candidate blade (bucket, packed scale), read by the emit pass.
-#define BINDING_DEPTH_PYRAMID 13 // The depth pyramid as a storage buffer, read by the generic profile's occlusion test (hiz.comp writes it through its own set; the lavapipe profile reads `BINDING_DEPTH_PYRAMID_TEXELS`).
-#define BINDING_CULL_ALLOC 14 // Written by the cull tiles pass: the count pass's dispatch (4 words), each slot's first verdict (a block field's) and candidates, the slots with candidates.
 #define BINDING_FRAME_STORAGE 15 // The lavapipe profile's: the same `FrameUniforms` as `BINDING_FRAME`, read by the cull's passes as a storage buffer (bindings.glsl's rule).
-#define BINDING_DEPTH_PYRAMID_TEXELS 16 // The depth pyramid as R32 texels, read by the occlusion test (`vk::buffer::TexelView` says why).
 #define BINDING_BLADE_TEXELS 17 // The blades as RGBA32UI texels, two per `BladeInstance` (`blade_record` in bindings.glsl).
 #define BINDING_VISIBLE_TEXELS 18 // The cull's visible list again as RG32UI texels, as its readers fetch it (`visible_entry` in bindings.glsl).
 #define BINDING_RELIEF_GRID 19 // A block field's terrain grid: a camera grid of the relief's height, the coarse mesh's and the normal at each vertex, filled by relief_grid.comp as vertices enter.
-#define BINDING_CULL_RESULT_TEXELS 21 // The same verdicts as `BINDING_CULL_RESULTS`, as RG32UI texels: the emit pass reads them (a vector gather on llvmpipe).
 #define BINDING_RELIEF_GRID_TEXELS 20 // The same grid as RGBA32F texels, as its readers fetch it (`relief_vertex` in field.glsl).
 
 // Set `SET_ANIMATION`: every model fills all five (the blade shaders declare them all).

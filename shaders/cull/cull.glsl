@@ -13,19 +13,24 @@
 #include "common/field.glsl"
 #include "common/rings.glsl"
 
-layout(set = SET_SCENE, binding = BINDING_SLOT_COUNTS, std430) buffer SlotCounts { uint slot_counts[]; };
-layout(set = SET_SCENE, binding = BINDING_DRAWS, std430) buffer Draws { uint draws[]; };
-layout(set = SET_SCENE, binding = BINDING_CULL_STATS, std430) buffer CullStats { uint cull_stats[]; };
+// The cull's own set (`SET_PASS`, `render::passes::cull::CullSetup`): its bindings are numbered
+// here, for its four passes alone, and its Rust gives each resource by the block or variable name
+// declared here (`vk::descriptor::SetLayout::write_named`). `Draws` is read by the per-blade
+// passes too, in their own sets (blades/visible_buckets.glsl names it the same).
+layout(set = SET_PASS, binding = 0, std430) buffer SlotCounts { uint slot_counts[]; };
+layout(set = SET_PASS, binding = 1, std430) buffer Draws { uint draws[]; };
+// Per frame in flight, host-visible: the frame's counts (`render::frame::slot::Frame`, its `cull_stats`).
+layout(set = SET_PASS, binding = 2, std430) buffer CullStats { uint cull_stats[]; };
 // Per candidate blade (a stored field's indexed like the blade buffer; a block field's from its
 // slot's first verdict, `cull_alloc`): x its LOD bucket or NOT_DRAWN, y the visible entry's
 // second word (`visible_scale`).
-layout(set = SET_SCENE, binding = BINDING_CULL_RESULTS, std430) buffer CullResults { uvec2 cull_results[]; };
+layout(set = SET_PASS, binding = 3, std430) buffer CullResults { uvec2 cull_results[]; };
 const uint NOT_DRAWN = 0xffffffffu;
 // Written by the tiles pass (cull_tiles.comp): the count pass's indirect dispatch (x, y, z, and
 // x again), then per ring slot its first verdict (a block field's), then per ring slot its
 // candidates (the tile tests' result, read by the count and emit passes), then the slots with
 // candidates in slot order.
-layout(set = SET_SCENE, binding = BINDING_CULL_ALLOC, std430) buffer CullAlloc { uvec4 count_dispatch; uint alloc_words[]; };
+layout(set = SET_PASS, binding = 4, std430) buffer CullAlloc { uvec4 count_dispatch; uint alloc_words[]; };
 uint verdict_base(uint slot) {
     return alloc_words[slot];
 }
@@ -75,12 +80,12 @@ uint verdict_index(BladeTile tile, uint base, uint rank) {
 // The depth pyramid (hiz.comp writes it as a storage buffer), in the lavapipe profile read as
 // texels: a vector gather on llvmpipe instead of a load per SIMD lane (`vk::buffer::TexelView`).
 #ifdef TEXEL_TWINS
-layout(set = SET_SCENE, binding = BINDING_DEPTH_PYRAMID_TEXELS) uniform samplerBuffer pyramid_texels;
+layout(set = SET_PASS, binding = 5) uniform samplerBuffer pyramid_texels;
 float pyramid_texel(uint i) {
     return texelFetch(pyramid_texels, int(i)).x;
 }
 #else
-layout(set = SET_SCENE, binding = BINDING_DEPTH_PYRAMID, std430) readonly buffer Pyramid { float pyramid[]; };
+layout(set = SET_PASS, binding = 5, std430) readonly buffer Pyramid { float pyramid[]; };
 float pyramid_texel(uint i) {
     return pyramid[i];
 }

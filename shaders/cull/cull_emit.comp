@@ -15,7 +15,8 @@ layout(local_size_x_id = SPEC_CULL_GROUP) in;
 // The count pass's verdicts (`cull_results`), in the lavapipe profile as texels: llvmpipe gathers
 // a texel fetch across the SIMD lanes, where it loads storage one lane at a time.
 #ifdef TEXEL_TWINS
-layout(set = SET_SCENE, binding = BINDING_CULL_RESULT_TEXELS) uniform usamplerBuffer verdict_texels;
+// Binding 6 of the cull's set (cull/cull.glsl numbers 0-5).
+layout(set = SET_PASS, binding = 6) uniform usamplerBuffer verdict_texels;
 uvec2 verdict(uint index) {
     return texelFetch(verdict_texels, int(index)).xy;
 }

@@ -22,9 +22,11 @@
 mod declaration;
 mod recording;
 mod temporal;
+mod uniforms;
 
 pub use declaration::{Attachment, Declaration, Kind, Load, Rendering, Step, Use};
 pub use temporal::{FrameClock, Temporal, TemporalPair, DEFAULT_DT};
+pub use uniforms::PassUniforms;
 
 use ash::vk;
 
@@ -109,6 +111,14 @@ pub trait Pass {
     /// or draws. Barriers (before each step), the rendering instance, labels and queries are the
     /// graph's. Set 0 is not bound by the graph.
     fn record(&self, ctx: &PassContext, cmd: vk::CommandBuffer) -> Result<()>;
+
+    /// The pass's own uniform block (`PassUniforms`, one per frame in flight, bound in the pass's
+    /// own set) and its contents this frame: the graph writes them into the frame's block before
+    /// the frame is submitted, on each frame the pass runs (replayed or recorded). `None` by
+    /// default.
+    fn uniforms(&self, _ctx: &PassContext) -> Option<(&PassUniforms, Vec<u8>)> {
+        None
+    }
 
     /// When the pass runs: every frame by default.
     fn runs(&self, _ctx: &PassContext) -> Runs {
@@ -361,7 +371,8 @@ impl Graph {
     }
 
     /// The passes that run this frame, with their declarations, and, when `keyed` (a frame that
-    /// may replay a kept recording), the frame's replay key. A graphics pass of several steps is
+    /// may replay a kept recording), the frame's replay key; the uniform blocks of the passes that
+    /// run are written for the frame (`Pass::uniforms`). A graphics pass of several steps is
     /// refused.
     pub fn plan(&self, ctx: &PassContext, keyed: bool) -> Result<Plan> {
         let ctx = context(ctx, &self.temporals, self.frames);
@@ -394,6 +405,9 @@ impl Graph {
                     Some(key) => keys.extend([key, declaration.steps.len() as u64]),
                     None => replay = None,
                 }
+            }
+            if let Some((block, bytes)) = pass.uniforms(&ctx) {
+                block.write(ctx.slot, &bytes)?;
             }
             entries.push((index, declaration, run));
         }

@@ -35,10 +35,14 @@ pub struct SceneLayouts {
 }
 
 /// The bindings of sets `SET_SCENE` and `SET_ANIMATION`, as the scene shaders of `profile` use
-/// them (reflected).
+/// them (reflected). Set `SET_PASS` is each pass's own (`recording::PassSet`), numbered by the
+/// pass alone: not merged here.
 pub fn scene_bindings(profile: Profile) -> Result<(Vec<Binding>, Vec<Binding>)> {
     let code: Vec<(&str, &[u8])> = shaders::SCENE.iter().map(|s| (s.path, s.code(profile))).collect();
-    let mut sets = reflect::merge(&code)?;
+    let unnamed =
+        |(set, bindings): (u32, Vec<(Binding, String)>)| (set, bindings.into_iter().map(|(b, _)| b).collect());
+    let mut sets: std::collections::BTreeMap<u32, Vec<Binding>> =
+        reflect::merge_sets(&code, &|set| set != gpu::SET_PASS)?.into_iter().map(unnamed).collect();
     if let Some(&other) = sets.keys().find(|&&set| set != gpu::SET_SCENE && set != gpu::SET_ANIMATION) {
         return Err(crate::error::Error::Internal(format!("a scene shader binds set {other}, not the scene's")));
     }
@@ -49,7 +53,7 @@ pub fn scene_bindings(profile: Profile) -> Result<(Vec<Binding>, Vec<Binding>)> 
 /// with the frames).
 pub fn scene_layouts(device: &Device) -> Result<SceneLayouts> {
     let (scene, animation) = scene_bindings(device.profile)?;
-    check_storage_buffers(device, &[&scene, &animation])?;
+    descriptor::check_storage_buffers(device, "the scene pipelines", &[&scene, &animation])?;
     let mut layouts = SceneLayouts::default();
     let built = (|| {
         layouts.scene = SetLayout::new(device, "scene set layout", scene)?;
@@ -71,27 +75,6 @@ pub fn scene_layouts(device: &Device) -> Result<SceneLayouts> {
             Err(e)
         }
     }
-}
-
-/// Refuse a device whose `maxPerStageDescriptorStorageBuffers` is below what one stage of the
-/// scene pipelines binds (the cull's compute stage binds the most; the spec's minimum is 4).
-fn check_storage_buffers(device: &Device, sets: &[&[descriptor::Binding]]) -> Result<()> {
-    use ash::vk::ShaderStageFlags as S;
-    let limit = device.limits().max_per_stage_descriptor_storage_buffers;
-    for (stage, name) in [(S::VERTEX, "vertex"), (S::FRAGMENT, "fragment"), (S::COMPUTE, "compute")] {
-        let used = sets
-            .iter()
-            .flat_map(|set| set.iter())
-            .filter(|b| b.kind == vk::DescriptorType::STORAGE_BUFFER && b.stages.contains(stage))
-            .count() as u32;
-        if used > limit {
-            return Err(crate::error::Error::Environment(format!(
-                "{} allows {limit} storage buffers per shader stage; meadow's {name} stage binds {used}",
-                device.info.name
-            )));
-        }
-    }
-    Ok(())
 }
 
 impl SceneLayouts {
@@ -174,8 +157,7 @@ mod tests {
         let texel = |b: &&Binding| b.kind == T::UNIFORM_TEXEL_BUFFER;
         assert_eq!(scene.iter().chain(&animation).filter(texel).count(), 0, "{scene:?} {animation:?}");
         assert_eq!(kind(&scene, gpu::BINDING_FRAME_STORAGE), None);
-        for binding in [gpu::BINDING_BLADES, gpu::BINDING_VISIBLE, gpu::BINDING_DEPTH_PYRAMID, gpu::BINDING_RELIEF_GRID]
-        {
+        for binding in [gpu::BINDING_BLADES, gpu::BINDING_VISIBLE, gpu::BINDING_RELIEF_GRID] {
             assert_eq!(kind(&scene, binding), Some(T::STORAGE_BUFFER), "binding {binding}");
         }
         assert_eq!(kind(&animation, gpu::BINDING_LEVELS), Some(T::STORAGE_BUFFER));
@@ -221,6 +203,7 @@ mod tests {
 #[cfg(test)]
 mod reflect_tests {
     use super::*;
+    use crate::render::gpu_constants as gpu;
     use crate::vk::reflect::{merge, reflect};
 
     fn descriptors(spirv: &[u8]) -> Vec<(u32, u32, vk::DescriptorType)> {
@@ -262,6 +245,35 @@ mod reflect_tests {
         let error =
             merge(&[("blade.vert", vert), ("hiz.comp", shaders::HIZ_COMP.code(Profile::Lavapipe))]).unwrap_err();
         assert!(error.to_string().contains("set 0 binding 0: blade.vert binds"), "{error}");
+    }
+
+    #[test]
+    fn descriptors_carry_the_names_their_glsl_gives_them() {
+        // hiz.comp: an opaque variable by its own name, a block by its interface name.
+        let hiz = reflect("hiz", shaders::HIZ_COMP.code(Profile::Lavapipe)).unwrap().descriptors;
+        let names: Vec<&str> = hiz.iter().map(|d| d.name.as_str()).collect();
+        assert_eq!(names, ["depth", "Pyramid"]);
+        // The cull's own set (SET_PASS) is numbered in cull/cull.glsl and holds the cull's
+        // resources, by name; set 0 keeps none of them.
+        for profile in [Profile::Lavapipe, Profile::Generic] {
+            let sets =
+                crate::vk::reflect::merge_named(&[("cull count", shaders::CULL_COUNT_COMP.code(profile))]).unwrap();
+            let own: Vec<&str> = sets[&gpu::SET_PASS].iter().map(|(_, n)| n.as_str()).collect();
+            for name in ["SlotCounts", "CullResults", "CullAlloc"] {
+                assert!(own.contains(&name), "{profile:?}: {own:?}");
+            }
+            let pyramid = if profile == Profile::Lavapipe { "pyramid_texels" } else { "Pyramid" };
+            assert!(own.contains(&pyramid), "{profile:?}: {own:?}");
+            let (scene, _) = scene_bindings(profile).unwrap();
+            assert!(scene.len() <= 14, "set 0 holds the scene and the frame only: {scene:?}");
+        }
+        // One binding, two names: two resources, refused.
+        let error = merge(&[
+            ("hiz.comp", shaders::HIZ_COMP.code(Profile::Generic)),
+            ("resolve.frag", shaders::RESOLVE_FRAG.code(Profile::Generic)),
+        ])
+        .unwrap_err();
+        assert!(error.to_string().contains("set 0 binding 0"), "{error}");
     }
 
     #[test]

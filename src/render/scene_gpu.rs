@@ -439,13 +439,6 @@ impl SceneGpu {
             (gpu_constants::BINDING_TILES, buffer(&self.tiles)),
             (gpu_constants::BINDING_VISIBLE, buffer(&self.visible)),
             (gpu_constants::BINDING_VISIBLE_TEXELS, texels(&self.visible_texels)),
-            (gpu_constants::BINDING_SLOT_COUNTS, buffer(&self.slot_counts)),
-            (gpu_constants::BINDING_DRAWS, buffer(&self.draws)),
-            (gpu_constants::BINDING_CULL_RESULTS, buffer(&self.cull_results)),
-            (gpu_constants::BINDING_CULL_RESULT_TEXELS, texels(&self.cull_result_texels)),
-            (gpu_constants::BINDING_CULL_ALLOC, buffer(&self.cull_alloc)),
-            (gpu_constants::BINDING_DEPTH_PYRAMID, buffer(&self.depth_pyramid)),
-            (gpu_constants::BINDING_DEPTH_PYRAMID_TEXELS, texels(&self.depth_pyramid_texels)),
             (gpu_constants::BINDING_RELIEF_GRID, buffer(&self.relief_grid)),
             (gpu_constants::BINDING_RELIEF_GRID_TEXELS, texels(&self.relief_texels)),
         ];

@@ -51,6 +51,23 @@ pub struct FrameUniforms {
     pub relief_grid: UVec4,
 }
 
+impl FrameUniforms {
+    /// These uniforms seen through `camera` instead (a bake's own view, `Renderer::frame_instance`):
+    /// its view-projection for the view and the cull, its eye for both; the light, the time and
+    /// the scene's terms as they are.
+    pub fn with_orthographic(&self, camera: &crate::scene::OrthographicCamera) -> Self {
+        let view_proj = camera.view_projection();
+        let eye = camera.position.extend(self.camera_position.w);
+        Self {
+            view_proj,
+            camera_position: eye,
+            cull_view_proj: view_proj,
+            cull_eye: camera.position.extend(self.cull_eye.w),
+            ..*self
+        }
+    }
+}
+
 const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 560);
 const _: () = assert!(std::mem::offset_of!(FrameUniforms, cull_view_proj) == 176);
 const _: () = assert!(std::mem::offset_of!(FrameUniforms, cull_lod) == 304);

@@ -107,6 +107,27 @@ pub fn write(device: &Device, set: vk::DescriptorSet, writes: &[(u32, vk::Descri
     unsafe { device.raw.update_descriptor_sets(&raw, &[]) };
 }
 
+/// Refuse a device whose `maxPerStageDescriptorStorageBuffers` is below what one stage of a
+/// pipeline layout of `sets` binds (`what` names its pipelines; the spec's minimum is 4).
+pub fn check_storage_buffers(device: &Device, what: &str, sets: &[&[Binding]]) -> Result<()> {
+    use ash::vk::ShaderStageFlags as S;
+    let limit = device.limits().max_per_stage_descriptor_storage_buffers;
+    for (stage, name) in [(S::VERTEX, "vertex"), (S::FRAGMENT, "fragment"), (S::COMPUTE, "compute")] {
+        let used = sets
+            .iter()
+            .flat_map(|set| set.iter())
+            .filter(|b| b.kind == vk::DescriptorType::STORAGE_BUFFER && b.stages.contains(stage))
+            .count() as u32;
+        if used > limit {
+            return Err(crate::error::Error::Environment(format!(
+                "{} allows {limit} storage buffers per shader stage; meadow's {name} stage binds {used} ({what})",
+                device.info.name
+            )));
+        }
+    }
+    Ok(())
+}
+
 /// A set layout with the bindings it was made of, as its sets are allocated and written.
 #[derive(Default)]
 pub struct SetLayout {
@@ -114,20 +135,57 @@ pub struct SetLayout {
     pub raw: vk::DescriptorSetLayout,
     /// Its bindings, by binding number.
     pub bindings: Vec<Binding>,
+    /// Each binding's name as its shaders declare it (`vk::reflect::Descriptor::name`), in the
+    /// order of `bindings`; empty for a layout not reflected.
+    pub names: Vec<String>,
 }
 
 impl SetLayout {
     /// A named layout of `bindings`.
     pub fn new(device: &Device, name: &str, bindings: Vec<Binding>) -> Result<Self> {
-        Ok(Self { raw: set_layout(device, name, &bindings)?, bindings })
+        Ok(Self { raw: set_layout(device, name, &bindings)?, bindings, names: Vec::new() })
     }
 
     /// The layout of set `set` as `shaders` (`(name, SPIR-V)`, e.g. a pipeline's stages) declare
-    /// it together (`vk::reflect::merge`): what a pass's shaders bind is the pass's layout, with
-    /// no list to keep beside the GLSL. A set no shader uses is an empty layout.
+    /// it together (`vk::reflect::merge_named`): what a pass's shaders bind is the pass's layout,
+    /// with no list to keep beside the GLSL. A set no shader uses is an empty layout.
     pub fn reflected(device: &Device, name: &str, shaders: &[(&str, &[u8])], set: u32) -> Result<Self> {
-        let bindings = super::reflect::merge(shaders)?.remove(&set).unwrap_or_default();
-        Self::new(device, name, bindings)
+        let named = super::reflect::merge_named(shaders)?.remove(&set).unwrap_or_default();
+        Self::with_names(device, name, named)
+    }
+
+    /// A named layout of reflected `(binding, name)` pairs.
+    pub fn with_names(device: &Device, name: &str, named: Vec<(Binding, String)>) -> Result<Self> {
+        let (bindings, names): (Vec<Binding>, Vec<String>) = named.into_iter().unzip();
+        Ok(Self { raw: set_layout(device, name, &bindings)?, bindings, names })
+    }
+
+    /// Point every binding of `set` at its resource in `resources`, by the name its shaders
+    /// declare it with (a block's interface name, an opaque variable's name): the owner of a
+    /// resource names it once, in its GLSL, and no binding number appears in Rust. Names the
+    /// layout lacks are left out (a profile's twins, a shader that does not read them); a
+    /// binding with no resource or one of another kind is an error naming it.
+    pub fn write_named(
+        &self,
+        device: &Device,
+        set: vk::DescriptorSet,
+        what: &str,
+        resources: &[(&str, Resource)],
+    ) -> Result<()> {
+        let mut numbered = Vec::with_capacity(self.bindings.len());
+        for (b, name) in self.bindings.iter().zip(&self.names) {
+            if let Some((_, r)) = resources.iter().find(|(n, _)| n == name) {
+                numbered.push((b.binding, r.clone()));
+            }
+        }
+        self.write(device, set, what, &numbered).map_err(|e| match e {
+            crate::error::Error::Internal(why) => {
+                let names: Vec<String> =
+                    self.bindings.iter().zip(&self.names).map(|(b, n)| format!("{} `{n}`", b.binding)).collect();
+                crate::error::Error::Internal(format!("{why} (the set binds {})", names.join(", ")))
+            }
+            other => other,
+        })
     }
 
     /// A pool for `count` sets of this layout, and the sets.

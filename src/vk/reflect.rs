@@ -3,6 +3,11 @@
 //! layouts are the union of its stages' (`merge`), so a shader's declarations are the one place a
 //! binding is written down: no hand-kept list to keep in step with the GLSL.
 //!
+//! Each descriptor also carries its name as the GLSL wrote it: a block's interface name
+//! (`buffer Visible { … }` is `Visible`), an opaque variable's own (`uniform usamplerBuffer
+//! visible_texels`). Owners give resources by these names (`SetLayout::write_named`), so no
+//! number table sits between a shader and the Rust that feeds it.
+//!
 //! Only what the entry point uses counts: the descriptors its function and the functions it calls
 //! (transitively) refer to, so a header that declares twenty bindings costs a shader only the ones
 //! it reads. (glslang lists every declared global in the entry point's interface, used or not.)
@@ -15,7 +20,7 @@ use crate::error::{Error, Result};
 use crate::vk::descriptor::Binding;
 
 /// One descriptor a module declares.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Descriptor {
     /// `layout(set = …)`.
     pub set: u32,
@@ -23,6 +28,8 @@ pub struct Descriptor {
     pub binding: u32,
     /// Its type.
     pub kind: vk::DescriptorType,
+    /// Its name: a block's interface name, else the variable's ("" when the module has none).
+    pub name: String,
 }
 
 /// A module's stage and the descriptors its entry point uses, sorted by (set, binding).
@@ -35,6 +42,7 @@ pub struct Reflection {
 }
 
 const MAGIC: u32 = 0x0723_0203;
+const OP_NAME: u32 = 5;
 const OP_ENTRY_POINT: u32 = 15;
 const OP_FUNCTION: u32 = 54;
 const OP_FUNCTION_END: u32 = 56;
@@ -91,6 +99,8 @@ struct Module {
     blocks: BTreeMap<u32, u32>,
     /// (id, pointer type, storage class).
     variables: Vec<(u32, u32, u32)>,
+    /// `OpName`s by id.
+    names: BTreeMap<u32, String>,
 }
 
 /// Read the instructions `reflect` needs.
@@ -120,6 +130,9 @@ fn parse(spirv: &[u8]) -> std::result::Result<Module, String> {
         }
         let Some(&id) = args.first() else { continue };
         match op {
+            OP_NAME => {
+                m.names.insert(id, literal_string(&args[1..]));
+            }
             OP_ENTRY_POINT if m.stage.is_some() => return Err("more than one entry point".into()),
             OP_ENTRY_POINT => {
                 let (stage, entry) = entry_point(args)?;
@@ -165,6 +178,12 @@ fn parse(spirv: &[u8]) -> std::result::Result<Module, String> {
     Ok(m)
 }
 
+/// A SPIR-V literal string: UTF-8 bytes packed little-endian in words, ending with a NUL.
+fn literal_string(words: &[u32]) -> String {
+    let bytes: Vec<u8> = words.iter().flat_map(|w| w.to_le_bytes()).take_while(|&b| b != 0).collect();
+    String::from_utf8_lossy(&bytes).into_owned()
+}
+
 /// An `OpEntryPoint`'s stage and function (its arguments: execution model, function id, name,
 /// interface ids).
 fn entry_point(args: &[u32]) -> std::result::Result<(vk::ShaderStageFlags, u32), String> {
@@ -193,6 +212,21 @@ impl Module {
             }
         }
         used
+    }
+
+    /// The name of variable `id` of pointer type `pointer`: its block's interface name when it
+    /// points at a block, else its own.
+    fn name(&self, id: u32, pointer: u32) -> String {
+        let pointee = match self.types.get(&pointer) {
+            Some(&Type::Pointer(pointee)) => Some(pointee),
+            _ => None,
+        };
+        match pointee.filter(|p| self.blocks.contains_key(p)) {
+            Some(block) => self.names.get(&block),
+            None => self.names.get(&id),
+        }
+        .cloned()
+        .unwrap_or_default()
     }
 
     /// The descriptor type of a variable of pointer type `pointer` in storage class `class`.
@@ -243,7 +277,7 @@ pub fn reflect(name: &str, spirv: &[u8]) -> Result<Reflection> {
         };
         if used.contains(&id) {
             let kind = module.kind(pointer, class).map_err(|why| bad(format!("set {set} binding {binding}: {why}")))?;
-            descriptors.push(Descriptor { set, binding, kind });
+            descriptors.push(Descriptor { set, binding, kind, name: module.name(id, pointer) });
         }
     }
     descriptors.sort_by_key(|d| (d.set, d.binding));
@@ -254,28 +288,49 @@ pub fn reflect(name: &str, spirv: &[u8]) -> Result<Reflection> {
 /// layout) use together, by set number: a binding's stages are those that use it. Two shaders
 /// giving one binding different types are an error naming both.
 pub fn merge(shaders: &[(&str, &[u8])]) -> Result<BTreeMap<u32, Vec<Binding>>> {
-    let mut sets: BTreeMap<u32, Vec<(Binding, &str)>> = BTreeMap::new();
+    Ok(merge_named(shaders)?
+        .into_iter()
+        .map(|(set, bindings)| (set, bindings.into_iter().map(|(b, _)| b).collect()))
+        .collect())
+}
+
+/// `merge`, with each binding's name (`Descriptor::name`). Two shaders giving one binding
+/// different names are an error too: a binding is one resource.
+pub fn merge_named(shaders: &[(&str, &[u8])]) -> Result<BTreeMap<u32, Vec<(Binding, String)>>> {
+    merge_sets(shaders, &|_| true)
+}
+
+/// `merge_named` of the sets `keep` accepts only: shaders that share some sets (the scene's) and
+/// number another each for itself (a pass's own set) merge the shared ones.
+pub fn merge_sets(
+    shaders: &[(&str, &[u8])],
+    keep: &dyn Fn(u32) -> bool,
+) -> Result<BTreeMap<u32, Vec<(Binding, String)>>> {
+    let mut sets: BTreeMap<u32, Vec<(Binding, &str, String)>> = BTreeMap::new();
     for &(name, spirv) in shaders {
         let reflection = reflect(name, spirv)?;
-        for d in reflection.descriptors {
+        for d in reflection.descriptors.into_iter().filter(|d| keep(d.set)) {
             let set = sets.entry(d.set).or_default();
-            match set.iter_mut().find(|(b, _)| b.binding == d.binding) {
-                Some((b, _)) if b.kind == d.kind => b.stages |= reflection.stage,
-                Some((b, first)) => {
+            match set.iter_mut().find(|(b, _, _)| b.binding == d.binding) {
+                Some((b, _, named)) if b.kind == d.kind && *named == d.name => b.stages |= reflection.stage,
+                Some((b, first, named)) => {
                     return Err(Error::Internal(format!(
-                        "set {} binding {}: {first} binds {:?}, {name} binds {:?}",
-                        d.set, d.binding, b.kind, d.kind
+                        "set {} binding {}: {first} binds {:?} `{named}`, {name} binds {:?} `{}`",
+                        d.set, d.binding, b.kind, d.kind, d.name
                     )))
                 }
-                None => set.push((Binding { binding: d.binding, kind: d.kind, stages: reflection.stage }, name)),
+                None => {
+                    let binding = Binding { binding: d.binding, kind: d.kind, stages: reflection.stage };
+                    set.push((binding, name, d.name))
+                }
             }
         }
     }
     Ok(sets
         .into_iter()
         .map(|(set, mut bindings)| {
-            bindings.sort_by_key(|(b, _)| b.binding);
-            (set, bindings.into_iter().map(|(b, _)| b).collect())
+            bindings.sort_by_key(|(b, _, _)| b.binding);
+            (set, bindings.into_iter().map(|(b, _, named)| (b, named)).collect())
         })
         .collect())
 }

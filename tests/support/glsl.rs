@@ -14,6 +14,23 @@ use meadow::vk::{pipeline, Device};
 
 /// SPIR-V of `tests/shaders/NAME`, compiled now.
 pub fn compile(name: &str) -> Vec<u8> {
+    compile_with(name, &[])
+}
+
+/// SPIR-V of `tests/shaders/NAME` that includes the library's headers (`#include
+/// "common/bindings.glsl"`, from `shaders/`), for `profile`'s backend (its define, as build.rs
+/// gives it).
+pub fn compile_for(name: &str, profile: meadow::vk::profile::Profile) -> Vec<u8> {
+    let define = match profile {
+        meadow::vk::profile::Profile::Lavapipe => "-DMEADOW_PROFILE_LAVAPIPE",
+        meadow::vk::profile::Profile::Generic => "-DMEADOW_PROFILE_GENERIC",
+    };
+    let include = format!("-I{}", Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders").display());
+    compile_with(name, &[define, &include])
+}
+
+/// SPIR-V of `tests/shaders/NAME` compiled with the extra glslang arguments `args`.
+fn compile_with(name: &str, args: &[&str]) -> Vec<u8> {
     static RUN: AtomicUsize = AtomicUsize::new(0);
     let source = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/shaders").join(name);
     let run = RUN.fetch_add(1, Ordering::Relaxed);
@@ -21,6 +38,7 @@ pub fn compile(name: &str) -> Vec<u8> {
     let glslang = std::env::var("GLSLANG_VALIDATOR").unwrap_or_else(|_| "glslangValidator".into());
     let output = Command::new(&glslang)
         .args(["-V", "--target-env", "vulkan1.2"])
+        .args(args)
         .arg(&source)
         .arg("-o")
         .arg(&out)

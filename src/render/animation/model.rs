@@ -54,6 +54,8 @@ pub struct FrameInput<'a> {
 pub struct PassSetup<'a> {
     /// The scene pipeline layout (sets `SET_SCENE` and `SET_ANIMATION`).
     pub layout: vk::PipelineLayout,
+    /// Those sets' layouts, for a pass with a set of its own (`recording::PassSet`).
+    pub sets: crate::render::recording::SceneSets<'a>,
     /// The specialization constants of the scene pipelines.
     pub constants: &'a [u32],
     /// The scene on the GPU.

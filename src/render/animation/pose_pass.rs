@@ -15,7 +15,8 @@ use crate::render::animation::model::{AnimationSet, PassSetup};
 use crate::render::gpu_constants as gpu;
 use crate::render::graph::{Declaration, Pass, PassContext};
 use crate::render::recording;
-use crate::render::recording::bucket_dispatch::BucketDispatch;
+use crate::render::recording::bucket_dispatch::{self, BucketDispatch};
+use crate::render::recording::PassSet;
 use crate::render::shaders;
 use crate::vk::{pipeline, Access, Device, Resource};
 
@@ -30,7 +31,8 @@ enum Dispatch {
 /// The compute pipelines and the buffers they touch.
 pub struct BladePosePass {
     dispatch: Dispatch,
-    layout: vk::PipelineLayout,
+    /// Its own set: the cull's `Draws` (the shader declares it with or without the cull).
+    set: PassSet,
     animation: vk::DescriptorSet,
     poses: vk::Buffer,
     reads: [vk::Buffer; 2],
@@ -42,20 +44,27 @@ impl BladePosePass {
     pub fn new(device: &Device, setup: &PassSetup, set: &AnimationSet) -> Result<Self> {
         let scene = setup.scene;
         let (name, spirv) = ("blade poses", shaders::BLADE_POSE_COMP.code(device.profile));
+        let own = bucket_dispatch::draws_set(device, name, spirv, &setup.sets, &scene.draws)?;
         let dispatch = match setup.buckets {
             Some(buckets) => {
                 let constants = (setup.constants, buckets);
-                let buckets = BucketDispatch::new(device, name, spirv, setup.layout, constants, scene.draws.raw)?;
-                Dispatch::Buckets(buckets, scene.visible.raw)
+                BucketDispatch::new(device, name, spirv, own.layout, constants, scene.draws.raw)
+                    .map(|buckets| Dispatch::Buckets(buckets, scene.visible.raw))
             }
-            None => {
-                let pipeline = pipeline::compute(device, name, spirv, setup.layout, setup.constants)?;
-                Dispatch::Stored(pipeline, scene.blade_count)
+            None => pipeline::compute(device, name, spirv, own.layout, setup.constants)
+                .map(|pipeline| Dispatch::Stored(pipeline, scene.blade_count)),
+        };
+        let dispatch = match dispatch {
+            Ok(dispatch) => dispatch,
+            Err(e) => {
+                // SAFETY: never recorded.
+                unsafe { own.destroy(device) };
+                return Err(e);
             }
         };
         Ok(Self {
             dispatch,
-            layout: setup.layout,
+            set: own,
             animation: set.set,
             poses: set.per_blade.poses.raw,
             reads: [scene.blades.raw, scene.clusters.raw],
@@ -85,14 +94,15 @@ impl Pass for BladePosePass {
 
     fn record(&self, ctx: &PassContext, cmd: vk::CommandBuffer) -> Result<()> {
         let device = ctx.device;
+        self.set.bind(device, cmd, vk::PipelineBindPoint::COMPUTE, ctx.slot);
         match &self.dispatch {
             Dispatch::Stored(pipeline, blades) => {
-                recording::bind_blade_compute(ctx, cmd, (self.layout, *pipeline), self.animation);
+                recording::bind_blade_compute(ctx, cmd, (self.set.layout, *pipeline), self.animation);
                 // SAFETY: cmd is recording outside a rendering instance; both sets and the pipeline are bound.
                 unsafe { device.raw.cmd_dispatch(cmd, blades.div_ceil(gpu::POSE_GROUP), 1, 1) };
             }
             Dispatch::Buckets(buckets, _) => {
-                recording::bind_blade_sets(ctx, cmd, self.layout, self.animation);
+                recording::bind_blade_sets(ctx, cmd, self.set.layout, self.animation);
                 buckets.record(device, cmd);
             }
         }
@@ -105,6 +115,8 @@ impl Pass for BladePosePass {
     }
 
     unsafe fn destroy(self: Box<Self>, device: &Device) {
+        // SAFETY: per the contract.
+        unsafe { self.set.destroy(device) };
         match self.dispatch {
             Dispatch::Stored(pipeline, _) => {
                 crate::vk::live::destroyed(pipeline);

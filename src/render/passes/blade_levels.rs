@@ -14,14 +14,16 @@ use crate::error::Result;
 use crate::render::animation::model::{AnimationSet, PassSetup};
 use crate::render::graph::{Declaration, Pass, PassContext};
 use crate::render::recording;
-use crate::render::recording::bucket_dispatch::BucketDispatch;
+use crate::render::recording::bucket_dispatch::{self, BucketDispatch};
+use crate::render::recording::PassSet;
 use crate::render::shaders;
 use crate::vk::{Access, Device};
 
 /// The compute pipelines (one per LOD bucket) and the buffers they touch.
 pub struct BladeLevelsPass {
     buckets: BucketDispatch,
-    layout: vk::PipelineLayout,
+    /// Its own set: the cull's `Draws`.
+    set: PassSet,
     animation: vk::DescriptorSet,
     /// Pose records (read), placed levels (written).
     poses: vk::Buffer,
@@ -43,9 +45,18 @@ impl BladeLevelsPass {
         };
         let (name, spirv) = ("blade levels", shaders::BLADE_LEVELS_COMP.code(device.profile));
         let constants = (setup.constants, buckets);
+        let own = bucket_dispatch::draws_set(device, name, spirv, &setup.sets, &scene.draws)?;
+        let buckets = match BucketDispatch::new(device, name, spirv, own.layout, constants, scene.draws.raw) {
+            Ok(buckets) => buckets,
+            Err(e) => {
+                // SAFETY: never recorded.
+                unsafe { own.destroy(device) };
+                return Err(e);
+            }
+        };
         Ok(Self {
-            buckets: BucketDispatch::new(device, name, spirv, setup.layout, constants, scene.draws.raw)?,
-            layout: setup.layout,
+            buckets,
+            set: own,
             animation: set.set,
             poses: set.per_blade.poses.raw,
             levels: set.per_blade.levels.raw,
@@ -77,13 +88,17 @@ impl Pass for BladeLevelsPass {
     }
 
     fn record(&self, ctx: &PassContext, cmd: vk::CommandBuffer) -> Result<()> {
-        recording::bind_blade_sets(ctx, cmd, self.layout, self.animation);
+        recording::bind_blade_sets(ctx, cmd, self.set.layout, self.animation);
+        self.set.bind(ctx.device, cmd, vk::PipelineBindPoint::COMPUTE, ctx.slot);
         self.buckets.record(ctx.device, cmd);
         Ok(())
     }
 
     unsafe fn destroy(self: Box<Self>, device: &Device) {
         // SAFETY: per the contract.
-        unsafe { self.buckets.destroy(device) };
+        unsafe {
+            self.buckets.destroy(device);
+            self.set.destroy(device);
+        }
     }
 }

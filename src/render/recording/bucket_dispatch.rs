@@ -10,8 +10,18 @@ use ash::vk;
 use crate::error::Result;
 use crate::render::gpu_constants as gpu;
 use crate::render::graph::Declaration;
+use crate::render::recording::{PassSet, SceneSets};
 use crate::scene::alpha;
-use crate::vk::{pipeline, Access, Device};
+use crate::vk::descriptor::Resource;
+use crate::vk::{pipeline, Access, Buffer, Device};
+
+/// The own set (`SET_PASS`) of a per-blade pass after the cull, `name` over `spirv`: the cull's
+/// `Draws` (`shaders/blades/visible_buckets.glsl`), given by name. Its pipelines are built on the
+/// set's layout.
+pub fn draws_set(device: &Device, name: &str, spirv: &[u8], sets: &SceneSets, draws: &Buffer) -> Result<PassSet> {
+    let shaders = [(name, spirv)];
+    PassSet::new(device, &sets.desc(name, &shaders), |_| vec![("Draws", Resource::Buffer(draws.descriptor()))])
+}
 
 /// The specialization constants of a LOD bucket's pipelines (this module's and the blade pass's
 /// draws): the scene's `constants` with `SPEC_SEGMENTS` the bucket's `segments`, its strip's

@@ -4,6 +4,9 @@
 //! passes and the renderer's share them without importing each other.
 
 pub mod bucket_dispatch;
+pub mod pass_set;
+
+pub use pass_set::{PassSet, PassSetDesc, SceneSets};
 
 use ash::vk;
 

@@ -1,9 +1,47 @@
 //! What the renderer offers passes defined outside the library (a simulation, a bake, a test's
-//! pass): adding them to every frame, temporal pairs, imports of their resources, the clock.
+//! pass): adding them to every frame, temporal pairs, imports of their resources, the clock, and
+//! a set 0 of their own with their own frame uniforms (`FrameInstance`: a bake's camera).
+
+use ash::vk;
 
 use super::Renderer;
-use crate::render::graph::{Pass, Temporal, TemporalPair};
-use crate::vk::{Access, Resource};
+use crate::error::Result;
+use crate::render::graph::{Pass, PassUniforms, Temporal, TemporalPair};
+use crate::render::uniforms::FrameUniforms;
+use crate::vk::descriptor::SetLayout;
+use crate::vk::{Access, Device, Resource};
+
+/// A set-0 instance of a pass's own, one per frame in flight: each points at the scene and that
+/// frame's forces as the frame's own set 0 does, and at the pass's own `FrameUniforms` block
+/// (`uniforms`), which the pass fills through `Pass::uniforms` (e.g.
+/// `ctx.uniforms.with_orthographic(&camera)`): a bake renders with its own camera and never sees
+/// the main one. Made by `Renderer::frame_instance`.
+pub struct FrameInstance {
+    /// The instance's `FrameUniforms`, one block per frame in flight.
+    pub uniforms: PassUniforms,
+    pool: vk::DescriptorPool,
+    sets: Vec<vk::DescriptorSet>,
+}
+
+impl FrameInstance {
+    /// The set 0 of frame slot `slot`.
+    pub fn set(&self, slot: usize) -> vk::DescriptorSet {
+        self.sets[slot]
+    }
+
+    /// Destroy it (the sets go with the pool).
+    ///
+    /// # Safety
+    /// No pending work may use it.
+    pub unsafe fn destroy(self, device: &Device) {
+        // SAFETY: per the contract.
+        unsafe {
+            crate::vk::live::destroyed(self.pool);
+            device.raw.destroy_descriptor_pool(self.pool, None);
+            self.uniforms.destroy(device);
+        }
+    }
+}
 
 impl Renderer {
     /// Add `pass` to every frame, before the renderer's own passes (after those added before it):
@@ -34,6 +72,44 @@ impl Renderer {
     /// Frames submitted so far: the next frame's `FrameClock::index`.
     pub fn frames_submitted(&self) -> u64 {
         self.graph.frames_submitted()
+    }
+
+    /// The layout of set 0 (`SET_SCENE`), for the pipeline layout of a pass that binds a
+    /// `FrameInstance` or the frame's own set 0.
+    pub fn frame_set_layout(&self) -> &SetLayout {
+        &self.layouts.scene
+    }
+
+    /// A set 0 of `name`'s own with its own frame uniforms (`FrameInstance`), for this renderer's
+    /// scene and frames; the caller destroys it once the frames that used it are done (after
+    /// `wait_all_frames`, or behind `defer`).
+    pub fn frame_instance(&self, name: &str) -> Result<FrameInstance> {
+        let device = &*self.device;
+        let slots = self.settings.frames_in_flight;
+        let size = std::mem::size_of::<FrameUniforms>() as u64;
+        let uniforms = PassUniforms::new(device, &format!("{name} frame"), size, slots)?;
+        let (pool, sets) = match self.layouts.scene.allocate(device, &format!("{name} frame sets"), slots as u32) {
+            Ok(made) => made,
+            Err(e) => {
+                // SAFETY: never used.
+                unsafe { uniforms.destroy(device) };
+                return Err(e);
+            }
+        };
+        let instance = FrameInstance { uniforms, pool, sets };
+        for slot in 0..slots {
+            let mut own = super::frame_bindings(&self.forces, slot);
+            let block = crate::vk::descriptor::Resource::Buffer(instance.uniforms.descriptor(slot));
+            own.push((crate::render::gpu_constants::BINDING_FRAME, block.clone()));
+            own.push((crate::render::gpu_constants::BINDING_FRAME_STORAGE, block));
+            let set = instance.sets[slot];
+            if let Err(e) = self.scene_gpu().write_descriptors(device, &self.layouts.scene, set, &own) {
+                // SAFETY: never used.
+                unsafe { instance.destroy(device) };
+                return Err(e);
+            }
+        }
+        Ok(instance)
     }
 
     /// Set the simulation's fixed step (`FrameClock::dt`, seconds) of the next frames.

@@ -42,6 +42,16 @@ use crate::render::target::TargetView;
 use crate::scene::{field::check_camera, Camera, Scene};
 use crate::vk::descriptor::Resource as Descriptor;
 use crate::vk::{Destroy, Device, Resource};
+pub use extensions::FrameInstance;
+
+/// What set 0 of frame `slot` points at besides the scene and the frame's uniforms: that frame's
+/// forces.
+fn frame_bindings(forces: &PerFrame<FrameForces>, slot: usize) -> Vec<(u32, Descriptor)> {
+    vec![
+        (gpu::BINDING_CORNERS, Descriptor::Buffer(forces[slot].corners.descriptor())),
+        (gpu::BINDING_EMITTERS, Descriptor::Buffer(forces[slot].emitters.descriptor())),
+    ]
+}
 
 /// The scene on the GPU, its passes in a graph, and the frames in flight: build, then render
 /// frames into any target. Every object it owns is destroyed on drop, after the device is idle.
@@ -128,15 +138,8 @@ impl Renderer {
         let (corners, emitters) = (scene.grid.corner_count(), animation::MAX_EMITTERS as u32);
         self.forces = PerFrame::new(device, slots, |i| FrameForces::new(device, i, corners, emitters))?;
         self.cull_frames = PerFrame::new(device, slots, |i| CullFrame::new(device, i))?;
-        let (forces, cull) = (&self.forces, &self.cull_frames);
-        let others = |slot: usize| {
-            vec![
-                (gpu::BINDING_CORNERS, Descriptor::Buffer(forces[slot].corners.descriptor())),
-                (gpu::BINDING_EMITTERS, Descriptor::Buffer(forces[slot].emitters.descriptor())),
-                (gpu::BINDING_CULL_STATS, Descriptor::Buffer(cull[slot].stats.descriptor())),
-            ]
-        };
-        self.scene_frames = scene_frames(device, &mut self.layouts, scene, slots, others)?;
+        let forces = &self.forces;
+        self.scene_frames = scene_frames(device, &mut self.layouts, scene, slots, |slot| frame_bindings(forces, slot))?;
         Ok(())
     }
 

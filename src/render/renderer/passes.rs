@@ -14,6 +14,7 @@ use crate::render::passes::depth_pyramid::DepthPyramidPass;
 use crate::render::passes::{
     BladeLevelsPass, BladePass, ClusterBoundsPass, FloorPass, PipelineTarget, ReliefGridPass, ResolvePass, TerrainPass,
 };
+use crate::render::recording::SceneSets;
 use crate::render::scene_gpu::SceneGpu;
 use crate::render::settings::sky_clear_color;
 use crate::render::specialization::Specialization;
@@ -130,7 +131,12 @@ impl Renderer {
         let model = self.model.as_deref().expect("built");
         let culled = settings.culling.enabled;
         let buckets = culled.then(|| settings.culling.buckets());
-        let setup = PassSetup { layout: target.layout, constants, scene, buckets };
+        let sets = SceneSets {
+            before: [&self.layouts.scene, &self.layouts.animation],
+            push: crate::render::submission::push_constant_range(),
+            frames: self.ring.slots(),
+        };
+        let setup = PassSetup { layout: target.layout, sets, constants, scene, buckets };
         let mut model_passes = model.passes(device, &setup)?;
         if constants[gpu::SPEC_RENDER_FLAGS as usize] & gpu::FLAG_LEVELS != 0 {
             match BladeLevelsPass::new(device, &setup, model.resources()) {
@@ -155,7 +161,7 @@ impl Renderer {
             }
             if culled {
                 let stats = self.cull_frames.iter().map(|frame| frame.stats.raw).collect();
-                let setup = CullSetup { layout: target.layout, constants, frame_stats: stats };
+                let setup = CullSetup { sets, constants, frame_stats: stats };
                 cull::add_passes(graph, device, &setup, scene)?;
             }
             Ok(())

@@ -3,14 +3,17 @@
 //! counts per LOD bucket and after each test, and each candidate's verdict. Reads the scene and
 //! the tiles pass's list and room, writes the slot counts and the verdicts.
 
+use std::rc::Rc;
+
 use super::{CullSetup, CullStep, Groups};
 use crate::error::Result;
+use crate::render::recording::PassSet;
 use crate::render::scene_gpu::SceneGpu;
 use crate::render::shaders;
 use crate::vk::{Access, Device};
 
 /// The counting dispatch, one workgroup per listed ring slot.
-pub fn pass(device: &Device, setup: &CullSetup, scene: &SceneGpu) -> Result<CullStep> {
+pub fn pass(device: &Device, setup: &CullSetup, scene: &SceneGpu, set: &Rc<PassSet>) -> Result<CullStep> {
     let read = Access::ComputeShaderRead;
     let mut uses = vec![
         (scene.tiles.raw, read),
@@ -26,5 +29,5 @@ pub fn pass(device: &Device, setup: &CullSetup, scene: &SceneGpu) -> Result<Cull
     // A block field's roots sit on the relief grid.
     uses.extend(scene.relief_grid_read().map(|grid| (grid, device.profile.compute_fetch())));
     let groups = Groups::Indirect(scene.cull_alloc.raw, 0);
-    CullStep::new(device, ("cull count", shaders::CULL_COUNT_COMP.code(device.profile)), setup, uses, groups)
+    CullStep::new(device, ("cull count", shaders::CULL_COUNT_COMP.code(device.profile)), (setup, set), uses, groups)
 }

@@ -4,15 +4,18 @@
 //! visible list at its bucket's base plus its slot's offset plus its rank in the slot: the same
 //! list on every run and thread count, buckets then slots near to far.
 
+use std::rc::Rc;
+
 use super::{CullSetup, CullStep, Groups};
 use crate::error::Result;
 use crate::render::gpu_constants as gpu;
+use crate::render::recording::PassSet;
 use crate::render::scene_gpu::SceneGpu;
 use crate::render::shaders;
 use crate::vk::{Access, Device};
 
 /// The emitting dispatch, one workgroup per ring slot that draws.
-pub fn pass(device: &Device, setup: &CullSetup, scene: &SceneGpu) -> Result<CullStep> {
+pub fn pass(device: &Device, setup: &CullSetup, scene: &SceneGpu, set: &Rc<PassSet>) -> Result<CullStep> {
     let read = Access::ComputeShaderRead;
     let uses = vec![
         // A stored field's tiles (where a slot's blades start); the tile tests' result is the
@@ -27,6 +30,7 @@ pub fn pass(device: &Device, setup: &CullSetup, scene: &SceneGpu) -> Result<Cull
         (scene.visible.raw, Access::ComputeShaderWrite),
     ];
     let groups = Groups::Indirect(scene.draws.raw, gpu::EMIT_DISPATCH_WORD);
-    let step = CullStep::new(device, ("cull emit", shaders::CULL_EMIT_COMP.code(device.profile)), setup, uses, groups)?;
+    let step =
+        CullStep::new(device, ("cull emit", shaders::CULL_EMIT_COMP.code(device.profile)), (setup, set), uses, groups)?;
     Ok(step)
 }

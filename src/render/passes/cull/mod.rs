@@ -12,21 +12,26 @@ pub mod emit;
 pub mod scan;
 pub mod tiles;
 
+use std::rc::Rc;
+
 use ash::vk;
 
 use crate::error::Result;
 use crate::render::culling::CullCounts;
 use crate::render::gpu_constants::SLOT_WORDS;
 use crate::render::graph::{Declaration, Graph, Pass, PassContext};
-use crate::render::recording;
+use crate::render::recording::{self, PassSet, SceneSets};
 use crate::render::scene_gpu::SceneGpu;
+use crate::render::shaders;
+use crate::vk::descriptor::Resource;
 use crate::vk::{pipeline, Access, Buffer, BufferDesc, Destroy, Device};
 
-/// What the cull passes share: the scene pipeline layout and specialization constants,
-/// and the frames' host-visible count buffers the scan writes.
+/// What the cull passes are built from: the scene's set layouts (sets 0 and 1 of their pipeline
+/// layout), the push-constant range, the specialization constants, and the frames' host-visible
+/// count buffers the scan writes.
 pub struct CullSetup<'a> {
-    /// The scene pipeline layout (set 0 holds every buffer the cull touches).
-    pub layout: vk::PipelineLayout,
+    /// The sets before the cull's own, and the frames in flight.
+    pub sets: SceneSets<'a>,
     /// Specialization constants.
     pub constants: &'a [u32],
     /// Each frame's counts buffer (`CullFrame::stats`), by slot.
@@ -78,12 +83,53 @@ impl Destroy for CullFrame {
     }
 }
 
+/// The cull's own set (`SET_PASS`, declared in `shaders/cull/cull.glsl` and `cull_emit.comp`),
+/// one per frame in flight: the resources only the cull binds, by the names its GLSL gives them.
+fn cull_set(device: &Device, setup: &CullSetup, scene: &SceneGpu) -> Result<PassSet> {
+    let code: Vec<(&str, &[u8])> = [shaders::CULL_TILES_COMP, shaders::CULL_COUNT_COMP, shaders::CULL_SCAN_COMP]
+        .iter()
+        .chain([&shaders::CULL_EMIT_COMP])
+        .map(|s| (s.path, s.code(device.profile)))
+        .collect();
+    let desc = setup.sets.desc("cull", &code);
+    let buffer = |b: &crate::vk::Buffer| Resource::Buffer(b.descriptor());
+    PassSet::new(device, &desc, |slot| {
+        let stats = vk::DescriptorBufferInfo { buffer: setup.frame_stats[slot], offset: 0, range: vk::WHOLE_SIZE };
+        vec![
+            ("SlotCounts", buffer(&scene.slot_counts)),
+            ("Draws", buffer(&scene.draws)),
+            ("CullStats", Resource::Buffer(stats)),
+            ("CullResults", buffer(&scene.cull_results)),
+            ("verdict_texels", Resource::Texels(scene.cull_result_texels.raw)),
+            ("CullAlloc", buffer(&scene.cull_alloc)),
+            ("Pyramid", buffer(&scene.depth_pyramid)),
+            ("pyramid_texels", Resource::Texels(scene.depth_pyramid_texels.raw)),
+        ]
+    })
+}
+
 /// Add the four passes to `graph`, in order.
 pub fn add_passes(graph: &mut Graph, device: &Device, setup: &CullSetup, scene: &SceneGpu) -> Result<()> {
-    graph.add(tiles::pass(device, setup, scene)?);
-    graph.add(count::pass(device, setup, scene)?);
-    graph.add(scan::pass(device, setup, scene)?);
-    graph.add(emit::pass(device, setup, scene)?);
+    let set = Rc::new(cull_set(device, setup, scene)?);
+    let steps = [tiles::pass, count::pass, scan::pass, emit::pass];
+    let mut built: Vec<CullStep> = Vec::with_capacity(steps.len());
+    for step in steps {
+        match step(device, setup, scene, &set) {
+            Ok(pass) => built.push(pass),
+            Err(e) => {
+                for pass in built {
+                    // SAFETY: never recorded.
+                    unsafe { Box::new(pass).destroy(device) };
+                }
+                if let Some(set) = Rc::into_inner(set) {
+                    // SAFETY: never recorded.
+                    unsafe { set.destroy(device) };
+                }
+                return Err(e);
+            }
+        }
+    }
+    built.into_iter().for_each(|pass| graph.add(pass));
     Ok(())
 }
 
@@ -112,7 +158,8 @@ enum Groups {
 pub struct CullStep {
     name: &'static str,
     pipeline: vk::Pipeline,
-    layout: vk::PipelineLayout,
+    /// The cull's set, shared by its four steps (the last one destroyed frees it).
+    set: Rc<PassSet>,
     uses: Vec<(vk::Buffer, Access)>,
     /// Written by the step, one buffer per frame in flight (by slot).
     per_frame: Vec<vk::Buffer>,
@@ -123,12 +170,12 @@ impl CullStep {
     fn new(
         device: &Device,
         (name, spirv): (&'static str, &[u8]),
-        setup: &CullSetup,
+        (setup, set): (&CullSetup, &Rc<PassSet>),
         uses: Vec<(vk::Buffer, Access)>,
         groups: Groups,
     ) -> Result<Self> {
-        let pipeline = pipeline::compute(device, name, spirv, setup.layout, setup.constants)?;
-        Ok(Self { name, pipeline, layout: setup.layout, uses, per_frame: Vec::new(), groups })
+        let pipeline = pipeline::compute(device, name, spirv, set.layout, setup.constants)?;
+        Ok(Self { name, pipeline, set: set.clone(), uses, per_frame: Vec::new(), groups })
     }
 }
 
@@ -144,8 +191,10 @@ impl Pass for CullStep {
 
     fn record(&self, ctx: &PassContext, cmd: vk::CommandBuffer) -> Result<()> {
         let device = ctx.device;
-        recording::bind_scene_set(device, ctx, cmd, self.layout, vk::PipelineBindPoint::COMPUTE);
-        // SAFETY: cmd is recording outside a rendering instance; set 0 is bound.
+        let compute = vk::PipelineBindPoint::COMPUTE;
+        recording::bind_scene_set(device, ctx, cmd, self.set.layout, compute);
+        self.set.bind(device, cmd, compute, ctx.slot);
+        // SAFETY: cmd is recording outside a rendering instance; sets 0 and 2 are bound.
         unsafe {
             device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipeline);
             match self.groups {
@@ -160,7 +209,10 @@ impl Pass for CullStep {
         // SAFETY: per the contract.
         unsafe {
             crate::vk::live::destroyed(self.pipeline);
-            device.raw.destroy_pipeline(self.pipeline, None)
+            device.raw.destroy_pipeline(self.pipeline, None);
+            if let Some(set) = Rc::into_inner(self.set) {
+                set.destroy(device);
+            }
         };
     }
 }

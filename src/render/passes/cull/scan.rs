@@ -4,14 +4,17 @@
 //! dispatch over them, and the frame's counts into the frame's host-visible buffer (read after
 //! its fence). Every word it writes is written whole each frame: there is no counter to clear.
 
+use std::rc::Rc;
+
 use super::{CullSetup, CullStep, Groups};
 use crate::error::Result;
+use crate::render::recording::PassSet;
 use crate::render::scene_gpu::SceneGpu;
 use crate::render::shaders;
 use crate::vk::{Access, Device};
 
 /// The scan dispatch, one workgroup; it writes each frame's host-visible counts.
-pub fn pass(device: &Device, setup: &CullSetup, scene: &SceneGpu) -> Result<CullStep> {
+pub fn pass(device: &Device, setup: &CullSetup, scene: &SceneGpu, set: &Rc<PassSet>) -> Result<CullStep> {
     let uses = vec![
         (scene.slot_counts.raw, Access::ComputeShaderRead),
         (scene.slot_counts.raw, Access::ComputeShaderWrite),
@@ -19,8 +22,13 @@ pub fn pass(device: &Device, setup: &CullSetup, scene: &SceneGpu) -> Result<Cull
         // The padding of each bucket's last instance.
         (scene.visible.raw, Access::ComputeShaderWrite),
     ];
-    let mut step =
-        CullStep::new(device, ("cull scan", shaders::CULL_SCAN_COMP.code(device.profile)), setup, uses, Groups::One)?;
+    let mut step = CullStep::new(
+        device,
+        ("cull scan", shaders::CULL_SCAN_COMP.code(device.profile)),
+        (setup, set),
+        uses,
+        Groups::One,
+    )?;
     // Each frame's host-visible counts, by frame slot.
     step.per_frame = setup.frame_stats.clone();
     Ok(step)

@@ -4,14 +4,17 @@
 //! and, in a block field, each one's room for verdicts (a prefix sum: no atomics, no counter).
 //! Reads the scene, writes the slot counts and `cull_alloc`.
 
+use std::rc::Rc;
+
 use super::{CullSetup, CullStep, Groups};
 use crate::error::Result;
+use crate::render::recording::PassSet;
 use crate::render::scene_gpu::SceneGpu;
 use crate::render::shaders;
 use crate::vk::{Access, Device};
 
 /// The tile tests' dispatch: one workgroup.
-pub fn pass(device: &Device, setup: &CullSetup, scene: &SceneGpu) -> Result<CullStep> {
+pub fn pass(device: &Device, setup: &CullSetup, scene: &SceneGpu, set: &Rc<PassSet>) -> Result<CullStep> {
     let read = Access::ComputeShaderRead;
     let uses = vec![
         (scene.tiles.raw, read),
@@ -22,5 +25,11 @@ pub fn pass(device: &Device, setup: &CullSetup, scene: &SceneGpu) -> Result<Cull
         (scene.cull_alloc.raw, read),
         (scene.cull_alloc.raw, Access::ComputeShaderWrite),
     ];
-    CullStep::new(device, ("cull tiles", shaders::CULL_TILES_COMP.code(device.profile)), setup, uses, Groups::One)
+    CullStep::new(
+        device,
+        ("cull tiles", shaders::CULL_TILES_COMP.code(device.profile)),
+        (setup, set),
+        uses,
+        Groups::One,
+    )
 }
