@@ -62,5 +62,17 @@ pub fn fails(fault: Fault) -> bool {
             .map(|f| std::env::var(f.variable()).ok().and_then(|v| v.trim().parse::<u64>().ok()))
     });
     let call = fault.counter().fetch_add(1, Ordering::Relaxed) + 1;
-    nth[fault as usize] == Some(call)
+    nth[fault as usize] == Some(call) || armed(fault).load(Ordering::Relaxed) == call
+}
+
+/// The call of each kind [`fail_in`] aimed at (0: none).
+fn armed(fault: Fault) -> &'static AtomicU64 {
+    static ARMED: [AtomicU64; KINDS] = [const { AtomicU64::new(0) }; KINDS];
+    &ARMED[fault as usize]
+}
+
+/// Make the `nth` next call of kind `fault` in this process fail (`None`: none), as its
+/// variable would: a test that builds many renderers in one process aims at each call in turn.
+pub fn fail_in(fault: Fault, nth: Option<u64>) {
+    armed(fault).store(nth.map_or(0, |n| calls(fault) + n), Ordering::Relaxed);
 }
