@@ -148,6 +148,21 @@ pub trait Pass {
     unsafe fn destroy(self: Box<Self>, device: &Device);
 }
 
+/// A pass being built is guarded like any other object (`vk::Guard`): it is destroyed as a pass.
+impl<P: Pass + 'static> crate::vk::Destroy for P {
+    unsafe fn destroy(self, device: &Device) {
+        // SAFETY: per the contract.
+        unsafe { Pass::destroy(Box::new(self), device) };
+    }
+}
+
+impl crate::vk::Destroy for Box<dyn Pass> {
+    unsafe fn destroy(self, device: &Device) {
+        // SAFETY: per the contract.
+        unsafe { Pass::destroy(self, device) };
+    }
+}
+
 /// The queries a frame's passes are measured with. Their pools must hold what the frame's plan
 /// needs (`Plan::timestamps`, `Plan::statistics`).
 pub struct Scopes<'a> {

@@ -54,8 +54,8 @@ pub fn scene_bindings(profile: Profile) -> Result<(Vec<Binding>, Vec<Binding>)> 
 pub fn scene_layouts(device: &Device) -> Result<SceneLayouts> {
     let (scene, animation) = scene_bindings(device.profile)?;
     descriptor::check_storage_buffers(device, "the scene pipelines", &[&scene, &animation])?;
-    let mut layouts = SceneLayouts::default();
-    let built = (|| {
+    let mut layouts = crate::vk::guard::empty::<SceneLayouts>(device);
+    {
         layouts.scene = SetLayout::new(device, "scene set layout", scene)?;
         layouts.animation = SetLayout::new(device, "animation set layout", animation)?;
         // Sets in `SET_SCENE`, `SET_ANIMATION` order.
@@ -65,15 +65,14 @@ pub fn scene_layouts(device: &Device) -> Result<SceneLayouts> {
             &[layouts.scene.raw, layouts.animation.raw],
             &[submission::push_constant_range()],
         )?;
-        Ok(())
-    })();
-    match built {
-        Ok(()) => Ok(layouts),
-        Err(e) => {
-            // SAFETY: nothing uses them.
-            unsafe { layouts.destroy(device) };
-            Err(e)
-        }
+    }
+    Ok(layouts.take())
+}
+
+impl Destroy for SceneLayouts {
+    unsafe fn destroy(self, device: &Device) {
+        // SAFETY: per the contract.
+        unsafe { SceneLayouts::destroy(&self, device) };
     }
 }
 

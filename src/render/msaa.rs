@@ -10,7 +10,7 @@ use ash::vk;
 use crate::error::{Error, Result};
 use crate::render::target::TargetView;
 use crate::vk::multisample::{self, AttachmentUse};
-use crate::vk::{Access, Device, Image, ImageDesc};
+use crate::vk::{Access, Device, Guard, Image, ImageDesc};
 
 /// Colour of the multisampled scene: linear, 16-bit float (colour attachment and sampled, both
 /// required of this format by the specification), values above 1 clamped by the resolve.
@@ -127,16 +127,10 @@ impl MultisampleTarget {
     pub fn new(device: &Device, extent: vk::Extent2D, samples: vk::SampleCountFlags) -> Result<Self> {
         let usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::SAMPLED;
         let color_desc = ImageDesc::color("multisampled colour", MSAA_COLOR_FORMAT, extent, usage);
-        let color = Image::new(device, &color_desc.multisampled(samples))?;
+        let color = Guard::new(device, Image::new(device, &color_desc.multisampled(samples))?);
         let depth_desc = ImageDesc::depth("multisampled depth", device.depth_format, extent).multisampled(samples);
-        match Image::new(device, &depth_desc) {
-            Ok(depth) => Ok(Self { color, depth, samples }),
-            Err(e) => {
-                // SAFETY: never used.
-                unsafe { color.destroy(device) };
-                Err(e)
-            }
-        }
+        let depth = Image::new(device, &depth_desc)?;
+        Ok(Self { color: color.take(), depth, samples })
     }
 
     /// Whether the images fit a frame of `extent` with `samples` samples.

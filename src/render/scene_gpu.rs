@@ -16,7 +16,7 @@ use crate::scene::tiles::{BladeTile, TileGrid, MAX_TILES_PER_SIDE};
 use crate::scene::{alpha, Scene};
 use crate::vk::descriptor::{Resource, SetLayout};
 use crate::vk::upload::UploadBatch;
-use crate::vk::{Access, Buffer, BufferDesc, Device, Image, ImageDesc, TexelView};
+use crate::vk::{Access, Buffer, BufferDesc, Destroy, Device, Image, ImageDesc, TexelView};
 
 /// Bytes of the `--eval blade` pose records: `segments + 1` records of `POSE_WORDS` words per
 /// blade (`shaders/common/bindings.glsl`).
@@ -249,9 +249,7 @@ struct Partial {
     result_texels: Option<TexelView>,
 }
 
-impl Partial {
-    /// # Safety
-    /// No pending work may use the resources.
+impl Destroy for Partial {
     unsafe fn destroy(self, device: &Device) {
         // SAFETY: per the contract.
         unsafe {
@@ -296,7 +294,8 @@ impl SceneGpu {
     /// Upload the scene and its cluster records (clusters of about `cluster_size` metres) in one
     /// batch.
     pub fn upload(device: &Device, scene: &Scene, cluster_size: f32, view_distance: f32) -> Result<Self> {
-        let mut partial = Partial::default();
+        // The batch waits for its submission or never submits.
+        let mut partial = crate::vk::guard::empty::<Partial>(device);
         let grid = match &scene.field {
             // A block field's corners follow the camera over the cells it sees.
             Some(_) => crate::render::field_gpu::cluster_grid(view_distance, cluster_size),
@@ -304,47 +303,41 @@ impl SceneGpu {
         };
         let capacity = cull_capacity(scene, view_distance);
         let cells = if scene.field.is_some() { gpu_constants::FIELD_TERRAIN_CELLS } else { scene.terrain.cells };
-        let result = Self::upload_into(device, scene, &grid, capacity, &mut partial);
-        match result {
-            Ok(sampler) => Ok(Self {
-                blades: partial.blades.take().expect("uploaded"),
-                blade_texels: partial.blade_texels.take().expect("created"),
-                blade_count: scene.blades.len() as u32,
-                heights: partial.heights.take().expect("uploaded"),
-                terrain_indices: partial.terrain_indices.take().expect("uploaded"),
-                terrain_cells: cells,
-                terrain_heights: crate::render::terrain_chunks::height_range(scene),
-                terrain_drawn: Arc::new(AtomicU64::new(2 * u64::from(cells).pow(2))),
-                terrain_origin: scene.terrain.origin(),
-                terrain_cell_size: scene.terrain.cell_size(),
-                blade_alpha: partial.blade_alpha.take().expect("uploaded"),
-                sampler,
-                clusters: partial.clusters.take().expect("uploaded"),
-                grid,
-                tiles: partial.tiles.take().expect("uploaded"),
-                tile_grid: scene.tile_grid,
-                field: scene.field.clone(),
-                verdict_capacity: verdict_capacity(scene),
-                visible_capacity: capacity.1,
-                slot_capacity: capacity.0,
-                cull_alloc: partial.cull.pop().expect("created"),
-                depth_pyramid_texels: partial.pyramid_texels.take().expect("created"),
-                depth_pyramid: partial.cull.pop().expect("created"),
-                cull_results: partial.cull.pop().expect("created"),
-                cull_result_texels: partial.result_texels.take().expect("created"),
-                draws: partial.cull.pop().expect("created"),
-                slot_counts: partial.cull.pop().expect("created"),
-                visible: partial.cull.pop().expect("created"),
-                visible_texels: partial.visible_texels.take().expect("created"),
-                relief_texels: partial.relief_texels.take().expect("created"),
-                relief_grid: partial.cull.pop().expect("created"),
-            }),
-            Err(e) => {
-                // SAFETY: the batch waited for its submission or never submitted.
-                unsafe { partial.destroy(device) };
-                Err(e)
-            }
-        }
+        let sampler = Self::upload_into(device, scene, &grid, capacity, &mut partial)?;
+        let mut partial = partial.take();
+        Ok(Self {
+            blades: partial.blades.take().expect("uploaded"),
+            blade_texels: partial.blade_texels.take().expect("created"),
+            blade_count: scene.blades.len() as u32,
+            heights: partial.heights.take().expect("uploaded"),
+            terrain_indices: partial.terrain_indices.take().expect("uploaded"),
+            terrain_cells: cells,
+            terrain_heights: crate::render::terrain_chunks::height_range(scene),
+            terrain_drawn: Arc::new(AtomicU64::new(2 * u64::from(cells).pow(2))),
+            terrain_origin: scene.terrain.origin(),
+            terrain_cell_size: scene.terrain.cell_size(),
+            blade_alpha: partial.blade_alpha.take().expect("uploaded"),
+            sampler,
+            clusters: partial.clusters.take().expect("uploaded"),
+            grid,
+            tiles: partial.tiles.take().expect("uploaded"),
+            tile_grid: scene.tile_grid,
+            field: scene.field.clone(),
+            verdict_capacity: verdict_capacity(scene),
+            visible_capacity: capacity.1,
+            slot_capacity: capacity.0,
+            cull_alloc: partial.cull.pop().expect("created"),
+            depth_pyramid_texels: partial.pyramid_texels.take().expect("created"),
+            depth_pyramid: partial.cull.pop().expect("created"),
+            cull_results: partial.cull.pop().expect("created"),
+            cull_result_texels: partial.result_texels.take().expect("created"),
+            draws: partial.cull.pop().expect("created"),
+            slot_counts: partial.cull.pop().expect("created"),
+            visible: partial.cull.pop().expect("created"),
+            visible_texels: partial.visible_texels.take().expect("created"),
+            relief_texels: partial.relief_texels.take().expect("created"),
+            relief_grid: partial.cull.pop().expect("created"),
+        })
     }
 
     fn upload_into(

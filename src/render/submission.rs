@@ -9,9 +9,9 @@
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
 
-use crate::error::{Error, Result, VkContext};
+use crate::error::{Result, VkContext};
 use crate::vk::upload::UploadBatch;
-use crate::vk::{Access, Buffer, Device};
+use crate::vk::{Access, Buffer, Destroy, Device, Guard};
 
 /// A way to submit the blade draws.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -273,16 +273,10 @@ impl IndirectDraws {
             .flat_map(|c| [c.vertex_count, c.instance_count, c.first_vertex, c.first_instance])
             .collect();
         let (usage, next) = (vk::BufferUsageFlags::INDIRECT_BUFFER, &[Access::IndirectCommandRead][..]);
-        let commands_buffer = batch.buffer("indirect draws", &words, usage, next)?;
-        let count = batch.buffer("indirect draw count", &[commands.len() as u32], usage, next);
-        match count {
-            Ok(count) => Ok(Self { commands: commands_buffer, count, draws: commands.len() as u32 }),
-            Err(e) => {
-                // SAFETY: the batch has not been submitted; nothing uses the buffer.
-                unsafe { commands_buffer.destroy(batch.device()) };
-                Err(e)
-            }
-        }
+        // The batch has not been submitted.
+        let commands_buffer = Guard::new(batch.device(), batch.buffer("indirect draws", &words, usage, next)?);
+        let count = batch.buffer("indirect draw count", &[commands.len() as u32], usage, next)?;
+        Ok(Self { commands: commands_buffer.take(), count, draws: commands.len() as u32 })
     }
 
     /// Destroy both buffers.
@@ -307,46 +301,28 @@ pub struct SecondaryRecorders {
 impl SecondaryRecorders {
     /// `count` pools with a secondary command buffer each.
     pub fn new(device: &Device, name: &str, count: usize) -> Result<Self> {
-        let mut out = Self { workers: Vec::with_capacity(count) };
+        // Nothing is recorded in them yet.
+        let mut out = Guard::new(device, Self { workers: Vec::with_capacity(count) });
         for i in 0..count {
             let info = vk::CommandPoolCreateInfo::default()
                 .queue_family_index(device.queue_family)
                 .flags(vk::CommandPoolCreateFlags::TRANSIENT);
             // SAFETY: valid create info.
-            let pool = match unsafe { device.raw.create_command_pool(&info, None) }
+            let pool = unsafe { device.raw.create_command_pool(&info, None) }
                 .vk("vkCreateCommandPool")
-                .map(crate::vk::live::created)
-            {
-                Ok(pool) => pool,
-                Err(e) => {
-                    // SAFETY: nothing recorded yet.
-                    unsafe { out.destroy(device) };
-                    return Err(e);
-                }
-            };
+                .map(crate::vk::live::created)?;
+            let pool = Guard::new(device, pool);
             let alloc = vk::CommandBufferAllocateInfo::default()
-                .command_pool(pool)
+                .command_pool(*pool)
                 .level(vk::CommandBufferLevel::SECONDARY)
                 .command_buffer_count(1);
             // SAFETY: pool is valid.
-            match unsafe { device.raw.allocate_command_buffers(&alloc) } {
-                Ok(buffers) => {
-                    device.set_name(pool, &format!("{name} {i} pool"));
-                    device.set_name(buffers[0], &format!("{name} {i}"));
-                    out.workers.push((pool, buffers[0]));
-                }
-                Err(result) => {
-                    // SAFETY: unused pool; nothing recorded in the others.
-                    unsafe {
-                        crate::vk::live::destroyed(pool);
-                        device.raw.destroy_command_pool(pool, None);
-                        out.destroy(device);
-                    }
-                    return Err(Error::vulkan("vkAllocateCommandBuffers", result));
-                }
-            }
+            let buffers = unsafe { device.raw.allocate_command_buffers(&alloc) }.vk("vkAllocateCommandBuffers")?;
+            device.set_name(*pool, &format!("{name} {i} pool"));
+            device.set_name(buffers[0], &format!("{name} {i}"));
+            out.workers.push((pool.take(), buffers[0]));
         }
-        Ok(out)
+        Ok(out.take())
     }
 
     /// Destroy the pools (and their command buffers).
@@ -361,6 +337,13 @@ impl SecondaryRecorders {
                 device.raw.destroy_command_pool(pool, None)
             };
         }
+    }
+}
+
+impl Destroy for SecondaryRecorders {
+    unsafe fn destroy(mut self, device: &Device) {
+        // SAFETY: per the contract.
+        unsafe { SecondaryRecorders::destroy(&mut self, device) };
     }
 }
 

@@ -4,7 +4,7 @@
 use ash::vk;
 
 use crate::error::Result;
-use crate::vk::{Access, Buffer, BufferDesc, Device, Image, ImageDesc};
+use crate::vk::{Access, Buffer, BufferDesc, Device, Guard, Image, ImageDesc};
 
 /// Colour format of offscreen targets: UNORM, the shaders encode sRGB themselves.
 pub const OFFSCREEN_FORMAT: vk::Format = vk::Format::R8G8B8A8_UNORM;
@@ -74,31 +74,16 @@ impl OffscreenTarget {
                 vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC,
             ),
         )?;
-        let depth = match Image::new(device, &ImageDesc::depth("offscreen depth", device.depth_format, extent)) {
-            Ok(depth) => depth,
-            Err(e) => {
-                // SAFETY: unused.
-                unsafe { color.destroy(device) };
-                return Err(e);
-            }
-        };
+        let color = Guard::new(device, color);
+        let depth =
+            Guard::new(device, Image::new(device, &ImageDesc::depth("offscreen depth", device.depth_format, extent))?);
         let bytes = 4 * u64::from(extent.width) * u64::from(extent.height);
-        match Buffer::new(
+        let readback = Buffer::new(
             device,
             &BufferDesc::readback("offscreen readback", bytes, vk::BufferUsageFlags::TRANSFER_DST),
-        ) {
-            Ok(readback) => {
-                Ok(Self { color, depth, readback, depth_last: Access::Nothing, color_last: Access::Nothing })
-            }
-            Err(e) => {
-                // SAFETY: unused.
-                unsafe {
-                    color.destroy(device);
-                    depth.destroy(device);
-                }
-                Err(e)
-            }
-        }
+        )?;
+        let (color, depth) = (color.take(), depth.take());
+        Ok(Self { color, depth, readback, depth_last: Access::Nothing, color_last: Access::Nothing })
     }
 
     /// The view the renderer draws into.

@@ -28,7 +28,7 @@ use crate::render::graph::Outputs;
 use crate::render::{RenderSettings, Renderer};
 use crate::scene::Scene;
 use crate::vk::swapchain::{swapchain_counts, PresentMode, Swapchain};
-use crate::vk::{Buffer, BufferDesc, Device, Image, ImageDesc, Resource};
+use crate::vk::{Buffer, BufferDesc, Device, Guard, Image, ImageDesc, Resource};
 use crate::wind::CalmArea;
 use controls::CameraControl;
 use script::Script;
@@ -430,27 +430,16 @@ impl Viewer {
                 return Ok(());
             }
         }
-        let readback = self.screenshot_buffer()?;
+        // Never used by the GPU until the frame is submitted.
+        let device = self.device.clone();
+        let readback = Guard::new(&device, self.screenshot_buffer()?);
         let begun = self.renderer.as_mut().expect("renderer built").begin_frame();
         let begun = begun.and_then(|(slot, timings)| self.frame_begun(timings, readback.is_some()).map(|()| slot));
-        let slot = match begun {
-            Ok(slot) => slot,
-            Err(e) => {
-                if let Some(buffer) = readback {
-                    // SAFETY: never used by the GPU.
-                    unsafe { buffer.destroy(&self.device) };
-                }
-                return Err(e);
-            }
-        };
+        let slot = begun?;
         let renderer = self.renderer.as_mut().expect("renderer built");
         let surface = self.surface.as_mut().expect("surface exists");
         let acquired = surface.swapchain.acquire(renderer.acquire_semaphore(slot));
         let Ok(Some((index, suboptimal))) = acquired else {
-            if let Some(buffer) = readback {
-                // SAFETY: never used by the GPU.
-                unsafe { buffer.destroy(&self.device) };
-            }
             self.needs_recreate = true;
             return acquired.map(|_| ());
         };
@@ -459,6 +448,7 @@ impl Viewer {
             wait: Some(renderer.acquire_semaphore(slot)),
             signal: Some(surface.swapchain.present_semaphores[index as usize]),
         };
+        let readback = readback.take();
         let outputs = Outputs { readback: readback.as_ref().map(|b| b.raw), present: true };
         let submitted = renderer.submit_frame(slot, &view, &self.control.camera, self.time, sync, outputs);
         if submitted.is_err() {

@@ -5,6 +5,7 @@ use ash::vk;
 
 use crate::error::{Result, VkContext};
 use crate::vk::device::Device;
+use crate::vk::guard::Guard;
 use crate::vk::sync;
 
 /// A command pool with one primary command buffer.
@@ -110,32 +111,21 @@ pub fn submit_and_wait<T>(
     name: &str,
     record: impl FnOnce(vk::CommandBuffer) -> Result<T>,
 ) -> Result<T> {
-    let recorder = CommandRecorder::new(device, name)?;
-    let fence = match sync::fence(device, false, &format!("{name} fence")) {
-        Ok(fence) => fence,
-        Err(e) => {
-            // SAFETY: never submitted.
-            unsafe { recorder.destroy(device) };
-            return Err(e);
-        }
-    };
+    // Destroyed on the way out: after the fence was waited, or the device is idle.
+    let recorder = Guard::new(device, CommandRecorder::new(device, name)?);
+    let fence = Guard::new(device, sync::fence(device, false, &format!("{name} fence"))?);
     let result = (|| {
         let cmd = recorder.begin(device)?;
         let value = record(cmd)?;
         recorder.end(device)?;
-        submit(device, cmd, &[], &[], fence)?;
-        sync::wait_fence(device, fence)?;
+        submit(device, cmd, &[], &[], *fence)?;
+        sync::wait_fence(device, *fence)?;
         Ok(value)
     })();
     if result.is_err() {
         // A failed submission or wait leaves nothing we can trust pending; make sure of it.
         let _ = device.wait_idle();
     }
-    // SAFETY: the fence was waited (or the device is idle).
-    unsafe {
-        super::live::destroyed(fence);
-        device.raw.destroy_fence(fence, None);
-        recorder.destroy(device);
-    }
+    // The guards destroy the fence and the recorder here.
     result
 }

@@ -12,7 +12,7 @@
 //! viewer's `sample:` lines print the allocations made), so it can aim a failure at one moment.
 
 use std::sync::atomic::{AtomicU64, Ordering};
-use std::sync::OnceLock;
+use std::sync::{Mutex, OnceLock};
 
 /// A kind of call that can be made to fail.
 #[derive(Clone, Copy)]
@@ -62,6 +62,7 @@ pub fn fails(fault: Fault) -> bool {
             .map(|f| std::env::var(f.variable()).ok().and_then(|v| v.trim().parse::<u64>().ok()))
     });
     let call = fault.counter().fetch_add(1, Ordering::Relaxed) + 1;
+    record_site(fault);
     nth[fault as usize] == Some(call) || armed(fault).load(Ordering::Relaxed) == call
 }
 
@@ -75,4 +76,35 @@ fn armed(fault: Fault) -> &'static AtomicU64 {
 /// variable would: a test that builds many renderers in one process aims at each call in turn.
 pub fn fail_in(fault: Fault, nth: Option<u64>) {
     armed(fault).store(nth.map_or(0, |n| calls(fault) + n), Ordering::Relaxed);
+}
+
+/// Where the calls of each kind were made while recording (`record_sites`), in call order.
+fn sites_of(fault: Fault) -> &'static Mutex<Option<Vec<String>>> {
+    static SITES: [Mutex<Option<Vec<String>>>; KINDS] = [const { Mutex::new(None) }; KINDS];
+    &SITES[fault as usize]
+}
+
+/// Record the call site of every call of kind `fault` from now on, until [`sites`] takes them:
+/// a test runs a construction once, then aims one failure at each distinct site.
+pub fn record_sites(fault: Fault) {
+    *sites_of(fault).lock().unwrap_or_else(|p| p.into_inner()) = Some(Vec::new());
+}
+
+/// The call sites recorded since [`record_sites`], one per call in call order, and stop
+/// recording. A site is the call's stack through meadow's own source files (`src/…:line`).
+pub fn sites(fault: Fault) -> Vec<String> {
+    sites_of(fault).lock().unwrap_or_else(|p| p.into_inner()).take().unwrap_or_default()
+}
+
+fn record_site(fault: Fault) {
+    let mut sites = sites_of(fault).lock().unwrap_or_else(|p| p.into_inner());
+    if let Some(sites) = sites.as_mut() {
+        let trace = std::backtrace::Backtrace::force_capture().to_string();
+        let frames: Vec<&str> = trace
+            .lines()
+            .filter_map(|line| line.trim().strip_prefix("at "))
+            .filter(|at| at.contains("src/") && !at.contains("/rustc/") && !at.contains("/.cargo/"))
+            .collect();
+        sites.push(frames.join(" < "));
+    }
 }

@@ -5,6 +5,7 @@ use ash::vk;
 
 use crate::error::{Error, Result, VkContext};
 use crate::vk::device::Device;
+use crate::vk::guard::Guard;
 
 /// Create a shader module from SPIR-V bytes (as embedded from `OUT_DIR`).
 pub fn shader_module(device: &Device, name: &str, spirv: &[u8]) -> Result<vk::ShaderModule> {
@@ -122,18 +123,9 @@ fn vertex_input(stride: u32) -> ([vk::VertexInputBindingDescription; 1], [vk::Ve
 
 /// Vertex and fragment modules of `desc`; neither is left behind if one fails.
 fn graphics_modules(device: &Device, desc: &GraphicsDesc) -> Result<(vk::ShaderModule, vk::ShaderModule)> {
-    let vs = shader_module(device, &format!("{} vs", desc.name), desc.vertex)?;
-    match shader_module(device, &format!("{} fs", desc.name), desc.fragment) {
-        Ok(fs) => Ok((vs, fs)),
-        Err(e) => {
-            // SAFETY: unused module.
-            unsafe {
-                super::live::destroyed(vs);
-                device.raw.destroy_shader_module(vs, None)
-            };
-            Err(e)
-        }
-    }
+    let vs = Guard::new(device, shader_module(device, &format!("{} vs", desc.name), desc.vertex)?);
+    let fs = shader_module(device, &format!("{} fs", desc.name), desc.fragment)?;
+    Ok((vs.take(), fs))
 }
 
 /// Build a graphics pipeline with dynamic viewport and scissor.

@@ -8,6 +8,7 @@ use crate::error::Result;
 use crate::vk::buffer::{Buffer, BufferDesc};
 use crate::vk::commands;
 use crate::vk::device::Device;
+use crate::vk::guard::Guard;
 use crate::vk::image::{Image, ImageDesc};
 use crate::vk::sync::{self, Access};
 
@@ -61,16 +62,10 @@ impl<'d> UploadBatch<'d> {
             &BufferDesc::upload(&staging_name, size, vk::BufferUsageFlags::TRANSFER_SRC),
             data,
         )?;
-        let dst =
-            match Buffer::new(device, &BufferDesc::gpu_only(name, size, usage | vk::BufferUsageFlags::TRANSFER_DST)) {
-                Ok(dst) => dst,
-                Err(e) => {
-                    // SAFETY: never used by the GPU.
-                    unsafe { staging.destroy(device) };
-                    return Err(e);
-                }
-            };
-        self.copies.push(Copy::Buffer { staging, dst: dst.raw, next });
+        // Never used by the GPU until the batch is submitted.
+        let staging = Guard::new(device, staging);
+        let dst = Buffer::new(device, &BufferDesc::gpu_only(name, size, usage | vk::BufferUsageFlags::TRANSFER_DST))?;
+        self.copies.push(Copy::Buffer { staging: staging.take(), dst: dst.raw, next });
         Ok(dst)
     }
 
@@ -85,15 +80,15 @@ impl<'d> UploadBatch<'d> {
         )?;
         let mut desc = *desc;
         desc.usage |= vk::ImageUsageFlags::TRANSFER_DST;
-        let image = match Image::new(device, &desc) {
-            Ok(image) => image,
-            Err(e) => {
-                // SAFETY: never used by the GPU.
-                unsafe { staging.destroy(device) };
-                return Err(e);
-            }
-        };
-        self.copies.push(Copy::Image { staging, dst: image.raw, extent: image.extent, range: image.range, next });
+        let staging = Guard::new(device, staging);
+        let image = Image::new(device, &desc)?;
+        self.copies.push(Copy::Image {
+            staging: staging.take(),
+            dst: image.raw,
+            extent: image.extent,
+            range: image.range,
+            next,
+        });
         Ok(image)
     }
 

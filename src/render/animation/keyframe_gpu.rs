@@ -9,7 +9,7 @@ use crate::keyframes::{BladeModel, KeyframeLayout, KeyframeTable, Representation
 use crate::render::animation::AnimationSettings;
 use crate::vk::image;
 use crate::vk::upload::UploadBatch;
-use crate::vk::{Access, Buffer, Device, Image, ImageDesc};
+use crate::vk::{Access, Buffer, Destroy, Device, Guard, Image, ImageDesc};
 
 /// The keyframe table on the GPU: one row per stored pose, one texel per level (two for
 /// rgba8x2), sampled with `texelFetch` in the vertex shader.
@@ -81,15 +81,10 @@ impl KeyframeTexture {
         let image =
             batch.image(&desc, &texels, &[Access::VertexShaderSampledRead, Access::ComputeShaderSampledRead])?;
         // texelFetch ignores filtering; the combined-image-sampler descriptor still needs one.
-        let sampler = match image::clamped_sampler(device, vk::Filter::NEAREST, "keyframe sampler") {
-            Ok(sampler) => sampler,
-            Err(e) => {
-                // SAFETY: the upload was not submitted; the batch still owns only staging.
-                unsafe { image.destroy(device) };
-                return Err(e);
-            }
-        };
-        Ok((Self { image, sampler, layout }, table))
+        // The upload is not submitted yet: the batch owns only staging.
+        let image = Guard::new(device, image);
+        let sampler = image::clamped_sampler(device, vk::Filter::NEAREST, "keyframe sampler")?;
+        Ok((Self { image: image.take(), sampler, layout }, table))
     }
 
     /// A 1×1 stand-in for models without keyframes (the blade shaders declare the binding).
@@ -102,14 +97,9 @@ impl KeyframeTexture {
         );
         let image =
             batch.image(&desc, &[0; 4], &[Access::VertexShaderSampledRead, Access::ComputeShaderSampledRead])?;
-        match image::clamped_sampler(batch.device(), vk::Filter::NEAREST, "keyframe sampler") {
-            Ok(sampler) => Ok(Self { image, sampler, layout: KeyframeLayout { magnitudes: 0, angles: 0 } }),
-            Err(e) => {
-                // SAFETY: the upload was not submitted.
-                unsafe { image.destroy(batch.device()) };
-                Err(e)
-            }
-        }
+        let image = Guard::new(batch.device(), image);
+        let sampler = image::clamped_sampler(batch.device(), vk::Filter::NEAREST, "keyframe sampler")?;
+        Ok(Self { image: image.take(), sampler, layout: KeyframeLayout { magnitudes: 0, angles: 0 } })
     }
 
     /// Free the image and sampler.
@@ -182,5 +172,19 @@ impl KeyframeUniforms {
             &[Access::VertexShaderUniformRead, Access::ComputeShaderUniformRead],
         )?;
         Ok(Self { buffer, uvec4s: 1 })
+    }
+}
+
+impl Destroy for KeyframeTexture {
+    unsafe fn destroy(self, device: &Device) {
+        // SAFETY: per the contract.
+        unsafe { KeyframeTexture::destroy(self, device) };
+    }
+}
+
+impl Destroy for KeyframeUniforms {
+    unsafe fn destroy(self, device: &Device) {
+        // SAFETY: per the contract.
+        unsafe { self.buffer.destroy(device) };
     }
 }

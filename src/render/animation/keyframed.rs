@@ -15,7 +15,7 @@ use crate::render::specialization::Specialization;
 use crate::render::uniforms::FrameUniforms;
 use crate::vk::descriptor::SetLayout;
 use crate::vk::upload::UploadBatch;
-use crate::vk::Device;
+use crate::vk::{Device, Guard};
 use crate::wind::Attenuation;
 
 /// Keyframed blades.
@@ -39,19 +39,13 @@ impl KeyframeModel {
         let mut batch = UploadBatch::new(device);
         let (keyframes, table) = KeyframeTexture::new(&mut batch, segments, settings)?;
         let layout = keyframes.layout;
-        let words = match KeyframeUniforms::new(&mut batch, &table, settings.packing) {
-            Ok(words) => words,
-            Err(e) => {
-                // SAFETY: not submitted.
-                unsafe { keyframes.destroy(device) };
-                return Err(e);
-            }
-        };
+        let keyframes = Guard::new(device, keyframes);
+        let words = KeyframeUniforms::new(&mut batch, &table, settings.packing)?;
         let room = match settings.eval {
             Eval::Blade => (room.0.max(1), room.1),
             Eval::Vertex => (0, 0),
         };
-        let set = AnimationSet::upload(device, set_layout, batch, keyframes, words, (room, segments))?;
+        let set = AnimationSet::upload(device, set_layout, batch, keyframes.take(), words, (room, segments))?;
         Ok(Self { settings: settings.clone(), segments, layout, set })
     }
 

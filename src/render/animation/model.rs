@@ -176,31 +176,16 @@ impl PerBlade {
             0 => 8 * u64::from(gpu::LEVEL_UVEC2S),
             _ => level_bytes(level_records, segments),
         };
-        let poses = Buffer::new(device, &BufferDesc::gpu_only("blade poses", pose_size, usage))?;
+        let poses = Guard::new(device, Buffer::new(device, &BufferDesc::gpu_only("blade poses", pose_size, usage))?);
         let level_usage = usage | vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER;
-        let levels = match Buffer::new(device, &BufferDesc::gpu_only("blade levels", level_size, level_usage)) {
-            Ok(levels) => levels,
-            Err(e) => {
-                // SAFETY: never used.
-                unsafe { poses.destroy(device) };
-                return Err(e);
-            }
-        };
-        match TexelView::new(device, &levels, vk::Format::R32G32_UINT, "blade level texels") {
-            Ok(level_texels) => Ok(Self { poses, levels, level_texels, level_records }),
-            Err(e) => {
-                // SAFETY: never used.
-                unsafe {
-                    poses.destroy(device);
-                    levels.destroy(device);
-                }
-                Err(e)
-            }
-        }
+        let levels = BufferDesc::gpu_only("blade levels", level_size, level_usage);
+        let levels = Guard::new(device, Buffer::new(device, &levels)?);
+        let level_texels = TexelView::new(device, &levels, vk::Format::R32G32_UINT, "blade level texels")?;
+        Ok(Self { poses: poses.take(), levels: levels.take(), level_texels, level_records })
     }
+}
 
-    /// # Safety
-    /// No pending GPU work may use them.
+impl Destroy for PerBlade {
     unsafe fn destroy(self, device: &Device) {
         // SAFETY: per the contract.
         unsafe {
@@ -208,6 +193,13 @@ impl PerBlade {
             self.level_texels.destroy(device);
             self.levels.destroy(device);
         }
+    }
+}
+
+impl Destroy for AnimationSet {
+    unsafe fn destroy(self, device: &Device) {
+        // SAFETY: per the contract.
+        unsafe { AnimationSet::destroy(self, device) };
     }
 }
 
@@ -234,19 +226,10 @@ impl AnimationSet {
         words: KeyframeUniforms,
         per_blade: PerBlade,
     ) -> Result<Self> {
-        let (pool, sets) = match set_layout.allocate(device, "animation set", 1) {
-            Ok(allocated) => allocated,
-            Err(e) => {
-                // SAFETY: nothing was submitted with them.
-                unsafe {
-                    keyframes.destroy(device);
-                    words.buffer.destroy(device);
-                    per_blade.destroy(device);
-                }
-                return Err(e);
-            }
-        };
-        let resources = Self { keyframes, words, per_blade, pool, set: sets[0] };
+        let parts = Guard::new(device, (keyframes, words, per_blade));
+        let (pool, sets) = set_layout.allocate(device, "animation set", 1)?;
+        let (keyframes, words, per_blade) = parts.take();
+        let resources = Guard::new(device, Self { keyframes, words, per_blade, pool, set: sets[0] });
         let image = vk::DescriptorImageInfo {
             sampler: resources.keyframes.sampler,
             image_view: resources.keyframes.image.view,
@@ -254,7 +237,7 @@ impl AnimationSet {
         };
         // Every resource by its binding; the layout (reflected from the scene shaders) writes
         // those its shaders bind.
-        let written = set_layout.write(
+        set_layout.write(
             device,
             resources.set,
             "animation set",
@@ -265,15 +248,8 @@ impl AnimationSet {
                 (gpu::BINDING_LEVELS, Descriptor::Buffer(resources.per_blade.levels.descriptor())),
                 (gpu::BINDING_LEVEL_TEXELS, Descriptor::Texels(resources.per_blade.level_texels.raw)),
             ],
-        );
-        match written {
-            Ok(()) => Ok(resources),
-            Err(e) => {
-                // SAFETY: nothing was submitted with them.
-                unsafe { resources.destroy(device) };
-                Err(e)
-            }
-        }
+        )?;
+        Ok(resources.take())
     }
 
     /// Submit `batch` (the uploads of `keyframes` and `words`), create room for `room` pose
@@ -287,18 +263,12 @@ impl AnimationSet {
         words: KeyframeUniforms,
         (room, segments): ((u32, u32), u32),
     ) -> Result<Self> {
-        let per_blade = batch.submit().and_then(|()| PerBlade::new(device, room, segments));
-        match per_blade {
-            Ok(per_blade) => Self::new(device, set_layout, keyframes, words, per_blade),
-            Err(e) => {
-                // SAFETY: the batch waited for its submission, or never submitted.
-                unsafe {
-                    keyframes.destroy(device);
-                    words.buffer.destroy(device);
-                }
-                Err(e)
-            }
-        }
+        // The batch waits for its submission, or never submits.
+        let uploaded = Guard::new(device, (keyframes, words));
+        batch.submit()?;
+        let per_blade = PerBlade::new(device, room, segments)?;
+        let (keyframes, words) = uploaded.take();
+        Self::new(device, set_layout, keyframes, words, per_blade)
     }
 
     /// The keyframe texture as the graph tracks it, with the accesses its upload left.

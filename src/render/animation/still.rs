@@ -11,7 +11,7 @@ use crate::render::specialization::Specialization;
 use crate::render::uniforms::FrameUniforms;
 use crate::vk::descriptor::SetLayout;
 use crate::vk::upload::UploadBatch;
-use crate::vk::Device;
+use crate::vk::{Device, Guard};
 
 /// Static blades.
 pub struct StaticModel {
@@ -23,15 +23,9 @@ impl StaticModel {
     pub fn new(device: &Device, set_layout: &SetLayout) -> Result<Self> {
         let mut batch = UploadBatch::new(device);
         let keyframes = KeyframeTexture::stand_in(&mut batch)?;
-        let words = match KeyframeUniforms::stand_in(&mut batch) {
-            Ok(words) => words,
-            Err(e) => {
-                // SAFETY: not submitted.
-                unsafe { keyframes.destroy(device) };
-                return Err(e);
-            }
-        };
-        Ok(Self { set: AnimationSet::upload(device, set_layout, batch, keyframes, words, ((0, 0), 0))? })
+        let keyframes = Guard::new(device, keyframes);
+        let words = KeyframeUniforms::stand_in(&mut batch)?;
+        Ok(Self { set: AnimationSet::upload(device, set_layout, batch, keyframes.take(), words, ((0, 0), 0))? })
     }
 }
 

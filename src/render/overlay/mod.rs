@@ -27,7 +27,7 @@ pub use textures::{Texture, TextureChanges, Textures, MAX_VERTICES};
 use crate::error::Result;
 use crate::render::shaders;
 use crate::vk::descriptor::{self, Binding};
-use crate::vk::{pipeline, Buffer, Device};
+use crate::vk::{pipeline, Buffer, Destroy, Device, Guard};
 
 /// What egui produced for one frame.
 pub struct OverlayFrame {
@@ -68,24 +68,22 @@ impl OverlayGpu {
     /// format that encodes what the shader writes) and `frames` frames in flight. On failure
     /// nothing is left.
     pub fn new(device: &Device, format: vk::Format, linear_target: bool, frames: usize) -> Result<Self> {
-        let mut made = Self {
-            pipeline: vk::Pipeline::null(),
-            layout: vk::PipelineLayout::null(),
-            vertex_set_layout: vk::DescriptorSetLayout::null(),
-            vertex_pool: vk::DescriptorPool::null(),
-            textures: Textures::new(vk::DescriptorSetLayout::null()),
-            slots: Vec::new(),
-            shown: None,
-            staged: 0,
-        };
-        match made.build(device, format, linear_target, frames) {
-            Ok(()) => Ok(made),
-            Err(e) => {
-                // SAFETY: nothing was submitted with them; null handles are ignored.
-                unsafe { made.destroy(device) };
-                Err(e)
-            }
-        }
+        // Null handles are ignored when a failure destroys what was made.
+        let mut made = Guard::new(
+            device,
+            Self {
+                pipeline: vk::Pipeline::null(),
+                layout: vk::PipelineLayout::null(),
+                vertex_set_layout: vk::DescriptorSetLayout::null(),
+                vertex_pool: vk::DescriptorPool::null(),
+                textures: Textures::new(vk::DescriptorSetLayout::null()),
+                slots: Vec::new(),
+                shown: None,
+                staged: 0,
+            },
+        );
+        made.build(device, format, linear_target, frames)?;
+        Ok(made.take())
     }
 
     fn build(&mut self, device: &Device, format: vk::Format, linear_target: bool, frames: usize) -> Result<()> {
@@ -228,5 +226,12 @@ impl OverlayGpu {
         self.vertex_pool = vk::DescriptorPool::null();
         self.vertex_set_layout = vk::DescriptorSetLayout::null();
         self.shown = None;
+    }
+}
+
+impl Destroy for OverlayGpu {
+    unsafe fn destroy(mut self, device: &Device) {
+        // SAFETY: per the contract.
+        unsafe { OverlayGpu::destroy(&mut self, device) };
     }
 }

@@ -18,7 +18,7 @@ use crate::error::{Error, Result, VkContext};
 use crate::render::overlay::uploads::{queue, Upload};
 use crate::render::overlay::OverlayFrame;
 use crate::vk::descriptor::{self, Binding, Resource as Descriptor};
-use crate::vk::{Device, Image, ImageDesc};
+use crate::vk::{Device, Guard, Image, ImageDesc};
 
 /// Most vertices of one overlay frame (a `vkCmdDrawIndexed` vertex offset is an `i32`; egui's
 /// panels use thousands).
@@ -205,17 +205,11 @@ impl Textures {
         let sampler = self.sampler(device, options)?;
         let name = format!("overlay texture {id:?}");
         let usage = vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_DST;
-        let image = Image::new(device, &ImageDesc::color(&name, vk::Format::R8G8B8A8_UNORM, extent, usage))?;
+        let desc = ImageDesc::color(&name, vk::Format::R8G8B8A8_UNORM, extent, usage);
+        let image = Guard::new(device, Image::new(device, &desc)?);
         let bindings = texture_bindings();
-        let (pool, set) = match descriptor::allocate_sets(device, &format!("{name} set"), self.set_layout, &bindings, 1)
-        {
-            Ok((pool, sets)) => (pool, sets[0]),
-            Err(e) => {
-                // SAFETY: never used by the GPU.
-                unsafe { image.destroy(device) };
-                return Err(e);
-            }
-        };
+        let (pool, sets) = descriptor::allocate_sets(device, &format!("{name} set"), self.set_layout, &bindings, 1)?;
+        let (image, set) = (image.take(), sets[0]);
         let info = vk::DescriptorImageInfo {
             sampler,
             image_view: image.view,

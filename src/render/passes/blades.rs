@@ -16,7 +16,7 @@ use crate::render::shaders;
 use crate::render::submission::{self, BladeDraws, IndirectDraws, SecondaryRecorders, Strategy};
 use crate::scene::bezier::{self, Batching};
 use crate::vk::upload::UploadBatch;
-use crate::vk::{pipeline, Access, Buffer, Device};
+use crate::vk::{pipeline, Access, Buffer, Device, Guard};
 
 /// The blade pipeline and its draws.
 pub struct BladePass {
@@ -97,35 +97,33 @@ impl BladePass {
         }
         // A block field's terrain normal under each root (per vertex without placed levels).
         reads.extend(scene.relief_grid_read().map(|grid| (grid, device.profile.vertex_fetch())));
-        let mut pass = Self {
-            pipeline,
-            layout: target.layout,
-            color_format: target.color,
-            depth_format: target.depth,
-            samples: target.samples,
-            strategy: setup.submission.strategy,
-            vertices: Batching::new(setup.segments, setup.blades_per_instance).vertices_per_instance(),
-            instances: scene.blade_count.div_ceil(setup.blades_per_instance),
-            strip: bezier::strip_vertices(setup.segments),
-            ranges: Vec::new(),
-            indirect: None,
-            secondaries: Vec::new(),
-            reads,
-            animation: setup.animation,
-            buckets: Vec::new(),
-            draws: scene.draws.raw,
-            indices: None,
-        };
-        let built = match setup.buckets {
-            Some(buckets) => pass.build_buckets(device, scene, setup, buckets),
-            None => pass.build_submission(device, scene.blade_count, setup),
-        };
-        if let Err(e) = built {
-            // SAFETY: nothing was submitted with the pass.
-            unsafe { Box::new(pass).destroy(device) };
-            return Err(e);
+        let mut pass = Guard::new(
+            device,
+            Self {
+                pipeline,
+                layout: target.layout,
+                color_format: target.color,
+                depth_format: target.depth,
+                samples: target.samples,
+                strategy: setup.submission.strategy,
+                vertices: Batching::new(setup.segments, setup.blades_per_instance).vertices_per_instance(),
+                instances: scene.blade_count.div_ceil(setup.blades_per_instance),
+                strip: bezier::strip_vertices(setup.segments),
+                ranges: Vec::new(),
+                indirect: None,
+                secondaries: Vec::new(),
+                reads,
+                animation: setup.animation,
+                buckets: Vec::new(),
+                draws: scene.draws.raw,
+                indices: None,
+            },
+        );
+        match setup.buckets {
+            Some(buckets) => pass.build_buckets(device, scene, setup, buckets)?,
+            None => pass.build_submission(device, scene.blade_count, setup)?,
         }
-        Ok(pass)
+        Ok(pass.take())
     }
 
     /// The blade pipeline (two-sided blades: no culling) for `constants`. With alpha to coverage

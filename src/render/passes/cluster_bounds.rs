@@ -11,7 +11,7 @@ use crate::render::graph::{Declaration, Pass, PassContext};
 use crate::render::passes::{self, PipelineTarget};
 use crate::render::scene_gpu::SceneGpu;
 use crate::render::shaders;
-use crate::vk::{pipeline, Access, Device};
+use crate::vk::{pipeline, Access, Device, Guard};
 
 /// The push constant of `cluster_bounds.vert`.
 #[repr(C)]
@@ -45,8 +45,8 @@ impl ClusterBoundsPass {
             offset: 0,
             size: std::mem::size_of::<Grid>() as u32,
         };
-        let layout = pipeline::layout(device, "cluster bounds layout", &[set_layout], &[range])?;
-        let built = pipeline::graphics(
+        let layout = Guard::new(device, pipeline::layout(device, "cluster bounds layout", &[set_layout], &[range])?);
+        let pipeline = pipeline::graphics(
             device,
             &pipeline::GraphicsDesc {
                 name: "cluster bounds",
@@ -60,24 +60,14 @@ impl ClusterBoundsPass {
                 depth_write: true,
                 color_format: target.color,
                 depth_format: target.depth,
-                layout,
+                layout: *layout,
                 constants,
                 vertex_stride: 0,
                 samples: target.samples,
                 blend: pipeline::Blend::Opaque,
             },
-        );
-        let pipeline = match built {
-            Ok(pipeline) => pipeline,
-            Err(e) => {
-                // SAFETY: unused layout.
-                unsafe {
-                    crate::vk::live::destroyed(layout);
-                    device.raw.destroy_pipeline_layout(layout, None)
-                };
-                return Err(e);
-            }
-        };
+        )?;
+        let layout = layout.take();
         let g = &scene.grid;
         let grid = Grid { origin: g.origin, cluster_size: g.cluster_size, corners: g.corners_per_side(), lift: 0.05 };
         Ok(Self { pipeline, layout, grid, heights: scene.heights.raw })

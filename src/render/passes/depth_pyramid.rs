@@ -14,7 +14,7 @@ use crate::render::passes::FrameSets;
 use crate::render::scene_gpu::SceneGpu;
 use crate::render::shaders;
 use crate::vk::descriptor::Resource as Descriptor;
-use crate::vk::{pipeline, Access, Device, Resource};
+use crate::vk::{pipeline, Access, Device, Guard, Resource};
 
 /// The pipeline, its own set per frame in flight (`FrameSets`), and the pyramid it writes.
 pub struct DepthPyramidPass {
@@ -28,15 +28,9 @@ impl DepthPyramidPass {
     /// samples per pixel (`--msaa`), of which it takes the farthest (`hiz_ms.comp`).
     pub fn new(device: &Device, scene: &SceneGpu, frames: usize, multisampled: bool) -> Result<Self> {
         let shader = if multisampled { shaders::HIZ_MS_COMP } else { shaders::HIZ_COMP }.code(device.profile);
-        let sets = FrameSets::new(device, "depth pyramid", &[("hiz", shader)], frames)?;
-        match pipeline::compute(device, "depth pyramid", shader, sets.layout, &[]) {
-            Ok(pipeline) => Ok(Self { pipeline, sets, pyramid: scene.depth_pyramid.descriptor() }),
-            Err(e) => {
-                // SAFETY: nothing was submitted with them.
-                unsafe { sets.destroy(device) };
-                Err(e)
-            }
-        }
+        let sets = Guard::new(device, FrameSets::new(device, "depth pyramid", &[("hiz", shader)], frames)?);
+        let pipeline = pipeline::compute(device, "depth pyramid", shader, sets.layout, &[])?;
+        Ok(Self { pipeline, sets: sets.take(), pyramid: scene.depth_pyramid.descriptor() })
     }
 }
 

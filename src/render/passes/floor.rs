@@ -13,7 +13,7 @@ use crate::render::shaders;
 use crate::scene::bezier;
 use crate::scene::BladeInstance;
 use crate::vk::upload::UploadBatch;
-use crate::vk::{pipeline, Access, Buffer, Device};
+use crate::vk::{pipeline, Access, Buffer, Device, Guard};
 
 /// The floor pipeline and its pre-expanded vertices and indices.
 pub struct FloorPass {
@@ -52,23 +52,11 @@ impl FloorPass {
         let usage = vk::BufferUsageFlags::VERTEX_BUFFER;
         let vertices = batch.buffer("floor vertices", &positions, usage, &[Access::VertexAttributeRead])?;
         let usage = vk::BufferUsageFlags::INDEX_BUFFER;
-        let indices = match batch.buffer("floor indices", &list, usage, &[Access::IndexRead]) {
-            Ok(indices) => indices,
-            Err(e) => {
-                // SAFETY: not submitted.
-                unsafe { vertices.destroy(device) };
-                return Err(e);
-            }
-        };
-        if let Err(e) = batch.submit() {
-            // SAFETY: the batch waited for its submission, or never submitted.
-            unsafe {
-                vertices.destroy(device);
-                indices.destroy(device);
-            }
-            return Err(e);
-        }
-        let built = pipeline::graphics(
+        // Not submitted yet; then the batch waits for its submission, or never submits.
+        let vertices = Guard::new(device, vertices);
+        let indices = Guard::new(device, batch.buffer("floor indices", &list, usage, &[Access::IndexRead])?);
+        batch.submit()?;
+        let pipeline = pipeline::graphics(
             device,
             &pipeline::GraphicsDesc {
                 name: "floor",
@@ -87,21 +75,9 @@ impl FloorPass {
                 samples: target.samples,
                 blend: pipeline::Blend::Opaque,
             },
-        );
-        match built {
-            Ok(pipeline) => {
-                let count = list.len() as u32;
-                Ok(Self { pipeline, layout: target.layout, vertices, indices, count })
-            }
-            Err(e) => {
-                // SAFETY: the upload completed; nothing else uses the buffers.
-                unsafe {
-                    vertices.destroy(device);
-                    indices.destroy(device);
-                }
-                Err(e)
-            }
-        }
+        )?;
+        let (vertices, indices, count) = (vertices.take(), indices.take(), list.len() as u32);
+        Ok(Self { pipeline, layout: target.layout, vertices, indices, count })
     }
 }
 

@@ -8,7 +8,7 @@ use ash::vk;
 
 use crate::error::Result;
 use crate::vk::descriptor::SetLayout;
-use crate::vk::{pipeline, Device};
+use crate::vk::{pipeline, Destroy, Device, Guard};
 
 /// A set per frame in flight, their layouts and a sampler.
 pub struct FrameSets {
@@ -27,29 +27,25 @@ impl FrameSets {
     /// Build `frames` sets of set 0 of `shaders` (the pass's stages, `(name, SPIR-V)`), named
     /// after `name`. On failure nothing is left.
     pub fn new(device: &Device, name: &str, shaders: &[(&str, &[u8])], frames: usize) -> Result<Self> {
-        let mut made = Self {
-            set_layout: SetLayout::default(),
-            layout: vk::PipelineLayout::null(),
-            pool: vk::DescriptorPool::null(),
-            sets: Vec::new(),
-            sampler: vk::Sampler::null(),
-        };
-        let built = (|| {
+        // Null handles are ignored when a failure destroys what was made.
+        let mut made = Guard::new(
+            device,
+            Self {
+                set_layout: SetLayout::default(),
+                layout: vk::PipelineLayout::null(),
+                pool: vk::DescriptorPool::null(),
+                sets: Vec::new(),
+                sampler: vk::Sampler::null(),
+            },
+        );
+        {
             made.set_layout = SetLayout::reflected(device, &format!("{name} set layout"), shaders, 0)?;
             made.layout = pipeline::layout(device, &format!("{name} layout"), &[made.set_layout.raw], &[])?;
             let sets = made.set_layout.allocate(device, &format!("{name} sets"), frames as u32)?;
             (made.pool, made.sets) = sets;
             made.sampler = crate::vk::image::clamped_sampler(device, vk::Filter::NEAREST, &format!("{name} sampler"))?;
-            Ok(())
-        })();
-        match built {
-            Ok(()) => Ok(made),
-            Err(e) => {
-                // SAFETY: nothing was submitted with them; null handles are ignored.
-                unsafe { made.destroy(device) };
-                Err(e)
-            }
         }
+        Ok(made.take())
     }
 
     /// Destroy everything (the sets go with the pool).
@@ -65,7 +61,14 @@ impl FrameSets {
             device.raw.destroy_descriptor_pool(self.pool, None);
             crate::vk::live::destroyed(self.layout);
             device.raw.destroy_pipeline_layout(self.layout, None);
-            self.set_layout.destroy(device);
+            SetLayout::destroy(&self.set_layout, device);
         }
+    }
+}
+
+impl Destroy for FrameSets {
+    unsafe fn destroy(self, device: &Device) {
+        // SAFETY: per the contract.
+        unsafe { FrameSets::destroy(&self, device) };
     }
 }

@@ -33,7 +33,7 @@ use crate::render::recording;
 use crate::render::scene_gpu::SceneGpu;
 use crate::render::shaders;
 use crate::render::uniforms::FrameUniforms;
-use crate::vk::{pipeline, Access, Device};
+use crate::vk::{pipeline, Access, Device, Guard};
 
 /// The compute pipeline, its layout (set 0 and the fill's push constants) and the grid it fills.
 pub struct ReliefGridPass {
@@ -74,20 +74,10 @@ impl ReliefGridPass {
         // Any step: the shape is remade for the frame's step before the first fill.
         let grid = CameraGrid::new(field_gpu::relief_grid_shape(1.0)).map_err(Error::Internal)?;
         let range = camera_grid::push_constant_range();
-        let layout = pipeline::layout(device, "relief grid layout", &[set_layout], &[range])?;
+        let layout = Guard::new(device, pipeline::layout(device, "relief grid layout", &[set_layout], &[range])?);
         let spirv = shaders::RELIEF_GRID_COMP.code(device.profile);
-        let pipeline = match pipeline::compute(device, "relief grid", spirv, layout, constants) {
-            Ok(pipeline) => pipeline,
-            Err(e) => {
-                // SAFETY: unused layout.
-                unsafe {
-                    crate::vk::live::destroyed(layout);
-                    device.raw.destroy_pipeline_layout(layout, None)
-                };
-                return Err(e);
-            }
-        };
-        Ok(Some(Self { pipeline, layout, buffer, grid: RefCell::new(grid), source: Cell::new(None) }))
+        let pipeline = pipeline::compute(device, "relief grid", spirv, *layout, constants)?;
+        Ok(Some(Self { pipeline, layout: layout.take(), buffer, grid: RefCell::new(grid), source: Cell::new(None) }))
     }
 }
 

@@ -11,7 +11,7 @@ use crate::render::graph::{Attachment, Declaration, Load, Pass, PassContext, Ren
 use crate::render::passes::{self, FrameSets};
 use crate::render::shaders;
 use crate::vk::descriptor::Resource as Descriptor;
-use crate::vk::{pipeline, Access, Device, Resource};
+use crate::vk::{pipeline, Access, Device, Guard, Resource};
 
 /// The pipeline and its set per frame in flight (`FrameSets`), with the sampler the
 /// multisampled colour is read with.
@@ -28,8 +28,8 @@ impl ResolvePass {
             ("resolve.vert", shaders::RESOLVE_VERT.code(device.profile)),
             ("resolve.frag", shaders::RESOLVE_FRAG.code(device.profile)),
         ];
-        let sets = FrameSets::new(device, "resolve", &stages, frames)?;
-        let built = pipeline::graphics(
+        let sets = Guard::new(device, FrameSets::new(device, "resolve", &stages, frames)?);
+        let pipeline = pipeline::graphics(
             device,
             &pipeline::GraphicsDesc {
                 name: "resolve",
@@ -48,15 +48,8 @@ impl ResolvePass {
                 samples: vk::SampleCountFlags::TYPE_1,
                 blend: pipeline::Blend::Opaque,
             },
-        );
-        match built {
-            Ok(pipeline) => Ok(Self { pipeline, sets }),
-            Err(e) => {
-                // SAFETY: nothing was submitted with them.
-                unsafe { sets.destroy(device) };
-                Err(e)
-            }
-        }
+        )?;
+        Ok(Self { pipeline, sets: sets.take() })
     }
 }
 

@@ -13,7 +13,7 @@ use crate::render::graph::Declaration;
 use crate::render::recording::{PassSet, SceneSets};
 use crate::scene::alpha;
 use crate::vk::descriptor::Resource;
-use crate::vk::{pipeline, Access, Buffer, Device};
+use crate::vk::{pipeline, Access, Buffer, Device, Guard};
 
 /// The own set (`SET_PASS`) of a per-blade pass after the cull, `name` over `spirv`: the cull's
 /// `Draws` (`shaders/blades/visible_buckets.glsl`), given by name. Its pipelines are built on the
@@ -53,20 +53,14 @@ impl BucketDispatch {
         (constants, buckets): (&[u32], &[u32]),
         draws: vk::Buffer,
     ) -> Result<Self> {
-        let mut built = Self { pipelines: Vec::with_capacity(buckets.len()), draws };
+        // The pipelines built so far were never recorded.
+        let mut pipelines = Guard::new(device, Vec::with_capacity(buckets.len()));
         for (b, &segments) in buckets.iter().enumerate() {
             let constants = bucket_constants(constants, segments);
             let label = format!("{name}, LOD bucket {b} ({segments} segments)");
-            match pipeline::compute(device, &label, spirv, layout, &constants) {
-                Ok(pipeline) => built.pipelines.push(pipeline),
-                Err(e) => {
-                    // SAFETY: the pipelines built so far were never recorded.
-                    unsafe { built.destroy(device) };
-                    return Err(e);
-                }
-            }
+            pipelines.push(pipeline::compute(device, &label, spirv, layout, &constants)?);
         }
-        Ok(built)
+        Ok(Self { pipelines: pipelines.take(), draws })
     }
 
     /// Add what the dispatches read to a pass's declaration: `draws`, by the shaders (the buckets'

@@ -486,7 +486,7 @@ impl Drop for Renderer {
             if let Some(model) = self.model.take() {
                 model.destroy(device);
             }
-            self.layouts.destroy(device);
+            SceneLayouts::destroy(&self.layouts, device);
             if let Some(multisampled) = self.multisampled.take() {
                 multisampled.destroy(device);
             }

@@ -19,7 +19,7 @@ use crate::render::scene_gpu::SceneGpu;
 use crate::render::settings::sky_clear_color;
 use crate::render::specialization::Specialization;
 use crate::scene::Scene;
-use crate::vk::{Access, Device, Resource};
+use crate::vk::{Access, Device, Guard, Resource};
 
 impl Renderer {
     /// The passes, in order: a block field's relief grid, terrain, the cull's passes, the
@@ -137,24 +137,19 @@ impl Renderer {
             frames: self.ring.slots(),
         };
         let setup = PassSetup { layout: target.layout, sets, constants, scene, buckets };
-        let mut model_passes = model.passes(device, &setup)?;
+        // Never recorded until the graph holds them.
+        let mut model_passes = Guard::new(device, model.passes(device, &setup)?);
         if constants[gpu::SPEC_RENDER_FLAGS as usize] & gpu::FLAG_LEVELS != 0 {
-            match BladeLevelsPass::new(device, &setup, model.resources()) {
-                Ok(pass) => model_passes.push(Box::new(pass)),
-                Err(e) => {
-                    for pass in model_passes {
-                        // SAFETY: never recorded.
-                        unsafe { pass.destroy(device) };
-                    }
-                    return Err(e);
-                }
-            }
+            model_passes.push(Box::new(BladeLevelsPass::new(device, &setup, model.resources())?));
         }
+        let model_passes = model_passes.take();
         let (before, after) = if culled { (Vec::new(), model_passes) } else { (model_passes, Vec::new()) };
         before.into_iter().for_each(|pass| self.graph.add_boxed(pass));
         let sky = self.sky();
         let (graph, slots, set_layout) = (&mut self.graph, self.ring.slots(), self.layouts.scene.raw);
-        let built = (|| {
+        // The model's passes are not in the graph yet: the graph's teardown would miss them.
+        let after = Guard::new(device, after);
+        (|| -> Result<()> {
             add_terrain(graph, device, (target, set_layout), constants, scene, sky)?;
             if culled && settings.culling.occlusion {
                 graph.add(DepthPyramidPass::new(device, scene, slots, settings.msaa.enabled())?);
@@ -165,16 +160,8 @@ impl Renderer {
                 cull::add_passes(graph, device, &setup, scene)?;
             }
             Ok(())
-        })();
-        if let Err(e) = built {
-            // The model's passes are not in the graph yet: the graph's teardown would miss them.
-            for pass in after {
-                // SAFETY: never recorded.
-                unsafe { pass.destroy(device) };
-            }
-            return Err(e);
-        }
-        after.into_iter().for_each(|pass| self.graph.add_boxed(pass));
+        })()?;
+        after.take().into_iter().for_each(|pass| self.graph.add_boxed(pass));
         let setup = BladeSetup {
             target,
             constants,
