@@ -20,6 +20,7 @@
 //! one `graph.add(…)` line (or `Renderer::add_pass` from outside the library).
 
 mod declaration;
+mod destroy;
 mod recording;
 mod temporal;
 mod uniforms;
@@ -146,21 +147,6 @@ pub trait Pass {
     /// # Safety
     /// No pending GPU work may use them.
     unsafe fn destroy(self: Box<Self>, device: &Device);
-}
-
-/// A pass being built is guarded like any other object (`vk::Guard`): it is destroyed as a pass.
-impl<P: Pass + 'static> crate::vk::Destroy for P {
-    unsafe fn destroy(self, device: &Device) {
-        // SAFETY: per the contract.
-        unsafe { Pass::destroy(Box::new(self), device) };
-    }
-}
-
-impl crate::vk::Destroy for Box<dyn Pass> {
-    unsafe fn destroy(self, device: &Device) {
-        // SAFETY: per the contract.
-        unsafe { Pass::destroy(self, device) };
-    }
 }
 
 /// The queries a frame's passes are measured with. Their pools must hold what the frame's plan
