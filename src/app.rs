@@ -241,6 +241,10 @@ pub struct RenderReport {
     pub field: Option<crate::scene::field::FieldSpec>,
     /// What the device made the renderer do differently from the options (a fallback).
     pub notes: Vec<String>,
+    /// How the renderer submitted the blades: its strategy and clusters, and the blades per
+    /// instance of its draws (what `--submission`, `--clusters` and `--blades-per-instance`
+    /// chose, as the renderer was built).
+    pub submission: (crate::render::submission::Submission, u32),
 }
 
 /// `--budget-ms` steers by the measured GPU time: refused on a queue without timestamps.
@@ -417,9 +421,6 @@ pub fn render(device: &Arc<Device>, options: &RenderOptions) -> Result<RenderRep
     )?;
     options.check_clusters()?;
     check_timestamps_for_budget(device, options.budget_ms)?;
-    if options.budget_ms.is_some() && !options.culling.enabled {
-        return Err(Error::bad_input("--budget-ms sets the LOD scale of the GPU-driven path: drop --brute-force"));
-    }
     let field_m = blades::field_size(options.blades);
 
     let setup = Instant::now();
@@ -449,6 +450,7 @@ pub fn render(device: &Arc<Device>, options: &RenderOptions) -> Result<RenderRep
     })();
     let triangles = renderer.triangles();
     let notes = fallback_notes(device, &options.animation, renderer.animation());
+    let submission = (renderer.settings().submission, renderer.settings().blades_per_instance);
     drop(renderer);
     // SAFETY: render_offscreen waited for its fence; nothing else uses the target.
     unsafe { target.destroy(device) };
@@ -465,6 +467,7 @@ pub fn render(device: &Arc<Device>, options: &RenderOptions) -> Result<RenderRep
         budget: options.budget_ms.zip(frames_scale),
         field: options.field,
         notes,
+        submission,
     })
 }
 

@@ -253,12 +253,8 @@ enum Stage {
 fn injected_failure() -> Option<Stage> {
     static WRITES: AtomicU64 = AtomicU64::new(0);
     let n = WRITES.fetch_add(1, Ordering::Relaxed) + 1;
-    let value = std::env::var("MEADOW_INJECT_WRITE_FAILURE").ok()?;
-    let (nth, stage) = match value.strip_suffix(":sync") {
-        Some(nth) => (nth, Stage::Sync),
-        None => (value.as_str(), Stage::Write),
-    };
-    (nth.parse::<u64>().ok()? == n).then_some(stage)
+    let (nth, sync) = crate::vk::fault::write_failure()?;
+    (nth == n).then_some(if sync { Stage::Sync } else { Stage::Write })
 }
 
 /// Encode an image as PNG in memory (so that every byte of it goes through `write_atomically`).

@@ -10,7 +10,7 @@ use crate::keyframes::{Representation, Smoothing};
 use crate::render::animation::{AnimationSettings, Eval, Mode};
 use crate::wind::{Attenuation, GlobalWind, Wind};
 
-#[derive(Clone, Copy, ValueEnum)]
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub(crate) enum ModeArg {
     /// Neutral blades, no forces.
     Static,

@@ -298,7 +298,7 @@ pub(crate) struct OverheadArgs {
     pub(crate) gpu: GpuArgs,
 }
 
-#[derive(Clone, Copy, ValueEnum)]
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub(crate) enum PresetArg {
     Thesis,
     Quick,

@@ -34,9 +34,15 @@ pub(crate) fn view(args: ViewArgs) -> Result<(u8, Option<u64>), u8> {
     };
     let (result, validation) = crate::viewer::run(&args.gpu.options(), options);
     let code = finish(result.map(|report| {
+        let present = report.present.map_or("none".to_string(), |p| format!("{p:?}").to_lowercase());
         println!(
-            "viewer: {} frames, {} swapchains created (at most {} alive at once), {} re-creations",
-            report.frames, report.swapchains.0, report.swapchains.1, report.recreations
+            "viewer: {} frames, {} swapchains created (at most {} alive at once), {} re-creations; present {present}, {} frames in flight, overlay {}",
+            report.frames,
+            report.swapchains.0,
+            report.swapchains.1,
+            report.recreations,
+            report.frames_in_flight,
+            if report.overlay { "on" } else { "off" }
         );
         if !report.stats.is_empty() {
             println!("stats: {}", report.stats);
@@ -129,6 +135,13 @@ fn print_render(report: &RenderReport) {
     // Drawn, not stored: the cull's count of the last frame when it ran.
     let blades = last.cull.map_or(report.triangles.0, |c| c.triangles());
     println!("triangles: {} ({} blades + {} terrain)", blades + report.triangles.1, blades, report.triangles.1);
+    let (submission, per_instance) = report.submission;
+    let strategy = submission.strategy;
+    let clusters = match strategy.gpu_draws(2) > 1 {
+        true => format!(" over {} clusters", submission.clusters),
+        false => String::new(),
+    };
+    println!("submission: {}{clusters}, {per_instance} blades per instance", strategy.name());
     if let Some(cull) = &last.cull {
         println!("cull: {}", cull.summary());
     }

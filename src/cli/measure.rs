@@ -166,11 +166,10 @@ pub(crate) fn bench(args: BenchArgs) -> crate::Result<(u8, Option<u64>)> {
 }
 
 /// `meadow bench --preset lod`. `--modes` and `--eval` do not apply (it renders the default
-/// animation both ways); `--blades` and `--segments` take one value each.
+/// animation both ways; `cli::effect` refuses them); `--blades` and `--segments` take one value
+/// each.
 fn lod(args: BenchArgs) -> crate::Result<(u8, Option<u64>)> {
     use crate::harness::bench::lod::{self, LodBenchOptions};
-    let why = "--preset lod: it renders texture keyframes, brute force and GPU-driven";
-    refuse(why, &[(!args.modes.is_empty(), "--modes"), (!args.eval.is_empty(), "--eval")])?;
     let mut options = LodBenchOptions::preset(args.out.clone());
     if let Some(blades) = at_most_one(&args.blades, "--preset lod takes one --blades count (the stored field's)")? {
         options.set_stored_blades(blades);
@@ -197,15 +196,10 @@ fn lod(args: BenchArgs) -> crate::Result<(u8, Option<u64>)> {
 }
 
 /// `meadow bench --preset msaa`: the default scene's blade count (one), size, warm-up and
-/// frames can be changed; modes, evaluation placements and segment counts cannot.
+/// frames can be changed; modes, evaluation placements and segment counts cannot (`cli::effect`
+/// refuses them).
 fn msaa(args: BenchArgs) -> crate::Result<(u8, Option<u64>)> {
     use crate::harness::bench::msaa::{self, MsaaBenchOptions};
-    let given = [
-        (!args.modes.is_empty(), "--modes"),
-        (!args.eval.is_empty(), "--eval"),
-        (!args.segments.is_empty(), "--segments"),
-    ];
-    refuse("--preset msaa: it renders the default scene", &given)?;
     let mut options = MsaaBenchOptions::preset(args.out.clone());
     if let Some(blades) = at_most_one(&args.blades, "--preset msaa takes one --blades count")? {
         options.blades = blades;
@@ -226,14 +220,6 @@ fn msaa(args: BenchArgs) -> crate::Result<(u8, Option<u64>)> {
             print!("{}", msaa::table(&doc));
         },
     ))
-}
-
-/// Refuse the first flag `given` that does not apply to a preset, saying why (`why`).
-fn refuse(why: &str, given: &[(bool, &str)]) -> crate::Result<()> {
-    match given.iter().find(|(given, _)| *given) {
-        Some((_, flag)) => Err(crate::Error::bad_input(format!("{flag} does not apply to {why}"))),
-        None => Ok(()),
-    }
 }
 
 /// The one value of a list flag a preset takes at most once, or `message` as bad input.

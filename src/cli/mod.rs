@@ -9,6 +9,7 @@ pub mod animation;
 pub mod args;
 pub mod commands;
 mod culling;
+mod effect;
 pub mod measure;
 pub mod reference;
 
@@ -58,25 +59,56 @@ pub fn command() -> clap::Command {
 }
 
 /// Parse the process arguments. `--help` and `--version` are printed and give `Err(SUCCESS)`; a
-/// bad command line is one `error: …` line on stderr and `Err(2)`.
+/// bad command line is one `error: …` line on stderr and `Err(2)`: a value clap or a value
+/// parser refuses, a `MEADOW_INJECT_*` switch with a bad value (`vk::fault`), or a flag typed
+/// where it has no effect ([`effect`]).
 pub fn parse() -> Result<Cli, ExitCode> {
-    match Cli::try_parse() {
+    match parse_checked() {
         Ok(cli) => Ok(cli),
-        Err(e) if !e.use_stderr() => {
+        Err(Refused(message)) => {
+            eprintln!("error: {message}");
+            Err(ExitCode::from(2))
+        }
+        Err(Clap(e)) => Err(clap_error(e)),
+    }
+}
+
+/// Why [`parse`] refused the command line.
+enum Refusal {
+    Clap(clap::Error),
+    Refused(String),
+}
+use Refusal::{Clap, Refused};
+
+/// Clap's parse, then the checks of what it parsed.
+fn parse_checked() -> Result<Cli, Refusal> {
+    use clap::FromArgMatches;
+    let command = command();
+    let matches = command.clone().try_get_matches().map_err(Clap)?;
+    let cli = Cli::from_arg_matches(&matches).map_err(Clap)?;
+    crate::vk::fault::check_environment().map_err(|e| Refused(e.to_string()))?;
+    effect::check(&command, &matches).map_err(Refused)?;
+    Ok(cli)
+}
+
+/// Print clap's refusal (or its help) and give the exit code.
+fn clap_error(e: clap::Error) -> ExitCode {
+    match e {
+        e if !e.use_stderr() => {
             // --help, --version
             let _ = e.print();
-            Err(ExitCode::SUCCESS)
+            ExitCode::SUCCESS
         }
-        Err(e) if e.kind() == clap::error::ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
+        e if e.kind() == clap::error::ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
             // `meadow` alone: say what is missing, on one line, with the subcommands.
             let names: Vec<String> =
                 command().get_subcommands().map(|c| c.get_name().to_string()).filter(|n| n != "help").collect();
             eprintln!("error: a subcommand is needed: {} (meadow --help)", names.join(", "));
-            Err(ExitCode::from(2))
+            ExitCode::from(2)
         }
-        Err(e) => {
+        e => {
             eprintln!("{}", bounded(&one_line(&e.to_string())));
-            Err(ExitCode::from(2))
+            ExitCode::from(2)
         }
     }
 }

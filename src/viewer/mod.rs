@@ -76,6 +76,12 @@ pub struct ViewerReport {
     pub recreations: u64,
     /// The last stats line.
     pub stats: String,
+    /// The present mode the swapchain ran with (`None`: no swapchain was made).
+    pub present: Option<crate::vk::swapchain::PresentMode>,
+    /// Frames in flight.
+    pub frames_in_flight: usize,
+    /// Whether the overlay was drawn (`--no-ui`: not).
+    pub overlay: bool,
 }
 
 /// Run the viewer; returns its report and the validation message count.
@@ -235,6 +241,7 @@ impl Viewer {
             Some(e) => Err(e),
             None => Ok(()),
         };
+        let present = self.surface.as_ref().map(|s| s.swapchain.present_mode());
         self.teardown();
         result?;
         Ok(ViewerReport {
@@ -242,6 +249,9 @@ impl Viewer {
             swapchains: swapchain_counts(),
             recreations: self.recreations,
             stats: self.stats.last.clone(),
+            present,
+            frames_in_flight: self.options.frames_in_flight,
+            overlay: self.ui.is_some(),
         })
     }
 

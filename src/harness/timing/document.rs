@@ -20,6 +20,12 @@ pub struct TimingDocument {
     pub warmup: u32,
     /// Frames measured per run.
     pub frames_per_run: u32,
+    /// How the blades were submitted (absent from older v1 documents).
+    #[serde(default)]
+    pub submission: Option<SubmissionSummary>,
+    /// Blades per instance of the blade draws (absent from older v1 documents).
+    #[serde(default)]
+    pub blades_per_instance: Option<u32>,
     /// The device's timestamp period.
     pub timestamp_period_ns: f64,
     /// Valid bits of the queue's timestamps.
@@ -42,6 +48,16 @@ pub struct TimingDocument {
     pub cull: Option<CullSummary>,
     /// Per number of frames in flight, its run.
     pub frames_in_flight: Vec<RunSummary>,
+}
+
+/// The submission strategy the frames were drawn with (`--submission`), and the clusters it
+/// split the blades into (`--clusters`; 1 for the strategies of one draw).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SubmissionSummary {
+    /// The strategy's name.
+    pub strategy: String,
+    /// Clusters.
+    pub clusters: u32,
 }
 
 /// One pass's GPU time.

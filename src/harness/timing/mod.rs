@@ -31,7 +31,7 @@ use crate::vk::{Access, Device};
 
 pub mod document;
 
-pub use document::{ClockRecord, PassSummary, RunSummary, TimingDocument};
+pub use document::{ClockRecord, PassSummary, RunSummary, SubmissionSummary, TimingDocument};
 
 /// What to measure.
 #[derive(Clone, Debug)]
@@ -312,6 +312,11 @@ pub fn run(
         mode: if render.floor { "floor".into() } else { format!("{:?}", render.animation.mode).to_lowercase() },
         warmup: options.warmup,
         frames_per_run: render.frames,
+        submission: Some(SubmissionSummary {
+            strategy: render.submission.strategy.name().to_string(),
+            clusters: render.submission.clusters,
+        }),
+        blades_per_instance: Some(render.blades_per_instance),
         timestamp_period_ns: f64::from(device.limits().timestamp_period),
         timestamp_valid_bits: device.timestamp_valid_bits,
         calibrated_timestamps: device.calibrated_timestamps.is_some(),

@@ -64,7 +64,7 @@ pub struct FrameRing {
 impl FrameRing {
     /// A ring of `frames`. `MEADOW_INJECT_SUBMIT_FAILURE=N` makes the N-th submission fail.
     pub fn new(frames: Vec<Frame>) -> Self {
-        let inject_failure = std::env::var("MEADOW_INJECT_SUBMIT_FAILURE").ok().and_then(|v| v.parse().ok());
+        let inject_failure = crate::vk::fault::submit_failure();
         let timeline = Timeline::new(frames.first().map_or(0, |f| f.timestamps.valid_mask()));
         Self {
             timeline,
