@@ -49,12 +49,20 @@ pub(crate) struct Rule {
 /// Every case of the rule. Order matters only for which of several violations is reported.
 pub(crate) const RULES: &[Rule] = &[
     Rule {
-        flags: &["brute_force", "submission", "clusters", "blades_per_instance"],
+        flags: &["brute_force", "blades_per_instance", "no_alpha_to_coverage"],
         subject: None,
         commands: SCENE,
         with: "--mode floor",
         when: |g| g.mode() == Some(ModeArg::Floor),
         why: "the floor is one draw of pre-expanded static triangles, with no cull",
+    },
+    Rule {
+        flags: &["submission", "clusters"],
+        subject: None,
+        commands: SUBMITTED,
+        with: "--mode floor",
+        when: |g| g.mode() == Some(ModeArg::Floor),
+        why: "the floor is one draw of pre-expanded static triangles",
     },
     Rule {
         flags: CULL_FLAGS,
@@ -183,6 +191,14 @@ pub(crate) const RULES: &[Rule] = &[
         with: "--msaa 1",
         when: |g| g.one::<u32>("msaa") == Some(1),
         why: "alpha to coverage needs samples: add --msaa 4",
+    },
+    Rule {
+        flags: &["no_alpha_to_coverage"],
+        subject: None,
+        commands: SCENE,
+        with: "the outline LOD (--lod with outline, the default)",
+        when: |g| !g.flag("brute_force") && g.lod().contains(&LodKind::Outline),
+        why: "the culled blades' outline is geometry, with no alpha to turn into coverage: add --brute-force or leave outline out of --lod",
     },
     Rule {
         flags: &["clusters"],
