@@ -137,7 +137,9 @@ fn measuring(command: &str, out: &Path, trace: &Path) -> Vec<String> {
     let common = ["--device", support::DEVICE, "--size", "32x32", "--frames", "2", "--warmup", "0"];
     let own: &[&str] = match command {
         "bench" => &["--blades", "300", "--segments", "2", "--modes", "static"],
-        "overhead" => &["--blades", "300", "--segments", "1", "--clusters", "1", "--strategies", "instanced"],
+        "overhead" => {
+            &["--blades", "300", "--segments", "1", "--strategies", "instanced,per-cluster", "--clusters", "1"]
+        }
         _ => &["--blades", "300"],
     };
     let mut args: Vec<String> = [command].iter().chain(&common).chain(own).map(|s| s.to_string()).collect();

@@ -220,8 +220,8 @@ pub(crate) const RULES: &[Rule] = &[
         flags: &["screenshot_ui"],
         subject: None,
         commands: &["view"],
-        with: "no --screenshot",
-        when: |g| !g.given("screenshot"),
+        with: "no --screenshot and no --script (whose screenshots it also chooses)",
+        when: |g| !g.given("screenshot") && !g.given("script"),
         why: "it chooses what the screenshot shows",
     },
     Rule {
