@@ -29,6 +29,14 @@ pub fn markdown(command: &Command) -> String {
         "Every command also takes `-h` (a summary) and `--help` (the whole help); `{name} --version` prints the \
          version. A bad command line is one `error: …` line on standard error and exit code 2.\n"
     );
+    let _ = writeln!(
+        out,
+        "No flag is silently ignored: a flag typed on the command line (not a default) that has no effect in \
+         the configuration the rest of the line chooses is refused the same way, before any work, with \
+         `error: --flag has no effect with <configuration>: <why>`; for example `--lod-scale` with \
+         `--brute-force`, `--density` without `--field`, `--threshold` without `--compare`. The cases are \
+         one table, `RULES` in `src/cli/effect.rs`.\n"
+    );
     let commands = visible_subcommands(&root);
     if !commands.is_empty() {
         let _ = writeln!(out, "| Command | What it does |\n|---|---|");

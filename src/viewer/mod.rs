@@ -5,6 +5,7 @@
 pub mod controls;
 mod events;
 mod keys;
+mod outputs;
 mod overlay;
 pub mod script;
 mod session;
@@ -77,7 +78,7 @@ pub struct ViewerReport {
     /// The last stats line.
     pub stats: String,
     /// The present mode the swapchain ran with (`None`: no swapchain was made).
-    pub present: Option<crate::vk::swapchain::PresentMode>,
+    pub present: Option<PresentMode>,
     /// Frames in flight.
     pub frames_in_flight: usize,
     /// Whether the overlay was drawn (`--no-ui`: not).
@@ -87,22 +88,8 @@ pub struct ViewerReport {
 /// Run the viewer; returns its report and the validation message count.
 pub fn run(gpu: &GpuOptions, options: ViewerOptions) -> (Result<ViewerReport>, Option<u64>) {
     // Every output the session will write, checked before any work.
-    let script_shots = options.script.iter().flat_map(|s| &s.actions).filter_map(|(_, action)| match action {
-        script::Action::Screenshot(path) => Some((std::path::Path::new(path.as_str()), "script screenshot")),
-        _ => None,
-    });
-    let shots: Vec<_> = options.screenshot.iter().map(|p| (p.as_path(), "--screenshot")).chain(script_shots).collect();
-    for &(path, flag) in &shots {
-        if let Err(e) = app::output::check_output(path, flag) {
-            return (Err(e), None);
-        }
-    }
-    // Two screenshots to one file: the second would replace the first.
-    if let Err(e) = app::output::check_distinct(shots.iter().map(|&(path, flag)| (flag, path.to_path_buf()))) {
+    if let Err(e) = outputs::check(&options) {
         return (Err(e), None);
-    }
-    if let Some(dir) = options.capture_dir.as_ref().filter(|d| !d.is_dir()) {
-        return (Err(Error::bad_input(format!("--capture-dir {}: not a directory", dir.display()))), None);
     }
     let set = |name: &str| std::env::var_os(name).is_some_and(|v| !v.is_empty());
     if !set("DISPLAY") && !set("WAYLAND_DISPLAY") {

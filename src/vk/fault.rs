@@ -181,27 +181,24 @@ fn parse(vars: impl Iterator<Item = (String, std::ffi::OsString)>) -> Result<Swi
                 None => (text, false),
                 Some((digits, "sync")) => (digits, true),
                 Some((_, suffix)) => {
-                    return Err(bad(&format!("unknown suffix ':{}': give N or N:sync", quote(suffix))))
+                    return Err(bad(&format!("unknown suffix {}: give N or N:sync", quote(&format!(":{suffix}")))))
                 }
             };
             switches.write = Some((nth(digits)?, sync));
         } else {
             let mut known: Vec<&str> = ALL.iter().map(|f| f.variable()).collect();
             known.extend([SUBMIT, WRITE]);
-            let name: String = name.chars().take(80).collect();
+            let name = crate::error::quoted(&name);
             return Err(format!("{name}={quoted}: unknown switch (meadow knows {})", known.join(", ")));
         }
     }
     Ok(switches)
 }
 
-/// `text` as an error quotes it: at most 80 characters.
+/// `text` in quotes, as every error quotes user text (`error::quoted`: at most about 80
+/// characters).
 fn quote(text: &str) -> String {
-    const MOST: usize = 80;
-    match text.char_indices().nth(MOST) {
-        Some((end, _)) => format!("'{}…'", &text[..end]),
-        None => format!("'{text}'"),
-    }
+    format!("'{}'", crate::error::quoted(text))
 }
 
 #[cfg(test)]
