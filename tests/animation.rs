@@ -140,8 +140,9 @@ fn texture_uniform_and_both_evaluation_placements_give_the_same_picture() {
     let (stats, _) = compare_rgb(&linear.rgb, &slerp.rgb, 3);
     eprintln!("linear vs slerp: {:.2} % within ±3", 100.0 * stats.within_fraction());
     assert!(stats.within_fraction() > 0.9, "linear vs slerp: {:.2} % within ±3", 100.0 * stats.within_fraction());
-    // The animation is real: the static picture differs.
-    let still = render("static", &with(&base, &["--mode", "static"]));
+    // The animation is real: the static picture differs (static blades take no force flag:
+    // `cli::effect` refuses them).
+    let still = render("static", &["--blades", "6000", "--size", "200x120", "--mode", "static"]);
     let (stats, _) = compare_rgb(&reference.rgb, &still.rgb, 3);
     assert!(
         stats.within_fraction() < 0.8,
@@ -202,7 +203,7 @@ fn with_the_cull_the_default_evaluates_each_drawn_blade_once() {
     assert!(passes.contains("blade poses") && !passes.contains("blade levels"), "brute force: {passes}");
     let (stats, _) = compare_rgb(&per_vertex.rgb, &auto.rgb, 3);
     assert!(stats.within_fraction() > 0.995, "stored: {:.3} % within ±3", 100.0 * stats.within_fraction());
-    let still = render("auto-static", &[&stored[..], &["--mode", "static"]].concat());
+    let still = render("auto-static", &["--size", "200x120", "--blades", "6000", "--mode", "static"]);
     let (stats, _) = compare_rgb(&still.rgb, &auto.rgb, 3);
     assert!(stats.within_fraction() < 0.9, "the per-blade records did not move the blades");
     // A block field: the records follow its cells' blades (ring slot and block blade).

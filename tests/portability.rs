@@ -157,25 +157,35 @@ fn depth_falls_back_to_the_24_and_16_bit_formats() {
 
 #[test]
 fn the_floor_with_per_blade_evaluation_runs_no_pose_pass() {
-    // `--mode floor` draws pre-expanded static blades: `--eval blade` has nothing to evaluate, so
-    // the frame's passes are the terrain and the floor's blades. The control: the same
-    // evaluation with keyframes runs the pose pass.
+    // `--mode floor` draws pre-expanded static blades: there is nothing to evaluate, so the
+    // frame's passes are the terrain and the floor's blades, and `--eval blade` is refused
+    // (`cli::effect`) rather than ignored. The control: the same evaluation with keyframes runs
+    // the pose pass.
     let dir = scratch("portability-floor-eval");
-    let passes = |mode: &str| {
-        let output = meadow()
+    let run = |mode: &str, extra: &[&str]| {
+        meadow()
             .args(["render", "--validation", "--device", support::DEVICE, "--blades", "2000", "--size", "64x64"])
-            .args(["--mode", mode, "--eval", "blade", "--brute-force", "--out"])
+            .args(["--mode", mode])
+            .args(extra)
+            .arg("--out")
             .arg(dir.join(format!("{mode}.png")))
             .output()
-            .expect("run meadow");
+            .expect("run meadow")
+    };
+    let passes = |mode: &str, extra: &[&str]| {
+        let output = run(mode, extra);
         support::assert_clean(&output);
         let stdout = String::from_utf8_lossy(&output.stdout).into_owned();
         let line = stdout.lines().find(|l| l.starts_with("gpu: ")).map(str::to_owned);
         line.unwrap_or_else(|| panic!("{}", transcript(&output)))
     };
-    let floor = passes("floor");
+    let floor = passes("floor", &[]);
     assert!(floor.contains("(terrain ") && floor.contains(", blades ") && !floor.contains("blade poses"), "{floor}");
-    let texture = passes("texture");
+    let refused = run("floor", &["--eval", "blade"]);
+    let stderr = String::from_utf8_lossy(&refused.stderr);
+    assert_eq!(refused.status.code(), Some(2), "{}", transcript(&refused));
+    assert!(stderr.starts_with("error: --eval has no effect with --mode floor"), "{stderr}");
+    let texture = passes("texture", &["--eval", "blade", "--brute-force"]);
     assert!(texture.contains("blade poses"), "{texture}");
 }
 

@@ -20,22 +20,27 @@ fn timestamps_of_an_empty_span_are_near_zero_and_of_a_fill_are_not() {
             Buffer::new(device, &BufferDesc::gpu_only("fill target", size, vk::BufferUsageFlags::TRANSFER_DST))?;
         let results = Buffer::new(device, &BufferDesc::readback("stamps", 64, vk::BufferUsageFlags::TRANSFER_DST))?;
         let mut stamps = TimestampQueries::new(device, "test stamps", 4)?;
-        let spans = commands::submit_and_wait(device, "timestamps", |cmd| {
-            stamps.reset(device, cmd);
-            stamps.write(device, cmd);
-            stamps.write(device, cmd); // nothing between: an empty span
-                                       // SAFETY: cmd is recording; the buffer is TRANSFER_DST and `size` bytes.
-            unsafe { device.raw.cmd_fill_buffer(cmd, target.raw, 0, size, 0x3f80_0000) };
-            stamps.write(device, cmd); // after 64 MiB written
-            stamps.record_copy(device, cmd, results.raw, 0);
-            let to_host = sync::buffer_barrier(results.raw, &[Access::TransferWrite], &[Access::HostRead]);
-            sync::cmd_barriers(device, cmd, &[to_host], &[]);
-            Ok(())
-        })
-        .map(|()| {
-            let ticks = stamps.read_ticks(results.mapped());
-            (stamps.elapsed_ms(ticks[0], ticks[1]), stamps.elapsed_ms(ticks[1], ticks[2]))
-        });
+        // Three submissions: lavapipe writes a timestamp from a CPU thread, so a busy machine can
+        // preempt it inside the empty span; the least of three is the span's cost.
+        let mut measure = || {
+            commands::submit_and_wait(device, "timestamps", |cmd| {
+                stamps.reset(device, cmd);
+                stamps.write(device, cmd);
+                stamps.write(device, cmd); // nothing between: an empty span
+                                           // SAFETY: cmd is recording; the buffer is TRANSFER_DST and `size` bytes.
+                unsafe { device.raw.cmd_fill_buffer(cmd, target.raw, 0, size, 0x3f80_0000) };
+                stamps.write(device, cmd); // after 64 MiB written
+                stamps.record_copy(device, cmd, results.raw, 0);
+                let to_host = sync::buffer_barrier(results.raw, &[Access::TransferWrite], &[Access::HostRead]);
+                sync::cmd_barriers(device, cmd, &[to_host], &[]);
+                Ok(())
+            })
+            .map(|()| {
+                let ticks = stamps.read_ticks(results.mapped());
+                (stamps.elapsed_ms(ticks[0], ticks[1]), stamps.elapsed_ms(ticks[1], ticks[2]))
+            })
+        };
+        let spans = (0..3).map(|_| measure()).collect::<meadow::error::Result<Vec<(f64, f64)>>>();
         // SAFETY: submit_and_wait waited for the GPU.
         unsafe {
             stamps.destroy(device);
@@ -44,7 +49,8 @@ fn timestamps_of_an_empty_span_are_near_zero_and_of_a_fill_are_not() {
         }
         spans
     });
-    let (empty, fill) = result.expect("timestamps");
+    let runs = result.expect("timestamps");
+    let (empty, fill) = runs.into_iter().min_by(|a, b| a.0.total_cmp(&b.0)).expect("three runs");
     assert_eq!(validation, Some(0), "validation messages");
     assert!(empty < 0.5, "empty span {empty} ms");
     assert!(fill > 0.0 && fill > empty, "64 MiB fill {fill} ms vs empty {empty} ms");

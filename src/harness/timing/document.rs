@@ -21,10 +21,10 @@ pub struct TimingDocument {
     /// Frames measured per run.
     pub frames_per_run: u32,
     /// How the blades were submitted (absent from older v1 documents).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub submission: Option<SubmissionSummary>,
     /// Blades per instance of the blade draws (absent from older v1 documents).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub blades_per_instance: Option<u32>,
     /// The device's timestamp period.
     pub timestamp_period_ns: f64,
