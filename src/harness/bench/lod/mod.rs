@@ -109,43 +109,23 @@ impl Field {
     /// Every check of the field against the device before anything is allocated: each
     /// renderer's (`check_scene`), then two renderers and two targets together against the budget.
     fn check(&self, device: &Device, segments: u32, size: (u32, u32)) -> Result<()> {
-        let culled = animation(true);
+        // Each row's brute-force renderer (per vertex, no cull) and GPU-driven one (culled).
+        let scene = |blades: u32, culled: bool| {
+            let animation = animation(culled);
+            crate::app::check_scene(device, blades, segments, size, &animation, false, (culled, Default::default()))
+        };
         match self {
             Field::Stored { blades, .. } => {
-                crate::app::check_scene(
-                    device,
-                    *blades,
-                    segments,
-                    size,
-                    &animation(false),
-                    false,
-                    (false, Default::default()),
-                )?;
-                crate::app::check_scene(device, *blades, segments, size, &culled, false, (true, Default::default()))?;
+                scene(*blades, false)?;
+                scene(*blades, true)?;
                 let cells = Terrain::cells_for(crate::scene::blades::field_size(*blades));
                 let one = crate::render::scene_gpu::SceneGpu::memory_bytes(u64::from(*blades), u64::from(cells))
                     + offscreen_bytes(vk::Extent2D { width: size.0, height: size.1 });
                 device.check_budget(2 * one, &format!("--preset lod with {blades} blades (two renderers)"))
             }
             Field::Blocks { .. } => {
-                crate::app::check_scene(
-                    device,
-                    REFERENCE_BLADES,
-                    segments,
-                    size,
-                    &animation(false),
-                    false,
-                    (false, Default::default()),
-                )?;
-                crate::app::check_scene(
-                    device,
-                    self.blades(),
-                    segments,
-                    size,
-                    &culled,
-                    false,
-                    (true, Default::default()),
-                )
+                scene(REFERENCE_BLADES, false)?;
+                scene(self.blades(), true)
             }
         }
     }
