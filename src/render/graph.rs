@@ -461,7 +461,8 @@ impl Graph {
         if let Some(raw) = outputs.readback {
             let buffer = Resource::Buffer(raw);
             self.release(device, cmd, &[(color, Access::TransferRead), (buffer, Access::TransferWrite)]);
-            image::record_copy_to_buffer(device, cmd, ctx.output.color, ctx.output.extent, raw);
+            let extent = vk::Extent3D { width: ctx.output.extent.width, height: ctx.output.extent.height, depth: 1 };
+            image::record_copy_to_buffer(device, cmd, ctx.output.color, extent, raw);
             self.release(device, cmd, &[(buffer, Access::HostRead)]);
         }
         if outputs.present {

@@ -132,6 +132,13 @@ impl Destroy for SetLayout {
     }
 }
 
+/// Memory from the allocator, not yet bound to what owns it for good (an image being built).
+impl Destroy for gpu_allocator::vulkan::Allocation {
+    unsafe fn destroy(self, device: &Device) {
+        device.free(self, "a partly built object");
+    }
+}
+
 /// Raw handles meadow creates and counts (`vk::live`): destroyed with their `vkDestroy*`; a null
 /// handle is a no-op.
 macro_rules! handle_destroy {
@@ -147,6 +154,7 @@ macro_rules! handle_destroy {
 }
 
 handle_destroy!(
+    vk::Image => destroy_image,
     vk::Pipeline => destroy_pipeline,
     vk::PipelineLayout => destroy_pipeline_layout,
     vk::DescriptorSetLayout => destroy_descriptor_set_layout,

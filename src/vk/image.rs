@@ -1,5 +1,7 @@
-//! Images: an `ImageDesc` value describes a 2D image, `Image` owns the handle, its default view
-//! and its gpu-allocator allocation.
+//! Images: an `ImageDesc` value describes a 2-D image, or a 3-D one (`ImageDesc::volume`: a
+//! simulation's grid, a wind field, read and written as a storage image and sampled), `Image`
+//! owns the handle, its default view and its gpu-allocator allocation. Both have one mip level
+//! and one layer: `vk::tracker` tracks either as a whole (`Resource::color`).
 
 use ash::vk;
 use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme};
@@ -7,8 +9,9 @@ use gpu_allocator::MemoryLocation;
 
 use crate::error::{Error, Result, VkContext};
 use crate::vk::device::Device;
+use crate::vk::guard::Guard;
 
-/// Description of a 2D image.
+/// Description of a 2-D or 3-D image.
 #[derive(Clone, Copy, Debug)]
 pub struct ImageDesc<'a> {
     /// Texel format.
@@ -23,12 +26,23 @@ pub struct ImageDesc<'a> {
     pub name: &'a str,
     /// Samples per texel (`TYPE_1` unless multisampled).
     pub samples: vk::SampleCountFlags,
+    /// `Some(depth)`: a 3-D image (`VK_IMAGE_TYPE_3D`, a 3-D view) `depth` texels deep; `None`: 2-D.
+    pub volume: Option<u32>,
 }
 
 impl<'a> ImageDesc<'a> {
     /// A colour image of `format`.
     pub fn color(name: &'a str, format: vk::Format, extent: vk::Extent2D, usage: vk::ImageUsageFlags) -> Self {
-        Self { format, extent, usage, aspect: vk::ImageAspectFlags::COLOR, name, samples: vk::SampleCountFlags::TYPE_1 }
+        let (aspect, samples) = (vk::ImageAspectFlags::COLOR, vk::SampleCountFlags::TYPE_1);
+        Self { format, extent, usage, aspect, name, samples, volume: None }
+    }
+
+    /// A 3-D colour image of `format` (e.g. a grid of velocities, `R16G16B16A16_SFLOAT`, written
+    /// as a storage image and sampled). Its first use transitions it from UNDEFINED: import it as
+    /// `[Access::Nothing]` (or upload it, `UploadBatch::image`).
+    pub fn volume(name: &'a str, format: vk::Format, extent: vk::Extent3D, usage: vk::ImageUsageFlags) -> Self {
+        let flat = vk::Extent2D { width: extent.width, height: extent.height };
+        Self { volume: Some(extent.depth), ..Self::color(name, format, flat, usage) }
     }
 
     /// The same image with `samples` samples per texel.
@@ -45,6 +59,20 @@ impl<'a> ImageDesc<'a> {
             aspect: vk::ImageAspectFlags::DEPTH,
             name,
             samples: vk::SampleCountFlags::TYPE_1,
+            volume: None,
+        }
+    }
+
+    /// Width, height and depth (1 for a 2-D image).
+    pub fn extent_3d(&self) -> vk::Extent3D {
+        vk::Extent3D { width: self.extent.width, height: self.extent.height, depth: self.volume.unwrap_or(1) }
+    }
+
+    /// The image type and the type of its default view.
+    fn types(&self) -> (vk::ImageType, vk::ImageViewType) {
+        match self.volume {
+            Some(_) => (vk::ImageType::TYPE_3D, vk::ImageViewType::TYPE_3D),
+            None => (vk::ImageType::TYPE_2D, vk::ImageViewType::TYPE_2D),
         }
     }
 
@@ -63,13 +91,14 @@ pub const COLOR_RANGE: vk::ImageSubresourceRange = vk::ImageSubresourceRange {
     layer_count: 1,
 };
 
-/// Record the copy of a whole single-mip colour image (a transfer source now) into `buffer`,
-/// tightly packed. The barriers around it are the caller's (`render::graph` derives them).
+/// Record the copy of a whole single-mip colour image, 2-D or 3-D (a transfer source now), into
+/// `buffer`, tightly packed (slice after slice). The barriers around it are the caller's
+/// (`render::graph` derives them).
 pub fn record_copy_to_buffer(
     device: &Device,
     cmd: vk::CommandBuffer,
     image: vk::Image,
-    extent: vk::Extent2D,
+    extent: vk::Extent3D,
     buffer: vk::Buffer,
 ) {
     let region = vk::BufferImageCopy::default()
@@ -79,9 +108,9 @@ pub fn record_copy_to_buffer(
             base_array_layer: 0,
             layer_count: 1,
         })
-        .image_extent(vk::Extent3D { width: extent.width, height: extent.height, depth: 1 });
+        .image_extent(extent);
     // SAFETY: cmd is recording outside a rendering instance; the image is in TRANSFER_SRC_OPTIMAL
-    // and the buffer holds width × height texels.
+    // and the buffer holds width × height × depth texels.
     unsafe {
         device.raw.cmd_copy_image_to_buffer(cmd, image, vk::ImageLayout::TRANSFER_SRC_OPTIMAL, buffer, &[region])
     };
@@ -107,7 +136,7 @@ pub fn clamped_sampler(device: &Device, filter: vk::Filter, name: &str) -> Resul
     Ok(sampler)
 }
 
-/// A device-local 2D image with one mip level and its view.
+/// A device-local 2-D or 3-D image with one mip level and its view.
 pub struct Image {
     /// The image handle.
     pub raw: vk::Image,
@@ -117,18 +146,25 @@ pub struct Image {
     pub format: vk::Format,
     /// Width and height.
     pub extent: vk::Extent2D,
+    /// Depth: 1 for a 2-D image.
+    pub depth: u32,
     /// Range of the whole image (for barriers).
     pub range: vk::ImageSubresourceRange,
     allocation: Allocation,
 }
 
 impl Image {
-    /// Create the image, allocate its memory, create the view, name all three.
+    /// Create the image, allocate its memory, create the view, name all three. On failure nothing
+    /// is left. A 3-D image the device cannot make (format, usage, extent) is refused first.
     pub fn new(device: &Device, desc: &ImageDesc) -> Result<Self> {
+        let (image_type, view_type) = desc.types();
+        if desc.volume.is_some() {
+            check_volume(device, desc)?;
+        }
         let info = vk::ImageCreateInfo::default()
-            .image_type(vk::ImageType::TYPE_2D)
+            .image_type(image_type)
             .format(desc.format)
-            .extent(vk::Extent3D { width: desc.extent.width, height: desc.extent.height, depth: 1 })
+            .extent(desc.extent_3d())
             .mip_levels(1)
             .array_layers(1)
             .samples(desc.samples)
@@ -138,8 +174,9 @@ impl Image {
             .initial_layout(vk::ImageLayout::UNDEFINED);
         // SAFETY: valid create info.
         let raw = super::live::created(unsafe { device.raw.create_image(&info, None) }.vk("vkCreateImage")?);
+        let raw = Guard::new(device, raw);
         // SAFETY: raw was just created from this device.
-        let requirements = unsafe { device.raw.get_image_memory_requirements(raw) };
+        let requirements = unsafe { device.raw.get_image_memory_requirements(*raw) };
         let allocation = device.allocate(&AllocationCreateDesc {
             name: desc.name,
             requirements,
@@ -147,44 +184,29 @@ impl Image {
             linear: false,
             allocation_scheme: AllocationScheme::GpuAllocatorManaged,
         });
-        let allocation = match allocation {
-            Ok(allocation) => allocation,
-            Err(source) => {
-                // SAFETY: unused image of this device.
-                unsafe {
-                    super::live::destroyed(raw);
-                    device.raw.destroy_image(raw, None)
-                };
-                return Err(Error::allocation(desc.name, source));
-            }
-        };
+        let allocation = Guard::new(device, allocation.map_err(|source| Error::allocation(desc.name, source))?);
         // SAFETY: the allocation satisfies the image's requirements.
-        let bound = unsafe { device.raw.bind_image_memory(raw, allocation.memory(), allocation.offset()) };
+        unsafe { device.raw.bind_image_memory(*raw, allocation.memory(), allocation.offset()) }
+            .vk("vkBindImageMemory")?;
         let range = desc.range();
-        let view = bound.vk("vkBindImageMemory").and_then(|()| {
-            let view_info = vk::ImageViewCreateInfo::default()
-                .image(raw)
-                .view_type(vk::ImageViewType::TYPE_2D)
-                .format(desc.format)
-                .subresource_range(range);
-            // SAFETY: the image is bound to memory.
-            unsafe { device.raw.create_image_view(&view_info, None) }.vk("vkCreateImageView").map(super::live::created)
-        });
-        let view = match view {
-            Ok(view) => view,
-            Err(e) => {
-                device.free(allocation, desc.name);
-                // SAFETY: unused image of this device.
-                unsafe {
-                    super::live::destroyed(raw);
-                    device.raw.destroy_image(raw, None)
-                };
-                return Err(e);
-            }
-        };
+        let view_info = vk::ImageViewCreateInfo::default()
+            .image(*raw)
+            .view_type(view_type)
+            .format(desc.format)
+            .subresource_range(range);
+        // SAFETY: the image is bound to memory.
+        let view = unsafe { device.raw.create_image_view(&view_info, None) }.vk("vkCreateImageView")?;
+        let view = super::live::created(view);
+        let raw = raw.take();
         device.set_name(raw, desc.name);
         device.set_name(view, &format!("{} view", desc.name));
-        Ok(Self { raw, view, format: desc.format, extent: desc.extent, range, allocation })
+        let (format, extent, depth, allocation) = (desc.format, desc.extent, desc.extent_3d().depth, allocation.take());
+        Ok(Self { raw, view, format, extent, depth, range, allocation })
+    }
+
+    /// Width, height and depth (1 for a 2-D image).
+    pub fn extent_3d(&self) -> vk::Extent3D {
+        vk::Extent3D { width: self.extent.width, height: self.extent.height, depth: self.depth }
     }
 
     /// Destroy the view, the image, and free the memory.
@@ -201,4 +223,38 @@ impl Image {
         }
         device.free(self.allocation, "an image");
     }
+}
+
+/// Refuse a 3-D image the device cannot make: its format and usage unsupported for 3-D images,
+/// or its extent past the format's `maxExtent` (`vkGetPhysicalDeviceImageFormatProperties`).
+fn check_volume(device: &Device, desc: &ImageDesc) -> Result<()> {
+    let (format, usage, extent) = (desc.format, desc.usage, desc.extent_3d());
+    // SAFETY: valid physical device and enums.
+    let properties = unsafe {
+        device.instance.raw.get_physical_device_image_format_properties(
+            device.physical,
+            format,
+            vk::ImageType::TYPE_3D,
+            vk::ImageTiling::OPTIMAL,
+            usage,
+            vk::ImageCreateFlags::empty(),
+        )
+    };
+    let max = match properties {
+        Ok(properties) => properties.max_extent,
+        Err(vk::Result::ERROR_FORMAT_NOT_SUPPORTED) => {
+            return Err(Error::Environment(format!(
+                "{}: the device cannot make a 3-D {format:?} image with usage {usage:?}",
+                desc.name
+            )))
+        }
+        Err(e) => return Err(Error::vulkan("vkGetPhysicalDeviceImageFormatProperties", e)),
+    };
+    if extent.width > max.width || extent.height > max.height || extent.depth > max.depth {
+        return Err(Error::bad_input(format!(
+            "{}: a 3-D {format:?} image of {}x{}x{} is over the device's maxExtent of {}x{}x{} for it",
+            desc.name, extent.width, extent.height, extent.depth, max.width, max.height, max.depth
+        )));
+    }
+    Ok(())
 }

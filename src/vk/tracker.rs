@@ -24,7 +24,8 @@ use crate::vk::sync::{self, Access};
 pub enum Resource {
     /// A whole buffer.
     Buffer(vk::Buffer),
-    /// Mips `base_mip .. base_mip + mips` of one aspect of a single-layer image.
+    /// Mips `base_mip .. base_mip + mips` of one aspect of a single-layer image, 2-D or 3-D (a
+    /// 3-D image has one layer: its depth slices are one subresource, tracked as a whole).
     Image {
         /// The image.
         raw: vk::Image,
@@ -38,7 +39,7 @@ pub enum Resource {
 }
 
 impl Resource {
-    /// A whole colour image with one mip.
+    /// A whole colour image with one mip (2-D, or 3-D: a storage grid).
     pub fn color(raw: vk::Image) -> Self {
         Resource::Image { raw, aspect: vk::ImageAspectFlags::COLOR, base_mip: 0, mips: 1 }
     }
@@ -298,6 +299,37 @@ mod tests {
             "after the last frame's writes"
         );
         assert_eq!(t.src_access, vk::AccessFlags2::COLOR_ATTACHMENT_WRITE);
+    }
+
+    #[test]
+    fn storage_grid_written_read_sampled_and_written_again() {
+        // A 3-D grid of a solver: written by one dispatch, read by the next (RAW in GENERAL),
+        // sampled by a third (a layout change), written by the next frame (WAR, back to GENERAL).
+        let mut states = ResourceStates::default();
+        let grid = Resource::color(vk::Image::null());
+        states.import(grid, &[Access::Nothing]);
+        let (previous, next) = states.access(grid, &[Access::ComputeShaderWrite]).expect("layout");
+        let first = sync::transition(&previous, &next);
+        assert_eq!((first.old_layout, first.new_layout), (vk::ImageLayout::UNDEFINED, vk::ImageLayout::GENERAL));
+        let (previous, next) = states.access(grid, &[Access::ComputeShaderRead]).expect("RAW");
+        let raw = sync::transition(&previous, &next);
+        assert_eq!(
+            (raw.src_access, raw.dst_access),
+            (vk::AccessFlags2::SHADER_STORAGE_WRITE, vk::AccessFlags2::SHADER_STORAGE_READ)
+        );
+        assert_eq!((raw.old_layout, raw.new_layout), (vk::ImageLayout::GENERAL, vk::ImageLayout::GENERAL));
+        assert_eq!(states.access(grid, &[Access::ComputeShaderRead]), None, "already visible");
+        let (previous, next) = states.access(grid, &[Access::ComputeShaderSampledRead]).expect("layout");
+        let sampled = sync::transition(&previous, &next);
+        assert_eq!(sampled.new_layout, vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL);
+        assert_eq!(sampled.src_access, vk::AccessFlags2::SHADER_STORAGE_WRITE, "the write made available");
+        let (previous, next) = states.access(grid, &[Access::ComputeShaderWrite]).expect("WAR + layout");
+        assert_eq!(previous, vec![Access::ComputeShaderSampledRead]);
+        let again = sync::transition(&previous, &next);
+        assert_eq!(
+            (again.old_layout, again.new_layout),
+            (vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL, vk::ImageLayout::GENERAL)
+        );
     }
 
     #[test]

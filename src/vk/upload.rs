@@ -21,7 +21,7 @@ enum Copy {
     Image {
         staging: Buffer,
         dst: vk::Image,
-        extent: vk::Extent2D,
+        extent: vk::Extent3D,
         range: vk::ImageSubresourceRange,
         next: &'static [Access],
     },
@@ -69,7 +69,8 @@ impl<'d> UploadBatch<'d> {
         Ok(dst)
     }
 
-    /// Create a device-local image holding `texels` (tightly packed rows) once submitted.
+    /// Create a device-local image, 2-D or 3-D, holding `texels` (tightly packed rows, slice after
+    /// slice) once submitted.
     pub fn image(&mut self, desc: &ImageDesc, texels: &[u8], next: &'static [Access]) -> Result<Image> {
         let device = self.device;
         let staging_name = format!("{} staging", desc.name);
@@ -85,7 +86,7 @@ impl<'d> UploadBatch<'d> {
         self.copies.push(Copy::Image {
             staging: staging.take(),
             dst: image.raw,
-            extent: image.extent,
+            extent: image.extent_3d(),
             range: image.range,
             next,
         });
@@ -126,7 +127,7 @@ impl<'d> UploadBatch<'d> {
                                 base_array_layer: 0,
                                 layer_count: 1,
                             })
-                            .image_extent(vk::Extent3D { width: extent.width, height: extent.height, depth: 1 });
+                            .image_extent(*extent);
                         // SAFETY: the image is in TRANSFER_DST_OPTIMAL after the barrier above.
                         unsafe {
                             device.raw.cmd_copy_buffer_to_image(

@@ -30,7 +30,7 @@ pub fn compile_for(name: &str, profile: meadow::vk::profile::Profile) -> Vec<u8>
 }
 
 /// SPIR-V of `tests/shaders/NAME` compiled with the extra glslang arguments `args`.
-fn compile_with(name: &str, args: &[&str]) -> Vec<u8> {
+pub fn compile_with(name: &str, args: &[&str]) -> Vec<u8> {
     static RUN: AtomicUsize = AtomicUsize::new(0);
     let source = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/shaders").join(name);
     let run = RUN.fetch_add(1, Ordering::Relaxed);

@@ -122,6 +122,12 @@ impl Declaration {
         self.uses(Resource::Buffer(buffer), access)
     }
 
+    /// The current step uses the whole single-mip colour image `image` (2-D, or 3-D: a storage
+    /// grid) as `access`.
+    pub fn image(self, image: vk::Image, access: Access) -> Self {
+        self.uses(Resource::color(image), access)
+    }
+
     /// The current step uses this frame's resource of `pair` (the one written this frame) as
     /// `access`. A frame that writes it swaps the pair once it is submitted.
     pub fn current(self, pair: Temporal, access: Access) -> Self {
