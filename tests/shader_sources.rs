@@ -143,6 +143,7 @@ fn every_rust_path_cited_by_a_shader_or_build_script_comment_exists() {
     let mut files = shader_sources();
     files.push(root().join("build.rs"));
     files.push(root().join("build/shared_glsl.rs"));
+    files.push(root().join("build/scene_set.rs"));
     let (mut checked, mut errors) = (0, Vec::new());
     for file in &files {
         let is_shader = file.starts_with(root().join("shaders")) || file.starts_with(root().join("tests/shaders"));
@@ -215,7 +216,7 @@ fn shared_glsl_generates_documented_constants() {
     let text = std::fs::read_to_string(&path).expect("shared.glsl");
     let rust = shared_glsl::rust_constants(&path, &text).expect("shared.glsl parses");
     assert!(rust.contains("pub const MAX_SEGMENTS: u32 = 16;"), "{rust}");
-    assert!(rust.contains("#[doc = \"`FrameUniforms` uniform buffer.\"]\npub const BINDING_FRAME: u32 = 0;"), "{rust}");
+    assert!(rust.contains("#[doc = \"Keyframe texture.\"]\npub const BINDING_KEYFRAMES: u32 = 0;"), "{rust}");
 }
 
 #[test]

@@ -1,4 +1,4 @@
-// The one source of truth for the integer constants the shaders and Rust share: descriptor
+// The one source of truth for the integer constants the shaders and Rust share: set 1's descriptor
 // bindings, specialization-constant ids, flag bits, mode codes and limits. build.rs parses this
 // file and writes each `#define NAME VALUE // doc` as `pub const NAME: u32 = VALUE;` with the doc
 // into `render::gpu_constants`; Rust uses those, never a copy. The parser is strict: besides
@@ -12,21 +12,8 @@
 #define SET_ANIMATION 1 // The animation model's resources (`render::animation::model::AnimationSet`).
 #define SET_PASS 2 // A pass's own set (`render::recording::pass_set::PassSet`): its bindings numbered in its own header, given by name.
 
-// Set `SET_SCENE`.
-#define BINDING_FRAME 0 // `FrameUniforms` uniform buffer.
-#define BINDING_BLADES 1 // The blades (`BladeInstance[]`) as a storage buffer: the generic profile's (the lavapipe profile reads `BINDING_BLADE_TEXELS`).
-#define BINDING_HEIGHTS 2 // Terrain heights storage buffer.
-#define BINDING_BLADE_ALPHA 3 // Blade alpha texture.
-#define BINDING_CLUSTERS 4 // `BladeCluster[]` storage buffer.
-#define BINDING_CORNERS 5 // Per-frame corner forces.
-#define BINDING_EMITTERS 6 // Per-frame point sources and colliders.
-#define BINDING_TILES 7 // `BladeTile[]` storage buffer (`scene::tiles`).
-#define BINDING_VISIBLE 8 // The cull's output: (blade index, packed scale) per drawn blade, bucket by bucket.
-#define BINDING_FRAME_STORAGE 15 // The lavapipe profile's: the same `FrameUniforms` as `BINDING_FRAME`, read by the cull's passes as a storage buffer (bindings.glsl's rule).
-#define BINDING_BLADE_TEXELS 17 // The blades as RGBA32UI texels, two per `BladeInstance` (`blade_record` in bindings.glsl).
-#define BINDING_VISIBLE_TEXELS 18 // The cull's visible list again as RG32UI texels, as its readers fetch it (`visible_entry` in bindings.glsl).
-#define BINDING_RELIEF_GRID 19 // A block field's terrain grid: a camera grid of the relief's height, the coarse mesh's and the normal at each vertex, filled by relief_grid.comp as vertices enter.
-#define BINDING_RELIEF_GRID_TEXELS 20 // The same grid as RGBA32F texels, as its readers fetch it (`relief_vertex` in field.glsl).
+// Set `SET_SCENE`'s bindings are not here: each resource is declared by its owner's header as
+// `layout(SCENE(Name), …)` and numbered by build.rs (`build/scene_set.rs`, common/profile.glsl).
 
 // Set `SET_ANIMATION`: every model fills all five (the blade shaders declare them all).
 #define BINDING_KEYFRAMES 0 // Keyframe texture.

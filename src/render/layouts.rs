@@ -3,10 +3,13 @@
 //! in flight's uniforms and scene set (`SceneFrame`).
 //!
 //! Both set layouts come from the shaders themselves: each is the union of what the scene shaders
-//! (`render::shaders::SCENE`, every library shader that includes `common/bindings.glsl`) bind in
+//! (`render::shaders::SCENE`, every library shader that reads a set-0 declaration) bind in
 //! that set, reflected from their SPIR-V for the device's backend profile (`vk::reflect`). A
-//! resource is declared once, in GLSL; its owner gives it by binding number
-//! (`SceneGpu::write_descriptors`, `AnimationSet::new`) and the layout decides its type.
+//! resource is declared once, in GLSL. Set 0's are declared by their owners' headers as
+//! `layout(SCENE(Name), …)` and numbered by `build.rs` (`build/scene_set.rs`); each owner gives
+//! its resources by that name (`SceneGpu::write_descriptors`, `frame_resources`,
+//! `FrameForces::scene_resources`), and no set-0 number appears in Rust. Set 1 is still numbered
+//! in `shared.glsl` and given by number (`AnimationSet::new`).
 
 use ash::vk;
 
@@ -34,29 +37,37 @@ pub struct SceneLayouts {
     pub pool: vk::DescriptorPool,
 }
 
-/// The bindings of sets `SET_SCENE` and `SET_ANIMATION`, as the scene shaders of `profile` use
-/// them (reflected). Set `SET_PASS` is each pass's own (`recording::PassSet`), numbered by the
-/// pass alone: not merged here.
-pub fn scene_bindings(profile: Profile) -> Result<(Vec<Binding>, Vec<Binding>)> {
+/// A reflected set's bindings, each with its name (`vk::reflect::merge_named`).
+pub type NamedBindings = Vec<(Binding, String)>;
+
+/// The bindings of sets `SET_SCENE` (with their names, as they are written) and `SET_ANIMATION`,
+/// as the scene shaders of `profile` use them (reflected). Set `SET_PASS` is each pass's own
+/// (`recording::PassSet`), numbered by the pass alone: not merged here.
+pub fn scene_bindings(profile: Profile) -> Result<(NamedBindings, Vec<Binding>)> {
     let code: Vec<(&str, &[u8])> = shaders::SCENE.iter().map(|s| (s.path, s.code(profile))).collect();
-    let unnamed =
-        |(set, bindings): (u32, Vec<(Binding, String)>)| (set, bindings.into_iter().map(|(b, _)| b).collect());
-    let mut sets: std::collections::BTreeMap<u32, Vec<Binding>> =
-        reflect::merge_sets(&code, &|set| set != gpu::SET_PASS)?.into_iter().map(unnamed).collect();
+    let mut sets = reflect::merge_sets(&code, &|set| set != gpu::SET_PASS)?;
     if let Some(&other) = sets.keys().find(|&&set| set != gpu::SET_SCENE && set != gpu::SET_ANIMATION) {
         return Err(crate::error::Error::Internal(format!("a scene shader binds set {other}, not the scene's")));
     }
-    Ok((sets.remove(&gpu::SET_SCENE).unwrap_or_default(), sets.remove(&gpu::SET_ANIMATION).unwrap_or_default()))
+    let animation = sets.remove(&gpu::SET_ANIMATION).unwrap_or_default().into_iter().map(|(b, _)| b).collect();
+    Ok((sets.remove(&gpu::SET_SCENE).unwrap_or_default(), animation))
+}
+
+/// The frame's uniforms as set 0 names them (`shaders/common/frame.glsl`): the uniform block
+/// `Frame` and, for the lavapipe profile's cull, its storage twin `FrameStorage`.
+pub fn frame_resources(block: Resource) -> [(&'static str, Resource); 2] {
+    [("Frame", block.clone()), ("FrameStorage", block)]
 }
 
 /// The layouts of `SET_SCENE` and `SET_ANIMATION` and the scene pipeline layout (the pool comes
 /// with the frames).
 pub fn scene_layouts(device: &Device) -> Result<SceneLayouts> {
     let (scene, animation) = scene_bindings(device.profile)?;
-    descriptor::check_storage_buffers(device, "the scene pipelines", &[&scene, &animation])?;
+    let numbered: Vec<Binding> = scene.iter().map(|(b, _)| *b).collect();
+    descriptor::check_storage_buffers(device, "the scene pipelines", &[&numbered, &animation])?;
     let mut layouts = crate::vk::guard::empty::<SceneLayouts>(device);
     {
-        layouts.scene = SetLayout::new(device, "scene set layout", scene)?;
+        layouts.scene = SetLayout::with_names(device, "scene set layout", scene)?;
         layouts.animation = SetLayout::new(device, "animation set layout", animation)?;
         // Sets in `SET_SCENE`, `SET_ANIMATION` order.
         layouts.pipeline_layout = pipeline::layout(
@@ -110,26 +121,25 @@ impl Destroy for SceneFrame {
 }
 
 /// The uniforms and scene sets of `slots` frames in flight, each set pointed at the scene, at its
-/// frame's uniforms and at what `others(slot)` gives by binding number: the other subsystems'
-/// parts of that frame (its forces, its cull counts).
+/// frame's uniforms and at what `others(slot)` gives by name: the other subsystems' parts of
+/// that frame (its forces).
 pub fn scene_frames(
     device: &Device,
     layouts: &mut SceneLayouts,
     scene: &SceneGpu,
     slots: usize,
-    others: impl Fn(usize) -> Vec<(u32, Resource)>,
+    others: impl Fn(usize) -> Vec<(&'static str, Resource)>,
 ) -> Result<PerFrame<SceneFrame>> {
     let (pool, sets) = layouts.scene.allocate(device, "scene sets", slots as u32)?;
     layouts.pool = pool;
-    // A storage buffer too: the lavapipe profile's cull reads it through `BINDING_FRAME_STORAGE`.
+    // A storage buffer too: the lavapipe profile's cull reads it through `FrameStorage`.
     let usage = vk::BufferUsageFlags::UNIFORM_BUFFER | vk::BufferUsageFlags::STORAGE_BUFFER;
     let size = std::mem::size_of::<FrameUniforms>() as u64;
     PerFrame::new(device, sets.len(), |slot| {
         let uniforms = Buffer::new(device, &BufferDesc::upload(&format!("frame {slot} uniforms"), size, usage))?;
         let frame = Guard::new(device, SceneFrame { uniforms, set: sets[slot] });
         let mut own = others(slot);
-        own.push((gpu::BINDING_FRAME, Resource::Buffer(frame.uniforms.descriptor())));
-        own.push((gpu::BINDING_FRAME_STORAGE, Resource::Buffer(frame.uniforms.descriptor())));
+        own.extend(frame_resources(Resource::Buffer(frame.uniforms.descriptor())));
         scene.write_descriptors(device, &layouts.scene, frame.set, &own)?;
         Ok(frame.take())
     })
@@ -144,24 +154,69 @@ mod tests {
         bindings.iter().find(|b| b.binding == binding).map(|b| b.kind)
     }
 
+    /// The binding named `name` in a reflected set.
+    fn named<'a>(set: &'a [(Binding, String)], name: &str) -> Option<&'a Binding> {
+        set.iter().find(|(_, n)| n == name).map(|(b, _)| b)
+    }
+
+    /// build.rs's numbers: `SCENE_BINDING_Name N` of the generated header.
+    fn generated_numbers() -> Vec<(String, u32)> {
+        include_str!(concat!(env!("OUT_DIR"), "/glsl/generated/scene_set.glsl"))
+            .lines()
+            .filter_map(|l| l.strip_prefix("#define SCENE_BINDING_"))
+            .map(|l| {
+                let mut words = l.split_whitespace();
+                (words.next().unwrap().to_owned(), words.next().unwrap().parse().unwrap())
+            })
+            .collect()
+    }
+
+    #[test]
+    fn set_0_is_numbered_by_build_rs_from_its_owners_declarations() {
+        let numbers = generated_numbers();
+        for profile in [Profile::Lavapipe, Profile::Generic] {
+            let (scene, _) = scene_bindings(profile).unwrap();
+            for (binding, name) in &scene {
+                let generated = numbers.iter().find(|(n, _)| n == name);
+                assert_eq!(generated.map(|(_, b)| *b), Some(binding.binding), "{profile:?} `{name}`: {numbers:?}");
+            }
+        }
+        // Declared in their owners' headers (terrain/heights.glsl, animation/frame_forces.glsl),
+        // none of them in shared.glsl.
+        for name in ["Heights", "Corners", "Emitters", "Frame", "Tiles", "blade_alpha"] {
+            assert!(numbers.iter().any(|(n, _)| n == name), "{name}: {numbers:?}");
+        }
+        let shared = include_str!("../../shaders/common/shared.glsl");
+        assert!(
+            !shared.contains("SET_SCENE, binding") && !shared.contains("BINDING_FRAME"),
+            "set 0 is numbered by hand"
+        );
+        // Distinct numbers, the library's from 0.
+        let mut seen: Vec<u32> = numbers.iter().map(|(_, b)| *b).collect();
+        seen.sort();
+        seen.dedup();
+        assert_eq!(seen.len(), numbers.len(), "{numbers:?}");
+    }
+
     #[test]
     fn the_lavapipe_profile_binds_the_twins_and_the_generic_one_each_resource_once() {
         let (scene, animation) = scene_bindings(Profile::Lavapipe).unwrap();
-        assert_eq!(kind(&scene, gpu::BINDING_FRAME_STORAGE), Some(T::STORAGE_BUFFER));
-        assert_eq!(kind(&scene, gpu::BINDING_BLADE_TEXELS), Some(T::UNIFORM_TEXEL_BUFFER));
-        assert_eq!(kind(&scene, gpu::BINDING_BLADES), None);
+        assert_eq!(named(&scene, "FrameStorage").map(|b| b.kind), Some(T::STORAGE_BUFFER));
+        assert_eq!(named(&scene, "blade_texels").map(|b| b.kind), Some(T::UNIFORM_TEXEL_BUFFER));
+        assert!(named(&scene, "Blades").is_none());
         assert_eq!(kind(&animation, gpu::BINDING_LEVEL_TEXELS), Some(T::UNIFORM_TEXEL_BUFFER));
 
         let (scene, animation) = scene_bindings(Profile::Generic).unwrap();
         let texel = |b: &&Binding| b.kind == T::UNIFORM_TEXEL_BUFFER;
-        assert_eq!(scene.iter().chain(&animation).filter(texel).count(), 0, "{scene:?} {animation:?}");
-        assert_eq!(kind(&scene, gpu::BINDING_FRAME_STORAGE), None);
-        for binding in [gpu::BINDING_BLADES, gpu::BINDING_VISIBLE, gpu::BINDING_RELIEF_GRID] {
-            assert_eq!(kind(&scene, binding), Some(T::STORAGE_BUFFER), "binding {binding}");
+        let numbered: Vec<Binding> = scene.iter().map(|(b, _)| *b).collect();
+        assert_eq!(numbered.iter().chain(&animation).filter(texel).count(), 0, "{scene:?} {animation:?}");
+        assert!(named(&scene, "FrameStorage").is_none());
+        for name in ["Blades", "Visible", "ReliefGrid"] {
+            assert_eq!(named(&scene, name).map(|b| b.kind), Some(T::STORAGE_BUFFER), "{name}");
         }
         assert_eq!(kind(&animation, gpu::BINDING_LEVELS), Some(T::STORAGE_BUFFER));
         // The frame's uniforms reach every stage in both.
-        let frame = scene.iter().find(|b| b.binding == gpu::BINDING_FRAME).unwrap();
+        let frame = named(&scene, "Frame").unwrap();
         assert_eq!(frame.kind, T::UNIFORM_BUFFER);
         assert!(frame
             .stages
@@ -170,16 +225,16 @@ mod tests {
 
     #[test]
     fn in_the_lavapipe_profile_the_cull_reads_the_frame_through_storage() {
-        // bindings.glsl's rule: a value that decides control flow is read through a storage
+        // profile.glsl's rule: a value that decides control flow is read through a storage
         // binding (lavapipe before Mesa 23.1 compiles and keeps a variant per uniform value).
         for shader in
             [shaders::CULL_TILES_COMP, shaders::CULL_COUNT_COMP, shaders::CULL_SCAN_COMP, shaders::CULL_EMIT_COMP]
         {
             let lavapipe = reflect::reflect(shader.path, shader.code(Profile::Lavapipe)).unwrap().descriptors;
-            let frame = lavapipe.iter().find(|d| d.binding == gpu::BINDING_FRAME_STORAGE && d.set == gpu::SET_SCENE);
+            let frame = lavapipe.iter().find(|d| d.name == "FrameStorage" && d.set == gpu::SET_SCENE);
             assert_eq!(frame.map(|d| d.kind), Some(T::STORAGE_BUFFER), "{}", shader.path);
             let generic = reflect::reflect(shader.path, shader.code(Profile::Generic)).unwrap().descriptors;
-            assert!(!generic.iter().any(|d| d.binding == gpu::BINDING_FRAME_STORAGE), "{}", shader.path);
+            assert!(!generic.iter().any(|d| d.name == "FrameStorage"), "{}", shader.path);
         }
     }
 
@@ -225,8 +280,10 @@ mod reflect_tests {
     fn only_what_the_entry_point_uses_counts() {
         // floor.vert includes bindings.glsl (two sets of declarations) and reads the frame's
         // uniforms alone.
-        let floor = descriptors(shaders::FLOOR_VERT.code(Profile::Lavapipe));
-        assert_eq!(floor, [(0, crate::render::gpu_constants::BINDING_FRAME, vk::DescriptorType::UNIFORM_BUFFER)]);
+        let floor = reflect("floor", shaders::FLOOR_VERT.code(Profile::Lavapipe)).unwrap().descriptors;
+        let floor: Vec<(u32, vk::DescriptorType, &str)> =
+            floor.iter().map(|d| (d.set, d.kind, d.name.as_str())).collect();
+        assert_eq!(floor, [(0, vk::DescriptorType::UNIFORM_BUFFER, "Frame")]);
         assert_eq!(
             reflect("floor", shaders::FLOOR_FRAG.code(Profile::Lavapipe)).unwrap().stage,
             vk::ShaderStageFlags::FRAGMENT
@@ -237,13 +294,14 @@ mod reflect_tests {
     fn stages_merge_and_conflicts_are_named() {
         let vert = shaders::BLADE_VERT.code(Profile::Lavapipe);
         let frag = shaders::BLADE_FRAG.code(Profile::Lavapipe);
-        let sets = merge(&[("blade.vert", vert), ("blade.frag", frag)]).unwrap();
-        let frame = sets[&0].iter().find(|b| b.binding == crate::render::gpu_constants::BINDING_FRAME).unwrap();
+        let sets = crate::vk::reflect::merge_named(&[("blade.vert", vert), ("blade.frag", frag)]).unwrap();
+        let frame = sets[&0].iter().find(|(_, n)| n == "Frame").map(|(b, _)| b).unwrap();
         assert_eq!(frame.stages, vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT);
-        // hiz.comp's set 0 binding 0 is a combined image sampler; the blade shaders' a uniform buffer.
-        let error =
-            merge(&[("blade.vert", vert), ("hiz.comp", shaders::HIZ_COMP.code(Profile::Lavapipe))]).unwrap_err();
-        assert!(error.to_string().contains("set 0 binding 0: blade.vert binds"), "{error}");
+        // hiz.comp numbers a set 0 of its own (a sampler and a buffer at 0 and 1), which the
+        // generic blade shader's set 0 (build.rs's numbers) does not match.
+        let (vert, hiz) = (shaders::BLADE_VERT.code(Profile::Generic), shaders::HIZ_COMP.code(Profile::Generic));
+        let error = merge(&[("blade.vert", vert), ("hiz.comp", hiz)]).unwrap_err().to_string();
+        assert!(error.contains("set 0 binding") && error.contains("blade.vert binds"), "{error}");
     }
 
     #[test]

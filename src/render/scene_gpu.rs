@@ -408,14 +408,16 @@ impl SceneGpu {
     }
 
     /// Point `set` (of `layout`, `SET_SCENE`, reflected) at the scene's resources and at `frame`'s
-    /// (one frame's own, given by their owners), each by its binding number: the layout writes
-    /// those its shaders bind.
+    /// (one frame's own, given by their owners), each by the name its header declares it with
+    /// (`layout(SCENE(Name), …)`: `shaders/blades/blade_records.glsl`, `terrain/heights.glsl`,
+    /// `blades/blade_alpha.glsl`, `blades/clusters.glsl`, `cull/tiles.glsl`, `cull/visible.glsl`,
+    /// `terrain/relief_grid.glsl`); build.rs numbers them. The layout writes those its shaders bind.
     pub fn write_descriptors(
         &self,
         device: &Device,
         layout: &SetLayout,
         set: vk::DescriptorSet,
-        frame: &[(u32, Resource)],
+        frame: &[(&str, Resource)],
     ) -> Result<()> {
         let alpha = Resource::Image(vk::DescriptorImageInfo {
             sampler: self.sampler,
@@ -424,19 +426,19 @@ impl SceneGpu {
         });
         let (buffer, texels) = (|b: &Buffer| Resource::Buffer(b.descriptor()), |t: &TexelView| Resource::Texels(t.raw));
         let resources = [
-            (gpu_constants::BINDING_BLADES, buffer(&self.blades)),
-            (gpu_constants::BINDING_BLADE_TEXELS, texels(&self.blade_texels)),
-            (gpu_constants::BINDING_HEIGHTS, buffer(&self.heights)),
-            (gpu_constants::BINDING_BLADE_ALPHA, alpha),
-            (gpu_constants::BINDING_CLUSTERS, buffer(&self.clusters)),
-            (gpu_constants::BINDING_TILES, buffer(&self.tiles)),
-            (gpu_constants::BINDING_VISIBLE, buffer(&self.visible)),
-            (gpu_constants::BINDING_VISIBLE_TEXELS, texels(&self.visible_texels)),
-            (gpu_constants::BINDING_RELIEF_GRID, buffer(&self.relief_grid)),
-            (gpu_constants::BINDING_RELIEF_GRID_TEXELS, texels(&self.relief_texels)),
+            ("Blades", buffer(&self.blades)),
+            ("blade_texels", texels(&self.blade_texels)),
+            ("Heights", buffer(&self.heights)),
+            ("blade_alpha", alpha),
+            ("Clusters", buffer(&self.clusters)),
+            ("Tiles", buffer(&self.tiles)),
+            ("Visible", buffer(&self.visible)),
+            ("visible_texels", texels(&self.visible_texels)),
+            ("ReliefGrid", buffer(&self.relief_grid)),
+            ("relief_texels", texels(&self.relief_texels)),
         ];
         let resources: Vec<_> = frame.iter().cloned().chain(resources).collect();
-        layout.write(device, set, "scene set", &resources)
+        layout.write_named(device, set, "scene set", &resources)
     }
 
     /// Free everything.

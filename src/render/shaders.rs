@@ -50,7 +50,8 @@ pub const OVERLAY_VERT: Shader = spirv_shader!("overlay/overlay.vert");
 /// The egui overlay: vertex colour times texel, gamma-space sRGB, premultiplied alpha.
 pub const OVERLAY_FRAG: Shader = spirv_shader!("overlay/overlay.frag");
 
-/// The scene shaders: the library's shaders that include `common/bindings.glsl` (found by
-/// `build.rs`), whose sets `SET_SCENE` and `SET_ANIMATION` together make the scene's layouts
-/// (`render::layouts::scene_layouts`). A new scene shader joins by including the header.
+/// The scene shaders: the library's shaders that read a set-0 declaration (`layout(SCENE(Name),
+/// …)`, found by `build.rs`), whose sets `SET_SCENE` and `SET_ANIMATION` together make the scene's
+/// layouts (`render::layouts::scene_layouts`). A new scene shader joins by including a header
+/// that declares one (`common/bindings.glsl`, or a resource's own).
 pub const SCENE: &[Shader] = include!(concat!(env!("OUT_DIR"), "/scene_shaders.rs"));

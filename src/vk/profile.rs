@@ -13,7 +13,7 @@ use crate::vk::Access;
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Profile {
     /// Lavapipe's (Mesa 22.3 llvmpipe): the storage and texel-buffer twins of
-    /// `shaders/common/bindings.glsl`.
+    /// `shaders/common/profile.glsl`.
     Lavapipe,
     /// Any other driver: each resource bound once, as the shader reads it.
     Generic,
@@ -32,7 +32,7 @@ impl Profile {
     }
 
     /// How a vertex shader reads a buffer of the scene that the lavapipe profile fetches through
-    /// a texel view (its twin, `shaders/common/bindings.glsl`) and the generic one as storage: the
+    /// a texel view (its twin, `shaders/common/profile.glsl`) and the generic one as storage: the
     /// access the graph's barriers are derived for.
     pub fn vertex_fetch(self) -> Access {
         match self {

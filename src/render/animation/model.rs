@@ -127,6 +127,15 @@ pub struct FrameForces {
 }
 
 impl FrameForces {
+    /// Set 0's resources of this frame, by the names `shaders/animation/frame_forces.glsl`
+    /// declares them with (build.rs numbers them).
+    pub fn scene_resources(&self) -> [(&'static str, Descriptor); 2] {
+        [
+            ("Corners", Descriptor::Buffer(self.corners.descriptor())),
+            ("Emitters", Descriptor::Buffer(self.emitters.descriptor())),
+        ]
+    }
+
     /// The forces of frame `slot`: room for `corners` corner forces and `emitters` emitters.
     pub fn new(device: &Device, slot: usize, corners: u32, emitters: u32) -> Result<Self> {
         let vec4 = 16u64;

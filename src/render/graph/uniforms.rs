@@ -2,7 +2,7 @@
 //! that the graph fills, on each frame the pass runs, with what `Pass::uniforms` returns, before
 //! the frame is submitted. The pass points a binding of its own set at `resource(slot)`; the
 //! buffer is a storage buffer too, so under the lavapipe profile a value that decides control
-//! flow can be read through a storage binding of the same block (`shaders/common/bindings.glsl`'s
+//! flow can be read through a storage binding of the same block (`shaders/common/profile.glsl`'s
 //! rule).
 
 use std::cell::RefCell;

@@ -100,8 +100,7 @@ impl Renderer {
         for slot in 0..slots {
             let mut own = super::frame_bindings(&self.forces, slot);
             let block = crate::vk::descriptor::Resource::Buffer(instance.uniforms.descriptor(slot));
-            own.push((crate::render::gpu_constants::BINDING_FRAME, block.clone()));
-            own.push((crate::render::gpu_constants::BINDING_FRAME_STORAGE, block));
+            own.extend(crate::render::layouts::frame_resources(block));
             let set = instance.sets[slot];
             if let Err(e) = self.scene_gpu().write_descriptors(device, &self.layouts.scene, set, &own) {
                 // SAFETY: never used.

@@ -26,7 +26,6 @@ use crate::render::animation::{self, build_model, AnimationSettings};
 use crate::render::field_gpu::{self, Origin};
 use crate::render::frame::{look, Frame, FrameRing, FrameUniforms, PerFrame};
 pub use crate::render::frame::{Deletion, FrameSync, FrameTimings, PassTime};
-use crate::render::gpu_constants as gpu;
 use crate::render::graph::{Graph, Outputs, DEFAULT_DT};
 use crate::render::layouts::{scene_frames, scene_layouts, SceneFrame, SceneLayouts};
 use crate::render::msaa::{self, MultisampleTarget};
@@ -46,11 +45,8 @@ pub use extensions::FrameInstance;
 
 /// What set 0 of frame `slot` points at besides the scene and the frame's uniforms: that frame's
 /// forces.
-fn frame_bindings(forces: &PerFrame<FrameForces>, slot: usize) -> Vec<(u32, Descriptor)> {
-    vec![
-        (gpu::BINDING_CORNERS, Descriptor::Buffer(forces[slot].corners.descriptor())),
-        (gpu::BINDING_EMITTERS, Descriptor::Buffer(forces[slot].emitters.descriptor())),
-    ]
+fn frame_bindings(forces: &PerFrame<FrameForces>, slot: usize) -> Vec<(&'static str, Descriptor)> {
+    forces[slot].scene_resources().to_vec()
 }
 
 /// The scene on the GPU, its passes in a graph, and the frames in flight: build, then render

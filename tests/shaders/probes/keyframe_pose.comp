@@ -11,8 +11,8 @@
 
 layout(local_size_x = 64) in;
 
-// Set 0 is the test's own; the frame uniforms sit where the scene set has them.
-layout(set = SET_SCENE, binding = BINDING_FRAME, std140) uniform Frame { FrameUniforms frame; };
+// Set 0 is the test's own, numbered here.
+layout(set = SET_SCENE, binding = 0, std140) uniform Frame { FrameUniforms frame; };
 layout(set = SET_SCENE, binding = 1, std430) readonly buffer Forces { vec2 forces[]; };
 // Per force, MODEL_SEGMENTS + 1 levels: root-relative point of the unit blade (xyz), twist (w).
 layout(set = SET_SCENE, binding = 2, std430) writeonly buffer Levels { vec4 levels[]; };

@@ -1,0 +1,12 @@
+// Set 0: this frame's forces, owned by `render::animation::model::FrameForces` (one pair per
+// frame in flight, given by name, `render::animation::model::FrameForces::scene_resources`).
+#ifndef MEADOW_FRAME_FORCES_GLSL
+#define MEADOW_FRAME_FORCES_GLSL
+#include "common/profile.glsl"
+
+// Per frame: forces at cluster corners (xy force, z calm-area exposure), and point sources
+// (x, z, power, sigma) followed by colliders (centre x, z, radius x, z).
+layout(SCENE(Corners), std430) readonly buffer Corners { vec4 corners[]; };
+layout(SCENE(Emitters), std430) readonly buffer Emitters { vec4 emitters[]; };
+
+#endif

@@ -1,0 +1,19 @@
+// Set 0: this frame's uniforms (`FrameUniforms`, common.glsl), owned by `render::layouts::SceneFrame`
+// (one host-visible block per frame in flight, given as `Frame` and, for the lavapipe profile's
+// cull, `FrameStorage`).
+#ifndef MEADOW_FRAME_GLSL
+#define MEADOW_FRAME_GLSL
+#include "common/profile.glsl"
+
+#if defined(FRAME_FROM_STORAGE) && defined(TEXEL_TWINS)
+// The profile's rule (profile.glsl): the cull's passes read `frame`, whose values decide their
+// branches, through a storage binding of the same block.
+layout(SCENE(FrameStorage), std140) readonly buffer FrameStorage { FrameUniforms frame; };
+layout(SCENE(Frame), std140) uniform Frame { FrameUniforms frame_values; };
+#else
+layout(SCENE(Frame), std140) uniform Frame { FrameUniforms frame; };
+// One binding: `frame_values` is `frame`.
+#define frame_values frame
+#endif
+
+#endif
