@@ -3,8 +3,9 @@
 //! first two calls from each distinct call site of the construction (found by running it once),
 //! in configurations that together build every pass, model and target; after each failure meadow's count of live Vulkan objects
 //! (`vk::live`) and the allocator's bytes are back where they were. A construction here is what
-//! a run builds before and around its first frames: the renderer, its overlay, a target, a
-//! frame, a rebuild to other passes and model, and a frame of those.
+//! a run builds before and around its first frames: the renderer, its overlay, a set 0 of a
+//! pass's own (`Renderer::frame_instance`), a target, a frame, a rebuild to other passes and
+//! model, and a frame of those.
 //!
 //! One test in this file: the counters are the process's.
 
@@ -89,6 +90,10 @@ fn construct(device: &Arc<Device>, config: &Config) -> Result<()> {
     let (settings, animation) = config.built.clone();
     let mut renderer = Renderer::new(device.clone(), &config.scene, settings, animation)?;
     renderer.set_overlay(Some(empty_overlay()))?;
+    // A set 0 of a pass's own (a bake's): its uniform blocks, one per frame in flight, and sets.
+    let instance = renderer.frame_instance("construction faults")?;
+    // SAFETY: no frame used it.
+    unsafe { instance.destroy(device) };
     let mut target = OffscreenTarget::new(device, EXTENT)?;
     let camera = config.scene.default_camera();
     let drawn = renderer.render_offscreen(&mut target, &camera, 0.0).and_then(|_| {

@@ -119,3 +119,10 @@ impl OffscreenTarget {
         }
     }
 }
+
+impl crate::vk::Destroy for OffscreenTarget {
+    unsafe fn destroy(self, device: &Device) {
+        // SAFETY: per the contract.
+        unsafe { OffscreenTarget::destroy(self, device) };
+    }
+}

@@ -29,7 +29,7 @@ use crate::render::graph::Outputs;
 use crate::render::{RenderSettings, Renderer};
 use crate::scene::Scene;
 use crate::vk::swapchain::{swapchain_counts, PresentMode, Swapchain};
-use crate::vk::{Buffer, BufferDesc, Device, Guard, Image, ImageDesc, Resource};
+use crate::vk::{Buffer, BufferDesc, Device, Guard, Image, ImageDesc, Resource, SurfaceGuard};
 use crate::wind::CalmArea;
 use controls::CameraControl;
 use script::Script;
@@ -301,16 +301,9 @@ impl Viewer {
     /// Take the window and its surface (`session`, which chose the device for it): the swapchain,
     /// its depth image and the renderer. The surface is destroyed on failure.
     fn adopt(&mut self, window: Window, raw: vk::SurfaceKHR) -> Result<()> {
-        let instance = &self.device.instance;
-        let swapchain = match Swapchain::new(&self.device, raw, self.options.present) {
-            Ok(swapchain) => swapchain,
-            Err(e) => {
-                // SAFETY: unused surface.
-                unsafe { ash::khr::surface::Instance::new(&instance.entry, &instance.raw).destroy_surface(raw, None) };
-                crate::vk::live::destroyed(raw);
-                return Err(e);
-            }
-        };
+        let raw = SurfaceGuard::new(&self.device.instance, raw);
+        let swapchain = Swapchain::new(&self.device, *raw, self.options.present)?;
+        raw.take();
         self.settings.color_format = swapchain.format;
         self.make_ui(&window);
         self.surface = Some(Surface { swapchain, depth: None, depth_used: false, window });

@@ -17,7 +17,7 @@ use super::keys::HELP;
 use super::{Viewer, ViewerOptions, ViewerReport};
 use crate::error::{Error, Result, VkContext};
 use crate::vk::device::{DeviceDesc, DeviceSelector};
-use crate::vk::{Device, Instance};
+use crate::vk::{Device, Instance, SurfaceGuard};
 
 /// Where a viewer session is.
 pub(super) enum Session {
@@ -56,30 +56,14 @@ impl Session {
         check_window_size(&instance, &selector, (w, h), event_loop)?;
         let attributes = Window::default_attributes().with_title("meadow").with_inner_size(PhysicalSize::new(w, h));
         let window = event_loop.create_window(attributes).map_err(|e| Error::Environment(format!("window: {e}")))?;
-        let raw = surface(&instance, &window)?;
-        let destroy_surface = |instance: &Instance| {
-            // SAFETY: nothing was made from the surface.
-            unsafe { ash::khr::surface::Instance::new(&instance.entry, &instance.raw).destroy_surface(raw, None) };
-            crate::vk::live::destroyed(raw);
-        };
-        let desc = DeviceDesc { selector, swapchain: true, surface: Some(raw) };
-        let device = match Device::new(instance.clone(), &desc) {
-            Ok(device) => device,
-            Err(e) => {
-                destroy_surface(&instance);
-                return Err(e);
-            }
-        };
-        let mut viewer = match Viewer::new(device, options) {
-            Ok(viewer) => viewer,
-            Err(e) => {
-                destroy_surface(&instance);
-                return Err(e);
-            }
-        };
+        // Destroyed if the device or the viewer cannot be made; the viewer owns it from `adopt`
+        // (destroyed with its swapchain, or on failure).
+        let raw = SurfaceGuard::new(&instance, surface(&instance, &window)?);
+        let desc = DeviceDesc { selector, swapchain: true, surface: Some(*raw) };
+        let device = Device::new(instance.clone(), &desc)?;
+        let mut viewer = Viewer::new(device, options)?;
         println!("{HELP}");
-        // The viewer owns the surface from here (destroyed with its swapchain, or on failure).
-        viewer.adopt(window, raw)?;
+        viewer.adopt(window, raw.take())?;
         Ok(viewer)
     }
 }

@@ -7,6 +7,7 @@ use gpu_allocator::MemoryLocation;
 
 use crate::error::{Error, Result, VkContext};
 use crate::vk::device::Device;
+use crate::vk::guard::Guard;
 
 /// Description of a buffer: size, usage, memory location, debug name.
 #[derive(Clone, Copy, Debug)]
@@ -56,8 +57,9 @@ impl Buffer {
             .sharing_mode(vk::SharingMode::EXCLUSIVE);
         // SAFETY: valid create info.
         let raw = super::live::created(unsafe { device.raw.create_buffer(&info, None) }.vk("vkCreateBuffer")?);
+        let raw = Guard::new(device, raw);
         // SAFETY: raw was just created from this device.
-        let requirements = unsafe { device.raw.get_buffer_memory_requirements(raw) };
+        let requirements = unsafe { device.raw.get_buffer_memory_requirements(*raw) };
         let allocation = device.allocate(&AllocationCreateDesc {
             name: desc.name,
             requirements,
@@ -65,28 +67,11 @@ impl Buffer {
             linear: true,
             allocation_scheme: AllocationScheme::GpuAllocatorManaged,
         });
-        let allocation = match allocation {
-            Ok(allocation) => allocation,
-            Err(source) => {
-                // SAFETY: unused buffer of this device.
-                unsafe {
-                    super::live::destroyed(raw);
-                    device.raw.destroy_buffer(raw, None)
-                };
-                return Err(Error::allocation(desc.name, source));
-            }
-        };
+        let allocation = Guard::new(device, allocation.map_err(|source| Error::allocation(desc.name, source))?);
         // SAFETY: the allocation satisfies the buffer's requirements.
-        let bound = unsafe { device.raw.bind_buffer_memory(raw, allocation.memory(), allocation.offset()) };
-        if let Err(result) = bound {
-            device.free(allocation, desc.name);
-            // SAFETY: unused buffer of this device.
-            unsafe {
-                super::live::destroyed(raw);
-                device.raw.destroy_buffer(raw, None)
-            };
-            return Err(Error::vulkan("vkBindBufferMemory", result));
-        }
+        unsafe { device.raw.bind_buffer_memory(*raw, allocation.memory(), allocation.offset()) }
+            .vk("vkBindBufferMemory")?;
+        let (raw, allocation) = (raw.take(), allocation.take());
         device.set_name(raw, desc.name);
         Ok(Self { raw, size: desc.size, allocation })
     }

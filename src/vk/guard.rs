@@ -15,7 +15,7 @@ use ash::vk;
 use crate::vk::commands::CommandRecorder;
 use crate::vk::descriptor::SetLayout;
 use crate::vk::query::{StatisticsQueries, TimestampQueries};
-use crate::vk::{live, Buffer, Device, Image, TexelView};
+use crate::vk::{live, Buffer, Device, Image, Instance, TexelView};
 
 /// Something a device-owned value can be destroyed as.
 pub trait Destroy {
@@ -89,6 +89,16 @@ impl<T: Destroy> Destroy for Vec<T> {
     }
 }
 
+/// A shared object goes with its last owner (the cull's set, shared by its four passes).
+impl<T: Destroy> Destroy for std::rc::Rc<T> {
+    unsafe fn destroy(self, device: &Device) {
+        if let Some(value) = std::rc::Rc::into_inner(self) {
+            // SAFETY: per the contract.
+            unsafe { value.destroy(device) };
+        }
+    }
+}
+
 macro_rules! tuple_destroy {
     ($($name:ident),+) => {
         impl<$($name: Destroy),+> Destroy for ($($name,)+) {
@@ -154,6 +164,7 @@ macro_rules! handle_destroy {
 }
 
 handle_destroy!(
+    vk::Buffer => destroy_buffer,
     vk::Image => destroy_image,
     vk::Pipeline => destroy_pipeline,
     vk::PipelineLayout => destroy_pipeline_layout,
@@ -167,3 +178,41 @@ handle_destroy!(
     vk::QueryPool => destroy_query_pool,
     vk::CommandPool => destroy_command_pool,
 );
+
+/// The instance-level counterpart of [`Guard`] for a window's surface: it destroys the surface on
+/// drop (a failed device or swapchain), unless [`SurfaceGuard::take`]n by what owns it for good
+/// (the swapchain).
+pub struct SurfaceGuard<'i> {
+    instance: &'i Instance,
+    raw: Option<vk::SurfaceKHR>,
+}
+
+impl<'i> SurfaceGuard<'i> {
+    /// Guard `raw`, a surface of `instance` that nothing was made from yet.
+    pub fn new(instance: &'i Instance, raw: vk::SurfaceKHR) -> Self {
+        Self { instance, raw: Some(raw) }
+    }
+
+    /// The surface, no longer guarded.
+    pub fn take(mut self) -> vk::SurfaceKHR {
+        self.raw.take().expect("a guard holds its surface until taken")
+    }
+}
+
+impl Deref for SurfaceGuard<'_> {
+    type Target = vk::SurfaceKHR;
+    fn deref(&self) -> &vk::SurfaceKHR {
+        self.raw.as_ref().expect("a guard holds its surface until taken")
+    }
+}
+
+impl Drop for SurfaceGuard<'_> {
+    fn drop(&mut self) {
+        if let Some(raw) = self.raw.take() {
+            let instance = self.instance;
+            // SAFETY: nothing made from the surface is alive (`SurfaceGuard::new`).
+            unsafe { ash::khr::surface::Instance::new(&instance.entry, &instance.raw).destroy_surface(raw, None) };
+            live::destroyed(raw);
+        }
+    }
+}

@@ -27,7 +27,7 @@ pub mod upload;
 
 pub use buffer::{Buffer, BufferDesc, TexelView};
 pub use device::{Device, DeviceDesc, DeviceSelector};
-pub use guard::{Destroy, Guard};
+pub use guard::{Destroy, Guard, SurfaceGuard};
 pub use image::{Image, ImageDesc};
 pub use instance::{Instance, InstanceDesc, ValidationCounter};
 pub use sync::Access;

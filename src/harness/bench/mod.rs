@@ -13,7 +13,7 @@ use crate::render::animation::{AnimationSettings, Eval, Mode};
 use crate::render::target::offscreen_bytes;
 use crate::render::{OffscreenTarget, RenderSettings, Renderer};
 use crate::scene::{Camera, Scene};
-use crate::vk::Device;
+use crate::vk::{Device, Guard};
 
 mod compare;
 pub mod document;
@@ -199,7 +199,8 @@ fn measure_row(
     let scene = Scene::generate(blades, 1);
     let camera = scene.default_camera();
     let extent = vk::Extent2D { width: options.size.0, height: options.size.1 };
-    let mut target = OffscreenTarget::new(device, extent)?;
+    // Destroyed when the row is done or fails (after the renderers, which wait for their frames).
+    let mut target = Guard::new(device, OffscreenTarget::new(device, extent)?);
     // A variant the device cannot hold at this size (e.g. `--eval blade`'s records over
     // maxStorageBufferRange) is reported as unsupported for the row, not failed.
     let mut unsupported = Vec::new();
@@ -226,19 +227,12 @@ fn measure_row(
             }
         })
         .collect();
-    let mut renderers = match build_renderers(device, &scene, segments, &runnable) {
-        Ok(r) => r,
-        Err(e) => {
-            // SAFETY: nothing was rendered into the target.
-            unsafe { target.destroy(device) };
-            return Err(e);
-        }
-    };
+    let mut renderers = build_renderers(device, &scene, segments, &runnable)?;
     let measured = render_interleaved(&mut renderers, &mut target, &camera, options, frames);
     let triangles = renderers.first().map_or(0, |r| r.triangles().0);
+    // Every renderer waits for its frames when dropped: then nothing uses the target.
     drop(renderers);
-    // SAFETY: every renderer waited for its frames when dropped.
-    unsafe { target.destroy(device) };
+    drop(target);
     let measured = measured?;
     let mut entries: Vec<BenchVariant> = runnable
         .iter()

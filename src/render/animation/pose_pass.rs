@@ -18,7 +18,7 @@ use crate::render::recording;
 use crate::render::recording::bucket_dispatch::{self, BucketDispatch};
 use crate::render::recording::PassSet;
 use crate::render::shaders;
-use crate::vk::{pipeline, Access, Device, Resource};
+use crate::vk::{pipeline, Access, Device, Guard, Resource};
 
 /// How the pass dispatches: over the stored blades, or with the cull over its LOD buckets.
 enum Dispatch {
@@ -44,7 +44,7 @@ impl BladePosePass {
     pub fn new(device: &Device, setup: &PassSetup, set: &AnimationSet) -> Result<Self> {
         let scene = setup.scene;
         let (name, spirv) = ("blade poses", shaders::BLADE_POSE_COMP.code(device.profile));
-        let own = bucket_dispatch::draws_set(device, name, spirv, &setup.sets, &scene.draws)?;
+        let own = Guard::new(device, bucket_dispatch::draws_set(device, name, spirv, &setup.sets, &scene.draws)?);
         let dispatch = match setup.buckets {
             Some(buckets) => {
                 let constants = (setup.constants, buckets);
@@ -54,17 +54,9 @@ impl BladePosePass {
             None => pipeline::compute(device, name, spirv, own.layout, setup.constants)
                 .map(|pipeline| Dispatch::Stored(pipeline, scene.blade_count)),
         };
-        let dispatch = match dispatch {
-            Ok(dispatch) => dispatch,
-            Err(e) => {
-                // SAFETY: never recorded.
-                unsafe { own.destroy(device) };
-                return Err(e);
-            }
-        };
         Ok(Self {
-            dispatch,
-            set: own,
+            dispatch: dispatch?,
+            set: own.take(),
             animation: set.set,
             poses: set.per_blade.poses.raw,
             reads: [scene.blades.raw, scene.clusters.raw],

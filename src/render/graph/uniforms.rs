@@ -11,7 +11,7 @@ use ash::vk;
 
 use crate::error::{Error, Result};
 use crate::vk::descriptor::Resource;
-use crate::vk::{Buffer, BufferDesc, Device};
+use crate::vk::{Buffer, BufferDesc, Destroy, Device, Guard};
 
 /// One uniform block of `size` bytes per frame in flight.
 pub struct PassUniforms {
@@ -27,24 +27,14 @@ impl PassUniforms {
     /// nothing is left.
     pub fn new(device: &Device, name: &str, size: u64, frames: usize) -> Result<Self> {
         let usage = vk::BufferUsageFlags::UNIFORM_BUFFER | vk::BufferUsageFlags::STORAGE_BUFFER;
-        let mut buffers = Vec::with_capacity(frames);
+        let mut buffers = Guard::new(device, Vec::with_capacity(frames));
         for slot in 0..frames {
             let label = format!("{name} uniforms #{slot}");
-            match Buffer::new(device, &BufferDesc::upload(&label, size.max(16), usage)) {
-                Ok(mut buffer) => {
-                    buffer.write(0, &vec![0u8; buffer.size as usize]);
-                    buffers.push(buffer);
-                }
-                Err(e) => {
-                    for buffer in buffers {
-                        // SAFETY: never used by the GPU.
-                        unsafe { buffer.destroy(device) };
-                    }
-                    return Err(e);
-                }
-            }
+            let mut buffer = Buffer::new(device, &BufferDesc::upload(&label, size.max(16), usage))?;
+            buffer.write(0, &vec![0u8; buffer.size as usize]);
+            buffers.push(buffer);
         }
-        Ok(Self { name: name.to_owned(), size, buffers: RefCell::new(buffers) })
+        Ok(Self { name: name.to_owned(), size, buffers: RefCell::new(buffers.take()) })
     }
 
     /// Frame slot `slot`'s block, for a descriptor write.
@@ -90,5 +80,12 @@ impl PassUniforms {
             // SAFETY: per the contract.
             unsafe { buffer.destroy(device) };
         }
+    }
+}
+
+impl Destroy for PassUniforms {
+    unsafe fn destroy(self, device: &Device) {
+        // SAFETY: per the contract.
+        unsafe { PassUniforms::destroy(self, device) };
     }
 }

@@ -17,7 +17,7 @@ use crate::render::recording;
 use crate::render::recording::bucket_dispatch::{self, BucketDispatch};
 use crate::render::recording::PassSet;
 use crate::render::shaders;
-use crate::vk::{Access, Device};
+use crate::vk::{Access, Device, Guard};
 
 /// The compute pipelines (one per LOD bucket) and the buffers they touch.
 pub struct BladeLevelsPass {
@@ -45,18 +45,11 @@ impl BladeLevelsPass {
         };
         let (name, spirv) = ("blade levels", shaders::BLADE_LEVELS_COMP.code(device.profile));
         let constants = (setup.constants, buckets);
-        let own = bucket_dispatch::draws_set(device, name, spirv, &setup.sets, &scene.draws)?;
-        let buckets = match BucketDispatch::new(device, name, spirv, own.layout, constants, scene.draws.raw) {
-            Ok(buckets) => buckets,
-            Err(e) => {
-                // SAFETY: never recorded.
-                unsafe { own.destroy(device) };
-                return Err(e);
-            }
-        };
+        let own = Guard::new(device, bucket_dispatch::draws_set(device, name, spirv, &setup.sets, &scene.draws)?);
+        let buckets = BucketDispatch::new(device, name, spirv, own.layout, constants, scene.draws.raw)?;
         Ok(Self {
             buckets,
-            set: own,
+            set: own.take(),
             animation: set.set,
             poses: set.per_blade.poses.raw,
             levels: set.per_blade.levels.raw,

@@ -10,7 +10,7 @@ use ash::vk;
 
 use crate::error::Result;
 use crate::vk::descriptor::{Resource, SetLayout};
-use crate::vk::{pipeline, Device};
+use crate::vk::{pipeline, Destroy, Device, Guard};
 
 /// What a pass set is built from.
 pub struct PassSetDesc<'a> {
@@ -64,43 +64,37 @@ pub struct PassSet {
 impl PassSet {
     /// Reflect the set, build the pipeline layout and point each frame's set at
     /// `resources(slot)` (by name; a resource the shaders do not bind is left out, a binding no
-    /// resource is named for is an error naming it). On failure nothing is left.
+    /// resource is named for is an error naming it). On failure nothing is left (a guard holds
+    /// what is made so far).
     pub fn new<'r>(
         device: &Device,
         desc: &PassSetDesc,
         resources: impl Fn(usize) -> Vec<(&'r str, Resource)>,
     ) -> Result<Self> {
-        let mut made = Self {
-            set_layout: SetLayout::default(),
-            layout: vk::PipelineLayout::null(),
-            pool: vk::DescriptorPool::null(),
-            sets: Vec::new(),
-            index: desc.before.len() as u32,
-        };
+        let mut made = Guard::new(
+            device,
+            Self {
+                set_layout: SetLayout::default(),
+                layout: vk::PipelineLayout::null(),
+                pool: vk::DescriptorPool::null(),
+                sets: Vec::new(),
+                index: desc.before.len() as u32,
+            },
+        );
         let name = desc.name;
-        let built = (|| {
-            made.set_layout = SetLayout::reflected(device, &format!("{name} set layout"), desc.shaders, made.index)?;
-            let mut bindings: Vec<&[crate::vk::descriptor::Binding]> =
-                desc.before.iter().map(|l| l.bindings.as_slice()).collect();
-            bindings.push(&made.set_layout.bindings);
-            crate::vk::descriptor::check_storage_buffers(device, name, &bindings)?;
-            let mut raw: Vec<vk::DescriptorSetLayout> = desc.before.iter().map(|l| l.raw).collect();
-            raw.push(made.set_layout.raw);
-            made.layout = pipeline::layout(device, &format!("{name} layout"), &raw, desc.push)?;
-            (made.pool, made.sets) = made.set_layout.allocate(device, &format!("{name} sets"), desc.frames as u32)?;
-            for (slot, &set) in made.sets.iter().enumerate() {
-                made.set_layout.write_named(device, set, &format!("{name} set"), &resources(slot))?;
-            }
-            Ok(())
-        })();
-        match built {
-            Ok(()) => Ok(made),
-            Err(e) => {
-                // SAFETY: nothing was submitted with them; null handles are ignored.
-                unsafe { made.destroy(device) };
-                Err(e)
-            }
+        made.set_layout = SetLayout::reflected(device, &format!("{name} set layout"), desc.shaders, made.index)?;
+        let mut bindings: Vec<&[crate::vk::descriptor::Binding]> =
+            desc.before.iter().map(|l| l.bindings.as_slice()).collect();
+        bindings.push(&made.set_layout.bindings);
+        crate::vk::descriptor::check_storage_buffers(device, name, &bindings)?;
+        let mut raw: Vec<vk::DescriptorSetLayout> = desc.before.iter().map(|l| l.raw).collect();
+        raw.push(made.set_layout.raw);
+        made.layout = pipeline::layout(device, &format!("{name} layout"), &raw, desc.push)?;
+        (made.pool, made.sets) = made.set_layout.allocate(device, &format!("{name} sets"), desc.frames as u32)?;
+        for (slot, &set) in made.sets.iter().enumerate() {
+            made.set_layout.write_named(device, set, &format!("{name} set"), &resources(slot))?;
         }
+        Ok(made.take())
     }
 
     /// Set `index` (a frame slot).
@@ -127,8 +121,16 @@ impl PassSet {
             device.raw.destroy_descriptor_pool(self.pool, None);
             crate::vk::live::destroyed(self.layout);
             device.raw.destroy_pipeline_layout(self.layout, None);
-            self.set_layout.destroy(device);
+            SetLayout::destroy(&self.set_layout, device);
         }
+    }
+}
+
+/// A pass set being built, or in a pass being built, is guarded like any object (`vk::Guard`).
+impl Destroy for PassSet {
+    unsafe fn destroy(self, device: &Device) {
+        // SAFETY: per the contract (the inherent `destroy`, by reference).
+        unsafe { PassSet::destroy(&self, device) };
     }
 }
 

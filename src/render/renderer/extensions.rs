@@ -9,7 +9,7 @@ use crate::error::Result;
 use crate::render::graph::{Pass, PassUniforms, Temporal, TemporalPair};
 use crate::render::uniforms::FrameUniforms;
 use crate::vk::descriptor::SetLayout;
-use crate::vk::{Access, Device, Resource};
+use crate::vk::{Access, Destroy, Device, Guard, Resource};
 
 /// A set-0 instance of a pass's own, one per frame in flight: each points at the scene and that
 /// frame's forces as the frame's own set 0 does, and at the pass's own `FrameUniforms` block
@@ -21,6 +21,13 @@ pub struct FrameInstance {
     pub uniforms: PassUniforms,
     pool: vk::DescriptorPool,
     sets: Vec<vk::DescriptorSet>,
+}
+
+impl Destroy for FrameInstance {
+    unsafe fn destroy(self, device: &Device) {
+        // SAFETY: per the contract.
+        unsafe { FrameInstance::destroy(self, device) };
+    }
 }
 
 impl FrameInstance {
@@ -87,28 +94,17 @@ impl Renderer {
         let device = &*self.device;
         let slots = self.settings.frames_in_flight;
         let size = std::mem::size_of::<FrameUniforms>() as u64;
-        let uniforms = PassUniforms::new(device, &format!("{name} frame"), size, slots)?;
-        let (pool, sets) = match self.layouts.scene.allocate(device, &format!("{name} frame sets"), slots as u32) {
-            Ok(made) => made,
-            Err(e) => {
-                // SAFETY: never used.
-                unsafe { uniforms.destroy(device) };
-                return Err(e);
-            }
-        };
-        let instance = FrameInstance { uniforms, pool, sets };
+        let uniforms = Guard::new(device, PassUniforms::new(device, &format!("{name} frame"), size, slots)?);
+        let (pool, sets) = self.layouts.scene.allocate(device, &format!("{name} frame sets"), slots as u32)?;
+        let instance = Guard::new(device, FrameInstance { uniforms: uniforms.take(), pool, sets });
         for slot in 0..slots {
             let mut own = super::frame_bindings(&self.forces, slot);
             let block = crate::vk::descriptor::Resource::Buffer(instance.uniforms.descriptor(slot));
             own.extend(crate::render::layouts::frame_resources(block));
             let set = instance.sets[slot];
-            if let Err(e) = self.scene_gpu().write_descriptors(device, &self.layouts.scene, set, &own) {
-                // SAFETY: never used.
-                unsafe { instance.destroy(device) };
-                return Err(e);
-            }
+            self.scene_gpu().write_descriptors(device, &self.layouts.scene, set, &own)?;
         }
-        Ok(instance)
+        Ok(instance.take())
     }
 
     /// Set the simulation's fixed step (`FrameClock::dt`, seconds) of the next frames.

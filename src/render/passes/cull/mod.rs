@@ -24,7 +24,7 @@ use crate::render::recording::{self, PassSet, SceneSets};
 use crate::render::scene_gpu::SceneGpu;
 use crate::render::shaders;
 use crate::vk::descriptor::Resource;
-use crate::vk::{pipeline, Access, Buffer, BufferDesc, Destroy, Device};
+use crate::vk::{pipeline, Access, Buffer, BufferDesc, Destroy, Device, Guard};
 
 /// What the cull passes are built from: the scene's set layouts (sets 0 and 1 of their pipeline
 /// layout), the push-constant range, the specialization constants, and the frames' host-visible
@@ -110,26 +110,15 @@ fn cull_set(device: &Device, setup: &CullSetup, scene: &SceneGpu) -> Result<Pass
 
 /// Add the four passes to `graph`, in order.
 pub fn add_passes(graph: &mut Graph, device: &Device, setup: &CullSetup, scene: &SceneGpu) -> Result<()> {
-    let set = Rc::new(cull_set(device, setup, scene)?);
+    // The passes share the set: each holds a clone, and the last one destroyed destroys it.
+    let set = Guard::new(device, Rc::new(cull_set(device, setup, scene)?));
     let steps = [tiles::pass, count::pass, scan::pass, emit::pass];
-    let mut built: Vec<CullStep> = Vec::with_capacity(steps.len());
+    let mut built: Guard<Vec<CullStep>> = Guard::new(device, Vec::with_capacity(steps.len()));
     for step in steps {
-        match step(device, setup, scene, &set) {
-            Ok(pass) => built.push(pass),
-            Err(e) => {
-                for pass in built {
-                    // SAFETY: never recorded.
-                    unsafe { Box::new(pass).destroy(device) };
-                }
-                if let Some(set) = Rc::into_inner(set) {
-                    // SAFETY: never recorded.
-                    unsafe { set.destroy(device) };
-                }
-                return Err(e);
-            }
-        }
+        built.push(step(device, setup, scene, &set)?);
     }
-    built.into_iter().for_each(|pass| graph.add(pass));
+    drop(set.take());
+    built.take().into_iter().for_each(|pass| graph.add(pass));
     Ok(())
 }
 
