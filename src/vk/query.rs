@@ -38,11 +38,11 @@ impl TimestampQueries {
     ///
     /// # Safety
     /// No pending work may use the pool.
-    pub unsafe fn reserve(&mut self, device: &Device, name: &str, capacity: u32) -> Result<()> {
+    pub unsafe fn reserve(&mut self, device: &Device, name: impl FnOnce() -> String, capacity: u32) -> Result<()> {
         if capacity <= self.capacity {
             return Ok(());
         }
-        let grown = Self::new(device, name, capacity)?;
+        let grown = Self::new(device, &name(), capacity)?;
         // SAFETY: per the contract.
         unsafe { std::mem::replace(self, grown).destroy(device) };
         Ok(())
@@ -303,11 +303,11 @@ impl StatisticsQueries {
     ///
     /// # Safety
     /// No pending work may use the pool.
-    pub unsafe fn reserve(&mut self, device: &Device, name: &str, capacity: u32) -> Result<()> {
+    pub unsafe fn reserve(&mut self, device: &Device, name: impl FnOnce() -> String, capacity: u32) -> Result<()> {
         if capacity <= self.capacity {
             return Ok(());
         }
-        let Some(grown) = Self::new(device, name, capacity)? else { return Ok(()) };
+        let Some(grown) = Self::new(device, &name(), capacity)? else { return Ok(()) };
         // SAFETY: per the contract.
         unsafe { std::mem::replace(self, grown).destroy(device) };
         Ok(())

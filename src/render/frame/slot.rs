@@ -212,9 +212,9 @@ impl Frame {
         let index = self.index;
         // SAFETY: per the contract.
         unsafe {
-            self.timestamps.reserve(device, &format!("frame {index} timestamps"), timestamps)?;
+            self.timestamps.reserve(device, || format!("frame {index} timestamps"), timestamps)?;
             if let Some(queries) = &mut self.statistics {
-                queries.reserve(device, &format!("frame {index} statistics"), statistics)?;
+                queries.reserve(device, || format!("frame {index} statistics"), statistics)?;
             }
         }
         let bytes = self.timestamps.copy_size() + self.statistics.as_ref().map_or(0, |s| s.copy_size());

@@ -142,8 +142,7 @@ fn begin_rendering(device: &Device, cmd: vk::CommandBuffer, rendering: &Renderin
             .store_op(store)
             .clear_value(clear)
     };
-    let color: Vec<_> =
-        rendering.color.map(|c| info(c, vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)).into_iter().collect();
+    let color = rendering.color.map(|c| info(c, vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL));
     let depth = rendering.depth.map(|d| info(d, vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL));
     let flags = if rendering.secondary {
         vk::RenderingFlags::CONTENTS_SECONDARY_COMMAND_BUFFERS
@@ -154,7 +153,7 @@ fn begin_rendering(device: &Device, cmd: vk::CommandBuffer, rendering: &Renderin
         .flags(flags)
         .render_area(vk::Rect2D { offset: vk::Offset2D::default(), extent: rendering.extent })
         .layer_count(1)
-        .color_attachments(&color);
+        .color_attachments(color.as_slice());
     if let Some(depth) = &depth {
         begin = begin.depth_attachment(depth);
     }
