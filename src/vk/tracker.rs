@@ -340,7 +340,7 @@ mod tests {
         assert_eq!(sampled.new_layout, vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL);
         assert_eq!(sampled.src_access, vk::AccessFlags2::SHADER_STORAGE_WRITE, "the write made available");
         let (previous, next) = states.access(grid, &[Access::ComputeShaderWrite]).expect("WAR + layout");
-        assert_eq!(previous, vec![Access::ComputeShaderSampledRead]);
+        assert_eq!(previous.to_vec(), vec![Access::ComputeShaderSampledRead]);
         let again = sync::transition(&previous, &next);
         assert_eq!(
             (again.old_layout, again.new_layout),
