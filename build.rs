@@ -17,7 +17,8 @@
 //!
 //! Set 0's bindings are numbered here, not by hand (`build/scene_set.rs`): every
 //! `layout(SCENE(Name), …)` declaration of both trees is found, the names are numbered, and
-//! `OUT_DIR/glsl/generated/scene_set.glsl` (on glslang's include path) defines them.
+//! `OUT_DIR/glsl/generated/scene_set.glsl` (on glslang's include path) defines them. So are the
+//! specialization constants' ids (`layout(constant_id = SPEC(NAME))`, `generated/spec_ids.glsl`).
 //!
 //! It writes `OUT_DIR/scene_shaders.rs`, the library's shaders that read a scene-set declaration
 //! (`render::shaders::SCENE`), and `OUT_DIR/gpu_constants.rs` from `shaders/common/shared.glsl`, the one source of
@@ -38,6 +39,9 @@ const STAGES: [&str; 3] = ["vert", "frag", "comp"];
 
 /// The generated header of set 0's binding numbers, under `OUT_DIR/glsl/` (`build/scene_set.rs`).
 const SCENE_SET_HEADER: &str = "generated/scene_set.glsl";
+
+/// The generated header of the specialization constants' ids, beside it.
+const SPEC_IDS_HEADER: &str = "generated/spec_ids.glsl";
 
 /// The backend profiles, with the define each one's shaders are built with.
 const PROFILES: [(&str, &str); 2] = [("lavapipe", "MEADOW_PROFILE_LAVAPIPE"), ("generic", "MEADOW_PROFILE_GENERIC")];
@@ -145,11 +149,11 @@ fn main() {
         .unwrap_or_else(|e| fail(&format!("cannot write scene_shaders.rs: {e}")));
 }
 
-/// Number set 0's resources from their declarations in `trees` and write
-/// `generated/scene_set.glsl` under `generated` (only when it changed); the library's files that
-/// declare one. A bad declaration fails the build with its file and line.
+/// Number set 0's resources and the specialization constants from their declarations in
+/// `trees` and write `generated/scene_set.glsl` and `generated/spec_ids.glsl` under `generated`
+/// (only when they changed); the library's files that declare a set-0 resource. A bad declaration fails the build with its file and line.
 fn write_scene_set(manifest: &Path, generated: &Path, trees: &[(PathBuf, &str, Vec<PathBuf>)]) -> Vec<PathBuf> {
-    let mut declarations = Vec::new();
+    let (mut declarations, mut constants) = (Vec::new(), Vec::new());
     let mut declaring = Vec::new();
     for (_, prefix, files) in trees {
         for file in files {
@@ -160,14 +164,20 @@ fn write_scene_set(manifest: &Path, generated: &Path, trees: &[(PathBuf, &str, V
                 declaring.push(file.clone());
             }
             declarations.extend(found);
+            constants
+                .extend(scene_set::spec_declarations(&shown, &text, prefix.is_empty()).unwrap_or_else(|e| fail(&e)));
         }
     }
-    let header = scene_set::header(&declarations).unwrap_or_else(|e| fail(&e));
-    let path = generated.join(SCENE_SET_HEADER);
-    std::fs::create_dir_all(path.parent().expect("in a folder"))
-        .unwrap_or_else(|e| fail(&format!("cannot create {}: {e}", path.display())));
-    if std::fs::read_to_string(&path).ok().as_deref() != Some(header.as_str()) {
-        std::fs::write(&path, header).unwrap_or_else(|e| fail(&format!("cannot write {}: {e}", path.display())));
+    let headers =
+        [(SCENE_SET_HEADER, scene_set::header(&declarations)), (SPEC_IDS_HEADER, scene_set::spec_header(&constants))];
+    for (name, header) in headers {
+        let header = header.unwrap_or_else(|e| fail(&e));
+        let path = generated.join(name);
+        std::fs::create_dir_all(path.parent().expect("in a folder"))
+            .unwrap_or_else(|e| fail(&format!("cannot create {}: {e}", path.display())));
+        if std::fs::read_to_string(&path).ok().as_deref() != Some(header.as_str()) {
+            std::fs::write(&path, header).unwrap_or_else(|e| fail(&format!("cannot write {}: {e}", path.display())));
+        }
     }
     declaring
 }

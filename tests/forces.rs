@@ -42,14 +42,23 @@ fn gpu_forces(device: &Arc<Device>, case: &Case) -> meadow::Result<(Vec<Vec2>, V
     bindings.extend((1..6).map(|b| Binding { binding: b, kind: vk::DescriptorType::STORAGE_BUFFER, stages: compute }));
     let set_layout = descriptor::set_layout(device, "forces set layout", &bindings)?;
     let layout = pipeline::layout(device, "forces layout", &[set_layout], &[])?;
-    // constant_id 4: attenuation (0 cluster, 1 blade), as the blade pipelines are specialised.
+    // The attenuation (0 cluster, 1 blade), as the blade pipelines are specialised; the texture
+    // mode and encoding 1, the rest as `Specialization::new` (the shaders' defaults).
     let attenuation = u32::from(case.attenuation == Attenuation::Blade);
+    let base = meadow::render::specialization::Specialization::new(false, 4, 1, false, true);
+    let spec = meadow::render::specialization::Specialization {
+        keyframe_uvec4s: 0,
+        mode: 1,
+        encoding: 1,
+        attenuation,
+        ..base
+    };
     let pipe = pipeline::compute(
         device,
         "blade forces",
         probes::BLADE_FORCES_COMP.code(device.profile),
         layout,
-        &[0, 1, 0, 1, attenuation, 0, 0],
+        &spec.named(),
     )?;
     let (pool, sets) = descriptor::allocate_sets(device, "forces", set_layout, &bindings, 1)?;
     let writes: Vec<_> = bindings

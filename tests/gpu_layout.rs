@@ -26,7 +26,7 @@ fn options() -> GpuOptions {
 fn run_compute(
     device: &Arc<Device>,
     spirv: &[u8],
-    constants: &[u32],
+    constants: &[(&str, u32)],
     (kind, input): (vk::DescriptorType, &[u8]),
     words: usize,
     groups: u32,
@@ -92,7 +92,8 @@ fn every_blade_field_reads_back_through_a_compute_shader() {
     }
 }
 
-/// Words `frame_readback.comp` writes: the uniforms, one per `SPEC_*` id, six shared constants.
+/// Words `frame_readback.comp` writes: the uniforms, one per specialization-constant id, six
+/// shared constants.
 const FRAME_WORDS: usize = 140;
 const READBACK_WORDS: usize = FRAME_WORDS + specialization::COUNT + 6;
 
@@ -140,37 +141,37 @@ fn every_frame_uniform_and_specialization_constant_reads_back_through_a_compute_
     };
     let input = (vk::DescriptorType::UNIFORM_BUFFER, bytemuck::bytes_of(&uniforms));
     let (result, messages) = with_device(&options(), false, |device| {
-        run_compute(
-            device,
-            probes::FRAME_READBACK_COMP.code(device.profile),
-            &spec.constants(),
-            input,
-            READBACK_WORDS,
-            1,
-        )
+        run_compute(device, probes::FRAME_READBACK_COMP.code(device.profile), &spec.named(), input, READBACK_WORDS, 1)
     });
     let words = result.expect("readback ran");
     assert_eq!(messages, Some(0), "validation messages");
     let expected: &[u32] = bytemuck::cast_slice(std::slice::from_ref(&uniforms));
     assert_eq!(expected.len(), FRAME_WORDS);
     assert_eq!(&words[..FRAME_WORDS], expected, "FrameUniforms");
-    // Each named constant of the shaders holds the Specialization field of the same name.
-    let seen = |id: u32| words[FRAME_WORDS + id as usize];
-    assert_eq!(seen(gpu::SPEC_KEYFRAME_UVEC4S), spec.keyframe_uvec4s, "KEYFRAME_UVEC4S");
-    assert_eq!(seen(gpu::SPEC_ANIMATION_MODE), spec.mode, "ANIMATION_MODE");
-    assert_eq!(seen(gpu::SPEC_SMOOTHING), spec.smoothing, "SMOOTHING");
-    assert_eq!(seen(gpu::SPEC_KEYFRAME_ENCODING), spec.encoding, "KEYFRAME_ENCODING");
-    assert_eq!(seen(gpu::SPEC_ATTENUATION), spec.attenuation, "ATTENUATION");
-    assert_eq!(seen(gpu::SPEC_REPRESENTATION), spec.representation, "REPRESENTATION");
-    assert_eq!(seen(gpu::SPEC_RENDER_FLAGS), spec.flags, "RENDER_FLAGS");
-    assert_eq!(seen(gpu::SPEC_SEGMENTS), spec.segments, "SEGMENTS");
-    assert_eq!(seen(gpu::SPEC_BLADES_PER_INSTANCE), spec.blades_per_instance, "BLADES_PER_INSTANCE");
-    assert_eq!(seen(gpu::SPEC_ENCODE_SRGB), spec.encode_srgb, "ENCODE_SRGB");
-    assert_eq!(seen(gpu::SPEC_MODEL_SEGMENTS), spec.model_segments, "MODEL_SEGMENTS");
-    assert_eq!(seen(gpu::SPEC_CULL_GROUP), spec.cull_group, "CULL_GROUP");
-    assert_eq!(seen(gpu::SPEC_MSAA_SAMPLES), spec.msaa_samples, "MSAA_SAMPLES");
-    assert_eq!(seen(gpu::SPEC_STRIP_AREA), spec.strip_area, "STRIP_AREA");
-    assert_eq!(seen(gpu::SPEC_STRIP_L6), spec.strip_l6, "STRIP_L6");
+    // Each named constant of the shaders holds the Specialization field of the same name; the
+    // probe writes each at its id, build.rs's, reflected from the SPIR-V.
+    let code = probes::FRAME_READBACK_COMP.code(meadow::vk::profile::Profile::Lavapipe);
+    let ids = meadow::vk::reflect::spec_constants("frame_readback.comp", code).expect("reflected");
+    assert_eq!(ids.len(), specialization::COUNT, "{ids:?}");
+    let seen = |name: &str| {
+        let id = ids.iter().find(|(_, n)| n == name).unwrap_or_else(|| panic!("{name} in {ids:?}")).0;
+        words[FRAME_WORDS + id as usize]
+    };
+    assert_eq!(seen("KEYFRAME_UVEC4S"), spec.keyframe_uvec4s, "KEYFRAME_UVEC4S");
+    assert_eq!(seen("ANIMATION_MODE"), spec.mode, "ANIMATION_MODE");
+    assert_eq!(seen("SMOOTHING"), spec.smoothing, "SMOOTHING");
+    assert_eq!(seen("KEYFRAME_ENCODING"), spec.encoding, "KEYFRAME_ENCODING");
+    assert_eq!(seen("ATTENUATION"), spec.attenuation, "ATTENUATION");
+    assert_eq!(seen("REPRESENTATION"), spec.representation, "REPRESENTATION");
+    assert_eq!(seen("RENDER_FLAGS"), spec.flags, "RENDER_FLAGS");
+    assert_eq!(seen("SEGMENTS"), spec.segments, "SEGMENTS");
+    assert_eq!(seen("BLADES_PER_INSTANCE"), spec.blades_per_instance, "BLADES_PER_INSTANCE");
+    assert_eq!(seen("ENCODE_SRGB"), spec.encode_srgb, "ENCODE_SRGB");
+    assert_eq!(seen("MODEL_SEGMENTS"), spec.model_segments, "MODEL_SEGMENTS");
+    assert_eq!(seen("CULL_GROUP"), spec.cull_group, "CULL_GROUP");
+    assert_eq!(seen("MSAA_SAMPLES"), spec.msaa_samples, "MSAA_SAMPLES");
+    assert_eq!(seen("STRIP_AREA"), spec.strip_area, "STRIP_AREA");
+    assert_eq!(seen("STRIP_L6"), spec.strip_l6, "STRIP_L6");
     // The shaders see the constants build.rs generated for Rust.
     let shared = &words[FRAME_WORDS + specialization::COUNT..];
     let flags = gpu::FLAG_DEBUG_FORCE | gpu::FLAG_EVAL_BLADE | gpu::FLAG_CLUSTER_PUSH;

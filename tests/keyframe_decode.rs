@@ -110,8 +110,14 @@ fn decode_on_gpu(device: &Arc<Device>, source: Source) -> meadow::Result<(Keyfra
         "keyframe decode",
         probes::KEYFRAME_DECODE_COMP.code(device.profile),
         layout,
-        // constant_id 0: uniform array size, 1: mode (texture), 3: encoding or packing.
-        &[KeyframeUniforms::capacity(device), 1, 0, source.code(), 0, 0, 0],
+        // The uniform array's size, the mode (texture), the encoding or packing.
+        &meadow::render::specialization::Specialization {
+            keyframe_uvec4s: KeyframeUniforms::capacity(device),
+            mode: 1,
+            encoding: source.code(),
+            ..meadow::render::specialization::Specialization::new(false, 4, 1, false, true)
+        }
+        .named(),
     )?;
     let (pool, sets) = descriptor::allocate_sets(device, "decode", set_layout, &bindings, 1)?;
     descriptor::write(

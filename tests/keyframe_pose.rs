@@ -135,7 +135,7 @@ fn poses_on_gpu(device: &Arc<Device>, smoothing: Smoothing, forces: &[(f32, f32)
     let code = probes::KEYFRAME_POSE_COMP.code(device.profile);
     let probe = SetLayout::reflected(device, "pose set layout", &[("keyframe_pose.comp", code)], 0)?;
     let layout = pipeline::layout(device, "pose layout", &[probe.raw, animation_layout.raw], &[])?;
-    let constants = specialization.constants();
+    let constants = specialization.named();
     let pipe = pipeline::compute(device, "keyframe pose", code, layout, &constants)?;
     let (pool, sets) = probe.allocate(device, "pose", 1)?;
     let resources = [

@@ -135,3 +135,29 @@ fn a_resource_declared_in_one_header_is_numbered_by_build_rs_and_written_by_name
     assert_eq!(messages, Some(0), "validation messages");
     assert_eq!(words, [probe_words, heights, 2.5f32.to_bits()]);
 }
+
+#[test]
+fn specialization_constants_are_numbered_by_name_and_checked() {
+    use scene_set::{spec_declarations, spec_header};
+    let common = "layout(constant_id = SPEC(SEGMENTS)) const uint SEGMENTS = 4u;\n\
+                  layout(constant_id = SPEC(STRIP_AREA)) const float STRIP_AREA = 1.0;\n\
+                  layout(local_size_x_id = SPEC(SEGMENTS)) in; // a use, not a declaration\n\
+                  layout(constant_id = 0) const bool OWN = false; // one shader's own id\n";
+    let all = spec_declarations("shaders/common/common.glsl", common, true).unwrap();
+    let names: Vec<(&str, &str)> = all.iter().map(|d| (d.name.as_str(), d.kind.as_str())).collect();
+    assert_eq!(names, [("SEGMENTS", "uint"), ("STRIP_AREA", "float")]);
+    let text = spec_header(&all).unwrap();
+    assert!(text.contains("#define SPEC(name) SPEC_ID_##name"), "{text}");
+    assert!(text.contains("#define SPEC_ID_SEGMENTS 0 // uint, shaders/common/common.glsl:1\n"), "{text}");
+    assert!(text.contains("#define SPEC_ID_STRIP_AREA 1 "), "{text}");
+    // One name, two types: refused, naming both.
+    let mut clash = all.clone();
+    let other = "layout(constant_id = SPEC(SEGMENTS)) const float SEGMENTS = 4.0;\n";
+    clash.extend(spec_declarations("tests/shaders/t.comp", other, false).unwrap());
+    let error = spec_header(&clash).unwrap_err();
+    assert!(error.contains("common.glsl:1") && error.contains("tests/shaders/t.comp:1"), "{error}");
+    // A name that is not the constant's.
+    let wrong = "layout(constant_id = SPEC(SEGMENTS)) const uint SEGMENT = 4u;\n";
+    let error = spec_declarations("shaders/x.glsl", wrong, true).unwrap_err();
+    assert!(error.starts_with("shaders/x.glsl:1: ") && error.contains("SPEC(SEGMENTS)"), "{error}");
+}

@@ -22,7 +22,7 @@ layout(set = SET_ANIMATION, binding = BINDING_KEYFRAMES) uniform sampler2D keyfr
 // min(maxUniformBufferRange, 64 KiB), set by the pipeline (`render::animation::keyframe_gpu::KeyframeUniforms::capacity`).
 // A buffer block, so sizing it by a specialization constant is fine; arrays in shader code are
 // sized by the fixed limits of shared.glsl.
-layout(constant_id = SPEC_KEYFRAME_UVEC4S) const uint KEYFRAME_UVEC4S = 4096u;
+layout(constant_id = SPEC(KEYFRAME_UVEC4S)) const uint KEYFRAME_UVEC4S = 4096u;
 layout(set = SET_ANIMATION, binding = BINDING_KEYFRAME_WORDS, std140) uniform KeyframeWords { uvec4 keyframe_words[KEYFRAME_UVEC4S]; };
 // `--eval blade`: the evaluated blade, written by blade_pose.comp and read by blade.vert:
 // POSE_WORDS words per level, MODEL_SEGMENTS + 1 levels per blade: the local-frame point divided by

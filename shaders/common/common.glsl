@@ -4,6 +4,7 @@
 #ifndef MEADOW_COMMON_GLSL
 #define MEADOW_COMMON_GLSL
 #include "common/shared.glsl"
+#include "generated/spec_ids.glsl"
 
 // Per-frame constants (std140, 560 bytes).
 struct FrameUniforms {
@@ -34,20 +35,21 @@ struct FrameUniforms {
 // How the blades are animated is fixed per pipeline by specialization constants, not read from
 // uniforms: llvmpipe (and most GPUs) compile a uniform branch into masked code that pays for every
 // path, so each configuration gets its own pipeline with the other paths compiled out.
-// `render::specialization::Specialization` fills them; the ids and codes are in shared.glsl.
-layout(constant_id = SPEC_ANIMATION_MODE) const uint ANIMATION_MODE = MODE_STATIC;
-layout(constant_id = SPEC_SMOOTHING) const uint SMOOTHING = 0u;
-layout(constant_id = SPEC_KEYFRAME_ENCODING) const uint KEYFRAME_ENCODING = 1u;
-layout(constant_id = SPEC_ATTENUATION) const uint ATTENUATION = ATTENUATION_CLUSTER;
-layout(constant_id = SPEC_REPRESENTATION) const uint REPRESENTATION = REPRESENTATION_LEVELS;
-layout(constant_id = SPEC_RENDER_FLAGS) const uint RENDER_FLAGS = 0u; // FLAG_* bits
+// `render::specialization::Specialization` fills them by name; build.rs numbers the ids
+// (`SPEC(NAME)`, generated/spec_ids.glsl) and the codes are in shared.glsl.
+layout(constant_id = SPEC(ANIMATION_MODE)) const uint ANIMATION_MODE = MODE_STATIC;
+layout(constant_id = SPEC(SMOOTHING)) const uint SMOOTHING = 0u;
+layout(constant_id = SPEC(KEYFRAME_ENCODING)) const uint KEYFRAME_ENCODING = 1u;
+layout(constant_id = SPEC(ATTENUATION)) const uint ATTENUATION = ATTENUATION_CLUSTER;
+layout(constant_id = SPEC(REPRESENTATION)) const uint REPRESENTATION = REPRESENTATION_LEVELS;
+layout(constant_id = SPEC(RENDER_FLAGS)) const uint RENDER_FLAGS = 0u; // FLAG_* bits
 // Blade geometry (`scene::bezier::Batching`): with constants, the vertex shader's divisions by
 // the strip length become multiplications, and one blade per instance needs none at all.
 // Arrays of levels are sized by MAX_SEGMENTS + 1, never by SEGMENTS.
-layout(constant_id = SPEC_SEGMENTS) const uint SEGMENTS = 4u;
-layout(constant_id = SPEC_BLADES_PER_INSTANCE) const uint BLADES_PER_INSTANCE = 1u;
-layout(constant_id = SPEC_ENCODE_SRGB) const uint ENCODE_SRGB = 1u;
-layout(constant_id = SPEC_MODEL_SEGMENTS) const uint MODEL_SEGMENTS = 4u;
+layout(constant_id = SPEC(SEGMENTS)) const uint SEGMENTS = 4u;
+layout(constant_id = SPEC(BLADES_PER_INSTANCE)) const uint BLADES_PER_INSTANCE = 1u;
+layout(constant_id = SPEC(ENCODE_SRGB)) const uint ENCODE_SRGB = 1u;
+layout(constant_id = SPEC(MODEL_SEGMENTS)) const uint MODEL_SEGMENTS = 4u;
 
 // Model level m0 below strip level `level` of a `segments`-segment strip, and how far towards
 // m0 + 1 it lies (0 when `segments` divides MODEL_SEGMENTS). The pose pass writes, and the levels
@@ -64,13 +66,13 @@ uint model_level(uint level, uint segments, out float frac) {
 // Invocations of the cull's count and emit workgroups (one per ring slot, or per slot that draws): the device's
 // subgroup size (`render::passes::cull::workgroup_size`), so a slot's tile tests run once per subgroup;
 // on llvmpipe a 64-wide group ran them 8 times and cost 13 ms more at 1M blades.
-layout(constant_id = SPEC_CULL_GROUP) const uint CULL_GROUP = 64u;
-layout(constant_id = SPEC_MSAA_SAMPLES) const uint MSAA_SAMPLES = 1u;
+layout(constant_id = SPEC(CULL_GROUP)) const uint CULL_GROUP = 64u;
+layout(constant_id = SPEC(MSAA_SAMPLES)) const uint MSAA_SAMPLES = 1u;
 // With the solid outline (a LOD bucket's pipeline, `render::recording::bucket_dispatch::bucket_constants`):
 // the strip of SEGMENTS segments widened to cover the alpha-tested outline's area, and its l^6
 // scaled so its area-weighted mean is brute force's (`scene::alpha`).
-layout(constant_id = SPEC_STRIP_AREA) const float STRIP_AREA = 1.0;
-layout(constant_id = SPEC_STRIP_L6) const float STRIP_L6 = 1.0;
+layout(constant_id = SPEC(STRIP_AREA)) const float STRIP_AREA = 1.0;
+layout(constant_id = SPEC(STRIP_L6)) const float STRIP_L6 = 1.0;
 // Brute force draws strips, joined by repeating a strip's first and last vertices. With the cull
 // (FLAG_CULLED), the LOD buckets draw indexed triangle lists instead (`scene::bezier::BladeMesh`):
 // no joins, and a blade whose outline is geometry (FLAG_SOLID_OUTLINE: zero width at the tip)

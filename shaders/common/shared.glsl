@@ -1,5 +1,5 @@
 // The one source of truth for the integer constants the shaders and Rust share: set 1's descriptor
-// bindings, specialization-constant ids, flag bits, mode codes and limits. build.rs parses this
+// bindings, flag bits, mode codes and limits. build.rs parses this
 // file and writes each `#define NAME VALUE // doc` as `pub const NAME: u32 = VALUE;` with the doc
 // into `render::gpu_constants`; Rust uses those, never a copy. The parser is strict: besides
 // `#define` lines it accepts only `//` comments, blank lines and the include guard, and a define
@@ -22,25 +22,11 @@
 #define BINDING_LEVELS 3 // With the cull and pose records: each drawn blade's strip levels placed and lit, written by blade_levels.comp (blade.vert reads `BINDING_LEVEL_TEXELS`).
 #define BINDING_LEVEL_TEXELS 4 // The placed levels again as RG32UI texels, as blade.vert fetches them (`level_word` in bindings.glsl).
 
-// Specialization-constant ids (`layout(constant_id = SPEC_*)`), filled by
-// `render::specialization::Specialization`.
-#define SPEC_KEYFRAME_UVEC4S 0 // `uvec4`s of the keyframe uniform array.
-#define SPEC_ANIMATION_MODE 1 // `MODE_*`: how the blades are animated.
-#define SPEC_SMOOTHING 2 // 0 nearest, 1 linear (eq. 3.13), 2 slerp (eq. 3.14).
-#define SPEC_KEYFRAME_ENCODING 3 // Texture encoding 0 rgba8x2, 1 unorm16, 2 float32; uniform packing 3 thesis-merged, 4 snorm16x2.
-#define SPEC_ATTENUATION 4 // `ATTENUATION_*`: where the wind is attenuated.
-#define SPEC_REPRESENTATION 5 // `REPRESENTATION_*`: how a pose is represented.
-#define SPEC_RENDER_FLAGS 6 // `FLAG_*` bits.
-#define SPEC_SEGMENTS 7 // Segments per blade, at most `MAX_SEGMENTS`.
-#define SPEC_BLADES_PER_INSTANCE 8 // Blades per instance (1: the strip alone, no degenerate joins, no tail test).
-#define SPEC_ENCODE_SRGB 9 // 1 when the shaders encode sRGB (UNORM targets), 0 when the target's format does.
-#define SPEC_CULL_GROUP 11 // Invocations of a cull workgroup: the device's subgroup size, within 8..=64.
-#define SPEC_MSAA_SAMPLES 12 // Samples per pixel of the scene (`--msaa`; 1 without).
-#define SPEC_STRIP_AREA 13 // A float: the solid outline's width scale for a strip of `SPEC_SEGMENTS` (`scene::alpha::strip_area_scale`).
-#define SPEC_STRIP_L6 14 // A float: the l^6 scale for a strip of `SPEC_SEGMENTS` over the model's (`scene::alpha::strip_l6_scale`).
-#define SPEC_MODEL_SEGMENTS 10 // Segments of the animation model's levels (`--segments`); `SPEC_SEGMENTS` may be fewer (a LOD bucket).
+// Specialization constants are not numbered here: each is declared `layout(constant_id =
+// SPEC(NAME))` (common.glsl), build.rs numbers the ids and `render::specialization::Specialization`
+// gives each value by NAME.
 
-// `SPEC_RENDER_FLAGS` bits.
+// `RENDER_FLAGS` bits.
 #define FLAG_DEBUG_FORCE 1u // Colour blades by force magnitude (thesis fig. 4.5 / 6.1c).
 #define FLAG_EVAL_BLADE 2u // Pose records come from the blade-pose compute pass, once per blade.
 #define FLAG_CLUSTER_PUSH 4u // Per-cluster draws push their first blade (`meadow overhead`).
@@ -89,16 +75,16 @@
 #define CAMERA_GRID_MAX_LEVELS 8u // Nested levels of one grid.
 #define CAMERA_GRID_GROUP 64u // Invocations of a fill workgroup (one cell each).
 
-// `SPEC_ANIMATION_MODE` codes.
+// `ANIMATION_MODE` codes.
 #define MODE_STATIC 0u // No animation.
 #define MODE_TEXTURE 1u // Keyframes from the keyframe texture.
 #define MODE_UNIFORM 2u // Keyframes from the keyframe uniform array (thesis 4.4.2).
 
-// `SPEC_ATTENUATION` codes (thesis 4.5).
+// `ATTENUATION` codes (thesis 4.5).
 #define ATTENUATION_CLUSTER 0u // Point sources attenuated at the cluster corners.
 #define ATTENUATION_BLADE 1u // Point sources and colliders evaluated at every blade.
 
-// `SPEC_REPRESENTATION` codes.
+// `REPRESENTATION` codes.
 #define REPRESENTATION_LEVELS 0u // Keyframe vertex levels.
 #define REPRESENTATION_CURVE 1u // A Bézier curve fitted to the keyframe.
 

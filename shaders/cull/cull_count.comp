@@ -10,7 +10,7 @@
 // sums, whose result does not depend on the order the invocations run in.
 #include "cull/cull.glsl"
 
-layout(local_size_x_id = SPEC_CULL_GROUP) in;
+layout(local_size_x_id = SPEC(CULL_GROUP)) in;
 
 shared uint counts[SLOT_WORDS];
 

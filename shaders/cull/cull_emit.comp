@@ -10,7 +10,7 @@
 #define CULL_WRITER
 #include "cull/cull.glsl"
 
-layout(local_size_x_id = SPEC_CULL_GROUP) in;
+layout(local_size_x_id = SPEC(CULL_GROUP)) in;
 
 // The count pass's verdicts (`cull_results`), in the lavapipe profile as texels: llvmpipe gathers
 // a texel fetch across the SIMD lanes, where it loads storage one lane at a time.

@@ -84,7 +84,7 @@ fn strip_width(segments: u32) -> impl Fn(f64) -> f64 {
 }
 
 /// How much wider a solid strip of `segments` is drawn so that it covers the alpha-tested
-/// outline's area (`SPEC_STRIP_AREA`): the outline's width is concave in t (`half_width`), so the
+/// outline's area (`STRIP_AREA`): the outline's width is concave in t (`half_width`), so the
 /// strip that joins its levels' widths by straight edges is thinner, by 4, 12 and 41 % for 4, 2
 /// and 1 segments. A far blade is a pixel or less across: its coverage of the pixels it crosses
 /// is what shows, and too little of it let the ground through at the 1M field's horizon.
@@ -94,7 +94,7 @@ pub fn strip_area_scale(segments: u32) -> f32 {
     (outline / strip) as f32
 }
 
-/// The factor on l^6 (`SPEC_STRIP_L6`; Belyaev §2.3's height term of the sun and Fresnel terms)
+/// The factor on l^6 (`STRIP_L6`; Belyaev §2.3's height term of the sun and Fresnel terms)
 /// that gives a solid strip of `segments` the area-weighted mean of l^6 brute force draws: brute
 /// force interpolates the point values t^6 of its `model_segments` levels over the alpha-tested
 /// outline, a coarser strip the means of l^6 over its levels' stretches (`height_six` in

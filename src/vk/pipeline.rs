@@ -63,8 +63,9 @@ pub struct GraphicsDesc<'a> {
     pub depth_format: vk::Format,
     /// Pipeline layout.
     pub layout: vk::PipelineLayout,
-    /// Specialization constants of every stage: `constant_id = i` takes `constants[i]`.
-    pub constants: &'a [u32],
+    /// Specialization constants of every stage, by the names their GLSL gives them
+    /// (`specialization`); empty: the shaders' defaults.
+    pub constants: &'a [(&'a str, u32)],
     /// Stride of a vertex buffer with one `vec3` at location 0, or 0 for none (vertex pulling).
     pub vertex_stride: u32,
     /// Rasterization samples (the attachments' sample count).
@@ -103,9 +104,32 @@ impl Blend {
     }
 }
 
-/// Map entries for `constants`: constant `i` at byte `4 i`.
-fn specialization_entries(constants: &[u32]) -> Vec<vk::SpecializationMapEntry> {
-    (0..constants.len() as u32).map(|i| vk::SpecializationMapEntry { constant_id: i, offset: 4 * i, size: 4 }).collect()
+/// The specialization of one stage (`name` names it in errors): each constant `spirv` declares
+/// (`reflect::spec_constants`, `constant_id` and name) takes the value `constants` gives by its
+/// name, so no id is kept outside the GLSL. A declared constant that `constants` does not give
+/// is an error naming it; a value no constant of this stage declares is left out (one list
+/// serves every stage and pipeline of a configuration). Empty `constants`: no specialization,
+/// the shader's defaults. Map entries and their data.
+pub fn specialization(
+    name: &str,
+    spirv: &[u8],
+    constants: &[(&str, u32)],
+) -> Result<(Vec<vk::SpecializationMapEntry>, Vec<u32>)> {
+    let (mut entries, mut data) = (Vec::new(), Vec::new());
+    if constants.is_empty() {
+        return Ok((entries, data));
+    }
+    for (id, constant) in super::reflect::spec_constants(name, spirv)? {
+        let Some(&(_, value)) = constants.iter().find(|(n, _)| *n == constant) else {
+            return Err(Error::Internal(format!(
+                "{name}: the shader declares specialization constant `{constant}` (constant_id {id}) and the \
+                 pipeline gives it no value"
+            )));
+        };
+        entries.push(vk::SpecializationMapEntry { constant_id: id, offset: 4 * data.len() as u32, size: 4 });
+        data.push(value);
+    }
+    Ok((entries, data))
 }
 
 /// The vertex buffer binding and its one `vec3` attribute at location 0 for `stride` (unused
@@ -130,21 +154,26 @@ fn graphics_modules(device: &Device, desc: &GraphicsDesc) -> Result<(vk::ShaderM
 
 /// Build a graphics pipeline with dynamic viewport and scissor.
 pub fn graphics(device: &Device, desc: &GraphicsDesc) -> Result<vk::Pipeline> {
+    let (vertex, fragment) = (
+        specialization(&format!("{} vs", desc.name), desc.vertex, desc.constants)?,
+        specialization(&format!("{} fs", desc.name), desc.fragment, desc.constants)?,
+    );
     let (vs, fs) = graphics_modules(device, desc)?;
-    let entries = specialization_entries(desc.constants);
-    let specialization =
-        vk::SpecializationInfo::default().map_entries(&entries).data(bytemuck::cast_slice(desc.constants));
+    let (vertex, fragment) = (
+        vk::SpecializationInfo::default().map_entries(&vertex.0).data(bytemuck::cast_slice(&vertex.1)),
+        vk::SpecializationInfo::default().map_entries(&fragment.0).data(bytemuck::cast_slice(&fragment.1)),
+    );
     let stages = [
         vk::PipelineShaderStageCreateInfo::default()
             .stage(vk::ShaderStageFlags::VERTEX)
             .module(vs)
             .name(c"main")
-            .specialization_info(&specialization),
+            .specialization_info(&vertex),
         vk::PipelineShaderStageCreateInfo::default()
             .stage(vk::ShaderStageFlags::FRAGMENT)
             .module(fs)
             .name(c"main")
-            .specialization_info(&specialization),
+            .specialization_info(&fragment),
     ];
     let (bindings, attributes) = vertex_input(desc.vertex_stride);
     let vertex_input = if desc.vertex_stride == 0 {
@@ -209,11 +238,11 @@ pub fn compute(
     name: &str,
     spirv: &[u8],
     layout: vk::PipelineLayout,
-    constants: &[u32],
+    constants: &[(&str, u32)],
 ) -> Result<vk::Pipeline> {
+    let (entries, data) = specialization(name, spirv, constants)?;
     let module = shader_module(device, name, spirv)?;
-    let entries = specialization_entries(constants);
-    let specialization = vk::SpecializationInfo::default().map_entries(&entries).data(bytemuck::cast_slice(constants));
+    let specialization = vk::SpecializationInfo::default().map_entries(&entries).data(bytemuck::cast_slice(&data));
     let stage = vk::PipelineShaderStageCreateInfo::default()
         .stage(vk::ShaderStageFlags::COMPUTE)
         .module(module)

@@ -55,6 +55,10 @@ const OP_TYPE_STRUCT: u32 = 30;
 const OP_TYPE_POINTER: u32 = 32;
 const OP_VARIABLE: u32 = 59;
 const OP_DECORATE: u32 = 71;
+const OP_SPEC_CONSTANT_TRUE: u32 = 48;
+const OP_SPEC_CONSTANT_FALSE: u32 = 49;
+const OP_SPEC_CONSTANT: u32 = 50;
+const DECORATION_SPEC_ID: u32 = 1;
 const OP_TYPE_ACCELERATION_STRUCTURE: u32 = 5341;
 const DECORATION_BLOCK: u32 = 2;
 const DECORATION_BUFFER_BLOCK: u32 = 3;
@@ -99,8 +103,14 @@ struct Module {
     blocks: BTreeMap<u32, u32>,
     /// (id, pointer type, storage class).
     variables: Vec<(u32, u32, u32)>,
-    /// `OpName`s by id.
+    /// `OpName`s by id, the first an id is given: glslang names a specialization constant where
+    /// it is declared, and again after a `const` initialised from it (`const uint segments =
+    /// SEGMENTS;` in blade.vert shares its id).
     names: BTreeMap<u32, String>,
+    /// `SpecId` decorations: constant id to `constant_id`.
+    spec_ids: BTreeMap<u32, u32>,
+    /// The scalar specialization constants (`OpSpecConstant*`) by id.
+    spec_constants: Vec<u32>,
 }
 
 /// Read the instructions `reflect` needs.
@@ -131,7 +141,7 @@ fn parse(spirv: &[u8]) -> std::result::Result<Module, String> {
         let Some(&id) = args.first() else { continue };
         match op {
             OP_NAME => {
-                m.names.insert(id, literal_string(&args[1..]));
+                m.names.entry(id).or_insert_with(|| literal_string(&args[1..]));
             }
             OP_ENTRY_POINT if m.stage.is_some() => return Err("more than one entry point".into()),
             OP_ENTRY_POINT => {
@@ -147,6 +157,9 @@ fn parse(spirv: &[u8]) -> std::result::Result<Module, String> {
                 }
                 (Some(d @ (DECORATION_BLOCK | DECORATION_BUFFER_BLOCK)), _) => {
                     m.blocks.insert(id, d);
+                }
+                (Some(DECORATION_SPEC_ID), Some(spec)) => {
+                    m.spec_ids.insert(id, spec);
                 }
                 _ => {}
             },
@@ -172,6 +185,9 @@ fn parse(spirv: &[u8]) -> std::result::Result<Module, String> {
                 m.types.insert(id, Type::AccelerationStructure);
             }
             OP_VARIABLE if args.len() >= 3 => m.variables.push((args[1], id, args[2])),
+            OP_SPEC_CONSTANT_TRUE | OP_SPEC_CONSTANT_FALSE | OP_SPEC_CONSTANT if args.len() >= 2 => {
+                m.spec_constants.push(args[1])
+            }
             _ => {}
         }
     }
@@ -282,6 +298,34 @@ pub fn reflect(name: &str, spirv: &[u8]) -> Result<Reflection> {
     }
     descriptors.sort_by_key(|d| (d.set, d.binding));
     Ok(Reflection { stage, descriptors })
+}
+
+/// The specialization constants `spirv` declares, as `(constant_id, name)` sorted by id: the
+/// name its GLSL gives it (`layout(constant_id = …) const uint SEGMENTS` is `SEGMENTS`), so a
+/// pipeline fills them by name and no id is kept in Rust. A constant with no name of its own (the
+/// workgroup size of `local_size_x_id`) is named after the constant that shares its id, and is an
+/// error when none does; `name` names the module in errors.
+pub fn spec_constants(name: &str, spirv: &[u8]) -> Result<Vec<(u32, String)>> {
+    let bad = |why: String| Error::Internal(format!("{name}: SPIR-V reflection: {why}"));
+    let module = parse(spirv).map_err(bad)?;
+    let mut named: BTreeMap<u32, String> = BTreeMap::new();
+    let mut unnamed = Vec::new();
+    for id in &module.spec_constants {
+        let Some(&spec) = module.spec_ids.get(id) else { continue };
+        match module.names.get(id).filter(|n| !n.is_empty()) {
+            Some(n) => match named.insert(spec, n.clone()) {
+                Some(other) if other != *n => {
+                    return Err(bad(format!("constant_id {spec} is both `{other}` and `{n}`")));
+                }
+                _ => {}
+            },
+            None => unnamed.push(spec),
+        }
+    }
+    if let Some(spec) = unnamed.into_iter().find(|spec| !named.contains_key(spec)) {
+        return Err(bad(format!("constant_id {spec} has no name (give a named constant that id too)")));
+    }
+    Ok(named.into_iter().collect())
 }
 
 /// The bindings of each set that `shaders` (one pipeline's stages, or every pipeline sharing a

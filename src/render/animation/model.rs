@@ -57,7 +57,7 @@ pub struct PassSetup<'a> {
     /// Those sets' layouts, for a pass with a set of its own (`recording::PassSet`).
     pub sets: crate::render::recording::SceneSets<'a>,
     /// The specialization constants of the scene pipelines.
-    pub constants: &'a [u32],
+    pub constants: &'a Specialization,
     /// The scene on the GPU.
     pub scene: &'a SceneGpu,
     /// With the cull before the blade pass, the segments of its LOD buckets: a model's per-blade

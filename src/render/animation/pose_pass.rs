@@ -51,7 +51,7 @@ impl BladePosePass {
                 BucketDispatch::new(device, name, spirv, own.layout, constants, scene.draws.raw)
                     .map(|buckets| Dispatch::Buckets(buckets, scene.visible.raw))
             }
-            None => pipeline::compute(device, name, spirv, own.layout, setup.constants)
+            None => pipeline::compute(device, name, spirv, own.layout, &setup.constants.named())
                 .map(|pipeline| Dispatch::Stored(pipeline, scene.blade_count)),
         };
         Ok(Self {

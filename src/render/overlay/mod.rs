@@ -118,7 +118,7 @@ impl OverlayGpu {
                 color_format: format,
                 depth_format: vk::Format::UNDEFINED,
                 layout: self.layout,
-                constants: &[u32::from(linear_target)],
+                constants: &[("LINEAR_TARGET", u32::from(linear_target))],
                 vertex_stride: 0,
                 samples: vk::SampleCountFlags::TYPE_1,
                 blend: pipeline::Blend::PremultipliedAlpha,

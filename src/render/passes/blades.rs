@@ -13,6 +13,7 @@ use crate::render::passes::{self, PipelineTarget};
 use crate::render::recording::{self, bucket_dispatch};
 use crate::render::scene_gpu::SceneGpu;
 use crate::render::shaders;
+use crate::render::specialization::Specialization;
 use crate::render::submission::{self, BladeDraws, IndirectDraws, SecondaryRecorders, Strategy};
 use crate::scene::bezier::{self, Batching};
 use crate::vk::upload::UploadBatch;
@@ -56,7 +57,7 @@ pub struct BladeSetup<'a> {
     /// Layout and formats.
     pub target: PipelineTarget,
     /// Specialization constants.
-    pub constants: &'a [u32],
+    pub constants: &'a Specialization,
     /// Segments per blade.
     pub segments: u32,
     /// Blades per instance of the instanced draw.
@@ -133,11 +134,11 @@ impl BladePass {
     fn pipeline(
         device: &Device,
         target: PipelineTarget,
-        constants: &[u32],
+        constants: &Specialization,
         name: &str,
         topology: vk::PrimitiveTopology,
     ) -> Result<vk::Pipeline> {
-        let flags = constants[gpu::SPEC_RENDER_FLAGS as usize];
+        let flags = constants.flags;
         let per_sample = target.alpha_to_coverage && flags & gpu::FLAG_SOLID_OUTLINE == 0;
         pipeline::graphics(
             device,
@@ -157,7 +158,7 @@ impl BladePass {
                 color_format: target.color,
                 depth_format: target.depth,
                 layout: target.layout,
-                constants,
+                constants: &constants.named(),
                 vertex_stride: 0,
                 samples: target.samples,
                 blend: pipeline::Blend::Opaque,
@@ -172,7 +173,7 @@ impl BladePass {
         // The outline as geometry, no alpha test: early depth rejects the overdraw. The cull's
         // scan reads the same flag (`FLAG_SOLID_OUTLINE` in every pipeline's constants) for the
         // lists' lengths.
-        let collapsed_tip = setup.constants[gpu::SPEC_RENDER_FLAGS as usize] & gpu::FLAG_SOLID_OUTLINE != 0;
+        let collapsed_tip = setup.constants.flags & gpu::FLAG_SOLID_OUTLINE != 0;
         for (b, &segments) in buckets.iter().enumerate() {
             let constants = bucket_dispatch::bucket_constants(setup.constants, segments);
             let name = format!("blades, LOD bucket {b} ({segments} segments)");

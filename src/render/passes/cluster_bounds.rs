@@ -11,6 +11,7 @@ use crate::render::graph::{Declaration, Pass, PassContext};
 use crate::render::passes::{self, PipelineTarget};
 use crate::render::scene_gpu::SceneGpu;
 use crate::render::shaders;
+use crate::render::specialization::Specialization;
 use crate::vk::{pipeline, Access, Device, Guard};
 
 /// The push constant of `cluster_bounds.vert`.
@@ -37,7 +38,7 @@ impl ClusterBoundsPass {
         device: &Device,
         set_layout: vk::DescriptorSetLayout,
         target: PipelineTarget,
-        constants: &[u32],
+        constants: &Specialization,
         scene: &SceneGpu,
     ) -> Result<Self> {
         let range = vk::PushConstantRange {
@@ -61,7 +62,7 @@ impl ClusterBoundsPass {
                 color_format: target.color,
                 depth_format: target.depth,
                 layout: *layout,
-                constants,
+                constants: &constants.named(),
                 vertex_stride: 0,
                 samples: target.samples,
                 blend: pipeline::Blend::Opaque,

@@ -10,6 +10,7 @@ use crate::error::Result;
 use crate::render::graph::{Declaration, Pass, PassContext};
 use crate::render::passes::{self, PipelineTarget};
 use crate::render::shaders;
+use crate::render::specialization::Specialization;
 use crate::scene::bezier;
 use crate::scene::BladeInstance;
 use crate::vk::upload::UploadBatch;
@@ -43,7 +44,7 @@ impl FloorPass {
     pub fn new(
         device: &Device,
         target: PipelineTarget,
-        constants: &[u32],
+        constants: &Specialization,
         blades: &[BladeInstance],
         segments: u32,
     ) -> Result<Self> {
@@ -70,7 +71,7 @@ impl FloorPass {
                 color_format: target.color,
                 depth_format: target.depth,
                 layout: target.layout,
-                constants,
+                constants: &constants.named(),
                 vertex_stride: 12,
                 samples: target.samples,
                 blend: pipeline::Blend::Opaque,

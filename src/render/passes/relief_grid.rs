@@ -32,6 +32,7 @@ use crate::render::graph::{Declaration, Pass, PassContext};
 use crate::render::recording;
 use crate::render::scene_gpu::SceneGpu;
 use crate::render::shaders;
+use crate::render::specialization::Specialization;
 use crate::render::uniforms::FrameUniforms;
 use crate::vk::{pipeline, Access, Device, Guard};
 
@@ -65,7 +66,7 @@ impl ReliefGridPass {
     pub fn new(
         device: &Device,
         set_layout: vk::DescriptorSetLayout,
-        constants: &[u32],
+        constants: &Specialization,
         scene: &SceneGpu,
     ) -> Result<Option<Self>> {
         let Some(buffer) = scene.relief_grid_read() else {
@@ -76,7 +77,7 @@ impl ReliefGridPass {
         let range = camera_grid::push_constant_range();
         let layout = Guard::new(device, pipeline::layout(device, "relief grid layout", &[set_layout], &[range])?);
         let spirv = shaders::RELIEF_GRID_COMP.code(device.profile);
-        let pipeline = pipeline::compute(device, "relief grid", spirv, *layout, constants)?;
+        let pipeline = pipeline::compute(device, "relief grid", spirv, *layout, &constants.named())?;
         Ok(Some(Self { pipeline, layout: layout.take(), buffer, grid: RefCell::new(grid), source: Cell::new(None) }))
     }
 }

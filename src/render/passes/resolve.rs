@@ -10,6 +10,7 @@ use crate::error::Result;
 use crate::render::graph::{Attachment, Declaration, Load, Pass, PassContext, Rendering};
 use crate::render::passes::{self, FrameSets};
 use crate::render::shaders;
+use crate::render::specialization::Specialization;
 use crate::vk::descriptor::Resource as Descriptor;
 use crate::vk::{pipeline, Access, Device, Guard, Resource};
 
@@ -22,8 +23,8 @@ pub struct ResolvePass {
 
 impl ResolvePass {
     /// Build the pipeline for targets of `format`; `constants` decide the encoding
-    /// (`SPEC_ENCODE_SRGB`: the target's, not the multisampled scene's).
-    pub fn new(device: &Device, format: vk::Format, constants: &[u32], frames: usize) -> Result<Self> {
+    /// (`ENCODE_SRGB`: the target's, not the multisampled scene's).
+    pub fn new(device: &Device, format: vk::Format, constants: &Specialization, frames: usize) -> Result<Self> {
         let stages = [
             ("resolve.vert", shaders::RESOLVE_VERT.code(device.profile)),
             ("resolve.frag", shaders::RESOLVE_FRAG.code(device.profile)),
@@ -43,7 +44,7 @@ impl ResolvePass {
                 color_format: format,
                 depth_format: vk::Format::UNDEFINED,
                 layout: sets.layout,
-                constants,
+                constants: &constants.named(),
                 vertex_stride: 0,
                 samples: vk::SampleCountFlags::TYPE_1,
                 blend: pipeline::Blend::Opaque,

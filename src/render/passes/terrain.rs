@@ -14,6 +14,7 @@ use crate::render::graph::{Declaration, Load, Pass, PassContext};
 use crate::render::passes::{self, PipelineTarget};
 use crate::render::scene_gpu::SceneGpu;
 use crate::render::shaders;
+use crate::render::specialization::Specialization;
 use crate::render::terrain_chunks::{self, GridPlacement, TerrainChunk};
 use crate::render::uniforms::FrameUniforms;
 use crate::vk::{pipeline, Access, Device};
@@ -42,7 +43,7 @@ impl TerrainPass {
     pub fn new(
         device: &Device,
         target: PipelineTarget,
-        constants: &[u32],
+        constants: &Specialization,
         scene: &SceneGpu,
         sky: [f32; 4],
     ) -> Result<Self> {
@@ -60,7 +61,7 @@ impl TerrainPass {
                 color_format: target.color,
                 depth_format: target.depth,
                 layout: target.layout,
-                constants,
+                constants: &constants.named(),
                 vertex_stride: 0,
                 samples: target.samples,
                 blend: pipeline::Blend::Opaque,

@@ -11,6 +11,7 @@ use crate::error::Result;
 use crate::render::gpu_constants as gpu;
 use crate::render::graph::Declaration;
 use crate::render::recording::{PassSet, SceneSets};
+use crate::render::specialization::Specialization;
 use crate::scene::alpha;
 use crate::vk::descriptor::Resource;
 use crate::vk::{pipeline, Access, Buffer, Device, Guard};
@@ -24,16 +25,16 @@ pub fn draws_set(device: &Device, name: &str, spirv: &[u8], sets: &SceneSets, dr
 }
 
 /// The specialization constants of a LOD bucket's pipelines (this module's and the blade pass's
-/// draws): the scene's `constants` with `SPEC_SEGMENTS` the bucket's `segments`, its strip's
-/// outline scales (`SPEC_STRIP_AREA`, `SPEC_STRIP_L6`) and `FLAG_CULLED`.
-pub fn bucket_constants(constants: &[u32], segments: u32) -> Vec<u32> {
-    let mut constants = constants.to_vec();
-    constants[gpu::SPEC_SEGMENTS as usize] = segments;
-    let model = constants[gpu::SPEC_MODEL_SEGMENTS as usize];
-    constants[gpu::SPEC_STRIP_AREA as usize] = alpha::strip_area_scale(segments).to_bits();
-    constants[gpu::SPEC_STRIP_L6 as usize] = alpha::strip_l6_scale(segments, model).to_bits();
-    constants[gpu::SPEC_RENDER_FLAGS as usize] |= gpu::FLAG_CULLED;
-    constants
+/// draws): the scene's `constants` with `SEGMENTS` the bucket's `segments`, its strip's
+/// outline scales (`STRIP_AREA`, `STRIP_L6`) and `FLAG_CULLED`.
+pub fn bucket_constants(constants: &Specialization, segments: u32) -> Specialization {
+    Specialization {
+        segments,
+        strip_area: alpha::strip_area_scale(segments).to_bits(),
+        strip_l6: alpha::strip_l6_scale(segments, constants.model_segments).to_bits(),
+        flags: constants.flags | gpu::FLAG_CULLED,
+        ..*constants
+    }
 }
 
 /// One compute pipeline per LOD bucket, and the `draws` buffer their dispatches come from.
@@ -50,7 +51,7 @@ impl BucketDispatch {
         name: &str,
         spirv: &[u8],
         layout: vk::PipelineLayout,
-        (constants, buckets): (&[u32], &[u32]),
+        (constants, buckets): (&Specialization, &[u32]),
         draws: vk::Buffer,
     ) -> Result<Self> {
         // The pipelines built so far were never recorded.
@@ -58,7 +59,7 @@ impl BucketDispatch {
         for (b, &segments) in buckets.iter().enumerate() {
             let constants = bucket_constants(constants, segments);
             let label = format!("{name}, LOD bucket {b} ({segments} segments)");
-            pipelines.push(pipeline::compute(device, &label, spirv, layout, &constants)?);
+            pipelines.push(pipeline::compute(device, &label, spirv, layout, &constants.named())?);
         }
         Ok(Self { pipelines: pipelines.take(), draws })
     }

@@ -30,7 +30,7 @@ impl Renderer {
         let settings = &self.settings;
         let scene = self.scene.as_ref().expect("uploaded");
         let model = self.model.as_deref().expect("built");
-        let constants = self.specialization().constants();
+        let constants = self.specialization();
         let msaa = settings.msaa;
         let target = PipelineTarget {
             layout: self.layouts.pipeline_layout,
@@ -64,8 +64,7 @@ impl Renderer {
         }
         if msaa.enabled() {
             // The target's encoding, not the multisampled scene's.
-            let mut resolve = constants;
-            resolve[gpu::SPEC_ENCODE_SRGB as usize] = u32::from(self.settings.encode_srgb);
+            let resolve = Specialization { encode_srgb: u32::from(self.settings.encode_srgb), ..constants };
             let format = self.settings.color_format;
             self.graph.add(ResolvePass::new(&self.device, format, &resolve, self.ring.slots())?);
         }
@@ -124,7 +123,7 @@ impl Renderer {
     /// A block field's relief grid, terrain, the cull (depth pyramid, tiles, count, scan, emit),
     /// the model's passes (after the cull, whose visible list they read; before the terrain
     /// without it) and the blade pass.
-    fn add_blade_passes(&mut self, target: PipelineTarget, constants: &[u32]) -> Result<()> {
+    fn add_blade_passes(&mut self, target: PipelineTarget, constants: &Specialization) -> Result<()> {
         let device = &*self.device;
         let settings = &self.settings;
         let scene = self.scene.as_ref().expect("uploaded");
@@ -139,7 +138,7 @@ impl Renderer {
         let setup = PassSetup { layout: target.layout, sets, constants, scene, buckets };
         // Never recorded until the graph holds them.
         let mut model_passes = Guard::new(device, model.passes(device, &setup)?);
-        if constants[gpu::SPEC_RENDER_FLAGS as usize] & gpu::FLAG_LEVELS != 0 {
+        if constants.flags & gpu::FLAG_LEVELS != 0 {
             model_passes.push(Box::new(BladeLevelsPass::new(device, &setup, model.resources())?));
         }
         let model_passes = model_passes.take();
@@ -184,7 +183,7 @@ fn add_terrain(
     graph: &mut Graph,
     device: &Device,
     (target, set_layout): (PipelineTarget, vk::DescriptorSetLayout),
-    constants: &[u32],
+    constants: &Specialization,
     scene: &SceneGpu,
     sky: [f32; 4],
 ) -> Result<()> {

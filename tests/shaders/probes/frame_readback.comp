@@ -2,7 +2,7 @@
 #extension GL_GOOGLE_include_directive : require
 // Test shader: reads every field of `FrameUniforms` through the std140 declaration in common.glsl
 // and writes them as 136 words, then the specialization constants as the shaders see them (by
-// `SPEC_*` id) and a few shared.glsl constants, so the test can compare them with what Rust wrote
+// `SPEC(NAME)` id, build.rs's) and a few shared.glsl constants, so the test can compare them with what Rust wrote
 // and with the constants build.rs generated (`render::gpu_constants`).
 #include "common/common.glsl"
 
@@ -10,7 +10,7 @@ layout(local_size_x = 1) in;
 
 layout(set = 0, binding = 0, std140) uniform Frame { FrameUniforms frame; };
 layout(set = 0, binding = 1, std430) writeonly buffer Fields { uint fields[]; };
-layout(constant_id = SPEC_KEYFRAME_UVEC4S) const uint KEYFRAME_UVEC4S = 4096u;
+layout(constant_id = SPEC(KEYFRAME_UVEC4S)) const uint KEYFRAME_UVEC4S = 4096u;
 
 const uint FRAME_WORDS = 140u;     // 560 bytes
 const uint SPEC_WORDS = 15u;       // SPEC_* ids 0..=14
@@ -59,21 +59,21 @@ void main() {
     put_vec4(o, frame.field);
     put_uvec4(o, frame.relief_grid);
 
-    fields[FRAME_WORDS + SPEC_KEYFRAME_UVEC4S] = KEYFRAME_UVEC4S;
-    fields[FRAME_WORDS + SPEC_ANIMATION_MODE] = ANIMATION_MODE;
-    fields[FRAME_WORDS + SPEC_SMOOTHING] = SMOOTHING;
-    fields[FRAME_WORDS + SPEC_KEYFRAME_ENCODING] = KEYFRAME_ENCODING;
-    fields[FRAME_WORDS + SPEC_ATTENUATION] = ATTENUATION;
-    fields[FRAME_WORDS + SPEC_REPRESENTATION] = REPRESENTATION;
-    fields[FRAME_WORDS + SPEC_RENDER_FLAGS] = RENDER_FLAGS;
-    fields[FRAME_WORDS + SPEC_SEGMENTS] = SEGMENTS;
-    fields[FRAME_WORDS + SPEC_BLADES_PER_INSTANCE] = BLADES_PER_INSTANCE;
-    fields[FRAME_WORDS + SPEC_ENCODE_SRGB] = ENCODE_SRGB;
-    fields[FRAME_WORDS + SPEC_MODEL_SEGMENTS] = MODEL_SEGMENTS;
-    fields[FRAME_WORDS + SPEC_CULL_GROUP] = CULL_GROUP;
-    fields[FRAME_WORDS + SPEC_MSAA_SAMPLES] = MSAA_SAMPLES;
-    fields[FRAME_WORDS + SPEC_STRIP_AREA] = floatBitsToUint(STRIP_AREA);
-    fields[FRAME_WORDS + SPEC_STRIP_L6] = floatBitsToUint(STRIP_L6);
+    fields[FRAME_WORDS + SPEC(KEYFRAME_UVEC4S)] = KEYFRAME_UVEC4S;
+    fields[FRAME_WORDS + SPEC(ANIMATION_MODE)] = ANIMATION_MODE;
+    fields[FRAME_WORDS + SPEC(SMOOTHING)] = SMOOTHING;
+    fields[FRAME_WORDS + SPEC(KEYFRAME_ENCODING)] = KEYFRAME_ENCODING;
+    fields[FRAME_WORDS + SPEC(ATTENUATION)] = ATTENUATION;
+    fields[FRAME_WORDS + SPEC(REPRESENTATION)] = REPRESENTATION;
+    fields[FRAME_WORDS + SPEC(RENDER_FLAGS)] = RENDER_FLAGS;
+    fields[FRAME_WORDS + SPEC(SEGMENTS)] = SEGMENTS;
+    fields[FRAME_WORDS + SPEC(BLADES_PER_INSTANCE)] = BLADES_PER_INSTANCE;
+    fields[FRAME_WORDS + SPEC(ENCODE_SRGB)] = ENCODE_SRGB;
+    fields[FRAME_WORDS + SPEC(MODEL_SEGMENTS)] = MODEL_SEGMENTS;
+    fields[FRAME_WORDS + SPEC(CULL_GROUP)] = CULL_GROUP;
+    fields[FRAME_WORDS + SPEC(MSAA_SAMPLES)] = MSAA_SAMPLES;
+    fields[FRAME_WORDS + SPEC(STRIP_AREA)] = floatBitsToUint(STRIP_AREA);
+    fields[FRAME_WORDS + SPEC(STRIP_L6)] = floatBitsToUint(STRIP_L6);
 
     uint s = FRAME_WORDS + SPEC_WORDS;
     fields[s + 0u] = MAX_SEGMENTS;

@@ -8,7 +8,7 @@ layout(local_size_x = 64) in;
 
 layout(set = 0, binding = 0, std140) uniform Frame { FrameUniforms frame; };
 layout(set = 0, binding = 1) uniform sampler2D keyframe_texture;
-layout(constant_id = SPEC_KEYFRAME_UVEC4S) const uint KEYFRAME_UVEC4S = 4096u;
+layout(constant_id = SPEC(KEYFRAME_UVEC4S)) const uint KEYFRAME_UVEC4S = 4096u;
 layout(set = 0, binding = 2, std140) uniform KeyframeWords { uvec4 keyframe_words[KEYFRAME_UVEC4S]; };
 layout(set = 0, binding = 3, std430) writeonly buffer Decoded { vec4 decoded[]; };
 

@@ -18,7 +18,7 @@ layout(set = SET_SCENE, binding = 1, std430) readonly buffer Forces { vec2 force
 layout(set = SET_SCENE, binding = 2, std430) writeonly buffer Levels { vec4 levels[]; };
 // Set `SET_ANIMATION`, declared as bindings.glsl declares it (its scene bindings are not needed).
 layout(set = SET_ANIMATION, binding = BINDING_KEYFRAMES) uniform sampler2D keyframe_texture;
-layout(constant_id = SPEC_KEYFRAME_UVEC4S) const uint KEYFRAME_UVEC4S = 4096u;
+layout(constant_id = SPEC(KEYFRAME_UVEC4S)) const uint KEYFRAME_UVEC4S = 4096u;
 layout(set = SET_ANIMATION, binding = BINDING_KEYFRAME_WORDS, std140) uniform KeyframeWords { uvec4 keyframe_words[KEYFRAME_UVEC4S]; };
 
 #include "animation/keyframes.glsl"

@@ -23,6 +23,7 @@ use crate::render::graph::{Declaration, Graph, Pass, PassContext};
 use crate::render::recording::{self, PassSet, SceneSets};
 use crate::render::scene_gpu::SceneGpu;
 use crate::render::shaders;
+use crate::render::specialization::Specialization;
 use crate::vk::descriptor::Resource;
 use crate::vk::{pipeline, Access, Buffer, BufferDesc, Destroy, Device, Guard};
 
@@ -33,7 +34,7 @@ pub struct CullSetup<'a> {
     /// The sets before the cull's own, and the frames in flight.
     pub sets: SceneSets<'a>,
     /// Specialization constants.
-    pub constants: &'a [u32],
+    pub constants: &'a Specialization,
     /// Each frame's counts buffer (`CullFrame::stats`), by slot.
     pub frame_stats: Vec<vk::Buffer>,
 }
@@ -122,7 +123,7 @@ pub fn add_passes(graph: &mut Graph, device: &Device, setup: &CullSetup, scene: 
     Ok(())
 }
 
-/// Invocations of a count or emit workgroup (`SPEC_CULL_GROUP`): the device's subgroup size,
+/// Invocations of a count or emit workgroup (`CULL_GROUP`): the device's subgroup size,
 /// within 4..=64. A slot's tile tests then run once per subgroup, the blade tests fill it, and
 /// the emit's serial prefix over the group stays short. On llvmpipe (8-wide), 64 invocations ran
 /// the tile tests 8 times and its barriers switched 8 coroutines: 40 ms of cull at 1M blades
@@ -163,7 +164,7 @@ impl CullStep {
         uses: Vec<(vk::Buffer, Access)>,
         groups: Groups,
     ) -> Result<Self> {
-        let pipeline = pipeline::compute(device, name, spirv, set.layout, setup.constants)?;
+        let pipeline = pipeline::compute(device, name, spirv, set.layout, &setup.constants.named())?;
         Ok(Self { name, pipeline, set: set.clone(), uses, per_frame: Vec::new(), groups })
     }
 }
