@@ -32,6 +32,30 @@ fn generated() -> Vec<(String, u32)> {
 }
 
 #[test]
+fn set_0_is_numbered_by_build_rs_from_its_owners_declarations() {
+    let numbers = generated();
+    for profile in [meadow::vk::profile::Profile::Lavapipe, meadow::vk::profile::Profile::Generic] {
+        let (scene, _) = layouts::scene_bindings(profile).unwrap();
+        for (binding, name) in &scene {
+            let generated = numbers.iter().find(|(n, _)| n == name);
+            assert_eq!(generated.map(|(_, b)| *b), Some(binding.binding), "{profile:?} `{name}`: {numbers:?}");
+        }
+    }
+    // Declared in their owners' headers (terrain/heights.glsl, animation/frame_forces.glsl),
+    // none of them in shared.glsl.
+    for name in ["Heights", "Corners", "Emitters", "Frame", "Tiles", "blade_alpha"] {
+        assert!(numbers.iter().any(|(n, _)| n == name), "{name}: {numbers:?}");
+    }
+    let shared = include_str!("../shaders/common/shared.glsl");
+    assert!(!shared.contains("SET_SCENE, binding") && !shared.contains("BINDING_FRAME"), "set 0 is numbered by hand");
+    // Distinct numbers, the library's from 0.
+    let mut seen: Vec<u32> = numbers.iter().map(|(_, b)| *b).collect();
+    seen.sort();
+    seen.dedup();
+    assert_eq!(seen.len(), numbers.len(), "{numbers:?}");
+}
+
+#[test]
 fn names_are_numbered_by_name_the_librarys_first() {
     let library = "// a comment: SCENE(Ignored) is not a declaration\n\
                    layout(SCENE(Zeta), std430) readonly buffer Zeta { float z[]; };\n\

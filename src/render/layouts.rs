@@ -159,45 +159,6 @@ mod tests {
         set.iter().find(|(_, n)| n == name).map(|(b, _)| b)
     }
 
-    /// build.rs's numbers: `SCENE_BINDING_Name N` of the generated header.
-    fn generated_numbers() -> Vec<(String, u32)> {
-        include_str!(concat!(env!("OUT_DIR"), "/glsl/generated/scene_set.glsl"))
-            .lines()
-            .filter_map(|l| l.strip_prefix("#define SCENE_BINDING_"))
-            .map(|l| {
-                let mut words = l.split_whitespace();
-                (words.next().unwrap().to_owned(), words.next().unwrap().parse().unwrap())
-            })
-            .collect()
-    }
-
-    #[test]
-    fn set_0_is_numbered_by_build_rs_from_its_owners_declarations() {
-        let numbers = generated_numbers();
-        for profile in [Profile::Lavapipe, Profile::Generic] {
-            let (scene, _) = scene_bindings(profile).unwrap();
-            for (binding, name) in &scene {
-                let generated = numbers.iter().find(|(n, _)| n == name);
-                assert_eq!(generated.map(|(_, b)| *b), Some(binding.binding), "{profile:?} `{name}`: {numbers:?}");
-            }
-        }
-        // Declared in their owners' headers (terrain/heights.glsl, animation/frame_forces.glsl),
-        // none of them in shared.glsl.
-        for name in ["Heights", "Corners", "Emitters", "Frame", "Tiles", "blade_alpha"] {
-            assert!(numbers.iter().any(|(n, _)| n == name), "{name}: {numbers:?}");
-        }
-        let shared = include_str!("../../shaders/common/shared.glsl");
-        assert!(
-            !shared.contains("SET_SCENE, binding") && !shared.contains("BINDING_FRAME"),
-            "set 0 is numbered by hand"
-        );
-        // Distinct numbers, the library's from 0.
-        let mut seen: Vec<u32> = numbers.iter().map(|(_, b)| *b).collect();
-        seen.sort();
-        seen.dedup();
-        assert_eq!(seen.len(), numbers.len(), "{numbers:?}");
-    }
-
     #[test]
     fn the_lavapipe_profile_binds_the_twins_and_the_generic_one_each_resource_once() {
         let (scene, animation) = scene_bindings(Profile::Lavapipe).unwrap();
