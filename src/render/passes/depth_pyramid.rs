@@ -10,16 +10,18 @@ use ash::vk;
 use crate::error::Result;
 use crate::render::gpu_constants as gpu;
 use crate::render::graph::{Declaration, Pass, PassContext};
-use crate::render::passes::FrameSets;
+use crate::render::recording::{PassSet, PassSetDesc};
 use crate::render::scene_gpu::SceneGpu;
 use crate::render::shaders;
 use crate::vk::descriptor::Resource as Descriptor;
-use crate::vk::{pipeline, Access, Device, Guard, Resource};
+use crate::vk::{image, pipeline, Access, Device, Guard, Resource};
 
-/// The pipeline, its own set per frame in flight (`FrameSets`), and the pyramid it writes.
+/// The pipeline, its own set per frame in flight (set 0, `PassSet`, written when recorded), the
+/// sampler it reads the depth with (nearest, clamped) and the pyramid it writes.
 pub struct DepthPyramidPass {
     pipeline: vk::Pipeline,
-    sets: FrameSets,
+    sets: PassSet,
+    sampler: vk::Sampler,
     pyramid: vk::DescriptorBufferInfo,
 }
 
@@ -28,9 +30,12 @@ impl DepthPyramidPass {
     /// samples per pixel (`--msaa`), of which it takes the farthest (`hiz_ms.comp`).
     pub fn new(device: &Device, scene: &SceneGpu, frames: usize, multisampled: bool) -> Result<Self> {
         let shader = if multisampled { shaders::HIZ_MS_COMP } else { shaders::HIZ_COMP }.code(device.profile);
-        let sets = Guard::new(device, FrameSets::new(device, "depth pyramid", &[("hiz", shader)], frames)?);
+        let desc = PassSetDesc { name: "depth pyramid", shaders: &[("hiz", shader)], before: &[], push: &[], frames };
+        let sets = Guard::new(device, PassSet::unwritten(device, &desc)?);
+        let sampler = Guard::new(device, image::clamped_sampler(device, vk::Filter::NEAREST, "depth pyramid sampler")?);
         let pipeline = pipeline::compute(device, "depth pyramid", shader, sets.layout, &[])?;
-        Ok(Self { pipeline, sets: sets.take(), pyramid: scene.depth_pyramid.descriptor() })
+        let (sets, sampler) = (sets.take(), sampler.take());
+        Ok(Self { pipeline, sets, sampler, pyramid: scene.depth_pyramid.descriptor() })
     }
 }
 
@@ -48,20 +53,22 @@ impl Pass for DepthPyramidPass {
 
     fn record(&self, ctx: &PassContext, cmd: vk::CommandBuffer) -> Result<()> {
         let device = ctx.device;
-        let set = self.sets.sets[ctx.slot];
         let depth = vk::DescriptorImageInfo {
-            sampler: self.sets.sampler,
+            sampler: self.sampler,
             image_view: ctx.target.depth_view,
             image_layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
         };
         // The slot's previous frame has finished (its fence was waited): its set is free.
-        let resources = [(0, Descriptor::Image(depth)), (1, Descriptor::Buffer(self.pyramid))];
-        self.sets.set_layout.write(device, set, "depth pyramid set", &resources)?;
+        let resources = [("depth", Descriptor::Image(depth)), ("Pyramid", Descriptor::Buffer(self.pyramid))];
+        self.sets.write(device, ctx.slot, "depth pyramid", &resources)?;
         let groups = gpu::PYRAMID_SIDE / 16;
         // SAFETY: cmd is recording outside a rendering instance; the set matches the layout.
         unsafe {
             device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipeline);
-            device.raw.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::COMPUTE, self.sets.layout, 0, &[set], &[]);
+        }
+        self.sets.bind(device, cmd, vk::PipelineBindPoint::COMPUTE, ctx.slot);
+        // SAFETY: as above; the set is bound.
+        unsafe {
             device.raw.cmd_dispatch(cmd, groups, groups, 1);
         }
         Ok(())
@@ -72,6 +79,8 @@ impl Pass for DepthPyramidPass {
         unsafe {
             crate::vk::live::destroyed(self.pipeline);
             device.raw.destroy_pipeline(self.pipeline, None);
+            crate::vk::live::destroyed(self.sampler);
+            device.raw.destroy_sampler(self.sampler, None);
             self.sets.destroy(device);
         }
     }

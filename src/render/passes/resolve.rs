@@ -8,17 +8,19 @@ use ash::vk;
 
 use crate::error::Result;
 use crate::render::graph::{Attachment, Declaration, Load, Pass, PassContext, Rendering};
-use crate::render::passes::{self, FrameSets};
+use crate::render::passes;
+use crate::render::recording::{PassSet, PassSetDesc};
 use crate::render::shaders;
 use crate::render::specialization::Specialization;
 use crate::vk::descriptor::Resource as Descriptor;
-use crate::vk::{pipeline, Access, Device, Guard, Resource};
+use crate::vk::{image, pipeline, Access, Device, Guard, Resource};
 
-/// The pipeline and its set per frame in flight (`FrameSets`), with the sampler the
-/// multisampled colour is read with.
+/// The pipeline and its set per frame in flight (set 0, `PassSet`, written when recorded), with
+/// the sampler the multisampled colour is read with (nearest, clamped).
 pub struct ResolvePass {
     pipeline: vk::Pipeline,
-    sets: FrameSets,
+    sets: PassSet,
+    sampler: vk::Sampler,
 }
 
 impl ResolvePass {
@@ -29,7 +31,9 @@ impl ResolvePass {
             ("resolve.vert", shaders::RESOLVE_VERT.code(device.profile)),
             ("resolve.frag", shaders::RESOLVE_FRAG.code(device.profile)),
         ];
-        let sets = Guard::new(device, FrameSets::new(device, "resolve", &stages, frames)?);
+        let desc = PassSetDesc { name: "resolve", shaders: &stages, before: &[], push: &[], frames };
+        let sets = Guard::new(device, PassSet::unwritten(device, &desc)?);
+        let sampler = Guard::new(device, image::clamped_sampler(device, vk::Filter::NEAREST, "resolve sampler")?);
         let pipeline = pipeline::graphics(
             device,
             &pipeline::GraphicsDesc {
@@ -50,7 +54,7 @@ impl ResolvePass {
                 blend: pipeline::Blend::Opaque,
             },
         )?;
-        Ok(Self { pipeline, sets: sets.take() })
+        Ok(Self { pipeline, sets: sets.take(), sampler: sampler.take() })
     }
 }
 
@@ -77,19 +81,21 @@ impl Pass for ResolvePass {
 
     fn record(&self, ctx: &PassContext, cmd: vk::CommandBuffer) -> Result<()> {
         let device = ctx.device;
-        let set = self.sets.sets[ctx.slot];
         let scene = vk::DescriptorImageInfo {
-            sampler: self.sets.sampler,
+            sampler: self.sampler,
             image_view: ctx.target.color_view,
             image_layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
         };
         // The slot's previous frame has finished (its fence was waited): its set is free.
-        self.sets.set_layout.write(device, set, "resolve set", &[(0, Descriptor::Image(scene))])?;
+        self.sets.write(device, ctx.slot, "resolve", &[("scene_color", Descriptor::Image(scene))])?;
         passes::set_full_viewport(device, cmd, ctx.output.extent);
         // SAFETY: cmd is recording inside this pass's rendering instance; the set matches the layout.
         unsafe {
             device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline);
-            device.raw.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::GRAPHICS, self.sets.layout, 0, &[set], &[]);
+        }
+        self.sets.bind(device, cmd, vk::PipelineBindPoint::GRAPHICS, ctx.slot);
+        // SAFETY: as above; the set is bound.
+        unsafe {
             device.raw.cmd_draw(cmd, 3, 1, 0, 0);
         }
         Ok(())
@@ -105,6 +111,8 @@ impl Pass for ResolvePass {
         unsafe {
             crate::vk::live::destroyed(self.pipeline);
             device.raw.destroy_pipeline(self.pipeline, None);
+            crate::vk::live::destroyed(self.sampler);
+            device.raw.destroy_sampler(self.sampler, None);
             self.sets.destroy(device);
         }
     }

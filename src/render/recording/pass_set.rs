@@ -5,6 +5,9 @@
 //! resource several passes read (the cull's `Draws`) is declared once, in its owner's header,
 //! and each reader names it in its own set. The sets before `SET_PASS` (the frame's and the
 //! model's) come from whoever builds the pass, so the pipeline layout is theirs plus this one.
+//! A pass with no sets before its own (the depth pyramid, the resolve) has it as set 0; one whose
+//! resources change from frame to frame (the frame's own depth or colour image) builds it
+//! [`PassSet::unwritten`] and writes a slot's set when it records it.
 
 use ash::vk;
 
@@ -71,6 +74,17 @@ impl PassSet {
         desc: &PassSetDesc,
         resources: impl Fn(usize) -> Vec<(&'r str, Resource)>,
     ) -> Result<Self> {
+        let made = Guard::new(device, Self::unwritten(device, desc)?);
+        for slot in 0..made.sets.len() {
+            made.write(device, slot, desc.name, &resources(slot))?;
+        }
+        Ok(made.take())
+    }
+
+    /// The layouts and sets, not pointed at anything yet: for a pass whose resources change from
+    /// frame to frame (the frame's own depth or colour image), which [`PassSet::write`]s a set
+    /// when it records it. On failure nothing is left.
+    pub fn unwritten(device: &Device, desc: &PassSetDesc) -> Result<Self> {
         let mut made = Guard::new(
             device,
             Self {
@@ -91,10 +105,14 @@ impl PassSet {
         raw.push(made.set_layout.raw);
         made.layout = pipeline::layout(device, &format!("{name} layout"), &raw, desc.push)?;
         (made.pool, made.sets) = made.set_layout.allocate(device, &format!("{name} sets"), desc.frames as u32)?;
-        for (slot, &set) in made.sets.iter().enumerate() {
-            made.set_layout.write_named(device, set, &format!("{name} set"), &resources(slot))?;
-        }
         Ok(made.take())
+    }
+
+    /// Point set `index` at `resources` (by name, as [`PassSet::new`]); `name` is the pass's, for
+    /// errors. The set may not be in use: a frame slot's set is free once the slot's fence was
+    /// waited, when the slot's next frame is recorded.
+    pub fn write(&self, device: &Device, index: usize, name: &str, resources: &[(&str, Resource)]) -> Result<()> {
+        self.set_layout.write_named(device, self.sets[index], &format!("{name} set"), resources)
     }
 
     /// Set `index` (a frame slot).
