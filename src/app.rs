@@ -27,7 +27,7 @@ use crate::render::scene_gpu::{FIELD_VERDICTS, FIELD_VISIBLE};
 use crate::render::submission::Submission;
 use crate::render::target::offscreen_bytes;
 use crate::render::{gpu_constants as gpu, FrameTimings, OffscreenTarget, RenderSettings, Renderer};
-use crate::scene::{blades, BladeInstance, Camera, Scene};
+use crate::scene::{blades, BladeInstance, Scene};
 use crate::vk::device::{format_bytes, DeviceInfo};
 use crate::vk::{Device, DeviceDesc, DeviceSelector, Instance, InstanceDesc};
 
@@ -113,8 +113,8 @@ pub struct RenderOptions {
     pub size: (u32, u32),
     /// Scene seed.
     pub seed: u64,
-    /// Camera; `None` for the default view.
-    pub camera: Option<Camera>,
+    /// Camera, or a preset placed on the scene (`Scene::camera`); `None` for the default view.
+    pub camera: Option<crate::scene::CameraChoice>,
     /// Output PNG.
     pub out: PathBuf,
     /// Frames to render (the last is written; more than one gives warm timings).
@@ -143,6 +143,10 @@ pub struct RenderOptions {
     pub budget_ms: Option<f32>,
     /// A field of camera-following blocks instead of `blades` stored blades.
     pub field: Option<crate::scene::field::FieldSpec>,
+    /// The relief under a block field.
+    pub relief: crate::scene::field::ReliefKind,
+    /// Fog density per metre.
+    pub fog: f32,
     /// Draw the benchmark floor instead of the blades (`--mode floor`).
     pub floor: bool,
     /// How the blade draws are submitted.
@@ -158,7 +162,7 @@ impl RenderOptions {
     /// The scene of these options: stored blades, or a block field.
     pub fn scene(&self) -> Scene {
         match self.field {
-            Some(spec) => Scene::blocks(spec, self.seed),
+            Some(spec) => Scene::blocks_on(spec, self.relief, self.seed),
             None => Scene::generate(self.blades, self.seed),
         }
     }
@@ -187,7 +191,7 @@ impl RenderOptions {
         if self.field.is_none() {
             return Ok(());
         }
-        if let Some(camera) = &self.camera {
+        if let Some(crate::scene::CameraChoice::At(camera)) = &self.camera {
             crate::scene::field::check_camera(camera.position)
                 .map_err(|e| Error::bad_input(format!("--camera: {e}")))?;
         }
@@ -207,6 +211,7 @@ impl RenderOptions {
             debug_fresnel: self.debug_fresnel,
             msaa: self.msaa,
             floor: self.floor,
+            fog_density: self.fog,
             pipeline_statistics: true,
             submission: self.submission,
             ..RenderSettings::offscreen(self.segments, self.culling)
@@ -425,7 +430,7 @@ pub fn render(device: &Arc<Device>, options: &RenderOptions) -> Result<RenderRep
 
     let setup = Instant::now();
     let scene = options.scene();
-    let camera = options.camera.unwrap_or_else(|| scene.default_camera());
+    let camera = scene.camera(options.camera);
     let mut renderer = Renderer::new(device.clone(), &scene, options.offscreen_settings(1), options.animation.clone())?;
     let extent = vk::Extent2D { width: options.size.0, height: options.size.1 };
     let mut target = OffscreenTarget::new(device, extent)?;

@@ -71,6 +71,15 @@ fn non_finite_camera() {
     refused("camera-neg-inf", &["--camera", "-inf,1.7,0,0,0"], "-inf");
     refused("camera-short", &["--camera", "0,1,2"], "five numbers");
     refused("camera-pitch", &["--camera", "0,1,2,0,90"], "pitch");
+    refused("camera-preset", &["--camera", "panorama"], "unknown camera preset 'panorama'");
+}
+
+#[test]
+fn fog_and_relief() {
+    refused("fog-negative", &["--fog", "-0.01"], "negative");
+    refused("fog-nan", &["--fog", "NaN"], "NaN");
+    refused("relief-unknown", &["--field", "infinite", "--relief", "alps"], "alps");
+    refused("relief-without-field", &["--relief", "hills"], "--field");
 }
 
 #[test]

@@ -68,7 +68,7 @@
 #define FIELD_TERRAIN_CELLS 160u // Cells per side of the terrain grid drawn around the origin.
 #define TERRAIN_FINE_CELLS 32u // Chebyshev cells from the grid's centre drawn at the grid's step; past them, chunks of cells of two steps.
 #define TERRAIN_MORPH_CELLS 16u // Chebyshev cells from the grid's centre where odd vertices begin to slide onto the coarse mesh.
-#define PERIOD_CELLS 250 // Block cells in the world's period (`scene::field::PERIOD_CELLS`).
+#define PERIOD_CELLS 5000 // Block cells in the world's period (`scene::field::PERIOD_CELLS`).
 
 // Camera-following grids (`render::camera_grid`, common/camera_grid.glsl).
 #define CAMERA_GRID_BOXES 3u // Boxes of cells that enter a window when it scrolls: one slab per axis.

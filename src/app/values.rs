@@ -130,6 +130,29 @@ pub fn camera(text: &str) -> Result<Camera, String> {
     Ok(Camera { position: Vec3::new(values[0], values[1], values[2]), yaw_deg: values[3], pitch_deg: values[4] })
 }
 
+/// `--camera`: `X,Y,Z,YAW_DEG,PITCH_DEG` (`camera`) or a preset's name (`scene::camera::CAMERA_PRESETS`).
+pub fn camera_choice(text: &str) -> Result<crate::scene::CameraChoice, String> {
+    use crate::scene::camera::CAMERA_PRESETS;
+    match text.trim() {
+        "landscape" => Ok(crate::scene::CameraChoice::Landscape),
+        word if !word.contains(',') && word.parse::<f32>().is_err() => Err(format!(
+            "unknown camera preset '{text}': give {} or X,Y,Z,YAW_DEG,PITCH_DEG",
+            CAMERA_PRESETS.join(", "),
+            text = quoted(text)
+        )),
+        _ => camera(text).map(crate::scene::CameraChoice::At),
+    }
+}
+
+/// `--fog`: a density per metre, finite and at least 0 (0: no fog).
+pub fn fog(text: &str) -> Result<f32, String> {
+    let density = finite_f32(text)?;
+    if density < 0.0 {
+        return Err(format!("a fog density of {density} per metre is negative: give 0 (no fog) or more"));
+    }
+    Ok(density)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -149,6 +172,10 @@ mod tests {
         assert_eq!(size("1280x720"), Ok((1280, 720)));
         assert!(camera("0,1,2,3").is_err() && camera("0,NaN,2,3,4").is_err() && camera("0,1,2,3,90").is_err());
         assert_eq!(camera("1,2,3,45,-10").map(|c| c.yaw_deg), Ok(45.0));
+        assert_eq!(camera_choice("landscape"), Ok(crate::scene::CameraChoice::Landscape));
+        assert!(camera_choice("panorama").is_err_and(|e| e.contains("unknown camera preset")));
+        assert!(camera_choice("1,2,3,45,-10").is_ok() && camera_choice("1,2").is_err() && camera_choice("5").is_err());
+        assert!(fog("-0.1").is_err() && fog("NaN").is_err() && fog("0") == Ok(0.0));
     }
 }
 

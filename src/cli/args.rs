@@ -9,7 +9,7 @@ use super::animation::{AnimationArgs, DebugViewArg, EvalArg, ModeArg};
 use super::culling::CullArgs;
 use crate::app::values;
 use crate::app::{GpuOptions, RenderOptions};
-use crate::scene::Camera;
+use crate::scene::CameraChoice;
 use crate::vk::swapchain::PresentMode;
 use crate::vk::DeviceSelector;
 
@@ -103,9 +103,18 @@ pub(crate) struct SceneArgs {
     /// Seed of the terrain and the blade scatter.
     #[arg(long, default_value = "1")]
     pub(crate) seed: u64,
-    /// Camera position and orientation in degrees (default: 1.7 m above the field's edge).
-    #[arg(long, value_name = "X,Y,Z,YAW_DEG,PITCH_DEG", value_parser = values::camera, allow_hyphen_values = true)]
-    pub(crate) camera: Option<Camera>,
+    /// Camera position and orientation in degrees (default: 1.7 m above the field's edge), or
+    /// `landscape`: 20 m above the ground there, pitched -8°, where 1 km lies 12.7 px below the
+    /// horizon at 720 rows.
+    #[arg(long, value_name = "X,Y,Z,YAW_DEG,PITCH_DEG|landscape", value_parser = values::camera_choice, allow_hyphen_values = true)]
+    pub(crate) camera: Option<CameraChoice>,
+    /// The relief under a --field: `gentle` (±1.5 m, waves of 60 to 6 m) or `hills` (hundreds
+    /// of metres long, up to about ±50 m).
+    #[arg(long, value_enum)]
+    pub(crate) relief: Option<ReliefArg>,
+    /// Fog density per metre (default 0.012; 0: no fog): a far view for tests and benchmarks.
+    #[arg(long, value_name = "DENSITY", value_parser = values::fog, allow_hyphen_values = true)]
+    pub(crate) fog: Option<f32>,
     /// Blades per instance of the blade draws (1 = classic per-blade instancing; default 1 with
     /// --brute-force, 32 entries of the visible list with the cull).
     #[arg(long, value_parser = values::blades_per_instance)]
@@ -149,6 +158,11 @@ impl SceneArgs {
             debug_tiles: self.debug_view == Some(DebugViewArg::Tiles),
             debug_fresnel: self.debug_view == Some(DebugViewArg::Fresnel),
             culling: self.culling.culling(self.segments),
+            relief: match self.relief {
+                Some(ReliefArg::Hills) => crate::scene::field::ReliefKind::Hills,
+                Some(ReliefArg::Gentle) | None => crate::scene::field::ReliefKind::Gentle,
+            },
+            fog: self.fog.unwrap_or(crate::render::frame::look::FOG_DENSITY),
             field: self.field.map(|size| crate::scene::field::FieldSpec {
                 size: size.0,
                 density: self.density.unwrap_or(crate::scene::blades::DENSITY_PER_M2),
@@ -296,6 +310,15 @@ pub(crate) struct OverheadArgs {
     pub(crate) out: PathBuf,
     #[command(flatten)]
     pub(crate) gpu: GpuArgs,
+}
+
+/// `--relief`.
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub(crate) enum ReliefArg {
+    /// Gentle hills like the stored terrain's (about ±1.5 m, waves of 60 to 6 m).
+    Gentle,
+    /// Hills hundreds of metres long (waves of 800 to 220 m) under the gentle relief's detail.
+    Hills,
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]

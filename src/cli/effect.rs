@@ -217,6 +217,14 @@ pub(crate) const RULES: &[Rule] = &[
         why: "it is the blades per m² of a --field's blocks; stored blades are --blades",
     },
     Rule {
+        flags: &["relief"],
+        subject: None,
+        commands: SCENE,
+        with: "stored blades (no --field)",
+        when: |g| !g.given("field"),
+        why: "it is the relief under a --field's blocks; stored blades lie on their stored terrain",
+    },
+    Rule {
         flags: &["screenshot_ui"],
         subject: None,
         commands: &["view"],

@@ -389,7 +389,7 @@ mod tests {
         // drawn terrain cuts across crests and troughs, and over some cells strays past what
         // cells of half a block allow, never past `cell_spread` for its step.
         let mut relief = field::Relief::generate(1);
-        let (m, n) = (44, 52);
+        let (m, n) = (880, 1040);
         let k = std::f32::consts::TAU / field::WORLD_PERIOD;
         relief.waves = [Vec4::ZERO; field::WAVES];
         relief.waves[0] = Vec4::new(m as f32 * k, n as f32 * k, 1.0, 0.8);

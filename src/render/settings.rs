@@ -47,6 +47,8 @@ pub struct RenderSettings {
     /// on the CPU, transform and flat colour only (`--mode floor`; a reference pass, not an
     /// animation).
     pub floor: bool,
+    /// The fog's density per metre (`--fog`; `look::FOG_DENSITY` by default, 0: no fog).
+    pub fog_density: f32,
 }
 
 impl RenderSettings {
@@ -71,6 +73,7 @@ impl RenderSettings {
             culling,
             msaa: crate::render::msaa::Msaa::default(),
             floor: false,
+            fog_density: look::FOG_DENSITY,
         }
     }
 }

@@ -14,6 +14,36 @@ pub const FOV_Y_DEG: f32 = 60.0;
 pub const NEAR: f32 = 0.05;
 /// Eye height of the default camera above the ground (metres).
 pub const EYE_HEIGHT: f32 = 1.7;
+/// Eye height of the landscape camera (`--camera landscape`) above the ground under it (metres).
+pub const LANDSCAPE_HEIGHT: f32 = 20.0;
+/// Pitch of the landscape camera in degrees. With the 60° field of view at 1280×720 (623.5 px
+/// per unit of tan), flat ground 1 km ahead lies atan(20 / 1000) = 1.15° below the horizon:
+/// 623.5 (tan 8° − tan 6.85°) = 12.7 px below it (`rows_below_horizon`), 5 km ahead
+/// 2.5 px; the horizon itself is 88 px above the picture's centre.
+pub const LANDSCAPE_PITCH_DEG: f32 = -8.0;
+
+/// `--camera`: a position and orientation, or a named preset placed on the scene's ground.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum CameraChoice {
+    /// Exactly this camera.
+    At(Camera),
+    /// `landscape`: `LANDSCAPE_HEIGHT` above the ground where the default camera stands, looking
+    /// the same way at `LANDSCAPE_PITCH_DEG`, so what lies kilometres away spans rows of pixels.
+    Landscape,
+}
+
+/// The camera presets `--camera` names.
+pub const CAMERA_PRESETS: &[&str] = &["landscape"];
+
+/// How many pixel rows below the horizon flat ground `distance` metres ahead lies, seen from
+/// `height` metres up at `pitch_deg` into a picture `rows` high (the vertical field of view
+/// `FOV_Y_DEG`).
+pub fn rows_below_horizon(height: f32, pitch_deg: f32, distance: f32, rows: u32) -> f32 {
+    let focal = 0.5 * rows as f32 / (0.5 * FOV_Y_DEG.to_radians()).tan();
+    let pitch = -pitch_deg.to_radians();
+    let below = (height / distance).atan();
+    focal * (pitch.tan() - (pitch - below).tan())
+}
 
 /// Where the camera is and where it looks.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -101,6 +131,15 @@ impl OrthographicCamera {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_landscape_camera_sees_a_kilometre_rows_below_the_horizon() {
+        let rows = |d| rows_below_horizon(LANDSCAPE_HEIGHT, LANDSCAPE_PITCH_DEG, d, 720);
+        assert!((rows(1000.0) - 12.7).abs() < 0.05, "{}", rows(1000.0));
+        assert!((rows(5000.0) - 2.5).abs() < 0.05, "{}", rows(5000.0));
+        // The default camera's eye, 1.7 m up at -12°: 1.1 px at 1 km.
+        assert!((rows_below_horizon(EYE_HEIGHT, -12.0, 1000.0, 720) - 1.11).abs() < 0.05);
+    }
 
     #[test]
     fn yaw_and_pitch_conventions() {

@@ -20,8 +20,13 @@ pub const MAX_BLOCK_BLADES: u32 = 1 << 16;
 pub const WAVES: usize = 8;
 /// The world repeats every this many metres in x and z: the relief's waves have whole periods in
 /// it and the blocks' variations repeat (`shaders/common/field.glsl`, `cell_hash`). A field far from
-/// the origin is then the same field, which is how the tests see that precision holds there.
-pub const WORLD_PERIOD: f32 = 1000.0;
+/// the origin is then the same field, which is how the tests see that precision holds there. It
+/// is twice the longest view distance (10 km), so no repeat shows inside a view.
+pub const WORLD_PERIOD: f32 = 20_000.0;
+/// The lattice the gentle relief's wave numbers were drawn on when the world repeated every
+/// kilometre: they are whole there, and scaled to `WORLD_PERIOD` the default relief is the one it
+/// always was (the same f32 waves).
+const GENTLE_PERIOD: f32 = 1000.0;
 /// Cells in a world period (the shaders' `PERIOD_CELLS`; `render::field_gpu` asserts they agree).
 pub const PERIOD_CELLS: i32 = (WORLD_PERIOD / BLOCK_SIZE) as i32;
 
@@ -29,6 +34,21 @@ pub const PERIOD_CELLS: i32 = (WORLD_PERIOD / BLOCK_SIZE) as i32;
 pub fn max_density() -> f32 {
     MAX_BLOCK_BLADES as f32 / (BLOCK_SIZE * BLOCK_SIZE)
 }
+
+/// `--relief`: which relief a block field sits on.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum ReliefKind {
+    /// Gentle hills like the stored terrain's (about ±1.5 m, wavelengths 60 to 6 m).
+    #[default]
+    Gentle,
+    /// Hills hundreds of metres long (wavelengths 800 to 220 m, up to about ±50 m) under the
+    /// gentle relief's four longest waves: a landscape to look across.
+    Hills,
+}
+
+/// The hills relief's waves: wavelength (m) and amplitude (m), longest first.
+const HILLS: [(f32, f32); WAVES] =
+    [(800.0, 24.0), (520.0, 14.0), (340.0, 8.0), (220.0, 4.5), (60.0, 0.6), (43.2, 0.43), (31.1, 0.31), (22.4, 0.22)];
 
 /// `--field SIZE|infinite --density D`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -66,20 +86,33 @@ pub struct Relief {
 impl Relief {
     /// Gentle hills like the stored terrain's (about ±1.5 m, wavelengths 60 to 6 m).
     pub fn generate(seed: u64) -> Self {
+        Self::of_kind(ReliefKind::Gentle, seed)
+    }
+
+    /// The relief of `kind` from `seed`: each wave's direction and phase drawn in turn, its wave
+    /// numbers the whole numbers of periods nearest the wavelength asked (in `GENTLE_PERIOD` for
+    /// the gentle relief, scaled to `WORLD_PERIOD`; in `WORLD_PERIOD` for the hills).
+    pub fn of_kind(kind: ReliefKind, seed: u64) -> Self {
         let mut rng = Rng::new(seed ^ 0x7e11ef);
         let mut waves = [Vec4::ZERO; WAVES];
         let mut cycles = [(0, 0); WAVES];
-        let mut wavelength = 60.0f32;
-        let mut amplitude = 0.6f32;
-        for (wave, cycle) in waves.iter_mut().zip(&mut cycles) {
+        let (mut wavelength, mut amplitude) = (60.0f32, 0.6f32);
+        let lattice = match kind {
+            ReliefKind::Gentle => GENTLE_PERIOD,
+            ReliefKind::Hills => WORLD_PERIOD,
+        };
+        let scale = (WORLD_PERIOD / lattice) as i32;
+        for (i, (wave, cycle)) in waves.iter_mut().zip(&mut cycles).enumerate() {
+            if kind == ReliefKind::Hills {
+                (wavelength, amplitude) = HILLS[i];
+            }
             let angle = rng.range(0.0, TAU);
-            // Whole periods in WORLD_PERIOD: integer wave numbers nearest the wavelength asked.
-            let cycles = WORLD_PERIOD / wavelength;
+            let cycles = lattice / wavelength;
             let (m, n) = ((angle.cos() * cycles).round(), (angle.sin() * cycles).round());
             let (m, n) = if m == 0.0 && n == 0.0 { (1.0, 0.0) } else { (m, n) };
-            let k = TAU / WORLD_PERIOD;
+            let k = TAU / lattice;
             *wave = Vec4::new(m * k, n * k, amplitude, rng.range(0.0, TAU));
-            *cycle = (m as i32, n as i32);
+            *cycle = (m as i32 * scale, n as i32 * scale);
             wavelength *= 0.72;
             amplitude *= 0.72;
         }
@@ -221,6 +254,28 @@ mod tests {
         // The world repeats every WORLD_PERIOD.
         let period = f64::from(WORLD_PERIOD);
         assert!((relief.height(3.5, -7.25) - relief.height(3.5 + 100.0 * period, -7.25 - 100.0 * period)).abs() < 1e-6);
+    }
+
+    #[test]
+    fn the_hills_are_hundreds_of_metres_long_and_the_gentle_relief_is_unchanged() {
+        let hills = Relief::of_kind(ReliefKind::Hills, 1);
+        let longest = hills.waves.iter().map(|w| TAU / Vec2::new(w.x, w.y).length()).fold(0.0, f32::max);
+        assert!((700.0..900.0).contains(&longest), "{longest} m");
+        let (mut lo, mut hi) = (f64::MAX, f64::MIN);
+        for i in 0..2000 {
+            let h = hills.height(f64::from(i) * 3.1, f64::from(i) * -1.7);
+            (lo, hi) = (lo.min(h), hi.max(h));
+        }
+        assert!(hi - lo > 30.0 && f64::from(hills.height_bound()) >= hi.max(-lo), "hills {lo}..{hi}");
+        assert!(hills.slope_bound() < 1.0, "{}", hills.slope_bound());
+        // The gentle relief keeps the wave vectors it had on the 1 km lattice, bit for bit.
+        let gentle = Relief::generate(1);
+        let k = TAU / GENTLE_PERIOD;
+        for (w, &(m, n)) in gentle.waves.iter().zip(&gentle.cycles) {
+            assert_eq!((m % 20, n % 20), (0, 0));
+            assert_eq!((w.x, w.y), ((m / 20) as f32 * k, (n / 20) as f32 * k));
+        }
+        assert_ne!(hills, gentle);
     }
 
     #[test]

@@ -11,7 +11,7 @@ pub mod terrain;
 pub mod tiles;
 
 pub use blades::BladeInstance;
-pub use camera::{Camera, OrthographicCamera};
+pub use camera::{Camera, CameraChoice, OrthographicCamera};
 pub use terrain::Terrain;
 
 /// Terrain and blades of one field.
@@ -50,13 +50,24 @@ impl Scene {
         Self { terrain, blades, tile_grid, tiles, field: None }
     }
 
-    /// A block field of `spec` from `seed`: its stored block and its relief.
+    /// A block field of `spec` from `seed` on the gentle relief: its stored block and its relief.
     pub fn blocks(spec: field::FieldSpec, seed: u64) -> Self {
+        Self::blocks_on(spec, field::ReliefKind::Gentle, seed)
+    }
+
+    /// A block field of `spec` from `seed` on a relief of `relief`.
+    pub fn blocks_on(spec: field::FieldSpec, relief: field::ReliefKind, seed: u64) -> Self {
         let mut blades = field::block_blades(&spec, seed);
         let terrain = Terrain::generate(field::BLOCK_SIZE, seed);
         let tile_grid = tiles::TileGrid { origin: 0.0, tile_size: field::BLOCK_SIZE, tiles: 1 };
         let tiles = tiles::arrange(&tile_grid, &mut blades);
-        Self { terrain, blades, tile_grid, tiles, field: Some(Field { spec, relief: field::Relief::generate(seed) }) }
+        Self {
+            terrain,
+            blades,
+            tile_grid,
+            tiles,
+            field: Some(Field { spec, relief: field::Relief::of_kind(relief, seed) }),
+        }
     }
 
     /// The ground's height at world (x, z).
@@ -77,6 +88,24 @@ impl Scene {
                 pitch_deg: -12.0,
             },
             None => Camera::default_for(&self.terrain),
+        }
+    }
+
+    /// The camera `choice` names in this scene: the landscape preset stands
+    /// `camera::LANDSCAPE_HEIGHT` above the ground where the default camera stands.
+    pub fn camera(&self, choice: Option<CameraChoice>) -> Camera {
+        match choice {
+            Some(CameraChoice::At(camera)) => camera,
+            Some(CameraChoice::Landscape) => {
+                let at = self.default_camera().position;
+                let y = self.ground(at.x, at.z) + camera::LANDSCAPE_HEIGHT;
+                Camera {
+                    position: glam::Vec3::new(at.x, y, at.z),
+                    pitch_deg: camera::LANDSCAPE_PITCH_DEG,
+                    yaw_deg: 0.0,
+                }
+            }
+            None => self.default_camera(),
         }
     }
 }

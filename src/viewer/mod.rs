@@ -175,7 +175,7 @@ impl Viewer {
             crate::scene::Terrain::cells_for(crate::scene::blades::field_size(o.stored_blades())),
         )?;
         let scene = o.scene();
-        let camera = o.camera.unwrap_or_else(|| scene.default_camera());
+        let camera = scene.camera(o.camera);
         // The options' settings, into the swapchain's format; statistics queries for the
         // overlay's timing panel (none with --no-ui, for measurements).
         let settings = RenderSettings {

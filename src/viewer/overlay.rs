@@ -139,6 +139,10 @@ impl Viewer {
                     }
                 }
                 UiAction::LodScale(scale) => self.renderer.as_mut().expect("renderer built").set_lod_scale(scale),
+                UiAction::Fog(density) => {
+                    self.settings.fog_density = density;
+                    self.renderer.as_mut().expect("renderer built").set_fog_density(density);
+                }
                 UiAction::Budget(target) => self.set_budget(target)?,
                 UiAction::Present(mode) => {
                     let surface = self.surface.as_mut().expect("surface exists");

@@ -169,7 +169,7 @@ fn run_one(
     let mut renderer = Renderer::new(device.clone(), scene, settings, render.animation.clone())?;
     let extent = vk::Extent2D { width: render.size.0, height: render.size.1 };
     let target = OffscreenTarget::new(device, extent)?;
-    let camera = render.camera.unwrap_or_else(|| scene.default_camera());
+    let camera = scene.camera(render.camera);
     let result = (|| {
         let calibrated = super::trace::calibrated(device, &mut renderer)?;
         let started = Instant::now();

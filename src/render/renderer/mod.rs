@@ -12,20 +12,20 @@ mod offscreen;
 mod overlay;
 mod passes;
 mod record;
+mod uniforms;
 
 use std::cell::RefCell;
 use std::rc::Rc;
 use std::sync::Arc;
 
 use ash::vk;
-use glam::{UVec4, Vec4};
 
 use crate::error::{Error, Result};
-use crate::render::animation::model::{AnimationModel, BladeInput, FrameForces, FrameInput};
+use crate::render::animation::model::{AnimationModel, FrameForces, FrameInput};
 use crate::render::animation::{self, build_model, AnimationSettings};
-use crate::render::field_gpu::{self, Origin};
-use crate::render::frame::{look, Frame, FrameRing, FrameUniforms, PerFrame};
+use crate::render::field_gpu::Origin;
 pub use crate::render::frame::{Deletion, FrameSync, FrameTimings, PassTime};
+use crate::render::frame::{Frame, FrameRing, FrameUniforms, PerFrame};
 use crate::render::graph::{Graph, Outputs, DEFAULT_DT};
 use crate::render::layouts::{scene_frames, scene_layouts, SceneFrame, SceneLayouts};
 use crate::render::msaa::{self, MultisampleTarget};
@@ -263,53 +263,6 @@ impl Renderer {
     pub fn triangles(&self) -> (u64, u64) {
         let scene = self.scene_gpu();
         (BladePass::triangles(scene, self.settings.segments), TerrainPass::triangles(scene))
-    }
-
-    /// Entries of the cull's visible list a frame may fill (`scene_gpu::visible_limit`).
-    fn visible_limit(&self) -> u32 {
-        let per_blade = match self.model.as_deref() {
-            Some(m) if matches!(m.blade_input(), BladeInput::PoseRecords(..)) => {
-                Some(m.resources().per_blade.level_records)
-            }
-            _ => None,
-        };
-        crate::render::scene_gpu::visible_limit(&self.device, self.scene_gpu(), self.settings.segments, per_blade)
-    }
-
-    /// The uniforms of a frame seen from `camera` at simulation time `time` into `extent`.
-    pub fn frame_uniforms(&self, camera: &Camera, time: f32, extent: vk::Extent2D) -> FrameUniforms {
-        let scene = self.scene_gpu();
-        // A block field: every position relative to the origin under the camera.
-        let origin = scene.field.as_ref().map(|_| Origin::under(camera));
-        let relative = |c: &Camera| origin.map_or(*c, |o| o.relative(c));
-        let camera = &relative(camera);
-        let aspect = extent.width as f32 / extent.height as f32;
-        let (sources, colliders) = animation::emitter_counts(&self.animation.wind);
-        let mut uniforms = FrameUniforms {
-            view_proj: camera.view_projection(aspect),
-            camera_position: camera.position.extend(time),
-            sun_direction: look::sun_direction().extend(0.0),
-            sky_color: look::SKY.extend(look::FOG_DENSITY),
-            terrain: Vec4::new(scene.terrain_origin, scene.terrain_cell_size, 0.0, 0.0),
-            params: UVec4::new(self.settings.segments, scene.blade_count, scene.terrain_cells, 0),
-            keyframes: UVec4::new(0, 0, sources, scene.grid.corners_per_side()),
-            keyframe_shape: UVec4::new(0, colliders, 0, 0),
-            cull_lod: UVec4::new(0, 0, 0, self.visible_limit()),
-            ..bytemuck::Zeroable::zeroed()
-        };
-        let cull_camera = self.cull_camera.as_ref().map_or(*camera, relative);
-        let frozen = self.cull_camera.is_some();
-        let culling = &self.settings.culling;
-        culling.fill_uniforms(&mut uniforms, &scene.tile_grid, &cull_camera, frozen, aspect, extent.height);
-        if let (Some(field), Some(origin)) = (&scene.field, &origin) {
-            let verdicts = scene.verdict_capacity;
-            field_gpu::fill_uniforms(&mut uniforms, field, origin, &scene.grid, culling.view_distance, verdicts);
-            // A longer view distance set live (the viewer) than the one the cull's buffers were
-            // made for: the rings stop where the buffers do.
-            uniforms.cull_tiles.y = uniforms.cull_tiles.y.min(scene.slot_capacity);
-        }
-        self.model.as_deref().expect("built").fill_uniforms(&mut uniforms);
-        uniforms
     }
 
     /// The LOD scale of the next frames (`--budget-ms` sets it each frame): uniforms only.

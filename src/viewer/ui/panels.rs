@@ -35,6 +35,8 @@ pub enum UiAction {
     Culling(Culling),
     /// The LOD scale (no rebuild; the frame budget sets it when there is one).
     LodScale(f32),
+    /// The fog's density per metre (no rebuild).
+    Fog(f32),
     /// Hold the GPU frame near this many ms (`--budget-ms`), or stop.
     Budget(Option<f32>),
     /// Present with this mode (the swapchain is re-created).
@@ -286,6 +288,11 @@ pub fn view(ui: &mut Ui, view: &UiView, out: &mut PanelOutput) {
             out.act(UiAction::Press("r", 1));
         }
     });
+    let mut fog = s.fog_density;
+    let slider = egui::Slider::new(&mut fog, 0.0..=0.05).text("fog per m");
+    if out.widget("fog per m", ui.add(slider)).changed() {
+        out.act(UiAction::Fog(fog));
+    }
     toggle(ui, out, "p", view.paused, "pause time");
     toggle(ui, out, "g", view.walk, "walk on the ground");
     let (present, supported) = &view.present;

@@ -1,0 +1,67 @@
+//! The frame's uniforms (`FrameUniforms`) as the renderer fills them for a camera, a time and a
+//! target's extent: the view, the light and the fog, the cull's and the block field's parts, and
+//! the animation model's.
+
+use ash::vk;
+use glam::{UVec4, Vec4};
+
+use super::Renderer;
+use crate::render::animation;
+use crate::render::animation::model::BladeInput;
+use crate::render::field_gpu::{self, Origin};
+use crate::render::frame::{look, FrameUniforms};
+use crate::scene::Camera;
+
+impl Renderer {
+    /// Entries of the cull's visible list a frame may fill (`scene_gpu::visible_limit`).
+    pub(super) fn visible_limit(&self) -> u32 {
+        let per_blade = match self.model.as_deref() {
+            Some(m) if matches!(m.blade_input(), BladeInput::PoseRecords(..)) => {
+                Some(m.resources().per_blade.level_records)
+            }
+            _ => None,
+        };
+        crate::render::scene_gpu::visible_limit(&self.device, self.scene_gpu(), self.settings.segments, per_blade)
+    }
+
+    /// The uniforms of a frame seen from `camera` at simulation time `time` into `extent`.
+    pub fn frame_uniforms(&self, camera: &Camera, time: f32, extent: vk::Extent2D) -> FrameUniforms {
+        let scene = self.scene_gpu();
+        // A block field: every position relative to the origin under the camera.
+        let origin = scene.field.as_ref().map(|_| Origin::under(camera));
+        let relative = |c: &Camera| origin.map_or(*c, |o| o.relative(c));
+        let camera = &relative(camera);
+        let aspect = extent.width as f32 / extent.height as f32;
+        let (sources, colliders) = animation::emitter_counts(&self.animation.wind);
+        let mut uniforms = FrameUniforms {
+            view_proj: camera.view_projection(aspect),
+            camera_position: camera.position.extend(time),
+            sun_direction: look::sun_direction().extend(0.0),
+            sky_color: look::SKY.extend(self.settings.fog_density),
+            terrain: Vec4::new(scene.terrain_origin, scene.terrain_cell_size, 0.0, 0.0),
+            params: UVec4::new(self.settings.segments, scene.blade_count, scene.terrain_cells, 0),
+            keyframes: UVec4::new(0, 0, sources, scene.grid.corners_per_side()),
+            keyframe_shape: UVec4::new(0, colliders, 0, 0),
+            cull_lod: UVec4::new(0, 0, 0, self.visible_limit()),
+            ..bytemuck::Zeroable::zeroed()
+        };
+        let cull_camera = self.cull_camera.as_ref().map_or(*camera, relative);
+        let frozen = self.cull_camera.is_some();
+        let culling = &self.settings.culling;
+        culling.fill_uniforms(&mut uniforms, &scene.tile_grid, &cull_camera, frozen, aspect, extent.height);
+        if let (Some(field), Some(origin)) = (&scene.field, &origin) {
+            let verdicts = scene.verdict_capacity;
+            field_gpu::fill_uniforms(&mut uniforms, field, origin, &scene.grid, culling.view_distance, verdicts);
+            // A longer view distance set live (the viewer) than the one the cull's buffers were
+            // made for: the rings stop where the buffers do.
+            uniforms.cull_tiles.y = uniforms.cull_tiles.y.min(scene.slot_capacity);
+        }
+        self.model.as_deref().expect("built").fill_uniforms(&mut uniforms);
+        uniforms
+    }
+
+    /// The fog's density per metre of the next frames (`--fog`, the viewer's slider): uniforms only.
+    pub fn set_fog_density(&mut self, density: f32) {
+        self.settings.fog_density = density;
+    }
+}
