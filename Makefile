@@ -4,7 +4,7 @@
 #   make test  installs what is missing, then fmt, clippy and the whole test suite on lavapipe
 CARGO ?= cargo
 
-.PHONY: deps run test goldens build soak pictures bench-docs cli-docs
+.PHONY: deps run test test-generic goldens build soak pictures bench-docs cli-docs
 
 deps:
 	@./scripts/install-deps.sh
@@ -27,6 +27,12 @@ test: deps
 	# deferred deletions), culled and by brute force: no memory or live-object growth.
 	FRAMES=1000 ./scripts/soak.sh
 	FRAMES=1000 ./scripts/soak.sh --brute-force
+
+# The whole test suite again on the generic backend profile (vk::profile: each resource bound once,
+# none of the lavapipe profile's twins), pictures at the same golden tolerances; the soaks stay on
+# the lavapipe profile (scripts/soak.sh forces it). Not part of `make test`: it doubles its time.
+test-generic: deps
+	MEADOW_PROFILE=generic $(CARGO) test --release
 
 # Regenerate tests/golden/*.png from the current renderer (review the pictures before committing).
 goldens: deps
