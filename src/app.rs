@@ -386,6 +386,10 @@ pub fn check_scene(
     if emitters > MAX_EMITTERS {
         return Err(Error::bad_input(format!("{emitters} sources and colliders: at most {MAX_EMITTERS} together")));
     }
+    let (calm, most) = (animation.wind.calm.len(), crate::render::wind::analytic::MAX_CALM_AREAS);
+    if calm > most {
+        return Err(Error::bad_input(format!("{calm} calm areas: at most {most}")));
+    }
     if animation.mode == Mode::Uniform {
         let records = match animation.representation {
             crate::keyframes::Representation::Vertex => segments,

@@ -1,9 +1,23 @@
 //! External forces (thesis 3.2.2, 4.5, 5.1, 5.2): a global wind with gusts, point wind sources
 //! (eq. 4.1) that may move, calm areas where the wind is blocked, and colliders acting as
 //! concentrated local wind. Forces are horizontal (x, z) in keyframe units: a blade of stiffness
-//! 1 under a force of magnitude 1 takes the table's strongest pose.
+//! 1 under a force of magnitude 1 takes the table's strongest pose. The wind field the blades
+//! sample (`render::wind`) holds velocities in m/s: a force of `f` keyframe units is a wind of
+//! `f · KEYFRAME_WIND_SCALE` m/s, and the `*_f64` functions are its f64 reference.
 
-use glam::{Vec2, Vec3};
+use std::f64::consts::TAU;
+
+use glam::{DVec2, Vec2, Vec3};
+
+/// Metres per second of wind per keyframe force unit: the fixed scale between the wind field's
+/// velocities and the keyframes' input (|f| = 1, the table's strongest pose, is 8 m/s, a fresh
+/// breeze). A power of two, so the mapping both ways is exact in floating point.
+pub const KEYFRAME_WIND_SCALE: f32 = 8.0;
+
+/// The gusts' four travelling waves (`GlobalWind::force`), each (a, b, ω, c): phase
+/// θ = a (p · dir) + b (p · dir⊥) − ω t + c. Waves 0–2 are the gust fronts, wave 3 the swirl.
+const GUST_WAVES: [[f64; 4]; 4] =
+    [[0.35, 0.0, 1.7, 0.0], [0.9, 0.5, 3.1, 1.3], [2.1, -0.8, 5.3, 4.0], [0.0, 0.4, 0.9, 0.0]];
 
 /// Closest distance (metres) at which eq. 4.1 is evaluated, so a blade at a source is finite.
 pub const MIN_SOURCE_DISTANCE: f32 = 0.05;
@@ -42,6 +56,39 @@ impl GlobalWind {
         let d = Vec2::new(dir.x - swirl * dir.y, dir.y + swirl * dir.x).normalize();
         d * self.strength * (1.0 + 0.45 * gust)
     }
+
+    /// Unit direction in f64.
+    pub fn direction_f64(&self) -> DVec2 {
+        let a = f64::from(self.direction_deg).to_radians();
+        DVec2::new(a.cos(), a.sin())
+    }
+
+    /// The four waves' vectors (rad/m, x and z): θ_k = k_k · p − ω_k t + c_k.
+    pub fn wave_vectors(&self) -> [DVec2; 4] {
+        let dir = self.direction_f64();
+        GUST_WAVES.map(|[a, b, _, _]| dir * a + dir.perp() * b)
+    }
+
+    /// The four waves' phases at world point `origin` and time `t`, in [0, 2π), in f64: the GPU
+    /// adds k_k · (p − O) in f32, so a field far from the world's origin is as exact as at it
+    /// (as `scene::field::Relief::phases` does for the relief).
+    pub fn phases(&self, origin: DVec2, t: f64) -> [f64; 4] {
+        let k = self.wave_vectors();
+        std::array::from_fn(|i| (k[i].dot(origin) - GUST_WAVES[i][2] * t + GUST_WAVES[i][3]).rem_euclid(TAU))
+    }
+
+    /// The wind at world `p` and time `t` in m/s, in f64: the reference of the GPU's field.
+    pub fn velocity_f64(&self, p: DVec2, t: f64) -> DVec2 {
+        let dir = self.direction_f64();
+        let speed = f64::from(self.strength) * f64::from(KEYFRAME_WIND_SCALE);
+        if !self.gusts {
+            return dir * speed;
+        }
+        let theta = self.phases(p, t);
+        let gust = 0.55 * theta[0].sin() + 0.30 * theta[1].sin() + 0.15 * theta[2].sin();
+        let swirl = 0.12 * theta[3].sin();
+        (dir + dir.perp() * swirl).normalize() * speed * (1.0 + 0.45 * gust)
+    }
 }
 
 /// A point wind source (eq. 4.1): `wind = normalise(WP) · ω / |WP|^σ`.
@@ -72,6 +119,22 @@ impl PointSource {
         }
         wp / d * power / d.max(MIN_SOURCE_DISTANCE).powf(sigma)
     }
+
+    /// Position at time `t`, in f64.
+    pub fn position_f64(&self, t: f64) -> DVec2 {
+        self.position.as_dvec2() + self.velocity.as_dvec2() * t
+    }
+
+    /// Eq. 4.1 in m/s and f64: the reference of the GPU's field.
+    pub fn velocity_f64(&self, p: DVec2, t: f64) -> DVec2 {
+        let wp = p - self.position_f64(t);
+        let d = wp.length();
+        if d < 1e-6 {
+            return DVec2::ZERO;
+        }
+        let scale = f64::from(self.power) * f64::from(KEYFRAME_WIND_SCALE);
+        wp / d * scale / d.max(f64::from(MIN_SOURCE_DISTANCE)).powf(f64::from(self.sigma))
+    }
 }
 
 /// A rectangle where the wind is blocked (thesis 5.1): cluster corners inside get no wind.
@@ -87,6 +150,11 @@ impl CalmArea {
     /// Whether `p` lies inside (edges included).
     pub fn contains(&self, p: Vec2) -> bool {
         p.cmpge(self.min).all() && p.cmple(self.max).all()
+    }
+
+    /// Whether `p` lies inside, in f64.
+    pub fn contains_f64(&self, p: DVec2) -> bool {
+        p.cmpge(self.min.as_dvec2()).all() && p.cmple(self.max.as_dvec2()).all()
     }
 }
 
@@ -116,6 +184,21 @@ impl Collider {
         }
         let direction = (q / radii).normalize();
         direction * COLLIDER_PUSH / d.max(1.0).powf(COLLIDER_SIGMA)
+    }
+
+    /// The push at ground point `p` in m/s and f64: the reference of the GPU's field.
+    pub fn velocity_f64(&self, p: DVec2) -> DVec2 {
+        let (center, radii) = (
+            DVec2::new(self.center.x.into(), self.center.z.into()),
+            DVec2::new(self.radii.x.into(), self.radii.z.into()),
+        );
+        let q = (p - center) / radii;
+        let d = q.length();
+        if d < 1e-6 {
+            return DVec2::ZERO;
+        }
+        let push = f64::from(COLLIDER_PUSH) * f64::from(KEYFRAME_WIND_SCALE);
+        (q / radii).normalize() * push / d.max(1.0).powf(f64::from(COLLIDER_SIGMA))
     }
 }
 
@@ -177,6 +260,21 @@ impl Wind {
             .iter()
             .map(|c| Collider::force(Vec2::new(c.center.x, c.center.z), Vec2::new(c.radii.x, c.radii.z), p))
             .sum()
+    }
+
+    /// The wind field at a cluster corner at world `p` and time `t` in f64, as the analytic field
+    /// writes it (`render::wind::analytic`): velocity (x, z) in m/s and the exposure. With
+    /// cluster attenuation the sources and colliders are in it; with delayed attenuation only
+    /// the global wind (the blades add the rest).
+    pub fn corner_velocity_f64(&self, p: DVec2, t: f64, attenuation: Attenuation) -> (DVec2, f64) {
+        let exposure = if self.calm.iter().any(|c| c.contains_f64(p)) { 0.0 } else { 1.0 };
+        let mut wind = self.global.map_or(DVec2::ZERO, |g| g.velocity_f64(p, t));
+        let mut push = DVec2::ZERO;
+        if attenuation == Attenuation::Cluster {
+            wind += self.sources.iter().map(|s| s.velocity_f64(p, t)).sum::<DVec2>();
+            push = self.colliders.iter().map(|c| c.velocity_f64(p)).sum();
+        }
+        (wind * exposure + push, exposure)
     }
 
     /// The true force at `p`: what the interpolated forces approximate.

@@ -100,6 +100,9 @@ fn animation_inputs() {
     refused("wind-nan", &["--wind", "30,NaN"], "NaN");
     refused("source-negative-sigma", &["--source", "0,0,1,-2"], "negative");
     refused("calm-inverted", &["--calm", "2,0,1,1"], "inverted");
+    // The analytic wind field's parameter block holds 64 calm areas.
+    let calm: Vec<&str> = (0..65).flat_map(|_| ["--calm", "0,0,1,1"]).collect();
+    refused("calm-over-64", &calm, "65 calm areas: at most 64");
     refused("collider-radius-0", &["--collider", "sphere:0,0.2,0,0"], "radius");
     refused("cluster-size-0", &["--cluster-size", "0"], "cluster size");
     refused("time-inf", &["--time", "inf"], "inf");

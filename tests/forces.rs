@@ -208,7 +208,8 @@ fn delayed_attenuation_removes_cluster_artefacts() {
 
 #[test]
 fn corner_forces_are_what_the_cluster_grid_interpolates() {
-    // Exposure of a corner inside a calm area is 0, elsewhere 1 (the z of each corner).
+    // Exposure of a corner inside a calm area is 0, elsewhere 1 (the w of each corner); the wind
+    // in m/s, `KEYFRAME_WIND_SCALE` times the keyframe force.
     let grid = ClusterGrid::new(4.0, 1.0);
     let wind = Wind {
         global: Some(GlobalWind { direction_deg: 0.0, strength: 0.5, gusts: false }),
@@ -217,5 +218,5 @@ fn corner_forces_are_what_the_cluster_grid_interpolates() {
     };
     let corners = animation::corner_forces(&grid, &wind, 0.0, Attenuation::Cluster);
     assert_eq!(corners[0], Vec4::new(0.0, 0.0, 0.0, 0.0));
-    assert_eq!(corners[24], Vec4::new(0.5, 0.0, 1.0, 0.0));
+    assert_eq!(corners[24], Vec4::new(0.5 * meadow::wind::KEYFRAME_WIND_SCALE, 0.0, 0.0, 1.0));
 }

@@ -223,6 +223,7 @@ const ORDER: &[&str] = &[
     "render::recording",
     "render::scene_gpu",
     "render::animation",
+    "render::wind",
     "render::settings",
     "render::layouts",
     "render::passes",

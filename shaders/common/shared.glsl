@@ -91,6 +91,8 @@
 // Limits.
 #define MAX_SEGMENTS 16u // Segments per blade; shader arrays of levels hold `MAX_SEGMENTS + 1`.
 #define MAX_EMITTERS 64u // Point sources plus colliders a renderer can hold (the per-frame emitter buffers' capacity).
+#define MAX_CALM_AREAS 64u // Calm areas the analytic wind field holds (its parameter block's capacity).
+#define WIND_GROUP 64u // Invocations per workgroup of the analytic wind field's corner pass.
 #define POSE_WORDS 3u // 32-bit words of one level of a `--eval blade` pose record.
 #define MAX_LOD_BUCKETS 8u // Segment LOD buckets (`--lod-segments`).
 #define DRAW_WORDS 5u // Words of one LOD bucket's draw in the cull's `draws` (a `VkDrawIndexedIndirectCommand`).

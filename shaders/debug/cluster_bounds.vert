@@ -5,6 +5,7 @@
 // between two neighbouring corners per pair of vertices (no vertex buffer). Each end is coloured
 // by the force at its corner this frame, from yellow (none) to red (the strongest poses).
 #include "common/bindings.glsl"
+#include "wind/wind_field.glsl"
 
 layout(push_constant) uniform Grid {
     float origin;        // x = z of corner 0
@@ -38,7 +39,7 @@ void main() {
     uvec2 corner = along_z ? uvec2(line, step) : uvec2(step, line);
     vec2 p = grid.origin + vec2(corner) * grid.cluster_size;
     vec3 world = vec3(p.x, terrain_height(p) + grid.lift, p.y);
-    float force = length(corners[corner.y * n + corner.x].xy);
+    float force = length(wind_corner(corner.y * n + corner.x).xz) / KEYFRAME_WIND_SCALE;
     out_color = mix(vec3(1.0, 0.9, 0.1), vec3(0.9, 0.05, 0.02), clamp(force, 0.0, 1.0));
     gl_Position = frame.view_proj * vec4(world, 1.0);
 }

@@ -25,6 +25,7 @@ pub mod submission;
 pub mod target;
 pub mod terrain_chunks;
 pub mod uniforms;
+pub mod wind;
 
 pub use renderer::{FrameTimings, PassTime, RenderSettings, Renderer};
 pub use target::OffscreenTarget;

@@ -15,6 +15,8 @@ pub const BLADE_COVERAGE_FRAG: Shader = spirv_shader!("blades/blade.frag.coverag
 pub const BLADE_LEVELS_COMP: Shader = spirv_shader!("blades/blade_levels.comp");
 /// `--eval blade`: per-blade pose records.
 pub const BLADE_POSE_COMP: Shader = spirv_shader!("animation/blade_pose.comp");
+/// The analytic wind field at the cluster corners, each step (`render::wind`).
+pub const ANALYTIC_CORNERS_COMP: Shader = spirv_shader!("wind/analytic_corners.comp");
 /// Terrain vertex shader (height-field pulling).
 pub const TERRAIN_VERT: Shader = spirv_shader!("terrain/terrain.vert");
 /// Terrain fragment shader.

@@ -1,5 +1,6 @@
-//! What animates the blades. The settings a renderer is built with, the per-frame external
-//! forces the CPU computes at cluster corners (thesis 3.2.2) and for the point emitters, and the
+//! What animates the blades. The settings a renderer is built with, the thesis' CPU mirror of
+//! the wind at cluster corners (3.2.2, what `--brute-force` writes; `render::wind` evaluates it
+//! on the GPU with the cull) and of a blade's interpolated wind and force, and the
 //! seam every animation model plugs into (`model::AnimationModel`): today's static blades
 //! (`still`) and keyframes from a texture or a uniform array, per vertex or per blade
 //! (`keyframed`, thesis ch. 3–4), with their GPU tables (`keyframe_gpu`) and the per-blade pose
@@ -21,7 +22,7 @@ use crate::keyframes::{Representation, Smoothing};
 use crate::render::gpu_constants;
 use crate::scene::clusters::ClusterGrid;
 use crate::vk::Device;
-use crate::wind::{Attenuation, Wind};
+use crate::wind::{Attenuation, Wind, KEYFRAME_WIND_SCALE};
 
 /// Build the model `settings` asks for (`segments` per blade), with room for `records` pose
 /// records and `levels` placed levels (0 without the cull: nothing places them) when it
@@ -135,13 +136,15 @@ impl Default for AnimationSettings {
 /// Point sources plus colliders a renderer can hold (the per-frame emitter buffers' capacity).
 pub const MAX_EMITTERS: usize = crate::render::gpu_constants::MAX_EMITTERS as usize;
 
-/// The corner forces of a frame: (fx, fz, calm-area exposure, 0) per corner.
+/// The corner winds of a frame on the CPU, the thesis' path (`--brute-force`): (vx, vy, vz,
+/// calm-area exposure) per corner, in m/s (`wind::KEYFRAME_WIND_SCALE` times the keyframe force).
 pub fn corner_forces(grid: &ClusterGrid, wind: &Wind, time: f32, attenuation: Attenuation) -> Vec<Vec4> {
     corner_forces_at(grid, Vec2::ZERO, wind, time, attenuation)
 }
 
-/// The corner forces of a grid whose corners lie at `origin` + their grid position (a block
-/// field's grid, relative to its origin O, follows the camera).
+/// The corner winds of a grid whose corners lie at `origin` + their grid position (a block
+/// field's grid, relative to its origin O, follows the camera), in f32 as the thesis computed
+/// them: the CPU mirror of `shaders/wind/analytic_corners.comp`.
 pub fn corner_forces_at(
     grid: &ClusterGrid,
     origin: Vec2,
@@ -154,8 +157,8 @@ pub fn corner_forces_at(
             let p = origin + grid.corner_position(i);
             let f = wind.corner_force(p, time, attenuation);
             // A non-finite force (overflowing eq. 4.1) would select an undefined pose: none.
-            let f = if f.is_finite() { f } else { Vec2::ZERO };
-            Vec4::new(f.x, f.y, wind.exposure(p), 0.0)
+            let f = if f.is_finite() { f } else { Vec2::ZERO } * KEYFRAME_WIND_SCALE;
+            Vec4::new(f.x, 0.0, f.y, wind.exposure(p))
         })
         .collect()
 }
@@ -179,9 +182,10 @@ pub fn emitters(wind: &Wind, time: f32) -> Vec<Vec4> {
     out
 }
 
-/// The force the vertex shader computes for a blade (`shaders/animation/forces.glsl`), on the CPU: the
-/// reference for GPU read-back tests.
-pub fn blade_force(
+/// The wind at a blade as `shaders/wind/wind_field.glsl` samples it (`wind_at_blade`), on the
+/// CPU: the corners' wind weighted (eq. 3.6/3.8), plus with delayed attenuation every source
+/// and collider at the blade; velocity (x, z) in m/s. The reference for GPU read-back tests.
+pub fn blade_wind(
     grid: &ClusterGrid,
     cluster: &crate::scene::clusters::BladeCluster,
     corners: &[Vec4],
@@ -194,16 +198,31 @@ pub fn blade_force(
     let w = cluster.unpacked_weights();
     let c = cluster.corner as usize;
     let f = corners[c] * w[0] + corners[c + 1] * w[1] + corners[c + n] * w[2] + corners[c + n + 1] * w[3];
-    let mut force = Vec2::new(f.x, f.y);
+    let mut wind = Vec2::new(f.x, f.z);
     if attenuation == Attenuation::Blade {
+        let scale = KEYFRAME_WIND_SCALE;
         for e in &emitters[..sources] {
-            force += f.z * crate::wind::PointSource::force_from(Vec2::new(e.x, e.y), e.z, e.w, root);
+            wind += f.w * (crate::wind::PointSource::force_from(Vec2::new(e.x, e.y), e.z, e.w, root) * scale);
         }
         for e in &emitters[sources..] {
-            force += crate::wind::Collider::force(Vec2::new(e.x, e.y), Vec2::new(e.z, e.w), root);
+            wind += crate::wind::Collider::force(Vec2::new(e.x, e.y), Vec2::new(e.z, e.w), root) * scale;
         }
     }
-    force
+    wind
+}
+
+/// The keyframes' force for a blade (`shaders/animation/forces.glsl`): its wind (`blade_wind`)
+/// in keyframe units, through the fixed scale `wind::KEYFRAME_WIND_SCALE`.
+pub fn blade_force(
+    grid: &ClusterGrid,
+    cluster: &crate::scene::clusters::BladeCluster,
+    corners: &[Vec4],
+    emitters: &[Vec4],
+    sources: usize,
+    attenuation: Attenuation,
+    root: Vec2,
+) -> Vec2 {
+    blade_wind(grid, cluster, corners, emitters, sources, attenuation, root) * (1.0 / KEYFRAME_WIND_SCALE)
 }
 
 /// Sources and colliders the shaders read: the first `MAX_EMITTERS` of them, sources first (the

@@ -1,7 +1,7 @@
 //! The seam every animation model plugs into. A model owns its GPU resources (descriptor set
 //! `SET_ANIMATION`: a keyframe texture, a keyframe uniform array, pose records), sets its
-//! specialization constants and its part of the frame uniforms, runs its per-frame CPU update,
-//! adds its compute passes to the graph, and tells the blade pass how to pose a blade: through
+//! specialization constants and its part of the frame uniforms, adds its compute passes to the
+//! graph (the wind it reads is the wind field's, `render::wind`), and tells the blade pass how to pose a blade: through
 //! the model's own per-vertex shader path (the thesis' per-vertex keyframe evaluation, kept for
 //! the benchmark), or from pose records its passes wrote (the `--eval blade` format, the path
 //! physics and wind-field models write into).
@@ -9,21 +9,17 @@
 //! Models today: `still::StaticModel` and `keyframed::KeyframeModel` (texture or uniform array,
 //! per vertex or per blade).
 
-use ash::vk;
-use glam::Vec2;
-
 use crate::error::Result;
-use crate::render::animation::{self, KeyframeTexture, KeyframeUniforms};
+use crate::render::animation::{KeyframeTexture, KeyframeUniforms};
 use crate::render::gpu_constants as gpu;
 use crate::render::graph::Pass;
 use crate::render::scene_gpu::SceneGpu;
 use crate::render::specialization::Specialization;
 use crate::render::uniforms::FrameUniforms;
-use crate::scene::clusters::ClusterGrid;
 use crate::vk::descriptor::{Resource as Descriptor, SetLayout};
 use crate::vk::upload::UploadBatch;
 use crate::vk::{Access, Buffer, BufferDesc, Destroy, Device, Guard, Resource, TexelView};
-use crate::wind::{Attenuation, Wind};
+use ash::vk;
 
 /// How the blade pass poses a blade.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -33,21 +29,6 @@ pub enum BladeInput {
     /// Pose records (`POSE_WORDS` words per level, written by the model's passes before the
     /// blade pass), and the buffer of placed levels the cull's path turns them into.
     PoseRecords(vk::Buffer, vk::Buffer),
-}
-
-/// What a model's per-frame update reads.
-pub struct FrameInput<'a> {
-    /// The cluster grid whose corners carry the forces.
-    pub grid: &'a ClusterGrid,
-    /// The forces.
-    pub wind: &'a Wind,
-    /// Where point sources are attenuated.
-    pub attenuation: Attenuation,
-    /// Simulation time in seconds.
-    pub time: f32,
-    /// World (x, z) the GPU's positions are relative to (a block field's origin O; zero for a
-    /// stored field): the corners lie at `origin` + their grid position, emitters are shifted.
-    pub origin: Vec2,
 }
 
 /// What a model's compute passes are built with.
@@ -81,13 +62,6 @@ pub trait AnimationModel {
     /// The model's resources: set `SET_ANIMATION`.
     fn resources(&self) -> &AnimationSet;
 
-    /// Write this frame's forces into its host-visible buffers (the animation's part of the
-    /// frame, `FrameForces`). By default the thesis' forces: the wind at the cluster corners and
-    /// the point emitters (3.2.2).
-    fn update(&self, forces: &mut FrameForces, input: &FrameInput) {
-        write_wind_forces(forces, input);
-    }
-
     /// How the blade pass poses a blade.
     fn blade_input(&self) -> BladeInput;
 
@@ -101,28 +75,14 @@ pub trait AnimationModel {
     unsafe fn destroy(self: Box<Self>, device: &Device);
 }
 
-/// The thesis' per-frame forces: the wind at the cluster corners (eq. 4.1 sources, calm areas)
-/// and the point sources and colliders, at most `MAX_EMITTERS`, sources first.
-pub fn write_wind_forces(forces: &mut FrameForces, input: &FrameInput) {
-    let corners = animation::corner_forces_at(input.grid, input.origin, input.wind, input.time, input.attenuation);
-    let mut emitters = animation::emitters(input.wind, input.time);
-    emitters.truncate(animation::MAX_EMITTERS);
-    // Positions on the GPU are relative to the origin (a block field's O; zero otherwise): the
-    // sources' positions and the colliders' centres, x and y of every emitter.
-    for e in &mut emitters {
-        e.x -= input.origin.x;
-        e.y -= input.origin.y;
-    }
-    forces.corners.write(0, &corners);
-    forces.emitters.write(0, &emitters);
-}
-
-/// The animation's part of one frame in flight (`frame::PerFrame`): the thesis' forces, written
-/// by the CPU before each submission (3.2.2) and read through set 0.
+/// The wind's part of one frame in flight (`frame::PerFrame`), read through set 0: the wind
+/// field at the cluster corners, written by the analytic field's pass on the GPU with the cull and
+/// by the CPU before each submission with `--brute-force` (the thesis' path, 3.2.2), and the point
+/// sources and colliders at the frame's time, written by the CPU (`render::wind::WindField`).
 pub struct FrameForces {
-    /// Host-visible forces at the cluster corners.
+    /// Host-visible wind at the cluster corners: velocity (x, y, z) in m/s and exposure.
     pub corners: Buffer,
-    /// Host-visible point sources and colliders at the frame's time.
+    /// Host-visible point sources and colliders at the frame's time, relative to O.
     pub emitters: Buffer,
 }
 
@@ -140,12 +100,13 @@ impl FrameForces {
     pub fn new(device: &Device, slot: usize, corners: u32, emitters: u32) -> Result<Self> {
         let vec4 = 16u64;
         let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
-        let buffer = |name: &str, count: u32| {
+        let buffer = |name: &str, count: u32, usage| {
             let name = format!("frame {slot} {name}");
-            Buffer::new(device, &BufferDesc::upload(&name, vec4 * u64::from(count.max(1)), storage))
+            Buffer::new(device, &BufferDesc::upload(&name, vec4 * u64::from(count.max(1)), storage | usage))
         };
-        let corners = Guard::new(device, buffer("corner forces", corners)?);
-        let emitters = buffer("emitters", emitters)?;
+        // The corners are read back by tests (`Renderer::read_wind_corners`).
+        let corners = Guard::new(device, buffer("wind corners", corners, vk::BufferUsageFlags::TRANSFER_SRC)?);
+        let emitters = buffer("emitters", emitters, vk::BufferUsageFlags::empty())?;
         Ok(Self { corners: corners.take(), emitters })
     }
 }

@@ -16,10 +16,30 @@ impl Renderer {
         let Some(grid) = scene.relief_grid_read() else {
             return Ok(Vec::new());
         };
-        let size = scene.relief_grid.size;
+        self.read_buffer("relief grid", grid, scene.relief_grid.size)
+    }
+
+    /// The wind at the cluster corners of frame slot `slot` (a renderer's first frame is slot 0)
+    /// as the wind field left it (`shaders/wind/analytic_corners.comp` with the cull, the CPU with
+    /// `--brute-force`): velocity (x, y, z) in m/s and exposure per corner. Call it between
+    /// frames, as `read_relief_grid`.
+    pub fn read_wind_corners(&self, slot: usize) -> Result<Vec<[f32; 4]>> {
+        let corners = &self.forces[slot].corners;
+        let size = 16 * u64::from(self.scene_gpu().grid.corner_count());
+        self.read_buffer("wind corners", corners.raw, size)
+    }
+
+    /// The cluster grid whose corners carry the wind (relative to O for a block field).
+    pub fn cluster_grid(&self) -> crate::scene::clusters::ClusterGrid {
+        self.scene_gpu().grid
+    }
+
+    /// `size` bytes of `buffer`, last written by a compute shader, copied out and waited for.
+    fn read_buffer(&self, name: &str, buffer: ash::vk::Buffer, size: u64) -> Result<Vec<[f32; 4]>> {
         let usage = ash::vk::BufferUsageFlags::TRANSFER_DST;
-        let out = Buffer::new(&self.device, &BufferDesc::readback("relief grid read-back", size, usage))?;
-        let copied = commands::submit_and_wait(&self.device, "relief grid read-back", |cmd| {
+        let out = Buffer::new(&self.device, &BufferDesc::readback(&format!("{name} read-back"), size, usage))?;
+        let grid = buffer;
+        let copied = commands::submit_and_wait(&self.device, &format!("{name} read-back"), |cmd| {
             let before = sync::buffer_barrier(grid, &[Access::ComputeShaderWrite], &[Access::TransferRead]);
             sync::cmd_barriers(&self.device, cmd, &[before], &[]);
             let region = ash::vk::BufferCopy { src_offset: 0, dst_offset: 0, size };

@@ -13,6 +13,7 @@ mod overlay;
 mod passes;
 mod record;
 mod uniforms;
+mod wind;
 
 use std::cell::RefCell;
 use std::rc::Rc;
@@ -21,9 +22,8 @@ use std::sync::Arc;
 use ash::vk;
 
 use crate::error::{Error, Result};
-use crate::render::animation::model::{AnimationModel, FrameForces, FrameInput};
+use crate::render::animation::model::{AnimationModel, FrameForces};
 use crate::render::animation::{self, build_model, AnimationSettings};
-use crate::render::field_gpu::Origin;
 pub use crate::render::frame::{Deletion, FrameSync, FrameTimings, PassTime};
 use crate::render::frame::{Frame, FrameRing, FrameUniforms, PerFrame};
 use crate::render::graph::{Graph, Outputs, DEFAULT_DT};
@@ -38,6 +38,7 @@ pub use crate::render::settings::{
     RenderSettings, BLADES_PER_INSTANCE_RANGE, DEFAULT_BLADES_PER_INSTANCE, SEGMENTS_RANGE,
 };
 use crate::render::target::TargetView;
+use crate::render::wind::{AnalyticWind, WindField};
 use crate::scene::{field::check_camera, Camera, Scene};
 use crate::vk::descriptor::Resource as Descriptor;
 use crate::vk::{Destroy, Device, Resource};
@@ -62,8 +63,10 @@ pub struct Renderer {
     ring: FrameRing,
     /// Each frame's uniforms and set 0.
     scene_frames: PerFrame<SceneFrame>,
-    /// Each frame's forces (the animation's part).
+    /// Each frame's wind at the cluster corners and emitters (the wind field's part).
     forces: PerFrame<FrameForces>,
+    /// The wind field (`render::wind`): the analytic one.
+    wind: Box<dyn WindField>,
     /// Each frame's cull counts (the cull's part).
     cull_frames: PerFrame<CullFrame>,
     /// The camera the cull tests against when frozen (`None`: the view's camera).
@@ -103,6 +106,7 @@ impl Renderer {
             ring: FrameRing::new(Vec::new()),
             scene_frames: PerFrame::default(),
             forces: PerFrame::default(),
+            wind: Box::new(AnalyticWind::new()),
             cull_frames: PerFrame::default(),
             cull_camera: None,
             multisampled: None,
@@ -278,21 +282,6 @@ impl Renderer {
         self.cull_camera
     }
 
-    /// The model's per-frame CPU update (the thesis' corner forces and emitters, 3.2.2) into the
-    /// frame's host-visible buffers; they are visible to the GPU at submission.
-    fn update_model(&mut self, slot: usize, camera: &Camera, time: f32) {
-        let scene = self.scene.as_ref().expect("uploaded");
-        let origin = scene.field.as_ref().map_or(glam::Vec2::ZERO, |_| Origin::under(camera).world.as_vec2());
-        let input = FrameInput {
-            grid: &scene.grid,
-            wind: &self.animation.wind,
-            attenuation: self.animation.attenuation,
-            time,
-            origin,
-        };
-        self.model.as_deref().expect("built").update(&mut self.forces[slot], &input);
-    }
-
     /// The animation the renderer was built with.
     pub fn animation(&self) -> &AnimationSettings {
         &self.animation
@@ -402,7 +391,7 @@ impl Renderer {
     fn prepare_frame(&mut self, slot: usize, target: &TargetView, camera: &Camera, time: f32) -> Result<FrameUniforms> {
         let uniforms = self.frame_uniforms(camera, time, target.extent);
         self.scene_frames[slot].uniforms.write(0, &[uniforms]);
-        self.update_model(slot, camera, time);
+        self.update_wind(slot, camera, time);
         self.prepare_overlay(slot, target.extent)?;
         Ok(uniforms)
     }

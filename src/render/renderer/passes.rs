@@ -18,6 +18,7 @@ use crate::render::recording::SceneSets;
 use crate::render::scene_gpu::SceneGpu;
 use crate::render::settings::sky_clear_color;
 use crate::render::specialization::Specialization;
+use crate::render::wind::WindSetup;
 use crate::scene::Scene;
 use crate::vk::{Access, Device, Guard, Resource};
 
@@ -50,6 +51,15 @@ impl Renderer {
         self.graph.import(Resource::Buffer(scene.tiles.raw), &[Access::ComputeShaderRead]);
         let (keyframes, uploaded) = model.resources().keyframe_import();
         self.graph.import(keyframes, &uploaded);
+        if self.wind_passes_run() {
+            // First: every blade response samples what it writes.
+            let frames: Vec<_> =
+                self.forces.iter().map(|f| (f.corners.descriptor(), f.emitters.descriptor())).collect();
+            let setup = WindSetup { frames: &frames, grid: &scene.grid, constants: &constants };
+            for pass in self.wind.passes(device, &setup)? {
+                self.graph.add_boxed(pass);
+            }
+        }
         if settings.floor {
             let sky = self.sky();
             let set_layout = self.layouts.scene.raw;

@@ -1,0 +1,77 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// The analytic wind field on the GPU (`render::wind::analytic`): the wind velocity (m/s) and the
+// calm-area exposure at every cluster corner of this frame (thesis 3.2.2), each step, instead of
+// the thesis' CPU loop. The global wind with gusts, taken relative to the frame's O with its
+// waves' phases at O computed in f64 on the CPU (so 100 km out is as exact as the origin), calm
+// areas (thesis 5.1: no wind inside), and with cluster attenuation the point sources (eq. 4.1)
+// and colliders (5.2); with delayed attenuation (4.5) the corners carry the global wind and the
+// exposure only, and the blades add sources and colliders themselves (`wind/wind_field.glsl`).
+// The CPU mirror is `render::animation::corner_forces_at`, its f64 reference
+// `wind::Wind::corner_velocity_f64`. Its own set (no scene sets): the parameters, this frame's
+// emitters and this frame's corners.
+#include "common/shared.glsl"
+#include "wind/analytic.glsl"
+
+layout(local_size_x = WIND_GROUP) in;
+
+// `render::wind::params::Params`, a storage block (its counts decide control flow: the lavapipe
+// profile's rule, common/profile.glsl).
+layout(set = 0, binding = 0, std430) readonly buffer WindParams {
+    vec4 global;   // direction x, z; mean speed (m/s); 0 without a global wind, 1 steady, 2 gusts
+    vec4 phases;   // the four waves' phases at O at the frame's time, in [0, 2π)
+    vec4 waves01;  // waves 0 and 1: wave vectors (x, z) in rad/m
+    vec4 waves23;  // waves 2 and 3
+    vec4 grid;     // the first corner relative to O (x, z), the cluster edge, 0
+    uvec4 shape;   // corners per side, corners, 1 with delayed attenuation, 0
+    uvec4 counts;  // sources, colliders, calm areas, 0
+    vec4 calm[MAX_CALM_AREAS]; // min x, z, max x, z relative to O
+} wind;
+// Point sources (x, z relative to O, power, sigma), then colliders (centre x, z, radius x, z).
+layout(set = 0, binding = 1, std430) readonly buffer Emitters { vec4 emitters[]; };
+// This frame's corners: velocity (x, y, z) in m/s, exposure.
+layout(set = 0, binding = 2, std430) writeonly buffer Corners { vec4 corners[]; };
+
+float exposure_at(vec2 q) {
+    for (uint i = 0u; i < wind.counts.z; ++i) {
+        vec4 c = wind.calm[i];
+        if (all(greaterThanEqual(q, c.xy)) && all(lessThanEqual(q, c.zw))) {
+            return 0.0;
+        }
+    }
+    return 1.0;
+}
+
+void main() {
+    uint index = gl_GlobalInvocationID.x;
+    if (index >= wind.shape.y) {
+        return;
+    }
+    uint n = wind.shape.x;
+    // As `scene::clusters::ClusterGrid::corner_position`.
+    vec2 q = vec2(wind.grid.x + float(index % n) * wind.grid.z, wind.grid.y + float(index / n) * wind.grid.z);
+    float exposure = exposure_at(q);
+    vec2 v = vec2(0.0);
+    if (wind.global.w > 0.5) {
+        v = global_wind(wind.global.xy, wind.global.z, wind.global.w > 1.5, wind.phases, wind.waves01, wind.waves23, q);
+    }
+    vec2 push = vec2(0.0);
+    if (wind.shape.z == 0u) {
+        uint sources = wind.counts.x;
+        for (uint s = 0u; s < sources; ++s) {
+            vec4 e = emitters[s];
+            v += source_wind(e.xy, e.z, e.w, q);
+        }
+        for (uint i = sources; i < sources + wind.counts.y; ++i) {
+            vec4 e = emitters[i];
+            push += collider_wind(e.xy, e.zw, q);
+        }
+    }
+    // Calm areas block the wind, not the colliders (thesis 5.1, 5.2).
+    vec2 f = v * exposure + push;
+    // A non-finite wind (an overflowing eq. 4.1) would select an undefined pose: none.
+    if (any(isnan(f)) || any(isinf(f))) {
+        f = vec2(0.0);
+    }
+    corners[index] = vec4(f.x, 0.0, f.y, exposure);
+}

@@ -1,0 +1,37 @@
+//! The renderer's side of the wind field (`render::wind`): each frame's CPU update, and whether
+//! the field's passes run.
+
+use super::Renderer;
+use crate::render::animation;
+use crate::render::field_gpu::Origin;
+use crate::render::wind::WindInput;
+use crate::scene::Camera;
+
+impl Renderer {
+    /// The wind field's per-frame CPU update into the frame's host-visible buffers (the emitters,
+    /// and with `--brute-force` the thesis' corner forces, 3.2.2; with the cull its pass's
+    /// parameters); they are visible to the GPU at submission.
+    pub(super) fn update_wind(&mut self, slot: usize, camera: &Camera, time: f32) {
+        let scene = self.scene.as_ref().expect("uploaded");
+        let origin = scene.field.as_ref().map_or(glam::DVec2::ZERO, |_| Origin::under(camera).world);
+        let input = WindInput {
+            grid: &scene.grid,
+            wind: &self.animation.wind,
+            attenuation: self.animation.attenuation,
+            time: f64::from(time),
+            origin,
+            cpu_corners: !self.settings.culling.enabled,
+        };
+        self.wind.update(&mut self.forces[slot], &input);
+    }
+
+    /// Whether the wind field's passes run: with the cull, when something samples the wind (a
+    /// model that is not static, or the bounds view's corner colours). Brute force keeps the
+    /// thesis' CPU corners.
+    pub(super) fn wind_passes_run(&self) -> bool {
+        let settings = &self.settings;
+        settings.culling.enabled
+            && !settings.floor
+            && (self.animation.mode != animation::Mode::Static || settings.debug_bounds)
+    }
+}

@@ -1,0 +1,109 @@
+//! The analytic wind field's pass (`shaders/wind/analytic_corners.comp`): one dispatch over the
+//! cluster corners writes this frame's wind (m/s) and exposure into the frame's corner buffer,
+//! from the parameters `AnalyticWind::update` left for the frame (its own uniform block, a
+//! storage buffer: its counts decide control flow) and the frame's emitters. Its own set, no
+//! scene sets. First in the frame. A second step hands the corners over to every reader (the
+//! blade shaders of the models, which sample them through `shaders/wind/wind_field.glsl`): the
+//! graph puts the compute-write → vertex/compute-read barrier there, and the next frame that
+//! writes this slot's corners waits for those reads.
+
+use std::cell::RefCell;
+use std::rc::Rc;
+
+use ash::vk;
+
+use super::params::Params;
+use super::WindSetup;
+use crate::error::Result;
+use crate::render::gpu_constants as gpu;
+use crate::render::graph::{Declaration, Pass, PassContext, PassUniforms};
+use crate::render::recording::{PassSet, PassSetDesc};
+use crate::render::shaders;
+use crate::vk::descriptor::Resource;
+use crate::vk::{pipeline, Access, Device, Guard};
+
+/// The corners' pipeline, its set per frame in flight and its parameter blocks.
+pub struct AnalyticCornersPass {
+    pipeline: vk::Pipeline,
+    set: PassSet,
+    uniforms: PassUniforms,
+    /// Each frame's corner buffer.
+    corners: Vec<vk::Buffer>,
+    groups: u32,
+    params: Rc<RefCell<Params>>,
+}
+
+impl AnalyticCornersPass {
+    /// Build the pipeline and a set per frame in flight over `setup`'s buffers.
+    pub fn new(device: &Device, setup: &WindSetup, params: Rc<RefCell<Params>>) -> Result<Self> {
+        let frames = setup.frames.len();
+        let size = std::mem::size_of::<Params>() as u64;
+        let uniforms = Guard::new(device, PassUniforms::new(device, "wind field", size, frames)?);
+        let code = shaders::ANALYTIC_CORNERS_COMP.code(device.profile);
+        let shaders = [("analytic_corners.comp", code)];
+        let desc = PassSetDesc { name: "wind field", shaders: &shaders, before: &[], push: &[], frames };
+        let set = PassSet::new(device, &desc, |slot| {
+            let (corners, emitters) = setup.frames[slot];
+            vec![
+                ("WindParams", uniforms.resource(slot)),
+                ("Emitters", Resource::Buffer(emitters)),
+                ("Corners", Resource::Buffer(corners)),
+            ]
+        })?;
+        let set = Guard::new(device, set);
+        let pipeline = pipeline::compute(device, "wind field", code, set.layout, &[])?;
+        Ok(Self {
+            pipeline,
+            set: set.take(),
+            uniforms: uniforms.take(),
+            corners: setup.frames.iter().map(|(corners, _)| corners.buffer).collect(),
+            groups: setup.grid.corner_count().div_ceil(gpu::WIND_GROUP),
+            params,
+        })
+    }
+}
+
+impl Pass for AnalyticCornersPass {
+    fn name(&self) -> &'static str {
+        "wind field"
+    }
+
+    fn declare(&self, ctx: &PassContext) -> Option<Declaration> {
+        let corners = self.corners[ctx.slot];
+        Some(
+            Declaration::compute()
+                .buffer(corners, Access::ComputeShaderWrite)
+                .step("to readers")
+                .buffer(corners, Access::VertexShaderStorageRead)
+                .buffer(corners, Access::ComputeShaderRead),
+        )
+    }
+
+    fn record(&self, ctx: &PassContext, cmd: vk::CommandBuffer) -> Result<()> {
+        if ctx.step != 0 {
+            // The hand-over: a barrier, no commands.
+            return Ok(());
+        }
+        let device = ctx.device;
+        // SAFETY: cmd is recording; the pipeline and the set are live and match.
+        unsafe { device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipeline) };
+        self.set.bind(device, cmd, vk::PipelineBindPoint::COMPUTE, ctx.slot);
+        // SAFETY: as above.
+        unsafe { device.raw.cmd_dispatch(cmd, self.groups, 1, 1) };
+        Ok(())
+    }
+
+    fn uniforms(&self, _ctx: &PassContext) -> Option<(&PassUniforms, Vec<u8>)> {
+        Some((&self.uniforms, bytemuck::bytes_of(&*self.params.borrow()).to_vec()))
+    }
+
+    unsafe fn destroy(self: Box<Self>, device: &Device) {
+        // SAFETY: per the contract.
+        unsafe {
+            crate::vk::live::destroyed(self.pipeline);
+            device.raw.destroy_pipeline(self.pipeline, None);
+            self.set.destroy(device);
+            self.uniforms.destroy(device);
+        }
+    }
+}

@@ -1,0 +1,70 @@
+//! Wind fields (issue #29's seam): what produces, each step, the wind every blade response
+//! samples through one GLSL include (`shaders/wind/wind_field.glsl`). A field's quantity is the
+//! wind velocity in m/s (x, y, z) and the calm-area exposure that delayed attenuation uses (thesis
+//! 4.5); each response maps it to its own input (the keyframes through the fixed scale
+//! `wind::KEYFRAME_WIND_SCALE`, `shaders/animation/forces.glsl`). A field writes its CPU part of a
+//! frame (`update`) and adds the compute passes that produce the field on the GPU (`passes`).
+//!
+//! The first field, `analytic::AnalyticWind`, is the thesis' wind: the global wind with gusts,
+//! moving point sources (eq. 4.1), calm areas and colliders, at the cluster corners (eq.
+//! 3.6–3.8). With the cull its pass evaluates them on the GPU (`corners_pass`); with
+//! `--brute-force` the CPU writes them, as the thesis did (Table 6.2 measures that path).
+
+pub mod analytic;
+mod corners_pass;
+mod params;
+
+pub use analytic::AnalyticWind;
+
+use ash::vk;
+use glam::DVec2;
+
+use crate::error::Result;
+use crate::render::animation::model::FrameForces;
+use crate::render::graph::Pass;
+use crate::render::specialization::Specialization;
+use crate::scene::clusters::ClusterGrid;
+use crate::vk::Device;
+use crate::wind::{Attenuation, Wind};
+
+/// What a wind field's per-frame update reads.
+pub struct WindInput<'a> {
+    /// The cluster grid whose corners carry the field.
+    pub grid: &'a ClusterGrid,
+    /// The forces.
+    pub wind: &'a Wind,
+    /// Where point sources are attenuated.
+    pub attenuation: Attenuation,
+    /// Simulation time in seconds.
+    pub time: f64,
+    /// World (x, z) the GPU's positions are relative to, exact in f64 (a block field's origin O;
+    /// zero for a stored field): the corners lie at `origin` + their grid position.
+    pub origin: DVec2,
+    /// The thesis' path (`--brute-force`): the CPU writes the corners; otherwise the field's
+    /// passes do.
+    pub cpu_corners: bool,
+}
+
+/// What a wind field's passes are built with: the frames' buffers they write and read.
+pub struct WindSetup<'a> {
+    /// Per frame in flight: its corners (written) and its emitters (read).
+    pub frames: &'a [(vk::DescriptorBufferInfo, vk::DescriptorBufferInfo)],
+    /// The cluster grid.
+    pub grid: &'a ClusterGrid,
+    /// The scene pipelines' specialization constants.
+    pub constants: &'a Specialization,
+}
+
+/// A wind field.
+pub trait WindField {
+    /// Name in reports.
+    fn name(&self) -> &'static str;
+
+    /// Write this frame's CPU part into `forces` (the frame's host-visible buffers, visible to
+    /// the GPU at submission) and whatever the field's passes read this frame.
+    fn update(&self, forces: &mut FrameForces, input: &WindInput);
+
+    /// The compute passes that produce the field this frame, before every reader (none on the
+    /// thesis' CPU path).
+    fn passes(&self, device: &Device, setup: &WindSetup) -> Result<Vec<Box<dyn Pass>>>;
+}

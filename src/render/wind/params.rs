@@ -1,0 +1,67 @@
+//! The analytic wind field's parameters of one frame (`Params`): the block its GPU pass reads
+//! (`WindParams` of `shaders/wind/analytic_corners.comp`), filled by the CPU per frame from the
+//! wind, the frame's O (f64) and time.
+
+use bytemuck::{Pod, Zeroable};
+
+use super::WindInput;
+use crate::render::animation;
+use crate::render::gpu_constants as gpu;
+use crate::wind::{Attenuation, KEYFRAME_WIND_SCALE};
+
+/// Calm areas the GPU field holds (`MAX_CALM_AREAS` of `shaders/common/shared.glsl`).
+pub const MAX_CALM_AREAS: usize = gpu::MAX_CALM_AREAS as usize;
+
+/// The analytic field's parameters of one frame: `WindParams` of
+/// `shaders/wind/analytic_corners.comp` (std430).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct Params {
+    /// Direction (x, z), mean speed in m/s, and 0 without a global wind, 1 steady, 2 with gusts.
+    pub global: [f32; 4],
+    /// The four waves' phases at O at the frame's time, in [0, 2π).
+    pub phases: [f32; 4],
+    /// Waves 0 and 1, then 2 and 3: wave vectors (x, z) in rad/m.
+    pub waves: [[f32; 4]; 2],
+    /// The first corner relative to O (x, z), the cluster edge, 0.
+    pub grid: [f32; 4],
+    /// Corners per side, corners, 1 with delayed attenuation, 0.
+    pub shape: [u32; 4],
+    /// Sources, colliders, calm areas, 0.
+    pub counts: [u32; 4],
+    /// Calm areas: min (x, z), max (x, z) relative to O.
+    pub calm: [[f32; 4]; MAX_CALM_AREAS],
+}
+
+impl Params {
+    /// The parameters of the frame `input` describes.
+    pub fn new(input: &WindInput) -> Self {
+        let (wind, grid, o) = (input.wind, input.grid, input.origin);
+        let (sources, colliders) = animation::emitter_counts(wind);
+        let calm = wind.calm.len().min(MAX_CALM_AREAS);
+        let mut params = Params {
+            grid: [grid.origin, grid.origin, grid.cluster_size, 0.0],
+            shape: [
+                grid.corners_per_side(),
+                grid.corner_count(),
+                u32::from(input.attenuation == Attenuation::Blade),
+                0,
+            ],
+            counts: [sources, colliders, calm as u32, 0],
+            ..Zeroable::zeroed()
+        };
+        if let Some(g) = &wind.global {
+            let dir = g.direction_f64();
+            let speed = g.strength * KEYFRAME_WIND_SCALE;
+            params.global = [dir.x as f32, dir.y as f32, speed, if g.gusts { 2.0 } else { 1.0 }];
+            params.phases = g.phases(o, input.time).map(|p| p as f32);
+            let k = g.wave_vectors().map(|k| k.as_vec2());
+            params.waves = [[k[0].x, k[0].y, k[1].x, k[1].y], [k[2].x, k[2].y, k[3].x, k[3].y]];
+        }
+        for (slot, c) in params.calm.iter_mut().zip(&wind.calm) {
+            let (min, max) = (c.min.as_dvec2() - o, c.max.as_dvec2() - o);
+            *slot = [min.x as f32, min.y as f32, max.x as f32, max.y as f32];
+        }
+        params
+    }
+}
