@@ -15,25 +15,28 @@
 
 layout(local_size_x = WIND_GROUP) in;
 
-// `render::wind::params::Params`, a storage block (its counts decide control flow: the lavapipe
-// profile's rule, common/profile.glsl).
-layout(set = 0, binding = 0, std430) readonly buffer WindParams {
-    vec4 global;   // direction x, z; mean speed (m/s); 0 without a global wind, 1 steady, 2 gusts
-    vec4 phases;   // the four waves' phases at O at the frame's time, in [0, 2π)
-    vec4 waves01;  // waves 0 and 1: wave vectors (x, z) in rad/m
-    vec4 waves23;  // waves 2 and 3
-    vec4 grid;     // the first corner relative to O (x, z), the cluster edge, 0
-    uvec4 shape;   // corners per side, corners, 1 with delayed attenuation, 0
-    uvec4 counts;  // sources, colliders, calm areas, 0
-    vec4 calm[MAX_CALM_AREAS]; // min x, z, max x, z relative to O
-} wind;
+// `render::wind::params::Params`, one block bound twice: its values as a uniform block (one load
+// for every lane on llvmpipe, where a storage load is a loop over the lanes), its counts and
+// flags, which decide control flow, through a storage binding (the lavapipe profile's rule,
+// common/profile.glsl).
+#define WIND_PARAMS \
+    vec4 global;   /* direction x, z; mean speed (m/s); 0 without a global wind, 1 steady, 2 gusts */ \
+    vec4 phases;   /* the four waves' phases at O at the frame's time, in [0, 2π) */ \
+    vec4 waves01;  /* waves 0 and 1: wave vectors (x, z) in rad/m */ \
+    vec4 waves23;  /* waves 2 and 3 */ \
+    vec4 grid;     /* the first corner relative to O (x, z), the cluster edge, 0 */ \
+    uvec4 shape;   /* corners per side, corners, 1 with delayed attenuation, 0 */ \
+    uvec4 counts;  /* sources, colliders, calm areas, 0 */ \
+    vec4 calm[MAX_CALM_AREAS]; /* min x, z, max x, z relative to O */
+layout(set = 0, binding = 0, std140) uniform WindValues { WIND_PARAMS } wind;
+layout(set = 0, binding = 3, std430) readonly buffer WindControl { WIND_PARAMS } control;
 // Point sources (x, z relative to O, power, sigma), then colliders (centre x, z, radius x, z).
 layout(set = 0, binding = 1, std430) readonly buffer Emitters { vec4 emitters[]; };
 // This frame's corners: velocity (x, y, z) in m/s, exposure.
 layout(set = 0, binding = 2, std430) writeonly buffer Corners { vec4 corners[]; };
 
 float exposure_at(vec2 q) {
-    for (uint i = 0u; i < wind.counts.z; ++i) {
+    for (uint i = 0u; i < control.counts.z; ++i) {
         vec4 c = wind.calm[i];
         if (all(greaterThanEqual(q, c.xy)) && all(lessThanEqual(q, c.zw))) {
             return 0.0;
@@ -44,7 +47,7 @@ float exposure_at(vec2 q) {
 
 void main() {
     uint index = gl_GlobalInvocationID.x;
-    if (index >= wind.shape.y) {
+    if (index >= control.shape.y) {
         return;
     }
     uint n = wind.shape.x;
@@ -52,17 +55,18 @@ void main() {
     vec2 q = vec2(wind.grid.x + float(index % n) * wind.grid.z, wind.grid.y + float(index / n) * wind.grid.z);
     float exposure = exposure_at(q);
     vec2 v = vec2(0.0);
-    if (wind.global.w > 0.5) {
-        v = global_wind(wind.global.xy, wind.global.z, wind.global.w > 1.5, wind.phases, wind.waves01, wind.waves23, q);
+    float global = control.global.w;
+    if (global > 0.5) {
+        v = global_wind(wind.global.xy, wind.global.z, global > 1.5, wind.phases, wind.waves01, wind.waves23, q);
     }
     vec2 push = vec2(0.0);
-    if (wind.shape.z == 0u) {
-        uint sources = wind.counts.x;
+    if (control.shape.z == 0u) {
+        uint sources = control.counts.x;
         for (uint s = 0u; s < sources; ++s) {
             vec4 e = emitters[s];
             v += source_wind(e.xy, e.z, e.w, q);
         }
-        for (uint i = sources; i < sources + wind.counts.y; ++i) {
+        for (uint i = sources; i < sources + control.counts.y; ++i) {
             vec4 e = emitters[i];
             push += collider_wind(e.xy, e.zw, q);
         }

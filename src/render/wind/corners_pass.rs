@@ -1,7 +1,8 @@
 //! The analytic wind field's pass (`shaders/wind/analytic_corners.comp`): one dispatch over the
 //! cluster corners writes this frame's wind (m/s) and exposure into the frame's corner buffer,
-//! from the parameters `AnalyticWind::update` left for the frame (its own uniform block, a
-//! storage buffer: its counts decide control flow) and the frame's emitters. Its own set, no
+//! from the parameters `AnalyticWind::update` left for the frame (its own uniform block, bound
+//! as a uniform block and, for the counts that decide control flow, as a storage buffer) and the
+//! frame's emitters. Its own set, no
 //! scene sets. First in the frame. A second step hands the corners over to every reader (the
 //! blade shaders of the models, which sample them through `shaders/wind/wind_field.glsl`): the
 //! graph puts the compute-write → vertex/compute-read barrier there, and the next frame that
@@ -45,7 +46,8 @@ impl AnalyticCornersPass {
         let set = PassSet::new(device, &desc, |slot| {
             let (corners, emitters) = setup.frames[slot];
             vec![
-                ("WindParams", uniforms.resource(slot)),
+                ("WindValues", uniforms.resource(slot)),
+                ("WindControl", uniforms.resource(slot)),
                 ("Emitters", Resource::Buffer(emitters)),
                 ("Corners", Resource::Buffer(corners)),
             ]
