@@ -49,6 +49,14 @@ fn culling_and_lod_inputs() {
     refused("lod-segments-over-segments", &["--segments", "2", "--lod-segments", "4,2,1"], "over --segments 2");
     refused("view-distance-0", &["--view-distance", "0"], "above 0");
     refused("view-distance-nan", &["--view-distance", "NaN"], "NaN");
+    refused("view-distance-over-10-km", &["--view-distance", "10001"], "over the 10000 m");
+    refused(
+        "blade-distance-over-view",
+        &["--field", "infinite", "--view-distance", "100", "--blade-distance", "120"],
+        "--blade-distance 120 is over --view-distance 100",
+    );
+    refused("blade-distance-0", &["--blade-distance", "0"], "above 0");
+    refused("blade-distance-nan", &["--blade-distance", "NaN"], "NaN");
     refused("lod-scale-negative", &["--lod-scale", "-1"], "above 0");
     refused("submission-with-cull", &["--submission", "mdi"], "--brute-force");
     refused("budget-0", &["--budget-ms", "0"], "above 0");

@@ -217,7 +217,7 @@ fn bad_field_input_is_refused() {
     refused(&["--field", "infinite", "--blades", "1000"], "--blades");
     refused(&["--density", "100"], "--field");
     refused(&["--field", "infinite", "--brute-force"], "--brute-force");
-    refused(&["--field", "infinite", "--view-distance", "600"], "--view-distance");
+    refused(&["--field", "infinite", "--view-distance", "1000", "--blade-distance", "600"], "--blade-distance 600");
     refused(&["--field", "infinite", "--view-distance", "NaN"], "NaN");
 }
 

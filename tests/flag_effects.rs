@@ -94,6 +94,7 @@ const RENDER_CASES: &[Case] = &[
     ("lod", &[alt(&["--lod", "segments"]), alt(&["--lod", "density"])]),
     ("lod_segments", &[alt(&["--lod-segments", "2,1"])]),
     ("view_distance", &[alt(&["--view-distance", "1"])]),
+    ("blade_distance", &[alt(&["--blade-distance", "1"])]),
     ("budget_ms", &[alt(&["--budget-ms", "5"])]),
     ("lod_scale", &[alt(&["--lod-scale", "0.2"])]),
     ("debug_view", &[alt(&["--debug-view", "force"]), alt(&["--debug-view", "bounds"])]),
@@ -154,6 +155,7 @@ const RENDER_CONFIGS: &[Config] = &[
             "field",
             "density",
             "view_distance",
+            "blade_distance",
             "cull",
             "seed",
             "relief",
@@ -217,7 +219,7 @@ const RENDER_CONFIGS: &[Config] = &[
     Config {
         name: "no cull test",
         args: &["--blades", "3000", "--cull", "none", "--size", "64x36", "--device", D, "--out", "out.png"],
-        only: Some(&["view_distance", "cull"]),
+        only: Some(&["view_distance", "blade_distance", "cull"]),
     },
 ];
 
@@ -1001,6 +1003,13 @@ fn the_cases_the_issue_names_are_refused() {
         cases.push((vec![sub, "--lod", "none,density"], "--lod none has no effect with other levels"));
         cases.push((vec![sub, "--no-alpha-to-coverage"], "--no-alpha-to-coverage has no effect with --msaa 1"));
         cases.push((vec![sub, "--blades", "100", "--density", "5"], "--density has no effect with stored blades"));
+        cases.push((vec![sub, "--relief", "hills"], "--relief has no effect with stored blades"));
+        cases.push((
+            vec![sub, "--brute-force", "--blade-distance", "50"],
+            "--blade-distance has no effect with --brute-force",
+        ));
+        let both = vec![sub, "--view-distance", "300", "--blade-distance", "100"];
+        cases.push((both, "--view-distance has no effect with --blade-distance on stored blades"));
     }
     for sub in ["render", "timing"] {
         cases.push((vec![sub, "--clusters", "8"], "--clusters has no effect with --submission instanced"));

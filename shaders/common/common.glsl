@@ -18,7 +18,7 @@ struct FrameUniforms {
     uvec4 keyframe_shape;   // x records per pose, y colliders (emitters after the sources), zw unused
     mat4 cull_view_proj;    // world -> clip of the culling camera (the view's, or a frozen one)
     vec4 cull_eye;          // xyz culling camera position, w pixels per metre at 1 m (viewport height / (2 tan(fov_y / 2)))
-    vec4 lod;               // x view distance (m), y full-density distance (m, LOD scale applied), z pixels per segment (LOD scale applied), w largest widening
+    vec4 lod;               // x blade range (m, `render::culling::Culling::blade_range`), y full-density distance (m, LOD scale applied), z pixels per segment (LOD scale applied), w largest widening
     vec4 tile_grid;         // x origin (x = z), y tile edge (m), z and w the view's projection P00 and P11 (occlusion)
     uvec4 cull_tiles;       // x tiles per side (a block field: verdicts cull_results holds), y ring slots, z centre tile x, w centre tile z
     uvec4 cull_lod;         // x LOD buckets, y their segment counts minus 1 (4 bits each, bucket 0 lowest), z CULL_* / LOD_* bits, w entries of the visible list

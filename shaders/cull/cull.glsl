@@ -49,7 +49,7 @@ uint listed_slot(uint k) {
 // slot holds up to a whole tile of candidates, a far one a few. In slot order the first thread got
 // nearly all the work; spread, every block holds near and far slots alike. Only the order the
 // workgroups run in changes: each still writes its own slot's words. k, s < n <= 65 536 ring
-// slots (`render::field_gpu::max_view_distance`, `render::scene_gpu::max_ring_slots`): k * s
+// slots (`render::field_gpu::max_blade_distance`, `render::scene_gpu::max_ring_slots`): k * s
 // fits in 32 bits.
 uint spread(uint k, uint n) {
     uint s = uint(float(n) * 0.618034);

@@ -144,6 +144,16 @@ pub fn camera_choice(text: &str) -> Result<crate::scene::CameraChoice, String> {
     }
 }
 
+/// `--view-distance`: metres above 0, at most `render::limits::MAX_VIEW_DISTANCE`.
+pub fn view_distance(text: &str) -> Result<f32, String> {
+    let metres = positive_f32(text)?;
+    let most = crate::render::limits::MAX_VIEW_DISTANCE;
+    if metres > most {
+        return Err(format!("a view distance of {metres} m is over the {most} m the ground reaches"));
+    }
+    Ok(metres)
+}
+
 /// `--fog`: a density per metre, finite and at least 0 (0: no fog).
 pub fn fog(text: &str) -> Result<f32, String> {
     let density = finite_f32(text)?;
@@ -175,6 +185,7 @@ mod tests {
         assert_eq!(camera_choice("landscape"), Ok(crate::scene::CameraChoice::Landscape));
         assert!(camera_choice("panorama").is_err_and(|e| e.contains("unknown camera preset")));
         assert!(camera_choice("1,2,3,45,-10").is_ok() && camera_choice("1,2").is_err() && camera_choice("5").is_err());
+        assert!(view_distance("10000").is_ok() && view_distance("10001").is_err() && view_distance("0").is_err());
         assert!(fog("-0.1").is_err() && fog("NaN").is_err() && fog("0") == Ok(0.0));
     }
 }

@@ -4,7 +4,7 @@
 use clap::{Args, ValueEnum};
 
 use crate::app::values;
-use crate::render::culling::{Culling, LodSegments, DEFAULT_VIEW_DISTANCE};
+use crate::render::culling::{Culling, LodSegments, DEFAULT_BLADE_DISTANCE, DEFAULT_VIEW_DISTANCE};
 
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub(crate) enum CullTest {
@@ -48,9 +48,13 @@ pub(crate) struct CullArgs {
     /// halvings of --segments down to 1 that divide it: 8,4,2,1; 6,3,1; 7,1).
     #[arg(long, value_name = "N,N,…", value_parser = values::lod_segments)]
     pub(crate) lod_segments: Option<LodSegments>,
-    /// Nothing beyond this many metres is drawn.
-    #[arg(long, default_value_t = DEFAULT_VIEW_DISTANCE, value_parser = values::positive_f32, allow_hyphen_values = true)]
+    /// Nothing beyond this many metres is drawn: the ground's extent (at most 10 000 m).
+    #[arg(long, default_value_t = DEFAULT_VIEW_DISTANCE, value_parser = values::view_distance, allow_hyphen_values = true)]
     pub(crate) view_distance: f32,
+    /// Blades are drawn out to this many metres (default 150, or the view distance when it is
+    /// shorter; at most the view distance): it sizes a block field's rings of blade cells.
+    #[arg(long, value_name = "M", value_parser = values::positive_f32, allow_hyphen_values = true)]
+    pub(crate) blade_distance: Option<f32>,
     /// Hold the GPU frame near this many milliseconds by adjusting the LOD scale each frame from
     /// the measured GPU time (a closed loop; needs the GPU-driven path).
     #[arg(long, value_name = "MS", value_parser = values::positive_f32, allow_hyphen_values = true)]
@@ -75,7 +79,26 @@ impl CullArgs {
             solid_outline: lod(LodKind::Outline),
             lod_segments: self.lod_segments.unwrap_or_else(|| LodSegments::halving(segments)),
             view_distance: self.view_distance,
+            blade_distance: self.blade_distance.unwrap_or(DEFAULT_BLADE_DISTANCE),
             lod_scale: self.lod_scale,
         }
+    }
+}
+
+/// Refuse a `--blade-distance` over the `--view-distance` of the same command line (one line,
+/// before any work): blades stand on the ground, which ends at the view distance.
+pub(crate) fn check_distances(matches: &clap::ArgMatches) -> Result<(), String> {
+    let Some((_, sub)) = matches.subcommand() else {
+        return Ok(());
+    };
+    let has = |id: &str| sub.try_contains_id(id).unwrap_or(false);
+    if !has("blade_distance") || !has("view_distance") {
+        return Ok(());
+    }
+    match (sub.get_one::<f32>("blade_distance"), sub.get_one::<f32>("view_distance")) {
+        (Some(&blades), Some(&view)) if blades > view => {
+            Err(format!("--blade-distance {blades} is over --view-distance {view}: blades end where the ground does"))
+        }
+        _ => Ok(()),
     }
 }

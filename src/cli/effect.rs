@@ -27,7 +27,8 @@ const KEYFRAME_FLAGS: &[&str] = &["poses", "smoothing", "encoding", "packing", "
 /// The forces on the blades (thesis ch. 4–5) and what they vary with.
 const FORCE_FLAGS: &[&str] = &["wind", "no_gusts", "source", "calm", "collider", "attenuation", "cluster_size", "time"];
 /// The GPU-driven path's flags: the cull, the LOD and what steers them.
-const CULL_FLAGS: &[&str] = &["cull", "lod", "lod_segments", "view_distance", "budget_ms", "lod_scale"];
+const CULL_FLAGS: &[&str] =
+    &["cull", "lod", "lod_segments", "view_distance", "blade_distance", "budget_ms", "lod_scale"];
 
 /// A configuration in which some flags have no effect.
 pub(crate) struct Rule {
@@ -177,12 +178,20 @@ pub(crate) const RULES: &[Rule] = &[
         why: "they are the segment LOD's buckets",
     },
     Rule {
-        flags: &["view_distance"],
+        flags: &["view_distance", "blade_distance"],
         subject: None,
         commands: SCENE,
         with: "a --cull without distance on stored blades",
         when: |g| !g.cull().contains(&CullTest::Distance) && !g.given("field"),
-        why: "only the distance test reads it (a --field also sizes its blocks' rings by it)",
+        why: "only the distance test reads it (a --field also sizes its ground and its blocks' rings by them)",
+    },
+    Rule {
+        flags: &["view_distance"],
+        subject: None,
+        commands: SCENE,
+        with: "--blade-distance on stored blades",
+        when: |g| g.given("blade_distance") && !g.given("field"),
+        why: "the stored terrain is drawn whole, and the blades end at --blade-distance",
     },
     Rule {
         flags: &["no_alpha_to_coverage"],

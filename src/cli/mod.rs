@@ -88,6 +88,7 @@ fn parse_checked() -> Result<Cli, Refusal> {
     let cli = Cli::from_arg_matches(&matches).map_err(Clap)?;
     crate::vk::fault::check_environment().map_err(|e| Refused(e.to_string()))?;
     effect::check(&command, &matches).map_err(Refused)?;
+    culling::check_distances(&matches).map_err(Refused)?;
     Ok(cli)
 }
 

@@ -14,6 +14,9 @@ use crate::scene::Camera;
 pub const MAX_LOD_BUCKETS: usize = gpu::MAX_LOD_BUCKETS as usize;
 /// Default view distance in metres (`--view-distance`).
 pub const DEFAULT_VIEW_DISTANCE: f32 = 150.0;
+/// Default blade distance in metres (`--blade-distance`): blades are drawn out to it, or to the
+/// view distance when that is shorter (`Culling::blade_range`).
+pub const DEFAULT_BLADE_DISTANCE: f32 = 150.0;
 /// Distance in metres out to which the density LOD keeps every blade (Belyaev §2.2), at LOD
 /// scale 1. It was 8 m; then fading blades kept their height, tiles took a progressive order
 /// (`scene::tiles::progressive_order`), coarse strips were lit with the mean of l^6 over their
@@ -123,8 +126,10 @@ pub struct Culling {
     pub solid_outline: bool,
     /// The buckets.
     pub lod_segments: LodSegments,
-    /// Metres beyond which nothing is drawn.
+    /// Metres beyond which nothing is drawn: the ground's extent.
     pub view_distance: f32,
+    /// Metres beyond which no blade is drawn (`blade_range`: at most `view_distance`).
+    pub blade_distance: f32,
     /// Scales the full-density distance and divides the pixels per segment: above 1, more detail.
     pub lod_scale: f32,
 }
@@ -143,6 +148,7 @@ impl Culling {
             solid_outline: true,
             lod_segments: LodSegments::halving(segments),
             view_distance: DEFAULT_VIEW_DISTANCE,
+            blade_distance: DEFAULT_BLADE_DISTANCE,
             lod_scale: 1.0,
         }
     }
@@ -150,6 +156,13 @@ impl Culling {
     /// `--brute-force`: no cull pass.
     pub fn brute_force(segments: u32) -> Self {
         Self { enabled: false, ..Self::default_for(segments) }
+    }
+
+    /// How far blades are drawn: the blade distance, or the view distance when it is shorter
+    /// (the ground ends there). The cull's distance test and a block field's rings of blade
+    /// cells and force corners are sized by it; the ground by `view_distance`.
+    pub fn blade_range(&self) -> f32 {
+        self.blade_distance.min(self.view_distance)
     }
 
     /// The `CULL_*` / `LOD_*` bits of the tests that are on.
@@ -169,14 +182,15 @@ impl Culling {
 
     /// The cull's part of the frame's uniforms: the culling camera, the LOD settings and the
     /// rings of tiles around the culling camera's tile. A frozen culling camera turns the
-    /// occlusion test off: the depth pyramid is the view's.
+    /// occlusion test off: the depth pyramid is the view's. `lens` is the view's aspect ratio and
+    /// near plane (`scene::camera::near_plane`).
     pub fn fill_uniforms(
         &self,
         uniforms: &mut FrameUniforms,
         grid: &TileGrid,
         camera: &Camera,
         frozen: bool,
-        aspect: f32,
+        (aspect, near): (f32, f32),
         height: u32,
     ) {
         let p11 = 1.0 / (0.5 * crate::scene::camera::FOV_Y_DEG.to_radians()).tan();
@@ -184,10 +198,10 @@ impl Culling {
         let eye = camera.position;
         let centre = grid.cell(eye.x, eye.z);
         let scale = self.lod_scale;
-        uniforms.cull_view_proj = camera.view_projection(aspect);
+        uniforms.cull_view_proj = camera.view_projection_near(aspect, near);
         uniforms.cull_eye = eye.extend(pixels_per_metre);
         uniforms.lod = Vec4::new(
-            self.view_distance,
+            self.blade_range(),
             FULL_DENSITY_DISTANCE * scale,
             PIXELS_PER_SEGMENT / scale,
             blades::MAX_WIDENING,

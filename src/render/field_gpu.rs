@@ -45,20 +45,21 @@ impl Origin {
     }
 }
 
-/// Rings of cells around O's cell the cull visits for `view_distance` (one more than the distance
-/// spans: the camera may stand anywhere in its cell).
-pub fn ring_radius(view_distance: f32) -> u32 {
-    (view_distance / BLOCK_SIZE).ceil() as u32 + 1
+/// Rings of cells around O's cell the cull visits for blades out to `blade_range` (one more than
+/// the distance spans: the camera may stand anywhere in its cell).
+pub fn ring_radius(blade_range: f32) -> u32 {
+    (blade_range / BLOCK_SIZE).ceil() as u32 + 1
 }
 
-/// Ring slots (cells) the cull visits for `view_distance`: (2R + 1)².
-pub fn ring_slots(view_distance: f32) -> u32 {
-    let r = ring_radius(view_distance);
+/// Ring slots (cells) the cull visits for `blade_range`: (2R + 1)².
+pub fn ring_slots(blade_range: f32) -> u32 {
+    let r = ring_radius(blade_range);
     (2 * r + 1) * (2 * r + 1)
 }
 
-/// The longest view distance the rings' slots can hold (the visible list packs a slot in 16 bits).
-pub fn max_view_distance() -> f32 {
+/// The longest blade range the rings' slots can hold (the visible list packs a slot in 16 bits):
+/// `--blade-distance`, not the view distance, which sizes the ground only.
+pub fn max_blade_distance() -> f32 {
     // (2R + 1)² <= 65 536 for R <= 127.
     126.0 * BLOCK_SIZE
 }
@@ -199,20 +200,21 @@ pub const CELL_SPREAD_OUTSIDE: f32 = 1.4143;
 
 /// The grid of force corners around O (positions relative to O): the rings' cells and a cell
 /// more, centred on O's cell, at `cluster_size`.
-pub fn cluster_grid(view_distance: f32, cluster_size: f32) -> ClusterGrid {
-    let span = (2 * ring_radius(view_distance) + 3) as f32 * BLOCK_SIZE;
+pub fn cluster_grid(blade_range: f32, cluster_size: f32) -> ClusterGrid {
+    let span = (2 * ring_radius(blade_range) + 3) as f32 * BLOCK_SIZE;
     let clusters = (span / cluster_size).ceil().max(1.0) as u32;
     ClusterGrid { origin: 0.5 * BLOCK_SIZE - 0.5 * clusters as f32 * cluster_size, cluster_size, clusters }
 }
 
 /// The field's part of the frame's uniforms (FrameUniforms' field part, `terrain` and
-/// `params.z` re-read for a field as `shaders/common/common.glsl` says).
+/// `params.z` re-read for a field as `shaders/common/common.glsl` says). The terrain grid spans
+/// the view distance, the rings of blade cells the blade range (`Culling::blade_range`).
 pub fn fill_uniforms(
     uniforms: &mut FrameUniforms,
     field: &Field,
     origin: &Origin,
     grid: &ClusterGrid,
-    view_distance: f32,
+    (view_distance, blade_range): (f32, f32),
     verdicts: u32,
 ) {
     uniforms.relief_waves = field.relief.waves;
@@ -227,7 +229,7 @@ pub fn fill_uniforms(
     let base = relief_grid_window(origin.cell, step).rem_euclid(dims.as_i64vec3());
     uniforms.relief_grid = UVec4::new(base.x as u32, base.z as u32, 0, 0);
     uniforms.params.z = gpu::FIELD_TERRAIN_CELLS;
-    uniforms.cull_tiles = glam::UVec4::new(verdicts, ring_slots(view_distance), 0, 0);
+    uniforms.cull_tiles = glam::UVec4::new(verdicts, ring_slots(blade_range), 0, 0);
 }
 
 #[cfg(test)]

@@ -199,11 +199,12 @@ pub fn verdict_capacity(scene: &Scene) -> u32 {
     }
 }
 
-/// Ring slots and visible-list entries the cull needs for `scene` at `view_distance`.
-pub fn cull_capacity(scene: &Scene, view_distance: f32) -> (u32, u32) {
+/// Ring slots and visible-list entries the cull needs for `scene` with blades out to
+/// `blade_range` (`Culling::blade_range`).
+pub fn cull_capacity(scene: &Scene, blade_range: f32) -> (u32, u32) {
     match &scene.field {
         Some(_) => {
-            let slots = crate::render::field_gpu::ring_slots(view_distance);
+            let slots = crate::render::field_gpu::ring_slots(blade_range);
             (slots, (u64::from(slots) * scene.blades.len() as u64).min(u64::from(FIELD_VISIBLE)) as u32)
         }
         None => (max_ring_slots(scene.tile_grid.tiles), scene.blades.len() as u32 + VISIBLE_PADDING),
@@ -292,16 +293,16 @@ impl SceneGpu {
     }
 
     /// Upload the scene and its cluster records (clusters of about `cluster_size` metres) in one
-    /// batch.
-    pub fn upload(device: &Device, scene: &Scene, cluster_size: f32, view_distance: f32) -> Result<Self> {
+    /// batch, the cull's buffers and a block field's force corners for blades out to `blade_range`.
+    pub fn upload(device: &Device, scene: &Scene, cluster_size: f32, blade_range: f32) -> Result<Self> {
         // The batch waits for its submission or never submits.
         let mut partial = crate::vk::guard::empty::<Partial>(device);
         let grid = match &scene.field {
             // A block field's corners follow the camera over the cells it sees.
-            Some(_) => crate::render::field_gpu::cluster_grid(view_distance, cluster_size),
+            Some(_) => crate::render::field_gpu::cluster_grid(blade_range, cluster_size),
             None => ClusterGrid::new(scene.terrain.size, cluster_size),
         };
-        let capacity = cull_capacity(scene, view_distance);
+        let capacity = cull_capacity(scene, blade_range);
         let cells = if scene.field.is_some() { gpu_constants::FIELD_TERRAIN_CELLS } else { scene.terrain.cells };
         let sampler = Self::upload_into(device, scene, &grid, capacity, &mut partial)?;
         let mut partial = partial.take();

@@ -189,11 +189,11 @@ pub fn check_field(settings: &RenderSettings) -> Result<()> {
     if settings.debug_bounds {
         return refuse("has no fixed cluster grid to draw: drop --debug-view bounds");
     }
-    let most = crate::render::field_gpu::max_view_distance();
-    if settings.culling.view_distance > most {
+    let most = crate::render::field_gpu::max_blade_distance();
+    if settings.culling.blade_range() > most {
         return refuse(&format!(
-            "sees at most {most} m: --view-distance {} is too far",
-            settings.culling.view_distance
+            "draws blades at most {most} m away: --blade-distance {} is too far (the ground reaches --view-distance)",
+            settings.culling.blade_range()
         ));
     }
     Ok(())

@@ -29,7 +29,7 @@ pub struct FrameUniforms {
     pub cull_view_proj: Mat4,
     /// xyz culling camera position, w pixels per metre at 1 m (viewport height / (2 tan(fov_y / 2))).
     pub cull_eye: Vec4,
-    /// x view distance (m), y full-density distance (m), z pixels per segment, w largest widening
+    /// x blade range (m, `Culling::blade_range`), y full-density distance (m), z pixels per segment, w largest widening
     /// (the LOD scale applied).
     pub lod: Vec4,
     /// x tile grid origin, y tile edge (m).

@@ -45,6 +45,23 @@ pub fn rows_below_horizon(height: f32, pitch_deg: f32, distance: f32, rows: u32)
     focal * (pitch.tan() - (pitch - below).tan())
 }
 
+/// Depth steps a fixed-point depth format resolves at the view distance, at least
+/// (`near_plane`).
+pub const FAR_DEPTH_STEPS: f32 = 4.0;
+
+/// The near plane for a view out to `view_distance` metres into a depth format of `steps` steps
+/// (2^bits − 1 for a UNORM format; `None` for a float one). With reversed infinite Z a point at
+/// distance z stores near / z, so a UNORM format rounds everything past `steps` × near to the
+/// cleared 0: with D16 and the 0.05 m `NEAR`, ground past 3.3 km vanished. The near plane moves
+/// out until the view distance keeps `FAR_DEPTH_STEPS` steps: D16 0.061 m at 1 km, 0.31 m at
+/// 5 km, 0.61 m at 10 km; D24 stays at `NEAR`. A float format's exponent keeps its precision.
+pub fn near_plane(steps: Option<u32>, view_distance: f32) -> f32 {
+    match steps {
+        Some(steps) => NEAR.max(FAR_DEPTH_STEPS * view_distance / steps as f32),
+        None => NEAR,
+    }
+}
+
 /// Where the camera is and where it looks.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Camera {
@@ -74,9 +91,15 @@ impl Camera {
         Mat4::look_to_rh(self.position, self.forward(), Vec3::Y)
     }
 
-    /// View → clip for Vulkan: reversed infinite Z (near → 1, infinity → 0) and y pointing down.
+    /// View → clip for Vulkan: reversed infinite Z (near → 1, infinity → 0) and y pointing down,
+    /// the near plane at `NEAR`.
     pub fn projection(&self, aspect: f32) -> Mat4 {
-        let mut proj = Mat4::perspective_infinite_reverse_rh(FOV_Y_DEG.to_radians(), aspect, NEAR);
+        self.projection_near(aspect, NEAR)
+    }
+
+    /// `projection` with its near plane at `near` metres (`near_plane`).
+    pub fn projection_near(&self, aspect: f32, near: f32) -> Mat4 {
+        let mut proj = Mat4::perspective_infinite_reverse_rh(FOV_Y_DEG.to_radians(), aspect, near);
         proj.y_axis.y = -proj.y_axis.y;
         proj
     }
@@ -84,6 +107,11 @@ impl Camera {
     /// World → clip.
     pub fn view_projection(&self, aspect: f32) -> Mat4 {
         self.projection(aspect) * self.view()
+    }
+
+    /// World → clip with the near plane at `near` metres.
+    pub fn view_projection_near(&self, aspect: f32, near: f32) -> Mat4 {
+        self.projection_near(aspect, near) * self.view()
     }
 }
 
@@ -139,6 +167,23 @@ mod tests {
         assert!((rows(5000.0) - 2.5).abs() < 0.05, "{}", rows(5000.0));
         // The default camera's eye, 1.7 m up at -12°: 1.1 px at 1 km.
         assert!((rows_below_horizon(EYE_HEIGHT, -12.0, 1000.0, 720) - 1.11).abs() < 0.05);
+    }
+
+    #[test]
+    fn a_unorm_near_plane_keeps_the_view_distance_off_the_cleared_depth() {
+        assert_eq!(near_plane(None, 10_000.0), NEAR);
+        assert_eq!(near_plane(Some(65_535), 150.0), NEAR);
+        assert_eq!(near_plane(Some(16_777_215), 10_000.0), NEAR);
+        for view in [1000.0, 5000.0, 10_000.0] {
+            let near = near_plane(Some(65_535), view);
+            let c = Camera { position: Vec3::ZERO, yaw_deg: 0.0, pitch_deg: 0.0 };
+            let z = c.view_projection_near(1.0, near).project_point3(Vec3::new(0.0, 0.0, -view)).z;
+            let stored = (z * 65_535.0).round();
+            assert!(stored >= FAR_DEPTH_STEPS, "{view} m stores {stored} steps");
+            // The old near plane stored less than one step past 3.3 km.
+            let old = c.view_projection(1.0).project_point3(Vec3::new(0.0, 0.0, -view)).z;
+            assert_eq!(old * 65_535.0 < 1.0, view > 3300.0, "{view}");
+        }
     }
 
     #[test]

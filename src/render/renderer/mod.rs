@@ -113,8 +113,9 @@ impl Renderer {
             overlay: None,
             time_step: DEFAULT_DT,
         };
-        let view_distance = settings.culling.view_distance;
-        let scene_gpu = SceneGpu::upload(&device, scene, renderer.animation.cluster_size, view_distance)?;
+        // The cull's buffers and a block field's force corners cover the blades' range.
+        let blade_range = settings.culling.blade_range();
+        let scene_gpu = SceneGpu::upload(&device, scene, renderer.animation.cluster_size, blade_range)?;
         renderer.scene = Some(scene_gpu);
         renderer.layouts = scene_layouts(&device)?;
         renderer.build_frames()?;

@@ -10,7 +10,18 @@ use crate::render::animation;
 use crate::render::animation::model::BladeInput;
 use crate::render::field_gpu::{self, Origin};
 use crate::render::frame::{look, FrameUniforms};
+use crate::scene::camera::near_plane;
 use crate::scene::Camera;
+
+/// Steps of a fixed-point depth format (2^bits − 1), `None` for a float one: what the near plane
+/// is derived from (`scene::camera::near_plane`).
+fn depth_steps(format: vk::Format) -> Option<u32> {
+    match format {
+        vk::Format::D16_UNORM | vk::Format::D16_UNORM_S8_UINT => Some(u32::from(u16::MAX)),
+        vk::Format::X8_D24_UNORM_PACK32 | vk::Format::D24_UNORM_S8_UINT => Some((1 << 24) - 1),
+        _ => None,
+    }
+}
 
 impl Renderer {
     /// Entries of the cull's visible list a frame may fill (`scene_gpu::visible_limit`).
@@ -32,9 +43,11 @@ impl Renderer {
         let relative = |c: &Camera| origin.map_or(*c, |o| o.relative(c));
         let camera = &relative(camera);
         let aspect = extent.width as f32 / extent.height as f32;
+        let culling = &self.settings.culling;
+        let near = near_plane(depth_steps(self.device.depth_format), culling.view_distance);
         let (sources, colliders) = animation::emitter_counts(&self.animation.wind);
         let mut uniforms = FrameUniforms {
-            view_proj: camera.view_projection(aspect),
+            view_proj: camera.view_projection_near(aspect, near),
             camera_position: camera.position.extend(time),
             sun_direction: look::sun_direction().extend(0.0),
             sky_color: look::SKY.extend(self.settings.fog_density),
@@ -47,12 +60,11 @@ impl Renderer {
         };
         let cull_camera = self.cull_camera.as_ref().map_or(*camera, relative);
         let frozen = self.cull_camera.is_some();
-        let culling = &self.settings.culling;
-        culling.fill_uniforms(&mut uniforms, &scene.tile_grid, &cull_camera, frozen, aspect, extent.height);
+        culling.fill_uniforms(&mut uniforms, &scene.tile_grid, &cull_camera, frozen, (aspect, near), extent.height);
         if let (Some(field), Some(origin)) = (&scene.field, &origin) {
-            let verdicts = scene.verdict_capacity;
-            field_gpu::fill_uniforms(&mut uniforms, field, origin, &scene.grid, culling.view_distance, verdicts);
-            // A longer view distance set live (the viewer) than the one the cull's buffers were
+            let (verdicts, distances) = (scene.verdict_capacity, (culling.view_distance, culling.blade_range()));
+            field_gpu::fill_uniforms(&mut uniforms, field, origin, &scene.grid, distances, verdicts);
+            // A longer blade range set live (the viewer) than the one the cull's buffers were
             // made for: the rings stop where the buffers do.
             uniforms.cull_tiles.y = uniforms.cull_tiles.y.min(scene.slot_capacity);
         }

@@ -141,7 +141,8 @@ pub fn scene(ui: &mut Ui, view: &UiView, out: &mut PanelOutput) {
     budget(ui, view, out);
 }
 
-/// The cull's tests and LOD kinds, one checkbox each, and the view distance.
+/// The cull's tests and LOD kinds, one checkbox each, the view distance and the blade distance
+/// (blades end at the shorter of the two, `Culling::blade_range`).
 fn culling(ui: &mut Ui, c: Culling, out: &mut PanelOutput) {
     let mut next = c;
     ui.horizontal_wrapped(|ui| {
@@ -165,10 +166,16 @@ fn culling(ui: &mut Ui, c: Culling, out: &mut PanelOutput) {
             out.widget(label, ui.checkbox(on, label));
         }
     });
-    let distance = egui::Slider::new(&mut next.view_distance, 10.0..=1000.0).logarithmic(true).text("view distance m");
+    let most = crate::render::limits::MAX_VIEW_DISTANCE;
+    let distance = egui::Slider::new(&mut next.view_distance, 10.0..=most).logarithmic(true).text("view distance m");
     // A rebuild per dragged step would be slow: the distance applies when the drag ends.
     let slider = out.widget("view distance m", ui.add(distance));
-    if next != c && (slider.drag_stopped() || !slider.dragged()) {
+    let blades = egui::Slider::new(&mut next.blade_distance, 5.0..=crate::render::field_gpu::max_blade_distance())
+        .logarithmic(true)
+        .text("blade distance m");
+    let blade_slider = out.widget("blade distance m", ui.add(blades));
+    let released = |s: &egui::Response| s.drag_stopped() || !s.dragged();
+    if next != c && released(&slider) && released(&blade_slider) {
         out.act(UiAction::Culling(next));
     }
 }
