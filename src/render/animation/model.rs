@@ -41,6 +41,10 @@ pub struct PassSetup<'a> {
     pub constants: &'a Specialization,
     /// The scene on the GPU.
     pub scene: &'a SceneGpu,
+    /// Each frame's wind at the cluster corners (set 0's `Corners`, by frame slot), which the
+    /// wind field's pass writes: a pass whose shaders sample the wind declares its read of
+    /// `wind[ctx.slot]`, so the graph orders it after that write.
+    pub wind: &'a [vk::Buffer],
     /// With the cull before the blade pass, the segments of its LOD buckets: a model's per-blade
     /// pass then covers only its visible list, bucket by bucket (`render::recording::bucket_dispatch`), and is
     /// added after the cull's passes. `None` without the cull.

@@ -37,6 +37,8 @@ pub struct BladePosePass {
     poses: vk::Buffer,
     reads: [vk::Buffer; 2],
     keyframes: vk::Image,
+    /// Each frame's wind at the cluster corners (`PassSetup::wind`).
+    wind: Vec<vk::Buffer>,
 }
 
 impl BladePosePass {
@@ -61,6 +63,7 @@ impl BladePosePass {
             poses: set.per_blade.poses.raw,
             reads: [scene.blades.raw, scene.clusters.raw],
             keyframes: set.keyframes.image.raw,
+            wind: setup.wind.to_vec(),
         })
     }
 }
@@ -76,6 +79,7 @@ impl Pass for BladePosePass {
             .buffer(self.poses, Access::ComputeShaderWrite)
             .buffer(self.reads[0], fetch)
             .buffer(self.reads[1], Access::ComputeShaderRead)
+            .buffer(self.wind[ctx.slot], Access::ComputeShaderRead)
             .uses(Resource::color(self.keyframes), Access::ComputeShaderSampledRead);
         let declaration = match &self.dispatch {
             Dispatch::Buckets(buckets, visible) => buckets.declare(declaration.buffer(*visible, fetch)),

@@ -42,6 +42,8 @@ pub struct BladePass {
     secondaries: Vec<SecondaryRecorders>,
     /// Buffers the vertex shader reads (for the declaration).
     reads: Vec<(vk::Buffer, Access)>,
+    /// Each frame's wind at the cluster corners (`PassSetup::wind`).
+    wind: Vec<vk::Buffer>,
     /// The animation model's set.
     animation: vk::DescriptorSet,
     /// With the cull: one pipeline per LOD bucket (its segment count compiled in) and the
@@ -73,6 +75,8 @@ pub struct BladeSetup<'a> {
     /// Segments of the LOD buckets the cull sorts blades into (`None`: brute force, every blade
     /// at `segments`).
     pub buckets: Option<&'a [u32]>,
+    /// Each frame's wind at the cluster corners (`PassSetup::wind`).
+    pub wind: &'a [vk::Buffer],
 }
 
 impl BladePass {
@@ -114,6 +118,7 @@ impl BladePass {
                 indirect: None,
                 secondaries: Vec::new(),
                 reads,
+                wind: setup.wind.to_vec(),
                 animation: setup.animation,
                 buckets: Vec::new(),
                 draws: scene.draws.raw,
@@ -305,7 +310,9 @@ impl Pass for BladePass {
         let secondary = self.strategy == Strategy::Secondary;
         let first = self.buckets.first().copied().unwrap_or(self.pipeline);
         let rendering = passes::scene_rendering(ctx, first, false, secondary);
-        Some(self.reads.iter().fold(Declaration::graphics(rendering), |d, &(b, a)| d.buffer(b, a)))
+        // The frame's wind (per vertex without pose records; the shader names it either way).
+        let declaration = Declaration::graphics(rendering).buffer(self.wind[ctx.slot], Access::VertexShaderStorageRead);
+        Some(self.reads.iter().fold(declaration, |d, &(b, a)| d.buffer(b, a)))
     }
 
     fn record(&self, ctx: &PassContext, cmd: vk::CommandBuffer) -> Result<()> {

@@ -30,16 +30,19 @@ pub struct ClusterBoundsPass {
     layout: vk::PipelineLayout,
     grid: Grid,
     heights: vk::Buffer,
+    /// Each frame's wind at the cluster corners, which colours the edges.
+    wind: Vec<vk::Buffer>,
 }
 
 impl ClusterBoundsPass {
-    /// Build the pipeline on a layout of its own: the scene's set 0 and the grid push constant.
+    /// Build the pipeline on a layout of its own: the scene's set 0 and the grid push constant;
+    /// `wind` is each frame's corner buffer (`PassSetup::wind`).
     pub fn new(
         device: &Device,
-        set_layout: vk::DescriptorSetLayout,
-        target: PipelineTarget,
+        (set_layout, target): (vk::DescriptorSetLayout, PipelineTarget),
         constants: &Specialization,
         scene: &SceneGpu,
+        wind: &[vk::Buffer],
     ) -> Result<Self> {
         let range = vk::PushConstantRange {
             stage_flags: vk::ShaderStageFlags::VERTEX,
@@ -71,7 +74,7 @@ impl ClusterBoundsPass {
         let layout = layout.take();
         let g = &scene.grid;
         let grid = Grid { origin: g.origin, cluster_size: g.cluster_size, corners: g.corners_per_side(), lift: 0.05 };
-        Ok(Self { pipeline, layout, grid, heights: scene.heights.raw })
+        Ok(Self { pipeline, layout, grid, heights: scene.heights.raw, wind: wind.to_vec() })
     }
 
     /// Vertices drawn: two per edge between neighbouring corners, along x and along z.
@@ -88,7 +91,8 @@ impl Pass for ClusterBoundsPass {
 
     fn declare(&self, ctx: &PassContext) -> Option<Declaration> {
         let rendering = passes::scene_rendering(ctx, self.pipeline, false, false);
-        Some(Declaration::graphics(rendering).buffer(self.heights, Access::VertexShaderStorageRead))
+        let declaration = Declaration::graphics(rendering).buffer(self.heights, Access::VertexShaderStorageRead);
+        Some(declaration.buffer(self.wind[ctx.slot], Access::VertexShaderStorageRead))
     }
 
     fn record(&self, ctx: &PassContext, cmd: vk::CommandBuffer) -> Result<()> {

@@ -70,7 +70,8 @@ impl Renderer {
         }
         if self.settings.debug_bounds {
             let (set_layout, scene) = (self.layouts.scene.raw, self.scene.as_ref().expect("uploaded"));
-            self.graph.add(ClusterBoundsPass::new(&self.device, set_layout, target, &constants, scene)?);
+            let wind: Vec<vk::Buffer> = self.forces.iter().map(|f| f.corners.raw).collect();
+            self.graph.add(ClusterBoundsPass::new(&self.device, (set_layout, target), &constants, scene, &wind)?);
         }
         if msaa.enabled() {
             // The target's encoding, not the multisampled scene's.
@@ -145,7 +146,8 @@ impl Renderer {
             push: crate::render::submission::push_constant_range(),
             frames: self.ring.slots(),
         };
-        let setup = PassSetup { layout: target.layout, sets, constants, scene, buckets };
+        let wind: Vec<vk::Buffer> = self.forces.iter().map(|f| f.corners.raw).collect();
+        let setup = PassSetup { layout: target.layout, sets, constants, scene, buckets, wind: &wind };
         // Never recorded until the graph holds them.
         let mut model_passes = Guard::new(device, model.passes(device, &setup)?);
         if constants.flags & gpu::FLAG_LEVELS != 0 {
@@ -181,6 +183,7 @@ impl Renderer {
             input: model.blade_input(),
             animation: model.resources().set,
             buckets: culled.then(|| settings.culling.buckets()),
+            wind: &wind,
         };
         self.graph.add(BladePass::new(device, scene, &setup)?);
         Ok(())

@@ -3,10 +3,11 @@
 //! from the parameters `AnalyticWind::update` left for the frame (its own uniform block, bound
 //! as a uniform block and, for the counts that decide control flow, as a storage buffer) and the
 //! frame's emitters. Its own set, no
-//! scene sets. First in the frame. A second step hands the corners over to every reader (the
-//! blade shaders of the models, which sample them through `shaders/wind/wind_field.glsl`): the
-//! graph puts the compute-write → vertex/compute-read barrier there, and the next frame that
-//! writes this slot's corners waits for those reads.
+//! scene sets. First in the frame. Every pass whose shaders sample the corners (through
+//! `shaders/wind/wind_field.glsl`: the blades, the blade poses, the bounds view) declares its
+//! read of the frame's corners (`PassSetup::wind`), so the graph puts the compute-write →
+//! vertex/compute-read barrier before each, and the next frame that writes this slot's corners
+//! waits for those reads.
 
 use std::cell::RefCell;
 use std::rc::Rc;
@@ -71,21 +72,10 @@ impl Pass for AnalyticCornersPass {
     }
 
     fn declare(&self, ctx: &PassContext) -> Option<Declaration> {
-        let corners = self.corners[ctx.slot];
-        Some(
-            Declaration::compute()
-                .buffer(corners, Access::ComputeShaderWrite)
-                .step("to readers")
-                .buffer(corners, Access::VertexShaderStorageRead)
-                .buffer(corners, Access::ComputeShaderRead),
-        )
+        Some(Declaration::compute().buffer(self.corners[ctx.slot], Access::ComputeShaderWrite))
     }
 
     fn record(&self, ctx: &PassContext, cmd: vk::CommandBuffer) -> Result<()> {
-        if ctx.step != 0 {
-            // The hand-over: a barrier, no commands.
-            return Ok(());
-        }
         let device = ctx.device;
         // SAFETY: cmd is recording; the pipeline and the set are live and match.
         unsafe { device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipeline) };
