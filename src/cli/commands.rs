@@ -36,11 +36,12 @@ pub(crate) fn view(args: ViewArgs) -> Result<(u8, Option<u64>), u8> {
     let code = finish(result.map(|report| {
         let present = report.present.map_or("none".to_string(), |p| format!("{p:?}").to_lowercase());
         println!(
-            "viewer: {} frames, {} swapchains created (at most {} alive at once), {} re-creations; present {present}, {} frames in flight, overlay {}",
+            "viewer: {} frames, {} swapchains created (at most {} alive at once), {} re-creations ({} injected); present {present}, {} frames in flight, overlay {}",
             report.frames,
             report.swapchains.0,
             report.swapchains.1,
             report.recreations,
+            report.injected,
             report.frames_in_flight,
             if report.overlay { "on" } else { "off" }
         );

@@ -88,6 +88,10 @@ impl Viewer {
                 wind.sources.pop();
             }
             "up" | "down" | "left" | "right" => {
+                if wind.colliders.is_empty() && wind.sources.len() >= crate::render::animation::MAX_EMITTERS {
+                    println!("at most {} sources and colliders", crate::render::animation::MAX_EMITTERS);
+                    return Ok(());
+                }
                 if wind.colliders.is_empty() {
                     let p = self.control.camera.position + self.control.camera.forward() * 3.0;
                     let ground = self.scene.ground(p.x, p.z);
@@ -292,11 +296,17 @@ impl Viewer {
             let p = inverse * Vec4::new(ndc.x, ndc.y, z, 1.0);
             p.truncate() / p.w
         };
+        // Any two depths give the ray: the picking does not depend on the drawn near plane.
         let (near, mid) = (unproject(1.0), unproject(0.5));
         let direction = (mid - near).normalize();
+        // Out to the ground's extent, in steps of 5 cm near the eye that grow with the distance
+        // (0.25 % of it: 2.5 m at 1 km, a pixel's footprint at the landscape camera's angle).
+        let (reach, mut travelled) = (self.settings.culling.view_distance, 0.0);
         let mut p = near;
-        for _ in 0..4000 {
-            p += direction * 0.05;
+        while travelled < reach {
+            let step = (0.0025 * travelled).max(0.05);
+            p += direction * step;
+            travelled += step;
             if p.y <= self.scene.ground(p.x, p.z) {
                 return Some(Vec2::new(p.x, p.z));
             }

@@ -75,6 +75,8 @@ pub struct ViewerReport {
     pub swapchains: (usize, usize),
     /// Times the swapchain was re-created.
     pub recreations: u64,
+    /// Of those, the ones `--inject-out-of-date` caused (the others follow the window system).
+    pub injected: u64,
     /// The last stats line.
     pub stats: String,
     /// The present mode the swapchain ran with (`None`: no swapchain was made).
@@ -145,6 +147,8 @@ struct Viewer {
     budget: Option<crate::render::budget::FrameBudget>,
     /// The last render call was an injected out-of-date result (`--inject-out-of-date`).
     injected_last: bool,
+    /// Out-of-date results injected so far.
+    injected: u64,
     /// The overlay (`None` with `--no-ui`).
     ui: Option<ui::Ui>,
     /// What the overlay's controls asked for, applied before the next frame.
@@ -208,6 +212,7 @@ impl Viewer {
             last_tick: Instant::now(),
             stats: Stats::new(),
             injected_last: false,
+            injected: 0,
             ui: None,
             ui_actions: Vec::new(),
             capture: None,
@@ -235,6 +240,7 @@ impl Viewer {
             frames: self.frames,
             swapchains: swapchain_counts(),
             recreations: self.recreations,
+            injected: self.injected,
             stats: self.stats.last.clone(),
             present,
             frames_in_flight: self.options.frames_in_flight,
@@ -414,6 +420,7 @@ impl Viewer {
             self.recreate()?;
             if inject {
                 self.injected_last = true;
+                self.injected += 1;
                 return Ok(());
             }
             if self.minimised {
