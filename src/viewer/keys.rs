@@ -88,8 +88,7 @@ impl Viewer {
                 wind.sources.pop();
             }
             "up" | "down" | "left" | "right" => {
-                if wind.colliders.is_empty() && wind.sources.len() >= crate::render::animation::MAX_EMITTERS {
-                    println!("at most {} sources and colliders", crate::render::animation::MAX_EMITTERS);
+                if wind.colliders.is_empty() && emitters_full(wind) {
                     return Ok(());
                 }
                 if wind.colliders.is_empty() {
@@ -274,8 +273,7 @@ impl Viewer {
     pub(super) fn click(&mut self, x: f64, y: f64) {
         if let Some(hit) = self.pick(x, y) {
             let wind = self.renderer.as_mut().expect("renderer built").wind_mut();
-            if wind.sources.len() + wind.colliders.len() >= crate::render::animation::MAX_EMITTERS {
-                println!("at most {} sources and colliders", crate::render::animation::MAX_EMITTERS);
+            if emitters_full(wind) {
                 return;
             }
             wind.sources.push(PointSource { position: hit, power: 0.12, sigma: 2.0, velocity: Vec2::ZERO });
@@ -313,6 +311,15 @@ impl Viewer {
         }
         None
     }
+}
+
+/// Whether the emitter buffers hold no more sources or colliders; says so when they are full.
+fn emitters_full(wind: &crate::wind::Wind) -> bool {
+    let full = wind.sources.len() + wind.colliders.len() >= crate::render::animation::MAX_EMITTERS;
+    if full {
+        println!("at most {} sources and colliders", crate::render::animation::MAX_EMITTERS);
+    }
+    full
 }
 
 /// + / −: one segment more or fewer, the LOD buckets halving from the new count.
