@@ -1,17 +1,18 @@
 //! CPU cost of the per-frame forces at cluster corners (thesis 3.2.2), which the thesis puts on
 //! the CPU: `render::animation::corner_forces` over square grids of about 1k to 100k clusters,
-//! under the default gusty global wind plus 0, 1, 8 or 64 point sources, colliders or calm
-//! areas (cluster attenuation: sources and colliders are evaluated at every corner).
+//! under the default gusty global wind plus 0, 1, 8 or 64 point sources or calm areas (cluster
+//! attenuation: sources are evaluated at every corner). Colliders are not in the corners: each
+//! blade takes their shapes (`wind::Collider::blade_force`).
 //! `cargo bench --bench forces`.
 
 use std::hint::black_box;
 use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
-use glam::{Vec2, Vec3};
+use glam::Vec2;
 use meadow::render::animation::corner_forces;
 use meadow::scene::clusters::ClusterGrid;
-use meadow::wind::{Attenuation, CalmArea, Collider, GlobalWind, PointSource, Wind};
+use meadow::wind::{Attenuation, CalmArea, GlobalWind, PointSource, Wind};
 
 /// Clusters per side: 1 024, 4 096, 16 384, 65 536 and 99 856 clusters.
 const SIDES: [u32; 5] = [32, 64, 128, 256, 316];
@@ -40,7 +41,6 @@ fn spread(i: usize, n: usize) -> (f32, f32) {
 #[derive(Clone, Copy, Debug)]
 enum Extra {
     Sources,
-    Colliders,
     Calm,
 }
 
@@ -56,9 +56,6 @@ fn wind(grid: &ClusterGrid, extra: Extra, count: usize) -> Wind {
             Extra::Sources => {
                 wind.sources.push(PointSource { position: p, power: 0.5, sigma: 1.5, velocity: Vec2::new(0.5, -0.25) })
             }
-            Extra::Colliders => {
-                wind.colliders.push(Collider { center: Vec3::new(p.x, 0.3, p.y), radii: Vec3::splat(0.4) })
-            }
             Extra::Calm => {
                 let half = Vec2::splat(0.02 * size);
                 wind.calm.push(CalmArea { min: p - half, max: p + half })
@@ -71,7 +68,6 @@ fn wind(grid: &ClusterGrid, extra: Extra, count: usize) -> Wind {
 fn bench_corner_forces(c: &mut Criterion) {
     let cases = std::iter::once(("global_only", Extra::Sources, 0))
         .chain(COUNTS.iter().map(|&n| ("sources", Extra::Sources, n)))
-        .chain(COUNTS.iter().map(|&n| ("colliders", Extra::Colliders, n)))
         .chain(COUNTS.iter().map(|&n| ("calm", Extra::Calm, n)));
     for (name, extra, count) in cases {
         let mut group = c.benchmark_group(format!("corner_forces/{name}_{count}"));

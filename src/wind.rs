@@ -1,13 +1,13 @@
 //! External forces (thesis 3.2.2, 4.5, 5.1, 5.2): a global wind with gusts, point wind sources
-//! (eq. 4.1) that may move, calm areas where the wind is blocked, and colliders acting as
-//! concentrated local wind. Forces are horizontal (x, z) in keyframe units: a blade of stiffness
-//! 1 under a force of magnitude 1 takes the table's strongest pose. The wind field the blades
-//! sample (`render::wind`) holds velocities in m/s: a force of `f` keyframe units is a wind of
+//! (eq. 4.1) that may move, calm areas where the wind is blocked, and 3-D colliders that push
+//! the part of a blade inside them. Forces are horizontal (x, z) in keyframe units: a blade of
+//! stiffness 1 under a force of magnitude 1 takes the table's strongest pose. The wind field the
+//! blades sample (`render::wind`) holds velocities in m/s: a force of `f` keyframe units is a wind of
 //! `f · KEYFRAME_WIND_SCALE` m/s, and the `*_f64` functions are its f64 reference.
 
 use std::f64::consts::TAU;
 
-use glam::{DVec2, Vec2, Vec3};
+use glam::{DVec2, DVec3, Vec2, Vec3};
 
 /// Metres per second of wind per keyframe force unit: the fixed scale between the wind field's
 /// velocities and the keyframes' input (|f| = 1, the table's strongest pose, is 8 m/s, a fresh
@@ -158,47 +158,75 @@ impl CalmArea {
     }
 }
 
-/// A colliding object as concentrated local wind (thesis 5.2): blades are pushed away from its
-/// centre, most strongly near its surface.
+/// A colliding object (thesis 5.2) in 3-D: an ellipsoid at a world position (its `center.y` is a
+/// world height) that pushes the part of a blade inside it away from its vertical axis. Not part
+/// of the wind field: each blade response takes the colliders' shapes and maps them to its own
+/// input. Responses that take one force per blade (keyframes) get the reach-weighted equivalent
+/// force (`blade_force`, `docs/animation.md`, "Colliders in 3-D", eq. C.1–C.4): the moment about
+/// the root of the push over the blade's overlap with the ellipsoid, divided by the moment arm
+/// of a uniform load over the blade. Blades that do not reach into it feel nothing.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Collider {
-    /// Centre.
+    /// Centre: ground position (x, z) and world height (y).
     pub center: Vec3,
     /// Radii (x, y, z); equal for a sphere.
     pub radii: Vec3,
 }
 
-/// Force at the surface of a collider, and the falloff exponent beyond it.
+/// The keyframe force on a blade wholly inside a collider (its push per unit of blade, eq. C.2).
 pub const COLLIDER_PUSH: f32 = 1.2;
-/// Concentration of the collision force (σ of eq. 4.1 in ellipsoid units).
-pub const COLLIDER_SIGMA: f32 = 3.0;
+
+/// The heights above a blade's root (0 to `height`) where its upright backbone is inside the
+/// ellipsoid, and the unit push direction there (eq. C.1): `None` when the blade misses it. The
+/// vertical line through the root meets the ellipsoid where (q · q) + ((y − c_y) / r_y)² ≤ 1,
+/// q = (root − c)_xz / r_xz, so over c_y ± r_y √(1 − q · q).
+fn overlap(center: Vec3, radii: Vec3, root: Vec3, height: f32) -> Option<(f32, f32, Vec2)> {
+    let q = (Vec2::new(root.x, root.z) - Vec2::new(center.x, center.z)) / Vec2::new(radii.x, radii.z);
+    let d2 = q.length_squared();
+    if !(1e-12..1.0).contains(&d2) || height <= 0.0 {
+        return None;
+    }
+    let half = radii.y * (1.0 - d2).sqrt();
+    let s0 = (center.y - half - root.y).clamp(0.0, height);
+    let s1 = (center.y + half - root.y).clamp(0.0, height);
+    // The ellipse's outward normal in (x, z): the push direction (eq. C.1).
+    let n = (q / Vec2::new(radii.x, radii.z)).normalize();
+    (s1 > s0).then_some((s0, s1, n))
+}
 
 impl Collider {
-    /// Push at ground point `p`: eq. 4.1 in the collider's scaled space, with the power set so
-    /// the push is `COLLIDER_PUSH` at the surface and flat inside it.
-    pub fn force(center: Vec2, radii: Vec2, p: Vec2) -> Vec2 {
-        let q = (p - center) / radii;
-        let d = q.length();
-        if d < 1e-6 {
-            return Vec2::ZERO;
+    /// The reach-weighted keyframe force of a collider on a blade of backbone length `height`
+    /// rooted at world `root` (eq. C.3): `COLLIDER_PUSH · n̂ · (s₁² − s₀²) / h²`, where [s₀, s₁]
+    /// is the part of the upright backbone inside the ellipsoid. The CPU mirror of
+    /// `collider_force` in `shaders/animation/forces.glsl`.
+    pub fn blade_force(center: Vec3, radii: Vec3, root: Vec3, height: f32) -> Vec2 {
+        match overlap(center, radii, root, height) {
+            Some((s0, s1, n)) => n * (COLLIDER_PUSH * (s1 * s1 - s0 * s0) / (height * height)),
+            None => Vec2::ZERO,
         }
-        let direction = (q / radii).normalize();
-        direction * COLLIDER_PUSH / d.max(1.0).powf(COLLIDER_SIGMA)
     }
 
-    /// The push at ground point `p` in m/s and f64: the reference of the GPU's field.
-    pub fn velocity_f64(&self, p: DVec2) -> DVec2 {
-        let (center, radii) = (
-            DVec2::new(self.center.x.into(), self.center.z.into()),
-            DVec2::new(self.radii.x.into(), self.radii.z.into()),
-        );
-        let q = (p - center) / radii;
-        let d = q.length();
-        if d < 1e-6 {
+    /// The same force in f64 by quadrature of its definition (eq. C.2), the reference the
+    /// closed form is checked against: the push density `COLLIDER_PUSH / h` at every point of the
+    /// upright backbone inside the ellipsoid, its moment about the root summed over `steps`
+    /// midpoints, divided by the moment arm h / 2 of a uniform load.
+    pub fn blade_force_f64(&self, root: DVec3, height: f64, steps: u32) -> DVec2 {
+        let (c, r) = (self.center.as_dvec3(), self.radii.as_dvec3());
+        let q = DVec2::new((root.x - c.x) / r.x, (root.z - c.z) / r.z);
+        if q.length_squared() < 1e-12 {
             return DVec2::ZERO;
         }
-        let push = f64::from(COLLIDER_PUSH) * f64::from(KEYFRAME_WIND_SCALE);
-        (q / radii).normalize() * push / d.max(1.0).powf(f64::from(COLLIDER_SIGMA))
+        let n = DVec2::new(q.x / r.x, q.y / r.z).normalize();
+        let ds = height / f64::from(steps);
+        let moment: f64 = (0..steps)
+            .map(|i| (f64::from(i) + 0.5) * ds)
+            .filter(|s| {
+                let e = (root - c + DVec3::Y * s) / r;
+                e.length_squared() < 1.0
+            })
+            .map(|s| f64::from(COLLIDER_PUSH) / height * s * ds)
+            .sum();
+        n * moment / (height / 2.0)
     }
 }
 
@@ -237,16 +265,14 @@ impl Wind {
     }
 
     /// The part of the force interpolated from cluster corners: the global wind, and with
-    /// cluster attenuation the sources and colliders too. Calm areas block wind, not colliders.
+    /// cluster attenuation the sources too, blocked in calm areas. Colliders are not in it: the
+    /// blades take them from their shapes (`Collider::blade_force`).
     pub fn corner_force(&self, p: Vec2, t: f32, attenuation: Attenuation) -> Vec2 {
-        let exposure = self.exposure(p);
         let mut wind = self.global.map_or(Vec2::ZERO, |g| g.force(p, t));
-        let mut push = Vec2::ZERO;
         if attenuation == Attenuation::Cluster {
             wind += self.sources_force(p, t);
-            push = self.colliders_force(p);
         }
-        wind * exposure + push
+        wind * self.exposure(p)
     }
 
     /// Sum of the point sources at `p` (eq. 4.1).
@@ -254,33 +280,28 @@ impl Wind {
         self.sources.iter().map(|s| PointSource::force_from(s.position_at(t), s.power, s.sigma, p)).sum()
     }
 
-    /// Sum of the collider pushes at `p`.
-    pub fn colliders_force(&self, p: Vec2) -> Vec2 {
-        self.colliders
-            .iter()
-            .map(|c| Collider::force(Vec2::new(c.center.x, c.center.z), Vec2::new(c.radii.x, c.radii.z), p))
-            .sum()
+    /// Sum of the colliders' reach-weighted forces on a blade rooted at `root` of backbone length
+    /// `height` (`Collider::blade_force`).
+    pub fn colliders_force(&self, root: Vec3, height: f32) -> Vec2 {
+        self.colliders.iter().map(|c| Collider::blade_force(c.center, c.radii, root, height)).sum()
     }
 
     /// The wind field at a cluster corner at world `p` and time `t` in f64, as the analytic field
     /// writes it (`render::wind::analytic`): velocity (x, z) in m/s and the exposure. With
-    /// cluster attenuation the sources and colliders are in it; with delayed attenuation only
-    /// the global wind (the blades add the rest).
+    /// cluster attenuation the sources are in it; with delayed attenuation only the global wind
+    /// (the blades add the sources). Colliders never are (`Collider::blade_force`).
     pub fn corner_velocity_f64(&self, p: DVec2, t: f64, attenuation: Attenuation) -> (DVec2, f64) {
         let exposure = if self.calm.iter().any(|c| c.contains_f64(p)) { 0.0 } else { 1.0 };
         let mut wind = self.global.map_or(DVec2::ZERO, |g| g.velocity_f64(p, t));
-        let mut push = DVec2::ZERO;
         if attenuation == Attenuation::Cluster {
             wind += self.sources.iter().map(|s| s.velocity_f64(p, t)).sum::<DVec2>();
-            push = self.colliders.iter().map(|c| c.velocity_f64(p)).sum();
         }
-        (wind * exposure + push, exposure)
+        (wind * exposure, exposure)
     }
 
-    /// The true force at `p`: what the interpolated forces approximate.
+    /// The true wind force at `p`: what the interpolated forces approximate (colliders apart).
     pub fn force_at(&self, p: Vec2, t: f32) -> Vec2 {
         (self.global.map_or(Vec2::ZERO, |g| g.force(p, t)) + self.sources_force(p, t)) * self.exposure(p)
-            + self.colliders_force(p)
     }
 }
 
@@ -298,17 +319,56 @@ mod tests {
     }
 
     #[test]
-    fn calm_areas_block_wind_but_not_colliders() {
+    fn calm_areas_block_the_wind() {
         let wind = Wind {
             global: Some(GlobalWind { direction_deg: 0.0, strength: 0.5, gusts: false }),
             calm: vec![CalmArea { min: Vec2::new(-1.0, -1.0), max: Vec2::new(1.0, 1.0) }],
-            colliders: vec![Collider { center: Vec3::new(0.5, 0.0, 0.0), radii: Vec3::splat(0.2) }],
             ..Default::default()
         };
-        let inside = Vec2::new(-0.5, 0.0);
-        assert_eq!(wind.corner_force(inside, 0.0, Attenuation::Cluster), wind.colliders_force(inside));
-        assert!(wind.corner_force(Vec2::new(0.75, 0.0), 0.0, Attenuation::Cluster).x > 0.3);
-        assert!((wind.corner_force(Vec2::new(3.0, 0.0), 0.0, Attenuation::Cluster).x - 0.5).abs() < 0.01);
+        assert_eq!(wind.corner_force(Vec2::new(-0.5, 0.0), 0.0, Attenuation::Cluster), Vec2::ZERO);
+        assert_eq!(wind.corner_force(Vec2::new(3.0, 0.0), 0.0, Attenuation::Cluster), Vec2::new(0.5, 0.0));
+    }
+
+    #[test]
+    fn a_collider_pushes_only_the_part_of_a_blade_inside_it() {
+        // A sphere whose lowest point is 0.3 m above the ground at x = 0.1 m from its axis.
+        let (center, radii) = (Vec3::new(0.0, 0.6, 0.0), Vec3::splat(0.3));
+        let root = Vec3::new(0.1, 0.0, 0.0);
+        let tall = Collider::blade_force(center, radii, root, 0.55);
+        assert!(tall.x > 0.1 && tall.y.abs() < 1e-6, "{tall:?}");
+        // A blade under the sphere's lowest point does not reach it; a sphere 50 m up touches nothing.
+        assert_eq!(Collider::blade_force(center, radii, root, 0.29), Vec2::ZERO);
+        assert_eq!(Collider::blade_force(center + Vec3::Y * 50.0, radii, root, 0.55), Vec2::ZERO);
+        // Wholly inside: the push of a uniform load, COLLIDER_PUSH.
+        let inside = Collider::blade_force(Vec3::new(0.0, 0.3, 0.0), Vec3::splat(2.0), root, 0.5);
+        assert!((inside - Vec2::new(COLLIDER_PUSH, 0.0)).length() < 1e-6, "{inside:?}");
+        // The top half of a blade carries three quarters of the moment (eq. C.3).
+        let top = Collider::blade_force(Vec3::new(0.0, 1.25, 0.0), Vec3::new(20.0, 1.0, 20.0), root, 0.5);
+        assert!((top.x - 0.75 * COLLIDER_PUSH).abs() < 1e-3, "{top:?}");
+    }
+
+    #[test]
+    fn the_closed_form_push_matches_its_quadrature() {
+        let colliders = [
+            Collider { center: Vec3::new(0.0, 0.6, 0.0), radii: Vec3::splat(0.3) },
+            Collider { center: Vec3::new(0.3, 0.2, -0.1), radii: Vec3::new(0.4, 0.25, 0.6) },
+            Collider { center: Vec3::new(100_000.2, 10.3, 5.0), radii: Vec3::new(0.5, 0.2, 0.3) },
+        ];
+        let mut pushed = 0;
+        for c in colliders {
+            for i in 0..200 {
+                let t = i as f32 / 200.0;
+                let offset = Vec2::from_angle(t * 37.0) * Vec2::new(c.radii.x, c.radii.z) * t.sqrt();
+                let root =
+                    Vec3::new(c.center.x + offset.x, c.center.y - c.radii.y * 1.1 + t * 0.4, c.center.z + offset.y);
+                let height = 0.1 + 0.5 * ((i * 7) % 11) as f32 / 11.0;
+                let closed = Collider::blade_force(c.center, c.radii, root, height).as_dvec2();
+                let reference = c.blade_force_f64(root.as_dvec3(), height.into(), 200_000);
+                assert!((closed - reference).length() < 1e-3, "{c:?} root {root} h {height}: {closed} vs {reference}");
+                pushed += usize::from(reference.length() > 0.05);
+            }
+        }
+        assert!(pushed > 100, "{pushed} of 600 blades pushed");
     }
 
     #[test]

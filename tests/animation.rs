@@ -30,7 +30,7 @@ fn tip_displacements(scene: &Scene, wind: &Wind, attenuation: Attenuation) -> Ve
                 &emitters,
                 wind.sources.len(),
                 attenuation,
-                root,
+                b,
             ) / b.stiffness;
             let (across, normal) = bezier::frame(b);
             let pose = table.pose_for(
@@ -85,13 +85,14 @@ fn blades_in_a_calm_area_stay_neutral() {
 #[test]
 fn blades_near_a_collider_lean_away_from_it() {
     let scene = Scene::generate(2000, 6);
-    let center = Vec3::new(0.2, 0.3, -0.4);
+    // A sphere sitting on the ground (its Y is a world height): every blade under it reaches in.
+    let center = Vec3::new(0.2, scene.terrain.height_at(0.2, -0.4) + 0.25, -0.4);
     let wind = Wind { colliders: vec![Collider { center, radii: Vec3::splat(0.3) }], ..Default::default() };
     let tips = tip_displacements(&scene, &wind, Attenuation::Blade);
     let mut near = 0;
     for (b, d) in scene.blades.iter().zip(&tips) {
         let away = Vec2::new(b.position[0] - center.x, b.position[2] - center.z);
-        if away.length() > 0.05 && away.length() < 0.6 {
+        if away.length() > 0.05 && away.length() < 0.25 {
             near += 1;
             assert!(Vec2::new(d.x, d.z).dot(away.normalize()) > 0.3 * d.length(), "blade at {away:?} leans {d:?}");
         }
@@ -104,6 +105,28 @@ fn render(name: &str, args: &[&str]) -> Picture {
     let path = dir.join("out.png");
     support::render(args, &path);
     Picture::load(&path)
+}
+
+/// Issue 29 item 3: a collider's Y is a world height. A sphere 50 m above the field changes no
+/// pixel; the same sphere resting on the ground bends the blades under it. Culled (the GPU wind
+/// field) and by brute force (the thesis' CPU corners).
+#[test]
+fn a_sphere_50_m_up_changes_no_pixel_and_one_on_the_ground_does() {
+    let (x, z, radius) = (0.0f32, 1.5f32, 0.4f32);
+    let terrain = meadow::scene::Terrain::generate(meadow::scene::blades::field_size(20000), 1);
+    let ground = terrain.height_at(x, z);
+    let sphere = |y: f32| format!("sphere:{x},{y},{z},{radius}");
+    let (up, resting) = (sphere(ground + 50.0), sphere(ground + radius - 0.05));
+    for (name, path) in [("culled", &[][..]), ("brute", &["--brute-force"][..])] {
+        let base = [&["--blades", "20000", "--seed", "1", "--size", "160x96", "--time", "1"][..], path].concat();
+        let without = render(&format!("{name}-none"), &base);
+        let high = render(&format!("{name}-high"), &[&base[..], &["--collider", &up]].concat());
+        let low = render(&format!("{name}-low"), &[&base[..], &["--collider", &resting]].concat());
+        assert!(without.rgb == high.rgb, "{name}: a sphere 50 m up changed the picture");
+        let (stats, _) = compare_rgb(&without.rgb, &low.rgb, 0);
+        let changed = 1.0 - stats.within_fraction();
+        assert!(changed > 0.003, "{name}: a sphere on the ground changed {:.3} % of the pixels", 100.0 * changed);
+    }
 }
 
 #[test]

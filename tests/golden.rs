@@ -122,6 +122,9 @@ fn sixteen_segments_from_above_with_batching() {
 #[test]
 fn windy_field_with_source_calm_area_and_collider() {
     let camera = camera_above_ground(10000, 2, 0.0, 2.6, 1.1, 0.0, -28.0);
+    // The collider's Y is a world height (issue 29 item 3): its centre 0.2 m above the ground.
+    let terrain = meadow::scene::Terrain::generate(meadow::scene::blades::field_size(10000), 2);
+    let collider = format!("sphere:0.3,{},0.9,0.25", terrain.height_at(0.3, 0.9) + 0.2);
     check_golden(
         "windy_features",
         &[
@@ -143,7 +146,7 @@ fn windy_field_with_source_calm_area_and_collider() {
             "--calm",
             "-2.5,-2.5,-0.8,0",
             "--collider",
-            "sphere:0.3,0.2,0.9,0.25",
+            &collider,
             "--attenuation",
             "blade",
             "--cluster-size",

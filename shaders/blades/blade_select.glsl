@@ -11,7 +11,7 @@
 KfSelection kf_select_blade(uint blade_index, BladeInstance blade, out float force_magnitude) {
     vec3 across = vec3(cos(blade.facing), 0.0, -sin(blade.facing));
     vec3 normal_dir = vec3(sin(blade.facing), 0.0, cos(blade.facing));
-    vec2 force = blade_force(blade_index, blade.position.xz) / blade.stiffness;
+    vec2 force = blade_force(blade_index, blade) / blade.stiffness;
     force_magnitude = length(force);
     return kf_select(vec2(dot(force, across.xz), dot(force, normal_dir.xz)));
 }

@@ -1,16 +1,14 @@
-// The analytic wind field's terms (`render::wind::analytic`), in m/s: the global wind with gusts,
-// point sources (thesis eq. 4.1) and colliders as concentrated local wind (thesis 5.2). Shared by
+// The analytic wind field's terms (`render::wind::analytic`), in m/s: the global wind with gusts
+// and point sources (thesis eq. 4.1); colliders are not wind (the blade responses take their
+// shapes, `animation/forces.glsl`). Shared by
 // the pass that evaluates the field at the cluster corners (`wind/analytic_corners.comp`) and by
 // the per-blade sampling of delayed attenuation (`wind/wind_field.glsl`, thesis 4.5). Mirrors
-// `wind::GlobalWind::force`, `wind::PointSource::force_from` and `wind::Collider::force` on the
-// CPU, times `wind::KEYFRAME_WIND_SCALE`.
+// `wind::GlobalWind::force` and `wind::PointSource::force_from` on the CPU, times `wind::KEYFRAME_WIND_SCALE`.
 #ifndef MEADOW_WIND_ANALYTIC_GLSL
 #define MEADOW_WIND_ANALYTIC_GLSL
 
 const float KEYFRAME_WIND_SCALE = 8.0;  // wind::KEYFRAME_WIND_SCALE: m/s per keyframe force unit
 const float MIN_SOURCE_DISTANCE = 0.05; // wind::MIN_SOURCE_DISTANCE
-const float COLLIDER_PUSH = 1.2;        // wind::COLLIDER_PUSH
-const float COLLIDER_SIGMA = 3.0;       // wind::COLLIDER_SIGMA
 
 // Eq. 4.1: wind = normalise(WP) · ω / |WP|^σ for a source at `w` of power ω (keyframe units)
 // and concentration σ, in m/s.
@@ -21,16 +19,6 @@ vec2 source_wind(vec2 w, float power, float sigma, vec2 p) {
         return vec2(0.0);
     }
     return wp / d * power / pow(max(d, MIN_SOURCE_DISTANCE), sigma) * KEYFRAME_WIND_SCALE;
-}
-
-// Thesis 5.2: a collider's push at ground point `p`, eq. 4.1 in its scaled space, flat inside it.
-vec2 collider_wind(vec2 center, vec2 radii, vec2 p) {
-    vec2 q = (p - center) / radii;
-    float d = length(q);
-    if (d < 1e-6) {
-        return vec2(0.0);
-    }
-    return normalize(q / radii) * COLLIDER_PUSH / pow(max(d, 1.0), COLLIDER_SIGMA) * KEYFRAME_WIND_SCALE;
 }
 
 // The global wind at `q` (relative to O) in m/s: `direction` the unit direction it blows

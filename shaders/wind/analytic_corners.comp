@@ -4,9 +4,10 @@
 // calm-area exposure at every cluster corner of this frame (thesis 3.2.2), each step, instead of
 // the thesis' CPU loop. The global wind with gusts, taken relative to the frame's O with its
 // waves' phases at O computed in f64 on the CPU (so 100 km out is as exact as the origin), calm
-// areas (thesis 5.1: no wind inside), and with cluster attenuation the point sources (eq. 4.1)
-// and colliders (5.2); with delayed attenuation (4.5) the corners carry the global wind and the
-// exposure only, and the blades add sources and colliders themselves (`wind/wind_field.glsl`).
+// areas (thesis 5.1: no wind inside), and with cluster attenuation the point sources (eq. 4.1);
+// with delayed attenuation (4.5) the corners carry the global wind and the exposure only, and the
+// blades add the sources themselves (`wind/wind_field.glsl`). Colliders are not in the field: the
+// blades take their shapes (thesis 5.2 in 3-D, `animation/forces.glsl`).
 // The CPU mirror is `render::animation::corner_forces_at`, its f64 reference
 // `wind::Wind::corner_velocity_f64`. Its own set (no scene sets): the parameters, this frame's
 // emitters and this frame's corners.
@@ -26,11 +27,11 @@ layout(local_size_x = WIND_GROUP) in;
     vec4 waves23;  /* waves 2 and 3 */ \
     vec4 grid;     /* the first corner relative to O (x, z), the cluster edge, 0 */ \
     uvec4 shape;   /* corners per side, corners, 1 with delayed attenuation, 0 */ \
-    uvec4 counts;  /* sources, colliders, calm areas, 0 */ \
+    uvec4 counts;  /* sources, colliders (not read here: the blades take them), calm areas, 0 */ \
     vec4 calm[MAX_CALM_AREAS]; /* min x, z, max x, z relative to O */
 layout(set = 0, binding = 0, std140) uniform WindValues { WIND_PARAMS } wind;
 layout(set = 0, binding = 3, std430) readonly buffer WindControl { WIND_PARAMS } control;
-// Point sources (x, z relative to O, power, sigma), then colliders (centre x, z, radius x, z).
+// Point sources (x, z relative to O, power, sigma), then colliders (read by the blades).
 layout(set = 0, binding = 1, std430) readonly buffer Emitters { vec4 emitters[]; };
 // This frame's corners: velocity (x, y, z) in m/s, exposure.
 layout(set = 0, binding = 2, std430) writeonly buffer Corners { vec4 corners[]; };
@@ -59,20 +60,14 @@ void main() {
     if (global > 0.5) {
         v = global_wind(wind.global.xy, wind.global.z, global > 1.5, wind.phases, wind.waves01, wind.waves23, q);
     }
-    vec2 push = vec2(0.0);
     if (control.shape.z == 0u) {
-        uint sources = control.counts.x;
-        for (uint s = 0u; s < sources; ++s) {
+        for (uint s = 0u; s < control.counts.x; ++s) {
             vec4 e = emitters[s];
             v += source_wind(e.xy, e.z, e.w, q);
         }
-        for (uint i = sources; i < sources + control.counts.y; ++i) {
-            vec4 e = emitters[i];
-            push += collider_wind(e.xy, e.zw, q);
-        }
     }
-    // Calm areas block the wind, not the colliders (thesis 5.1, 5.2).
-    vec2 f = v * exposure + push;
+    // Calm areas block the wind (thesis 5.1).
+    vec2 f = v * exposure;
     // A non-finite wind (an overflowing eq. 4.1) would select an undefined pose: none.
     if (any(isnan(f)) || any(isinf(f))) {
         f = vec2(0.0);

@@ -4,10 +4,11 @@
 // The analytic field writes it at the cluster corners (`wind/analytic_corners.comp` on the GPU,
 // `render::animation::corner_forces_at` on the CPU with --brute-force, as the thesis did); a
 // blade takes the corners' wind weighted by its precomputed weights (eq. 3.6/3.8), plus, with
-// delayed attenuation, every point source (eq. 4.1) and collider evaluated at the blade itself.
-// Mirrored on the CPU by `render::animation::blade_wind`. The includer declares `frame`,
-// `clusters`, `corners` (vec4: velocity xyz, exposure) and `emitters` (sources, then colliders,
-// relative to O).
+// delayed attenuation, every point source (eq. 4.1) evaluated at the blade itself. Colliders are
+// not wind: each response takes their shapes from `emitters` (the keyframes: `collider_force` of
+// `animation/forces.glsl`). Mirrored on the CPU by `render::animation::blade_wind`. The includer
+// declares `frame`, `clusters`, `corners` (vec4: velocity xyz, exposure) and `emitters` (sources,
+// then colliders, relative to O).
 #ifndef MEADOW_WIND_FIELD_GLSL
 #define MEADOW_WIND_FIELD_GLSL
 #include "wind/analytic.glsl"
@@ -50,16 +51,11 @@ vec4 wind_at_blade(uint blade_index, vec2 root) {
         + wind_corner(c.corner + n + 1u) * w.w;
     vec2 wind = f.xz;
     if (ATTENUATION == ATTENUATION_BLADE) {
-        // Delayed attenuation (4.5): sources and colliders at the blade itself.
+        // Delayed attenuation (4.5): the sources at the blade itself.
         float exposure = f.w;
-        uint sources = frame.keyframes.z;
-        for (uint s = 0u; s < sources; ++s) {
+        for (uint s = 0u; s < frame.keyframes.z; ++s) {
             vec4 e = emitters[s];
             wind += exposure * source_wind(e.xy, e.z, e.w, root);
-        }
-        for (uint i = sources; i < sources + frame.keyframe_shape.y; ++i) {
-            vec4 e = emitters[i];
-            wind += collider_wind(e.xy, e.zw, root);
         }
     }
     return vec4(wind.x, f.y, wind.y, f.w);

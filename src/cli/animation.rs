@@ -124,7 +124,7 @@ pub(crate) struct AnimationArgs {
     /// Calm area where the wind is blocked (thesis 5.1); repeatable.
     #[arg(long, value_name = "X0,Z0,X1,Z1", value_parser = values::calm, allow_hyphen_values = true)]
     pub(crate) calm: Vec<crate::wind::CalmArea>,
-    /// Collider pushing blades aside (thesis 5.2): sphere:X,Y,Z,R or ellipsoid:X,Y,Z,RX,RY,RZ; repeatable.
+    /// Collider pushing aside the part of each blade inside it (thesis 5.2 in 3-D; Y is a world height): sphere:X,Y,Z,R or ellipsoid:X,Y,Z,RX,RY,RZ; repeatable.
     #[arg(long, value_name = "SHAPE", value_parser = values::collider, allow_hyphen_values = true)]
     pub(crate) collider: Vec<crate::wind::Collider>,
     /// Simulation time of the picture in seconds.

@@ -15,7 +15,7 @@ pub mod still;
 pub use keyframe_gpu::{texture_format, KeyframeTexture, KeyframeUniforms};
 pub use model::{AnimationModel, BladeInput};
 
-use glam::{Vec2, Vec4};
+use glam::{Vec2, Vec3, Vec4};
 
 use crate::keyframes::encoding::{Encoding, Packing};
 use crate::keyframes::{Representation, Smoothing};
@@ -136,6 +136,10 @@ impl Default for AnimationSettings {
 /// Point sources plus colliders a renderer can hold (the per-frame emitter buffers' capacity).
 pub const MAX_EMITTERS: usize = crate::render::gpu_constants::MAX_EMITTERS as usize;
 
+/// The emitter buffers' elements (vec4): a point source takes one, a collider two (centre and
+/// radii), so `MAX_EMITTERS` colliders fit.
+pub const EMITTER_ELEMENTS: usize = 2 * MAX_EMITTERS;
+
 /// The corner winds of a frame on the CPU, the thesis' path (`--brute-force`): (vx, vy, vz,
 /// calm-area exposure) per corner, in m/s (`wind::KEYFRAME_WIND_SCALE` times the keyframe force).
 pub fn corner_forces(grid: &ClusterGrid, wind: &Wind, time: f32, attenuation: Attenuation) -> Vec<Vec4> {
@@ -164,8 +168,9 @@ pub fn corner_forces_at(
 }
 
 /// The emitters of a frame: point sources at their positions at `time` as (x, z, power, sigma),
-/// then colliders as (centre x, centre z, radius x, radius z). At least one element (a buffer
-/// cannot be empty); the shader reads only as many as the uniforms count.
+/// then each collider as two elements, its centre (x, y, z, 0) and its radii (x, y, z, 0). At
+/// least one element (a buffer cannot be empty); the shader reads only as many as the uniforms
+/// count.
 pub fn emitters(wind: &Wind, time: f32) -> Vec<Vec4> {
     let mut out: Vec<Vec4> = wind
         .sources
@@ -174,7 +179,7 @@ pub fn emitters(wind: &Wind, time: f32) -> Vec<Vec4> {
             let p = s.position_at(time);
             Vec4::new(p.x, p.y, s.power, s.sigma)
         })
-        .chain(wind.colliders.iter().map(|c| Vec4::new(c.center.x, c.center.z, c.radii.x, c.radii.z)))
+        .chain(wind.colliders.iter().flat_map(|c| [c.center.extend(0.0), c.radii.extend(0.0)]))
         .collect();
     if out.is_empty() {
         out.push(Vec4::ZERO);
@@ -183,8 +188,8 @@ pub fn emitters(wind: &Wind, time: f32) -> Vec<Vec4> {
 }
 
 /// The wind at a blade as `shaders/wind/wind_field.glsl` samples it (`wind_at_blade`), on the
-/// CPU: the corners' wind weighted (eq. 3.6/3.8), plus with delayed attenuation every source
-/// and collider at the blade; velocity (x, z) in m/s. The reference for GPU read-back tests.
+/// CPU: the corners' wind weighted (eq. 3.6/3.8), plus with delayed attenuation every source at
+/// the blade; velocity (x, z) in m/s. The reference for GPU read-back tests.
 pub fn blade_wind(
     grid: &ClusterGrid,
     cluster: &crate::scene::clusters::BladeCluster,
@@ -204,15 +209,14 @@ pub fn blade_wind(
         for e in &emitters[..sources] {
             wind += f.w * (crate::wind::PointSource::force_from(Vec2::new(e.x, e.y), e.z, e.w, root) * scale);
         }
-        for e in &emitters[sources..] {
-            wind += crate::wind::Collider::force(Vec2::new(e.x, e.y), Vec2::new(e.z, e.w), root) * scale;
-        }
     }
     wind
 }
 
-/// The keyframes' force for a blade (`shaders/animation/forces.glsl`): its wind (`blade_wind`)
-/// in keyframe units, through the fixed scale `wind::KEYFRAME_WIND_SCALE`.
+/// The keyframes' force for `blade` (`blade_force` of `shaders/animation/forces.glsl`): its wind
+/// (`blade_wind`) in keyframe units through the fixed scale `wind::KEYFRAME_WIND_SCALE`, plus the
+/// reach-weighted force of every collider in `emitters` (after the `sources`, two elements each,
+/// `wind::Collider::blade_force`), under either attenuation.
 pub fn blade_force(
     grid: &ClusterGrid,
     cluster: &crate::scene::clusters::BladeCluster,
@@ -220,13 +224,23 @@ pub fn blade_force(
     emitters: &[Vec4],
     sources: usize,
     attenuation: Attenuation,
-    root: Vec2,
+    blade: &crate::scene::BladeInstance,
 ) -> Vec2 {
-    blade_wind(grid, cluster, corners, emitters, sources, attenuation, root) * (1.0 / KEYFRAME_WIND_SCALE)
+    let root = Vec3::from(blade.position);
+    let wind = blade_wind(grid, cluster, corners, emitters, sources, attenuation, Vec2::new(root.x, root.z));
+    let mut force = wind * (1.0 / KEYFRAME_WIND_SCALE);
+    for pair in emitters[sources..].chunks_exact(2) {
+        let push = crate::wind::Collider::blade_force(pair[0].truncate(), pair[1].truncate(), root, blade.height);
+        // Only where it pushes, as the shader: -0 + 0 would be +0.
+        if push != Vec2::ZERO {
+            force += push;
+        }
+    }
+    force
 }
 
 /// Sources and colliders the shaders read: the first `MAX_EMITTERS` of them, sources first (the
-/// emitter buffers hold no more).
+/// emitter buffers hold `EMITTER_ELEMENTS`: a source takes one, a collider two).
 pub fn emitter_counts(wind: &crate::wind::Wind) -> (u32, u32) {
     let sources = wind.sources.len().min(MAX_EMITTERS);
     let colliders = wind.colliders.len().min(MAX_EMITTERS - sources);

@@ -19,26 +19,28 @@ use super::corners_pass::AnalyticCornersPass;
 pub use super::params::{Params, MAX_CALM_AREAS};
 use super::{WindField, WindInput, WindSetup};
 use crate::error::Result;
+use crate::render::animation;
 use crate::render::animation::model::FrameForces;
-use crate::render::animation::{self, MAX_EMITTERS};
 use crate::render::graph::Pass;
 use crate::vk::Device;
 use crate::wind::Wind;
 
 /// The emitters of a frame relative to `origin`, differenced in f64: point sources at their
-/// positions at `time` as (x, z, power, sigma), then colliders as (centre x, centre z, radius x,
-/// radius z); the first `MAX_EMITTERS`, at least one element (a buffer cannot be empty).
+/// positions at `time` as (x, z, power, sigma), then each collider as two elements, its centre
+/// (x, y, z, 0; y a world height) and its radii (x, y, z, 0); the first `MAX_EMITTERS` emitters
+/// (`animation::emitter_counts`), at least one element (a buffer cannot be empty).
 pub fn emitters_relative(wind: &Wind, origin: DVec2, time: f64) -> Vec<Vec4> {
     let relative = |p: DVec2| (p - origin).as_vec2();
+    let (sources, colliders) = animation::emitter_counts(wind);
     let mut out: Vec<Vec4> = wind
         .sources
         .iter()
+        .take(sources as usize)
         .map(|s| relative(s.position_f64(time)).extend(s.power).extend(s.sigma))
-        .chain(wind.colliders.iter().map(|c| {
+        .chain(wind.colliders.iter().take(colliders as usize).flat_map(|c| {
             let centre = relative(DVec2::new(c.center.x.into(), c.center.z.into()));
-            Vec4::new(centre.x, centre.y, c.radii.x, c.radii.z)
+            [Vec4::new(centre.x, c.center.y, centre.y, 0.0), c.radii.extend(0.0)]
         }))
-        .take(MAX_EMITTERS)
         .collect();
     if out.is_empty() {
         out.push(Vec4::ZERO);

@@ -20,5 +20,5 @@ void main() {
     if (i >= uint(blades.length())) {
         return;
     }
-    forces[i] = blade_force(i, blades[i].position.xz);
+    forces[i] = blade_force(i, blades[i]);
 }
