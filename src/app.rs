@@ -246,6 +246,9 @@ pub struct RenderReport {
     pub field: Option<crate::scene::field::FieldSpec>,
     /// What the device made the renderer do differently from the options (a fallback).
     pub notes: Vec<String>,
+    /// The simulated time of the picture and the fixed step its frames lie apart
+    /// (`render::animation::clock`).
+    pub clock: (f32, crate::render::animation::clock::StepClock),
     /// How the renderer submitted the blades: its strategy and clusters, and the blades per
     /// instance of its draws (what `--submission`, `--clusters` and `--blades-per-instance`
     /// chose, as the renderer was built).
@@ -445,9 +448,13 @@ pub fn render(device: &Arc<Device>, options: &RenderOptions) -> Result<RenderRep
     let mut frames_scale = None;
     let result = (|| {
         let mut frames = Vec::new();
-        for _ in 0..options.frames {
+        // One step a frame, the last at --time: the picture written does not depend on --frames.
+        let clock = options.animation.clock;
+        for i in 0..options.frames {
             interrupt::check()?;
-            let timings = renderer.render_offscreen(&mut target, &camera, options.time)?;
+            let step = clock.step_before(options.time.into(), options.frames - 1 - i);
+            let time = clock.time_of(step) as f32;
+            let timings = renderer.render_offscreen(&mut target, &camera, time)?;
             if let Some(budget) = budget.as_mut() {
                 frames_scale = Some(budget.scale);
                 renderer.set_lod_scale(budget.update(timings.gpu_ms));
@@ -477,6 +484,7 @@ pub fn render(device: &Arc<Device>, options: &RenderOptions) -> Result<RenderRep
         field: options.field,
         notes,
         submission,
+        clock: (options.time, options.animation.clock),
     })
 }
 

@@ -114,6 +114,12 @@ fn animation_inputs() {
     refused("collider-radius-0", &["--collider", "sphere:0,0.2,0,0"], "radius");
     refused("cluster-size-0", &["--cluster-size", "0"], "cluster size");
     refused("time-inf", &["--time", "inf"], "inf");
+    // The fixed time step (issue 29 item 4): above 0, finite, at most 1/15 s.
+    refused("dt-0", &["--dt", "0"], "must be above 0");
+    refused("dt-negative", &["--dt", "-0.01"], "must be above 0");
+    refused("dt-nan", &["--dt", "NaN"], "not a finite number");
+    refused("dt-over-1-15", &["--dt", "0.1"], "over 1/15 s");
+    refused("dt-fraction-over", &["--dt", "1/10"], "over 1/15 s");
     refused("poses-over-texture", &["--poses", "1000000"], "maxImageDimension2D");
     // 10 000 stored poses × 16 levels × 8 bytes = 1.28 MB of uniform data: over 64 KiB.
     refused(

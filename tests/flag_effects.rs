@@ -89,6 +89,8 @@ const RENDER_CASES: &[Case] = &[
     ("calm", &[alt(&["--calm", "-9,-9,9,9"])]),
     ("collider", &[alt(&["--collider", "sphere:0,0,0,1.2"])]),
     ("time", &[alt(&["--time", "2.5"])]),
+    // A frame draws the last completed step: at 0.03 s, step 1 of 1/60 s, step 0 of 1/20 s.
+    ("dt", &[alt(&["--dt", "1/20"]), with(&["--time", "0.03"], &["--dt", "1/20"])]),
     ("brute_force", &[alt(&["--brute-force"])]),
     ("cull", &[alt(&["--cull", "frustum"]), alt(&["--cull", "orientation"])]),
     ("lod", &[alt(&["--lod", "segments"]), alt(&["--lod", "density"])]),
@@ -143,6 +145,7 @@ const RENDER_CONFIGS: &[Config] = &[
             "calm",
             "collider",
             "time",
+            "dt",
             "debug_view",
             "mode",
         ]),

@@ -271,6 +271,28 @@ pub fn cluster_size(text: &str) -> Result<f32, String> {
     Ok(value)
 }
 
+/// A fixed time step (`--dt`): seconds as a number or a fraction `A/B`, above 0 and at most 1/15 s.
+pub fn dt(text: &str) -> Result<f64, String> {
+    let number = |t: &str| -> Result<f64, String> {
+        t.trim().parse::<f64>().map_err(|_| format!("'{text}' is not a number or a fraction", text = quoted(text)))
+    };
+    let value = match text.split_once('/') {
+        Some((a, b)) => number(a)? / number(b)?,
+        None => number(text)?,
+    };
+    let max = crate::render::animation::clock::MAX_DT;
+    if !value.is_finite() {
+        return Err(format!("time step '{text}' is not a finite number", text = quoted(text)));
+    }
+    if value <= 0.0 {
+        return Err(format!("time step '{text}' must be above 0", text = quoted(text)));
+    }
+    if value > max + 1e-12 {
+        return Err(format!("time step '{text}' is over 1/15 s (the longest step)", text = quoted(text)));
+    }
+    Ok(value)
+}
+
 /// Simulation time in seconds, finite and ≥ 0.
 pub fn time(text: &str) -> Result<f32, String> {
     let value = finite_f32(text)?;
@@ -287,6 +309,12 @@ mod animation_tests {
     #[test]
     fn animation_values_are_checked() {
         assert!(wind("30,NaN").is_err() && wind("30,-1").is_err());
+        assert_eq!(dt("1/60"), Ok(1.0 / 60.0));
+        assert_eq!(dt("0.05"), Ok(0.05));
+        assert_eq!(dt("1/15"), Ok(1.0 / 15.0));
+        for bad in ["0", "-0.01", "NaN", "0.1", "1/0", "inf", "x", "1/x"] {
+            assert!(dt(bad).is_err(), "{bad}");
+        }
         assert_eq!(wind("30,0.5"), Ok((30.0, 0.5)));
         assert!(source("0,0,1,-1").is_err() && source("0,0,1").is_err());
         assert_eq!(source("1,2,0.5,2,0.1,0").map(|s| s.velocity.x), Ok(0.1));

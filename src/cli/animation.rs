@@ -130,6 +130,10 @@ pub(crate) struct AnimationArgs {
     /// Simulation time of the picture in seconds.
     #[arg(long, default_value = "0", value_parser = values::time, allow_hyphen_values = true)]
     pub(crate) time: f32,
+    /// The simulation's fixed time step in seconds, a number or a fraction (at most 1/15): headless
+    /// frames lie one step apart, the viewer runs at most 4 steps a frame.
+    #[arg(long, value_name = "SECONDS", default_value = "1/60", value_parser = values::dt, allow_hyphen_values = true)]
+    pub(crate) dt: f64,
 }
 
 impl AnimationArgs {
@@ -168,6 +172,7 @@ impl AnimationArgs {
                 calm: self.calm.clone(),
                 colliders: self.collider.clone(),
             },
+            clock: crate::render::animation::clock::StepClock { dt: self.dt },
         }
     }
 }

@@ -146,6 +146,12 @@ fn print_render(report: &RenderReport) {
     if let Some(cull) = &last.cull {
         println!("cull: {}", cull.summary());
     }
+    let (time, clock) = report.clock;
+    println!(
+        "time: step {} of {:.3} ms at --time {time} s; 0 warm-up steps (the model is stateless)",
+        clock.steps_to(time.into()),
+        clock.dt * 1e3
+    );
     let passes: Vec<String> = last.passes.iter().map(|p| format!("{} {:.3} ms", p.name, p.ms)).collect();
     if last.gpu_available {
         println!(

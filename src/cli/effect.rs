@@ -25,7 +25,8 @@ const SUBMITTED: &[&str] = &["render", "timing"];
 /// The keyframe flags: what the keyframe table is and where it is evaluated.
 const KEYFRAME_FLAGS: &[&str] = &["poses", "smoothing", "encoding", "packing", "keyframes", "eval"];
 /// The forces on the blades (thesis ch. 4–5) and what they vary with.
-const FORCE_FLAGS: &[&str] = &["wind", "no_gusts", "source", "calm", "collider", "attenuation", "cluster_size", "time"];
+const FORCE_FLAGS: &[&str] =
+    &["wind", "no_gusts", "source", "calm", "collider", "attenuation", "cluster_size", "time", "dt"];
 /// The GPU-driven path's flags: the cull, the LOD and what steers them.
 const CULL_FLAGS: &[&str] =
     &["cull", "lod", "lod_segments", "view_distance", "blade_distance", "budget_ms", "lod_scale"];

@@ -25,12 +25,19 @@ impl Viewer {
         self.apply_ui_actions()?;
         self.tick += 1;
         let now = Instant::now();
-        let dt = if self.fixed_step { 1.0 / 60.0 } else { (now - self.last_tick).as_secs_f32().min(0.1) };
+        let elapsed = (now - self.last_tick).as_secs_f64();
+        let dt = if self.fixed_step { 1.0 / 60.0 } else { elapsed.min(0.1) as f32 };
         self.last_tick = now;
         let scene = &self.scene;
         self.control.update(dt, |x, z| scene.ground(x, z));
-        if !self.paused {
-            self.time += dt;
+        // The simulation in whole steps of --dt: one a tick in a script's fixed-step run (the same
+        // frames on every machine), else as real time passes, at most 4 a frame.
+        match (self.paused, self.fixed_step) {
+            (true, _) => {}
+            (false, true) => self.clock.step(),
+            (false, false) => {
+                self.clock.advance(elapsed);
+            }
         }
         let surface = self.surface.as_ref().expect("surface exists");
         let size = surface.window.inner_size();
@@ -62,7 +69,7 @@ impl Viewer {
         let window = &self.surface.as_ref().expect("surface exists").window;
         match action {
             Action::Camera(camera) => self.control.camera = camera,
-            Action::Time(t) => self.time = t,
+            Action::Time(t) => self.clock.jump(t.into()),
             Action::Pause => self.paused = !self.paused,
             Action::Key(name, pressed) => self.key(&name, pressed)?,
             Action::Press(name) => {

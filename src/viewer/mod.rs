@@ -129,7 +129,8 @@ struct Viewer {
     control: CameraControl,
     script: Script,
     calm_off: Option<Vec<CalmArea>>,
-    time: f32,
+    /// Simulated time, in whole steps of `--dt` (at most 4 a frame).
+    clock: crate::render::animation::clock::StepPacer,
     paused: bool,
     fixed_step: bool,
     tick: u64,
@@ -197,7 +198,7 @@ impl Viewer {
             control: CameraControl::new(camera),
             script: options.script.clone().unwrap_or_default(),
             calm_off: None,
-            time: o.time,
+            clock: crate::render::animation::clock::StepPacer::new(o.animation.clock, o.time.into()),
             paused: false,
             fixed_step,
             tick: 0,
@@ -447,7 +448,8 @@ impl Viewer {
         };
         let readback = readback.take();
         let outputs = Outputs { readback: readback.as_ref().map(|b| b.raw), present: true };
-        let submitted = renderer.submit_frame(slot, &view, &self.control.camera, self.time, sync, outputs);
+        let submitted =
+            renderer.submit_frame(slot, &view, &self.control.camera, self.clock.time() as f32, sync, outputs);
         if submitted.is_err() {
             // The acquired image was never rendered nor presented: release it with a new swapchain.
             self.needs_recreate = true;

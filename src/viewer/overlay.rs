@@ -63,6 +63,7 @@ impl Viewer {
             scene,
             frozen: renderer.cull_camera().is_some(),
             paused: self.paused,
+            slowed: self.clock.slowed().then_some(self.clock.clock().dt),
             walk: self.control.walk,
             calm: self.calm_off.is_none(),
             budget: self.budget.as_ref().map(|b| (b.target_ms, b.scale)),

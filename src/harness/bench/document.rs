@@ -17,6 +17,10 @@ pub struct BenchDocument {
     pub warmup: u32,
     /// Frames per variant measured.
     pub frames_per_variant: u32,
+    /// The fixed time step between a variant's frames, in seconds (frame n is drawn at n · dt;
+    /// absent from older v1 documents, which used 1/60 s too).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub dt_s: Option<f64>,
     /// Memory of a row's offscreen target.
     pub memory_per_row_bytes: u64,
     /// The (blades, segments) rows.
@@ -166,6 +170,13 @@ pub(crate) mod fixtures {
 
     /// A document of `rows`.
     pub(crate) fn doc(rows: Vec<BenchRow>) -> BenchDocument {
-        BenchDocument { header: header(), warmup: 0, frames_per_variant: 1, memory_per_row_bytes: 0, rows }
+        BenchDocument {
+            header: header(),
+            warmup: 0,
+            frames_per_variant: 1,
+            dt_s: None,
+            memory_per_row_bytes: 0,
+            rows,
+        }
     }
 }

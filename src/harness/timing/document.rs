@@ -20,6 +20,10 @@ pub struct TimingDocument {
     pub warmup: u32,
     /// Frames measured per run.
     pub frames_per_run: u32,
+    /// The fixed time step between frames in seconds (`--dt`; absent from older v1 documents,
+    /// which used 1/60 s).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub dt_s: Option<f64>,
     /// How the blades were submitted (absent from older v1 documents).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub submission: Option<SubmissionSummary>,

@@ -10,6 +10,7 @@
 //! its last GPU timestamp cannot be later than the CPU's return from its fence wait, which
 //! gives an upper bound, reported as such.
 
+use crate::render::animation::clock::StepClock;
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::time::Instant;
@@ -112,8 +113,10 @@ struct Pipelined<'a> {
     renderer: &'a mut Renderer,
     view: TargetView,
     camera: Camera,
-    /// Simulation time of frame 0 (frame n shows `time + n / 60` s: a fixed step).
-    time: f32,
+    /// The step of frame 0, the last at or before `--time` (frame n draws the step n after it).
+    first_step: u64,
+    /// The fixed step (`--dt`).
+    clock: StepClock,
     /// Per slot, the index of the frame in it.
     in_flight: Vec<Option<u32>>,
 }
@@ -134,7 +137,7 @@ impl Subject for Pipelined<'_> {
 
     fn frame(&mut self, _: usize, round: u32) -> Result<Option<Frame>> {
         let (slot, done) = self.next_slot()?;
-        let time = self.time + round as f32 / 60.0;
+        let time = self.clock.time_of(self.first_step + u64::from(round)) as f32;
         self.renderer.submit_frame(slot, &self.view, &self.camera, time, FrameSync::default(), Outputs::default())?;
         self.in_flight[slot] = Some(round);
         // Each frame's first barrier waits for the previous frame's attachment writes (same queue).
@@ -177,7 +180,8 @@ fn run_one(
             renderer: &mut renderer,
             view: target.view(),
             camera,
-            time: render.time,
+            first_step: render.animation.clock.steps_to(render.time.into()),
+            clock: render.animation.clock,
             in_flight: vec![None; frames_in_flight],
         };
         // Ctrl-C stops at a frame (the renderer waits for what is in flight on drop).
@@ -312,6 +316,7 @@ pub fn run(
         mode: if render.floor { "floor".into() } else { format!("{:?}", render.animation.mode).to_lowercase() },
         warmup: options.warmup,
         frames_per_run: render.frames,
+        dt_s: Some(render.animation.clock.dt),
         submission: Some(SubmissionSummary {
             strategy: render.submission.strategy.name().to_string(),
             clusters: render.submission.clusters,

@@ -6,6 +6,7 @@
 //! (`keyframed`, thesis ch. 3–4), with their GPU tables (`keyframe_gpu`) and the per-blade pose
 //! pass (`pose_pass`).
 
+pub mod clock;
 pub mod keyframe_gpu;
 pub mod keyframed;
 pub mod model;
@@ -114,6 +115,8 @@ pub struct AnimationSettings {
     pub cluster_size: f32,
     /// The forces.
     pub wind: Wind,
+    /// The simulation's fixed time step (`--dt`).
+    pub clock: clock::StepClock,
 }
 
 impl Default for AnimationSettings {
@@ -129,6 +132,7 @@ impl Default for AnimationSettings {
             attenuation: Attenuation::Cluster,
             cluster_size: 1.0,
             wind: Wind::default(),
+            clock: clock::StepClock::default(),
         }
     }
 }

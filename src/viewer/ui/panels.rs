@@ -79,6 +79,8 @@ pub struct UiView<'a> {
     pub frozen: bool,
     /// Time is paused (P).
     pub paused: bool,
+    /// The last frame wanted more than 4 steps of this many seconds: simulated time slows.
+    pub slowed: Option<f64>,
     /// The camera walks on the ground (G).
     pub walk: bool,
     /// Calm areas are on (C).
@@ -301,6 +303,10 @@ pub fn view(ui: &mut Ui, view: &UiView, out: &mut PanelOutput) {
         out.act(UiAction::Fog(fog));
     }
     toggle(ui, out, "p", view.paused, "pause time");
+    if let Some(dt) = view.slowed {
+        let steps = crate::render::animation::clock::MAX_STEPS_PER_FRAME;
+        ui.label(format!("simulation slowed: {steps} steps of {:.1} ms a frame at most", dt * 1e3));
+    }
     toggle(ui, out, "g", view.walk, "walk on the ground");
     let (present, supported) = &view.present;
     ui.horizontal(|ui| {
