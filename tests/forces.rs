@@ -36,7 +36,31 @@ fn gpu_forces(device: &Arc<Device>, case: &Case) -> meadow::Result<(Vec<Vec2>, V
     let clusters = case.grid.assign(case.blades);
     let corners = animation::corner_forces(&case.grid, case.wind, case.time, case.attenuation);
     let emitters = animation::emitters(case.wind, case.time);
-    let buffers = buffers(device, case, &clusters, &corners, &emitters)?;
+    let uniforms = FrameUniforms {
+        keyframes: UVec4::new(0, 0, case.wind.sources.len() as u32, case.grid.corners_per_side()),
+        keyframe_shape: UVec4::new(0, case.wind.colliders.len() as u32, 0, 0),
+        ..bytemuck::Zeroable::zeroed()
+    };
+    let inputs = Inputs { blades: case.blades, clusters: &clusters, corners: &corners, emitters: &emitters, uniforms };
+    let gpu = probe(device, &inputs, case.attenuation, 0)?;
+    let cpu = cpu_forces(case, &clusters, &corners, &emitters);
+    Ok((gpu, cpu))
+}
+
+/// What `blade_forces.comp` reads: the frame uniforms, the blades, their cluster records (unread
+/// for a block field), the corners' wind and the emitters.
+struct Inputs<'a> {
+    blades: &'a [BladeInstance],
+    clusters: &'a [BladeCluster],
+    corners: &'a [Vec4],
+    emitters: &'a [Vec4],
+    uniforms: FrameUniforms,
+}
+
+/// The GPU's force of every blade of `inputs`, the probe specialised for `attenuation` and the
+/// render flags `flags` (`FLAG_BLOCKS` for a block field's levels).
+fn probe(device: &Arc<Device>, inputs: &Inputs, attenuation: Attenuation, flags: u32) -> meadow::Result<Vec<Vec2>> {
+    let buffers = buffers(device, inputs)?;
     let compute = vk::ShaderStageFlags::COMPUTE;
     let mut bindings = vec![Binding { binding: 0, kind: vk::DescriptorType::UNIFORM_BUFFER, stages: compute }];
     bindings.extend((1..6).map(|b| Binding { binding: b, kind: vk::DescriptorType::STORAGE_BUFFER, stages: compute }));
@@ -44,13 +68,14 @@ fn gpu_forces(device: &Arc<Device>, case: &Case) -> meadow::Result<(Vec<Vec2>, V
     let layout = pipeline::layout(device, "forces layout", &[set_layout], &[])?;
     // The attenuation (0 cluster, 1 blade), as the blade pipelines are specialised; the texture
     // mode and encoding 1, the rest as `Specialization::new` (the shaders' defaults).
-    let attenuation = u32::from(case.attenuation == Attenuation::Blade);
+    let attenuation = u32::from(attenuation == Attenuation::Blade);
     let base = meadow::render::specialization::Specialization::new(false, 4, 1, false, true);
     let spec = meadow::render::specialization::Specialization {
         keyframe_uvec4s: 0,
         mode: 1,
         encoding: 1,
         attenuation,
+        flags: base.flags | flags,
         ..base
     };
     let pipe = pipeline::compute(
@@ -68,7 +93,7 @@ fn gpu_forces(device: &Arc<Device>, case: &Case) -> meadow::Result<(Vec<Vec2>, V
         .collect();
     descriptor::write(device, sets[0], &writes);
     let out = buffers.last().expect("output").raw;
-    let groups = (case.blades.len() as u32).div_ceil(64);
+    let groups = (inputs.blades.len() as u32).div_ceil(64);
     let submitted = compute::dispatch(device, "forces", (pipe, layout), &sets, &[], groups, out);
     let gpu: Vec<Vec2> = bytemuck::cast_slice::<u8, [f32; 2]>(buffers.last().expect("output").mapped())
         .iter()
@@ -77,36 +102,24 @@ fn gpu_forces(device: &Arc<Device>, case: &Case) -> meadow::Result<(Vec<Vec2>, V
     // SAFETY: submit_and_wait waited for the dispatch.
     unsafe { compute::teardown(device, (pool, pipe, layout, set_layout), buffers) };
     submitted?;
-    let cpu = cpu_forces(case, &clusters, &corners, &emitters);
-    Ok((gpu, cpu))
+    Ok(gpu)
 }
 
 /// The shader's inputs (frame uniforms, blades, their clusters, corner forces, emitters) and its
 /// host-visible output, in binding order.
-fn buffers(
-    device: &Arc<Device>,
-    case: &Case,
-    clusters: &[BladeCluster],
-    corners: &[Vec4],
-    emitters: &[Vec4],
-) -> meadow::Result<Vec<Buffer>> {
-    let uniforms = FrameUniforms {
-        keyframes: UVec4::new(0, 0, case.wind.sources.len() as u32, case.grid.corners_per_side()),
-        keyframe_shape: UVec4::new(0, case.wind.colliders.len() as u32, 0, 0),
-        ..bytemuck::Zeroable::zeroed()
-    };
+fn buffers(device: &Arc<Device>, inputs: &Inputs) -> meadow::Result<Vec<Buffer>> {
     let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
     let upload = |name: &str, bytes: &[u8], usage| {
         Buffer::with_data(device, &BufferDesc::upload(name, bytes.len() as u64, usage), bytes)
     };
     let mut buffers = vec![
-        upload("frame", bytemuck::bytes_of(&uniforms), vk::BufferUsageFlags::UNIFORM_BUFFER)?,
-        upload("blades", bytemuck::cast_slice(case.blades), storage)?,
-        upload("clusters", bytemuck::cast_slice(clusters), storage)?,
-        upload("corners", bytemuck::cast_slice(corners), storage)?,
-        upload("emitters", bytemuck::cast_slice(emitters), storage)?,
+        upload("frame", bytemuck::bytes_of(&inputs.uniforms), vk::BufferUsageFlags::UNIFORM_BUFFER)?,
+        upload("blades", bytemuck::cast_slice(inputs.blades), storage)?,
+        upload("clusters", bytemuck::cast_slice(inputs.clusters), storage)?,
+        upload("corners", bytemuck::cast_slice(inputs.corners), storage)?,
+        upload("emitters", bytemuck::cast_slice(inputs.emitters), storage)?,
     ];
-    buffers.push(Buffer::new(device, &BufferDesc::readback("forces", 8 * case.blades.len() as u64, storage))?);
+    buffers.push(Buffer::new(device, &BufferDesc::readback("forces", 8 * inputs.blades.len() as u64, storage))?);
     Ok(buffers)
 }
 
@@ -280,4 +293,64 @@ fn a_sphere_above_the_ground_bends_only_the_blades_that_reach_it() {
     });
     result.expect("forces computed");
     assert_eq!(messages, Some(0));
+}
+
+/// Issue 29 item 1: a block field's wind lives in `WIND_LEVELS` nested levels around O's cell
+/// (`field_gpu::wind_level`), and a blade takes the finest level that holds it, blended into the
+/// next over the outer quarter of its half-extent. The GPU's interpolation (`levels_wind` of
+/// `shaders/wind/wind_field.glsl`, through the keyframes' `blade_force`) against its CPU mirror
+/// (`animation::levels_wind`), for blades from O's cell out past the outermost level (clamped),
+/// across every level and every blend band; the corners as the analytic field writes them.
+#[test]
+fn a_block_fields_wind_levels_are_sampled_as_the_cpu_mirror_samples_them() {
+    use meadow::render::gpu_constants::{FLAG_BLOCKS, WIND_LEVELS, WIND_LEVEL_CLUSTERS};
+    let cluster_size = 1.0f32;
+    let wind = Wind {
+        global: Some(GlobalWind { direction_deg: 35.0, strength: 0.6, gusts: true }),
+        sources: vec![PointSource { position: Vec2::new(40.0, -30.0), power: 2.0, sigma: 1.0, velocity: Vec2::ZERO }],
+        calm: vec![CalmArea { min: Vec2::new(-300.0, 100.0), max: Vec2::new(-100.0, 400.0) }],
+        ..Default::default()
+    };
+    let time = 1.75;
+    let corners: Vec<Vec4> = (0..WIND_LEVELS)
+        .flat_map(|l| {
+            let grid = meadow::render::field_gpu::wind_level(cluster_size, l);
+            animation::corner_forces_at(&grid, Vec2::ZERO, &wind, time, Attenuation::Cluster)
+        })
+        .collect();
+    // Blades on a spiral out to 6 km (relative to O), upright, so no collider or pose matters.
+    let blades: Vec<BladeInstance> = (0..4000)
+        .map(|i| {
+            let t = i as f32 / 4000.0;
+            let p = Vec2::splat(4.0) + Vec2::from_angle(t * 211.0) * 6000.0 * t * t;
+            BladeInstance { position: [p.x, 0.0, p.y], height: 0.4, stiffness: 1.0, ..bytemuck::Zeroable::zeroed() }
+        })
+        .collect();
+    let uniforms = FrameUniforms {
+        keyframes: UVec4::new(0, 0, wind.sources.len() as u32, WIND_LEVEL_CLUSTERS + 1),
+        terrain: Vec4::new(0.0, cluster_size, 0.0, 0.0),
+        field: Vec4::new(meadow::scene::field::BLOCK_SIZE, 0.0, 0.0, 0.0),
+        ..bytemuck::Zeroable::zeroed()
+    };
+    let emitters = animation::emitters(&wind, time);
+    let clusters = vec![BladeCluster { corner: 0, weights: 0 }; blades.len()];
+    let inputs = Inputs { blades: &blades, clusters: &clusters, corners: &corners, emitters: &emitters, uniforms };
+    let (result, messages) =
+        with_device(&options(), false, |device| probe(device, &inputs, Attenuation::Cluster, FLAG_BLOCKS));
+    let gpu = result.expect("forces computed");
+    assert_eq!(messages, Some(0));
+    let half0 = 0.5 * WIND_LEVEL_CLUSTERS as f32 * cluster_size;
+    let (mut levels, mut blended) = (vec![0usize; WIND_LEVELS as usize], 0);
+    for (b, g) in blades.iter().zip(&gpu) {
+        let root = Vec2::new(b.position[0], b.position[2]);
+        let cpu = animation::levels_wind(cluster_size, &corners, root);
+        let cpu = Vec2::new(cpu.x, cpu.z) / meadow::wind::KEYFRAME_WIND_SCALE;
+        assert!((*g - cpu).length() <= 1e-4 * (1.0 + cpu.length()), "blade at {root}: GPU {g}, CPU {cpu}");
+        let ratio = (root - Vec2::splat(4.0)).abs().max_element() / half0;
+        let level = if ratio <= 1.0 { 0 } else { (ratio.log2().ceil() as usize).min(WIND_LEVELS as usize - 1) };
+        levels[level] += 1;
+        blended += usize::from(ratio / (1u32 << level) as f32 > 0.75 && level + 1 < WIND_LEVELS as usize);
+    }
+    eprintln!("blades per level {levels:?}, {blended} in a blend band");
+    assert!(levels.iter().all(|&n| n >= 20) && blended >= 200, "{levels:?}, {blended} blended");
 }

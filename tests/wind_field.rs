@@ -55,20 +55,20 @@ fn check(scene: &Scene, camera: Camera, wind: &Wind, attenuation: Attenuation, t
         let mut target = OffscreenTarget::new(device, EXTENT)?;
         renderer.render_offscreen(&mut target, &camera, time)?;
         let corners = renderer.read_wind_corners(0);
-        let grid = renderer.cluster_grid();
+        let levels = renderer.wind_levels();
         drop(renderer);
         // SAFETY: render_offscreen waited for its frame.
         unsafe { target.destroy(device) };
-        Ok((corners?, grid))
+        Ok((corners?, levels))
     });
     assert_eq!(messages, Some(0), "validation messages");
-    let (corners, grid) = result.expect("rendered");
+    let (corners, levels) = result.expect("rendered");
     let origin = match scene.field {
         Some(_) => Origin::under(&camera).world,
         None => DVec2::ZERO,
     };
-    let n = grid.corners_per_side();
-    assert_eq!(corners.len(), grid.corner_count() as usize);
+    let per_level = levels[0].corner_count() as usize;
+    assert_eq!(corners.len(), levels.len() * per_level);
     let (t, mut coverage) = (f64::from(time), Coverage::default());
     let alone = Wind { sources: Vec::new(), ..wind.clone() };
     let under = |p: DVec2| {
@@ -79,7 +79,10 @@ fn check(scene: &Scene, camera: Camera, wind: &Wind, attenuation: Attenuation, t
         })
     };
     for (i, gpu) in corners.iter().enumerate() {
-        let (x, z) = ((i as u32 % n) as f64, (i as u32 / n) as f64);
+        // Every level's corners are texel centres of the field, innermost level first.
+        let (grid, local) = (&levels[i / per_level], (i % per_level) as u32);
+        let n = grid.corners_per_side();
+        let (x, z) = ((local % n) as f64, (local / n) as f64);
         let size = f64::from(grid.cluster_size);
         let p = origin + DVec2::new(f64::from(grid.origin) + x * size, f64::from(grid.origin) + z * size);
         let (w, exposure) = wind.corner_velocity_f64(p, t, attenuation);

@@ -82,7 +82,7 @@
 
 // `ATTENUATION` codes (thesis 4.5).
 #define ATTENUATION_CLUSTER 0u // Point sources attenuated at the cluster corners.
-#define ATTENUATION_BLADE 1u // Point sources and colliders evaluated at every blade.
+#define ATTENUATION_BLADE 1u // Point sources evaluated at every blade.
 
 // `REPRESENTATION` codes.
 #define REPRESENTATION_LEVELS 0u // Keyframe vertex levels.
@@ -93,6 +93,8 @@
 #define MAX_EMITTERS 64u // Point sources plus colliders a renderer can hold (the per-frame emitter buffers' capacity).
 #define MAX_CALM_AREAS 64u // Calm areas the analytic wind field holds (its parameter block's capacity).
 #define WIND_GROUP 64u // Invocations per workgroup of the analytic wind field's corner pass.
+#define WIND_LEVELS 8u // Nested levels of a block field's wind (each twice the spacing and extent of the one inside).
+#define WIND_LEVEL_CLUSTERS 64u // Clusters per side of one wind level (WIND_LEVEL_CLUSTERS + 1 corners).
 #define POSE_WORDS 3u // 32-bit words of one level of a `--eval blade` pose record.
 #define MAX_LOD_BUCKETS 8u // Segment LOD buckets (`--lod-segments`).
 #define DRAW_WORDS 5u // Words of one LOD bucket's draw in the cull's `draws` (a `VkDrawIndexedIndirectCommand`).

@@ -1,7 +1,8 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // The analytic wind field on the GPU (`render::wind::analytic`): the wind velocity (m/s) and the
-// calm-area exposure at every cluster corner of this frame (thesis 3.2.2), each step, instead of
+// calm-area exposure at every cluster corner of this frame (thesis 3.2.2), at every level (a
+// block field's WIND_LEVELS nested levels, `render::field_gpu::wind_level`), each step, instead of
 // the thesis' CPU loop. The global wind with gusts, taken relative to the frame's O with its
 // waves' phases at O computed in f64 on the CPU (so 100 km out is as exact as the origin), calm
 // areas (thesis 5.1: no wind inside), and with cluster attenuation the point sources (eq. 4.1);
@@ -26,8 +27,9 @@ layout(local_size_x = WIND_GROUP) in;
     vec4 waves01;  /* waves 0 and 1: wave vectors (x, z) in rad/m */ \
     vec4 waves23;  /* waves 2 and 3 */ \
     vec4 grid;     /* the first corner relative to O (x, z), the cluster edge, 0 */ \
-    uvec4 shape;   /* corners per side, corners, 1 with delayed attenuation, 0 */ \
+    uvec4 shape;   /* corners per side of a level, corners of every level, 1 with delayed attenuation, levels */ \
     uvec4 counts;  /* sources, colliders (not read here: the blades take them), calm areas, 0 */ \
+    vec4 levels[WIND_LEVELS]; /* per level: first corner relative to O (x, z), spacing, 0 */ \
     vec4 calm[MAX_CALM_AREAS]; /* min x, z, max x, z relative to O */
 layout(set = 0, binding = 0, std140) uniform WindValues { WIND_PARAMS } wind;
 layout(set = 0, binding = 3, std430) readonly buffer WindControl { WIND_PARAMS } control;
@@ -52,8 +54,12 @@ void main() {
         return;
     }
     uint n = wind.shape.x;
-    // As `scene::clusters::ClusterGrid::corner_position`.
-    vec2 q = vec2(wind.grid.x + float(index % n) * wind.grid.z, wind.grid.y + float(index / n) * wind.grid.z);
+    // The level's corner (innermost level first, n² corners each), as
+    // `scene::clusters::ClusterGrid::corner_position` on `render::field_gpu::wind_level`.
+    uint level = index / (n * n);
+    uint local = index % (n * n);
+    vec4 g = wind.levels[level];
+    vec2 q = vec2(g.x + float(local % n) * g.z, g.y + float(local / n) * g.z);
     float exposure = exposure_at(q);
     vec2 v = vec2(0.0);
     float global = control.global.w;

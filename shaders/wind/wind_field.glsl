@@ -13,18 +13,20 @@
 #define MEADOW_WIND_FIELD_GLSL
 #include "wind/analytic.glsl"
 
-// A block field's blade has no stored cluster record (its block is placed in every cell): the
-// corner and the bilinear weights of eq. 3.7 from its position in the grid of corners around O,
-// `scene::clusters::ClusterGrid::locate` unquantised.
-BladeCluster field_cluster(vec2 root, out vec4 w) {
+// A block field's wind lives in WIND_LEVELS nested levels around O's cell
+// (`render::field_gpu::wind_level`): level l has WIND_LEVEL_CLUSTERS clusters per side of 2^l cluster edges, about the same centre, its
+// corners after the n² of each level inside it. The corner and the bilinear weights of eq. 3.7 of a
+// point in level `level`, clamped to it: `scene::clusters::ClusterGrid::locate` unquantised.
+BladeCluster level_cluster(uint level, vec2 root, out vec4 w) {
     uint n = frame.keyframes.w;
-    float size = frame.terrain.y;
-    vec2 g = clamp((root - frame.field.zw) / size, vec2(0.0), vec2(float(n - 1u)));
+    float size = frame.terrain.y * float(1u << level);
+    float first = 0.5 * frame.field.x - 0.5 * float(WIND_LEVEL_CLUSTERS) * size;
+    vec2 g = clamp((root - vec2(first)) / size, vec2(0.0), vec2(float(n - 1u)));
     uvec2 c = min(uvec2(g), uvec2(n - 2u));
     vec2 f = g - vec2(c);
     w = vec4((1.0 - f.x) * (1.0 - f.y), f.x * (1.0 - f.y), (1.0 - f.x) * f.y, f.x * f.y);
     BladeCluster record;
-    record.corner = c.y * n + c.x;
+    record.corner = level * n * n + c.y * n + c.x;
     record.weights = 0u;
     return record;
 }
@@ -34,21 +36,42 @@ vec4 wind_corner(uint index) {
     return corners[index];
 }
 
+// Eq. 3.6 / 3.8: the corners' wind weighted.
+vec4 interpolated_wind(BladeCluster c, vec4 w) {
+    uint n = frame.keyframes.w;
+    return wind_corner(c.corner) * w.x + wind_corner(c.corner + 1u) * w.y + wind_corner(c.corner + n) * w.z
+        + wind_corner(c.corner + n + 1u) * w.w;
+}
+
+// A block field's wind at `root` (relative to O): the finest level that holds it, blended into the
+// next over the outer quarter of its half-extent so no seam shows where the levels meet.
+vec4 levels_wind(vec2 root) {
+    float half0 = 0.5 * float(WIND_LEVEL_CLUSTERS) * frame.terrain.y;
+    vec2 from_centre = abs(root - vec2(0.5 * frame.field.x));
+    float ratio = max(from_centre.x, from_centre.y) / half0;
+    uint level = ratio <= 1.0 ? 0u : min(uint(ceil(log2(ratio))), WIND_LEVELS - 1u);
+    vec4 w;
+    BladeCluster c = level_cluster(level, root, w);
+    vec4 f = interpolated_wind(c, w);
+    float blend = clamp((ratio / float(1u << level) - 0.75) * 4.0, 0.0, 1.0);
+    if (level + 1u < WIND_LEVELS && blend > 0.0) {
+        c = level_cluster(level + 1u, root, w);
+        f = mix(f, interpolated_wind(c, w), blend);
+    }
+    return f;
+}
+
 // The wind at a blade (`blade_index`, root `root` relative to O): velocity in m/s and the
 // exposure interpolated from the corners.
 vec4 wind_at_blade(uint blade_index, vec2 root) {
-    uint n = frame.keyframes.w;
-    vec4 w;
-    BladeCluster c;
+    vec4 f;
     if ((RENDER_FLAGS & FLAG_BLOCKS) != 0u) {
-        c = field_cluster(root, w);
+        f = levels_wind(root);
     } else {
+        BladeCluster c;
         c.corner = clusters[blade_index].corner;
-        w = unpackUnorm4x8(clusters[blade_index].weights);
+        f = interpolated_wind(c, unpackUnorm4x8(clusters[blade_index].weights));
     }
-    // Eq. 3.6 / 3.8.
-    vec4 f = wind_corner(c.corner) * w.x + wind_corner(c.corner + 1u) * w.y + wind_corner(c.corner + n) * w.z
-        + wind_corner(c.corner + n + 1u) * w.w;
     vec2 wind = f.xz;
     if (ATTENUATION == ATTENUATION_BLADE) {
         // Delayed attenuation (4.5): the sources at the blade itself.

@@ -198,12 +198,21 @@ pub const CELL_SPREAD_INSIDE: f32 = 0.7072;
 /// rounded up (mirrored in `shaders/common/field.glsl`).
 pub const CELL_SPREAD_OUTSIDE: f32 = 1.4143;
 
-/// The grid of force corners around O (positions relative to O): the rings' cells and a cell
-/// more, centred on O's cell, at `cluster_size`.
-pub fn cluster_grid(blade_range: f32, cluster_size: f32) -> ClusterGrid {
-    let span = (2 * ring_radius(blade_range) + 3) as f32 * BLOCK_SIZE;
-    let clusters = (span / cluster_size).ceil().max(1.0) as u32;
-    ClusterGrid { origin: 0.5 * BLOCK_SIZE - 0.5 * clusters as f32 * cluster_size, cluster_size, clusters }
+/// The innermost of a block field's nested wind levels (issue #29 item 1; positions relative to
+/// O): `WIND_LEVEL_CLUSTERS` clusters of `cluster_size` per side, centred on O's cell. Level l
+/// (`wind_level`) has the same corners per side at 2^l times the spacing, about the same centre,
+/// so `WIND_LEVELS` levels of 64 one-metre clusters reach 4 096 m from it: 33 800 corners,
+/// where one grid over the rings at 150 m held 107 584.
+pub fn cluster_grid(cluster_size: f32) -> ClusterGrid {
+    wind_level(cluster_size, 0)
+}
+
+/// Wind level `level` of a block field (`cluster_grid`): `WIND_LEVEL_CLUSTERS` clusters of
+/// `cluster_size` · 2^level per side, centred on O's cell.
+pub fn wind_level(cluster_size: f32, level: u32) -> ClusterGrid {
+    let clusters = gpu::WIND_LEVEL_CLUSTERS;
+    let size = cluster_size * (1u32 << level) as f32;
+    ClusterGrid { origin: 0.5 * BLOCK_SIZE - 0.5 * clusters as f32 * size, cluster_size: size, clusters }
 }
 
 /// The field's part of the frame's uniforms (FrameUniforms' field part, `terrain` and
@@ -428,9 +437,17 @@ mod tests {
         assert!(terrain_step(150.0) * gpu::FIELD_TERRAIN_CELLS as f32 >= 2.0 * 154.0);
         assert_eq!(terrain_step(150.0), 2.0);
         assert_eq!(terrain_step(400.0), 8.0);
-        let grid = cluster_grid(150.0, 1.0);
-        // The grid covers every ring cell around O's cell.
+        // The wind's levels share a centre, O's cell's, and double their spacing; the outermost
+        // covers every ring cell around O's cell at 150 m, and reaches 4 km.
         let reach = ring_radius(150.0) as f32 * BLOCK_SIZE;
-        assert!(grid.origin <= -reach && grid.origin + grid.clusters as f32 >= reach + BLOCK_SIZE);
+        for level in 0..gpu::WIND_LEVELS {
+            let grid = wind_level(1.0, level);
+            assert_eq!(grid.origin + 0.5 * grid.clusters as f32 * grid.cluster_size, 0.5 * BLOCK_SIZE);
+            assert_eq!(grid.cluster_size, (1u32 << level) as f32);
+        }
+        let outer = wind_level(1.0, gpu::WIND_LEVELS - 1);
+        let end = outer.origin + outer.clusters as f32 * outer.cluster_size;
+        assert!(outer.origin <= -reach && end >= reach + BLOCK_SIZE && end > 4000.0);
+        assert_eq!(cluster_grid(1.0), wind_level(1.0, 0));
     }
 }

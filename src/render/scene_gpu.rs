@@ -109,8 +109,12 @@ pub struct SceneGpu {
     pub sampler: vk::Sampler,
     /// One `BladeCluster` per blade.
     pub clusters: Buffer,
-    /// The cluster grid the records refer to.
+    /// The cluster grid the records refer to; a block field's innermost wind level
+    /// (`field_gpu::cluster_grid`).
     pub grid: ClusterGrid,
+    /// The wind's nested levels: 1 for a stored field (its one grid), `WIND_LEVELS` for a block
+    /// field (`field_gpu::wind_level`), each `grid.corner_count()` corners, innermost first.
+    pub wind_levels: u32,
     /// One `BladeTile` per tile.
     pub tiles: Buffer,
     /// The tile grid.
@@ -223,6 +227,11 @@ fn relief_grid_bytes(field: bool) -> u64 {
 }
 
 impl SceneGpu {
+    /// The wind's corners over every level (`wind_levels` × the grid's).
+    pub fn wind_corner_count(&self) -> u32 {
+        self.wind_levels * self.grid.corner_count()
+    }
+
     /// The relief grid, for the passes that read it: a block field's, which `passes::relief_grid`
     /// fills as the camera moves (`None`: a stored field, whose terrain is `heights`).
     pub fn relief_grid_read(&self) -> Option<vk::Buffer> {
@@ -299,7 +308,7 @@ impl SceneGpu {
         let mut partial = crate::vk::guard::empty::<Partial>(device);
         let grid = match &scene.field {
             // A block field's corners follow the camera over the cells it sees.
-            Some(_) => crate::render::field_gpu::cluster_grid(blade_range, cluster_size),
+            Some(_) => crate::render::field_gpu::cluster_grid(cluster_size),
             None => ClusterGrid::new(scene.terrain.size, cluster_size),
         };
         let capacity = cull_capacity(scene, blade_range);
@@ -321,6 +330,7 @@ impl SceneGpu {
             sampler,
             clusters: partial.clusters.take().expect("uploaded"),
             grid,
+            wind_levels: if scene.field.is_some() { gpu_constants::WIND_LEVELS } else { 1 },
             tiles: partial.tiles.take().expect("uploaded"),
             tile_grid: scene.tile_grid,
             field: scene.field.clone(),

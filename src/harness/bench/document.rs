@@ -170,13 +170,6 @@ pub(crate) mod fixtures {
 
     /// A document of `rows`.
     pub(crate) fn doc(rows: Vec<BenchRow>) -> BenchDocument {
-        BenchDocument {
-            header: header(),
-            warmup: 0,
-            frames_per_variant: 1,
-            dt_s: None,
-            memory_per_row_bytes: 0,
-            rows,
-        }
+        BenchDocument { header: header(), warmup: 0, frames_per_variant: 1, dt_s: None, memory_per_row_bytes: 0, rows }
     }
 }

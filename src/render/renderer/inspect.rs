@@ -25,13 +25,27 @@ impl Renderer {
     /// frames, as `read_relief_grid`.
     pub fn read_wind_corners(&self, slot: usize) -> Result<Vec<[f32; 4]>> {
         let corners = &self.forces[slot].corners;
-        let size = 16 * u64::from(self.scene_gpu().grid.corner_count());
+        let size = 16 * u64::from(self.scene_gpu().wind_corner_count());
         self.read_buffer("wind corners", corners.raw, size)
     }
 
-    /// The cluster grid whose corners carry the wind (relative to O for a block field).
+    /// The cluster grid whose corners carry the wind (relative to O for a block field: its
+    /// innermost wind level).
     pub fn cluster_grid(&self) -> crate::scene::clusters::ClusterGrid {
         self.scene_gpu().grid
+    }
+
+    /// The wind's levels, innermost first, as `read_wind_corners` lays their corners out one
+    /// after the other: a stored field's one grid, or a block field's `WIND_LEVELS` nested
+    /// levels (`field_gpu::wind_level`).
+    pub fn wind_levels(&self) -> Vec<crate::scene::clusters::ClusterGrid> {
+        let scene = self.scene_gpu();
+        match scene.field {
+            Some(_) => (0..scene.wind_levels)
+                .map(|l| crate::render::field_gpu::wind_level(scene.grid.cluster_size, l))
+                .collect(),
+            None => vec![scene.grid],
+        }
     }
 
     /// `size` bytes of `buffer`, last written by a compute shader, copied out and waited for.

@@ -55,7 +55,7 @@ impl Renderer {
             // First: every blade response samples what it writes.
             let frames: Vec<_> =
                 self.forces.iter().map(|f| (f.corners.descriptor(), f.emitters.descriptor())).collect();
-            let setup = WindSetup { frames: &frames, grid: &scene.grid, constants: &constants };
+            let setup = WindSetup { frames: &frames, corners: scene.wind_corner_count(), constants: &constants };
             for pass in self.wind.passes(device, &setup)? {
                 self.graph.add_boxed(pass);
             }

@@ -16,6 +16,7 @@ impl Renderer {
         let origin = scene.field.as_ref().map_or(glam::DVec2::ZERO, |_| Origin::under(camera).world);
         let input = WindInput {
             grid: &scene.grid,
+            levels: scene.wind_levels,
             wind: &self.animation.wind,
             attenuation: self.animation.attenuation,
             time: f64::from(time),

@@ -107,6 +107,7 @@ mod tests {
         let origin = DVec2::new(100_000.0, 0.0);
         let input = WindInput {
             grid: &grid,
+            levels: 1,
             wind: &wind,
             attenuation: Attenuation::Cluster,
             time: 2.0,

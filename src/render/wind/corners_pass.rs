@@ -60,7 +60,7 @@ impl AnalyticCornersPass {
             set: set.take(),
             uniforms: uniforms.take(),
             corners: setup.frames.iter().map(|(corners, _)| corners.buffer).collect(),
-            groups: setup.grid.corner_count().div_ceil(gpu::WIND_GROUP),
+            groups: setup.corners.div_ceil(gpu::WIND_GROUP),
             params,
         })
     }

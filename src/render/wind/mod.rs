@@ -6,8 +6,10 @@
 //! frame (`update`) and adds the compute passes that produce the field on the GPU (`passes`).
 //!
 //! The first field, `analytic::AnalyticWind`, is the thesis' wind: the global wind with gusts,
-//! moving point sources (eq. 4.1), calm areas and colliders, at the cluster corners (eq.
-//! 3.6–3.8). With the cull its pass evaluates them on the GPU (`corners_pass`); with
+//! moving point sources (eq. 4.1) and calm areas, at the cluster corners (eq. 3.6–3.8): a
+//! stored field's one grid, or a block field's `WIND_LEVELS` nested levels out to 4 km
+//! (`field_gpu::wind_level`; a blade takes the finest level that holds it,
+//! `shaders/wind/wind_field.glsl`). With the cull its pass evaluates them on the GPU (`corners_pass`); with
 //! `--brute-force` the CPU writes them, as the thesis did (Table 6.2 measures that path).
 
 pub mod analytic;
@@ -29,8 +31,11 @@ use crate::wind::{Attenuation, Wind};
 
 /// What a wind field's per-frame update reads.
 pub struct WindInput<'a> {
-    /// The cluster grid whose corners carry the field.
+    /// The cluster grid whose corners carry the field: a block field's innermost level.
     pub grid: &'a ClusterGrid,
+    /// Its nested levels: 1 (a stored field's one grid), or a block field's `WIND_LEVELS`, level
+    /// l at 2^l times the grid's spacing about the same centre (`field_gpu::wind_level`).
+    pub levels: u32,
     /// The forces.
     pub wind: &'a Wind,
     /// Where point sources are attenuated.
@@ -49,8 +54,8 @@ pub struct WindInput<'a> {
 pub struct WindSetup<'a> {
     /// Per frame in flight: its corners (written) and its emitters (read).
     pub frames: &'a [(vk::DescriptorBufferInfo, vk::DescriptorBufferInfo)],
-    /// The cluster grid.
-    pub grid: &'a ClusterGrid,
+    /// Corners over every level.
+    pub corners: u32,
     /// The scene pipelines' specialization constants.
     pub constants: &'a Specialization,
 }

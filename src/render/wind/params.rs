@@ -11,6 +11,8 @@ use crate::wind::{Attenuation, KEYFRAME_WIND_SCALE};
 
 /// Calm areas the GPU field holds (`MAX_CALM_AREAS` of `shaders/common/shared.glsl`).
 pub const MAX_CALM_AREAS: usize = gpu::MAX_CALM_AREAS as usize;
+/// Levels the GPU field holds at most (`WIND_LEVELS`).
+pub const WIND_LEVELS: usize = gpu::WIND_LEVELS as usize;
 
 /// The analytic field's parameters of one frame: `WindParams` of
 /// `shaders/wind/analytic_corners.comp` (std430).
@@ -25,10 +27,13 @@ pub struct Params {
     pub waves: [[f32; 4]; 2],
     /// The first corner relative to O (x, z), the cluster edge, 0.
     pub grid: [f32; 4],
-    /// Corners per side, corners, 1 with delayed attenuation, 0.
+    /// Corners per side of a level, corners over every level, 1 with delayed attenuation, levels.
     pub shape: [u32; 4],
     /// Sources, colliders, calm areas, 0.
     pub counts: [u32; 4],
+    /// Per level, innermost first: its first corner relative to O (x, z), its spacing, 0
+    /// (`field_gpu::wind_level`; a stored field has one level, its grid).
+    pub levels: [[f32; 4]; WIND_LEVELS],
     /// Calm areas: min (x, z), max (x, z) relative to O.
     pub calm: [[f32; 4]; MAX_CALM_AREAS],
 }
@@ -43,9 +48,9 @@ impl Params {
             grid: [grid.origin, grid.origin, grid.cluster_size, 0.0],
             shape: [
                 grid.corners_per_side(),
-                grid.corner_count(),
+                input.levels * grid.corner_count(),
                 u32::from(input.attenuation == Attenuation::Blade),
-                0,
+                input.levels,
             ],
             counts: [sources, colliders, calm as u32, 0],
             ..Zeroable::zeroed()
@@ -57,6 +62,13 @@ impl Params {
             params.phases = g.phases(o, input.time).map(|p| p as f32);
             let k = g.wave_vectors().map(|k| k.as_vec2());
             params.waves = [[k[0].x, k[0].y, k[1].x, k[1].y], [k[2].x, k[2].y, k[3].x, k[3].y]];
+        }
+        for (level, slot) in params.levels.iter_mut().enumerate().take(input.levels as usize) {
+            let g = match input.levels {
+                1 => *grid,
+                _ => crate::render::field_gpu::wind_level(grid.cluster_size, level as u32),
+            };
+            *slot = [g.origin, g.origin, g.cluster_size, 0.0];
         }
         for (slot, c) in params.calm.iter_mut().zip(&wind.calm) {
             let (min, max) = (c.min.as_dvec2() - o, c.max.as_dvec2() - o);
