@@ -409,6 +409,7 @@ fn assert_lod_row(row: &Value) {
     assert!(count("total_drawn") > 0 && gpu["drawn_blades"] == c["total_drawn"], "{label}: {c}");
     let per_bucket: u64 = c["drawn"].as_array().expect("drawn").iter().filter_map(Value::as_u64).sum();
     assert_eq!(per_bucket, count("total_drawn"), "{label}");
+    assert_eq!((c["capacity_scale"].as_f64(), count("wanted")), (Some(1.0), count("total_drawn")), "{label}: {c}");
     for key in ["mean_percent", "p99_percent", "max_percent"] {
         let d = row["diff"][key].as_f64().expect("diff");
         assert!((0.0..=100.0).contains(&d), "{label}: diff {key} {d}");

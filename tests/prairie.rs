@@ -373,3 +373,62 @@ fn coarse_strips_keep_brute_forces_brightness() {
         }
     }
 }
+
+/// The blades drawn per LOD bucket and, when the visible list was full, (wanted, scale): what
+/// `render`'s cull line says.
+fn drawn_and_thinning(output: &std::process::Output) -> (Vec<u64>, Option<(u64, f64)>) {
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    let line = stdout.lines().find(|l| l.starts_with("cull:")).expect("a cull line");
+    let buckets = line.split_once("; drawn ").and_then(|(_, r)| r.split_once('(')).and_then(|(_, r)| r.split_once(')'));
+    let number = |s: &str| s.trim().parse::<u64>().unwrap_or_else(|_| panic!("'{s}' in {line}"));
+    let drawn = buckets.expect(line).0.split(", ").map(|b| number(b.split(" x ").next().expect(line))).collect();
+    let thinned = line.split_once("; thinned to ").map(|(_, rest)| {
+        let (of, scale) = rest.split_once(" (visible list full, scale ").expect(line);
+        let scale = scale.split(')').next().and_then(|s| s.parse().ok()).expect(line);
+        (number(of.split(" of ").nth(1).expect(line)), scale)
+    });
+    (drawn, thinned)
+}
+
+#[test]
+fn a_full_visible_list_is_thinned_evenly_over_the_buckets_and_reported() {
+    // `MEADOW_HIDE=maxStorageBufferRange=786432`: the placed levels of 4 segments (120 bytes a
+    // record) hold 6 553 entries, the visible list's capacity with `--eval blade`, under the
+    // 10 250 the default view keeps. The LOD buckets are distance bands (projected height): the list used to
+    // drop the farthest first, emptying the last buckets; now every bucket keeps the scale's share.
+    let dir = scratch("prairie-capacity");
+    let run = |hide: &str, name: &str| {
+        let output = support::meadow()
+            .env("MEADOW_HIDE", hide)
+            .arg("render")
+            .args(["--validation", "--device", support::DEVICE, "--blades", "20000", "--seed", "4"])
+            .args(["--size", "320x180", "--lod-segments", "3,2,1", "--eval", "blade", "--out"])
+            .arg(dir.join(name))
+            .output()
+            .expect("run meadow");
+        support::assert_clean(&output);
+        (drawn_and_thinning(&output), Picture::load(&dir.join(name)))
+    };
+    let ((full, unthinned), full_picture) = run("", "full.png");
+    assert_eq!(unthinned, None, "a list that holds every kept blade thins nothing: {full:?}");
+    let ((thin, thinned), thin_picture) = run("maxStorageBufferRange=786432", "thin.png");
+    let (wanted, scale) = thinned.expect("the full list's run reports its scale");
+    let capacity = 786_432 / 120;
+    let drawn: u64 = thin.iter().sum();
+    assert_eq!(wanted, full.iter().sum::<u64>(), "wanted is what the unthinned run drew: {full:?}");
+    assert!(wanted > capacity + capacity / 4, "the control: the view keeps {wanted}, over the {capacity} entries");
+    assert!(scale < 1.0 && drawn <= capacity, "drawn {drawn} of {wanted} at scale {scale}, {capacity} entries");
+    // floor(bucket * scale) per bucket, the scale printed to 4 decimals; the room left for the
+    // buckets' padding (3 x 31 entries at the cull's 32 blades per instance) is all that is not filled.
+    assert!(
+        (drawn as f64 - scale * wanted as f64).abs() <= 4.0 + 1e-4 * wanted as f64,
+        "{drawn} vs {scale} x {wanted}"
+    );
+    assert!(drawn + 3 * 31 + 8 >= capacity, "drawn {drawn}: the thinning fills the list, {capacity} entries");
+    for (b, (&f, &t)) in full.iter().zip(&thin).enumerate() {
+        assert!(f > 100, "bucket {b} draws blades unthinned (the control): {full:?}");
+        let share = t as f64 / f as f64;
+        assert!((share - scale).abs() < 0.02, "bucket {b} keeps {share}, the scale is {scale}: {full:?} -> {thin:?}");
+    }
+    assert!(full_picture.rgb != thin_picture.rgb, "the thinned field is drawn thinner");
+}

@@ -185,6 +185,8 @@ fn timing_reports_the_cull_counts() {
     assert_eq!(buckets, n("drawn"));
     assert_eq!(n("drawn"), n("after_occlusion"));
     assert!(n("drawn") > 0 && n("drawn") < 5000, "{cull}");
+    // The visible list holds every kept blade: nothing thinned, nothing without verdict room.
+    assert_eq!((cull["capacity_scale"].as_f64(), n("wanted"), n("no_room")), (Some(1.0), n("drawn"), 0), "{cull}");
 }
 
 #[test]

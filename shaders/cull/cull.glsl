@@ -72,6 +72,27 @@ uint spread(uint k, uint n) {
 // A slot whose verdicts did not fit (`cull_alloc` ran out): it draws nothing.
 const uint NO_ROOM = 0xffffffffu;
 
+// The capacity scale (`THIN_WORD`) when the visible list holds every blade the blade tests keep.
+const uint SCALE_ONE = 0xffffffffu;
+
+// The capacity scale: when a frame's cull keeps more blades than the visible list holds, the scan
+// thins each LOD bucket's sequence of kept blades (slots near to far, then stored order) evenly
+// by s = `scale` / 2^32 < 1, a Bresenham rule over the whole sequence: entry k is kept when
+// floor((k + 1) s) > floor(k s), and goes to position floor(k s). A bucket of n entries keeps
+// floor(n s): a tile keeps its share whether it holds many of the bucket's blades or one, so the
+// thinning is even over the view (no farthest-first hole). The scale is a function of the frame's
+// counts alone: every run thins the same blades.
+uint thin_position(uint k, uint scale) {
+    uint high;
+    uint low;
+    umulExtended(k, scale, high, low);
+    return scale == SCALE_ONE ? k : high;
+}
+
+bool thin_kept(uint k, uint scale) {
+    return scale == SCALE_ONE || thin_position(k + 1u, scale) > thin_position(k, scale);
+}
+
 // Where blade `rank`'s verdict goes: after the tile's first blade (a stored field), or after
 // the slot's first verdict (a block field).
 uint verdict_index(BladeTile tile, uint base, uint rank) {

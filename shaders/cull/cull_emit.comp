@@ -6,7 +6,8 @@
 // of its bucket. Invocation i takes the i-th contiguous run of the slot's candidates: it counts
 // its run per bucket, one prefix sum over the runs gives each run its start, and it writes its
 // run in order. The list is the same on every run and thread count: buckets, then slots near to
-// far, then stored order (the order brute force draws a tile in).
+// far, then stored order (the order brute force draws a tile in). When the scan's capacity scale
+// is under one, each bucket's sequence is thinned evenly by it (`thin_kept`, cull.glsl).
 #define CULL_WRITER
 #include "cull/cull.glsl"
 
@@ -80,20 +81,26 @@ void main() {
         }
     }
     barrier();
+    uint scale = draws[THIN_WORD];
+    uint first[MAX_LOD_BUCKETS];
     uint at[MAX_LOD_BUCKETS];
     for (uint b = 0u; b < MAX_LOD_BUCKETS; b++) {
-        // Bucket base (the draw's firstInstance, instances of BLADES_PER_INSTANCE entries) + the
-        // slot's offset + the runs before this one.
-        at[b] = draws[DRAW_WORDS * b + DRAW_FIRST_INSTANCE] * BLADES_PER_INSTANCE + slot_counts[slot * SLOT_WORDS + b] + prefix[b][lane];
+        // Bucket base (the draw's firstInstance, instances of BLADES_PER_INSTANCE entries), and
+        // the entry's index in its bucket's sequence: the slot's offset + the runs before this one.
+        first[b] = draws[DRAW_WORDS * b + DRAW_FIRST_INSTANCE] * BLADES_PER_INSTANCE;
+        at[b] = slot_counts[slot * SLOT_WORDS + b] + prefix[b][lane];
     }
     for (uint rank = begin; rank < end; rank++) {
         uvec2 result = verdict(verdict_index(tile, base, rank));
-        uint position = 0u;
+        uint bucket_first = 0u;
+        uint k = 0u;
         for (uint b = 0u; b < MAX_LOD_BUCKETS; b++) {
-            position = result.x == b ? at[b] : position;
+            bucket_first = result.x == b ? first[b] : bucket_first;
+            k = result.x == b ? at[b] : k;
             at[b] += result.x == b ? 1u : 0u;
         }
-        if (result.x != NOT_DRAWN && position < cull_settings.w) {
+        uint position = bucket_first + thin_position(k, scale);
+        if (result.x != NOT_DRAWN && thin_kept(k, scale) && position < cull_settings.w) {
             visible[position] = uvec2(visible_blade(tile, slot, rank), result.y);
         }
     }

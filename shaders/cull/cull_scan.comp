@@ -5,7 +5,9 @@
 // (its instances are bucket b's blades, from firstInstance = the blades of the buckets before it)
 // and the blade-pose and levels passes' indirect dispatch over each bucket, lists the slots that
 // draw (in slot order) with the emit pass's indirect dispatch over them, and sums the frame's
-// counts into the host-visible `cull_stats` (read after the frame's fence).
+// counts into the host-visible `cull_stats` (read after the frame's fence). When the blades the
+// blade tests keep do not fit the visible list, it writes the capacity scale the emit pass thins
+// every bucket by (`thin_position`, cull.glsl), so that they fit in the same frame.
 // Invocation i sums the i-th contiguous run of slots, one invocation scans the run sums, then
 // each invocation writes its run's offsets: three barriers (a parallel scan needs two per step,
 // and llvmpipe's barriers cost more than the additions they save).
@@ -20,6 +22,43 @@ shared uint totals[SLOT_WORDS];
 // Per run: the slots of the run that draw, then (after the scan) where the run's go in the list.
 shared uint run_slots[SCAN];
 shared uint drawing_slots;
+// The capacity scale (`THIN_WORD`), the blades the blade tests kept, and a block field's
+// candidates without room for their verdicts (`NO_ROOM`).
+shared uint thin_scale;
+shared uint wanted;
+shared uint lost_to_room;
+
+// floor(2^32 room / total) for room < total < 2^31: the 0.32 fixed-point quotient, a bit at a time
+// (the remainder stays under total, so doubling it fits 32 bits).
+uint fixed_ratio(uint room, uint total) {
+    uint q = 0u;
+    uint r = room;
+    for (uint i = 0u; i < 32u; i++) {
+        r <<= 1u;
+        q <<= 1u;
+        if (r >= total) {
+            r -= total;
+            q |= 1u;
+        }
+    }
+    return q;
+}
+
+// Lane 0, once the totals are known: SCALE_ONE when every bucket's blades, each bucket padded to
+// whole instances, fit the visible list's `cull_lod.w` entries; else room / kept, room being the
+// list less the most padding the buckets can need, so that the thinned buckets fit padded.
+uint capacity_scale(uint kept) {
+    const uint batch = BLADES_PER_INSTANCE;
+    uint padded = 0u;
+    for (uint b = 0u; b < frame.cull_lod.x; b++) {
+        padded += (totals[b] + batch - 1u) / batch * batch;
+    }
+    if (padded <= frame.cull_lod.w) {
+        return SCALE_ONE;
+    }
+    uint slack = frame.cull_lod.x * (batch - 1u);
+    return fixed_ratio(frame.cull_lod.w - min(slack, frame.cull_lod.w), kept);
+}
 
 // Whether `slot` draws a blade (its bucket counts, before they become offsets).
 bool slot_draws(uint slot) {
@@ -43,9 +82,12 @@ void write_dispatches() {
     // (`scene::bezier::bucket_indices`).
     uint first_index = 0u;
     for (uint b = 0u; b < MAX_LOD_BUCKETS; b++) {
-        // The visible list holds cull_lod.w entries: past them, the farthest are dropped.
+        // The bucket thinned by the capacity scale, which makes every bucket fit the list's
+        // cull_lod.w entries (the room left is a guard that never cuts).
         uint room = frame.cull_lod.w - min(first, frame.cull_lod.w);
-        uint count = b < frame.cull_lod.x ? min(totals[b], room / batch * batch) : 0u;
+        uint count = b < frame.cull_lod.x ? min(thin_position(totals[b], thin_scale), room / batch * batch) : 0u;
+        // The frame's counts report what is drawn (`STAT_WANTED` what was kept before thinning).
+        totals[b] = count;
         uint instances = (count + batch - 1u) / batch;
         for (uint pad = first + count; pad < first + instances * batch; pad++) {
             visible[pad] = uvec2(VISIBLE_PADDING, 0u);
@@ -72,6 +114,7 @@ void write_dispatches() {
     draws[EMIT_DISPATCH_WORD] = drawing_slots;
     draws[EMIT_DISPATCH_WORD + 1u] = 1u;
     draws[EMIT_DISPATCH_WORD + 2u] = 1u;
+    draws[THIN_WORD] = thin_scale;
 }
 
 void main() {
@@ -83,11 +126,16 @@ void main() {
     uint end = min(begin + run, slots);
     uint own[SLOT_WORDS] = uint[](0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
     uint own_slots = 0u;
+    uint own_lost = 0u;
     for (uint slot = begin; slot < end; slot++) {
         for (uint w = 0u; w < SLOT_WORDS; w++) {
             own[w] += slot_counts[slot * SLOT_WORDS + w];
         }
         own_slots += slot_draws(slot) ? 1u : 0u;
+        // A block field's slot past the verdicts' room (cull_tiles.comp): its candidates were
+        // not tested.
+        bool no_room = (RENDER_FLAGS & FLAG_BLOCKS) != 0u && verdict_base(slot) == NO_ROOM;
+        own_lost += no_room ? slot_candidates(slot) : 0u;
     }
     run_slots[lane] = own_slots;
     for (uint b = 0u; b < MAX_LOD_BUCKETS; b++) {
@@ -95,6 +143,9 @@ void main() {
     }
     if (lane < SLOT_WORDS) {
         totals[lane] = 0u;
+    }
+    if (lane == 0u) {
+        lost_to_room = 0u;
     }
     barrier();
     if (lane == 0u) {
@@ -114,10 +165,17 @@ void main() {
             listed += count;
         }
         drawing_slots = listed;
+        uint kept = 0u;
+        for (uint b = 0u; b < MAX_LOD_BUCKETS; b++) {
+            kept += totals[b];
+        }
+        wanted = kept;
+        thin_scale = capacity_scale(kept);
     }
     for (uint w = MAX_LOD_BUCKETS; w < SLOT_WORDS; w++) {
         atomicAdd(totals[w], own[w]);
     }
+    atomicAdd(lost_to_room, own_lost);
     barrier();
     uint at[MAX_LOD_BUCKETS];
     for (uint b = 0u; b < MAX_LOD_BUCKETS; b++) {
@@ -142,5 +200,10 @@ void main() {
     barrier();
     if (lane < SLOT_WORDS) {
         cull_stats[lane] = totals[lane];
+    }
+    if (lane == 0u) {
+        cull_stats[STAT_WANTED] = wanted;
+        cull_stats[STAT_SCALE] = thin_scale;
+        cull_stats[STAT_NO_ROOM] = lost_to_room;
     }
 }

@@ -205,6 +205,18 @@ pub struct CullSummary {
     pub triangles: u64,
     /// Blades drawn per bucket that has segments.
     pub buckets: Vec<Bucket>,
+    /// Blades the blade tests kept, before the visible list's capacity thinned them to `drawn`
+    /// (absent from documents written before the cull reported it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub wanted: Option<u32>,
+    /// The capacity scale every bucket was thinned by: 1 when the list held every kept blade
+    /// (`CullCounts::capacity_scale`; absent as `wanted` is).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub capacity_scale: Option<f64>,
+    /// A block field's candidates without room for their verdicts, neither tested nor drawn
+    /// (absent as `wanted` is).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub no_room: Option<u32>,
 }
 
 /// One LOD bucket of a frame: its segments and the blades it drew.
@@ -238,6 +250,9 @@ impl CullSummary {
             drawn: c.total_drawn(),
             triangles: c.triangles(),
             buckets,
+            wanted: Some(c.wanted),
+            capacity_scale: Some(c.capacity_scale()),
+            no_room: Some(c.no_room),
         }
     }
 }

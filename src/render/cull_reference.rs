@@ -50,6 +50,9 @@ pub fn reference_counts(scene: &Scene, uniforms: &FrameUniforms, collapsed_tip: 
             }
         }
     }
+    // The reference models a visible list that holds every kept blade (`CullCounts::scale`).
+    counts.wanted = counts.total_drawn() as u32;
+    counts.scale = crate::render::culling::SCALE_ONE;
     counts
 }
 

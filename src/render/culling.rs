@@ -250,7 +250,19 @@ pub struct CullCounts {
     pub tiles_visible: u32,
     /// Tiles.
     pub tiles: u32,
+    /// Blades the blade tests kept, before the visible list's capacity thinned them (`drawn`
+    /// sums to this when the scale is one).
+    pub wanted: u32,
+    /// The capacity scale the emit pass thinned every bucket by, 0.32 fixed point
+    /// (`SCALE_ONE`: all kept; `capacity_scale`).
+    pub scale: u32,
+    /// Candidates of a block field's slots that found no room for their verdicts
+    /// (`scene_gpu::FIELD_VERDICTS`): neither tested nor drawn.
+    pub no_room: u32,
 }
+
+/// The capacity scale that keeps every blade (`SCALE_ONE`, `shaders/cull/cull.glsl`).
+pub const SCALE_ONE: u32 = u32::MAX;
 
 impl CullCounts {
     /// Decode the `SLOT_WORDS` words the scan wrote, for buckets of `segments` (their blades'
@@ -266,6 +278,9 @@ impl CullCounts {
             after_occlusion: stat(gpu::STAT_OCCLUSION),
             tiles_visible: stat(gpu::STAT_TILES_VISIBLE),
             tiles: stat(gpu::STAT_TILES_TOTAL),
+            wanted: stat(gpu::STAT_WANTED),
+            scale: stat(gpu::STAT_SCALE),
+            no_room: stat(gpu::STAT_NO_ROOM),
             collapsed_tip,
             ..Self::default()
         };
@@ -281,6 +296,33 @@ impl CullCounts {
         self.drawn.iter().map(|&d| u64::from(d)).sum()
     }
 
+    /// The fraction of the kept blades the visible list's capacity let through: exactly 1 when
+    /// they all fit, else the scale each bucket was thinned by (`scale` / 2^32).
+    pub fn capacity_scale(&self) -> f64 {
+        if self.scale == SCALE_ONE {
+            1.0
+        } else {
+            f64::from(self.scale) / 4_294_967_296.0
+        }
+    }
+
+    /// What the cull could not keep, for the summary line: empty when nothing was dropped.
+    fn drops(&self) -> String {
+        let mut text = String::new();
+        if self.scale != SCALE_ONE {
+            text += &format!(
+                "; thinned to {} of {} (visible list full, scale {:.4})",
+                self.total_drawn(),
+                self.wanted,
+                self.capacity_scale()
+            );
+        }
+        if self.no_room > 0 {
+            text += &format!("; {} candidates not tested (verdict buffer full)", self.no_room);
+        }
+        text
+    }
+
     /// One line: the blades after each test, drawn per bucket, tiles.
     pub fn summary(&self) -> String {
         let buckets: Vec<String> = (0..MAX_LOD_BUCKETS)
@@ -288,7 +330,7 @@ impl CullCounts {
             .map(|b| format!("{} x {} seg", self.drawn[b], self.segments[b]))
             .collect();
         format!(
-            "{} considered, {} in visible tiles ({} of {}), {} after density, {} in frustum, {} not edge-on, {} not occluded; drawn {} ({}), {} triangles",
+            "{} considered, {} in visible tiles ({} of {}), {} after density, {} in frustum, {} not edge-on, {} not occluded; drawn {} ({}), {} triangles{}",
             self.considered,
             self.after_tiles,
             self.tiles_visible,
@@ -299,7 +341,8 @@ impl CullCounts {
             self.after_occlusion,
             self.total_drawn(),
             buckets.join(", "),
-            self.triangles()
+            self.triangles(),
+            self.drops()
         )
     }
 
@@ -323,6 +366,25 @@ mod tests {
             assert!((widening - cap).abs() < 1e-3 * cap, "d0 {d0}, cap {cap}: {d} m, widening {widening}");
         }
         assert!((far_field_distance(FULL_DENSITY_DISTANCE, blades::MAX_WIDENING) - 34.7).abs() < 0.05);
+    }
+
+    #[test]
+    fn the_summary_says_when_the_visible_list_thinned_the_field() {
+        let mut counts = CullCounts { wanted: 10, scale: SCALE_ONE, ..CullCounts::default() };
+        counts.drawn[0] = 10;
+        counts.segments[0] = 4;
+        assert_eq!(counts.capacity_scale(), 1.0);
+        assert!(!counts.summary().contains("thinned") && !counts.summary().contains("not tested"));
+        counts.scale = 1 << 31;
+        counts.drawn[0] = 5;
+        assert_eq!(counts.capacity_scale(), 0.5);
+        assert!(
+            counts.summary().ends_with("; thinned to 5 of 10 (visible list full, scale 0.5000)"),
+            "{}",
+            counts.summary()
+        );
+        counts.no_room = 7;
+        assert!(counts.summary().ends_with("; 7 candidates not tested (verdict buffer full)"), "{}", counts.summary());
     }
 
     #[test]

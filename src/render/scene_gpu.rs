@@ -187,7 +187,7 @@ fn cull_bytes(blades: u64, slots: u32, visible: u32) -> [u64; 4] {
 const VISIBLE_PADDING: u32 = gpu_constants::MAX_LOD_BUCKETS * (*BLADES_PER_INSTANCE_RANGE.end() - 1);
 
 /// Most entries of a block field's visible list (32 MiB): the blades the cull keeps out to the
-/// view distance stay well under it; past it the farthest are dropped (`cull_scan.comp`).
+/// view distance stay well under it; past it every bucket is thinned evenly (`cull_scan.comp`).
 pub const FIELD_VISIBLE: u32 = 1 << 22;
 
 /// Most verdicts of a block field's candidates in a frame (32 MiB): its slots take room for theirs
@@ -492,4 +492,5 @@ const _: () =
 const _: () = assert!(
     gpu_constants::EMIT_DISPATCH_WORD == gpu_constants::BUCKET_DISPATCH_WORD + 3 * gpu_constants::MAX_LOD_BUCKETS
 );
-const _: () = assert!(gpu_constants::EMIT_SLOTS_WORD == gpu_constants::EMIT_DISPATCH_WORD + 3);
+const _: () = assert!(gpu_constants::THIN_WORD == gpu_constants::EMIT_DISPATCH_WORD + 3);
+const _: () = assert!(gpu_constants::EMIT_SLOTS_WORD == gpu_constants::THIN_WORD + 1);

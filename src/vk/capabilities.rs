@@ -13,6 +13,8 @@
 //!   `maxDrawIndirectCount` reads 1, as the spec requires of a device without it;
 //! - `drawIndirectCount`: the Vulkan 1.2 feature is reported unsupported (and not enabled);
 //! - `maxPerStageDescriptorStorageBuffers=N`: the limit reads N;
+//! - `maxStorageBufferRange=N` (bytes): the limit reads at most N, so that the buffers sized by it
+//!   (the cull's visible list with `--eval blade`: pose records, placed levels) hold fewer entries;
 //! - `format:NAME` (e.g. `format:R16G16B16A16_UNORM`): the format reports no features.
 //!
 //! Read once per process. An entry meadow does not know is refused (a typo must not pass as a
@@ -47,6 +49,8 @@ pub struct Hidden {
     pub draw_indirect_count: bool,
     /// `maxPerStageDescriptorStorageBuffers` reads this.
     pub max_storage_buffers: Option<u32>,
+    /// `maxStorageBufferRange` reads at most this.
+    pub max_storage_range: Option<u32>,
     /// Formats that report no features.
     pub formats: Vec<vk::Format>,
 }
@@ -87,6 +91,8 @@ impl Hidden {
                 hidden.timestamp_bits = Some(bits);
             } else if let Some(n) = entry.strip_prefix("maxPerStageDescriptorStorageBuffers=") {
                 hidden.max_storage_buffers = Some(n.parse().map_err(|_| unknown())?);
+            } else if let Some(n) = entry.strip_prefix("maxStorageBufferRange=") {
+                hidden.max_storage_range = Some(n.parse().ok().filter(|&n| n > 0).ok_or_else(unknown)?);
             } else if let Some(name) = entry.strip_prefix("format:") {
                 let (_, format) = FORMATS.iter().find(|(n, _)| *n == name).ok_or_else(unknown)?;
                 hidden.formats.push(*format);
@@ -102,6 +108,9 @@ impl Hidden {
     pub fn limit(&self, limits: &mut vk::PhysicalDeviceLimits) {
         if let Some(n) = self.max_storage_buffers {
             limits.max_per_stage_descriptor_storage_buffers = n;
+        }
+        if let Some(n) = self.max_storage_range {
+            limits.max_storage_buffer_range = limits.max_storage_buffer_range.min(n);
         }
         if self.multi_draw_indirect {
             limits.max_draw_indirect_count = 1;
@@ -143,6 +152,13 @@ mod tests {
         assert!(h.hides(vk::Format::R16G16B16A16_SFLOAT) && !h.hides(vk::Format::R16G16B16A16_UNORM));
         assert_eq!(Hidden::parse("").expect("empty"), Hidden::default());
         assert_eq!(Hidden::parse("timestampValidBits=36").expect("valid").timestamp_bits, Some(36));
+        let range = Hidden::parse("maxStorageBufferRange=1048576").expect("valid");
+        let mut limits = vk::PhysicalDeviceLimits { max_storage_buffer_range: 1 << 27, ..Default::default() };
+        range.limit(&mut limits);
+        assert_eq!(limits.max_storage_buffer_range, 1 << 20, "the hidden range");
+        let mut small = vk::PhysicalDeviceLimits { max_storage_buffer_range: 1 << 10, ..Default::default() };
+        range.limit(&mut small);
+        assert_eq!(small.max_storage_buffer_range, 1 << 10, "a mask only lowers a limit");
         for bad in [
             "timestampz",
             "format:D16_UNORM",
@@ -150,6 +166,8 @@ mod tests {
             "multiDrawIndirect=0",
             "timestampValidBits=0",
             "timestampValidBits=65",
+            "maxStorageBufferRange=0",
+            "maxStorageBufferRange=big",
         ] {
             assert!(Hidden::parse(bad).is_err(), "{bad}");
         }

@@ -208,6 +208,9 @@ mod tests {
                 bucket_segments: vec![],
                 total_drawn: drawn,
                 triangles: 8 * drawn,
+                wanted: None,
+                capacity_scale: None,
+                no_room: None,
             };
             LodVariant {
                 variant: name.into(),

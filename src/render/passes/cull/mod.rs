@@ -18,7 +18,7 @@ use ash::vk;
 
 use crate::error::Result;
 use crate::render::culling::CullCounts;
-use crate::render::gpu_constants::SLOT_WORDS;
+use crate::render::gpu_constants::CULL_STATS_WORDS;
 use crate::render::graph::{Declaration, Graph, Pass, PassContext};
 use crate::render::recording::{self, PassSet, SceneSets};
 use crate::render::scene_gpu::SceneGpu;
@@ -42,7 +42,7 @@ pub struct CullSetup<'a> {
 /// The cull's part of one frame in flight (`frame::PerFrame`): the counts its scan writes for
 /// the host, and how to read them. It outlives the passes (a rebuild keeps it: set 0 names it).
 pub struct CullFrame {
-    /// The frame's counts (`SLOT_WORDS` words), written by the scan, read after the fence.
+    /// The frame's counts (`CULL_STATS_WORDS` words), written by the scan, read after the fence.
     pub stats: Buffer,
     /// Segments of the LOD buckets of the frame's cull (empty: no cull ran).
     segments: Vec<u32>,
@@ -54,7 +54,7 @@ impl CullFrame {
     /// The counts buffer of frame `slot`.
     pub fn new(device: &Device, slot: usize) -> Result<Self> {
         let name = format!("frame {slot} cull counts");
-        let bytes = 4 * u64::from(SLOT_WORDS);
+        let bytes = 4 * u64::from(CULL_STATS_WORDS);
         let stats = Buffer::new(device, &BufferDesc::readback(&name, bytes, vk::BufferUsageFlags::STORAGE_BUFFER))?;
         Ok(Self { stats, segments: Vec::new(), collapsed_tip: false })
     }
