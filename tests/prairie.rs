@@ -392,43 +392,47 @@ fn drawn_and_thinning(output: &std::process::Output) -> (Vec<u64>, Option<(u64, 
 
 #[test]
 fn a_full_visible_list_is_thinned_evenly_over_the_buckets_and_reported() {
-    // `MEADOW_HIDE=maxStorageBufferRange=786432`: the placed levels of 4 segments (120 bytes a
-    // record) hold 6 553 entries, the visible list's capacity with `--eval blade`, under the
-    // 10 250 the default view keeps. The LOD buckets are distance bands (projected height): the list used to
-    // drop the farthest first, emptying the last buckets; now every bucket keeps the scale's share.
+    // `MEADOW_HIDE=maxStorageBufferRange=N`: the placed levels of 4 segments (120 bytes a record)
+    // hold N / 120 entries, the visible list's capacity with `--eval blade`: 6 553 under the
+    // 10 250 the stored field's default view keeps, 34 952 under the unbounded field's 88 669.
+    // The LOD buckets are distance bands (projected height): the list used to drop the farthest
+    // first, emptying the last buckets; now every bucket keeps the scale's share.
     let dir = scratch("prairie-capacity");
-    let run = |hide: &str, name: &str| {
-        let output = support::meadow()
-            .env("MEADOW_HIDE", hide)
-            .arg("render")
-            .args(["--validation", "--device", support::DEVICE, "--blades", "20000", "--seed", "4"])
-            .args(["--size", "320x180", "--lod-segments", "3,2,1", "--eval", "blade", "--out"])
-            .arg(dir.join(name))
-            .output()
-            .expect("run meadow");
-        support::assert_clean(&output);
-        (drawn_and_thinning(&output), Picture::load(&dir.join(name)))
-    };
-    let ((full, unthinned), full_picture) = run("", "full.png");
-    assert_eq!(unthinned, None, "a list that holds every kept blade thins nothing: {full:?}");
-    let ((thin, thinned), thin_picture) = run("maxStorageBufferRange=786432", "thin.png");
-    let (wanted, scale) = thinned.expect("the full list's run reports its scale");
-    let capacity = 786_432 / 120;
-    let drawn: u64 = thin.iter().sum();
-    assert_eq!(wanted, full.iter().sum::<u64>(), "wanted is what the unthinned run drew: {full:?}");
-    assert!(wanted > capacity + capacity / 4, "the control: the view keeps {wanted}, over the {capacity} entries");
-    assert!(scale < 1.0 && drawn <= capacity, "drawn {drawn} of {wanted} at scale {scale}, {capacity} entries");
-    // floor(bucket * scale) per bucket, the scale printed to 4 decimals; the room left for the
-    // buckets' padding (3 x 31 entries at the cull's 32 blades per instance) is all that is not filled.
-    assert!(
-        (drawn as f64 - scale * wanted as f64).abs() <= 4.0 + 1e-4 * wanted as f64,
-        "{drawn} vs {scale} x {wanted}"
-    );
-    assert!(drawn + 3 * 31 + 8 >= capacity, "drawn {drawn}: the thinning fills the list, {capacity} entries");
-    for (b, (&f, &t)) in full.iter().zip(&thin).enumerate() {
-        assert!(f > 100, "bucket {b} draws blades unthinned (the control): {full:?}");
-        let share = t as f64 / f as f64;
-        assert!((share - scale).abs() < 0.02, "bucket {b} keeps {share}, the scale is {scale}: {full:?} -> {thin:?}");
+    let stored = ["--blades", "20000", "--seed", "4", "--lod-segments", "3,2,1"];
+    for (scene, range, args) in [("stored", 786_432, &stored[..]), ("unbounded", 4_194_304, &["--field", "infinite"])] {
+        let run = |hide: &str, name: &str| {
+            let output = support::meadow()
+                .env("MEADOW_HIDE", hide)
+                .arg("render")
+                .args(["--validation", "--device", support::DEVICE, "--size", "320x180", "--eval", "blade"])
+                .args(args)
+                .arg("--out")
+                .arg(dir.join(name))
+                .output()
+                .expect("run meadow");
+            support::assert_clean(&output);
+            (drawn_and_thinning(&output), Picture::load(&dir.join(name)))
+        };
+        let ((full, unthinned), full_picture) = run("", &format!("{scene}-full.png"));
+        assert_eq!(unthinned, None, "{scene}: a list that holds every kept blade thins nothing: {full:?}");
+        let ((thin, thinned), thin_picture) = run(&format!("maxStorageBufferRange={range}"), &format!("{scene}.png"));
+        let (wanted, scale) = thinned.expect("the full list's run reports its scale");
+        let capacity = range / 120;
+        let drawn: u64 = thin.iter().sum();
+        assert_eq!(wanted, full.iter().sum::<u64>(), "{scene}: wanted is what the unthinned run drew: {full:?}");
+        assert!(wanted > capacity + capacity / 4, "{scene}, the control: it keeps {wanted}, over {capacity} entries");
+        assert!(scale < 1.0 && drawn <= capacity, "{scene}: drawn {drawn} of {wanted} at {scale}, {capacity} entries");
+        // floor(bucket * scale) per bucket, the scale printed to 4 decimals; the room left for
+        // the 3 buckets' padding (31 entries each at the cull's 32 blades per instance) is all
+        // that is not filled.
+        let expected = scale * wanted as f64;
+        assert!((drawn as f64 - expected).abs() <= 4.0 + 1e-4 * wanted as f64, "{scene}: {drawn} vs {expected}");
+        assert!(drawn + 3 * 31 + 8 >= capacity, "{scene}: drawn {drawn}, the thinning fills {capacity} entries");
+        for (b, (&f, &t)) in full.iter().zip(&thin).enumerate() {
+            assert!(f > 60, "{scene}: bucket {b} draws blades unthinned (the control): {full:?}");
+            let share = t as f64 / f as f64;
+            assert!((share - scale).abs() < 0.02, "{scene}: bucket {b} keeps {share} at {scale}: {full:?} -> {thin:?}");
+        }
+        assert!(full_picture.rgb != thin_picture.rgb, "{scene}: the thinned field is drawn thinner");
     }
-    assert!(full_picture.rgb != thin_picture.rgb, "the thinned field is drawn thinner");
 }
