@@ -71,10 +71,11 @@ fn configs() -> Vec<Config> {
             rebuilt: (RenderSettings { debug_bounds: true, ..brute }, animation(Mode::Static, Eval::Vertex)),
         },
         Config {
-            // A block field (its relief grid); rebuilt to uniform keyframes.
+            // A block field (its relief grid) with per-vertex keyframes (the blade pass's own set
+            // of the response's tables); rebuilt to uniform keyframes per blade.
             name: "field",
             scene: Scene::blocks(FieldSpec { size: None, density: 40.0 }, 3),
-            built: (culled, animation(Mode::Static, Eval::Vertex)),
+            built: (culled, animation(Mode::Texture, Eval::Vertex)),
             rebuilt: (culled, animation(Mode::Uniform, Eval::Blade)),
         },
     ]

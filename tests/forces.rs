@@ -37,8 +37,12 @@ fn gpu_forces(device: &Arc<Device>, case: &Case) -> meadow::Result<(Vec<Vec2>, V
     let corners = animation::corner_forces(&case.grid, case.wind, case.time, case.attenuation);
     let emitters = animation::emitters(case.wind, case.time);
     let uniforms = FrameUniforms {
-        keyframes: UVec4::new(0, 0, case.wind.sources.len() as u32, case.grid.corners_per_side()),
-        keyframe_shape: UVec4::new(0, case.wind.colliders.len() as u32, 0, 0),
+        wind_counts: UVec4::new(
+            case.wind.sources.len() as u32,
+            case.wind.colliders.len() as u32,
+            case.grid.corners_per_side(),
+            0,
+        ),
         ..bytemuck::Zeroable::zeroed()
     };
     let inputs = Inputs { blades: case.blades, clusters: &clusters, corners: &corners, emitters: &emitters, uniforms };
@@ -327,7 +331,7 @@ fn a_block_fields_wind_levels_are_sampled_as_the_cpu_mirror_samples_them() {
         })
         .collect();
     let uniforms = FrameUniforms {
-        keyframes: UVec4::new(0, 0, wind.sources.len() as u32, WIND_LEVEL_CLUSTERS + 1),
+        wind_counts: UVec4::new(wind.sources.len() as u32, 0, WIND_LEVEL_CLUSTERS + 1, 0),
         terrain: Vec4::new(0.0, cluster_size, 0.0, 0.0),
         field: Vec4::new(meadow::scene::field::BLOCK_SIZE, 0.0, 0.0, 0.0),
         ..bytemuck::Zeroable::zeroed()

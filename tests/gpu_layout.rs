@@ -94,7 +94,7 @@ fn every_blade_field_reads_back_through_a_compute_shader() {
 
 /// Words `frame_readback.comp` writes: the uniforms, one per specialization-constant id, six
 /// shared constants.
-const FRAME_WORDS: usize = 140;
+const FRAME_WORDS: usize = 136;
 const READBACK_WORDS: usize = FRAME_WORDS + specialization::COUNT + 6;
 
 #[test]
@@ -108,8 +108,7 @@ fn every_frame_uniform_and_specialization_constant_reads_back_through_a_compute_
         sky_color: Vec4::new(f(24), f(25), f(26), f(27)),
         terrain: Vec4::new(f(28), f(29), f(30), f(31)),
         params: UVec4::new(1001, 1002, 1003, 1004),
-        keyframes: UVec4::new(1005, 1006, 1007, 1008),
-        keyframe_shape: UVec4::new(1009, 1010, 1011, 1012),
+        wind_counts: UVec4::new(1005, 1006, 1007, 1008),
         cull_view_proj: Mat4::from_cols_array(&std::array::from_fn(|i| f(32 + i as u32))),
         cull_eye: Vec4::new(f(48), f(49), f(50), f(51)),
         lod: Vec4::new(f(52), f(53), f(54), f(55)),
@@ -175,9 +174,8 @@ fn every_frame_uniform_and_specialization_constant_reads_back_through_a_compute_
     // The shaders see the constants build.rs generated for Rust.
     let shared = &words[FRAME_WORDS + specialization::COUNT..];
     let flags = gpu::FLAG_DEBUG_FORCE | gpu::FLAG_EVAL_BLADE | gpu::FLAG_CLUSTER_PUSH;
-    let generated =
-        [gpu::MAX_SEGMENTS, gpu::MAX_EMITTERS, gpu::POSE_WORDS, flags, gpu::BINDING_POSES, gpu::SET_ANIMATION];
-    assert_eq!(shared, &generated, "MAX_SEGMENTS, MAX_EMITTERS, POSE_WORDS, FLAG_*, BINDING_POSES, SET_ANIMATION");
+    let generated = [gpu::MAX_SEGMENTS, gpu::MAX_EMITTERS, gpu::POSE_WORDS, flags, gpu::BINDING_POSES, gpu::SET_POSES];
+    assert_eq!(shared, &generated, "MAX_SEGMENTS, MAX_EMITTERS, POSE_WORDS, FLAG_*, BINDING_POSES, SET_POSES");
 }
 
 #[test]

@@ -93,7 +93,11 @@ fn decode_on_gpu(device: &Arc<Device>, source: Source) -> meadow::Result<(Keyfra
     let words = KeyframeUniforms::new(&mut batch, &table, packing)?;
     batch.submit()?;
     let count = table.frames.len();
-    let frame = frame_buffer(device, &table)?;
+    let frame = frame_buffer(device)?;
+    // The response's uniform block `KeyframeShape`: magnitudes, angles, records per pose.
+    let shape = [table.layout.magnitudes, table.layout.angles, SEGMENTS, 0u32];
+    let shape =
+        Buffer::with_data(device, &BufferDesc::upload("shape", 16, vk::BufferUsageFlags::UNIFORM_BUFFER), &shape)?;
     let out =
         Buffer::new(device, &BufferDesc::readback("decoded", 16 * count as u64, vk::BufferUsageFlags::STORAGE_BUFFER))?;
     let cs = vk::ShaderStageFlags::COMPUTE;
@@ -101,7 +105,8 @@ fn decode_on_gpu(device: &Arc<Device>, source: Source) -> meadow::Result<(Keyfra
         Binding { binding: 0, kind: vk::DescriptorType::UNIFORM_BUFFER, stages: cs },
         Binding { binding: 1, kind: vk::DescriptorType::COMBINED_IMAGE_SAMPLER, stages: cs },
         Binding { binding: 2, kind: vk::DescriptorType::UNIFORM_BUFFER, stages: cs },
-        Binding { binding: 3, kind: vk::DescriptorType::STORAGE_BUFFER, stages: cs },
+        Binding { binding: 3, kind: vk::DescriptorType::UNIFORM_BUFFER, stages: cs },
+        Binding { binding: 4, kind: vk::DescriptorType::STORAGE_BUFFER, stages: cs },
     ];
     let set_layout = descriptor::set_layout(device, "decode set layout", &bindings)?;
     let layout = pipeline::layout(device, "decode layout", &[set_layout], &[])?;
@@ -135,7 +140,8 @@ fn decode_on_gpu(device: &Arc<Device>, source: Source) -> meadow::Result<(Keyfra
                 }),
             ),
             (2, vk::DescriptorType::UNIFORM_BUFFER, Resource::Buffer(words.buffer.descriptor())),
-            (3, vk::DescriptorType::STORAGE_BUFFER, Resource::Buffer(out.descriptor())),
+            (3, vk::DescriptorType::UNIFORM_BUFFER, Resource::Buffer(shape.descriptor())),
+            (4, vk::DescriptorType::STORAGE_BUFFER, Resource::Buffer(out.descriptor())),
         ],
     );
     let groups = (count as u32).div_ceil(64);
@@ -143,20 +149,15 @@ fn decode_on_gpu(device: &Arc<Device>, source: Source) -> meadow::Result<(Keyfra
     let decoded = bytemuck::cast_slice::<u8, [f32; 4]>(out.mapped()).to_vec();
     // SAFETY: submit_and_wait waited.
     unsafe {
-        compute::teardown(device, (pool, pipe, layout, set_layout), [frame, out, words.buffer]);
+        compute::teardown(device, (pool, pipe, layout, set_layout), [frame, out, words.buffer, shape]);
         texture.destroy(device);
     }
     submitted.map(|()| (table, decoded))
 }
 
-/// The frame uniforms the decode shader reads: the segment count and the table's layout.
-fn frame_buffer(device: &Arc<Device>, table: &KeyframeTable) -> meadow::Result<Buffer> {
-    let uniforms = FrameUniforms {
-        params: UVec4::new(SEGMENTS, 0, 0, 0),
-        keyframes: UVec4::new(table.layout.magnitudes, table.layout.angles, 0, 0),
-        keyframe_shape: UVec4::new(SEGMENTS, 0, 0, 0),
-        ..bytemuck::Zeroable::zeroed()
-    };
+/// The frame uniforms the decode shader reads: the segment count.
+fn frame_buffer(device: &Arc<Device>) -> meadow::Result<Buffer> {
+    let uniforms = FrameUniforms { params: UVec4::new(SEGMENTS, 0, 0, 0), ..bytemuck::Zeroable::zeroed() };
     frame_uniforms::upload(device, "decode frame", &uniforms)
 }
 

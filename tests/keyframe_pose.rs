@@ -22,10 +22,10 @@ use meadow::keyframes::encoding::{self as enc, Encoding};
 use meadow::keyframes::pose::{self, Pose};
 use meadow::keyframes::pose_error::{self, ErrorStats, PoseErrorReport, SMOOTHINGS};
 use meadow::keyframes::{BladeModel, KeyframeLayout, KeyframeTable, Smoothing};
-use meadow::render::animation::{build_model, AnimationSettings, Eval, Mode};
-use meadow::render::layouts;
+use meadow::render::animation::keyframed::KeyframeResponse;
+use meadow::render::animation::response::{BladeResponse, ResponseContext};
+use meadow::render::animation::{AnimationSettings, Eval, Mode};
 use meadow::render::specialization::Specialization;
-use meadow::render::uniforms::FrameUniforms;
 use meadow::vk::descriptor::{Resource, SetLayout};
 use meadow::vk::{pipeline, Buffer, BufferDesc, Device, DeviceSelector};
 
@@ -111,16 +111,13 @@ fn settings(smoothing: Smoothing) -> AnimationSettings {
 /// Run `keyframe_pose.comp` for `forces` on the renderer's model for `smoothing`: the levels
 /// 0..=SEGMENTS of each force, as poses of the unit blade.
 fn poses_on_gpu(device: &Arc<Device>, smoothing: Smoothing, forces: &[(f32, f32)]) -> meadow::Result<Vec<Pose>> {
-    // Set 1 as the renderer makes it (reflected from the scene shaders), set 0 as the probe binds it.
-    let (_, animation) = layouts::scene_bindings(device.profile)?;
-    let animation_layout = SetLayout::new(device, "animation set layout", animation)?;
-    let model = build_model(device, &animation_layout, &settings(smoothing), SEGMENTS, (1, 0))?;
-    // As `Renderer::specialization`: the blade geometry, then the model's constants.
+    // The renderer's keyframe response, its resources given by name to the probe's set 1.
+    let context = ResponseContext { animation: &settings(smoothing), segments: SEGMENTS, culled: false };
+    let model = KeyframeResponse::new(device, &context)?;
+    // As `Renderer::specialization`: the blade geometry, then the response's constants.
     let mut specialization = Specialization::new(false, SEGMENTS, 1, false, true);
     model.specialize(&mut specialization);
-    let mut uniforms: FrameUniforms = bytemuck::Zeroable::zeroed();
-    model.fill_uniforms(&mut uniforms);
-    let frame = frame_uniforms::upload(device, "pose frame", &uniforms)?;
+    let frame = frame_uniforms::upload(device, "pose frame", &bytemuck::Zeroable::zeroed())?;
     let force_data: Vec<[f32; 2]> = forces.iter().map(|&(fx, fz)| [fx, fz]).collect();
     let forces_buffer = Buffer::with_data(
         device,
@@ -134,7 +131,8 @@ fn poses_on_gpu(device: &Arc<Device>, smoothing: Smoothing, forces: &[(f32, f32)
     )?;
     let code = probes::KEYFRAME_POSE_COMP.code(device.profile);
     let probe = SetLayout::reflected(device, "pose set layout", &[("keyframe_pose.comp", code)], 0)?;
-    let layout = pipeline::layout(device, "pose layout", &[probe.raw, animation_layout.raw], &[])?;
+    let tables = SetLayout::reflected(device, "keyframe set layout", &[("keyframe_pose.comp", code)], 1)?;
+    let layout = pipeline::layout(device, "pose layout", &[probe.raw, tables.raw], &[])?;
     let constants = specialization.named();
     let pipe = pipeline::compute(device, "keyframe pose", code, layout, &constants)?;
     let (pool, sets) = probe.allocate(device, "pose", 1)?;
@@ -144,15 +142,18 @@ fn poses_on_gpu(device: &Arc<Device>, smoothing: Smoothing, forces: &[(f32, f32)
         (2, Resource::Buffer(out.descriptor())),
     ];
     probe.write(device, sets[0], "pose set", &resources)?;
+    let (table_pool, table_sets) = tables.allocate(device, "keyframes", 1)?;
+    tables.write_named(device, table_sets[0], "keyframe set", &model.resources())?;
     let groups = (forces.len() as u32).div_ceil(64);
-    let sets = [sets[0], model.resources().set];
+    let sets = [sets[0], table_sets[0]];
     let submitted = compute::dispatch(device, "keyframe pose", (pipe, layout), &sets, &[], groups, out.raw);
     let poses = bytemuck::cast_slice::<u8, Vec4>(out.mapped()).chunks(SEGMENTS as usize + 1).map(pose_of).collect();
     // SAFETY: submit_and_wait waited.
     unsafe {
         compute::teardown(device, (pool, pipe, layout, probe.raw), [frame, forces_buffer, out]);
-        model.destroy(device);
-        animation_layout.destroy(device);
+        device.raw.destroy_descriptor_pool(table_pool, None);
+        Box::new(model).destroy(device);
+        tables.destroy(device);
     }
     submitted.map(|()| poses)
 }
@@ -255,4 +256,35 @@ fn recompute_report_entries(table: &KeyframeTable, forces: &[(f32, f32)], gpu: &
         );
         assert!((twist.max - printed.twist.max).abs() <= twist_bound, "{smoothing:?}: {twist:?} vs {printed:?}");
     }
+}
+
+/// `BladeResponse::tip_offset` (what a far field's billboard leans by) is the tip of the pose the
+/// keyframes select for the wind over `KEYFRAME_WIND_SCALE`: none in calm air, along the wind,
+/// further in a stronger wind, and the table's own tip.
+#[test]
+fn the_keyframe_responses_tip_offset_is_its_poses_tip() {
+    use meadow::wind::KEYFRAME_WIND_SCALE;
+    let options = GpuOptions { validation: true, device: DeviceSelector::parse("llvmpipe") };
+    let (result, messages) = with_device(&options, false, |device| {
+        let animation = settings(Smoothing::Nearest);
+        let context = ResponseContext { animation: &animation, segments: SEGMENTS, culled: false };
+        let response = KeyframeResponse::new(device, &context)?;
+        let offsets: Vec<Vec3> =
+            [0.0, 2.0, 6.0, -6.0].iter().map(|&w| response.tip_offset(Vec3::new(w, 0.0, 0.0))).collect();
+        let across = response.tip_offset(Vec3::new(0.0, 0.0, 6.0));
+        // SAFETY: nothing used it on the GPU but its upload, which was waited.
+        unsafe { Box::new(response).destroy(device) };
+        Ok((offsets, across))
+    });
+    assert_eq!(messages, Some(0));
+    let (offsets, across) = result.expect("built");
+    assert!(offsets[0].length() < 1e-6, "calm air: {:?}", offsets[0]);
+    assert!(offsets[1].x > 0.01 && offsets[2].x > offsets[1].x, "along +x, further in more wind: {offsets:?}");
+    assert!(offsets[3].x < -0.01, "along -x: {:?}", offsets[3]);
+    assert!(across.z > 0.01 && across.x.abs() < 0.5 * across.z, "along +z: {across:?}");
+    // The table's tip for the same force, on the CPU.
+    let table = KeyframeTable::generate(&BladeModel::new(SEGMENTS), KeyframeLayout::for_poses(POSES));
+    let pose = table.pose_for(6.0 / KEYFRAME_WIND_SCALE, 0.0, Smoothing::Nearest);
+    let tip = *pose.backbone.last().expect("levels") - Vec3::Y;
+    assert!((offsets[2] - tip).length() < 1e-6, "{:?} against the table's {tip:?}", offsets[2]);
 }

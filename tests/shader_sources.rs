@@ -216,7 +216,10 @@ fn shared_glsl_generates_documented_constants() {
     let text = std::fs::read_to_string(&path).expect("shared.glsl");
     let rust = shared_glsl::rust_constants(&path, &text).expect("shared.glsl parses");
     assert!(rust.contains("pub const MAX_SEGMENTS: u32 = 16;"), "{rust}");
-    assert!(rust.contains("#[doc = \"Keyframe texture.\"]\npub const BINDING_KEYFRAMES: u32 = 0;"), "{rust}");
+    assert!(
+        rust.contains("#[doc = \"Per-blade pose records written by a blade response's compute pass.\"]\npub const BINDING_POSES: u32 = 0;"),
+        "{rust}"
+    );
 }
 
 #[test]

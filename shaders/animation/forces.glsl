@@ -37,8 +37,8 @@ vec2 blade_force(uint blade_index, BladeInstance blade) {
     // Colliders: two emitters each (centre, radii) after the sources, under either attenuation.
     // Added only where they push, so a blade no collider reaches keeps its force to the bit
     // (-0 + 0 would be +0).
-    uint first = frame.keyframes.z;
-    for (uint i = 0u; i < frame.keyframe_shape.y; ++i) {
+    uint first = frame.wind_counts.x;
+    for (uint i = 0u; i < frame.wind_counts.y; ++i) {
         uint e = first + 2u * i;
         vec2 push = collider_force(emitters[e].xyz, emitters[e + 1u].xyz, blade.position, blade.height);
         if (push != vec2(0.0)) {

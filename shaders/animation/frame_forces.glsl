@@ -1,5 +1,5 @@
-// Set 0: this frame's forces, owned by `render::animation::model::FrameForces` (one pair per
-// frame in flight, given by name, `render::animation::model::FrameForces::scene_resources`).
+// Set 0: this frame's forces, owned by `render::wind::frame_forces::FrameForces` (one pair per
+// frame in flight, given by name, `render::wind::frame_forces::FrameForces::scene_resources`).
 #ifndef MEADOW_FRAME_FORCES_GLSL
 #define MEADOW_FRAME_FORCES_GLSL
 #include "common/profile.glsl"

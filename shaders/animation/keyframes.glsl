@@ -3,6 +3,26 @@
 #ifndef MEADOW_KEYFRAMES_GLSL
 #define MEADOW_KEYFRAMES_GLSL
 
+// The keyframe response's own resources (`render::animation::keyframed::KeyframeResponse`, given
+// by these names): in the own set of the pass that includes this header (`SET_PASS`, from
+// binding KEYFRAME_BINDING of its numbering), unless the includer puts them elsewhere first.
+#ifndef KEYFRAME_SET
+#define KEYFRAME_SET SET_PASS
+#endif
+#ifndef KEYFRAME_BINDING
+#define KEYFRAME_BINDING 4
+#endif
+layout(set = KEYFRAME_SET, binding = KEYFRAME_BINDING) uniform sampler2D keyframe_texture;
+// Keyframes as a uniform array (thesis 4.4.2): two keyframe words per uvec4 half; the array fills
+// min(maxUniformBufferRange, 64 KiB), set by the pipeline (`render::animation::keyframe_gpu::KeyframeUniforms::capacity`).
+// A buffer block, so sizing it by a specialization constant is fine; arrays in shader code are
+// sized by the fixed limits of shared.glsl.
+layout(constant_id = SPEC(KEYFRAME_UVEC4S)) const uint KEYFRAME_UVEC4S = 4096u;
+layout(set = KEYFRAME_SET, binding = KEYFRAME_BINDING + 1, std140) uniform KeyframeWords { uvec4 keyframe_words[KEYFRAME_UVEC4S]; };
+// The response's uniform block: the table's shape, x magnitudes, y angles, z records per pose (the
+// model's segments, or 3 Bézier control points), w unused.
+layout(set = KEYFRAME_SET, binding = KEYFRAME_BINDING + 2, std140) uniform KeyframeShape { uvec4 keyframe_shape; };
+
 const float HALF_PI = 1.57079637; // the f32 nearest π/2, as Rust's FRAC_PI_2
 const float MAX_FORCE = 1.0; // keyframes::pose::MAX_FORCE
 
@@ -18,8 +38,8 @@ struct KfSelection {
 // Force (fx, fz) in the blade frame, divided by the blade's stiffness. Front/back by the sign of
 // F'·N' (eq. 3.10–3.11), the angle ω of eq. 3.12 folded into the stored quarter (fig. 3.9).
 KfSelection kf_select(vec2 f) {
-    uint magnitudes = frame.keyframes.x;
-    uint angles = frame.keyframes.y;
+    uint magnitudes = keyframe_shape.x;
+    uint angles = keyframe_shape.y;
     // A non-finite force would give an undefined row: treat it as none.
     float magnitude = isnan(length(f)) || isinf(length(f)) ? 0.0 : min(length(f), MAX_FORCE);
     float phi = magnitude > 0.0 ? atan(abs(f.x), abs(f.y)) : 0.0;
@@ -65,7 +85,7 @@ vec4 kf_fetch(uint row, uint level) {
     vec4 v;
     if (encoding >= 3u) {
         // Uniform array: keyframe k is words 2k, 2k + 1; two keyframes per uvec4.
-        uint k = row * frame.keyframe_shape.x + level - 1u;
+        uint k = row * keyframe_shape.z + level - 1u;
         uvec4 pair = keyframe_words[k >> 1];
         uvec2 words = (k & 1u) == 0u ? pair.xy : pair.zw;
         if (encoding == 3u) {

@@ -6,16 +6,24 @@
 // an instance are joined by repeating their first and last vertices (degenerate triangles), see
 // `scene::bezier::Batching`.
 //
+// The variant `keyframes` (PER_VERTEX_KEYFRAMES) is the keyframe response's per-vertex path (a
+// per-vertex `render::animation::response::BladeInput`), its tables in this pass's own set
+// (animation/keyframes.glsl); the shader itself draws neutral blades or reads pose records
+// (`SET_POSES`).
+// variant keyframes: PER_VERTEX_KEYFRAMES
+//
 // Texture mode (thesis 4.4.1): the blade's force is interpolated from its cluster's corners
 // (eq. 3.6), expressed in the blade's frame, and selects a pose of the keyframe texture; the
 // pose's displacement (eq. 3.4/3.9), scaled by the blade's height, is added to the neutral
 // Bézier blade, and the width turns by the pose's twist.
 #include "common/bindings.glsl"
 #include "common/bezier.glsl"
+#include "blades/blade_place.glsl"
+#ifdef PER_VERTEX_KEYFRAMES
 #include "animation/forces.glsl"
 #include "animation/keyframes.glsl"
 #include "blades/blade_select.glsl"
-#include "blades/blade_place.glsl"
+#endif
 
 // Lit per vertex (Gouraud): the blade's colour is affine along its length and its normal is the
 // same across its width, so the fragment shader only adds the alpha-tested rim. Every varying
@@ -46,6 +54,7 @@ float bucket_shade(float t) {
     return fitted ? mix(ONE_SEGMENT_SHADE_ROOT, ONE_SEGMENT_SHADE_TIP, t) : 1.0;
 }
 
+#ifdef PER_VERTEX_KEYFRAMES
 LevelPose pose_levels(vec3 p[4], KfSelection sel, float height, uint m) {
     vec4 here = deformed(p, sel, m, MODEL_SEGMENTS, height);
     vec4 below = m > 0u ? deformed(p, sel, m - 1u, MODEL_SEGMENTS, height) : here;
@@ -61,13 +70,10 @@ LevelPose pose_levels(vec3 p[4], KfSelection sel, float height, uint m) {
 // level * MODEL_SEGMENTS / SEGMENTS (`model_level`), between two stored levels when SEGMENTS does
 // not divide MODEL_SEGMENTS (a constant test: the interpolation compiles out otherwise). The
 // fewer-segment blade samples the same curve.
-LevelPose animated(uint blade_index, uint record, BladeInstance blade, vec3 p[4], uint level, float t) {
+LevelPose animated(uint blade_index, BladeInstance blade, vec3 p[4], uint level, float t) {
     float frac;
     uint m0 = model_level(level, SEGMENTS, frac);
     uint m1 = min(m0 + 1u, MODEL_SEGMENTS);
-    if ((RENDER_FLAGS & FLAG_EVAL_BLADE) != 0u) {
-        return recorded_level(record, blade.height, level, SEGMENTS);
-    }
     float force;
     KfSelection sel = kf_select_blade(blade_index, blade, force);
     LevelPose pose;
@@ -91,6 +97,7 @@ LevelPose animated(uint blade_index, uint record, BladeInstance blade, vec3 p[4]
     pose.force = force;
     return pose;
 }
+#endif
 
 void main() {
     const uint segments = SEGMENTS;
@@ -154,13 +161,18 @@ void main() {
     vec3 p[4];
     neutral_control_points(blade.height, unpack_variation(blade.variation, 2), p);
     LevelPose pose;
-    if (ANIMATION_MODE == MODE_STATIC) {
+    if ((RENDER_FLAGS & FLAG_EVAL_BLADE) != 0u) {
+        // A response's pose records.
+        pose = recorded_level(record, blade.height, level, SEGMENTS);
+    } else {
+#ifdef PER_VERTEX_KEYFRAMES
+        pose = animated(blade_index, blade, p, level, t);
+#else
         pose.local = bezier_point(p[0], p[1], p[2], p[3], t);
         pose.tangent = bezier_tangent(p[0], p[1], p[2], p[3], t);
         pose.twist_cs = vec2(1.0, 0.0);
         pose.force = 0.0;
-    } else {
-        pose = animated(blade_index, record, blade, p, level, t);
+#endif
     }
     PlacedLevel placed = place_level(blade, pose, lod_scale);
     world = placed.centre + placed.width_dir * ((side - 0.5) * placed.width * outline_width(t));

@@ -1,9 +1,10 @@
 // The descriptor sets of the scene pipelines: the scene and this frame's uniforms and forces
-// (`SET_SCENE`), then the animation model's resources (`SET_ANIMATION`); the set layouts are
-// reflected from the shaders. Set 0's resources are declared by their owners' headers, numbered by
-// build.rs (`layout(SCENE(Name), …)`, common/profile.glsl); this header includes the ones the scene
-// passes share. A new set-0 resource needs no line here: its readers include its header. Set 1's
-// numbers are in shared.glsl (the animation model's seam).
+// (`SET_SCENE`), then the pose records a blade response writes and the blade pass reads
+// (`SET_POSES`); the set layouts are reflected from the shaders. Set 0's resources are declared by
+// their owners' headers, numbered by build.rs (`layout(SCENE(Name), …)`, common/profile.glsl);
+// this header includes the ones the scene passes share. A new set-0 resource needs no line here:
+// its readers include its header. Set 1's numbers are in shared.glsl. A response's own resources
+// (the keyframe tables) are declared by its own headers in its passes' own sets.
 #ifndef MEADOW_BINDINGS_GLSL
 #define MEADOW_BINDINGS_GLSL
 #include "common/profile.glsl"
@@ -17,21 +18,14 @@
 #include "cull/visible.glsl"
 #include "terrain/relief_grid.glsl"
 
-layout(set = SET_ANIMATION, binding = BINDING_KEYFRAMES) uniform sampler2D keyframe_texture;
-// Keyframes as a uniform array (thesis 4.4.2): two keyframe words per uvec4 half; the array fills
-// min(maxUniformBufferRange, 64 KiB), set by the pipeline (`render::animation::keyframe_gpu::KeyframeUniforms::capacity`).
-// A buffer block, so sizing it by a specialization constant is fine; arrays in shader code are
-// sized by the fixed limits of shared.glsl.
-layout(constant_id = SPEC(KEYFRAME_UVEC4S)) const uint KEYFRAME_UVEC4S = 4096u;
-layout(set = SET_ANIMATION, binding = BINDING_KEYFRAME_WORDS, std140) uniform KeyframeWords { uvec4 keyframe_words[KEYFRAME_UVEC4S]; };
 // `--eval blade`: the evaluated blade, written by blade_pose.comp and read by blade.vert:
 // POSE_WORDS words per level, MODEL_SEGMENTS + 1 levels per blade: the local-frame point divided by
 // the blade's height and by POSE_SCALE (snorm16 x y | z, and the twist's cos and sin as snorm8),
 // then the unit tangent and the force magnitude for the debug view (snorm8 x4).
 #ifdef POSE_WRITER
-layout(set = SET_ANIMATION, binding = BINDING_POSES, std430) writeonly buffer Poses { uint poses[]; };
+layout(set = SET_POSES, binding = BINDING_POSES, std430) writeonly buffer Poses { uint poses[]; };
 #else
-layout(set = SET_ANIMATION, binding = BINDING_POSES, std430) readonly buffer Poses { uint poses[]; };
+layout(set = SET_POSES, binding = BINDING_POSES, std430) readonly buffer Poses { uint poses[]; };
 #endif
 // With the cull and pose records: each drawn blade's strip levels, placed and lit once per blade by
 // blade_levels.comp, so blade.vert only widens and projects them. Entry i of the visible list owns
@@ -40,16 +34,16 @@ layout(set = SET_ANIMATION, binding = BINDING_POSES, std430) readonly buffer Pos
 // like every position), the full width across as a horizontal vector (half floats x, z), the lit
 // and fogged colour and the fog transmittance (half floats), as blade.vert computed per vertex.
 #ifdef LEVELS_WRITER
-layout(set = SET_ANIMATION, binding = BINDING_LEVELS, std430) writeonly buffer Levels { uvec2 levels[]; };
+layout(set = SET_POSES, binding = BINDING_LEVELS, std430) writeonly buffer Levels { uvec2 levels[]; };
 #elif defined(TEXEL_TWINS)
 // blade.vert fetches them as RG32UI texels (`vk::buffer::TexelView`): llvmpipe runs vertex
 // shaders on one thread, where a storage load per SIMD lane and word costs most.
-layout(set = SET_ANIMATION, binding = BINDING_LEVEL_TEXELS) uniform usamplerBuffer level_texels;
+layout(set = SET_POSES, binding = BINDING_LEVEL_TEXELS) uniform usamplerBuffer level_texels;
 uvec2 level_word(uint i) {
     return texelFetch(level_texels, int(i)).xy;
 }
 #else
-layout(set = SET_ANIMATION, binding = BINDING_LEVELS, std430) readonly buffer Levels { uvec2 levels[]; };
+layout(set = SET_POSES, binding = BINDING_LEVELS, std430) readonly buffer Levels { uvec2 levels[]; };
 uvec2 level_word(uint i) {
     return levels[i];
 }

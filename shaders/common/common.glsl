@@ -6,7 +6,7 @@
 #include "common/shared.glsl"
 #include "generated/spec_ids.glsl"
 
-// Per-frame constants (std140, 560 bytes).
+// Per-frame constants (std140, 544 bytes).
 struct FrameUniforms {
     mat4 view_proj;         // world -> clip (reversed infinite Z, Vulkan y down)
     vec4 camera_position;   // xyz eye, w simulation time (s)
@@ -14,8 +14,7 @@ struct FrameUniforms {
     vec4 sky_color;         // rgb linear sky, w fog density (1/m)
     vec4 terrain;           // x grid origin (x = z), y cell size (m), zw unused; a block field: x cell edge, y cluster edge, zw grid offset
     uvec4 params;           // x segments, y blade count, z terrain cells per side, w unused
-    uvec4 keyframes;        // x magnitudes, y angles, z point sources, w cluster corners per side
-    uvec4 keyframe_shape;   // x records per pose, y colliders (emitters after the sources), zw unused
+    uvec4 wind_counts;      // x point sources, y colliders (emitters after the sources), z cluster corners per side, w unused
     mat4 cull_view_proj;    // world -> clip of the culling camera (the view's, or a frozen one)
     vec4 cull_eye;          // xyz culling camera position, w pixels per metre at 1 m (viewport height / (2 tan(fov_y / 2)))
     vec4 lod;               // x blade range (m, `render::culling::Culling::blade_range`), y full-density distance (m, LOD scale applied), z pixels per segment (LOD scale applied), w largest widening

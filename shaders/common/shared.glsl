@@ -9,18 +9,17 @@
 
 // Descriptor sets of the scene pipelines.
 #define SET_SCENE 0 // The scene and this frame's uniforms and forces (`render::layouts::scene_bindings`).
-#define SET_ANIMATION 1 // The animation model's resources (`render::animation::model::AnimationSet`).
+#define SET_POSES 1 // The blade pass's input from a blade response: pose records and placed levels, the renderer's (`render::animation::poses::PoseRecords`).
 #define SET_PASS 2 // A pass's own set (`render::recording::pass_set::PassSet`): its bindings numbered in its own header, given by name.
 
 // Set `SET_SCENE`'s bindings are not here: each resource is declared by its owner's header as
 // `layout(SCENE(Name), …)` and numbered by build.rs (`build/scene_set.rs`, common/profile.glsl).
 
-// Set `SET_ANIMATION`: every model fills all five (the blade shaders declare them all).
-#define BINDING_KEYFRAMES 0 // Keyframe texture.
-#define BINDING_KEYFRAME_WORDS 1 // Keyframe uniform array.
-#define BINDING_POSES 2 // Per-blade pose records written by a model's compute pass (`--eval blade`).
-#define BINDING_LEVELS 3 // With the cull and pose records: each drawn blade's strip levels placed and lit, written by blade_levels.comp (blade.vert reads `BINDING_LEVEL_TEXELS`).
-#define BINDING_LEVEL_TEXELS 4 // The placed levels again as RG32UI texels, as blade.vert fetches them (`level_word` in bindings.glsl).
+// Set `SET_POSES` (bindings.glsl). A response's own resources are in the own sets (`SET_PASS`) of
+// its passes and of the blade pass, given by name (`render::animation::response`).
+#define BINDING_POSES 0 // Per-blade pose records written by a blade response's compute pass.
+#define BINDING_LEVELS 1 // With the cull and pose records: each drawn blade's strip levels placed and lit, written by blade_levels.comp (blade.vert reads `BINDING_LEVEL_TEXELS`).
+#define BINDING_LEVEL_TEXELS 2 // The placed levels again as RG32UI texels, as blade.vert fetches them (`level_word` in bindings.glsl).
 
 // Specialization constants are not numbered here: each is declared `layout(constant_id =
 // SPEC(NAME))` (common.glsl), build.rs numbers the ids and `render::specialization::Specialization`

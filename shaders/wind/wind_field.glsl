@@ -18,7 +18,7 @@
 // corners after the n² of each level inside it. The corner and the bilinear weights of eq. 3.7 of a
 // point in level `level`, clamped to it: `scene::clusters::ClusterGrid::locate` unquantised.
 BladeCluster level_cluster(uint level, vec2 root, out vec4 w) {
-    uint n = frame.keyframes.w;
+    uint n = frame.wind_counts.z;
     float size = frame.terrain.y * float(1u << level);
     float first = 0.5 * frame.field.x - 0.5 * float(WIND_LEVEL_CLUSTERS) * size;
     vec2 g = clamp((root - vec2(first)) / size, vec2(0.0), vec2(float(n - 1u)));
@@ -38,7 +38,7 @@ vec4 wind_corner(uint index) {
 
 // Eq. 3.6 / 3.8: the corners' wind weighted.
 vec4 interpolated_wind(BladeCluster c, vec4 w) {
-    uint n = frame.keyframes.w;
+    uint n = frame.wind_counts.z;
     return wind_corner(c.corner) * w.x + wind_corner(c.corner + 1u) * w.y + wind_corner(c.corner + n) * w.z
         + wind_corner(c.corner + n + 1u) * w.w;
 }
@@ -76,7 +76,7 @@ vec4 wind_at_blade(uint blade_index, vec2 root) {
     if (ATTENUATION == ATTENUATION_BLADE) {
         // Delayed attenuation (4.5): the sources at the blade itself.
         float exposure = f.w;
-        for (uint s = 0u; s < frame.keyframes.z; ++s) {
+        for (uint s = 0u; s < frame.wind_counts.x; ++s) {
             vec4 e = emitters[s];
             wind += exposure * source_wind(e.xy, e.z, e.w, root);
         }

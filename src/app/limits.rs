@@ -121,7 +121,7 @@ pub fn check_scene(
         }
         let mut bytes = crate::render::scene_gpu::pose_bytes(records, segments);
         if culled {
-            // And the drawn blades' placed levels (`PerBlade`).
+            // And the drawn blades' placed levels (`PoseRecords`).
             let levels = crate::render::scene_gpu::level_records(device, records, segments);
             bytes += crate::render::scene_gpu::level_bytes(levels, segments);
         }

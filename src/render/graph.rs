@@ -276,7 +276,7 @@ impl Graph {
         self.add_boxed(Box::new(pass));
     }
 
-    /// Append a pass built elsewhere (an animation model's compute passes).
+    /// Append a pass built elsewhere (a blade response's compute passes).
     pub fn add_boxed(&mut self, pass: Box<dyn Pass>) {
         self.nodes.push(Node { pass, ran: None });
     }

@@ -1,6 +1,6 @@
 //! The descriptor-set and pipeline layouts the scene pipelines share (`SET_SCENE` for the scene
-//! and one frame's uniforms and forces, `SET_ANIMATION` for the animation model), and each frame
-//! in flight's uniforms and scene set (`SceneFrame`).
+//! and one frame's uniforms and forces, `SET_POSES` for the pose records a blade response
+//! writes), and each frame in flight's uniforms and scene set (`SceneFrame`).
 //!
 //! Both set layouts come from the shaders themselves: each is the union of what the scene shaders
 //! (`render::shaders::SCENE`, every library shader that reads a set-0 declaration) bind in
@@ -8,8 +8,9 @@
 //! resource is declared once, in GLSL. Set 0's are declared by their owners' headers as
 //! `layout(SCENE(Name), …)` and numbered by `build.rs` (`build/scene_set.rs`); each owner gives
 //! its resources by that name (`SceneGpu::write_descriptors`, `frame_resources`,
-//! `FrameForces::scene_resources`), and no set-0 number appears in Rust. Set 1 is still numbered
-//! in `shared.glsl` and given by number (`AnimationSet::new`).
+//! `FrameForces::scene_resources`), and no set-0 number appears in Rust. Set 1 is numbered in
+//! `shared.glsl` and given by number (`PoseRecords::new`). A blade response's own resources are
+//! in the own sets (`SET_PASS`) of the passes that read them, given by name.
 
 use ash::vk;
 
@@ -23,14 +24,14 @@ use crate::vk::descriptor::{self, Binding, Resource, SetLayout};
 use crate::vk::profile::Profile;
 use crate::vk::{pipeline, reflect, Buffer, BufferDesc, Destroy, Device, Guard};
 
-/// The descriptor-set layouts of the scene pipelines (`SET_SCENE`, `SET_ANIMATION`), the
+/// The descriptor-set layouts of the scene pipelines (`SET_SCENE`, `SET_POSES`), the
 /// pipeline layout they share, and the pool of the per-frame scene sets.
 #[derive(Default)]
 pub struct SceneLayouts {
     /// `SET_SCENE`.
     pub scene: SetLayout,
-    /// `SET_ANIMATION`.
-    pub animation: SetLayout,
+    /// `SET_POSES`.
+    pub poses: SetLayout,
     /// Both sets and the push-constant range.
     pub pipeline_layout: vk::PipelineLayout,
     /// The per-frame scene sets' pool.
@@ -40,17 +41,17 @@ pub struct SceneLayouts {
 /// A reflected set's bindings, each with its name (`vk::reflect::merge_named`).
 pub type NamedBindings = Vec<(Binding, String)>;
 
-/// The bindings of sets `SET_SCENE` (with their names, as they are written) and `SET_ANIMATION`,
+/// The bindings of sets `SET_SCENE` (with their names, as they are written) and `SET_POSES`,
 /// as the scene shaders of `profile` use them (reflected). Set `SET_PASS` is each pass's own
 /// (`recording::PassSet`), numbered by the pass alone: not merged here.
 pub fn scene_bindings(profile: Profile) -> Result<(NamedBindings, Vec<Binding>)> {
     let code: Vec<(&str, &[u8])> = shaders::SCENE.iter().map(|s| (s.path, s.code(profile))).collect();
     let mut sets = reflect::merge_sets(&code, &|set| set != gpu::SET_PASS)?;
-    if let Some(&other) = sets.keys().find(|&&set| set != gpu::SET_SCENE && set != gpu::SET_ANIMATION) {
+    if let Some(&other) = sets.keys().find(|&&set| set != gpu::SET_SCENE && set != gpu::SET_POSES) {
         return Err(crate::error::Error::Internal(format!("a scene shader binds set {other}, not the scene's")));
     }
-    let animation = sets.remove(&gpu::SET_ANIMATION).unwrap_or_default().into_iter().map(|(b, _)| b).collect();
-    Ok((sets.remove(&gpu::SET_SCENE).unwrap_or_default(), animation))
+    let poses = sets.remove(&gpu::SET_POSES).unwrap_or_default().into_iter().map(|(b, _)| b).collect();
+    Ok((sets.remove(&gpu::SET_SCENE).unwrap_or_default(), poses))
 }
 
 /// The frame's uniforms as set 0 names them (`shaders/common/frame.glsl`): the uniform block
@@ -59,21 +60,21 @@ pub fn frame_resources(block: Resource) -> [(&'static str, Resource); 2] {
     [("Frame", block.clone()), ("FrameStorage", block)]
 }
 
-/// The layouts of `SET_SCENE` and `SET_ANIMATION` and the scene pipeline layout (the pool comes
+/// The layouts of `SET_SCENE` and `SET_POSES` and the scene pipeline layout (the pool comes
 /// with the frames).
 pub fn scene_layouts(device: &Device) -> Result<SceneLayouts> {
-    let (scene, animation) = scene_bindings(device.profile)?;
+    let (scene, poses) = scene_bindings(device.profile)?;
     let numbered: Vec<Binding> = scene.iter().map(|(b, _)| *b).collect();
-    descriptor::check_storage_buffers(device, "the scene pipelines", &[&numbered, &animation])?;
+    descriptor::check_storage_buffers(device, "the scene pipelines", &[&numbered, &poses])?;
     let mut layouts = crate::vk::guard::empty::<SceneLayouts>(device);
     {
         layouts.scene = SetLayout::with_names(device, "scene set layout", scene)?;
-        layouts.animation = SetLayout::new(device, "animation set layout", animation)?;
-        // Sets in `SET_SCENE`, `SET_ANIMATION` order.
+        layouts.poses = SetLayout::new(device, "pose set layout", poses)?;
+        // Sets in `SET_SCENE`, `SET_POSES` order.
         layouts.pipeline_layout = pipeline::layout(
             device,
             "scene pipeline layout",
-            &[layouts.scene.raw, layouts.animation.raw],
+            &[layouts.scene.raw, layouts.poses.raw],
             &[submission::push_constant_range()],
         )?;
     }
@@ -97,7 +98,7 @@ impl SceneLayouts {
             device.raw.destroy_descriptor_pool(self.pool, None);
             crate::vk::live::destroyed(self.pipeline_layout);
             device.raw.destroy_pipeline_layout(self.pipeline_layout, None);
-            SetLayout::destroy(&self.animation, device);
+            SetLayout::destroy(&self.poses, device);
             SetLayout::destroy(&self.scene, device);
         }
     }

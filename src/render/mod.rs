@@ -27,5 +27,5 @@ pub mod terrain_chunks;
 pub mod uniforms;
 pub mod wind;
 
-pub use renderer::{FrameTimings, PassTime, RenderSettings, Renderer};
+pub use renderer::{FrameTimings, Models, PassTime, RenderSettings, Renderer};
 pub use target::OffscreenTarget;

@@ -1,7 +1,7 @@
 //! The scene on the GPU: blade storage buffer, terrain heights, cluster records, the blade alpha
 //! texture and its sampler, uploaded once through staging; and set `SET_SCENE` that every scene
 //! pass binds (the scene and one frame's uniforms and forces). What animates the blades is the
-//! animation model's (`render::animation::model`).
+//! blade response's (`render::animation::response`).
 
 use std::sync::atomic::AtomicU64;
 use std::sync::Arc;
@@ -52,7 +52,7 @@ pub fn level_records(device: &Device, records: u32, segments: u32) -> u32 {
     u64::from(records).min(by_range).min(by_texels) as u32
 }
 
-/// Placed levels to make room for (`PerBlade`): one per entry the cull's list may hold, at most
+/// Placed levels to make room for (`PoseRecords`): one per entry the cull's list may hold, at most
 /// `records`; none without the cull, which alone places them.
 pub fn level_room(scene: &SceneGpu, records: u32, culled: bool) -> u32 {
     if culled {
@@ -63,8 +63,8 @@ pub fn level_room(scene: &SceneGpu, records: u32, culled: bool) -> u32 {
 }
 
 /// Entries of the cull's visible list a frame may fill: its capacity, and with pose records
-/// (`--eval blade`, `per_blade` the model's room for placed levels) at most one per record
-/// (`pose_records`) and per placed level when the model has room for them (with the cull).
+/// (`--eval blade`, `per_blade` the records' room for placed levels) at most one per record
+/// (`pose_records`) and per placed level when the records have room for them (with the cull).
 pub fn visible_limit(device: &Device, scene: &SceneGpu, segments: u32, per_blade: Option<u32>) -> u32 {
     match per_blade {
         None => scene.visible_capacity,

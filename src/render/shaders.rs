@@ -5,8 +5,10 @@
 use crate::spirv_shader;
 use crate::vk::profile::Shader;
 
-/// Blade vertex shader (vertex pulling, Bézier strips).
+/// Blade vertex shader (vertex pulling, Bézier strips): neutral blades, or a response's pose records.
 pub const BLADE_VERT: Shader = spirv_shader!("blades/blade.vert");
+/// Its variant `keyframes`: the keyframe response's per-vertex path (thesis 4.4).
+pub const BLADE_KEYFRAMES_VERT: Shader = spirv_shader!("blades/blade.vert.keyframes");
 /// Blade fragment shader (alpha test, lighting).
 pub const BLADE_FRAG: Shader = spirv_shader!("blades/blade.frag");
 /// Its variant `coverage`, with `--msaa` and alpha to coverage: the outline's coverage per sample.
@@ -53,7 +55,7 @@ pub const OVERLAY_VERT: Shader = spirv_shader!("overlay/overlay.vert");
 pub const OVERLAY_FRAG: Shader = spirv_shader!("overlay/overlay.frag");
 
 /// The scene shaders: the library's shaders that read a set-0 declaration (`layout(SCENE(Name),
-/// …)`, found by `build.rs`), whose sets `SET_SCENE` and `SET_ANIMATION` together make the scene's
+/// …)`, found by `build.rs`), whose sets `SET_SCENE` and `SET_POSES` together make the scene's
 /// layouts (`render::layouts::scene_layouts`). A new scene shader joins by including a header
 /// that declares one (`common/bindings.glsl`, or a resource's own).
 pub const SCENE: &[Shader] = include!(concat!(env!("OUT_DIR"), "/scene_shaders.rs"));

@@ -53,7 +53,7 @@ pub struct Specialization {
 
 impl Specialization {
     /// The constants of the blade geometry, the target and the debug view, for static blades;
-    /// the animation model then sets its own (`AnimationModel::specialize`).
+    /// the blade response then sets its own (`BladeResponse::specialize`).
     /// The blade geometry (segments, blades per instance) is compiled in too: the vertex shader's
     /// index arithmetic then divides by constants, which llvmpipe would otherwise do lane by lane.
     pub fn new(

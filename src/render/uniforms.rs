@@ -21,10 +21,10 @@ pub struct FrameUniforms {
     /// x segments, y blade count, z terrain cells per side, w unused. (The blade geometry and
     /// the sRGB encoding are specialization constants, `render::specialization`.)
     pub params: UVec4,
-    /// x magnitudes, y angles, z point sources, w corners per side.
-    pub keyframes: UVec4,
-    /// x records per pose, y colliders.
-    pub keyframe_shape: UVec4,
+    /// x point sources, y colliders (their emitters after the sources'), z cluster corners per
+    /// side, w unused: the wind field's counts. (A blade response's parameters are in its own
+    /// uniform block, `render::animation::response`.)
+    pub wind_counts: UVec4,
     /// World → clip of the culling camera (the view's, or a frozen one).
     pub cull_view_proj: Mat4,
     /// xyz culling camera position, w pixels per metre at 1 m (viewport height / (2 tan(fov_y / 2))).
@@ -68,9 +68,9 @@ impl FrameUniforms {
     }
 }
 
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 560);
-const _: () = assert!(std::mem::offset_of!(FrameUniforms, cull_view_proj) == 176);
-const _: () = assert!(std::mem::offset_of!(FrameUniforms, cull_lod) == 304);
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 544);
+const _: () = assert!(std::mem::offset_of!(FrameUniforms, cull_view_proj) == 160);
+const _: () = assert!(std::mem::offset_of!(FrameUniforms, cull_lod) == 288);
 const _: () = assert!(std::mem::offset_of!(FrameUniforms, camera_position) == 64);
 const _: () = assert!(std::mem::offset_of!(FrameUniforms, params) == 128);
 

@@ -87,21 +87,6 @@ impl KeyframeTexture {
         Ok((Self { image: image.take(), sampler, layout }, table))
     }
 
-    /// A 1×1 stand-in for models without keyframes (the blade shaders declare the binding).
-    pub fn stand_in(batch: &mut UploadBatch) -> Result<Self> {
-        let desc = ImageDesc::color(
-            "keyframe texture stand-in",
-            vk::Format::R8G8B8A8_UNORM,
-            vk::Extent2D { width: 1, height: 1 },
-            vk::ImageUsageFlags::SAMPLED,
-        );
-        let image =
-            batch.image(&desc, &[0; 4], &[Access::VertexShaderSampledRead, Access::ComputeShaderSampledRead])?;
-        let image = Guard::new(batch.device(), image);
-        let sampler = image::clamped_sampler(batch.device(), vk::Filter::NEAREST, "keyframe sampler")?;
-        Ok(Self { image: image.take(), sampler, layout: KeyframeLayout { magnitudes: 0, angles: 0 } })
-    }
-
     /// Free the image and sampler.
     ///
     /// # Safety
@@ -159,19 +144,6 @@ impl KeyframeUniforms {
             &[Access::VertexShaderUniformRead, Access::ComputeShaderUniformRead],
         )?;
         Ok(Self { buffer, uvec4s })
-    }
-}
-
-impl KeyframeUniforms {
-    /// A one-`uvec4` stand-in for models without keyframes (their pipelines size the array to 1).
-    pub fn stand_in(batch: &mut UploadBatch) -> Result<Self> {
-        let buffer = batch.buffer(
-            "keyframe uniforms stand-in",
-            &[0u32; 4],
-            vk::BufferUsageFlags::UNIFORM_BUFFER,
-            &[Access::VertexShaderUniformRead, Access::ComputeShaderUniformRead],
-        )?;
-        Ok(Self { buffer, uvec4s: 1 })
     }
 }
 

@@ -1,20 +1,21 @@
 //! What animates the blades. The settings a renderer is built with, the thesis' CPU mirror of
 //! the wind at cluster corners (3.2.2, what `--brute-force` writes; `render::wind` evaluates it
-//! on the GPU with the cull) and of a blade's interpolated wind and force, and the
-//! seam every animation model plugs into (`model::AnimationModel`): today's static blades
-//! (`still`) and keyframes from a texture or a uniform array, per vertex or per blade
-//! (`keyframed`, thesis ch. 3–4), with their GPU tables (`keyframe_gpu`) and the per-blade pose
-//! pass (`pose_pass`).
+//! on the GPU with the cull) and of a blade's interpolated wind and force, the fixed time step
+//! (`clock`), and the seam every blade response plugs into (`response::BladeResponse`): today's
+//! static blades (`still`) and keyframes from a texture or a uniform array, per vertex or per
+//! blade (`keyframed`, thesis ch. 3–4), with their GPU tables (`keyframe_gpu`) and the
+//! per-blade pose pass (`pose_pass`), writing the renderer's pose records (`poses`).
 
 pub mod clock;
 pub mod keyframe_gpu;
 pub mod keyframed;
-pub mod model;
 pub mod pose_pass;
+pub mod poses;
+pub mod response;
 pub mod still;
 
 pub use keyframe_gpu::{texture_format, KeyframeTexture, KeyframeUniforms};
-pub use model::{AnimationModel, BladeInput};
+pub use response::{BladeInput, BladeResponse};
 
 use glam::{Vec2, Vec3, Vec4};
 
@@ -25,22 +26,15 @@ use crate::scene::clusters::ClusterGrid;
 use crate::vk::Device;
 use crate::wind::{Attenuation, Wind, KEYFRAME_WIND_SCALE};
 
-/// Build the model `settings` asks for (`segments` per blade), with room for `records` pose
-/// records and `levels` placed levels (0 without the cull: nothing places them) when it
-/// evaluates per blade.
-pub fn build_model(
+/// Build the response `context.animation.mode` names (the CLI's `--mode`): the library's
+/// `response::BuildResponse`.
+pub fn build_response(
     device: &Device,
-    set_layout: &crate::vk::descriptor::SetLayout,
-    settings: &AnimationSettings,
-    segments: u32,
-    (records, levels): (u32, u32),
-) -> crate::error::Result<Box<dyn AnimationModel>> {
-    Ok(match settings.mode {
-        Mode::Static => Box::new(still::StaticModel::new(device, set_layout)?),
-        Mode::Texture | Mode::Uniform => {
-            let room = (records, levels);
-            Box::new(keyframed::KeyframeModel::new(device, set_layout, settings, segments, room)?)
-        }
+    context: &response::ResponseContext,
+) -> crate::error::Result<Box<dyn BladeResponse>> {
+    Ok(match context.animation.mode {
+        Mode::Static => Box::new(still::StaticResponse),
+        Mode::Texture | Mode::Uniform => Box::new(keyframed::KeyframeResponse::new(device, context)?),
     })
 }
 

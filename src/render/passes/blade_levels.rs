@@ -3,15 +3,16 @@
 //! lights them once — the blade's record, a block field's placement, the terrain normal, Belyaev's
 //! lighting, the fog — so the blade pass's vertex shader only widens and projects them
 //! (`shaders/blades/blade_levels.comp`). llvmpipe runs vertex shaders on one thread and compute on all of
-//! them; the work also drops from once per strip vertex to once per level. It reads the model's
-//! pose records (whatever model wrote them) and writes `PerBlade::levels`; the graph orders it
+//! them; the work also drops from once per strip vertex to once per level. It reads the
+//! renderer's pose records (whatever response wrote them) and writes `PoseRecords::levels`; the graph orders it
 //! after the pose pass and before the blade pass, and this frame's write after the previous
 //! frame's reads.
 
 use ash::vk;
 
 use crate::error::Result;
-use crate::render::animation::model::{AnimationSet, PassSetup};
+use crate::render::animation::poses::PoseRecords;
+use crate::render::animation::response::ResponseSetup;
 use crate::render::graph::{Declaration, Pass, PassContext};
 use crate::render::recording;
 use crate::render::recording::bucket_dispatch::{self, BucketDispatch};
@@ -24,7 +25,8 @@ pub struct BladeLevelsPass {
     buckets: BucketDispatch,
     /// Its own set: the cull's `Draws`.
     set: PassSet,
-    animation: vk::DescriptorSet,
+    /// Set `SET_POSES`.
+    pose_set: vk::DescriptorSet,
     /// Pose records (read), placed levels (written).
     poses: vk::Buffer,
     levels: vk::Buffer,
@@ -37,8 +39,8 @@ pub struct BladeLevelsPass {
 }
 
 impl BladeLevelsPass {
-    /// Build the pipeline on the scene's pipeline layout, from and into the buffers of `set`.
-    pub fn new(device: &Device, setup: &PassSetup, set: &AnimationSet) -> Result<Self> {
+    /// Build the pipelines on its own set's layout, from and into the buffers of `records`.
+    pub fn new(device: &Device, setup: &ResponseSetup, records: &PoseRecords) -> Result<Self> {
         let scene = setup.scene;
         let Some(buckets) = setup.buckets else {
             return Err(crate::error::Error::Internal("the blade levels pass needs the cull's visible list".into()));
@@ -50,9 +52,9 @@ impl BladeLevelsPass {
         Ok(Self {
             buckets,
             set: own.take(),
-            animation: set.set,
-            poses: set.per_blade.poses.raw,
-            levels: set.per_blade.levels.raw,
+            pose_set: records.set,
+            poses: records.poses.raw,
+            levels: records.levels.raw,
             reads: [scene.blades.raw, scene.heights.raw],
             relief_grid: scene.relief_grid_read(),
             visible: scene.visible.raw,
@@ -81,7 +83,7 @@ impl Pass for BladeLevelsPass {
     }
 
     fn record(&self, ctx: &PassContext, cmd: vk::CommandBuffer) -> Result<()> {
-        recording::bind_blade_sets(ctx, cmd, self.set.layout, self.animation);
+        recording::bind_blade_sets(ctx, cmd, self.set.layout, self.pose_set);
         self.set.bind(ctx.device, cmd, vk::PipelineBindPoint::COMPUTE, ctx.slot);
         self.buckets.record(ctx.device, cmd);
         Ok(())

@@ -10,14 +10,15 @@ use crate::render::animation::BladeInput;
 use crate::render::gpu_constants as gpu;
 use crate::render::graph::{Declaration, Pass, PassContext};
 use crate::render::passes::{self, PipelineTarget};
-use crate::render::recording::{self, bucket_dispatch};
+use crate::render::recording::{self, bucket_dispatch, PassSet, SceneSets};
 use crate::render::scene_gpu::SceneGpu;
 use crate::render::shaders;
 use crate::render::specialization::Specialization;
 use crate::render::submission::{self, BladeDraws, IndirectDraws, SecondaryRecorders, Strategy};
 use crate::scene::bezier::{self, Batching};
+use crate::vk::profile::Shader;
 use crate::vk::upload::UploadBatch;
-use crate::vk::{pipeline, Access, Buffer, Device, Guard};
+use crate::vk::{pipeline, Access, Buffer, Device, Guard, Resource};
 
 /// The blade pipeline and its draws.
 pub struct BladePass {
@@ -42,10 +43,15 @@ pub struct BladePass {
     secondaries: Vec<SecondaryRecorders>,
     /// Buffers the vertex shader reads (for the declaration).
     reads: Vec<(vk::Buffer, Access)>,
+    /// What a per-vertex response's include reads of its resources (for the declaration).
+    response_reads: Vec<(Resource, Access)>,
+    /// A per-vertex response's resources, in the pass's own set (`SET_PASS`), whose layout the
+    /// pipelines are built on.
+    own: Option<PassSet>,
     /// Each frame's wind at the cluster corners (`PassSetup::wind`).
     wind: Vec<vk::Buffer>,
-    /// The animation model's set.
-    animation: vk::DescriptorSet,
+    /// Set `SET_POSES`.
+    poses: vk::DescriptorSet,
     /// With the cull: one pipeline per LOD bucket (its segment count compiled in) and the
     /// indirect draws the cull writes, one per bucket.
     buckets: Vec<vk::Pipeline>,
@@ -68,10 +74,12 @@ pub struct BladeSetup<'a> {
     pub submission: submission::Submission,
     /// Frames in flight (the secondary strategy records per frame).
     pub frames_in_flight: usize,
-    /// How the animation model poses a blade.
+    /// How the blade response poses a blade.
     pub input: BladeInput,
-    /// The animation model's set.
-    pub animation: vk::DescriptorSet,
+    /// Set `SET_POSES` and its pose records and placed levels.
+    pub poses: (vk::DescriptorSet, [vk::Buffer; 2]),
+    /// The sets before a pass's own, for a per-vertex response's (`BladeInput::PerVertex`).
+    pub sets: SceneSets<'a>,
     /// Segments of the LOD buckets the cull sorts blades into (`None`: brute force, every blade
     /// at `segments`).
     pub buckets: Option<&'a [u32]>,
@@ -82,21 +90,38 @@ pub struct BladeSetup<'a> {
 impl BladePass {
     /// Build the pipeline (two-sided blades: no culling) and the draws of the strategy.
     pub fn new(device: &Device, scene: &SceneGpu, setup: &BladeSetup) -> Result<Self> {
-        let target = setup.target;
+        let mut target = setup.target;
+        // A per-vertex response's own vertex shader, and its resources in the pass's own set.
+        let (vertex, own, response_reads) = match &setup.input {
+            BladeInput::PerVertex { vertex, resources, reads } => {
+                let code = [("blades", vertex.code(device.profile))];
+                let own = PassSet::new(device, &setup.sets.desc("blades", &code), |_| resources.clone())?;
+                (*vertex, Some(own), reads.clone())
+            }
+            _ => (shaders::BLADE_VERT, None, Vec::new()),
+        };
+        let own = Guard::new(device, own);
+        if let Some(own) = own.as_ref() {
+            target.layout = own.layout;
+        }
         // With the cull, the buckets' pipelines draw (`build_buckets`): no pipeline of its own.
         let pipeline = match setup.buckets {
             Some(_) => vk::Pipeline::null(),
-            None => Self::pipeline(device, target, setup.constants, "blades", vk::PrimitiveTopology::TRIANGLE_STRIP)?,
+            None => {
+                let strip = vk::PrimitiveTopology::TRIANGLE_STRIP;
+                Self::pipeline(device, (target, vertex), setup.constants, "blades", strip)?
+            }
         };
         let mut reads = vec![
             (scene.blades.raw, device.profile.vertex_fetch()),
             (scene.clusters.raw, Access::VertexShaderStorageRead),
         ];
-        if let BladeInput::PoseRecords(poses, levels) = setup.input {
+        if setup.input.pose_records() {
             // With the cull, the placed levels stand for the records (`BladeLevelsPass`). The
             // shader names both (a specialization constant skips one), and synchronization
             // validation counts static use: both are declared, whichever path runs, so a
             // previous graph's write of either is ordered before this pass.
+            let [poses, levels] = setup.poses.1;
             reads.push((poses, Access::VertexShaderStorageRead));
             reads.push((levels, device.profile.vertex_fetch()));
         }
@@ -118,15 +143,17 @@ impl BladePass {
                 indirect: None,
                 secondaries: Vec::new(),
                 reads,
+                response_reads,
+                own: own.take(),
                 wind: setup.wind.to_vec(),
-                animation: setup.animation,
+                poses: setup.poses.0,
                 buckets: Vec::new(),
                 draws: scene.draws.raw,
                 indices: None,
             },
         );
         match setup.buckets {
-            Some(buckets) => pass.build_buckets(device, scene, setup, buckets)?,
+            Some(buckets) => pass.build_buckets(device, scene, (setup, target, vertex), buckets)?,
             None => pass.build_submission(device, scene.blade_count, setup)?,
         }
         Ok(pass.take())
@@ -138,7 +165,7 @@ impl BladePass {
     /// alpha test to replace.
     fn pipeline(
         device: &Device,
-        target: PipelineTarget,
+        (target, vertex): (PipelineTarget, Shader),
         constants: &Specialization,
         name: &str,
         topology: vk::PrimitiveTopology,
@@ -149,7 +176,7 @@ impl BladePass {
             device,
             &pipeline::GraphicsDesc {
                 name,
-                vertex: shaders::BLADE_VERT.code(device.profile),
+                vertex: vertex.code(device.profile),
                 fragment: if per_sample {
                     shaders::BLADE_COVERAGE_FRAG.code(device.profile)
                 } else {
@@ -174,7 +201,13 @@ impl BladePass {
     /// One pipeline per LOD bucket, reading the cull's visible list, its index list and the
     /// reads of its draws. Each bucket draws indexed triangle lists (`bezier::BladeMesh`): the
     /// strips' triangles without their joins, and with the outline as geometry one tip vertex.
-    fn build_buckets(&mut self, device: &Device, scene: &SceneGpu, setup: &BladeSetup, buckets: &[u32]) -> Result<()> {
+    fn build_buckets(
+        &mut self,
+        device: &Device,
+        scene: &SceneGpu,
+        (setup, target, vertex): (&BladeSetup, PipelineTarget, Shader),
+        buckets: &[u32],
+    ) -> Result<()> {
         // The outline as geometry, no alpha test: early depth rejects the overdraw. The cull's
         // scan reads the same flag (`FLAG_SOLID_OUTLINE` in every pipeline's constants) for the
         // lists' lengths.
@@ -183,7 +216,7 @@ impl BladePass {
             let constants = bucket_dispatch::bucket_constants(setup.constants, segments);
             let name = format!("blades, LOD bucket {b} ({segments} segments)");
             let list = vk::PrimitiveTopology::TRIANGLE_LIST;
-            self.buckets.push(Self::pipeline(device, setup.target, &constants, &name, list)?);
+            self.buckets.push(Self::pipeline(device, (target, vertex), &constants, &name, list)?);
         }
         let indices = bezier::bucket_indices(buckets, collapsed_tip, setup.blades_per_instance);
         let mut batch = UploadBatch::new(device);
@@ -195,6 +228,16 @@ impl BladePass {
         self.reads.push((scene.visible.raw, device.profile.vertex_fetch()));
         self.reads.push((scene.draws.raw, Access::IndirectCommandRead));
         Ok(())
+    }
+
+    /// Bind the pose records' set and a per-vertex response's own set (set 0 and the pipeline
+    /// are bound).
+    fn bind_sets(&self, ctx: &PassContext, cmd: vk::CommandBuffer) {
+        let graphics = vk::PipelineBindPoint::GRAPHICS;
+        recording::bind_pose_set(ctx.device, cmd, self.layout, graphics, self.poses);
+        if let Some(own) = &self.own {
+            own.bind(ctx.device, cmd, graphics, ctx.slot);
+        }
     }
 
     /// The ranges, indirect commands and secondary recorders of a non-instanced strategy.
@@ -292,7 +335,7 @@ impl BladePass {
             device.raw.begin_command_buffer(secondary, &begin).vk("vkBeginCommandBuffer")?;
         }
         passes::bind_graphics(device, ctx, secondary, self.layout, self.pipeline);
-        recording::bind_animation_set(device, secondary, self.layout, vk::PipelineBindPoint::GRAPHICS, self.animation);
+        self.bind_sets(ctx, secondary);
         let draws = BladeDraws::PerCluster { vertices: self.strip, ranges, layout: self.layout };
         submission::record_draws(device, secondary, &draws);
         // SAFETY: recording.
@@ -312,6 +355,7 @@ impl Pass for BladePass {
         let rendering = passes::scene_rendering(ctx, first, false, secondary);
         // The frame's wind (per vertex without pose records; the shader names it either way).
         let declaration = Declaration::graphics(rendering).buffer(self.wind[ctx.slot], Access::VertexShaderStorageRead);
+        let declaration = self.response_reads.iter().fold(declaration, |d, &(r, a)| d.uses(r, a));
         Some(self.reads.iter().fold(declaration, |d, &(b, a)| d.buffer(b, a)))
     }
 
@@ -322,7 +366,7 @@ impl Pass for BladePass {
         let device = ctx.device;
         let first = self.buckets.first().copied().unwrap_or(self.pipeline);
         passes::bind_graphics(device, ctx, cmd, self.layout, first);
-        recording::bind_animation_set(device, cmd, self.layout, vk::PipelineBindPoint::GRAPHICS, self.animation);
+        self.bind_sets(ctx, cmd);
         // Defined for every draw: per-cluster draws push their own first blade.
         let push = submission::ClusterPush { first_blade: 0 };
         // SAFETY: cmd is recording inside this pass's rendering instance; the layout has the range.
@@ -372,6 +416,9 @@ impl Pass for BladePass {
             }
             crate::vk::live::destroyed(self.pipeline);
             device.raw.destroy_pipeline(self.pipeline, None);
+            if let Some(own) = self.own.take() {
+                own.destroy(device);
+            }
         }
     }
 }

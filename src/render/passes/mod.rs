@@ -30,7 +30,7 @@ use crate::vk::Device;
 /// The pipeline layout and attachment formats every scene pipeline is built for.
 #[derive(Clone, Copy, Debug)]
 pub struct PipelineTarget {
-    /// Sets `SET_SCENE` and `SET_ANIMATION`, and the push-constant range.
+    /// Sets `SET_SCENE` and `SET_POSES`, and the push-constant range.
     pub layout: vk::PipelineLayout,
     /// Colour attachment format.
     pub color: vk::Format,

@@ -4,7 +4,7 @@
 //! owner of each resource by the name its GLSL declares it with (`SetLayout::write_named`). A
 //! resource several passes read (the cull's `Draws`) is declared once, in its owner's header,
 //! and each reader names it in its own set. The sets before `SET_PASS` (the frame's and the
-//! model's) come from whoever builds the pass, so the pipeline layout is theirs plus this one.
+//! pose records') come from whoever builds the pass, so the pipeline layout is theirs plus this one.
 //! A pass with no sets before its own (the depth pyramid, the resolve) has it as set 0; one whose
 //! resources change from frame to frame (the frame's own depth or colour image) builds it
 //! [`PassSet::unwritten`] and writes a slot's set when it records it.
@@ -22,7 +22,7 @@ pub struct PassSetDesc<'a> {
     /// The pass's shaders (`(name, SPIR-V)`): set `SET_PASS` is the union of what they bind there.
     pub shaders: &'a [(&'a str, &'a [u8])],
     /// The layouts of the sets before the pass's own, as every pipeline of the pass binds them:
-    /// for a scene pass sets 0 .. `SET_PASS` (the frame's, the model's, `SceneSets`); none for a
+    /// for a scene pass sets 0 .. `SET_PASS` (the frame's, the pose records', `SceneSets`); none for a
     /// pass with no scene sets, whose own set is then set 0. The own set's number is their count.
     pub before: &'a [&'a SetLayout],
     /// The pass's push-constant ranges.
@@ -32,11 +32,11 @@ pub struct PassSetDesc<'a> {
     pub frames: usize,
 }
 
-/// The sets a scene pass binds before its own (`SET_SCENE`, `SET_ANIMATION`), the scene
+/// The sets a scene pass binds before its own (`SET_SCENE`, `SET_POSES`), the scene
 /// pipelines' push constants and the frames in flight: what a scene pass's `PassSet` is built on.
 #[derive(Clone, Copy)]
 pub struct SceneSets<'a> {
-    /// The layouts of `SET_SCENE` and `SET_ANIMATION`.
+    /// The layouts of `SET_SCENE` and `SET_POSES`.
     pub before: [&'a SetLayout; 2],
     /// The scene pipelines' push-constant range.
     pub push: vk::PushConstantRange,

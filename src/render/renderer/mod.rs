@@ -12,6 +12,7 @@ mod offscreen;
 mod overlay;
 mod passes;
 mod record;
+mod response;
 mod uniforms;
 mod wind;
 
@@ -22,8 +23,9 @@ use std::sync::Arc;
 use ash::vk;
 
 use crate::error::{Error, Result};
-use crate::render::animation::model::{AnimationModel, FrameForces};
-use crate::render::animation::{self, build_model, AnimationSettings};
+use crate::render::animation::poses::PoseRecords;
+use crate::render::animation::response::{BladeResponse, BuildResponse, ResponseStep};
+use crate::render::animation::{self, AnimationSettings};
 pub use crate::render::frame::{Deletion, FrameSync, FrameTimings, PassTime};
 use crate::render::frame::{Frame, FrameRing, FrameUniforms, PerFrame};
 use crate::render::graph::{Graph, Outputs, DEFAULT_DT};
@@ -32,17 +34,19 @@ use crate::render::msaa::{self, MultisampleTarget};
 use crate::render::overlay::OverlayGpu;
 use crate::render::passes::cull::CullFrame;
 use crate::render::passes::{BladePass, TerrainPass};
-use crate::render::scene_gpu::{pose_records, SceneGpu};
+use crate::render::scene_gpu::SceneGpu;
 use crate::render::settings::{check_pose_records, check_submission, polygon_mode};
 pub use crate::render::settings::{
     RenderSettings, BLADES_PER_INSTANCE_RANGE, DEFAULT_BLADES_PER_INSTANCE, SEGMENTS_RANGE,
 };
 use crate::render::target::TargetView;
-use crate::render::wind::{AnalyticWind, WindField};
+use crate::render::wind::{FrameForces, WindField};
 use crate::scene::{field::check_camera, Camera, Scene};
 use crate::vk::descriptor::Resource as Descriptor;
 use crate::vk::{Destroy, Device, Resource};
 pub use extensions::FrameInstance;
+pub use response::Models;
+use response::RetiredResponse;
 
 /// What set 0 of frame `slot` points at besides the scene and the frame's uniforms: that frame's
 /// forces.
@@ -57,7 +61,11 @@ pub struct Renderer {
     settings: RenderSettings,
     animation: AnimationSettings,
     scene: Option<SceneGpu>,
-    model: Option<Box<dyn AnimationModel>>,
+    /// The blade response (`render::animation::response`) and what builds it.
+    response: Option<Box<dyn BladeResponse>>,
+    response_builder: Rc<BuildResponse>,
+    /// The pose records it writes, if it poses blades once per blade, and set `SET_POSES`.
+    poses: Option<PoseRecords>,
     layouts: SceneLayouts,
     graph: Graph,
     ring: FrameRing,
@@ -65,7 +73,7 @@ pub struct Renderer {
     scene_frames: PerFrame<SceneFrame>,
     /// Each frame's wind at the cluster corners and emitters (the wind field's part).
     forces: PerFrame<FrameForces>,
-    /// The wind field (`render::wind`): the analytic one.
+    /// The wind field (`render::wind`): the analytic one, or one given to `with_models`.
     wind: Box<dyn WindField>,
     /// Each frame's cull counts (the cull's part).
     cull_frames: PerFrame<CullFrame>,
@@ -81,12 +89,24 @@ pub struct Renderer {
 }
 
 impl Renderer {
-    /// Upload `scene` and build the passes and frames.
+    /// Upload `scene` and build the passes and frames, with the CLI's models.
     pub fn new(
         device: Arc<Device>,
         scene: &Scene,
         settings: RenderSettings,
         animation: AnimationSettings,
+    ) -> Result<Self> {
+        Self::with_models(device, scene, settings, animation, Models::default())
+    }
+
+    /// Upload `scene` and build the passes and frames, animated by `models` (a wind field and a
+    /// blade response defined outside the library: `tests/new_model.rs`).
+    pub fn with_models(
+        device: Arc<Device>,
+        scene: &Scene,
+        settings: RenderSettings,
+        animation: AnimationSettings,
+        models: Models,
     ) -> Result<Self> {
         let polygon = polygon_mode(&device, settings.wireframe)?;
         check_submission(&device, &settings)?;
@@ -100,13 +120,15 @@ impl Renderer {
             settings,
             animation,
             scene: None,
-            model: None,
+            response: None,
+            response_builder: models.response,
+            poses: None,
             layouts: SceneLayouts::default(),
             graph: Graph::new(),
             ring: FrameRing::new(Vec::new()),
             scene_frames: PerFrame::default(),
             forces: PerFrame::default(),
-            wind: Box::new(AnalyticWind::new()),
+            wind: models.wind,
             cull_frames: PerFrame::default(),
             cull_camera: None,
             multisampled: None,
@@ -120,12 +142,11 @@ impl Renderer {
         renderer.layouts = scene_layouts(&device)?;
         renderer.build_frames()?;
         let scene_gpu = renderer.scene.as_ref().expect("uploaded");
-        let records = pose_records(&device, scene_gpu, settings.segments);
         let path = (settings.culling.enabled, settings.floor);
         check_pose_records(&device, &renderer.animation, (scene_gpu.blade_count, settings.segments), path.0, path.1)?;
-        let layout = &renderer.layouts.animation;
-        let room = (records, crate::render::scene_gpu::level_room(scene_gpu, records, settings.culling.enabled));
-        renderer.model = Some(build_model(&device, layout, &renderer.animation, settings.segments, room)?);
+        let (response, poses) = renderer.build_response(&settings, &renderer.animation)?;
+        renderer.response = Some(response);
+        renderer.poses = Some(poses);
         renderer.build_graph(scene, polygon)?;
         Ok(renderer)
     }
@@ -144,7 +165,7 @@ impl Renderer {
         Ok(())
     }
 
-    /// Rebuild the passes and the animation model for new `settings` and `animation`, keeping the
+    /// Rebuild the passes and the blade response for new `settings` and `animation`, keeping the
     /// scene on the GPU and the frames in flight (the viewer's live controls). The old passes and
     /// model are destroyed once the frames already submitted have finished — the frame ring's
     /// deletion queue, no queue idle. `scene` must be the one the renderer was built with.
@@ -165,40 +186,34 @@ impl Renderer {
         if scene.field.is_some() {
             crate::render::settings::check_field(&settings)?;
         }
-        // The same animation at the same segment count keeps its model (and its state): only the
-        // passes are rebuilt, with no upload.
-        // (With the cull or without it, the model has room for placed levels or none.)
-        let keep_model = animation == self.animation
+        // The same animation at the same segment count keeps its response (and its state): only
+        // the passes are rebuilt, with no upload. (With the cull or without it, the pose records
+        // have room for placed levels or none.)
+        let keep_response = animation == self.animation
             && settings.segments == self.settings.segments
             && settings.culling.enabled == self.settings.culling.enabled;
-        let records = pose_records(&device, self.scene_gpu(), settings.segments);
         let blades = self.scene_gpu().blade_count;
         check_pose_records(&device, &animation, (blades, settings.segments), settings.culling.enabled, settings.floor)?;
-        let model = match keep_model {
+        let built = match keep_response {
             true => None,
-            false => {
-                let room = (
-                    records,
-                    crate::render::scene_gpu::level_room(self.scene_gpu(), records, settings.culling.enabled),
-                );
-                Some(build_model(&device, &self.layouts.animation, &animation, settings.segments, room)?)
-            }
+            false => Some(self.build_response(&settings, &animation)?),
         };
         let mut previous = (
             std::mem::replace(&mut self.settings, settings),
             std::mem::replace(&mut self.animation, animation),
-            match model {
-                Some(model) => self.model.replace(model),
-                None => None,
-            },
+            built.map(|(response, poses)| self.swap_response(Some((response, poses)))),
             std::mem::take(&mut self.graph),
         );
-        // The scene's resources keep their states; a replaced model's go with it.
+        // The scene's resources keep their states; a replaced response's and pose records' go
+        // with them.
         let mut states = previous.3.states().clone();
-        if let Some(old_model) = &previous.2 {
-            states.forget(old_model.resources().keyframe_import().0);
-            states.forget(Resource::Buffer(old_model.resources().per_blade.poses.raw));
-            states.forget(Resource::Buffer(old_model.resources().per_blade.levels.raw));
+        if let Some((old_response, old_poses)) = &previous.2 {
+            for (resource, _) in old_response.iter().flat_map(|r| r.tracked()) {
+                states.forget(resource);
+            }
+            for buffer in old_poses.iter().flat_map(|p| p.buffers()) {
+                states.forget(Resource::Buffer(buffer));
+            }
         }
         self.graph.set_states(states);
         // The passes added from outside, the temporal pairs and the clock carry over.
@@ -207,38 +222,41 @@ impl Renderer {
         let built = self.build_graph(scene, polygon);
         // Pre-recorded command buffers name the old pipelines: record again.
         self.ring.forget_replays();
-        let (old_settings, old_animation, old_model, old_graph) = previous;
-        let (retired_model, retired_graph) = match built {
-            Ok(()) => (old_model, old_graph),
+        let (old_settings, old_animation, old_response, old_graph) = previous;
+        let (retired_response, retired_graph) = match built {
+            Ok(()) => (old_response, old_graph),
             Err(e) => {
-                // Back to the previous passes and model; the half-built ones are retired.
+                // Back to the previous passes and response; the half-built ones are retired.
                 self.settings = old_settings;
                 self.animation = old_animation;
-                let new_model = match old_model {
-                    Some(old_model) => self.model.replace(old_model),
-                    None => None,
-                };
+                let new_response = old_response.map(|(response, poses)| self.swap_response(response.zip(poses)));
                 let mut new_graph = std::mem::replace(&mut self.graph, old_graph);
                 let kept = new_graph.keep();
                 self.graph.adopt(kept);
-                self.retire(new_model, new_graph);
+                self.retire(new_response, new_graph);
                 return Err(e);
             }
         };
-        self.retire(retired_model, retired_graph);
+        self.retire(retired_response, retired_graph);
         Ok(())
     }
 
-    /// Destroy a model and a graph's passes once the frames submitted so far have finished.
-    fn retire(&mut self, model: Option<Box<dyn AnimationModel>>, graph: Graph) {
+    /// Destroy a response, its pose records and a graph's passes once the frames submitted so
+    /// far have finished.
+    fn retire(&mut self, response: Option<RetiredResponse>, graph: Graph) {
         self.ring.defer(
             &self.device,
             Box::new(move |device| {
                 // SAFETY: the frames that used them have finished (the deletion queue's rule).
                 unsafe {
                     graph.destroy(device);
-                    if let Some(model) = model {
-                        model.destroy(device);
+                    if let Some((response, poses)) = response {
+                        if let Some(response) = response {
+                            response.destroy(device);
+                        }
+                        if let Some(poses) = poses {
+                            poses.destroy(device);
+                        }
                     }
                 }
             }),
@@ -393,6 +411,14 @@ impl Renderer {
         let uniforms = self.frame_uniforms(camera, time, target.extent);
         self.scene_frames[slot].uniforms.write(0, &[uniforms]);
         self.update_wind(slot, camera, time);
+        let clock = self.animation.clock;
+        let step = ResponseStep {
+            step: clock.steps_to(f64::from(time)),
+            dt: clock.dt as f32,
+            frame: self.graph.frames_submitted(),
+            slot,
+        };
+        self.response.as_deref_mut().expect("built").step(&step);
         self.prepare_overlay(slot, target.extent)?;
         Ok(uniforms)
     }
@@ -422,8 +448,11 @@ impl Drop for Renderer {
             std::mem::take(&mut self.scene_frames).destroy(device);
             std::mem::take(&mut self.forces).destroy(device);
             std::mem::take(&mut self.cull_frames).destroy(device);
-            if let Some(model) = self.model.take() {
-                model.destroy(device);
+            if let Some(response) = self.response.take() {
+                response.destroy(device);
+            }
+            if let Some(poses) = self.poses.take() {
+                poses.destroy(device);
             }
             SceneLayouts::destroy(&self.layouts, device);
             if let Some(multisampled) = self.multisampled.take() {

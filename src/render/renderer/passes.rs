@@ -4,7 +4,7 @@ use ash::vk;
 
 use super::Renderer;
 use crate::error::Result;
-use crate::render::animation::model::{BladeInput, PassSetup};
+use crate::render::animation::response::ResponseSetup;
 use crate::render::gpu_constants as gpu;
 use crate::render::graph::Graph;
 use crate::render::msaa::MSAA_COLOR_FORMAT;
@@ -24,13 +24,13 @@ use crate::vk::{Access, Device, Guard, Resource};
 
 impl Renderer {
     /// The passes, in order: a block field's relief grid, terrain, the cull's passes, the
-    /// animation model's compute passes (before the terrain without the cull), blades (or the floor), the debug views asked for,
+    /// blade response's compute passes (before the terrain without the cull), blades (or the floor), the debug views asked for,
     /// the resolve with `--msaa`, and the overlay's passes once there is an overlay.
     pub(super) fn build_graph(&mut self, cpu_scene: &Scene, polygon: vk::PolygonMode) -> Result<()> {
         let device = &*self.device;
         let settings = &self.settings;
         let scene = self.scene.as_ref().expect("uploaded");
-        let model = self.model.as_deref().expect("built");
+        let response = self.response.as_deref().expect("built");
         let constants = self.specialization();
         let msaa = settings.msaa;
         let target = PipelineTarget {
@@ -49,8 +49,10 @@ impl Renderer {
         self.graph.import(Resource::Buffer(scene.heights.raw), &[Access::VertexShaderStorageRead]);
         self.graph.import(Resource::Buffer(scene.terrain_indices.raw), &[Access::IndexRead]);
         self.graph.import(Resource::Buffer(scene.tiles.raw), &[Access::ComputeShaderRead]);
-        let (keyframes, uploaded) = model.resources().keyframe_import();
-        self.graph.import(keyframes, &uploaded);
+        // The response's resources, as their uploads left them.
+        for (resource, uploaded) in response.tracked() {
+            self.graph.import(resource, &uploaded);
+        }
         if self.wind_passes_run() {
             // First: every blade response samples what it writes.
             let frames: Vec<_> =
@@ -90,7 +92,7 @@ impl Renderer {
         sky_clear_color(self.settings.encode_srgb && !self.settings.msaa.enabled())
     }
 
-    /// The specialization constants of every scene pipeline for the settings and the model.
+    /// The specialization constants of every scene pipeline for the settings and the response.
     fn specialization(&self) -> Specialization {
         let settings = &self.settings;
         let mut specialization = Specialization::new(
@@ -114,12 +116,14 @@ impl Renderer {
         if settings.debug_fresnel {
             specialization.flags |= crate::render::gpu_constants::FLAG_DEBUG_FRESNEL;
         }
-        if let (false, Some(model)) = (settings.floor, self.model.as_deref()) {
-            model.specialize(&mut specialization);
-            // With the cull, the drawn blades' levels are placed and lit once (`BladeLevelsPass`).
-            let placed = model.resources().per_blade.level_records > 0;
-            if settings.culling.enabled && placed && matches!(model.blade_input(), BladeInput::PoseRecords(..)) {
-                specialization.flags |= gpu::FLAG_LEVELS;
+        if let (false, Some(response), Some(poses)) = (settings.floor, self.response.as_deref(), self.poses.as_ref()) {
+            response.specialize(&mut specialization);
+            if response.blade_input().pose_records() {
+                specialization.flags |= gpu::FLAG_EVAL_BLADE;
+                // With the cull, the drawn blades' levels are placed and lit once (`BladeLevelsPass`).
+                if settings.culling.enabled && poses.level_records > 0 {
+                    specialization.flags |= gpu::FLAG_LEVELS;
+                }
             }
         }
         if settings.culling.enabled && settings.culling.solid_outline {
@@ -132,33 +136,34 @@ impl Renderer {
     }
 
     /// A block field's relief grid, terrain, the cull (depth pyramid, tiles, count, scan, emit),
-    /// the model's passes (after the cull, whose visible list they read; before the terrain
+    /// the response's passes (after the cull, whose visible list they read; before the terrain
     /// without it) and the blade pass.
     fn add_blade_passes(&mut self, target: PipelineTarget, constants: &Specialization) -> Result<()> {
         let device = &*self.device;
         let settings = &self.settings;
         let scene = self.scene.as_ref().expect("uploaded");
-        let model = self.model.as_deref().expect("built");
+        let response = self.response.as_deref().expect("built");
+        let poses = self.poses.as_ref().expect("built");
         let culled = settings.culling.enabled;
         let buckets = culled.then(|| settings.culling.buckets());
         let sets = SceneSets {
-            before: [&self.layouts.scene, &self.layouts.animation],
+            before: [&self.layouts.scene, &self.layouts.poses],
             push: crate::render::submission::push_constant_range(),
             frames: self.ring.slots(),
         };
         let wind: Vec<vk::Buffer> = self.forces.iter().map(|f| f.corners.raw).collect();
-        let setup = PassSetup { layout: target.layout, sets, constants, scene, buckets, wind: &wind };
+        let setup = ResponseSetup { sets, constants, scene, poses: (poses.set, poses.poses.raw), buckets, wind: &wind };
         // Never recorded until the graph holds them.
-        let mut model_passes = Guard::new(device, model.passes(device, &setup)?);
+        let mut response_passes = Guard::new(device, response.passes(device, &setup)?);
         if constants.flags & gpu::FLAG_LEVELS != 0 {
-            model_passes.push(Box::new(BladeLevelsPass::new(device, &setup, model.resources())?));
+            response_passes.push(Box::new(BladeLevelsPass::new(device, &setup, poses)?));
         }
-        let model_passes = model_passes.take();
-        let (before, after) = if culled { (Vec::new(), model_passes) } else { (model_passes, Vec::new()) };
+        let response_passes = response_passes.take();
+        let (before, after) = if culled { (Vec::new(), response_passes) } else { (response_passes, Vec::new()) };
         before.into_iter().for_each(|pass| self.graph.add_boxed(pass));
         let sky = self.sky();
         let (graph, slots, set_layout) = (&mut self.graph, self.ring.slots(), self.layouts.scene.raw);
-        // The model's passes are not in the graph yet: the graph's teardown would miss them.
+        // The response's passes are not in the graph yet: the graph's teardown would miss them.
         let after = Guard::new(device, after);
         (|| -> Result<()> {
             add_terrain(graph, device, (target, set_layout), constants, scene, sky)?;
@@ -180,8 +185,9 @@ impl Renderer {
             blades_per_instance: settings.blades_per_instance,
             submission: settings.submission,
             frames_in_flight: settings.frames_in_flight,
-            input: model.blade_input(),
-            animation: model.resources().set,
+            input: response.blade_input(),
+            poses: (poses.set, poses.buffers()),
+            sets,
             buckets: culled.then(|| settings.culling.buckets()),
             wind: &wind,
         };

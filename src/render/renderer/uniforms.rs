@@ -1,13 +1,12 @@
 //! The frame's uniforms (`FrameUniforms`) as the renderer fills them for a camera, a time and a
 //! target's extent: the view, the light and the fog, the cull's and the block field's parts, and
-//! the animation model's.
+//! the wind field's counts.
 
 use ash::vk;
 use glam::{UVec4, Vec4};
 
 use super::Renderer;
 use crate::render::animation;
-use crate::render::animation::model::BladeInput;
 use crate::render::field_gpu::{self, Origin};
 use crate::render::frame::{look, FrameUniforms};
 use crate::scene::camera::near_plane;
@@ -26,10 +25,8 @@ fn depth_steps(format: vk::Format) -> Option<u32> {
 impl Renderer {
     /// Entries of the cull's visible list a frame may fill (`scene_gpu::visible_limit`).
     pub(super) fn visible_limit(&self) -> u32 {
-        let per_blade = match self.model.as_deref() {
-            Some(m) if matches!(m.blade_input(), BladeInput::PoseRecords(..)) => {
-                Some(m.resources().per_blade.level_records)
-            }
+        let per_blade = match (self.response.as_deref(), self.poses.as_ref()) {
+            (Some(r), Some(poses)) if r.blade_input().pose_records() => Some(poses.level_records),
             _ => None,
         };
         crate::render::scene_gpu::visible_limit(&self.device, self.scene_gpu(), self.settings.segments, per_blade)
@@ -53,8 +50,7 @@ impl Renderer {
             sky_color: look::SKY.extend(self.settings.fog_density),
             terrain: Vec4::new(scene.terrain_origin, scene.terrain_cell_size, 0.0, 0.0),
             params: UVec4::new(self.settings.segments, scene.blade_count, scene.terrain_cells, 0),
-            keyframes: UVec4::new(0, 0, sources, scene.grid.corners_per_side()),
-            keyframe_shape: UVec4::new(0, colliders, 0, 0),
+            wind_counts: UVec4::new(sources, colliders, scene.grid.corners_per_side(), 0),
             cull_lod: UVec4::new(0, 0, 0, self.visible_limit()),
             ..bytemuck::Zeroable::zeroed()
         };
@@ -68,7 +64,6 @@ impl Renderer {
             // made for: the rings stop where the buffers do.
             uniforms.cull_tiles.y = uniforms.cull_tiles.y.min(scene.slot_capacity);
         }
-        self.model.as_deref().expect("built").fill_uniforms(&mut uniforms);
         uniforms
     }
 

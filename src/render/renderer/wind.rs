@@ -2,7 +2,7 @@
 //! the field's passes run.
 
 use super::Renderer;
-use crate::render::animation;
+use crate::render::animation::BladeInput;
 use crate::render::field_gpu::Origin;
 use crate::render::wind::WindInput;
 use crate::scene::Camera;
@@ -27,12 +27,11 @@ impl Renderer {
     }
 
     /// Whether the wind field's passes run: with the cull, when something samples the wind (a
-    /// model that is not static, or the bounds view's corner colours). Brute force keeps the
+    /// response that poses blades, or the bounds view's corner colours). Brute force keeps the
     /// thesis' CPU corners.
     pub(super) fn wind_passes_run(&self) -> bool {
         let settings = &self.settings;
-        settings.culling.enabled
-            && !settings.floor
-            && (self.animation.mode != animation::Mode::Static || settings.debug_bounds)
+        let posed = self.response.as_deref().is_some_and(|r| !matches!(r.blade_input(), BladeInput::Neutral));
+        settings.culling.enabled && !settings.floor && (posed || settings.debug_bounds)
     }
 }

@@ -20,8 +20,8 @@ pub use super::params::{Params, MAX_CALM_AREAS};
 use super::{WindField, WindInput, WindSetup};
 use crate::error::Result;
 use crate::render::animation;
-use crate::render::animation::model::FrameForces;
 use crate::render::graph::Pass;
+use crate::render::wind::FrameForces;
 use crate::vk::Device;
 use crate::wind::Wind;
 

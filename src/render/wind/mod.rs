@@ -14,15 +14,16 @@
 
 pub mod analytic;
 mod corners_pass;
+mod frame_forces;
 mod params;
 
 pub use analytic::AnalyticWind;
+pub use frame_forces::FrameForces;
 
 use ash::vk;
 use glam::DVec2;
 
 use crate::error::Result;
-use crate::render::animation::model::FrameForces;
 use crate::render::graph::Pass;
 use crate::render::specialization::Specialization;
 use crate::scene::clusters::ClusterGrid;

@@ -12,7 +12,7 @@ layout(set = 0, binding = 0, std140) uniform Frame { FrameUniforms frame; };
 layout(set = 0, binding = 1, std430) writeonly buffer Fields { uint fields[]; };
 layout(constant_id = SPEC(KEYFRAME_UVEC4S)) const uint KEYFRAME_UVEC4S = 4096u;
 
-const uint FRAME_WORDS = 140u;     // 560 bytes
+const uint FRAME_WORDS = 136u;     // 544 bytes
 const uint SPEC_WORDS = 15u;       // SPEC_* ids 0..=14
 
 void put_vec4(inout uint o, vec4 v) {
@@ -39,8 +39,7 @@ void main() {
     put_vec4(o, frame.sky_color);
     put_vec4(o, frame.terrain);
     put_uvec4(o, frame.params);
-    put_uvec4(o, frame.keyframes);
-    put_uvec4(o, frame.keyframe_shape);
+    put_uvec4(o, frame.wind_counts);
     for (int c = 0; c < 4; c++) {
         put_vec4(o, frame.cull_view_proj[c]);
     }
@@ -81,5 +80,5 @@ void main() {
     fields[s + 2u] = POSE_WORDS;
     fields[s + 3u] = FLAG_DEBUG_FORCE | FLAG_EVAL_BLADE | FLAG_CLUSTER_PUSH;
     fields[s + 4u] = BINDING_POSES;
-    fields[s + 5u] = SET_ANIMATION;
+    fields[s + 5u] = SET_POSES;
 }

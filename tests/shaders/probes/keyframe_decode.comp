@@ -7,17 +7,16 @@
 layout(local_size_x = 64) in;
 
 layout(set = 0, binding = 0, std140) uniform Frame { FrameUniforms frame; };
-layout(set = 0, binding = 1) uniform sampler2D keyframe_texture;
-layout(constant_id = SPEC(KEYFRAME_UVEC4S)) const uint KEYFRAME_UVEC4S = 4096u;
-layout(set = 0, binding = 2, std140) uniform KeyframeWords { uvec4 keyframe_words[KEYFRAME_UVEC4S]; };
-layout(set = 0, binding = 3, std430) writeonly buffer Decoded { vec4 decoded[]; };
-
+// The keyframe response's resources (texture, uniform array, shape) at bindings 1-3 of set 0.
+#define KEYFRAME_SET 0
+#define KEYFRAME_BINDING 1
 #include "animation/keyframes.glsl"
+layout(set = 0, binding = 4, std430) writeonly buffer Decoded { vec4 decoded[]; };
 
 void main() {
     uint i = gl_GlobalInvocationID.x;
     uint segments = frame.params.x;
-    uint count = frame.keyframes.x * frame.keyframes.y * segments;
+    uint count = keyframe_shape.x * keyframe_shape.y * segments;
     if (i >= count) {
         return;
     }

@@ -4,8 +4,8 @@
 // force (fx, fz) is already in the blade's frame and divided by its stiffness, as
 // `kf_select_blade` (blade_select.glsl) hands it to `kf_select`; every chain level is then blended
 // by `kf_level`, as `deformed` calls it for blade.vert and blade_pose.comp (MODEL_SEGMENTS
-// levels, the vertex representation). The keyframe set, the frame uniforms and the
-// specialization constants are the renderer's; the test compares the levels with
+// levels, the vertex representation). The keyframe resources and the specialization
+// constants are the renderer's response's; the test compares the levels with
 // `keyframes::table::KeyframeTable::pose_for`, the CPU code the pose-error report measures.
 #include "common/common.glsl"
 
@@ -16,11 +16,10 @@ layout(set = SET_SCENE, binding = 0, std140) uniform Frame { FrameUniforms frame
 layout(set = SET_SCENE, binding = 1, std430) readonly buffer Forces { vec2 forces[]; };
 // Per force, MODEL_SEGMENTS + 1 levels: root-relative point of the unit blade (xyz), twist (w).
 layout(set = SET_SCENE, binding = 2, std430) writeonly buffer Levels { vec4 levels[]; };
-// Set `SET_ANIMATION`, declared as bindings.glsl declares it (its scene bindings are not needed).
-layout(set = SET_ANIMATION, binding = BINDING_KEYFRAMES) uniform sampler2D keyframe_texture;
-layout(constant_id = SPEC(KEYFRAME_UVEC4S)) const uint KEYFRAME_UVEC4S = 4096u;
-layout(set = SET_ANIMATION, binding = BINDING_KEYFRAME_WORDS, std140) uniform KeyframeWords { uvec4 keyframe_words[KEYFRAME_UVEC4S]; };
-
+// Set 1: the keyframe response's own resources, as keyframes.glsl declares them, given by the
+// response by name (`render::animation::keyframed::KeyframeResponse::resources`).
+#define KEYFRAME_SET 1
+#define KEYFRAME_BINDING 0
 #include "animation/keyframes.glsl"
 
 void main() {

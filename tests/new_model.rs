@@ -1,0 +1,383 @@
+//! Proof that a new model is only new files (issue #29 item 6): this file and its GLSL
+//! (`tests/shaders/new_model/`) define a wind field — a uniform 3-D wind, written at every
+//! cluster corner by a compute pass of its own — and a blade response that writes the renderer's
+//! pose records from its own compute shader, bending each blade along the wind it samples through
+//! `wind/wind_field.glsl`. Nothing in the library names either: `Renderer::with_models` takes
+//! them, the renderer imports the response's resources (its uniform block) and the graph orders
+//! the passes from their declarations. A block field and a stored field render through the cull
+//! and LOD with them, validation-clean (synchronization validation too), and the blades lean the
+//! way the wind blows: the blades' coverage moves towards the side of the picture the wind blows
+//! to, and away from it when the wind turns round.
+
+mod support;
+
+use std::rc::Rc;
+
+use ash::vk;
+use glam::{Vec3, Vec4};
+use meadow::app::{with_device, GpuOptions};
+use meadow::render::animation::response::{BladeInput, BladeResponse, ResponseSetup};
+use meadow::render::culling::Culling;
+use meadow::render::graph::{Declaration, Pass, PassContext};
+use meadow::render::recording::bucket_dispatch::BucketDispatch;
+use meadow::render::recording::{self, PassSet, PassSetDesc};
+use meadow::render::specialization::Specialization;
+use meadow::render::wind::{FrameForces, WindField, WindInput, WindSetup};
+use meadow::render::{Models, OffscreenTarget, RenderSettings, Renderer};
+use meadow::scene::field::FieldSpec;
+use meadow::scene::{Camera, Scene};
+use meadow::vk::descriptor::Resource as Descriptor;
+use meadow::vk::profile::Shader;
+use meadow::vk::upload::UploadBatch;
+use meadow::vk::{pipeline, Access, Buffer, Device, DeviceSelector, Resource};
+
+/// The models' shaders, compiled by build.rs from `tests/shaders/new_model/` in both profiles
+/// (`tests/` shaders are not part of the library).
+const UNIFORM_WIND_COMP: Shader = meadow::spirv_shader!("tests/new_model/uniform_wind.comp");
+const LEAN_COMP: Shader = meadow::spirv_shader!("tests/new_model/lean.comp");
+
+const EXTENT: vk::Extent2D = vk::Extent2D { width: 320, height: 180 };
+
+/// Tip offset in blade heights per m/s of wind (`Lean.x` in lean.comp), and the most.
+const LEAN_PER_MS: f32 = 0.08;
+const MOST_LEAN: f32 = 0.6;
+
+/// The uniform wind: one velocity everywhere, every step.
+struct UniformWind {
+    velocity: Vec3,
+}
+
+impl WindField for UniformWind {
+    fn name(&self) -> &'static str {
+        "uniform wind"
+    }
+
+    /// Nothing on the CPU: the pass writes the corners, and there are no sources or colliders.
+    fn update(&self, _: &mut FrameForces, _: &WindInput) {}
+
+    fn passes(&self, device: &Device, setup: &WindSetup) -> meadow::Result<Vec<Box<dyn Pass>>> {
+        Ok(vec![Box::new(UniformWindPass::new(device, setup, self.velocity)?)])
+    }
+}
+
+/// The pass that writes the uniform wind at every corner of the frame.
+struct UniformWindPass {
+    set: PassSet,
+    pipeline: vk::Pipeline,
+    /// Each frame's corners.
+    corners: Vec<vk::Buffer>,
+    count: u32,
+    velocity: Vec3,
+}
+
+impl UniformWindPass {
+    fn new(device: &Device, setup: &WindSetup, velocity: Vec3) -> meadow::Result<Self> {
+        let spirv = UNIFORM_WIND_COMP.code(device.profile);
+        let push = vk::PushConstantRange { stage_flags: vk::ShaderStageFlags::COMPUTE, offset: 0, size: 20 };
+        let desc = PassSetDesc {
+            name: "uniform wind",
+            shaders: &[("uniform_wind.comp", spirv)],
+            before: &[],
+            push: &[push],
+            frames: setup.frames.len(),
+        };
+        let set = PassSet::new(device, &desc, |slot| vec![("Corners", Descriptor::Buffer(setup.frames[slot].0))])?;
+        let pipeline = pipeline::compute(device, "uniform wind", spirv, set.layout, &[])?;
+        let corners = setup.frames.iter().map(|(corners, _)| corners.buffer).collect();
+        Ok(Self { set, pipeline, corners, count: setup.corners, velocity })
+    }
+}
+
+impl Pass for UniformWindPass {
+    fn name(&self) -> &'static str {
+        "uniform wind"
+    }
+
+    fn declare(&self, ctx: &PassContext) -> Option<Declaration> {
+        Some(Declaration::compute().buffer(self.corners[ctx.slot], Access::ComputeShaderWrite))
+    }
+
+    fn record(&self, ctx: &PassContext, cmd: vk::CommandBuffer) -> meadow::Result<()> {
+        let (device, bind) = (ctx.device, vk::PipelineBindPoint::COMPUTE);
+        self.set.bind(device, cmd, bind, ctx.slot);
+        let mut push = [0u32; 5];
+        push[..4].copy_from_slice(bytemuck::cast_slice(&self.velocity.extend(0.0).to_array()));
+        push[4] = self.count;
+        // SAFETY: cmd is recording outside a rendering instance; the set is bound.
+        unsafe {
+            device.raw.cmd_bind_pipeline(cmd, bind, self.pipeline);
+            device.raw.cmd_push_constants(
+                cmd,
+                self.set.layout,
+                vk::ShaderStageFlags::COMPUTE,
+                0,
+                bytemuck::cast_slice(&push),
+            );
+            device.raw.cmd_dispatch(cmd, self.count.div_ceil(64), 1, 1);
+        }
+        Ok(())
+    }
+
+    fn replay_key(&self, _: &PassContext) -> Option<u64> {
+        Some(0)
+    }
+
+    unsafe fn destroy(self: Box<Self>, device: &Device) {
+        // SAFETY: per the contract.
+        unsafe {
+            meadow::vk::live::destroyed(self.pipeline);
+            device.raw.destroy_pipeline(self.pipeline, None);
+            self.set.destroy(device);
+        }
+    }
+}
+
+/// The lean response: its uniform block (`Lean`), uploaded once.
+struct LeanResponse {
+    lean: Buffer,
+}
+
+impl LeanResponse {
+    fn new(device: &Device) -> meadow::Result<Self> {
+        let mut batch = UploadBatch::new(device);
+        let block = [LEAN_PER_MS, MOST_LEAN, 0.0, 0.0];
+        let usage = vk::BufferUsageFlags::UNIFORM_BUFFER;
+        let lean = batch.buffer("lean", &block, usage, &[Access::ComputeShaderUniformRead])?;
+        batch.submit()?;
+        Ok(Self { lean })
+    }
+}
+
+impl BladeResponse for LeanResponse {
+    fn name(&self) -> &'static str {
+        "lean"
+    }
+
+    fn specialize(&self, _: &mut Specialization) {}
+
+    fn blade_input(&self) -> BladeInput {
+        BladeInput::PoseRecords
+    }
+
+    fn tracked(&self) -> Vec<(Resource, Vec<Access>)> {
+        vec![(Resource::Buffer(self.lean.raw), vec![Access::ComputeShaderUniformRead])]
+    }
+
+    fn passes(&self, device: &Device, setup: &ResponseSetup) -> meadow::Result<Vec<Box<dyn Pass>>> {
+        Ok(vec![Box::new(LeanPass::new(device, setup, &self.lean)?)])
+    }
+
+    fn tip_offset(&self, wind: Vec3) -> Vec3 {
+        let offset = Vec3::new(wind.x, 0.0, wind.z) * LEAN_PER_MS;
+        offset.clamp_length_max(MOST_LEAN)
+    }
+
+    unsafe fn destroy(self: Box<Self>, device: &Device) {
+        // SAFETY: per the contract.
+        unsafe { self.lean.destroy(device) };
+    }
+}
+
+/// How the lean pass dispatches: over every stored blade, or the cull's buckets.
+enum Dispatch {
+    Stored(vk::Pipeline, u32),
+    Buckets(BucketDispatch),
+}
+
+/// The lean response's pass: lean.comp over the drawn blades, into the pose records.
+struct LeanPass {
+    set: PassSet,
+    dispatch: Dispatch,
+    poses: (vk::DescriptorSet, vk::Buffer),
+    lean: vk::Buffer,
+    /// The stored blades, their clusters and (with the cull) the visible list.
+    reads: [vk::Buffer; 3],
+    wind: Vec<vk::Buffer>,
+}
+
+impl LeanPass {
+    fn new(device: &Device, setup: &ResponseSetup, lean: &Buffer) -> meadow::Result<Self> {
+        let scene = setup.scene;
+        let spirv = LEAN_COMP.code(device.profile);
+        let shaders = [("lean.comp", spirv)];
+        let own = |_| {
+            vec![
+                ("Draws", Descriptor::Buffer(scene.draws.descriptor())),
+                ("Lean", Descriptor::Buffer(lean.descriptor())),
+            ]
+        };
+        let set = PassSet::new(device, &setup.sets.desc("lean", &shaders), own)?;
+        let dispatch = match setup.buckets {
+            Some(buckets) => Dispatch::Buckets(BucketDispatch::new(
+                device,
+                "lean",
+                spirv,
+                set.layout,
+                (setup.constants, buckets),
+                scene.draws.raw,
+            )?),
+            None => Dispatch::Stored(
+                pipeline::compute(device, "lean", spirv, set.layout, &setup.constants.named())?,
+                scene.blade_count,
+            ),
+        };
+        Ok(Self {
+            set,
+            dispatch,
+            poses: setup.poses,
+            lean: lean.raw,
+            reads: [scene.blades.raw, scene.clusters.raw, scene.visible.raw],
+            wind: setup.wind.to_vec(),
+        })
+    }
+}
+
+impl Pass for LeanPass {
+    fn name(&self) -> &'static str {
+        "lean"
+    }
+
+    fn declare(&self, ctx: &PassContext) -> Option<Declaration> {
+        let fetch = ctx.device.profile.compute_fetch();
+        let declaration = Declaration::compute()
+            .buffer(self.poses.1, Access::ComputeShaderWrite)
+            .buffer(self.reads[0], fetch)
+            .buffer(self.reads[1], Access::ComputeShaderRead)
+            .buffer(self.wind[ctx.slot], Access::ComputeShaderRead)
+            .buffer(self.lean, Access::ComputeShaderUniformRead);
+        Some(match &self.dispatch {
+            Dispatch::Buckets(buckets) => buckets.declare(declaration.buffer(self.reads[2], fetch)),
+            Dispatch::Stored(..) => declaration,
+        })
+    }
+
+    fn record(&self, ctx: &PassContext, cmd: vk::CommandBuffer) -> meadow::Result<()> {
+        let device = ctx.device;
+        self.set.bind(device, cmd, vk::PipelineBindPoint::COMPUTE, ctx.slot);
+        match &self.dispatch {
+            Dispatch::Stored(pipeline, blades) => {
+                recording::bind_blade_compute(ctx, cmd, (self.set.layout, *pipeline), self.poses.0);
+                // SAFETY: cmd is recording outside a rendering instance; the sets and pipeline are bound.
+                unsafe { device.raw.cmd_dispatch(cmd, blades.div_ceil(64), 1, 1) };
+            }
+            Dispatch::Buckets(buckets) => {
+                recording::bind_blade_sets(ctx, cmd, self.set.layout, self.poses.0);
+                buckets.record(device, cmd);
+            }
+        }
+        Ok(())
+    }
+
+    fn replay_key(&self, _: &PassContext) -> Option<u64> {
+        Some(0)
+    }
+
+    unsafe fn destroy(self: Box<Self>, device: &Device) {
+        // SAFETY: per the contract.
+        unsafe {
+            self.set.destroy(device);
+            match self.dispatch {
+                Dispatch::Stored(pipeline, _) => {
+                    meadow::vk::live::destroyed(pipeline);
+                    device.raw.destroy_pipeline(pipeline, None);
+                }
+                Dispatch::Buckets(buckets) => buckets.destroy(device),
+            }
+        }
+    }
+}
+
+/// The pictures (RGBA) of `scene` from `camera` under each wind, with the new models, through
+/// the cull and LOD, and the names of the passes of the last.
+fn render(scene: &Scene, camera: &Camera, winds: &[Vec3]) -> (Vec<Vec<u8>>, Vec<&'static str>) {
+    let options = GpuOptions { validation: true, device: DeviceSelector::parse(support::DEVICE) };
+    let (result, messages) = with_device(&options, false, |device| {
+        let mut target = OffscreenTarget::new(device, EXTENT)?;
+        let mut pictures = Vec::new();
+        let mut passes = Vec::new();
+        for &velocity in winds {
+            let models = Models {
+                wind: Box::new(UniformWind { velocity }),
+                response: Rc::new(|device: &Device, _: &_| Ok(Box::new(LeanResponse::new(device)?) as Box<_>)),
+            };
+            let settings = RenderSettings::offscreen(4, Culling::default_for(4));
+            let mut renderer = Renderer::with_models(device.clone(), scene, settings, Default::default(), models)?;
+            // Two frames: the second one's barriers follow the first one's accesses.
+            for _ in 0..2 {
+                renderer.render_offscreen(&mut target, camera, 0.0)?;
+            }
+            pictures.push(target.pixels().to_vec());
+            passes = renderer.pass_names();
+        }
+        // SAFETY: render_offscreen waited for its frame; the renderers are gone.
+        unsafe { target.destroy(device) };
+        Ok((pictures, passes))
+    });
+    assert_eq!(messages, Some(0), "validation messages");
+    result.expect("rendered")
+}
+
+/// Where the picture's blades are, across: the mean column of the pixels that differ from the
+/// calm picture's, weighted by how much greener than the calm picture they are (a blade moved
+/// onto the pixel) minus how much less green (a blade moved off it). Positive: the blades'
+/// coverage moved right.
+fn coverage_shift(picture: &[u8], calm: &[u8]) -> f64 {
+    let width = EXTENT.width as usize;
+    let (mut moment, mut mass) = (0.0f64, 0.0f64);
+    for (i, (p, c)) in picture.chunks_exact(4).zip(calm.chunks_exact(4)).enumerate() {
+        let green = |px: &[u8]| f64::from(px[1]) - 0.5 * (f64::from(px[0]) + f64::from(px[2]));
+        let gained = green(p) - green(c);
+        let x = (i % width) as f64 - 0.5 * width as f64;
+        moment += gained * x;
+        mass += gained.abs();
+    }
+    if mass == 0.0 {
+        0.0
+    } else {
+        moment / mass
+    }
+}
+
+/// Which way, across the picture, world +x runs from `camera`: +1 right, -1 left.
+fn screen_sign_of_x(camera: &Camera) -> f64 {
+    let vp = camera.view_projection(EXTENT.width as f32 / EXTENT.height as f32);
+    let ahead = camera.position + camera.forward() * 5.0;
+    let ndc = |p: Vec3| {
+        let c = vp * Vec4::new(p.x, p.y, p.z, 1.0);
+        c.x / c.w
+    };
+    (ndc(ahead + Vec3::X) - ndc(ahead)).signum().into()
+}
+
+/// Both fields lean the way the wind blows.
+fn assert_leans(scene: &Scene, camera: &Camera) {
+    let wind = 5.0;
+    let (pictures, passes) = render(scene, camera, &[Vec3::ZERO, Vec3::X * wind, -Vec3::X * wind]);
+    for name in ["uniform wind", "lean", "blade levels", "blades"] {
+        assert!(passes.contains(&name), "{name} in {passes:?}");
+    }
+    let calm = &pictures[0];
+    let sign = screen_sign_of_x(camera);
+    let with = coverage_shift(&pictures[1], calm) * sign;
+    let against = coverage_shift(&pictures[2], calm) * sign;
+    // The wind along +x moves the blades' coverage towards +x on the screen; along -x, away.
+    assert!(with > 1.0, "wind +x: coverage moved {with:.2} px along screen +x");
+    assert!(against < -1.0, "wind -x: coverage moved {against:.2} px along screen +x");
+    // (Measured: +6.6 / -3.4 px on the block field, +5.3 / -1.5 px on the stored field; a
+    // response that ignored the wind, or a wind field whose pass did not run, moves nothing.)
+}
+
+#[test]
+fn a_block_field_leans_the_way_a_uniform_wind_blows() {
+    let scene = Scene::blocks(FieldSpec { size: None, density: 400.0 }, 1);
+    let relief = scene.field.as_ref().expect("a field").relief.height(1.5, 2.5) as f32;
+    let camera = Camera { position: Vec3::new(1.5, relief + 1.2, 2.5), yaw_deg: 0.0, pitch_deg: -20.0 };
+    assert_leans(&scene, &camera);
+}
+
+#[test]
+fn a_stored_field_leans_the_way_a_uniform_wind_blows() {
+    let scene = Scene::generate(20_000, 4);
+    let camera = Camera::default_for(&scene.terrain);
+    assert_leans(&scene, &camera);
+}
