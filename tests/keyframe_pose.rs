@@ -23,7 +23,7 @@ use meadow::keyframes::pose::{self, Pose};
 use meadow::keyframes::pose_error::{self, ErrorStats, PoseErrorReport, SMOOTHINGS};
 use meadow::keyframes::{BladeModel, KeyframeLayout, KeyframeTable, Smoothing};
 use meadow::render::animation::keyframed::KeyframeResponse;
-use meadow::render::animation::response::{BladeResponse, ResponseContext};
+use meadow::render::animation::response::BladeResponse;
 use meadow::render::animation::{AnimationSettings, Eval, Mode};
 use meadow::render::specialization::Specialization;
 use meadow::vk::descriptor::{Resource, SetLayout};
@@ -112,8 +112,7 @@ fn settings(smoothing: Smoothing) -> AnimationSettings {
 /// 0..=SEGMENTS of each force, as poses of the unit blade.
 fn poses_on_gpu(device: &Arc<Device>, smoothing: Smoothing, forces: &[(f32, f32)]) -> meadow::Result<Vec<Pose>> {
     // The renderer's keyframe response, its resources given by name to the probe's set 1.
-    let context = ResponseContext { animation: &settings(smoothing), segments: SEGMENTS, culled: false };
-    let model = KeyframeResponse::new(device, &context)?;
+    let model = KeyframeResponse::new(device, &settings(smoothing), SEGMENTS)?;
     // As `Renderer::specialization`: the blade geometry, then the response's constants.
     let mut specialization = Specialization::new(false, SEGMENTS, 1, false, true);
     model.specialize(&mut specialization);
@@ -267,8 +266,7 @@ fn the_keyframe_responses_tip_offset_is_its_poses_tip() {
     let options = GpuOptions { validation: true, device: DeviceSelector::parse("llvmpipe") };
     let (result, messages) = with_device(&options, false, |device| {
         let animation = settings(Smoothing::Nearest);
-        let context = ResponseContext { animation: &animation, segments: SEGMENTS, culled: false };
-        let response = KeyframeResponse::new(device, &context)?;
+        let response = KeyframeResponse::new(device, &animation, SEGMENTS)?;
         let offsets: Vec<Vec3> =
             [0.0, 2.0, 6.0, -6.0].iter().map(|&w| response.tip_offset(Vec3::new(w, 0.0, 0.0))).collect();
         let across = response.tip_offset(Vec3::new(0.0, 0.0, 6.0));

@@ -13,7 +13,7 @@ use glam::Vec3;
 use crate::error::Result;
 use crate::keyframes::{KeyframeLayout, KeyframeTable, Representation};
 use crate::render::animation::pose_pass::BladePosePass;
-use crate::render::animation::response::{BladeInput, BladeResponse, ResponseContext, ResponseSetup};
+use crate::render::animation::response::{BladeInput, BladeResponse, ResponseSetup};
 use crate::render::animation::{AnimationSettings, Eval, KeyframeTexture, KeyframeUniforms, Mode};
 use crate::render::gpu_constants as gpu;
 use crate::render::graph::Pass;
@@ -42,16 +42,15 @@ pub struct KeyframeResponse {
 }
 
 impl KeyframeResponse {
-    /// Generate the table for `context.segments` and upload it both ways, with its shape.
-    pub fn new(device: &Device, context: &ResponseContext) -> Result<Self> {
-        let settings = context.animation;
+    /// Generate the table of `settings` for `segments` and upload it both ways, with its shape.
+    pub fn new(device: &Device, settings: &AnimationSettings, segments: u32) -> Result<Self> {
         let mut batch = UploadBatch::new(device);
-        let (keyframes, table) = KeyframeTexture::new(&mut batch, context.segments, settings)?;
+        let (keyframes, table) = KeyframeTexture::new(&mut batch, segments, settings)?;
         let keyframes = Guard::new(device, keyframes);
         let words = Guard::new(device, KeyframeUniforms::new(&mut batch, &table, settings.packing)?);
         let layout: KeyframeLayout = keyframes.layout;
         let records = match settings.representation {
-            Representation::Vertex => context.segments,
+            Representation::Vertex => segments,
             Representation::Curve => 3,
         };
         let usage = vk::BufferUsageFlags::UNIFORM_BUFFER;

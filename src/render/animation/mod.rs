@@ -6,6 +6,7 @@
 //! blade (`keyframed`, thesis ch. 3–4), with their GPU tables (`keyframe_gpu`) and the
 //! per-blade pose pass (`pose_pass`), writing the renderer's pose records (`poses`).
 
+pub mod blade_state;
 pub mod clock;
 pub mod keyframe_gpu;
 pub mod keyframed;
@@ -34,7 +35,9 @@ pub fn build_response(
 ) -> crate::error::Result<Box<dyn BladeResponse>> {
     Ok(match context.animation.mode {
         Mode::Static => Box::new(still::StaticResponse),
-        Mode::Texture | Mode::Uniform => Box::new(keyframed::KeyframeResponse::new(device, context)?),
+        Mode::Texture | Mode::Uniform => {
+            Box::new(keyframed::KeyframeResponse::new(device, context.animation, context.segments)?)
+        }
     })
 }
 

@@ -133,6 +133,9 @@ pub struct ResponseContext<'a> {
     pub segments: u32,
     /// Whether the cull runs (a per-blade response then covers only the drawn blades).
     pub culled: bool,
+    /// The scene on the GPU (a stateful response sizes its store by it,
+    /// `blade_state::BladeStateStore`).
+    pub scene: &'a SceneGpu,
 }
 
 /// Builds a blade response: the library's for the CLI's modes is `animation::build_response`.

@@ -43,7 +43,7 @@ impl Renderer {
     ) -> Result<(Box<dyn BladeResponse>, PoseRecords)> {
         let (device, scene) = (&*self.device, self.scene_gpu());
         let culled = settings.culling.enabled;
-        let context = ResponseContext { animation, segments: settings.segments, culled };
+        let context = ResponseContext { animation, segments: settings.segments, culled, scene };
         let response = (self.response_builder)(device, &context)?;
         // Destroyed if the records cannot be made: nothing has used it.
         let response = crate::vk::Guard::new(device, response);

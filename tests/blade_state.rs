@@ -1,0 +1,546 @@
+//! State that lasts (issue #29 item 5), with a stateful response defined here
+//! (`tests/shaders/blade_state/spring.comp`: each blade's tip is a damped spring pulled towards
+//! the offset the wind asks for) on the library's blade-state store
+//! (`render::animation::blade_state`). Through the cull, validation-clean:
+//!
+//! - one frame of k steps leaves the same state, to the bit, as k frames of one step, and the
+//!   state is the spring's CPU reference of those steps;
+//! - a blade inside the store's radius keeps bit-identical state across camera moves that scroll
+//!   the store, against a run without the moves;
+//! - one that leaves the radius and comes back, and one culled for a frame and drawn again,
+//!   restart at the equilibrium under the wind (the documented policy: reset), where the blades
+//!   of the run without the detour are still swinging;
+//! - a stored field keeps state for its blades by index in the same way.
+
+mod support;
+
+use std::cell::{Cell, RefCell};
+use std::rc::Rc;
+
+use ash::vk;
+use glam::{Vec2, Vec3};
+use meadow::app::{with_device, GpuOptions};
+use meadow::render::animation::blade_state::{BladeStateStore, StepSpan, StoreShape, HEADER_WORDS};
+use meadow::render::animation::response::{BladeInput, BladeResponse, ResponseContext, ResponseSetup, ResponseStep};
+use meadow::render::culling::Culling;
+use meadow::render::graph::{Declaration, Pass, PassContext, PassUniforms};
+use meadow::render::recording::bucket_dispatch::BucketDispatch;
+use meadow::render::recording::{self, PassSet, PassSetDesc};
+use meadow::render::specialization::Specialization;
+use meadow::render::wind::{FrameForces, WindField, WindInput, WindSetup};
+use meadow::render::{Models, OffscreenTarget, RenderSettings, Renderer};
+use meadow::scene::field::{FieldSpec, BLOCK_SIZE};
+use meadow::scene::{Camera, Scene};
+use meadow::vk::descriptor::Resource as Descriptor;
+use meadow::vk::profile::Shader;
+use meadow::vk::{pipeline, Access, Destroy, Device, DeviceSelector, Resource};
+
+const WIND_COMP: Shader = meadow::spirv_shader!("tests/new_model/uniform_wind.comp");
+const SPRING_COMP: Shader = meadow::spirv_shader!("tests/blade_state/spring.comp");
+
+const EXTENT: vk::Extent2D = vk::Extent2D { width: 160, height: 90 };
+/// The spring's state: offset x, z and velocity x, z (f32 bits).
+const WORDS: u32 = 4;
+/// The block field's store: blocks within 2 of the camera's.
+const RADIUS: u32 = 2;
+/// spring.comp's constants.
+const GAIN: f32 = 0.08;
+const K: f32 = 40.0;
+const C: f32 = 3.0;
+const DT: f32 = 1.0 / 60.0;
+
+/// A uniform wind whose velocity the test changes between frames.
+struct SteadyWind(Rc<Cell<Vec3>>);
+
+impl WindField for SteadyWind {
+    fn name(&self) -> &'static str {
+        "steady wind"
+    }
+
+    fn update(&self, _: &mut FrameForces, _: &WindInput) {}
+
+    fn passes(&self, device: &Device, setup: &WindSetup) -> meadow::Result<Vec<Box<dyn Pass>>> {
+        let spirv = WIND_COMP.code(device.profile);
+        let push = vk::PushConstantRange { stage_flags: vk::ShaderStageFlags::COMPUTE, offset: 0, size: 20 };
+        let frames = setup.frames.len();
+        let desc = PassSetDesc { name: "steady wind", shaders: &[("wind", spirv)], before: &[], push: &[push], frames };
+        let set = PassSet::new(device, &desc, |slot| vec![("Corners", Descriptor::Buffer(setup.frames[slot].0))])?;
+        let pipeline = pipeline::compute(device, "steady wind", spirv, set.layout, &[])?;
+        let corners = setup.frames.iter().map(|(c, _)| c.buffer).collect();
+        Ok(vec![Box::new(WindPass { set, pipeline, corners, count: setup.corners, velocity: self.0.clone() })])
+    }
+}
+
+struct WindPass {
+    set: PassSet,
+    pipeline: vk::Pipeline,
+    corners: Vec<vk::Buffer>,
+    count: u32,
+    velocity: Rc<Cell<Vec3>>,
+}
+
+impl Pass for WindPass {
+    fn name(&self) -> &'static str {
+        "steady wind"
+    }
+
+    fn declare(&self, ctx: &PassContext) -> Option<Declaration> {
+        Some(Declaration::compute().buffer(self.corners[ctx.slot], Access::ComputeShaderWrite))
+    }
+
+    fn record(&self, ctx: &PassContext, cmd: vk::CommandBuffer) -> meadow::Result<()> {
+        let (device, bind) = (ctx.device, vk::PipelineBindPoint::COMPUTE);
+        self.set.bind(device, cmd, bind, ctx.slot);
+        let mut push = [0u32; 5];
+        push[..4].copy_from_slice(bytemuck::cast_slice(&self.velocity.get().extend(0.0).to_array()));
+        push[4] = self.count;
+        // SAFETY: cmd is recording outside a rendering instance; the set is bound.
+        unsafe {
+            device.raw.cmd_bind_pipeline(cmd, bind, self.pipeline);
+            let stages = vk::ShaderStageFlags::COMPUTE;
+            device.raw.cmd_push_constants(cmd, self.set.layout, stages, 0, bytemuck::cast_slice(&push));
+            device.raw.cmd_dispatch(cmd, self.count.div_ceil(64), 1, 1);
+        }
+        Ok(())
+    }
+
+    unsafe fn destroy(self: Box<Self>, device: &Device) {
+        // SAFETY: per the contract.
+        unsafe {
+            meadow::vk::live::destroyed(self.pipeline);
+            device.raw.destroy_pipeline(self.pipeline, None);
+            self.set.destroy(device);
+        }
+    }
+}
+
+/// The store, shared with the test, which reads it back between frames.
+type SharedStore = Rc<RefCell<Option<BladeStateStore>>>;
+
+/// The spring response: its store and the span of steps each frame takes.
+struct SpringResponse {
+    store: SharedStore,
+    previous: Cell<Option<u64>>,
+    span: Rc<Cell<StepSpan>>,
+}
+
+impl BladeResponse for SpringResponse {
+    fn name(&self) -> &'static str {
+        "spring"
+    }
+
+    fn specialize(&self, _: &mut Specialization) {}
+
+    fn blade_input(&self) -> BladeInput {
+        BladeInput::PoseRecords
+    }
+
+    fn tracked(&self) -> Vec<(Resource, Vec<Access>)> {
+        Vec::new()
+    }
+
+    fn passes(&self, device: &Device, setup: &ResponseSetup) -> meadow::Result<Vec<Box<dyn Pass>>> {
+        let store = self.store.borrow();
+        let store = store.as_ref().expect("the store");
+        Ok(vec![Box::new(SpringPass::new(device, setup, store, self.span.clone())?)])
+    }
+
+    fn step(&mut self, step: &ResponseStep) {
+        self.span.set(StepSpan::between(self.previous.get(), step.step));
+        self.previous.set(Some(step.step));
+    }
+
+    fn tip_offset(&self, wind: Vec3) -> Vec3 {
+        let t = Vec2::new(wind.x, wind.z) * GAIN;
+        Vec3::new(t.x, 0.0, t.y)
+    }
+
+    unsafe fn destroy(self: Box<Self>, device: &Device) {
+        if let Some(store) = self.store.borrow_mut().take() {
+            // SAFETY: per the contract.
+            unsafe { store.destroy(device) };
+        }
+    }
+}
+
+enum Dispatch {
+    Stored(vk::Pipeline, u32),
+    Buckets(BucketDispatch),
+}
+
+/// spring.comp over the drawn blades: the store's clear on its first frame, the steps, and the
+/// store handed to the host for the test.
+struct SpringPass {
+    set: PassSet,
+    dispatch: Dispatch,
+    uniforms: PassUniforms,
+    span: Rc<Cell<StepSpan>>,
+    store: vk::Buffer,
+    /// What the store's records are (its frame block, `StoreShape::frame_block`).
+    shape: StoreShape,
+    cleared: Cell<bool>,
+    poses: (vk::DescriptorSet, vk::Buffer),
+    reads: [vk::Buffer; 3],
+    wind: Vec<vk::Buffer>,
+}
+
+impl SpringPass {
+    fn new(
+        device: &Device,
+        setup: &ResponseSetup,
+        store: &BladeStateStore,
+        span: Rc<Cell<StepSpan>>,
+    ) -> meadow::Result<Self> {
+        let scene = setup.scene;
+        let spirv = SPRING_COMP.code(device.profile);
+        let uniforms = PassUniforms::new(device, "spring", 48, setup.sets.frames)?;
+        let shaders = [("spring.comp", spirv)];
+        let set = PassSet::new(device, &setup.sets.desc("spring", &shaders), |slot| {
+            vec![
+                ("Draws", Descriptor::Buffer(scene.draws.descriptor())),
+                store.resource(),
+                ("BladeStateFrame", uniforms.resource(slot)),
+            ]
+        })?;
+        let dispatch = match setup.buckets {
+            Some(buckets) => Dispatch::Buckets(BucketDispatch::new(
+                device,
+                "spring",
+                spirv,
+                set.layout,
+                (setup.constants, buckets),
+                scene.draws.raw,
+            )?),
+            None => Dispatch::Stored(
+                pipeline::compute(device, "spring", spirv, set.layout, &setup.constants.named())?,
+                scene.blade_count,
+            ),
+        };
+        Ok(Self {
+            set,
+            dispatch,
+            uniforms,
+            span,
+            store: store.buffer.raw,
+            shape: store.shape,
+            cleared: Cell::new(false),
+            poses: setup.poses,
+            reads: [scene.blades.raw, scene.clusters.raw, scene.visible.raw],
+            wind: setup.wind.to_vec(),
+        })
+    }
+}
+
+impl Pass for SpringPass {
+    fn name(&self) -> &'static str {
+        "spring"
+    }
+
+    fn declare(&self, ctx: &PassContext) -> Option<Declaration> {
+        let fetch = ctx.device.profile.compute_fetch();
+        let mut declaration = Declaration::compute();
+        if !self.cleared.get() {
+            declaration = declaration.step("clear").buffer(self.store, Access::TransferWrite).step("springs");
+        }
+        let declaration = declaration
+            .buffer(self.store, Access::ComputeShaderRead)
+            .buffer(self.store, Access::ComputeShaderWrite)
+            .buffer(self.poses.1, Access::ComputeShaderWrite)
+            .buffer(self.reads[0], fetch)
+            .buffer(self.reads[1], Access::ComputeShaderRead)
+            .buffer(self.wind[ctx.slot], Access::ComputeShaderRead);
+        let declaration = match &self.dispatch {
+            Dispatch::Buckets(buckets) => buckets.declare(declaration.buffer(self.reads[2], fetch)),
+            Dispatch::Stored(..) => declaration,
+        };
+        // No commands: the barrier that makes the store readable by the test.
+        Some(declaration.step("to host").buffer(self.store, Access::HostRead))
+    }
+
+    fn record(&self, ctx: &PassContext, cmd: vk::CommandBuffer) -> meadow::Result<()> {
+        let device = ctx.device;
+        let first = !self.cleared.get();
+        if first && ctx.step == 0 {
+            // SAFETY: cmd is recording outside a rendering instance.
+            unsafe { device.raw.cmd_fill_buffer(cmd, self.store, 0, vk::WHOLE_SIZE, 0) };
+            return Ok(());
+        }
+        if ctx.step == if first { 2 } else { 1 } {
+            self.cleared.set(true);
+            return Ok(());
+        }
+        self.set.bind(device, cmd, vk::PipelineBindPoint::COMPUTE, ctx.slot);
+        match &self.dispatch {
+            Dispatch::Stored(pipeline, blades) => {
+                recording::bind_blade_compute(ctx, cmd, (self.set.layout, *pipeline), self.poses.0);
+                // SAFETY: cmd is recording outside a rendering instance; the sets and pipeline are bound.
+                unsafe { device.raw.cmd_dispatch(cmd, blades.div_ceil(64), 1, 1) };
+            }
+            Dispatch::Buckets(buckets) => {
+                recording::bind_blade_sets(ctx, cmd, self.set.layout, self.poses.0);
+                buckets.record(device, cmd);
+            }
+        }
+        Ok(())
+    }
+
+    fn uniforms(&self, _: &PassContext) -> Option<(&PassUniforms, Vec<u8>)> {
+        Some((&self.uniforms, bytemuck::cast_slice(&self.shape.frame_block(self.span.get(), DT)).to_vec()))
+    }
+
+    fn frame_dropped(&self) {
+        self.cleared.set(false);
+    }
+
+    unsafe fn destroy(self: Box<Self>, device: &Device) {
+        // SAFETY: per the contract.
+        unsafe {
+            self.set.destroy(device);
+            self.uniforms.destroy(device);
+            match self.dispatch {
+                Dispatch::Stored(pipeline, _) => {
+                    meadow::vk::live::destroyed(pipeline);
+                    device.raw.destroy_pipeline(pipeline, None);
+                }
+                Dispatch::Buckets(buckets) => buckets.destroy(device),
+            }
+        }
+    }
+}
+
+/// One frame of a run: the step it draws, the camera and the wind.
+#[derive(Clone, Copy)]
+struct Frame {
+    step: u64,
+    camera: Camera,
+    wind: Vec3,
+}
+
+/// The store's words after each frame of `frames`, on `scene` through the cull.
+fn run(scene: &Scene, frames: &[Frame]) -> Vec<Vec<u32>> {
+    let options = GpuOptions { validation: true, device: DeviceSelector::parse(support::DEVICE) };
+    let (result, messages) = with_device(&options, false, |device| {
+        let wind = Rc::new(Cell::new(Vec3::ZERO));
+        let store: SharedStore = Rc::new(RefCell::new(None));
+        let shared = store.clone();
+        let build = move |device: &Device, context: &ResponseContext| -> meadow::Result<Box<dyn BladeResponse>> {
+            *shared.borrow_mut() = Some(BladeStateStore::new(device, context.scene, WORDS, RADIUS, true)?);
+            Ok(Box::new(SpringResponse {
+                store: shared.clone(),
+                previous: Cell::new(None),
+                span: Rc::new(Cell::new(StepSpan::between(None, 0))),
+            }))
+        };
+        let models = Models { wind: Box::new(SteadyWind(wind.clone())), response: Rc::new(build) };
+        let settings = RenderSettings::offscreen(4, Culling::default_for(4));
+        let mut renderer = Renderer::with_models(device.clone(), scene, settings, Default::default(), models)?;
+        let mut target = OffscreenTarget::new(device, EXTENT)?;
+        let mut words = Vec::new();
+        for frame in frames {
+            wind.set(frame.wind);
+            let time = frame.step as f32 * DT;
+            renderer.render_offscreen(&mut target, &frame.camera, time)?;
+            let store = store.borrow();
+            let bytes = store.as_ref().expect("the store").buffer.mapped();
+            words.push(bytemuck::cast_slice::<u8, u32>(bytes).to_vec());
+        }
+        drop(renderer);
+        // SAFETY: render_offscreen waited for its frame; the renderer is gone.
+        unsafe { target.destroy(device) };
+        Ok(words)
+    });
+    assert_eq!(messages, Some(0), "validation messages");
+    result.expect("rendered")
+}
+
+/// One record of a snapshot: its world cell key, the step it holds plus one, and the spring's
+/// offset and velocity.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Record {
+    key: u32,
+    stamp: u32,
+    x: Vec2,
+    v: Vec2,
+}
+
+fn records(words: &[u32]) -> Vec<Record> {
+    let f = |w: u32| f32::from_bits(w);
+    words
+        .chunks_exact((HEADER_WORDS + WORDS) as usize)
+        .map(|r| Record { key: r[0], stamp: r[1], x: Vec2::new(f(r[2]), f(r[3])), v: Vec2::new(f(r[4]), f(r[5])) })
+        .collect()
+}
+
+/// The records written by frame `step` (they hold that step).
+fn stamped(snapshot: &[u32], step: u64) -> Vec<(usize, Record)> {
+    records(snapshot).into_iter().enumerate().filter(|(_, r)| r.stamp == step as u32 + 1).collect()
+}
+
+/// Indices of the records every frame of `frames` wrote (drawn, and so stepped, in each).
+fn drawn_throughout(snapshots: &[Vec<u32>], frames: &[Frame]) -> Vec<usize> {
+    let mut kept: Option<Vec<usize>> = None;
+    for (snapshot, frame) in snapshots.iter().zip(frames) {
+        let now: Vec<usize> = stamped(snapshot, frame.step).into_iter().map(|(i, _)| i).collect();
+        kept = Some(match kept {
+            None => now,
+            Some(before) => before.into_iter().filter(|i| now.binary_search(i).is_ok()).collect(),
+        });
+    }
+    kept.unwrap_or_default()
+}
+
+/// The spring's `steps` steps from rest at the origin towards `target`, as spring.comp takes them
+/// (its wind rounded to 1/1024 m/s: `WIND` is a multiple).
+fn spring_reference(target: Vec2, steps: u32) -> (Vec2, Vec2) {
+    let (mut x, mut v) = (Vec2::ZERO, Vec2::ZERO);
+    for _ in 0..steps {
+        let a = K * (target - x) - C * v;
+        v += a * DT;
+        x += v * DT;
+    }
+    (x, v)
+}
+
+const WIND: Vec3 = Vec3::new(5.0, 0.0, 0.0);
+
+fn block_scene() -> Scene {
+    Scene::blocks(FieldSpec { size: None, density: 100.0 }, 1)
+}
+
+/// Above block (0, 0) of `scene`, looking down at it.
+fn over_block(scene: &Scene, x: f32) -> Camera {
+    let ground = scene.field.as_ref().expect("a field").relief.height(f64::from(x), 2.0) as f32;
+    Camera { position: Vec3::new(x, ground + 5.0, 2.0), yaw_deg: 0.0, pitch_deg: -75.0 }
+}
+
+/// Frames at `steps`, from calm air at the first to `WIND` after, from `camera(step)`.
+fn frames(steps: &[u64], camera: impl Fn(u64) -> Camera) -> Vec<Frame> {
+    steps
+        .iter()
+        .enumerate()
+        .map(|(i, &step)| Frame { step, camera: camera(step), wind: if i == 0 { Vec3::ZERO } else { WIND } })
+        .collect()
+}
+
+/// One frame of k steps leaves the state k frames of one step leave, and both are the spring's.
+fn k_steps_equal_k_frames(scene: &Scene, camera: Camera) {
+    let k = 3u64;
+    let one_by_one = run(scene, &frames(&[0, 1, 2, 3], |_| camera));
+    let at_once = run(scene, &frames(&[0, k], |_| camera));
+    let (a, b) = (stamped(&one_by_one[3], k), stamped(&at_once[1], k));
+    assert!(a.len() > 500, "{} blades stepped", a.len());
+    assert_eq!(a, b, "one frame of {k} steps against {k} frames of one");
+    // A uniform wind gives every blade the same target: the CPU's steps from rest.
+    let (x, v) = spring_reference(Vec2::new(WIND.x, WIND.z) * GAIN, k as u32);
+    assert!(v.length() > 0.1, "the reference moves: {v}");
+    for (_, r) in &a {
+        assert!((r.x - x).length() < 1e-5 && (r.v - v).length() < 1e-4, "{r:?} against x {x}, v {v}");
+    }
+}
+
+#[test]
+fn on_a_block_field_one_frame_of_k_steps_is_k_frames_of_one_step() {
+    let scene = block_scene();
+    k_steps_equal_k_frames(&scene, over_block(&scene, 2.0));
+}
+
+#[test]
+fn on_a_stored_field_one_frame_of_k_steps_is_k_frames_of_one_step() {
+    let scene = Scene::generate(5000, 3);
+    k_steps_equal_k_frames(&scene, Camera::default_for(&scene.terrain));
+}
+
+#[test]
+fn a_blade_inside_the_store_keeps_its_state_across_camera_moves() {
+    let scene = block_scene();
+    let steps: Vec<u64> = (0..=8).collect();
+    let still = frames(&steps, |_| over_block(&scene, 2.0));
+    // Back and forth across the line between blocks 0 and 1: the store scrolls each frame.
+    let moving = frames(&steps, |s| over_block(&scene, if s % 2 == 0 { 2.0 } else { 5.0 }));
+    let (a, b) = (run(&scene, &still), run(&scene, &moving));
+    let both: Vec<usize> = {
+        let in_b = drawn_throughout(&b, &moving);
+        drawn_throughout(&a, &still).into_iter().filter(|i| in_b.binary_search(i).is_ok()).collect()
+    };
+    assert!(both.len() > 200, "{} blades drawn in every frame of both runs", both.len());
+    let (ra, rb) = (records(&a[8]), records(&b[8]));
+    for &i in &both {
+        assert_eq!(ra[i], rb[i], "record {i}");
+    }
+    // They are swinging, not at rest: the comparison is of a moving state.
+    assert!(both.iter().all(|&i| ra[i].v.length() > 1e-3), "not moving");
+}
+
+/// Steps 0..=6 from above block 0, step 7 from `away`, step 8 from above block 0 again: the
+/// blades drawn at steps 6 and 8 have restarted at equilibrium, where without the detour they
+/// are still swinging.
+fn restarts_after(away: Camera) -> usize {
+    let scene = block_scene();
+    let steps: Vec<u64> = (0..=8).collect();
+    let home = over_block(&scene, 2.0);
+    let still = frames(&steps, |_| home);
+    let detour = frames(&steps, |s| if s == 7 { away } else { home });
+    let (a, b) = (run(&scene, &still), run(&scene, &detour));
+    let back: Vec<usize> = stamped(&b[8], 8).into_iter().map(|(i, _)| i).collect();
+    let before: Vec<usize> = stamped(&b[6], 6).into_iter().map(|(i, _)| i).collect();
+    let returned: Vec<usize> = back.into_iter().filter(|i| before.binary_search(i).is_ok()).collect();
+    assert!(returned.len() > 200, "{} blades drawn before and after the detour", returned.len());
+    // At step 7 their records were not stepped as theirs: not written, or written for another
+    // block (a block `dims` blocks away shares their slots).
+    let (r6, r7) = (records(&b[6]), records(&b[7]));
+    let theirs = |i: usize| r7[i].stamp == 8 && r7[i].key == r6[i].key;
+    assert!(returned.iter().all(|&i| !theirs(i)), "the detour stepped them");
+    let reused = returned.iter().filter(|&&i| r7[i].stamp == 8).count();
+    println!("{} of {} slots held another block's blades at step 7", reused, returned.len());
+    let target = Vec2::new(WIND.x, WIND.z) * GAIN;
+    let (ra, rb) = (records(&a[8]), records(&b[8]));
+    for &i in &returned {
+        assert_eq!(rb[i].v, Vec2::ZERO, "record {i} restarted: {:?}", rb[i]);
+        assert!((rb[i].x - target).length() < 1e-5, "record {i} at equilibrium: {:?}", rb[i]);
+        assert!(ra[i].v.length() > 1e-3, "record {i} without the detour: {:?}", ra[i]);
+    }
+    reused
+}
+
+#[test]
+fn a_blade_that_leaves_the_store_and_comes_back_restarts_at_equilibrium() {
+    // Ten blocks away: block 0's slots hold block 10's blades for a frame.
+    let scene = block_scene();
+    let reused = restarts_after(over_block(&scene, 2.0 + 10.0 * BLOCK_SIZE));
+    assert!(reused > 0, "block 10 took none of block 0's slots");
+}
+
+#[test]
+fn a_blade_culled_for_a_frame_restarts_at_equilibrium() {
+    // The camera looks at the sky for one frame: every blade is culled, and reset when drawn again.
+    let scene = block_scene();
+    let reused = restarts_after(Camera { pitch_deg: 80.0, ..over_block(&scene, 2.0) });
+    assert_eq!(reused, 0, "nothing is drawn looking at the sky");
+}
+
+#[test]
+fn a_block_field_keeps_state_only_within_the_stores_radius() {
+    // A low camera looking along the ground draws blades many blocks out; only those within
+    // RADIUS blocks of the camera's block get records.
+    let scene = block_scene();
+    let camera = Camera { pitch_deg: -8.0, ..over_block(&scene, 2.0) };
+    let snapshot = &run(&scene, &frames(&[0], |_| camera))[0];
+    let written = stamped(snapshot, 0);
+    let cells: Vec<(i32, i32)> = written
+        .iter()
+        .map(|(_, r)| ((r.key >> 16) as u16 as i16 as i32, (r.key & 0xffff) as u16 as i16 as i32))
+        .collect();
+    // Each record sits where the CPU's mirror of the addressing puts its (cell, blade): slot
+    // `cell mod dims` (`camera_grid::world_slot`), then the blade in the block.
+    let per_block = scene.blades.len() as u32;
+    let shape = StoreShape { words: WORDS, blocks: Some((RADIUS, per_block)) };
+    for ((i, _), &(x, z)) in written.iter().zip(&cells) {
+        let blade = *i as u32 % per_block;
+        let base = shape.record_base(glam::I64Vec2::new(i64::from(x), i64::from(z)), blade);
+        assert_eq!(base, (*i as u64) * u64::from(HEADER_WORDS + WORDS), "cell ({x}, {z}) blade {blade}");
+    }
+    assert!(cells.len() > 1000, "{} records", cells.len());
+    let reach = |&(x, z): &(i32, i32)| x.abs().max(z.abs());
+    assert!(cells.iter().all(|c| reach(c) <= RADIUS as i32), "a record past the radius");
+    assert!(cells.iter().any(|c| reach(c) == RADIUS as i32), "none at the radius: {:?}", cells.first());
+}
