@@ -245,6 +245,8 @@ pub struct RenderReport {
     /// The simulated time of the picture and the fixed step its frames lie apart
     /// (`render::animation::clock`).
     pub clock: (f32, crate::render::animation::clock::StepClock),
+    /// Warm-up steps before the frames (`warm_up`), and whether the response keeps state.
+    pub warm_up: (u64, bool),
     /// How the renderer submitted the blades: its strategy and clusters, and the blades per
     /// instance of its draws (what `--submission`, `--clusters` and `--blades-per-instance`
     /// chose, as the renderer was built).
@@ -313,6 +315,8 @@ pub fn render(device: &Arc<Device>, options: &RenderOptions) -> Result<RenderRep
         let mut frames = Vec::new();
         // One step a frame, the last at --time: the picture written does not depend on --frames.
         let clock = options.animation.clock;
+        let first = clock.step_before(options.time.into(), options.frames - 1);
+        let warm_up = warm_up(&mut renderer, &mut target, &camera, first)?;
         for i in 0..options.frames {
             interrupt::check()?;
             let step = clock.step_before(options.time.into(), options.frames - 1 - i);
@@ -325,21 +329,24 @@ pub fn render(device: &Arc<Device>, options: &RenderOptions) -> Result<RenderRep
             frames.push(timings);
         }
         write_png(&options.out, options.size, target.pixels())?;
-        Ok(frames)
+        Ok((frames, warm_up))
     })();
+    let stateful = renderer.stateful();
     let triangles = renderer.triangles();
     let notes = fallback_notes(device, &options.animation, renderer.animation());
     let submission = (renderer.settings().submission, renderer.settings().blades_per_instance);
     drop(renderer);
     // SAFETY: render_offscreen waited for its fence; nothing else uses the target.
     unsafe { target.destroy(device) };
+    let (frames, warm_up) = result?;
     Ok(RenderReport {
         device: device.info.clone(),
         blades: options.blades,
         segments: options.segments,
         field_m,
         triangles,
-        frames: result?,
+        frames,
+        warm_up: (warm_up, stateful),
         setup_ms,
         out: options.out.clone(),
         size: options.size,
@@ -349,6 +356,27 @@ pub fn render(device: &Arc<Device>, options: &RenderOptions) -> Result<RenderRep
         submission,
         clock: (options.time, options.animation.clock),
     })
+}
+
+/// Bring a stateful response to the step before `first`: one frame per step from step 0 (the
+/// equilibrium under the wind at t = 0), as the headless commands advance, so the state at
+/// `first` does not depend on how many frames follow. Returns the steps taken: 0 for a stateless
+/// response, which draws any step as it is.
+pub fn warm_up(
+    renderer: &mut Renderer,
+    target: &mut OffscreenTarget,
+    camera: &crate::scene::Camera,
+    first: u64,
+) -> Result<u64> {
+    if !renderer.stateful() {
+        return Ok(0);
+    }
+    let clock = renderer.animation().clock;
+    for step in 0..first {
+        interrupt::check()?;
+        renderer.render_offscreen(target, camera, clock.time_of(step) as f32)?;
+    }
+    Ok(first)
 }
 
 /// Median of a slice (empty → 0).

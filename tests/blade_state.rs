@@ -49,8 +49,12 @@ const K: f32 = 40.0;
 const C: f32 = 3.0;
 const DT: f32 = 1.0 / 60.0;
 
-/// A uniform wind whose velocity the test changes between frames.
-struct SteadyWind(Rc<Cell<Vec3>>);
+/// A uniform wind whose velocity the test changes between frames, or (`ramp`) that rises from
+/// calm at t = 0 to `WIND` at `RAMP_S`.
+struct SteadyWind(Rc<Cell<Vec3>>, bool);
+
+/// The ramp's rise, seconds.
+const RAMP_S: f64 = 0.05;
 
 impl WindField for SteadyWind {
     fn name(&self) -> &'static str {
@@ -67,7 +71,8 @@ impl WindField for SteadyWind {
         let set = PassSet::new(device, &desc, |slot| vec![("Corners", Descriptor::Buffer(setup.frames[slot].0))])?;
         let pipeline = pipeline::compute(device, "steady wind", spirv, set.layout, &[])?;
         let corners = setup.frames.iter().map(|(c, _)| c.buffer).collect();
-        Ok(vec![Box::new(WindPass { set, pipeline, corners, count: setup.corners, velocity: self.0.clone() })])
+        let velocity = self.0.clone();
+        Ok(vec![Box::new(WindPass { set, pipeline, corners, count: setup.corners, velocity, ramp: self.1 })])
     }
 }
 
@@ -77,6 +82,7 @@ struct WindPass {
     corners: Vec<vk::Buffer>,
     count: u32,
     velocity: Rc<Cell<Vec3>>,
+    ramp: bool,
 }
 
 impl Pass for WindPass {
@@ -92,7 +98,11 @@ impl Pass for WindPass {
         let (device, bind) = (ctx.device, vk::PipelineBindPoint::COMPUTE);
         self.set.bind(device, cmd, bind, ctx.slot);
         let mut push = [0u32; 5];
-        push[..4].copy_from_slice(bytemuck::cast_slice(&self.velocity.get().extend(0.0).to_array()));
+        let velocity = match self.ramp {
+            true => WIND * (ctx.clock.time / RAMP_S).clamp(0.0, 1.0) as f32,
+            false => self.velocity.get(),
+        };
+        push[..4].copy_from_slice(bytemuck::cast_slice(&velocity.extend(0.0).to_array()));
         push[4] = self.count;
         // SAFETY: cmd is recording outside a rendering instance; the set is bound.
         unsafe {
@@ -153,6 +163,10 @@ impl BladeResponse for SpringResponse {
     fn tip_offset(&self, wind: Vec3) -> Vec3 {
         let t = Vec2::new(wind.x, wind.z) * GAIN;
         Vec3::new(t.x, 0.0, t.y)
+    }
+
+    fn stateful(&self) -> bool {
+        true
     }
 
     unsafe fn destroy(self: Box<Self>, device: &Device) {
@@ -318,6 +332,12 @@ struct Frame {
 
 /// The store's words after each frame of `frames`, on `scene` through the cull.
 fn run(scene: &Scene, frames: &[Frame]) -> Vec<Vec<u32>> {
+    run_with(scene, frames, None).0
+}
+
+/// `run`, and with `ramp` = `Some(first)` under the ramp wind, after `app::warm_up` to step
+/// `first`: also the steps it took.
+fn run_with(scene: &Scene, frames: &[Frame], ramp: Option<u64>) -> (Vec<Vec<u32>>, u64) {
     let options = GpuOptions { validation: true, device: DeviceSelector::parse(support::DEVICE) };
     let (result, messages) = with_device(&options, false, |device| {
         let wind = Rc::new(Cell::new(Vec3::ZERO));
@@ -331,11 +351,15 @@ fn run(scene: &Scene, frames: &[Frame]) -> Vec<Vec<u32>> {
                 span: Rc::new(Cell::new(StepSpan::between(None, 0))),
             }))
         };
-        let models = Models { wind: Box::new(SteadyWind(wind.clone())), response: Rc::new(build) };
+        let models = Models { wind: Box::new(SteadyWind(wind.clone(), ramp.is_some())), response: Rc::new(build) };
         let settings = RenderSettings::offscreen(4, Culling::default_for(4));
         let mut renderer = Renderer::with_models(device.clone(), scene, settings, Default::default(), models)?;
         let mut target = OffscreenTarget::new(device, EXTENT)?;
         let mut words = Vec::new();
+        let warmed = match ramp {
+            Some(first) => meadow::app::warm_up(&mut renderer, &mut target, &frames[0].camera, first)?,
+            None => 0,
+        };
         for frame in frames {
             wind.set(frame.wind);
             let time = frame.step as f32 * DT;
@@ -347,7 +371,7 @@ fn run(scene: &Scene, frames: &[Frame]) -> Vec<Vec<u32>> {
         drop(renderer);
         // SAFETY: render_offscreen waited for its frame; the renderer is gone.
         unsafe { target.destroy(device) };
-        Ok(words)
+        Ok((words, warmed))
     });
     assert_eq!(messages, Some(0), "validation messages");
     result.expect("rendered")
@@ -543,4 +567,34 @@ fn a_block_field_keeps_state_only_within_the_stores_radius() {
     let reach = |&(x, z): &(i32, i32)| x.abs().max(z.abs());
     assert!(cells.iter().all(|c| reach(c) <= RADIUS as i32), "a record past the radius");
     assert!(cells.iter().any(|c| reach(c) == RADIUS as i32), "none at the radius: {:?}", cells.first());
+}
+
+#[test]
+fn a_stateful_response_warms_up_from_t_0_one_step_a_frame() {
+    // Under a wind rising from calm: the state at step 6 after warming up to step 5 and drawing 5
+    // and 6 is the state of drawing every step from 0, to the bit.
+    let scene = block_scene();
+    let camera = over_block(&scene, 2.0);
+    let every: Vec<u64> = (0..=6).collect();
+    let (a, none) = run_with(&scene, &frames(&every, |_| camera), Some(0));
+    let (b, warmed) = run_with(&scene, &frames(&[5, 6], |_| camera), Some(5));
+    assert_eq!((none, warmed), (0, 5), "warm-up steps");
+    let (ra, rb) = (stamped(&a[6], 6), stamped(&b[1], 6));
+    assert!(ra.len() > 500, "{} blades", ra.len());
+    assert_eq!(ra, rb, "warmed up against every step drawn");
+    assert!(ra.iter().all(|(_, r)| r.v.length() > 1e-3), "not moving");
+    // A stateless response takes no warm-up steps.
+    let options = GpuOptions { validation: true, device: DeviceSelector::parse(support::DEVICE) };
+    let (steps, messages) = with_device(&options, false, |device| {
+        let settings = RenderSettings::offscreen(4, Culling::default_for(4));
+        let mut renderer = Renderer::new(device.clone(), &scene, settings, Default::default())?;
+        let mut target = OffscreenTarget::new(device, EXTENT)?;
+        let steps = meadow::app::warm_up(&mut renderer, &mut target, &camera, 5);
+        drop(renderer);
+        // SAFETY: nothing was rendered into it.
+        unsafe { target.destroy(device) };
+        steps
+    });
+    assert_eq!(messages, Some(0));
+    assert_eq!(steps.expect("warm-up"), 0);
 }

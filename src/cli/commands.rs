@@ -147,11 +147,11 @@ fn print_render(report: &RenderReport) {
         println!("cull: {}", cull.summary());
     }
     let (time, clock) = report.clock;
-    println!(
-        "time: step {} of {:.3} ms at --time {time} s; 0 warm-up steps (the model is stateless)",
-        clock.steps_to(time.into()),
-        clock.dt * 1e3
-    );
+    let warm_up = match report.warm_up {
+        (steps, true) => format!("{steps} warm-up steps from t = 0"),
+        (_, false) => "0 warm-up steps (the model is stateless)".to_owned(),
+    };
+    println!("time: step {} of {:.3} ms at --time {time} s; {warm_up}", clock.steps_to(time.into()), clock.dt * 1e3);
     let passes: Vec<String> = last.passes.iter().map(|p| format!("{} {:.3} ms", p.name, p.ms)).collect();
     if last.gpu_available {
         println!(

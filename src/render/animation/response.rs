@@ -111,8 +111,14 @@ pub trait BladeResponse {
     /// The compute passes that run before the blade pass (after the cull's, with the cull).
     fn passes(&self, device: &Device, setup: &ResponseSetup) -> Result<Vec<Box<dyn Pass>>>;
 
-    /// Before each frame: the step it draws (a stateful response advances; none does yet).
+    /// Before each frame: the step it draws (a stateful response advances its state to it).
     fn step(&mut self, _step: &ResponseStep) {}
+
+    /// Whether the response keeps state from step to step (`blade_state`): reaching a time then
+    /// takes every step from t = 0 (`Renderer::warm_up`). False by default.
+    fn stateful(&self) -> bool {
+        false
+    }
 
     /// How far the tip of a unit blade (root at 0, upright along +y, facing +z) moves under
     /// `wind` (m/s, in the blade's frame): a far field's billboard leans by it.

@@ -301,6 +301,12 @@ impl Renderer {
         self.cull_camera
     }
 
+    /// Whether the blade response keeps state from step to step: reaching a time then takes
+    /// every step from t = 0 (`app::warm_up`).
+    pub fn stateful(&self) -> bool {
+        self.response.as_deref().is_some_and(|r| r.stateful())
+    }
+
     /// The animation the renderer was built with.
     pub fn animation(&self) -> &AnimationSettings {
         &self.animation
