@@ -20,7 +20,7 @@ use std::rc::Rc;
 use ash::vk;
 use glam::{Vec2, Vec3};
 use meadow::app::{with_device, GpuOptions};
-use meadow::render::animation::blade_state::{BladeStateStore, StepSpan, StoreShape, HEADER_WORDS};
+use meadow::render::animation::blade_state::{self, BladeStateStore, StepSpan, StoreShape, HEADER_WORDS};
 use meadow::render::animation::response::{BladeInput, BladeResponse, ResponseContext, ResponseSetup, ResponseStep};
 use meadow::render::culling::Culling;
 use meadow::render::graph::{Declaration, Pass, PassContext, PassUniforms};
@@ -275,8 +275,7 @@ impl Pass for SpringPass {
         let device = ctx.device;
         let first = !self.cleared.get();
         if first && ctx.step == 0 {
-            // SAFETY: cmd is recording outside a rendering instance.
-            unsafe { device.raw.cmd_fill_buffer(cmd, self.store, 0, vk::WHOLE_SIZE, 0) };
+            blade_state::record_clear(device, cmd, self.store);
             return Ok(());
         }
         if ctx.step == if first { 2 } else { 1 } {
@@ -597,4 +596,48 @@ fn a_stateful_response_warms_up_from_t_0_one_step_a_frame() {
     });
     assert_eq!(messages, Some(0));
     assert_eq!(steps.expect("warm-up"), 0);
+}
+
+#[test]
+fn a_thousand_frames_of_the_stateful_response_leave_memory_flat() {
+    // The camera crosses blocks back and forth, and looks away now and then: the store scrolls,
+    // blades reset, and nothing grows.
+    let scene = block_scene();
+    let options = GpuOptions { validation: true, device: DeviceSelector::parse(support::DEVICE) };
+    let (result, messages) = with_device(&options, false, |device| {
+        let store: SharedStore = Rc::new(RefCell::new(None));
+        let shared = store.clone();
+        let build = move |device: &Device, context: &ResponseContext| -> meadow::Result<Box<dyn BladeResponse>> {
+            *shared.borrow_mut() = Some(BladeStateStore::new(device, context.scene, WORDS, RADIUS, true)?);
+            Ok(Box::new(SpringResponse {
+                store: shared.clone(),
+                previous: Cell::new(None),
+                span: Rc::new(Cell::new(StepSpan::between(None, 0))),
+            }))
+        };
+        let wind = Rc::new(Cell::new(WIND));
+        let models = Models { wind: Box::new(SteadyWind(wind, true)), response: Rc::new(build) };
+        let settings = RenderSettings::offscreen(4, Culling::default_for(4));
+        let mut renderer = Renderer::with_models(device.clone(), &scene, settings, Default::default(), models)?;
+        let mut target = OffscreenTarget::new(device, EXTENT)?;
+        let mut samples = Vec::new();
+        for step in 0..1000u64 {
+            let x = 2.0 + 3.0 * ((step / 7) % 2) as f32;
+            let camera = Camera { pitch_deg: if step % 50 == 49 { 80.0 } else { -75.0 }, ..over_block(&scene, x) };
+            renderer.render_offscreen(&mut target, &camera, step as f32 * DT)?;
+            if step == 100 || step == 999 {
+                let bytes = device.allocator().generate_report().total_allocated_bytes;
+                // (Not `vk::live::total`: it counts every device of the process, and this file's
+                // tests run side by side.)
+                samples.push((bytes, renderer.pending_deletions()));
+            }
+        }
+        drop(renderer);
+        // SAFETY: render_offscreen waited for its frame; the renderer is gone.
+        unsafe { target.destroy(device) };
+        Ok(samples)
+    });
+    assert_eq!(messages, Some(0), "validation messages");
+    let samples = result.expect("rendered");
+    assert_eq!(samples[0], samples[1], "allocated bytes, pending deletions at frames 100 and 1000");
 }

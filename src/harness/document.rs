@@ -205,18 +205,10 @@ pub struct CullSummary {
     pub triangles: u64,
     /// Blades drawn per bucket that has segments.
     pub buckets: Vec<Bucket>,
-    /// Blades the blade tests kept, before the visible list's capacity thinned them to `drawn`
-    /// (absent from documents written before the cull reported it).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub wanted: Option<u32>,
-    /// The capacity scale every bucket was thinned by: 1 when the list held every kept blade
-    /// (`CullCounts::capacity_scale`; absent as `wanted` is).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub capacity_scale: Option<f64>,
-    /// A block field's candidates without room for their verdicts, neither tested nor drawn
-    /// (absent as `wanted` is).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub no_room: Option<u32>,
+    /// What the visible list's capacity did to the kept blades (absent from documents written
+    /// before the cull reported it).
+    #[serde(flatten, default, skip_serializing_if = "Option::is_none")]
+    pub thinning: Option<Thinning>,
 }
 
 /// One LOD bucket of a frame: its segments and the blades it drew.
@@ -250,10 +242,29 @@ impl CullSummary {
             drawn: c.total_drawn(),
             triangles: c.triangles(),
             buckets,
-            wanted: Some(c.wanted),
-            capacity_scale: Some(c.capacity_scale()),
-            no_room: Some(c.no_room),
+            thinning: Some(Thinning::of(c)),
         }
+    }
+}
+
+/// What the visible list's capacity did to a frame's kept blades (`CullCounts`): the same three
+/// fields in `timing.json`'s cull summary and `lod.json`'s counts.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Thinning {
+    /// Blades the blade tests kept, before the visible list's capacity thinned them to the
+    /// blades drawn.
+    pub wanted: u32,
+    /// The capacity scale every bucket was thinned by: 1 when the list held every kept blade
+    /// (`CullCounts::capacity_scale`).
+    pub capacity_scale: f64,
+    /// A block field's candidates without room for their verdicts, neither tested nor drawn.
+    pub no_room: u32,
+}
+
+impl Thinning {
+    /// The thinning `c` reports.
+    pub fn of(c: &crate::render::culling::CullCounts) -> Self {
+        Self { wanted: c.wanted, capacity_scale: c.capacity_scale(), no_room: c.no_room }
     }
 }
 

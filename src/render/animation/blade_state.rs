@@ -87,7 +87,8 @@ impl BladeStateStore {
     /// A store of `words` words per blade for `scene`: every stored blade, or a block field's
     /// blocks within `radius` blocks of the camera. Refused with one line if it does not fit one
     /// storage buffer or the memory budget. `readable`: host-visible, for tests that read it
-    /// back. Zeroed: every record empty.
+    /// back. Its contents are undefined until the owner's first pass clears it
+    /// ([`record_clear`]).
     pub fn new(device: &Device, scene: &SceneGpu, words: u32, radius: u32, readable: bool) -> Result<Self> {
         let blocks = scene.field.as_ref().map(|_| (radius, scene.blade_count));
         let records = match blocks {
@@ -114,16 +115,17 @@ impl BladeStateStore {
         Ok(Self { buffer, records, shape: StoreShape { words, blocks } })
     }
 
-    /// Record the store's clear (every record empty) into `cmd`, before its first use.
-    pub fn record_clear(&self, device: &Device, cmd: vk::CommandBuffer) {
-        // SAFETY: cmd is recording outside a rendering instance; the buffer is the store's.
-        unsafe { device.raw.cmd_fill_buffer(cmd, self.buffer.raw, 0, vk::WHOLE_SIZE, 0) };
-    }
-
     /// The store as its GLSL declares it (`BladeStates`).
     pub fn resource(&self) -> (&'static str, Descriptor) {
         ("BladeStates", Descriptor::Buffer(self.buffer.descriptor()))
     }
+}
+
+/// Record the clear of a store's `buffer` (every record empty) into `cmd`, before its first use:
+/// a transfer write the pass declares (`Access::TransferWrite`).
+pub fn record_clear(device: &Device, cmd: vk::CommandBuffer, buffer: vk::Buffer) {
+    // SAFETY: cmd is recording outside a rendering instance; zero is every record's empty header.
+    unsafe { device.raw.cmd_fill_buffer(cmd, buffer, 0, vk::WHOLE_SIZE, 0) };
 }
 
 impl Destroy for BladeStateStore {

@@ -181,17 +181,10 @@ pub struct CountsRecord {
     pub total_drawn: u64,
     /// Blade triangles drawn.
     pub triangles: u64,
-    /// Blades the blade tests kept, before the visible list's capacity thinned them to
-    /// `total_drawn` (absent from documents written before the cull reported it).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub wanted: Option<u32>,
-    /// The capacity scale every bucket was thinned by: 1 when the list held every kept blade
-    /// (`CullCounts::capacity_scale`; absent as `wanted` is).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub capacity_scale: Option<f64>,
-    /// A block field's candidates without room for their verdicts (absent as `wanted` is).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub no_room: Option<u32>,
+    /// What the visible list's capacity did to the kept blades (absent from documents written
+    /// before the cull reported it).
+    #[serde(flatten, default, skip_serializing_if = "Option::is_none")]
+    pub thinning: Option<crate::harness::document::Thinning>,
 }
 
 /// One measured frame of a variant.

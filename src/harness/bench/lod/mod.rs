@@ -453,8 +453,6 @@ fn counts(c: &CullCounts) -> CountsRecord {
         bucket_segments: c.segments[..buckets].to_vec(),
         total_drawn: c.total_drawn(),
         triangles: c.triangles(),
-        wanted: Some(c.wanted),
-        capacity_scale: Some(c.capacity_scale()),
-        no_room: Some(c.no_room),
+        thinning: Some(crate::harness::document::Thinning::of(c)),
     }
 }

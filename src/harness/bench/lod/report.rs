@@ -208,9 +208,7 @@ mod tests {
                 bucket_segments: vec![],
                 total_drawn: drawn,
                 triangles: 8 * drawn,
-                wanted: None,
-                capacity_scale: None,
-                no_room: None,
+                thinning: None,
             };
             LodVariant {
                 variant: name.into(),
