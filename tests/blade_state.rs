@@ -39,8 +39,9 @@ const WIND_COMP: Shader = meadow::spirv_shader!("tests/new_model/uniform_wind.co
 const SPRING_COMP: Shader = meadow::spirv_shader!("tests/blade_state/spring.comp");
 
 const EXTENT: vk::Extent2D = vk::Extent2D { width: 160, height: 90 };
-/// The spring's state: offset x, z and velocity x, z (f32 bits).
-const WORDS: u32 = 4;
+/// The spring's state: offset x, z and velocity x, z (f32 bits), and the weight of the stateless
+/// counterpart it was drawn with (for the test).
+const WORDS: u32 = 5;
 /// The block field's store: blocks within 2 of the camera's.
 const RADIUS: u32 = 2;
 /// spring.comp's constants.
@@ -384,13 +385,20 @@ struct Record {
     stamp: u32,
     x: Vec2,
     v: Vec2,
+    stateless: f32,
 }
 
 fn records(words: &[u32]) -> Vec<Record> {
     let f = |w: u32| f32::from_bits(w);
     words
         .chunks_exact((HEADER_WORDS + WORDS) as usize)
-        .map(|r| Record { key: r[0], stamp: r[1], x: Vec2::new(f(r[2]), f(r[3])), v: Vec2::new(f(r[4]), f(r[5])) })
+        .map(|r| Record {
+            key: r[0],
+            stamp: r[1],
+            x: Vec2::new(f(r[2]), f(r[3])),
+            v: Vec2::new(f(r[4]), f(r[5])),
+            stateless: f(r[6]),
+        })
         .collect()
 }
 
@@ -566,6 +574,15 @@ fn a_block_field_keeps_state_only_within_the_stores_radius() {
     let reach = |&(x, z): &(i32, i32)| x.abs().max(z.abs());
     assert!(cells.iter().all(|c| reach(c) <= RADIUS as i32), "a record past the radius");
     assert!(cells.iter().any(|c| reach(c) == RADIUS as i32), "none at the radius: {:?}", cells.first());
+    // The hand-over to the stateless counterpart: none inside the outermost ring of blocks, and
+    // across it from about 0 to about 1.
+    let ring: Vec<f32> =
+        written.iter().zip(&cells).filter(|(_, c)| reach(c) == RADIUS as i32).map(|((_, r), _)| r.stateless).collect();
+    let inner = written.iter().zip(&cells).filter(|(_, c)| reach(c) < RADIUS as i32);
+    assert!(inner.clone().count() > 100 && inner.clone().all(|((_, r), _)| r.stateless == 0.0), "inside the ring");
+    let (low, high) = ring.iter().fold((1.0f32, 0.0f32), |(lo, hi), &w| (lo.min(w), hi.max(w)));
+    assert!(ring.iter().all(|w| (0.0..=1.0).contains(w)), "weights in [0, 1]");
+    assert!(low < 0.1 && high > 0.9, "the ring's weights span {low}..{high}");
 }
 
 #[test]

@@ -71,6 +71,8 @@ void main() {
         set_state_word(s, 1u, floatBitsToUint(x.y));
         set_state_word(s, 2u, floatBitsToUint(v.x));
         set_state_word(s, 3u, floatBitsToUint(v.y));
+        // Not state: the weight of the stateless counterpart it was drawn with, for the test.
+        set_state_word(s, 4u, floatBitsToUint(s.stateless));
         state_written(s);
     }
     vec2 offset = mix(x, target, s.stateless);
