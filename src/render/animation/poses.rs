@@ -20,6 +20,8 @@ pub struct PoseRecords {
     pub level_texels: TexelView,
     /// Records `levels` holds.
     pub level_records: u32,
+    /// Whether there is room for records (a response writes them), not a stand-in.
+    pub written: bool,
     pool: vk::DescriptorPool,
     /// Set `SET_POSES`.
     pub set: vk::DescriptorSet,
@@ -55,6 +57,7 @@ impl PoseRecords {
                 levels: levels.take(),
                 level_texels: level_texels.take(),
                 level_records,
+                written: records > 0,
                 pool,
                 set: sets[0],
             },

@@ -25,10 +25,9 @@ fn depth_steps(format: vk::Format) -> Option<u32> {
 impl Renderer {
     /// Entries of the cull's visible list a frame may fill (`scene_gpu::visible_limit`).
     pub(super) fn visible_limit(&self) -> u32 {
-        let per_blade = match (self.response.as_deref(), self.poses.as_ref()) {
-            (Some(r), Some(poses)) if r.blade_input().pose_records() => Some(poses.level_records),
-            _ => None,
-        };
+        // Per frame: from the records' own flag, not the response's `blade_input` (which builds
+        // its resource lists).
+        let per_blade = self.poses.as_ref().filter(|poses| poses.written).map(|poses| poses.level_records);
         crate::render::scene_gpu::visible_limit(&self.device, self.scene_gpu(), self.settings.segments, per_blade)
     }
 
