@@ -249,3 +249,22 @@ fn a_huge_script_line_is_refused_in_a_bounded_line() {
         assert!(stderr.len() < 600, "case {i}: {} bytes of error", stderr.len());
     }
 }
+
+#[test]
+fn responses_refuse_what_only_keyframes_have() {
+    refused("animation-unknown", &["--animation", "verlett"], "verlett");
+    refused(
+        "animation-poses",
+        &["--animation", "sine-object", "--poses", "16"],
+        "--poses has no effect with an --animation other than keyframes",
+    );
+    refused("animation-mode", &["--animation", "sine-vertex", "--mode", "uniform"], "--mode has no effect");
+    refused("animation-eval", &["--animation", "static", "--eval", "blade"], "--eval has no effect");
+    refused(
+        "animation-floor",
+        &["--mode", "floor", "--animation", "keyframes"],
+        "--animation has no effect with --mode floor",
+    );
+    refused("animation-static-wind", &["--animation", "static", "--wind", "0,1"], "--wind has no effect");
+    refused("animation-time", &["--animation", "sine-object", "--time", "-1"], "--time");
+}

@@ -435,6 +435,11 @@ fn bad_bench_arguments_exit_2() {
         &["bench", "--preset", "msaa", "--segments", "4"][..],
         &["bench", "--preset", "msaa", "--blades", "1000,2000"][..],
         &["bench", "--preset", "msaa", "--modes", "static"][..],
+        &["bench", "--preset", "animations", "--modes", "static"][..],
+        &["bench", "--preset", "animations", "--segments", "4"][..],
+        &["bench", "--preset", "animations", "--blades", "1000,2000"][..],
+        &["bench", "--preset", "animations", "--animations", "verlett"][..],
+        &["bench", "--preset", "lod", "--animations", "sine-object"][..],
     ] {
         let output = meadow().args(args).output().expect("run");
         assert_eq!(output.status.code(), Some(2), "{args:?}: {}", transcript(&output));
@@ -529,4 +534,55 @@ fn compare_reads_v1_documents_and_names_a_missing_field() {
         let output = compare(&dir, &base, &broken, &[]);
         assert_refused(field, &output, &["new.json", "not a bench.json", &format!("missing field `{field}`")]);
     }
+}
+
+/// `--preset animations`: static first in every row (the ratios' reference, 1), each response's
+/// own passes timed apart (none for static or per-vertex keyframes), the culled, unbounded and
+/// brute-force rows.
+#[test]
+fn the_animations_preset_measures_each_response_against_static() {
+    let out = scratch("bench-animations").join("out");
+    let output = meadow()
+        .args(["bench", "--preset", "animations", "--animations", "sine-object,keyframes", "--blades", "2000"])
+        .args([
+            "--size",
+            "96x54",
+            "--warmup",
+            "0",
+            "--frames",
+            "2",
+            "--validation",
+            "--device",
+            support::DEVICE,
+            "--out",
+        ])
+        .arg(&out)
+        .output()
+        .expect("run");
+    support::assert_clean(&output);
+    let doc: Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("animations.json")).expect("json")).expect("JSON");
+    let rows = doc["rows"].as_array().expect("rows");
+    let labels: Vec<&str> = rows.iter().map(|r| r["label"].as_str().expect("label")).collect();
+    assert_eq!(labels, ["2000 stored, culled", "unbounded field", "2000 x 8, brute force", "2000 x 4, brute force"]);
+    for row in rows {
+        let variants = row["variants"].as_array().expect("variants");
+        let names: Vec<&str> = variants.iter().map(|v| v["animation"].as_str().expect("name")).collect();
+        assert_eq!(names, ["static", "sine-object", "keyframes"], "{}", row["label"]);
+        assert_eq!(row["wind_field"], "analytic");
+        let passes = |i: usize| variants[i]["passes"].as_array().expect("passes").clone();
+        assert_eq!(variants[0]["ratio_to_static"], 1.0);
+        assert!(passes(0).is_empty() && variants[0]["ms_per_step"] == 0.0, "static has no pass of its own");
+        assert_eq!(passes(1), [Value::from("sine poses")], "{}", row["label"]);
+        assert!(variants[1]["ms_per_step"].as_f64() > Some(0.0), "{}", row["label"]);
+        // Keyframes pose once per blade with the cull, per vertex (no pass) by brute force.
+        let culled = row["culled"].as_bool().expect("culled");
+        assert_eq!(passes(2).is_empty(), !culled, "{}", row["label"]);
+        for v in variants {
+            assert_eq!(v["frames_ms"].as_array().map(Vec::len), Some(2));
+            assert!(v["gpu_ms"]["median"].as_f64() > Some(0.0));
+        }
+    }
+    let csv = std::fs::read_to_string(out.join("animations.csv")).expect("csv");
+    assert_eq!(csv.lines().count(), 1 + 4 * 3, "a header and a line per row and response");
 }

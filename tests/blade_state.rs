@@ -24,8 +24,7 @@ use meadow::render::animation::blade_state::{self, BladeStateStore, StepSpan, St
 use meadow::render::animation::response::{BladeInput, BladeResponse, ResponseContext, ResponseSetup, ResponseStep};
 use meadow::render::culling::Culling;
 use meadow::render::graph::{Declaration, Pass, PassContext, PassUniforms};
-use meadow::render::recording::bucket_dispatch::BucketDispatch;
-use meadow::render::recording::{self, PassSet, PassSetDesc};
+use meadow::render::recording::{BladeDispatch, PassSet, PassSetDesc};
 use meadow::render::specialization::Specialization;
 use meadow::render::wind::{FrameForces, WindField, WindInput, WindSetup};
 use meadow::render::{Models, OffscreenTarget, RenderSettings, Renderer};
@@ -178,16 +177,11 @@ impl BladeResponse for SpringResponse {
     }
 }
 
-enum Dispatch {
-    Stored(vk::Pipeline, u32),
-    Buckets(BucketDispatch),
-}
-
 /// spring.comp over the drawn blades: the store's clear on its first frame, the steps, and the
 /// store handed to the host for the test.
 struct SpringPass {
     set: PassSet,
-    dispatch: Dispatch,
+    dispatch: BladeDispatch,
     uniforms: PassUniforms,
     span: Rc<Cell<StepSpan>>,
     store: vk::Buffer,
@@ -195,7 +189,7 @@ struct SpringPass {
     shape: StoreShape,
     cleared: Cell<bool>,
     poses: (vk::DescriptorSet, vk::Buffer),
-    reads: [vk::Buffer; 3],
+    reads: [vk::Buffer; 2],
     wind: Vec<vk::Buffer>,
 }
 
@@ -217,20 +211,7 @@ impl SpringPass {
                 ("BladeStateFrame", uniforms.resource(slot)),
             ]
         })?;
-        let dispatch = match setup.buckets {
-            Some(buckets) => Dispatch::Buckets(BucketDispatch::new(
-                device,
-                "spring",
-                spirv,
-                set.layout,
-                (setup.constants, buckets),
-                scene.draws.raw,
-            )?),
-            None => Dispatch::Stored(
-                pipeline::compute(device, "spring", spirv, set.layout, &setup.constants.named())?,
-                scene.blade_count,
-            ),
-        };
+        let dispatch = BladeDispatch::new(device, "spring", spirv, set.layout, setup.constants, setup.blade_source())?;
         Ok(Self {
             set,
             dispatch,
@@ -240,7 +221,7 @@ impl SpringPass {
             shape: store.shape,
             cleared: Cell::new(false),
             poses: setup.poses,
-            reads: [scene.blades.raw, scene.clusters.raw, scene.visible.raw],
+            reads: [scene.blades.raw, scene.clusters.raw],
             wind: setup.wind.to_vec(),
         })
     }
@@ -264,10 +245,7 @@ impl Pass for SpringPass {
             .buffer(self.reads[0], fetch)
             .buffer(self.reads[1], Access::ComputeShaderRead)
             .buffer(self.wind[ctx.slot], Access::ComputeShaderRead);
-        let declaration = match &self.dispatch {
-            Dispatch::Buckets(buckets) => buckets.declare(declaration.buffer(self.reads[2], fetch)),
-            Dispatch::Stored(..) => declaration,
-        };
+        let declaration = self.dispatch.declare(ctx, declaration);
         // No commands: the barrier that makes the store readable by the test.
         Some(declaration.step("to host").buffer(self.store, Access::HostRead))
     }
@@ -284,17 +262,7 @@ impl Pass for SpringPass {
             return Ok(());
         }
         self.set.bind(device, cmd, vk::PipelineBindPoint::COMPUTE, ctx.slot);
-        match &self.dispatch {
-            Dispatch::Stored(pipeline, blades) => {
-                recording::bind_blade_compute(ctx, cmd, (self.set.layout, *pipeline), self.poses.0);
-                // SAFETY: cmd is recording outside a rendering instance; the sets and pipeline are bound.
-                unsafe { device.raw.cmd_dispatch(cmd, blades.div_ceil(64), 1, 1) };
-            }
-            Dispatch::Buckets(buckets) => {
-                recording::bind_blade_sets(ctx, cmd, self.set.layout, self.poses.0);
-                buckets.record(device, cmd);
-            }
-        }
+        self.dispatch.record(ctx, cmd, self.set.layout, self.poses.0);
         Ok(())
     }
 
@@ -311,13 +279,7 @@ impl Pass for SpringPass {
         unsafe {
             self.set.destroy(device);
             self.uniforms.destroy(device);
-            match self.dispatch {
-                Dispatch::Stored(pipeline, _) => {
-                    meadow::vk::live::destroyed(pipeline);
-                    device.raw.destroy_pipeline(pipeline, None);
-                }
-                Dispatch::Buckets(buckets) => buckets.destroy(device),
-            }
+            self.dispatch.destroy(device);
         }
     }
 }

@@ -10,14 +10,19 @@
 mod support;
 
 /// The scenes: the default (cull, LOD, per-blade poses), brute force in gusty wind (the default) with
-/// SLERP keyframes, an unbounded block field, and 4x MSAA culled and brute force (the
-/// per-sample outline coverage).
+/// SLERP keyframes, an unbounded block field, 4x MSAA culled and brute force (the per-sample
+/// outline coverage), and Pelzer's sine per object (culled) and per vertex (a block field).
 const SCENES: &[(&str, &[&str])] = &[
     ("culled", &["--blades", "20000", "--seed", "4", "--frames", "2"]),
     ("brute", &["--brute-force", "--blades", "20000", "--seed", "5", "--wind", "30,3", "--smoothing", "slerp"]),
     ("field", &["--field", "infinite", "--density", "150", "--view-distance", "40", "--frames", "2"]),
     ("msaa", &["--blades", "20000", "--seed", "6", "--msaa", "4", "--frames", "2"]),
     ("msaa-coverage", &["--brute-force", "--blades", "20000", "--seed", "6", "--msaa", "4"]),
+    ("sine-object", &["--animation", "sine-object", "--blades", "20000", "--seed", "7", "--wind", "30,0.8"]),
+    (
+        "sine-vertex",
+        &["--animation", "sine-vertex", "--field", "infinite", "--density", "150", "--view-distance", "40"],
+    ),
 ];
 
 /// The picture's bytes and the cull's counts line (if any) of one run with `threads` threads.

@@ -16,11 +16,11 @@ use std::rc::Rc;
 use ash::vk;
 use glam::{Vec3, Vec4};
 use meadow::app::{with_device, GpuOptions};
+use meadow::render::animation::pose_pass::{PosePass, PoseShader};
 use meadow::render::animation::response::{BladeInput, BladeResponse, ResponseSetup};
 use meadow::render::culling::Culling;
 use meadow::render::graph::{Declaration, Pass, PassContext};
-use meadow::render::recording::bucket_dispatch::BucketDispatch;
-use meadow::render::recording::{self, PassSet, PassSetDesc};
+use meadow::render::recording::{PassSet, PassSetDesc};
 use meadow::render::specialization::Specialization;
 use meadow::render::wind::{FrameForces, WindField, WindInput, WindSetup};
 use meadow::render::{Models, OffscreenTarget, RenderSettings, Renderer};
@@ -164,7 +164,16 @@ impl BladeResponse for LeanResponse {
     }
 
     fn passes(&self, device: &Device, setup: &ResponseSetup) -> meadow::Result<Vec<Box<dyn Pass>>> {
-        Ok(vec![Box::new(LeanPass::new(device, setup, &self.lean)?)])
+        // The library's pose pass runs lean.comp over the drawn blades: the response is its shader
+        // and its uniform block.
+        let shader = PoseShader {
+            name: "lean",
+            spirv: LEAN_COMP.code(device.profile),
+            resources: vec![("Lean", Descriptor::Buffer(self.lean.descriptor()))],
+            uses: vec![(Resource::Buffer(self.lean.raw), Access::ComputeShaderUniformRead)],
+            uniforms: None,
+        };
+        Ok(vec![Box::new(PosePass::new(device, setup, shader)?)])
     }
 
     fn tip_offset(&self, wind: Vec3) -> Vec3 {
@@ -175,115 +184,6 @@ impl BladeResponse for LeanResponse {
     unsafe fn destroy(self: Box<Self>, device: &Device) {
         // SAFETY: per the contract.
         unsafe { self.lean.destroy(device) };
-    }
-}
-
-/// How the lean pass dispatches: over every stored blade, or the cull's buckets.
-enum Dispatch {
-    Stored(vk::Pipeline, u32),
-    Buckets(BucketDispatch),
-}
-
-/// The lean response's pass: lean.comp over the drawn blades, into the pose records.
-struct LeanPass {
-    set: PassSet,
-    dispatch: Dispatch,
-    poses: (vk::DescriptorSet, vk::Buffer),
-    lean: vk::Buffer,
-    /// The stored blades, their clusters and (with the cull) the visible list.
-    reads: [vk::Buffer; 3],
-    wind: Vec<vk::Buffer>,
-}
-
-impl LeanPass {
-    fn new(device: &Device, setup: &ResponseSetup, lean: &Buffer) -> meadow::Result<Self> {
-        let scene = setup.scene;
-        let spirv = LEAN_COMP.code(device.profile);
-        let shaders = [("lean.comp", spirv)];
-        let own = |_| {
-            vec![
-                ("Draws", Descriptor::Buffer(scene.draws.descriptor())),
-                ("Lean", Descriptor::Buffer(lean.descriptor())),
-            ]
-        };
-        let set = PassSet::new(device, &setup.sets.desc("lean", &shaders), own)?;
-        let dispatch = match setup.buckets {
-            Some(buckets) => Dispatch::Buckets(BucketDispatch::new(
-                device,
-                "lean",
-                spirv,
-                set.layout,
-                (setup.constants, buckets),
-                scene.draws.raw,
-            )?),
-            None => Dispatch::Stored(
-                pipeline::compute(device, "lean", spirv, set.layout, &setup.constants.named())?,
-                scene.blade_count,
-            ),
-        };
-        Ok(Self {
-            set,
-            dispatch,
-            poses: setup.poses,
-            lean: lean.raw,
-            reads: [scene.blades.raw, scene.clusters.raw, scene.visible.raw],
-            wind: setup.wind.to_vec(),
-        })
-    }
-}
-
-impl Pass for LeanPass {
-    fn name(&self) -> &'static str {
-        "lean"
-    }
-
-    fn declare(&self, ctx: &PassContext) -> Option<Declaration> {
-        let fetch = ctx.device.profile.compute_fetch();
-        let declaration = Declaration::compute()
-            .buffer(self.poses.1, Access::ComputeShaderWrite)
-            .buffer(self.reads[0], fetch)
-            .buffer(self.reads[1], Access::ComputeShaderRead)
-            .buffer(self.wind[ctx.slot], Access::ComputeShaderRead)
-            .buffer(self.lean, Access::ComputeShaderUniformRead);
-        Some(match &self.dispatch {
-            Dispatch::Buckets(buckets) => buckets.declare(declaration.buffer(self.reads[2], fetch)),
-            Dispatch::Stored(..) => declaration,
-        })
-    }
-
-    fn record(&self, ctx: &PassContext, cmd: vk::CommandBuffer) -> meadow::Result<()> {
-        let device = ctx.device;
-        self.set.bind(device, cmd, vk::PipelineBindPoint::COMPUTE, ctx.slot);
-        match &self.dispatch {
-            Dispatch::Stored(pipeline, blades) => {
-                recording::bind_blade_compute(ctx, cmd, (self.set.layout, *pipeline), self.poses.0);
-                // SAFETY: cmd is recording outside a rendering instance; the sets and pipeline are bound.
-                unsafe { device.raw.cmd_dispatch(cmd, blades.div_ceil(64), 1, 1) };
-            }
-            Dispatch::Buckets(buckets) => {
-                recording::bind_blade_sets(ctx, cmd, self.set.layout, self.poses.0);
-                buckets.record(device, cmd);
-            }
-        }
-        Ok(())
-    }
-
-    fn replay_key(&self, _: &PassContext) -> Option<u64> {
-        Some(0)
-    }
-
-    unsafe fn destroy(self: Box<Self>, device: &Device) {
-        // SAFETY: per the contract.
-        unsafe {
-            self.set.destroy(device);
-            match self.dispatch {
-                Dispatch::Stored(pipeline, _) => {
-                    meadow::vk::live::destroyed(pipeline);
-                    device.raw.destroy_pipeline(pipeline, None);
-                }
-                Dispatch::Buckets(buckets) => buckets.destroy(device),
-            }
-        }
     }
 }
 

@@ -15,8 +15,7 @@
 #include "animation/forces.glsl"
 #include "animation/keyframes.glsl"
 #include "blades/blade_select.glsl"
-#include "common/field.glsl"
-#include "blades/visible_buckets.glsl"
+#include "animation/pose_write.glsl"
 
 // With the cull (FLAG_CULLED): one invocation per entry of a LOD bucket's range of its visible
 // list, dispatched indirectly by the scan's count, records by entry; without it, one per stored
@@ -28,41 +27,23 @@ layout(local_size_x = POSE_GROUP) in;
 void write_level(uint base, uint level, vec4 points[MAX_SEGMENTS + 1u], float inv, float force) {
     vec3 tangent = points[min(level + 1u, MODEL_SEGMENTS)].xyz - points[level > 0u ? level - 1u : 0u].xyz;
     tangent = length(tangent) > 0.0 ? normalize(tangent) : vec3(0.0, 1.0, 0.0);
-    vec3 unit = points[level].xyz * inv;
     float twist = points[level].w;
-    uint at = base + level * POSE_WORDS;
-    poses[at] = packSnorm2x16(unit.xy);
-    // z as snorm16 in the low half, cos and sin of the twist as snorm8 in the high half.
-    poses[at + 1u] = (packSnorm2x16(vec2(unit.z, 0.0)) & 0xffffu)
-        | (packSnorm4x8(vec4(0.0, 0.0, cos(twist), sin(twist))) & 0xffff0000u);
-    poses[at + 2u] = packSnorm4x8(vec4(tangent, clamp(force, 0.0, 1.0)));
+    write_pose_level(base, level, points[level].xyz * inv, tangent, vec2(cos(twist), sin(twist)), force);
 }
 
 void main() {
-    uint i = gl_GlobalInvocationID.x;
+    uint i;
+    uvec2 entry;
     BladeInstance blade;
-    uint blade_index = i;
-    if ((RENDER_FLAGS & FLAG_CULLED) != 0u) {
-        // Past the bucket (the last workgroup's tail) or on its padding: nothing to do.
-        if (!bucket_entry(i)) {
-            return;
-        }
-        uvec2 entry = visible_entry(i);
-        if (entry.x == VISIBLE_PADDING) {
-            return;
-        }
-        blade = visible_instance(entry, blade_index);
-    } else {
-        if (i >= frame.params.y) {
-            return;
-        }
-        blade = blade_record(i);
+    uint blade_index;
+    if (!posed_blade(i, entry, blade, blade_index)) {
+        return;
     }
     float force;
     KfSelection sel = kf_select_blade(blade_index, blade, force);
     vec3 p[4];
     neutral_control_points(blade.height, unpack_variation(blade.variation, 2), p);
-    uint base = i * (MODEL_SEGMENTS + 1u) * POSE_WORDS;
+    uint base = pose_base(i);
     vec4 c1;
     vec4 c2;
     vec4 c3;
@@ -79,15 +60,11 @@ void main() {
             : deformed(p, sel, level, MODEL_SEGMENTS, blade.height);
     }
     float inv = 1.0 / (POSE_SCALE * max(blade.height, 1e-6));
-    // The model levels a `segments`-segment strip reads (`model_level`): every
-    // MODEL_SEGMENTS / segments-th, or all of them when `segments` does not divide MODEL_SEGMENTS.
-    // `segments` is a specialization constant (its bucket's with the cull) and the loop unrolls,
-    // so each test folds away: the pipeline stores only what its bucket reads. A level indexed by
-    // a value varying across lanes instead (a loop to the entry's own segments) made `points` a
-    // per-lane array in memory on llvmpipe, and the pass took 2.3 times as long.
-    uint segments = (RENDER_FLAGS & FLAG_CULLED) != 0u ? SEGMENTS : MODEL_SEGMENTS;
+    // Only the model levels the bucket's strip reads (`level_read`). A level indexed by a value
+    // varying across lanes instead (a loop to the entry's own segments) made `points` a per-lane
+    // array in memory on llvmpipe, and the pass took 2.3 times as long.
     for (uint level = 0u; level <= MODEL_SEGMENTS; level++) {
-        if ((MODEL_SEGMENTS % segments) != 0u || (level * segments) % MODEL_SEGMENTS == 0u) {
+        if (level_read(level)) {
             write_level(base, level, points, inv, force);
         }
     }

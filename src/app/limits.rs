@@ -96,7 +96,7 @@ pub fn check_scene(
     floor: bool,
     (culled, msaa): (bool, Msaa),
 ) -> Result<()> {
-    use crate::render::animation::{Eval, Mode, MAX_EMITTERS};
+    use crate::render::animation::{Mode, MAX_EMITTERS};
     let field_m = crate::scene::blades::field_size(blades);
     check_limits(device, blades, (size, msaa), crate::scene::terrain::Terrain::cells_for(field_m))?;
     KeyframeTexture::check_limits(device, animation.poses)?;
@@ -106,7 +106,7 @@ pub fn check_scene(
         let per_blade = 12 * u64::from(2 * segments + 2) + 4 * 6 * u64::from(segments);
         device.check_budget(2 * per_blade * u64::from(blades), &format!("--mode floor with {blades} blades"))?;
     }
-    if animation.eval == Eval::Blade && animation.mode != Mode::Static {
+    if let Some(writer) = animation.pose_writer() {
         // At most one storage buffer of records (`scene_gpu::pose_records`): with the cull, one
         // per drawn blade (the cull keeps at most that many); brute force needs one per blade.
         crate::render::settings::check_pose_records(device, animation, (blades, segments), culled, floor)?;
@@ -116,7 +116,7 @@ pub fn check_scene(
         let max = device.limits().max_compute_work_group_count[0];
         if groups > max {
             return Err(Error::bad_input(format!(
-                "--eval blade with {blades} blades needs {groups} workgroups, over the device's maxComputeWorkGroupCount[0] of {max}"
+                "{writer} with {blades} blades needs {groups} workgroups, over the device's maxComputeWorkGroupCount[0] of {max}"
             )));
         }
         let mut bytes = crate::render::scene_gpu::pose_bytes(records, segments);
@@ -125,7 +125,7 @@ pub fn check_scene(
             let levels = crate::render::scene_gpu::level_records(device, records, segments);
             bytes += crate::render::scene_gpu::level_bytes(levels, segments);
         }
-        device.check_budget(bytes, &format!("--eval blade with {blades} blades x {segments} segments"))?;
+        device.check_budget(bytes, &format!("{writer} with {blades} blades x {segments} segments"))?;
     }
     let emitters = animation.wind.sources.len() + animation.wind.colliders.len();
     if emitters > MAX_EMITTERS {

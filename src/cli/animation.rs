@@ -22,6 +22,19 @@ pub(crate) enum ModeArg {
     Floor,
 }
 
+/// The blade response (`render::animation::response`).
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub(crate) enum AnimationArg {
+    /// Neutral blades, no forces (as --mode static).
+    Static,
+    /// The thesis' keyframes: --mode texture or uniform, --eval, and the keyframe flags.
+    Keyframes,
+    /// Pelzer's sine (GPU Gems ch. 7, §7.4.4): one phase per blade, at its root.
+    SineObject,
+    /// Pelzer's sine (§7.4.3): a phase per vertex of the blade's backbone, from its world position.
+    SineVertex,
+}
+
 #[derive(Clone, Copy, ValueEnum)]
 pub(crate) enum PackingArg {
     /// The thesis' merge/extract in a 32-bit float.
@@ -84,7 +97,10 @@ pub(crate) enum AttenuationArg {
 
 #[derive(Args)]
 pub(crate) struct AnimationArgs {
-    /// Animation mode.
+    /// The blade response: what poses the blades under the wind.
+    #[arg(long, value_enum, default_value = "keyframes")]
+    pub(crate) animation: AnimationArg,
+    /// Keyframe table (texture or uniform array), static blades, or the benchmark floor.
     #[arg(long, value_enum, default_value = "texture")]
     pub(crate) mode: ModeArg,
     /// Keyframe poses over the full circle (a quarter is stored).
@@ -140,7 +156,7 @@ impl AnimationArgs {
     /// The settings; `culled`: whether the cull runs (it decides `--eval auto`).
     pub(crate) fn settings(&self, culled: bool) -> AnimationSettings {
         AnimationSettings {
-            mode: self.mode.animation(),
+            mode: self.animation.mode(self.mode),
             packing: match self.packing {
                 PackingArg::Thesis => Packing::Thesis,
                 PackingArg::Snorm => Packing::Snorm,
@@ -173,6 +189,19 @@ impl AnimationArgs {
                 colliders: self.collider.clone(),
             },
             clock: crate::render::animation::clock::StepClock { dt: self.dt },
+        }
+    }
+}
+
+impl AnimationArg {
+    /// The mode: for keyframes, the one `--mode` names.
+    pub(crate) fn mode(self, mode: ModeArg) -> Mode {
+        use crate::render::animation::sine::SinePhase;
+        match self {
+            AnimationArg::Static => Mode::Static,
+            AnimationArg::Keyframes => mode.animation(),
+            AnimationArg::SineObject => Mode::Sine(SinePhase::Object),
+            AnimationArg::SineVertex => Mode::Sine(SinePhase::Vertex),
         }
     }
 }

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use clap::{Args, ValueEnum};
 
-use super::animation::{AnimationArgs, DebugViewArg, EvalArg, ModeArg};
+use super::animation::{AnimationArg, AnimationArgs, DebugViewArg, EvalArg, ModeArg};
 use super::culling::CullArgs;
 use crate::app::values;
 use crate::app::{GpuOptions, RenderOptions};
@@ -217,7 +217,8 @@ pub(crate) struct ViewArgs {
 pub(crate) struct BenchArgs {
     /// thesis: the 15 rows of Table 6.2 at 1280x720; quick: a small smoke matrix; lod: brute force
     /// against the GPU-driven cull and LOD on a 1M-blade field from four cameras; msaa: the cost
-    /// and the temporal stability (a slow pan) of --msaa with and without alpha to coverage.
+    /// and the temporal stability (a slow pan) of --msaa with and without alpha to coverage;
+    /// animations: the blade responses side by side, culled, unbounded and at the thesis' sizes.
     #[arg(long, value_enum, default_value = "quick")]
     pub(crate) preset: PresetArg,
     /// Blade counts (comma-separated), replacing the preset's (lod: one, the stored field's).
@@ -232,6 +233,10 @@ pub(crate) struct BenchArgs {
     /// Evaluation placements of the keyframed modes (comma-separated).
     #[arg(long, value_delimiter = ',', value_enum)]
     pub(crate) eval: Vec<EvalArg>,
+    /// The responses --preset animations compares (comma-separated; static is always measured,
+    /// as every ratio's reference).
+    #[arg(long, value_delimiter = ',', value_enum)]
+    pub(crate) animations: Vec<AnimationArg>,
     /// Picture size, replacing the preset's.
     #[arg(long, value_name = "WxH", value_parser = values::size)]
     pub(crate) size: Option<(u32, u32)>,
@@ -242,7 +247,8 @@ pub(crate) struct BenchArgs {
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=10_000))]
     pub(crate) frames: Option<u32>,
     /// Directory for bench.json, bench.csv and bench.png (lod: lod.json, lod.csv and lod.png;
-    /// msaa: msaa.json, msaa.csv and msaa-far-field.png).
+    /// msaa: msaa.json, msaa.csv and msaa-far-field.png; animations: animations.json and
+    /// animations.csv).
     #[arg(long, default_value = "bench-out")]
     pub(crate) out: PathBuf,
     /// Compare two bench.json files instead of measuring; exit 1 on a regression.
@@ -327,6 +333,7 @@ pub(crate) enum PresetArg {
     Quick,
     Lod,
     Msaa,
+    Animations,
 }
 
 #[derive(Clone, Copy, ValueEnum)]

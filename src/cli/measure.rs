@@ -131,6 +131,7 @@ pub(crate) fn bench(args: BenchArgs) -> crate::Result<(u8, Option<u64>)> {
         PresetArg::Quick => bench::BenchOptions::quick(args.out.clone()),
         PresetArg::Lod => return lod(args),
         PresetArg::Msaa => return msaa(args),
+        PresetArg::Animations => return animations(args),
     };
     let preset_blades: Vec<u32> = options.rows.iter().map(|r| r.0).collect();
     let preset_segments: Vec<u32> = options.rows.iter().map(|r| r.1).collect();
@@ -218,6 +219,37 @@ fn msaa(args: BenchArgs) -> crate::Result<(u8, Option<u64>)> {
         },
         |doc| {
             print!("{}", msaa::table(&doc));
+        },
+    ))
+}
+
+/// `meadow bench --preset animations`: `--animations` picks the responses, `--blades` (one value)
+/// every stored field's count; size, warm-up and frames can be changed; modes, evaluation
+/// placements and segment counts cannot (`cli::effect` refuses them).
+fn animations(args: BenchArgs) -> crate::Result<(u8, Option<u64>)> {
+    use crate::harness::bench::animations::{self, AnimationsBenchOptions};
+    let mut options = AnimationsBenchOptions::preset(args.out.clone());
+    if let Some(blades) = at_most_one(&args.blades, "--preset animations takes one --blades count")? {
+        options.set_blades(blades);
+    }
+    if !args.animations.is_empty() {
+        let keyframes = super::animation::ModeArg::Texture;
+        options.animations = args.animations.iter().map(|a| a.mode(keyframes)).collect();
+    }
+    options.size = args.size.unwrap_or(options.size);
+    options.warmup = args.warmup.unwrap_or(options.warmup);
+    options.frames = args.frames.unwrap_or(options.frames);
+    Ok(measure(
+        &args.gpu,
+        "frames",
+        (&options.out, &animations::FILES),
+        |device, progress| {
+            let doc = animations::run(device, &options, progress)?;
+            animations::write(&doc, &options.out)?;
+            Ok(doc)
+        },
+        |doc| {
+            print!("{}", animations::table(&doc));
         },
     ))
 }

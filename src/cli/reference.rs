@@ -35,7 +35,7 @@ pub fn markdown(command: &Command) -> String {
          the configuration the rest of the line chooses is refused the same way, before any work, with \
          `error: --flag has no effect with <configuration>: <why>`; for example `--lod-scale` with \
          `--brute-force`, `--density` without `--field`, `--threshold` without `--compare`. The cases are \
-         one table, `RULES` in `src/cli/effect.rs`.\n"
+         one table, `RULES` in `src/cli/effect/rules.rs`.\n"
     );
     let commands = visible_subcommands(&root);
     if !commands.is_empty() {

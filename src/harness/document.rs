@@ -60,7 +60,7 @@ impl Summary {
 pub struct Header {
     /// [`SCHEMA_VERSION`] when written.
     pub schema_version: u32,
-    /// `bench`, `lod`, `msaa`, `overhead` or `timing`.
+    /// `bench`, `lod`, `msaa`, `animations`, `overhead` or `timing`.
     pub kind: String,
     /// The device's name.
     pub device: String,

@@ -162,13 +162,18 @@ pub fn check_pose_records(
     culled: bool,
     floor: bool,
 ) -> Result<()> {
-    use crate::render::animation::{Eval, Mode};
-    let per_blade = animation.eval == Eval::Blade && animation.mode != Mode::Static;
     let most = crate::render::scene_gpu::most_pose_records(device, segments);
-    if per_blade && !culled && !floor && u64::from(blades) > most {
+    let Some(writer) = animation.pose_writer() else {
+        return Ok(());
+    };
+    if !culled && !floor && u64::from(blades) > most {
         let bytes = crate::render::scene_gpu::pose_bytes(blades, segments);
+        let instead = match writer {
+            "--eval blade" => "use --eval vertex or the cull",
+            _ => "use the cull",
+        };
         return Err(Error::bad_input(format!(
-            "--eval blade with --brute-force and {blades} blades x {segments} segments needs {} MiB of evaluated levels, over the device's maxStorageBufferRange of {} MiB: use --eval vertex or the cull",
+            "{writer} with --brute-force and {blades} blades x {segments} segments needs {} MiB of evaluated levels, over the device's maxStorageBufferRange of {} MiB: {instead}",
             bytes >> 20,
             device.limits().max_storage_buffer_range >> 20
         )));

@@ -17,6 +17,10 @@ pub const BLADE_COVERAGE_FRAG: Shader = spirv_shader!("blades/blade.frag.coverag
 pub const BLADE_LEVELS_COMP: Shader = spirv_shader!("blades/blade_levels.comp");
 /// `--eval blade`: per-blade pose records.
 pub const BLADE_POSE_COMP: Shader = spirv_shader!("animation/blade_pose.comp");
+/// Pelzer's sine animation (`render::animation::sine`), its phase per object: pose records.
+pub const SINE_COMP: Shader = spirv_shader!("animation/sine.comp");
+/// The same, its phase per vertex (the variant `vertex`).
+pub const SINE_VERTEX_COMP: Shader = spirv_shader!("animation/sine.comp.vertex");
 /// The analytic wind field at the cluster corners, each step (`render::wind`).
 pub const ANALYTIC_CORNERS_COMP: Shader = spirv_shader!("wind/analytic_corners.comp");
 /// Terrain vertex shader (height-field pulling).

@@ -9,6 +9,7 @@ use winit::keyboard::KeyCode;
 use super::Viewer;
 use crate::error::Result;
 use crate::keyframes::Smoothing;
+use crate::render::animation::sine::SinePhase;
 use crate::render::animation::AnimationSettings;
 use crate::render::animation::{Eval, Mode};
 use crate::render::culling::Culling;
@@ -141,12 +142,15 @@ impl Viewer {
         let old_blades = self.scene.blades.len() as u32;
         let mut blades = old_blades;
         match name {
-            // Static, texture, uniform, then the floor reference (static blades, pre-expanded).
+            // Static, texture, uniform, Pelzer's sine per object and per vertex, then the floor
+            // reference (static blades, pre-expanded).
             "m" => match (animation.mode, settings.floor) {
                 (_, true) => settings.floor = false,
                 (Mode::Static, false) => animation.mode = Mode::Texture,
                 (Mode::Texture, false) => animation.mode = Mode::Uniform,
-                (Mode::Uniform, false) => (animation.mode, settings.floor) = (Mode::Static, true),
+                (Mode::Uniform, false) => animation.mode = Mode::Sine(SinePhase::Object),
+                (Mode::Sine(SinePhase::Object), false) => animation.mode = Mode::Sine(SinePhase::Vertex),
+                (Mode::Sine(SinePhase::Vertex), false) => (animation.mode, settings.floor) = (Mode::Static, true),
             },
             "n" => {
                 animation.smoothing = match animation.smoothing {

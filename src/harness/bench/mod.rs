@@ -15,6 +15,7 @@ use crate::render::{OffscreenTarget, RenderSettings, Renderer};
 use crate::scene::{Camera, Scene};
 use crate::vk::{Device, Guard};
 
+pub mod animations;
 mod compare;
 pub mod document;
 pub mod lod;

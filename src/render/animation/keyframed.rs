@@ -12,7 +12,7 @@ use glam::Vec3;
 
 use crate::error::Result;
 use crate::keyframes::{KeyframeLayout, KeyframeTable, Representation};
-use crate::render::animation::pose_pass::BladePosePass;
+use crate::render::animation::pose_pass::{PosePass, PoseShader};
 use crate::render::animation::response::{BladeInput, BladeResponse, ResponseSetup};
 use crate::render::animation::{AnimationSettings, Eval, KeyframeTexture, KeyframeUniforms, Mode};
 use crate::render::gpu_constants as gpu;
@@ -22,7 +22,7 @@ use crate::render::specialization::Specialization;
 use crate::vk::descriptor::Resource as Descriptor;
 use crate::vk::upload::UploadBatch;
 use crate::vk::{Access, Buffer, Destroy, Device, Guard, Resource};
-use crate::wind::{Attenuation, KEYFRAME_WIND_SCALE};
+use crate::wind::KEYFRAME_WIND_SCALE;
 use ash::vk;
 
 /// What the keyframe texture is read as, by the blade pass (per vertex) and the pose pass.
@@ -110,10 +110,6 @@ impl BladeResponse for KeyframeResponse {
             Mode::Uniform => s.packing.code(),
             _ => s.encoding.code(),
         };
-        specialization.attenuation = match s.attenuation {
-            Attenuation::Cluster => gpu::ATTENUATION_CLUSTER,
-            Attenuation::Blade => gpu::ATTENUATION_BLADE,
-        };
         specialization.representation = match s.representation {
             Representation::Curve => gpu::REPRESENTATION_CURVE,
             Representation::Vertex => gpu::REPRESENTATION_LEVELS,
@@ -152,7 +148,14 @@ impl BladeResponse for KeyframeResponse {
             (Resource::Buffer(self.words.buffer.raw), Access::ComputeShaderUniformRead),
             (Resource::Buffer(self.shape.raw), Access::ComputeShaderUniformRead),
         ];
-        Ok(vec![Box::new(BladePosePass::new(device, setup, &self.resources(), reads)?)])
+        let shader = PoseShader {
+            name: "blade poses",
+            spirv: shaders::BLADE_POSE_COMP.code(device.profile),
+            resources: self.resources(),
+            uses: reads,
+            uniforms: None,
+        };
+        Ok(vec![Box::new(PosePass::new(device, setup, shader)?)])
     }
 
     fn tip_offset(&self, wind: Vec3) -> Vec3 {

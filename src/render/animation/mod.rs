@@ -13,6 +13,7 @@ pub mod keyframed;
 pub mod pose_pass;
 pub mod poses;
 pub mod response;
+pub mod sine;
 pub mod still;
 
 pub use keyframe_gpu::{texture_format, KeyframeTexture, KeyframeUniforms};
@@ -38,10 +39,15 @@ pub fn build_response(
         Mode::Texture | Mode::Uniform => {
             Box::new(keyframed::KeyframeResponse::new(device, context.animation, context.segments)?)
         }
+        Mode::Sine(phase) => {
+            let direction = context.animation.wind.global.map_or(0.0, |g| g.direction_deg);
+            Box::new(sine::SineResponse::new(phase, direction))
+        }
     })
 }
 
-/// How blades are posed.
+/// How blades are posed: the blade response (`--animation`), and for keyframes where their table
+/// lives (`--mode`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Mode {
     /// Neutral Bézier blades, no forces.
@@ -51,13 +57,15 @@ pub enum Mode {
     Texture,
     /// Keyframes in a uniform array, two 16-bit values per 32-bit word (thesis 4.4.2).
     Uniform,
+    /// Pelzer's sine animation (§7.4), its phase per object or per vertex (`sine`).
+    Sine(sine::SinePhase),
 }
 
 impl Mode {
     /// Index used by the shaders.
     pub fn code(self) -> u32 {
         match self {
-            Mode::Static => gpu_constants::MODE_STATIC,
+            Mode::Static | Mode::Sine(_) => gpu_constants::MODE_STATIC,
             Mode::Texture => gpu_constants::MODE_TEXTURE,
             Mode::Uniform => gpu_constants::MODE_UNIFORM,
         }
@@ -130,6 +138,19 @@ impl Default for AnimationSettings {
             cluster_size: 1.0,
             wind: Wind::default(),
             clock: clock::StepClock::default(),
+        }
+    }
+}
+
+impl AnimationSettings {
+    /// What makes the blade pass read pose records, as an error names it (`--eval blade` for
+    /// keyframes, a sine variant always); `None` when the blades are posed per vertex or neutral.
+    pub fn pose_writer(&self) -> Option<&'static str> {
+        match self.mode {
+            Mode::Static => None,
+            Mode::Texture | Mode::Uniform => (self.eval == Eval::Blade).then_some("--eval blade"),
+            Mode::Sine(sine::SinePhase::Object) => Some("--animation sine-object"),
+            Mode::Sine(sine::SinePhase::Vertex) => Some("--animation sine-vertex"),
         }
     }
 }

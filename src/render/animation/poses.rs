@@ -43,7 +43,10 @@ impl PoseRecords {
             0 => 8 * u64::from(gpu::LEVEL_UVEC2S),
             _ => level_bytes(level_records, segments),
         };
-        let poses = Guard::new(device, Buffer::new(device, &BufferDesc::gpu_only("blade poses", pose_size, usage))?);
+        // A transfer source too: `Renderer::read_pose_records` copies them out for tests.
+        let pose_usage = usage | vk::BufferUsageFlags::TRANSFER_SRC;
+        let poses =
+            Guard::new(device, Buffer::new(device, &BufferDesc::gpu_only("blade poses", pose_size, pose_usage))?);
         let level_usage = usage | vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER;
         let levels = BufferDesc::gpu_only("blade levels", level_size, level_usage);
         let levels = Guard::new(device, Buffer::new(device, &levels)?);

@@ -79,6 +79,19 @@ pub struct ResponseSetup<'a> {
     pub buckets: Option<&'a [u32]>,
 }
 
+impl ResponseSetup<'_> {
+    /// What a per-blade pass runs over (`recording::BladeDispatch`): the stored blades, or with
+    /// the cull its buckets over the visible list.
+    pub fn blade_source(&self) -> crate::render::recording::BladeSource<'_> {
+        crate::render::recording::BladeSource {
+            blades: self.scene.blade_count,
+            buckets: self.buckets,
+            draws: self.scene.draws.raw,
+            visible: self.scene.visible.raw,
+        }
+    }
+}
+
 /// One simulation step, as `BladeResponse::step` sees it (a stateless response ignores it).
 #[derive(Clone, Copy, Debug)]
 pub struct ResponseStep {
@@ -90,6 +103,11 @@ pub struct ResponseStep {
     pub frame: u64,
     /// The frame slot.
     pub slot: usize,
+    /// The frame's simulation time, seconds.
+    pub time: f64,
+    /// World (x, z) the GPU's positions are relative to, exact in f64 (a block field's origin O;
+    /// zero for a stored field), for phases taken in the world.
+    pub origin: glam::DVec2,
 }
 
 /// A blade response.
@@ -98,7 +116,8 @@ pub trait BladeResponse {
     fn name(&self) -> &'static str;
 
     /// Set the constants that choose the response's shader path (a keyframe response's mode,
-    /// smoothing, encoding, attenuation, representation, the uniform array's size).
+    /// smoothing, encoding, representation, the uniform array's size; the renderer sets the wind
+    /// field's attenuation).
     fn specialize(&self, specialization: &mut Specialization);
 
     /// How the blade pass poses a blade.

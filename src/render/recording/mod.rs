@@ -3,9 +3,11 @@
 //! ([`bucket_dispatch`]). Below both `render::animation` and `render::passes`, so a response's
 //! passes and the renderer's share them without importing each other.
 
+pub mod blade_dispatch;
 pub mod bucket_dispatch;
 pub mod pass_set;
 
+pub use blade_dispatch::{BladeDispatch, BladeSource};
 pub use pass_set::{PassSet, PassSetDesc, SceneSets};
 
 use ash::vk;

@@ -29,6 +29,35 @@ impl Renderer {
         self.read_buffer("wind corners", corners.raw, size)
     }
 
+    /// The pose records as the response's pose pass last wrote them (`POSE_WORDS` words per
+    /// level, `MODEL_SEGMENTS + 1` levels a record; by stored blade without the cull, by
+    /// visible-list entry with it); empty when the response writes none. Call it between frames,
+    /// as `read_relief_grid`.
+    pub fn read_pose_records(&self) -> Result<Vec<u32>> {
+        let Some(poses) = self.poses.as_ref().filter(|p| p.written) else {
+            return Ok(Vec::new());
+        };
+        let bytes = self.read_bytes("pose records", poses.poses.raw, poses.poses.size)?;
+        Ok(bytes.chunks_exact(4).map(|w| u32::from_le_bytes([w[0], w[1], w[2], w[3]])).collect())
+    }
+
+    /// The names of the blade response's own passes, as frame timings name them (`PassTime`):
+    /// what the response costs, apart from the renderer's passes (the blade-levels pass that
+    /// places pose records is the renderer's).
+    pub fn response_passes(&self) -> &[&'static str] {
+        &self.response_passes
+    }
+
+    /// The blade response's name in reports (`BladeResponse::name`).
+    pub fn response_name(&self) -> &'static str {
+        self.response.as_deref().map_or("none", |r| r.name())
+    }
+
+    /// The wind field's name in reports (`WindField::name`).
+    pub fn wind_field_name(&self) -> &'static str {
+        self.wind.name()
+    }
+
     /// The cluster grid whose corners carry the wind (relative to O for a block field: its
     /// innermost wind level).
     pub fn cluster_grid(&self) -> crate::scene::clusters::ClusterGrid {
@@ -48,8 +77,17 @@ impl Renderer {
         }
     }
 
-    /// `size` bytes of `buffer`, last written by a compute shader, copied out and waited for.
+    /// `size` bytes of `buffer` as vec4s (`read_bytes`).
     fn read_buffer(&self, name: &str, buffer: ash::vk::Buffer, size: u64) -> Result<Vec<[f32; 4]>> {
+        let bytes = self.read_bytes(name, buffer, size)?;
+        Ok(bytes
+            .chunks_exact(16)
+            .map(|v| std::array::from_fn(|i| f32::from_le_bytes(v[4 * i..4 * i + 4].try_into().expect("4 bytes"))))
+            .collect())
+    }
+
+    /// `size` bytes of `buffer`, last written by a compute shader, copied out and waited for.
+    fn read_bytes(&self, name: &str, buffer: ash::vk::Buffer, size: u64) -> Result<Vec<u8>> {
         let usage = ash::vk::BufferUsageFlags::TRANSFER_DST;
         let out = Buffer::new(&self.device, &BufferDesc::readback(&format!("{name} read-back"), size, usage))?;
         let grid = buffer;
@@ -64,7 +102,7 @@ impl Renderer {
             sync::cmd_barriers(&self.device, cmd, &[after], &[]);
             Ok(())
         });
-        let texels = bytemuck::cast_slice::<u8, [f32; 4]>(out.mapped()).to_vec();
+        let texels = out.mapped()[..size as usize].to_vec();
         // SAFETY: submit_and_wait waited for the copy (or never submitted it).
         unsafe { out.destroy(&self.device) };
         copied.map(|()| texels)

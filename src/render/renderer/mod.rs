@@ -64,6 +64,8 @@ pub struct Renderer {
     /// The blade response (`render::animation::response`) and what builds it.
     response: Option<Box<dyn BladeResponse>>,
     response_builder: Rc<BuildResponse>,
+    /// The names of the response's own passes in the graph (`Renderer::response_passes`).
+    response_passes: Vec<&'static str>,
     /// The pose records it writes, if it poses blades once per blade, and set `SET_POSES`.
     poses: Option<PoseRecords>,
     layouts: SceneLayouts,
@@ -122,6 +124,7 @@ impl Renderer {
             scene: None,
             response: None,
             response_builder: models.response,
+            response_passes: Vec::new(),
             poses: None,
             layouts: SceneLayouts::default(),
             graph: Graph::new(),
@@ -423,6 +426,8 @@ impl Renderer {
             dt: clock.dt as f32,
             frame: self.graph.frames_submitted(),
             slot,
+            time: f64::from(time),
+            origin: self.origin_of(camera),
         };
         self.response.as_deref_mut().expect("built").step(&step);
         self.prepare_overlay(slot, target.extent)?;

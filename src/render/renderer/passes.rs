@@ -116,6 +116,12 @@ impl Renderer {
         if settings.debug_fresnel {
             specialization.flags |= crate::render::gpu_constants::FLAG_DEBUG_FRESNEL;
         }
+        // Where point sources are attenuated (thesis 4.5): the wind field's sampling, whichever
+        // response reads it (`wind/wind_field.glsl`).
+        specialization.attenuation = match self.animation.attenuation {
+            crate::wind::Attenuation::Cluster => gpu::ATTENUATION_CLUSTER,
+            crate::wind::Attenuation::Blade => gpu::ATTENUATION_BLADE,
+        };
         if let (false, Some(response), Some(poses)) = (settings.floor, self.response.as_deref(), self.poses.as_ref()) {
             response.specialize(&mut specialization);
             if response.blade_input().pose_records() {
@@ -155,6 +161,7 @@ impl Renderer {
         let setup = ResponseSetup { sets, constants, scene, poses: (poses.set, poses.poses.raw), buckets, wind: &wind };
         // Never recorded until the graph holds them.
         let mut response_passes = Guard::new(device, response.passes(device, &setup)?);
+        self.response_passes = response_passes.iter().map(|pass| pass.name()).collect();
         if constants.flags & gpu::FLAG_LEVELS != 0 {
             response_passes.push(Box::new(BladeLevelsPass::new(device, &setup, poses)?));
         }

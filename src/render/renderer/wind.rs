@@ -12,8 +12,8 @@ impl Renderer {
     /// and with `--brute-force` the thesis' corner forces, 3.2.2; with the cull its pass's
     /// parameters); they are visible to the GPU at submission.
     pub(super) fn update_wind(&mut self, slot: usize, camera: &Camera, time: f32) {
+        let origin = self.origin_of(camera);
         let scene = self.scene.as_ref().expect("uploaded");
-        let origin = scene.field.as_ref().map_or(glam::DVec2::ZERO, |_| Origin::under(camera).world);
         let input = WindInput {
             grid: &scene.grid,
             levels: scene.wind_levels,
@@ -24,6 +24,13 @@ impl Renderer {
             cpu_corners: !self.settings.culling.enabled,
         };
         self.wind.update(&mut self.forces[slot], &input);
+    }
+
+    /// World (x, z) the GPU's positions are relative to under `camera`: a block field's origin O
+    /// (`field_gpu::Origin`), zero for a stored field.
+    pub(super) fn origin_of(&self, camera: &Camera) -> glam::DVec2 {
+        let scene = self.scene.as_ref().expect("uploaded");
+        scene.field.as_ref().map_or(glam::DVec2::ZERO, |_| Origin::under(camera).world)
     }
 
     /// Whether the wind field's passes run: with the cull, when something samples the wind (a

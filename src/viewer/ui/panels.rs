@@ -5,6 +5,7 @@
 use egui::Ui;
 
 use crate::keyframes::Smoothing;
+use crate::render::animation::sine::SinePhase;
 use crate::render::animation::{AnimationSettings, Eval, Mode};
 use crate::render::culling::Culling;
 use crate::render::RenderSettings;
@@ -208,12 +209,15 @@ fn budget(ui: &mut Ui, view: &UiView, out: &mut PanelOutput) {
 pub fn animation(ui: &mut Ui, view: &UiView, out: &mut PanelOutput) {
     let a = view.animation;
     let mode = match (a.mode, view.settings.floor) {
-        (_, true) => 3,
+        (_, true) => 5,
         (Mode::Static, _) => 0,
         (Mode::Texture, _) => 1,
         (Mode::Uniform, _) => 2,
+        (Mode::Sine(SinePhase::Object), _) => 3,
+        (Mode::Sine(SinePhase::Vertex), _) => 4,
     };
-    cycle(ui, out, "m", &["static", "texture", "uniform", "floor"], mode);
+    let modes = ["static", "texture", "uniform", "sine per object", "sine per vertex", "floor"];
+    cycle(ui, out, "m", &modes, mode);
     let smoothing = match a.smoothing {
         Smoothing::Nearest => 0,
         Smoothing::Linear => 1,

@@ -10,9 +10,8 @@
 // store's outermost ring of blocks. Its pose records bend the blade along a parabola to the tip.
 #define POSE_WRITER
 #include "common/bindings.glsl"
-#include "common/field.glsl"
 #include "wind/wind_field.glsl"
-#include "blades/visible_buckets.glsl"
+#include "animation/pose_write.glsl"
 #include "animation/blade_state.glsl"
 
 layout(local_size_x = POSE_GROUP) in;
@@ -29,24 +28,12 @@ vec2 target_offset(vec2 wind) {
 }
 
 void main() {
-    uint i = gl_GlobalInvocationID.x;
-    uvec2 entry = uvec2(i, 0u);
+    uint i;
+    uvec2 entry;
     BladeInstance blade;
-    uint blade_index = i;
-    if ((RENDER_FLAGS & FLAG_CULLED) != 0u) {
-        if (!bucket_entry(i)) {
-            return;
-        }
-        entry = visible_entry(i);
-        if (entry.x == VISIBLE_PADDING) {
-            return;
-        }
-        blade = visible_instance(entry, blade_index);
-    } else {
-        if (i >= frame.params.y) {
-            return;
-        }
-        blade = blade_record(i);
+    uint blade_index;
+    if (!posed_blade(i, entry, blade, blade_index)) {
+        return;
     }
     // The wind rounded to 1/1024 m/s: the interpolation's last-bit differences between camera
     // origins (the corners' weights change with O) do not reach the state, so a blade's state
@@ -79,15 +66,12 @@ void main() {
     vec2 across = vec2(cos(blade.facing), -sin(blade.facing));
     vec2 normal_dir = vec2(sin(blade.facing), cos(blade.facing));
     vec2 local = vec2(dot(offset, across), dot(offset, normal_dir));
-    uint base = i * (MODEL_SEGMENTS + 1u) * POSE_WORDS;
+    uint base = pose_base(i);
     for (uint level = 0u; level <= MODEL_SEGMENTS; level++) {
         float t = float(level) / float(MODEL_SEGMENTS);
+        // Over the blade's height and POSE_SCALE, as the records store it.
         vec3 unit = vec3(local.x * t * t, t, local.y * t * t) / POSE_SCALE;
         vec3 tangent = normalize(vec3(2.0 * local.x * t, 1.0, 2.0 * local.y * t));
-        uint at = base + level * POSE_WORDS;
-        poses[at] = packSnorm2x16(unit.xy);
-        poses[at + 1u] = (packSnorm2x16(vec2(unit.z, 0.0)) & 0xffffu)
-            | (packSnorm4x8(vec4(0.0, 0.0, 1.0, 0.0)) & 0xffff0000u);
-        poses[at + 2u] = packSnorm4x8(vec4(tangent, 0.0));
+        write_pose_level(base, level, unit, tangent, vec2(1.0, 0.0), 0.0);
     }
 }

@@ -1,0 +1,86 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// Pelzer's sine animation (GPU Gems ch. 7, §7.4), a blade response (`render::animation::sine`),
+// once per blade into the renderer's pose records. Pelzer moves a grass object's upper vertices by
+// a translation vector (Listings 7-2 to 7-4: position + translation, normal · height +
+// translation) and leaves its `CalcTranslation` open. meadow's, in blade heights:
+//   T(p) = clamp_length(g·w + a·|w|·sin θ(p)·ŵ, MOST)
+//   θ(p) = ω·t − κ·d̂·p   (a sine wave running along the global wind's direction d̂)
+// with w the wind at the blade's root (m/s, horizontal): the wind field's (wind/wind_field.glsl)
+// plus each collider's push as a local wind (thesis 5.2; animation/forces.glsl's reach-weighted
+// force, in m/s through wind::KEYFRAME_WIND_SCALE), ŵ its direction, g the lean per m/s and a the sway's share of it (a < g: under a wind the tips
+// always lean downwind). Model level m, at height fraction s = m / MODEL_SEGMENTS of the neutral
+// blade, moves horizontally by Δ_m = T(p_m) · s² · height (Pelzer's upper vertices move, the root
+// does not; the s² profile bends the segmented blade smoothly between the two). The variants
+// differ only in where the phase is taken, p_m:
+//   - per object (§7.4.4, this build): p_m = the blade's root for every level, one T per blade;
+//   - per vertex (§7.4.3, the variant `vertex`): p_m = the level's rest point in the world, so two
+//     blades at one place move alike and one blade's levels sway with the phases of their own
+//     positions.
+// The tangent is the derivative along the blade, dP/ds + 2·s·height·T (the phase's change along
+// a per-vertex blade is left out of it: it only lights the level), so only the levels the LOD
+// bucket reads are evaluated.
+// Under no wind T = 0: the neutral blade. Phases are world-exact: the host folds ω·t − κ·d̂·O in
+// f64 into `wave.z`, and p is relative to O here.
+// variant vertex: SINE_PER_VERTEX
+#define POSE_WRITER
+#include "common/bindings.glsl"
+#include "common/bezier.glsl"
+#include "animation/forces.glsl"
+#include "animation/pose_write.glsl"
+
+layout(local_size_x = POSE_GROUP) in;
+
+// The response's block in its pass's own set (`Draws` is binding 0 there), one per frame in flight.
+layout(set = SET_PASS, binding = 1, std140) uniform SineShape {
+    vec4 gains; // x g (heights per m/s), y a (heights per m/s), z MOST (heights), w κ (rad/m)
+    vec4 wave;  // xy d̂ (x, z), z ω·t − κ·d̂·O mod 2π, w unused
+} sine;
+
+// T at the phase point `p` (relative to O) under the wind `w` (m/s, xz): heights, world xz.
+vec2 translation(vec2 p, vec2 w) {
+    float speed = length(w);
+    vec2 along = speed > 0.0 ? w / speed : vec2(0.0);
+    float theta = sine.wave.z - sine.gains.w * dot(sine.wave.xy, p);
+    vec2 t = sine.gains.x * w + sine.gains.y * speed * sin(theta) * along;
+    float reach = length(t);
+    return reach > sine.gains.z ? t * (sine.gains.z / reach) : t;
+}
+
+void main() {
+    uint i;
+    uvec2 entry;
+    BladeInstance blade;
+    uint blade_index;
+    if (!posed_blade(i, entry, blade, blade_index)) {
+        return;
+    }
+    vec2 w = blade_force(blade_index, blade) * KEYFRAME_WIND_SCALE;
+    vec3 p[4];
+    neutral_control_points(blade.height, unpack_variation(blade.variation, 2), p);
+    // The blade's frame in the world (place_level: x across, z along the normal).
+    vec2 across = vec2(cos(blade.facing), -sin(blade.facing));
+    vec2 normal_dir = vec2(sin(blade.facing), cos(blade.facing));
+#ifndef SINE_PER_VERTEX
+    vec2 t = translation(blade.position.xz, w);
+#endif
+    float inv = 1.0 / (POSE_SCALE * max(blade.height, 1e-6));
+    uint base = pose_base(i);
+    for (uint level = 0u; level <= MODEL_SEGMENTS; level++) {
+        if (!level_read(level)) {
+            continue;
+        }
+        float s = float(level) / float(MODEL_SEGMENTS);
+        vec3 rest = bezier_point(p[0], p[1], p[2], p[3], s);
+#ifdef SINE_PER_VERTEX
+        vec2 t = translation(blade.position.xz + across * rest.x + normal_dir * rest.z, w);
+#endif
+        // Into the blade's frame, in metres: the displacement and its derivative along s.
+        vec2 d = t * (s * s * blade.height);
+        vec2 dd = t * (2.0 * s * blade.height);
+        vec3 point = rest + vec3(dot(d, across), 0.0, dot(d, normal_dir));
+        vec3 tangent = bezier_tangent(p[0], p[1], p[2], p[3], s) + vec3(dot(dd, across), 0.0, dot(dd, normal_dir));
+        tangent = length(tangent) > 0.0 ? normalize(tangent) : vec3(0.0, 1.0, 0.0);
+        write_pose_level(base, level, point * inv, tangent, vec2(1.0, 0.0), length(t) / sine.gains.z);
+    }
+}

@@ -1,0 +1,374 @@
+//! The table of [`RULES`]: every configuration in which some flags have no effect, with the
+//! flags, the subcommands, the test of the parsed command line and the reason
+//! (`cli::effect` applies it). A new flag, or a new mode that makes some flags moot, adds a row.
+
+use super::Given;
+use crate::cli::animation::{AnimationArg, DebugViewArg, ModeArg};
+use crate::cli::args::PresetArg;
+use crate::cli::culling::{CullTest, LodKind};
+use crate::render::submission::Strategy;
+
+/// The subcommands that draw the scene of `SceneArgs`.
+pub(super) const SCENE: &[&str] = &["render", "view", "timing"];
+/// The scene subcommands with a submission strategy (`SubmissionArgs`).
+const SUBMITTED: &[&str] = &["render", "timing"];
+
+/// The keyframe flags: what the keyframe table is and where it is evaluated.
+const KEYFRAME_FLAGS: &[&str] = &["poses", "smoothing", "encoding", "packing", "keyframes", "eval"];
+/// The keyframe flags and the keyframe table's place (`--mode texture|uniform`), which only
+/// `--animation keyframes` has.
+const KEYFRAME_AND_MODE_FLAGS: &[&str] = &["mode", "poses", "smoothing", "encoding", "packing", "keyframes", "eval"];
+/// The forces on the blades (thesis ch. 4–5) and what they vary with.
+const FORCE_FLAGS: &[&str] =
+    &["wind", "no_gusts", "source", "calm", "collider", "attenuation", "cluster_size", "time", "dt"];
+/// The GPU-driven path's flags: the cull, the LOD and what steers them.
+const CULL_FLAGS: &[&str] =
+    &["cull", "lod", "lod_segments", "view_distance", "blade_distance", "budget_ms", "lod_scale"];
+
+/// A configuration in which some flags have no effect.
+pub(crate) struct Rule {
+    /// The flags (clap ids, the field names) that have no effect there.
+    pub(crate) flags: &'static [&'static str],
+    /// How the error names the flag, when it is one of its values rather than the flag (`--cull
+    /// none`); `None`: `--long`.
+    pub(crate) subject: Option<&'static str>,
+    /// The subcommands it applies to.
+    pub(crate) commands: &'static [&'static str],
+    /// The configuration, as the error names it.
+    pub(crate) with: &'static str,
+    /// Whether the command line is in that configuration.
+    pub(crate) when: fn(&Given) -> bool,
+    /// Why the flags have no effect there.
+    pub(crate) why: &'static str,
+}
+
+/// Every case of the rule. Order matters only for which of several violations is reported.
+pub(crate) const RULES: &[Rule] = &[
+    Rule {
+        flags: &["brute_force", "blades_per_instance", "no_alpha_to_coverage"],
+        subject: None,
+        commands: SCENE,
+        with: "--mode floor",
+        when: |g| g.mode() == Some(ModeArg::Floor),
+        why: "the floor is one draw of pre-expanded static triangles, with no cull",
+    },
+    Rule {
+        flags: &["submission", "clusters"],
+        subject: None,
+        commands: SUBMITTED,
+        with: "--mode floor",
+        when: |g| g.mode() == Some(ModeArg::Floor),
+        why: "the floor is one draw of pre-expanded static triangles",
+    },
+    Rule {
+        flags: CULL_FLAGS,
+        subject: None,
+        commands: SCENE,
+        with: "--mode floor",
+        when: |g| g.mode() == Some(ModeArg::Floor),
+        why: "the floor draws every stored blade, with no cull and no LOD",
+    },
+    Rule {
+        flags: KEYFRAME_AND_MODE_FLAGS,
+        subject: None,
+        commands: SCENE,
+        with: "an --animation other than keyframes",
+        when: |g| g.animation().is_some_and(|a| a != AnimationArg::Keyframes),
+        why: "they choose the keyframe table and where it is evaluated (--animation keyframes)",
+    },
+    Rule {
+        flags: &["animation"],
+        subject: None,
+        commands: SCENE,
+        with: "--mode floor or static",
+        when: |g| matches!(g.mode(), Some(ModeArg::Floor | ModeArg::Static)),
+        why: "--mode floor and --mode static draw neutral blades, with no response (drop --animation)",
+    },
+    Rule {
+        flags: FORCE_FLAGS,
+        subject: None,
+        commands: SCENE,
+        with: "--animation static (without --debug-view force or bounds)",
+        when: |g| g.animation() == Some(AnimationArg::Static) && !g.shows_forces(),
+        why: "static blades feel no force, and no debug view shows the forces",
+    },
+    Rule {
+        flags: KEYFRAME_FLAGS,
+        subject: None,
+        commands: SCENE,
+        with: "--mode floor",
+        when: |g| g.mode() == Some(ModeArg::Floor),
+        why: "the floor draws static blades, with no keyframes",
+    },
+    Rule {
+        flags: FORCE_FLAGS,
+        subject: None,
+        commands: SCENE,
+        with: "--mode floor (without --debug-view bounds)",
+        when: |g| g.mode() == Some(ModeArg::Floor) && g.debug_view() != Some(DebugViewArg::Bounds),
+        why: "the floor's static blades feel no force, and no debug view shows the forces",
+    },
+    Rule {
+        flags: &["debug_view"],
+        subject: None,
+        commands: SCENE,
+        with: "--mode floor",
+        when: |g| g.mode() == Some(ModeArg::Floor) && g.debug_view() != Some(DebugViewArg::Bounds),
+        why: "the floor's triangles are flat-coloured (only bounds draws over them)",
+    },
+    Rule {
+        flags: KEYFRAME_FLAGS,
+        subject: None,
+        commands: SCENE,
+        with: "--mode static",
+        when: |g| g.mode() == Some(ModeArg::Static),
+        why: "static blades read no keyframes",
+    },
+    Rule {
+        flags: FORCE_FLAGS,
+        subject: None,
+        commands: SCENE,
+        with: "--mode static (without --debug-view force or bounds)",
+        when: |g| g.mode() == Some(ModeArg::Static) && !g.shows_forces(),
+        why: "static blades feel no force, and no debug view shows the forces",
+    },
+    Rule {
+        flags: &["packing"],
+        subject: None,
+        commands: SCENE,
+        with: "--mode texture",
+        when: |g| g.mode() == Some(ModeArg::Texture),
+        why: "the packing is the uniform array's (--mode uniform); the texture has --encoding",
+    },
+    Rule {
+        flags: &["encoding"],
+        subject: None,
+        commands: SCENE,
+        with: "--mode uniform",
+        when: |g| g.mode() == Some(ModeArg::Uniform),
+        why: "the encoding is the keyframe texture's (--mode texture); the uniform array has --packing",
+    },
+    Rule {
+        flags: &["attenuation"],
+        subject: None,
+        commands: SCENE,
+        with: "no --source",
+        when: |g| !g.given("source"),
+        why: "it places the attenuation of point sources (thesis 4.5)",
+    },
+    Rule {
+        flags: CULL_FLAGS,
+        subject: None,
+        commands: SCENE,
+        with: "--brute-force",
+        when: |g| g.flag("brute_force"),
+        why: "it draws every stored blade at --segments in one instanced draw, with no cull and no LOD",
+    },
+    Rule {
+        flags: &["cull"],
+        subject: Some("--cull none"),
+        commands: SCENE,
+        with: "other tests",
+        when: |g| g.cull().contains(&CullTest::None) && g.cull().len() > 1,
+        why: "the other tests run: give none alone, or the tests alone",
+    },
+    Rule {
+        flags: &["lod"],
+        subject: Some("--lod none"),
+        commands: SCENE,
+        with: "other levels of detail",
+        when: |g| g.lod().contains(&LodKind::None) && g.lod().len() > 1,
+        why: "the other levels run: give none alone, or the levels alone",
+    },
+    Rule {
+        flags: &["lod_scale", "budget_ms"],
+        subject: None,
+        commands: SCENE,
+        with: "a --lod without density or segments",
+        when: |g| !g.lod().iter().any(|l| matches!(l, LodKind::Density | LodKind::Segments)),
+        why: "the LOD scale scales the density and segment LOD's distances",
+    },
+    Rule {
+        flags: &["lod_segments"],
+        subject: None,
+        commands: SCENE,
+        with: "a --lod without segments",
+        when: |g| !g.lod().contains(&LodKind::Segments),
+        why: "they are the segment LOD's buckets",
+    },
+    Rule {
+        flags: &["view_distance", "blade_distance"],
+        subject: None,
+        commands: SCENE,
+        with: "a --cull without distance on stored blades",
+        when: |g| !g.cull().contains(&CullTest::Distance) && !g.given("field"),
+        why: "only the distance test reads it (a --field also sizes its ground and its blocks' rings by them)",
+    },
+    Rule {
+        flags: &["view_distance"],
+        subject: None,
+        commands: SCENE,
+        with: "--blade-distance on stored blades",
+        when: |g| g.given("blade_distance") && !g.given("field"),
+        why: "the stored terrain is drawn whole, and the blades end at --blade-distance",
+    },
+    Rule {
+        flags: &["no_alpha_to_coverage"],
+        subject: None,
+        commands: SCENE,
+        with: "--msaa 1",
+        when: |g| g.one::<u32>("msaa") == Some(1),
+        why: "alpha to coverage needs samples: add --msaa 4",
+    },
+    Rule {
+        flags: &["no_alpha_to_coverage"],
+        subject: None,
+        commands: SCENE,
+        with: "the outline LOD (--lod with outline, the default)",
+        when: |g| !g.flag("brute_force") && g.lod().contains(&LodKind::Outline),
+        why: "the culled blades' outline is geometry, with no alpha to turn into coverage: add --brute-force or leave outline out of --lod",
+    },
+    Rule {
+        flags: &["clusters"],
+        subject: None,
+        commands: SUBMITTED,
+        with: "--submission instanced or prerecorded",
+        when: |g| g.one::<Strategy>("submission").is_some_and(|s| !uses_clusters(s)),
+        why: "these submissions draw the blades in one draw",
+    },
+    Rule {
+        flags: &["density"],
+        subject: None,
+        commands: SCENE,
+        with: "stored blades (no --field)",
+        when: |g| !g.given("field"),
+        why: "it is the blades per m² of a --field's blocks; stored blades are --blades",
+    },
+    Rule {
+        flags: &["relief"],
+        subject: None,
+        commands: SCENE,
+        with: "stored blades (no --field)",
+        when: |g| !g.given("field"),
+        why: "it is the relief under a --field's blocks; stored blades lie on their stored terrain",
+    },
+    Rule {
+        flags: &["screenshot_ui"],
+        subject: None,
+        commands: &["view"],
+        with: "no --screenshot and no --script (whose screenshots it also chooses)",
+        when: |g| !g.given("screenshot") && !g.given("script"),
+        why: "it chooses what the screenshot shows",
+    },
+    Rule {
+        flags: &["capture_dir"],
+        subject: None,
+        commands: &["view"],
+        with: "--no-ui",
+        when: |g| g.flag("no_ui"),
+        why: "the capture button is on the overlay",
+    },
+    Rule {
+        flags: &[
+            "preset",
+            "blades",
+            "segments",
+            "modes",
+            "eval",
+            "size",
+            "warmup",
+            "frames",
+            "out",
+            "validation",
+            "device",
+        ],
+        subject: None,
+        commands: &["bench"],
+        with: "--compare",
+        when: |g| g.given("compare"),
+        why: "it compares two bench.json files, measuring nothing and writing nothing",
+    },
+    Rule {
+        flags: &["threshold"],
+        subject: None,
+        commands: &["bench"],
+        with: "no --compare",
+        when: |g| !g.given("compare"),
+        why: "it is the noise threshold of --compare",
+    },
+    Rule {
+        flags: &["preset"],
+        subject: None,
+        commands: &["bench"],
+        with: "--blades, --segments, --size, --warmup and --frames all given",
+        when: |g| {
+            matches!(g.one::<PresetArg>("preset"), Some(PresetArg::Thesis | PresetArg::Quick))
+                && ["blades", "segments", "size", "warmup", "frames"].iter().all(|f| g.given(f))
+        },
+        why: "they replace everything the thesis and quick presets set differently (both run every mode and placement)",
+    },
+    Rule {
+        flags: &["device"],
+        subject: None,
+        commands: &["devices"],
+        with: "devices",
+        when: |_| true,
+        why: "it lists every device (the other subcommands take --device to pick one)",
+    },
+    Rule {
+        flags: &["modes", "eval"],
+        subject: None,
+        commands: &["bench"],
+        with: "--preset lod",
+        when: |g| g.one::<PresetArg>("preset") == Some(PresetArg::Lod),
+        why: "it renders texture keyframes, brute force and GPU-driven",
+    },
+    Rule {
+        flags: &["modes", "eval", "segments"],
+        subject: None,
+        commands: &["bench"],
+        with: "--preset animations",
+        when: |g| g.one::<PresetArg>("preset") == Some(PresetArg::Animations),
+        why: "it renders each response with its own defaults, on its fixed rows",
+    },
+    Rule {
+        flags: &["animations"],
+        subject: None,
+        commands: &["bench"],
+        with: "a --preset other than animations",
+        when: |g| g.one::<PresetArg>("preset") != Some(PresetArg::Animations),
+        why: "it picks the responses --preset animations compares",
+    },
+    Rule {
+        flags: &["modes", "eval", "segments"],
+        subject: None,
+        commands: &["bench"],
+        with: "--preset msaa",
+        when: |g| g.one::<PresetArg>("preset") == Some(PresetArg::Msaa),
+        why: "it renders the default scene",
+    },
+    Rule {
+        flags: &["eval"],
+        subject: None,
+        commands: &["bench"],
+        with: "--modes without texture or uniform",
+        when: |g| {
+            g.given("modes")
+                && !g.many::<ModeArg>("modes").iter().any(|m| matches!(m, ModeArg::Texture | ModeArg::Uniform))
+        },
+        why: "it places the keyframe evaluation, and the static blades and the floor have none",
+    },
+    Rule {
+        flags: &["clusters"],
+        subject: None,
+        commands: &["overhead"],
+        with: "--strategies of one draw (instanced, prerecorded)",
+        when: |g| g.many::<Strategy>("strategies").iter().all(|s| !uses_clusters(*s)),
+        why: "the cluster count splits the draws of the other strategies",
+    },
+];
+
+/// Whether `strategy` splits the blades into `--clusters` draws.
+fn uses_clusters(strategy: Strategy) -> bool {
+    strategy.gpu_draws(2) > 1
+}
