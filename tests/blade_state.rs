@@ -12,6 +12,8 @@
 //!   of the run without the detour are still swinging;
 //! - a stored field keeps state for its blades by index in the same way.
 
+#[path = "support/steady_wind.rs"]
+mod steady_wind;
 mod support;
 
 use std::cell::{Cell, RefCell};
@@ -21,20 +23,21 @@ use ash::vk;
 use glam::{Vec2, Vec3};
 use meadow::app::{with_device, GpuOptions};
 use meadow::render::animation::blade_state::{self, BladeStateStore, StepSpan, StoreShape, HEADER_WORDS};
-use meadow::render::animation::response::{BladeInput, BladeResponse, ResponseContext, ResponseSetup, ResponseStep};
+use meadow::render::animation::response::{
+    BladeInput, BladeResponse, BuildResponse, ResponseContext, ResponseSetup, ResponseStep,
+};
 use meadow::render::culling::Culling;
 use meadow::render::graph::{Declaration, Pass, PassContext, PassUniforms};
-use meadow::render::recording::{BladeDispatch, PassSet, PassSetDesc};
+use meadow::render::recording::{BladeDispatch, PassSet};
 use meadow::render::specialization::Specialization;
-use meadow::render::wind::{FrameForces, WindField, WindInput, WindSetup};
 use meadow::render::{Models, OffscreenTarget, RenderSettings, Renderer};
 use meadow::scene::field::{FieldSpec, BLOCK_SIZE};
 use meadow::scene::{Camera, Scene};
 use meadow::vk::descriptor::Resource as Descriptor;
 use meadow::vk::profile::Shader;
-use meadow::vk::{pipeline, Access, Destroy, Device, DeviceSelector, Resource};
+use meadow::vk::{Access, Destroy, Device, DeviceSelector, Resource};
+use steady_wind::{SteadyWind, Velocity};
 
-const WIND_COMP: Shader = meadow::spirv_shader!("tests/new_model/uniform_wind.comp");
 const SPRING_COMP: Shader = meadow::spirv_shader!("tests/blade_state/spring.comp");
 
 const EXTENT: vk::Extent2D = vk::Extent2D { width: 160, height: 90 };
@@ -49,79 +52,20 @@ const K: f32 = 40.0;
 const C: f32 = 3.0;
 const DT: f32 = 1.0 / 60.0;
 
-/// A uniform wind whose velocity the test changes between frames, or (`ramp`) that rises from
-/// calm at t = 0 to `WIND` at `RAMP_S`.
-struct SteadyWind(Rc<Cell<Vec3>>, bool);
-
-/// The ramp's rise, seconds.
+/// The ramp's rise, seconds (`Velocity::Ramp`).
 const RAMP_S: f64 = 0.05;
 
-impl WindField for SteadyWind {
-    fn name(&self) -> &'static str {
-        "steady wind"
-    }
-
-    fn update(&self, _: &mut FrameForces, _: &WindInput) {}
-
-    fn passes(&self, device: &Device, setup: &WindSetup) -> meadow::Result<Vec<Box<dyn Pass>>> {
-        let spirv = WIND_COMP.code(device.profile);
-        let push = vk::PushConstantRange { stage_flags: vk::ShaderStageFlags::COMPUTE, offset: 0, size: 20 };
-        let frames = setup.frames.len();
-        let desc = PassSetDesc { name: "steady wind", shaders: &[("wind", spirv)], before: &[], push: &[push], frames };
-        let set = PassSet::new(device, &desc, |slot| vec![("Corners", Descriptor::Buffer(setup.frames[slot].0))])?;
-        let pipeline = pipeline::compute(device, "steady wind", spirv, set.layout, &[])?;
-        let corners = setup.frames.iter().map(|(c, _)| c.buffer).collect();
-        let velocity = self.0.clone();
-        Ok(vec![Box::new(WindPass { set, pipeline, corners, count: setup.corners, velocity, ramp: self.1 })])
-    }
-}
-
-struct WindPass {
-    set: PassSet,
-    pipeline: vk::Pipeline,
-    corners: Vec<vk::Buffer>,
-    count: u32,
-    velocity: Rc<Cell<Vec3>>,
-    ramp: bool,
-}
-
-impl Pass for WindPass {
-    fn name(&self) -> &'static str {
-        "steady wind"
-    }
-
-    fn declare(&self, ctx: &PassContext) -> Option<Declaration> {
-        Some(Declaration::compute().buffer(self.corners[ctx.slot], Access::ComputeShaderWrite))
-    }
-
-    fn record(&self, ctx: &PassContext, cmd: vk::CommandBuffer) -> meadow::Result<()> {
-        let (device, bind) = (ctx.device, vk::PipelineBindPoint::COMPUTE);
-        self.set.bind(device, cmd, bind, ctx.slot);
-        let mut push = [0u32; 5];
-        let velocity = match self.ramp {
-            true => WIND * (ctx.clock.time / RAMP_S).clamp(0.0, 1.0) as f32,
-            false => self.velocity.get(),
-        };
-        push[..4].copy_from_slice(bytemuck::cast_slice(&velocity.extend(0.0).to_array()));
-        push[4] = self.count;
-        // SAFETY: cmd is recording outside a rendering instance; the set is bound.
-        unsafe {
-            device.raw.cmd_bind_pipeline(cmd, bind, self.pipeline);
-            let stages = vk::ShaderStageFlags::COMPUTE;
-            device.raw.cmd_push_constants(cmd, self.set.layout, stages, 0, bytemuck::cast_slice(&push));
-            device.raw.cmd_dispatch(cmd, self.count.div_ceil(64), 1, 1);
-        }
-        Ok(())
-    }
-
-    unsafe fn destroy(self: Box<Self>, device: &Device) {
-        // SAFETY: per the contract.
-        unsafe {
-            meadow::vk::live::destroyed(self.pipeline);
-            device.raw.destroy_pipeline(self.pipeline, None);
-            self.set.destroy(device);
-        }
-    }
+/// The spring response's builder, its store shared with the test.
+fn spring(store: &SharedStore) -> Rc<BuildResponse> {
+    let shared = store.clone();
+    Rc::new(move |device: &Device, context: &ResponseContext| -> meadow::Result<Box<dyn BladeResponse>> {
+        *shared.borrow_mut() = Some(BladeStateStore::new(device, context.scene, WORDS, RADIUS, true)?);
+        Ok(Box::new(SpringResponse {
+            store: shared.clone(),
+            previous: Cell::new(None),
+            span: Rc::new(Cell::new(StepSpan::between(None, 0))),
+        }))
+    })
 }
 
 /// The store, shared with the test, which reads it back between frames.
@@ -302,18 +246,13 @@ fn run(scene: &Scene, frames: &[Frame]) -> Vec<Vec<u32>> {
 fn run_with(scene: &Scene, frames: &[Frame], ramp: Option<u64>) -> (Vec<Vec<u32>>, u64) {
     let options = GpuOptions { validation: true, device: DeviceSelector::parse(support::DEVICE) };
     let (result, messages) = with_device(&options, false, |device| {
-        let wind = Rc::new(Cell::new(Vec3::ZERO));
         let store: SharedStore = Rc::new(RefCell::new(None));
-        let shared = store.clone();
-        let build = move |device: &Device, context: &ResponseContext| -> meadow::Result<Box<dyn BladeResponse>> {
-            *shared.borrow_mut() = Some(BladeStateStore::new(device, context.scene, WORDS, RADIUS, true)?);
-            Ok(Box::new(SpringResponse {
-                store: shared.clone(),
-                previous: Cell::new(None),
-                span: Rc::new(Cell::new(StepSpan::between(None, 0))),
-            }))
+        let (field, wind) = SteadyWind::shared();
+        let field = match ramp {
+            Some(_) => SteadyWind(Velocity::Ramp { to: WIND, rise: RAMP_S }),
+            None => field,
         };
-        let models = Models { wind: Box::new(SteadyWind(wind.clone(), ramp.is_some())), response: Rc::new(build) };
+        let models = Models { wind: Box::new(field), response: spring(&store) };
         let settings = RenderSettings::offscreen(4, Culling::default_for(4));
         let mut renderer = Renderer::with_models(device.clone(), scene, settings, Default::default(), models)?;
         let mut target = OffscreenTarget::new(device, EXTENT)?;
@@ -585,17 +524,8 @@ fn a_thousand_frames_of_the_stateful_response_leave_memory_flat() {
     let options = GpuOptions { validation: true, device: DeviceSelector::parse(support::DEVICE) };
     let (result, messages) = with_device(&options, false, |device| {
         let store: SharedStore = Rc::new(RefCell::new(None));
-        let shared = store.clone();
-        let build = move |device: &Device, context: &ResponseContext| -> meadow::Result<Box<dyn BladeResponse>> {
-            *shared.borrow_mut() = Some(BladeStateStore::new(device, context.scene, WORDS, RADIUS, true)?);
-            Ok(Box::new(SpringResponse {
-                store: shared.clone(),
-                previous: Cell::new(None),
-                span: Rc::new(Cell::new(StepSpan::between(None, 0))),
-            }))
-        };
-        let wind = Rc::new(Cell::new(WIND));
-        let models = Models { wind: Box::new(SteadyWind(wind, true)), response: Rc::new(build) };
+        let field = SteadyWind(Velocity::Ramp { to: WIND, rise: RAMP_S });
+        let models = Models { wind: Box::new(field), response: spring(&store) };
         let settings = RenderSettings::offscreen(4, Culling::default_for(4));
         let mut renderer = Renderer::with_models(device.clone(), &scene, settings, Default::default(), models)?;
         let mut target = OffscreenTarget::new(device, EXTENT)?;

@@ -1,6 +1,7 @@
-//! Proof that a new model is only new files (issue #29 item 6): this file and its GLSL
+//! Proof that a new model is only new files (issue #29 item 6): test files and their GLSL
 //! (`tests/shaders/new_model/`) define a wind field — a uniform 3-D wind, written at every
-//! cluster corner by a compute pass of its own — and a blade response that writes the renderer's
+//! cluster corner by a compute pass of its own (`tests/support/steady_wind.rs`, which other
+//! tests drive responses with) — and, in this file, a blade response that writes the renderer's
 //! pose records from its own compute shader, bending each blade along the wind it samples through
 //! `wind/wind_field.glsl`. Nothing in the library names either: `Renderer::with_models` takes
 //! them, the renderer imports the response's resources (its uniform block) and the graph orders
@@ -9,6 +10,8 @@
 //! way the wind blows: the blades' coverage moves towards the side of the picture the wind blows
 //! to, and away from it when the wind turns round.
 
+#[path = "support/steady_wind.rs"]
+mod steady_wind;
 mod support;
 
 use std::rc::Rc;
@@ -19,21 +22,18 @@ use meadow::app::{with_device, GpuOptions};
 use meadow::render::animation::pose_pass::{PosePass, PoseShader};
 use meadow::render::animation::response::{BladeInput, BladeResponse, ResponseSetup};
 use meadow::render::culling::Culling;
-use meadow::render::graph::{Declaration, Pass, PassContext};
-use meadow::render::recording::{PassSet, PassSetDesc};
+use meadow::render::graph::Pass;
 use meadow::render::specialization::Specialization;
-use meadow::render::wind::{FrameForces, WindField, WindInput, WindSetup};
 use meadow::render::{Models, OffscreenTarget, RenderSettings, Renderer};
 use meadow::scene::field::FieldSpec;
 use meadow::scene::{Camera, Scene};
 use meadow::vk::descriptor::Resource as Descriptor;
 use meadow::vk::profile::Shader;
 use meadow::vk::upload::UploadBatch;
-use meadow::vk::{pipeline, Access, Buffer, Device, DeviceSelector, Resource};
+use meadow::vk::{Access, Buffer, Device, DeviceSelector, Resource};
 
 /// The models' shaders, compiled by build.rs from `tests/shaders/new_model/` in both profiles
 /// (`tests/` shaders are not part of the library).
-const UNIFORM_WIND_COMP: Shader = meadow::spirv_shader!("tests/new_model/uniform_wind.comp");
 const LEAN_COMP: Shader = meadow::spirv_shader!("tests/new_model/lean.comp");
 
 const EXTENT: vk::Extent2D = vk::Extent2D { width: 320, height: 180 };
@@ -41,96 +41,6 @@ const EXTENT: vk::Extent2D = vk::Extent2D { width: 320, height: 180 };
 /// Tip offset in blade heights per m/s of wind (`Lean.x` in lean.comp), and the most.
 const LEAN_PER_MS: f32 = 0.08;
 const MOST_LEAN: f32 = 0.6;
-
-/// The uniform wind: one velocity everywhere, every step.
-struct UniformWind {
-    velocity: Vec3,
-}
-
-impl WindField for UniformWind {
-    fn name(&self) -> &'static str {
-        "uniform wind"
-    }
-
-    /// Nothing on the CPU: the pass writes the corners, and there are no sources or colliders.
-    fn update(&self, _: &mut FrameForces, _: &WindInput) {}
-
-    fn passes(&self, device: &Device, setup: &WindSetup) -> meadow::Result<Vec<Box<dyn Pass>>> {
-        Ok(vec![Box::new(UniformWindPass::new(device, setup, self.velocity)?)])
-    }
-}
-
-/// The pass that writes the uniform wind at every corner of the frame.
-struct UniformWindPass {
-    set: PassSet,
-    pipeline: vk::Pipeline,
-    /// Each frame's corners.
-    corners: Vec<vk::Buffer>,
-    count: u32,
-    velocity: Vec3,
-}
-
-impl UniformWindPass {
-    fn new(device: &Device, setup: &WindSetup, velocity: Vec3) -> meadow::Result<Self> {
-        let spirv = UNIFORM_WIND_COMP.code(device.profile);
-        let push = vk::PushConstantRange { stage_flags: vk::ShaderStageFlags::COMPUTE, offset: 0, size: 20 };
-        let desc = PassSetDesc {
-            name: "uniform wind",
-            shaders: &[("uniform_wind.comp", spirv)],
-            before: &[],
-            push: &[push],
-            frames: setup.frames.len(),
-        };
-        let set = PassSet::new(device, &desc, |slot| vec![("Corners", Descriptor::Buffer(setup.frames[slot].0))])?;
-        let pipeline = pipeline::compute(device, "uniform wind", spirv, set.layout, &[])?;
-        let corners = setup.frames.iter().map(|(corners, _)| corners.buffer).collect();
-        Ok(Self { set, pipeline, corners, count: setup.corners, velocity })
-    }
-}
-
-impl Pass for UniformWindPass {
-    fn name(&self) -> &'static str {
-        "uniform wind"
-    }
-
-    fn declare(&self, ctx: &PassContext) -> Option<Declaration> {
-        Some(Declaration::compute().buffer(self.corners[ctx.slot], Access::ComputeShaderWrite))
-    }
-
-    fn record(&self, ctx: &PassContext, cmd: vk::CommandBuffer) -> meadow::Result<()> {
-        let (device, bind) = (ctx.device, vk::PipelineBindPoint::COMPUTE);
-        self.set.bind(device, cmd, bind, ctx.slot);
-        let mut push = [0u32; 5];
-        push[..4].copy_from_slice(bytemuck::cast_slice(&self.velocity.extend(0.0).to_array()));
-        push[4] = self.count;
-        // SAFETY: cmd is recording outside a rendering instance; the set is bound.
-        unsafe {
-            device.raw.cmd_bind_pipeline(cmd, bind, self.pipeline);
-            device.raw.cmd_push_constants(
-                cmd,
-                self.set.layout,
-                vk::ShaderStageFlags::COMPUTE,
-                0,
-                bytemuck::cast_slice(&push),
-            );
-            device.raw.cmd_dispatch(cmd, self.count.div_ceil(64), 1, 1);
-        }
-        Ok(())
-    }
-
-    fn replay_key(&self, _: &PassContext) -> Option<u64> {
-        Some(0)
-    }
-
-    unsafe fn destroy(self: Box<Self>, device: &Device) {
-        // SAFETY: per the contract.
-        unsafe {
-            meadow::vk::live::destroyed(self.pipeline);
-            device.raw.destroy_pipeline(self.pipeline, None);
-            self.set.destroy(device);
-        }
-    }
-}
 
 /// The lean response: its uniform block (`Lean`), uploaded once.
 struct LeanResponse {
@@ -197,7 +107,7 @@ fn render(scene: &Scene, camera: &Camera, winds: &[Vec3]) -> (Vec<Vec<u8>>, Vec<
         let mut passes = Vec::new();
         for &velocity in winds {
             let models = Models {
-                wind: Box::new(UniformWind { velocity }),
+                wind: Box::new(steady_wind::SteadyWind::constant(velocity)),
                 response: Rc::new(|device: &Device, _: &_| Ok(Box::new(LeanResponse::new(device)?) as Box<_>)),
             };
             let settings = RenderSettings::offscreen(4, Culling::default_for(4));
@@ -253,7 +163,7 @@ fn screen_sign_of_x(camera: &Camera) -> f64 {
 fn assert_leans(scene: &Scene, camera: &Camera) {
     let wind = 5.0;
     let (pictures, passes) = render(scene, camera, &[Vec3::ZERO, Vec3::X * wind, -Vec3::X * wind]);
-    for name in ["uniform wind", "lean", "blade levels", "blades"] {
+    for name in ["steady wind", "lean", "blade levels", "blades"] {
         assert!(passes.contains(&name), "{name} in {passes:?}");
     }
     let calm = &pictures[0];

@@ -23,7 +23,8 @@ meadow viewer controls
   W A S D / Q E   move / down, up       right mouse drag  look
   Shift           faster                 wheel             speed
   G               walk on the ground     H                 this help
-  M               mode static/texture/uniform/floor   N  smoothing nearest/linear/slerp
+  M               mode static/texture/uniform/sine per object/per vertex/floor
+  N               smoothing nearest/linear/slerp
   B               evaluation per vertex / per blade (compute)
   + / -           segments               [ / ]             blades / 2, x 2
   J / L           wind direction -/+15   I / K             wind strength +/-
