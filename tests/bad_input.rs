@@ -267,4 +267,13 @@ fn responses_refuse_what_only_keyframes_have() {
     );
     refused("animation-static-wind", &["--animation", "static", "--wind", "0,1"], "--wind has no effect");
     refused("animation-time", &["--animation", "sine-object", "--time", "-1"], "--time");
+    refused("stiffness-range", &["--animation", "verlet", "--stiffness", "500"], "outside 1..=400");
+    refused("stiffness-nan", &["--animation", "verlet", "--stiffness", "NaN"], "not a finite number");
+    refused("damping-range", &["--animation", "verlet", "--damping", "-1"], "outside 0..=20");
+    refused(
+        "stiffness-keyframes",
+        &["--stiffness", "50"],
+        "--stiffness has no effect with an --animation other than verlet",
+    );
+    refused("verlet-poses", &["--animation", "verlet", "--poses", "16"], "--poses has no effect");
 }

@@ -543,7 +543,7 @@ fn compare_reads_v1_documents_and_names_a_missing_field() {
 fn the_animations_preset_measures_each_response_against_static() {
     let out = scratch("bench-animations").join("out");
     let output = meadow()
-        .args(["bench", "--preset", "animations", "--animations", "sine-object,keyframes", "--blades", "2000"])
+        .args(["bench", "--preset", "animations", "--animations", "sine-object,keyframes,verlet", "--blades", "2000"])
         .args([
             "--size",
             "96x54",
@@ -568,7 +568,14 @@ fn the_animations_preset_measures_each_response_against_static() {
     for row in rows {
         let variants = row["variants"].as_array().expect("variants");
         let names: Vec<&str> = variants.iter().map(|v| v["animation"].as_str().expect("name")).collect();
-        assert_eq!(names, ["static", "sine-object", "keyframes"], "{}", row["label"]);
+        // Verlet keeps state: it is measured through the cull only.
+        let culled = row["culled"].as_bool().expect("culled");
+        let expected: &[&str] = if culled {
+            &["static", "sine-object", "keyframes", "verlet"]
+        } else {
+            &["static", "sine-object", "keyframes"]
+        };
+        assert_eq!(names, expected, "{}", row["label"]);
         assert_eq!(row["wind_field"], "analytic");
         let passes = |i: usize| variants[i]["passes"].as_array().expect("passes").clone();
         assert_eq!(variants[0]["ratio_to_static"], 1.0);
@@ -576,13 +583,15 @@ fn the_animations_preset_measures_each_response_against_static() {
         assert_eq!(passes(1), [Value::from("sine poses")], "{}", row["label"]);
         assert!(variants[1]["ms_per_step"].as_f64() > Some(0.0), "{}", row["label"]);
         // Keyframes pose once per blade with the cull, per vertex (no pass) by brute force.
-        let culled = row["culled"].as_bool().expect("culled");
         assert_eq!(passes(2).is_empty(), !culled, "{}", row["label"]);
+        if culled {
+            assert_eq!(passes(3), [Value::from("verlet")], "{}", row["label"]);
+        }
         for v in variants {
             assert_eq!(v["frames_ms"].as_array().map(Vec::len), Some(2));
             assert!(v["gpu_ms"]["median"].as_f64() > Some(0.0));
         }
     }
     let csv = std::fs::read_to_string(out.join("animations.csv")).expect("csv");
-    assert_eq!(csv.lines().count(), 1 + 4 * 3, "a header and a line per row and response");
+    assert_eq!(csv.lines().count(), 1 + 2 * 4 + 2 * 3, "a header and a line per row and response");
 }

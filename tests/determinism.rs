@@ -11,7 +11,8 @@ mod support;
 
 /// The scenes: the default (cull, LOD, per-blade poses), brute force in gusty wind (the default) with
 /// SLERP keyframes, an unbounded block field, 4x MSAA culled and brute force (the per-sample
-/// outline coverage), and Pelzer's sine per object (culled) and per vertex (a block field).
+/// outline coverage), Pelzer's sine per object (culled) and per vertex (a block field), and Verlet
+/// blades warmed up to --time (75 steps).
 const SCENES: &[(&str, &[&str])] = &[
     ("culled", &["--blades", "20000", "--seed", "4", "--frames", "2"]),
     ("brute", &["--brute-force", "--blades", "20000", "--seed", "5", "--wind", "30,3", "--smoothing", "slerp"]),

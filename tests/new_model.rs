@@ -82,6 +82,7 @@ impl BladeResponse for LeanResponse {
             resources: vec![("Lean", Descriptor::Buffer(self.lean.descriptor()))],
             uses: vec![(Resource::Buffer(self.lean.raw), Access::ComputeShaderUniformRead)],
             uniforms: None,
+            store: None,
         };
         Ok(vec![Box::new(PosePass::new(device, setup, shader)?)])
     }

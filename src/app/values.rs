@@ -302,6 +302,26 @@ pub fn time(text: &str) -> Result<f32, String> {
     Ok(value)
 }
 
+/// The Verlet blades' stiffness k_s (`--stiffness`, 1/s²), in `verlet::STIFFNESS_RANGE`.
+pub fn stiffness(text: &str) -> Result<f32, String> {
+    let value = finite_f32(text)?;
+    let (lo, hi) = crate::render::animation::verlet::STIFFNESS_RANGE;
+    if !(lo..=hi).contains(&value) {
+        return Err(format!("stiffness {value} is outside {lo}..={hi} (1/s²)"));
+    }
+    Ok(value)
+}
+
+/// The Verlet blades' drag rate k_a (`--damping`, 1/s), in `verlet::DAMPING_RANGE`.
+pub fn damping(text: &str) -> Result<f32, String> {
+    let value = finite_f32(text)?;
+    let (lo, hi) = crate::render::animation::verlet::DAMPING_RANGE;
+    if !(lo..=hi).contains(&value) {
+        return Err(format!("damping {value} is outside {lo}..={hi} (1/s)"));
+    }
+    Ok(value)
+}
+
 #[cfg(test)]
 mod animation_tests {
     use super::*;

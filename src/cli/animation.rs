@@ -33,6 +33,8 @@ pub(crate) enum AnimationArg {
     SineObject,
     /// Pelzer's sine (§7.4.3): a phase per vertex of the blade's backbone, from its world position.
     SineVertex,
+    /// Zhang Xia's Verlet blades (§3.2.3–3.2.5): control points with state, --stiffness and --damping.
+    Verlet,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -150,6 +152,14 @@ pub(crate) struct AnimationArgs {
     /// frames lie one step apart, the viewer runs at most 4 steps a frame.
     #[arg(long, value_name = "SECONDS", default_value = "1/60", value_parser = values::dt, allow_hyphen_values = true)]
     pub(crate) dt: f64,
+    /// The Verlet blades' spring towards their rest shape, k_s in 1/s² (1 to 400; the natural
+    /// period is about 2π/√k_s).
+    #[arg(long, default_value = "100", value_parser = values::stiffness, allow_hyphen_values = true)]
+    pub(crate) stiffness: f32,
+    /// The Verlet blades' drag rate towards the wind, k_a in 1/s (0 to 20): it damps the swing,
+    /// and the wind moves a control point by k_a / k_s times its velocity at rest.
+    #[arg(long, default_value = "4", value_parser = values::damping, allow_hyphen_values = true)]
+    pub(crate) damping: f32,
 }
 
 impl AnimationArgs {
@@ -189,6 +199,7 @@ impl AnimationArgs {
                 colliders: self.collider.clone(),
             },
             clock: crate::render::animation::clock::StepClock { dt: self.dt },
+            verlet: crate::render::animation::verlet::VerletParams { stiffness: self.stiffness, damping: self.damping },
         }
     }
 }
@@ -202,6 +213,7 @@ impl AnimationArg {
             AnimationArg::Keyframes => mode.animation(),
             AnimationArg::SineObject => Mode::Sine(SinePhase::Object),
             AnimationArg::SineVertex => Mode::Sine(SinePhase::Vertex),
+            AnimationArg::Verlet => Mode::Verlet,
         }
     }
 }

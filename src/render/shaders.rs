@@ -21,6 +21,8 @@ pub const BLADE_POSE_COMP: Shader = spirv_shader!("animation/blade_pose.comp");
 pub const SINE_COMP: Shader = spirv_shader!("animation/sine.comp");
 /// The same, its phase per vertex (the variant `vertex`).
 pub const SINE_VERTEX_COMP: Shader = spirv_shader!("animation/sine.comp.vertex");
+/// Zhang Xia's Verlet blades (`render::animation::verlet`): stepped in the blade-state store.
+pub const VERLET_COMP: Shader = spirv_shader!("animation/verlet.comp");
 /// The analytic wind field at the cluster corners, each step (`render::wind`).
 pub const ANALYTIC_CORNERS_COMP: Shader = spirv_shader!("wind/analytic_corners.comp");
 /// Terrain vertex shader (height-field pulling).

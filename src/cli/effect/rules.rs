@@ -77,6 +77,14 @@ pub(crate) const RULES: &[Rule] = &[
         why: "they choose the keyframe table and where it is evaluated (--animation keyframes)",
     },
     Rule {
+        flags: &["stiffness", "damping"],
+        subject: None,
+        commands: SCENE,
+        with: "an --animation other than verlet",
+        when: |g| g.animation() != Some(AnimationArg::Verlet) || matches!(g.mode(), Some(ModeArg::Floor | ModeArg::Static)),
+        why: "they are the Verlet blades' constants",
+    },
+    Rule {
         flags: &["animation"],
         subject: None,
         commands: SCENE,

@@ -154,6 +154,7 @@ impl BladeResponse for KeyframeResponse {
             resources: self.resources(),
             uses: reads,
             uniforms: None,
+            store: None,
         };
         Ok(vec![Box::new(PosePass::new(device, setup, shader)?)])
     }

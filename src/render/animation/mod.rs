@@ -15,6 +15,7 @@ pub mod poses;
 pub mod response;
 pub mod sine;
 pub mod still;
+pub mod verlet;
 
 pub use keyframe_gpu::{texture_format, KeyframeTexture, KeyframeUniforms};
 pub use response::{BladeInput, BladeResponse};
@@ -43,6 +44,7 @@ pub fn build_response(
             let direction = context.animation.wind.global.map_or(0.0, |g| g.direction_deg);
             Box::new(sine::SineResponse::new(phase, direction))
         }
+        Mode::Verlet => Box::new(verlet::VerletResponse::new(device, context.scene, context.animation.verlet)?),
     })
 }
 
@@ -59,13 +61,15 @@ pub enum Mode {
     Uniform,
     /// Pelzer's sine animation (§7.4), its phase per object or per vertex (`sine`).
     Sine(sine::SinePhase),
+    /// Zhang Xia's Verlet blades (§3.2.3–3.2.5), stateful (`verlet`).
+    Verlet,
 }
 
 impl Mode {
     /// Index used by the shaders.
     pub fn code(self) -> u32 {
         match self {
-            Mode::Static | Mode::Sine(_) => gpu_constants::MODE_STATIC,
+            Mode::Static | Mode::Sine(_) | Mode::Verlet => gpu_constants::MODE_STATIC,
             Mode::Texture => gpu_constants::MODE_TEXTURE,
             Mode::Uniform => gpu_constants::MODE_UNIFORM,
         }
@@ -122,6 +126,8 @@ pub struct AnimationSettings {
     pub wind: Wind,
     /// The simulation's fixed time step (`--dt`).
     pub clock: clock::StepClock,
+    /// The Verlet blades' constants (`--stiffness`, `--damping`).
+    pub verlet: verlet::VerletParams,
 }
 
 impl Default for AnimationSettings {
@@ -138,6 +144,7 @@ impl Default for AnimationSettings {
             cluster_size: 1.0,
             wind: Wind::default(),
             clock: clock::StepClock::default(),
+            verlet: verlet::VerletParams::default(),
         }
     }
 }
@@ -151,6 +158,7 @@ impl AnimationSettings {
             Mode::Texture | Mode::Uniform => (self.eval == Eval::Blade).then_some("--eval blade"),
             Mode::Sine(sine::SinePhase::Object) => Some("--animation sine-object"),
             Mode::Sine(sine::SinePhase::Vertex) => Some("--animation sine-vertex"),
+            Mode::Verlet => Some("--animation verlet"),
         }
     }
 }

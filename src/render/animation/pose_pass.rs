@@ -12,9 +12,12 @@
 //! (`recording::BladeDispatch`): each drawn blade once, its records by list entry, the levels its
 //! bucket reads.
 
+use std::cell::Cell;
+
 use ash::vk;
 
 use crate::error::Result;
+use crate::render::animation::blade_state;
 use crate::render::animation::response::ResponseSetup;
 use crate::render::graph::{Declaration, Pass, PassContext, PassUniforms};
 use crate::render::recording::{BladeDispatch, PassSet};
@@ -48,6 +51,10 @@ pub struct PoseShader<'a> {
     pub uses: Vec<(Resource, Access)>,
     /// A uniform block filled each frame, if the shader declares one.
     pub uniforms: Option<PoseUniforms>,
+    /// A stateful response's blade-state store (`blade_state::BladeStateStore`, given in
+    /// `resources` by name too): the pass clears it before its first dispatch and again after a
+    /// dropped frame, and declares that the shader reads and writes it.
+    pub store: Option<vk::Buffer>,
 }
 
 /// The pipelines, the sets and what the pass touches.
@@ -61,6 +68,8 @@ pub struct PosePass {
     reads: [vk::Buffer; 2],
     uses: Vec<(Resource, Access)>,
     uniforms: Option<(PassUniforms, FillUniforms)>,
+    /// The blade-state store, and whether a submitted frame has cleared it.
+    store: Option<(vk::Buffer, Cell<bool>)>,
     /// Each frame's wind at the cluster corners (`ResponseSetup::wind`).
     wind: Vec<vk::Buffer>,
 }
@@ -69,7 +78,7 @@ impl PosePass {
     /// Build `shader` on its own set's layout, writing the pose records of `setup.poses`.
     pub fn new(device: &Device, setup: &ResponseSetup, shader: PoseShader) -> Result<Self> {
         let scene = setup.scene;
-        let PoseShader { name, spirv, resources, uses, uniforms } = shader;
+        let PoseShader { name, spirv, resources, uses, uniforms, store } = shader;
         let (buffers, block) = match uniforms {
             Some(block) => {
                 (Some(PassUniforms::new(device, name, block.size, setup.sets.frames)?), Some((block.name, block.fill)))
@@ -96,6 +105,7 @@ impl PosePass {
             reads: [scene.blades.raw, scene.clusters.raw],
             uses,
             uniforms: buffers.take().zip(block.map(|(_, fill)| fill)),
+            store: store.map(|buffer| (buffer, Cell::new(false))),
             wind: setup.wind.to_vec(),
         })
     }
@@ -107,7 +117,20 @@ impl Pass for PosePass {
     }
 
     fn declare(&self, ctx: &PassContext) -> Option<Declaration> {
-        let declaration = Declaration::compute()
+        let declaration = match &self.store {
+            // The clear first, as a step of its own (`record` records it at step 0).
+            Some((store, cleared)) if !cleared.get() => {
+                Declaration::compute().step("clear").buffer(*store, Access::TransferWrite).step(self.name)
+            }
+            _ => Declaration::compute(),
+        };
+        let declaration = match &self.store {
+            Some((store, _)) => {
+                declaration.buffer(*store, Access::ComputeShaderRead).buffer(*store, Access::ComputeShaderWrite)
+            }
+            None => declaration,
+        };
+        let declaration = declaration
             .buffer(self.poses.1, Access::ComputeShaderWrite)
             .buffer(self.reads[0], ctx.device.profile.compute_fetch())
             .buffer(self.reads[1], Access::ComputeShaderRead)
@@ -117,6 +140,15 @@ impl Pass for PosePass {
     }
 
     fn record(&self, ctx: &PassContext, cmd: vk::CommandBuffer) -> Result<()> {
+        if let Some((store, cleared)) = &self.store {
+            if !cleared.get() {
+                if ctx.step == 0 {
+                    blade_state::record_clear(ctx.device, cmd, *store);
+                    return Ok(());
+                }
+                cleared.set(true);
+            }
+        }
         self.set.bind(ctx.device, cmd, vk::PipelineBindPoint::COMPUTE, ctx.slot);
         self.dispatch.record(ctx, cmd, self.set.layout, self.poses.0);
         Ok(())
@@ -128,7 +160,15 @@ impl Pass for PosePass {
 
     fn replay_key(&self, _: &PassContext) -> Option<u64> {
         // Dispatches sized at construction; the uniform block is written before each submission.
-        Some(0)
+        // A store's clear is recorded once: such a pass is recorded anew.
+        self.store.is_none().then_some(0)
+    }
+
+    fn frame_dropped(&self) {
+        // The clear may not have run: do it again.
+        if let Some((_, cleared)) = &self.store {
+            cleared.set(false);
+        }
     }
 
     unsafe fn destroy(self: Box<Self>, device: &Device) {

@@ -107,6 +107,7 @@ impl BladeResponse for SineResponse {
                 size: 32,
                 fill: Box::new(move |_| bytemuck::cast_slice(&block.get()).to_vec()),
             }),
+            store: None,
         };
         Ok(vec![Box::new(PosePass::new(device, setup, shader)?)])
     }

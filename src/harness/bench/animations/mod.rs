@@ -5,7 +5,8 @@
 //!
 //! - the culled stored field (100 000 blades, the viewer's default) and the unbounded block field,
 //!   every response;
-//! - the thesis' sizes by brute force (360 000 × 8 and 1 000 000 × 4), the stateless responses.
+//! - the thesis' sizes by brute force (360 000 × 8 and 1 000 000 × 4), the stateless responses
+//!   (a stateful one, Verlet, is stepped in a store sized for what the cull draws).
 //!
 //! Each variant records its median GPU ms, its ratio to static drawn the same way, and its own
 //! passes' time (`Renderer::response_passes`) per step, so the viewer's several steps a frame can
@@ -63,7 +64,13 @@ impl AnimationsBenchOptions {
     /// The preset: every response, the viewer's default field and the thesis' sizes, 1280×720.
     pub fn preset(out: PathBuf) -> Self {
         Self {
-            animations: vec![Mode::Static, Mode::Texture, Mode::Sine(SinePhase::Object), Mode::Sine(SinePhase::Vertex)],
+            animations: vec![
+                Mode::Static,
+                Mode::Texture,
+                Mode::Sine(SinePhase::Object),
+                Mode::Sine(SinePhase::Vertex),
+                Mode::Verlet,
+            ],
             blades: 100_000,
             brute_force: vec![(360_000, 8), (1_000_000, 4)],
             size: (1280, 720),
@@ -95,6 +102,7 @@ pub fn animation_name(mode: Mode) -> &'static str {
         Mode::Texture | Mode::Uniform => "keyframes",
         Mode::Sine(SinePhase::Object) => "sine-object",
         Mode::Sine(SinePhase::Vertex) => "sine-vertex",
+        Mode::Verlet => "verlet",
     }
 }
 
@@ -104,6 +112,18 @@ struct Row {
     scene: SceneSource,
     culled: bool,
     segments: u32,
+}
+
+impl Row {
+    /// The responses it measures: by brute force the stateless ones only.
+    fn responses(&self, responses: &[Mode]) -> Vec<Mode> {
+        responses.iter().copied().filter(|&m| self.culled || !stateful(m)).collect()
+    }
+}
+
+/// Whether `mode`'s response keeps state from step to step.
+fn stateful(mode: Mode) -> bool {
+    matches!(mode, Mode::Verlet)
 }
 
 /// Where a row's scene comes from.
@@ -169,11 +189,12 @@ pub fn run(
     let extent = vk::Extent2D { width: options.size.0, height: options.size.1 };
     let rounds = u64::from(options.warmup + options.frames);
     let mut progress = progress;
-    let mut frames = Progress::new(rows.len() as u64 * responses.len() as u64 * rounds, &mut progress);
+    let variants: u64 = rows.iter().map(|row| row.responses(&responses).len() as u64).sum();
+    let mut frames = Progress::new(variants * rounds, &mut progress);
     let mut target = OffscreenTarget::new(device, extent)?;
     let measured = rows
         .iter()
-        .map(|row| measure_row(device, row, &responses, &mut target, options, &mut frames))
+        .map(|row| measure_row(device, row, &row.responses(&responses), &mut target, options, &mut frames))
         .collect::<Result<Vec<_>>>();
     // SAFETY: measure_row dropped its renderers, which waited for their frames.
     unsafe { target.destroy(device) };
@@ -200,7 +221,8 @@ fn check(device: &Device, options: &AnimationsBenchOptions, rows: &[Row], respon
     let extent = vk::Extent2D { width: options.size.0, height: options.size.1 };
     for row in rows {
         let blades = row.scene.blades();
-        for &mode in responses {
+        let responses = row.responses(responses);
+        for &mode in &responses {
             let animation = animation(mode, row.culled);
             let culling = (row.culled, Default::default());
             crate::app::check_scene(device, blades, row.segments, options.size, &animation, false, culling)?;
