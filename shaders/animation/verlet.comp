@@ -1,8 +1,8 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// Zhang Xia's Verlet blades (§3.2.3–3.2.5), a stateful blade response (`render::animation::verlet`,
-// mirrored on the CPU by `verlet::VerletBlade`). A blade is its cubic Bézier backbone (eq. 5): the
-// root P0 fixed, the control points P1..P3 integrated with Verlet (eq. 7),
+// Zhang Xia's Verlet blades (§3.2.3–3.2.5), a stateful blade response
+// (`render::animation::verlet`, mirrored on the CPU by `render::animation::verlet::VerletBlade`).
+// A blade is its cubic Bézier backbone (eq. 5): the root P0 fixed, the control points P1..P3 integrated with Verlet (eq. 7),
 //   x' = 2x − x'' + a·Δt²,  x'' = x,
 // under the acceleration
 //   a = k_a·(w − v) + k_s·(r − x),  v = (x − x'') / Δt,
@@ -32,13 +32,13 @@
 
 layout(local_size_x = POSE_GROUP) in;
 
-// The response's constants (`verlet::VerletParams`), in its pass's own set.
+// The response's constants (`render::animation::verlet::VerletParams`), in its pass's own set.
 layout(set = SET_PASS, binding = 1, std140) uniform VerletShape {
     vec4 verlet; // x k_s, the stiffness (1/s²); y k_a, the drag rate (1/s); zw unused
 };
 
-const uint ARC_SAMPLES = 8u; // verlet::ARC_SAMPLES
-const uint STATE_WORDS = 18u; // verlet::STATE_WORDS: P1..P3, then their previous positions
+const uint ARC_SAMPLES = 8u; // render::animation::verlet::ARC_SAMPLES
+const uint STATE_WORDS = 18u; // render::animation::verlet::STATE_WORDS: P1..P3, then their previous positions
 
 // The length of the Bézier curve from the root through `p` over ARC_SAMPLES chords.
 float arc_length(vec3 p[3]) {
