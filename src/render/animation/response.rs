@@ -117,15 +117,19 @@ pub trait BladeResponse {
 
     /// Set the constants that choose the response's shader path (a keyframe response's mode,
     /// smoothing, encoding, representation, the uniform array's size; the renderer sets the wind
-    /// field's attenuation).
-    fn specialize(&self, specialization: &mut Specialization);
+    /// field's attenuation). Nothing by default: the constants' own defaults are a response with
+    /// no table (`MODE_STATIC`).
+    fn specialize(&self, _specialization: &mut Specialization) {}
 
     /// How the blade pass poses a blade.
     fn blade_input(&self) -> BladeInput;
 
     /// The response's resources the graph tracks, each with the accesses its upload left: the
     /// renderer imports them when it builds its passes and forgets them when the response goes.
-    fn tracked(&self) -> Vec<(Resource, Vec<Access>)>;
+    /// None by default (a response whose resources no GPU command writes before its passes).
+    fn tracked(&self) -> Vec<(Resource, Vec<Access>)> {
+        Vec::new()
+    }
 
     /// The compute passes that run before the blade pass (after the cull's, with the cull).
     fn passes(&self, device: &Device, setup: &ResponseSetup) -> Result<Vec<Box<dyn Pass>>>;

@@ -14,11 +14,9 @@ use glam::{DVec2, Vec3};
 use crate::error::Result;
 use crate::render::animation::pose_pass::{PosePass, PoseShader, PoseUniforms};
 use crate::render::animation::response::{BladeInput, BladeResponse, ResponseSetup, ResponseStep};
-use crate::render::gpu_constants as gpu;
 use crate::render::graph::Pass;
 use crate::render::shaders;
-use crate::render::specialization::Specialization;
-use crate::vk::{Access, Device, Resource};
+use crate::vk::Device;
 
 /// The tip's lean per m/s of wind, in blade heights (g): 8 m/s leans a tip 0.4 heights.
 pub const LEAN_PER_MS: f32 = 0.05;
@@ -79,17 +77,8 @@ impl BladeResponse for SineResponse {
         }
     }
 
-    fn specialize(&self, specialization: &mut Specialization) {
-        specialization.mode = gpu::MODE_STATIC;
-    }
-
     fn blade_input(&self) -> BladeInput {
         BladeInput::PoseRecords
-    }
-
-    fn tracked(&self) -> Vec<(Resource, Vec<Access>)> {
-        // The block is the pass's own (`PoseUniforms`), written by the host before submission.
-        Vec::new()
     }
 
     fn passes(&self, device: &Device, setup: &ResponseSetup) -> Result<Vec<Box<dyn Pass>>> {

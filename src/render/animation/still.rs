@@ -5,10 +5,8 @@ use glam::Vec3;
 
 use crate::error::Result;
 use crate::render::animation::response::{BladeInput, BladeResponse, ResponseSetup};
-use crate::render::gpu_constants as gpu;
 use crate::render::graph::Pass;
-use crate::render::specialization::Specialization;
-use crate::vk::{Access, Device, Resource};
+use crate::vk::Device;
 
 /// Static blades.
 pub struct StaticResponse;
@@ -18,16 +16,8 @@ impl BladeResponse for StaticResponse {
         "static"
     }
 
-    fn specialize(&self, specialization: &mut Specialization) {
-        specialization.mode = gpu::MODE_STATIC;
-    }
-
     fn blade_input(&self) -> BladeInput {
         BladeInput::Neutral
-    }
-
-    fn tracked(&self) -> Vec<(Resource, Vec<Access>)> {
-        Vec::new()
     }
 
     fn passes(&self, _: &Device, _: &ResponseSetup) -> Result<Vec<Box<dyn Pass>>> {

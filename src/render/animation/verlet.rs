@@ -16,13 +16,11 @@ use crate::error::{Error, Result};
 use crate::render::animation::blade_state::{BladeStateStore, StepSpan};
 use crate::render::animation::pose_pass::{PosePass, PoseShader, PoseUniforms};
 use crate::render::animation::response::{BladeInput, BladeResponse, ResponseSetup, ResponseStep};
-use crate::render::gpu_constants as gpu;
 use crate::render::graph::Pass;
 use crate::render::scene_gpu::SceneGpu;
 use crate::render::shaders;
-use crate::render::specialization::Specialization;
 use crate::scene::{bezier, BladeInstance};
-use crate::vk::{Access, Buffer, BufferDesc, Destroy, Device, Guard, Resource};
+use crate::vk::{Buffer, BufferDesc, Destroy, Device, Guard};
 
 /// Chords the curve's arc length is measured over (verlet.comp's `ARC_SAMPLES`).
 pub const ARC_SAMPLES: u32 = 8;
@@ -164,17 +162,8 @@ impl BladeResponse for VerletResponse {
         "verlet"
     }
 
-    fn specialize(&self, specialization: &mut Specialization) {
-        specialization.mode = gpu::MODE_STATIC;
-    }
-
     fn blade_input(&self) -> BladeInput {
         BladeInput::PoseRecords
-    }
-
-    fn tracked(&self) -> Vec<(Resource, Vec<Access>)> {
-        // The store is cleared by the pass before its first use; the block is host-written.
-        Vec::new()
     }
 
     fn passes(&self, device: &Device, setup: &ResponseSetup) -> Result<Vec<Box<dyn Pass>>> {
