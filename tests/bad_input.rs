@@ -273,7 +273,9 @@ fn responses_refuse_what_only_keyframes_have() {
     refused(
         "stiffness-keyframes",
         &["--stiffness", "50"],
-        "--stiffness has no effect with an --animation other than verlet",
+        "--stiffness has no effect with an --animation other than verlet or inertial",
     );
     refused("verlet-poses", &["--animation", "verlet", "--poses", "16"], "--poses has no effect");
+    refused("inertial-stiffness-range", &["--animation", "inertial", "--stiffness", "0"], "outside 1..=400");
+    refused("inertial-poses", &["--animation", "inertial", "--poses", "16"], "--poses has no effect");
 }

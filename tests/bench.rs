@@ -543,7 +543,15 @@ fn compare_reads_v1_documents_and_names_a_missing_field() {
 fn the_animations_preset_measures_each_response_against_static() {
     let out = scratch("bench-animations").join("out");
     let output = meadow()
-        .args(["bench", "--preset", "animations", "--animations", "sine-object,keyframes,verlet", "--blades", "2000"])
+        .args([
+            "bench",
+            "--preset",
+            "animations",
+            "--animations",
+            "sine-object,keyframes,verlet,inertial",
+            "--blades",
+            "2000",
+        ])
         .args([
             "--size",
             "96x54",
@@ -568,10 +576,10 @@ fn the_animations_preset_measures_each_response_against_static() {
     for row in rows {
         let variants = row["variants"].as_array().expect("variants");
         let names: Vec<&str> = variants.iter().map(|v| v["animation"].as_str().expect("name")).collect();
-        // Verlet keeps state: it is measured through the cull only.
+        // Verlet and the inertial chains keep state: they are measured through the cull only.
         let culled = row["culled"].as_bool().expect("culled");
         let expected: &[&str] = if culled {
-            &["static", "sine-object", "keyframes", "verlet"]
+            &["static", "sine-object", "keyframes", "verlet", "inertial"]
         } else {
             &["static", "sine-object", "keyframes"]
         };
@@ -586,6 +594,7 @@ fn the_animations_preset_measures_each_response_against_static() {
         assert_eq!(passes(2).is_empty(), !culled, "{}", row["label"]);
         if culled {
             assert_eq!(passes(3), [Value::from("verlet")], "{}", row["label"]);
+            assert_eq!(passes(4), [Value::from("inertial")], "{}", row["label"]);
         }
         for v in variants {
             assert_eq!(v["frames_ms"].as_array().map(Vec::len), Some(2));
@@ -593,5 +602,5 @@ fn the_animations_preset_measures_each_response_against_static() {
         }
     }
     let csv = std::fs::read_to_string(out.join("animations.csv")).expect("csv");
-    assert_eq!(csv.lines().count(), 1 + 2 * 4 + 2 * 3, "a header and a line per row and response");
+    assert_eq!(csv.lines().count(), 1 + 2 * 5 + 2 * 3, "a header and a line per row and response");
 }

@@ -184,6 +184,15 @@ fn the_path_scanner_finds_groups_and_rejects_missing_items() {
     assert!(unresolved(&path("render::layouts::scene_bindings")).is_none());
 }
 
+/// A float constant's value: a literal, or a quotient of two (`4.0 / 3.0`).
+fn literal(text: &str) -> f64 {
+    let number = |t: &str| t.trim().parse::<f64>().unwrap_or_else(|e| panic!("{t:?}: {e}"));
+    match text.split_once('/') {
+        Some((a, b)) => number(a) / number(b),
+        None => number(text),
+    }
+}
+
 #[test]
 fn float_constants_mirrored_from_rust_have_the_rust_values() {
     // `const float NAME = VALUE; // path::NAME`: the Rust constant must have the same value.
@@ -202,7 +211,7 @@ fn float_constants_mirrored_from_rust_have_the_rust_values() {
                 .lines()
                 .find_map(|l| l.trim().strip_prefix(&format!("pub const {name}: f32 = "))?.strip_suffix(';'))
                 .unwrap_or_else(|| panic!("{}:{}: no `pub const {name}: f32`", file.display(), i + 1));
-            let (glsl, rust): (f64, f64) = (value.trim().parse().expect("float"), rust.parse().expect("float"));
+            let (glsl, rust) = (literal(value), literal(rust));
             assert_eq!(glsl, rust, "{}:{}: {name}", file.display(), i + 1);
             checked += 1;
         }

@@ -302,7 +302,8 @@ pub fn time(text: &str) -> Result<f32, String> {
     Ok(value)
 }
 
-/// The Verlet blades' stiffness k_s (`--stiffness`, 1/s²), in `verlet::STIFFNESS_RANGE`.
+/// The Verlet blades' stiffness k_s or the inertial chains' k/J (`--stiffness`, 1/s²), in
+/// `verlet::STIFFNESS_RANGE`.
 pub fn stiffness(text: &str) -> Result<f32, String> {
     let value = finite_f32(text)?;
     let (lo, hi) = crate::render::animation::verlet::STIFFNESS_RANGE;
@@ -312,7 +313,8 @@ pub fn stiffness(text: &str) -> Result<f32, String> {
     Ok(value)
 }
 
-/// The Verlet blades' drag rate k_a (`--damping`, 1/s), in `verlet::DAMPING_RANGE`.
+/// The Verlet blades' drag rate k_a or the inertial chains' damper d/J (`--damping`, 1/s), in
+/// `verlet::DAMPING_RANGE`.
 pub fn damping(text: &str) -> Result<f32, String> {
     let value = finite_f32(text)?;
     let (lo, hi) = crate::render::animation::verlet::DAMPING_RANGE;

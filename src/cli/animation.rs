@@ -35,6 +35,8 @@ pub(crate) enum AnimationArg {
     SineVertex,
     /// Zhang Xia's Verlet blades (§3.2.3–3.2.5): control points with state, --stiffness and --damping.
     Verlet,
+    /// Belyaev's inertial blades (§3.1): segment chains with state, --stiffness and --damping.
+    Inertial,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -152,12 +154,14 @@ pub(crate) struct AnimationArgs {
     /// frames lie one step apart, the viewer runs at most 4 steps a frame.
     #[arg(long, value_name = "SECONDS", default_value = "1/60", value_parser = values::dt, allow_hyphen_values = true)]
     pub(crate) dt: f64,
-    /// The Verlet blades' spring towards their rest shape, k_s in 1/s² (1 to 400; the natural
-    /// period is about 2π/√k_s).
+    /// The spring towards the rest shape, in 1/s² (1 to 400): the Verlet blades' k_s, whose
+    /// natural period is about 2π/√k_s, or the inertial chains' joint stiffness k/J, whose period
+    /// is 2π/√(k/J).
     #[arg(long, default_value = "100", value_parser = values::stiffness, allow_hyphen_values = true)]
     pub(crate) stiffness: f32,
-    /// The Verlet blades' drag rate towards the wind, k_a in 1/s (0 to 20): it damps the swing,
-    /// and the wind moves a control point by k_a / k_s times its velocity at rest.
+    /// The damping, in 1/s (0 to 20): the Verlet blades' drag rate towards the wind k_a (the wind
+    /// moves a control point by k_a / k_s times its velocity at rest), or the inertial chains'
+    /// joint damper d/J.
     #[arg(long, default_value = "4", value_parser = values::damping, allow_hyphen_values = true)]
     pub(crate) damping: f32,
 }
@@ -200,6 +204,7 @@ impl AnimationArgs {
             },
             clock: crate::render::animation::clock::StepClock { dt: self.dt },
             verlet: crate::render::animation::verlet::VerletParams { stiffness: self.stiffness, damping: self.damping },
+            chain: crate::render::animation::chain::ChainParams { stiffness: self.stiffness, damping: self.damping },
         }
     }
 }
@@ -214,6 +219,7 @@ impl AnimationArg {
             AnimationArg::SineObject => Mode::Sine(SinePhase::Object),
             AnimationArg::SineVertex => Mode::Sine(SinePhase::Vertex),
             AnimationArg::Verlet => Mode::Verlet,
+            AnimationArg::Inertial => Mode::Inertial,
         }
     }
 }

@@ -23,6 +23,8 @@ pub const SINE_COMP: Shader = spirv_shader!("animation/sine.comp");
 pub const SINE_VERTEX_COMP: Shader = spirv_shader!("animation/sine.comp.vertex");
 /// Zhang Xia's Verlet blades (`render::animation::verlet`): stepped in the blade-state store.
 pub const VERLET_COMP: Shader = spirv_shader!("animation/verlet.comp");
+/// Belyaev's inertial blades (`render::animation::inertial`): segment chains in the blade-state store.
+pub const INERTIAL_COMP: Shader = spirv_shader!("animation/inertial.comp");
 /// The analytic wind field at the cluster corners, each step (`render::wind`).
 pub const ANALYTIC_CORNERS_COMP: Shader = spirv_shader!("wind/analytic_corners.comp");
 /// Terrain vertex shader (height-field pulling).

@@ -80,9 +80,12 @@ pub(crate) const RULES: &[Rule] = &[
         flags: &["stiffness", "damping"],
         subject: None,
         commands: SCENE,
-        with: "an --animation other than verlet",
-        when: |g| g.animation() != Some(AnimationArg::Verlet) || matches!(g.mode(), Some(ModeArg::Floor | ModeArg::Static)),
-        why: "they are the Verlet blades' constants",
+        with: "an --animation other than verlet or inertial",
+        when: |g| {
+            !matches!(g.animation(), Some(AnimationArg::Verlet | AnimationArg::Inertial))
+                || matches!(g.mode(), Some(ModeArg::Floor | ModeArg::Static))
+        },
+        why: "they are the Verlet blades' and the inertial chains' constants",
     },
     Rule {
         flags: &["animation"],

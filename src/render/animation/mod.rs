@@ -7,7 +7,9 @@
 //! per-blade pose pass (`pose_pass`), writing the renderer's pose records (`poses`).
 
 pub mod blade_state;
+pub mod chain;
 pub mod clock;
+pub mod inertial;
 pub mod keyframe_gpu;
 pub mod keyframed;
 pub mod pose_pass;
@@ -45,6 +47,7 @@ pub fn build_response(
             Box::new(sine::SineResponse::new(phase, direction))
         }
         Mode::Verlet => Box::new(verlet::VerletResponse::new(device, context.scene, context.animation.verlet)?),
+        Mode::Inertial => Box::new(inertial::InertialResponse::new(device, context.scene, context.animation.chain)?),
     })
 }
 
@@ -63,13 +66,15 @@ pub enum Mode {
     Sine(sine::SinePhase),
     /// Zhang Xia's Verlet blades (§3.2.3–3.2.5), stateful (`verlet`).
     Verlet,
+    /// Belyaev's inertial segment chains (§3.1), stateful (`inertial`).
+    Inertial,
 }
 
 impl Mode {
     /// Index used by the shaders.
     pub fn code(self) -> u32 {
         match self {
-            Mode::Static | Mode::Sine(_) | Mode::Verlet => gpu_constants::MODE_STATIC,
+            Mode::Static | Mode::Sine(_) | Mode::Verlet | Mode::Inertial => gpu_constants::MODE_STATIC,
             Mode::Texture => gpu_constants::MODE_TEXTURE,
             Mode::Uniform => gpu_constants::MODE_UNIFORM,
         }
@@ -128,6 +133,8 @@ pub struct AnimationSettings {
     pub clock: clock::StepClock,
     /// The Verlet blades' constants (`--stiffness`, `--damping`).
     pub verlet: verlet::VerletParams,
+    /// The inertial chains' constants (`--stiffness`, `--damping`).
+    pub chain: chain::ChainParams,
 }
 
 impl Default for AnimationSettings {
@@ -145,6 +152,7 @@ impl Default for AnimationSettings {
             wind: Wind::default(),
             clock: clock::StepClock::default(),
             verlet: verlet::VerletParams::default(),
+            chain: chain::ChainParams::default(),
         }
     }
 }
@@ -159,6 +167,7 @@ impl AnimationSettings {
             Mode::Sine(sine::SinePhase::Object) => Some("--animation sine-object"),
             Mode::Sine(sine::SinePhase::Vertex) => Some("--animation sine-vertex"),
             Mode::Verlet => Some("--animation verlet"),
+            Mode::Inertial => Some("--animation inertial"),
         }
     }
 }

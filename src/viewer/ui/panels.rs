@@ -209,15 +209,16 @@ fn budget(ui: &mut Ui, view: &UiView, out: &mut PanelOutput) {
 pub fn animation(ui: &mut Ui, view: &UiView, out: &mut PanelOutput) {
     let a = view.animation;
     let mode = match (a.mode, view.settings.floor) {
-        (_, true) => 6,
+        (_, true) => 7,
         (Mode::Static, _) => 0,
         (Mode::Texture, _) => 1,
         (Mode::Uniform, _) => 2,
         (Mode::Sine(SinePhase::Object), _) => 3,
         (Mode::Sine(SinePhase::Vertex), _) => 4,
         (Mode::Verlet, _) => 5,
+        (Mode::Inertial, _) => 6,
     };
-    let modes = ["static", "texture", "uniform", "sine per object", "sine per vertex", "verlet", "floor"];
+    let modes = ["static", "texture", "uniform", "sine per object", "sine per vertex", "verlet", "inertial", "floor"];
     cycle(ui, out, "m", &modes, mode);
     let smoothing = match a.smoothing {
         Smoothing::Nearest => 0,

@@ -70,6 +70,7 @@ impl AnimationsBenchOptions {
                 Mode::Sine(SinePhase::Object),
                 Mode::Sine(SinePhase::Vertex),
                 Mode::Verlet,
+                Mode::Inertial,
             ],
             blades: 100_000,
             brute_force: vec![(360_000, 8), (1_000_000, 4)],
@@ -103,6 +104,7 @@ pub fn animation_name(mode: Mode) -> &'static str {
         Mode::Sine(SinePhase::Object) => "sine-object",
         Mode::Sine(SinePhase::Vertex) => "sine-vertex",
         Mode::Verlet => "verlet",
+        Mode::Inertial => "inertial",
     }
 }
 
@@ -123,7 +125,7 @@ impl Row {
 
 /// Whether `mode`'s response keeps state from step to step.
 fn stateful(mode: Mode) -> bool {
-    matches!(mode, Mode::Verlet)
+    matches!(mode, Mode::Verlet | Mode::Inertial)
 }
 
 /// Where a row's scene comes from.
