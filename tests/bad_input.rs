@@ -273,9 +273,11 @@ fn responses_refuse_what_only_keyframes_have() {
     refused(
         "stiffness-keyframes",
         &["--stiffness", "50"],
-        "--stiffness has no effect with an --animation other than verlet or inertial",
+        "--stiffness has no effect with an --animation other than verlet, inertial or virtual-inertial",
     );
     refused("verlet-poses", &["--animation", "verlet", "--poses", "16"], "--poses has no effect");
     refused("inertial-stiffness-range", &["--animation", "inertial", "--stiffness", "0"], "outside 1..=400");
     refused("inertial-poses", &["--animation", "inertial", "--poses", "16"], "--poses has no effect");
+    refused("virtual-damping-range", &["--animation", "virtual-inertial", "--damping", "21"], "outside 0..=20");
+    refused("virtual-poses", &["--animation", "virtual-inertial", "--poses", "16"], "--poses has no effect");
 }

@@ -548,7 +548,7 @@ fn the_animations_preset_measures_each_response_against_static() {
             "--preset",
             "animations",
             "--animations",
-            "sine-object,keyframes,verlet,inertial",
+            "sine-object,keyframes,verlet,inertial,virtual-inertial",
             "--blades",
             "2000",
         ])
@@ -576,12 +576,13 @@ fn the_animations_preset_measures_each_response_against_static() {
     for row in rows {
         let variants = row["variants"].as_array().expect("variants");
         let names: Vec<&str> = variants.iter().map(|v| v["animation"].as_str().expect("name")).collect();
-        // Verlet and the inertial chains keep state: they are measured through the cull only.
+        // Verlet and the inertial chains keep state per blade: they are measured through the cull
+        // only. The virtually-inertial blades keep theirs per wind corner.
         let culled = row["culled"].as_bool().expect("culled");
         let expected: &[&str] = if culled {
-            &["static", "sine-object", "keyframes", "verlet", "inertial"]
+            &["static", "sine-object", "keyframes", "verlet", "inertial", "virtual-inertial"]
         } else {
-            &["static", "sine-object", "keyframes"]
+            &["static", "sine-object", "keyframes", "virtual-inertial"]
         };
         assert_eq!(names, expected, "{}", row["label"]);
         assert_eq!(row["wind_field"], "analytic");
@@ -596,11 +597,18 @@ fn the_animations_preset_measures_each_response_against_static() {
             assert_eq!(passes(3), [Value::from("verlet")], "{}", row["label"]);
             assert_eq!(passes(4), [Value::from("inertial")], "{}", row["label"]);
         }
+        let last = variants.len() - 1;
+        assert_eq!(
+            passes(last),
+            [Value::from("virtual blades"), Value::from("virtually-inertial")],
+            "{}",
+            row["label"]
+        );
         for v in variants {
             assert_eq!(v["frames_ms"].as_array().map(Vec::len), Some(2));
             assert!(v["gpu_ms"]["median"].as_f64() > Some(0.0));
         }
     }
     let csv = std::fs::read_to_string(out.join("animations.csv")).expect("csv");
-    assert_eq!(csv.lines().count(), 1 + 2 * 5 + 2 * 3, "a header and a line per row and response");
+    assert_eq!(csv.lines().count(), 1 + 2 * 6 + 2 * 4, "a header and a line per row and response");
 }

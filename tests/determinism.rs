@@ -12,7 +12,8 @@ mod support;
 /// The scenes: the default (cull, LOD, per-blade poses), brute force in gusty wind (the default) with
 /// SLERP keyframes, an unbounded block field, 4x MSAA culled and brute force (the per-sample
 /// outline coverage), Pelzer's sine per object (culled) and per vertex (a block field), and the
-/// Verlet and inertial blades warmed up to --time (75 steps), culled.
+/// Verlet, inertial and virtually-inertial blades warmed up to --time (75 steps), culled (the
+/// virtually-inertial ones on a block field too).
 const SCENES: &[(&str, &[&str])] = &[
     ("culled", &["--blades", "20000", "--seed", "4", "--frames", "2"]),
     ("brute", &["--brute-force", "--blades", "20000", "--seed", "5", "--wind", "30,3", "--smoothing", "slerp"]),
@@ -26,6 +27,10 @@ const SCENES: &[(&str, &[&str])] = &[
     ),
     ("verlet", &["--animation", "verlet", "--blades", "20000", "--seed", "8", "--wind", "30,0.8"]),
     ("inertial", &["--animation", "inertial", "--blades", "20000", "--seed", "9", "--wind", "30,0.8"]),
+    (
+        "virtual-inertial",
+        &["--animation", "virtual-inertial", "--field", "infinite", "--density", "150", "--view-distance", "40"],
+    ),
 ];
 
 /// The picture's bytes and the cull's counts line (if any) of one run with `threads` threads.

@@ -213,6 +213,24 @@ const RENDER_CONFIGS: &[Config] = &[
         only: Some(&["animation", "stiffness", "damping", "mode", "eval", "wind", "time", "dt", "collider"]),
     },
     Config {
+        name: "virtual-inertial",
+        args: &[
+            "--blades",
+            "3000",
+            "--animation",
+            "virtual-inertial",
+            "--time",
+            "0.5",
+            "--size",
+            "64x36",
+            "--device",
+            D,
+            "--out",
+            "out.png",
+        ],
+        only: Some(&["animation", "stiffness", "damping", "mode", "eval", "wind", "time", "dt", "collider"]),
+    },
+    Config {
         name: "block field",
         args: &["--field", "16", "--density", "20", "--size", "64x36", "--device", D, "--out", "out.png"],
         only: Some(&[

@@ -134,22 +134,50 @@ void chain_frames(Chain c, ChainState s, out vec4 frames[CHAIN_SEGMENTS]) {
     }
 }
 
-// The static equilibrium under the wind w (m/s, blade frame), at rest.
-ChainState chain_equilibrium(Chain c, vec3 w, float stiffness) {
-    vec3 force = chain_drag(w);
+// The static equilibrium at rest under a force per joint (per unit mass, blade frame), §3.3's
+// solve: per joint from the root, k·ψ = l × (Tₖ₋₁ R⁰ₖ M(ψ))' fₖ by fixed-point iteration.
+ChainState chain_equilibrium_forces(Chain c, vec3 force[CHAIN_SEGMENTS], float stiffness) {
     ChainState s;
     vec4 frame = vec4(0.0, 0.0, 0.0, 1.0);
     for (uint k = 0u; k < CHAIN_SEGMENTS; k++) {
         vec3 psi = vec3(0.0);
         for (uint i = 0u; i < CHAIN_EQUILIBRIUM_ITERATIONS; i++) {
             vec4 q = quat_mul(quat_mul(frame, chain_rest(c, k)), quat_from_scaled_axis(psi));
-            psi = chain_moment(c.half_length[k], q, force) / stiffness;
+            psi = chain_moment(c.half_length[k], q, force[k]) / stiffness;
         }
         s.psi[k] = psi;
         s.omega[k] = vec3(0.0);
         frame = quat_mul(quat_mul(frame, chain_rest(c, k)), quat_from_scaled_axis(psi));
     }
     return s;
+}
+
+// The static equilibrium under the wind w (m/s, blade frame), at rest: the still drag on every joint.
+ChainState chain_equilibrium(Chain c, vec3 w, float stiffness) {
+    vec3 f = chain_drag(w);
+    vec3 force[CHAIN_SEGMENTS];
+    for (uint k = 0u; k < CHAIN_SEGMENTS; k++) {
+        force[k] = f;
+    }
+    return chain_equilibrium_forces(c, force, stiffness);
+}
+
+// §3.3's virtual moments of a chain: mₖ = k·ψₖ on each segment (gravity left out), given as the
+// horizontal force per unit mass, in the chain's frame, whose moment l × T' f on the segment they
+// are, so that a blade of another length and lean can take them. The moment fixes the force's
+// part across the segment, (4l/3)·Tₖ(mₖ × ŷ) (ŷ × (m × ŷ) is m across the segment); the part along
+// the segment sₖ, which has no moment, is what makes it horizontal, as the wind's drag is (for a
+// segment within 84° of upright, |sₖ.y| ≥ 0.1). Under a steady wind the virtual chain rests
+// where mₖ is the drag's moment, and the force is the drag itself.
+void chain_virtual_forces(Chain c, ChainState s, float stiffness, out vec3 force[CHAIN_SEGMENTS]) {
+    vec4 frames[CHAIN_SEGMENTS];
+    chain_frames(c, s, frames);
+    for (uint k = 0u; k < CHAIN_SEGMENTS; k++) {
+        vec3 m = stiffness * s.psi[k];
+        vec3 across = quat_rotate(frames[k], cross(m, vec3(0.0, 1.0, 0.0)) * (4.0 / 3.0 * c.half_length[k]));
+        vec3 along = quat_rotate(frames[k], vec3(0.0, 1.0, 0.0));
+        force[k] = across - along * (across.y / max(along.y, 0.1));
+    }
 }
 
 // One step of dt seconds under the wind w (m/s, blade frame); x the stiffness k/J (1/s²), y the

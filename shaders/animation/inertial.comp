@@ -13,6 +13,7 @@
 #include "animation/pose_write.glsl"
 #include "animation/blade_state.glsl"
 #include "animation/chain.glsl"
+#include "animation/chain_pose.glsl"
 
 layout(local_size_x = POSE_GROUP) in;
 
@@ -95,21 +96,5 @@ void main() {
             frames = still_frames;
         }
     }
-    float inv = 1.0 / (POSE_SCALE * max(blade.height, 1e-6));
-    float force = length(p[2] - n[3]) / max(blade.height, 1e-6);
-    uint base = pose_base(i);
-    for (uint level = 0u; level <= MODEL_SEGMENTS; level++) {
-        if (!level_read(level)) {
-            continue;
-        }
-        float t = float(level) / float(MODEL_SEGMENTS);
-        vec3 point = bezier_point(vec3(0.0), p[0], p[1], p[2], t);
-        vec3 tangent = bezier_tangent(vec3(0.0), p[0], p[1], p[2], t);
-        tangent = length(tangent) > 0.0 ? normalize(tangent) : vec3(0.0, 1.0, 0.0);
-        // The width along the level's segment's across axis, on the ground: (cos, sin) of the
-        // turn about +y (blade_place.glsl: width = across·cos − normal·sin).
-        vec3 width = quat_rotate(frames[min(uint(t * float(CHAIN_SEGMENTS)), CHAIN_SEGMENTS - 1u)], vec3(1.0, 0.0, 0.0));
-        vec2 turn = length(width.xz) > 1e-6 ? normalize(vec2(width.x, -width.z)) : vec2(1.0, 0.0);
-        write_pose_level(base, level, point * inv, tangent, turn, force);
-    }
+    write_chain_pose(pose_base(i), blade.height, n[3], p, frames);
 }

@@ -43,18 +43,27 @@ vec4 interpolated_wind(BladeCluster c, vec4 w) {
         + wind_corner(c.corner + n + 1u) * w.w;
 }
 
-// A block field's wind at `root` (relative to O): the finest level that holds it, blended into the
-// next over the outer quarter of its half-extent so no seam shows where the levels meet.
-vec4 levels_wind(vec2 root) {
+// The finest level of a block field's wind that holds `root` (relative to O), and how far it is
+// blended into the next (0 to 1, over the outer quarter of the level's half-extent, so no seam
+// shows where the levels meet; 0 at the last level).
+uint wind_level_at(vec2 root, out float blend) {
     float half0 = 0.5 * float(WIND_LEVEL_CLUSTERS) * frame.terrain.y;
     vec2 from_centre = abs(root - vec2(0.5 * frame.field.x));
     float ratio = max(from_centre.x, from_centre.y) / half0;
     uint level = ratio <= 1.0 ? 0u : min(uint(ceil(log2(ratio))), WIND_LEVELS - 1u);
+    blend = level + 1u < WIND_LEVELS ? clamp((ratio / float(1u << level) - 0.75) * 4.0, 0.0, 1.0) : 0.0;
+    return level;
+}
+
+// A block field's wind at `root` (relative to O): the finest level that holds it, blended into the
+// next (`wind_level_at`).
+vec4 levels_wind(vec2 root) {
+    float blend;
+    uint level = wind_level_at(root, blend);
     vec4 w;
     BladeCluster c = level_cluster(level, root, w);
     vec4 f = interpolated_wind(c, w);
-    float blend = clamp((ratio / float(1u << level) - 0.75) * 4.0, 0.0, 1.0);
-    if (level + 1u < WIND_LEVELS && blend > 0.0) {
+    if (blend > 0.0) {
         c = level_cluster(level + 1u, root, w);
         f = mix(f, interpolated_wind(c, w), blend);
     }

@@ -37,6 +37,8 @@ pub(crate) enum AnimationArg {
     Verlet,
     /// Belyaev's inertial blades (§3.1): segment chains with state, --stiffness and --damping.
     Inertial,
+    /// Belyaev's virtually-inertial blades (§3.3): chains at the wind's corners, drawn blades at equilibrium.
+    VirtualInertial,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -220,6 +222,7 @@ impl AnimationArg {
             AnimationArg::SineVertex => Mode::Sine(SinePhase::Vertex),
             AnimationArg::Verlet => Mode::Verlet,
             AnimationArg::Inertial => Mode::Inertial,
+            AnimationArg::VirtualInertial => Mode::VirtualInertial,
         }
     }
 }

@@ -25,6 +25,10 @@ pub const SINE_VERTEX_COMP: Shader = spirv_shader!("animation/sine.comp.vertex")
 pub const VERLET_COMP: Shader = spirv_shader!("animation/verlet.comp");
 /// Belyaev's inertial blades (`render::animation::inertial`): segment chains in the blade-state store.
 pub const INERTIAL_COMP: Shader = spirv_shader!("animation/inertial.comp");
+/// Belyaev's virtual blades at the wind corners (`render::animation::virtual_blades`).
+pub const VIRTUAL_BLADES_COMP: Shader = spirv_shader!("animation/virtual_blades.comp");
+/// Belyaev's virtually-inertial drawn blades (`render::animation::virtual_inertial`).
+pub const VIRTUAL_INERTIAL_COMP: Shader = spirv_shader!("animation/virtual_inertial.comp");
 /// The analytic wind field at the cluster corners, each step (`render::wind`).
 pub const ANALYTIC_CORNERS_COMP: Shader = spirv_shader!("wind/analytic_corners.comp");
 /// Terrain vertex shader (height-field pulling).

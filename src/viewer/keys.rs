@@ -23,7 +23,7 @@ meadow viewer controls
   W A S D / Q E   move / down, up       right mouse drag  look
   Shift           faster                 wheel             speed
   G               walk on the ground     H                 this help
-  M               mode static/texture/uniform/sine per object/per vertex/verlet/inertial/floor
+  M               mode static/texture/uniform/sine object/vertex/verlet/inertial/virtual/floor
   N               smoothing nearest/linear/slerp
   B               evaluation per vertex / per blade (compute)
   + / -           segments               [ / ]             blades / 2, x 2
@@ -143,7 +143,8 @@ impl Viewer {
         let old_blades = self.scene.blades.len() as u32;
         let mut blades = old_blades;
         match name {
-            // Static, texture, uniform, Pelzer's sine per object and per vertex, Verlet, inertial, then the floor
+            // Static, texture, uniform, Pelzer's sine per object and per vertex, Verlet, inertial,
+            // virtually-inertial, then the floor
             // reference (static blades, pre-expanded).
             "m" => match (animation.mode, settings.floor) {
                 (_, true) => settings.floor = false,
@@ -153,7 +154,8 @@ impl Viewer {
                 (Mode::Sine(SinePhase::Object), false) => animation.mode = Mode::Sine(SinePhase::Vertex),
                 (Mode::Sine(SinePhase::Vertex), false) => animation.mode = Mode::Verlet,
                 (Mode::Verlet, false) => animation.mode = Mode::Inertial,
-                (Mode::Inertial, false) => (animation.mode, settings.floor) = (Mode::Static, true),
+                (Mode::Inertial, false) => animation.mode = Mode::VirtualInertial,
+                (Mode::VirtualInertial, false) => (animation.mode, settings.floor) = (Mode::Static, true),
             },
             "n" => {
                 animation.smoothing = match animation.smoothing {

@@ -80,9 +80,9 @@ pub(crate) const RULES: &[Rule] = &[
         flags: &["stiffness", "damping"],
         subject: None,
         commands: SCENE,
-        with: "an --animation other than verlet or inertial",
+        with: "an --animation other than verlet, inertial or virtual-inertial",
         when: |g| {
-            !matches!(g.animation(), Some(AnimationArg::Verlet | AnimationArg::Inertial))
+            !matches!(g.animation(), Some(AnimationArg::Verlet | AnimationArg::Inertial | AnimationArg::VirtualInertial))
                 || matches!(g.mode(), Some(ModeArg::Floor | ModeArg::Static))
         },
         why: "they are the Verlet blades' and the inertial chains' constants",

@@ -68,6 +68,11 @@ impl Chain {
         Self::from_controls(bezier::neutral_control_points(blade))
     }
 
+    /// An upright chain of `height` metres: 4 equal segments along +y (§3.3's virtual blade).
+    pub fn upright(height: f32) -> Self {
+        Self::from_controls([Vec3::ZERO, Vec3::Y * (height / 3.0), Vec3::Y * (2.0 * height / 3.0), Vec3::Y * height])
+    }
+
     /// The chain through the cubic `n` (n[0] the root at 0).
     pub fn from_controls(n: [Vec3; 4]) -> Self {
         let mut rest = [Quat::IDENTITY; CHAIN_SEGMENTS];
@@ -95,23 +100,42 @@ impl Chain {
         })
     }
 
-    /// The static equilibrium under the wind `w` (m/s, in the blade's frame), at rest: joint by
-    /// joint from the root, the fixed point of k·ψ = l × (Tₖ₋₁ R⁰ₖ M(ψ))' f (§3.3's solve, the
-    /// wind's force in place of the virtual moments), `EQUILIBRIUM_ITERATIONS` times from ψ = 0.
+    /// The static equilibrium under the wind `w` (m/s, in the blade's frame), at rest: the still
+    /// drag on every joint ([`Chain::equilibrium_under`]).
     pub fn equilibrium(&self, w: Vec3, params: ChainParams) -> ChainState {
-        let force = drag(w);
+        self.equilibrium_under(&[drag(w); CHAIN_SEGMENTS], params)
+    }
+
+    /// The static equilibrium at rest under a force per joint (per unit mass, the blade's frame):
+    /// joint by joint from the root, the fixed point of k·ψ = l × (Tₖ₋₁ R⁰ₖ M(ψ))′fₖ (§3.3's
+    /// solve), `EQUILIBRIUM_ITERATIONS` times from ψ = 0.
+    pub fn equilibrium_under(&self, force: &[Vec3; CHAIN_SEGMENTS], params: ChainParams) -> ChainState {
         let mut state = ChainState::default();
         let mut frame = Quat::IDENTITY;
-        for k in 0..CHAIN_SEGMENTS {
+        for (k, f) in force.iter().enumerate() {
             let mut psi = Vec3::ZERO;
             for _ in 0..EQUILIBRIUM_ITERATIONS {
                 let q = frame * self.rest[k] * Quat::from_scaled_axis(psi);
-                psi = moment(self.half[k], q, force) / params.stiffness;
+                psi = moment(self.half[k], q, *f) / params.stiffness;
             }
             state.psi[k] = psi;
             frame = frame * self.rest[k] * Quat::from_scaled_axis(psi);
         }
         state
+    }
+
+    /// §3.3's virtual moments mₖ = k·ψₖ of `state` (gravity left out), each as the horizontal
+    /// force per unit mass in the chain's frame whose moment l × T′f on its segment it is: across
+    /// the segment (4l/3)·Tₖ(mₖ × ŷ), plus the part along the segment sₖ (no moment) that makes it
+    /// horizontal (|sₖ.y| taken as at least 0.1). Under a steady wind this gives back the drag.
+    pub fn virtual_forces(&self, state: &ChainState, params: ChainParams) -> [Vec3; CHAIN_SEGMENTS] {
+        let frames = self.frames(state);
+        std::array::from_fn(|k| {
+            let m = params.stiffness * state.psi[k];
+            let across = frames[k] * (m.cross(Vec3::Y) * (4.0 / 3.0 * self.half[k]));
+            let along = frames[k] * Vec3::Y;
+            across - along * (across.y / along.y.max(0.1))
+        })
     }
 
     /// One step of `dt` seconds under the wind `w` (m/s, in the blade's frame): §3.1's
@@ -232,6 +256,18 @@ mod tests {
         }
         let end = chain.controls(&state)[2];
         assert!((end - start).length() < 0.02 * 0.4, "tip {start} moved to {end} under a steady wind");
+    }
+
+    #[test]
+    fn an_upright_chains_virtual_forces_give_back_its_shape() {
+        // §3.3: the moments k·ψ, given as forces, hold a blade of the same shape where it is.
+        let chain = Chain::upright(0.4);
+        let params = ChainParams::default();
+        let state = chain.equilibrium(Vec3::new(8.0, 0.0, -3.0), params);
+        let again = chain.equilibrium_under(&chain.virtual_forces(&state, params), params);
+        let (tip, back) = (chain.controls(&state)[2], chain.controls(&again)[2]);
+        assert!(tip.x > 0.05 && tip.z < -0.01, "tip {tip} under the wind");
+        assert!((tip - back).length() < 0.01 * 0.4, "tip {tip} against {back} from the virtual forces");
     }
 
     #[test]

@@ -106,7 +106,7 @@ impl BladeResponse for InertialResponse {
 
     fn tip_offset(&self, wind: Vec3) -> Vec3 {
         // A unit upright blade's equilibrium tip under the wind (its frame is the world's).
-        let upright = Chain::from_controls([Vec3::ZERO, Vec3::Y * 0.4, Vec3::Y * 0.8, Vec3::Y]);
+        let upright = Chain::upright(1.0);
         let state = upright.equilibrium(Vec3::new(wind.x, 0.0, wind.z), self.params);
         upright.controls(&state)[2] - Vec3::Y
     }

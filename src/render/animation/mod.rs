@@ -18,6 +18,8 @@ pub mod response;
 pub mod sine;
 pub mod still;
 pub mod verlet;
+pub mod virtual_blades;
+pub mod virtual_inertial;
 
 pub use keyframe_gpu::{texture_format, KeyframeTexture, KeyframeUniforms};
 pub use response::{BladeInput, BladeResponse};
@@ -48,6 +50,9 @@ pub fn build_response(
         }
         Mode::Verlet => Box::new(verlet::VerletResponse::new(device, context.scene, context.animation.verlet)?),
         Mode::Inertial => Box::new(inertial::InertialResponse::new(device, context.scene, context.animation.chain)?),
+        Mode::VirtualInertial => {
+            Box::new(virtual_inertial::VirtualInertialResponse::new(device, context.scene, context.animation.chain)?)
+        }
     })
 }
 
@@ -68,13 +73,18 @@ pub enum Mode {
     Verlet,
     /// Belyaev's inertial segment chains (§3.1), stateful (`inertial`).
     Inertial,
+    /// Belyaev's virtually-inertial blades (§3.3): virtual chains at the wind corners, the drawn
+    /// blades at their static equilibrium under them (`virtual_inertial`).
+    VirtualInertial,
 }
 
 impl Mode {
     /// Index used by the shaders.
     pub fn code(self) -> u32 {
         match self {
-            Mode::Static | Mode::Sine(_) | Mode::Verlet | Mode::Inertial => gpu_constants::MODE_STATIC,
+            Mode::Static | Mode::Sine(_) | Mode::Verlet | Mode::Inertial | Mode::VirtualInertial => {
+                gpu_constants::MODE_STATIC
+            }
             Mode::Texture => gpu_constants::MODE_TEXTURE,
             Mode::Uniform => gpu_constants::MODE_UNIFORM,
         }
@@ -168,6 +178,7 @@ impl AnimationSettings {
             Mode::Sine(sine::SinePhase::Vertex) => Some("--animation sine-vertex"),
             Mode::Verlet => Some("--animation verlet"),
             Mode::Inertial => Some("--animation inertial"),
+            Mode::VirtualInertial => Some("--animation virtual-inertial"),
         }
     }
 }

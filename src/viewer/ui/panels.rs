@@ -205,11 +205,10 @@ fn budget(ui: &mut Ui, view: &UiView, out: &mut PanelOutput) {
     }
 }
 
-/// Animation: model, evaluation placement, smoothing, wind, gusts, sources, colliders, calm areas.
-pub fn animation(ui: &mut Ui, view: &UiView, out: &mut PanelOutput) {
-    let a = view.animation;
-    let mode = match (a.mode, view.settings.floor) {
-        (_, true) => 7,
+/// The `m` key's cycle of blade responses (and the floor), and where the view is in it.
+fn modes(view: &UiView) -> ([&'static str; 9], usize) {
+    let mode = match (view.animation.mode, view.settings.floor) {
+        (_, true) => 8,
         (Mode::Static, _) => 0,
         (Mode::Texture, _) => 1,
         (Mode::Uniform, _) => 2,
@@ -217,8 +216,26 @@ pub fn animation(ui: &mut Ui, view: &UiView, out: &mut PanelOutput) {
         (Mode::Sine(SinePhase::Vertex), _) => 4,
         (Mode::Verlet, _) => 5,
         (Mode::Inertial, _) => 6,
+        (Mode::VirtualInertial, _) => 7,
     };
-    let modes = ["static", "texture", "uniform", "sine per object", "sine per vertex", "verlet", "inertial", "floor"];
+    let modes = [
+        "static",
+        "texture",
+        "uniform",
+        "sine per object",
+        "sine per vertex",
+        "verlet",
+        "inertial",
+        "virtual-inertial",
+        "floor",
+    ];
+    (modes, mode)
+}
+
+/// Animation: model, evaluation placement, smoothing, wind, gusts, sources, colliders, calm areas.
+pub fn animation(ui: &mut Ui, view: &UiView, out: &mut PanelOutput) {
+    let a = view.animation;
+    let (modes, mode) = modes(view);
     cycle(ui, out, "m", &modes, mode);
     let smoothing = match a.smoothing {
         Smoothing::Nearest => 0,
