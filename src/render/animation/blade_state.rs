@@ -121,6 +121,10 @@ impl BladeStateStore {
     }
 }
 
+/// A stateful response's frame span and step, set in `BladeResponse::step` and read when the graph
+/// plans the frame.
+pub type SharedSpan = std::rc::Rc<std::cell::Cell<(StepSpan, f32)>>;
+
 /// Record the clear of a store's `buffer` (every record empty) into `cmd`, before its first use:
 /// a transfer write the pass declares (`Access::TransferWrite`).
 pub fn record_clear(device: &Device, cmd: vk::CommandBuffer, buffer: vk::Buffer) {

@@ -24,6 +24,13 @@ pub const EQUILIBRIUM_ITERATIONS: u32 = 3;
 /// Chords the drawn curve's arc length is measured over (chain.glsl's `CHAIN_ARC_SAMPLES`).
 pub const ARC_SAMPLES: u32 = 8;
 
+/// The stiffness flag's range, the Verlet blades' (one flag sets both): for the chain's k/J,
+/// √(k/J)·Δt ≤ 1.33 at 1/15 s, where the semi-implicit step is stable.
+pub const STIFFNESS_RANGE: (f32, f32) = crate::render::animation::verlet::STIFFNESS_RANGE;
+/// The damping flag's range, the Verlet blades' (one flag sets both): the chain's damper d/J is
+/// taken implicitly, so any rate is stable.
+pub const DAMPING_RANGE: (f32, f32) = crate::render::animation::verlet::DAMPING_RANGE;
+
 /// The chain's constants, per unit of a joint's moment of inertia J.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ChainParams {
@@ -31,6 +38,28 @@ pub struct ChainParams {
     pub stiffness: f32,
     /// A joint's damper d/J (1/s), meadow's addition (the paper damps only through the drag).
     pub damping: f32,
+}
+
+impl ChainParams {
+    /// Refuse constants outside the flags' ranges ([`STIFFNESS_RANGE`], [`DAMPING_RANGE`]).
+    pub fn check(&self) -> crate::error::Result<()> {
+        let ((lo, hi), (dlo, dhi)) = (STIFFNESS_RANGE, DAMPING_RANGE);
+        if !(lo..=hi).contains(&self.stiffness) || !(dlo..=dhi).contains(&self.damping) {
+            return Err(crate::error::Error::bad_input(format!(
+                "--stiffness {} / --damping {}: outside {lo}..={hi} (1/s²) / {dlo}..={dhi} (1/s)",
+                self.stiffness, self.damping
+            )));
+        }
+        Ok(())
+    }
+
+    /// How far the tip of a unit upright blade moves at its equilibrium under `wind` (m/s, its
+    /// frame the world's): `BladeResponse::tip_offset` of the chain responses.
+    pub fn tip_offset(&self, wind: Vec3) -> Vec3 {
+        let upright = Chain::upright(1.0);
+        let state = upright.equilibrium(Vec3::new(wind.x, 0.0, wind.z), *self);
+        upright.controls(&state)[2] - Vec3::Y
+    }
 }
 
 impl Default for ChainParams {

@@ -10,9 +10,9 @@ use std::rc::Rc;
 use ash::vk;
 use glam::Vec3;
 
-use crate::error::{Error, Result};
-use crate::render::animation::blade_state::{BladeStateStore, StepSpan};
-use crate::render::animation::chain::{Chain, ChainParams, CHAIN_SEGMENTS};
+use crate::error::Result;
+use crate::render::animation::blade_state::{BladeStateStore, SharedSpan, StepSpan};
+use crate::render::animation::chain::{ChainParams, CHAIN_SEGMENTS};
 use crate::render::animation::pose_pass::{PosePass, PoseShader, PoseUniforms};
 use crate::render::animation::response::{BladeInput, BladeResponse, ResponseSetup, ResponseStep};
 use crate::render::graph::Pass;
@@ -25,13 +25,6 @@ pub const STATE_WORDS: u32 = 6 * CHAIN_SEGMENTS as u32;
 /// A block field's store: the blocks within this many of the camera's (121 blocks).
 pub const STORE_RADIUS: u32 = 5;
 
-/// The stiffness flag's range, the Verlet blades' (one flag sets both): for the chain's k/J,
-/// √(k/J)·Δt ≤ 1.33 at 1/15 s, where the semi-implicit step is stable.
-pub const STIFFNESS_RANGE: (f32, f32) = crate::render::animation::verlet::STIFFNESS_RANGE;
-/// The damping flag's range, the Verlet blades' (one flag sets both): the chain's damper d/J is
-/// taken implicitly, so any rate is stable.
-pub const DAMPING_RANGE: (f32, f32) = crate::render::animation::verlet::DAMPING_RANGE;
-
 /// The inertial response: its store, its constants and the span of steps each frame takes.
 pub struct InertialResponse {
     params: ChainParams,
@@ -40,20 +33,14 @@ pub struct InertialResponse {
     shape: Buffer,
     previous: Option<u64>,
     /// This frame's span and step, read when the graph plans the frame.
-    span: Rc<Cell<(StepSpan, f32)>>,
+    span: SharedSpan,
 }
 
 impl InertialResponse {
     /// A store for `scene`'s blades (a block field's within `STORE_RADIUS` blocks) and the
     /// constants' block. Refused with one line if the store does not fit.
     pub fn new(device: &Device, scene: &SceneGpu, params: ChainParams) -> Result<Self> {
-        let ((lo, hi), (dlo, dhi)) = (STIFFNESS_RANGE, DAMPING_RANGE);
-        if !(lo..=hi).contains(&params.stiffness) || !(dlo..=dhi).contains(&params.damping) {
-            return Err(Error::bad_input(format!(
-                "--stiffness {} / --damping {}: outside {lo}..={hi} (1/s²) / {dlo}..={dhi} (1/s)",
-                params.stiffness, params.damping
-            )));
-        }
+        params.check()?;
         let store = Guard::new(device, BladeStateStore::new(device, scene, STATE_WORDS, STORE_RADIUS, false)?);
         let usage = vk::BufferUsageFlags::UNIFORM_BUFFER;
         let mut shape = Buffer::new(device, &BufferDesc::upload("inertial shape", 16, usage))?;
@@ -73,7 +60,6 @@ impl BladeResponse for InertialResponse {
     }
 
     fn passes(&self, device: &Device, setup: &ResponseSetup) -> Result<Vec<Box<dyn Pass>>> {
-        let (span, shape) = (self.span.clone(), self.store.shape);
         let shader = PoseShader {
             name: "inertial",
             spirv: shaders::INERTIAL_COMP.code(device.profile),
@@ -82,14 +68,7 @@ impl BladeResponse for InertialResponse {
                 self.store.resource(),
             ],
             uses: Vec::new(),
-            uniforms: Some(PoseUniforms {
-                name: "BladeStateFrame",
-                size: 48,
-                fill: Box::new(move |_| {
-                    let (span, dt) = span.get();
-                    bytemuck::cast_slice(&shape.frame_block(span, dt)).to_vec()
-                }),
-            }),
+            uniforms: Some(PoseUniforms::blade_state(&self.store, self.span.clone())),
             store: Some(self.store.buffer.raw),
         };
         Ok(vec![Box::new(PosePass::new(device, setup, shader)?)])
@@ -105,10 +84,7 @@ impl BladeResponse for InertialResponse {
     }
 
     fn tip_offset(&self, wind: Vec3) -> Vec3 {
-        // A unit upright blade's equilibrium tip under the wind (its frame is the world's).
-        let upright = Chain::upright(1.0);
-        let state = upright.equilibrium(Vec3::new(wind.x, 0.0, wind.z), self.params);
-        upright.controls(&state)[2] - Vec3::Y
+        self.params.tip_offset(wind)
     }
 
     unsafe fn destroy(self: Box<Self>, device: &Device) {

@@ -38,6 +38,22 @@ pub struct PoseUniforms {
     pub fill: FillUniforms,
 }
 
+impl PoseUniforms {
+    /// The `BladeStateFrame` block a stateful response's pose pass reads
+    /// (`shaders/animation/blade_state.glsl`) for `store`, filled each frame from `span`.
+    pub fn blade_state(store: &blade_state::BladeStateStore, span: blade_state::SharedSpan) -> Self {
+        let shape = store.shape;
+        Self {
+            name: "BladeStateFrame",
+            size: 48,
+            fill: Box::new(move |_| {
+                let (span, dt) = span.get();
+                bytemuck::cast_slice(&shape.frame_block(span, dt)).to_vec()
+            }),
+        }
+    }
+}
+
 /// What a pose pass runs: its shader and what the response gives it.
 pub struct PoseShader<'a> {
     /// The pass's name in timings and labels.

@@ -13,7 +13,7 @@ use ash::vk;
 use glam::{Vec2, Vec3};
 
 use crate::error::{Error, Result};
-use crate::render::animation::blade_state::{BladeStateStore, StepSpan};
+use crate::render::animation::blade_state::{BladeStateStore, SharedSpan, StepSpan};
 use crate::render::animation::pose_pass::{PosePass, PoseShader, PoseUniforms};
 use crate::render::animation::response::{BladeInput, BladeResponse, ResponseSetup, ResponseStep};
 use crate::render::graph::Pass;
@@ -134,7 +134,7 @@ pub struct VerletResponse {
     shape: Buffer,
     previous: Option<u64>,
     /// This frame's span and step, read when the graph plans the frame.
-    span: Rc<Cell<(StepSpan, f32)>>,
+    span: SharedSpan,
 }
 
 impl VerletResponse {
@@ -167,7 +167,6 @@ impl BladeResponse for VerletResponse {
     }
 
     fn passes(&self, device: &Device, setup: &ResponseSetup) -> Result<Vec<Box<dyn Pass>>> {
-        let (span, shape) = (self.span.clone(), self.store.shape);
         let shader = PoseShader {
             name: "verlet",
             spirv: shaders::VERLET_COMP.code(device.profile),
@@ -176,14 +175,7 @@ impl BladeResponse for VerletResponse {
                 self.store.resource(),
             ],
             uses: Vec::new(),
-            uniforms: Some(PoseUniforms {
-                name: "BladeStateFrame",
-                size: 48,
-                fill: Box::new(move |_| {
-                    let (span, dt) = span.get();
-                    bytemuck::cast_slice(&shape.frame_block(span, dt)).to_vec()
-                }),
-            }),
+            uniforms: Some(PoseUniforms::blade_state(&self.store, self.span.clone())),
             store: Some(self.store.buffer.raw),
         };
         Ok(vec![Box::new(PosePass::new(device, setup, shader)?)])

@@ -11,9 +11,9 @@ use std::rc::Rc;
 use ash::vk;
 use glam::{UVec4, Vec3, Vec4};
 
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::render::animation::blade_state::StepSpan;
-use crate::render::animation::chain::{Chain, ChainParams, CHAIN_SEGMENTS};
+use crate::render::animation::chain::{ChainParams, CHAIN_SEGMENTS};
 use crate::render::animation::pose_pass::{PosePass, PoseShader};
 use crate::render::animation::response::{BladeInput, BladeResponse, ResponseSetup, ResponseStep};
 use crate::render::animation::virtual_blades::{VirtualBladesPass, VirtualBuffers, VirtualFrame, STATE_FLOATS};
@@ -47,14 +47,7 @@ impl VirtualInertialResponse {
     /// constants' block. Refused with one line if the constants are out of range or the buffers
     /// do not fit the memory budget.
     pub fn new(device: &Device, scene: &SceneGpu, params: ChainParams) -> Result<Self> {
-        let ((lo, hi), (dlo, dhi)) =
-            (crate::render::animation::inertial::STIFFNESS_RANGE, crate::render::animation::inertial::DAMPING_RANGE);
-        if !(lo..=hi).contains(&params.stiffness) || !(dlo..=dhi).contains(&params.damping) {
-            return Err(Error::bad_input(format!(
-                "--stiffness {} / --damping {}: outside {lo}..={hi} (1/s²) / {dlo}..={dhi} (1/s)",
-                params.stiffness, params.damping
-            )));
-        }
+        params.check()?;
         let corner_count = scene.wind_levels * scene.grid.corner_count();
         let state_bytes = 4 * u64::from(corner_count) * u64::from(STATE_FLOATS);
         let wind_bytes = 16 * u64::from(corner_count) * CHAIN_SEGMENTS as u64;
@@ -147,11 +140,9 @@ impl BladeResponse for VirtualInertialResponse {
     }
 
     fn tip_offset(&self, wind: Vec3) -> Vec3 {
-        // Under a steady wind the virtual blades rest at their equilibrium, and a unit upright
-        // blade with them.
-        let upright = Chain::upright(1.0);
-        let state = upright.equilibrium(Vec3::new(wind.x, 0.0, wind.z), self.params);
-        upright.controls(&state)[2] - Vec3::Y
+        // Under a steady wind the virtual blades, and the blades with them, rest at the
+        // equilibrium.
+        self.params.tip_offset(wind)
     }
 
     unsafe fn destroy(self: Box<Self>, device: &Device) {
