@@ -137,6 +137,8 @@ fn every_frame_uniform_and_specialization_constant_reads_back_through_a_compute_
         msaa_samples: 2012,
         strip_area: 1.25f32.to_bits(),
         strip_l6: 0.75f32.to_bits(),
+        tile_rows_capacity: 2013,
+        lod_bucket: 2014,
     };
     let input = (vk::DescriptorType::UNIFORM_BUFFER, bytemuck::bytes_of(&uniforms));
     let (result, messages) = with_device(&options(), false, |device| {
@@ -171,6 +173,8 @@ fn every_frame_uniform_and_specialization_constant_reads_back_through_a_compute_
     assert_eq!(seen("MSAA_SAMPLES"), spec.msaa_samples, "MSAA_SAMPLES");
     assert_eq!(seen("STRIP_AREA"), spec.strip_area, "STRIP_AREA");
     assert_eq!(seen("STRIP_L6"), spec.strip_l6, "STRIP_L6");
+    assert_eq!(seen("TILE_ROWS_CAPACITY"), spec.tile_rows_capacity, "TILE_ROWS_CAPACITY");
+    assert_eq!(seen("LOD_BUCKET"), spec.lod_bucket, "LOD_BUCKET");
     // The shaders see the constants build.rs generated for Rust.
     let shared = &words[FRAME_WORDS + specialization::COUNT..];
     let flags = gpu::FLAG_DEBUG_FORCE | gpu::FLAG_EVAL_BLADE | gpu::FLAG_CLUSTER_PUSH;

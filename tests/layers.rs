@@ -215,6 +215,7 @@ const ORDER: &[&str] = &[
     "render::camera_grid",
     "render::terrain_chunks",
     "render::field_gpu",
+    "render::draw_rows",
     "render::culling",
     "render::cull_reference",
     "render::graph",

@@ -6,7 +6,9 @@
 //! - per object (§7.4.4): one translation per blade, every level displaced by T · s² · height;
 //! - per vertex (§7.4.3): each level's translation is that of its own rest point in the world,
 //!   so two blades at one place move alike (the reference depends on the position alone), and a
-//!   reference that takes the phase at the root instead does not match.
+//!   reference that takes the phase at the root instead does not match;
+//! - per cluster (§7.4.2): the phase is the centre of the blade's tile, so under a wind that is
+//!   the same everywhere every blade of a tile moves by one translation, and tiles differ.
 //!
 //! Brute force on a stored field, so records are by stored blade and the CPU writes the cluster
 //! corners; the cull's path is `tests/determinism.rs`' and the CLI's.
@@ -84,6 +86,12 @@ fn reference(scene: &Scene, wind: &Wind, read: &ReadBack, phase: SinePhase) -> V
     let emitters = animation::emitters(wind, TIME);
     let direction = wind.global.map_or(Vec2::X, |g| g.direction());
     let per_vertex = if phase == SinePhase::Vertex { 1.0 } else { 0.0 };
+    let grid = scene.tile_grid;
+    // The centre of the tile under a root (`scene::tiles::TileGrid::cell`).
+    let tile_centre = |root: Vec2| {
+        let (x, z) = grid.cell(root.x, root.y);
+        Vec2::splat(grid.origin) + (Vec2::new(x as f32, z as f32) + 0.5) * grid.tile_size
+    };
     scene
         .blades
         .iter()
@@ -101,7 +109,8 @@ fn reference(scene: &Scene, wind: &Wind, read: &ReadBack, phase: SinePhase) -> V
                     let s = level as f32 / SEGMENTS as f32;
                     let rest = bezier::point(&p, s);
                     let offset = across * rest.x + normal * rest.z;
-                    let d = translation(root + per_vertex * offset, w, direction) * (s * s * b.height);
+                    let at = if phase == SinePhase::Cluster { tile_centre(root) } else { root + per_vertex * offset };
+                    let d = translation(at, w, direction) * (s * s * b.height);
                     (rest + Vec3::new(d.dot(across), 0.0, d.dot(normal))) / (POSE_SCALE * b.height)
                 })
                 .collect()
@@ -125,10 +134,15 @@ fn gusty() -> Wind {
 }
 
 #[test]
-fn both_variants_match_the_cpu_reference_and_take_their_phase_where_they_say() {
+fn every_variant_matches_the_cpu_reference_and_takes_its_phase_where_it_says() {
     let scene = Scene::generate(1500, 11);
     let wind = gusty();
-    for (phase, other) in [(SinePhase::Object, SinePhase::Vertex), (SinePhase::Vertex, SinePhase::Object)] {
+    let pairs = [
+        (SinePhase::Object, SinePhase::Vertex),
+        (SinePhase::Vertex, SinePhase::Object),
+        (SinePhase::Cluster, SinePhase::Object),
+    ];
+    for (phase, other) in pairs {
         let read = run(&scene, phase, &wind);
         let own = worst(&read.records, &reference(&scene, &wind, &read, phase));
         assert!(own < TOLERANCE, "{phase:?}: records differ from the reference by {own}");
@@ -165,7 +179,7 @@ fn without_wind_blades_rest_and_under_wind_towards_plus_x_tips_move_towards_plus
         Wind { global: Some(GlobalWind { direction_deg: 0.0, strength: 0.0, gusts: false }), ..Default::default() };
     let east =
         Wind { global: Some(GlobalWind { direction_deg: 0.0, strength: 0.5, gusts: false }), ..Default::default() };
-    for phase in [SinePhase::Object, SinePhase::Vertex] {
+    for phase in [SinePhase::Object, SinePhase::Vertex, SinePhase::Cluster] {
         let read = run(&scene, phase, &calm);
         let neutral = reference(&scene, &Wind::default(), &read, phase);
         let rest = worst(&read.records, &neutral);
@@ -180,4 +194,39 @@ fn without_wind_blades_rest_and_under_wind_towards_plus_x_tips_move_towards_plus
             assert!(world.z.abs() < 2.0 * TOLERANCE * POSE_SCALE, "{phase:?}: blade {blade}'s tip moved {world}");
         }
     }
+}
+
+#[test]
+fn per_cluster_every_blade_of_a_tile_moves_by_one_translation() {
+    let scene = Scene::generate(20_000, 14);
+    // A wind the same at every corner (no gusts, no sources): the translation differs only by
+    // the phase.
+    let steady = |strength| Wind {
+        global: Some(GlobalWind { direction_deg: 0.0, strength, gusts: false }),
+        ..Default::default()
+    };
+    let neutral =
+        reference(&scene, &Wind::default(), &run(&scene, SinePhase::Cluster, &steady(0.0)), SinePhase::Cluster);
+    let read = run(&scene, SinePhase::Cluster, &steady(0.5));
+    assert!(read.corners.windows(2).all(|c| c[0] == c[1]), "the wind is the same everywhere");
+    let mut by_tile: std::collections::BTreeMap<u32, Vec<Vec2>> = Default::default();
+    for (blade, (b, levels)) in scene.blades.iter().zip(&neutral).enumerate() {
+        let d = recorded(&read.records, blade, SEGMENTS) - levels[SEGMENTS as usize];
+        let (across, normal) = bezier::frame(b);
+        // The tip's translation in heights (s = 1), world xz.
+        let world = (across * d.x + normal * d.z) * POSE_SCALE;
+        by_tile
+            .entry(scene.tile_grid.index(b.position[0], b.position[2]))
+            .or_default()
+            .push(Vec2::new(world.x, world.z));
+    }
+    let means: Vec<Vec2> = by_tile.values().map(|t| t.iter().sum::<Vec2>() / t.len() as f32).collect();
+    for (tile, moves) in &by_tile {
+        let first = moves[0];
+        let spread = moves.iter().map(|m| (*m - first).abs().max_element()).fold(0.0, f32::max);
+        assert!(spread < 4.0 * TOLERANCE * POSE_SCALE, "tile {tile}: its blades' tips move apart by {spread}");
+    }
+    // The control: the tiles sway with phases of their own.
+    let (low, high) = means.iter().fold((f32::MAX, f32::MIN), |(l, h), m| (l.min(m.x), h.max(m.x)));
+    assert!(by_tile.len() > 4 && high - low > 0.02, "{} tiles, tips from {low} to {high}", by_tile.len());
 }

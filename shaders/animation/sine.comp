@@ -16,13 +16,18 @@
 //   - per object (§7.4.4, this build): p_m = the blade's root for every level, one T per blade;
 //   - per vertex (§7.4.3, the variant `vertex`): p_m = the level's rest point in the world, so two
 //     blades at one place move alike and one blade's levels sway with the phases of their own
-//     positions.
+//     positions;
+//   - per cluster (§7.4.2, the variant `cluster`): p_m = the centre of the blade's tile of the cull
+//     (a block field's cell), so every blade of a tile sways in phase, as Pelzer's clusters do
+//     with one draw each. With the cull the blade class then draws one row per visible tile
+//     (cull/tile_rows.glsl); the phase is the tile's whichever way the tile is drawn.
 // The tangent is the derivative along the blade, dP/ds + 2·s·height·T (the phase's change along
 // a per-vertex blade is left out of it: it only lights the level), so only the levels the LOD
 // bucket reads are evaluated.
 // Under no wind T = 0: the neutral blade. Phases are world-exact: the host folds ω·t − κ·d̂·O in
 // f64 into `wave.z`, and p is relative to O here.
 // variant vertex: SINE_PER_VERTEX
+// variant cluster: SINE_PER_TILE
 #define POSE_WRITER
 #include "common/bindings.glsl"
 #include "common/bezier.glsl"
@@ -47,6 +52,21 @@ vec2 translation(vec2 p, vec2 w) {
     return reach > sine.gains.z ? t * (sine.gains.z / reach) : t;
 }
 
+#ifdef SINE_PER_TILE
+// The centre of the tile a blade belongs to (relative to O): a block field's cell, from the
+// entry's ring slot (`visible_blade`, cull.glsl); a stored field's tile of the tile grid under its
+// root (`scene::tiles::TileGrid::cell`, clamped to the grid).
+vec2 tile_centre(uvec2 entry, BladeInstance blade) {
+    if ((RENDER_FLAGS & FLAG_BLOCKS) != 0u) {
+        return (vec2(ring_cell(entry.x >> 16)) + 0.5) * frame_values.field.x;
+    }
+    float origin = frame_values.tile_grid.x;
+    float size = frame_values.tile_grid.y;
+    vec2 cell = clamp(floor((blade.position.xz - vec2(origin)) / size), vec2(0.0), vec2(float(frame.cull_tiles.x) - 1.0));
+    return vec2(origin) + (cell + 0.5) * size;
+}
+#endif
+
 void main() {
     uint i;
     uvec2 entry;
@@ -61,7 +81,9 @@ void main() {
     // The blade's frame in the world (place_level: x across, z along the normal).
     vec2 across = vec2(cos(blade.facing), -sin(blade.facing));
     vec2 normal_dir = vec2(sin(blade.facing), cos(blade.facing));
-#ifndef SINE_PER_VERTEX
+#ifdef SINE_PER_TILE
+    vec2 t = translation(tile_centre(entry, blade), w);
+#elif !defined(SINE_PER_VERTEX)
     vec2 t = translation(blade.position.xz, w);
 #endif
     float inv = 1.0 / (POSE_SCALE * max(blade.height, 1e-6));

@@ -12,6 +12,10 @@
 // (`SET_POSES`).
 // variant keyframes: PER_VERTEX_KEYFRAMES
 //
+// The variant `tiles` (TILE_ROWS) draws the blade class's per-tile rows (cull/tile_rows.glsl):
+// one draw per visible tile and LOD bucket, its record found by gl_DrawID.
+// variant tiles: TILE_ROWS
+//
 // Texture mode (thesis 4.4.1): the blade's force is interpolated from its cluster's corners
 // (eq. 3.6), expressed in the blade's frame, and selects a pose of the keyframe texture; the
 // pose's displacement (eq. 3.4/3.9), scaled by the blade's height, is added to the neutral
@@ -23,6 +27,11 @@
 #include "animation/forces.glsl"
 #include "animation/keyframes.glsl"
 #include "blades/blade_select.glsl"
+#endif
+#ifdef TILE_ROWS
+#include "cull/tile_rows.glsl"
+// The cull's per-tile rows, in this pass's own set (`render::passes::blades`).
+layout(set = SET_PASS, binding = 0, std430) readonly buffer TileRows { uint tile_rows[]; };
 #endif
 
 // Lit per vertex (Gouraud): the blade's colour is affine along its length and its normal is the
@@ -116,6 +125,12 @@ void main() {
         // VISIBLE_PADDING.
         entry = visible_entry(blade_index);
         tail = entry.x == VISIBLE_PADDING;
+#ifdef TILE_ROWS
+        // This draw's tile (its row, by gl_DrawID): the entries of the instances it shares with
+        // the tiles before and after it are theirs to draw.
+        uint row = tile_record_word(LOD_BUCKET, uint(gl_DrawID));
+        tail = tail || blade_index < tile_rows[row] || blade_index >= tile_rows[row + 1u];
+#endif
         blade_index = entry.x;
         lod_scale = visible_unpack(entry.y).yz;
     }

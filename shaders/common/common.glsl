@@ -72,6 +72,12 @@ layout(constant_id = SPEC(MSAA_SAMPLES)) const uint MSAA_SAMPLES = 1u;
 // scaled so its area-weighted mean is brute force's (`scene::alpha`).
 layout(constant_id = SPEC(STRIP_AREA)) const float STRIP_AREA = 1.0;
 layout(constant_id = SPEC(STRIP_L6)) const float STRIP_L6 = 1.0;
+// The blade class's rows (`render::draw_rows`): 0 draws each LOD bucket once; else one draw per
+// visible tile and bucket inside a multi-draw-indirect, this many rows per bucket (the ring
+// slots the cull holds; cull/tile_rows.glsl gives the layout).
+layout(constant_id = SPEC(TILE_ROWS_CAPACITY)) const uint TILE_ROWS_CAPACITY = 0u;
+// The LOD bucket a blade pipeline draws (`render::passes::blades`), for its per-tile records.
+layout(constant_id = SPEC(LOD_BUCKET)) const uint LOD_BUCKET = 0u;
 // Brute force draws strips, joined by repeating a strip's first and last vertices. With the cull
 // (FLAG_CULLED), the LOD buckets draw indexed triangle lists instead (`scene::bezier::BladeMesh`):
 // no joins, and a blade whose outline is geometry (FLAG_SOLID_OUTLINE: zero width at the tip)

@@ -56,10 +56,11 @@
 #define STAT_TILES_VISIBLE 14u // Tiles that pass the tile tests (frustum, distance, occlusion).
 #define STAT_TILES_TOTAL 15u // Tiles in the grid.
 // The frame's totals only (`cull_stats`, after the `SLOT_WORDS` of the slot layout).
-#define CULL_STATS_WORDS 19u // Words of the frame's totals.
+#define CULL_STATS_WORDS 20u // Words of the frame's totals.
 #define STAT_WANTED 16u // Blades the blade tests kept, before the visible list's capacity thinned them.
 #define STAT_SCALE 17u // The capacity scale the emit pass thinned by, 0.32 fixed point (`THIN_WORD`).
 #define STAT_NO_ROOM 18u // Candidates of a block field's slots that found no room for their verdicts (not tested, not drawn).
+#define STAT_TILE_DRAWS 19u // With per-tile rows (`render::draw_rows`): the draws of the blade class, one per visible tile and LOD bucket that draws.
 
 // The depth pyramid: three levels over the whole picture in screen space (uv), whatever its size
 // and aspect, each texel the farthest (smallest, reversed Z) terrain depth it covers.
@@ -108,6 +109,7 @@
 #define EMIT_DISPATCH_WORD 64u // In the cull's `draws`: the emit pass's indirect dispatch (x, y, z), one workgroup per ring slot that draws.
 #define THIN_WORD 67u // In the cull's `draws`: the capacity scale, 0.32 fixed point (0xffffffff: keep all), written by the scan, read by the emit pass.
 #define EMIT_SLOTS_WORD 68u // In the cull's `draws`, from here: the ring slots that draw, near to far (written by the scan, read by the emit pass).
+#define TILE_RECORD_WORDS 3u // Words of one per-tile draw's record (`render::draw_rows::TileRows`): its first and end entries in the visible list, its ring slot.
 #define POSE_GROUP 64u // Invocations of a blade-pose workgroup.
 #define LEVEL_UVEC2S 3u // `uvec2`s of one strip level of a drawn blade (bindings.glsl, `Levels`).
 

@@ -13,6 +13,11 @@
 // and llvmpipe's barriers cost more than the additions they save).
 #define CULL_WRITER
 #include "cull/cull.glsl"
+#include "cull/tile_rows.glsl"
+
+// The blade class's per-tile rows (cull/tile_rows.glsl), binding 7 of the cull's set (cull.glsl
+// numbers 0-5, cull_emit.comp 6); written only when TILE_ROWS_CAPACITY > 0.
+layout(set = SET_PASS, binding = 7, std430) writeonly buffer TileRows { uint tile_rows[]; };
 
 const uint SCAN = 256u;
 layout(local_size_x = SCAN) in;
@@ -27,6 +32,14 @@ shared uint drawing_slots;
 shared uint thin_scale;
 shared uint wanted;
 shared uint lost_to_room;
+// Each bucket's place in the visible list (its first entry and its entries, thinned) and in the
+// index buffer; with per-tile rows, per run the tiles that draw each bucket (then, after the
+// scan, where the run's rows go), and each bucket's rows.
+shared uint bucket_first[MAX_LOD_BUCKETS];
+shared uint bucket_count[MAX_LOD_BUCKETS];
+shared uint bucket_first_index[MAX_LOD_BUCKETS];
+shared uint run_tiles[MAX_LOD_BUCKETS][SCAN];
+shared uint bucket_tiles[MAX_LOD_BUCKETS];
 
 // floor(2^32 room / total) for room < total < 2^31: the 0.32 fixed-point quotient, a bit at a time
 // (the remainder stays under total, so doubling it fits 32 bits).
@@ -69,23 +82,36 @@ bool slot_draws(uint slot) {
     return sum > 0u;
 }
 
-// Lane 0, once the totals are known: one indirect draw per LOD bucket (padding each bucket's last
-// instance), the pose and levels passes' dispatch over each bucket, and the emit pass's dispatch
-// over the slots that draw.
+// Lane 0, once the totals and the scale are known: each bucket thinned by the capacity scale,
+// which makes every bucket fit the list's cull_lod.w entries (the room left is a guard that never
+// cuts), padded to whole instances, at its place in the list; its index list's place in the blade
+// pass's index buffer (the buckets' lists follow each other, `scene::bezier::bucket_indices`).
+void place_buckets() {
+    const uint batch = BLADES_PER_INSTANCE;
+    uint first = 0u;
+    uint first_index = 0u;
+    for (uint b = 0u; b < MAX_LOD_BUCKETS; b++) {
+        uint room = frame.cull_lod.w - min(first, frame.cull_lod.w);
+        uint count = b < frame.cull_lod.x ? min(thin_position(totals[b], thin_scale), room / batch * batch) : 0u;
+        bucket_first[b] = first;
+        bucket_count[b] = count;
+        bucket_first_index[b] = first_index;
+        first += (count + batch - 1u) / batch * batch;
+        first_index += 3u * bucket_blade_triangles(bucket_segments(b)) * batch;
+    }
+}
+
+// Lane 0, once the buckets are placed: one indirect draw per LOD bucket (padding each bucket's
+// last instance), the pose and levels passes' dispatch over each bucket, and the emit pass's
+// dispatch over the slots that draw.
 void write_dispatches() {
     // Each instance draws BLADES_PER_INSTANCE consecutive entries of the list (the bucket's
     // blade triangle list repeated, blade.vert), so a bucket starts at a multiple of it and its
     // last instance's tail is padded with VISIBLE_PADDING entries, which draw nothing.
     const uint batch = BLADES_PER_INSTANCE;
-    uint first = 0u;
-    // The buckets' index lists follow each other in the blade pass's index buffer
-    // (`scene::bezier::bucket_indices`).
-    uint first_index = 0u;
     for (uint b = 0u; b < MAX_LOD_BUCKETS; b++) {
-        // The bucket thinned by the capacity scale, which makes every bucket fit the list's
-        // cull_lod.w entries (the room left is a guard that never cuts).
-        uint room = frame.cull_lod.w - min(first, frame.cull_lod.w);
-        uint count = b < frame.cull_lod.x ? min(thin_position(totals[b], thin_scale), room / batch * batch) : 0u;
+        uint first = bucket_first[b];
+        uint count = bucket_count[b];
         // The frame's counts report what is drawn (`STAT_WANTED` what was kept before thinning).
         totals[b] = count;
         uint instances = (count + batch - 1u) / batch;
@@ -94,10 +120,9 @@ void write_dispatches() {
         }
         // VkDrawIndexedIndirectCommand: indexCount, instanceCount, firstIndex, vertexOffset,
         // firstInstance.
-        uint indices = 3u * bucket_blade_triangles(bucket_segments(b)) * batch;
-        draws[DRAW_WORDS * b] = indices;
+        draws[DRAW_WORDS * b] = 3u * bucket_blade_triangles(bucket_segments(b)) * batch;
         draws[DRAW_WORDS * b + DRAW_INSTANCES] = instances;
-        draws[DRAW_WORDS * b + 2u] = first_index;
+        draws[DRAW_WORDS * b + 2u] = bucket_first_index[b];
         draws[DRAW_WORDS * b + 3u] = 0u;
         draws[DRAW_WORDS * b + DRAW_FIRST_INSTANCE] = first / batch;
         // The blade-pose and levels passes run one dispatch per bucket (its pipeline specialised
@@ -105,8 +130,9 @@ void write_dispatches() {
         draws[BUCKET_DISPATCH_WORD + 3u * b] = (instances * batch + POSE_GROUP - 1u) / POSE_GROUP;
         draws[BUCKET_DISPATCH_WORD + 3u * b + 1u] = 1u;
         draws[BUCKET_DISPATCH_WORD + 3u * b + 2u] = 1u;
-        first += instances * batch;
-        first_index += indices;
+        if (TILE_ROWS_CAPACITY > 0u) {
+            tile_rows[b] = b < frame.cull_lod.x ? bucket_tiles[b] : 0u;
+        }
     }
     // The emit pass runs over the slots that draw: most of the rings are empty (off screen, too
     // far, outside the field), and a workgroup costs llvmpipe about 1.7 µs even when it returns
@@ -115,6 +141,28 @@ void write_dispatches() {
     draws[EMIT_DISPATCH_WORD + 1u] = 1u;
     draws[EMIT_DISPATCH_WORD + 2u] = 1u;
     draws[THIN_WORD] = thin_scale;
+}
+
+// Row `k` of bucket `b` (per-tile rows): the draw of slot `slot`'s `count` blades of the bucket,
+// the `offset`-th of the bucket's sequence on. The emit pass puts the sequence's entry j at
+// bucket_first + thin_position(j) when thin_kept(j) (cull.glsl), so the slot's kept blades are the
+// contiguous entries from thin_position(offset) to thin_position(offset + count). The draw covers
+// the instances they fall in; blade.vert's variant `tiles` skips the entries of the instances'
+// other tiles (the record's range), so each entry is drawn once, by its own tile's draw.
+void write_tile_row(uint b, uint k, uint slot, uint offset, uint count) {
+    const uint batch = BLADES_PER_INSTANCE;
+    uint end = bucket_first[b] + min(thin_position(offset + count, thin_scale), bucket_count[b]);
+    uint first = min(bucket_first[b] + thin_position(offset, thin_scale), end);
+    uint at = tile_command_word(b, k);
+    tile_rows[at] = 3u * bucket_blade_triangles(bucket_segments(b)) * batch;
+    tile_rows[at + DRAW_INSTANCES] = end > first ? (end - 1u) / batch - first / batch + 1u : 0u;
+    tile_rows[at + 2u] = bucket_first_index[b];
+    tile_rows[at + 3u] = 0u;
+    tile_rows[at + DRAW_FIRST_INSTANCE] = first / batch;
+    uint record = tile_record_word(b, k);
+    tile_rows[record] = first;
+    tile_rows[record + 1u] = end;
+    tile_rows[record + 2u] = slot;
 }
 
 void main() {
@@ -127,9 +175,15 @@ void main() {
     uint own[SLOT_WORDS] = uint[](0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
     uint own_slots = 0u;
     uint own_lost = 0u;
+    uint own_tiles[MAX_LOD_BUCKETS] = uint[](0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
     for (uint slot = begin; slot < end; slot++) {
         for (uint w = 0u; w < SLOT_WORDS; w++) {
             own[w] += slot_counts[slot * SLOT_WORDS + w];
+        }
+        if (TILE_ROWS_CAPACITY > 0u) {
+            for (uint b = 0u; b < MAX_LOD_BUCKETS; b++) {
+                own_tiles[b] += slot_counts[slot * SLOT_WORDS + b] > 0u ? 1u : 0u;
+            }
         }
         own_slots += slot_draws(slot) ? 1u : 0u;
         // A block field's slot past the verdicts' room (cull_tiles.comp): its candidates were
@@ -140,6 +194,7 @@ void main() {
     run_slots[lane] = own_slots;
     for (uint b = 0u; b < MAX_LOD_BUCKETS; b++) {
         run_start[b][lane] = own[b];
+        run_tiles[b][lane] = own_tiles[b];
     }
     if (lane < SLOT_WORDS) {
         totals[lane] = 0u;
@@ -171,6 +226,16 @@ void main() {
         }
         wanted = kept;
         thin_scale = capacity_scale(kept);
+        place_buckets();
+        for (uint b = 0u; b < MAX_LOD_BUCKETS; b++) {
+            uint sum = 0u;
+            for (uint i = 0u; TILE_ROWS_CAPACITY > 0u && i < SCAN; i++) {
+                uint count = run_tiles[b][i];
+                run_tiles[b][i] = sum;
+                sum += count;
+            }
+            bucket_tiles[b] = sum;
+        }
     }
     for (uint w = MAX_LOD_BUCKETS; w < SLOT_WORDS; w++) {
         atomicAdd(totals[w], own[w]);
@@ -180,6 +245,10 @@ void main() {
     uint at[MAX_LOD_BUCKETS];
     for (uint b = 0u; b < MAX_LOD_BUCKETS; b++) {
         at[b] = run_start[b][lane];
+    }
+    uint row[MAX_LOD_BUCKETS];
+    for (uint b = 0u; b < MAX_LOD_BUCKETS; b++) {
+        row[b] = run_tiles[b][lane];
     }
     uint listed = run_slots[lane];
     for (uint slot = begin; slot < end; slot++) {
@@ -191,6 +260,10 @@ void main() {
             // Exclusive offset of this slot's blades inside bucket b.
             uint count = slot_counts[slot * SLOT_WORDS + b];
             slot_counts[slot * SLOT_WORDS + b] = at[b];
+            if (TILE_ROWS_CAPACITY > 0u && count > 0u) {
+                write_tile_row(b, row[b], slot, at[b], count);
+                row[b] += 1u;
+            }
             at[b] += count;
         }
     }
@@ -205,5 +278,10 @@ void main() {
         cull_stats[STAT_WANTED] = wanted;
         cull_stats[STAT_SCALE] = thin_scale;
         cull_stats[STAT_NO_ROOM] = lost_to_room;
+        uint rows = 0u;
+        for (uint b = 0u; TILE_ROWS_CAPACITY > 0u && b < frame.cull_lod.x; b++) {
+            rows += bucket_tiles[b];
+        }
+        cull_stats[STAT_TILE_DRAWS] = rows;
     }
 }

@@ -33,6 +33,8 @@ pub(crate) enum AnimationArg {
     SineObject,
     /// Pelzer's sine (§7.4.3): a phase per vertex of the blade's backbone, from its world position.
     SineVertex,
+    /// Pelzer's sine (§7.4.2): one phase per tile of the cull, drawn as one draw per visible tile.
+    SineCluster,
     /// Zhang Xia's Verlet blades (§3.2.3–3.2.5): control points with state, --stiffness and --damping.
     Verlet,
     /// Belyaev's inertial blades (§3.1): segment chains with state, --stiffness and --damping.
@@ -220,6 +222,7 @@ impl AnimationArg {
             AnimationArg::Keyframes => mode.animation(),
             AnimationArg::SineObject => Mode::Sine(SinePhase::Object),
             AnimationArg::SineVertex => Mode::Sine(SinePhase::Vertex),
+            AnimationArg::SineCluster => Mode::Sine(SinePhase::Cluster),
             AnimationArg::Verlet => Mode::Verlet,
             AnimationArg::Inertial => Mode::Inertial,
             AnimationArg::VirtualInertial => Mode::VirtualInertial,

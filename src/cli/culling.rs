@@ -81,6 +81,9 @@ impl CullArgs {
             view_distance: self.view_distance,
             blade_distance: self.blade_distance.unwrap_or(DEFAULT_BLADE_DISTANCE),
             lod_scale: self.lod_scale,
+            // A row per tile only where the animation needs it (`--animation sine-cluster`,
+            // `Mode::draw_rows`).
+            rows: crate::render::draw_rows::DrawRows::PerBucket,
         }
     }
 }

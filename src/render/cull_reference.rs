@@ -4,6 +4,7 @@
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
 use crate::render::culling::{far_field_distance, CullCounts, A1, FADE_BAND, MAX_LOD_BUCKETS};
+use crate::render::draw_rows::DrawRows;
 use crate::render::gpu_constants as gpu;
 use crate::render::uniforms::FrameUniforms;
 use crate::scene::tiles::{ring_cell, BladeTile};
@@ -17,6 +18,16 @@ const EDGE_ON: f32 = 0.97;
 /// `CULL_OCCLUSION` (refused otherwise). `collapsed_tip`: how the blades are drawn
 /// (`scene::bezier::BladeMesh`), for the triangle count.
 pub fn reference_counts(scene: &Scene, uniforms: &FrameUniforms, collapsed_tip: bool) -> CullCounts {
+    reference_counts_drawn(scene, uniforms, (collapsed_tip, DrawRows::PerBucket))
+}
+
+/// `reference_counts` for a blade class drawn by `rows`: with a row per tile, the draws are the
+/// (tile, LOD bucket) pairs that draw a blade (`CullCounts::tile_draws`).
+pub fn reference_counts_drawn(
+    scene: &Scene,
+    uniforms: &FrameUniforms,
+    (collapsed_tip, rows): (bool, DrawRows),
+) -> CullCounts {
     assert_eq!(uniforms.cull_lod.z & gpu::CULL_OCCLUSION, 0, "the CPU reference has no depth pyramid");
     let cull = Cull { scene, u: uniforms, planes: planes(uniforms.cull_view_proj) };
     let mut counts = CullCounts { collapsed_tip, ..CullCounts::default() };
@@ -33,9 +44,11 @@ pub fn reference_counts(scene: &Scene, uniforms: &FrameUniforms, collapsed_tip: 
         counts.after_tiles += tile.count;
         let normal =
             cull.terrain_normal(Vec2::new(0.5 * (tile.min[0] + tile.max[0]), 0.5 * (tile.min[2] + tile.max[2])));
+        let mut drawn = [false; MAX_LOD_BUCKETS];
         for rank in 0..candidates {
             match cull.blade(&tile, rank, normal) {
                 Ok(bucket) => {
+                    drawn[bucket.min(MAX_LOD_BUCKETS - 1)] = true;
                     counts.after_density += 1;
                     counts.after_frustum += 1;
                     counts.after_orientation += 1;
@@ -48,6 +61,9 @@ pub fn reference_counts(scene: &Scene, uniforms: &FrameUniforms, collapsed_tip: 
                     counts.after_orientation += u32::from(failed > gpu::STAT_ORIENTATION);
                 }
             }
+        }
+        if rows == DrawRows::PerTile {
+            counts.tile_draws += drawn.iter().filter(|&&d| d).count() as u32;
         }
     }
     // The reference models a visible list that holds every kept blade (`CullCounts::scale`).

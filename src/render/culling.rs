@@ -3,6 +3,7 @@
 
 use glam::{UVec4, Vec4};
 
+use crate::render::draw_rows::DrawRows;
 use crate::render::gpu_constants as gpu;
 use crate::render::uniforms::FrameUniforms;
 use crate::scene::bezier::BladeMesh;
@@ -132,6 +133,9 @@ pub struct Culling {
     pub blade_distance: f32,
     /// Scales the full-density distance and divides the pixels per segment: above 1, more detail.
     pub lod_scale: f32,
+    /// How the blade class issues its draws: once per LOD bucket, or once per visible tile and
+    /// bucket (`draw_rows`; `--animation sine-cluster` draws a row per tile).
+    pub rows: DrawRows,
 }
 
 impl Culling {
@@ -150,6 +154,7 @@ impl Culling {
             view_distance: DEFAULT_VIEW_DISTANCE,
             blade_distance: DEFAULT_BLADE_DISTANCE,
             lod_scale: 1.0,
+            rows: DrawRows::PerBucket,
         }
     }
 
@@ -259,6 +264,9 @@ pub struct CullCounts {
     /// Candidates of a block field's slots that found no room for their verdicts
     /// (`scene_gpu::FIELD_VERDICTS`): neither tested nor drawn.
     pub no_room: u32,
+    /// With per-tile rows (`draw_rows::DrawRows::PerTile`): the blade class's draws, one per
+    /// visible tile and LOD bucket that draws (0 with one draw per bucket).
+    pub tile_draws: u32,
 }
 
 /// The capacity scale that keeps every blade (`SCALE_ONE`, `shaders/cull/cull.glsl`).
@@ -281,6 +289,7 @@ impl CullCounts {
             wanted: stat(gpu::STAT_WANTED),
             scale: stat(gpu::STAT_SCALE),
             no_room: stat(gpu::STAT_NO_ROOM),
+            tile_draws: stat(gpu::STAT_TILE_DRAWS),
             collapsed_tip,
             ..Self::default()
         };
@@ -316,6 +325,9 @@ impl CullCounts {
                 self.wanted,
                 self.capacity_scale()
             );
+        }
+        if self.tile_draws > 0 {
+            text += &format!("; {} draws (a row per visible tile and bucket)", self.tile_draws);
         }
         if self.no_room > 0 {
             text += &format!("; {} candidates not tested (verdict buffer full)", self.no_room);

@@ -9,6 +9,7 @@ use std::sync::Arc;
 use ash::vk;
 
 use crate::error::Result;
+use crate::render::draw_rows::TileRows;
 use crate::render::gpu_constants;
 use crate::render::limits::BLADES_PER_INSTANCE_RANGE;
 use crate::scene::clusters::{BladeCluster, ClusterGrid};
@@ -154,6 +155,8 @@ pub struct SceneGpu {
     pub cull_alloc: Buffer,
     /// Verdicts `cull_results` holds.
     pub verdict_capacity: u32,
+    /// The blade class's rows per tile (`draw_rows`, `slot_capacity` a bucket), the scan writes.
+    pub tile_rows: Buffer,
 }
 
 /// Ring slots the cull may dispatch for a grid of `tiles` per side: the rings around a tile of
@@ -171,8 +174,7 @@ fn cull_alloc_bytes(slots: u32) -> u64 {
 /// Bytes of the cull's buffers for `blades` stored blades, `slots` ring slots and a visible list
 /// of `visible` entries.
 fn cull_bytes(blades: u64, slots: u32, visible: u32) -> [u64; 4] {
-    // The buckets' indirect draws, their pose and levels dispatches, the emit pass's dispatch,
-    // then the slots that draw.
+    // The buckets' indirect draws, their pose and levels dispatches, the emit's, its slots.
     let draws = 4 * (u64::from(gpu_constants::EMIT_SLOTS_WORD) + u64::from(slots));
     [
         8 * u64::from(visible.max(1)),
@@ -337,6 +339,7 @@ impl SceneGpu {
             verdict_capacity: verdict_capacity(scene),
             visible_capacity: capacity.1,
             slot_capacity: capacity.0,
+            tile_rows: partial.cull.pop().expect("created"),
             cull_alloc: partial.cull.pop().expect("created"),
             depth_pyramid_texels: partial.pyramid_texels.take().expect("created"),
             depth_pyramid: partial.cull.pop().expect("created"),
@@ -401,6 +404,8 @@ impl SceneGpu {
             ("cull results", results, storage | vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER),
             ("depth pyramid", PYRAMID_BYTES, storage | vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER),
             ("cull verdict room", cull_alloc_bytes(slots_count), indirect),
+            // Always there (a rebuild may switch to a row per tile): 256 bytes a slot.
+            ("cull tile rows", 4 * u64::from(TileRows { capacity: slots_count }.words()), indirect),
         ] {
             partial.cull.push(Buffer::new(device, &BufferDesc::gpu_only(name, size, usage))?);
         }
@@ -475,6 +480,7 @@ impl SceneGpu {
             self.relief_grid.destroy(device);
             self.depth_pyramid.destroy(device);
             self.cull_alloc.destroy(device);
+            self.tile_rows.destroy(device);
             self.blade_alpha.destroy(device);
             self.heights.destroy(device);
             self.terrain_indices.destroy(device);
@@ -484,11 +490,9 @@ impl SceneGpu {
 }
 
 // The buckets' pose and levels dispatches follow their draws in `draws`, then the emit pass's
-// dispatch and its slots (`shaders/common/shared.glsl`).
+// dispatch and its slots (`shaders/common/shared.glsl`; a draw's words, `draw_rows`).
 const _: () =
     assert!(gpu_constants::BUCKET_DISPATCH_WORD == gpu_constants::DRAW_WORDS * gpu_constants::MAX_LOD_BUCKETS);
-const _: () =
-    assert!(gpu_constants::DRAW_WORDS as usize * 4 == std::mem::size_of::<ash::vk::DrawIndexedIndirectCommand>());
 const _: () = assert!(
     gpu_constants::EMIT_DISPATCH_WORD == gpu_constants::BUCKET_DISPATCH_WORD + 3 * gpu_constants::MAX_LOD_BUCKETS
 );

@@ -120,6 +120,7 @@ pub(crate) fn polygon_mode(device: &Device, wireframe: bool) -> Result<vk::Polyg
 pub(crate) fn check_submission(device: &Device, settings: &RenderSettings) -> Result<()> {
     let Submission { strategy, clusters } = settings.submission;
     if settings.culling.enabled && !settings.floor {
+        settings.culling.rows.check(device)?;
         if strategy != Strategy::Instanced {
             return Err(Error::bad_input(format!(
                 "--submission {} draws every stored blade: add --brute-force",

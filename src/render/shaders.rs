@@ -9,6 +9,8 @@ use crate::vk::profile::Shader;
 pub const BLADE_VERT: Shader = spirv_shader!("blades/blade.vert");
 /// Its variant `keyframes`: the keyframe response's per-vertex path (thesis 4.4).
 pub const BLADE_KEYFRAMES_VERT: Shader = spirv_shader!("blades/blade.vert.keyframes");
+/// Its variant `tiles`: the blade class's per-tile rows, one draw per visible tile (`render::draw_rows`).
+pub const BLADE_TILES_VERT: Shader = spirv_shader!("blades/blade.vert.tiles");
 /// Blade fragment shader (alpha test, lighting).
 pub const BLADE_FRAG: Shader = spirv_shader!("blades/blade.frag");
 /// Its variant `coverage`, with `--msaa` and alpha to coverage: the outline's coverage per sample.
@@ -21,6 +23,8 @@ pub const BLADE_POSE_COMP: Shader = spirv_shader!("animation/blade_pose.comp");
 pub const SINE_COMP: Shader = spirv_shader!("animation/sine.comp");
 /// The same, its phase per vertex (the variant `vertex`).
 pub const SINE_VERTEX_COMP: Shader = spirv_shader!("animation/sine.comp.vertex");
+/// The same, its phase per cluster: the blade's tile of the cull (the variant `cluster`).
+pub const SINE_CLUSTER_COMP: Shader = spirv_shader!("animation/sine.comp.cluster");
 /// Zhang Xia's Verlet blades (`render::animation::verlet`): stepped in the blade-state store.
 pub const VERLET_COMP: Shader = spirv_shader!("animation/verlet.comp");
 /// Belyaev's inertial blades (`render::animation::inertial`): segment chains in the blade-state store.

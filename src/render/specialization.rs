@@ -10,7 +10,7 @@ pub use crate::render::gpu_constants::{
 };
 
 /// Number of specialization constants the scene shaders declare.
-pub const COUNT: usize = 15;
+pub const COUNT: usize = 17;
 
 /// The constants; each field is the shaders' constant named in its doc (`Self::named`), whose id
 /// build.rs assigns (`SPEC(NAME)`): no id is kept in Rust.
@@ -49,6 +49,11 @@ pub struct Specialization {
     /// `STRIP_L6`: an `f32`'s bits, the l^6 scale of a strip of `segments` over the model's
     /// (`scene::alpha::strip_l6_scale`).
     pub strip_l6: u32,
+    /// `TILE_ROWS_CAPACITY`: 0 when the blade class draws each LOD bucket once, else its rows
+    /// per bucket, one per visible tile (`render::draw_rows::TileRows`).
+    pub tile_rows_capacity: u32,
+    /// `LOD_BUCKET`: the LOD bucket a blade pipeline draws (its per-tile rows' records).
+    pub lod_bucket: u32,
 }
 
 impl Specialization {
@@ -86,6 +91,8 @@ impl Specialization {
             msaa_samples: 1,
             strip_area: 1.0f32.to_bits(),
             strip_l6: 1.0f32.to_bits(),
+            tile_rows_capacity: 0,
+            lod_bucket: 0,
         }
     }
 
@@ -111,6 +118,8 @@ impl Specialization {
             ("MSAA_SAMPLES", self.msaa_samples),
             ("STRIP_AREA", self.strip_area),
             ("STRIP_L6", self.strip_l6),
+            ("TILE_ROWS_CAPACITY", self.tile_rows_capacity),
+            ("LOD_BUCKET", self.lod_bucket),
         ]
     }
 }

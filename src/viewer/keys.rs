@@ -143,7 +143,7 @@ impl Viewer {
         let old_blades = self.scene.blades.len() as u32;
         let mut blades = old_blades;
         match name {
-            // Static, texture, uniform, Pelzer's sine per object and per vertex, Verlet, inertial,
+            // Static, texture, uniform, Pelzer's sine per object, vertex and cluster, Verlet, inertial,
             // virtually-inertial, then the floor
             // reference (static blades, pre-expanded).
             "m" => match (animation.mode, settings.floor) {
@@ -152,7 +152,8 @@ impl Viewer {
                 (Mode::Texture, false) => animation.mode = Mode::Uniform,
                 (Mode::Uniform, false) => animation.mode = Mode::Sine(SinePhase::Object),
                 (Mode::Sine(SinePhase::Object), false) => animation.mode = Mode::Sine(SinePhase::Vertex),
-                (Mode::Sine(SinePhase::Vertex), false) => animation.mode = Mode::Verlet,
+                (Mode::Sine(SinePhase::Vertex), false) => animation.mode = Mode::Sine(SinePhase::Cluster),
+                (Mode::Sine(SinePhase::Cluster), false) => animation.mode = Mode::Verlet,
                 (Mode::Verlet, false) => animation.mode = Mode::Inertial,
                 (Mode::Inertial, false) => animation.mode = Mode::VirtualInertial,
                 (Mode::VirtualInertial, false) => (animation.mode, settings.floor) = (Mode::Static, true),

@@ -47,6 +47,8 @@ pub struct Hidden {
     pub multi_draw_indirect: bool,
     /// `drawIndirectCount` reads unsupported.
     pub draw_indirect_count: bool,
+    /// `shaderDrawParameters` reads unsupported.
+    pub draw_parameters: bool,
     /// `maxPerStageDescriptorStorageBuffers` reads this.
     pub max_storage_buffers: Option<u32>,
     /// `maxStorageBufferRange` reads at most this.
@@ -86,6 +88,8 @@ impl Hidden {
                 hidden.multi_draw_indirect = true;
             } else if entry == "drawIndirectCount" {
                 hidden.draw_indirect_count = true;
+            } else if entry == "shaderDrawParameters" {
+                hidden.draw_parameters = true;
             } else if let Some(n) = entry.strip_prefix("timestampValidBits=") {
                 let bits = n.parse().ok().filter(|b| (1..=64).contains(b)).ok_or_else(unknown)?;
                 hidden.timestamp_bits = Some(bits);

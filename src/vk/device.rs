@@ -47,6 +47,8 @@ pub struct Device {
     pub features: vk::PhysicalDeviceFeatures,
     /// `drawIndirectCount` (Vulkan 1.2) enabled: `vkCmdDrawIndirectCount` may be used.
     pub draw_indirect_count: bool,
+    /// `shaderDrawParameters` (Vulkan 1.1; `gl_DrawID`) is enabled.
+    pub draw_parameters: bool,
     /// `VK_EXT_calibrated_timestamps` with the device and CLOCK_MONOTONIC domains, if enabled.
     pub calibrated_timestamps: Option<ash::ext::calibrated_timestamps::Device>,
     /// The logical device and its function table.
@@ -102,6 +104,8 @@ struct EnabledFeatures {
     core: vk::PhysicalDeviceFeatures,
     /// `drawIndirectCount` (Vulkan 1.2).
     draw_indirect_count: bool,
+    /// `shaderDrawParameters` (Vulkan 1.1).
+    draw_parameters: bool,
 }
 
 /// Query what `physical` supports: synchronization2 and dynamic rendering are required, the
@@ -111,7 +115,11 @@ fn enabled_features(instance: &Instance, physical: vk::PhysicalDevice, name: &st
     let supported = unsafe { instance.raw.get_physical_device_features(physical) };
     let mut supported13 = vk::PhysicalDeviceVulkan13Features::default();
     let mut supported12 = vk::PhysicalDeviceVulkan12Features::default();
-    let mut supported2 = vk::PhysicalDeviceFeatures2::default().push_next(&mut supported13).push_next(&mut supported12);
+    let mut supported11 = vk::PhysicalDeviceVulkan11Features::default();
+    let mut supported2 = vk::PhysicalDeviceFeatures2::default()
+        .push_next(&mut supported13)
+        .push_next(&mut supported12)
+        .push_next(&mut supported11);
     // SAFETY: as above; the chain points to locals.
     unsafe { instance.raw.get_physical_device_features2(physical, &mut supported2) };
     if supported13.synchronization2 == vk::FALSE || supported13.dynamic_rendering == vk::FALSE {
@@ -136,7 +144,8 @@ fn enabled_features(instance: &Instance, physical: vk::PhysicalDevice, name: &st
         ..Default::default()
     };
     let draw_indirect_count = supported12.draw_indirect_count == vk::TRUE && !hidden.draw_indirect_count;
-    Ok(EnabledFeatures { core, draw_indirect_count })
+    let draw_parameters = supported11.shader_draw_parameters == vk::TRUE && !hidden.draw_parameters;
+    Ok(EnabledFeatures { core, draw_indirect_count, draw_parameters })
 }
 
 /// Whether `physical` has VK_EXT_calibrated_timestamps and can correlate its timestamps with
@@ -169,8 +178,10 @@ fn create_logical(
     let mut features12 = vk::PhysicalDeviceVulkan12Features::default()
         .draw_indirect_count(features.draw_indirect_count)
         .separate_depth_stencil_layouts(true);
+    let mut features11 = vk::PhysicalDeviceVulkan11Features::default().shader_draw_parameters(features.draw_parameters);
     let mut features2 = vk::PhysicalDeviceFeatures2::default()
         .features(features.core)
+        .push_next(&mut features11)
         .push_next(&mut features12)
         .push_next(&mut features13);
     let priorities = [1.0];
@@ -248,7 +259,6 @@ impl Device {
         let mut properties2 = vk::PhysicalDeviceProperties2::default().push_next(&mut subgroup);
         // SAFETY: physical comes from this Vulkan 1.1+ instance; the chain is valid.
         unsafe { instance.raw.get_physical_device_properties2(physical, &mut properties2) };
-        let subgroup_size = subgroup.subgroup_size;
         let mut extensions = Vec::new();
         if desc.swapchain {
             extensions.push(ash::khr::swapchain::NAME.as_ptr());
@@ -287,6 +297,7 @@ impl Device {
             memory,
             features: features.core,
             draw_indirect_count: features.draw_indirect_count,
+            draw_parameters: features.draw_parameters,
             calibrated_timestamps,
             raw,
             debug_utils,
@@ -296,7 +307,7 @@ impl Device {
                 hidden if hidden.timestamps => 0,
                 hidden => families[queue_family as usize].timestamp_valid_bits.min(hidden.timestamp_bits.unwrap_or(64)),
             },
-            subgroup_size,
+            subgroup_size: subgroup.subgroup_size,
             profile,
             depth_format,
             allocator: ManuallyDrop::new(Mutex::new(allocator)),

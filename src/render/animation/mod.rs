@@ -67,7 +67,7 @@ pub enum Mode {
     Texture,
     /// Keyframes in a uniform array, two 16-bit values per 32-bit word (thesis 4.4.2).
     Uniform,
-    /// Pelzer's sine animation (§7.4), its phase per object or per vertex (`sine`).
+    /// Pelzer's sine animation (§7.4), its phase per object, per vertex or per cluster (`sine`).
     Sine(sine::SinePhase),
     /// Zhang Xia's Verlet blades (§3.2.3–3.2.5), stateful (`verlet`).
     Verlet,
@@ -79,6 +79,12 @@ pub enum Mode {
 }
 
 impl Mode {
+    /// How the blade class draws for this mode: a row per visible tile for the sine per cluster
+    /// (Pelzer's one draw per cluster), else as the settings say (`Culling::rows`).
+    pub fn draw_rows(self) -> Option<crate::render::draw_rows::DrawRows> {
+        (self == Mode::Sine(sine::SinePhase::Cluster)).then_some(crate::render::draw_rows::DrawRows::PerTile)
+    }
+
     /// Index used by the shaders.
     pub fn code(self) -> u32 {
         match self {
@@ -176,6 +182,7 @@ impl AnimationSettings {
             Mode::Texture | Mode::Uniform => (self.eval == Eval::Blade).then_some("--eval blade"),
             Mode::Sine(sine::SinePhase::Object) => Some("--animation sine-object"),
             Mode::Sine(sine::SinePhase::Vertex) => Some("--animation sine-vertex"),
+            Mode::Sine(sine::SinePhase::Cluster) => Some("--animation sine-cluster"),
             Mode::Verlet => Some("--animation verlet"),
             Mode::Inertial => Some("--animation inertial"),
             Mode::VirtualInertial => Some("--animation virtual-inertial"),

@@ -1,9 +1,10 @@
 //! Pelzer's sine animation (GPU Gems ch. 7, §7.4) as a blade response: each blade's levels move
 //! along the wind by a translation that a sine wave sways, posed once per drawn blade by
 //! `shaders/animation/sine.comp` into the renderer's pose records. The shader's header gives the
-//! translation (`T = g·w + a·|w|·sin θ · ŵ`, θ = ω·t − κ·d̂·p) and the two variants, which differ
-//! in where the phase is taken: per object (§7.4.4, the blade's root) and per vertex (§7.4.3, each
-//! level's own rest point). Its parameters are constants, documented in `docs/animation.md`.
+//! translation (`T = g·w + a·|w|·sin θ · ŵ`, θ = ω·t − κ·d̂·p) and the three variants, which
+//! differ in where the phase is taken: per object (§7.4.4, the blade's root), per vertex (§7.4.3,
+//! each level's own rest point) and per cluster (§7.4.2, the centre of the blade's tile, drawn
+//! one draw per visible tile). Its parameters are constants, documented in `docs/animation.md`.
 
 use std::cell::Cell;
 use std::f64::consts::TAU;
@@ -37,6 +38,9 @@ pub enum SinePhase {
     Object,
     /// A phase per level of the blade, at its rest point (Pelzer §7.4.3, "per vertex").
     Vertex,
+    /// One phase per tile of the cull, at its centre (Pelzer §7.4.2's clusters, one draw each:
+    /// the blade class then draws a row per visible tile, `draw_rows::DrawRows::PerTile`).
+    Cluster,
 }
 
 /// The sine response.
@@ -74,6 +78,7 @@ impl BladeResponse for SineResponse {
         match self.phase {
             SinePhase::Object => "sine per object",
             SinePhase::Vertex => "sine per vertex",
+            SinePhase::Cluster => "sine per cluster",
         }
     }
 
@@ -88,6 +93,7 @@ impl BladeResponse for SineResponse {
             spirv: match self.phase {
                 SinePhase::Object => shaders::SINE_COMP.code(device.profile),
                 SinePhase::Vertex => shaders::SINE_VERTEX_COMP.code(device.profile),
+                SinePhase::Cluster => shaders::SINE_CLUSTER_COMP.code(device.profile),
             },
             resources: Vec::new(),
             uses: Vec::new(),

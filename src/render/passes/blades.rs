@@ -7,6 +7,7 @@ use ash::vk;
 
 use crate::error::{Result, VkContext};
 use crate::render::animation::BladeInput;
+use crate::render::draw_rows::{DrawRows, TileRows};
 use crate::render::gpu_constants as gpu;
 use crate::render::graph::{Declaration, Pass, PassContext};
 use crate::render::passes::{self, PipelineTarget};
@@ -58,7 +59,12 @@ pub struct BladePass {
     draws: vk::Buffer,
     /// With the cull: the buckets' blade triangle lists (`bezier::bucket_indices`).
     indices: Option<Buffer>,
+    /// With a row per visible tile: the cull's rows and their layout (`draw_rows::TileRows`).
+    tile_rows: Option<(vk::Buffer, TileRows)>,
 }
+
+/// The blade pass's vertex shader, its own set and what the shader reads of it.
+type VertexInput = (Shader, Option<PassSet>, Vec<(Resource, Access)>);
 
 /// How the blade pass is built.
 pub struct BladeSetup<'a> {
@@ -83,6 +89,8 @@ pub struct BladeSetup<'a> {
     /// Segments of the LOD buckets the cull sorts blades into (`None`: brute force, every blade
     /// at `segments`).
     pub buckets: Option<&'a [u32]>,
+    /// How the buckets are drawn: once each, or a row per visible tile (`draw_rows`).
+    pub rows: DrawRows,
     /// Each frame's wind at the cluster corners (`PassSetup::wind`).
     pub wind: &'a [vk::Buffer],
 }
@@ -91,15 +99,9 @@ impl BladePass {
     /// Build the pipeline (two-sided blades: no culling) and the draws of the strategy.
     pub fn new(device: &Device, scene: &SceneGpu, setup: &BladeSetup) -> Result<Self> {
         let mut target = setup.target;
-        // A per-vertex response's own vertex shader, and its resources in the pass's own set.
-        let (vertex, own, response_reads) = match &setup.input {
-            BladeInput::PerVertex { vertex, resources, reads } => {
-                let code = [("blades", vertex.code(device.profile))];
-                let own = PassSet::new(device, &setup.sets.desc("blades", &code), |_| resources.clone())?;
-                (*vertex, Some(own), reads.clone())
-            }
-            _ => (shaders::BLADE_VERT, None, Vec::new()),
-        };
+        let tile_rows = (setup.buckets.is_some() && setup.rows == DrawRows::PerTile)
+            .then_some((scene.tile_rows.raw, TileRows { capacity: scene.slot_capacity }));
+        let (vertex, own, response_reads) = Self::vertex_input(device, scene, setup, tile_rows)?;
         let own = Guard::new(device, own);
         if let Some(own) = own.as_ref() {
             target.layout = own.layout;
@@ -150,6 +152,7 @@ impl BladePass {
                 buckets: Vec::new(),
                 draws: scene.draws.raw,
                 indices: None,
+                tile_rows,
             },
         );
         match setup.buckets {
@@ -157,6 +160,38 @@ impl BladePass {
             None => pass.build_submission(device, scene.blade_count, setup)?,
         }
         Ok(pass.take())
+    }
+
+    /// The vertex shader, the pass's own set and what the shader reads of it: a per-vertex
+    /// response's own shader and resources; or with a row per tile (`tile_rows`) the variant
+    /// that reads its draw's record, the rows in its own set; else `blade.vert`, no own set.
+    fn vertex_input(
+        device: &Device,
+        scene: &SceneGpu,
+        setup: &BladeSetup,
+        tile_rows: Option<(vk::Buffer, TileRows)>,
+    ) -> Result<VertexInput> {
+        let own = |vertex: Shader, resources: Vec<(&'static str, crate::vk::descriptor::Resource)>| {
+            let code = [("blades", vertex.code(device.profile))];
+            PassSet::new(device, &setup.sets.desc("blades", &code), |_| resources.clone())
+        };
+        Ok(match (&setup.input, tile_rows) {
+            (BladeInput::PerVertex { .. }, Some(_)) => {
+                return Err(crate::error::Error::bad_input(
+                    "a row per tile draws pose records or neutral blades, not a per-vertex response",
+                ))
+            }
+            (BladeInput::PerVertex { vertex, resources, reads }, None) => {
+                (*vertex, Some(own(*vertex, resources.clone())?), reads.clone())
+            }
+            (_, Some((rows, _))) => {
+                let vertex = shaders::BLADE_TILES_VERT;
+                let resources =
+                    vec![("TileRows", crate::vk::descriptor::Resource::Buffer(scene.tile_rows.descriptor()))];
+                (vertex, Some(own(vertex, resources)?), vec![(Resource::Buffer(rows), Access::VertexShaderStorageRead)])
+            }
+            (_, None) => (shaders::BLADE_VERT, None, Vec::new()),
+        })
     }
 
     /// The blade pipeline (two-sided blades: no culling) for `constants`. With alpha to coverage
@@ -213,7 +248,8 @@ impl BladePass {
         // lists' lengths.
         let collapsed_tip = setup.constants.flags & gpu::FLAG_SOLID_OUTLINE != 0;
         for (b, &segments) in buckets.iter().enumerate() {
-            let constants = bucket_dispatch::bucket_constants(setup.constants, segments);
+            let constants =
+                Specialization { lod_bucket: b as u32, ..bucket_dispatch::bucket_constants(setup.constants, segments) };
             let name = format!("blades, LOD bucket {b} ({segments} segments)");
             let list = vk::PrimitiveTopology::TRIANGLE_LIST;
             self.buckets.push(Self::pipeline(device, (target, vertex), &constants, &name, list)?);
@@ -227,6 +263,9 @@ impl BladePass {
         batch.submit()?;
         self.reads.push((scene.visible.raw, device.profile.vertex_fetch()));
         self.reads.push((scene.draws.raw, Access::IndirectCommandRead));
+        if let Some((rows, _)) = self.tile_rows {
+            self.reads.push((rows, Access::IndirectCommandRead));
+        }
         Ok(())
     }
 
@@ -384,10 +423,24 @@ impl Pass for BladePass {
         // SAFETY: cmd is recording inside the rendering instance; the buffer holds u32 indices.
         unsafe { device.raw.cmd_bind_index_buffer(cmd, indices.raw, 0, vk::IndexType::UINT32) };
         for (b, &pipeline) in self.buckets.iter().enumerate() {
-            // SAFETY: cmd is recording inside the rendering instance; the cull wrote the command.
+            // SAFETY: cmd is recording inside the rendering instance; the cull wrote the commands
+            // (a row per tile: as many as the count word says, at most the layout's capacity).
             unsafe {
                 device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
-                device.raw.cmd_draw_indexed_indirect(cmd, self.draws, u64::from(stride) * b as u64, 1, stride);
+                match self.tile_rows {
+                    None => {
+                        device.raw.cmd_draw_indexed_indirect(cmd, self.draws, u64::from(stride) * b as u64, 1, stride)
+                    }
+                    Some((rows, layout)) => device.raw.cmd_draw_indexed_indirect_count(
+                        cmd,
+                        rows,
+                        4 * u64::from(layout.commands_word(b as u32)),
+                        rows,
+                        4 * u64::from(TileRows::count_word(b as u32)),
+                        layout.capacity,
+                        stride,
+                    ),
+                }
             }
         }
         Ok(())

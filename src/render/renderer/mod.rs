@@ -110,6 +110,7 @@ impl Renderer {
         animation: AnimationSettings,
         models: Models,
     ) -> Result<Self> {
+        let settings = with_mode_rows(settings, &animation);
         let polygon = polygon_mode(&device, settings.wireframe)?;
         check_submission(&device, &settings)?;
         msaa::check(&device, &settings.msaa)?;
@@ -176,6 +177,7 @@ impl Renderer {
     /// statistics, cluster size) needs a new renderer: refused. On failure the renderer keeps
     /// its previous passes and model.
     pub fn rebuild(&mut self, scene: &Scene, settings: RenderSettings, animation: AnimationSettings) -> Result<()> {
+        let settings = with_mode_rows(settings, &animation);
         let animation = for_device(&self.device, animation);
         let (old, device) = (&self.settings, self.device.clone());
         let same_frames = (old.frames_in_flight, old.color_format, old.pipeline_statistics, old.encode_srgb)
@@ -442,6 +444,15 @@ impl Renderer {
 
 /// `animation` as `device` can run it: a keyframe texture whose format the device cannot sample
 /// falls back to one it can (`keyframe_gpu::sampled_encoding`; `Renderer::animation` tells).
+/// `settings` with the blade class's rows the animation needs (`Mode::draw_rows`: the sine per
+/// cluster draws a row per tile), else as given.
+fn with_mode_rows(mut settings: RenderSettings, animation: &AnimationSettings) -> RenderSettings {
+    if let Some(rows) = animation.mode.draw_rows() {
+        settings.culling.rows = rows;
+    }
+    settings
+}
+
 fn for_device(device: &Device, mut animation: AnimationSettings) -> AnimationSettings {
     animation.encoding = crate::render::animation::keyframe_gpu::sampled_encoding(device, animation.encoding);
     animation

@@ -5,6 +5,7 @@ use ash::vk;
 use super::Renderer;
 use crate::error::Result;
 use crate::render::animation::response::ResponseSetup;
+use crate::render::draw_rows::DrawRows;
 use crate::render::gpu_constants as gpu;
 use crate::render::graph::Graph;
 use crate::render::msaa::MSAA_COLOR_FORMAT;
@@ -138,6 +139,9 @@ impl Renderer {
             specialization.flags |= gpu::FLAG_SOLID_OUTLINE;
         }
         specialization.cull_group = cull::workgroup_size(self.device.subgroup_size);
+        if let (true, DrawRows::PerTile, Some(scene)) = (settings.culling.enabled, settings.culling.rows, &self.scene) {
+            specialization.tile_rows_capacity = scene.slot_capacity;
+        }
         specialization
     }
 
@@ -196,6 +200,7 @@ impl Renderer {
             poses: (poses.set, poses.buffers()),
             sets,
             buckets: culled.then(|| settings.culling.buckets()),
+            rows: settings.culling.rows,
             wind: &wind,
         };
         self.graph.add(BladePass::new(device, scene, &setup)?);

@@ -206,17 +206,18 @@ fn budget(ui: &mut Ui, view: &UiView, out: &mut PanelOutput) {
 }
 
 /// The `m` key's cycle of blade responses (and the floor), and where the view is in it.
-fn modes(view: &UiView) -> ([&'static str; 9], usize) {
+fn modes(view: &UiView) -> ([&'static str; 10], usize) {
     let mode = match (view.animation.mode, view.settings.floor) {
-        (_, true) => 8,
+        (_, true) => 9,
         (Mode::Static, _) => 0,
         (Mode::Texture, _) => 1,
         (Mode::Uniform, _) => 2,
         (Mode::Sine(SinePhase::Object), _) => 3,
         (Mode::Sine(SinePhase::Vertex), _) => 4,
-        (Mode::Verlet, _) => 5,
-        (Mode::Inertial, _) => 6,
-        (Mode::VirtualInertial, _) => 7,
+        (Mode::Sine(SinePhase::Cluster), _) => 5,
+        (Mode::Verlet, _) => 6,
+        (Mode::Inertial, _) => 7,
+        (Mode::VirtualInertial, _) => 8,
     };
     let modes = [
         "static",
@@ -224,6 +225,7 @@ fn modes(view: &UiView) -> ([&'static str; 9], usize) {
         "uniform",
         "sine per object",
         "sine per vertex",
+        "sine per cluster",
         "verlet",
         "inertial",
         "virtual-inertial",

@@ -13,7 +13,7 @@ layout(set = 0, binding = 1, std430) writeonly buffer Fields { uint fields[]; };
 layout(constant_id = SPEC(KEYFRAME_UVEC4S)) const uint KEYFRAME_UVEC4S = 4096u;
 
 const uint FRAME_WORDS = 136u;     // 544 bytes
-const uint SPEC_WORDS = 15u;       // SPEC_* ids 0..=14
+const uint SPEC_WORDS = 17u;       // SPEC_* ids 0..=16
 
 void put_vec4(inout uint o, vec4 v) {
     for (uint i = 0u; i < 4u; i++) {
@@ -73,6 +73,8 @@ void main() {
     fields[FRAME_WORDS + SPEC(MSAA_SAMPLES)] = MSAA_SAMPLES;
     fields[FRAME_WORDS + SPEC(STRIP_AREA)] = floatBitsToUint(STRIP_AREA);
     fields[FRAME_WORDS + SPEC(STRIP_L6)] = floatBitsToUint(STRIP_L6);
+    fields[FRAME_WORDS + SPEC(TILE_ROWS_CAPACITY)] = TILE_ROWS_CAPACITY;
+    fields[FRAME_WORDS + SPEC(LOD_BUCKET)] = LOD_BUCKET;
 
     uint s = FRAME_WORDS + SPEC_WORDS;
     fields[s + 0u] = MAX_SEGMENTS;

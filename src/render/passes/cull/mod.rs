@@ -105,6 +105,7 @@ fn cull_set(device: &Device, setup: &CullSetup, scene: &SceneGpu) -> Result<Pass
             ("CullAlloc", buffer(&scene.cull_alloc)),
             ("Pyramid", buffer(&scene.depth_pyramid)),
             ("pyramid_texels", Resource::Texels(scene.depth_pyramid_texels.raw)),
+            ("TileRows", buffer(&scene.tile_rows)),
         ]
     })
 }

@@ -1,7 +1,7 @@
 //! Cull step 3 (`shaders/cull/cull_scan.comp`): one workgroup turns the slot counts into offsets (a
 //! prefix sum in slot order, near to far), writes one indirect draw per LOD bucket, the pose and
 //! levels passes' indirect dispatch, the list of slots that draw with the emit pass's indirect
-//! dispatch over them, and the frame's counts into the frame's host-visible buffer (read after
+//! dispatch over them, the blade class's per-tile rows (`render::draw_rows`), and the frame's counts into the frame's host-visible buffer (read after
 //! its fence). Every word it writes is written whole each frame: there is no counter to clear.
 
 use std::rc::Rc;
@@ -23,6 +23,8 @@ pub fn pass(device: &Device, setup: &CullSetup, scene: &SceneGpu, set: &Rc<PassS
         (scene.cull_alloc.raw, Access::ComputeShaderRead),
         // The padding of each bucket's last instance.
         (scene.visible.raw, Access::ComputeShaderWrite),
+        // The blade class's per-tile rows, when it draws a row per tile (`draw_rows`).
+        (scene.tile_rows.raw, Access::ComputeShaderWrite),
     ];
     let mut step = CullStep::new(
         device,
