@@ -24,11 +24,11 @@ test: deps
 	$(CARGO) clippy --all-targets -- -D warnings
 	$(CARGO) test --release
 	# 1 000-frame soaks of the viewer's own lifecycle (swapchain re-creations, frame ring,
-	# deferred deletions), culled, by brute force and with the stateful Verlet blades: no memory
-	# or live-object growth.
+	# deferred deletions), culled, by brute force and with the stateful Verlet blades under the
+	# Perlin wind: no memory or live-object growth.
 	FRAMES=1000 ./scripts/soak.sh
 	FRAMES=1000 ./scripts/soak.sh --brute-force
-	FRAMES=1000 ./scripts/soak.sh --animation verlet
+	FRAMES=1000 ./scripts/soak.sh --animation verlet --wind-field perlin
 
 # The whole test suite again on the generic backend profile (vk::profile: each resource bound once,
 # none of the lavapipe profile's twins), pictures at the same golden tolerances; the soaks stay on

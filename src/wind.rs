@@ -230,6 +230,27 @@ impl Collider {
     }
 }
 
+/// The library's wind fields (`--wind-field`, `render::wind`): what carries these forces to the
+/// blades.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum FieldKind {
+    /// The thesis' global wind with gusts, sources and calm areas (`analytic`).
+    #[default]
+    Analytic,
+    /// Belyaev's three scrolling noise layers in place of the global wind (`perlin`).
+    Perlin,
+}
+
+impl FieldKind {
+    /// Its name (`render::wind::WindField::name`, the CLI's value).
+    pub fn name(self) -> &'static str {
+        match self {
+            FieldKind::Analytic => "analytic",
+            FieldKind::Perlin => "perlin",
+        }
+    }
+}
+
 /// Where source magnitudes are attenuated (thesis 4.5).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Attenuation {

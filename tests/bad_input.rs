@@ -253,6 +253,12 @@ fn a_huge_script_line_is_refused_in_a_bounded_line() {
 #[test]
 fn responses_refuse_what_only_keyframes_have() {
     refused("animation-unknown", &["--animation", "verlett"], "verlett");
+    refused("wind-field-unknown", &["--wind-field", "fluidd"], "fluidd");
+    refused(
+        "wind-field-gusts",
+        &["--wind-field", "perlin", "--no-gusts"],
+        "--no-gusts has no effect with --wind-field perlin",
+    );
     refused(
         "animation-poses",
         &["--animation", "sine-object", "--poses", "16"],

@@ -607,8 +607,45 @@ fn the_animations_preset_measures_each_response_against_static() {
         for v in variants {
             assert_eq!(v["frames_ms"].as_array().map(Vec::len), Some(2));
             assert!(v["gpu_ms"]["median"].as_f64() > Some(0.0));
+            assert_eq!(v["wind_field"], "analytic");
         }
     }
     let csv = std::fs::read_to_string(out.join("animations.csv")).expect("csv");
     assert_eq!(csv.lines().count(), 1 + 2 * 6 + 2 * 4, "a header and a line per row and response");
+}
+
+/// `--wind-fields perlin` adds the culled rows again, where the keyframes and the Verlet blades are
+/// measured under the analytic and the Perlin field side by side.
+#[test]
+fn the_animations_preset_measures_keyframes_and_verlet_under_each_wind_field() {
+    let out = scratch("bench-animations-fields").join("out");
+    let output = meadow()
+        .args(["bench", "--preset", "animations", "--animations", "keyframes,verlet", "--wind-fields", "perlin"])
+        .args(["--blades", "2000", "--size", "96x54", "--warmup", "0", "--frames", "2", "--validation"])
+        .args(["--device", support::DEVICE, "--out"])
+        .arg(&out)
+        .output()
+        .expect("run");
+    support::assert_clean(&output);
+    let doc: Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("animations.json")).expect("json")).expect("JSON");
+    let rows = doc["rows"].as_array().expect("rows");
+    let labels: Vec<&str> = rows.iter().map(|r| r["label"].as_str().expect("label")).collect();
+    assert_eq!(&labels[4..], ["2000 stored, culled, perlin", "unbounded field, perlin"]);
+    for row in &rows[4..] {
+        assert_eq!(row["wind_field"], "perlin");
+        let variants = row["variants"].as_array().expect("variants");
+        let names: Vec<(&str, &str)> = variants
+            .iter()
+            .map(|v| (v["animation"].as_str().expect("name"), v["wind_field"].as_str().expect("field")))
+            .collect();
+        let expected = [
+            ("static", "analytic"),
+            ("keyframes", "analytic"),
+            ("keyframes", "perlin"),
+            ("verlet", "analytic"),
+            ("verlet", "perlin"),
+        ];
+        assert_eq!(names, expected, "{}", row["label"]);
+    }
 }

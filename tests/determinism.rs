@@ -12,7 +12,7 @@ mod support;
 /// The scenes: the default (cull, LOD, per-blade poses), brute force in gusty wind (the default) with
 /// SLERP keyframes, an unbounded block field, 4x MSAA culled and brute force (the per-sample
 /// outline coverage), Pelzer's sine per object (culled), per vertex and per cluster (a block
-/// field, the latter drawn a row per tile), and the
+/// field, the latter drawn a row per tile), Belyaev's Perlin wind (a block field), and the
 /// Verlet, inertial and virtually-inertial blades warmed up to --time (75 steps), culled (the
 /// virtually-inertial ones on a block field too).
 const SCENES: &[(&str, &[&str])] = &[
@@ -30,6 +30,7 @@ const SCENES: &[(&str, &[&str])] = &[
         "sine-cluster",
         &["--animation", "sine-cluster", "--field", "infinite", "--density", "150", "--view-distance", "40"],
     ),
+    ("perlin", &["--wind-field", "perlin", "--field", "infinite", "--density", "150", "--view-distance", "40"]),
     ("verlet", &["--animation", "verlet", "--blades", "20000", "--seed", "8", "--wind", "30,0.8"]),
     ("inertial", &["--animation", "inertial", "--blades", "20000", "--seed", "9", "--wind", "30,0.8"]),
     (

@@ -97,6 +97,7 @@
 #define MAX_SEGMENTS 16u // Segments per blade; shader arrays of levels hold `MAX_SEGMENTS + 1`.
 #define MAX_EMITTERS 64u // Point sources plus colliders a renderer can hold (the per-frame emitter buffers' capacity).
 #define MAX_CALM_AREAS 64u // Calm areas the analytic wind field holds (its parameter block's capacity).
+#define PERLIN_TEXELS 128u // Texels per side of the Perlin wind's noise at its finest level (`render::wind::perlin`).
 #define WIND_GROUP 64u // Invocations per workgroup of the analytic wind field's corner pass.
 #define WIND_LEVELS 8u // Nested levels of a block field's wind (each twice the spacing and extent of the one inside).
 #define WIND_LEVEL_CLUSTERS 64u // Clusters per side of one wind level (WIND_LEVEL_CLUSTERS + 1 corners).

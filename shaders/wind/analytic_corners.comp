@@ -12,6 +12,10 @@
 // The CPU mirror is `render::animation::corner_forces_at`, its f64 reference
 // `wind::Wind::corner_velocity_f64`. Its own set (no scene sets): the parameters, this frame's
 // emitters and this frame's corners.
+// The variant `perlin` (PERLIN_WIND) is Belyaev's Perlin field (`render::wind::perlin`,
+// wind/perlin.glsl): the noise's layers in place of the global wind and its gusts, the noise in
+// binding 4; sources and calm areas as here.
+// variant perlin: PERLIN_WIND
 #include "common/shared.glsl"
 #include "wind/analytic.glsl"
 
@@ -30,13 +34,21 @@ layout(local_size_x = WIND_GROUP) in;
     uvec4 shape;   /* corners per side of a level, corners of every level, 1 with delayed attenuation, levels */ \
     uvec4 counts;  /* sources, colliders (not read here: the blades take them), calm areas, 0 */ \
     vec4 levels[WIND_LEVELS]; /* per level: first corner relative to O (x, z), spacing, 0 */ \
-    vec4 calm[MAX_CALM_AREAS]; /* min x, z, max x, z relative to O */
+    vec4 calm[MAX_CALM_AREAS]; /* min x, z, max x, z relative to O */ \
+    vec4 perlin[3];      /* the Perlin layers: offset at O (texels), c_i (texels/m), k_i · speed (m/s) */ \
+    vec4 perlin_dirs[3]; /* each layer's direction d_i (x, z) */ \
+    uvec4 perlin_mips[WIND_LEVELS]; /* per level, each layer's mip of the noise */
 layout(set = 0, binding = 0, std140) uniform WindValues { WIND_PARAMS } wind;
 layout(set = 0, binding = 3, std430) readonly buffer WindControl { WIND_PARAMS } control;
 // Point sources (x, z relative to O, power, sigma), then colliders (read by the blades).
 layout(set = 0, binding = 1, std430) readonly buffer Emitters { vec4 emitters[]; };
 // This frame's corners: velocity (x, y, z) in m/s, exposure.
 layout(set = 0, binding = 2, std430) writeonly buffer Corners { vec4 corners[]; };
+#ifdef PERLIN_WIND
+// The Perlin field's noise and its mips, RG32F texels (`render::wind::perlin::Noise`).
+layout(set = 0, binding = 4) uniform samplerBuffer noise_texels;
+#include "wind/perlin.glsl"
+#endif
 
 float exposure_at(vec2 q) {
     for (uint i = 0u; i < control.counts.z; ++i) {
@@ -66,6 +78,9 @@ void main() {
     if (global > 0.5) {
         v = global_wind(wind.global.xy, wind.global.z, global > 1.5, wind.phases, wind.waves01, wind.waves23, q);
     }
+#ifdef PERLIN_WIND
+    v += perlin_wind(q, level);
+#endif
     if (control.shape.z == 0u) {
         for (uint s = 0u; s < control.counts.x; ++s) {
             vec4 e = emitters[s];

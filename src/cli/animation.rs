@@ -97,6 +97,16 @@ pub(crate) enum EncodingArg {
     Float32,
 }
 
+/// The wind field (`render::wind`).
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub(crate) enum WindFieldArg {
+    /// The thesis' global wind with gusts, point sources and calm areas.
+    Analytic,
+    /// Belyaev's wind (§3.2): three scrolling layers of a noise texture in place of the global
+    /// wind and its gusts; sources and calm areas as analytic.
+    Perlin,
+}
+
 #[derive(Clone, Copy, ValueEnum)]
 pub(crate) enum AttenuationArg {
     Cluster,
@@ -142,6 +152,9 @@ pub(crate) struct AnimationArgs {
     /// Steady global wind, without gusts.
     #[arg(long)]
     pub(crate) no_gusts: bool,
+    /// The wind field that carries the wind to the blades.
+    #[arg(long, value_enum, default_value = "analytic")]
+    pub(crate) wind_field: WindFieldArg,
     /// Point wind source (eq. 4.1), optionally moving; repeatable.
     #[arg(long, value_name = "X,Z,POWER,SIGMA[,VX,VZ]", value_parser = values::source, allow_hyphen_values = true)]
     pub(crate) source: Vec<crate::wind::PointSource>,
@@ -206,9 +219,20 @@ impl AnimationArgs {
                 calm: self.calm.clone(),
                 colliders: self.collider.clone(),
             },
+            wind_field: self.wind_field.kind(),
             clock: crate::render::animation::clock::StepClock { dt: self.dt },
             verlet: crate::render::animation::verlet::VerletParams { stiffness: self.stiffness, damping: self.damping },
             chain: crate::render::animation::chain::ChainParams { stiffness: self.stiffness, damping: self.damping },
+        }
+    }
+}
+
+impl WindFieldArg {
+    /// The field.
+    pub(crate) fn kind(self) -> crate::render::wind::FieldKind {
+        match self {
+            WindFieldArg::Analytic => crate::render::wind::FieldKind::Analytic,
+            WindFieldArg::Perlin => crate::render::wind::FieldKind::Perlin,
         }
     }
 }

@@ -237,6 +237,10 @@ pub(crate) struct BenchArgs {
     /// as every ratio's reference).
     #[arg(long, value_delimiter = ',', value_enum)]
     pub(crate) animations: Vec<AnimationArg>,
+    /// The wind fields --preset animations measures the keyframes and the Verlet blades under
+    /// (comma-separated; analytic is always measured, every other field adds its culled rows).
+    #[arg(long, value_delimiter = ',', value_enum)]
+    pub(crate) wind_fields: Vec<crate::cli::animation::WindFieldArg>,
     /// Picture size, replacing the preset's.
     #[arg(long, value_name = "WxH", value_parser = values::size)]
     pub(crate) size: Option<(u32, u32)>,

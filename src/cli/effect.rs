@@ -73,6 +73,10 @@ impl<'a> Given<'a> {
         self.one("animation")
     }
 
+    fn wind_field(&self) -> Option<crate::cli::animation::WindFieldArg> {
+        self.one("wind_field")
+    }
+
     fn debug_view(&self) -> Option<DebugViewArg> {
         self.one("debug_view")
     }

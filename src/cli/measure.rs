@@ -236,6 +236,7 @@ fn animations(args: BenchArgs) -> crate::Result<(u8, Option<u64>)> {
         let keyframes = super::animation::ModeArg::Texture;
         options.animations = args.animations.iter().map(|a| a.mode(keyframes)).collect();
     }
+    options.wind_fields.extend(args.wind_fields.iter().map(|f| f.kind()).filter(|f| *f != Default::default()));
     options.size = args.size.unwrap_or(options.size);
     options.warmup = args.warmup.unwrap_or(options.warmup);
     options.frames = args.frames.unwrap_or(options.frames);

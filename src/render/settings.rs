@@ -204,3 +204,15 @@ pub fn check_field(settings: &RenderSettings) -> Result<()> {
     }
     Ok(())
 }
+
+/// `settings` with the blade class's rows the animation needs (`Mode::draw_rows`: the sine per
+/// cluster draws a row per tile), else as given.
+pub(crate) fn with_mode_rows(
+    mut settings: RenderSettings,
+    animation: &crate::render::animation::AnimationSettings,
+) -> RenderSettings {
+    if let Some(rows) = animation.mode.draw_rows() {
+        settings.culling.rows = rows;
+    }
+    settings
+}

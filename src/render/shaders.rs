@@ -35,6 +35,8 @@ pub const VIRTUAL_BLADES_COMP: Shader = spirv_shader!("animation/virtual_blades.
 pub const VIRTUAL_INERTIAL_COMP: Shader = spirv_shader!("animation/virtual_inertial.comp");
 /// The analytic wind field at the cluster corners, each step (`render::wind`).
 pub const ANALYTIC_CORNERS_COMP: Shader = spirv_shader!("wind/analytic_corners.comp");
+/// Its variant `perlin`: Belyaev's Perlin field (`render::wind::perlin`).
+pub const PERLIN_CORNERS_COMP: Shader = spirv_shader!("wind/analytic_corners.comp.perlin");
 /// Terrain vertex shader (height-field pulling).
 pub const TERRAIN_VERT: Shader = spirv_shader!("terrain/terrain.vert");
 /// Terrain fragment shader.

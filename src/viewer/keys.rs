@@ -17,6 +17,9 @@ use crate::render::RenderSettings;
 use crate::scene::Scene;
 use crate::wind::{Collider, PointSource};
 
+/// The keys whose control changes pipelines or the scene (`rebuild_for`).
+const REBUILT_BY: [&str; 15] = ["m", "n", "b", "v", "x", "t", "o", "y", "f", "f2", "r", "plus", "minus", "[", "]"];
+
 /// The controls, printed at start and by H.
 pub(super) const HELP: &str = "\
 meadow viewer controls
@@ -29,6 +32,7 @@ meadow viewer controls
   + / -           segments               [ / ]             blades / 2, x 2
   J / L           wind direction -/+15   I / K             wind strength +/-
   U               gusts on/off           C                 calm areas on/off
+  F2              wind field analytic / perlin (Belyaev's scrolling noise)
   left click      drop a wind source (drag to move)   Delete  remove the last source
   arrow keys      drive the collider sphere through the grass
   V               force debug view       F                 wireframe
@@ -113,7 +117,7 @@ impl Viewer {
             }
             "z" => self.toggle_cull_freeze(),
             "f1" => self.toggle_overlay(),
-            "m" | "n" | "b" | "v" | "x" | "t" | "o" | "y" | "f" | "r" | "plus" | "minus" | "[" | "]" => rebuild = true,
+            name if REBUILT_BY.contains(&name) => rebuild = true,
             _ => {}
         }
         if rebuild {
@@ -171,6 +175,13 @@ impl Viewer {
             "t" => cycle_cull_views(&mut settings),
             "o" | "y" => toggle_culling(&mut settings.culling, name),
             "f" => settings.wireframe = !settings.wireframe,
+            "f2" => {
+                use crate::render::wind::FieldKind;
+                animation.wind_field = match animation.wind_field {
+                    FieldKind::Analytic => FieldKind::Perlin,
+                    FieldKind::Perlin => FieldKind::Analytic,
+                }
+            }
             "r" => settings.msaa = next_msaa(settings.msaa, &crate::render::msaa::supported_counts(&self.device)),
             "plus" | "minus" => step_segments(&mut settings, name == "plus"),
             "[" => blades = (blades / 2).max(1),
@@ -249,10 +260,11 @@ impl Viewer {
     fn report_rebuild(&self) {
         let a = self.renderer.as_ref().expect("built").animation();
         println!(
-            "mode {}, smoothing {:?}, eval {:?}, {} segments, {} blades, {}{}{}{}{}{}",
+            "mode {}, smoothing {:?}, eval {:?}, {} wind, {} segments, {} blades, {}{}{}{}{}{}",
             if self.settings.floor { "Floor".to_string() } else { format!("{:?}", a.mode) },
             a.smoothing,
             a.eval,
+            a.wind_field.name(),
             self.settings.segments,
             self.scene.blades.len(),
             culling_state(&self.settings.culling),
@@ -387,10 +399,10 @@ fn culling_state(culling: &crate::render::culling::Culling) -> String {
 }
 
 /// Every key name the viewer acts on (what `key_name` returns), for scripts to check against.
-pub(super) const KEY_NAMES: [&str; 39] = [
-    "[", "]", "a", "b", "c", "d", "delete", "down", "e", "escape", "f", "f1", "f12", "g", "h", "i", "j", "k", "l",
-    "left", "m", "minus", "n", "o", "p", "plus", "q", "r", "right", "s", "shift", "t", "u", "up", "v", "w", "x", "y",
-    "z",
+pub(super) const KEY_NAMES: [&str; 40] = [
+    "[", "]", "a", "b", "c", "d", "delete", "down", "e", "escape", "f", "f1", "f12", "f2", "g", "h", "i", "j", "k",
+    "l", "left", "m", "minus", "n", "o", "p", "plus", "q", "r", "right", "s", "shift", "t", "u", "up", "v", "w", "x",
+    "y", "z",
 ];
 
 /// Name of a key as the help and scripts spell it.
@@ -429,6 +441,7 @@ pub(super) fn key_name(code: KeyCode) -> Option<&'static str> {
         KeyCode::KeyR => "r",
         KeyCode::F12 => "f12",
         KeyCode::F1 => "f1",
+        KeyCode::F2 => "f2",
         KeyCode::Delete | KeyCode::Backspace => "delete",
         KeyCode::ArrowUp => "up",
         KeyCode::ArrowDown => "down",

@@ -20,7 +20,7 @@ const KEYFRAME_FLAGS: &[&str] = &["poses", "smoothing", "encoding", "packing", "
 const KEYFRAME_AND_MODE_FLAGS: &[&str] = &["mode", "poses", "smoothing", "encoding", "packing", "keyframes", "eval"];
 /// The forces on the blades (thesis ch. 4–5) and what they vary with.
 const FORCE_FLAGS: &[&str] =
-    &["wind", "no_gusts", "source", "calm", "collider", "attenuation", "cluster_size", "time", "dt"];
+    &["wind", "wind_field", "no_gusts", "source", "calm", "collider", "attenuation", "cluster_size", "time", "dt"];
 /// The GPU-driven path's flags: the cull, the LOD and what steers them.
 const CULL_FLAGS: &[&str] =
     &["cull", "lod", "lod_segments", "view_distance", "blade_distance", "budget_ms", "lod_scale"];
@@ -158,6 +158,14 @@ pub(crate) const RULES: &[Rule] = &[
         with: "--mode uniform",
         when: |g| g.mode() == Some(ModeArg::Uniform),
         why: "the encoding is the keyframe texture's (--mode texture); the uniform array has --packing",
+    },
+    Rule {
+        flags: &["no_gusts"],
+        subject: None,
+        commands: SCENE,
+        with: "--wind-field perlin",
+        when: |g| g.wind_field() == Some(crate::cli::animation::WindFieldArg::Perlin),
+        why: "the gusts are the analytic field's; the Perlin field's noise takes the global wind's place",
     },
     Rule {
         flags: &["attenuation"],
@@ -343,7 +351,7 @@ pub(crate) const RULES: &[Rule] = &[
         why: "it renders each response with its own defaults, on its fixed rows",
     },
     Rule {
-        flags: &["animations"],
+        flags: &["animations", "wind_fields"],
         subject: None,
         commands: &["bench"],
         with: "a --preset other than animations",

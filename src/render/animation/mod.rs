@@ -145,6 +145,8 @@ pub struct AnimationSettings {
     pub cluster_size: f32,
     /// The forces.
     pub wind: Wind,
+    /// The wind field that carries them to the blades (`--wind-field`).
+    pub wind_field: crate::wind::FieldKind,
     /// The simulation's fixed time step (`--dt`).
     pub clock: clock::StepClock,
     /// The Verlet blades' constants (`--stiffness`, `--damping`).
@@ -166,6 +168,7 @@ impl Default for AnimationSettings {
             attenuation: Attenuation::Cluster,
             cluster_size: 1.0,
             wind: Wind::default(),
+            wind_field: crate::wind::FieldKind::Analytic,
             clock: clock::StepClock::default(),
             verlet: verlet::VerletParams::default(),
             chain: chain::ChainParams::default(),

@@ -75,8 +75,12 @@ pub struct Renderer {
     scene_frames: PerFrame<SceneFrame>,
     /// Each frame's wind at the cluster corners and emitters (the wind field's part).
     forces: PerFrame<FrameForces>,
-    /// The wind field (`render::wind`): the analytic one, or one given to `with_models`.
+    /// The wind field (`render::wind`): the one `AnimationSettings::wind_field` names, or one
+    /// given to `with_models`.
     wind: Box<dyn WindField>,
+    /// Whether `wind` is the library's (`new`): a rebuild then builds the field its animation
+    /// names; a field given to `with_models` stays.
+    library_wind: bool,
     /// Each frame's cull counts (the cull's part).
     cull_frames: PerFrame<CullFrame>,
     /// The camera the cull tests against when frozen (`None`: the view's camera).
@@ -98,7 +102,10 @@ impl Renderer {
         settings: RenderSettings,
         animation: AnimationSettings,
     ) -> Result<Self> {
-        Self::with_models(device, scene, settings, animation, Models::default())
+        let models = Models { wind: crate::render::wind::build(animation.wind_field), ..Models::default() };
+        let mut renderer = Self::with_models(device, scene, settings, animation, models)?;
+        renderer.library_wind = true;
+        Ok(renderer)
     }
 
     /// Upload `scene` and build the passes and frames, animated by `models` (a wind field and a
@@ -110,7 +117,7 @@ impl Renderer {
         animation: AnimationSettings,
         models: Models,
     ) -> Result<Self> {
-        let settings = with_mode_rows(settings, &animation);
+        let settings = crate::render::settings::with_mode_rows(settings, &animation);
         let polygon = polygon_mode(&device, settings.wireframe)?;
         check_submission(&device, &settings)?;
         msaa::check(&device, &settings.msaa)?;
@@ -133,6 +140,7 @@ impl Renderer {
             scene_frames: PerFrame::default(),
             forces: PerFrame::default(),
             wind: models.wind,
+            library_wind: false,
             cull_frames: PerFrame::default(),
             cull_camera: None,
             multisampled: None,
@@ -177,7 +185,7 @@ impl Renderer {
     /// statistics, cluster size) needs a new renderer: refused. On failure the renderer keeps
     /// its previous passes and model.
     pub fn rebuild(&mut self, scene: &Scene, settings: RenderSettings, animation: AnimationSettings) -> Result<()> {
-        let settings = with_mode_rows(settings, &animation);
+        let settings = crate::render::settings::with_mode_rows(settings, &animation);
         let animation = for_device(&self.device, animation);
         let (old, device) = (&self.settings, self.device.clone());
         let same_frames = (old.frames_in_flight, old.color_format, old.pipeline_statistics, old.encode_srgb)
@@ -224,6 +232,11 @@ impl Renderer {
         // The passes added from outside, the temporal pairs and the clock carry over.
         let kept = previous.3.keep();
         self.graph.adopt(kept);
+        // The library's field follows the animation's `wind_field` (its passes go with the old
+        // graph; the field itself holds no GPU object).
+        let swap = self.library_wind && self.animation.wind_field.name() != self.wind.name();
+        let old_wind =
+            swap.then(|| std::mem::replace(&mut self.wind, crate::render::wind::build(self.animation.wind_field)));
         let built = self.build_graph(scene, polygon);
         // Pre-recorded command buffers name the old pipelines: record again.
         self.ring.forget_replays();
@@ -234,6 +247,9 @@ impl Renderer {
                 // Back to the previous passes and response; the half-built ones are retired.
                 self.settings = old_settings;
                 self.animation = old_animation;
+                if let Some(wind) = old_wind {
+                    self.wind = wind;
+                }
                 let new_response = old_response.map(|(response, poses)| self.swap_response(response.zip(poses)));
                 let mut new_graph = std::mem::replace(&mut self.graph, old_graph);
                 let kept = new_graph.keep();
@@ -444,15 +460,6 @@ impl Renderer {
 
 /// `animation` as `device` can run it: a keyframe texture whose format the device cannot sample
 /// falls back to one it can (`keyframe_gpu::sampled_encoding`; `Renderer::animation` tells).
-/// `settings` with the blade class's rows the animation needs (`Mode::draw_rows`: the sine per
-/// cluster draws a row per tile), else as given.
-fn with_mode_rows(mut settings: RenderSettings, animation: &AnimationSettings) -> RenderSettings {
-    if let Some(rows) = animation.mode.draw_rows() {
-        settings.culling.rows = rows;
-    }
-    settings
-}
-
 fn for_device(device: &Device, mut animation: AnimationSettings) -> AnimationSettings {
     animation.encoding = crate::render::animation::keyframe_gpu::sampled_encoding(device, animation.encoding);
     animation

@@ -85,7 +85,7 @@ impl WindField for AnalyticWind {
     }
 
     fn passes(&self, device: &Device, setup: &WindSetup) -> Result<Vec<Box<dyn Pass>>> {
-        Ok(vec![Box::new(AnalyticCornersPass::new(device, setup, self.params.clone())?)])
+        Ok(vec![Box::new(AnalyticCornersPass::new(device, setup, self.params.clone(), None)?)])
     }
 }
 

@@ -1,4 +1,5 @@
-//! The analytic wind field's pass (`shaders/wind/analytic_corners.comp`): one dispatch over the
+//! The analytic wind field's pass (`shaders/wind/analytic_corners.comp`; the Perlin field's is its
+//! variant `perlin`, with the noise as texels in its set): one dispatch over the
 //! cluster corners writes this frame's wind (m/s) and exposure into the frame's corner buffer,
 //! from the parameters `AnalyticWind::update` left for the frame (its own uniform block, bound
 //! as a uniform block and, for the counts that decide control flow, as a storage buffer) and the
@@ -21,12 +22,27 @@ use crate::render::gpu_constants as gpu;
 use crate::render::graph::{Declaration, Pass, PassContext, PassUniforms};
 use crate::render::recording::{PassSet, PassSetDesc};
 use crate::render::shaders;
+use crate::vk::buffer::TexelView;
 use crate::vk::descriptor::Resource;
-use crate::vk::{pipeline, Access, Device, Guard};
+use crate::vk::upload::UploadBatch;
+use crate::vk::{pipeline, Access, Buffer, Device, Guard};
+
+/// The noise and its mips as RG32F texels, uploaded and waited for: the pass only reads them.
+fn upload_noise(device: &Device, texels: &[[f32; 2]]) -> Result<(Buffer, TexelView)> {
+    let mut batch = UploadBatch::new(device);
+    let usage = vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER;
+    let buffer = batch.buffer("perlin noise", texels, usage, &[Access::ComputeShaderRead])?;
+    batch.submit()?;
+    let buffer = Guard::new(device, buffer);
+    let view = TexelView::new(device, &buffer, vk::Format::R32G32_SFLOAT, "perlin noise texels")?;
+    Ok((buffer.take(), view))
+}
 
 /// The corners' pipeline, its set per frame in flight and its parameter blocks.
 pub struct AnalyticCornersPass {
     pipeline: vk::Pipeline,
+    /// The Perlin field's noise (`perlin::Noise`), uploaded by the pass, and its texel view.
+    noise: Option<(Buffer, TexelView)>,
     set: PassSet,
     uniforms: PassUniforms,
     /// Each frame's corner buffer.
@@ -37,26 +53,39 @@ pub struct AnalyticCornersPass {
 
 impl AnalyticCornersPass {
     /// Build the pipeline and a set per frame in flight over `setup`'s buffers.
-    pub fn new(device: &Device, setup: &WindSetup, params: Rc<RefCell<Params>>) -> Result<Self> {
+    /// With `noise` (the Perlin field's texels, `perlin::Noise`), its variant over them.
+    pub fn new(
+        device: &Device,
+        setup: &WindSetup,
+        params: Rc<RefCell<Params>>,
+        noise: Option<&[[f32; 2]]>,
+    ) -> Result<Self> {
         let frames = setup.frames.len();
         let size = std::mem::size_of::<Params>() as u64;
         let uniforms = Guard::new(device, PassUniforms::new(device, "wind field", size, frames)?);
-        let code = shaders::ANALYTIC_CORNERS_COMP.code(device.profile);
+        let uploaded = Guard::new(device, noise.map(|n| upload_noise(device, n)).transpose()?);
+        let code = match uploaded.is_some() {
+            true => shaders::PERLIN_CORNERS_COMP.code(device.profile),
+            false => shaders::ANALYTIC_CORNERS_COMP.code(device.profile),
+        };
         let shaders = [("analytic_corners.comp", code)];
         let desc = PassSetDesc { name: "wind field", shaders: &shaders, before: &[], push: &[], frames };
         let set = PassSet::new(device, &desc, |slot| {
             let (corners, emitters) = setup.frames[slot];
-            vec![
+            let mut resources = vec![
                 ("WindValues", uniforms.resource(slot)),
                 ("WindControl", uniforms.resource(slot)),
                 ("Emitters", Resource::Buffer(emitters)),
                 ("Corners", Resource::Buffer(corners)),
-            ]
+            ];
+            resources.extend(uploaded.as_ref().map(|(_, view)| ("noise_texels", Resource::Texels(view.raw))));
+            resources
         })?;
         let set = Guard::new(device, set);
         let pipeline = pipeline::compute(device, "wind field", code, set.layout, &[])?;
         Ok(Self {
             pipeline,
+            noise: uploaded.take(),
             set: set.take(),
             uniforms: uniforms.take(),
             corners: setup.frames.iter().map(|(corners, _)| corners.buffer).collect(),
@@ -96,6 +125,10 @@ impl Pass for AnalyticCornersPass {
             device.raw.destroy_pipeline(self.pipeline, None);
             self.set.destroy(device);
             self.uniforms.destroy(device);
+            if let Some((buffer, view)) = self.noise {
+                view.destroy(device);
+                buffer.destroy(device);
+            }
         }
     }
 }

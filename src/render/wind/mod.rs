@@ -5,6 +5,9 @@
 //! `wind::KEYFRAME_WIND_SCALE`, `shaders/animation/forces.glsl`). A field writes its CPU part of a
 //! frame (`update`) and adds the compute passes that produce the field on the GPU (`passes`).
 //!
+//! The second, `perlin::PerlinWind` (`--wind-field perlin`), is Belyaev's §3.2: three layers of a
+//! scrolling noise texture in place of the global wind and its gusts.
+//!
 //! The first field, `analytic::AnalyticWind`, is the thesis' wind: the global wind with gusts,
 //! moving point sources (eq. 4.1) and calm areas, at the cluster corners (eq. 3.6–3.8): a
 //! stored field's one grid, or a block field's `WIND_LEVELS` nested levels out to 4 km
@@ -15,10 +18,12 @@
 pub mod analytic;
 mod corners_pass;
 mod frame_forces;
-mod params;
+pub mod params;
+pub mod perlin;
 
 pub use analytic::AnalyticWind;
 pub use frame_forces::FrameForces;
+pub use perlin::PerlinWind;
 
 use ash::vk;
 use glam::DVec2;
@@ -28,7 +33,16 @@ use crate::render::graph::Pass;
 use crate::render::specialization::Specialization;
 use crate::scene::clusters::ClusterGrid;
 use crate::vk::Device;
+pub use crate::wind::FieldKind;
 use crate::wind::{Attenuation, Wind};
+
+/// The library's field of `kind`, built.
+pub fn build(kind: FieldKind) -> Box<dyn WindField> {
+    match kind {
+        FieldKind::Analytic => Box::new(AnalyticWind::new()),
+        FieldKind::Perlin => Box::new(PerlinWind::default()),
+    }
+}
 
 /// What a wind field's per-frame update reads.
 pub struct WindInput<'a> {

@@ -36,6 +36,13 @@ pub struct Params {
     pub levels: [[f32; 4]; WIND_LEVELS],
     /// Calm areas: min (x, z), max (x, z) relative to O.
     pub calm: [[f32; 4]; MAX_CALM_AREAS],
+    /// The Perlin field's layers (`perlin::fill_params`; zero for the analytic field): the
+    /// offset at O (x, y texels), c_i (texels per metre), k_i times the mean speed (m/s).
+    pub perlin: [[f32; 4]; 3],
+    /// Each layer's direction d_i (x, z), 0, 0.
+    pub perlin_dirs: [[f32; 4]; 3],
+    /// Per wind level, each layer's mip level of the noise, 0.
+    pub perlin_mips: [[u32; 4]; WIND_LEVELS],
 }
 
 impl Params {

@@ -255,6 +255,8 @@ pub fn animation(ui: &mut Ui, view: &UiView, out: &mut PanelOutput) {
     if moved {
         out.act(UiAction::Wind { direction_deg: direction, strength });
     }
+    let field = usize::from(a.wind_field == crate::render::wind::FieldKind::Perlin);
+    cycle(ui, out, "f2", &["analytic wind", "perlin wind"], field);
     let mut gusts = global.is_some_and(|g| g.gusts);
     if out.widget("gusts", ui.checkbox(&mut gusts, "gusts")).changed() {
         out.act(UiAction::Gusts(gusts));

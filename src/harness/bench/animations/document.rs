@@ -42,7 +42,8 @@ pub struct AnimationsRow {
     pub blades: u32,
     /// Segments per blade.
     pub segments: u32,
-    /// The wind field every variant reads.
+    /// The wind field of the row: analytic, or the other field its variants are also measured
+    /// under (each variant names its own).
     pub wind_field: String,
     /// The variants, static first.
     pub variants: Vec<AnimationsVariant>,
@@ -55,6 +56,9 @@ pub struct AnimationsVariant {
     pub animation: String,
     /// The response's name in reports (`BladeResponse::name`).
     pub response: String,
+    /// The wind field it reads (`WindField::name`).
+    #[serde(default)]
+    pub wind_field: String,
     /// GPU time of the measured frames.
     pub gpu_ms: Summary,
     /// Every measured frame's GPU time.

@@ -10,8 +10,10 @@
 //!
 //! Each variant records its median GPU ms, its ratio to static drawn the same way, and its own
 //! passes' time (`Renderer::response_passes`) per step, so the viewer's several steps a frame can
-//! be predicted. Every row reads the analytic wind field, the one there is. Results go to
-//! `animations.json` and `animations.csv` ([`report`]).
+//! be predicted. Every row reads the analytic wind field; each other field of `--wind-fields`
+//! adds the culled rows again, where the keyframes and the Verlet blades are measured under both
+//! fields side by side (interleaved, static under the analytic field the reference). Results go
+//! to `animations.json` and `animations.csv` ([`report`]).
 
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -25,6 +27,7 @@ use crate::harness::Progress;
 use crate::render::animation::sine::SinePhase;
 use crate::render::animation::{AnimationSettings, Eval, Mode};
 use crate::render::culling::Culling;
+use crate::render::wind::FieldKind;
 use crate::render::{OffscreenTarget, RenderSettings, Renderer};
 use crate::scene::field::FieldSpec;
 use crate::scene::Scene;
@@ -58,6 +61,8 @@ pub struct AnimationsBenchOptions {
     pub frames: u32,
     /// Output directory.
     pub out: PathBuf,
+    /// Wind fields besides the analytic one: each adds the culled rows under it.
+    pub wind_fields: Vec<FieldKind>,
 }
 
 impl AnimationsBenchOptions {
@@ -80,6 +85,7 @@ impl AnimationsBenchOptions {
             warmup: 2,
             frames: 8,
             out,
+            wind_fields: Vec::new(),
         }
     }
 
@@ -118,12 +124,25 @@ struct Row {
     scene: SceneSource,
     culled: bool,
     segments: u32,
+    field: FieldKind,
 }
 
 impl Row {
-    /// The responses it measures: by brute force the stateless ones only.
-    fn responses(&self, responses: &[Mode]) -> Vec<Mode> {
-        responses.iter().copied().filter(|&m| self.culled || !stateful(m)).collect()
+    /// The variants it measures, each a response under a field: by brute force the stateless
+    /// responses only; in a row of a field other than the analytic one, static (the ratios'
+    /// reference), then the keyframes and Verlet under the analytic field and under the row's.
+    fn responses(&self, responses: &[Mode]) -> Vec<(Mode, FieldKind)> {
+        let analytic = FieldKind::Analytic;
+        let kept = responses.iter().copied().filter(|&m| self.culled || !stateful(m));
+        if self.field == analytic {
+            return kept.map(|m| (m, analytic)).collect();
+        }
+        kept.flat_map(|m| match m {
+            Mode::Static => vec![(m, analytic)],
+            Mode::Texture | Mode::Verlet => vec![(m, analytic), (m, self.field)],
+            _ => Vec::new(),
+        })
+        .collect()
     }
 }
 
@@ -163,25 +182,45 @@ impl SceneSource {
 
 fn rows(options: &AnimationsBenchOptions) -> Vec<Row> {
     let blades = options.blades;
-    let mut rows = vec![
-        Row {
-            label: format!("{blades} stored, culled"),
-            scene: SceneSource::Stored(blades),
-            culled: true,
-            segments: SEGMENTS,
-        },
-        Row { label: "unbounded field".into(), scene: SceneSource::Blocks, culled: true, segments: SEGMENTS },
-    ];
+    let culled = |field: FieldKind| {
+        let under = if field == FieldKind::Analytic { String::new() } else { format!(", {}", field.name()) };
+        [
+            Row {
+                label: format!("{blades} stored, culled{under}"),
+                scene: SceneSource::Stored(blades),
+                culled: true,
+                segments: SEGMENTS,
+                field,
+            },
+            Row {
+                label: format!("unbounded field{under}"),
+                scene: SceneSource::Blocks,
+                culled: true,
+                segments: SEGMENTS,
+                field,
+            },
+        ]
+    };
+    let mut rows: Vec<Row> = culled(FieldKind::Analytic).into_iter().collect();
     for &(blades, segments) in &options.brute_force {
         let label = format!("{blades} x {segments}, brute force");
-        rows.push(Row { label, scene: SceneSource::Stored(blades), culled: false, segments });
+        rows.push(Row {
+            label,
+            scene: SceneSource::Stored(blades),
+            culled: false,
+            segments,
+            field: FieldKind::Analytic,
+        });
+    }
+    for &field in &options.wind_fields {
+        rows.extend(culled(field));
     }
     rows
 }
 
-/// The animation settings of `mode` drawn with or without the cull.
-fn animation(mode: Mode, culled: bool) -> AnimationSettings {
-    AnimationSettings { mode, eval: Eval::default_for(culled), ..AnimationSettings::default() }
+/// The animation settings of `mode` drawn with or without the cull, under `field`.
+fn animation(mode: Mode, culled: bool, field: FieldKind) -> AnimationSettings {
+    AnimationSettings { mode, eval: Eval::default_for(culled), wind_field: field, ..AnimationSettings::default() }
 }
 
 /// Run the benchmark; `progress(done, total)` after every frame.
@@ -229,8 +268,8 @@ fn check(device: &Device, options: &AnimationsBenchOptions, rows: &[Row], respon
     for row in rows {
         let blades = row.scene.blades();
         let responses = row.responses(responses);
-        for &mode in &responses {
-            let animation = animation(mode, row.culled);
+        for &(mode, field) in &responses {
+            let animation = animation(mode, row.culled, field);
             let culling = (row.culled, Default::default());
             crate::app::check_scene(device, blades, row.segments, options.size, &animation, false, culling)?;
         }
@@ -247,7 +286,7 @@ fn check(device: &Device, options: &AnimationsBenchOptions, rows: &[Row], respon
 fn measure_row(
     device: &Arc<Device>,
     row: &Row,
-    responses: &[Mode],
+    responses: &[(Mode, FieldKind)],
     target: &mut OffscreenTarget,
     options: &AnimationsBenchOptions,
     frames: &mut Progress,
@@ -257,7 +296,7 @@ fn measure_row(
     let settings = RenderSettings::offscreen(row.segments, culling);
     let mut renderers = responses
         .iter()
-        .map(|&mode| Renderer::new(device.clone(), &scene, settings, animation(mode, row.culled)))
+        .map(|&(mode, field)| Renderer::new(device.clone(), &scene, settings, animation(mode, row.culled, field)))
         .collect::<Result<Vec<_>>>()?;
     let camera = scene.default_camera();
     let mut subject = Offscreen {
@@ -269,7 +308,7 @@ fn measure_row(
     };
     let measured = measure(&mut subject, Schedule { warmup: options.warmup, frames: options.frames }, frames)?;
     let mut variants = Vec::new();
-    for (i, (renderer, &mode)) in renderers.iter().zip(responses).enumerate() {
+    for (i, (renderer, &(mode, _))) in renderers.iter().zip(responses).enumerate() {
         let own = renderer.response_passes();
         let frames_ms: Vec<f64> = measured.timings(i).map(|t| t.gpu_ms).collect();
         let response_ms: Vec<f64> = measured
@@ -281,6 +320,7 @@ fn measure_row(
         variants.push(AnimationsVariant {
             animation: animation_name(mode).into(),
             response: renderer.response_name().into(),
+            wind_field: renderer.wind_field_name().into(),
             gpu_ms: Summary::of(&frames_ms),
             frames_ms,
             ratio_to_static: 0.0,
@@ -299,12 +339,7 @@ fn measure_row(
         culled: row.culled,
         blades: row.scene.blades(),
         segments: row.segments,
-        wind_field: renderer_wind(&renderers),
+        wind_field: row.field.name().into(),
         variants,
     })
-}
-
-/// The wind field the row's renderers read (the same for all).
-fn renderer_wind(renderers: &[Renderer]) -> String {
-    renderers.first().map_or_else(String::new, |r| r.wind_field_name().to_string())
 }

@@ -20,13 +20,13 @@ fn entries(doc: &AnimationsDocument) -> impl Iterator<Item = (&AnimationsRow, &A
 /// and the response's own passes per step.
 pub fn table(doc: &AnimationsDocument) -> String {
     let mut out = format!(
-        "{:<30} {:<12} | {:>9} {:>8} | {:>11} {:>6}\n",
-        "row", "animation", "GPU ms", "/static", "ms / step", "steps"
+        "{:<30} {:<16} {:<9} | {:>9} {:>8} | {:>11} {:>6}\n",
+        "row", "animation", "wind", "GPU ms", "/static", "ms / step", "steps"
     );
     for (row, v) in entries(doc) {
         out.push_str(&format!(
-            "{:<30} {:<12} | {:>9.2} {:>7.3}x | {:>11.3} {:>6}\n",
-            row.label, v.animation, v.gpu_ms.median, v.ratio_to_static, v.ms_per_step, v.steps_per_frame,
+            "{:<30} {:<16} {:<9} | {:>9.2} {:>7.3}x | {:>11.3} {:>6}\n",
+            row.label, v.animation, v.wind_field, v.gpu_ms.median, v.ratio_to_static, v.ms_per_step, v.steps_per_frame,
         ));
     }
     out
@@ -44,7 +44,7 @@ pub fn csv(doc: &AnimationsDocument) -> String {
             row.culled,
             row.blades,
             row.segments,
-            row.wind_field,
+            v.wind_field,
             v.animation,
             v.response,
             number(v.gpu_ms.median),
