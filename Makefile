@@ -69,5 +69,6 @@ bench-docs: build
 	$(MEADOW) bench --preset thesis --out docs/bench-thesis
 	$(MEADOW) bench --preset lod --out docs/bench-lod
 	$(MEADOW) bench --preset msaa --out docs/bench-msaa
+	$(MEADOW) bench --preset response --out docs/bench-response
 	$(MEADOW) overhead --out docs/overhead
 	$(MEADOW) timing --trace docs/timing/trace.json --out docs/timing

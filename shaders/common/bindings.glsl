@@ -48,6 +48,6 @@ uvec2 level_word(uint i) {
     return levels[i];
 }
 #endif
-const float POSE_SCALE = 2.0; // local point / height lies within ±POSE_SCALE
+const float POSE_SCALE = 2.0; // render::animation::poses::POSE_SCALE
 
 #endif

@@ -1,12 +1,12 @@
 // Belyaev's Perlin wind (§3.2, `render::wind::perlin`): W[u] = Σ_{i=1..3} k_i T[w_i t + c_i R_i u],
 // three layers of one tileable noise texture T (two channels n_a, n_b in [-1, 1], its mips after
-// it: `perlin::Noise`), each turned to its direction d_i, scaled by c_i and scrolled downwind. A
-// layer's wind in its own frame is (1 + STRENGTH·n_a, SWIRL·n_b): along d_i on average, its
-// strength and direction varied by the noise. Layer i's texture coordinate at q (relative to O)
-// is its offset at O (`offset`, folded into the period in f64 on the CPU) plus
+// it: `render::wind::perlin::Noise`), each turned to its direction d_i, scaled by c_i and
+// scrolled downwind. A layer's wind in its own frame is (1 + STRENGTH·n_a, SWIRL·n_b): along d_i
+// on average, its strength and direction varied by the noise. Layer i's texture coordinate at q
+// (relative to O) is its offset at O (folded into the period in f64 on the CPU) plus
 // c_i (d_i · q, d_i⊥ · q); a wind level samples each layer at the mip the CPU chose for its
-// spacing (`perlin::mip_for`: band-limited far away). The includer declares `noise_texels` and
-// the parameters `wind` (render::wind::params::Params).
+// spacing (`render::wind::perlin::mip_for`: band-limited far away). The includer declares
+// `noise_texels` and the parameters `wind` (`render::wind::params::Params`).
 #ifndef MEADOW_WIND_PERLIN_GLSL
 #define MEADOW_WIND_PERLIN_GLSL
 
@@ -14,8 +14,9 @@ const float PERLIN_STRENGTH = 0.6; // render::wind::perlin::STRENGTH
 const float PERLIN_SWIRL = 0.35; // render::wind::perlin::SWIRL
 
 // Bilinear at `x` (texels of the finest level) in mip level `level`, wrapped
-// (`perlin::Noise::sample`). Level m starts at Σ_{l<m} (N >> l)² = 4 (N² − (N >> m)²) / 3 texels,
-// and its side is a power of two, so wrapping is a mask (two's complement: negatives too).
+// (`render::wind::perlin::Noise::sample`). Level m starts at Σ_{l<m} (N >> l)² =
+// 4 (N² − (N >> m)²) / 3 texels, and its side is a power of two, so wrapping is a mask (two's
+// complement: negatives too).
 vec2 perlin_texel(vec2 x, uint level) {
     int side = int(PERLIN_TEXELS >> level);
     int base = 4 * (int(PERLIN_TEXELS * PERLIN_TEXELS) - side * side) / 3;

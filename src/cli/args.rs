@@ -218,7 +218,8 @@ pub(crate) struct BenchArgs {
     /// thesis: the 15 rows of Table 6.2 at 1280x720; quick: a small smoke matrix; lod: brute force
     /// against the GPU-driven cull and LOD on a 1M-blade field from four cameras; msaa: the cost
     /// and the temporal stability (a slow pan) of --msaa with and without alpha to coverage;
-    /// animations: the blade responses side by side, culled, unbounded and at the thesis' sizes.
+    /// animations: the blade responses side by side, culled, unbounded and at the thesis' sizes;
+    /// response: each response's tips through a step gust, read back and charted.
     #[arg(long, value_enum, default_value = "quick")]
     pub(crate) preset: PresetArg,
     /// Blade counts (comma-separated), replacing the preset's (lod: one, the stored field's).
@@ -338,6 +339,7 @@ pub(crate) enum PresetArg {
     Lod,
     Msaa,
     Animations,
+    Response,
 }
 
 #[derive(Clone, Copy, ValueEnum)]

@@ -132,6 +132,7 @@ pub(crate) fn bench(args: BenchArgs) -> crate::Result<(u8, Option<u64>)> {
         PresetArg::Lod => return lod(args),
         PresetArg::Msaa => return msaa(args),
         PresetArg::Animations => return animations(args),
+        PresetArg::Response => return response(args),
     };
     let preset_blades: Vec<u32> = options.rows.iter().map(|r| r.0).collect();
     let preset_segments: Vec<u32> = options.rows.iter().map(|r| r.1).collect();
@@ -252,6 +253,29 @@ fn animations(args: BenchArgs) -> crate::Result<(u8, Option<u64>)> {
         |doc| {
             print!("{}", animations::table(&doc));
         },
+    ))
+}
+
+/// `meadow bench --preset response`: `--animations` picks the responses; the field, the gust and
+/// the frames are fixed (`cli::effect` refuses the flags that would change them).
+fn response(args: BenchArgs) -> crate::Result<(u8, Option<u64>)> {
+    use crate::harness::bench::response::{self, ResponseBenchOptions};
+    let mut options = ResponseBenchOptions::preset(args.out.clone());
+    if !args.animations.is_empty() {
+        let keyframes = super::animation::ModeArg::Texture;
+        options.animations = args.animations.iter().map(|a| a.mode(keyframes)).collect();
+    }
+    response::check(&options)?;
+    Ok(measure(
+        &args.gpu,
+        "frames",
+        (&options.out, &response::FILES),
+        |device, progress| {
+            let doc = response::run(device, &options, progress)?;
+            response::write(&doc, &options.out)?;
+            Ok(doc)
+        },
+        |doc| print!("{}", response::table(&doc)),
     ))
 }
 

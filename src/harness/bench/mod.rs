@@ -21,6 +21,7 @@ pub mod document;
 pub mod lod;
 pub mod msaa;
 mod report;
+pub mod response;
 
 pub use compare::{compare, load};
 pub use document::{BenchDocument, BenchFrame, BenchRow, BenchVariant, VariantMeasured};

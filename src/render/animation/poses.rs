@@ -10,6 +10,19 @@ use crate::vk::descriptor::{Resource as Descriptor, SetLayout};
 use crate::vk::{Buffer, BufferDesc, Destroy, Device, Guard, TexelView};
 use ash::vk;
 
+/// A record's point over the blade's height lies within ±POSE_SCALE (`shaders/common/bindings.glsl`).
+pub const POSE_SCALE: f32 = 2.0;
+
+/// Level `level` of record `record` of `records` (read back, `Renderer::read_pose_records`) with
+/// `model_segments` segments: its point in the blade's frame (x across, y up, z along the
+/// normal), in metres for a blade `height` tall.
+pub fn recorded_point(records: &[u32], (record, level): (usize, u32), model_segments: u32, height: f32) -> glam::Vec3 {
+    let at = (record * (model_segments as usize + 1) + level as usize) * gpu::POSE_WORDS as usize;
+    let snorm = |bits: u32| (f32::from(bits as u16 as i16) / 32767.0).max(-1.0);
+    let (w0, w1) = (records[at], records[at + 1]);
+    glam::Vec3::new(snorm(w0), snorm(w0 >> 16), snorm(w1)) * (POSE_SCALE * height)
+}
+
 /// Pose records and placed levels, and set `SET_POSES` pointing at them.
 pub struct PoseRecords {
     /// Pose records (`POSE_WORDS` words per level).
