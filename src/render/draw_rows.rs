@@ -49,6 +49,18 @@ impl DrawRows {
     }
 }
 
+/// Refuse rows of `capacity` draws a bucket past the device's `maxDrawIndirectCount`.
+pub fn check_capacity(device: &Device, capacity: u32) -> Result<()> {
+    let limit = device.properties.limits.max_draw_indirect_count;
+    match capacity <= limit {
+        true => Ok(()),
+        false => Err(Error::Environment(format!(
+            "{} draws at most {limit} rows in one multi-draw-indirect, the field needs {capacity}: use another --animation than sine-cluster",
+            device.info.name
+        ))),
+    }
+}
+
 /// Where the per-tile rows lie in their buffer, in 32-bit words: `MAX_LOD_BUCKETS` draw counts,
 /// then per bucket `capacity` `VkDrawIndexedIndirectCommand`s, then per bucket `capacity` records
 /// of `TILE_RECORD_WORDS` (the tile's first and end entries in the visible list, its ring slot).

@@ -101,6 +101,9 @@ impl BladePass {
         let mut target = setup.target;
         let tile_rows = (setup.buckets.is_some() && setup.rows == DrawRows::PerTile)
             .then_some((scene.tile_rows.raw, TileRows { capacity: scene.slot_capacity }));
+        if let Some((_, rows)) = tile_rows {
+            crate::render::draw_rows::check_capacity(device, rows.capacity)?;
+        }
         let (vertex, own, response_reads) = Self::vertex_input(device, scene, setup, tile_rows)?;
         let own = Guard::new(device, own);
         if let Some(own) = own.as_ref() {
