@@ -153,6 +153,7 @@ impl SpringPass {
                 ("Draws", Descriptor::Buffer(scene.draws.descriptor())),
                 store.resource(),
                 ("BladeStateFrame", uniforms.resource(slot)),
+                ("BladeStateControl", uniforms.resource(slot)),
             ]
         })?;
         let dispatch = BladeDispatch::new(device, "spring", spirv, set.layout, setup.constants, setup.blade_source())?;

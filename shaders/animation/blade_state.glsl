@@ -23,6 +23,21 @@ layout(set = SET_PASS, binding = BLADE_STATE_BINDING + 1, std140) uniform BladeS
     vec4 state_time;   // x the step (s), yzw unused
 };
 
+// The same block through a storage binding of the same buffer: the values that decide control flow
+// (the store's shape, the steps to take, whether the previous frame drew a step) are read from it,
+// never from the uniform one (common/profile.glsl's rule: lavapipe inlines a uniform that alone
+// decides a branch, and compiles a variant for each new value).
+layout(set = SET_PASS, binding = BLADE_STATE_BINDING + 2, std430) readonly buffer BladeStateControl {
+    uvec4 control_steps;
+    uvec4 control_grid;
+    vec4 control_time;
+};
+
+// The steps this frame takes (the loop bound of a stateful pass).
+uint state_steps_to_take() {
+    return control_steps.y;
+}
+
 const uint STATE_HEADER_WORDS = 2u; // render::animation::blade_state::HEADER_WORDS
 const uint STATE_NONE = 0xffffffffu;
 
@@ -48,11 +63,11 @@ BladeState blade_state(uvec2 entry, uint blade_index) {
     s.key = 0u;
     s.stateless = 0.0;
     uint record;
-    if (state_grid.z != 0u) {
+    if (control_grid.z != 0u) {
         // (world cell, blade in block): the ring slot's cell as `visible_instance` finds it.
         ivec2 cell = frame_values.field_cells.xy + ring_cell(entry.x >> 16);
         ivec2 d = cell - frame_values.field_cells.xy;
-        int radius = int(state_grid.x);
+        int radius = int(control_grid.x);
         int reach = max(abs(d.x), abs(d.y));
         // Across the outermost ring of blocks, by the blade's distance in blocks from the centre
         // of the camera's block (a block is `frame.field.x` metres; O is its corner).
@@ -74,7 +89,7 @@ BladeState blade_state(uvec2 entry, uint blade_index) {
         record = blade_index;
     }
     s.base = record * (STATE_HEADER_WORDS + state_steps.z);
-    s.carried = state_steps.x != 0u && blade_states[s.base] == s.key && blade_states[s.base + 1u] == state_steps.x;
+    s.carried = control_steps.x != 0u && blade_states[s.base] == s.key && blade_states[s.base + 1u] == state_steps.x;
     return s;
 }
 

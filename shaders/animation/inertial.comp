@@ -71,7 +71,7 @@ void main() {
     ChainState state;
     if (carried) {
         read_chain(s, state);
-        for (uint step = 0u; step < state_steps.y; step++) {
+        for (uint step = 0u; step < state_steps_to_take(); step++) {
             chain_step(chain, state, w, inertial.xy, state_time.x);
         }
     } else {

@@ -124,7 +124,7 @@ void main() {
             previous[k] = state_point(s, 9u + 3u * k);
         }
         float dt = state_time.x;
-        for (uint step = 0u; step < state_steps.y; step++) {
+        for (uint step = 0u; step < state_steps_to_take(); step++) {
             for (uint k = 0u; k < 3u; k++) {
                 vec3 v = (x[k] - previous[k]) / dt;
                 vec3 a = ka * (w - v) + ks * (rest[k] - x[k]);

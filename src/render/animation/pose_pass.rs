@@ -34,6 +34,9 @@ pub struct PoseUniforms {
     pub name: &'static str,
     /// Its std140 size in bytes.
     pub size: u64,
+    /// The name of the same block bound again as a storage buffer, for the values that decide
+    /// control flow (`shaders/common/profile.glsl`'s rule), if the shader has one.
+    pub control: Option<&'static str>,
     /// Its bytes for the frame being planned.
     pub fill: FillUniforms,
 }
@@ -46,6 +49,7 @@ impl PoseUniforms {
         Self {
             name: "BladeStateFrame",
             size: 48,
+            control: Some("BladeStateControl"),
             fill: Box::new(move |_| {
                 let (span, dt) = span.get();
                 bytemuck::cast_slice(&shape.frame_block(span, dt)).to_vec()
@@ -97,7 +101,8 @@ impl PosePass {
         let PoseShader { name, spirv, resources, uses, uniforms, store } = shader;
         let (buffers, block) = match uniforms {
             Some(block) => {
-                (Some(PassUniforms::new(device, name, block.size, setup.sets.frames)?), Some((block.name, block.fill)))
+                let names = (block.name, block.control);
+                (Some(PassUniforms::new(device, name, block.size, setup.sets.frames)?), Some((names, block.fill)))
             }
             None => (None, None),
         };
@@ -105,8 +110,9 @@ impl PosePass {
         let own = |slot| {
             let mut own = resources.clone();
             own.push(("Draws", Descriptor::Buffer(scene.draws.descriptor())));
-            if let (Some(buffers), Some((block, _))) = (buffers.as_ref(), &block) {
+            if let (Some(buffers), Some(((block, control), _))) = (buffers.as_ref(), &block) {
                 own.push((*block, buffers.resource(slot)));
+                own.extend(control.map(|control| (control, buffers.resource(slot))));
             }
             own
         };

@@ -100,6 +100,7 @@ impl BladeResponse for SineResponse {
             uniforms: Some(PoseUniforms {
                 name: "SineShape",
                 size: 32,
+                control: None,
                 fill: Box::new(move |_| bytemuck::cast_slice(&block.get()).to_vec()),
             }),
             store: None,

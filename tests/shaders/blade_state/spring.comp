@@ -48,7 +48,7 @@ void main() {
             x = vec2(uintBitsToFloat(state_word(s, 0u)), uintBitsToFloat(state_word(s, 1u)));
             v = vec2(uintBitsToFloat(state_word(s, 2u)), uintBitsToFloat(state_word(s, 3u)));
             float dt = state_time.x;
-            for (uint k = 0u; k < state_steps.y; k++) {
+            for (uint k = 0u; k < state_steps_to_take(); k++) {
                 vec2 a = K * (target - x) - C * v;
                 v += a * dt;
                 x += v * dt;
