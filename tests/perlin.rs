@@ -3,7 +3,9 @@
 //!   (the brute-force path's `perlin::corner_winds`, the same arithmetic) with a point source and
 //!   a calm area on, and they are not the analytic field's;
 //! - the field varies over the ground and moves with time;
-//! - blades lean with it: under a wind towards +x every tip moves towards +x (read back).
+//! - blades lean with it: under a wind towards +x every tip moves towards +x (read back);
+//! - on a block field, every corner of the eight levels (each layer at its level's mip) equals the
+//!   CPU's `perlin::wind_at` on the same parameters, at the origin and 100 km from it.
 
 #[path = "support/pose_records.rs"]
 mod pose_records;
@@ -15,8 +17,12 @@ use meadow::app::{with_device, GpuOptions};
 use meadow::render::animation::sine::SinePhase;
 use meadow::render::animation::{AnimationSettings, Mode};
 use meadow::render::culling::Culling;
-use meadow::render::wind::FieldKind;
+use meadow::render::field_gpu::Origin;
+use meadow::render::wind::params::Params;
+use meadow::render::wind::perlin::{self, Noise};
+use meadow::render::wind::{FieldKind, WindInput};
 use meadow::render::{OffscreenTarget, RenderSettings, Renderer};
+use meadow::scene::field::FieldSpec;
 use meadow::scene::{Camera, Scene};
 use meadow::vk::DeviceSelector;
 use meadow::wind::{CalmArea, GlobalWind, PointSource, Wind};
@@ -85,5 +91,59 @@ fn under_a_perlin_wind_towards_plus_x_every_tip_moves_towards_plus_x() {
         let tip =
             backbone(&frame.records, &scene, blade)[SEGMENTS as usize] - neutral(&scene, blade)[SEGMENTS as usize];
         assert!(tip.x > 0.0, "blade {blade}'s tip moved {tip}");
+    }
+}
+
+#[test]
+fn every_level_of_a_block_field_matches_the_cpu_at_the_origin_and_100_km_out() {
+    let scene = Scene::blocks(FieldSpec { size: None, density: 100.0 }, 1);
+    let relief = &scene.field.as_ref().expect("a field").relief;
+    let wind =
+        Wind { global: Some(GlobalWind { direction_deg: 40.0, strength: 0.4, gusts: false }), ..Default::default() };
+    let noise = Noise::generate();
+    for x in [0.0f32, 100_000.0] {
+        let ground = relief.height(f64::from(x), 3.0) as f32;
+        let camera = Camera { position: glam::Vec3::new(x, ground + 1.7, 3.0), yaw_deg: 30.0, pitch_deg: -10.0 };
+        let options = GpuOptions { validation: true, device: DeviceSelector::parse(support::DEVICE) };
+        let (result, messages) = with_device(&options, false, |device| {
+            let settings = RenderSettings::offscreen(4, Culling { view_distance: 40.0, ..Culling::default_for(4) });
+            let animation =
+                AnimationSettings { wind: wind.clone(), wind_field: FieldKind::Perlin, ..Default::default() };
+            let mut renderer = Renderer::new(device.clone(), &scene, settings, animation)?;
+            let mut target = OffscreenTarget::new(device, vk::Extent2D { width: 96, height: 54 })?;
+            renderer.render_offscreen(&mut target, &camera, 1.25)?;
+            let corners: Vec<Vec4> = renderer.read_wind_corners(0)?.into_iter().map(Vec4::from).collect();
+            let out = (corners, renderer.cluster_grid(), renderer.wind_levels());
+            drop(renderer);
+            // SAFETY: render_offscreen waited for its frame.
+            unsafe { target.destroy(device) };
+            Ok(out)
+        });
+        assert_eq!(messages, Some(0), "validation messages");
+        let (corners, grid, levels) = result.expect("rendered");
+        let input = WindInput {
+            grid: &grid,
+            levels: levels.len() as u32,
+            wind: &wind,
+            attenuation: Default::default(),
+            time: 1.25f32 as f64,
+            origin: Origin::under(&camera).world,
+            cpu_corners: false,
+        };
+        let mut params = Params::new(&input);
+        perlin::fill_params(&mut params, &input);
+        let per_level = levels[0].corner_count() as usize;
+        assert_eq!(corners.len(), levels.len() * per_level);
+        let mut mips = std::collections::BTreeSet::new();
+        for (i, gpu) in corners.iter().enumerate() {
+            let (level, local) = (i / per_level, (i % per_level) as u32);
+            let q = levels[level].corner_position(local);
+            let cpu = perlin::wind_at(&noise, &params, q, level);
+            let delta = (Vec2::new(gpu.x, gpu.z) - cpu).abs().max_element();
+            assert!(delta < 1e-4 * (1.0 + cpu.length()), "x {x}: level {level} corner {local}: GPU {gpu} CPU {cpu}");
+            mips.extend(params.perlin_mips[level][..3].iter().copied());
+        }
+        // The levels reach the coarse mips, the 1² mean among them.
+        assert!(mips.contains(&0) && mips.contains(&(perlin::NOISE_LEVELS - 1)), "{mips:?}");
     }
 }
