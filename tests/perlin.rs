@@ -18,7 +18,6 @@ use meadow::render::animation::sine::SinePhase;
 use meadow::render::animation::{AnimationSettings, Mode};
 use meadow::render::culling::Culling;
 use meadow::render::field_gpu::Origin;
-use meadow::render::wind::params::Params;
 use meadow::render::wind::perlin::{self, Noise};
 use meadow::render::wind::{FieldKind, WindInput};
 use meadow::render::{OffscreenTarget, RenderSettings, Renderer};
@@ -130,8 +129,7 @@ fn every_level_of_a_block_field_matches_the_cpu_at_the_origin_and_100_km_out() {
             origin: Origin::under(&camera).world,
             cpu_corners: false,
         };
-        let mut params = Params::new(&input);
-        perlin::fill_params(&mut params, &input);
+        let params = perlin::frame_params(&input);
         let per_level = levels[0].corner_count() as usize;
         assert_eq!(corners.len(), levels.len() * per_level);
         let mut mips = std::collections::BTreeSet::new();

@@ -29,7 +29,7 @@ use meadow::vk::DeviceSelector;
 use meadow::wind::{Attenuation, GlobalWind, Wind, KEYFRAME_WIND_SCALE};
 
 const SEGMENTS: u32 = 4;
-const POSE_SCALE: f32 = 2.0; // bindings.glsl
+use meadow::render::animation::poses::POSE_SCALE;
 const TIME: f32 = 1.3;
 /// A record's quantisation (snorm16 over POSE_SCALE heights) and f32 rounding, in heights.
 const TOLERANCE: f32 = 2e-4;
@@ -63,10 +63,7 @@ fn run(scene: &Scene, phase: SinePhase, wind: &Wind) -> ReadBack {
 
 /// Level `level` of blade `blade`'s record: its point over the height and POSE_SCALE.
 fn recorded(records: &[u32], blade: usize, level: u32) -> Vec3 {
-    let at = (blade * (SEGMENTS as usize + 1) + level as usize) * 3;
-    let snorm = |bits: u32| (bits as u16 as i16 as f32 / 32767.0).max(-1.0);
-    let (w0, w1) = (records[at], records[at + 1]);
-    Vec3::new(snorm(w0), snorm(w0 >> 16), snorm(w1))
+    meadow::render::animation::poses::recorded_point(records, (blade, level), SEGMENTS, 1.0) / POSE_SCALE
 }
 
 /// sine.comp's translation at phase point `p` under wind `w` (m/s), in heights, world xz.

@@ -22,7 +22,6 @@ use meadow::wind::{GlobalWind, Wind};
 
 /// Segments the records are read at.
 pub const SEGMENTS: u32 = 8;
-const POSE_SCALE: f32 = 2.0; // bindings.glsl
 
 /// A steady global wind towards `direction_deg` of `strength` keyframe units (× 8 m/s).
 pub fn wind(direction_deg: f32, strength: f32) -> Wind {
@@ -72,10 +71,7 @@ pub fn run(
 
 /// Level `level` of blade `blade`'s record, in metres in the blade's frame.
 pub fn level(records: &[u32], blade: usize, level: u32, height: f32) -> Vec3 {
-    let at = (blade * (SEGMENTS as usize + 1) + level as usize) * 3;
-    let snorm = |bits: u32| (bits as u16 as i16 as f32 / 32767.0).max(-1.0);
-    let (w0, w1) = (records[at], records[at + 1]);
-    Vec3::new(snorm(w0), snorm(w0 >> 16), snorm(w1)) * (POSE_SCALE * height)
+    meadow::render::animation::poses::recorded_point(records, (blade, level), SEGMENTS, height)
 }
 
 /// The drawn backbone of blade `blade`: its levels, in the world's axes relative to the root.

@@ -112,11 +112,6 @@ pub struct TrackedBlade {
     pub tip_m: Vec<f64>,
 }
 
-/// The `--animation` value of `mode`.
-fn name(mode: Mode) -> &'static str {
-    crate::harness::bench::animations::animation_name(mode)
-}
-
 /// 2π/√k of the response's spring with its default constants, if it has one.
 fn natural_period(mode: Mode) -> Option<f64> {
     let k = match mode {
@@ -223,7 +218,7 @@ fn trace(
         })
         .collect();
     Ok(ResponseModel {
-        animation: name(mode).into(),
+        animation: crate::harness::bench::animations::animation_name(mode).into(),
         response: renderer.response_name().into(),
         natural_period_s: natural_period(mode),
         blades,

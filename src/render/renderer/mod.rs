@@ -78,9 +78,9 @@ pub struct Renderer {
     /// The wind field (`render::wind`): the one `AnimationSettings::wind_field` names, or one
     /// given to `with_models`.
     wind: Box<dyn WindField>,
-    /// Whether `wind` is the library's (`new`): a rebuild then builds the field its animation
-    /// names; a field given to `with_models` stays.
-    library_wind: bool,
+    /// Which of the library's fields `wind` is (`new`): a rebuild then builds the field its
+    /// animation names; `None` for a field given to `with_models`, which stays.
+    library_wind: Option<crate::wind::FieldKind>,
     /// Each frame's cull counts (the cull's part).
     cull_frames: PerFrame<CullFrame>,
     /// The camera the cull tests against when frozen (`None`: the view's camera).
@@ -104,7 +104,7 @@ impl Renderer {
     ) -> Result<Self> {
         let models = Models { wind: crate::render::wind::build(animation.wind_field), ..Models::default() };
         let mut renderer = Self::with_models(device, scene, settings, animation, models)?;
-        renderer.library_wind = true;
+        renderer.library_wind = Some(renderer.animation.wind_field);
         Ok(renderer)
     }
 
@@ -140,7 +140,7 @@ impl Renderer {
             scene_frames: PerFrame::default(),
             forces: PerFrame::default(),
             wind: models.wind,
-            library_wind: false,
+            library_wind: None,
             cull_frames: PerFrame::default(),
             cull_camera: None,
             multisampled: None,
@@ -234,9 +234,10 @@ impl Renderer {
         self.graph.adopt(kept);
         // The library's field follows the animation's `wind_field` (its passes go with the old
         // graph; the field itself holds no GPU object).
-        let swap = self.library_wind && self.animation.wind_field.name() != self.wind.name();
-        let old_wind =
-            swap.then(|| std::mem::replace(&mut self.wind, crate::render::wind::build(self.animation.wind_field)));
+        let kind = self.animation.wind_field;
+        let old_wind = (self.library_wind.is_some_and(|k| k != kind)).then(|| {
+            (std::mem::replace(&mut self.wind, crate::render::wind::build(kind)), self.library_wind.replace(kind))
+        });
         let built = self.build_graph(scene, polygon);
         // Pre-recorded command buffers name the old pipelines: record again.
         self.ring.forget_replays();
@@ -247,8 +248,8 @@ impl Renderer {
                 // Back to the previous passes and response; the half-built ones are retired.
                 self.settings = old_settings;
                 self.animation = old_animation;
-                if let Some(wind) = old_wind {
-                    self.wind = wind;
+                if let Some((wind, kind)) = old_wind {
+                    (self.wind, self.library_wind) = (wind, kind);
                 }
                 let new_response = old_response.map(|(response, poses)| self.swap_response(response.zip(poses)));
                 let mut new_graph = std::mem::replace(&mut self.graph, old_graph);

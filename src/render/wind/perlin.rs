@@ -31,7 +31,7 @@ use glam::{DVec2, Vec2, Vec4};
 
 use super::analytic::emitters_relative;
 use super::corners_pass::AnalyticCornersPass;
-use super::params::{Params, WIND_LEVELS};
+use super::params::Params;
 use super::{WindField, WindInput, WindSetup};
 use crate::error::Result;
 use crate::render::animation;
@@ -225,15 +225,23 @@ pub fn wind_at(noise: &Noise, params: &Params, q: Vec2, level: usize) -> Vec2 {
     w
 }
 
+/// A frame's parameters for the corner pass's variant `perlin`: the analytic field's (sources,
+/// calm areas, levels) without its global wind, whose direction and speed the layers keep, and the
+/// layers' (`fill_params`).
+pub fn frame_params(input: &WindInput) -> Params {
+    let mut params = Params::new(input);
+    params.global[3] = 0.0;
+    fill_params(&mut params, input);
+    params
+}
+
 /// The corners of a frame on the CPU (`--brute-force`): the analytic field's sources and calm
 /// areas without its global wind, plus W at each corner, times the exposure.
 pub fn corner_winds(noise: &Noise, input: &WindInput) -> Vec<Vec4> {
     let still = Wind { global: None, ..input.wind.clone() };
     let origin = input.origin.as_vec2();
     let mut corners = animation::corner_forces_at(input.grid, origin, &still, input.time as f32, input.attenuation);
-    let mut params: Params = Zeroable::zeroed();
-    params.levels[0] = [input.grid.origin, input.grid.origin, input.grid.cluster_size, 0.0];
-    fill_params(&mut params, &WindInput { levels: 1, ..*input });
+    let params = frame_params(&WindInput { levels: 1, ..*input });
     for (i, corner) in corners.iter_mut().enumerate() {
         let w = wind_at(noise, &params, input.grid.corner_position(i as u32), 0) * corner.w;
         *corner += Vec4::new(w.x, 0.0, w.y, 0.0);
@@ -244,12 +252,12 @@ pub fn corner_winds(noise: &Noise, input: &WindInput) -> Vec<Vec4> {
 /// The Perlin wind field.
 pub struct PerlinWind {
     params: Rc<RefCell<Params>>,
-    noise: Rc<Noise>,
+    noise: Noise,
 }
 
 impl Default for PerlinWind {
     fn default() -> Self {
-        Self { params: Rc::new(RefCell::new(Zeroable::zeroed())), noise: Rc::new(Noise::generate()) }
+        Self { params: Rc::new(RefCell::new(Zeroable::zeroed())), noise: Noise::generate() }
     }
 }
 
@@ -263,12 +271,7 @@ impl WindField for PerlinWind {
         if input.cpu_corners {
             forces.corners.write(0, &corner_winds(&self.noise, input));
         } else {
-            let mut params = Params::new(input);
-            // The noise replaces the global wind and its gusts; the direction and speed stay
-            // for the layers.
-            params.global[3] = 0.0;
-            fill_params(&mut params, input);
-            *self.params.borrow_mut() = params;
+            *self.params.borrow_mut() = frame_params(input);
         }
     }
 
@@ -277,9 +280,6 @@ impl WindField for PerlinWind {
         Ok(vec![Box::new(AnalyticCornersPass::new(device, setup, self.params.clone(), noise)?)])
     }
 }
-
-/// Levels a frame's parameters hold.
-const _: () = assert!(WIND_LEVELS >= 1);
 
 #[cfg(test)]
 mod tests {

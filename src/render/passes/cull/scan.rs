@@ -1,8 +1,9 @@
 //! Cull step 3 (`shaders/cull/cull_scan.comp`): one workgroup turns the slot counts into offsets (a
 //! prefix sum in slot order, near to far), writes one indirect draw per LOD bucket, the pose and
 //! levels passes' indirect dispatch, the list of slots that draw with the emit pass's indirect
-//! dispatch over them, the blade class's per-tile rows (`render::draw_rows`), and the frame's counts into the frame's host-visible buffer (read after
-//! its fence). Every word it writes is written whole each frame: there is no counter to clear.
+//! dispatch over them, the blade class's per-tile rows (`render::draw_rows`), and the frame's
+//! counts into the frame's host-visible buffer (read after its fence). Every word it writes is
+//! written whole each frame: there is no counter to clear.
 
 use std::rc::Rc;
 
