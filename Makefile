@@ -29,6 +29,7 @@ test: deps
 	FRAMES=1000 ./scripts/soak.sh
 	FRAMES=1000 ./scripts/soak.sh --brute-force
 	FRAMES=1000 ./scripts/soak.sh --animation verlet --wind-field perlin
+	FRAMES=1000 ./scripts/soak.sh --wind-field fluid
 
 # The whole test suite again on the generic backend profile (vk::profile: each resource bound once,
 # none of the lavapipe profile's twins), pictures at the same golden tolerances; the soaks stay on

@@ -53,9 +53,13 @@ fn wind(grid: &ClusterGrid, extra: Extra, count: usize) -> Wind {
         let (u, v) = spread(i, count);
         let p = at(grid, u, v);
         match extra {
-            Extra::Sources => {
-                wind.sources.push(PointSource { position: p, power: 0.5, sigma: 1.5, velocity: Vec2::new(0.5, -0.25) })
-            }
+            Extra::Sources => wind.sources.push(PointSource {
+                position: p,
+                power: 0.5,
+                sigma: 1.5,
+                velocity: Vec2::new(0.5, -0.25),
+                height: 0.5,
+            }),
             Extra::Calm => {
                 let half = Vec2::splat(0.02 * size);
                 wind.calm.push(CalmArea { min: p - half, max: p + half })

@@ -102,7 +102,14 @@ pub struct PointSource {
     pub sigma: f32,
     /// Velocity in m/s: sources may move over time.
     pub velocity: Vec2,
+    /// Height above the ground in metres, where the fluid wind injects it
+    /// (`DEFAULT_SOURCE_HEIGHT` unless given; the analytic and Perlin fields blow along the
+    /// ground).
+    pub height: f32,
 }
+
+/// A point source's height above the ground when none is given, in metres.
+pub const DEFAULT_SOURCE_HEIGHT: f32 = 0.5;
 
 impl PointSource {
     /// Position at time `t`.
@@ -239,6 +246,45 @@ pub enum FieldKind {
     Analytic,
     /// Belyaev's three scrolling noise layers in place of the global wind (`perlin`).
     Perlin,
+    /// Zhang Xia's stable-fluid grid around the camera, the analytic field past it (`fluid`).
+    Fluid,
+}
+
+/// The fluid wind's grid (`--fluid-grid`, `--fluid-cell`; `render::wind::fluid`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FluidGrid {
+    /// Cells per axis (x, y up, z).
+    pub dims: [u32; 3],
+    /// A cell's width (x and z) and height, in metres.
+    pub cell: [f32; 2],
+}
+
+/// Cells per axis a fluid grid takes at least: its central differences reach two cells.
+pub const MIN_FLUID_CELLS: u32 = 4;
+
+impl Default for FluidGrid {
+    fn default() -> Self {
+        Self { dims: [32, 16, 32], cell: [1.0, 0.5] }
+    }
+}
+
+impl FluidGrid {
+    /// Refuse a grid of fewer than `MIN_FLUID_CELLS` cells on an axis, or a cell that is not a
+    /// finite length above 0 (`max_dim`: the device's largest 3-D image side).
+    pub fn check(&self, max_dim: u32) -> Result<(), String> {
+        if let Some(n) = self.dims.iter().find(|&&n| n < MIN_FLUID_CELLS) {
+            return Err(format!("a fluid grid needs at least {MIN_FLUID_CELLS} cells per axis, not {n}"));
+        }
+        if let Some(n) = self.dims.iter().find(|&&n| n > max_dim) {
+            return Err(format!(
+                "a fluid grid of {n} cells on an axis is over the device's 3-D image limit of {max_dim}"
+            ));
+        }
+        if !self.cell.iter().all(|c| c.is_finite() && *c > 0.0) {
+            return Err(format!("a fluid cell of {:?} m: each edge must be a length above 0", self.cell));
+        }
+        Ok(())
+    }
 }
 
 impl FieldKind {
@@ -247,6 +293,7 @@ impl FieldKind {
         match self {
             FieldKind::Analytic => "analytic",
             FieldKind::Perlin => "perlin",
+            FieldKind::Fluid => "fluid",
         }
     }
 }

@@ -254,6 +254,29 @@ fn a_huge_script_line_is_refused_in_a_bounded_line() {
 fn responses_refuse_what_only_keyframes_have() {
     refused("animation-unknown", &["--animation", "verlett"], "verlett");
     refused("wind-field-unknown", &["--wind-field", "fluidd"], "fluidd");
+    refused("fluid-grid-zero", &["--wind-field", "fluid", "--fluid-grid", "0,16,32"], "0 cells");
+    refused("fluid-grid-limit", &["--wind-field", "fluid", "--fluid-grid", "60000,4,4"], "3-D image limit");
+    refused(
+        "fluid-grid-budget",
+        &["--wind-field", "fluid", "--fluid-grid", "2048,64,2048"],
+        "the fluid wind's grid needs",
+    );
+    refused("fluid-cell-zero", &["--wind-field", "fluid", "--fluid-cell", "0,1"], "0 m is not a length");
+    refused("fluid-cell-negative", &["--wind-field", "fluid", "--fluid-cell", "-1,1"], "-1 m is not a length");
+    refused("fluid-cell-nan", &["--wind-field", "fluid", "--fluid-cell", "nan,1"], "not a finite number");
+    refused("source-height-negative", &["--wind-field", "fluid", "--source", "0,0,1,2,-1"], "source height -1");
+    refused("source-height-nan", &["--wind-field", "fluid", "--source", "0,0,1,2,nan"], "not a finite number");
+    refused(
+        "fluid-brute-force",
+        &["--wind-field", "fluid", "--brute-force"],
+        "--wind-field fluid has no effect with --brute-force",
+    );
+    refused(
+        "fluid-attenuation",
+        &["--wind-field", "fluid", "--source", "0,0,1,1", "--attenuation", "blade"],
+        "--attenuation has no effect with --wind-field fluid",
+    );
+    refused("fluid-grid-analytic", &["--fluid-grid", "16,8,16"], "--fluid-grid has no effect");
     refused(
         "wind-field-gusts",
         &["--wind-field", "perlin", "--no-gusts"],

@@ -31,6 +31,21 @@ const SCENES: &[(&str, &[&str])] = &[
         &["--animation", "sine-cluster", "--field", "infinite", "--density", "150", "--view-distance", "40"],
     ),
     ("perlin", &["--wind-field", "perlin", "--field", "infinite", "--density", "150", "--view-distance", "40"]),
+    (
+        "fluid",
+        &[
+            "--wind-field",
+            "fluid",
+            "--field",
+            "infinite",
+            "--density",
+            "150",
+            "--view-distance",
+            "40",
+            "--source",
+            "2,3,0.4,2,1",
+        ],
+    ),
     ("verlet", &["--animation", "verlet", "--blades", "20000", "--seed", "8", "--wind", "30,0.8"]),
     ("inertial", &["--animation", "inertial", "--blades", "20000", "--seed", "9", "--wind", "30,0.8"]),
     (

@@ -89,6 +89,8 @@ const RENDER_CASES: &[Case] = &[
     ("wind", &[alt(&["--wind", "200,0.9"])]),
     ("no_gusts", &[alt(&["--no-gusts"]), with(&["--time", "2.5"], &["--no-gusts"])]),
     ("wind_field", &[alt(&["--wind-field", "perlin"])]),
+    ("fluid_grid", &[with(&["--wind-field", "fluid", "--source", "0,0,3,1"], &["--fluid-grid", "16,8,16"])]),
+    ("fluid_cell", &[with(&["--wind-field", "fluid", "--source", "0,0,3,1"], &["--fluid-cell", "2,1"])]),
     ("source", &[alt(&["--source", "0,0,3,1"])]),
     ("calm", &[alt(&["--calm", "-9,-9,9,9"])]),
     ("collider", &[alt(&["--collider", "sphere:0,0,0,1.2"])]),

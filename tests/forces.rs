@@ -153,6 +153,7 @@ fn gpu_blade_forces_equal_the_cpu_reference() {
             power: 0.3,
             sigma: 2.0,
             velocity: Vec2::new(0.1, 0.0),
+            height: 0.5,
         }],
         calm: vec![CalmArea { min: Vec2::new(-1.0, 0.5), max: Vec2::new(0.5, 1.5) }],
         colliders: vec![Collider { center: glam::Vec3::new(-1.0, 0.2, -1.0), radii: glam::Vec3::new(0.3, 0.2, 0.5) }],
@@ -180,7 +181,8 @@ fn gpu_blade_forces_equal_the_cpu_reference() {
 #[test]
 fn delayed_attenuation_removes_cluster_artefacts() {
     let scene = Scene::generate(4000, 8);
-    let source = PointSource { position: Vec2::new(0.3, -0.2), power: 0.05, sigma: 2.0, velocity: Vec2::ZERO };
+    let source =
+        PointSource { position: Vec2::new(0.3, -0.2), power: 0.05, sigma: 2.0, velocity: Vec2::ZERO, height: 0.5 };
     let wind = Wind { sources: vec![source], ..Default::default() };
     // Blades between 0.3 m and 1.5 m from the source, where the force changes fast.
     let near: Vec<BladeInstance> = scene
@@ -311,7 +313,13 @@ fn a_block_fields_wind_levels_are_sampled_as_the_cpu_mirror_samples_them() {
     let cluster_size = 1.0f32;
     let wind = Wind {
         global: Some(GlobalWind { direction_deg: 35.0, strength: 0.6, gusts: true }),
-        sources: vec![PointSource { position: Vec2::new(40.0, -30.0), power: 2.0, sigma: 1.0, velocity: Vec2::ZERO }],
+        sources: vec![PointSource {
+            position: Vec2::new(40.0, -30.0),
+            power: 2.0,
+            sigma: 1.0,
+            velocity: Vec2::ZERO,
+            height: 0.5,
+        }],
         calm: vec![CalmArea { min: Vec2::new(-300.0, 100.0), max: Vec2::new(-100.0, 400.0) }],
         ..Default::default()
     };

@@ -58,7 +58,13 @@ fn the_gpus_corners_equal_the_cpus_and_are_not_the_analytic_fields() {
     let scene = Scene::generate(20_000, 4);
     let wind = Wind {
         global: Some(GlobalWind { direction_deg: 30.0, strength: 0.5, gusts: true }),
-        sources: vec![PointSource { position: Vec2::new(1.0, -1.0), power: 0.3, sigma: 2.0, velocity: Vec2::ZERO }],
+        sources: vec![PointSource {
+            position: Vec2::new(1.0, -1.0),
+            power: 0.3,
+            sigma: 2.0,
+            velocity: Vec2::ZERO,
+            height: 0.5,
+        }],
         calm: vec![CalmArea { min: Vec2::new(-3.0, -3.0), max: Vec2::new(-1.0, -1.0) }],
         ..Default::default()
     };
@@ -128,6 +134,9 @@ fn every_level_of_a_block_field_matches_the_cpu_at_the_origin_and_100_km_out() {
             time: 1.25f32 as f64,
             origin: Origin::under(&camera).world,
             cpu_corners: false,
+            camera: glam::DVec3::ZERO,
+            dt: 1.0 / 60.0,
+            relief: None,
         };
         let params = perlin::frame_params(&input);
         let per_level = levels[0].corner_count() as usize;

@@ -26,8 +26,20 @@ fn wind_around(at: Vec2) -> Wind {
     Wind {
         global: Some(GlobalWind { direction_deg: 35.0, strength: 0.6, gusts: true }),
         sources: vec![
-            PointSource { position: at + Vec2::new(1.3, -0.7), power: 0.3, sigma: 2.0, velocity: Vec2::ZERO },
-            PointSource { position: at + Vec2::new(-2.1, 1.9), power: 0.5, sigma: 1.5, velocity: Vec2::new(0.4, -0.2) },
+            PointSource {
+                position: at + Vec2::new(1.3, -0.7),
+                power: 0.3,
+                sigma: 2.0,
+                velocity: Vec2::ZERO,
+                height: 0.5,
+            },
+            PointSource {
+                position: at + Vec2::new(-2.1, 1.9),
+                power: 0.5,
+                sigma: 1.5,
+                velocity: Vec2::new(0.4, -0.2),
+                height: 0.5,
+            },
         ],
         calm: vec![CalmArea { min: at + Vec2::new(-3.0, -3.0), max: at + Vec2::new(-1.0, -0.5) }],
         colliders: vec![Collider { center: Vec3::new(at.x + 0.6, 0.2, at.y + 1.4), radii: Vec3::new(0.9, 0.3, 1.2) }],

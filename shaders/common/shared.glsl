@@ -99,6 +99,9 @@
 #define MAX_CALM_AREAS 64u // Calm areas the analytic wind field holds (its parameter block's capacity).
 #define PERLIN_TEXELS 128u // Texels per side of the Perlin wind's noise at its finest level (`render::wind::perlin`).
 #define WIND_GROUP 64u // Invocations per workgroup of the analytic wind field's corner pass.
+#define MAX_FLUID_SOURCES 8u // Point sources the fluid wind injects (its parameter block's capacity).
+#define MAX_FLUID_COLLIDERS 8u // Colliders the fluid wind holds as solid cells.
+#define FLUID_GROUP 64u // Invocations per workgroup of a fluid step (one cell each).
 #define WIND_LEVELS 8u // Nested levels of a block field's wind (each twice the spacing and extent of the one inside).
 #define WIND_LEVEL_CLUSTERS 64u // Clusters per side of one wind level (WIND_LEVEL_CLUSTERS + 1 corners).
 #define POSE_WORDS 3u // 32-bit words of one level of a `--eval blade` pose record.

@@ -15,29 +15,17 @@
 // The variant `perlin` (PERLIN_WIND) is Belyaev's Perlin field (`render::wind::perlin`,
 // wind/perlin.glsl): the noise's layers in place of the global wind and its gusts, the noise in
 // binding 4; sources and calm areas as here.
+// The variant `fluid` (FLUID_WIND) is the fluid wind (`render::wind::fluid`, wind/fluid.glsl): a
+// corner inside its grid takes the grid's wind at the sample height above the ground, tri-linearly
+// (Zhang Xia §3.2.2), blended into this analytic field over the grid's outer cells.
 // variant perlin: PERLIN_WIND
+// variant fluid: FLUID_WIND
 #include "common/shared.glsl"
 #include "wind/analytic.glsl"
 
 layout(local_size_x = WIND_GROUP) in;
 
-// `render::wind::params::Params`, one block bound twice: its values as a uniform block (one load
-// for every lane on llvmpipe, where a storage load is a loop over the lanes), its counts and
-// flags, which decide control flow, through a storage binding (the lavapipe profile's rule,
-// common/profile.glsl).
-#define WIND_PARAMS \
-    vec4 global;   /* direction x, z; mean speed (m/s); 0 without a global wind, 1 steady, 2 gusts */ \
-    vec4 phases;   /* the four waves' phases at O at the frame's time, in [0, 2π) */ \
-    vec4 waves01;  /* waves 0 and 1: wave vectors (x, z) in rad/m */ \
-    vec4 waves23;  /* waves 2 and 3 */ \
-    vec4 grid;     /* the first corner relative to O (x, z), the cluster edge, 0 */ \
-    uvec4 shape;   /* corners per side of a level, corners of every level, 1 with delayed attenuation, levels */ \
-    uvec4 counts;  /* sources, colliders (not read here: the blades take them), calm areas, 0 */ \
-    vec4 levels[WIND_LEVELS]; /* per level: first corner relative to O (x, z), spacing, 0 */ \
-    vec4 calm[MAX_CALM_AREAS]; /* min x, z, max x, z relative to O */ \
-    vec4 perlin[3];      /* the Perlin layers: offset at O (texels), c_i (texels/m), k_i · speed (m/s) */ \
-    vec4 perlin_dirs[3]; /* each layer's direction d_i (x, z) */ \
-    uvec4 perlin_mips[WIND_LEVELS]; /* per level, each layer's mip of the noise */
+#include "wind/params.glsl"
 layout(set = 0, binding = 0, std140) uniform WindValues { WIND_PARAMS } wind;
 layout(set = 0, binding = 3, std430) readonly buffer WindControl { WIND_PARAMS } control;
 // Point sources (x, z relative to O, power, sigma), then colliders (read by the blades).
@@ -48,6 +36,26 @@ layout(set = 0, binding = 2, std430) writeonly buffer Corners { vec4 corners[]; 
 // The Perlin field's noise and its mips, RG32F texels (`render::wind::perlin::Noise`).
 layout(set = 0, binding = 4) uniform samplerBuffer noise_texels;
 #include "wind/perlin.glsl"
+#endif
+#ifdef FLUID_WIND
+// The fluid's velocities after this frame's step (`render::wind::fluid::pass`), GENERAL layout.
+layout(set = 0, binding = 5, rgba32f) uniform readonly image3D Src;
+#include "wind/fluid.glsl"
+
+// The fluid's wind at corner `q` (relative to O) and its weight: 1 inside the grid, falling
+// linearly to 0 over its outer `fluid_corner.w` cells, 0 past it.
+vec4 fluid_wind_at(vec2 q) {
+    vec3 h = wind.fluid_cell.xyz;
+    vec2 n = vec2(wind.fluid_dims.xz);
+    vec2 g = (q - wind.fluid_corner.xy) / h.xz; // in cells from the window's first corner
+    vec2 edge = min(g, n - g);
+    float weight = clamp(min(edge.x, edge.y) / wind.fluid_corner.w, 0.0, 1.0);
+    if (weight <= 0.0) {
+        return vec4(0.0);
+    }
+    vec3 v = fluid_sample(vec3(g.x - 0.5, wind.fluid_corner.z / h.y - 0.5, g.y - 0.5));
+    return vec4(v, weight);
+}
 #endif
 
 float exposure_at(vec2 q) {
@@ -62,6 +70,9 @@ float exposure_at(vec2 q) {
 
 void main() {
     uint index = gl_GlobalInvocationID.x;
+#ifdef FLUID_WIND
+    fluid_load_control();
+#endif
     if (index >= control.shape.y) {
         return;
     }
@@ -89,9 +100,17 @@ void main() {
     }
     // Calm areas block the wind (thesis 5.1).
     vec2 f = v * exposure;
+    float up = 0.0;
+#ifdef FLUID_WIND
+    // The fluid damps its own calm areas.
+    vec4 fluid = fluid_wind_at(q);
+    f = mix(f, fluid.xz, fluid.w);
+    up = fluid.y * fluid.w;
+#endif
     // A non-finite wind (an overflowing eq. 4.1) would select an undefined pose: none.
-    if (any(isnan(f)) || any(isinf(f))) {
+    if (any(isnan(f)) || any(isinf(f)) || isnan(up) || isinf(up)) {
         f = vec2(0.0);
+        up = 0.0;
     }
-    corners[index] = vec4(f.x, 0.0, f.y, exposure);
+    corners[index] = vec4(f.x, up, f.y, exposure);
 }

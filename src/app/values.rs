@@ -208,17 +208,47 @@ pub fn wind(text: &str) -> Result<(f32, f32), String> {
     Ok((v[0], v[1]))
 }
 
-/// `X,Z,POWER,SIGMA[,VX,VZ]`: a point source (eq. 4.1), optionally moving at (VX, VZ) m/s.
+/// `X,Z,POWER,SIGMA[,VX,VZ][,HEIGHT]`: a point source (eq. 4.1), optionally moving at (VX, VZ)
+/// m/s, at HEIGHT metres above the ground (where the fluid wind injects it; 0.5 by default):
+/// five numbers give the height, six the motion, seven both.
 pub fn source(text: &str) -> Result<crate::wind::PointSource, String> {
-    let v = numbers(text, &[4, 6], "X,Z,POWER,SIGMA[,VX,VZ]")?;
+    let v = numbers(text, &[4, 5, 6, 7], "X,Z,POWER,SIGMA[,VX,VZ][,HEIGHT]")?;
     if !(0.0..=16.0).contains(&v[3]) {
         return Err(format!("source sigma {} is outside 0..=16 (σ of eq. 4.1; negative is meaningless)", v[3]));
     }
     if !(0.0..=1000.0).contains(&v[2]) {
         return Err(format!("source power {} is outside 0..=1000", v[2]));
     }
-    let velocity = if v.len() == 6 { Vec2::new(v[4], v[5]) } else { Vec2::ZERO };
-    Ok(crate::wind::PointSource { position: Vec2::new(v[0], v[1]), power: v[2], sigma: v[3], velocity })
+    let velocity = if v.len() >= 6 { Vec2::new(v[4], v[5]) } else { Vec2::ZERO };
+    let height = match v.len() {
+        5 => v[4],
+        7 => v[6],
+        _ => crate::wind::DEFAULT_SOURCE_HEIGHT,
+    };
+    if !(0.0..=1000.0).contains(&height) {
+        return Err(format!("source height {height} is outside 0..=1000 m above the ground"));
+    }
+    Ok(crate::wind::PointSource { position: Vec2::new(v[0], v[1]), power: v[2], sigma: v[3], velocity, height })
+}
+
+/// `NX,NY,NZ`: the fluid wind's cells per axis (at least `wind::MIN_FLUID_CELLS` each; the
+/// device's 3-D image limit and the memory budget are checked when the device is known).
+pub fn fluid_grid(text: &str) -> Result<[u32; 3], String> {
+    let v = numbers(text, &[3], "NX,NY,NZ")?;
+    let min = crate::wind::MIN_FLUID_CELLS as f32;
+    if let Some(n) = v.iter().find(|n| !(n.fract() == 0.0 && **n >= min && **n <= 65536.0)) {
+        return Err(format!("fluid grid '{}': {n} cells is not a whole number in {min}..=65536", quoted(text)));
+    }
+    Ok([v[0] as u32, v[1] as u32, v[2] as u32])
+}
+
+/// `DXZ,DY`: the fluid wind's cell width and height in metres, each above 0.
+pub fn fluid_cell(text: &str) -> Result<[f32; 2], String> {
+    let v = numbers(text, &[2], "DXZ,DY")?;
+    if let Some(c) = v.iter().find(|c| !(c.is_finite() && **c > 0.0 && **c <= 1000.0)) {
+        return Err(format!("fluid cell '{}': {c} m is not a length in (0, 1000]", quoted(text)));
+    }
+    Ok([v[0], v[1]])
 }
 
 /// `X0,Z0,X1,Z1` with X0 < X1 and Z0 < Z1.

@@ -105,6 +105,9 @@ pub(crate) enum WindFieldArg {
     /// Belyaev's wind (§3.2): three scrolling layers of a noise texture in place of the global
     /// wind and its gusts; sources and calm areas as analytic.
     Perlin,
+    /// Zhang Xia's stable fluid (§2): a 3-D velocity grid around the camera, stepped on the GPU,
+    /// the analytic field past it.
+    Fluid,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -155,8 +158,15 @@ pub(crate) struct AnimationArgs {
     /// The wind field that carries the wind to the blades.
     #[arg(long, value_enum, default_value = "analytic")]
     pub(crate) wind_field: WindFieldArg,
-    /// Point wind source (eq. 4.1), optionally moving; repeatable.
-    #[arg(long, value_name = "X,Z,POWER,SIGMA[,VX,VZ]", value_parser = values::source, allow_hyphen_values = true)]
+    /// The fluid wind's cells per axis (x, y up, z).
+    #[arg(long, value_name = "NX,NY,NZ", default_value = "32,16,32", value_parser = values::fluid_grid)]
+    pub(crate) fluid_grid: [u32; 3],
+    /// The fluid wind's cell width (x and z) and height, in metres.
+    #[arg(long, value_name = "DXZ,DY", default_value = "1,0.5", value_parser = values::fluid_cell, allow_hyphen_values = true)]
+    pub(crate) fluid_cell: [f32; 2],
+    /// Point wind source (eq. 4.1), optionally moving, at a height above the ground (where the
+    /// fluid wind injects it; 0.5 m by default); repeatable.
+    #[arg(long, value_name = "X,Z,POWER,SIGMA[,VX,VZ][,HEIGHT]", value_parser = values::source, allow_hyphen_values = true)]
     pub(crate) source: Vec<crate::wind::PointSource>,
     /// Calm area where the wind is blocked (thesis 5.1); repeatable.
     #[arg(long, value_name = "X0,Z0,X1,Z1", value_parser = values::calm, allow_hyphen_values = true)]
@@ -220,6 +230,7 @@ impl AnimationArgs {
                 colliders: self.collider.clone(),
             },
             wind_field: self.wind_field.kind(),
+            fluid: crate::wind::FluidGrid { dims: self.fluid_grid, cell: self.fluid_cell },
             clock: crate::render::animation::clock::StepClock { dt: self.dt },
             verlet: crate::render::animation::verlet::VerletParams { stiffness: self.stiffness, damping: self.damping },
             chain: crate::render::animation::chain::ChainParams { stiffness: self.stiffness, damping: self.damping },
@@ -233,6 +244,7 @@ impl WindFieldArg {
         match self {
             WindFieldArg::Analytic => crate::render::wind::FieldKind::Analytic,
             WindFieldArg::Perlin => crate::render::wind::FieldKind::Perlin,
+            WindFieldArg::Fluid => crate::render::wind::FieldKind::Fluid,
         }
     }
 }

@@ -149,7 +149,7 @@ fn print_render(report: &RenderReport) {
     let (time, clock) = report.clock;
     let warm_up = match report.warm_up {
         (steps, true) => format!("{steps} warm-up steps from t = 0"),
-        (_, false) => "0 warm-up steps (the model is stateless)".to_owned(),
+        (_, false) => "0 warm-up steps (the model and the wind field are stateless)".to_owned(),
     };
     println!("time: step {} of {:.3} ms at --time {time} s; {warm_up}", clock.steps_to(time.into()), clock.dt * 1e3);
     let passes: Vec<String> = last.passes.iter().map(|p| format!("{} {:.3} ms", p.name, p.ms)).collect();

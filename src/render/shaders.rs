@@ -37,6 +37,18 @@ pub const VIRTUAL_INERTIAL_COMP: Shader = spirv_shader!("animation/virtual_inert
 pub const ANALYTIC_CORNERS_COMP: Shader = spirv_shader!("wind/analytic_corners.comp");
 /// Its variant `perlin`: Belyaev's Perlin field (`render::wind::perlin`).
 pub const PERLIN_CORNERS_COMP: Shader = spirv_shader!("wind/analytic_corners.comp.perlin");
+/// Its variant `fluid`: the fluid wind's grid blended into the analytic field (`render::wind::fluid`).
+pub const FLUID_CORNERS_COMP: Shader = spirv_shader!("wind/analytic_corners.comp.fluid");
+/// One stage of the fluid wind's step, a variant each (`render::wind::fluid::pass`).
+pub const FLUID_STAGES_COMP: [Shader; 7] = [
+    spirv_shader!("wind/fluid.comp.enter"),
+    spirv_shader!("wind/fluid.comp.forces"),
+    spirv_shader!("wind/fluid.comp.diffuse"),
+    spirv_shader!("wind/fluid.comp.advect"),
+    spirv_shader!("wind/fluid.comp.divergence"),
+    spirv_shader!("wind/fluid.comp.pressure"),
+    spirv_shader!("wind/fluid.comp.project"),
+];
 /// Terrain vertex shader (height-field pulling).
 pub const TERRAIN_VERT: Shader = spirv_shader!("terrain/terrain.vert");
 /// Terrain fragment shader.

@@ -179,7 +179,8 @@ impl Viewer {
                 use crate::render::wind::FieldKind;
                 animation.wind_field = match animation.wind_field {
                     FieldKind::Analytic => FieldKind::Perlin,
-                    FieldKind::Perlin => FieldKind::Analytic,
+                    FieldKind::Perlin => FieldKind::Fluid,
+                    FieldKind::Fluid => FieldKind::Analytic,
                 }
             }
             "r" => settings.msaa = next_msaa(settings.msaa, &crate::render::msaa::supported_counts(&self.device)),
@@ -298,7 +299,13 @@ impl Viewer {
             if emitters_full(wind) {
                 return;
             }
-            wind.sources.push(PointSource { position: hit, power: 0.12, sigma: 2.0, velocity: Vec2::ZERO });
+            wind.sources.push(PointSource {
+                position: hit,
+                power: 0.12,
+                sigma: 2.0,
+                velocity: Vec2::ZERO,
+                height: 0.5,
+            });
             self.dragging = true;
             println!("wind source at {:.1}, {:.1}", hit.x, hit.y);
         }

@@ -147,6 +147,8 @@ pub struct AnimationSettings {
     pub wind: Wind,
     /// The wind field that carries them to the blades (`--wind-field`).
     pub wind_field: crate::wind::FieldKind,
+    /// The fluid wind's grid (`--fluid-grid`, `--fluid-cell`), when `wind_field` is the fluid.
+    pub fluid: crate::wind::FluidGrid,
     /// The simulation's fixed time step (`--dt`).
     pub clock: clock::StepClock,
     /// The Verlet blades' constants (`--stiffness`, `--damping`).
@@ -169,6 +171,7 @@ impl Default for AnimationSettings {
             cluster_size: 1.0,
             wind: Wind::default(),
             wind_field: crate::wind::FieldKind::Analytic,
+            fluid: crate::wind::FluidGrid::default(),
             clock: clock::StepClock::default(),
             verlet: verlet::VerletParams::default(),
             chain: chain::ChainParams::default(),

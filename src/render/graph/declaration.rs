@@ -118,6 +118,16 @@ impl Declaration {
         self
     }
 
+    /// Start a step that is not measured apart from its pass (one iteration of a solver's many):
+    /// as `step`, without its timestamps. First, it is the first step.
+    pub fn then(mut self) -> Self {
+        match self.steps.as_mut_slice() {
+            [only] if only.name.is_none() && only.uses.is_empty() => {}
+            _ => self.steps.push(Step { name: None, uses: SmallVec::new() }),
+        }
+        self
+    }
+
     /// The current step uses `resource` as `access`.
     pub fn uses(self, resource: Resource, access: Access) -> Self {
         self.uses_of(Use::Resource(resource), access)

@@ -5,6 +5,9 @@ use super::Renderer;
 use crate::error::Result;
 use crate::vk::{commands, sync, Access, Buffer, BufferDesc};
 
+/// A wind field's grid read back: its texels in image order, its extent, its toroidal base.
+pub type WindState = (Vec<[f32; 4]>, ash::vk::Extent3D, glam::UVec3);
+
 impl Renderer {
     /// A block field's relief grid as the relief-grid pass last filled it
     /// (`shaders/terrain/relief_grid.comp`): its texels in slot order (a camera grid,
@@ -27,6 +30,35 @@ impl Renderer {
         let corners = &self.forces[slot].corners;
         let size = 16 * u64::from(self.scene_gpu().wind_corner_count());
         self.read_buffer("wind corners", corners.raw, size)
+    }
+
+    /// A stateful wind field's grid as its passes last left it (`WindField::state`; the fluid's
+    /// velocities): each texel's (x, y, z, 0) in image order, the window's toroidal base; `None`
+    /// for a field with none. Call it between frames, as `read_relief_grid`.
+    pub fn read_wind_state(&self) -> Result<Option<WindState>> {
+        let Some((image, extent, base)) = self.wind.state() else { return Ok(None) };
+        let size = 16 * u64::from(extent.width * extent.height * extent.depth);
+        let usage = ash::vk::BufferUsageFlags::TRANSFER_DST;
+        let out = Buffer::new(&self.device, &BufferDesc::readback("wind state read-back", size, usage))?;
+        let range = crate::vk::image::COLOR_RANGE;
+        let copied = commands::submit_and_wait(&self.device, "wind state read-back", |cmd| {
+            let general = [Access::ComputeShaderWrite];
+            let before = sync::image_barrier(image, range, &general, &[Access::TransferRead]);
+            sync::cmd_barriers(&self.device, cmd, &[], &[before]);
+            crate::vk::image::record_copy_to_buffer(&self.device, cmd, image, extent, out.raw);
+            // Back to GENERAL, as the graph's tracker holds it.
+            let back = sync::image_barrier(image, range, &[Access::TransferRead], &general);
+            let host = sync::buffer_barrier(out.raw, &[Access::TransferWrite], &[Access::HostRead]);
+            sync::cmd_barriers(&self.device, cmd, &[host], &[back]);
+            Ok(())
+        });
+        let texels = out.mapped()[..size as usize]
+            .chunks_exact(16)
+            .map(|v| std::array::from_fn(|i| f32::from_le_bytes(v[4 * i..4 * i + 4].try_into().expect("4 bytes"))))
+            .collect();
+        // SAFETY: submit_and_wait waited for the copy (or never submitted it).
+        unsafe { out.destroy(&self.device) };
+        copied.map(|()| Some((texels, extent, base)))
     }
 
     /// The pose records as the response's pose pass last wrote them (`POSE_WORDS` words per

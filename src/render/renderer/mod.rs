@@ -102,7 +102,8 @@ impl Renderer {
         settings: RenderSettings,
         animation: AnimationSettings,
     ) -> Result<Self> {
-        let models = Models { wind: crate::render::wind::build(animation.wind_field), ..Models::default() };
+        let wind = crate::render::wind::build(animation.wind_field, &animation.fluid)?;
+        let models = Models { wind, ..Models::default() };
         let mut renderer = Self::with_models(device, scene, settings, animation, models)?;
         renderer.library_wind = Some(renderer.animation.wind_field);
         Ok(renderer)
@@ -207,6 +208,10 @@ impl Renderer {
             && settings.culling.enabled == self.settings.culling.enabled;
         let blades = self.scene_gpu().blade_count;
         check_pose_records(&device, &animation, (blades, settings.segments), settings.culling.enabled, settings.floor)?;
+        let new_wind = match self.library_wind.is_some_and(|k| k != animation.wind_field) {
+            true => Some(crate::render::wind::build(animation.wind_field, &animation.fluid)?),
+            false => None,
+        };
         let built = match keep_response {
             true => None,
             false => Some(self.build_response(&settings, &animation)?),
@@ -235,9 +240,7 @@ impl Renderer {
         // The library's field follows the animation's `wind_field` (its passes go with the old
         // graph; the field itself holds no GPU object).
         let kind = self.animation.wind_field;
-        let old_wind = (self.library_wind.is_some_and(|k| k != kind)).then(|| {
-            (std::mem::replace(&mut self.wind, crate::render::wind::build(kind)), self.library_wind.replace(kind))
-        });
+        let old_wind = new_wind.map(|wind| (std::mem::replace(&mut self.wind, wind), self.library_wind.replace(kind)));
         let built = self.build_graph(scene, polygon);
         // Pre-recorded command buffers name the old pipelines: record again.
         self.ring.forget_replays();
@@ -321,12 +324,6 @@ impl Renderer {
     /// The frozen culling camera, if any.
     pub fn cull_camera(&self) -> Option<Camera> {
         self.cull_camera
-    }
-
-    /// Whether the blade response keeps state from step to step: reaching a time then takes
-    /// every step from t = 0 (`app::warm_up`).
-    pub fn stateful(&self) -> bool {
-        self.response.as_deref().is_some_and(|r| r.stateful())
     }
 
     /// The animation the renderer was built with.

@@ -62,6 +62,9 @@ impl Renderer {
             for pass in self.wind.passes(device, &setup)? {
                 self.graph.add_boxed(pass);
             }
+            for (resource, accesses) in self.wind.tracked() {
+                self.graph.import(resource, &accesses);
+            }
         }
         if settings.floor {
             let sky = self.sky();

@@ -22,6 +22,9 @@ impl Renderer {
             time: f64::from(time),
             origin,
             cpu_corners: !self.settings.culling.enabled,
+            camera: camera.position.as_dvec3(),
+            dt: self.time_step,
+            relief: scene.field.as_ref().map(|f| &f.relief),
         };
         self.wind.update(&mut self.forces[slot], &input);
     }
@@ -31,6 +34,12 @@ impl Renderer {
     pub(super) fn origin_of(&self, camera: &Camera) -> glam::DVec2 {
         let scene = self.scene.as_ref().expect("uploaded");
         scene.field.as_ref().map_or(glam::DVec2::ZERO, |_| Origin::under(camera).world)
+    }
+
+    /// Whether the blade response or the wind field (when its passes run) keeps state from step
+    /// to step: reaching a time then takes every step from t = 0 (`app::warm_up`).
+    pub fn stateful(&self) -> bool {
+        self.response.as_deref().is_some_and(|r| r.stateful()) || (self.wind.stateful() && self.wind_passes_run())
     }
 
     /// Whether the wind field's passes run: with the cull, when something samples the wind (a

@@ -15,7 +15,7 @@ use std::rc::Rc;
 use bytemuck::Zeroable;
 use glam::{DVec2, Vec4};
 
-use super::corners_pass::AnalyticCornersPass;
+use super::corners_pass::{AnalyticCornersPass, CornerVariant};
 pub use super::params::{Params, MAX_CALM_AREAS};
 use super::{WindField, WindInput, WindSetup};
 use crate::error::Result;
@@ -85,7 +85,7 @@ impl WindField for AnalyticWind {
     }
 
     fn passes(&self, device: &Device, setup: &WindSetup) -> Result<Vec<Box<dyn Pass>>> {
-        Ok(vec![Box::new(AnalyticCornersPass::new(device, setup, self.params.clone(), None)?)])
+        Ok(vec![Box::new(AnalyticCornersPass::new(device, setup, self.params.clone(), CornerVariant::Analytic)?)])
     }
 }
 
@@ -113,6 +113,9 @@ mod tests {
             time: 2.0,
             origin,
             cpu_corners: false,
+            camera: glam::DVec3::ZERO,
+            dt: 1.0 / 60.0,
+            relief: None,
         };
         let params = Params::new(&input);
         assert_eq!(params.calm[0], [0.0, 4.0, 2.0, 6.0]);

@@ -38,6 +38,16 @@ fn upload_noise(device: &Device, texels: &[[f32; 2]]) -> Result<(Buffer, TexelVi
     Ok((buffer.take(), view))
 }
 
+/// Which corner shader a field's pass builds.
+pub enum CornerVariant<'a> {
+    /// The analytic field's.
+    Analytic,
+    /// The Perlin field's, over its noise's texels (`perlin::Noise`).
+    Perlin(&'a [[f32; 2]]),
+    /// The fluid field's (`FLUID_WIND`), over the view of its velocity grid (GENERAL layout).
+    Fluid(vk::ImageView),
+}
+
 /// The corners' pipeline, its set per frame in flight and its parameter blocks.
 pub struct AnalyticCornersPass {
     pipeline: vk::Pipeline,
@@ -52,21 +62,29 @@ pub struct AnalyticCornersPass {
 }
 
 impl AnalyticCornersPass {
-    /// Build the pipeline and a set per frame in flight over `setup`'s buffers.
-    /// With `noise` (the Perlin field's texels, `perlin::Noise`), its variant over them.
+    /// Build the pipeline of `variant` and a set per frame in flight over `setup`'s buffers.
     pub fn new(
         device: &Device,
         setup: &WindSetup,
         params: Rc<RefCell<Params>>,
-        noise: Option<&[[f32; 2]]>,
+        variant: CornerVariant,
     ) -> Result<Self> {
+        let noise = match variant {
+            CornerVariant::Perlin(noise) => Some(noise),
+            _ => None,
+        };
+        let fluid = match variant {
+            CornerVariant::Fluid(view) => Some(view),
+            _ => None,
+        };
         let frames = setup.frames.len();
         let size = std::mem::size_of::<Params>() as u64;
         let uniforms = Guard::new(device, PassUniforms::new(device, "wind field", size, frames)?);
         let uploaded = Guard::new(device, noise.map(|n| upload_noise(device, n)).transpose()?);
-        let code = match uploaded.is_some() {
-            true => shaders::PERLIN_CORNERS_COMP.code(device.profile),
-            false => shaders::ANALYTIC_CORNERS_COMP.code(device.profile),
+        let code = match (uploaded.is_some(), fluid.is_some()) {
+            (true, _) => shaders::PERLIN_CORNERS_COMP.code(device.profile),
+            (false, true) => shaders::FLUID_CORNERS_COMP.code(device.profile),
+            (false, false) => shaders::ANALYTIC_CORNERS_COMP.code(device.profile),
         };
         let shaders = [("analytic_corners.comp", code)];
         let desc = PassSetDesc { name: "wind field", shaders: &shaders, before: &[], push: &[], frames };
@@ -79,6 +97,7 @@ impl AnalyticCornersPass {
                 ("Corners", Resource::Buffer(corners)),
             ];
             resources.extend(uploaded.as_ref().map(|(_, view)| ("noise_texels", Resource::Texels(view.raw))));
+            resources.extend(fluid.map(|view| ("Src", storage_image(view))));
             resources
         })?;
         let set = Guard::new(device, set);
@@ -92,6 +111,27 @@ impl AnalyticCornersPass {
             groups: setup.corners.div_ceil(gpu::WIND_GROUP),
             params,
         })
+    }
+}
+
+/// A storage image's descriptor (GENERAL layout, no sampler).
+pub fn storage_image(view: vk::ImageView) -> Resource {
+    Resource::Image(vk::DescriptorImageInfo {
+        sampler: vk::Sampler::null(),
+        image_view: view,
+        image_layout: vk::ImageLayout::GENERAL,
+    })
+}
+
+impl AnalyticCornersPass {
+    /// This frame's corner buffer (written by the dispatch).
+    pub fn corners(&self, slot: usize) -> vk::Buffer {
+        self.corners[slot]
+    }
+
+    /// The parameter block of frame in flight `slot`, for the passes that share it.
+    pub fn params_resource(&self, slot: usize) -> Resource {
+        self.uniforms.resource(slot)
     }
 }
 

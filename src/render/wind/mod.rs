@@ -17,11 +17,13 @@
 
 pub mod analytic;
 mod corners_pass;
+pub mod fluid;
 mod frame_forces;
 pub mod params;
 pub mod perlin;
 
 pub use analytic::AnalyticWind;
+pub use fluid::FluidWind;
 pub use frame_forces::FrameForces;
 pub use perlin::PerlinWind;
 
@@ -36,12 +38,13 @@ use crate::vk::Device;
 pub use crate::wind::FieldKind;
 use crate::wind::{Attenuation, Wind};
 
-/// The library's field of `kind`, built.
-pub fn build(kind: FieldKind) -> Box<dyn WindField> {
-    match kind {
+/// The library's field of `kind`, built (`fluid`: the fluid's grid, checked here).
+pub fn build(kind: FieldKind, fluid: &crate::wind::FluidGrid) -> Result<Box<dyn WindField>> {
+    Ok(match kind {
         FieldKind::Analytic => Box::new(AnalyticWind::new()),
         FieldKind::Perlin => Box::new(PerlinWind::default()),
-    }
+        FieldKind::Fluid => Box::new(FluidWind::new(*fluid)?),
+    })
 }
 
 /// What a wind field's per-frame update reads.
@@ -63,6 +66,13 @@ pub struct WindInput<'a> {
     /// The thesis' path (`--brute-force`): the CPU writes the corners; otherwise the field's
     /// passes do.
     pub cpu_corners: bool,
+    /// The camera's world position (m): where a field's camera grid centres.
+    pub camera: glam::DVec3,
+    /// The simulation's fixed step (s): a stateful field steps by it once a frame.
+    pub dt: f32,
+    /// A block field's relief, the ground a field's heights are measured from (`None`: a stored
+    /// field, measured from y = 0).
+    pub relief: Option<&'a crate::scene::field::Relief>,
 }
 
 /// What a wind field's passes are built with: the frames' buffers they write and read.
@@ -87,4 +97,22 @@ pub trait WindField {
     /// The compute passes that produce the field this frame, before every reader (none on the
     /// thesis' CPU path).
     fn passes(&self, device: &Device, setup: &WindSetup) -> Result<Vec<Box<dyn Pass>>>;
+
+    /// The resources the passes `passes` built last use that the graph must know, with the
+    /// access they were left in (the fluid's images, new and untouched).
+    fn tracked(&self) -> Vec<(crate::vk::Resource, Vec<crate::vk::Access>)> {
+        Vec::new()
+    }
+
+    /// Whether the field keeps state from step to step (the fluid's grid): the headless commands
+    /// then step it from t = 0 to the frame asked for (`app::warm_up`).
+    fn stateful(&self) -> bool {
+        false
+    }
+
+    /// A stateful field's grid as its passes leave it each frame (an RGBA32F 3-D image in
+    /// GENERAL, its extent and the toroidal base of its window), for a read-back.
+    fn state(&self) -> Option<(vk::Image, vk::Extent3D, glam::UVec3)> {
+        None
+    }
 }

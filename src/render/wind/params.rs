@@ -43,6 +43,24 @@ pub struct Params {
     pub perlin_dirs: [[f32; 4]; 3],
     /// Per wind level, each layer's mip level of the noise, 0.
     pub perlin_mips: [[u32; 4]; WIND_LEVELS],
+    /// The fluid grid (`fluid::fill_params`; zero for the other fields): cells per axis, the
+    /// inflow faces (bits x-, x+, z-, z+).
+    pub fluid_dims: [u32; 4],
+    /// The window's toroidal base (x, y, z), the pressure iterations.
+    pub fluid_base: [u32; 4],
+    /// Sources, colliders, 0, 0.
+    pub fluid_counts: [u32; 4],
+    /// A cell's edges (x, y, z) in m, the step dt in s.
+    pub fluid_cell: [f32; 4],
+    /// The window's first corner relative to O (x, z), the blades' sample height (m), the blend
+    /// band (cells).
+    pub fluid_corner: [f32; 4],
+    /// The diffusion's ν dt / h² per axis, the pressure's Jacobi weight.
+    pub fluid_coef: [f32; 4],
+    /// Sources: x, z relative to O, height above the ground (m), the jet's speed (m/s).
+    pub fluid_sources: [[f32; 4]; gpu::MAX_FLUID_SOURCES as usize],
+    /// Per collider: its centre (x, height above the ground, z relative to O), its radii.
+    pub fluid_colliders: [[f32; 4]; 2 * gpu::MAX_FLUID_COLLIDERS as usize],
 }
 
 impl Params {

@@ -30,7 +30,7 @@ use bytemuck::Zeroable;
 use glam::{DVec2, Vec2, Vec4};
 
 use super::analytic::emitters_relative;
-use super::corners_pass::AnalyticCornersPass;
+use super::corners_pass::{AnalyticCornersPass, CornerVariant};
 use super::params::Params;
 use super::{WindField, WindInput, WindSetup};
 use crate::error::Result;
@@ -276,7 +276,7 @@ impl WindField for PerlinWind {
     }
 
     fn passes(&self, device: &Device, setup: &WindSetup) -> Result<Vec<Box<dyn Pass>>> {
-        let noise = Some(self.noise.texels.as_slice());
+        let noise = CornerVariant::Perlin(self.noise.texels.as_slice());
         Ok(vec![Box::new(AnalyticCornersPass::new(device, setup, self.params.clone(), noise)?)])
     }
 }

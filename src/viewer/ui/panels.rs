@@ -255,8 +255,9 @@ pub fn animation(ui: &mut Ui, view: &UiView, out: &mut PanelOutput) {
     if moved {
         out.act(UiAction::Wind { direction_deg: direction, strength });
     }
-    let field = usize::from(a.wind_field == crate::render::wind::FieldKind::Perlin);
-    cycle(ui, out, "f2", &["analytic wind", "perlin wind"], field);
+    use crate::render::wind::FieldKind;
+    let field = [FieldKind::Analytic, FieldKind::Perlin, FieldKind::Fluid].iter().position(|k| *k == a.wind_field);
+    cycle(ui, out, "f2", &["analytic wind", "perlin wind", "fluid wind"], field.unwrap_or(0));
     let mut gusts = global.is_some_and(|g| g.gusts);
     if out.widget("gusts", ui.checkbox(&mut gusts, "gusts")).changed() {
         out.act(UiAction::Gusts(gusts));
