@@ -1072,7 +1072,7 @@ fn view_and_timing_refuse_what_render_refuses(verdicts: &[(usize, usize, &str, V
         let config = &RENDER_CONFIGS[c];
         let (_, alts) = RENDER_CASES.iter().find(|(i, _)| *i == id).expect("a case");
         let scene_args: Vec<&str> = config.args.iter().copied().filter(|a| !["--out", "out.png"].contains(a)).collect();
-        let args = merged(&scene_args, &[alts[0].args]);
+        let args = merged(&scene_args, &[alts[0].context, alts[0].args]);
         let output = meadow().arg(other).args(&args).env_remove("DISPLAY").output().expect("run");
         let got = String::from_utf8_lossy(&output.stderr).trim().to_string();
         (!(refused(&output) && got == line)).then(|| format!("{other} {}: {got} (render: {line})", args.join(" ")))

@@ -285,3 +285,21 @@ fn the_corners_are_continuous_across_the_edge_and_lean_downwind() {
         "a step of {largest_step} m/s at the edge (fields differ by {difference})"
     );
 }
+
+#[test]
+fn a_steady_wind_with_nothing_in_it_stays_as_it_entered() {
+    // Uniform flow is a solution of the scheme with these boundaries: inflow, outflow, ground
+    // and top leave it as it is, step after step.
+    let grid = FluidGrid { dims: [12, 6, 10], cell: [1.0, 0.5] };
+    let wind =
+        Wind { global: Some(GlobalWind { direction_deg: 30.0, strength: 0.5, gusts: false }), ..Default::default() };
+    let params = cpu_params(&grid, &wind, 0.0);
+    let mut state = FluidState::entered(&params);
+    let entered = state.velocity[0];
+    assert!((entered.length() - 4.0).abs() < 1e-5, "4 m/s entered: {entered}");
+    for _ in 0..60 {
+        state.step(&params);
+    }
+    let worst = state.velocity.iter().map(|v| (*v - entered).abs().max_element()).fold(0.0, f32::max);
+    assert!(worst < 1e-4, "a steady wind drifted by {worst} m/s in 60 steps");
+}
