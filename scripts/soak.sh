@@ -1,14 +1,18 @@
 #!/usr/bin/env bash
 # The viewer's soak (`make soak`): FRAMES frames (default 10000) under Xvfb at a small size, the
-# swapchain re-created every 50 frames (--inject-out-of-date), resident memory and meadow's count
+# swapchain re-created every 47 frames (--inject-out-of-date), resident memory and meadow's count
 # of live Vulkan objects (`vk::live`) sampled every tenth of the run. Without validation it fails
 # on RSS growth above 4 MiB or any growth of live objects between the second sample (after
 # warm-up) and the last; then it reports the same figures with validation on (the layer keeps
 # memory of its own). Extra arguments go to `meadow view` (e.g. --brute-force).
 set -euo pipefail
 frames=${FRAMES:-10000}
-# A multiple of the 50-frame re-creation period: samples fall at the same point of its cycle (a
-# retired swapchain still queued holds objects for a few frames after each re-creation).
+# Samples every tenth of the run, rounded to 50 frames. A retired swapchain stays queued for a few
+# completed frames after each re-creation, and how many frames have completed by then depends on
+# the GPU's pace, so a sample must not fall just after one: with re-creations every 47 frames, the
+# second and the last sample of a 1 000- or 10 000-frame run fall 12 to 36 frames after the last
+# re-creation (with a period of 50 they fell on it, and a slow frame, the fluid wind's, counted
+# one object more or less).
 every=$(( (frames / 10 + 49) / 50 * 50 ))
 meadow=${MEADOW:-target/release/meadow}
 # The soaks run on the lavapipe profile (`vk::profile`), whatever the environment says: its rule
@@ -16,7 +20,7 @@ meadow=${MEADOW:-target/release/meadow}
 export MEADOW_PROFILE=lavapipe
 run() {
     xvfb-run -a -s "-screen 0 640x480x24" "$meadow" view --blades 2000 --size 96x64 --frames "$frames" \
-        --inject-out-of-date 50 --sample-every "$every" "$@" | grep '^sample:'
+        --inject-out-of-date 47 --sample-every "$every" "$@" | grep '^sample:'
 }
 # sample: frame F rss_kib R live_vulkan_objects L  ->  "F R L"
 fields() { awk '{print $3, $5, $7}'; }
