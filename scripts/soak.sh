@@ -36,7 +36,13 @@ check() {
     echo "soak ($label): frames $f0 -> $f1: RSS $r0 -> $r1 KiB ($((r1 - r0)) KiB), live Vulkan objects $l0 -> $l1"
     [[ $label == validation ]] && return 0  # the layer keeps memory of its own: reported only
     if (( r1 - r0 > 4096 )); then echo "soak: RSS grew by $((r1 - r0)) KiB (> 4096)"; return 1; fi
-    if (( l1 != l0 )); then echo "soak: live Vulkan objects grew from $l0 to $l1"; return 1; fi
+    if (( l1 != l0 )); then
+        echo "soak: live Vulkan objects grew from $l0 to $l1"
+        # By type (the viewer's `by_type` field), to name what changed.
+        echo "soak: frame $f0: $(sed -n 2p <<<"$samples" | awk '{print $9}')"
+        echo "soak: frame $f1: $(tail -n 1 <<<"$samples" | awk '{print $9}')"
+        return 1
+    fi
 }
 status=0
 # `run` failing (the viewer's exit status, through pipefail) fails the soak.

@@ -78,15 +78,18 @@ impl Stats {
 }
 
 /// The soak's sample after `frame` frames: the process's resident memory (`VmRSS` of
-/// `/proc/self/status`, 0 where there is none) and the Vulkan objects alive (`vk::live`).
+/// `/proc/self/status`, 0 where there is none), the Vulkan objects alive (`vk::live`), in all and
+/// by type, and the allocations made so far.
 pub(super) fn sample(frame: u64) -> String {
     let rss_kib = std::fs::read_to_string("/proc/self/status")
         .ok()
         .and_then(|s| s.lines().find_map(|l| l.strip_prefix("VmRSS:")?.trim().strip_suffix("kB")?.trim().parse().ok()))
         .unwrap_or(0u64);
     let allocations = crate::vk::fault::calls(crate::vk::fault::Fault::Allocation);
+    let by_type: Vec<String> = crate::vk::live::by_type().iter().map(|(t, n)| format!("{t}={n}")).collect();
     format!(
-        "sample: frame {frame} rss_kib {rss_kib} live_vulkan_objects {} allocations {allocations}",
-        crate::vk::live::total()
+        "sample: frame {frame} rss_kib {rss_kib} live_vulkan_objects {} by_type {} allocations {allocations}",
+        crate::vk::live::total(),
+        by_type.join(",")
     )
 }

@@ -119,7 +119,7 @@ pub fn geometry(
 }
 
 impl SlotFrame {
-    /// A frame with no buffers yet, its vertices bound through `set`.
+    /// A frame with no buffers yet, its vertices bound through `set` (`allocate` makes them).
     pub fn new(set: vk::DescriptorSet) -> Self {
         Self {
             set,
@@ -131,6 +131,25 @@ impl SlotFrame {
             draws: Vec::new(),
             copies: Vec::new(),
         }
+    }
+
+    /// Make the frame's buffers at their smallest size (`MIN_BUFFER_BYTES`), each stored as it
+    /// is made (on an error, `take_buffers` returns what was). Made up front, not at the first
+    /// frame that needs them: which frames upload texels depends on the text the overlay shows
+    /// (new glyphs), so buffers made on demand would make the count of live objects (`vk::live`,
+    /// the soak's measure) depend on the run's pace.
+    pub fn allocate(&mut self, device: &Device, slot: usize) -> Result<()> {
+        let mut retired = Vec::new();
+        let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
+        grow(device, &mut self.vertices, &format!("overlay vertices #{slot}"), 0, storage, &mut retired)?;
+        let info = self.vertices.as_ref().expect("grown").descriptor();
+        descriptor::write(device, self.set, &[(0, vk::DescriptorType::STORAGE_BUFFER, Descriptor::Buffer(info))]);
+        let usage = vk::BufferUsageFlags::INDEX_BUFFER;
+        grow(device, &mut self.indices, &format!("overlay indices #{slot}"), 0, usage, &mut retired)?;
+        let usage = vk::BufferUsageFlags::TRANSFER_SRC;
+        grow(device, &mut self.staging, &format!("overlay staging #{slot}"), 0, usage, &mut retired)?;
+        debug_assert!(retired.is_empty(), "nothing was there to replace");
+        Ok(())
     }
 
     /// Nothing to draw or copy.

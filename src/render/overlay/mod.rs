@@ -103,6 +103,9 @@ impl OverlayGpu {
         )?;
         self.vertex_pool = pool;
         self.slots = sets.into_iter().map(SlotFrame::new).collect();
+        for (slot, frame) in self.slots.iter_mut().enumerate() {
+            frame.allocate(device, slot)?;
+        }
         self.pipeline = pipeline::graphics(
             device,
             &pipeline::GraphicsDesc {
