@@ -125,6 +125,8 @@ pub struct RenderOptions {
     pub debug_force: bool,
     /// Draw the force clusters' edges over the picture.
     pub debug_bounds: bool,
+    /// Draw the wind field as arrows on a slice above the ground.
+    pub debug_wind: bool,
     /// Colour blades by LOD bucket.
     pub debug_lod: bool,
     /// Colour blades by tile.
@@ -202,6 +204,7 @@ impl RenderOptions {
             blades_per_instance: self.blades_per_instance,
             debug_force: self.debug_force,
             debug_bounds: self.debug_bounds,
+            debug_wind: self.debug_wind,
             debug_lod: self.debug_lod,
             debug_tiles: self.debug_tiles,
             debug_fresnel: self.debug_fresnel,

@@ -105,7 +105,10 @@ const RENDER_CASES: &[Case] = &[
     ("blade_distance", &[alt(&["--blade-distance", "1"])]),
     ("budget_ms", &[alt(&["--budget-ms", "5"])]),
     ("lod_scale", &[alt(&["--lod-scale", "0.2"])]),
-    ("debug_view", &[alt(&["--debug-view", "force"]), alt(&["--debug-view", "bounds"])]),
+    (
+        "debug_view",
+        &[alt(&["--debug-view", "force"]), alt(&["--debug-view", "bounds"]), alt(&["--debug-view", "wind"])],
+    ),
     ("msaa", &[alt(&["--msaa", "4"])]),
     ("no_alpha_to_coverage", &[alt(&["--no-alpha-to-coverage"])]),
     ("out", &[alt(&["--out", "other.png"])]),

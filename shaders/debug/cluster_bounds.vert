@@ -6,6 +6,7 @@
 // by the force at its corner this frame, from yellow (none) to red (the strongest poses).
 #include "common/bindings.glsl"
 #include "wind/wind_field.glsl"
+#include "terrain/terrain.glsl"
 
 layout(push_constant) uniform Grid {
     float origin;        // x = z of corner 0
@@ -15,18 +16,6 @@ layout(push_constant) uniform Grid {
 } grid;
 
 layout(location = 0) out vec3 out_color;
-
-float terrain_height(vec2 p) {
-    int n = int(frame.params.z) + 1;
-    vec2 g = clamp((p - frame.terrain.x) / frame.terrain.y, vec2(0.0), vec2(float(n - 1)));
-    ivec2 i = min(ivec2(g), ivec2(n - 2));
-    vec2 f = g - vec2(i);
-    float h00 = heights[i.y * n + i.x];
-    float h10 = heights[i.y * n + i.x + 1];
-    float h01 = heights[(i.y + 1) * n + i.x];
-    float h11 = heights[(i.y + 1) * n + i.x + 1];
-    return mix(mix(h00, h10, f.x), mix(h01, h11, f.x), f.y);
-}
 
 void main() {
     uint n = grid.corners;
@@ -38,7 +27,7 @@ void main() {
     uint step = s % (n - 1u) + (uint(gl_VertexIndex) & 1u);
     uvec2 corner = along_z ? uvec2(line, step) : uvec2(step, line);
     vec2 p = grid.origin + vec2(corner) * grid.cluster_size;
-    vec3 world = vec3(p.x, terrain_height(p) + grid.lift, p.y);
+    vec3 world = vec3(p.x, grid_terrain_height(p, frame.terrain.x, frame.terrain.y, frame.params.z) + grid.lift, p.y);
     float force = length(wind_corner(corner.y * n + corner.x).xz) / KEYFRAME_WIND_SCALE;
     out_color = mix(vec3(1.0, 0.9, 0.1), vec3(0.9, 0.05, 0.02), clamp(force, 0.0, 1.0));
     gl_Position = frame.view_proj * vec4(world, 1.0);

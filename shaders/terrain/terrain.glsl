@@ -1,5 +1,6 @@
-// The terrain's surface normal under a blade root, for Belyaev's Fresnel term (lighting.glsl).
-// Mirrors `scene::terrain::Terrain::normal_at` on the CPU.
+// A stored height grid's surface under a point: its height (the debug views' lines) and its normal
+// under a blade root, for Belyaev's Fresnel term (lighting.glsl). Mirror
+// `scene::terrain::Terrain::normal_at` on the CPU.
 #ifndef MEADOW_TERRAIN_GLSL
 #define MEADOW_TERRAIN_GLSL
 
@@ -20,6 +21,16 @@ vec3 grid_terrain_normal(vec2 xz, float origin, float step, uint cells) {
     float dx = mix(h10 - h00, h11 - h01, f.y);
     float dz = mix(h01 - h00, h11 - h10, f.x);
     return normalize(vec3(-dx, step, -dz));
+}
+
+// Height of a stored height grid at world (x, z), bilinear in the cell (the grid as above).
+float grid_terrain_height(vec2 xz, float origin, float step, uint cells) {
+    vec2 g = clamp((xz - vec2(origin)) / step, vec2(0.0), vec2(float(cells)));
+    uvec2 c = min(uvec2(floor(g)), uvec2(cells - 1u));
+    vec2 f = g - vec2(c);
+    uint n = cells + 1u;
+    uint i = c.y * n + c.x;
+    return mix(mix(heights[i], heights[i + 1u], f.x), mix(heights[i + n], heights[i + n + 1u], f.x), f.y);
 }
 
 #endif

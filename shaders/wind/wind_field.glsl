@@ -70,6 +70,20 @@ vec4 levels_wind(vec2 root) {
     return f;
 }
 
+// The field `f` the corners give at `p` (relative to O), with delayed attenuation (4.5) plus every
+// point source evaluated at `p` itself, scaled by the exposure there.
+vec4 with_point_sources(vec4 f, vec2 p) {
+    vec2 wind = f.xz;
+    if (ATTENUATION == ATTENUATION_BLADE) {
+        float exposure = f.w;
+        for (uint s = 0u; s < frame.wind_counts.x; ++s) {
+            vec4 e = emitters[s];
+            wind += exposure * source_wind(e.xy, e.z, e.w, p);
+        }
+    }
+    return vec4(wind.x, f.y, wind.y, f.w);
+}
+
 // The wind at a blade (`blade_index`, root `root` relative to O): velocity in m/s and the
 // exposure interpolated from the corners.
 vec4 wind_at_blade(uint blade_index, vec2 root) {
@@ -81,16 +95,7 @@ vec4 wind_at_blade(uint blade_index, vec2 root) {
         c.corner = clusters[blade_index].corner;
         f = interpolated_wind(c, unpackUnorm4x8(clusters[blade_index].weights));
     }
-    vec2 wind = f.xz;
-    if (ATTENUATION == ATTENUATION_BLADE) {
-        // Delayed attenuation (4.5): the sources at the blade itself.
-        float exposure = f.w;
-        for (uint s = 0u; s < frame.wind_counts.x; ++s) {
-            vec4 e = emitters[s];
-            wind += exposure * source_wind(e.xy, e.z, e.w, root);
-        }
-    }
-    return vec4(wind.x, f.y, wind.y, f.w);
+    return with_point_sources(f, root);
 }
 
 #endif

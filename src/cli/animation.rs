@@ -75,6 +75,8 @@ pub(crate) enum DebugViewArg {
     Force,
     /// The force clusters' edges over the picture, coloured by the force at each corner.
     Bounds,
+    /// The wind field the grass feels, as arrows on a slice 0.5 m above the ground, coloured by speed: blue (calm), cyan, yellow, red (8 m/s and more).
+    Wind,
     /// Blades coloured by LOD bucket: red 1 segment, orange 2, yellow 4, green 8, blue 16.
     Lod,
     /// Blades coloured by the cull's tile they belong to.

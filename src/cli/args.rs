@@ -154,6 +154,7 @@ impl SceneArgs {
             time: self.animation.time,
             debug_force: self.debug_view == Some(DebugViewArg::Force),
             debug_bounds: self.debug_view == Some(DebugViewArg::Bounds),
+            debug_wind: self.debug_view == Some(DebugViewArg::Wind),
             debug_lod: self.debug_view == Some(DebugViewArg::Lod),
             debug_tiles: self.debug_view == Some(DebugViewArg::Tiles),
             debug_fresnel: self.debug_view == Some(DebugViewArg::Fresnel),

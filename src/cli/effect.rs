@@ -81,9 +81,10 @@ impl<'a> Given<'a> {
         self.one("debug_view")
     }
 
-    /// Whether a debug view shows the forces (force magnitude, or the clusters' corner forces).
+    /// Whether a debug view shows the forces (force magnitude, the clusters' corner forces, or the
+    /// wind's arrows).
     fn shows_forces(&self) -> bool {
-        matches!(self.debug_view(), Some(DebugViewArg::Force | DebugViewArg::Bounds))
+        matches!(self.debug_view(), Some(DebugViewArg::Force | DebugViewArg::Bounds | DebugViewArg::Wind))
     }
 
     fn cull(&self) -> Vec<CullTest> {

@@ -33,6 +33,8 @@ pub struct RenderSettings {
     pub submission: Submission,
     /// Draw the cluster grid over the picture (`--debug-view bounds`).
     pub debug_bounds: bool,
+    /// Draw the wind field as arrows on a slice above the ground (`--debug-view wind`).
+    pub debug_wind: bool,
     /// Colour blades by their LOD bucket (`--debug-view lod`).
     pub debug_lod: bool,
     /// Colour blades by their tile (`--debug-view tiles`).
@@ -67,6 +69,7 @@ impl RenderSettings {
             pipeline_statistics: false,
             submission: Submission::default(),
             debug_bounds: false,
+            debug_wind: false,
             debug_lod: false,
             debug_tiles: false,
             debug_fresnel: false,

@@ -61,8 +61,10 @@ pub const FLOOR_VERT: Shader = spirv_shader!("debug/floor.vert");
 pub const FLOOR_FRAG: Shader = spirv_shader!("debug/floor.frag");
 /// Debug view: the cluster grid as lines (`--debug-view bounds`).
 pub const CLUSTER_BOUNDS_VERT: Shader = spirv_shader!("debug/cluster_bounds.vert");
-/// Debug view: line colour.
-pub const CLUSTER_BOUNDS_FRAG: Shader = spirv_shader!("debug/cluster_bounds.frag");
+/// Debug view: the wind on the slice the grass feels, as arrows (`--debug-view wind`).
+pub const WIND_ARROWS_VERT: Shader = spirv_shader!("debug/wind_arrows.vert");
+/// Debug views' lines: their colour.
+pub const DEBUG_LINES_FRAG: Shader = spirv_shader!("debug/lines.frag");
 /// The depth pyramid of the terrain (Hi-Z) the cull's occlusion test reads.
 pub const HIZ_COMP: Shader = spirv_shader!("depth_pyramid/hiz.comp");
 /// `--msaa`: the depth pyramid over a multisampled depth image.

@@ -18,7 +18,8 @@ use crate::scene::Scene;
 use crate::wind::{Collider, PointSource};
 
 /// The keys whose control changes pipelines or the scene (`rebuild_for`).
-const REBUILT_BY: [&str; 15] = ["m", "n", "b", "v", "x", "t", "o", "y", "f", "f2", "r", "plus", "minus", "[", "]"];
+const REBUILT_BY: [&str; 16] =
+    ["m", "n", "b", "v", "x", "t", "o", "y", "f", "f2", "f3", "r", "plus", "minus", "[", "]"];
 
 /// The controls, printed at start and by H.
 pub(super) const HELP: &str = "\
@@ -32,7 +33,8 @@ meadow viewer controls
   + / -           segments               [ / ]             blades / 2, x 2
   J / L           wind direction -/+15   I / K             wind strength +/-
   U               gusts on/off           C                 calm areas on/off
-  F2              wind field analytic / perlin (Belyaev's scrolling noise)
+  F2              wind field analytic / Perlin (Belyaev) / fluid (Zhang Xia)
+  F3              wind view: arrows of the wind the grass feels, 0.5 m up
   left click      drop a wind source (drag to move)   Delete  remove the last source
   arrow keys      drive the collider sphere through the grass
   V               force debug view       F                 wireframe
@@ -172,6 +174,7 @@ impl Viewer {
             "b" => animation.eval = if animation.eval == Eval::Vertex { Eval::Blade } else { Eval::Vertex },
             "v" => settings.debug_force = !settings.debug_force,
             "x" => settings.debug_bounds = !settings.debug_bounds,
+            "f3" => settings.debug_wind = !settings.debug_wind,
             "t" => cycle_cull_views(&mut settings),
             "o" | "y" => toggle_culling(&mut settings.culling, name),
             "f" => settings.wireframe = !settings.wireframe,
@@ -261,7 +264,7 @@ impl Viewer {
     fn report_rebuild(&self) {
         let a = self.renderer.as_ref().expect("built").animation();
         println!(
-            "mode {}, smoothing {:?}, eval {:?}, {} wind, {} segments, {} blades, {}{}{}{}{}{}",
+            "mode {}, smoothing {:?}, eval {:?}, {} wind, {} segments, {} blades, {}{}{}{}{}{}{}",
             if self.settings.floor { "Floor".to_string() } else { format!("{:?}", a.mode) },
             a.smoothing,
             a.eval,
@@ -280,6 +283,7 @@ impl Viewer {
                 ""
             },
             if self.settings.debug_bounds { ", cluster bounds" } else { "" },
+            if self.settings.debug_wind { ", wind arrows" } else { "" },
             if self.settings.wireframe { ", wireframe" } else { "" },
             match self.settings.msaa {
                 m if !m.enabled() => String::new(),
@@ -406,10 +410,10 @@ fn culling_state(culling: &crate::render::culling::Culling) -> String {
 }
 
 /// Every key name the viewer acts on (what `key_name` returns), for scripts to check against.
-pub(super) const KEY_NAMES: [&str; 40] = [
-    "[", "]", "a", "b", "c", "d", "delete", "down", "e", "escape", "f", "f1", "f12", "f2", "g", "h", "i", "j", "k",
-    "l", "left", "m", "minus", "n", "o", "p", "plus", "q", "r", "right", "s", "shift", "t", "u", "up", "v", "w", "x",
-    "y", "z",
+pub(super) const KEY_NAMES: [&str; 41] = [
+    "[", "]", "a", "b", "c", "d", "delete", "down", "e", "escape", "f", "f1", "f12", "f2", "f3", "g", "h", "i", "j",
+    "k", "l", "left", "m", "minus", "n", "o", "p", "plus", "q", "r", "right", "s", "shift", "t", "u", "up", "v", "w",
+    "x", "y", "z",
 ];
 
 /// Name of a key as the help and scripts spell it.
@@ -449,6 +453,7 @@ pub(super) fn key_name(code: KeyCode) -> Option<&'static str> {
         KeyCode::F12 => "f12",
         KeyCode::F1 => "f1",
         KeyCode::F2 => "f2",
+        KeyCode::F3 => "f3",
         KeyCode::Delete | KeyCode::Backspace => "delete",
         KeyCode::ArrowUp => "up",
         KeyCode::ArrowDown => "down",

@@ -55,7 +55,7 @@ impl ClusterBoundsPass {
             &pipeline::GraphicsDesc {
                 name: "cluster bounds",
                 vertex: shaders::CLUSTER_BOUNDS_VERT.code(device.profile),
-                fragment: shaders::CLUSTER_BOUNDS_FRAG.code(device.profile),
+                fragment: shaders::DEBUG_LINES_FRAG.code(device.profile),
                 topology: vk::PrimitiveTopology::LINE_LIST,
                 cull: vk::CullModeFlags::NONE,
                 polygon: vk::PolygonMode::FILL,

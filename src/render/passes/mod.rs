@@ -12,6 +12,7 @@ pub mod overlay;
 pub mod relief_grid;
 pub mod resolve;
 pub mod terrain;
+pub mod wind_arrows;
 
 pub use blade_levels::BladeLevelsPass;
 pub use blades::BladePass;
@@ -20,6 +21,7 @@ pub use floor::FloorPass;
 pub use relief_grid::ReliefGridPass;
 pub use resolve::ResolvePass;
 pub use terrain::TerrainPass;
+pub use wind_arrows::WindArrowsPass;
 
 use ash::vk;
 

@@ -14,6 +14,7 @@ use crate::render::passes::cull::{self, CullSetup};
 use crate::render::passes::depth_pyramid::DepthPyramidPass;
 use crate::render::passes::{
     BladeLevelsPass, BladePass, ClusterBoundsPass, FloorPass, PipelineTarget, ReliefGridPass, ResolvePass, TerrainPass,
+    WindArrowsPass,
 };
 use crate::render::recording::SceneSets;
 use crate::render::scene_gpu::SceneGpu;
@@ -78,6 +79,11 @@ impl Renderer {
             let (set_layout, scene) = (self.layouts.scene.raw, self.scene.as_ref().expect("uploaded"));
             let wind: Vec<vk::Buffer> = self.forces.iter().map(|f| f.corners.raw).collect();
             self.graph.add(ClusterBoundsPass::new(&self.device, (set_layout, target), &constants, scene, &wind)?);
+        }
+        if self.settings.debug_wind {
+            let (set_layout, scene) = (self.layouts.scene.raw, self.scene.as_ref().expect("uploaded"));
+            let wind: Vec<vk::Buffer> = self.forces.iter().map(|f| f.corners.raw).collect();
+            self.graph.add(WindArrowsPass::new(&self.device, (set_layout, target), &constants, scene, &wind)?);
         }
         if msaa.enabled() {
             // The target's encoding, not the multisampled scene's.

@@ -43,11 +43,11 @@ impl Renderer {
     }
 
     /// Whether the wind field's passes run: with the cull, when something samples the wind (a
-    /// response that poses blades, or the bounds view's corner colours). Brute force keeps the
-    /// thesis' CPU corners.
+    /// response that poses blades, the bounds view's corner colours or the wind view's arrows).
+    /// Brute force keeps the thesis' CPU corners.
     pub(super) fn wind_passes_run(&self) -> bool {
         let settings = &self.settings;
         let posed = self.response.as_deref().is_some_and(|r| !matches!(r.blade_input(), BladeInput::Neutral));
-        settings.culling.enabled && !settings.floor && (posed || settings.debug_bounds)
+        settings.culling.enabled && !settings.floor && (posed || settings.debug_bounds || settings.debug_wind)
     }
 }

@@ -314,6 +314,7 @@ pub fn view(ui: &mut Ui, view: &UiView, out: &mut PanelOutput) {
     cycle(ui, out, "t", &["shaded", "LOD", "tiles", "Fresnel"], debug);
     toggle(ui, out, "v", s.debug_force, "force view");
     toggle(ui, out, "x", s.debug_bounds, "cluster bounds");
+    toggle(ui, out, "f3", s.debug_wind, "wind arrows");
     toggle(ui, out, "f", s.wireframe, "wireframe");
     ui.horizontal(|ui| {
         let msaa = match s.msaa {

@@ -1,6 +1,7 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// Debug view of the cluster bounds: the line colour, encoded like every other pass's output.
+// The debug views' lines (the cluster bounds, the wind's arrows): the colour the vertex shader
+// gave, encoded like every other pass's output.
 #include "common/bindings.glsl"
 #include "common/lighting.glsl"
 
