@@ -62,6 +62,10 @@ pictures: build
 	$(MEADOW) render --field infinite --debug-view lod --out docs/prairie-field-lod.png
 	$(MEADOW) render $(WIND_FEATURES) --wind 0,0.9 --out docs/wind-features.png
 	$(MEADOW) render $(WIND_FEATURES) --wind 0,0.5 --debug-view force --out docs/wind-features-force.png
+	$(MEADOW) render --blades 60000 --wind-field fluid --debug-view wind --wind 0,0.3 --collider sphere:0,0.5,0,1.2 \
+		--source -2,-3,0.6,0.8 --time 6 --camera 0,10,6.5,0,-62 --size 960x540 --out docs/wind-view-fluid.png
+	$(MEADOW) render --field infinite --wind-field perlin --debug-view wind --camera 0,30,30,0,-50 --time 2 \
+		--size 960x540 --fog 0.004 --out docs/wind-view-perlin.png
 	xvfb-run -a -s "-screen 0 1280x720x24" $(MEADOW) view --size 960x540 --script scripts/viewer/showcase.txt
 
 # The benchmark results and charts in docs/ (docs/benchmarks.md, docs/gpu-timing.md): over half an
