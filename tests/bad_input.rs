@@ -265,6 +265,12 @@ fn responses_refuse_what_only_keyframes_have() {
     refused("fluid-cell-negative", &["--wind-field", "fluid", "--fluid-cell", "-1,1"], "-1 m is not a length");
     refused("fluid-cell-nan", &["--wind-field", "fluid", "--fluid-cell", "nan,1"], "not a finite number");
     refused("source-height-negative", &["--wind-field", "fluid", "--source", "0,0,1,2,-1"], "source height -1");
+    refused(
+        "source-height-analytic",
+        &["--source", "0,0,1,2,0.8"],
+        "--source …,HEIGHT has no effect with a --wind-field other than fluid",
+    );
+    refused("source-height-perlin", &["--wind-field", "perlin", "--source", "0,0,1,2,1,0,0.8"], "--source …,HEIGHT");
     refused("source-height-nan", &["--wind-field", "fluid", "--source", "0,0,1,2,nan"], "not a finite number");
     refused(
         "fluid-brute-force",

@@ -65,6 +65,13 @@ impl<'a> Given<'a> {
         self.matches.try_get_many::<T>(id).ok().flatten().map(|v| v.cloned().collect()).unwrap_or_default()
     }
 
+    /// The values of `id` as typed (the command line's text, typed or default).
+    pub(crate) fn raw(&self, id: &'static str) -> Vec<String> {
+        self.note(id);
+        let values = self.matches.try_get_raw(id).ok().flatten();
+        values.map(|v| v.map(|s| s.to_string_lossy().into_owned()).collect()).unwrap_or_default()
+    }
+
     fn mode(&self) -> Option<ModeArg> {
         self.one("mode")
     }
@@ -160,6 +167,17 @@ mod tests {
         let root = crate::cli::Cli::command();
         let matches = root.clone().try_get_matches_from(args).expect("parses");
         check(&root, &matches).err()
+    }
+
+    #[test]
+    fn a_source_height_is_refused_only_without_the_fluid() {
+        let height = ["meadow", "render", "--source", "0,0,1,2,0.8"];
+        assert!(refusal(&height).is_some_and(|m| m.starts_with("--source …,HEIGHT has no effect")));
+        let fluid = [&height[..], &["--wind-field", "fluid"]].concat();
+        assert_eq!(refusal(&fluid), None);
+        // Four numbers (no height) and six (a motion, no height) are every field's.
+        assert_eq!(refusal(&["meadow", "render", "--source", "0,0,1,2"]), None);
+        assert_eq!(refusal(&["meadow", "render", "--source", "0,0,1,2,1,0"]), None);
     }
 
     #[test]

@@ -176,6 +176,18 @@ pub(crate) const RULES: &[Rule] = &[
         why: "it shapes the fluid wind's grid (--wind-field fluid)",
     },
     Rule {
+        flags: &["source"],
+        subject: Some("--source …,HEIGHT"),
+        commands: SCENE,
+        with: "a --wind-field other than fluid",
+        // Five numbers give the height, seven the motion and the height (`values::source`).
+        when: |g| {
+            g.wind_field() != Some(crate::cli::animation::WindFieldArg::Fluid)
+                && g.raw("source").iter().any(|s| matches!(s.split(',').count(), 5 | 7))
+        },
+        why: "the height is where the fluid wind injects a source; the analytic and Perlin fields' sources blow at every height",
+    },
+    Rule {
         flags: &["attenuation"],
         subject: None,
         commands: SCENE,
