@@ -339,7 +339,7 @@ fn a_block_fields_wind_levels_are_sampled_as_the_cpu_mirror_samples_them() {
         })
         .collect();
     let uniforms = FrameUniforms {
-        wind_counts: UVec4::new(wind.sources.len() as u32, 0, WIND_LEVEL_CLUSTERS + 1, 0),
+        wind_counts: UVec4::new(wind.sources.len() as u32, 0, WIND_LEVEL_CLUSTERS + 1, WIND_LEVELS),
         terrain: Vec4::new(0.0, cluster_size, 0.0, 0.0),
         field: Vec4::new(meadow::scene::field::BLOCK_SIZE, 0.0, 0.0, 0.0),
         ..bytemuck::Zeroable::zeroed()
@@ -365,4 +365,32 @@ fn a_block_fields_wind_levels_are_sampled_as_the_cpu_mirror_samples_them() {
     }
     eprintln!("blades per level {levels:?}, {blended} in a blend band");
     assert!(levels.iter().all(|&n| n >= 20) && blended >= 200, "{levels:?}, {blended} blended");
+}
+
+/// A block field holds only the wind levels its blades read (`field_gpu::wind_levels`): for every
+/// root over the cull's rings about O's cell, the levels held give the wind all eight would, on
+/// the CPU mirror of the GPU's sampling (`animation::levels_wind`).
+#[test]
+fn the_levels_a_block_field_holds_give_every_blade_in_range_the_wind_all_eight_would() {
+    use meadow::render::field_gpu::{ring_radius, wind_level, wind_levels};
+    use meadow::render::gpu_constants::{WIND_LEVELS, WIND_LEVEL_CLUSTERS};
+    use meadow::scene::field::BLOCK_SIZE;
+    let wind =
+        Wind { global: Some(GlobalWind { direction_deg: 35.0, strength: 0.6, gusts: true }), ..Default::default() };
+    let corners: Vec<Vec4> = (0..WIND_LEVELS)
+        .flat_map(|l| animation::corner_forces_at(&wind_level(1.0, l), Vec2::ZERO, &wind, 1.75, Attenuation::Cluster))
+        .collect();
+    let per_level = (WIND_LEVEL_CLUSTERS as usize + 1).pow(2);
+    for range in [20.0, 60.0, 150.0, 300.0, 504.0] {
+        let levels = wind_levels(1.0, range) as usize;
+        let held = &corners[..levels * per_level];
+        // Roots on a spiral over the cull's rings about O's cell.
+        let reach = (ring_radius(range) as f32 + 0.5) * BLOCK_SIZE;
+        for i in 0..2000 {
+            let t = i as f32 / 2000.0;
+            let root = Vec2::splat(0.5 * BLOCK_SIZE) + Vec2::from_angle(t * 97.0) * reach * t.sqrt();
+            let (few, all) = (animation::levels_wind(1.0, held, root), animation::levels_wind(1.0, &corners, root));
+            assert_eq!(few, all, "{range} m, {levels} levels, root {root}");
+        }
+    }
 }

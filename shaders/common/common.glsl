@@ -14,7 +14,7 @@ struct FrameUniforms {
     vec4 sky_color;         // rgb linear sky, w fog density (1/m)
     vec4 terrain;           // x grid origin (x = z), y cell size (m), zw unused; a block field: x cell edge, y cluster edge, zw grid offset
     uvec4 params;           // x segments, y blade count, z terrain cells per side, w unused
-    uvec4 wind_counts;      // x point sources, y colliders (emitters after the sources), z cluster corners per side, w unused
+    uvec4 wind_counts;      // x point sources, y colliders (emitters after the sources), z cluster corners per side, w wind levels
     mat4 cull_view_proj;    // world -> clip of the culling camera (the view's, or a frozen one)
     vec4 cull_eye;          // xyz culling camera position, w pixels per metre at 1 m (viewport height / (2 tan(fov_y / 2)))
     vec4 lod;               // x blade range (m, `render::culling::Culling::blade_range`), y full-density distance (m, LOD scale applied), z pixels per segment (LOD scale applied), w largest widening

@@ -13,7 +13,7 @@
 #define MEADOW_WIND_FIELD_GLSL
 #include "wind/analytic.glsl"
 
-// A block field's wind lives in WIND_LEVELS nested levels around O's cell
+// A block field's wind lives in nested levels around O's cell (at most WIND_LEVELS)
 // (`render::field_gpu::wind_level`): level l has WIND_LEVEL_CLUSTERS clusters per side of 2^l cluster edges, about the same centre, its
 // corners after the n² of each level inside it. The corner and the bilinear weights of eq. 3.7 of a
 // point in level `level`, clamped to it: `scene::clusters::ClusterGrid::locate` unquantised.
@@ -45,13 +45,15 @@ vec4 interpolated_wind(BladeCluster c, vec4 w) {
 
 // The finest level of a block field's wind that holds `root` (relative to O), and how far it is
 // blended into the next (0 to 1, over the outer quarter of the level's half-extent, so no seam
-// shows where the levels meet; 0 at the last level).
+// shows where the levels meet; 0 at the last level). The field holds the levels its plants reach
+// (`frame.wind_counts.w`, `render::field_gpu::wind_levels`); past the last the wind is its edge's.
 uint wind_level_at(vec2 root, out float blend) {
+    uint levels = max(frame.wind_counts.w, 1u);
     float half0 = 0.5 * float(WIND_LEVEL_CLUSTERS) * frame.terrain.y;
     vec2 from_centre = abs(root - vec2(0.5 * frame.field.x));
     float ratio = max(from_centre.x, from_centre.y) / half0;
-    uint level = ratio <= 1.0 ? 0u : min(uint(ceil(log2(ratio))), WIND_LEVELS - 1u);
-    blend = level + 1u < WIND_LEVELS ? clamp((ratio / float(1u << level) - 0.75) * 4.0, 0.0, 1.0) : 0.0;
+    uint level = ratio <= 1.0 ? 0u : min(uint(ceil(log2(ratio))), levels - 1u);
+    blend = level + 1u < levels ? clamp((ratio / float(1u << level) - 0.75) * 4.0, 0.0, 1.0) : 0.0;
     return level;
 }
 

@@ -202,9 +202,28 @@ pub const CELL_SPREAD_OUTSIDE: f32 = 1.4143;
 /// O): `WIND_LEVEL_CLUSTERS` clusters of `cluster_size` per side, centred on O's cell. Level l
 /// (`wind_level`) has the same corners per side at 2^l times the spacing, about the same centre,
 /// so `WIND_LEVELS` levels of 64 one-metre clusters reach 4 096 m from it: 33 800 corners,
-/// where one grid over the rings at 150 m held 107 584.
+/// where one grid over the rings at 150 m held 107 584 (a field holds the levels its blades read,
+/// `wind_levels`).
 pub fn cluster_grid(cluster_size: f32) -> ClusterGrid {
     wind_level(cluster_size, 0)
+}
+
+/// The wind levels a block field's blades read when they are drawn out to `blade_range`: up to
+/// the level that holds the farthest cell of the cull's rings (`ring_radius` blocks about O's cell,
+/// whatever the distance test), and the one it blends into when it lies in that level's blend band (`wind_level_at` of `shaders/wind/wind_field.glsl`), at most `WIND_LEVELS`. The
+/// corner pass writes only those: at 150 m, 4 levels of 4 225 corners (16 900), not 8 (33 800).
+pub fn wind_levels(cluster_size: f32, blade_range: f32) -> u32 {
+    let half0 = 0.5 * gpu::WIND_LEVEL_CLUSTERS as f32 * cluster_size;
+    let ratio = (ring_radius(blade_range) + 1) as f32 * BLOCK_SIZE / half0;
+    let level = if ratio <= 1.0 { 0 } else { ratio.log2().ceil() as u32 };
+    let blended = ratio / (1u32 << level) as f32 > 0.75;
+    (level + 1 + u32::from(blended)).min(gpu::WIND_LEVELS)
+}
+
+/// A block field's wind for blades out to `blade_range`: its innermost level (`cluster_grid`) and
+/// the levels it holds (`wind_levels`).
+pub fn wind_grid(cluster_size: f32, blade_range: f32) -> (ClusterGrid, u32) {
+    (cluster_grid(cluster_size), wind_levels(cluster_size, blade_range))
 }
 
 /// Wind level `level` of a block field (`cluster_grid`): `WIND_LEVEL_CLUSTERS` clusters of
@@ -449,5 +468,6 @@ mod tests {
         let end = outer.origin + outer.clusters as f32 * outer.cluster_size;
         assert!(outer.origin <= -reach && end >= reach + BLOCK_SIZE && end > 4000.0);
         assert_eq!(cluster_grid(1.0), wind_level(1.0, 0));
+        assert_eq!((wind_levels(1.0, 20.0), wind_levels(1.0, 150.0), wind_levels(1.0, 5000.0)), (2, 4, 8));
     }
 }

@@ -113,8 +113,8 @@ pub struct SceneGpu {
     /// The cluster grid the records refer to; a block field's innermost wind level
     /// (`field_gpu::cluster_grid`).
     pub grid: ClusterGrid,
-    /// The wind's nested levels: 1 for a stored field (its one grid), `WIND_LEVELS` for a block
-    /// field (`field_gpu::wind_level`), each `grid.corner_count()` corners, innermost first.
+    /// The wind's nested levels, each `grid.corner_count()` corners, innermost first: a stored
+    /// field's one grid, or those a block field's blades reach (`field_gpu::wind_levels`).
     pub wind_levels: u32,
     /// One `BladeTile` per tile.
     pub tiles: Buffer,
@@ -308,10 +308,10 @@ impl SceneGpu {
     pub fn upload(device: &Device, scene: &Scene, cluster_size: f32, blade_range: f32) -> Result<Self> {
         // The batch waits for its submission or never submits.
         let mut partial = crate::vk::guard::empty::<Partial>(device);
-        let grid = match &scene.field {
+        let (grid, wind_levels) = match &scene.field {
             // A block field's corners follow the camera over the cells it sees.
-            Some(_) => crate::render::field_gpu::cluster_grid(cluster_size),
-            None => ClusterGrid::new(scene.terrain.size, cluster_size),
+            Some(_) => crate::render::field_gpu::wind_grid(cluster_size, blade_range),
+            None => (ClusterGrid::new(scene.terrain.size, cluster_size), 1),
         };
         let capacity = cull_capacity(scene, blade_range);
         let cells = if scene.field.is_some() { gpu_constants::FIELD_TERRAIN_CELLS } else { scene.terrain.cells };
@@ -332,7 +332,7 @@ impl SceneGpu {
             sampler,
             clusters: partial.clusters.take().expect("uploaded"),
             grid,
-            wind_levels: if scene.field.is_some() { gpu_constants::WIND_LEVELS } else { 1 },
+            wind_levels,
             tiles: partial.tiles.take().expect("uploaded"),
             tile_grid: scene.tile_grid,
             field: scene.field.clone(),

@@ -22,7 +22,7 @@ pub struct FrameUniforms {
     /// the sRGB encoding are specialization constants, `render::specialization`.)
     pub params: UVec4,
     /// x point sources, y colliders (their emitters after the sources'), z cluster corners per
-    /// side, w unused: the wind field's counts. (A blade response's parameters are in its own
+    /// side, w the wind's levels (`SceneGpu::wind_levels`): the wind field's counts. (A blade response's parameters are in its own
     /// uniform block, `render::animation::response`.)
     pub wind_counts: UVec4,
     /// World → clip of the culling camera (the view's, or a frozen one).

@@ -277,14 +277,15 @@ pub fn blade_wind(
 }
 
 /// A block field's wind at `root` (relative to O) as `levels_wind` of
-/// `shaders/wind/wind_field.glsl` samples it, on the CPU: `corners` holds the `WIND_LEVELS` levels
-/// of `field_gpu::wind_level(cluster_size, l)` one after the other (as the wind field writes
-/// them); the finest level that holds the point, bilinearly (eq. 3.6–3.8, unquantised weights),
+/// `shaders/wind/wind_field.glsl` samples it, on the CPU: `corners` holds the field's levels (at
+/// most `WIND_LEVELS`) of `field_gpu::wind_level(cluster_size, l)` one after the other (as the
+/// wind field writes them); the finest level that holds the point, bilinearly (eq. 3.6–3.8, unquantised weights),
 /// blended into the next over the outer quarter of its half-extent. Velocity (x, y, z) in m/s and
 /// the exposure. The reference for GPU read-back tests.
 pub fn levels_wind(cluster_size: f32, corners: &[Vec4], root: Vec2) -> Vec4 {
-    use crate::render::gpu_constants::{WIND_LEVELS, WIND_LEVEL_CLUSTERS};
+    use crate::render::gpu_constants::WIND_LEVEL_CLUSTERS;
     let n = WIND_LEVEL_CLUSTERS + 1;
+    let levels = (corners.len() / (n * n) as usize).max(1) as u32;
     let sample = |level: u32| {
         let size = cluster_size * (1u32 << level) as f32;
         let first = 0.5 * crate::scene::field::BLOCK_SIZE - 0.5 * WIND_LEVEL_CLUSTERS as f32 * size;
@@ -299,10 +300,10 @@ pub fn levels_wind(cluster_size: f32, corners: &[Vec4], root: Vec2) -> Vec4 {
     let half0 = 0.5 * WIND_LEVEL_CLUSTERS as f32 * cluster_size;
     let from_centre = (root - Vec2::splat(0.5 * crate::scene::field::BLOCK_SIZE)).abs();
     let ratio = from_centre.max_element() / half0;
-    let level = if ratio <= 1.0 { 0 } else { (ratio.log2().ceil() as u32).min(WIND_LEVELS - 1) };
+    let level = if ratio <= 1.0 { 0 } else { (ratio.log2().ceil() as u32).min(levels - 1) };
     let blend = ((ratio / (1u32 << level) as f32 - 0.75) * 4.0).clamp(0.0, 1.0);
     let f = sample(level);
-    if level + 1 < WIND_LEVELS && blend > 0.0 {
+    if level + 1 < levels && blend > 0.0 {
         f.lerp(sample(level + 1), blend)
     } else {
         f

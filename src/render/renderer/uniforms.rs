@@ -49,7 +49,7 @@ impl Renderer {
             sky_color: look::SKY.extend(self.settings.fog_density),
             terrain: Vec4::new(scene.terrain_origin, scene.terrain_cell_size, 0.0, 0.0),
             params: UVec4::new(self.settings.segments, scene.blade_count, scene.terrain_cells, 0),
-            wind_counts: UVec4::new(sources, colliders, scene.grid.corners_per_side(), 0),
+            wind_counts: UVec4::new(sources, colliders, scene.grid.corners_per_side(), scene.wind_levels),
             cull_lod: UVec4::new(0, 0, 0, self.visible_limit()),
             ..bytemuck::Zeroable::zeroed()
         };
