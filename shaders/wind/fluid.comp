@@ -6,8 +6,8 @@
 // analytic field (`enter`), the sources, calm areas and colliders (`forces`, f), the implicit
 // diffusion of eq. 4 by Jacobi iterations (`diffuse`, in place of Zhang Xia's Gauss–Seidel, which
 // a GPU cannot run in place), the semi-Lagrangian self-advection of §2.3.3 (`advect`), the
-// divergence (`divergence`), the pressure's Poisson equation by weighted Jacobi iterations
-// (`pressure`) and the subtraction of its gradient (`project`, §2.3.6). The divergence and the
+// divergence (`divergence`), the pressure's Poisson equation by Jacobi iterations with the
+// Chebyshev semi-iteration's weights (`pressure`) and the subtraction of its gradient (`project`, §2.3.6). The divergence and the
 // gradient are central differences, and the pressure solves ∇·∇p = ∇·u for that very pair (the
 // row of D·G, ghosts included), so a converged solve leaves no divergence by the solver's own
 // operator. The CPU mirror is `render::wind::fluid::scheme`, line for line.
@@ -34,7 +34,13 @@ layout(set = 0, binding = 4, rgba32f) uniform writeonly image3D Dst;
 layout(set = 0, binding = 5, r32f) uniform readonly image3D PIn;
 layout(set = 0, binding = 6, r32f) uniform writeonly image3D POut;
 layout(set = 0, binding = 7, rg32f) uniform image3D DivDiag;
+#ifdef STEP_PRESSURE
+// The iteration's weight ω_k (x, `render::wind::fluid::pressure_weight`), over the first bytes
+// of the range the enter stage's fill takes (no other stage reads push constants).
+layout(push_constant) uniform Push { vec4 pressure; } push;
+#else
 layout(push_constant) uniform Push { CameraGridFill fill; } push;
+#endif
 
 #include "wind/fluid.glsl"
 
@@ -177,10 +183,11 @@ void main() {
 #elif defined(STEP_DIVERGENCE)
     imageStore(DivDiag, t, vec4(divergence(c), laplacian(c, true), 0.0, 0.0));
 #elif defined(STEP_PRESSURE)
-    // Weighted Jacobi on (D G) p = D u: p += ω (D u − (D G p)) / diag.
+    // Jacobi with the Chebyshev semi-iteration's weights on (D G) p = D u:
+    // p += ω_k (D u − (D G p)) / diag.
     vec2 dd = imageLoad(DivDiag, t).xy;
     float p = imageLoad(PIn, t).x;
-    imageStore(POut, t, vec4(p + wind.fluid_coef.w * (dd.x - laplacian(c, false)) / dd.y));
+    imageStore(POut, t, vec4(p + push.pressure.x * (dd.x - laplacian(c, false)) / dd.y));
 #elif defined(STEP_PROJECT)
     vec3 g = vec3(gradient_inside(c, 0, c, false), gradient_inside(c, 1, c, false), gradient_inside(c, 2, c, false));
     vec3 u = imageLoad(Src, t).xyz - g;

@@ -25,7 +25,7 @@
     uvec4 fluid_counts;  /* sources, colliders, 0, 0 */ \
     vec4 fluid_cell;     /* a cell's edges (x, y, z) in m, the step dt in s */ \
     vec4 fluid_corner;   /* the window's first corner relative to O (x, z), the blades' sample height (m), the blend band (cells) */ \
-    vec4 fluid_coef;     /* the diffusion's ν dt / h² per axis (x, y, z), the Jacobi weight */ \
+    vec4 fluid_coef;     /* the diffusion's ν dt / h² per axis (x, y, z), w unused */ \
     vec4 fluid_sources[MAX_FLUID_SOURCES];       /* x, z relative to O, height above the ground (m), the jet's speed (m/s) */ \
     vec4 fluid_colliders[2u * MAX_FLUID_COLLIDERS]; /* per collider: centre (x, height above the ground, z relative to O), radii */
 

@@ -55,7 +55,8 @@ pub struct Params {
     /// The window's first corner relative to O (x, z), the blades' sample height (m), the blend
     /// band (cells).
     pub fluid_corner: [f32; 4],
-    /// The diffusion's ν dt / h² per axis, the pressure's Jacobi weight.
+    /// The diffusion's ν dt / h² per axis, unused (the pressure's weights are pushed per
+    /// iteration, `fluid::pressure_weight`).
     pub fluid_coef: [f32; 4],
     /// Sources: x, z relative to O, height above the ground (m), the jet's speed (m/s).
     pub fluid_sources: [[f32; 4]; gpu::MAX_FLUID_SOURCES as usize],

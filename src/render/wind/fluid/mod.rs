@@ -5,8 +5,9 @@
 //! Each frame takes one step of `dt` (the fixed step, `--dt`): the cells that entered start from
 //! the analytic field, then the sources, calm areas and colliders (f of eq. 2), the diffusion
 //! (eq. 4, `DIFFUSE_ITERATIONS` Jacobi iterations), the self-advection (§2.3.3) and the
-//! projection (§2.3.6, `PRESSURE_ITERATIONS` weighted Jacobi iterations on the pressure's
-//! Poisson equation, warm-started from the last step's pressure). `pass::FluidPass` records them
+//! projection (§2.3.6, `PRESSURE_ITERATIONS` Jacobi iterations with Chebyshev weights,
+//! `pressure_weight`, on the pressure's Poisson equation, warm-started from the last step's
+//! pressure). `pass::FluidPass` records them
 //! as steps of one pass, then the corners: a corner inside the grid takes the fluid's wind at
 //! `SAMPLE_HEIGHT` above the ground (Zhang Xia's tri-linear interpolation, §3.2.2), blended
 //! linearly into the analytic field over the grid's outer `BLEND_CELLS` cells; past the grid the
@@ -50,10 +51,29 @@ use crate::wind::{FluidGrid, KEYFRAME_WIND_SCALE};
 
 /// Jacobi iterations of the diffusion (eq. 4) per step.
 pub const DIFFUSE_ITERATIONS: u32 = 2;
-/// Weighted Jacobi iterations of the pressure per step.
-pub const PRESSURE_ITERATIONS: u32 = 16;
-/// The pressure's Jacobi weight ω.
-pub const JACOBI_WEIGHT: f32 = 0.8;
+/// Iterations of the pressure per step: one cycle of `pressure_weight`.
+pub const PRESSURE_ITERATIONS: u32 = 8;
+/// The bounds [λ_min, λ_max] on the eigenvalues of diag⁻¹ (D G) that the pressure's Chebyshev
+/// weights are made for: λ_max = 2 bounds the wide stencil's (Σ_k (1 − cos 2θ_k) weighted by
+/// its axes' share of the diagonal); below λ_min lie the smoothest modes, which each cycle still
+/// damps, more slowly.
+pub const PRESSURE_SPECTRUM: [f32; 2] = [0.2, 2.0];
+
+/// The weight ω_k of the pressure's iteration `k` (k ≥ 0, cycling every `PRESSURE_ITERATIONS`):
+/// Jacobi with the Chebyshev semi-iteration's weights (Richardson's method on diag⁻¹ (D G), with
+/// the weights the reciprocals of the roots of the Chebyshev polynomial of degree
+/// `PRESSURE_ITERATIONS` over `PRESSURE_SPECTRUM`), taken alternately from either end so that the
+/// large weights, which amplify the high modes for a step, never follow one another. Per
+/// iteration it costs what weighted Jacobi does, and 8 of them cut the RMS divergence of the
+/// default grid 58×, where 16 at ω = 0.8 cut it 34× (`tests/fluid.rs`).
+pub fn pressure_weight(k: u32) -> f32 {
+    let n = PRESSURE_ITERATIONS;
+    let i = k % n;
+    let root = if i.is_multiple_of(2) { i / 2 } else { n - 1 - i / 2 };
+    let [a, b] = PRESSURE_SPECTRUM;
+    let t = std::f32::consts::PI * (2 * root + 1) as f32 / (2 * n) as f32;
+    1.0 / (0.5 * (b + a) + 0.5 * (b - a) * t.cos())
+}
 /// The wind's kinematic viscosity ν in m²/s: an eddy viscosity (air's own, 1.5e-5, would not
 /// show at these cells).
 pub const VISCOSITY: f32 = 0.05;
@@ -166,7 +186,7 @@ pub fn fill_params(params: &mut Params, grid: &FluidGrid, (first, base): (I64Vec
     params.fluid_cell = [h.x as f32, h.y as f32, h.z as f32, dt];
     params.fluid_corner = [corner.x as f32, corner.y as f32, SAMPLE_HEIGHT, BLEND_CELLS];
     let a = |edge: f64| VISCOSITY * dt / (edge * edge) as f32;
-    params.fluid_coef = [a(h.x), a(h.y), a(h.z), JACOBI_WEIGHT];
+    params.fluid_coef = [a(h.x), a(h.y), a(h.z), 0.0];
     let sources = wind.sources.iter().take(MAX_SOURCES);
     for (slot, s) in params.fluid_sources.iter_mut().zip(sources) {
         let p = (s.position_f64(input.time) - o).as_vec2();

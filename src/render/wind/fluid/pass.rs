@@ -123,6 +123,7 @@ impl FluidPass {
         let corners = Guard::new(device, corners);
         let codes: Vec<&[u8]> = shaders::FLUID_STAGES_COMP.iter().map(|s| s.code(device.profile)).collect();
         let named: Vec<(&str, &[u8])> = codes.iter().map(|c| ("fluid.comp", *c)).collect();
+        // The enter stage's fill; the pressure stage's weight over its first bytes.
         let push = [camera_grid::push_constant_range()];
         let frames = setup.frames.len();
         let desc = PassSetDesc { name: "fluid wind", shaders: &named, before: &[], push: &push, frames: frames * 5 };
@@ -237,6 +238,12 @@ impl Pass for FluidPass {
         // are in GENERAL, as the graph's barriers left them.
         unsafe {
             device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline);
+            if let Stage::Pressure(k) = stage {
+                // ω_k at offset 0 (`fluid.comp`'s `Push` of the pressure stage).
+                let weight = [super::pressure_weight(k), 0.0, 0.0, 0.0];
+                let bytes = bytemuck::bytes_of(&weight);
+                device.raw.cmd_push_constants(cmd, self.set.layout, vk::ShaderStageFlags::COMPUTE, 0, bytes);
+            }
             device.raw.cmd_dispatch(cmd, self.groups, 1, 1);
         }
         Ok(())

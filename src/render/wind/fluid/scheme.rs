@@ -237,8 +237,8 @@ impl FluidState {
     fn project(&mut self, frame: &Frame, u: Vec<Vec3>, iterations: u32) {
         let div: Vec<f32> = frame.cells().map(|c| frame.divergence(&u, c)).collect();
         let diag: Vec<f32> = frame.cells().map(|c| frame.laplacian(&[], c, true)).collect();
-        let weight = frame.p.fluid_coef[3];
-        for _ in 0..iterations {
+        for k in 0..iterations {
+            let weight = super::pressure_weight(k);
             let p = &self.pressure;
             let next: Vec<f32> = frame
                 .cells()
