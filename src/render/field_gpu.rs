@@ -208,16 +208,23 @@ pub fn cluster_grid(cluster_size: f32) -> ClusterGrid {
     wind_level(cluster_size, 0)
 }
 
-/// The wind levels a block field's blades read when they are drawn out to `blade_range`: up to
-/// the level that holds the farthest cell of the cull's rings (`ring_radius` blocks about O's cell,
-/// whatever the distance test), and the one it blends into when it lies in that level's blend band (`wind_level_at` of `shaders/wind/wind_field.glsl`), at most `WIND_LEVELS`. The
-/// corner pass writes only those: at 150 m, 4 levels of 4 225 corners (16 900), not 8 (33 800).
-pub fn wind_levels(cluster_size: f32, blade_range: f32) -> u32 {
+/// The wind levels that points within `reach` metres (Chebyshev) of O's cell's centre read, as
+/// `wind_level_at` of `shaders/wind/wind_field.glsl` picks and blends them: up to the level that
+/// holds the farthest, and the one it blends into when it lies in that level's blend band; at
+/// most `WIND_LEVELS`.
+pub fn levels_reaching(cluster_size: f32, reach: f32) -> u32 {
     let half0 = 0.5 * gpu::WIND_LEVEL_CLUSTERS as f32 * cluster_size;
-    let ratio = (ring_radius(blade_range) + 1) as f32 * BLOCK_SIZE / half0;
+    let ratio = reach / half0;
     let level = if ratio <= 1.0 { 0 } else { ratio.log2().ceil() as u32 };
     let blended = ratio / (1u32 << level) as f32 > 0.75;
     (level + 1 + u32::from(blended)).min(gpu::WIND_LEVELS)
+}
+
+/// The wind levels a block field holds for blades drawn out to `blade_range`: those the cull's
+/// rings reach (`ring_radius` blocks about O's cell, whatever the distance test). The corner pass
+/// writes only those: at 150 m, 4 levels of 4 225 corners (16 900), not 8 (33 800).
+pub fn wind_levels(cluster_size: f32, blade_range: f32) -> u32 {
+    levels_reaching(cluster_size, (ring_radius(blade_range) + 1) as f32 * BLOCK_SIZE)
 }
 
 /// A block field's wind for blades out to `blade_range`: its innermost level (`cluster_grid`) and

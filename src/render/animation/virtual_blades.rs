@@ -114,20 +114,17 @@ impl VirtualBladesPass {
         })
     }
 
-    /// The wind levels this frame steps: a block field's levels that blades within the blade
-    /// range of the camera (`FrameUniforms::lod.x`; the camera is within a block of O's) read,
-    /// as `wind_field.glsl`'s `wind_level_at` picks and blends them; a stored field's one.
+    /// The wind levels this frame steps: of a block field's levels, those that blades within the
+    /// blade range of the camera (`FrameUniforms::lod.x`; the camera is within a block of O's)
+    /// read (`field_gpu::levels_reaching`); a stored field's one.
     fn levels_read(&self, ctx: &PassContext) -> u32 {
         let frame = self.frame.get();
         let levels = frame.counts.x / (frame.counts.y * frame.counts.y);
         if levels <= 1 {
             return levels;
         }
-        let half0 = 0.5 * gpu::WIND_LEVEL_CLUSTERS as f32 * frame.levels[0].z;
-        let ratio = (ctx.uniforms.lod.x + crate::scene::field::BLOCK_SIZE) / half0;
-        let level = if ratio <= 1.0 { 0 } else { (ratio.log2().ceil() as u32).min(levels - 1) };
-        let blended = ratio / (1u32 << level) as f32 > 0.75;
-        (level + 1 + u32::from(blended)).min(levels)
+        let reach = ctx.uniforms.lod.x + crate::scene::field::BLOCK_SIZE;
+        crate::render::field_gpu::levels_reaching(frame.levels[0].z, reach).min(levels)
     }
 
     /// The corners of the levels this frame steps (levels are stored innermost first).

@@ -8,11 +8,12 @@ use bytemuck::{Pod, Zeroable};
 
 use crate::error::Result;
 use crate::render::graph::{Declaration, Pass, PassContext};
+use crate::render::passes::debug_lines::DebugLines;
 use crate::render::passes::{self, PipelineTarget};
 use crate::render::scene_gpu::SceneGpu;
 use crate::render::shaders;
 use crate::render::specialization::Specialization;
-use crate::vk::{pipeline, Access, Device, Guard};
+use crate::vk::{Access, Device};
 
 /// The push constant of `cluster_bounds.vert`.
 #[repr(C)]
@@ -26,8 +27,7 @@ struct Grid {
 
 /// The line pipeline and the grid it draws.
 pub struct ClusterBoundsPass {
-    pipeline: vk::Pipeline,
-    layout: vk::PipelineLayout,
+    lines: DebugLines,
     grid: Grid,
     heights: vk::Buffer,
     /// Each frame's wind at the cluster corners, which colours the edges.
@@ -44,37 +44,12 @@ impl ClusterBoundsPass {
         scene: &SceneGpu,
         wind: &[vk::Buffer],
     ) -> Result<Self> {
-        let range = vk::PushConstantRange {
-            stage_flags: vk::ShaderStageFlags::VERTEX,
-            offset: 0,
-            size: std::mem::size_of::<Grid>() as u32,
-        };
-        let layout = Guard::new(device, pipeline::layout(device, "cluster bounds layout", &[set_layout], &[range])?);
-        let pipeline = pipeline::graphics(
-            device,
-            &pipeline::GraphicsDesc {
-                name: "cluster bounds",
-                vertex: shaders::CLUSTER_BOUNDS_VERT.code(device.profile),
-                fragment: shaders::DEBUG_LINES_FRAG.code(device.profile),
-                topology: vk::PrimitiveTopology::LINE_LIST,
-                cull: vk::CullModeFlags::NONE,
-                polygon: vk::PolygonMode::FILL,
-                // An overlay: drawn over the grass that would hide most of it.
-                depth_compare: vk::CompareOp::ALWAYS,
-                depth_write: true,
-                color_format: target.color,
-                depth_format: target.depth,
-                layout: *layout,
-                constants: &constants.named(),
-                vertex_stride: 0,
-                samples: target.samples,
-                blend: pipeline::Blend::Opaque,
-            },
-        )?;
-        let layout = layout.take();
+        let vertex = shaders::CLUSTER_BOUNDS_VERT.code(device.profile);
+        let size = std::mem::size_of::<Grid>() as u32;
+        let lines = DebugLines::new(device, "cluster bounds", vertex, (set_layout, target), (constants, size))?;
         let g = &scene.grid;
         let grid = Grid { origin: g.origin, cluster_size: g.cluster_size, corners: g.corners_per_side(), lift: 0.05 };
-        Ok(Self { pipeline, layout, grid, heights: scene.heights.raw, wind: wind.to_vec() })
+        Ok(Self { lines, grid, heights: scene.heights.raw, wind: wind.to_vec() })
     }
 
     /// Vertices drawn: two per edge between neighbouring corners, along x and along z.
@@ -90,20 +65,13 @@ impl Pass for ClusterBoundsPass {
     }
 
     fn declare(&self, ctx: &PassContext) -> Option<Declaration> {
-        let rendering = passes::scene_rendering(ctx, self.pipeline, false, false);
+        let rendering = passes::scene_rendering(ctx, self.lines.pipeline(), false, false);
         let declaration = Declaration::graphics(rendering).buffer(self.heights, Access::VertexShaderStorageRead);
         Some(declaration.buffer(self.wind[ctx.slot], Access::VertexShaderStorageRead))
     }
 
     fn record(&self, ctx: &PassContext, cmd: vk::CommandBuffer) -> Result<()> {
-        let device = ctx.device;
-        passes::bind_graphics(device, ctx, cmd, self.layout, self.pipeline);
-        // SAFETY: cmd is recording inside this pass's rendering instance; set 0 is bound.
-        unsafe {
-            let grid = bytemuck::bytes_of(&self.grid);
-            device.raw.cmd_push_constants(cmd, self.layout, vk::ShaderStageFlags::VERTEX, 0, grid);
-            device.raw.cmd_draw(cmd, self.vertices(), 1, 0, 0);
-        }
+        self.lines.record(ctx, cmd, bytemuck::bytes_of(&self.grid), self.vertices());
         Ok(())
     }
 
@@ -114,11 +82,6 @@ impl Pass for ClusterBoundsPass {
 
     unsafe fn destroy(self: Box<Self>, device: &Device) {
         // SAFETY: per the contract.
-        unsafe {
-            crate::vk::live::destroyed(self.pipeline);
-            device.raw.destroy_pipeline(self.pipeline, None);
-            crate::vk::live::destroyed(self.layout);
-            device.raw.destroy_pipeline_layout(self.layout, None);
-        }
+        unsafe { self.lines.destroy(device) }
     }
 }

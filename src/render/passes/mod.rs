@@ -6,6 +6,7 @@ pub mod blade_levels;
 pub mod blades;
 pub mod cluster_bounds;
 pub mod cull;
+pub mod debug_lines;
 pub mod depth_pyramid;
 pub mod floor;
 pub mod overlay;

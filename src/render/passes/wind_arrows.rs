@@ -11,11 +11,12 @@ use bytemuck::{Pod, Zeroable};
 
 use crate::error::Result;
 use crate::render::graph::{Declaration, Pass, PassContext};
+use crate::render::passes::debug_lines::DebugLines;
 use crate::render::passes::{self, PipelineTarget};
 use crate::render::scene_gpu::SceneGpu;
 use crate::render::shaders;
 use crate::render::specialization::Specialization;
-use crate::vk::{pipeline, Access, Device, Guard};
+use crate::vk::{Access, Device};
 
 /// Most arrows per side: a stored field's corners are thinned to this by a stride.
 pub const MAX_ARROWS_PER_SIDE: u32 = 33;
@@ -69,8 +70,7 @@ fn thinned(corners: u32) -> (u32, u32) {
 
 /// The line pipeline and the arrows it draws.
 pub struct WindArrowsPass {
-    pipeline: vk::Pipeline,
-    layout: vk::PipelineLayout,
+    lines: DebugLines,
     arrows: Arrows,
     /// The ground the slice follows: a stored field's heights, a block field's relief grid.
     heights: vk::Buffer,
@@ -89,36 +89,11 @@ impl WindArrowsPass {
         scene: &SceneGpu,
         wind: &[vk::Buffer],
     ) -> Result<Self> {
-        let range = vk::PushConstantRange {
-            stage_flags: vk::ShaderStageFlags::VERTEX,
-            offset: 0,
-            size: std::mem::size_of::<Arrows>() as u32,
-        };
-        let layout = Guard::new(device, pipeline::layout(device, "wind arrows layout", &[set_layout], &[range])?);
-        let pipeline = pipeline::graphics(
-            device,
-            &pipeline::GraphicsDesc {
-                name: "wind arrows",
-                vertex: shaders::WIND_ARROWS_VERT.code(device.profile),
-                fragment: shaders::DEBUG_LINES_FRAG.code(device.profile),
-                topology: vk::PrimitiveTopology::LINE_LIST,
-                cull: vk::CullModeFlags::NONE,
-                polygon: vk::PolygonMode::FILL,
-                // An overlay: drawn over the grass that would hide most of the slice.
-                depth_compare: vk::CompareOp::ALWAYS,
-                depth_write: true,
-                color_format: target.color,
-                depth_format: target.depth,
-                layout: *layout,
-                constants: &constants.named(),
-                vertex_stride: 0,
-                samples: target.samples,
-                blend: pipeline::Blend::Opaque,
-            },
-        )?;
+        let vertex = shaders::WIND_ARROWS_VERT.code(device.profile);
+        let size = std::mem::size_of::<Arrows>() as u32;
+        let lines = DebugLines::new(device, "wind arrows", vertex, (set_layout, target), (constants, size))?;
         Ok(Self {
-            pipeline,
-            layout: layout.take(),
+            lines,
             arrows: Arrows::over(scene),
             heights: scene.heights.raw,
             relief_grid: scene.relief_grid_read(),
@@ -133,7 +108,7 @@ impl Pass for WindArrowsPass {
     }
 
     fn declare(&self, ctx: &PassContext) -> Option<Declaration> {
-        let rendering = passes::scene_rendering(ctx, self.pipeline, false, false);
+        let rendering = passes::scene_rendering(ctx, self.lines.pipeline(), false, false);
         let mut declaration = Declaration::graphics(rendering).buffer(self.heights, Access::VertexShaderStorageRead);
         if let Some(grid) = self.relief_grid {
             declaration = declaration.buffer(grid, ctx.device.profile.vertex_fetch());
@@ -142,14 +117,7 @@ impl Pass for WindArrowsPass {
     }
 
     fn record(&self, ctx: &PassContext, cmd: vk::CommandBuffer) -> Result<()> {
-        let device = ctx.device;
-        passes::bind_graphics(device, ctx, cmd, self.layout, self.pipeline);
-        // SAFETY: cmd is recording inside this pass's rendering instance; set 0 is bound.
-        unsafe {
-            let arrows = bytemuck::bytes_of(&self.arrows);
-            device.raw.cmd_push_constants(cmd, self.layout, vk::ShaderStageFlags::VERTEX, 0, arrows);
-            device.raw.cmd_draw(cmd, self.arrows.vertices(), 1, 0, 0);
-        }
+        self.lines.record(ctx, cmd, bytemuck::bytes_of(&self.arrows), self.arrows.vertices());
         Ok(())
     }
 
@@ -160,12 +128,7 @@ impl Pass for WindArrowsPass {
 
     unsafe fn destroy(self: Box<Self>, device: &Device) {
         // SAFETY: per the contract.
-        unsafe {
-            crate::vk::live::destroyed(self.pipeline);
-            device.raw.destroy_pipeline(self.pipeline, None);
-            crate::vk::live::destroyed(self.layout);
-            device.raw.destroy_pipeline_layout(self.layout, None);
-        }
+        unsafe { self.lines.destroy(device) }
     }
 }
 

@@ -7,8 +7,7 @@
 //! (eq. 4, `DIFFUSE_ITERATIONS` Jacobi iterations), the self-advection (§2.3.3) and the
 //! projection (§2.3.6, `PRESSURE_ITERATIONS` Jacobi iterations with Chebyshev weights,
 //! `pressure_weight`, on the pressure's Poisson equation, warm-started from the last step's
-//! pressure). `pass::FluidPass` records them
-//! as steps of one pass, then the corners: a corner inside the grid takes the fluid's wind at
+//! pressure). `pass::FluidPass` records them as steps of one pass, then the corners: a corner inside the grid takes the fluid's wind at
 //! `SAMPLE_HEIGHT` above the ground (Zhang Xia's tri-linear interpolation, §3.2.2), blended
 //! linearly into the analytic field over the grid's outer `BLEND_CELLS` cells; past the grid the
 //! analytic field (the global wind with gusts and the point sources of eq. 4.1) holds.
@@ -74,6 +73,7 @@ pub fn pressure_weight(k: u32) -> f32 {
     let t = std::f32::consts::PI * (2 * root + 1) as f32 / (2 * n) as f32;
     1.0 / (0.5 * (b + a) + 0.5 * (b - a) * t.cos())
 }
+
 /// The wind's kinematic viscosity ν in m²/s: an eddy viscosity (air's own, 1.5e-5, would not
 /// show at these cells).
 pub const VISCOSITY: f32 = 0.05;
