@@ -94,7 +94,7 @@ fn every_blade_field_reads_back_through_a_compute_shader() {
 
 /// Words `frame_readback.comp` writes: the uniforms, one per specialization-constant id, six
 /// shared constants.
-const FRAME_WORDS: usize = 136;
+const FRAME_WORDS: usize = 216;
 const READBACK_WORDS: usize = FRAME_WORDS + specialization::COUNT + 6;
 
 #[test]
@@ -120,6 +120,13 @@ fn every_frame_uniform_and_specialization_constant_reads_back_through_a_compute_
         field_cells: glam::IVec4::new(-1021, 1022, -1023, 1024),
         field: Vec4::new(f(80), f(81), f(82), f(83)),
         relief_grid: UVec4::new(1025, 1026, 1027, 1028),
+        relief_cycles: std::array::from_fn(|i| {
+            glam::IVec4::new(-2000, 2001, -2002, 2003) + glam::IVec4::splat(10 * i as i32)
+        }),
+        ground_levels: std::array::from_fn(|i| Vec4::splat(f(90 + i as u32)) + Vec4::new(0.0, 0.01, 0.02, 0.03)),
+        ground_windows: std::array::from_fn(|i| {
+            glam::IVec4::new(3000, -3001, 3002, -3003) + glam::IVec4::splat(10 * i as i32)
+        }),
     };
     let spec = Specialization {
         keyframe_uvec4s: 2000,

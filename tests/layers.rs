@@ -214,6 +214,7 @@ const ORDER: &[&str] = &[
     "render::budget",
     "render::camera_grid",
     "render::terrain_chunks",
+    "render::ground_clipmap",
     "render::field_gpu",
     "render::draw_rows",
     "render::culling",

@@ -6,7 +6,7 @@
 #include "common/shared.glsl"
 #include "generated/spec_ids.glsl"
 
-// Per-frame constants (std140, 544 bytes).
+// Per-frame constants (std140, 864 bytes).
 struct FrameUniforms {
     mat4 view_proj;         // world -> clip (reversed infinite Z, Vulkan y down)
     vec4 camera_position;   // xyz eye, w simulation time (s)
@@ -27,7 +27,10 @@ struct FrameUniforms {
     vec4 relief_phases[RELIEF_WAVES / 2u]; // sin, cos of u_k · O + φ_k, two waves per vec4
     ivec4 field_cells;      // xy O's cell, z cells of a bounded field per side (0: unbounded), w unused
     vec4 field;             // x block edge (m), y relief slope bound, zw the force corners' origin relative to O
-    uvec4 relief_grid;      // xy the terrain grid's toroidal base (the slot of vertex 0, `render::camera_grid`), zw unused
+    uvec4 relief_grid;      // z the ground clipmap's levels (`render::ground_clipmap`), xyw unused
+    ivec4 relief_cycles[RELIEF_WAVES / 2u]; // per wave its whole periods in the world's (m, n), two waves per vector
+    vec4 ground_levels[CAMERA_GRID_MAX_LEVELS]; // per clipmap level: xy its window's first vertex relative to O, z its cell edge, w unused
+    ivec4 ground_windows[CAMERA_GRID_MAX_LEVELS]; // per level: xy the window's toroidal base, zw its first vertex in half-metres on the world's period
 };
 
 

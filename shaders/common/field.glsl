@@ -57,17 +57,23 @@ uint cell_hash(ivec2 cell) {
     return h ^ (h >> 12);
 }
 
-// The terrain grid (terrain.vert): vertex v lies at v * step + offset relative to O, the offset
-// keeping the vertices on the world's lattice (`render::field_gpu::terrain_grid_offset`).
-vec2 terrain_grid_offset() {
-    return frame_values.terrain.zw;
+// The ground's clipmap (`render::ground_clipmap`): its levels, and level l's window (its first
+// vertex relative to O, its cell edge).
+uint ground_levels() {
+    return max(frame_values.relief_grid.z, 1u);
 }
 
-// Whether the far terrain is drawn in cells of two grid steps (`render::field_gpu::terrain_coarsens`):
-// when a block spans an even number of cells.
-bool terrain_coarsens() {
-    return 2.0 * frame_values.terrain.x <= frame_values.field.x;
+vec2 ground_level_offset(uint level) {
+    return frame_values.ground_levels[level].xy;
 }
+
+float ground_level_step(uint level) {
+    return frame_values.ground_levels[level].z;
+}
+
+// The world's period in half-metres, the lattice the clipmap's texels are evaluated on
+// (`render::ground_clipmap::PERIOD_HALF_METRES`: a block is 8 half-metres).
+const uint PERIOD_HALF_METRES = uint(PERIOD_CELLS) * 8u;
 
 // Height of the drawn terrain (the relief at the grid's vertices, flat between them, split as
 // terrain.vert splits a cell) from the heights of the cell's four vertices.
@@ -75,25 +81,46 @@ float terrain_mesh_height(vec2 f, float h00, float h10, float h01, float h11) {
     return f.x >= f.y ? h00 + f.x * (h10 - h00) + f.y * (h11 - h10) : h00 + f.y * (h01 - h00) + f.x * (h11 - h01);
 }
 
+// How many cells local vertex (or point) `v` of a level's window lies inside its edge (Chebyshev).
+float ground_edge_cells(vec2 v) {
+    float n = float(FIELD_TERRAIN_CELLS);
+    return min(min(v.x, v.y), min(n - v.x, n - v.y));
+}
+
+// The finest level whose window holds `p` (relative to O; a window's edge belongs to it), and
+// where `p` lies in it in cells (`g`). Past the coarsest window, the coarsest.
+uint ground_level_at(vec2 p, out vec2 g) {
+    uint levels = ground_levels();
+    for (uint l = 0u; l + 1u < levels; l++) {
+        g = (p - ground_level_offset(l)) / ground_level_step(l);
+        if (ground_edge_cells(g) >= 0.0) {
+            return l;
+        }
+    }
+    uint top = levels - 1u;
+    g = (p - ground_level_offset(top)) / ground_level_step(top);
+    return top;
+}
+
 #ifndef RELIEF_GRID_WRITER
-// Grid vertex v (clamped to the grid): the drawn terrain's height there and the relief's normal.
-// The texel sits in the vertex's slot of the camera grid (the window's base in
-// `relief_grid.xy`); from TERRAIN_MORPH_CELLS to TERRAIN_FINE_CELLS (Chebyshev, from the grid's
-// centre) an odd vertex's height slides onto the coarse mesh's, and past them it is that mesh,
-// so fine and coarse chunks meet without cracks and the cull's roots, interpolating this grid,
-// sit on the terrain as drawn (`render::field_gpu::terrain_morph`, CDLOD's morph by the grid's
-// place). The normal stays the relief's.
-vec4 relief_vertex(ivec2 v) {
+// Local vertex v of level `level` (clamped to its window): the drawn ground's height there and
+// the relief's normal. The texel sits in the vertex's slot of the camera grid (the window's base
+// in `ground_windows`); within GROUND_MORPH_END cells of the window's edge an odd vertex's height
+// slides onto the next level's mesh, and within GROUND_MORPH_FULL it is that mesh, so a level
+// meets the next without cracks and the cull's roots, interpolating this grid, sit on the ground
+// as drawn (`render::ground_clipmap::morph`, CDLOD's morph by the vertex's place in its window).
+vec4 ground_vertex(uint level, ivec2 v) {
     int n = int(FIELD_TERRAIN_CELLS) + 1;
     v = clamp(v, ivec2(0), ivec2(n - 1));
     uvec3 dims = uvec3(n, 1, n);
-    uvec3 base = uvec3(frame_values.relief_grid.x, 0u, frame_values.relief_grid.y);
-    vec4 t = relief_texel(int(camera_grid_slot(uvec3(v.x, 0, v.y), base, dims)));
+    ivec4 window = frame_values.ground_windows[level];
+    uvec3 base = uvec3(window.x, 0, window.y);
+    uint slot = level * uint(n * n) + camera_grid_slot(uvec3(v.x, 0, v.y), base, dims);
+    vec4 t = relief_texel(int(slot));
     float h = t.x;
-    if (terrain_coarsens() && ((v.x | v.y) & 1) != 0) {
-        ivec2 d = abs(v - ivec2(FIELD_TERRAIN_CELLS / 2u));
-        float band = float(TERRAIN_FINE_CELLS - TERRAIN_MORPH_CELLS);
-        float k = clamp(float(max(d.x, d.y) - int(TERRAIN_MORPH_CELLS)) / band, 0.0, 1.0);
+    if (((v.x | v.y) & 1) != 0) {
+        float band = float(GROUND_MORPH_END - GROUND_MORPH_FULL);
+        float k = clamp((float(GROUND_MORPH_END) - ground_edge_cells(vec2(v))) / band, 0.0, 1.0);
         if (k > 0.0) {
             h = mix(h, t.y, k);
         }
@@ -101,31 +128,35 @@ vec4 relief_vertex(ivec2 v) {
     return vec4(h, t.z, sqrt(max(1.0 - t.z * t.z - t.w * t.w, 0.0)), t.w);
 }
 
-// The grid cell under `p` (relative to O), clamped to the grid, and where `p` lies in it.
-ivec2 relief_cell(vec2 p, out vec2 f) {
-    vec2 g = (p - terrain_grid_offset()) / frame_values.terrain.x;
+// The level and cell under `p` (relative to O), clamped to the level's window, and where `p`
+// lies in the cell.
+ivec2 ground_cell(vec2 p, out uint level, out vec2 f) {
+    vec2 g;
+    level = ground_level_at(p, g);
     ivec2 c = clamp(ivec2(floor(g)), ivec2(0), ivec2(int(FIELD_TERRAIN_CELLS) - 1));
     f = clamp(g - vec2(c), vec2(0.0), vec2(1.0));
     return c;
 }
 
-// Height of the drawn terrain at `p` (relative to O): the grid's heights at the corners of its
-// cell, split as terrain.vert splits it, so a root sits on the terrain as drawn.
+// Height of the drawn ground at `p` (relative to O): the heights at the corners of its cell in
+// the level that draws it, split as terrain.vert splits it, so a root sits on the ground as drawn.
 float field_ground_height(vec2 p) {
+    uint l;
     vec2 f;
-    ivec2 c = relief_cell(p, f);
-    float h00 = relief_vertex(c).x;
-    float h10 = relief_vertex(c + ivec2(1, 0)).x;
-    float h01 = relief_vertex(c + ivec2(0, 1)).x;
-    return terrain_mesh_height(f, h00, h10, h01, relief_vertex(c + ivec2(1, 1)).x);
+    ivec2 c = ground_cell(p, l, f);
+    float h00 = ground_vertex(l, c).x;
+    float h10 = ground_vertex(l, c + ivec2(1, 0)).x;
+    float h01 = ground_vertex(l, c + ivec2(0, 1)).x;
+    return terrain_mesh_height(f, h00, h10, h01, ground_vertex(l, c + ivec2(1, 1)).x);
 }
 
-// The relief's normal at `p`: the grid vertices' normals, interpolated bilinearly.
+// The relief's normal at `p`: the vertices' normals of its cell, interpolated bilinearly.
 vec3 field_ground_normal(vec2 p) {
+    uint l;
     vec2 f;
-    ivec2 c = relief_cell(p, f);
-    vec3 bottom = mix(relief_vertex(c).yzw, relief_vertex(c + ivec2(1, 0)).yzw, f.x);
-    vec3 top = mix(relief_vertex(c + ivec2(0, 1)).yzw, relief_vertex(c + ivec2(1, 1)).yzw, f.x);
+    ivec2 c = ground_cell(p, l, f);
+    vec3 bottom = mix(ground_vertex(l, c).yzw, ground_vertex(l, c + ivec2(1, 0)).yzw, f.x);
+    vec3 top = mix(ground_vertex(l, c + ivec2(0, 1)).yzw, ground_vertex(l, c + ivec2(1, 1)).yzw, f.x);
     return normalize(mix(bottom, top, f.y));
 }
 #endif
@@ -156,8 +187,8 @@ BladeInstance field_blade(ivec2 cell, uint index) {
     return blade;
 }
 
-const float CELL_SPREAD_INSIDE = 0.7072; // render::field_gpu::CELL_SPREAD_INSIDE
-const float CELL_SPREAD_OUTSIDE = 1.4143; // render::field_gpu::CELL_SPREAD_OUTSIDE
+const float CELL_SPREAD_INSIDE = 0.7072; // render::ground_clipmap::CELL_SPREAD_INSIDE
+const float CELL_SPREAD_OUTSIDE = 1.4143; // render::ground_clipmap::CELL_SPREAD_OUTSIDE
 
 // The box of every blade of `cell` in any pose, relative to O: the relief at the cell's centre
 // within the slope bound, padded by the longest blade.
@@ -165,13 +196,14 @@ void field_cell_bounds(ivec2 cell, out vec3 lo, out vec3 hi) {
     float edge = frame_values.field.x;
     vec2 corner = vec2(cell - frame_values.field_cells.xy) * edge;
     vec2 centre = corner + vec2(0.5 * edge);
-    // `render::field_gpu::cell_spread`: the drawn terrain interpolates the relief at the grid's
-    // vertices, which past 156 m of view distance lie outside the cell.
-    // The drawn cells' edge: two steps where the grid's vertices slide onto the far terrain's
-    // coarse mesh (`render::field_gpu::drawn_step`).
-    float step = frame_values.terrain.x;
-    vec2 g = abs((centre - terrain_grid_offset()) / step - vec2(float(FIELD_TERRAIN_CELLS / 2u)));
-    bool morphs = terrain_coarsens() && max(g.x, g.y) + 0.5 * edge / step + 2.0 > float(TERRAIN_MORPH_CELLS);
+    // `render::ground_clipmap::cell_spread`: the drawn ground interpolates the relief at its level's
+    // vertices, which in levels of cells wider than half a block lie outside the cell; in cells of
+    // two steps where the vertices slide onto the next level's mesh
+    // (`render::ground_clipmap::drawn_step`).
+    vec2 g;
+    uint level = ground_level_at(centre, g);
+    float step = ground_level_step(level);
+    bool morphs = ground_edge_cells(g) - (0.5 * edge / step + 2.0) < float(GROUND_MORPH_END);
     float drawn = morphs ? 2.0 * step : step;
     float reach = CELL_SPREAD_INSIDE * edge + CELL_SPREAD_OUTSIDE * max(drawn - 0.5 * edge, 0.0);
     float spread = frame_values.field.y * reach;

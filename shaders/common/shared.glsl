@@ -70,9 +70,10 @@
 
 // Block fields (`scene::field`).
 #define RELIEF_WAVES 8u // Sine waves of the relief.
-#define FIELD_TERRAIN_CELLS 160u // Cells per side of the terrain grid drawn around the origin.
-#define TERRAIN_FINE_CELLS 32u // Chebyshev cells from the grid's centre drawn at the grid's step; past them, chunks of cells of two steps.
-#define TERRAIN_MORPH_CELLS 16u // Chebyshev cells from the grid's centre where odd vertices begin to slide onto the coarse mesh.
+#define FIELD_TERRAIN_CELLS 80u // Cells per side of a level of the ground's clipmap (`render::ground_clipmap`).
+#define GROUND_SNAP_CELLS 16u // A ground clipmap level's window moves by whole multiples of this many of its cells (`render::ground_clipmap`).
+#define GROUND_MORPH_FULL 1u // Within this many cells of a level's window edge its odd vertices lie on the next level's mesh,
+#define GROUND_MORPH_END 8u // and from this many on they are the relief's.
 #define PERIOD_CELLS 5000 // Block cells in the world's period (`scene::field::PERIOD_CELLS`).
 
 // Camera-following grids (`render::camera_grid`, common/camera_grid.glsl).

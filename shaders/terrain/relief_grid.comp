@@ -1,13 +1,17 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// A block field's terrain grid (terrain.vert's FIELD_TERRAIN_CELLS² cells around O), a camera
-// grid (`render::camera_grid`, one level of (FIELD_TERRAIN_CELLS + 1)² vertices on the world's
-// lattice of the grid's step): the vertices that entered the window since the last fill
-// (`render::passes::relief_grid`), each with what depends on its place in the world alone: the
-// relief's height, the coarse mesh's height there and the relief's normal. Readers apply the
-// camera-relative morph between the two heights (common/field.glsl: `relief_vertex`,
-// `field_ground_height`, `field_ground_normal`). Local vertex v lies at v * step + offset
-// relative to O.
+// A block field's ground clipmap (`render::ground_clipmap`): one level of a camera grid
+// (`render::camera_grid`, (FIELD_TERRAIN_CELLS + 1)² vertices on the world's lattice of the
+// level's step), the vertices that entered its window since the last fill
+// (`render::passes::relief_grid`), each with what depends on its world vertex alone: the relief's
+// height, the next level's mesh's height there and the relief's normal. Readers apply the morph
+// by the vertex's place in its window (common/field.glsl: `ground_vertex`).
+//
+// World-exact: a vertex is named by its place in half-metres on the world's period, X and Z, and
+// wave k's phase is 2π ((m_k X + n_k Z) mod P) / P + φ_k in whole numbers (m_k, n_k its periods
+// in the world's, taken mod P on the CPU so the products fit 32 bits unsigned), not relative to
+// O: the texels a scroll keeps are the ones a fresh fill writes, and a level's even vertex is bit
+// for bit the next level's vertex at the same place.
 #define RELIEF_GRID_WRITER
 #include "common/bindings.glsl"
 #include "common/field.glsl"
@@ -19,25 +23,46 @@ layout(push_constant) uniform Fill {
     CameraGridFill fill;
 };
 
+// The relief at the world vertex `at` (half-metres on the world's period), and its slope.
+float relief_at(uvec2 at, out vec2 slope) {
+    float h = 0.0;
+    slope = vec2(0.0);
+    for (uint k = 0u; k < RELIEF_WAVES; k++) {
+        ivec4 c = frame_values.relief_cycles[k / 2u];
+        uvec2 mn = uvec2((k & 1u) == 0u ? c.xy : c.zw);
+        uint q = (mn.x * at.x + mn.y * at.y) % PERIOD_HALF_METRES;
+        vec4 w = frame_values.relief_waves[k];
+        float theta = float(q) * (2.0 * PI / float(PERIOD_HALF_METRES)) + w.w;
+        h += w.z * sin(theta);
+        slope += w.z * w.xy * cos(theta);
+    }
+    return h;
+}
+
 void main() {
     uvec3 local = camera_grid_entered(fill, gl_GlobalInvocationID.x);
-    uvec2 v = local.xz;
-    float step = frame.terrain.x;
-    vec2 p = vec2(v) * step + terrain_grid_offset();
-    float h = relief_height(p);
-    // The far terrain (`render::terrain_chunks`) draws cells of two steps: the coarse mesh's
-    // height at an odd vertex is the mean of the two even vertices of the coarse edge along x or
-    // z, or of the coarse cell's diagonal, that it halves (split (0,0)-(1,1) like the fine
-    // cells). The grid keeps its vertex 0 on the coarse lattice (`terrain_grid_offset`), so a
-    // vertex's parity is its place in the world's.
+    uint level = fill.base.w;
+    ivec4 window = frame_values.ground_windows[level];
+    uint step = uint(2.0 * ground_level_step(level)); // half-metres
+    uvec2 at = (uvec2(window.zw) + local.xz * step) % PERIOD_HALF_METRES;
+    vec2 slope;
+    float h = relief_at(at, slope);
+    // The next level's mesh at an odd vertex: the mean of the two even vertices of the coarse
+    // edge along x or z, or of the coarse cell's diagonal, that it halves (split (0,0)-(1,1) like
+    // the fine cells). The window's first vertex is even (a multiple of GROUND_SNAP_CELLS), so a
+    // vertex's parity in the window is its parity in the world.
     float coarse = h;
-    uvec2 odd = v & 1u;
-    if (terrain_coarsens() && (odd.x | odd.y) != 0u) {
-        vec2 across = vec2(odd) * step;
-        coarse = 0.5 * (relief_height(p - across) + relief_height(p + across));
+    uvec2 odd = local.xz & 1u;
+    if ((odd.x | odd.y) != 0u) {
+        uvec2 across = odd * step;
+        vec2 unused;
+        uvec2 before = (at + uvec2(PERIOD_HALF_METRES) - across) % PERIOD_HALF_METRES;
+        uvec2 after = (at + across) % PERIOD_HALF_METRES;
+        coarse = 0.5 * (relief_at(before, unused) + relief_at(after, unused));
     }
-    // A normal's y is above 0: x and z say it (`relief_vertex` rebuilds y).
-    vec3 n = relief_normal(p);
+    // A normal's y is above 0: x and z say it (`ground_vertex` rebuilds y).
+    vec3 n = normalize(vec3(-slope.x, 1.0, -slope.y));
     uvec3 dims = fill.dims.xyz;
-    relief_grid[camera_grid_slot(local, fill.base.xyz, dims)] = vec4(h, coarse, n.x, n.z);
+    uint slot = level * dims.x * dims.z + camera_grid_slot(local, fill.base.xyz, dims);
+    relief_grid[slot] = vec4(h, coarse, n.x, n.z);
 }

@@ -1,7 +1,7 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // Terrain by vertex pulling, indexed: vertex v is grid vertex (v % (cells + 1), v / (cells + 1)),
-// heights from a storage buffer (a block field's from the relief grid, relief_grid.comp); the
+// heights from a storage buffer (a block field's from a level of its clipmap, relief_grid.comp); the
 // index buffer splits each cell (0,0)-(1,0)-(1,1) and
 // (0,0)-(1,1)-(0,1), as `scene::terrain::Terrain::height_at` (`render::terrain_chunks::chunked_indices`).
 #include "common/bindings.glsl"
@@ -36,12 +36,13 @@ void main() {
     uint cells = frame.params.z;
     uvec2 grid = uvec2(uint(gl_VertexIndex) % (cells + 1u), uint(gl_VertexIndex) / (cells + 1u));
     if ((RENDER_FLAGS & FLAG_BLOCKS) != 0u) {
-        // A block field: a grid of FIELD_TERRAIN_CELLS² cells centred on O's cell, evaluated on
-        // the relief, its cell edge (terrain.x) a divisor or multiple of the block edge so the
-        // lattice stays put when O moves by a block.
-        // The drawn terrain at the vertex: relief_grid.comp filled it when it entered the grid.
-        vec4 relief = relief_vertex(ivec2(grid));
-        vec2 p = vec2(grid) * frame.terrain.x + terrain_grid_offset();
+        // A block field: level gl_InstanceIndex of the ground's clipmap (`render::ground_clipmap`),
+        // FIELD_TERRAIN_CELLS² cells on the world's lattice of the level's step; the terrain pass
+        // draws its chunks but the finer level's. relief_grid.comp filled the vertex when it
+        // entered the window; `ground_vertex` applies the morph onto the next level's mesh.
+        uint level = uint(gl_InstanceIndex);
+        vec4 relief = ground_vertex(level, ivec2(grid));
+        vec2 p = vec2(grid) * ground_level_step(level) + ground_level_offset(level);
         vec3 world = vec3(p.x, relief.x, p.y);
         out_color = ground_color(relief.yzw, world);
         gl_Position = frame.view_proj * vec4(world, 1.0);

@@ -143,8 +143,8 @@ pub struct SceneGpu {
     pub blade_texels: TexelView,
     /// The depth pyramid (`PYRAMID_FLOATS` floats) the depth-pyramid pass writes.
     pub depth_pyramid: Buffer,
-    /// A block field's terrain grid, `(FIELD_TERRAIN_CELLS + 1)²` vertices of (height, normal),
-    /// which `passes::relief_grid` writes each frame; a stored field's holds one unused texel.
+    /// A block field's ground clipmap (`render::ground_clipmap`), which `passes::relief_grid`
+    /// fills as the camera moves; a stored field's holds one unused texel.
     pub relief_grid: Buffer,
     /// The same grid as RGBA32F texels, as the terrain, the cull and the blades read it.
     pub relief_texels: TexelView,
@@ -217,10 +217,11 @@ pub fn cull_capacity(scene: &Scene, blade_range: f32) -> (u32, u32) {
     }
 }
 
-/// Bytes of the relief grid: a block field's camera grid (`field_gpu::relief_grid_shape`, the
-/// same at every step), or one texel (never read: a stored field's terrain is `heights`).
+/// Bytes of the relief grid: a block field's clipmap of the most levels (any view distance fits),
+/// or one texel (never read: a stored field's terrain is `heights`).
 fn relief_grid_bytes(field: bool) -> u64 {
-    let shape = crate::render::field_gpu::relief_grid_shape(1.0);
+    let shape =
+        crate::render::ground_clipmap::Clipmap { step: 1.0, levels: gpu_constants::CAMERA_GRID_MAX_LEVELS }.shape();
     if field {
         shape.bytes()
     } else {
@@ -373,7 +374,10 @@ impl SceneGpu {
         partial.blade_texels = Some(TexelView::new(device, blades, vk::Format::R32G32B32A32_UINT, "blade texels")?);
         partial.heights = Some(batch.buffer("terrain heights", &scene.terrain.heights, storage, vertex_read)?);
         let cells = if scene.field.is_some() { gpu_constants::FIELD_TERRAIN_CELLS } else { scene.terrain.cells };
-        let indices = crate::render::terrain_chunks::chunked_indices(cells, scene.field.is_some());
+        let indices = crate::render::terrain_chunks::chunked_indices(
+            cells,
+            crate::render::terrain_chunks::chunk_cells(scene.field.is_some()),
+        );
         let usage = vk::BufferUsageFlags::INDEX_BUFFER;
         partial.terrain_indices = Some(batch.buffer("terrain indices", &indices, usage, &[Access::IndexRead])?);
         let clusters = grid.assign(&scene.blades);
@@ -392,15 +396,13 @@ impl SceneGpu {
         let [visible, slots, draws, results] = cull_bytes(u64::from(verdicts), slots, visible_entries);
         let indirect = storage | vk::BufferUsageFlags::INDIRECT_BUFFER;
         let relief = relief_grid_bytes(scene.field.is_some());
+        // The relief grid, the visible list and the draws are read back by `Renderer::read_*`.
+        let (texels, read) = (vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER, vk::BufferUsageFlags::TRANSFER_SRC);
         for (name, size, usage) in [
-            (
-                "relief grid",
-                relief,
-                storage | vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC,
-            ),
-            ("visible blades", visible, storage | vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER),
+            ("relief grid", relief, storage | texels | read),
+            ("visible blades", visible, storage | texels | read),
             ("cull slot counts", slots, storage),
-            ("cull draws", draws, indirect),
+            ("cull draws", draws, indirect | read),
             ("cull results", results, storage | vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER),
             ("depth pyramid", PYRAMID_BYTES, storage | vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER),
             ("cull verdict room", cull_alloc_bytes(slots_count), indirect),

@@ -6,24 +6,31 @@
 //! alternating runs of 20 frames) the terrain's vertex shader invocations fell from 50 160 to
 //! 10 521 and the terrain pass from 6.2–6.6 to 5.5–5.6 ms, the picture bit-identical.
 //!
-//! A block field's far chunks (past `TERRAIN_FINE_CELLS` from the grid's centre, where the
-//! cells are a few pixels across) also have a coarse range: the same ground in cells of two grid
-//! steps, a quarter of the triangles. The relief grid's odd vertices slide onto that coarse mesh
-//! over the band from `TERRAIN_MORPH_CELLS` (`render::field_gpu::terrain_morph`, CDLOD-style),
-//! so a fine chunk meets a coarse one without cracks, and the cull's roots, which interpolate the
-//! grid, sit on the terrain as drawn.
+//! A block field's ground is the levels of its clipmap (`render::ground_clipmap`), each a grid
+//! of `FIELD_TERRAIN_CELLS` cells drawn with the same index list: a level draws its chunks in
+//! view but those of its hole, the square its finer level draws, which is a whole number of
+//! chunks ([`visible_runs`]'s `hole`).
 
 use glam::{Mat4, Vec3, Vec4};
 
 use crate::render::gpu_constants as gpu;
 use crate::scene::Scene;
 
-/// Cells per side of a chunk (the last row and column of chunks may be narrower).
+/// Cells per side of a stored terrain's chunk (the last row and column of chunks may be narrower).
 pub const CHUNK_CELLS: u32 = 16;
+/// Cells per side of a chunk of a block field's clipmap level: its hole is a whole number of them.
+pub const GROUND_CHUNK_CELLS: u32 = 8;
 
-const _: () = assert!(gpu::TERRAIN_FINE_CELLS.is_multiple_of(CHUNK_CELLS) && CHUNK_CELLS.is_multiple_of(2));
-const _: () = assert!(gpu::TERRAIN_MORPH_CELLS < gpu::TERRAIN_FINE_CELLS);
-const _: () = assert!(gpu::FIELD_TERRAIN_CELLS.is_multiple_of(CHUNK_CELLS));
+const _: () = assert!(gpu::FIELD_TERRAIN_CELLS.is_multiple_of(2 * GROUND_CHUNK_CELLS));
+
+/// The chunk edge of a block field's clipmap level (`blocks`) or of a stored terrain.
+pub fn chunk_cells(blocks: bool) -> u32 {
+    if blocks {
+        GROUND_CHUNK_CELLS
+    } else {
+        CHUNK_CELLS
+    }
+}
 
 /// One chunk: its cells `lo..hi` (x, z) and its ranges of the index list.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -36,38 +43,20 @@ pub struct TerrainChunk {
     pub first_index: u32,
     /// Indices of its triangles (6 per cell).
     pub index_count: u32,
-    /// A far chunk of a block field's grid: (first index, index count) of the same ground in
-    /// cells of two steps (6 per 2×2 cells), after every chunk's fine range.
-    pub coarse: Option<(u32, u32)>,
 }
 
-/// Whether a chunk of `cells` cells `lo..hi` lies wholly past `TERRAIN_FINE_CELLS` from the
-/// centre of a block field's grid (Chebyshev), where it has a coarse range.
-fn is_far(cells: u32, lo: [u32; 2], hi: [u32; 2]) -> bool {
-    let (near, far) = (cells / 2 - gpu::TERRAIN_FINE_CELLS, cells / 2 + gpu::TERRAIN_FINE_CELLS);
-    (0..2).any(|axis| hi[axis] <= near || lo[axis] >= far)
-}
-
-/// The chunks of a grid of `cells` per side, row by row of chunks; `blocks`: a block field's grid
-/// (`FIELD_TERRAIN_CELLS`), whose far chunks get a coarse range.
-pub fn chunks(cells: u32, blocks: bool) -> Vec<TerrainChunk> {
-    let per_side = cells.div_ceil(CHUNK_CELLS);
+/// The chunks of `chunk` cells per side of a grid of `cells` per side, row by row of chunks.
+pub fn chunks(cells: u32, chunk: u32) -> Vec<TerrainChunk> {
+    let per_side = cells.div_ceil(chunk);
     let mut first_index = 0;
     let mut out = Vec::with_capacity((per_side * per_side) as usize);
     for cz in 0..per_side {
         for cx in 0..per_side {
-            let lo = [cx * CHUNK_CELLS, cz * CHUNK_CELLS];
-            let hi = [(lo[0] + CHUNK_CELLS).min(cells), (lo[1] + CHUNK_CELLS).min(cells)];
+            let lo = [cx * chunk, cz * chunk];
+            let hi = [(lo[0] + chunk).min(cells), (lo[1] + chunk).min(cells)];
             let index_count = 6 * (hi[0] - lo[0]) * (hi[1] - lo[1]);
-            out.push(TerrainChunk { lo, hi, first_index, index_count, coarse: None });
+            out.push(TerrainChunk { lo, hi, first_index, index_count });
             first_index += index_count;
-        }
-    }
-    if blocks && cells == gpu::FIELD_TERRAIN_CELLS {
-        for chunk in out.iter_mut().filter(|c| is_far(cells, c.lo, c.hi)) {
-            let count = chunk.index_count / 4;
-            chunk.coarse = Some((first_index, count));
-            first_index += count;
         }
     }
     out
@@ -76,27 +65,17 @@ pub fn chunks(cells: u32, blocks: bool) -> Vec<TerrainChunk> {
 /// The terrain's triangle list, chunk by chunk (`chunks`) and row by row of cells inside a chunk:
 /// vertex (x, z) of the `(cells + 1)²` grid is `z (cells + 1) + x`, and a cell splits into
 /// (0,0)-(1,0)-(1,1) and (0,0)-(1,1)-(0,1), as `scene::terrain::Terrain::height_at` and the
-/// relief's drawn mesh (`terrain_mesh_height` in field.glsl) split it. Then the far chunks' coarse
-/// ranges, their cells of 2×2 cells split the same way: each fine triangle of the relief grid
-/// lies in one coarse triangle, so the grid with its odd vertices on the coarse mesh is that mesh.
-pub fn chunked_indices(cells: u32, blocks: bool) -> Vec<u32> {
+/// clipmap's drawn mesh (`terrain_mesh_height` in field.glsl) split it.
+pub fn chunked_indices(cells: u32, chunk: u32) -> Vec<u32> {
     let row = cells + 1;
-    let all = chunks(cells, blocks);
     let mut indices = Vec::with_capacity(6 * (cells * cells) as usize);
-    let mut cell_triangles = |chunk: &TerrainChunk, s: u32| {
-        for z in (chunk.lo[1]..chunk.hi[1]).step_by(s as usize) {
-            for x in (chunk.lo[0]..chunk.hi[0]).step_by(s as usize) {
+    for chunk in &chunks(cells, chunk) {
+        for z in chunk.lo[1]..chunk.hi[1] {
+            for x in chunk.lo[0]..chunk.hi[0] {
                 let v = z * row + x;
-                let (r, d) = (s * row, s);
-                indices.extend_from_slice(&[v, v + d, v + r + d, v, v + r + d, v + r]);
+                indices.extend_from_slice(&[v, v + 1, v + row + 1, v, v + row + 1, v + row]);
             }
         }
-    };
-    for chunk in &all {
-        cell_triangles(chunk, 1);
-    }
-    for chunk in all.iter().filter(|c| c.coarse.is_some()) {
-        cell_triangles(chunk, 2);
     }
     indices
 }
@@ -158,21 +137,28 @@ pub fn box_meets_frustum(planes: &[Vec4; 5], lo: Vec3, hi: Vec3) -> bool {
 }
 
 /// The runs of consecutive chunks that meet the frustum, as (first index, index count) of one
-/// draw each; `coarse`: far chunks draw their coarse range (`field_gpu::terrain_coarsens`).
+/// draw each; `hole`: the first cell of a square of `FIELD_TERRAIN_CELLS / 2` cells per side
+/// whose chunks are not drawn (a clipmap level's, which the finer level draws).
 pub fn visible_runs(
     chunks: &[TerrainChunk],
     placement: &GridPlacement,
     view_proj: &Mat4,
-    coarse: bool,
+    hole: Option<[u32; 2]>,
 ) -> Vec<(u32, u32)> {
     let planes = frustum_planes(view_proj);
+    let holed = |chunk: &TerrainChunk| {
+        hole.is_some_and(|h| {
+            let end = gpu::FIELD_TERRAIN_CELLS / 2;
+            (0..2).all(|a| chunk.lo[a] >= h[a] && chunk.hi[a] <= h[a] + end)
+        })
+    };
     let mut runs: Vec<(u32, u32)> = Vec::new();
     for chunk in chunks {
         let (lo, hi) = placement.chunk_box(chunk);
-        if !box_meets_frustum(&planes, lo, hi) {
+        if holed(chunk) || !box_meets_frustum(&planes, lo, hi) {
             continue;
         }
-        let (start, n) = chunk.coarse.filter(|_| coarse).unwrap_or((chunk.first_index, chunk.index_count));
+        let (start, n) = (chunk.first_index, chunk.index_count);
         match runs.last_mut() {
             Some((first, count)) if *first + *count == start => *count += n,
             _ => runs.push((start, n)),
@@ -202,10 +188,10 @@ mod tests {
                     [v, v + 1, v + row + 1, v, v + row + 1, v + row]
                 })
                 .collect();
-            let chunked = chunked_indices(cells, false);
+            let chunked = chunked_indices(cells, CHUNK_CELLS);
             assert_eq!(chunked.len(), row_major.len(), "{cells} cells");
             assert_eq!(triangles(&chunked), triangles(&row_major), "{cells} cells");
-            let all = chunks(cells, false);
+            let all = chunks(cells, CHUNK_CELLS);
             let total: u32 = all.iter().map(|c| c.index_count).sum();
             assert_eq!(total as usize, chunked.len());
             for chunk in &all {
@@ -218,50 +204,21 @@ mod tests {
         }
     }
 
-    /// A block field's far chunks have a coarse range of a quarter of their triangles on the even
-    /// vertices, and each fine triangle of the chunk lies in one coarse triangle (so the grid with
-    /// its odd vertices on the coarse mesh is that mesh); the chunks near the centre have none.
+    /// A level's hole leaves out exactly the chunks of its square, and the rest are drawn.
     #[test]
-    fn far_chunks_hold_their_fine_triangles_in_coarse_ones() {
+    fn a_hole_leaves_out_its_chunks() {
         let cells = gpu::FIELD_TERRAIN_CELLS;
-        let row = cells + 1;
-        let all = chunks(cells, true);
-        let indices = chunked_indices(cells, true);
-        let total: u32 = all.iter().map(|c| c.index_count + c.coarse.map_or(0, |(_, n)| n)).sum();
-        assert_eq!(total as usize, indices.len());
-        assert!(chunks(cells, false).iter().all(|c| c.coarse.is_none()));
-        let vertex = |v: u32| glam::DVec2::new(f64::from(v % row), f64::from(v / row));
-        let (near, far) = (cells / 2 - gpu::TERRAIN_FINE_CELLS, cells / 2 + gpu::TERRAIN_FINE_CELLS);
-        let mut coarse_chunks = 0;
-        for chunk in &all {
-            let inside = (0..2).all(|a| chunk.lo[a] >= near && chunk.hi[a] <= far);
-            let Some((first, count)) = chunk.coarse else {
-                assert!(inside, "{chunk:?}: a far chunk without a coarse range");
-                continue;
-            };
-            assert!(!inside, "{chunk:?}: a chunk of the fine square with a coarse range");
-            coarse_chunks += 1;
-            assert_eq!(count * 4, chunk.index_count);
-            let coarse: Vec<[glam::DVec2; 3]> = indices[first as usize..(first + count) as usize]
-                .chunks(3)
-                .map(|t| [vertex(t[0]), vertex(t[1]), vertex(t[2])])
-                .collect();
-            assert!(coarse.iter().flatten().all(|v| v.x % 2.0 == 0.0 && v.y % 2.0 == 0.0));
-            let fine = &indices[chunk.first_index as usize..(chunk.first_index + chunk.index_count) as usize];
-            for t in fine.chunks(3) {
-                // The fine triangle's centroid and corners in the same coarse triangle.
-                let corners = [vertex(t[0]), vertex(t[1]), vertex(t[2])];
-                let centroid = (corners[0] + corners[1] + corners[2]) / 3.0;
-                let holds = |tri: &[glam::DVec2; 3], p: glam::DVec2| {
-                    let edge = |a: glam::DVec2, b: glam::DVec2| (b - a).perp_dot(p - a);
-                    let e = [edge(tri[0], tri[1]), edge(tri[1], tri[2]), edge(tri[2], tri[0])];
-                    e.iter().all(|&x| x >= 0.0) || e.iter().all(|&x| x <= 0.0)
-                };
-                let owner = coarse.iter().find(|tri| holds(tri, centroid)).expect("a coarse triangle under it");
-                assert!(corners.iter().all(|&c| holds(owner, c)), "{corners:?} straddles {owner:?}");
-            }
+        let all = chunks(cells, GROUND_CHUNK_CELLS);
+        let placement = GridPlacement { offset: [-320.0, -320.0], step: 4.0, heights: (-2.0, 2.5) };
+        // From high above, every chunk is in view.
+        let camera = Camera { position: Vec3::new(0.0, 5000.0, 0.0), yaw_deg: 0.0, pitch_deg: -89.9 };
+        let view_proj = camera.view_projection(1.0);
+        let count = |hole| visible_runs(&all, &placement, &view_proj, hole).iter().map(|r| r.1).sum::<u32>();
+        let whole = count(None);
+        assert_eq!(whole, 6 * cells * cells);
+        for hole in [[16, 24], [24, 16], [16, 16]] {
+            assert_eq!(count(Some(hole)), 6 * (cells * cells - (cells / 2) * (cells / 2)), "{hole:?}");
         }
-        assert_eq!(coarse_chunks, 100 - 16, "the 4×4 chunks around the centre are fine");
     }
 
     /// Every grid vertex inside the clip volume belongs to a drawn chunk, for cameras looking
@@ -278,10 +235,10 @@ mod tests {
             Camera { position: Vec3::new(0.0, 80.0, 0.0), yaw_deg: 30.0, pitch_deg: -80.0 },
             Camera { position: Vec3::new(-300.0, 2.0, -300.0), yaw_deg: 45.0, pitch_deg: -20.0 },
         ];
-        let all = chunks(cells, true);
+        let all = chunks(cells, CHUNK_CELLS);
         for camera in cameras {
             let view_proj = camera.view_projection(16.0 / 9.0);
-            let runs = visible_runs(&all, &placement, &view_proj, false);
+            let runs = visible_runs(&all, &placement, &view_proj, None);
             let drawn = |chunk: &TerrainChunk| runs.iter().any(|&(f, n)| (f..f + n).contains(&chunk.first_index));
             let drawn_chunks = all.iter().filter(|c| drawn(c)).count();
             assert!(drawn_chunks < all.len(), "{camera:?}: no chunk culled");

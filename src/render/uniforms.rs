@@ -46,9 +46,15 @@ pub struct FrameUniforms {
     pub field_cells: IVec4,
     /// Block fields: x block edge, y relief slope bound, zw the force corners' origin relative to O.
     pub field: Vec4,
-    /// Block fields: xy the terrain grid's toroidal base (`render::camera_grid`: the slot of
-    /// its vertex 0, x and z).
+    /// Block fields: z the ground clipmap's levels (`render::ground_clipmap`); xyw unused.
     pub relief_grid: UVec4,
+    /// Block fields: per relief wave its whole periods in the world's (m, n), two waves per vector.
+    pub relief_cycles: [IVec4; 4],
+    /// Block fields: per clipmap level, xy its window's first vertex relative to O, z its cell edge.
+    pub ground_levels: [Vec4; 8],
+    /// Block fields: per clipmap level, xy its window's toroidal base (`render::camera_grid`), zw
+    /// its first vertex in half-metres on the world's period.
+    pub ground_windows: [IVec4; 8],
 }
 
 impl FrameUniforms {
@@ -68,7 +74,7 @@ impl FrameUniforms {
     }
 }
 
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 544);
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 864);
 const _: () = assert!(std::mem::offset_of!(FrameUniforms, cull_view_proj) == 160);
 const _: () = assert!(std::mem::offset_of!(FrameUniforms, cull_lod) == 288);
 const _: () = assert!(std::mem::offset_of!(FrameUniforms, camera_position) == 64);

@@ -1,7 +1,9 @@
 //! Terrain pass: the height field, an indexed triangle list over its grid vertices pulled from the
-//! heights buffer (a block field's from the relief grid, `passes::relief_grid`, added with it and
-//! run before it), one draw per run of chunks in view (`render::terrain_chunks`). The first pass
-//! that draws: it clears colour to the sky and depth to the far plane (0, reversed Z).
+//! heights buffer (a block field's from the levels of its clipmap, `passes::relief_grid`, added
+//! with it and run before it), one draw per run of chunks in view (`render::terrain_chunks`), a
+//! block field's per clipmap level but the finer level's square, the level the draw's first
+//! instance. The first pass that draws: it clears colour to the sky and depth to the far plane
+//! (0, reversed Z).
 
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Arc;
@@ -9,7 +11,6 @@ use std::sync::Arc;
 use ash::vk;
 
 use crate::error::Result;
-use crate::render::field_gpu;
 use crate::render::graph::{Declaration, Load, Pass, PassContext};
 use crate::render::passes::{self, PipelineTarget};
 use crate::render::scene_gpu::SceneGpu;
@@ -24,7 +25,7 @@ pub struct TerrainPass {
     pipeline: vk::Pipeline,
     layout: vk::PipelineLayout,
     heights: vk::Buffer,
-    /// A block field's relief grid, which the vertex shader reads instead of `heights`.
+    /// A block field's clipmap, which the vertex shader reads instead of `heights`.
     relief_grid: Option<vk::Buffer>,
     indices: vk::Buffer,
     /// The grid's chunks, each a range of `indices`.
@@ -73,7 +74,7 @@ impl TerrainPass {
             heights: scene.heights.raw,
             relief_grid: scene.relief_grid_read(),
             indices: scene.terrain_indices.raw,
-            chunks: terrain_chunks::chunks(scene.terrain_cells, scene.field.is_some()),
+            chunks: terrain_chunks::chunks(scene.terrain_cells, terrain_chunks::chunk_cells(scene.field.is_some())),
             blocks: scene.field.is_some(),
             height_range: scene.terrain_heights,
             drawn: Arc::clone(&scene.terrain_drawn),
@@ -81,11 +82,33 @@ impl TerrainPass {
         })
     }
 
-    /// Where this frame's grid lies (terrain.vert places it the same way).
-    fn placement(&self, uniforms: &FrameUniforms) -> GridPlacement {
+    /// This frame's draws: per level (a stored field's one grid, or a block field's clipmap
+    /// levels, terrain.vert places them the same way) the runs of chunks in view, and the level.
+    fn draws(&self, uniforms: &FrameUniforms) -> Vec<(u32, (u32, u32))> {
         let t = uniforms.terrain;
-        let (offset, step) = if self.blocks { ([t.z, t.w], t.x) } else { ([t.x, t.x], t.y) };
-        GridPlacement { offset, step, heights: self.height_range }
+        let view_proj = &uniforms.view_proj;
+        if !self.blocks {
+            let placement = GridPlacement { offset: [t.x, t.x], step: t.y, heights: self.height_range };
+            return terrain_chunks::visible_runs(&self.chunks, &placement, view_proj, None)
+                .into_iter()
+                .map(|run| (0, run))
+                .collect();
+        }
+        let levels = uniforms.relief_grid.z.max(1);
+        let mut draws = Vec::new();
+        for level in 0..levels {
+            let window = uniforms.ground_levels[level as usize];
+            let placement = GridPlacement { offset: [window.x, window.y], step: window.z, heights: self.height_range };
+            // The finer level's square, whole cells of this level's (`ground_clipmap::Clipmap::hole`).
+            let hole = (level > 0).then(|| {
+                let finer = uniforms.ground_levels[level as usize - 1];
+                let cells = (finer.truncate().truncate() - window.truncate().truncate()) / window.z;
+                [cells.x.round() as u32, cells.y.round() as u32]
+            });
+            let runs = terrain_chunks::visible_runs(&self.chunks, &placement, view_proj, hole);
+            draws.extend(runs.into_iter().map(|run| (level, run)));
+        }
+        draws
     }
 
     /// Triangles the pass drew in the last frame it recorded: the chunks in view.
@@ -119,15 +142,10 @@ impl Pass for TerrainPass {
         unsafe {
             device.raw.cmd_bind_index_buffer(cmd, self.indices, 0, vk::IndexType::UINT32);
         }
-        let placement = self.placement(ctx.uniforms);
         let mut indices = 0;
-        // A block field's far chunks in cells of two steps, when the relief grid's odd vertices
-        // morph onto them (`field_gpu::terrain_coarsens`).
-        let coarse = self.blocks && field_gpu::terrain_coarsens(placement.step);
-        let view_proj = &ctx.uniforms.view_proj;
-        for (first, count) in terrain_chunks::visible_runs(&self.chunks, &placement, view_proj, coarse) {
+        for (level, (first, count)) in self.draws(ctx.uniforms) {
             // SAFETY: as above; the run lies inside the index buffer (`chunks`).
-            unsafe { device.raw.cmd_draw_indexed(cmd, count, 1, first, 0, 0) };
+            unsafe { device.raw.cmd_draw_indexed(cmd, count, 1, first, 0, level) };
             indices += u64::from(count);
         }
         self.drawn.store(indices / 3, Ordering::Relaxed);
@@ -137,10 +155,8 @@ impl Pass for TerrainPass {
     fn replay_key(&self, ctx: &PassContext) -> Option<u64> {
         // The chunks in view are chosen on the CPU: a replay holds while they are the same.
         use std::hash::{Hash, Hasher};
-        let placement = self.placement(ctx.uniforms);
-        let coarse = self.blocks && field_gpu::terrain_coarsens(placement.step);
         let mut hasher = std::collections::hash_map::DefaultHasher::new();
-        terrain_chunks::visible_runs(&self.chunks, &placement, &ctx.uniforms.view_proj, coarse).hash(&mut hasher);
+        self.draws(ctx.uniforms).hash(&mut hasher);
         Some(hasher.finish())
     }
 

@@ -22,6 +22,21 @@ impl Renderer {
         self.read_buffer("relief grid", grid, scene.relief_grid.size)
     }
 
+    /// The cull's visible list as the last frame left it, every entry of its capacity (blade,
+    /// packed root height and scale: `shaders/cull/visible.glsl`), and the `draws` buffer's
+    /// words (each LOD bucket's indexed draw first). Call it between frames, as
+    /// `read_relief_grid`.
+    pub fn read_visible_list(&self) -> Result<(Vec<[u32; 2]>, Vec<u32>)> {
+        let scene = self.scene_gpu();
+        let words = |bytes: Vec<u8>| -> Vec<u32> {
+            bytes.chunks_exact(4).map(|w| u32::from_le_bytes([w[0], w[1], w[2], w[3]])).collect()
+        };
+        let size = 8 * u64::from(scene.visible_capacity);
+        let visible = words(self.read_bytes("visible list", scene.visible.raw, size)?);
+        let draws = words(self.read_bytes("cull draws", scene.draws.raw, scene.draws.size)?);
+        Ok((visible.chunks_exact(2).map(|e| [e[0], e[1]]).collect(), draws))
+    }
+
     /// The wind at the cluster corners of frame slot `slot` (a renderer's first frame is slot 0)
     /// as the wind field left it (`shaders/wind/analytic_corners.comp` with the cull, the CPU with
     /// `--brute-force`): velocity (x, y, z) in m/s and exposure per corner. Call it between

@@ -1,7 +1,7 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // Test shader: reads every field of `FrameUniforms` through the std140 declaration in common.glsl
-// and writes them as 136 words, then the specialization constants as the shaders see them (by
+// and writes them as 216 words, then the specialization constants as the shaders see them (by
 // `SPEC(NAME)` id, build.rs's) and a few shared.glsl constants, so the test can compare them with what Rust wrote
 // and with the constants build.rs generated (`render::gpu_constants`).
 #include "common/common.glsl"
@@ -12,7 +12,7 @@ layout(set = 0, binding = 0, std140) uniform Frame { FrameUniforms frame; };
 layout(set = 0, binding = 1, std430) writeonly buffer Fields { uint fields[]; };
 layout(constant_id = SPEC(KEYFRAME_UVEC4S)) const uint KEYFRAME_UVEC4S = 4096u;
 
-const uint FRAME_WORDS = 136u;     // 544 bytes
+const uint FRAME_WORDS = 216u;     // 864 bytes
 const uint SPEC_WORDS = 17u;       // SPEC_* ids 0..=16
 
 void put_vec4(inout uint o, vec4 v) {
@@ -57,6 +57,15 @@ void main() {
     put_uvec4(o, uvec4(frame.field_cells));
     put_vec4(o, frame.field);
     put_uvec4(o, frame.relief_grid);
+    for (uint i = 0u; i < RELIEF_WAVES / 2u; i++) {
+        put_uvec4(o, uvec4(frame.relief_cycles[i]));
+    }
+    for (uint i = 0u; i < CAMERA_GRID_MAX_LEVELS; i++) {
+        put_vec4(o, frame.ground_levels[i]);
+    }
+    for (uint i = 0u; i < CAMERA_GRID_MAX_LEVELS; i++) {
+        put_uvec4(o, uvec4(frame.ground_windows[i]));
+    }
 
     fields[FRAME_WORDS + SPEC(KEYFRAME_UVEC4S)] = KEYFRAME_UVEC4S;
     fields[FRAME_WORDS + SPEC(ANIMATION_MODE)] = ANIMATION_MODE;

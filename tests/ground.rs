@@ -1,0 +1,338 @@
+//! A block field's ground clipmap (issue #30 item 2, `render::ground_clipmap`) on lavapipe, read
+//! back from the GPU: every level's texels are the relief at their world vertices (at the camera
+//! and out to 5 km, near the origin and 100 km from it), a scroll keeps exactly the texels a
+//! fresh fill writes, the cull's roots lie on the drawn ground on both sides of a level boundary,
+//! and vertical rays cast through the drawn levels' triangles find no crack where levels meet.
+
+use ash::vk;
+use glam::{DVec2, I64Vec2, IVec2, Mat4, UVec2, UVec3, Vec3};
+use meadow::app::{with_device, GpuOptions};
+use meadow::render::animation::{AnimationSettings, Mode};
+use meadow::render::camera_grid;
+use meadow::render::culling::Culling;
+use meadow::render::field_gpu::Origin;
+use meadow::render::gpu_constants as gpu;
+use meadow::render::ground_clipmap::{self, Clipmap, CELLS};
+use meadow::render::terrain_chunks::{self, GridPlacement, TerrainChunk};
+use meadow::render::{OffscreenTarget, RenderSettings, Renderer};
+use meadow::scene::field::{FieldSpec, Relief, BLOCK_SIZE};
+use meadow::scene::{tiles, BladeInstance, Camera, Scene};
+use meadow::vk::DeviceSelector;
+
+const EXTENT: vk::Extent2D = vk::Extent2D { width: 320, height: 180 };
+const VIEW: f32 = 5000.0;
+const VISIBLE_PADDING: u32 = 0xffff_ffff;
+
+fn culling() -> Culling {
+    Culling { view_distance: VIEW, ..Culling::default_for(4) }
+}
+
+fn clipmap() -> Clipmap {
+    let c = culling();
+    Clipmap::for_view(c.view_distance, c.blade_range())
+}
+
+fn scene() -> Scene {
+    Scene::blocks(FieldSpec { size: None, density: 400.0 }, 1)
+}
+
+/// What one frame left on the GPU: the clipmap's texels in slot order, the visible list and the
+/// cull's `draws` words.
+struct Frame {
+    camera: Camera,
+    grid: Vec<[f32; 4]>,
+    visible: Vec<[u32; 2]>,
+    draws: Vec<u32>,
+}
+
+/// Render `cameras` in turn with one renderer (static blades) and read each frame back.
+fn render(cameras: &[Camera]) -> Vec<Frame> {
+    let options = GpuOptions { validation: true, device: DeviceSelector::parse("llvmpipe") };
+    let scene = scene();
+    let (result, messages) = with_device(&options, false, |device| {
+        let animation = AnimationSettings { mode: Mode::Static, ..Default::default() };
+        let settings = RenderSettings::offscreen(4, culling());
+        let mut renderer = Renderer::new(device.clone(), &scene, settings, animation)?;
+        let mut target = OffscreenTarget::new(device, EXTENT)?;
+        let mut frames = Vec::new();
+        for camera in cameras {
+            renderer.render_offscreen(&mut target, camera, 0.0)?;
+            let grid = renderer.read_relief_grid()?;
+            let (visible, draws) = renderer.read_visible_list()?;
+            frames.push(Frame { camera: *camera, grid, visible, draws });
+        }
+        drop(renderer);
+        // SAFETY: render_offscreen waited for its frame.
+        unsafe { target.destroy(device) };
+        Ok(frames)
+    });
+    assert_eq!(messages, Some(0), "validation messages");
+    result.expect("rendered")
+}
+
+fn camera(x: f32, z: f32, yaw_deg: f32) -> Camera {
+    let relief = scene().field.expect("a field").relief;
+    let ground = relief.height(f64::from(x), f64::from(z)) as f32;
+    Camera { position: Vec3::new(x, ground + 1.7, z), yaw_deg, pitch_deg: -10.0 }
+}
+
+/// The texel of local vertex `v` of `level` in a frame's grid (windows for O's cell `cell`).
+fn texel(frame: &Frame, windows: &[I64Vec2], level: u32, v: UVec2) -> [f32; 4] {
+    let dims = clipmap().shape().dims;
+    let first = windows[level as usize];
+    let base = ground_clipmap::grid_window(first).rem_euclid(dims.as_i64vec3()).as_uvec3();
+    let cells = dims.x * dims.y * dims.z;
+    frame.grid[(level * cells + camera_grid::slot(UVec3::new(v.x, 0, v.y), base, dims)) as usize]
+}
+
+/// The relief's height and slope (x, z) at world `p`, in f64 (the slope by central differences).
+fn relief_at(relief: &Relief, p: DVec2) -> (f64, DVec2) {
+    let h = 1e-3;
+    let dx = relief.height(p.x + h, p.y) - relief.height(p.x - h, p.y);
+    let dz = relief.height(p.x, p.y + h) - relief.height(p.x, p.y - h);
+    (relief.height(p.x, p.y), DVec2::new(dx, dz) / (2.0 * h))
+}
+
+#[test]
+fn every_levels_texels_are_the_relief_at_their_world_vertices_and_a_scroll_keeps_them_exact() {
+    let relief = scene().field.expect("a field").relief;
+    let clipmap = clipmap();
+    assert!(clipmap.levels >= 7 && clipmap.reach() >= VIEW, "{clipmap:?}");
+    // Near the origin; 11 blocks on, where level 0's window has moved (a fill of what entered);
+    // 100 km out. Then the moved view again from a fresh renderer.
+    let (here, there, far) = (camera(1.5, 2.5, 30.0), camera(45.5, 2.5, 30.0), camera(100_001.5, -99_997.5, 30.0));
+    let moved = render(&[here, there, far]);
+    let fresh = render(&[there]);
+    let (a, b) = (Origin::under(&here).cell, Origin::under(&there).cell);
+    assert_ne!(
+        clipmap.windows(a)[0],
+        clipmap.windows(b)[0],
+        "level 0's window must move for the test to mean anything"
+    );
+    assert!(moved[1].grid == fresh[0].grid, "a scrolled clipmap differs from a fresh one's");
+    for frame in &moved {
+        let cell = Origin::under(&frame.camera).cell;
+        let windows = clipmap.windows(cell);
+        let (mut worst, mut worst_normal, mut coarse_moved) = (0.0f64, 0.0f64, 0.0f64);
+        for level in 0..clipmap.levels {
+            let step = f64::from(clipmap.step(level));
+            for z in 0..=CELLS {
+                for x in 0..=CELLS {
+                    let v = UVec2::new(x, z);
+                    let t = texel(frame, &windows, level, v);
+                    let world = (windows[level as usize] + v.as_i64vec2()).as_dvec2() * step;
+                    let (h, slope) = relief_at(&relief, world);
+                    worst = worst.max((f64::from(t[0]) - h).abs());
+                    let normal = glam::DVec3::new(-slope.x, 1.0, -slope.y).normalize();
+                    worst_normal =
+                        worst_normal.max((f64::from(t[2]) - normal.x).abs().max((f64::from(t[3]) - normal.z).abs()));
+                    let odd = IVec2::new((x & 1) as i32, (z & 1) as i32).as_dvec2();
+                    let coarse = if odd == DVec2::ZERO {
+                        h
+                    } else {
+                        0.5 * (relief.height(world.x - odd.x * step, world.y - odd.y * step)
+                            + relief.height(world.x + odd.x * step, world.y + odd.y * step))
+                    };
+                    worst = worst.max((f64::from(t[1]) - coarse).abs());
+                    coarse_moved = coarse_moved.max((coarse - h).abs());
+                }
+            }
+        }
+        let at = frame.camera.position;
+        assert!(worst <= 1e-4, "camera at {at}: a texel {worst} m off the relief");
+        assert!(worst_normal <= 1e-3, "camera at {at}: a normal {worst_normal} off the relief's");
+        assert!(coarse_moved > 0.05, "the next level's mesh is the relief ({coarse_moved} m): the check means nothing");
+    }
+}
+
+/// A half float's value (the visible list's root height).
+fn half(bits: u32) -> f32 {
+    let (sign, exponent, mantissa) = ((bits >> 15) & 1, (bits >> 10) & 31, bits & 1023);
+    let magnitude = match exponent {
+        0 => mantissa as f32 * 2f32.powi(-24),
+        e => (1.0 + mantissa as f32 / 1024.0) * 2f32.powi(e as i32 - 15),
+    };
+    if sign == 1 {
+        -magnitude
+    } else {
+        magnitude
+    }
+}
+
+/// `cell_hash` of `shaders/common/field.glsl`.
+fn cell_hash(cell: IVec2) -> u32 {
+    let c = cell.rem_euclid(IVec2::splat(gpu::PERIOD_CELLS as i32));
+    let mut h = (c.x as u32).wrapping_mul(0x8da6_b343) ^ (c.y as u32).wrapping_mul(0xd816_3841);
+    h ^= h >> 15;
+    h = h.wrapping_mul(0x2c1b_3c6d);
+    h ^ (h >> 12)
+}
+
+/// Where blade `blade` of the stored block stands in world cell `cell` (`field_blade` of
+/// `shaders/common/field.glsl`), in the world's x and z.
+fn placed(blade: &BladeInstance, cell: IVec2) -> DVec2 {
+    let edge = f64::from(BLOCK_SIZE);
+    let h = cell_hash(cell);
+    let mut p = DVec2::new(f64::from(blade.position[0]), f64::from(blade.position[2])) - DVec2::splat(0.5 * edge);
+    if h & 4 != 0 {
+        p.x = -p.x;
+    }
+    for _ in 0..h & 3 {
+        p = DVec2::new(p.y, -p.x);
+    }
+    cell.as_dvec2() * edge + p + DVec2::splat(0.5 * edge)
+}
+
+#[test]
+fn roots_lie_on_the_drawn_ground_on_both_sides_of_a_level_boundary() {
+    let scene = scene();
+    let relief = scene.field.as_ref().expect("a field").relief.clone();
+    let clipmap = clipmap();
+    let frames = render(&[camera(1.5, 2.5, 30.0), camera(37.5, -21.5, 200.0)]);
+    let blades_per_instance = RenderSettings::offscreen(4, culling()).blades_per_instance;
+    for frame in &frames {
+        let origin = Origin::under(&frame.camera);
+        let windows = clipmap.windows(origin.cell);
+        // Level 0's window edge, metres inside it (> 0) or outside it (< 0).
+        let step0 = f64::from(clipmap.step(0));
+        let lo = windows[0].as_dvec2() * step0;
+        let hi = lo + DVec2::splat(f64::from(CELLS) * step0);
+        let (mut worst, mut inside, mut outside, mut roots) = (0.0f64, 0, 0, 0);
+        for bucket in 0..gpu::MAX_LOD_BUCKETS as usize {
+            let draw = &frame.draws[bucket * gpu::DRAW_WORDS as usize..];
+            let first = draw[gpu::DRAW_FIRST_INSTANCE as usize] * blades_per_instance;
+            let count = draw[gpu::DRAW_INSTANCES as usize] * blades_per_instance;
+            for entry in &frame.visible[first as usize..(first + count) as usize] {
+                if entry[0] == VISIBLE_PADDING {
+                    continue;
+                }
+                let (x, z) = tiles::ring_cell(entry[0] >> 16);
+                let cell = origin.cell + IVec2::new(x, z);
+                let p = placed(&scene.blades[(entry[0] & 0xffff) as usize], cell);
+                let ground = clipmap.drawn_height(&relief, origin.cell, p) - 0.01;
+                worst = worst.max((f64::from(half(entry[1] & 0xffff)) - ground).abs());
+                // The windows lie in the world's period that holds O (`period_cell`).
+                let shift = (origin.cell - ground_clipmap::period_cell(origin.cell)).as_dvec2() * f64::from(BLOCK_SIZE);
+                let edge = (p - shift - lo).min(hi - p + shift).min_element();
+                inside += usize::from((0.0..4.0).contains(&edge));
+                outside += usize::from((-4.0..0.0).contains(&edge));
+                roots += 1;
+            }
+        }
+        let at = frame.camera.position;
+        assert!(roots > 10_000, "camera at {at}: {roots} roots");
+        assert!(inside > 50 && outside > 50, "camera at {at}: {inside} roots inside level 0's edge, {outside} outside");
+        assert!(worst <= 1e-3, "camera at {at}: a root {worst} m off the drawn ground");
+    }
+}
+
+/// The drawn triangles of `level` under world point `p`, as (x, y, z) corners: the terrain
+/// pass's index list and chunks (its hole left out) over the level's vertices, lifted as
+/// terrain.vert lifts them (`ground_clipmap::drawn_texel_height`).
+fn triangles_under(
+    frame: &Frame,
+    windows: &[I64Vec2],
+    level: u32,
+    p: DVec2,
+    (chunks, indices, drawn): (&[TerrainChunk], &[u32], &[(u32, u32)]),
+) -> Vec<[glam::DVec3; 3]> {
+    let step = f64::from(clipmap().step(level));
+    let first = windows[level as usize].as_dvec2();
+    let g = p / step - first;
+    let mut out = Vec::new();
+    // The cell under `p` and, for a point on a cell's edge, the cells that share it.
+    let base = g.floor().as_ivec2();
+    for dz in -1..=0 {
+        for dx in -1..=0 {
+            let c = base + IVec2::new(dx, dz);
+            if c.min_element() < 0 || c.max_element() >= CELLS as i32 {
+                continue;
+            }
+            let c = c.as_uvec2();
+            let chunk = chunks.iter().find(|k| (0..2).all(|a| k.lo[a] <= c[a] && c[a] < k.hi[a])).expect("a chunk");
+            if !drawn.iter().any(|&(f, n)| (f..f + n).contains(&chunk.first_index)) {
+                continue;
+            }
+            let within = (c.y - chunk.lo[1]) * (chunk.hi[0] - chunk.lo[0]) + (c.x - chunk.lo[0]);
+            let at = (chunk.first_index + 6 * within) as usize;
+            for t in indices[at..at + 6].chunks(3) {
+                out.push(std::array::from_fn(|i| {
+                    let v = UVec2::new(t[i] % (CELLS + 1), t[i] / (CELLS + 1));
+                    let h = ground_clipmap::drawn_texel_height(texel(frame, windows, level, v), v);
+                    let xz = (first + v.as_dvec2()) * step;
+                    glam::DVec3::new(xz.x, f64::from(h), xz.y)
+                }));
+            }
+        }
+    }
+    out
+}
+
+/// Where a vertical ray at `p` meets triangle `t` (x, z), if it does.
+fn hit(t: &[glam::DVec3; 3], p: DVec2) -> Option<f64> {
+    let [a, b, c] = t.map(|v| DVec2::new(v.x, v.z));
+    let area = (b - a).perp_dot(c - a);
+    let w = [(c - b).perp_dot(p - b) / area, (a - c).perp_dot(p - c) / area, (b - a).perp_dot(p - a) / area];
+    w.iter().all(|&w| w >= -1e-9).then(|| w[0] * t[0].y + w[1] * t[1].y + w[2] * t[2].y)
+}
+
+#[test]
+fn vertical_rays_find_no_crack_where_the_levels_meet() {
+    let clipmap = clipmap();
+    let frames = render(&[camera(1.5, 2.5, 30.0), camera(100_037.5, -99_021.5, 200.0)]);
+    let chunks = terrain_chunks::chunks(CELLS, terrain_chunks::GROUND_CHUNK_CELLS);
+    let indices = terrain_chunks::chunked_indices(CELLS, terrain_chunks::GROUND_CHUNK_CELLS);
+    for frame in &frames {
+        let cell = Origin::under(&frame.camera).cell;
+        let windows = clipmap.windows(cell);
+        // Each level's chunks as the terrain pass draws them, every one in view (a zero matrix:
+        // every frustum plane passes), but the finer level's square.
+        let drawn: Vec<Vec<(u32, u32)>> = (0..clipmap.levels)
+            .map(|l| {
+                let placement = GridPlacement { offset: [0.0, 0.0], step: 1.0, heights: (0.0, 0.0) };
+                let hole = Clipmap::hole(&windows, l).map(|h| [h.x, h.y]);
+                terrain_chunks::visible_runs(&chunks, &placement, &Mat4::ZERO, hole)
+            })
+            .collect();
+        let (mut rays, mut seams, mut worst) = (0, 0, 0.0f64);
+        for level in 0..clipmap.levels - 1 {
+            // Rays along the four edges of the level's window, on the edge and a fifth of a cell
+            // either side of it.
+            let step = f64::from(clipmap.step(level));
+            let lo = windows[level as usize].as_dvec2() * step;
+            let side = f64::from(CELLS) * step;
+            for k in 0..400 {
+                let along = (f64::from(k) + 0.37) / 400.0 * side;
+                for off in [-0.2 * step, 0.0, 0.2 * step] {
+                    for p in [
+                        lo + DVec2::new(along, off),
+                        lo + DVec2::new(off, along),
+                        lo + DVec2::new(along, side - off),
+                        lo + DVec2::new(side - off, along),
+                    ] {
+                        let hits: Vec<(u32, f64)> = (0..clipmap.levels)
+                            .flat_map(|l| {
+                                let parts = (chunks.as_slice(), indices.as_slice(), drawn[l as usize].as_slice());
+                                let triangles = triangles_under(frame, &windows, l, p, parts);
+                                triangles
+                                    .into_iter()
+                                    .filter_map(|t| hit(&t, p))
+                                    .map(move |h| (l, h))
+                                    .collect::<Vec<_>>()
+                            })
+                            .collect();
+                        assert!(!hits.is_empty(), "a crack at {p} (level {level}'s edge)");
+                        let spread = hits.iter().fold(0.0f64, |m, &(_, h)| m.max((h - hits[0].1).abs()));
+                        worst = worst.max(spread);
+                        seams += usize::from(hits.iter().any(|&(l, _)| l != hits[0].0));
+                        rays += 1;
+                    }
+                }
+            }
+        }
+        let at = frame.camera.position;
+        assert!(worst <= 1e-3, "camera at {at}: the levels meet {worst} m apart");
+        assert!(seams > 1000, "camera at {at}: {seams} rays on an edge met both levels");
+        assert!(rays >= 4800 * (clipmap.levels as usize - 1));
+    }
+}
