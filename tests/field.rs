@@ -71,7 +71,7 @@ fn a_view_100_km_away_renders_as_it_does_at_the_origin_with_the_same_memory() {
 }
 
 /// The relief-grid pass dispatches only when a clipmap level's window moved, and then fills only
-/// the vertices that entered (`passes::relief_grid`): a renderer that drew another place first
+/// the vertices that entered (`passes::ground_fill`): a renderer that drew another place first
 /// (36 m away: level 0's window moved), and then the same view twice (the second time without a
 /// dispatch), renders what a fresh renderer renders.
 #[test]

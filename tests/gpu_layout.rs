@@ -119,7 +119,7 @@ fn every_frame_uniform_and_specialization_constant_reads_back_through_a_compute_
         relief_phases: std::array::from_fn(|i| Vec4::splat(f(70 + i as u32)) + Vec4::new(0.0, 0.01, 0.02, 0.03)),
         field_cells: glam::IVec4::new(-1021, 1022, -1023, 1024),
         field: Vec4::new(f(80), f(81), f(82), f(83)),
-        relief_grid: UVec4::new(1025, 1026, 1027, 1028),
+        ground: UVec4::new(1025, 1026, 1027, 1028),
         relief_cycles: std::array::from_fn(|i| {
             glam::IVec4::new(-2000, 2001, -2002, 2003) + glam::IVec4::splat(10 * i as i32)
         }),

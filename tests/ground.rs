@@ -1,8 +1,10 @@
-//! A block field's ground clipmap (issue #30 item 2, `render::ground_clipmap`) on lavapipe, read
-//! back from the GPU: every level's texels are the relief at their world vertices (at the camera
-//! and out to 5 km, near the origin and 100 km from it), a scroll keeps exactly the texels a
-//! fresh fill writes, the cull's roots lie on the drawn ground on both sides of a level boundary,
-//! and vertical rays cast through the drawn levels' triangles find no crack where levels meet.
+//! The ground's clipmap (issue #30 item 2, `render::ground`, `render::ground_clipmap`) on
+//! lavapipe, read back from the GPU: a block field's levels hold the relief at their world
+//! vertices (at the camera and out to 5 km, near the origin and 100 km from it), a scroll keeps
+//! exactly the texels a fresh fill writes, the cull's roots lie on the drawn ground on both sides
+//! of a level boundary, and vertical rays cast through the drawn levels' triangles find no crack
+//! where levels meet; a stored field's one level holds its terrain's heights bit for bit; and
+//! every reader of the ground goes through one include.
 
 use ash::vk;
 use glam::{DVec2, I64Vec2, IVec2, Mat4, UVec2, UVec3, Vec3};
@@ -57,7 +59,7 @@ fn render(cameras: &[Camera]) -> Vec<Frame> {
         let mut frames = Vec::new();
         for camera in cameras {
             renderer.render_offscreen(&mut target, camera, 0.0)?;
-            let grid = renderer.read_relief_grid()?;
+            let grid = renderer.read_ground()?;
             let (visible, draws) = renderer.read_visible_list()?;
             frames.push(Frame { camera: *camera, grid, visible, draws });
         }
@@ -123,9 +125,9 @@ fn every_levels_texels_are_the_relief_at_their_world_vertices_and_a_scroll_keeps
                     let world = (windows[level as usize] + v.as_i64vec2()).as_dvec2() * step;
                     let (h, slope) = relief_at(&relief, world);
                     worst = worst.max((f64::from(t[0]) - h).abs());
-                    let normal = glam::DVec3::new(-slope.x, 1.0, -slope.y).normalize();
+                    // The texel's rise over its level's run of 1 m: the slope.
                     worst_normal =
-                        worst_normal.max((f64::from(t[2]) - normal.x).abs().max((f64::from(t[3]) - normal.z).abs()));
+                        worst_normal.max((f64::from(t[2]) - slope.x).abs().max((f64::from(t[3]) - slope.y).abs()));
                     let odd = IVec2::new((x & 1) as i32, (z & 1) as i32).as_dvec2();
                     let coarse = if odd == DVec2::ZERO {
                         h
@@ -140,7 +142,7 @@ fn every_levels_texels_are_the_relief_at_their_world_vertices_and_a_scroll_keeps
         }
         let at = frame.camera.position;
         assert!(worst <= 1e-4, "camera at {at}: a texel {worst} m off the relief");
-        assert!(worst_normal <= 1e-3, "camera at {at}: a normal {worst_normal} off the relief's");
+        assert!(worst_normal <= 1e-3, "camera at {at}: a slope {worst_normal} off the relief's");
         assert!(coarse_moved > 0.05, "the next level's mesh is the relief ({coarse_moved} m): the check means nothing");
     }
 }
@@ -258,7 +260,7 @@ fn triangles_under(
             for t in indices[at..at + 6].chunks(3) {
                 out.push(std::array::from_fn(|i| {
                     let v = UVec2::new(t[i] % (CELLS + 1), t[i] / (CELLS + 1));
-                    let h = ground_clipmap::drawn_texel_height(texel(frame, windows, level, v), v);
+                    let h = ground_clipmap::drawn_texel_height(&clipmap(), level, texel(frame, windows, level, v), v);
                     let xz = (first + v.as_dvec2()) * step;
                     glam::DVec3::new(xz.x, f64::from(h), xz.y)
                 }));
@@ -335,4 +337,84 @@ fn vertical_rays_find_no_crack_where_the_levels_meet() {
         assert!(seams > 1000, "camera at {at}: {seams} rays on an edge met both levels");
         assert!(rays >= 4800 * (clipmap.levels as usize - 1));
     }
+}
+
+#[test]
+fn a_stored_fields_one_level_is_its_terrains_heights_and_central_differences() {
+    let scene = Scene::generate(2_000, 3);
+    let options = GpuOptions { validation: true, device: DeviceSelector::parse("llvmpipe") };
+    let (grid, messages) = with_device(&options, false, |device| {
+        let animation = AnimationSettings { mode: Mode::Static, ..Default::default() };
+        let settings = RenderSettings::offscreen(4, Culling::default_for(4));
+        let mut renderer = Renderer::new(device.clone(), &scene, settings, animation)?;
+        let mut target = OffscreenTarget::new(device, EXTENT)?;
+        renderer.render_offscreen(&mut target, &scene.default_camera(), 0.0)?;
+        let grid = renderer.read_ground();
+        drop(renderer);
+        // SAFETY: render_offscreen waited for its frame.
+        unsafe { target.destroy(device) };
+        grid
+    });
+    assert_eq!(messages, Some(0), "validation messages");
+    let grid = grid.expect("read back");
+    let terrain = &scene.terrain;
+    let n = terrain.cells as usize + 1;
+    assert_eq!(grid.len(), n * n);
+    let h = |x: usize, z: usize| terrain.heights[z.min(n - 1) * n + x.min(n - 1)];
+    for (z, row) in grid.chunks(n).enumerate() {
+        for (x, t) in row.iter().enumerate() {
+            // The same bits: the pictures drawn from it are the ones drawn from the heights.
+            assert_eq!(t[0].to_bits(), h(x, z).to_bits(), "({x}, {z})");
+            assert_eq!(t[1].to_bits(), t[0].to_bits());
+            let dx = h(x + 1, z) - h(x.saturating_sub(1), z);
+            let dz = h(x, z + 1) - h(x, z.saturating_sub(1));
+            assert_eq!([t[2].to_bits(), t[3].to_bits()], [dx.to_bits(), dz.to_bits()], "({x}, {z})");
+        }
+    }
+}
+
+/// The shaders of the library, by path under `shaders/`, and their text.
+fn shader_sources() -> Vec<(String, String)> {
+    fn walk(dir: &std::path::Path, out: &mut Vec<(String, String)>) {
+        for entry in std::fs::read_dir(dir).expect("shaders/") {
+            let path = entry.expect("an entry").path();
+            if path.is_dir() {
+                walk(&path, out);
+            } else {
+                let text = std::fs::read_to_string(&path).expect("a shader");
+                out.push((path.to_string_lossy().into_owned(), text));
+            }
+        }
+    }
+    let mut out = Vec::new();
+    walk(&std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders"), &mut out);
+    out
+}
+
+#[test]
+fn every_reader_of_the_ground_goes_through_one_include() {
+    let sources = shader_sources();
+    assert!(sources.len() > 40, "{} shaders", sources.len());
+    let mut readers = 0;
+    for (path, text) in &sources {
+        let code: String = text.lines().filter(|l| !l.trim_start().starts_with("//")).collect::<Vec<_>>().join("\n");
+        let owner = path.ends_with("common/ground.glsl") || path.ends_with("terrain/ground_texels.glsl");
+        // Texels are fetched in ground.glsl alone (its writers, the sources' fills, write them).
+        if !owner {
+            assert!(!code.contains("ground_texel("), "{path} fetches the clipmap itself");
+        }
+        // No reader of the ground asks which field it is drawn under.
+        let reads = ["ground_height(", "ground_normal(", "ground_vertex(", "ground_vertex_normal("];
+        if !owner && reads.iter().any(|r| code.contains(r)) {
+            readers += 1;
+        }
+        if path.ends_with("terrain/terrain.vert") || owner {
+            assert!(!code.contains("FLAG_BLOCKS"), "{path} branches on the field");
+        }
+        for gone in ["heights[", "grid_terrain_", "relief_normal(", "field_ground_"] {
+            assert!(!code.contains(gone), "{path} reads the ground around the include: `{gone}`");
+        }
+    }
+    // The terrain, the cull, the blades' lighting and the two debug views.
+    assert!(readers >= 5, "{readers} readers of the ground");
 }

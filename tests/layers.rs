@@ -215,6 +215,7 @@ const ORDER: &[&str] = &[
     "render::camera_grid",
     "render::terrain_chunks",
     "render::ground_clipmap",
+    "render::ground",
     "render::field_gpu",
     "render::draw_rows",
     "render::culling",

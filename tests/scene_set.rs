@@ -41,9 +41,9 @@ fn set_0_is_numbered_by_build_rs_from_its_owners_declarations() {
             assert_eq!(generated.map(|(_, b)| *b), Some(binding.binding), "{profile:?} `{name}`: {numbers:?}");
         }
     }
-    // Declared in their owners' headers (terrain/heights.glsl, animation/frame_forces.glsl),
+    // Declared in their owners' headers (terrain/ground_texels.glsl, animation/frame_forces.glsl),
     // none of them in shared.glsl.
-    for name in ["Heights", "Corners", "Emitters", "Frame", "Tiles", "blade_alpha"] {
+    for name in ["GroundTexels", "Corners", "Emitters", "Frame", "Tiles", "blade_alpha"] {
         assert!(numbers.iter().any(|(n, _)| n == name), "{name}: {numbers:?}");
     }
     let shared = include_str!("../shaders/common/shared.glsl");
@@ -107,7 +107,7 @@ fn a_declaration_build_rs_cannot_read_fails_with_its_line() {
     }
 }
 
-/// The probe's set 0 on the GPU: `Heights` (a buffer of one float at index 1) and `ProbeWords`,
+/// The probe's set 0 on the GPU: `Corners` (a buffer of one vec4, 2.5 in its y) and `ProbeWords`,
 /// given by name; the words it wrote.
 fn run_probe(device: &Arc<Device>) -> meadow::Result<Vec<u32>> {
     let code = PROBE.code(device.profile);
@@ -116,19 +116,19 @@ fn run_probe(device: &Arc<Device>) -> meadow::Result<Vec<u32>> {
     let pipe = pipeline::compute(device, "scene set probe", code, layout, &[])?;
     let (pool, sets) = set_layout.allocate(device, "probe", 1)?;
     let usage = vk::BufferUsageFlags::STORAGE_BUFFER;
-    let heights = Buffer::with_data(device, &BufferDesc::upload("probe heights", 8, usage), &[0.0f32, 2.5])?;
+    let corners = Buffer::with_data(device, &BufferDesc::upload("probe corners", 16, usage), &[0.0f32, 2.5, 0.0, 0.0])?;
     let out = Buffer::new(device, &BufferDesc::readback("probe words", 12, usage))?;
     // A binding with nothing given is refused, naming it.
     let missing =
-        set_layout.write_named(device, sets[0], "probe set", &[("Heights", Resource::Buffer(heights.descriptor()))]);
+        set_layout.write_named(device, sets[0], "probe set", &[("Corners", Resource::Buffer(corners.descriptor()))]);
     let named =
-        [("ProbeWords", Resource::Buffer(out.descriptor())), ("Heights", Resource::Buffer(heights.descriptor()))];
+        [("ProbeWords", Resource::Buffer(out.descriptor())), ("Corners", Resource::Buffer(corners.descriptor()))];
     let written = set_layout.write_named(device, sets[0], "probe set", &named);
     let result =
         written.and_then(|()| compute::dispatch(device, "scene set probe", (pipe, layout), &sets, &[], 1, out.raw));
     let words = bytemuck::cast_slice::<u8, u32>(out.mapped()).to_vec();
     // SAFETY: dispatch waited (or nothing was submitted).
-    unsafe { compute::teardown(device, (pool, pipe, layout, set_layout.raw), [heights, out]) };
+    unsafe { compute::teardown(device, (pool, pipe, layout, set_layout.raw), [corners, out]) };
     let error = missing.expect_err("ProbeWords was not given").to_string();
     assert!(error.contains("`ProbeWords`"), "{error}");
     result.map(|()| words)
@@ -139,25 +139,25 @@ fn a_resource_declared_in_one_header_is_numbered_by_build_rs_and_written_by_name
     let numbers = generated();
     let number = |name: &str| numbers.iter().find(|(n, _)| n == name).map(|(_, b)| *b);
     let probe_words = number("ProbeWords").expect("build.rs numbered the test's own resource");
-    let heights = number("Heights").expect("build.rs numbered Heights");
+    let corners = number("Corners").expect("build.rs numbered Corners");
     let options = GpuOptions { validation: true, device: DeviceSelector::parse("llvmpipe") };
     let (result, messages) = with_device(&options, false, |device| {
-        // The library's scene layout (reflected, names included) holds Heights at build.rs's
+        // The library's scene layout (reflected, names included) holds Corners at build.rs's
         // number, and not the test's resource; the test's names come after the library's.
         let (scene, _) = layouts::scene_bindings(device.profile)?;
-        let library = scene.iter().find(|(_, n)| n == "Heights").map(|(b, _)| b.binding);
-        assert_eq!(library, Some(heights));
+        let library = scene.iter().find(|(_, n)| n == "Corners").map(|(b, _)| b.binding);
+        assert_eq!(library, Some(corners));
         assert!(scene.iter().all(|(b, n)| n != "ProbeWords" && b.binding < probe_words), "{scene:?}");
         let reflected = reflect::reflect("probe.comp", PROBE.code(device.profile))?.descriptors;
         let found: Vec<(u32, &str)> = reflected.iter().map(|d| (d.binding, d.name.as_str())).collect();
-        let mut expected = vec![(heights, "Heights"), (probe_words, "ProbeWords")];
+        let mut expected = vec![(corners, "Corners"), (probe_words, "ProbeWords")];
         expected.sort();
         assert_eq!(found, expected);
         run_probe(device)
     });
     let words = result.expect("the probe ran");
     assert_eq!(messages, Some(0), "validation messages");
-    assert_eq!(words, [probe_words, heights, 2.5f32.to_bits()]);
+    assert_eq!(words, [probe_words, corners, 2.5f32.to_bits()]);
 }
 
 #[test]

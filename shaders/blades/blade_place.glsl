@@ -7,7 +7,7 @@
 #include "common/bezier.glsl"
 #include "common/lighting.glsl"
 #include "common/field.glsl"
-#include "terrain/terrain.glsl"
+#include "common/ground.glsl"
 #include "blades/outline.glsl"
 
 // The animated blade at model level `m` (0..MODEL_SEGMENTS): local point, tangent, cos and sin
@@ -98,9 +98,7 @@ vec3 lod_color(uint segments) {
 
 // The terrain's normal under the blade's root (Belyaev §2.3's N_L).
 vec3 blade_terrain_normal(BladeInstance blade) {
-    return (RENDER_FLAGS & FLAG_BLOCKS) != 0u
-        ? field_ground_normal(blade.position.xz)
-        : grid_terrain_normal(blade.position.xz, frame_values.terrain.x, frame_values.terrain.y, frame.params.z);
+    return ground_normal(blade.position.xz);
 }
 
 // The colour at height t of `blade` (a strip of `segments` segments) at `world`, its width along

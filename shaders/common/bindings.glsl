@@ -10,13 +10,12 @@
 #include "common/profile.glsl"
 #include "common/frame.glsl"
 #include "blades/blade_records.glsl"
-#include "terrain/heights.glsl"
 #include "blades/blade_alpha.glsl"
 #include "blades/clusters.glsl"
 #include "animation/frame_forces.glsl"
 #include "cull/tiles.glsl"
 #include "cull/visible.glsl"
-#include "terrain/relief_grid.glsl"
+#include "terrain/ground_texels.glsl"
 
 // `--eval blade`: the evaluated blade, written by blade_pose.comp and read by blade.vert:
 // POSE_WORDS words per level, MODEL_SEGMENTS + 1 levels per blade: the local-frame point divided by

@@ -12,8 +12,8 @@ struct FrameUniforms {
     vec4 camera_position;   // xyz eye, w simulation time (s)
     vec4 sun_direction;     // xyz unit vector towards the sun, w unused
     vec4 sky_color;         // rgb linear sky, w fog density (1/m)
-    vec4 terrain;           // x grid origin (x = z), y cell size (m), zw unused; a block field: x cell edge, y cluster edge, zw grid offset
-    uvec4 params;           // x segments, y blade count, z terrain cells per side, w unused
+    vec4 terrain;           // a stored terrain: x grid origin (x = z), y cell size (m) (the CPU's cull mirror); a block field: y the innermost wind level's cluster edge; the ground itself is `ground`
+    uvec4 params;           // x segments, y blade count, zw unused (the ground's cells: `ground.x`)
     uvec4 wind_counts;      // x point sources, y colliders (emitters after the sources), z cluster corners per side, w wind levels
     mat4 cull_view_proj;    // world -> clip of the culling camera (the view's, or a frozen one)
     vec4 cull_eye;          // xyz culling camera position, w pixels per metre at 1 m (viewport height / (2 tan(fov_y / 2)))
@@ -27,10 +27,10 @@ struct FrameUniforms {
     vec4 relief_phases[RELIEF_WAVES / 2u]; // sin, cos of u_k · O + φ_k, two waves per vec4
     ivec4 field_cells;      // xy O's cell, z cells of a bounded field per side (0: unbounded), w unused
     vec4 field;             // x block edge (m), y relief slope bound, zw the force corners' origin relative to O
-    uvec4 relief_grid;      // z the ground clipmap's levels (`render::ground_clipmap`), xyw unused
+    uvec4 ground;           // the ground's clipmap (`render::ground`, common/ground.glsl): x cells per side of a level, z levels, yw unused
     ivec4 relief_cycles[RELIEF_WAVES / 2u]; // per wave its whole periods in the world's (m, n), two waves per vector
-    vec4 ground_levels[CAMERA_GRID_MAX_LEVELS]; // per clipmap level: xy its window's first vertex relative to O, z its cell edge, w unused
-    ivec4 ground_windows[CAMERA_GRID_MAX_LEVELS]; // per level: xy the window's toroidal base, zw its first vertex in half-metres on the world's period
+    vec4 ground_levels[CAMERA_GRID_MAX_LEVELS]; // per clipmap level: xy its window's first vertex relative to O, z its cell edge, w the run (m) its texels' rise is over
+    ivec4 ground_windows[CAMERA_GRID_MAX_LEVELS]; // per level: xy the window's toroidal base, zw the source's (the relief's: its first vertex in half-metres on the world's period)
 };
 
 

@@ -5,6 +5,7 @@
 #define MEADOW_FIELD_GLSL
 #include "common/camera_grid.glsl"
 #include "common/rings.glsl"
+#include "common/ground.glsl"
 
 const float TALLEST_BLADE = 0.55; // scene::blades::TALLEST
 const float WIDEST_BLADE = 0.016; // scene::blades::WIDEST
@@ -23,18 +24,6 @@ float relief_height(vec2 p) {
         h += w.z * (sc.x * cos(a) + sc.y * sin(a));
     }
     return h;
-}
-
-vec3 relief_normal(vec2 p) {
-    vec2 slope = vec2(0.0);
-    for (uint k = 0u; k < RELIEF_WAVES; k++) {
-        vec4 w = frame_values.relief_waves[k];
-        vec4 phase = frame_values.relief_phases[k / 2u];
-        vec2 sc = (k & 1u) == 0u ? phase.xy : phase.zw;
-        float a = dot(w.xy, p);
-        slope += w.z * w.xy * (sc.y * cos(a) - sc.x * sin(a));
-    }
-    return normalize(vec3(-slope.x, 1.0, -slope.y));
 }
 
 // Whether integer cell `cell` belongs to the field (a bounded field is centred on the world's
@@ -57,109 +46,9 @@ uint cell_hash(ivec2 cell) {
     return h ^ (h >> 12);
 }
 
-// The ground's clipmap (`render::ground_clipmap`): its levels, and level l's window (its first
-// vertex relative to O, its cell edge).
-uint ground_levels() {
-    return max(frame_values.relief_grid.z, 1u);
-}
-
-vec2 ground_level_offset(uint level) {
-    return frame_values.ground_levels[level].xy;
-}
-
-float ground_level_step(uint level) {
-    return frame_values.ground_levels[level].z;
-}
-
-// The world's period in half-metres, the lattice the clipmap's texels are evaluated on
+// The world's period in half-metres, the lattice the relief's clipmap texels are evaluated on
 // (`render::ground_clipmap::PERIOD_HALF_METRES`: a block is 8 half-metres).
 const uint PERIOD_HALF_METRES = uint(PERIOD_CELLS) * 8u;
-
-// Height of the drawn terrain (the relief at the grid's vertices, flat between them, split as
-// terrain.vert splits a cell) from the heights of the cell's four vertices.
-float terrain_mesh_height(vec2 f, float h00, float h10, float h01, float h11) {
-    return f.x >= f.y ? h00 + f.x * (h10 - h00) + f.y * (h11 - h10) : h00 + f.y * (h01 - h00) + f.x * (h11 - h01);
-}
-
-// How many cells local vertex (or point) `v` of a level's window lies inside its edge (Chebyshev).
-float ground_edge_cells(vec2 v) {
-    float n = float(FIELD_TERRAIN_CELLS);
-    return min(min(v.x, v.y), min(n - v.x, n - v.y));
-}
-
-// The finest level whose window holds `p` (relative to O; a window's edge belongs to it), and
-// where `p` lies in it in cells (`g`). Past the coarsest window, the coarsest.
-uint ground_level_at(vec2 p, out vec2 g) {
-    uint levels = ground_levels();
-    for (uint l = 0u; l + 1u < levels; l++) {
-        g = (p - ground_level_offset(l)) / ground_level_step(l);
-        if (ground_edge_cells(g) >= 0.0) {
-            return l;
-        }
-    }
-    uint top = levels - 1u;
-    g = (p - ground_level_offset(top)) / ground_level_step(top);
-    return top;
-}
-
-#ifndef RELIEF_GRID_WRITER
-// Local vertex v of level `level` (clamped to its window): the drawn ground's height there and
-// the relief's normal. The texel sits in the vertex's slot of the camera grid (the window's base
-// in `ground_windows`); within GROUND_MORPH_END cells of the window's edge an odd vertex's height
-// slides onto the next level's mesh, and within GROUND_MORPH_FULL it is that mesh, so a level
-// meets the next without cracks and the cull's roots, interpolating this grid, sit on the ground
-// as drawn (`render::ground_clipmap::morph`, CDLOD's morph by the vertex's place in its window).
-vec4 ground_vertex(uint level, ivec2 v) {
-    int n = int(FIELD_TERRAIN_CELLS) + 1;
-    v = clamp(v, ivec2(0), ivec2(n - 1));
-    uvec3 dims = uvec3(n, 1, n);
-    ivec4 window = frame_values.ground_windows[level];
-    uvec3 base = uvec3(window.x, 0, window.y);
-    uint slot = level * uint(n * n) + camera_grid_slot(uvec3(v.x, 0, v.y), base, dims);
-    vec4 t = relief_texel(int(slot));
-    float h = t.x;
-    if (((v.x | v.y) & 1) != 0) {
-        float band = float(GROUND_MORPH_END - GROUND_MORPH_FULL);
-        float k = clamp((float(GROUND_MORPH_END) - ground_edge_cells(vec2(v))) / band, 0.0, 1.0);
-        if (k > 0.0) {
-            h = mix(h, t.y, k);
-        }
-    }
-    return vec4(h, t.z, sqrt(max(1.0 - t.z * t.z - t.w * t.w, 0.0)), t.w);
-}
-
-// The level and cell under `p` (relative to O), clamped to the level's window, and where `p`
-// lies in the cell.
-ivec2 ground_cell(vec2 p, out uint level, out vec2 f) {
-    vec2 g;
-    level = ground_level_at(p, g);
-    ivec2 c = clamp(ivec2(floor(g)), ivec2(0), ivec2(int(FIELD_TERRAIN_CELLS) - 1));
-    f = clamp(g - vec2(c), vec2(0.0), vec2(1.0));
-    return c;
-}
-
-// Height of the drawn ground at `p` (relative to O): the heights at the corners of its cell in
-// the level that draws it, split as terrain.vert splits it, so a root sits on the ground as drawn.
-float field_ground_height(vec2 p) {
-    uint l;
-    vec2 f;
-    ivec2 c = ground_cell(p, l, f);
-    float h00 = ground_vertex(l, c).x;
-    float h10 = ground_vertex(l, c + ivec2(1, 0)).x;
-    float h01 = ground_vertex(l, c + ivec2(0, 1)).x;
-    return terrain_mesh_height(f, h00, h10, h01, ground_vertex(l, c + ivec2(1, 1)).x);
-}
-
-// The relief's normal at `p`: the vertices' normals of its cell, interpolated bilinearly.
-vec3 field_ground_normal(vec2 p) {
-    uint l;
-    vec2 f;
-    ivec2 c = ground_cell(p, l, f);
-    vec3 bottom = mix(ground_vertex(l, c).yzw, ground_vertex(l, c + ivec2(1, 0)).yzw, f.x);
-    vec3 top = mix(ground_vertex(l, c + ivec2(0, 1)).yzw, ground_vertex(l, c + ivec2(1, 1)).yzw, f.x);
-    return normalize(mix(bottom, top, f.y));
-}
-#endif
 
 // Blade `index` of the stored block as placed in `cell`: turned by a quarter turn k and mirrored
 // per the cell's hash (a variation of the block, Belyaev §2.1), positioned relative to O; its

@@ -23,7 +23,7 @@
 //   one: llvmpipe loads a uniform at a constant offset once for all lanes, where a storage load is
 //   a loop over the SIMD lanes with a bounds test and a branch per lane (`emit_load_mem`).
 // - Storage buffers that shaders gather from are read through texel views (`blade_record`,
-//   `visible_entry`, `relief_vertex`, `level_word`, the cull's verdicts and depth pyramid): a
+//   `visible_entry`, `ground_texel`, `level_word`, the cull's verdicts and depth pyramid): a
 //   vector gather on llvmpipe instead of a load per SIMD lane and word (`vk::buffer::TexelView`).
 #if defined(MEADOW_PROFILE_LAVAPIPE)
 #define TEXEL_TWINS

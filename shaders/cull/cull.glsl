@@ -225,20 +225,6 @@ bool occluded(vec3 centre, float radius) {
     return nearest_depth < farthest;
 }
 
-float terrain_height(int x, int z) {
-    int n = int(frame.params.z) + 1;
-    return heights[clamp(z, 0, n - 1) * n + clamp(x, 0, n - 1)];
-}
-
-// The terrain normal at world (x, z), from central differences of the height grid.
-vec3 terrain_normal(vec2 xz) {
-    float step = frame_values.terrain.y;
-    ivec2 g = ivec2(round((xz - vec2(frame_values.terrain.x)) / step));
-    float dx = terrain_height(g.x + 1, g.y) - terrain_height(g.x - 1, g.y);
-    float dz = terrain_height(g.x, g.y + 1) - terrain_height(g.x, g.y - 1);
-    return normalize(vec3(-dx, 2.0 * step, -dz));
-}
-
 // Belyaev §2.2: the fraction of blades kept at distance d, 1 - F(z, φ) before the clamp:
 // ((1 - t)(n, r) + t) / (a1 + a2 d + a3 d²) with t = (1 - |(n, r)|)^α, α = 8, so contour areas
 // ((n, r) near 0) keep their density. Above 1 near the camera (every blade kept).
@@ -311,14 +297,14 @@ bool slot_record(uint slot, out BladeTile tile, out ivec2 cell) {
 // The ground's normal under a tile (Belyaev's n of §2.2).
 vec3 tile_normal(BladeTile tile) {
     vec2 centre = 0.5 * (tile.min.xz + tile.max.xz);
-    return (RENDER_FLAGS & FLAG_BLOCKS) != 0u ? relief_normal(centre) : terrain_normal(centre);
+    return ground_vertex_normal(centre);
 }
 
 // Blade `rank` of a slot's tile, placed (a block field's blade set in its cell, on the terrain).
 BladeInstance tile_blade(BladeTile tile, ivec2 cell, uint rank) {
     if ((RENDER_FLAGS & FLAG_BLOCKS) != 0u) {
         BladeInstance blade = field_blade(cell, rank);
-        blade.position.y = field_ground_height(blade.position.xz) - FIELD_ROOT_SINK;
+        blade.position.y = ground_height(blade.position.xz) - FIELD_ROOT_SINK;
         return blade;
     }
     BladeInstance blade = blade_record(tile.first + rank);

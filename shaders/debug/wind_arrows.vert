@@ -13,7 +13,6 @@
 // O's cell.
 #include "common/bindings.glsl"
 #include "common/field.glsl"
-#include "terrain/terrain.glsl"
 #include "wind/wind_field.glsl"
 
 layout(push_constant) uniform Arrows {
@@ -52,7 +51,7 @@ void main() {
     float spacing = blocks ? frame.terrain.y : arrows.spacing;
     float origin = blocks ? 0.5 * frame.field.x - 0.5 * float(WIND_LEVEL_CLUSTERS) * spacing : arrows.origin;
     vec2 p = vec2(origin) + vec2(corner) * spacing;
-    float ground = blocks ? field_ground_height(p) : grid_terrain_height(p, frame.terrain.x, frame.terrain.y, frame.params.z);
+    float ground = ground_height(p);
     vec3 base = vec3(p.x, ground + arrows.lift, p.y);
     vec3 wind = with_point_sources(wind_corner(corner.y * arrows.corners + corner.x), p).xyz;
     vec3 shaft = wind * arrows.metres_per_speed;

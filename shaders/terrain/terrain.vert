@@ -1,11 +1,11 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// Terrain by vertex pulling, indexed: vertex v is grid vertex (v % (cells + 1), v / (cells + 1)),
-// heights from a storage buffer (a block field's from a level of its clipmap, relief_grid.comp); the
-// index buffer splits each cell (0,0)-(1,0)-(1,1) and
-// (0,0)-(1,1)-(0,1), as `scene::terrain::Terrain::height_at` (`render::terrain_chunks::chunked_indices`).
+// Terrain by vertex pulling, indexed: vertex v is grid vertex (v % (cells + 1), v / (cells + 1))
+// of a level of the ground's clipmap (common/ground.glsl); the index buffer splits each cell
+// (0,0)-(1,0)-(1,1) and (0,0)-(1,1)-(0,1), as `scene::terrain::Terrain::height_at`
+// (`render::terrain_chunks::chunked_indices`).
 #include "common/bindings.glsl"
-#include "common/field.glsl"
+#include "common/ground.glsl"
 
 #include "common/lighting.glsl"
 
@@ -25,36 +25,18 @@ vec3 ground_color(vec3 normal, vec3 world) {
 }
 
 
-float height(int x, int z) {
-    int n = int(frame.params.z) + 1;
-    x = clamp(x, 0, n - 1);
-    z = clamp(z, 0, n - 1);
-    return heights[z * n + x];
-}
-
 void main() {
-    uint cells = frame.params.z;
+    // Level gl_InstanceIndex of the ground's clipmap (`render::ground`): a stored terrain's one
+    // grid, or a level of a block field's relief, ground_cells()² cells at the level's step, of
+    // which the terrain pass draws the chunks in view but the finer level's. Its texel was
+    // uploaded or filled (ground_fill's pass) when it entered the window; `ground_vertex` applies
+    // the morph onto the next level's mesh.
+    uint cells = ground_cells();
     uvec2 grid = uvec2(uint(gl_VertexIndex) % (cells + 1u), uint(gl_VertexIndex) / (cells + 1u));
-    if ((RENDER_FLAGS & FLAG_BLOCKS) != 0u) {
-        // A block field: level gl_InstanceIndex of the ground's clipmap (`render::ground_clipmap`),
-        // FIELD_TERRAIN_CELLS² cells on the world's lattice of the level's step; the terrain pass
-        // draws its chunks but the finer level's. relief_grid.comp filled the vertex when it
-        // entered the window; `ground_vertex` applies the morph onto the next level's mesh.
-        uint level = uint(gl_InstanceIndex);
-        vec4 relief = ground_vertex(level, ivec2(grid));
-        vec2 p = vec2(grid) * ground_level_step(level) + ground_level_offset(level);
-        vec3 world = vec3(p.x, relief.x, p.y);
-        out_color = ground_color(relief.yzw, world);
-        gl_Position = frame.view_proj * vec4(world, 1.0);
-        return;
-    }
-    int x = int(grid.x);
-    int z = int(grid.y);
-    float step = frame.terrain.y;
-    vec3 world = vec3(frame.terrain.x + float(x) * step, height(x, z), frame.terrain.x + float(z) * step);
-    // Smooth normal from central differences.
-    float dx = height(x + 1, z) - height(x - 1, z);
-    float dz = height(x, z + 1) - height(x, z - 1);
-    out_color = ground_color(vec3(-dx, 2.0 * step, -dz), world);
+    uint level = uint(gl_InstanceIndex);
+    vec4 ground = ground_vertex(level, ivec2(grid));
+    vec2 p = vec2(grid) * ground_level_step(level) + ground_level_offset(level);
+    vec3 world = vec3(p.x, ground.x, p.y);
+    out_color = ground_color(ground.yzw, world);
     gl_Position = frame.view_proj * vec4(world, 1.0);
 }

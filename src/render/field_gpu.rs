@@ -3,10 +3,9 @@
 //! follows it, and the field's part of the frame's uniforms. Everything the GPU sees is relative
 //! to O, so a field 100 km from the world's origin renders as one at the origin does.
 
-use glam::{DVec2, IVec2, IVec4, UVec4, Vec3, Vec4};
+use glam::{DVec2, IVec2, IVec4, Vec3, Vec4};
 
 use crate::render::gpu_constants as gpu;
-use crate::render::ground_clipmap::{self, Clipmap};
 use crate::render::uniforms::FrameUniforms;
 use crate::scene::clusters::ClusterGrid;
 use crate::scene::field::{self, BLOCK_SIZE};
@@ -107,15 +106,16 @@ pub fn wind_level(cluster_size: f32, level: u32) -> ClusterGrid {
     ClusterGrid { origin: 0.5 * BLOCK_SIZE - 0.5 * clusters as f32 * size, cluster_size: size, clusters }
 }
 
-/// The field's part of the frame's uniforms (FrameUniforms' field part, `terrain` and
-/// `params.z` re-read for a field as `shaders/common/common.glsl` says). The terrain grid spans
-/// the view distance, the rings of blade cells the blade range (`Culling::blade_range`).
+/// The field's part of the frame's uniforms (FrameUniforms' field part, and `terrain.y` re-read
+/// as the innermost wind level's cluster edge, as `shaders/common/common.glsl` says); the rings of
+/// blade cells span the blade range (`Culling::blade_range`). The ground's part is its source's
+/// (`render::ground::ReliefGround`).
 pub fn fill_uniforms(
     uniforms: &mut FrameUniforms,
     field: &Field,
     origin: &Origin,
     grid: &ClusterGrid,
-    (view_distance, blade_range): (f32, f32),
+    blade_range: f32,
     verdicts: u32,
 ) {
     uniforms.relief_waves = field.relief.waves;
@@ -123,19 +123,7 @@ pub fn fill_uniforms(
     let cells = field.spec.cells().unwrap_or(0) as i32;
     uniforms.field_cells = IVec4::new(origin.cell.x, origin.cell.y, cells, 0);
     uniforms.field = Vec4::new(BLOCK_SIZE, field.relief.slope_bound(), grid.origin, grid.origin);
-    let clipmap = Clipmap::for_view(view_distance, blade_range);
-    let (levels, windows) = clipmap.uniforms(origin.cell);
-    uniforms.terrain = Vec4::new(clipmap.step, grid.cluster_size, levels[0].x, levels[0].y);
-    uniforms.ground_levels = levels;
-    uniforms.ground_windows = windows;
-    uniforms.relief_grid = UVec4::new(0, 0, clipmap.levels, 0);
-    // Taken mod the period in half-metres, so the fill's products fit 32 bits unsigned.
-    let residue = |c: i32| c.rem_euclid(ground_clipmap::PERIOD_HALF_METRES as i32);
-    uniforms.relief_cycles = std::array::from_fn(|i| {
-        let (a, b) = (field.relief.cycles[2 * i], field.relief.cycles[2 * i + 1]);
-        IVec4::new(residue(a.0), residue(a.1), residue(b.0), residue(b.1))
-    });
-    uniforms.params.z = gpu::FIELD_TERRAIN_CELLS;
+    uniforms.terrain = Vec4::new(0.0, grid.cluster_size, 0.0, 0.0);
     uniforms.cull_tiles = glam::UVec4::new(verdicts, ring_slots(blade_range), 0, 0);
 }
 

@@ -3,7 +3,7 @@
 //! world's lattice of that step, so the ground is drawn in fine cells under the camera at any view
 //! distance and in coarse ones far out. Each texel holds what depends on its world vertex alone:
 //! the relief's height there, the height of the next level's mesh there (an odd vertex's mean of
-//! the two even vertices it halves) and the relief's normal (`shaders/terrain/relief_grid.comp`).
+//! the two even vertices it halves) and the relief's normal (`shaders/terrain/relief_fill.comp`).
 //!
 //! - **Windows.** Level 0's window is centred on O's cell, snapped to `SNAP` of its cells; level
 //!   l's is centred on level l − 1's, snapped to `SNAP` of its own. So each level's window holds
@@ -15,7 +15,7 @@
 //!   away draws what this one draws.
 //! - **World-exact texels.** A texel is a function of its world vertex alone, not of O: the
 //!   relief's phases are taken on the world's period in whole half-metres, (m X + n Z) mod
-//!   `PERIOD_HALF_METRES`, in integers (`relief_grid.comp`). So the texels that stay when a
+//!   `PERIOD_HALF_METRES`, in integers (`relief_fill.comp`). So the texels that stay when a
 //!   window moves are those a fresh fill writes, and a level's even vertex is bit for bit the
 //!   next level's vertex at the same place.
 //! - **Morph.** A level's odd vertices slide onto the next level's mesh over the `MORPH_END`
@@ -180,7 +180,7 @@ impl Clipmap {
     }
 
     /// The drawn ground's height at world `p` (near O) for O's cell `cell`, from the relief itself (f64):
-    /// the heights `relief_grid.comp` gives the vertices of the cell under `p` in the level that
+    /// the heights `relief_fill.comp` gives the vertices of the cell under `p` in the level that
     /// draws it, morphed as `ground_vertex` morphs them, split as terrain.vert splits the cell.
     /// The CPU mirror of the drawn surface.
     pub fn drawn_height(&self, relief: &field::Relief, cell: IVec2, p: DVec2) -> f64 {
@@ -194,7 +194,7 @@ impl Clipmap {
             let at = |v: IVec2| relief_at_half_metres(relief, (first + v.as_i64vec2()) * step_hm);
             let odd = IVec2::new(v.x & 1, v.y & 1);
             let h = at(v);
-            let k = f64::from(morph(v.as_uvec2()));
+            let k = f64::from(self.morph(level, v.as_uvec2()));
             if odd == IVec2::ZERO || k == 0.0 {
                 return h;
             }
@@ -209,6 +209,16 @@ impl Clipmap {
             h00 + f.x * (h10 - h00) + f.y * (h11 - h10)
         } else {
             h00 + f.y * (h01 - h00) + f.x * (h11 - h01)
+        }
+    }
+
+    /// How far local vertex `v` of `level` has slid onto the next level's mesh ([`morph`]); the
+    /// coarsest level has no next and keeps the relief.
+    pub fn morph(&self, level: u32, v: UVec2) -> f32 {
+        if level + 1 < self.levels {
+            morph(v)
+        } else {
+            0.0
         }
     }
 }
@@ -245,18 +255,18 @@ pub fn grid_window(first: I64Vec2) -> I64Vec3 {
 
 /// How far local vertex `v` of a level's window has slid from the relief onto the next level's
 /// mesh: 1 within `MORPH_FULL` cells of the window's edge (Chebyshev), 0 from `MORPH_END` on,
-/// linear between. Mirrors `ground_vertex` in `shaders/common/field.glsl`.
+/// linear between. Mirrors `ground_vertex_height` in `shaders/common/ground.glsl`.
 pub fn morph(v: UVec2) -> f32 {
     let edge = v.x.min(v.y).min(CELLS - v.x).min(CELLS - v.y);
     let band = (MORPH_END - MORPH_FULL) as f32;
     ((MORPH_END as f32 - edge as f32) / band).clamp(0.0, 1.0)
 }
 
-/// The drawn height at local vertex `v` from its texel (the relief's height, the next level's
-/// mesh's height, the normal's x and z): `ground_vertex` of `shaders/common/field.glsl` on the
-/// CPU.
-pub fn drawn_texel_height(texel: [f32; 4], v: UVec2) -> f32 {
-    let k = morph(v);
+/// The drawn height at local vertex `v` of `level` from its texel (the relief's height, the next
+/// level's mesh's height, the slope along x and z): `ground_vertex_height` of
+/// `shaders/common/ground.glsl` on the CPU.
+pub fn drawn_texel_height(clipmap: &Clipmap, level: u32, texel: [f32; 4], v: UVec2) -> f32 {
+    let k = clipmap.morph(level, v);
     if (v.x | v.y) & 1 != 0 && k > 0.0 {
         texel[0] * (1.0 - k) + texel[1] * k
     } else {
@@ -265,7 +275,7 @@ pub fn drawn_texel_height(texel: [f32; 4], v: UVec2) -> f32 {
 }
 
 /// The relief at a world vertex given in half-metres on the world's period, as
-/// `relief_grid.comp` evaluates it (in f64): Σ a_k sin(2π ((m_k X + n_k Z) mod P) / P + φ_k).
+/// `relief_fill.comp` evaluates it (in f64): Σ a_k sin(2π ((m_k X + n_k Z) mod P) / P + φ_k).
 pub fn relief_at_half_metres(relief: &field::Relief, at: I64Vec2) -> f64 {
     let at = at.rem_euclid(I64Vec2::splat(PERIOD_HALF_METRES));
     let world = at.as_dvec2() * 0.5;

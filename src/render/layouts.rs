@@ -173,7 +173,7 @@ mod tests {
         let numbered: Vec<Binding> = scene.iter().map(|(b, _)| *b).collect();
         assert_eq!(numbered.iter().chain(&animation).filter(texel).count(), 0, "{scene:?} {animation:?}");
         assert!(named(&scene, "FrameStorage").is_none());
-        for name in ["Blades", "Visible", "ReliefGrid"] {
+        for name in ["Blades", "Visible", "GroundTexels"] {
             assert_eq!(named(&scene, name).map(|b| b.kind), Some(T::STORAGE_BUFFER), "{name}");
         }
         assert_eq!(kind(&animation, gpu::BINDING_LEVELS), Some(T::STORAGE_BUFFER));
@@ -204,7 +204,7 @@ mod tests {
     fn every_scene_shader_is_found_and_binds_only_the_scene_sets() {
         let paths: Vec<&str> = shaders::SCENE.iter().map(|s| s.path).collect();
         for expected in
-            ["blades/blade.vert", "blades/blade.frag.coverage", "cull/cull_count.comp", "terrain/relief_grid.comp"]
+            ["blades/blade.vert", "blades/blade.frag.coverage", "cull/cull_count.comp", "terrain/relief_fill.comp"]
         {
             assert!(paths.contains(&expected), "{expected} not in {paths:?}");
         }

@@ -11,6 +11,7 @@ pub mod field_gpu;
 pub mod frame;
 pub mod gpu_constants;
 pub mod graph;
+pub mod ground;
 pub mod ground_clipmap;
 pub mod layouts;
 pub mod limits;

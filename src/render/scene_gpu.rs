@@ -1,5 +1,6 @@
-//! The scene on the GPU: blade storage buffer, terrain heights, cluster records, the blade alpha
-//! texture and its sampler, uploaded once through staging; and set `SET_SCENE` that every scene
+//! The scene on the GPU: blade storage buffer, the ground's clipmap and triangle list
+//! (`render::ground`), cluster records, the blade alpha texture and its sampler, uploaded once
+//! through staging; and set `SET_SCENE` that every scene
 //! pass binds (the scene and one frame's uniforms and forces). What animates the blades is the
 //! blade response's (`render::animation::response`).
 
@@ -10,7 +11,8 @@ use ash::vk;
 
 use crate::error::Result;
 use crate::render::draw_rows::TileRows;
-use crate::render::gpu_constants;
+use crate::render::gpu_constants::{self, FIELD_TERRAIN_CELLS};
+use crate::render::ground::{GroundGpu, GroundSource};
 use crate::render::limits::BLADES_PER_INSTANCE_RANGE;
 use crate::scene::clusters::{BladeCluster, ClusterGrid};
 use crate::scene::tiles::{BladeTile, TileGrid, MAX_TILES_PER_SIDE};
@@ -86,21 +88,10 @@ pub struct SceneGpu {
     pub blades: Buffer,
     /// Number of blades in `blades`.
     pub blade_count: u32,
-    /// `(cells + 1)²` terrain heights.
-    pub heights: Buffer,
-    /// Terrain cells per side.
-    pub terrain_cells: u32,
-    /// The terrain's triangle list over its `(cells + 1)²` grid vertices, chunk by chunk
-    /// (`render::terrain_chunks`). Indexed, a grid vertex shared by six triangles is shaded about
-    /// once instead of six times.
-    pub terrain_indices: Buffer,
-    /// The lowest and highest terrain height (a block field's relief: ± the sum of its
-    /// amplitudes), which bound the terrain chunks the terrain pass tests.
-    pub terrain_heights: (f32, f32),
-    /// Terrain triangles the terrain pass drew in the last frame it recorded (the chunks in view;
-    /// the whole grid before the first).
-    pub terrain_drawn: Arc<AtomicU64>,
-    /// Terrain grid origin and cell size.
+    /// The ground: its source, its clipmap and the terrain's triangle list.
+    pub ground: GroundGpu,
+    /// A stored terrain's grid origin and cell size (the CPU's cull mirror reads them from the
+    /// frame's `terrain`).
     pub terrain_origin: f32,
     /// Cell edge in metres.
     pub terrain_cell_size: f32,
@@ -143,11 +134,6 @@ pub struct SceneGpu {
     pub blade_texels: TexelView,
     /// The depth pyramid (`PYRAMID_FLOATS` floats) the depth-pyramid pass writes.
     pub depth_pyramid: Buffer,
-    /// A block field's ground clipmap (`render::ground_clipmap`), which `passes::relief_grid`
-    /// fills as the camera moves; a stored field's holds one unused texel.
-    pub relief_grid: Buffer,
-    /// The same grid as RGBA32F texels, as the terrain, the cull and the blades read it.
-    pub relief_texels: TexelView,
     /// The same floats as R32 texels: the occlusion test reads them (`TexelView` says why).
     pub depth_pyramid_texels: TexelView,
     /// The cull tiles pass's output: the count pass's dispatch, each slot's first verdict (a block
@@ -217,28 +203,10 @@ pub fn cull_capacity(scene: &Scene, blade_range: f32) -> (u32, u32) {
     }
 }
 
-/// Bytes of the relief grid: a block field's clipmap of the most levels (any view distance fits),
-/// or one texel (never read: a stored field's terrain is `heights`).
-fn relief_grid_bytes(field: bool) -> u64 {
-    let shape =
-        crate::render::ground_clipmap::Clipmap { step: 1.0, levels: gpu_constants::CAMERA_GRID_MAX_LEVELS }.shape();
-    if field {
-        shape.bytes()
-    } else {
-        u64::from(shape.texel_bytes)
-    }
-}
-
 impl SceneGpu {
     /// The wind's corners over every level (`wind_levels` × the grid's).
     pub fn wind_corner_count(&self) -> u32 {
         self.wind_levels * self.grid.corner_count()
-    }
-
-    /// The relief grid, for the passes that read it: a block field's, which `passes::relief_grid`
-    /// fills as the camera moves (`None`: a stored field, whose terrain is `heights`).
-    pub fn relief_grid_read(&self) -> Option<vk::Buffer> {
-        self.field.is_some().then_some(self.relief_grid.raw)
     }
 }
 
@@ -249,7 +217,7 @@ const PYRAMID_BYTES: u64 = 4 * gpu_constants::PYRAMID_FLOATS as u64;
 #[derive(Default)]
 struct Partial {
     blades: Option<Buffer>,
-    heights: Option<Buffer>,
+    ground_texels: Option<Buffer>,
     terrain_indices: Option<Buffer>,
     clusters: Option<Buffer>,
     blade_alpha: Option<Image>,
@@ -258,7 +226,7 @@ struct Partial {
     pyramid_texels: Option<TexelView>,
     blade_texels: Option<TexelView>,
     visible_texels: Option<TexelView>,
-    relief_texels: Option<TexelView>,
+    ground_view: Option<TexelView>,
     result_texels: Option<TexelView>,
 }
 
@@ -266,7 +234,7 @@ impl Destroy for Partial {
     unsafe fn destroy(self, device: &Device) {
         // SAFETY: per the contract.
         unsafe {
-            let scene = [self.blades, self.heights, self.terrain_indices, self.clusters, self.tiles];
+            let scene = [self.blades, self.ground_texels, self.terrain_indices, self.clusters, self.tiles];
             for buffer in scene.into_iter().flatten().chain(self.cull) {
                 buffer.destroy(device);
             }
@@ -274,7 +242,7 @@ impl Destroy for Partial {
                 image.destroy(device);
             }
             for view in
-                [self.pyramid_texels, self.blade_texels, self.visible_texels, self.relief_texels, self.result_texels]
+                [self.pyramid_texels, self.blade_texels, self.visible_texels, self.ground_view, self.result_texels]
                     .into_iter()
                     .flatten()
             {
@@ -293,7 +261,10 @@ impl SceneGpu {
         let blades = blade_count
             * (std::mem::size_of::<crate::scene::BladeInstance>() + std::mem::size_of::<BladeCluster>() + 16 + 8 + 8)
                 as u64;
-        let heights = (terrain_cells + 1).pow(2) * 4 + terrain_cells.pow(2) * 24 + relief_grid_bytes(true);
+        // The ground's texels and triangles: a stored terrain's grid, or the relief's clipmap.
+        let relief = crate::render::ground::ReliefGround::clipmap_texels();
+        let heights =
+            16 * ((terrain_cells + 1).pow(2) + relief) + 24 * terrain_cells.max(u64::from(FIELD_TERRAIN_CELLS)).pow(2);
         let alpha = u64::from(alpha::WIDTH * alpha::HEIGHT);
         let tiles = u64::from(MAX_TILES_PER_SIDE).pow(2) * std::mem::size_of::<BladeTile>() as u64
             + cull_bytes(0, max_ring_slots(MAX_TILES_PER_SIDE), 0)[1]
@@ -315,18 +286,21 @@ impl SceneGpu {
             None => (ClusterGrid::new(scene.terrain.size, cluster_size), 1),
         };
         let capacity = cull_capacity(scene, blade_range);
-        let cells = if scene.field.is_some() { gpu_constants::FIELD_TERRAIN_CELLS } else { scene.terrain.cells };
-        let sampler = Self::upload_into(device, scene, &grid, capacity, &mut partial)?;
+        let source = crate::render::ground::source(scene);
+        let sampler = Self::upload_into(device, scene, source.as_ref(), (&grid, capacity), &mut partial)?;
         let mut partial = partial.take();
+        let ground = GroundGpu {
+            texels: partial.ground_texels.take().expect("created"),
+            texel_view: partial.ground_view.take().expect("created"),
+            indices: partial.terrain_indices.take().expect("uploaded"),
+            drawn: Arc::new(AtomicU64::new(2 * u64::from(source.cells()).pow(2))),
+            source,
+        };
         Ok(Self {
             blades: partial.blades.take().expect("uploaded"),
             blade_texels: partial.blade_texels.take().expect("created"),
             blade_count: scene.blades.len() as u32,
-            heights: partial.heights.take().expect("uploaded"),
-            terrain_indices: partial.terrain_indices.take().expect("uploaded"),
-            terrain_cells: cells,
-            terrain_heights: crate::render::terrain_chunks::height_range(scene),
-            terrain_drawn: Arc::new(AtomicU64::new(2 * u64::from(cells).pow(2))),
+            ground,
             terrain_origin: scene.terrain.origin(),
             terrain_cell_size: scene.terrain.cell_size(),
             blade_alpha: partial.blade_alpha.take().expect("uploaded"),
@@ -350,21 +324,18 @@ impl SceneGpu {
             slot_counts: partial.cull.pop().expect("created"),
             visible: partial.cull.pop().expect("created"),
             visible_texels: partial.visible_texels.take().expect("created"),
-            relief_texels: partial.relief_texels.take().expect("created"),
-            relief_grid: partial.cull.pop().expect("created"),
         })
     }
 
     fn upload_into(
         device: &Device,
         scene: &Scene,
-        grid: &ClusterGrid,
-        (slots, visible_entries): (u32, u32),
+        ground: &dyn GroundSource,
+        (grid, (slots, visible_entries)): (&ClusterGrid, (u32, u32)),
         partial: &mut Partial,
     ) -> Result<vk::Sampler> {
         let mut batch = UploadBatch::new(device);
         let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
-        let vertex_read: &'static [Access] = &[Access::VertexShaderStorageRead];
         // Clusters are also read by the blade-pose compute pass.
         let vertex_compute_read: &'static [Access] = &[Access::VertexShaderStorageRead, Access::ComputeShaderRead];
         // The scene's shaders read the blades as texels (`blade_record`).
@@ -372,12 +343,19 @@ impl SceneGpu {
         partial.blades = Some(batch.buffer("blades", &scene.blades, texel_usage, device.profile.fetches())?);
         let blades = partial.blades.as_ref().expect("uploaded");
         partial.blade_texels = Some(TexelView::new(device, blades, vk::Format::R32G32B32A32_UINT, "blade texels")?);
-        partial.heights = Some(batch.buffer("terrain heights", &scene.terrain.heights, storage, vertex_read)?);
-        let cells = if scene.field.is_some() { gpu_constants::FIELD_TERRAIN_CELLS } else { scene.terrain.cells };
-        let indices = crate::render::terrain_chunks::chunked_indices(
-            cells,
-            crate::render::terrain_chunks::chunk_cells(scene.field.is_some()),
-        );
+        // The ground's clipmap (read back by `Renderer::read_ground`): a stored terrain's texels
+        // uploaded, a relief's written by its fill pass.
+        let ground_usage = storage | vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC;
+        partial.ground_texels = Some(match ground.texels() {
+            Some(texels) => batch.buffer("ground texels", &texels, ground_usage, device.profile.fetches())?,
+            None => {
+                Buffer::new(device, &BufferDesc::gpu_only("ground texels", 16 * ground.texel_count(), ground_usage))?
+            }
+        });
+        let texels = partial.ground_texels.as_ref().expect("created");
+        partial.ground_view =
+            Some(TexelView::new(device, texels, vk::Format::R32G32B32A32_SFLOAT, "ground texel view")?);
+        let indices = crate::render::terrain_chunks::chunked_indices(ground.cells(), ground.chunk_cells());
         let usage = vk::BufferUsageFlags::INDEX_BUFFER;
         partial.terrain_indices = Some(batch.buffer("terrain indices", &indices, usage, &[Access::IndexRead])?);
         let clusters = grid.assign(&scene.blades);
@@ -395,11 +373,9 @@ impl SceneGpu {
         let verdicts = verdict_capacity(scene);
         let [visible, slots, draws, results] = cull_bytes(u64::from(verdicts), slots, visible_entries);
         let indirect = storage | vk::BufferUsageFlags::INDIRECT_BUFFER;
-        let relief = relief_grid_bytes(scene.field.is_some());
-        // The relief grid, the visible list and the draws are read back by `Renderer::read_*`.
+        // The visible list and the draws are read back by `Renderer::read_*`.
         let (texels, read) = (vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER, vk::BufferUsageFlags::TRANSFER_SRC);
         for (name, size, usage) in [
-            ("relief grid", relief, storage | texels | read),
             ("visible blades", visible, storage | texels | read),
             ("cull slot counts", slots, storage),
             ("cull draws", draws, indirect | read),
@@ -411,15 +387,12 @@ impl SceneGpu {
         ] {
             partial.cull.push(Buffer::new(device, &BufferDesc::gpu_only(name, size, usage))?);
         }
-        // Texel views of five of them, by their place in the list above.
-        let grid = &partial.cull[0];
-        partial.relief_texels =
-            Some(TexelView::new(device, grid, vk::Format::R32G32B32A32_SFLOAT, "relief grid texels")?);
-        let entries = &partial.cull[1];
+        // Texel views of four of them, by their place in the list above.
+        let entries = &partial.cull[0];
         partial.visible_texels = Some(TexelView::new(device, entries, vk::Format::R32G32_UINT, "visible texels")?);
-        let results = &partial.cull[4];
+        let results = &partial.cull[3];
         partial.result_texels = Some(TexelView::new(device, results, vk::Format::R32G32_UINT, "cull result texels")?);
-        let pyramid = &partial.cull[5];
+        let pyramid = &partial.cull[4];
         partial.pyramid_texels = Some(TexelView::new(device, pyramid, vk::Format::R32_SFLOAT, "depth pyramid texels")?);
         let sampler = crate::vk::image::clamped_sampler(device, vk::Filter::LINEAR, "blade alpha sampler")?;
         Ok(sampler)
@@ -427,9 +400,9 @@ impl SceneGpu {
 
     /// Point `set` (of `layout`, `SET_SCENE`, reflected) at the scene's resources and at `frame`'s
     /// (one frame's own, given by their owners), each by the name its header declares it with
-    /// (`layout(SCENE(Name), …)`: `shaders/blades/blade_records.glsl`, `terrain/heights.glsl`,
+    /// (`layout(SCENE(Name), …)`: `shaders/blades/blade_records.glsl`, `terrain/ground_texels.glsl`,
     /// `blades/blade_alpha.glsl`, `blades/clusters.glsl`, `cull/tiles.glsl`, `cull/visible.glsl`,
-    /// `terrain/relief_grid.glsl`); build.rs numbers them. The layout writes those its shaders bind.
+    /// ); build.rs numbers them. The layout writes those its shaders bind.
     pub fn write_descriptors(
         &self,
         device: &Device,
@@ -446,14 +419,13 @@ impl SceneGpu {
         let resources = [
             ("Blades", buffer(&self.blades)),
             ("blade_texels", texels(&self.blade_texels)),
-            ("Heights", buffer(&self.heights)),
             ("blade_alpha", alpha),
             ("Clusters", buffer(&self.clusters)),
             ("Tiles", buffer(&self.tiles)),
             ("Visible", buffer(&self.visible)),
             ("visible_texels", texels(&self.visible_texels)),
-            ("ReliefGrid", buffer(&self.relief_grid)),
-            ("relief_texels", texels(&self.relief_texels)),
+            ("GroundTexels", buffer(&self.ground.texels)),
+            ("ground_texels", texels(&self.ground.texel_view)),
         ];
         let resources: Vec<_> = frame.iter().cloned().chain(resources).collect();
         layout.write_named(device, set, "scene set", &resources)
@@ -478,14 +450,11 @@ impl SceneGpu {
             self.depth_pyramid_texels.destroy(device);
             self.blade_texels.destroy(device);
             self.visible_texels.destroy(device);
-            self.relief_texels.destroy(device);
-            self.relief_grid.destroy(device);
+            self.ground.destroy(device);
             self.depth_pyramid.destroy(device);
             self.cull_alloc.destroy(device);
             self.tile_rows.destroy(device);
             self.blade_alpha.destroy(device);
-            self.heights.destroy(device);
-            self.terrain_indices.destroy(device);
             self.blades.destroy(device);
         }
     }

@@ -53,8 +53,9 @@ pub const FLUID_STAGES_COMP: [Shader; 7] = [
 pub const TERRAIN_VERT: Shader = spirv_shader!("terrain/terrain.vert");
 /// Terrain fragment shader.
 pub const TERRAIN_FRAG: Shader = spirv_shader!("terrain/terrain.frag");
-/// A block field's terrain grid: the relief's height and normal at each vertex, each frame.
-pub const RELIEF_GRID_COMP: Shader = spirv_shader!("terrain/relief_grid.comp");
+/// A block field's ground clipmap: the relief's height, the next level's and the slope at each
+/// vertex that enters a level's window (`render::ground::ReliefGround`).
+pub const RELIEF_FILL_COMP: Shader = spirv_shader!("terrain/relief_fill.comp");
 /// Floor reference: transform only.
 pub const FLOOR_VERT: Shader = spirv_shader!("debug/floor.vert");
 /// Floor reference: flat colour.

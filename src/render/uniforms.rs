@@ -16,9 +16,10 @@ pub struct FrameUniforms {
     pub sun_direction: Vec4,
     /// rgb linear sky colour, w fog density per metre.
     pub sky_color: Vec4,
-    /// x terrain grid origin, y cell size.
+    /// A stored terrain: x grid origin, y cell size (read by the CPU's cull mirror); a block
+    /// field: y the innermost wind level's cluster edge. The ground itself is `ground`.
     pub terrain: Vec4,
-    /// x segments, y blade count, z terrain cells per side, w unused. (The blade geometry and
+    /// x segments, y blade count, zw unused. (The blade geometry and
     /// the sRGB encoding are specialization constants, `render::specialization`.)
     pub params: UVec4,
     /// x point sources, y colliders (their emitters after the sources'), z cluster corners per
@@ -46,14 +47,15 @@ pub struct FrameUniforms {
     pub field_cells: IVec4,
     /// Block fields: x block edge, y relief slope bound, zw the force corners' origin relative to O.
     pub field: Vec4,
-    /// Block fields: z the ground clipmap's levels (`render::ground_clipmap`); xyw unused.
-    pub relief_grid: UVec4,
+    /// The ground's clipmap (`render::ground`): x cells per side of a level, z levels; yw unused.
+    pub ground: UVec4,
     /// Block fields: per relief wave its whole periods in the world's (m, n), two waves per vector.
     pub relief_cycles: [IVec4; 4],
-    /// Block fields: per clipmap level, xy its window's first vertex relative to O, z its cell edge.
+    /// Per clipmap level: xy its window's first vertex relative to O, z its cell edge, w the run
+    /// (m) its texels' rise is given over (`render::ground`).
     pub ground_levels: [Vec4; 8],
-    /// Block fields: per clipmap level, xy its window's toroidal base (`render::camera_grid`), zw
-    /// its first vertex in half-metres on the world's period.
+    /// Per clipmap level: xy its window's toroidal base (`render::camera_grid`), zw the source's
+    /// (the relief's: the window's first vertex in half-metres on the world's period).
     pub ground_windows: [IVec4; 8],
 }
 

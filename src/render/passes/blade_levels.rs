@@ -30,10 +30,9 @@ pub struct BladeLevelsPass {
     /// Pose records (read), placed levels (written).
     poses: vk::Buffer,
     levels: vk::Buffer,
-    /// The stored blades (a block field's are placed per cell) and the terrain heights.
+    /// The stored blades (a block field's are placed per cell) and the ground's clipmap (the
+    /// ground's normal under each root).
     reads: [vk::Buffer; 2],
-    /// A block field's relief grid (the terrain normal under each root).
-    relief_grid: Option<vk::Buffer>,
     /// The cull's visible list (the buckets' ranges and dispatches are the `buckets`' reads).
     visible: vk::Buffer,
 }
@@ -55,8 +54,7 @@ impl BladeLevelsPass {
             pose_set: records.set,
             poses: records.poses.raw,
             levels: records.levels.raw,
-            reads: [scene.blades.raw, scene.heights.raw],
-            relief_grid: scene.relief_grid_read(),
+            reads: [scene.blades.raw, scene.ground.texels.raw],
             visible: scene.visible.raw,
         })
     }
@@ -69,15 +67,11 @@ impl Pass for BladeLevelsPass {
 
     fn declare(&self, ctx: &PassContext) -> Option<Declaration> {
         let fetch = ctx.device.profile.compute_fetch();
-        let declaration = match self.relief_grid {
-            Some(grid) => Declaration::compute().buffer(grid, fetch),
-            None => Declaration::compute(),
-        };
-        let declaration = declaration
+        let declaration = Declaration::compute()
             .buffer(self.levels, Access::ComputeShaderWrite)
             .buffer(self.poses, Access::ComputeShaderRead)
             .buffer(self.reads[0], fetch)
-            .buffer(self.reads[1], Access::ComputeShaderRead)
+            .buffer(self.reads[1], fetch)
             .buffer(self.visible, fetch);
         Some(self.buckets.declare(declaration))
     }

@@ -130,8 +130,8 @@ impl BladePass {
             reads.push((poses, Access::VertexShaderStorageRead));
             reads.push((levels, device.profile.vertex_fetch()));
         }
-        // A block field's terrain normal under each root (per vertex without placed levels).
-        reads.extend(scene.relief_grid_read().map(|grid| (grid, device.profile.vertex_fetch())));
+        // The ground's normal under each root (per vertex without placed levels).
+        reads.push((scene.ground.texels.raw, device.profile.vertex_fetch()));
         let mut pass = Guard::new(
             device,
             Self {

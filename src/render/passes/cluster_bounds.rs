@@ -29,7 +29,8 @@ struct Grid {
 pub struct ClusterBoundsPass {
     lines: DebugLines,
     grid: Grid,
-    heights: vk::Buffer,
+    /// The ground the lines follow: its clipmap (`render::ground`).
+    ground: vk::Buffer,
     /// Each frame's wind at the cluster corners, which colours the edges.
     wind: Vec<vk::Buffer>,
 }
@@ -49,7 +50,7 @@ impl ClusterBoundsPass {
         let lines = DebugLines::new(device, "cluster bounds", vertex, (set_layout, target), (constants, size))?;
         let g = &scene.grid;
         let grid = Grid { origin: g.origin, cluster_size: g.cluster_size, corners: g.corners_per_side(), lift: 0.05 };
-        Ok(Self { lines, grid, heights: scene.heights.raw, wind: wind.to_vec() })
+        Ok(Self { lines, grid, ground: scene.ground.texels.raw, wind: wind.to_vec() })
     }
 
     /// Vertices drawn: two per edge between neighbouring corners, along x and along z.
@@ -66,7 +67,7 @@ impl Pass for ClusterBoundsPass {
 
     fn declare(&self, ctx: &PassContext) -> Option<Declaration> {
         let rendering = passes::scene_rendering(ctx, self.lines.pipeline(), false, false);
-        let declaration = Declaration::graphics(rendering).buffer(self.heights, Access::VertexShaderStorageRead);
+        let declaration = Declaration::graphics(rendering).buffer(self.ground, ctx.device.profile.vertex_fetch());
         Some(declaration.buffer(self.wind[ctx.slot], Access::VertexShaderStorageRead))
     }
 

@@ -1,8 +1,7 @@
-//! Terrain pass: the height field, an indexed triangle list over its grid vertices pulled from the
-//! heights buffer (a block field's from the levels of its clipmap, `passes::relief_grid`, added
-//! with it and run before it), one draw per run of chunks in view (`render::terrain_chunks`), a
-//! block field's per clipmap level but the finer level's square, the level the draw's first
-//! instance. The first pass that draws: it clears colour to the sky and depth to the far plane
+//! Terrain pass: the ground's clipmap (`render::ground`), an indexed triangle list over a level's
+//! grid vertices pulled from its texels (a relief's filled by `passes::ground_fill`, added with
+//! it and run before it), one draw per run of chunks in view (`render::terrain_chunks`) per level
+//! but the finer level's square, the level the draw's first instance. The first pass that draws: it clears colour to the sky and depth to the far plane
 //! (0, reversed Z).
 
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -24,17 +23,14 @@ use crate::vk::{pipeline, Access, Device};
 pub struct TerrainPass {
     pipeline: vk::Pipeline,
     layout: vk::PipelineLayout,
-    heights: vk::Buffer,
-    /// A block field's clipmap, which the vertex shader reads instead of `heights`.
-    relief_grid: Option<vk::Buffer>,
+    /// The ground's clipmap (`render::ground`), whose texels the vertex shader reads.
+    ground: vk::Buffer,
     indices: vk::Buffer,
-    /// The grid's chunks, each a range of `indices`.
+    /// A level's chunks, each a range of `indices`.
     chunks: Vec<TerrainChunk>,
-    /// A block field's grid (placed around O by `FrameUniforms::terrain`'s zw) or a stored one.
-    blocks: bool,
-    /// The terrain's height range.
+    /// The ground's height range.
     height_range: (f32, f32),
-    /// Where it leaves the triangles of the chunks it drew (`SceneGpu::terrain_drawn`).
+    /// Where it leaves the triangles of the chunks it drew (`GroundGpu::drawn`).
     drawn: Arc<AtomicU64>,
     sky: [f32; 4],
 }
@@ -71,30 +67,20 @@ impl TerrainPass {
         Ok(Self {
             pipeline,
             layout: target.layout,
-            heights: scene.heights.raw,
-            relief_grid: scene.relief_grid_read(),
-            indices: scene.terrain_indices.raw,
-            chunks: terrain_chunks::chunks(scene.terrain_cells, terrain_chunks::chunk_cells(scene.field.is_some())),
-            blocks: scene.field.is_some(),
-            height_range: scene.terrain_heights,
-            drawn: Arc::clone(&scene.terrain_drawn),
+            ground: scene.ground.texels.raw,
+            indices: scene.ground.indices.raw,
+            chunks: terrain_chunks::chunks(scene.ground.source.cells(), scene.ground.source.chunk_cells()),
+            height_range: scene.ground.source.height_range(),
+            drawn: Arc::clone(&scene.ground.drawn),
             sky,
         })
     }
 
-    /// This frame's draws: per level (a stored field's one grid, or a block field's clipmap
-    /// levels, terrain.vert places them the same way) the runs of chunks in view, and the level.
+    /// This frame's draws: per level of the ground's clipmap (terrain.vert places them the same
+    /// way) the runs of chunks in view, and the level.
     fn draws(&self, uniforms: &FrameUniforms) -> Vec<(u32, (u32, u32))> {
-        let t = uniforms.terrain;
         let view_proj = &uniforms.view_proj;
-        if !self.blocks {
-            let placement = GridPlacement { offset: [t.x, t.x], step: t.y, heights: self.height_range };
-            return terrain_chunks::visible_runs(&self.chunks, &placement, view_proj, None)
-                .into_iter()
-                .map(|run| (0, run))
-                .collect();
-        }
-        let levels = uniforms.relief_grid.z.max(1);
+        let levels = uniforms.ground.z.max(1);
         let mut draws = Vec::new();
         for level in 0..levels {
             let window = uniforms.ground_levels[level as usize];
@@ -113,7 +99,7 @@ impl TerrainPass {
 
     /// Triangles the pass drew in the last frame it recorded: the chunks in view.
     pub fn triangles(scene: &SceneGpu) -> u64 {
-        scene.terrain_drawn.load(Ordering::Relaxed)
+        scene.ground.drawn.load(Ordering::Relaxed)
     }
 }
 
@@ -128,10 +114,7 @@ impl Pass for TerrainPass {
         let clear_depth = vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: 0.0, stencil: 0 } };
         rendering.color.as_mut().expect("scene colour").load = Load::Clear(clear_color);
         rendering.depth.as_mut().expect("scene depth").load = Load::Clear(clear_depth);
-        let mut declaration = Declaration::graphics(rendering).buffer(self.heights, Access::VertexShaderStorageRead);
-        if let Some(grid) = self.relief_grid {
-            declaration = declaration.buffer(grid, ctx.device.profile.vertex_fetch());
-        }
+        let declaration = Declaration::graphics(rendering).buffer(self.ground, ctx.device.profile.vertex_fetch());
         Some(declaration.buffer(self.indices, Access::IndexRead))
     }
 

@@ -72,9 +72,8 @@ fn thinned(corners: u32) -> (u32, u32) {
 pub struct WindArrowsPass {
     lines: DebugLines,
     arrows: Arrows,
-    /// The ground the slice follows: a stored field's heights, a block field's relief grid.
-    heights: vk::Buffer,
-    relief_grid: Option<vk::Buffer>,
+    /// The ground the slice follows: its clipmap (`render::ground`).
+    ground: vk::Buffer,
     /// Each frame's wind at the cluster corners, which the arrows draw.
     wind: Vec<vk::Buffer>,
 }
@@ -92,13 +91,7 @@ impl WindArrowsPass {
         let vertex = shaders::WIND_ARROWS_VERT.code(device.profile);
         let size = std::mem::size_of::<Arrows>() as u32;
         let lines = DebugLines::new(device, "wind arrows", vertex, (set_layout, target), (constants, size))?;
-        Ok(Self {
-            lines,
-            arrows: Arrows::over(scene),
-            heights: scene.heights.raw,
-            relief_grid: scene.relief_grid_read(),
-            wind: wind.to_vec(),
-        })
+        Ok(Self { lines, arrows: Arrows::over(scene), ground: scene.ground.texels.raw, wind: wind.to_vec() })
     }
 }
 
@@ -109,10 +102,7 @@ impl Pass for WindArrowsPass {
 
     fn declare(&self, ctx: &PassContext) -> Option<Declaration> {
         let rendering = passes::scene_rendering(ctx, self.lines.pipeline(), false, false);
-        let mut declaration = Declaration::graphics(rendering).buffer(self.heights, Access::VertexShaderStorageRead);
-        if let Some(grid) = self.relief_grid {
-            declaration = declaration.buffer(grid, ctx.device.profile.vertex_fetch());
-        }
+        let declaration = Declaration::graphics(rendering).buffer(self.ground, ctx.device.profile.vertex_fetch());
         Some(declaration.buffer(self.wind[ctx.slot], Access::VertexShaderStorageRead))
     }
 

@@ -9,23 +9,20 @@ use crate::vk::{commands, sync, Access, Buffer, BufferDesc};
 pub type WindState = (Vec<[f32; 4]>, ash::vk::Extent3D, glam::UVec3);
 
 impl Renderer {
-    /// A block field's relief grid as the relief-grid pass last filled it
-    /// (`shaders/terrain/relief_grid.comp`): its texels in slot order (a camera grid,
-    /// `render::camera_grid::slot`), each the relief's height, the coarse mesh's height and the
-    /// normal's x and z at its world vertex; empty for a stored field. Call it between frames
-    /// (after `render_offscreen`, which waits): it copies the buffer and waits for the copy.
-    pub fn read_relief_grid(&self) -> Result<Vec<[f32; 4]>> {
-        let scene = self.scene_gpu();
-        let Some(grid) = scene.relief_grid_read() else {
-            return Ok(Vec::new());
-        };
-        self.read_buffer("relief grid", grid, scene.relief_grid.size)
+    /// The ground's clipmap (`render::ground`) as the last frame left it: its texels in slot order
+    /// (a camera grid, `render::camera_grid::slot`, level after level), each the height, the next
+    /// level's mesh's height and the rise along x and z over its level's run at its vertex. Call
+    /// it between frames (after `render_offscreen`, which waits): it copies the buffer and waits
+    /// for the copy.
+    pub fn read_ground(&self) -> Result<Vec<[f32; 4]>> {
+        let ground = &self.scene_gpu().ground;
+        self.read_buffer("ground texels", ground.texels.raw, ground.texels.size)
     }
 
     /// The cull's visible list as the last frame left it, every entry of its capacity (blade,
     /// packed root height and scale: `shaders/cull/visible.glsl`), and the `draws` buffer's
     /// words (each LOD bucket's indexed draw first). Call it between frames, as
-    /// `read_relief_grid`.
+    /// `read_ground`.
     pub fn read_visible_list(&self) -> Result<(Vec<[u32; 2]>, Vec<u32>)> {
         let scene = self.scene_gpu();
         let words = |bytes: Vec<u8>| -> Vec<u32> {
@@ -40,7 +37,7 @@ impl Renderer {
     /// The wind at the cluster corners of frame slot `slot` (a renderer's first frame is slot 0)
     /// as the wind field left it (`shaders/wind/analytic_corners.comp` with the cull, the CPU with
     /// `--brute-force`): velocity (x, y, z) in m/s and exposure per corner. Call it between
-    /// frames, as `read_relief_grid`.
+    /// frames, as `read_ground`.
     pub fn read_wind_corners(&self, slot: usize) -> Result<Vec<[f32; 4]>> {
         let corners = &self.forces[slot].corners;
         let size = 16 * u64::from(self.scene_gpu().wind_corner_count());
@@ -49,7 +46,7 @@ impl Renderer {
 
     /// A stateful wind field's grid as its passes last left it (`WindField::state`; the fluid's
     /// velocities): each texel's (x, y, z, 0) in image order, the window's toroidal base; `None`
-    /// for a field with none. Call it between frames, as `read_relief_grid`.
+    /// for a field with none. Call it between frames, as `read_ground`.
     pub fn read_wind_state(&self) -> Result<Option<WindState>> {
         let Some((image, extent, base)) = self.wind.state() else { return Ok(None) };
         let size = 16 * u64::from(extent.width * extent.height * extent.depth);
@@ -79,7 +76,7 @@ impl Renderer {
     /// The pose records as the response's pose pass last wrote them (`POSE_WORDS` words per
     /// level, `MODEL_SEGMENTS + 1` levels a record; by stored blade without the cull, by
     /// visible-list entry with it); empty when the response writes none. Call it between frames,
-    /// as `read_relief_grid`.
+    /// as `read_ground`.
     pub fn read_pose_records(&self) -> Result<Vec<u32>> {
         let Some(poses) = self.poses.as_ref().filter(|p| p.written) else {
             return Ok(Vec::new());

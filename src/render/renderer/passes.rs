@@ -13,7 +13,7 @@ use crate::render::passes::blades::BladeSetup;
 use crate::render::passes::cull::{self, CullSetup};
 use crate::render::passes::depth_pyramid::DepthPyramidPass;
 use crate::render::passes::{
-    BladeLevelsPass, BladePass, ClusterBoundsPass, FloorPass, PipelineTarget, ReliefGridPass, ResolvePass, TerrainPass,
+    BladeLevelsPass, BladePass, ClusterBoundsPass, FloorPass, GroundFillPass, PipelineTarget, ResolvePass, TerrainPass,
     WindArrowsPass,
 };
 use crate::render::recording::SceneSets;
@@ -25,7 +25,7 @@ use crate::scene::Scene;
 use crate::vk::{Access, Device, Guard, Resource};
 
 impl Renderer {
-    /// The passes, in order: a block field's relief grid, terrain, the cull's passes, the
+    /// The passes, in order: a block field's ground fill, terrain, the cull's passes, the
     /// blade response's compute passes (before the terrain without the cull), blades (or the floor), the debug views asked for,
     /// the resolve with `--msaa`, and the overlay's passes once there is an overlay.
     pub(super) fn build_graph(&mut self, cpu_scene: &Scene, polygon: vk::PolygonMode) -> Result<()> {
@@ -48,8 +48,11 @@ impl Renderer {
         let vertex_compute = [Access::VertexShaderStorageRead, Access::ComputeShaderRead];
         self.graph.import(Resource::Buffer(scene.blades.raw), self.device.profile.fetches());
         self.graph.import(Resource::Buffer(scene.clusters.raw), &vertex_compute);
-        self.graph.import(Resource::Buffer(scene.heights.raw), &[Access::VertexShaderStorageRead]);
-        self.graph.import(Resource::Buffer(scene.terrain_indices.raw), &[Access::IndexRead]);
+        if scene.ground.source.fill().is_none() {
+            // A ground uploaded once (a stored terrain); a filled one is first written by its pass.
+            self.graph.import(Resource::Buffer(scene.ground.texels.raw), self.device.profile.fetches());
+        }
+        self.graph.import(Resource::Buffer(scene.ground.indices.raw), &[Access::IndexRead]);
         self.graph.import(Resource::Buffer(scene.tiles.raw), &[Access::ComputeShaderRead]);
         // The response's resources, as their uploads left them.
         for (resource, uploaded) in response.tracked() {
@@ -154,7 +157,7 @@ impl Renderer {
         specialization
     }
 
-    /// A block field's relief grid, terrain, the cull (depth pyramid, tiles, count, scan, emit),
+    /// A block field's ground fill, terrain, the cull (depth pyramid, tiles, count, scan, emit),
     /// the response's passes (after the cull, whose visible list they read; before the terrain
     /// without it) and the blade pass.
     fn add_blade_passes(&mut self, target: PipelineTarget, constants: &Specialization) -> Result<()> {
@@ -217,8 +220,8 @@ impl Renderer {
     }
 }
 
-/// The terrain pass, after the relief-grid pass that a block field's terrain reads (together, so
-/// no path draws the grid unwritten). `set_layout`: set 0's, for the relief grid's own layout.
+/// The terrain pass, after the ground-fill pass that a filled ground's terrain reads (together, so
+/// no path draws the clipmap unwritten). `set_layout`: set 0's, for the fill's own layout.
 fn add_terrain(
     graph: &mut Graph,
     device: &Device,
@@ -227,8 +230,8 @@ fn add_terrain(
     scene: &SceneGpu,
     sky: [f32; 4],
 ) -> Result<()> {
-    if let Some(relief) = ReliefGridPass::new(device, set_layout, constants, scene)? {
-        graph.add(relief);
+    if let Some(fill) = GroundFillPass::new(device, set_layout, constants, scene)? {
+        graph.add(fill);
     }
     graph.add(TerrainPass::new(device, target, constants, scene, sky)?);
     Ok(())

@@ -3,7 +3,7 @@
 //! the wind field's counts.
 
 use ash::vk;
-use glam::{UVec4, Vec4};
+use glam::{IVec2, UVec4, Vec4};
 
 use super::Renderer;
 use crate::render::animation;
@@ -48,7 +48,7 @@ impl Renderer {
             sun_direction: look::sun_direction().extend(0.0),
             sky_color: look::SKY.extend(self.settings.fog_density),
             terrain: Vec4::new(scene.terrain_origin, scene.terrain_cell_size, 0.0, 0.0),
-            params: UVec4::new(self.settings.segments, scene.blade_count, scene.terrain_cells, 0),
+            params: UVec4::new(self.settings.segments, scene.blade_count, 0, 0),
             wind_counts: UVec4::new(sources, colliders, scene.grid.corners_per_side(), scene.wind_levels),
             cull_lod: UVec4::new(0, 0, 0, self.visible_limit()),
             ..bytemuck::Zeroable::zeroed()
@@ -56,9 +56,10 @@ impl Renderer {
         let cull_camera = self.cull_camera.as_ref().map_or(*camera, relative);
         let frozen = self.cull_camera.is_some();
         culling.fill_uniforms(&mut uniforms, &scene.tile_grid, &cull_camera, frozen, (aspect, near), extent.height);
+        let distances = (culling.view_distance, culling.blade_range());
+        scene.ground.source.fill_uniforms(&mut uniforms, origin.map_or(IVec2::ZERO, |o| o.cell), distances);
         if let (Some(field), Some(origin)) = (&scene.field, &origin) {
-            let (verdicts, distances) = (scene.verdict_capacity, (culling.view_distance, culling.blade_range()));
-            field_gpu::fill_uniforms(&mut uniforms, field, origin, &scene.grid, distances, verdicts);
+            field_gpu::fill_uniforms(&mut uniforms, field, origin, &scene.grid, distances.1, scene.verdict_capacity);
             // A longer blade range set live (the viewer) than the one the cull's buffers were
             // made for: the rings stop where the buffers do.
             uniforms.cull_tiles.y = uniforms.cull_tiles.y.min(scene.slot_capacity);

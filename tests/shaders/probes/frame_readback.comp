@@ -56,7 +56,7 @@ void main() {
     }
     put_uvec4(o, uvec4(frame.field_cells));
     put_vec4(o, frame.field);
-    put_uvec4(o, frame.relief_grid);
+    put_uvec4(o, frame.ground);
     for (uint i = 0u; i < RELIEF_WAVES / 2u; i++) {
         put_uvec4(o, uvec4(frame.relief_cycles[i]));
     }

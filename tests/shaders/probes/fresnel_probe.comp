@@ -15,9 +15,21 @@ layout(push_constant) uniform Params { vec4 camera; vec4 grid; uint vertices; } 
 
 #include "common/bezier.glsl"
 #include "common/lighting.glsl"
-#include "terrain/terrain.glsl"
+#include "common/ground_patch.glsl"
 
 const uint PROBE_FLOATS = 10u;
+
+// The ground's normal under `xz` as common/ground.glsl gives it for a stored terrain's one level
+// (its cell, clamped to the grid, and the bilinear patch through its heights).
+vec3 grid_normal(vec2 xz, float origin, float step, uint cells) {
+    vec2 g = (xz - vec2(origin)) / step;
+    ivec2 c = clamp(ivec2(floor(g)), ivec2(0), ivec2(int(cells) - 1));
+    vec2 f = clamp(g - vec2(c), vec2(0.0), vec2(1.0));
+    uint i = uint(c.y) * (cells + 1u) + uint(c.x);
+    uint n = cells + 1u;
+    vec4 h = vec4(heights[i], heights[i + 1u], heights[i + n], heights[i + n + 1u]);
+    return bilinear_patch_normal(f, h, step);
+}
 
 void main() {
     uint i = gl_GlobalInvocationID.x;
@@ -37,7 +49,7 @@ void main() {
     vec3 normal_dir = vec3(sin(blade.facing), 0.0, cos(blade.facing));
     vec3 world = blade.position + across * (local.x + (side - 0.5) * blade.width) + vec3(0.0, local.y, 0.0)
         + normal_dir * local.z;
-    vec3 terrain_normal = grid_terrain_normal(blade.position.xz, params.grid.x, params.grid.y, uint(params.grid.z));
+    vec3 terrain_normal = grid_normal(blade.position.xz, params.grid.x, params.grid.y, uint(params.grid.z));
     vec3 fresnel = blade_fresnel(terrain_normal, normalize(params.camera.xyz - world), t);
     uint o = i * PROBE_FLOATS;
     probe[o + 0u] = world.x;

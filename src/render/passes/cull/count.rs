@@ -15,19 +15,18 @@ use crate::vk::{Access, Device};
 /// The counting dispatch, one workgroup per listed ring slot.
 pub fn pass(device: &Device, setup: &CullSetup, scene: &SceneGpu, set: &Rc<PassSet>) -> Result<CullStep> {
     let read = Access::ComputeShaderRead;
-    let mut uses = vec![
+    let uses = vec![
         (scene.tiles.raw, read),
         (scene.depth_pyramid.raw, device.profile.compute_fetch()),
         (scene.blades.raw, device.profile.compute_fetch()),
-        (scene.heights.raw, read),
+        // The roots sit on the ground, its normal under the tile.
+        (scene.ground.texels.raw, device.profile.compute_fetch()),
         (scene.slot_counts.raw, Access::ComputeShaderWrite),
         (scene.cull_results.raw, Access::ComputeShaderWrite),
         // The listed slots, their room and the dispatch over them.
         (scene.cull_alloc.raw, read),
         (scene.cull_alloc.raw, Access::IndirectCommandRead),
     ];
-    // A block field's roots sit on the relief grid.
-    uses.extend(scene.relief_grid_read().map(|grid| (grid, device.profile.compute_fetch())));
     let groups = Groups::Indirect(scene.cull_alloc.raw, 0);
     CullStep::new(device, ("cull count", shaders::CULL_COUNT_COMP.code(device.profile)), (setup, set), uses, groups)
 }

@@ -1,18 +1,19 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// A block field's ground clipmap (`render::ground_clipmap`): one level of a camera grid
-// (`render::camera_grid`, (FIELD_TERRAIN_CELLS + 1)² vertices on the world's lattice of the
-// level's step), the vertices that entered its window since the last fill
-// (`render::passes::relief_grid`), each with what depends on its world vertex alone: the relief's
-// height, the next level's mesh's height there and the relief's normal. Readers apply the morph
-// by the vertex's place in its window (common/field.glsl: `ground_vertex`).
+// The relief's fill of a block field's ground clipmap (`render::ground::ReliefGround`,
+// `render::ground_clipmap`): one level of a camera grid (`render::camera_grid`, (cells + 1)²
+// vertices on the world's lattice of the level's step), the vertices that entered its window since
+// the last fill (`render::passes::ground_fill`), each with what depends on its world vertex alone:
+// the relief's height, the next level's mesh's height there and the relief's slope (its rise over
+// 1 m, the level's `ground_level_rise_run`). Readers apply the morph by the vertex's place in its
+// window (common/ground.glsl: `ground_vertex`).
 //
 // World-exact: a vertex is named by its place in half-metres on the world's period, X and Z, and
 // wave k's phase is 2π ((m_k X + n_k Z) mod P) / P + φ_k in whole numbers (m_k, n_k its periods
 // in the world's, taken mod P on the CPU so the products fit 32 bits unsigned), not relative to
 // O: the texels a scroll keeps are the ones a fresh fill writes, and a level's even vertex is bit
 // for bit the next level's vertex at the same place.
-#define RELIEF_GRID_WRITER
+#define GROUND_WRITER
 #include "common/bindings.glsl"
 #include "common/field.glsl"
 #include "common/camera_grid.glsl"
@@ -60,9 +61,7 @@ void main() {
         uvec2 after = (at + across) % PERIOD_HALF_METRES;
         coarse = 0.5 * (relief_at(before, unused) + relief_at(after, unused));
     }
-    // A normal's y is above 0: x and z say it (`ground_vertex` rebuilds y).
-    vec3 n = normalize(vec3(-slope.x, 1.0, -slope.y));
     uvec3 dims = fill.dims.xyz;
     uint slot = level * dims.x * dims.z + camera_grid_slot(local, fill.base.xyz, dims);
-    relief_grid[slot] = vec4(h, coarse, n.x, n.z);
+    ground_grid[slot] = vec4(h, coarse, slope);
 }

@@ -1,0 +1,26 @@
+// Set 0: the ground's clipmap (`GroundTexels`, its texel view `ground_texels` under the lavapipe
+// profile), allocated by `render::scene_gpu::SceneGpu` for its ground source (`render::ground`):
+// a stored terrain's grid, uploaded once, or a block field's relief levels, filled as the camera
+// moves by `render::passes::ground_fill`. Read through common/ground.glsl.
+#ifndef MEADOW_GROUND_TEXELS_GLSL
+#define MEADOW_GROUND_TEXELS_GLSL
+#include "common/profile.glsl"
+
+// Per vertex of a level, in the slot of its vertex (a camera grid, camera_grid.glsl): x its
+// height, y the height of the next level's mesh there, zw the ground's rise along x and z over
+// the level's `ground_level_rise_run` metres (the normal is (-z, run, -w)).
+#ifdef GROUND_WRITER
+layout(SCENE(GroundTexels), std430) writeonly buffer GroundTexels { vec4 ground_grid[]; };
+#elif defined(TEXEL_TWINS)
+layout(SCENE(ground_texels)) uniform samplerBuffer ground_texels;
+vec4 ground_texel(int i) {
+    return texelFetch(ground_texels, i);
+}
+#else
+layout(SCENE(GroundTexels), std430) readonly buffer GroundTexels { vec4 ground_grid[]; };
+vec4 ground_texel(int i) {
+    return ground_grid[i];
+}
+#endif
+
+#endif

@@ -1,0 +1,300 @@
+//! The ground under the grass from one source (issue #30 item 2). A [`GroundSource`] writes the
+//! ground into one clipmap, the levels of a camera grid (`render::camera_grid`), and every reader
+//! reads it there through one include, `shaders/common/ground.glsl`: the terrain mesh, the cull's
+//! roots and tile normals, the blades' lighting and the debug views. No reader asks which source
+//! it is.
+//!
+//! A texel is what its grid vertex alone decides: x the ground's height, y the height of the next
+//! level's mesh there (the morph's target, `render::ground_clipmap`), zw the ground's rise along x
+//! and z over the level's run (`ground_levels[l].w`), so the normal at the vertex is
+//! (−z, run, −w). A level is a window of `cells`² cells at its step; its vertices sit in the slots
+//! `camera_grid::slot` gives from the window's toroidal base.
+//!
+//! Two sources today:
+//! - [`StoredGround`]: a stored field's terrain (`scene::Terrain`), its 0.5 m lattice as one level
+//!   uploaded with the scene; its texels hold the stored heights and the central differences the
+//!   terrain was always lit with, over a run of two cells, so the pictures are the ones before the
+//!   clipmap, bit for bit.
+//! - [`ReliefGround`]: a block field's relief (`scene::field::Relief`) in nested levels around the
+//!   camera out to the view distance (`ground_clipmap::Clipmap`), filled on the GPU as the camera
+//!   moves by `passes::ground_fill` running the source's [`GroundFill`] (`relief_fill.comp`).
+//!
+//! A new source (a heightmap, issue #35) is an implementation of [`GroundSource`], with a
+//! [`GroundFill`] and its fill shader when the camera's moves fill it, and its arm in [`source`].
+
+use std::sync::atomic::AtomicU64;
+use std::sync::Arc;
+
+use glam::{I64Vec3, IVec2, IVec4, UVec4, Vec4};
+
+use crate::render::camera_grid::GridShape;
+use crate::render::gpu_constants as gpu;
+use crate::render::ground_clipmap::{self, Clipmap};
+use crate::render::shaders;
+use crate::render::terrain_chunks;
+use crate::render::uniforms::FrameUniforms;
+use crate::scene::{field, Scene, Terrain};
+use crate::vk::profile::Shader;
+use crate::vk::{Buffer, Device, TexelView};
+
+/// Where the ground comes from: what the renderer needs of it.
+pub trait GroundSource: Send + Sync {
+    /// Cells per side of a level's window.
+    fn cells(&self) -> u32;
+    /// Cells per side of a chunk of the terrain's index list (a level's hole is whole chunks).
+    fn chunk_cells(&self) -> u32;
+    /// Texels the clipmap's buffer holds, fixed at upload: every level the source can draw.
+    fn texel_count(&self) -> u64;
+    /// The lowest and highest height its ground can have (the terrain chunks' bounds).
+    fn height_range(&self) -> (f32, f32);
+    /// Texels uploaded with the scene, in slot order; `None` when its [`GroundFill`] writes them.
+    fn texels(&self) -> Option<Vec<[f32; 4]>>;
+    /// This frame's clipmap for O's cell `cell` (a stored field's O is the world's origin) and
+    /// the (view distance, blade range): `ground`, `ground_levels`, `ground_windows` and what its
+    /// fill reads.
+    fn fill_uniforms(&self, uniforms: &mut FrameUniforms, cell: IVec2, distances: (f32, f32));
+    /// How the camera's moves fill it on the GPU; `None` when it is uploaded once.
+    fn fill(&self) -> Option<Box<dyn GroundFill>>;
+}
+
+/// A source's fill on the GPU (`passes::ground_fill`): the shader that writes the texels of the
+/// vertices that entered a level's window, and, from a frame's uniforms, the windows.
+pub trait GroundFill {
+    /// The fill shader: one invocation per entered vertex (`camera_grid_entered`), its level in
+    /// the push constants' `base.w`.
+    fn shader(&self) -> Shader;
+    /// The camera grid of this frame's clipmap.
+    fn shape(&self, uniforms: &FrameUniforms) -> GridShape;
+    /// What the texels are a function of besides their vertex: a change refills every level.
+    fn key(&self, uniforms: &FrameUniforms) -> Vec<u32>;
+    /// Each level's window this frame: its first vertex on the level's lattice.
+    fn windows(&self, uniforms: &FrameUniforms) -> Vec<I64Vec3>;
+}
+
+/// The ground on the GPU (`SceneGpu::ground`): its source, its clipmap and the terrain's
+/// triangle list.
+pub struct GroundGpu {
+    /// Where the ground comes from.
+    pub source: Box<dyn GroundSource>,
+    /// The clipmap's texels (`shaders/terrain/ground_texels.glsl`): `source.texel_count()` of
+    /// 16 bytes.
+    pub texels: Buffer,
+    /// The same texels as RGBA32F, as its readers fetch them under the lavapipe profile.
+    pub texel_view: TexelView,
+    /// The triangle list over a level's `(cells + 1)²` vertices, chunk by chunk
+    /// (`render::terrain_chunks`). Indexed, a vertex shared by six triangles is shaded about once
+    /// instead of six times.
+    pub indices: Buffer,
+    /// Terrain triangles the terrain pass drew in the last frame it recorded (the chunks in view;
+    /// a level's triangles before the first).
+    pub drawn: Arc<AtomicU64>,
+}
+
+impl GroundGpu {
+    /// Free the buffers.
+    ///
+    /// # Safety
+    /// No pending GPU work may use them.
+    pub unsafe fn destroy(self, device: &Device) {
+        // SAFETY: per the contract.
+        unsafe {
+            self.texel_view.destroy(device);
+            self.texels.destroy(device);
+            self.indices.destroy(device);
+        }
+    }
+}
+
+/// The ground source of `scene`: its relief for a block field, its stored terrain otherwise.
+pub fn source(scene: &Scene) -> Box<dyn GroundSource> {
+    match &scene.field {
+        Some(field) => Box::new(ReliefGround { relief: field.relief.clone() }),
+        None => Box::new(StoredGround { terrain: scene.terrain.clone() }),
+    }
+}
+
+/// A stored field's terrain as the clipmap's one level: its whole grid at its own step, placed at
+/// its origin, never moved.
+pub struct StoredGround {
+    /// The height field.
+    pub terrain: Terrain,
+}
+
+impl GroundSource for StoredGround {
+    fn cells(&self) -> u32 {
+        self.terrain.cells
+    }
+
+    fn chunk_cells(&self) -> u32 {
+        terrain_chunks::CHUNK_CELLS
+    }
+
+    fn texel_count(&self) -> u64 {
+        u64::from(self.terrain.cells + 1).pow(2)
+    }
+
+    fn height_range(&self) -> (f32, f32) {
+        let heights = &self.terrain.heights;
+        heights.iter().fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), &h| (lo.min(h), hi.max(h)))
+    }
+
+    fn texels(&self) -> Option<Vec<[f32; 4]>> {
+        Some(stored_texels(&self.terrain))
+    }
+
+    fn fill_uniforms(&self, uniforms: &mut FrameUniforms, _: IVec2, _: (f32, f32)) {
+        let (origin, step) = (self.terrain.origin(), self.terrain.cell_size());
+        uniforms.ground = UVec4::new(self.terrain.cells, 0, 1, 0);
+        // Rise over two cells: the central differences (`stored_texels`).
+        uniforms.ground_levels[0] = Vec4::new(origin, origin, step, 2.0 * step);
+        uniforms.ground_windows[0] = IVec4::ZERO;
+    }
+
+    fn fill(&self) -> Option<Box<dyn GroundFill>> {
+        None
+    }
+}
+
+/// A stored terrain's texels, row by row (the one level's window has its base at slot 0): the
+/// height, the same height as the next level's (there is none, and no morph), and the central
+/// differences along x and z over two cells, clamped to the grid, as the terrain's vertices were
+/// always lit.
+pub fn stored_texels(terrain: &Terrain) -> Vec<[f32; 4]> {
+    let n = terrain.cells as i64 + 1;
+    let h = |x: i64, z: i64| terrain.heights[(z.clamp(0, n - 1) * n + x.clamp(0, n - 1)) as usize];
+    let mut texels = Vec::with_capacity((n * n) as usize);
+    for z in 0..n {
+        for x in 0..n {
+            let height = h(x, z);
+            texels.push([height, height, h(x + 1, z) - h(x - 1, z), h(x, z + 1) - h(x, z - 1)]);
+        }
+    }
+    texels
+}
+
+/// A block field's relief in nested levels around the camera (`ground_clipmap::Clipmap`), filled
+/// as the camera moves.
+pub struct ReliefGround {
+    /// The relief, evaluated anywhere.
+    pub relief: field::Relief,
+}
+
+impl ReliefGround {
+    /// Texels of the clipmap of the most levels: any view distance fits.
+    pub fn clipmap_texels() -> u64 {
+        let shape = Clipmap { step: 1.0, levels: gpu::CAMERA_GRID_MAX_LEVELS }.shape();
+        shape.cells_per_level() * u64::from(shape.levels)
+    }
+}
+
+impl GroundSource for ReliefGround {
+    fn cells(&self) -> u32 {
+        ground_clipmap::CELLS
+    }
+
+    fn chunk_cells(&self) -> u32 {
+        terrain_chunks::GROUND_CHUNK_CELLS
+    }
+
+    fn texel_count(&self) -> u64 {
+        Self::clipmap_texels()
+    }
+
+    fn height_range(&self) -> (f32, f32) {
+        let bound = self.relief.height_bound();
+        (-bound, bound)
+    }
+
+    fn texels(&self) -> Option<Vec<[f32; 4]>> {
+        None
+    }
+
+    fn fill_uniforms(&self, uniforms: &mut FrameUniforms, cell: IVec2, (view_distance, blade_range): (f32, f32)) {
+        let clipmap = Clipmap::for_view(view_distance, blade_range);
+        let (levels, windows) = clipmap.uniforms(cell);
+        // The relief's texels give its slope: the rise over 1 m.
+        uniforms.ground_levels = levels.map(|l| Vec4::new(l.x, l.y, l.z, 1.0));
+        uniforms.ground_windows = windows;
+        uniforms.ground = UVec4::new(ground_clipmap::CELLS, 0, clipmap.levels, 0);
+        // Taken mod the period in half-metres, so the fill's products fit 32 bits unsigned.
+        let residue = |c: i32| c.rem_euclid(ground_clipmap::PERIOD_HALF_METRES as i32);
+        uniforms.relief_cycles = std::array::from_fn(|i| {
+            let (a, b) = (self.relief.cycles[2 * i], self.relief.cycles[2 * i + 1]);
+            IVec4::new(residue(a.0), residue(a.1), residue(b.0), residue(b.1))
+        });
+    }
+
+    fn fill(&self) -> Option<Box<dyn GroundFill>> {
+        Some(Box::new(ReliefFill))
+    }
+}
+
+/// The relief's fill (`shaders/terrain/relief_fill.comp`): its clipmap is read back from the
+/// frame's uniforms, level 0's step and the levels.
+struct ReliefFill;
+
+impl ReliefFill {
+    fn clipmap(uniforms: &FrameUniforms) -> Clipmap {
+        Clipmap { step: uniforms.ground_levels[0].z, levels: uniforms.ground.z.max(1) }
+    }
+}
+
+impl GroundFill for ReliefFill {
+    fn shader(&self) -> Shader {
+        shaders::RELIEF_FILL_COMP
+    }
+
+    fn shape(&self, uniforms: &FrameUniforms) -> GridShape {
+        Self::clipmap(uniforms).shape()
+    }
+
+    fn key(&self, uniforms: &FrameUniforms) -> Vec<u32> {
+        let clipmap = Self::clipmap(uniforms);
+        let waves = uniforms.relief_waves.iter().flat_map(|w| w.to_array().map(f32::to_bits));
+        let cycles = uniforms.relief_cycles.iter().flat_map(|c| c.to_array().map(|v| v as u32));
+        [clipmap.step.to_bits(), clipmap.levels].into_iter().chain(waves).chain(cycles).collect()
+    }
+
+    fn windows(&self, uniforms: &FrameUniforms) -> Vec<I64Vec3> {
+        let cell = IVec2::new(uniforms.field_cells.x, uniforms.field_cells.y);
+        Self::clipmap(uniforms).windows(cell).into_iter().map(ground_clipmap::grid_window).collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_stored_terrains_texels_are_its_heights_and_central_differences() {
+        let terrain = Terrain::generate(6.0, 4);
+        let texels = stored_texels(&terrain);
+        let n = terrain.cells as usize + 1;
+        assert_eq!(texels.len(), n * n);
+        let h = |x: usize, z: usize| terrain.heights[z * n + x];
+        // Inside: the differences over two cells; at the edge, clamped to the grid.
+        assert_eq!(texels[2 * n + 3], [h(3, 2), h(3, 2), h(4, 2) - h(2, 2), h(3, 3) - h(3, 1)]);
+        assert_eq!(texels[0], [h(0, 0), h(0, 0), h(1, 0) - h(0, 0), h(0, 1) - h(0, 0)]);
+        let source = StoredGround { terrain: terrain.clone() };
+        assert_eq!(source.texel_count(), texels.len() as u64);
+        let mut uniforms: FrameUniforms = bytemuck::Zeroable::zeroed();
+        source.fill_uniforms(&mut uniforms, IVec2::ZERO, (150.0, 150.0));
+        assert_eq!(uniforms.ground_levels[0], Vec4::new(-3.0, -3.0, terrain.cell_size(), 2.0 * terrain.cell_size()));
+        assert_eq!(uniforms.ground, UVec4::new(terrain.cells, 0, 1, 0));
+    }
+
+    #[test]
+    fn the_reliefs_buffer_holds_its_clipmap_at_any_view_distance() {
+        let relief = field::Relief::generate(1);
+        let source = ReliefGround { relief };
+        for view in [40.0, 150.0, 5000.0, 10_000.0] {
+            let mut uniforms: FrameUniforms = bytemuck::Zeroable::zeroed();
+            source.fill_uniforms(&mut uniforms, IVec2::new(3, -7), (view, view.min(150.0)));
+            let fill = source.fill().expect("a relief fills on the GPU");
+            let shape = fill.shape(&uniforms);
+            assert!(shape.cells_per_level() * u64::from(shape.levels) <= source.texel_count(), "{view} m");
+            assert_eq!(fill.windows(&uniforms).len() as u32, shape.levels);
+            assert!(uniforms.ground_levels[..shape.levels as usize].iter().all(|l| l.w == 1.0));
+        }
+    }
+}
