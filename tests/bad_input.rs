@@ -316,3 +316,28 @@ fn responses_refuse_what_only_keyframes_have() {
     refused("virtual-damping-range", &["--animation", "virtual-inertial", "--damping", "21"], "outside 0..=20");
     refused("virtual-poses", &["--animation", "virtual-inertial", "--poses", "16"], "--poses has no effect");
 }
+
+/// `timing --fly`: a speed above 0 and at most 1 000 m/s, refused in one line before the output
+/// directory exists.
+#[test]
+fn a_flight_speed_must_be_above_0_and_finite() {
+    for (case, speed, why) in [
+        ("fly-zero", "0", "above 0"),
+        ("fly-nan", "NaN", "finite"),
+        ("fly-negative", "-3", "above 0"),
+        ("fly-fast", "2000", "over"),
+    ] {
+        let dir = scratch(&format!("bad-{case}"));
+        let out = dir.join("timing");
+        let output = meadow()
+            .args(["timing", "--blades", "100", "--brute-force", "--fly", speed, "--device", support::DEVICE, "--out"])
+            .arg(&out)
+            .output()
+            .expect("run meadow");
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(2), "{case}: {}", transcript(&output));
+        assert_eq!(stderr.lines().count(), 1, "{case}: {}", transcript(&output));
+        assert!(stderr.starts_with("error: ") && stderr.contains(why), "{case}: {stderr}");
+        assert!(!out.exists(), "{case}: timing created its directory before refusing");
+    }
+}

@@ -353,6 +353,7 @@ const TIMING_CASES: &[Case] = &[
     ("frames", &[alt(&["--frames", "3"])]),
     ("warmup", &[alt(&["--warmup", "1"])]),
     ("trace", &[alt(&["--trace", "trace.json"])]),
+    ("fly", &[alt(&["--fly", "30"])]),
     ("out", &[alt(&["--out", "other"])]),
     ("submission", &[alt(&["--submission", "per-cluster"])]),
     ("clusters", &[alt(&["--clusters", "3"]), with(&["--submission", "per-cluster"], &["--clusters", "3"])]),

@@ -154,6 +154,18 @@ pub fn view_distance(text: &str) -> Result<f32, String> {
     Ok(metres)
 }
 
+/// The fastest `timing --fly`: a frame's step stays well inside a block field's cells.
+pub const MAX_FLY_SPEED: f32 = 1000.0;
+
+/// `timing --fly`: a speed in m/s above 0, at most `MAX_FLY_SPEED`.
+pub fn fly_speed(text: &str) -> Result<f32, String> {
+    let speed = positive_f32(text)?;
+    if speed > MAX_FLY_SPEED {
+        return Err(format!("a flight at {speed} m/s is over the {MAX_FLY_SPEED} m/s a run may fly"));
+    }
+    Ok(speed)
+}
+
 /// `--fog`: a density per metre, finite and at least 0 (0: no fog).
 pub fn fog(text: &str) -> Result<f32, String> {
     let density = finite_f32(text)?;

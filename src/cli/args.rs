@@ -283,6 +283,11 @@ pub(crate) struct TimingArgs {
     /// Directory for timing.json and the frame-time histogram.
     #[arg(long, default_value = "timing-out")]
     pub(crate) out: PathBuf,
+    /// Fly the camera along its heading at this speed (m/s, one `--dt` a frame), at its height
+    /// above the ground: the cost of the passes that follow the camera (the ground's fill, the
+    /// wind's and the state store's grids) as it crosses their cells.
+    #[arg(long, value_name = "M_PER_S", value_parser = values::fly_speed, allow_hyphen_values = true)]
+    pub(crate) fly: Option<f32>,
     #[command(flatten)]
     pub(crate) submission: SubmissionArgs,
     #[command(flatten)]

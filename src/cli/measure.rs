@@ -67,7 +67,7 @@ pub(crate) fn timing(args: TimingArgs) -> (u8, Option<u64>) {
         let e = format!("--frames {}: timing measures the intervals between frames (2 at least)", args.frames);
         return (finish(Err(crate::Error::bad_input(e))), None);
     }
-    let options = TimingOptions { render, warmup: args.warmup, trace: args.trace, out: args.out };
+    let options = TimingOptions { render, warmup: args.warmup, trace: args.trace, out: args.out, fly: args.fly };
     let trace = options.trace.iter().map(|t| ("--trace", t.clone()));
     if let Err(e) = app::output::check_distinct(app::output::set_members(&options.out, &timing::FILES).chain(trace)) {
         return (finish(Err(e)), None);

@@ -24,6 +24,9 @@ pub struct TimingDocument {
     /// which used 1/60 s).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub dt_s: Option<f64>,
+    /// `--fly`: the camera's speed along its heading (m/s; absent when it stood still).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fly_m_per_s: Option<f32>,
     /// How the blades were submitted (absent from older v1 documents).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub submission: Option<SubmissionSummary>,
