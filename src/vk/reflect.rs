@@ -42,6 +42,9 @@ pub struct Reflection {
 }
 
 const MAGIC: u32 = 0x0723_0203;
+/// A debug line: its literals (file, line, column) are not ids, and a line number equal to a
+/// variable's id would count it as used.
+const OP_LINE: u32 = 8;
 const OP_NAME: u32 = 5;
 const OP_ENTRY_POINT: u32 = 15;
 const OP_FUNCTION: u32 = 54;
@@ -135,6 +138,7 @@ fn parse(spirv: &[u8]) -> std::result::Result<Module, String> {
         match (op, function) {
             (OP_FUNCTION, _) if args.len() >= 2 => function = Some(args[1]),
             (OP_FUNCTION_END, _) => function = None,
+            (OP_LINE, _) => {}
             (_, Some(f)) => m.functions.entry(f).or_default().extend_from_slice(args),
             _ => {}
         }
