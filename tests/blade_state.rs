@@ -253,7 +253,7 @@ fn run_with(scene: &Scene, frames: &[Frame], ramp: Option<u64>) -> (Vec<Vec<u32>
             Some(_) => SteadyWind(Velocity::Ramp { to: WIND, rise: RAMP_S }),
             None => field,
         };
-        let models = Models { wind: Box::new(field), response: spring(&store) };
+        let models = Models { wind: Box::new(field), response: spring(&store), ..Models::default() };
         let settings = RenderSettings::offscreen(4, Culling::default_for(4));
         let mut renderer = Renderer::with_models(device.clone(), scene, settings, Default::default(), models)?;
         let mut target = OffscreenTarget::new(device, EXTENT)?;
@@ -526,7 +526,7 @@ fn a_thousand_frames_of_the_stateful_response_leave_memory_flat() {
     let (result, messages) = with_device(&options, false, |device| {
         let store: SharedStore = Rc::new(RefCell::new(None));
         let field = SteadyWind(Velocity::Ramp { to: WIND, rise: RAMP_S });
-        let models = Models { wind: Box::new(field), response: spring(&store) };
+        let models = Models { wind: Box::new(field), response: spring(&store), ..Models::default() };
         let settings = RenderSettings::offscreen(4, Culling::default_for(4));
         let mut renderer = Renderer::with_models(device.clone(), &scene, settings, Default::default(), models)?;
         let mut target = OffscreenTarget::new(device, EXTENT)?;

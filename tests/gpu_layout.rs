@@ -94,7 +94,7 @@ fn every_blade_field_reads_back_through_a_compute_shader() {
 
 /// Words `frame_readback.comp` writes: the uniforms, one per specialization-constant id, six
 /// shared constants.
-const FRAME_WORDS: usize = 216;
+const FRAME_WORDS: usize = 240;
 const READBACK_WORDS: usize = FRAME_WORDS + specialization::COUNT + 6;
 
 #[test]
@@ -127,6 +127,9 @@ fn every_frame_uniform_and_specialization_constant_reads_back_through_a_compute_
         ground_windows: std::array::from_fn(|i| {
             glam::IVec4::new(3000, -3001, 3002, -3003) + glam::IVec4::splat(10 * i as i32)
         }),
+        cull_classes: UVec4::new(4001, 4002, 4003, 4004),
+        cull_class_first: UVec4::new(4005, 4006, 4007, 4008),
+        cull_bucket_draws: std::array::from_fn(|i| UVec4::new(5000, 5001, 5002, 5003) + UVec4::splat(10 * i as u32)),
     };
     let spec = Specialization {
         keyframe_uvec4s: 2000,
@@ -146,6 +149,8 @@ fn every_frame_uniform_and_specialization_constant_reads_back_through_a_compute_
         strip_l6: 0.75f32.to_bits(),
         tile_rows_capacity: 2013,
         lod_bucket: 2014,
+        ground_cells: 2015,
+        ground_levels: 2016,
     };
     let input = (vk::DescriptorType::UNIFORM_BUFFER, bytemuck::bytes_of(&uniforms));
     let (result, messages) = with_device(&options(), false, |device| {
@@ -182,6 +187,8 @@ fn every_frame_uniform_and_specialization_constant_reads_back_through_a_compute_
     assert_eq!(seen("STRIP_L6"), spec.strip_l6, "STRIP_L6");
     assert_eq!(seen("TILE_ROWS_CAPACITY"), spec.tile_rows_capacity, "TILE_ROWS_CAPACITY");
     assert_eq!(seen("LOD_BUCKET"), spec.lod_bucket, "LOD_BUCKET");
+    assert_eq!(seen("GROUND_CELLS"), spec.ground_cells, "GROUND_CELLS");
+    assert_eq!(seen("GROUND_LEVELS"), spec.ground_levels, "GROUND_LEVELS");
     // The shaders see the constants build.rs generated for Rust.
     let shared = &words[FRAME_WORDS + specialization::COUNT..];
     let flags = gpu::FLAG_DEBUG_FORCE | gpu::FLAG_EVAL_BLADE | gpu::FLAG_CLUSTER_PUSH;

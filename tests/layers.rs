@@ -230,6 +230,7 @@ const ORDER: &[&str] = &[
     "render::settings",
     "render::layouts",
     "render::passes",
+    "render::draw_class",
     "render::renderer",
     "render",
     "app",

@@ -110,6 +110,7 @@ fn render(scene: &Scene, camera: &Camera, winds: &[Vec3]) -> (Vec<Vec<u8>>, Vec<
             let models = Models {
                 wind: Box::new(steady_wind::SteadyWind::constant(velocity)),
                 response: Rc::new(|device: &Device, _: &_| Ok(Box::new(LeanResponse::new(device)?) as Box<_>)),
+                ..Models::default()
             };
             let settings = RenderSettings::offscreen(4, Culling::default_for(4));
             let mut renderer = Renderer::with_models(device.clone(), scene, settings, Default::default(), models)?;

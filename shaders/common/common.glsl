@@ -6,7 +6,7 @@
 #include "common/shared.glsl"
 #include "generated/spec_ids.glsl"
 
-// Per-frame constants (std140, 864 bytes).
+// Per-frame constants (std140, 960 bytes).
 struct FrameUniforms {
     mat4 view_proj;         // world -> clip (reversed infinite Z, Vulkan y down)
     vec4 camera_position;   // xyz eye, w simulation time (s)
@@ -31,6 +31,11 @@ struct FrameUniforms {
     ivec4 relief_cycles[RELIEF_WAVES / 2u]; // per wave its whole periods in the world's (m, n), two waves per vector
     vec4 ground_levels[CAMERA_GRID_MAX_LEVELS]; // per clipmap level: xy its window's first vertex relative to O, z its cell edge, w the run (m) its texels' rise is over
     ivec4 ground_windows[CAMERA_GRID_MAX_LEVELS]; // per level: xy the window's toroidal base, zw the source's (the relief's: its first vertex in half-metres on the world's period)
+    // The cull's draw classes (`render::draw_class`): the blade class's buckets first (`cull_lod.x`),
+    // then each further class's.
+    uvec4 cull_classes;     // x buckets of every class, y buckets drawn far to near (a bit each), z buckets drawn a row per visible tile, w further classes
+    uvec4 cull_class_first; // the first bucket of further class 1, 2, 3, 4
+    uvec4 cull_bucket_draws[MAX_LOD_BUCKETS / 2u]; // per bucket of a further class: its draw's index count per instance and first index, two buckets per vector
 };
 
 
@@ -52,6 +57,13 @@ layout(constant_id = SPEC(SEGMENTS)) const uint SEGMENTS = 4u;
 layout(constant_id = SPEC(BLADES_PER_INSTANCE)) const uint BLADES_PER_INSTANCE = 1u;
 layout(constant_id = SPEC(ENCODE_SRGB)) const uint ENCODE_SRGB = 1u;
 layout(constant_id = SPEC(MODEL_SEGMENTS)) const uint MODEL_SEGMENTS = 4u;
+// The ground's clipmap (`render::ground`, common/ground.glsl): cells per side of a level and the
+// levels held. Constants, not the frame's `ground`: they decide which level a point reads, and
+// lavapipe compiles a variant of a compute pipeline per value of a uniform that decides a branch
+// (profile.glsl's rule), while the storage twin costs a load per SIMD lane. A change of the view
+// distance rebuilds the pipelines.
+layout(constant_id = SPEC(GROUND_CELLS)) const uint GROUND_CELLS = 80u;
+layout(constant_id = SPEC(GROUND_LEVELS)) const uint GROUND_LEVELS = 1u;
 
 // Model level m0 below strip level `level` of a `segments`-segment strip, and how far towards
 // m0 + 1 it lies (0 when `segments` divides MODEL_SEGMENTS). The pose pass writes, and the levels

@@ -90,9 +90,10 @@ void field_cell_bounds(ivec2 cell, out vec3 lo, out vec3 hi) {
     // two steps where the vertices slide onto the next level's mesh
     // (`render::ground_clipmap::drawn_step`).
     vec2 g;
-    uint level = ground_level_at(centre, g);
+    uvec2 shape = ground_shape();
+    uint level = ground_level_at(centre, shape, g);
     float step = ground_level_step(level);
-    bool morphs = ground_edge_cells(g) - (0.5 * edge / step + 2.0) < float(GROUND_MORPH_END);
+    bool morphs = ground_edge_cells(g, shape.x) - (0.5 * edge / step + 2.0) < float(GROUND_MORPH_END);
     float drawn = morphs ? 2.0 * step : step;
     float reach = CELL_SPREAD_INSIDE * edge + CELL_SPREAD_OUTSIDE * max(drawn - 0.5 * edge, 0.0);
     float spread = frame_values.field.y * reach;

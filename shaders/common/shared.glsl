@@ -106,7 +106,8 @@
 #define WIND_LEVELS 8u // Nested levels of a block field's wind (each twice the spacing and extent of the one inside).
 #define WIND_LEVEL_CLUSTERS 64u // Clusters per side of one wind level (WIND_LEVEL_CLUSTERS + 1 corners).
 #define POSE_WORDS 3u // 32-bit words of one level of a `--eval blade` pose record.
-#define MAX_LOD_BUCKETS 8u // Segment LOD buckets (`--lod-segments`).
+#define MAX_LOD_BUCKETS 8u // The cull's buckets, of every draw class: the blade class's segment LOD buckets (`--lod-segments`) first (`render::draw_class`).
+#define MAX_DRAW_CLASSES 5u // Draw classes the cull sorts into: the blades and four more (`render::draw_class`).
 #define DRAW_WORDS 5u // Words of one LOD bucket's draw in the cull's `draws` (a `VkDrawIndexedIndirectCommand`).
 #define DRAW_INSTANCES 1u // Its instanceCount word.
 #define DRAW_FIRST_INSTANCE 4u // Its firstInstance word.

@@ -353,9 +353,49 @@ uint tile_candidates(Frustum f, BladeTile tile, vec3 normal, out bool tile_visib
     return uint(clamp(ceil(keep * float(tile.count) - 0.5) + 1.0, 0.0, float(tile.count)));
 }
 
-// Segments of LOD bucket `b`.
+// Segments of LOD bucket `b` of the blade class.
 uint bucket_segments(uint b) {
     return ((cull_settings.y >> (4u * b)) & 15u) + 1u;
+}
+
+// The draw classes (`render::draw_class`, `cull_classes` of the frame): every class's buckets
+// follow each other in the cull's bucket space, the blade class's LOD buckets first. A class's
+// selection (the count pass's `class_bucket`) sorts a candidate into one of its buckets; the
+// scan, the emit and the draws are the same for every class.
+uint draw_buckets() {
+    return frame.cull_classes.x;
+}
+
+// The first bucket of further class `k` (1 the first class after the blades).
+uint class_first_bucket(uint k) {
+    return frame.cull_classes.w >= k && k >= 1u ? frame.cull_class_first[k - 1u] : draw_buckets();
+}
+
+// Whether bucket `b`'s class draws far to near (blended classes): its slots' entries go in the
+// visible list, and its rows, farthest first.
+bool bucket_far_to_near(uint b) {
+    return ((frame.cull_classes.y >> b) & 1u) != 0u;
+}
+
+// Whether bucket `b`'s class draws a row per visible tile (`render::draw_rows`).
+bool bucket_rows(uint b) {
+    return TILE_ROWS_CAPACITY > 0u && ((frame.cull_classes.z >> b) & 1u) != 0u;
+}
+
+// The indexed draw of one instance of bucket `b` (BLADES_PER_INSTANCE entries): its index count
+// and its first index. The blade class's from its segments, in the blade pass's index buffer
+// (`scene::bezier::bucket_indices`, its buckets' lists one after another); a further class's from
+// the frame (`render::draw_class::DrawClass::bucket_draw`), in its own pass's.
+uvec2 bucket_draw(uint b) {
+    if (b < cull_settings.x) {
+        uint first = 0u;
+        for (uint k = 0u; k < b; k++) {
+            first += 3u * bucket_blade_triangles(bucket_segments(k)) * BLADES_PER_INSTANCE;
+        }
+        return uvec2(3u * bucket_blade_triangles(bucket_segments(b)) * BLADES_PER_INSTANCE, first);
+    }
+    uvec4 pair = frame.cull_bucket_draws[b / 2u];
+    return (b & 1u) == 0u ? pair.xy : pair.zw;
 }
 
 // The blade tests. Returns the blade's LOD bucket, or -1 with the first test it failed in

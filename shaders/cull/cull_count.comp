@@ -10,63 +10,10 @@
 // sums, whose result does not depend on the order the invocations run in.
 #include "cull/cull.glsl"
 
-layout(local_size_x_id = SPEC(CULL_GROUP)) in;
-
-shared uint counts[SLOT_WORDS];
-
-void main() {
-    read_cull_settings();
-    uint slot = listed_slot(spread(gl_WorkGroupID.x, count_dispatch.w));
-    uint lane = gl_LocalInvocationID.x;
-    for (uint w = lane; w < SLOT_WORDS; w += CULL_GROUP) {
-        counts[w] = 0u;
-    }
-    barrier();
-    BladeTile tile;
-    ivec2 cell;
-    if (slot_record(slot, tile, cell)) {
-        Frustum f = culling_frustum();
-        vec3 normal = tile_normal(tile);
-        // A listed slot passed the tile tests with candidates (the tiles pass).
-        uint candidates = slot_candidates(slot);
-        uint base = 0u;
-        if ((RENDER_FLAGS & FLAG_BLOCKS) != 0u) {
-            // Room for this slot's verdicts, from the tiles pass's prefix sum.
-            base = verdict_base(slot);
-            candidates = base == NO_ROOM ? 0u : candidates;
-        }
-        if (lane == 0u) {
-            counts[STAT_CONSIDERED] = tile.count;
-            counts[STAT_TILES_TOTAL] = 1u;
-            counts[STAT_TILES] = tile.count;
-            counts[STAT_TILES_VISIBLE] = 1u;
-        }
-        uint passed[STAT_OCCLUSION - STAT_DENSITY + 1u] = uint[](0u, 0u, 0u, 0u);
-        uint drawn[MAX_LOD_BUCKETS] = uint[](0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
-        for (uint rank = lane; rank < candidates; rank += CULL_GROUP) {
-            uint failed;
-            vec2 scale;
-            BladeInstance blade = tile_blade(tile, cell, rank);
-            int bucket = blade_bucket(f, blade, rank, tile.count, normal, failed, scale);
-            for (uint s = 0u; s <= STAT_OCCLUSION - STAT_DENSITY; s++) {
-                passed[s] += (failed == 0u || STAT_DENSITY + s < failed) ? 1u : 0u;
-            }
-            // Constant indices only: llvmpipe keeps the counters in registers.
-            for (uint b = 0u; b < MAX_LOD_BUCKETS; b++) {
-                drawn[b] += bucket == int(b) ? 1u : 0u;
-            }
-            uint verdict = bucket >= 0 ? uint(bucket) : NOT_DRAWN;
-            cull_results[verdict_index(tile, base, rank)] = uvec2(verdict, visible_scale(blade.position.y, scale));
-        }
-        for (uint s = 0u; s <= STAT_OCCLUSION - STAT_DENSITY; s++) {
-            atomicAdd(counts[STAT_DENSITY + s], passed[s]);
-        }
-        for (uint b = 0u; b < MAX_LOD_BUCKETS; b++) {
-            atomicAdd(counts[b], drawn[b]);
-        }
-    }
-    barrier();
-    for (uint w = lane; w < SLOT_WORDS; w += CULL_GROUP) {
-        slot_counts[slot * SLOT_WORDS + w] = counts[w];
-    }
+// The blade class alone: a candidate is a blade, and the blade tests sort it into its LOD bucket.
+// A set of draw classes brings a count shader of its own with its selection here.
+int class_bucket(Frustum f, BladeTile tile, uint slot, uint rank, BladeInstance blade, vec3 normal, out uint failed, out vec2 scale) {
+    return blade_bucket(f, blade, rank, tile.count, normal, failed, scale);
 }
+
+#include "cull/count_main.glsl"

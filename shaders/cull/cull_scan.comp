@@ -1,7 +1,8 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // Cull, step 3 of 4: one workgroup turns the per-slot bucket counts into offsets (an exclusive
-// prefix sum over the slots, in slot order: near to far), writes one indirect draw per LOD bucket
+// prefix sum over the slots, in slot order: near to far, or far to near for the buckets of a
+// class drawn so, `bucket_far_to_near`), writes one indirect draw per bucket of every draw class
 // (its instances are bucket b's blades, from firstInstance = the blades of the buckets before it)
 // and the blade-pose and levels passes' indirect dispatch over each bucket, lists the slots that
 // draw (in slot order) with the emit pass's indirect dispatch over them, and sums the frame's
@@ -32,12 +33,14 @@ shared uint drawing_slots;
 shared uint thin_scale;
 shared uint wanted;
 shared uint lost_to_room;
-// Each bucket's place in the visible list (its first entry and its entries, thinned) and in the
-// index buffer; with per-tile rows, per run the tiles that draw each bucket (then, after the
-// scan, where the run's rows go), and each bucket's rows.
+// Each bucket's place in the visible list (its first entry and its entries, thinned), its
+// entries before thinning, and its instance's draw (`bucket_draw`); with per-tile rows, per run
+// the tiles that draw each bucket (then, after the scan, where the run's rows go), and each
+// bucket's rows.
 shared uint bucket_first[MAX_LOD_BUCKETS];
 shared uint bucket_count[MAX_LOD_BUCKETS];
-shared uint bucket_first_index[MAX_LOD_BUCKETS];
+shared uint bucket_wanted[MAX_LOD_BUCKETS];
+shared uvec2 bucket_draws[MAX_LOD_BUCKETS];
 shared uint run_tiles[MAX_LOD_BUCKETS][SCAN];
 shared uint bucket_tiles[MAX_LOD_BUCKETS];
 
@@ -63,13 +66,13 @@ uint fixed_ratio(uint room, uint total) {
 uint capacity_scale(uint kept) {
     const uint batch = BLADES_PER_INSTANCE;
     uint padded = 0u;
-    for (uint b = 0u; b < frame.cull_lod.x; b++) {
+    for (uint b = 0u; b < draw_buckets(); b++) {
         padded += (totals[b] + batch - 1u) / batch * batch;
     }
     if (padded <= frame.cull_lod.w) {
         return SCALE_ONE;
     }
-    uint slack = frame.cull_lod.x * (batch - 1u);
+    uint slack = draw_buckets() * (batch - 1u);
     return fixed_ratio(frame.cull_lod.w - min(slack, frame.cull_lod.w), kept);
 }
 
@@ -84,20 +87,19 @@ bool slot_draws(uint slot) {
 
 // Lane 0, once the totals and the scale are known: each bucket thinned by the capacity scale,
 // which makes every bucket fit the list's cull_lod.w entries (the room left is a guard that never
-// cuts), padded to whole instances, at its place in the list; its index list's place in the blade
-// pass's index buffer (the buckets' lists follow each other, `scene::bezier::bucket_indices`).
+// cuts), padded to whole instances, at its place in the list (every class's buckets, one after
+// another); its instance's draw (`bucket_draw`).
 void place_buckets() {
     const uint batch = BLADES_PER_INSTANCE;
     uint first = 0u;
-    uint first_index = 0u;
     for (uint b = 0u; b < MAX_LOD_BUCKETS; b++) {
         uint room = frame.cull_lod.w - min(first, frame.cull_lod.w);
-        uint count = b < frame.cull_lod.x ? min(thin_position(totals[b], thin_scale), room / batch * batch) : 0u;
+        uint count = b < draw_buckets() ? min(thin_position(totals[b], thin_scale), room / batch * batch) : 0u;
         bucket_first[b] = first;
         bucket_count[b] = count;
-        bucket_first_index[b] = first_index;
+        bucket_wanted[b] = totals[b];
+        bucket_draws[b] = b < draw_buckets() ? bucket_draw(b) : uvec2(0u);
         first += (count + batch - 1u) / batch * batch;
-        first_index += 3u * bucket_blade_triangles(bucket_segments(b)) * batch;
     }
 }
 
@@ -120,9 +122,9 @@ void write_dispatches() {
         }
         // VkDrawIndexedIndirectCommand: indexCount, instanceCount, firstIndex, vertexOffset,
         // firstInstance.
-        draws[DRAW_WORDS * b] = 3u * bucket_blade_triangles(bucket_segments(b)) * batch;
+        draws[DRAW_WORDS * b] = bucket_draws[b].x;
         draws[DRAW_WORDS * b + DRAW_INSTANCES] = instances;
-        draws[DRAW_WORDS * b + 2u] = bucket_first_index[b];
+        draws[DRAW_WORDS * b + 2u] = bucket_draws[b].y;
         draws[DRAW_WORDS * b + 3u] = 0u;
         draws[DRAW_WORDS * b + DRAW_FIRST_INSTANCE] = first / batch;
         // The blade-pose and levels passes run one dispatch per bucket (its pipeline specialised
@@ -131,7 +133,7 @@ void write_dispatches() {
         draws[BUCKET_DISPATCH_WORD + 3u * b + 1u] = 1u;
         draws[BUCKET_DISPATCH_WORD + 3u * b + 2u] = 1u;
         if (TILE_ROWS_CAPACITY > 0u) {
-            tile_rows[b] = b < frame.cull_lod.x ? bucket_tiles[b] : 0u;
+            tile_rows[b] = bucket_rows(b) ? bucket_tiles[b] : 0u;
         }
     }
     // The emit pass runs over the slots that draw: most of the rings are empty (off screen, too
@@ -154,9 +156,9 @@ void write_tile_row(uint b, uint k, uint slot, uint offset, uint count) {
     uint end = bucket_first[b] + min(thin_position(offset + count, thin_scale), bucket_count[b]);
     uint first = min(bucket_first[b] + thin_position(offset, thin_scale), end);
     uint at = tile_command_word(b, k);
-    tile_rows[at] = 3u * bucket_blade_triangles(bucket_segments(b)) * batch;
+    tile_rows[at] = bucket_draws[b].x;
     tile_rows[at + DRAW_INSTANCES] = end > first ? (end - 1u) / batch - first / batch + 1u : 0u;
-    tile_rows[at + 2u] = bucket_first_index[b];
+    tile_rows[at + 2u] = bucket_draws[b].y;
     tile_rows[at + 3u] = 0u;
     tile_rows[at + DRAW_FIRST_INSTANCE] = first / batch;
     uint record = tile_record_word(b, k);
@@ -182,7 +184,7 @@ void main() {
         }
         if (TILE_ROWS_CAPACITY > 0u) {
             for (uint b = 0u; b < MAX_LOD_BUCKETS; b++) {
-                own_tiles[b] += slot_counts[slot * SLOT_WORDS + b] > 0u ? 1u : 0u;
+                own_tiles[b] += bucket_rows(b) && slot_counts[slot * SLOT_WORDS + b] > 0u ? 1u : 0u;
             }
         }
         own_slots += slot_draws(slot) ? 1u : 0u;
@@ -257,11 +259,14 @@ void main() {
             listed += 1u;
         }
         for (uint b = 0u; b < MAX_LOD_BUCKETS; b++) {
-            // Exclusive offset of this slot's blades inside bucket b.
+            // Offset of this slot's blades inside bucket b: the slots before it in slot order (near
+            // to far), or after it for a class drawn far to near.
             uint count = slot_counts[slot * SLOT_WORDS + b];
-            slot_counts[slot * SLOT_WORDS + b] = at[b];
-            if (TILE_ROWS_CAPACITY > 0u && count > 0u) {
-                write_tile_row(b, row[b], slot, at[b], count);
+            bool reversed = bucket_far_to_near(b);
+            uint offset = reversed ? bucket_wanted[b] - at[b] - count : at[b];
+            slot_counts[slot * SLOT_WORDS + b] = offset;
+            if (bucket_rows(b) && count > 0u) {
+                write_tile_row(b, reversed ? bucket_tiles[b] - 1u - row[b] : row[b], slot, offset, count);
                 row[b] += 1u;
             }
             at[b] += count;
@@ -279,8 +284,8 @@ void main() {
         cull_stats[STAT_SCALE] = thin_scale;
         cull_stats[STAT_NO_ROOM] = lost_to_room;
         uint rows = 0u;
-        for (uint b = 0u; TILE_ROWS_CAPACITY > 0u && b < frame.cull_lod.x; b++) {
-            rows += bucket_tiles[b];
+        for (uint b = 0u; TILE_ROWS_CAPACITY > 0u && b < draw_buckets(); b++) {
+            rows += bucket_rows(b) ? bucket_tiles[b] : 0u;
         }
         cull_stats[STAT_TILE_DRAWS] = rows;
     }

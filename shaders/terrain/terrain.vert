@@ -31,10 +31,10 @@ void main() {
     // which the terrain pass draws the chunks in view but the finer level's. Its texel was
     // uploaded or filled (ground_fill's pass) when it entered the window; `ground_vertex` applies
     // the morph onto the next level's mesh.
-    uint cells = ground_cells();
-    uvec2 grid = uvec2(uint(gl_VertexIndex) % (cells + 1u), uint(gl_VertexIndex) / (cells + 1u));
+    uvec2 shape = ground_shape();
+    uvec2 grid = uvec2(uint(gl_VertexIndex) % (shape.x + 1u), uint(gl_VertexIndex) / (shape.x + 1u));
     uint level = uint(gl_InstanceIndex);
-    vec4 ground = ground_vertex(level, ivec2(grid));
+    vec4 ground = ground_vertex(ground_level(level, shape), ivec2(grid));
     vec2 p = vec2(grid) * ground_level_step(level) + ground_level_offset(level);
     vec3 world = vec3(p.x, ground.x, p.y);
     out_color = ground_color(ground.yzw, world);

@@ -199,16 +199,40 @@ pub struct CullSummary {
     pub after_orientation: u32,
     /// … then not behind the terrain.
     pub after_occlusion: u32,
-    /// Blades drawn.
+    /// Entries drawn: the blades and every further draw class's.
     pub drawn: u64,
     /// Blade triangles drawn.
     pub triangles: u64,
     /// Blades drawn per bucket that has segments.
     pub buckets: Vec<Bucket>,
+    /// Per draw class (`render::draw_class`), the blades first: what it drew (absent from
+    /// documents written before the cull had classes).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub classes: Vec<ClassDrawn>,
     /// What the visible list's capacity did to the kept blades (absent from documents written
     /// before the cull reported it).
     #[serde(flatten, default, skip_serializing_if = "Option::is_none")]
     pub thinning: Option<Thinning>,
+}
+
+/// What a draw class drew in a frame.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct ClassDrawn {
+    /// The class (`blades`, or a further class's name).
+    pub class: String,
+    /// Entries of its buckets drawn.
+    pub drawn: u64,
+}
+
+impl ClassDrawn {
+    /// Per class of `c`, the blades first, what it drew.
+    pub fn of(c: &crate::render::culling::CullCounts) -> Vec<Self> {
+        let blades = Self { class: "blades".into(), drawn: c.blades_drawn() };
+        let further = c.classes.iter().filter(|k| !k.name.is_empty());
+        std::iter::once(blades)
+            .chain(further.map(|k| Self { class: k.name.into(), drawn: u64::from(k.drawn) }))
+            .collect()
+    }
 }
 
 /// One LOD bucket of a frame: its segments and the blades it drew.
@@ -242,6 +266,7 @@ impl CullSummary {
             drawn: c.total_drawn(),
             triangles: c.triangles(),
             buckets,
+            classes: ClassDrawn::of(c),
             thinning: Some(Thinning::of(c)),
         }
     }

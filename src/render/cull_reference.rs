@@ -72,6 +72,28 @@ pub fn reference_counts_drawn(
     counts
 }
 
+/// Every blade the cull keeps, in the order the emit pass writes each bucket's (slots near to
+/// far, then stored order): (ring slot, blade index, LOD bucket). For uniforms without
+/// `CULL_OCCLUSION`, as `reference_counts`; the draw classes' selections split this list
+/// (`tests/draw_class.rs`).
+pub fn reference_kept(scene: &Scene, uniforms: &FrameUniforms) -> Vec<(u32, u32, usize)> {
+    assert_eq!(uniforms.cull_lod.z & gpu::CULL_OCCLUSION, 0, "the CPU reference has no depth pyramid");
+    let cull = Cull { scene, u: uniforms, planes: planes(uniforms.cull_view_proj) };
+    let mut kept = Vec::new();
+    for slot in 0..uniforms.cull_tiles.y {
+        let Some(tile) = cull.slot_tile(slot) else { continue };
+        let Some(candidates) = cull.candidates(&tile) else { continue };
+        let normal =
+            cull.terrain_normal(Vec2::new(0.5 * (tile.min[0] + tile.max[0]), 0.5 * (tile.min[2] + tile.max[2])));
+        for rank in 0..candidates {
+            if let Ok(bucket) = cull.blade(&tile, rank, normal) {
+                kept.push((slot, tile.first + rank, bucket.min(MAX_LOD_BUCKETS - 1)));
+            }
+        }
+    }
+    kept
+}
+
 struct Cull<'a> {
     scene: &'a Scene,
     u: &'a FrameUniforms,

@@ -264,9 +264,21 @@ pub struct CullCounts {
     /// Candidates of a block field's slots that found no room for their verdicts
     /// (`scene_gpu::FIELD_VERDICTS`): neither tested nor drawn.
     pub no_room: u32,
-    /// With per-tile rows (`draw_rows::DrawRows::PerTile`): the blade class's draws, one per
-    /// visible tile and LOD bucket that draws (0 with one draw per bucket).
+    /// With per-tile rows (`draw_rows::DrawRows::PerTile`): the draws of the classes drawn so,
+    /// one per visible tile and bucket that draws (0 with one draw per bucket).
     pub tile_draws: u32,
+    /// The further draw classes' entries drawn (`render::draw_class`; a class of no name is
+    /// none), after the blade class's `drawn`.
+    pub classes: [ClassCount; gpu::MAX_DRAW_CLASSES as usize - 1],
+}
+
+/// What the cull drew of a draw class besides the blades.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ClassCount {
+    /// Its name (empty: no class).
+    pub name: &'static str,
+    /// Entries of its buckets in the visible list.
+    pub drawn: u32,
 }
 
 /// The capacity scale that keeps every blade (`SCALE_ONE`, `shaders/cull/cull.glsl`).
@@ -300,9 +312,28 @@ impl CullCounts {
         counts
     }
 
+    /// The drawn counts of further `classes` (name, first bucket, buckets) from the scan's words.
+    pub fn with_classes(mut self, words: &[u32], classes: &[(&'static str, u32, u32)]) -> Self {
+        for (count, &(name, first, buckets)) in self.classes.iter_mut().zip(classes) {
+            let drawn = words[first as usize..(first + buckets) as usize].iter().sum();
+            *count = ClassCount { name, drawn };
+        }
+        self
+    }
+
     /// Blades drawn, all buckets.
-    pub fn total_drawn(&self) -> u64 {
+    pub fn blades_drawn(&self) -> u64 {
         self.drawn.iter().map(|&d| u64::from(d)).sum()
+    }
+
+    /// Entries drawn: the blades and every further class's.
+    pub fn total_drawn(&self) -> u64 {
+        self.blades_drawn() + self.classes.iter().map(|c| u64::from(c.drawn)).sum::<u64>()
+    }
+
+    /// The further classes drawn, for the summary line: empty with none.
+    fn class_list(&self) -> String {
+        self.classes.iter().filter(|c| !c.name.is_empty()).map(|c| format!("; {} {} drawn", c.drawn, c.name)).collect()
     }
 
     /// The fraction of the kept blades the visible list's capacity let through: exactly 1 when
@@ -342,7 +373,7 @@ impl CullCounts {
             .map(|b| format!("{} x {} seg", self.drawn[b], self.segments[b]))
             .collect();
         format!(
-            "{} considered, {} in visible tiles ({} of {}), {} after density, {} in frustum, {} not edge-on, {} not occluded; drawn {} ({}), {} triangles{}",
+            "{} considered, {} in visible tiles ({} of {}), {} after density, {} in frustum, {} not edge-on, {} not occluded; drawn {} ({}), {} triangles{}{}",
             self.considered,
             self.after_tiles,
             self.tiles_visible,
@@ -351,9 +382,10 @@ impl CullCounts {
             self.after_frustum,
             self.after_orientation,
             self.after_occlusion,
-            self.total_drawn(),
+            self.blades_drawn(),
             buckets.join(", "),
             self.triangles(),
+            self.class_list(),
             self.drops()
         )
     }

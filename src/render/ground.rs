@@ -41,6 +41,9 @@ use crate::vk::{Buffer, Device, TexelView};
 pub trait GroundSource: Send + Sync {
     /// Cells per side of a level's window.
     fn cells(&self) -> u32;
+    /// Levels it holds for the (view distance, blade range): the `ground.z` its `fill_uniforms`
+    /// writes (the shaders' `GROUND_LEVELS`, fixed per graph).
+    fn levels(&self, distances: (f32, f32)) -> u32;
     /// Cells per side of a chunk of the terrain's index list (a level's hole is whole chunks).
     fn chunk_cells(&self) -> u32;
     /// Texels the clipmap's buffer holds, fixed at upload: every level the source can draw.
@@ -125,6 +128,10 @@ impl GroundSource for StoredGround {
         self.terrain.cells
     }
 
+    fn levels(&self, _: (f32, f32)) -> u32 {
+        1
+    }
+
     fn chunk_cells(&self) -> u32 {
         terrain_chunks::CHUNK_CELLS
     }
@@ -190,6 +197,10 @@ impl ReliefGround {
 impl GroundSource for ReliefGround {
     fn cells(&self) -> u32 {
         ground_clipmap::CELLS
+    }
+
+    fn levels(&self, (view_distance, blade_range): (f32, f32)) -> u32 {
+        Clipmap::for_view(view_distance, blade_range).levels
     }
 
     fn chunk_cells(&self) -> u32 {

@@ -6,6 +6,7 @@ pub mod budget;
 pub mod camera_grid;
 pub mod cull_reference;
 pub mod culling;
+pub mod draw_class;
 pub mod draw_rows;
 pub mod field_gpu;
 pub mod frame;

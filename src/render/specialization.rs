@@ -10,7 +10,7 @@ pub use crate::render::gpu_constants::{
 };
 
 /// Number of specialization constants the scene shaders declare.
-pub const COUNT: usize = 17;
+pub const COUNT: usize = 19;
 
 /// The constants; each field is the shaders' constant named in its doc (`Self::named`), whose id
 /// build.rs assigns (`SPEC(NAME)`): no id is kept in Rust.
@@ -54,6 +54,10 @@ pub struct Specialization {
     pub tile_rows_capacity: u32,
     /// `LOD_BUCKET`: the LOD bucket a blade pipeline draws (its per-tile rows' records).
     pub lod_bucket: u32,
+    /// `GROUND_CELLS`: cells per side of a level of the ground's clipmap (`render::ground`).
+    pub ground_cells: u32,
+    /// `GROUND_LEVELS`: the clipmap's levels for the view distance.
+    pub ground_levels: u32,
 }
 
 impl Specialization {
@@ -93,6 +97,8 @@ impl Specialization {
             strip_l6: 1.0f32.to_bits(),
             tile_rows_capacity: 0,
             lod_bucket: 0,
+            ground_cells: gpu::FIELD_TERRAIN_CELLS,
+            ground_levels: 1,
         }
     }
 
@@ -120,6 +126,8 @@ impl Specialization {
             ("STRIP_L6", self.strip_l6),
             ("TILE_ROWS_CAPACITY", self.tile_rows_capacity),
             ("LOD_BUCKET", self.lod_bucket),
+            ("GROUND_CELLS", self.ground_cells),
+            ("GROUND_LEVELS", self.ground_levels),
         ]
     }
 }

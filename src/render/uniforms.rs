@@ -57,6 +57,15 @@ pub struct FrameUniforms {
     /// Per clipmap level: xy its window's toroidal base (`render::camera_grid`), zw the source's
     /// (the relief's: the window's first vertex in half-metres on the world's period).
     pub ground_windows: [IVec4; 8],
+    /// The cull's draw classes (`render::draw_class::ClassLayout`): x buckets of every class, y
+    /// buckets drawn far to near (a bit each), z buckets drawn a row per visible tile, w further
+    /// classes.
+    pub cull_classes: UVec4,
+    /// The first bucket of further class 1, 2, 3, 4.
+    pub cull_class_first: UVec4,
+    /// Per bucket of a further class: its instance's index count and first index, two buckets
+    /// per vector.
+    pub cull_bucket_draws: [UVec4; 4],
 }
 
 impl FrameUniforms {
@@ -76,7 +85,7 @@ impl FrameUniforms {
     }
 }
 
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 864);
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 960);
 const _: () = assert!(std::mem::offset_of!(FrameUniforms, cull_view_proj) == 160);
 const _: () = assert!(std::mem::offset_of!(FrameUniforms, cull_lod) == 288);
 const _: () = assert!(std::mem::offset_of!(FrameUniforms, camera_position) == 64);

@@ -10,9 +10,9 @@
 //! `shaders/common/ground.glsl`. Writes `GroundGpu::texels`; the graph orders this frame's write
 //! after the previous frame's reads, and each level's fill after the one before (a step each).
 //!
-//! A frame whose windows are the last filled ones records no dispatch (the relief's level 0
-//! moves once the camera has gone 16 of its cells, 32 m at 2 m cells). The pass still declares
-//! its write, so the graph's barriers are those of a frame that writes. A change of what the
+//! A frame whose windows are the last filled ones skips the pass (`declare` returns `None`: no
+//! barrier, no dispatch, no timestamps); the relief's level 0 moves once the camera has gone 8 of
+//! its cells, 16 m at 2 m cells. A change of what the
 //! texels are a function of (`GroundFill::key`: the relief's clipmap and waves) refills every
 //! level, as does the frame after one recorded but not run (`Pass::frame_dropped`). A block field
 //! is drawn only through the cull, whose frames are recorded anew each time (no `Prerecorded`
@@ -93,6 +93,11 @@ impl Pass for GroundFillPass {
 
     fn declare(&self, ctx: &PassContext) -> Option<Declaration> {
         let fills = self.plan(ctx.uniforms);
+        // No window moved: nothing to write, and no barrier or timestamps to pay for.
+        if fills.as_ref().is_ok_and(Vec::is_empty) {
+            *self.fills.borrow_mut() = fills;
+            return None;
+        }
         let count = fills.as_ref().map_or(1, Vec::len);
         let write = Access::ComputeShaderWrite;
         let declaration = (1..count.max(1))

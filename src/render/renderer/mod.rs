@@ -24,7 +24,7 @@ use ash::vk;
 
 use crate::error::{Error, Result};
 use crate::render::animation::poses::PoseRecords;
-use crate::render::animation::response::{BladeResponse, BuildResponse, ResponseStep};
+use crate::render::animation::response::{BladeResponse, ResponseStep};
 use crate::render::animation::{self, AnimationSettings};
 pub use crate::render::frame::{Deletion, FrameSync, FrameTimings, PassTime};
 use crate::render::frame::{Frame, FrameRing, FrameUniforms, PerFrame};
@@ -46,7 +46,7 @@ use crate::vk::descriptor::Resource as Descriptor;
 use crate::vk::{Destroy, Device, Resource};
 pub use extensions::FrameInstance;
 pub use response::Models;
-use response::RetiredResponse;
+use response::{Builders, RetiredResponse};
 
 /// What set 0 of frame `slot` points at besides the scene and the frame's uniforms: that frame's
 /// forces.
@@ -63,7 +63,7 @@ pub struct Renderer {
     scene: Option<SceneGpu>,
     /// The blade response (`render::animation::response`) and what builds it.
     response: Option<Box<dyn BladeResponse>>,
-    response_builder: Rc<BuildResponse>,
+    builders: Builders,
     /// The names of the response's own passes in the graph (`Renderer::response_passes`).
     response_passes: Vec<&'static str>,
     /// The pose records it writes, if it poses blades once per blade, and set `SET_POSES`.
@@ -132,7 +132,7 @@ impl Renderer {
             animation,
             scene: None,
             response: None,
-            response_builder: models.response,
+            builders: Builders { response: models.response, classes: models.classes },
             response_passes: Vec::new(),
             poses: None,
             layouts: SceneLayouts::default(),

@@ -5,6 +5,7 @@ use ash::vk;
 use super::Renderer;
 use crate::error::Result;
 use crate::render::animation::response::ResponseSetup;
+use crate::render::draw_class::ClassSetup;
 use crate::render::draw_rows::DrawRows;
 use crate::render::gpu_constants as gpu;
 use crate::render::graph::Graph;
@@ -123,6 +124,12 @@ impl Renderer {
         if self.scene.as_ref().is_some_and(|scene| scene.field.is_some()) {
             specialization.flags |= crate::render::gpu_constants::FLAG_BLOCKS;
         }
+        if let Some(scene) = &self.scene {
+            // The ground's clipmap for the view distance (`shaders/common/ground.glsl`).
+            let distances = (settings.culling.view_distance, settings.culling.blade_range());
+            specialization.ground_cells = scene.ground.source.cells();
+            specialization.ground_levels = scene.ground.source.levels(distances);
+        }
         if settings.debug_tiles {
             specialization.flags |= crate::render::gpu_constants::FLAG_DEBUG_TILES;
         }
@@ -151,7 +158,10 @@ impl Renderer {
             specialization.flags |= gpu::FLAG_SOLID_OUTLINE;
         }
         specialization.cull_group = cull::workgroup_size(self.device.subgroup_size);
-        if let (true, DrawRows::PerTile, Some(scene)) = (settings.culling.enabled, settings.culling.rows, &self.scene) {
+        // Rows per tile when the blade class or a further one draws so (`render::draw_class`).
+        let rows = settings.culling.rows == DrawRows::PerTile
+            || self.builders.classes.classes.iter().any(|class| class.rows() == DrawRows::PerTile);
+        if let (true, true, Some(scene)) = (settings.culling.enabled, rows, &self.scene) {
             specialization.tile_rows_capacity = scene.slot_capacity;
         }
         specialization
@@ -167,6 +177,7 @@ impl Renderer {
         let response = self.response.as_deref().expect("built");
         let poses = self.poses.as_ref().expect("built");
         let culled = settings.culling.enabled;
+        let layout = self.class_layout()?;
         let buckets = culled.then(|| settings.culling.buckets());
         let sets = SceneSets {
             before: [&self.layouts.scene, &self.layouts.poses],
@@ -195,7 +206,8 @@ impl Renderer {
             }
             if culled {
                 let stats = self.cull_frames.iter().map(|frame| frame.stats.raw).collect();
-                let setup = CullSetup { sets, constants, frame_stats: stats };
+                let count = self.builders.classes.count_shader.unwrap_or(crate::render::shaders::CULL_COUNT_COMP);
+                let setup = CullSetup { sets, constants, frame_stats: stats, count_shader: count };
                 cull::add_passes(graph, device, &setup, scene)?;
             }
             Ok(())
@@ -216,6 +228,15 @@ impl Renderer {
             wind: &wind,
         };
         self.graph.add(BladePass::new(device, scene, &setup)?);
+        if culled {
+            // Each further draw class's pass, after the blades (`render::draw_class`).
+            for (class, placed) in self.builders.classes.classes.iter().zip(&layout.classes) {
+                let (target, blades_per_instance) = (target, settings.blades_per_instance);
+                let setup =
+                    ClassSetup { target, sets, constants, scene, first_bucket: placed.first, blades_per_instance };
+                self.graph.add_boxed(class.pass(device, &setup)?);
+            }
+        }
         Ok(())
     }
 }

@@ -69,10 +69,13 @@ impl Renderer {
         let cmd = if prerecorded { frame.recorder.begin_reusable(device)? } else { frame.recorder.begin(device)? };
         frame.passes = self.graph.record(&ctx, &plan, cmd, &mut frame.scopes(), outputs)?;
         let culled = self.settings.culling.enabled && !self.settings.floor;
+        // The further draw classes' buckets (`build_graph` placed them without error).
+        let layout = super::response::class_layout(&self.settings, &self.builders.classes);
+        let classes = layout.map(|layout| layout.ranges()).unwrap_or_default();
         let cull = &mut self.cull_frames[slot];
         match culled {
-            true => cull.recorded(self.settings.culling.buckets(), self.settings.culling.solid_outline),
-            false => cull.recorded(&[], false),
+            true => cull.recorded(self.settings.culling.buckets(), self.settings.culling.solid_outline, &classes[1..]),
+            false => cull.recorded(&[], false, &[]),
         }
         if culled {
             // The frame's counts, read by the host after the fence.

@@ -9,23 +9,51 @@ use crate::error::Result;
 use crate::render::animation::poses::PoseRecords;
 use crate::render::animation::response::{BladeResponse, BuildResponse, ResponseContext};
 use crate::render::animation::{self, AnimationSettings};
+use crate::render::draw_class::{ClassLayout, DrawClasses};
 use crate::render::scene_gpu::pose_records;
 use crate::render::wind::{AnalyticWind, WindField};
 use crate::render::RenderSettings;
 
-/// The models a renderer animates its blades with: the wind field and what builds the blade
-/// response (for each build: `rebuild` builds a new one when the animation changes).
+/// The models a renderer animates and draws with: the wind field, what builds the blade response
+/// (for each build: `rebuild` builds a new one when the animation changes) and the draw classes
+/// the cull sorts into besides the blades (`render::draw_class`).
 pub struct Models {
     /// The wind field.
     pub wind: Box<dyn WindField>,
     /// Builds the blade response.
     pub response: Rc<BuildResponse>,
+    /// Further draw classes.
+    pub classes: DrawClasses,
 }
 
 impl Default for Models {
-    /// The CLI's: the analytic wind and the response `--mode` names (`animation::build_response`).
+    /// The CLI's: the analytic wind, the response `--mode` names (`animation::build_response`),
+    /// the blade class alone.
     fn default() -> Self {
-        Self { wind: Box::new(AnalyticWind::new()), response: Rc::new(animation::build_response) }
+        let response = Rc::new(animation::build_response);
+        Self { wind: Box::new(AnalyticWind::new()), response, classes: DrawClasses::default() }
+    }
+}
+
+/// What the renderer builds again on each rebuild from its models: the blade response, and the
+/// draw classes' passes and bucket layout (`ClassLayout`, placed again each frame for the
+/// frame's LOD buckets).
+pub(super) struct Builders {
+    pub(super) response: Rc<BuildResponse>,
+    pub(super) classes: DrawClasses,
+}
+
+/// Where every draw class's buckets lie for `settings`: the blade class's LOD buckets, then the
+/// further `classes`' (`render::draw_class`).
+pub(super) fn class_layout(settings: &RenderSettings, classes: &DrawClasses) -> Result<ClassLayout> {
+    let culling = &settings.culling;
+    ClassLayout::new(culling.buckets().len() as u32, culling.rows, classes, settings.blades_per_instance)
+}
+
+impl Renderer {
+    /// `class_layout` for the renderer's settings and classes.
+    pub(super) fn class_layout(&self) -> Result<ClassLayout> {
+        class_layout(&self.settings, &self.builders.classes)
     }
 }
 
@@ -44,7 +72,7 @@ impl Renderer {
         let (device, scene) = (&*self.device, self.scene_gpu());
         let culled = settings.culling.enabled;
         let context = ResponseContext { animation, segments: settings.segments, culled, scene };
-        let response = (self.response_builder)(device, &context)?;
+        let response = (self.builders.response)(device, &context)?;
         // Destroyed if the records cannot be made: nothing has used it.
         let response = crate::vk::Guard::new(device, response);
         let room = match response.blade_input().pose_records() {

@@ -56,6 +56,10 @@ impl Renderer {
         let cull_camera = self.cull_camera.as_ref().map_or(*camera, relative);
         let frozen = self.cull_camera.is_some();
         culling.fill_uniforms(&mut uniforms, &scene.tile_grid, &cull_camera, frozen, (aspect, near), extent.height);
+        // Every draw class's buckets (`build_graph` placed them without error).
+        if let Ok(layout) = self.class_layout() {
+            layout.fill_uniforms(&mut uniforms);
+        }
         let distances = (culling.view_distance, culling.blade_range());
         scene.ground.source.fill_uniforms(&mut uniforms, origin.map_or(IVec2::ZERO, |o| o.cell), distances);
         if let (Some(field), Some(origin)) = (&scene.field, &origin) {

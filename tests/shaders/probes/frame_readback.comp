@@ -1,7 +1,7 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // Test shader: reads every field of `FrameUniforms` through the std140 declaration in common.glsl
-// and writes them as 216 words, then the specialization constants as the shaders see them (by
+// and writes them as 240 words, then the specialization constants as the shaders see them (by
 // `SPEC(NAME)` id, build.rs's) and a few shared.glsl constants, so the test can compare them with what Rust wrote
 // and with the constants build.rs generated (`render::gpu_constants`).
 #include "common/common.glsl"
@@ -12,8 +12,8 @@ layout(set = 0, binding = 0, std140) uniform Frame { FrameUniforms frame; };
 layout(set = 0, binding = 1, std430) writeonly buffer Fields { uint fields[]; };
 layout(constant_id = SPEC(KEYFRAME_UVEC4S)) const uint KEYFRAME_UVEC4S = 4096u;
 
-const uint FRAME_WORDS = 216u;     // 864 bytes
-const uint SPEC_WORDS = 17u;       // SPEC_* ids 0..=16
+const uint FRAME_WORDS = 240u;     // 960 bytes
+const uint SPEC_WORDS = 19u;       // SPEC_* ids 0..=18
 
 void put_vec4(inout uint o, vec4 v) {
     for (uint i = 0u; i < 4u; i++) {
@@ -66,6 +66,11 @@ void main() {
     for (uint i = 0u; i < CAMERA_GRID_MAX_LEVELS; i++) {
         put_uvec4(o, uvec4(frame.ground_windows[i]));
     }
+    put_uvec4(o, frame.cull_classes);
+    put_uvec4(o, frame.cull_class_first);
+    for (uint i = 0u; i < MAX_LOD_BUCKETS / 2u; i++) {
+        put_uvec4(o, frame.cull_bucket_draws[i]);
+    }
 
     fields[FRAME_WORDS + SPEC(KEYFRAME_UVEC4S)] = KEYFRAME_UVEC4S;
     fields[FRAME_WORDS + SPEC(ANIMATION_MODE)] = ANIMATION_MODE;
@@ -84,6 +89,8 @@ void main() {
     fields[FRAME_WORDS + SPEC(STRIP_L6)] = floatBitsToUint(STRIP_L6);
     fields[FRAME_WORDS + SPEC(TILE_ROWS_CAPACITY)] = TILE_ROWS_CAPACITY;
     fields[FRAME_WORDS + SPEC(LOD_BUCKET)] = LOD_BUCKET;
+    fields[FRAME_WORDS + SPEC(GROUND_CELLS)] = GROUND_CELLS;
+    fields[FRAME_WORDS + SPEC(GROUND_LEVELS)] = GROUND_LEVELS;
 
     uint s = FRAME_WORDS + SPEC_WORDS;
     fields[s + 0u] = MAX_SEGMENTS;

@@ -177,10 +177,14 @@ pub struct CountsRecord {
     pub drawn: Vec<u32>,
     /// Segments of each bucket.
     pub bucket_segments: Vec<u32>,
-    /// Blades drawn.
+    /// Entries drawn: the blades and every further draw class's.
     pub total_drawn: u64,
     /// Blade triangles drawn.
     pub triangles: u64,
+    /// Per draw class, the blades first: what it drew (absent from documents written before the
+    /// cull had classes).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub classes: Vec<crate::harness::document::ClassDrawn>,
     /// What the visible list's capacity did to the kept blades (absent from documents written
     /// before the cull reported it).
     #[serde(flatten, default, skip_serializing_if = "Option::is_none")]

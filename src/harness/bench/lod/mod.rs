@@ -453,6 +453,7 @@ fn counts(c: &CullCounts) -> CountsRecord {
         bucket_segments: c.segments[..buckets].to_vec(),
         total_drawn: c.total_drawn(),
         triangles: c.triangles(),
+        classes: crate::harness::document::ClassDrawn::of(c),
         thinning: Some(crate::harness::document::Thinning::of(c)),
     }
 }

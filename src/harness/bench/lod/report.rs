@@ -208,6 +208,7 @@ mod tests {
                 bucket_segments: vec![],
                 total_drawn: drawn,
                 triangles: 8 * drawn,
+                classes: vec![],
                 thinning: None,
             };
             LodVariant {

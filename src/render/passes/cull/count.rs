@@ -9,7 +9,7 @@ use super::{CullSetup, CullStep, Groups};
 use crate::error::Result;
 use crate::render::recording::PassSet;
 use crate::render::scene_gpu::SceneGpu;
-use crate::render::shaders;
+
 use crate::vk::{Access, Device};
 
 /// The counting dispatch, one workgroup per listed ring slot.
@@ -28,5 +28,5 @@ pub fn pass(device: &Device, setup: &CullSetup, scene: &SceneGpu, set: &Rc<PassS
         (scene.cull_alloc.raw, Access::IndirectCommandRead),
     ];
     let groups = Groups::Indirect(scene.cull_alloc.raw, 0);
-    CullStep::new(device, ("cull count", shaders::CULL_COUNT_COMP.code(device.profile)), (setup, set), uses, groups)
+    CullStep::new(device, ("cull count", setup.count_shader.code(device.profile)), (setup, set), uses, groups)
 }

@@ -37,6 +37,9 @@ pub struct CullSetup<'a> {
     pub constants: &'a Specialization,
     /// Each frame's counts buffer (`CullFrame::stats`), by slot.
     pub frame_stats: Vec<vk::Buffer>,
+    /// The count pass's shader: the library's `cull_count.comp` (the blade class alone), or a
+    /// set of draw classes' with their selection (`render::draw_class::DrawClasses`).
+    pub count_shader: crate::vk::profile::Shader,
 }
 
 /// The cull's part of one frame in flight (`frame::PerFrame`): the counts its scan writes for
@@ -48,6 +51,8 @@ pub struct CullFrame {
     segments: Vec<u32>,
     /// Whether the frame's buckets drew blades with one tip vertex (the outline as geometry).
     collapsed_tip: bool,
+    /// The frame's further draw classes: name, first bucket, buckets (`render::draw_class`).
+    classes: Vec<(&'static str, u32, u32)>,
 }
 
 impl CullFrame {
@@ -56,15 +61,18 @@ impl CullFrame {
         let name = format!("frame {slot} cull counts");
         let bytes = 4 * u64::from(CULL_STATS_WORDS);
         let stats = Buffer::new(device, &BufferDesc::readback(&name, bytes, vk::BufferUsageFlags::STORAGE_BUFFER))?;
-        Ok(Self { stats, segments: Vec::new(), collapsed_tip: false })
+        Ok(Self { stats, segments: Vec::new(), collapsed_tip: false, classes: Vec::new() })
     }
 
-    /// The frame being recorded culls into buckets of `segments` (empty: it does not cull),
-    /// their tips collapsed or not.
-    pub fn recorded(&mut self, segments: &[u32], collapsed_tip: bool) {
+    /// The frame being recorded culls blades into buckets of `segments` (empty: it does not
+    /// cull), their tips collapsed or not, and into the buckets of further `classes` (name, first
+    /// bucket, buckets).
+    pub fn recorded(&mut self, segments: &[u32], collapsed_tip: bool, classes: &[(&'static str, u32, u32)]) {
         self.segments.clear();
         self.segments.extend_from_slice(segments);
         self.collapsed_tip = collapsed_tip;
+        self.classes.clear();
+        self.classes.extend_from_slice(classes);
     }
 
     /// What the frame's cull kept and drew (its fence has signalled); `None` when it did not
@@ -72,7 +80,7 @@ impl CullFrame {
     pub fn counts(&self) -> Option<CullCounts> {
         (!self.segments.is_empty()).then(|| {
             let words: &[u32] = bytemuck::cast_slice(self.stats.mapped());
-            CullCounts::from_words(words, &self.segments, self.collapsed_tip)
+            CullCounts::from_words(words, &self.segments, self.collapsed_tip).with_classes(words, &self.classes)
         })
     }
 }
@@ -87,7 +95,7 @@ impl Destroy for CullFrame {
 /// The cull's own set (`SET_PASS`, declared in `shaders/cull/cull.glsl` and `cull_emit.comp`),
 /// one per frame in flight: the resources only the cull binds, by the names its GLSL gives them.
 fn cull_set(device: &Device, setup: &CullSetup, scene: &SceneGpu) -> Result<PassSet> {
-    let code: Vec<(&str, &[u8])> = [shaders::CULL_TILES_COMP, shaders::CULL_COUNT_COMP, shaders::CULL_SCAN_COMP]
+    let code: Vec<(&str, &[u8])> = [shaders::CULL_TILES_COMP, setup.count_shader, shaders::CULL_SCAN_COMP]
         .iter()
         .chain([&shaders::CULL_EMIT_COMP])
         .map(|s| (s.path, s.code(device.profile)))

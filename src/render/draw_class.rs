@@ -1,0 +1,253 @@
+//! Draw classes (issue #30 item 1): what the GPU-driven cull sorts its candidates into. A class
+//! owns a range of the cull's buckets, a selection (the count pass's `class_bucket`, which puts a
+//! candidate into one of its buckets or none), its rows of the indirect-draw buffer (a
+//! `VkDrawIndexedIndirectCommand` per bucket, and with `DrawRows::PerTile` one per visible tile
+//! and bucket), its order in the visible list (near to far, or far to near for blended classes)
+//! and the pass that draws its buckets. The tiles, count, scan and emit passes are the same for
+//! every class (`shaders/cull/`).
+//!
+//! The blade class comes first: its buckets are the `--lod-segments` buckets, its selection the
+//! blade tests (`blade_bucket` in `shaders/cull/cull.glsl`), its pass `passes::blades`. Further
+//! classes are given to the renderer as a [`DrawClasses`] (`render::Models::classes`): the classes
+//! and the count shader that holds their selection (`cull_count.comp`'s `class_bucket`, then
+//! `#include "cull/count_main.glsl"`). Their buckets follow the blade class's, at most
+//! `MAX_LOD_BUCKETS` in all; [`ClassLayout`] places them and writes where they lie into the
+//! frame's uniforms (`cull_classes`, `cull_class_first`, `cull_bucket_draws`), from which the
+//! shaders read every class's buckets: no word of the draws buffer is laid out by hand per class.
+//! `tests/draw_class.rs` adds a class from `tests/` this way.
+
+use std::rc::Rc;
+
+use ash::vk;
+use glam::UVec4;
+
+use crate::error::{Error, Result};
+use crate::render::draw_rows::DrawRows;
+use crate::render::gpu_constants as gpu;
+use crate::render::graph::Pass;
+use crate::render::passes::PipelineTarget;
+use crate::render::recording::SceneSets;
+use crate::render::scene_gpu::SceneGpu;
+use crate::render::specialization::Specialization;
+use crate::render::uniforms::FrameUniforms;
+use crate::vk::profile::Shader;
+use crate::vk::Device;
+
+/// The order of a class's entries in the visible list, and of its rows: slot order (near to far)
+/// for opaque classes, which early depth then rejects behind; reversed for blended classes.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Order {
+    /// Nearest slots first.
+    #[default]
+    NearToFar,
+    /// Farthest slots first.
+    FarToNear,
+}
+
+/// What a class's pass is built from.
+pub struct ClassSetup<'a> {
+    /// The scene pipelines' layout and attachments.
+    pub target: PipelineTarget,
+    /// The scene's set layouts and the frames in flight.
+    pub sets: SceneSets<'a>,
+    /// Specialization constants.
+    pub constants: &'a Specialization,
+    /// The scene on the GPU: the cull's `draws`, `tile_rows` and visible list.
+    pub scene: &'a SceneGpu,
+    /// The class's first bucket in the cull's bucket space: its draws are the
+    /// `VkDrawIndexedIndirectCommand`s at words `DRAW_WORDS × (first + b)` of `scene.draws`.
+    pub first_bucket: u32,
+    /// Entries of the visible list per instance of its draws (`BLADES_PER_INSTANCE`).
+    pub blades_per_instance: u32,
+}
+
+/// A class the cull sorts candidates into, besides the blades.
+pub trait DrawClass {
+    /// Its name, in the cull's counts (`render`, `timing`, the viewer, the bench JSON).
+    fn name(&self) -> &'static str;
+    /// Its buckets (at least one).
+    fn buckets(&self) -> u32;
+    /// The order of its entries.
+    fn order(&self) -> Order {
+        Order::NearToFar
+    }
+    /// Whether it draws once per bucket or once per visible tile and bucket.
+    fn rows(&self) -> DrawRows {
+        DrawRows::PerBucket
+    }
+    /// Bucket `bucket`'s draw of one instance of `blades_per_instance` entries: its index count
+    /// and first index in its pass's index buffer.
+    fn bucket_draw(&self, bucket: u32, blades_per_instance: u32) -> (u32, u32);
+    /// The pass that draws its buckets (after the blade pass).
+    fn pass(&self, device: &Device, setup: &ClassSetup) -> Result<Box<dyn Pass>>;
+}
+
+/// The classes a renderer culls besides the blades, and the count shader that selects for them.
+#[derive(Clone, Default)]
+pub struct DrawClasses {
+    /// The further classes, in bucket order.
+    pub classes: Vec<Rc<dyn DrawClass>>,
+    /// `cull_count.comp` built with their selection (`class_bucket`); `None`: the library's, the
+    /// blade class alone.
+    pub count_shader: Option<Shader>,
+}
+
+/// Where every class's buckets lie: the blade class's `blade_buckets` first, then each further
+/// class's.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ClassLayout {
+    /// The blade class's buckets.
+    pub blade_buckets: u32,
+    /// The blade class's rows.
+    pub blade_rows: DrawRows,
+    /// Per further class: its name, first bucket, buckets, order, rows and each bucket's draw.
+    pub classes: Vec<PlacedClass>,
+}
+
+/// A further class placed in the bucket space.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PlacedClass {
+    /// Its name.
+    pub name: &'static str,
+    /// Its first bucket.
+    pub first: u32,
+    /// Its buckets.
+    pub buckets: u32,
+    /// Its order.
+    pub order: Order,
+    /// Its rows.
+    pub rows: DrawRows,
+    /// Per bucket: index count and first index of one instance's draw.
+    pub draws: Vec<(u32, u32)>,
+}
+
+impl ClassLayout {
+    /// Place `classes` after `blade_buckets` buckets of blades drawn by `blade_rows`; refused
+    /// when they need more than the cull's `MAX_LOD_BUCKETS` or more classes than it holds.
+    pub fn new(
+        blade_buckets: u32,
+        blade_rows: DrawRows,
+        classes: &DrawClasses,
+        blades_per_instance: u32,
+    ) -> Result<Self> {
+        let further = gpu::MAX_DRAW_CLASSES - 1;
+        if classes.classes.len() > further as usize {
+            return Err(Error::Internal(format!(
+                "{} draw classes besides the blades: the cull holds {further}",
+                classes.classes.len()
+            )));
+        }
+        let mut first = blade_buckets;
+        let mut placed = Vec::new();
+        for class in &classes.classes {
+            let buckets = class.buckets();
+            let draws = (0..buckets).map(|b| class.bucket_draw(b, blades_per_instance)).collect();
+            let (name, order, rows) = (class.name(), class.order(), class.rows());
+            placed.push(PlacedClass { name, first, buckets, order, rows, draws });
+            first += buckets;
+        }
+        if first > gpu::MAX_LOD_BUCKETS || placed.iter().any(|c| c.buckets == 0) {
+            let names: Vec<String> = placed.iter().map(|c| format!("{} {}", c.name, c.buckets)).collect();
+            return Err(Error::Internal(format!(
+                "the draw classes need {first} buckets (blades {blade_buckets}, {}): the cull holds {}",
+                names.join(", "),
+                gpu::MAX_LOD_BUCKETS
+            )));
+        }
+        Ok(Self { blade_buckets, blade_rows, classes: placed })
+    }
+
+    /// Buckets of every class.
+    pub fn buckets(&self) -> u32 {
+        self.classes.last().map_or(self.blade_buckets, |c| c.first + c.buckets)
+    }
+
+    /// The frame's draw-class uniforms (`shaders/common/common.glsl`).
+    pub fn fill_uniforms(&self, uniforms: &mut FrameUniforms) {
+        let bits = |pick: &dyn Fn(Order, DrawRows) -> bool| {
+            let blades = if pick(Order::NearToFar, self.blade_rows) { (1u32 << self.blade_buckets) - 1 } else { 0 };
+            self.classes
+                .iter()
+                .filter(|c| pick(c.order, c.rows))
+                .fold(blades, |mask, c| mask | (((1u32 << c.buckets) - 1) << c.first))
+        };
+        let far = bits(&|order, _| order == Order::FarToNear);
+        let rows = bits(&|_, rows| rows == DrawRows::PerTile);
+        uniforms.cull_classes = UVec4::new(self.buckets(), far, rows, self.classes.len() as u32);
+        let mut first = [self.buckets(); 4];
+        for (k, class) in self.classes.iter().enumerate() {
+            first[k] = class.first;
+        }
+        uniforms.cull_class_first = UVec4::from(first);
+        let mut draws = [[0u32; 2]; gpu::MAX_LOD_BUCKETS as usize];
+        for class in &self.classes {
+            for (b, &(count, first)) in class.draws.iter().enumerate() {
+                draws[(class.first as usize) + b] = [count, first];
+            }
+        }
+        uniforms.cull_bucket_draws = std::array::from_fn(|i| {
+            UVec4::new(draws[2 * i][0], draws[2 * i][1], draws[2 * i + 1][0], draws[2 * i + 1][1])
+        });
+    }
+
+    /// Per class, blades first: its name and its buckets (first, count), for the cull's counts.
+    pub fn ranges(&self) -> Vec<(&'static str, u32, u32)> {
+        std::iter::once(("blades", 0, self.blade_buckets))
+            .chain(self.classes.iter().map(|c| (c.name, c.first, c.buckets)))
+            .collect()
+    }
+}
+
+/// The indirect-draw buffer's word of bucket `bucket`'s `VkDrawIndexedIndirectCommand`, and its
+/// stride: what a class's pass draws with `vkCmdDrawIndexedIndirect`.
+pub fn draw_word(bucket: u32) -> (u64, u32) {
+    (4 * u64::from(gpu::DRAW_WORDS * bucket), std::mem::size_of::<vk::DrawIndexedIndirectCommand>() as u32)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    struct Markers(u32, Order);
+
+    impl DrawClass for Markers {
+        fn name(&self) -> &'static str {
+            "markers"
+        }
+        fn buckets(&self) -> u32 {
+            self.0
+        }
+        fn order(&self) -> Order {
+            self.1
+        }
+        fn bucket_draw(&self, bucket: u32, batch: u32) -> (u32, u32) {
+            (6 * batch, 100 * bucket)
+        }
+        fn pass(&self, _: &Device, _: &ClassSetup) -> Result<Box<dyn Pass>> {
+            Err(Error::Internal("not drawn in this test".into()))
+        }
+    }
+
+    #[test]
+    fn further_classes_follow_the_blades_and_their_bits_say_how_they_draw() {
+        let classes = DrawClasses {
+            classes: vec![Rc::new(Markers(2, Order::FarToNear)), Rc::new(Markers(1, Order::NearToFar))],
+            count_shader: None,
+        };
+        let layout = ClassLayout::new(3, DrawRows::PerTile, &classes, 32).unwrap();
+        assert_eq!(layout.buckets(), 6);
+        assert_eq!(layout.ranges(), vec![("blades", 0, 3), ("markers", 3, 2), ("markers", 5, 1)]);
+        let mut u: FrameUniforms = bytemuck::Zeroable::zeroed();
+        layout.fill_uniforms(&mut u);
+        // Far to near: buckets 3 and 4; rows per tile: the blades' 0..3.
+        assert_eq!(u.cull_classes, UVec4::new(6, 0b11000, 0b111, 2));
+        assert_eq!(u.cull_class_first, UVec4::new(3, 5, 6, 6));
+        assert_eq!(u.cull_bucket_draws[1], UVec4::new(0, 0, 6 * 32, 0));
+        assert_eq!(u.cull_bucket_draws[2], UVec4::new(6 * 32, 100, 6 * 32, 0));
+        // More buckets than the cull holds, or a class of none, are refused.
+        let many = DrawClasses { classes: vec![Rc::new(Markers(6, Order::NearToFar))], count_shader: None };
+        assert!(ClassLayout::new(3, DrawRows::PerBucket, &many, 32).is_err());
+        let none = DrawClasses { classes: vec![Rc::new(Markers(0, Order::NearToFar))], count_shader: None };
+        assert!(ClassLayout::new(3, DrawRows::PerBucket, &none, 32).is_err());
+    }
+}
