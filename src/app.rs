@@ -143,6 +143,8 @@ pub struct RenderOptions {
     pub field: Option<crate::scene::field::FieldSpec>,
     /// The relief under a block field.
     pub relief: crate::scene::field::ReliefKind,
+    /// `--heightmap` and `--terrain-scale`: the ground from a map, loaded by `scene`.
+    pub heightmap: Option<(PathBuf, Option<crate::scene::heightmap::TerrainScale>)>,
     /// Fog density per metre.
     pub fog: f32,
     /// Draw the benchmark floor instead of the blades (`--mode floor`).
@@ -158,10 +160,36 @@ impl RenderOptions {
     }
 
     /// The scene of these options: stored blades, or a block field.
-    pub fn scene(&self) -> Scene {
+    /// The scene: stored blades or a block field, on the procedural ground or on the
+    /// `--heightmap`, which is loaded here (a bad map is bad input, refused in one line).
+    pub fn scene(&self) -> Result<Scene> {
+        let Some((path, scale)) = &self.heightmap else {
+            return Ok(match self.field {
+                Some(spec) => Scene::blocks_on(spec, self.relief, self.seed),
+                None => Scene::generate(self.blades, self.seed),
+            });
+        };
+        use crate::scene::heightmap::{Heightmap, TerrainScale, DEFAULT_SCALE};
+        let (given, scale) = (scale.is_some(), scale.unwrap_or(DEFAULT_SCALE));
         match self.field {
-            Some(spec) => Scene::blocks_on(spec, self.relief, self.seed),
-            None => Scene::generate(self.blades, self.seed),
+            // A bounded field: the map covers its square, held past its edges.
+            Some(spec @ crate::scene::field::FieldSpec { size: Some(size), .. }) => {
+                let size = f64::from(size);
+                if given && (scale.x != size || scale.z != size) {
+                    return Err(Error::bad_input(format!(
+                        "--terrain-scale {},{},{} with --field {size}: the map covers the field's square (give X and Z {size})",
+                        scale.x, scale.y, scale.z
+                    )));
+                }
+                let scale = TerrainScale { x: size, z: size, ..scale };
+                let map = Heightmap { mirrored: false, ..Heightmap::load(path, scale)? };
+                Ok(Scene::blocks_on_map(spec, std::sync::Arc::new(map), self.seed))
+            }
+            Some(spec) => {
+                scale.check_period()?;
+                Ok(Scene::blocks_on_map(spec, std::sync::Arc::new(Heightmap::load(path, scale)?), self.seed))
+            }
+            None => Ok(Scene::generate_on_map(self.blades, &Heightmap::load(path, scale)?, self.seed)),
         }
     }
 
@@ -304,7 +332,7 @@ pub fn render(device: &Arc<Device>, options: &RenderOptions) -> Result<RenderRep
     let field_m = blades::field_size(options.blades);
 
     let setup = Instant::now();
-    let scene = options.scene();
+    let scene = options.scene()?;
     let camera = scene.camera(options.camera);
     let mut renderer = Renderer::new(device.clone(), &scene, options.offscreen_settings(1), options.animation.clone())?;
     let extent = vk::Extent2D { width: options.size.0, height: options.size.1 };

@@ -342,7 +342,7 @@ fn block_scene() -> Scene {
 
 /// Above block (0, 0) of `scene`, looking down at it.
 fn over_block(scene: &Scene, x: f32) -> Camera {
-    let ground = scene.field.as_ref().expect("a field").relief.height(f64::from(x), 2.0) as f32;
+    let ground = scene.field.as_ref().expect("a field").ground.height(f64::from(x), 2.0) as f32;
     Camera { position: Vec3::new(x, ground + 5.0, 2.0), yaw_deg: 0.0, pitch_deg: -75.0 }
 }
 

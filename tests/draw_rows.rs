@@ -71,7 +71,7 @@ fn a_row_per_tile_draws_the_picture_of_one_draw_per_bucket() {
     let stored = Scene::generate(20_000, 4);
     let blocks = Scene::blocks(FieldSpec { size: None, density: 400.0 }, 1);
     let field_camera = |yaw: f32| {
-        let ground = blocks.field.as_ref().expect("a field").relief.height(3.0, -2.0) as f32;
+        let ground = blocks.field.as_ref().expect("a field").ground.height(3.0, -2.0) as f32;
         Camera { position: Vec3::new(3.0, ground + 1.7, -2.0), yaw_deg: yaw, pitch_deg: -10.0 }
     };
     let scenes = [(&stored, stored_cameras()), (&blocks, vec![field_camera(30.0), field_camera(200.0)])];

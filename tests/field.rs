@@ -49,7 +49,13 @@ fn render(culling: Culling, cameras: &[Camera]) -> Vec<(Vec<u8>, CullCounts, u64
 }
 
 fn camera(x: f32, z: f32) -> Camera {
-    let relief = Scene::blocks(FieldSpec { size: None, density: 400.0 }, 1).field.expect("a field").relief;
+    let relief = Scene::blocks(FieldSpec { size: None, density: 400.0 }, 1)
+        .field
+        .expect("a field")
+        .ground
+        .relief()
+        .expect("a relief")
+        .clone();
     let ground = relief.height(f64::from(x), f64::from(z)) as f32;
     Camera { position: Vec3::new(x, ground + 1.7, z), yaw_deg: 30.0, pitch_deg: -10.0 }
 }
@@ -94,7 +100,13 @@ fn the_drawn_terrain_follows_the_relief() {
     // the CPU's relief says. Looking up from 0.3 m under it, the terrain (drawn without face
     // culling) hides the sky; from 0.8 m over it, above the tallest blade, the sky shows. A
     // terrain drawn anywhere else (flat, or a grid shifted by a cell) shows the sky from under it.
-    let relief = Scene::blocks(FieldSpec { size: None, density: 400.0 }, 1).field.expect("a field").relief;
+    let relief = Scene::blocks(FieldSpec { size: None, density: 400.0 }, 1)
+        .field
+        .expect("a field")
+        .ground
+        .relief()
+        .expect("a relief")
+        .clone();
     let hill = (0..40)
         .flat_map(|i| (0..40).map(move |j| (2.0 * i as f32, 2.0 * j as f32)))
         .find(|&(x, z)| relief.height(f64::from(x), f64::from(z)) > 0.5)

@@ -72,6 +72,8 @@ const RENDER_CASES: &[Case] = &[
     ("seed", &[alt(&["--seed", "7"])]),
     ("camera", &[alt(&["--camera", "0.5,1,-1,70,-25"]), alt(&["--camera", "landscape"])]),
     ("relief", &[alt(&["--relief", "hills"])]),
+    ("heightmap", &[alt(&["--heightmap", "map.png"])]),
+    ("terrain_scale", &[with(&["--heightmap", "map.png"], &["--terrain-scale", "1000,20,1000"])]),
     ("fog", &[alt(&["--fog", "0.5"])]),
     ("blades_per_instance", &[alt(&["--blades-per-instance", "4"])]),
     ("animation", &[alt(&["--animation", "sine-object"]), alt(&["--animation", "static"])]),
@@ -723,7 +725,7 @@ fn unswapchained(line: &str) -> String {
 }
 
 /// Files a run starts with (its inputs), kept out of the observation.
-const FIXTURES: &[&str] = &["old.json", "new.json", "quit.txt", "capture.txt"];
+const FIXTURES: &[&str] = &["old.json", "new.json", "quit.txt", "capture.txt", "map.png"];
 
 /// Write the inputs a run may name into `dir`: two bench documents whose static variant differs
 /// by 20 % (a regression at the 10 % threshold, not at 50 %), and two viewer scripts.
@@ -741,6 +743,15 @@ fn fixtures(dir: &Path) {
     std::fs::write(dir.join("old.json"), doc.to_string()).expect("write");
     std::fs::write(dir.join("new.json"), slower.to_string()).expect("write");
     std::fs::write(dir.join("quit.txt"), "1 quit\n").expect("write");
+    // A heightmap (`--heightmap`): a 16-bit ramp along x with a bump.
+    let map: Vec<u16> = (0..32u32 * 32)
+        .map(|i| {
+            let (x, z) = ((i % 32) as f32, (i / 32) as f32);
+            (x * 1500.0 + 20_000.0 * (-((x - 16.0).powi(2) + (z - 16.0).powi(2)) / 30.0).exp()) as u16
+        })
+        .collect();
+    let bytes: Vec<u8> = map.iter().flat_map(|v| v.to_ne_bytes()).collect();
+    image::save_buffer(dir.join("map.png"), &bytes, 32, 32, image::ColorType::L16).expect("map");
     // The overlay is laid out by frame 5 (at 640x480 its timing window, with the capture button,
     // fits); the capture takes 60 frames.
     std::fs::write(dir.join("capture.txt"), "5 ui-click capture\n70 quit\n").expect("write");

@@ -88,7 +88,7 @@ fn cpu_params(grid: &FluidGrid, wind: &Wind, time: f64) -> Params {
         cpu_corners: false,
         camera: glam::DVec3::ZERO,
         dt: 1.0 / 60.0,
-        relief: None,
+        ground: None,
     };
     let mut params = Params::new(&input);
     fluid::fill_params(&mut params, grid, (glam::I64Vec3::ZERO, UVec3::ZERO), &input);

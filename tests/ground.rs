@@ -6,6 +6,9 @@
 //! where levels meet; a stored field's one level holds its terrain's heights bit for bit; and
 //! every reader of the ground goes through one include.
 
+#[path = "support/roots.rs"]
+mod roots;
+
 use ash::vk;
 use glam::{DVec2, I64Vec2, IVec2, Mat4, UVec2, UVec3, Vec3};
 use meadow::app::{with_device, GpuOptions};
@@ -13,17 +16,15 @@ use meadow::render::animation::{AnimationSettings, Mode};
 use meadow::render::camera_grid;
 use meadow::render::culling::Culling;
 use meadow::render::field_gpu::Origin;
-use meadow::render::gpu_constants as gpu;
 use meadow::render::ground_clipmap::{self, Clipmap, CELLS};
 use meadow::render::terrain_chunks::{self, GridPlacement, TerrainChunk};
 use meadow::render::{OffscreenTarget, RenderSettings, Renderer};
 use meadow::scene::field::{FieldSpec, Relief, BLOCK_SIZE};
-use meadow::scene::{tiles, BladeInstance, Camera, Scene};
+use meadow::scene::{Camera, Scene};
 use meadow::vk::DeviceSelector;
 
 const EXTENT: vk::Extent2D = vk::Extent2D { width: 320, height: 180 };
 const VIEW: f32 = 5000.0;
-const VISIBLE_PADDING: u32 = 0xffff_ffff;
 
 fn culling() -> Culling {
     Culling { view_distance: VIEW, ..Culling::default_for(4) }
@@ -73,7 +74,7 @@ fn render(cameras: &[Camera]) -> Vec<Frame> {
 }
 
 fn camera(x: f32, z: f32, yaw_deg: f32) -> Camera {
-    let relief = scene().field.expect("a field").relief;
+    let relief = scene().field.expect("a field").ground.relief().expect("a relief").clone();
     let ground = relief.height(f64::from(x), f64::from(z)) as f32;
     Camera { position: Vec3::new(x, ground + 1.7, z), yaw_deg, pitch_deg: -10.0 }
 }
@@ -97,7 +98,7 @@ fn relief_at(relief: &Relief, p: DVec2) -> (f64, DVec2) {
 
 #[test]
 fn every_levels_texels_are_the_relief_at_their_world_vertices_and_a_scroll_keeps_them_exact() {
-    let relief = scene().field.expect("a field").relief;
+    let relief = scene().field.expect("a field").ground.relief().expect("a relief").clone();
     let clipmap = clipmap();
     assert!(clipmap.levels >= 7 && clipmap.reach() >= VIEW, "{clipmap:?}");
     // Near the origin; 11 blocks on, where level 0's window has moved (a fill of what entered);
@@ -147,48 +148,10 @@ fn every_levels_texels_are_the_relief_at_their_world_vertices_and_a_scroll_keeps
     }
 }
 
-/// A half float's value (the visible list's root height).
-fn half(bits: u32) -> f32 {
-    let (sign, exponent, mantissa) = ((bits >> 15) & 1, (bits >> 10) & 31, bits & 1023);
-    let magnitude = match exponent {
-        0 => mantissa as f32 * 2f32.powi(-24),
-        e => (1.0 + mantissa as f32 / 1024.0) * 2f32.powi(e as i32 - 15),
-    };
-    if sign == 1 {
-        -magnitude
-    } else {
-        magnitude
-    }
-}
-
-/// `cell_hash` of `shaders/common/field.glsl`.
-fn cell_hash(cell: IVec2) -> u32 {
-    let c = cell.rem_euclid(IVec2::splat(gpu::PERIOD_CELLS as i32));
-    let mut h = (c.x as u32).wrapping_mul(0x8da6_b343) ^ (c.y as u32).wrapping_mul(0xd816_3841);
-    h ^= h >> 15;
-    h = h.wrapping_mul(0x2c1b_3c6d);
-    h ^ (h >> 12)
-}
-
-/// Where blade `blade` of the stored block stands in world cell `cell` (`field_blade` of
-/// `shaders/common/field.glsl`), in the world's x and z.
-fn placed(blade: &BladeInstance, cell: IVec2) -> DVec2 {
-    let edge = f64::from(BLOCK_SIZE);
-    let h = cell_hash(cell);
-    let mut p = DVec2::new(f64::from(blade.position[0]), f64::from(blade.position[2])) - DVec2::splat(0.5 * edge);
-    if h & 4 != 0 {
-        p.x = -p.x;
-    }
-    for _ in 0..h & 3 {
-        p = DVec2::new(p.y, -p.x);
-    }
-    cell.as_dvec2() * edge + p + DVec2::splat(0.5 * edge)
-}
-
 #[test]
 fn roots_lie_on_the_drawn_ground_on_both_sides_of_a_level_boundary() {
     let scene = scene();
-    let relief = scene.field.as_ref().expect("a field").relief.clone();
+    let relief = scene.field.as_ref().expect("a field").ground.relief().expect("a relief").clone();
     let clipmap = clipmap();
     let frames = render(&[camera(1.5, 2.5, 30.0), camera(37.5, -21.5, 200.0)]);
     let blades_per_instance = RenderSettings::offscreen(4, culling()).blades_per_instance;
@@ -200,26 +163,17 @@ fn roots_lie_on_the_drawn_ground_on_both_sides_of_a_level_boundary() {
         let lo = windows[0].as_dvec2() * step0;
         let hi = lo + DVec2::splat(f64::from(CELLS) * step0);
         let (mut worst, mut inside, mut outside, mut roots) = (0.0f64, 0, 0, 0);
-        for bucket in 0..gpu::MAX_LOD_BUCKETS as usize {
-            let draw = &frame.draws[bucket * gpu::DRAW_WORDS as usize..];
-            let first = draw[gpu::DRAW_FIRST_INSTANCE as usize] * blades_per_instance;
-            let count = draw[gpu::DRAW_INSTANCES as usize] * blades_per_instance;
-            for entry in &frame.visible[first as usize..(first + count) as usize] {
-                if entry[0] == VISIBLE_PADDING {
-                    continue;
-                }
-                let (x, z) = tiles::ring_cell(entry[0] >> 16);
-                let cell = origin.cell + IVec2::new(x, z);
-                let p = placed(&scene.blades[(entry[0] & 0xffff) as usize], cell);
-                let ground = clipmap.drawn_height(&relief, origin.cell, p) - 0.01;
-                worst = worst.max((f64::from(half(entry[1] & 0xffff)) - ground).abs());
-                // The windows lie in the world's period that holds O (`period_cell`).
-                let shift = (origin.cell - ground_clipmap::period_cell(origin.cell)).as_dvec2() * f64::from(BLOCK_SIZE);
-                let edge = (p - shift - lo).min(hi - p + shift).min_element();
-                inside += usize::from((0.0..4.0).contains(&edge));
-                outside += usize::from((-4.0..0.0).contains(&edge));
-                roots += 1;
-            }
+        let eye_y = frame.camera.position.y;
+        let drawn = roots::roots(&scene, (&frame.visible, &frame.draws), (origin.cell, eye_y), blades_per_instance);
+        for (p, root) in drawn {
+            let ground = clipmap.drawn_height(&relief, origin.cell, p) - 0.01;
+            worst = worst.max((root - ground).abs());
+            // The windows lie in the world's period that holds O (`period_cell`).
+            let shift = (origin.cell - ground_clipmap::period_cell(origin.cell)).as_dvec2() * f64::from(BLOCK_SIZE);
+            let edge = (p - shift - lo).min(hi - p + shift).min_element();
+            inside += usize::from((0.0..4.0).contains(&edge));
+            outside += usize::from((-4.0..0.0).contains(&edge));
+            roots += 1;
         }
         let at = frame.camera.position;
         assert!(roots > 10_000, "camera at {at}: {roots} roots");

@@ -182,7 +182,7 @@ fn assert_leans(scene: &Scene, camera: &Camera) {
 #[test]
 fn a_block_field_leans_the_way_a_uniform_wind_blows() {
     let scene = Scene::blocks(FieldSpec { size: None, density: 400.0 }, 1);
-    let relief = scene.field.as_ref().expect("a field").relief.height(1.5, 2.5) as f32;
+    let relief = scene.field.as_ref().expect("a field").ground.height(1.5, 2.5) as f32;
     let camera = Camera { position: Vec3::new(1.5, relief + 1.2, 2.5), yaw_deg: 0.0, pitch_deg: -20.0 };
     assert_leans(&scene, &camera);
 }

@@ -102,7 +102,7 @@ fn under_a_perlin_wind_towards_plus_x_every_tip_moves_towards_plus_x() {
 #[test]
 fn every_level_of_a_block_field_matches_the_cpu_at_the_origin_and_100_km_out() {
     let scene = Scene::blocks(FieldSpec { size: None, density: 100.0 }, 1);
-    let relief = &scene.field.as_ref().expect("a field").relief;
+    let relief = scene.field.as_ref().expect("a field").ground.relief().expect("a relief");
     let wind =
         Wind { global: Some(GlobalWind { direction_deg: 40.0, strength: 0.4, gusts: false }), ..Default::default() };
     let noise = Noise::generate();
@@ -136,7 +136,7 @@ fn every_level_of_a_block_field_matches_the_cpu_at_the_origin_and_100_km_out() {
             cpu_corners: false,
             camera: glam::DVec3::ZERO,
             dt: 1.0 / 60.0,
-            relief: None,
+            ground: None,
         };
         let params = perlin::frame_params(&input);
         let per_level = levels[0].corner_count() as usize;

@@ -13,19 +13,6 @@ const float WIDEST_BLADE = 0.016; // scene::blades::WIDEST
 // Roots are sunk this far below the drawn terrain (as a stored field's, `scene::blades::ROOT_SINK`).
 const float FIELD_ROOT_SINK = 0.01;
 
-// h(O + p) = Σ a_k sin(θ_k + u_k · p), θ_k = u_k · O + φ_k given as sin and cos.
-float relief_height(vec2 p) {
-    float h = 0.0;
-    for (uint k = 0u; k < RELIEF_WAVES; k++) {
-        vec4 w = frame_values.relief_waves[k];
-        vec4 phase = frame_values.relief_phases[k / 2u];
-        vec2 sc = (k & 1u) == 0u ? phase.xy : phase.zw;
-        float a = dot(w.xy, p);
-        h += w.z * (sc.x * cos(a) + sc.y * sin(a));
-    }
-    return h;
-}
-
 // Whether integer cell `cell` belongs to the field (a bounded field is centred on the world's
 // origin: cells -n/2 .. n/2 - 1).
 bool field_has_cell(ivec2 cell) {
@@ -79,8 +66,11 @@ BladeInstance field_blade(ivec2 cell, uint index) {
 const float CELL_SPREAD_INSIDE = 0.7072; // render::ground_clipmap::CELL_SPREAD_INSIDE
 const float CELL_SPREAD_OUTSIDE = 1.4143; // render::ground_clipmap::CELL_SPREAD_OUTSIDE
 
-// The box of every blade of `cell` in any pose, relative to O: the relief at the cell's centre
-// within the slope bound, padded by the longest blade.
+#ifndef GROUND_WRITER
+// The box of every blade of `cell` in any pose, relative to O: the drawn ground at the cell's
+// centre (the clipmap's, whatever the ground's source) within twice the spread the slope bound
+// allows the drawn ground from the ground itself (each of the cell's points and its centre lies
+// within one spread of the ground at the centre), padded by the longest blade.
 void field_cell_bounds(ivec2 cell, out vec3 lo, out vec3 hi) {
     float edge = frame_values.field.x;
     vec2 corner = vec2(cell - frame_values.field_cells.xy) * edge;
@@ -96,15 +86,17 @@ void field_cell_bounds(ivec2 cell, out vec3 lo, out vec3 hi) {
     bool morphs = ground_edge_cells(g, shape.x) - (0.5 * edge / step + 2.0) < float(GROUND_MORPH_END);
     float drawn = morphs ? 2.0 * step : step;
     float reach = CELL_SPREAD_INSIDE * edge + CELL_SPREAD_OUTSIDE * max(drawn - 0.5 * edge, 0.0);
-    float spread = frame_values.field.y * reach;
+    float spread = 2.0 * frame_values.field.y * reach;
     // `scene::tiles::blade_reach` of the tallest and widest blade: up, and across with the
     // density LOD's widest widening (`lod.w`).
     float up = TALLEST_BLADE + 0.5 * WIDEST_BLADE;
     float across = TALLEST_BLADE + 0.5 * WIDEST_BLADE * max(frame_values.lod.w, 1.0);
-    float h = relief_height(centre);
+    float h = ground_height(centre);
     lo = vec3(corner.x - across, h - spread - FIELD_ROOT_SINK, corner.y - across);
     hi = vec3(corner.x + edge + across, h + spread + up, corner.y + edge + across);
 }
+
+#endif
 
 // The box of the roots of a cell whose box `field_cell_bounds` gave (lo, hi: replaced): the
 // cell's square, from the lowest root to the highest the relief's spread allows (the box's top

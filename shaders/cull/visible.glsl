@@ -6,18 +6,21 @@
 #include "common/frame.glsl"
 
 // The cull's output (cull_emit.comp writes it): x the blade (`visible_blade` in cull.glsl), y
-// its root height as a half float (a block field's; low 16 bits), fade and widening as unorm8
-// (`visible_scale`, `visible_unpack`).
+// its root height (a block field's) as a half float relative to the camera's height (low 16
+// bits; a half float's step near the camera is under a millimetre, where a root 40 m up the
+// ground would have been 3 cm off), fade and widening as unorm8 (`visible_scale`,
+// `visible_unpack`).
 // Fade in [0, 1] and widening in [1, lod.w] as unorm8, both exact at 1 (no LOD: the same blade).
 uint visible_scale(float root_y, vec2 scale) {
     vec2 unit = vec2(scale.x, (scale.y - 1.0) / max(frame_values.lod.w - 1.0, 1e-6));
     uvec2 bytes = uvec2(round(clamp(unit, 0.0, 1.0) * 255.0));
-    return (packHalf2x16(vec2(root_y, 0.0)) & 0xffffu) | (bytes.x << 16) | (bytes.y << 24);
+    float above_eye = root_y - frame_values.camera_position.y;
+    return (packHalf2x16(vec2(above_eye, 0.0)) & 0xffffu) | (bytes.x << 16) | (bytes.y << 24);
 }
 
 // (root height, fade, widening) of a visible entry's second word.
 vec3 visible_unpack(uint word) {
-    return vec3(unpackHalf2x16(word & 0xffffu).x, float((word >> 16) & 255u) / 255.0,
+    return vec3(unpackHalf2x16(word & 0xffffu).x + frame_values.camera_position.y, float((word >> 16) & 255u) / 255.0,
         1.0 + float(word >> 24) / 255.0 * (frame_values.lod.w - 1.0));
 }
 

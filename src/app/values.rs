@@ -154,6 +154,18 @@ pub fn view_distance(text: &str) -> Result<f32, String> {
     Ok(metres)
 }
 
+/// `--terrain-scale X,Y,Z`: the heightmap's extent in x and z and the height of white, each a
+/// finite number of metres above 0.
+pub fn terrain_scale(text: &str) -> Result<crate::scene::heightmap::TerrainScale, String> {
+    let parts: Vec<&str> = text.split(',').collect();
+    if parts.len() != 3 {
+        return Err(format!("'{text}' is not X,Y,Z (three lengths in metres)", text = quoted(text)));
+    }
+    let values = parts.iter().map(|p| positive_f32(p)).collect::<Result<Vec<_>, _>>()?;
+    let [x, y, z] = [0, 1, 2].map(|i| f64::from(values[i]));
+    Ok(crate::scene::heightmap::TerrainScale { x, y, z })
+}
+
 /// The fastest `timing --fly`: a frame's step stays well inside a block field's cells.
 pub const MAX_FLY_SPEED: f32 = 1000.0;
 

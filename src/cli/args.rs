@@ -112,6 +112,15 @@ pub(crate) struct SceneArgs {
     /// of metres long, up to about ±50 m).
     #[arg(long, value_enum)]
     pub(crate) relief: Option<ReliefArg>,
+    /// The ground from a greyscale PNG (8 or 16 bits): black 0 m, white the --terrain-scale's Y
+    /// up; stretched over a --field SIZE's square, repeated mirrored under an unbounded field,
+    /// under stored blades over its centre.
+    #[arg(long, value_name = "PATH.png")]
+    pub(crate) heightmap: Option<PathBuf>,
+    /// The --heightmap's extent in x and z and the height of white above black, in metres
+    /// (default 1000,50,1000; under a --field SIZE, X and Z are SIZE).
+    #[arg(long, value_name = "X,Y,Z", value_parser = values::terrain_scale)]
+    pub(crate) terrain_scale: Option<crate::scene::heightmap::TerrainScale>,
     /// Fog density per metre (default 0.012; 0: no fog): a far view for tests and benchmarks.
     #[arg(long, value_name = "DENSITY", value_parser = values::fog, allow_hyphen_values = true)]
     pub(crate) fog: Option<f32>,
@@ -164,6 +173,7 @@ impl SceneArgs {
                 Some(ReliefArg::Gentle) | None => crate::scene::field::ReliefKind::Gentle,
             },
             fog: self.fog.unwrap_or(crate::render::frame::look::FOG_DENSITY),
+            heightmap: self.heightmap.clone().map(|path| (path, self.terrain_scale)),
             field: self.field.map(|size| crate::scene::field::FieldSpec {
                 size: size.0,
                 density: self.density.unwrap_or(crate::scene::blades::DENSITY_PER_M2),

@@ -118,11 +118,14 @@ pub fn fill_uniforms(
     blade_range: f32,
     verdicts: u32,
 ) {
-    uniforms.relief_waves = field.relief.waves;
-    uniforms.relief_phases = field.relief.phases(origin.world);
+    if let Some(relief) = field.ground.relief() {
+        // The relief's fill (`relief_fill.comp`) and its cells' bounds read its waves.
+        uniforms.relief_waves = relief.waves;
+        uniforms.relief_phases = relief.phases(origin.world);
+    }
     let cells = field.spec.cells().unwrap_or(0) as i32;
     uniforms.field_cells = IVec4::new(origin.cell.x, origin.cell.y, cells, 0);
-    uniforms.field = Vec4::new(BLOCK_SIZE, field.relief.slope_bound(), grid.origin, grid.origin);
+    uniforms.field = Vec4::new(BLOCK_SIZE, field.ground.slope_bound(), grid.origin, grid.origin);
     uniforms.terrain = Vec4::new(0.0, grid.cluster_size, 0.0, 0.0);
     uniforms.cull_tiles = glam::UVec4::new(verdicts, ring_slots(blade_range), 0, 0);
 }

@@ -10,7 +10,7 @@
 //! (−z, run, −w). A level is a window of `cells`² cells at its step; its vertices sit in the slots
 //! `camera_grid::slot` gives from the window's toroidal base.
 //!
-//! Two sources today:
+//! Three sources today:
 //! - [`StoredGround`]: a stored field's terrain (`scene::Terrain`), its 0.5 m lattice as one level
 //!   uploaded with the scene; its texels hold the stored heights and the central differences the
 //!   terrain was always lit with, over a run of two cells, so the pictures are the ones before the
@@ -18,9 +18,13 @@
 //! - [`ReliefGround`]: a block field's relief (`scene::field::Relief`) in nested levels around the
 //!   camera out to the view distance (`ground_clipmap::Clipmap`), filled on the GPU as the camera
 //!   moves by `passes::ground_fill` running the source's [`GroundFill`] (`relief_fill.comp`).
+//! - [`HeightmapGround`]: a block field on a heightmap (`scene::heightmap`, issue #35): the
+//!   relief's clipmap, filled from the map's texels (`heightmap_fill.comp`), which its fill reads
+//!   from a buffer of its own (`GroundSource::buffers`, 2 bytes a texel). A stored field on a
+//!   heightmap is a `StoredGround` whose terrain sampled the map.
 //!
-//! A new source (a heightmap, issue #35) is an implementation of [`GroundSource`], with a
-//! [`GroundFill`] and its fill shader when the camera's moves fill it, and its arm in [`source`].
+//! A new source is an implementation of [`GroundSource`], with a [`GroundFill`] and its fill
+//! shader when the camera's moves fill it, and its arm in [`source`].
 
 use std::sync::atomic::AtomicU64;
 use std::sync::Arc;
@@ -33,7 +37,8 @@ use crate::render::ground_clipmap::{self, Clipmap};
 use crate::render::shaders;
 use crate::render::terrain_chunks;
 use crate::render::uniforms::FrameUniforms;
-use crate::scene::{field, Scene, Terrain};
+use crate::scene::heightmap::Heightmap;
+use crate::scene::{field, FieldGround, Scene, Terrain};
 use crate::vk::profile::Shader;
 use crate::vk::{Buffer, Device, TexelView};
 
@@ -58,6 +63,11 @@ pub trait GroundSource: Send + Sync {
     fn fill_uniforms(&self, uniforms: &mut FrameUniforms, cell: IVec2, distances: (f32, f32));
     /// How the camera's moves fill it on the GPU; `None` when it is uploaded once.
     fn fill(&self) -> Option<Box<dyn GroundFill>>;
+    /// Read-only buffers its fill shader reads in its own set (`SET_PASS`), by the names it
+    /// declares them with, uploaded with the scene (`GroundGpu::extra`): a heightmap's texels.
+    fn buffers(&self) -> Vec<(&'static str, Vec<u32>)> {
+        Vec::new()
+    }
 }
 
 /// A source's fill on the GPU (`passes::ground_fill`): the shader that writes the texels of the
@@ -91,6 +101,8 @@ pub struct GroundGpu {
     /// Terrain triangles the terrain pass drew in the last frame it recorded (the chunks in view;
     /// a level's triangles before the first).
     pub drawn: Arc<AtomicU64>,
+    /// The source's buffers its fill reads (`GroundSource::buffers`), by name.
+    pub extra: Vec<(&'static str, Buffer)>,
 }
 
 impl GroundGpu {
@@ -104,14 +116,18 @@ impl GroundGpu {
             self.texel_view.destroy(device);
             self.texels.destroy(device);
             self.indices.destroy(device);
+            for (_, buffer) in self.extra {
+                buffer.destroy(device);
+            }
         }
     }
 }
 
 /// The ground source of `scene`: its relief for a block field, its stored terrain otherwise.
 pub fn source(scene: &Scene) -> Box<dyn GroundSource> {
-    match &scene.field {
-        Some(field) => Box::new(ReliefGround { relief: field.relief.clone() }),
+    match scene.field.as_ref().map(|field| &field.ground) {
+        Some(FieldGround::Relief(relief)) => Box::new(ReliefGround { relief: relief.clone() }),
+        Some(FieldGround::Heightmap(map)) => Box::new(HeightmapGround { map: Arc::clone(map) }),
         None => Box::new(StoredGround { terrain: scene.terrain.clone() }),
     }
 }
@@ -220,13 +236,8 @@ impl GroundSource for ReliefGround {
         None
     }
 
-    fn fill_uniforms(&self, uniforms: &mut FrameUniforms, cell: IVec2, (view_distance, blade_range): (f32, f32)) {
-        let clipmap = Clipmap::for_view(view_distance, blade_range);
-        let (levels, windows) = clipmap.uniforms(cell);
-        // The relief's texels give its slope: the rise over 1 m.
-        uniforms.ground_levels = levels.map(|l| Vec4::new(l.x, l.y, l.z, 1.0));
-        uniforms.ground_windows = windows;
-        uniforms.ground = UVec4::new(ground_clipmap::CELLS, 0, clipmap.levels, 0);
+    fn fill_uniforms(&self, uniforms: &mut FrameUniforms, cell: IVec2, distances: (f32, f32)) {
+        clipmap_uniforms(uniforms, cell, distances);
         // Taken mod the period in half-metres, so the fill's products fit 32 bits unsigned.
         let residue = |c: i32| c.rem_euclid(ground_clipmap::PERIOD_HALF_METRES as i32);
         uniforms.relief_cycles = std::array::from_fn(|i| {
@@ -236,23 +247,37 @@ impl GroundSource for ReliefGround {
     }
 
     fn fill(&self) -> Option<Box<dyn GroundFill>> {
-        Some(Box::new(ReliefFill))
+        Some(Box::new(ClipmapFill { shader: shaders::RELIEF_FILL_COMP }))
     }
 }
 
-/// The relief's fill (`shaders/terrain/relief_fill.comp`): its clipmap is read back from the
-/// frame's uniforms, level 0's step and the levels.
-struct ReliefFill;
+/// A block field's clipmap for O's cell `cell` and the (view distance, blade range), as the
+/// relief and the heightmap write it into the frame's uniforms: each texel's rise is its slope,
+/// over a run of 1 m.
+fn clipmap_uniforms(uniforms: &mut FrameUniforms, cell: IVec2, (view_distance, blade_range): (f32, f32)) {
+    let clipmap = Clipmap::for_view(view_distance, blade_range);
+    let (levels, windows) = clipmap.uniforms(cell);
+    uniforms.ground_levels = levels.map(|l| Vec4::new(l.x, l.y, l.z, 1.0));
+    uniforms.ground_windows = windows;
+    uniforms.ground = UVec4::new(ground_clipmap::CELLS, 0, clipmap.levels, 0);
+}
 
-impl ReliefFill {
+/// The fill of a block field's clipmap by `shader` (the relief's `relief_fill.comp`, the
+/// heightmap's `heightmap_fill.comp`): its clipmap is read back from the frame's uniforms, level
+/// 0's step and the levels, and the relief's waves are what else its texels depend on.
+struct ClipmapFill {
+    shader: Shader,
+}
+
+impl ClipmapFill {
     fn clipmap(uniforms: &FrameUniforms) -> Clipmap {
         Clipmap { step: uniforms.ground_levels[0].z, levels: uniforms.ground.z.max(1) }
     }
 }
 
-impl GroundFill for ReliefFill {
+impl GroundFill for ClipmapFill {
     fn shader(&self) -> Shader {
-        shaders::RELIEF_FILL_COMP
+        self.shader
     }
 
     fn shape(&self, uniforms: &FrameUniforms) -> GridShape {
@@ -270,6 +295,68 @@ impl GroundFill for ReliefFill {
         let cell = IVec2::new(uniforms.field_cells.x, uniforms.field_cells.y);
         Self::clipmap(uniforms).windows(cell).into_iter().map(ground_clipmap::grid_window).collect()
     }
+}
+
+/// A block field on a heightmap (`scene::heightmap`): the relief's clipmap, filled from the map's
+/// texels (`shaders/terrain/heightmap_fill.comp`), which live on the GPU at 2 bytes each
+/// (`GroundMap`: a header, then two texels a word).
+pub struct HeightmapGround {
+    /// The map.
+    pub map: Arc<Heightmap>,
+}
+
+/// Words of `GroundMap`'s header: width, height, the extent in x and z and the height of white
+/// (f32 bits), whether the map repeats mirrored (1) or is clamped past its edges (0).
+pub const MAP_HEADER_WORDS: usize = 8;
+
+impl GroundSource for HeightmapGround {
+    fn cells(&self) -> u32 {
+        ground_clipmap::CELLS
+    }
+
+    fn levels(&self, (view_distance, blade_range): (f32, f32)) -> u32 {
+        Clipmap::for_view(view_distance, blade_range).levels
+    }
+
+    fn chunk_cells(&self) -> u32 {
+        terrain_chunks::GROUND_CHUNK_CELLS
+    }
+
+    fn texel_count(&self) -> u64 {
+        ReliefGround::clipmap_texels()
+    }
+
+    fn height_range(&self) -> (f32, f32) {
+        (0.0, self.map.scale.y as f32)
+    }
+
+    fn texels(&self) -> Option<Vec<[f32; 4]>> {
+        None
+    }
+
+    fn fill_uniforms(&self, uniforms: &mut FrameUniforms, cell: IVec2, distances: (f32, f32)) {
+        clipmap_uniforms(uniforms, cell, distances);
+    }
+
+    fn fill(&self) -> Option<Box<dyn GroundFill>> {
+        Some(Box::new(ClipmapFill { shader: shaders::HEIGHTMAP_FILL_COMP }))
+    }
+
+    fn buffers(&self) -> Vec<(&'static str, Vec<u32>)> {
+        vec![("GroundMap", map_words(&self.map))]
+    }
+}
+
+/// `GroundMap`'s words for `map` (`MAP_HEADER_WORDS`, then its texels two a word, the first in
+/// the low half).
+pub fn map_words(map: &Heightmap) -> Vec<u32> {
+    let s = map.scale;
+    let header = [map.width, map.height, (s.x as f32).to_bits(), (s.z as f32).to_bits(), (s.y as f32).to_bits()];
+    let mut words = Vec::with_capacity(MAP_HEADER_WORDS + map.texels.len().div_ceil(2));
+    words.extend_from_slice(&header);
+    words.extend([u32::from(map.mirrored), 0, 0]);
+    words.extend(map.texels.chunks(2).map(|t| u32::from(t[0]) | (u32::from(*t.get(1).unwrap_or(&0)) << 16)));
+    words
 }
 
 #[cfg(test)]

@@ -151,7 +151,7 @@ pub fn terrain_step(distance: f32) -> f32 {
 impl Clipmap {
     /// Where world point `p` (x, z) lies for `windows` (`Clipmap::windows`): the finest level
     /// whose window holds it (its edge included) and its place there in that level's cells; past
-    /// the coarsest window, the coarsest. `ground_level_at` of `shaders/common/field.glsl`.
+    /// the coarsest window, the coarsest. `ground_level_at` of `shaders/common/ground.glsl`.
     pub fn level_at(&self, windows: &[I64Vec2], p: DVec2) -> (u32, DVec2) {
         let at = |l: u32| (p / f64::from(self.step(l)) - windows[l as usize].as_dvec2(), l);
         let n = f64::from(CELLS);
@@ -184,6 +184,12 @@ impl Clipmap {
     /// draws it, morphed as `ground_vertex` morphs them, split as terrain.vert splits the cell.
     /// The CPU mirror of the drawn surface.
     pub fn drawn_height(&self, relief: &field::Relief, cell: IVec2, p: DVec2) -> f64 {
+        self.drawn_height_of(&|at| relief_at_half_metres(relief, at), cell, p)
+    }
+
+    /// `drawn_height` of any ground given by its height at a world vertex in half-metres on the
+    /// world's period (`relief_at_half_metres`; a heightmap's, `heightmap_fill.comp`'s).
+    pub fn drawn_height_of(&self, ground: &dyn Fn(I64Vec2) -> f64, cell: IVec2, p: DVec2) -> f64 {
         let windows = self.windows(cell);
         let p = p - (cell - period_cell(cell)).as_dvec2() * f64::from(BLOCK_SIZE);
         let (level, g) = self.level_at(&windows, p);
@@ -191,7 +197,8 @@ impl Clipmap {
         let first = windows[level as usize];
         let vertex = |v: IVec2| {
             let v = v.clamp(IVec2::ZERO, IVec2::splat(CELLS as i32));
-            let at = |v: IVec2| relief_at_half_metres(relief, (first + v.as_i64vec2()) * step_hm);
+            let at =
+                |v: IVec2| ground(((first + v.as_i64vec2()) * step_hm).rem_euclid(I64Vec2::splat(PERIOD_HALF_METRES)));
             let odd = IVec2::new(v.x & 1, v.y & 1);
             let h = at(v);
             let k = f64::from(self.morph(level, v.as_uvec2()));
@@ -345,11 +352,15 @@ mod tests {
                 let spread = f64::from(cell_spread(slope, clipmap.drawn_step(&windows, centre)));
                 levels.insert(clipmap.level_at(&windows, centre).0);
                 let mid = relief.height(centre.x, centre.y);
+                // The cull's reference: the drawn ground at the centre, within twice the spread.
+                let drawn_mid = clipmap.drawn_height(&relief, o, centre);
                 for i in 0..=8 {
                     for j in 0..=8 {
                         let p = corner + DVec2::new(f64::from(i), f64::from(j)) * f64::from(BLOCK_SIZE) / 8.0;
-                        let off = (clipmap.drawn_height(&relief, o, p) - mid).abs();
+                        let drawn = clipmap.drawn_height(&relief, o, p);
+                        let off = (drawn - mid).abs();
                         assert!(off <= spread, "{p}: {off} past the spread {spread}");
+                        assert!((drawn - drawn_mid).abs() <= 2.0 * spread, "{p}: past twice the spread {spread}");
                         widest = widest.max(off / spread);
                     }
                 }

@@ -218,6 +218,7 @@ const PYRAMID_BYTES: u64 = 4 * gpu_constants::PYRAMID_FLOATS as u64;
 struct Partial {
     blades: Option<Buffer>,
     ground_texels: Option<Buffer>,
+    ground_extra: Vec<(&'static str, Buffer)>,
     terrain_indices: Option<Buffer>,
     clusters: Option<Buffer>,
     blade_alpha: Option<Image>,
@@ -235,7 +236,8 @@ impl Destroy for Partial {
         // SAFETY: per the contract.
         unsafe {
             let scene = [self.blades, self.ground_texels, self.terrain_indices, self.clusters, self.tiles];
-            for buffer in scene.into_iter().flatten().chain(self.cull) {
+            let extra = self.ground_extra.into_iter().map(|(_, buffer)| buffer);
+            for buffer in scene.into_iter().flatten().chain(self.cull).chain(extra) {
                 buffer.destroy(device);
             }
             if let Some(image) = self.blade_alpha {
@@ -294,6 +296,7 @@ impl SceneGpu {
             texel_view: partial.ground_view.take().expect("created"),
             indices: partial.terrain_indices.take().expect("uploaded"),
             drawn: Arc::new(AtomicU64::new(2 * u64::from(source.cells()).pow(2))),
+            extra: std::mem::take(&mut partial.ground_extra),
             source,
         };
         Ok(Self {
@@ -343,15 +346,7 @@ impl SceneGpu {
         partial.blades = Some(batch.buffer("blades", &scene.blades, texel_usage, device.profile.fetches())?);
         let blades = partial.blades.as_ref().expect("uploaded");
         partial.blade_texels = Some(TexelView::new(device, blades, vk::Format::R32G32B32A32_UINT, "blade texels")?);
-        // The ground's clipmap (read back by `Renderer::read_ground`): a stored terrain's texels
-        // uploaded, a relief's written by its fill pass.
-        let ground_usage = storage | vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC;
-        partial.ground_texels = Some(match ground.texels() {
-            Some(texels) => batch.buffer("ground texels", &texels, ground_usage, device.profile.fetches())?,
-            None => {
-                Buffer::new(device, &BufferDesc::gpu_only("ground texels", 16 * ground.texel_count(), ground_usage))?
-            }
-        });
+        Self::upload_ground(device, &mut batch, ground, partial)?;
         let texels = partial.ground_texels.as_ref().expect("created");
         partial.ground_view =
             Some(TexelView::new(device, texels, vk::Format::R32G32B32A32_SFLOAT, "ground texel view")?);
@@ -396,6 +391,39 @@ impl SceneGpu {
         partial.pyramid_texels = Some(TexelView::new(device, pyramid, vk::Format::R32_SFLOAT, "depth pyramid texels")?);
         let sampler = crate::vk::image::clamped_sampler(device, vk::Filter::LINEAR, "blade alpha sampler")?;
         Ok(sampler)
+    }
+
+    /// The ground's clipmap (read back by `Renderer::read_ground`): a stored terrain's texels
+    /// uploaded, a filled source's made for its fill pass; and the buffers its fill reads (a
+    /// heightmap's texels), refused past one storage binding's range.
+    fn upload_ground(
+        device: &Device,
+        batch: &mut UploadBatch,
+        ground: &dyn GroundSource,
+        partial: &mut Partial,
+    ) -> Result<()> {
+        let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
+        let ground_usage = storage | vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC;
+        partial.ground_texels = Some(match ground.texels() {
+            Some(texels) => batch.buffer("ground texels", &texels, ground_usage, device.profile.fetches())?,
+            None => {
+                Buffer::new(device, &BufferDesc::gpu_only("ground texels", 16 * ground.texel_count(), ground_usage))?
+            }
+        });
+        for (name, words) in ground.buffers() {
+            let (bytes, range) = (4 * words.len() as u64, u64::from(device.limits().max_storage_buffer_range));
+            if bytes > range {
+                return Err(crate::error::Error::bad_input(format!(
+                    "the ground's {name} needs {} MiB in one storage buffer; {} binds at most {} MiB (a smaller --heightmap)",
+                    bytes >> 20,
+                    device.info.name,
+                    range >> 20
+                )));
+            }
+            let buffer = batch.buffer(name, &words, storage, &[Access::ComputeShaderRead])?;
+            partial.ground_extra.push((name, buffer));
+        }
+        Ok(())
     }
 
     /// Point `set` (of `layout`, `SET_SCENE`, reflected) at the scene's resources and at `frame`'s

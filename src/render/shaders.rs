@@ -56,6 +56,8 @@ pub const TERRAIN_FRAG: Shader = spirv_shader!("terrain/terrain.frag");
 /// A block field's ground clipmap: the relief's height, the next level's and the slope at each
 /// vertex that enters a level's window (`render::ground::ReliefGround`).
 pub const RELIEF_FILL_COMP: Shader = spirv_shader!("terrain/relief_fill.comp");
+/// The same from a heightmap's texels (`render::ground::HeightmapGround`).
+pub const HEIGHTMAP_FILL_COMP: Shader = spirv_shader!("terrain/heightmap_fill.comp");
 /// Floor reference: transform only.
 pub const FLOOR_VERT: Shader = spirv_shader!("debug/floor.vert");
 /// Floor reference: flat colour.

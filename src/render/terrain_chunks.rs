@@ -14,7 +14,6 @@
 use glam::{Mat4, Vec3, Vec4};
 
 use crate::render::gpu_constants as gpu;
-use crate::scene::Scene;
 
 /// Cells per side of a stored terrain's chunk (the last row and column of chunks may be narrower).
 pub const CHUNK_CELLS: u32 = 16;
@@ -78,21 +77,6 @@ pub fn chunked_indices(cells: u32, chunk: u32) -> Vec<u32> {
         }
     }
     indices
-}
-
-/// The lowest and highest height of `scene`'s terrain: the stored heights, or ± a block field's
-/// relief bound (`Relief::height_bound`).
-pub fn height_range(scene: &Scene) -> (f32, f32) {
-    match &scene.field {
-        Some(field) => {
-            let bound = field.relief.height_bound();
-            (-bound, bound)
-        }
-        None => {
-            let heights = &scene.terrain.heights;
-            heights.iter().fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), &h| (lo.min(h), hi.max(h)))
-        }
-    }
 }
 
 /// Where the grid lies: vertex (x, z) at `offset + (x, z) · step`, heights within `heights`.

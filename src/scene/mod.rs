@@ -6,6 +6,7 @@ pub mod blades;
 pub mod camera;
 pub mod clusters;
 pub mod field;
+pub mod heightmap;
 pub mod rng;
 pub mod terrain;
 pub mod tiles;
@@ -31,13 +32,56 @@ pub struct Scene {
     pub field: Option<Field>,
 }
 
-/// A block field's size and density and the relief under it.
+/// A block field's size and density and the ground under it.
 #[derive(Clone, Debug)]
 pub struct Field {
     /// Size and density.
     pub spec: field::FieldSpec,
-    /// The relief, evaluated anywhere.
-    pub relief: field::Relief,
+    /// The ground, evaluated anywhere.
+    pub ground: FieldGround,
+}
+
+/// What a block field stands on.
+#[derive(Clone, Debug)]
+pub enum FieldGround {
+    /// The procedural relief (`--relief`).
+    Relief(field::Relief),
+    /// A heightmap (`--heightmap`).
+    Heightmap(std::sync::Arc<heightmap::Heightmap>),
+}
+
+impl FieldGround {
+    /// Height at world (x, z), in f64.
+    pub fn height(&self, x: f64, z: f64) -> f64 {
+        match self {
+            FieldGround::Relief(relief) => relief.height(x, z),
+            FieldGround::Heightmap(map) => map.height_at(x, z),
+        }
+    }
+
+    /// The lowest and highest height the ground can reach.
+    pub fn height_range(&self) -> (f32, f32) {
+        match self {
+            FieldGround::Relief(relief) => (-relief.height_bound(), relief.height_bound()),
+            FieldGround::Heightmap(map) => (0.0, map.scale.y as f32),
+        }
+    }
+
+    /// The steepest slope the ground can have: bounds a cell's heights.
+    pub fn slope_bound(&self) -> f32 {
+        match self {
+            FieldGround::Relief(relief) => relief.slope_bound(),
+            FieldGround::Heightmap(map) => map.slope_bound() as f32,
+        }
+    }
+
+    /// The relief, when the ground is one.
+    pub fn relief(&self) -> Option<&field::Relief> {
+        match self {
+            FieldGround::Relief(relief) => Some(relief),
+            FieldGround::Heightmap(_) => None,
+        }
+    }
 }
 
 impl Scene {
@@ -66,14 +110,31 @@ impl Scene {
             blades,
             tile_grid,
             tiles,
-            field: Some(Field { spec, relief: field::Relief::of_kind(relief, seed) }),
+            field: Some(Field { spec, ground: FieldGround::Relief(field::Relief::of_kind(relief, seed)) }),
         }
+    }
+
+    /// A block field of `spec` from `seed` on the heightmap `map` (its blades as `blocks_on`'s).
+    pub fn blocks_on_map(spec: field::FieldSpec, map: std::sync::Arc<heightmap::Heightmap>, seed: u64) -> Self {
+        let mut scene = Self::blocks(spec, seed);
+        scene.field = Some(Field { spec, ground: FieldGround::Heightmap(map) });
+        scene
+    }
+
+    /// `generate`'s field of `blade_count` blades on the heightmap `map`, over its centre: the
+    /// stored terrain samples the map (`Terrain::from_heightmap`) and the blades stand on it.
+    pub fn generate_on_map(blade_count: u32, map: &heightmap::Heightmap, seed: u64) -> Self {
+        let terrain = Terrain::from_heightmap(blades::field_size(blade_count), map);
+        let mut blades = blades::scatter(&terrain, blade_count, seed);
+        let tile_grid = tiles::TileGrid::new(terrain.size);
+        let tiles = tiles::arrange(&tile_grid, &mut blades);
+        Self { terrain, blades, tile_grid, tiles, field: None }
     }
 
     /// The ground's height at world (x, z).
     pub fn ground(&self, x: f32, z: f32) -> f32 {
         match &self.field {
-            Some(field) => field.relief.height(f64::from(x), f64::from(z)) as f32,
+            Some(field) => field.ground.height(f64::from(x), f64::from(z)) as f32,
             None => self.terrain.height_at(x, z),
         }
     }

@@ -37,6 +37,20 @@ impl Terrain {
         Self { size, cells, heights }
     }
 
+    /// The height field for a field of side `size` metres on the heightmap `map` (over its
+    /// centre, sampled at the grid's vertices in f64).
+    pub fn from_heightmap(size: f32, map: &crate::scene::heightmap::Heightmap) -> Self {
+        let cells = Self::cells_for(size);
+        let n = cells + 1;
+        let step = f64::from(size) / f64::from(cells);
+        let origin = -0.5 * f64::from(size);
+        let heights = (0..n)
+            .flat_map(|z| (0..n).map(move |x| (x, z)))
+            .map(|(x, z)| map.height_at(origin + f64::from(x) * step, origin + f64::from(z) * step) as f32)
+            .collect();
+        Self { size, cells, heights }
+    }
+
     /// Cells per side for a field of side `size` metres.
     pub fn cells_for(size: f32) -> u32 {
         ((size / CELL_SIZE).ceil() as u32).clamp(1, MAX_CELLS)

@@ -179,7 +179,7 @@ impl Viewer {
             (o.size, o.msaa),
             crate::scene::Terrain::cells_for(crate::scene::blades::field_size(o.stored_blades())),
         )?;
-        let scene = o.scene();
+        let scene = o.scene()?;
         let camera = scene.camera(o.camera);
         // The options' settings, into the swapchain's format; statistics queries for the
         // overlay's timing panel (none with --no-ui, for measurements).

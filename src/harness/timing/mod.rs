@@ -295,7 +295,7 @@ pub fn run(
         render.floor,
         (render.culling.enabled, render.msaa),
     )?;
-    let scene = render.scene();
+    let scene = render.scene()?;
     const IN_FLIGHT: [usize; 3] = [1, 2, 3];
     let total = IN_FLIGHT.len() as u64 * u64::from(options.warmup + render.frames);
     let mut frames = Progress::new(total, &mut progress);

@@ -26,16 +26,22 @@ use crate::error::{Error, Result};
 use crate::render::camera_grid::{self, CameraGrid, Scroll};
 use crate::render::graph::{Declaration, Pass, PassContext};
 use crate::render::ground::GroundFill;
-use crate::render::recording;
+use crate::render::recording::{self, PassSet, PassSetDesc};
 use crate::render::scene_gpu::SceneGpu;
 use crate::render::specialization::Specialization;
 use crate::render::uniforms::FrameUniforms;
-use crate::vk::{pipeline, Access, Device, Guard};
+use crate::vk::descriptor::{Resource, SetLayout};
+use crate::vk::{pipeline, Access, Destroy, Device, Guard};
 
-/// The compute pipeline, its layout (set 0 and the fill's push constants) and the grid it fills.
+/// The compute pipeline, its layout (set 0 and the fill's push constants, and the source's own
+/// set when its fill reads buffers of its own) and the grid it fills.
 pub struct GroundFillPass {
     pipeline: vk::Pipeline,
     layout: vk::PipelineLayout,
+    /// The source's own set (`GroundSource::buffers`, `SET_PASS`), if it has buffers.
+    own: Option<PassSet>,
+    /// Those buffers, read each fill.
+    reads: Vec<vk::Buffer>,
     buffer: vk::Buffer,
     fill: Box<dyn GroundFill>,
     /// The windows the buffer holds.
@@ -47,12 +53,12 @@ pub struct GroundFillPass {
 }
 
 impl GroundFillPass {
-    /// Build the pipeline of the scene's ground fill on a layout of its own (set 0 of
-    /// `set_layout` and the fill's push constants); `None` for a ground uploaded once (a stored
-    /// terrain).
+    /// Build the pipeline of the scene's ground fill on a layout of its own (set 0 of `sets`,
+    /// the fill's push constants, and with the source's buffers its own set after `sets`, one per
+    /// frame in flight of `frames`); `None` for a ground uploaded once (a stored terrain).
     pub fn new(
         device: &Device,
-        set_layout: vk::DescriptorSetLayout,
+        (sets, frames): ([&SetLayout; 2], usize),
         constants: &Specialization,
         scene: &SceneGpu,
     ) -> Result<Option<Self>> {
@@ -64,11 +70,30 @@ impl GroundFillPass {
         zeroed.ground_levels[0].z = 1.0;
         let grid = CameraGrid::new(fill.shape(&zeroed)).map_err(Error::Internal)?;
         let range = camera_grid::push_constant_range();
-        let layout = Guard::new(device, pipeline::layout(device, "ground fill layout", &[set_layout], &[range])?);
         let spirv = fill.shader().code(device.profile);
-        let pipeline = pipeline::compute(device, "ground fill", spirv, *layout, &constants.named())?;
+        let extra = &scene.ground.extra;
+        // The source's buffers in its own set, by the names its fill shader declares.
+        let own = match extra.is_empty() {
+            true => None,
+            false => {
+                let shaders = [(fill.shader().path, spirv)];
+                let desc =
+                    PassSetDesc { name: "ground fill", shaders: &shaders, before: &sets, push: &[range], frames };
+                let named = |_| extra.iter().map(|(name, b)| (*name, Resource::Buffer(b.descriptor()))).collect();
+                Some(Guard::new(device, PassSet::new(device, &desc, named)?))
+            }
+        };
+        // With its own set, the set's pipeline layout (destroyed with it); else one of its own.
+        let plain = match &own {
+            Some(_) => None,
+            None => Some(Guard::new(device, pipeline::layout(device, "ground fill layout", &[sets[0].raw], &[range])?)),
+        };
+        let layout = own.as_ref().map_or_else(|| **plain.as_ref().expect("made"), |set| set.layout);
+        let pipeline = pipeline::compute(device, "ground fill", spirv, layout, &constants.named())?;
         let (grid, key, fills) = (RefCell::new(grid), RefCell::new(None), RefCell::new(Ok(Vec::new())));
-        Ok(Some(Self { pipeline, layout: layout.take(), buffer: scene.ground.texels.raw, fill, grid, key, fills }))
+        let reads = extra.iter().map(|(_, b)| b.raw).collect();
+        let (_, own, buffer) = (plain.map(Guard::take), own.map(Guard::take), scene.ground.texels.raw);
+        Ok(Some(Self { pipeline, layout, own, reads, buffer, fill, grid, key, fills }))
     }
 
     /// Move each level's window to this frame's and return the fills of the levels whose window
@@ -100,8 +125,11 @@ impl Pass for GroundFillPass {
         }
         let count = fills.as_ref().map_or(1, Vec::len);
         let write = Access::ComputeShaderWrite;
-        let declaration = (1..count.max(1))
-            .fold(Declaration::compute().buffer(self.buffer, write), |d, _| d.then().buffer(self.buffer, write));
+        let first = self.reads.iter().fold(Declaration::compute(), |d, &b| d.buffer(b, Access::ComputeShaderRead));
+        let declaration = (1..count.max(1)).fold(first.buffer(self.buffer, write), |d, _| {
+            let step = self.reads.iter().fold(d.then(), |d, &b| d.buffer(b, Access::ComputeShaderRead));
+            step.buffer(self.buffer, write)
+        });
         *self.fills.borrow_mut() = fills;
         Some(declaration)
     }
@@ -115,6 +143,9 @@ impl Pass for GroundFillPass {
         let device = ctx.device;
         let dims = self.grid.borrow().shape().dims;
         recording::bind_scene_set(device, ctx, cmd, self.layout, vk::PipelineBindPoint::COMPUTE);
+        if let Some(own) = &self.own {
+            own.bind(device, cmd, vk::PipelineBindPoint::COMPUTE, ctx.slot);
+        }
         camera_grid::record_fill(device, cmd, (self.layout, self.pipeline), scroll, dims);
         Ok(())
     }
@@ -129,8 +160,13 @@ impl Pass for GroundFillPass {
         unsafe {
             crate::vk::live::destroyed(self.pipeline);
             device.raw.destroy_pipeline(self.pipeline, None);
-            crate::vk::live::destroyed(self.layout);
-            device.raw.destroy_pipeline_layout(self.layout, None);
+            match self.own {
+                Some(own) => own.destroy(device),
+                None => {
+                    crate::vk::live::destroyed(self.layout);
+                    device.raw.destroy_pipeline_layout(self.layout, None);
+                }
+            }
         }
     }
 }

@@ -23,6 +23,7 @@ use crate::render::settings::sky_clear_color;
 use crate::render::specialization::Specialization;
 use crate::render::wind::WindSetup;
 use crate::scene::Scene;
+use crate::vk::descriptor::SetLayout;
 use crate::vk::{Access, Device, Guard, Resource};
 
 impl Renderer {
@@ -53,6 +54,9 @@ impl Renderer {
             // A ground uploaded once (a stored terrain); a filled one is first written by its pass.
             self.graph.import(Resource::Buffer(scene.ground.texels.raw), self.device.profile.fetches());
         }
+        for (_, buffer) in &scene.ground.extra {
+            self.graph.import(Resource::Buffer(buffer.raw), &[Access::ComputeShaderRead]);
+        }
         self.graph.import(Resource::Buffer(scene.ground.indices.raw), &[Access::IndexRead]);
         self.graph.import(Resource::Buffer(scene.tiles.raw), &[Access::ComputeShaderRead]);
         // The response's resources, as their uploads left them.
@@ -73,8 +77,8 @@ impl Renderer {
         }
         if settings.floor {
             let sky = self.sky();
-            let set_layout = self.layouts.scene.raw;
-            add_terrain(&mut self.graph, device, (target, set_layout), &constants, scene, sky)?;
+            let sets = ([&self.layouts.scene, &self.layouts.poses], self.ring.slots());
+            add_terrain(&mut self.graph, device, (target, sets), &constants, scene, sky)?;
             self.graph.add(FloorPass::new(device, target, &constants, &cpu_scene.blades, settings.segments)?);
         } else {
             self.add_blade_passes(target, &constants)?;
@@ -196,11 +200,11 @@ impl Renderer {
         let (before, after) = if culled { (Vec::new(), response_passes) } else { (response_passes, Vec::new()) };
         before.into_iter().for_each(|pass| self.graph.add_boxed(pass));
         let sky = self.sky();
-        let (graph, slots, set_layout) = (&mut self.graph, self.ring.slots(), self.layouts.scene.raw);
+        let (graph, slots) = (&mut self.graph, self.ring.slots());
         // The response's passes are not in the graph yet: the graph's teardown would miss them.
         let after = Guard::new(device, after);
         (|| -> Result<()> {
-            add_terrain(graph, device, (target, set_layout), constants, scene, sky)?;
+            add_terrain(graph, device, (target, (sets.before, slots)), constants, scene, sky)?;
             if culled && settings.culling.occlusion {
                 graph.add(DepthPyramidPass::new(device, scene, slots, settings.msaa.enabled())?);
             }
@@ -242,16 +246,17 @@ impl Renderer {
 }
 
 /// The terrain pass, after the ground-fill pass that a filled ground's terrain reads (together, so
-/// no path draws the clipmap unwritten). `set_layout`: set 0's, for the fill's own layout.
+/// no path draws the clipmap unwritten). `sets`: the scene's set layouts and the frames in
+/// flight, for the fill's own layout.
 fn add_terrain(
     graph: &mut Graph,
     device: &Device,
-    (target, set_layout): (PipelineTarget, vk::DescriptorSetLayout),
+    (target, sets): (PipelineTarget, ([&SetLayout; 2], usize)),
     constants: &Specialization,
     scene: &SceneGpu,
     sky: [f32; 4],
 ) -> Result<()> {
-    if let Some(fill) = GroundFillPass::new(device, set_layout, constants, scene)? {
+    if let Some(fill) = GroundFillPass::new(device, sets, constants, scene)? {
         graph.add(fill);
     }
     graph.add(TerrainPass::new(device, target, constants, scene, sky)?);

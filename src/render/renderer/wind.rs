@@ -24,7 +24,7 @@ impl Renderer {
             cpu_corners: !self.settings.culling.enabled,
             camera: camera.position.as_dvec3(),
             dt: self.time_step,
-            relief: scene.field.as_ref().map(|f| &f.relief),
+            ground: scene.field.as_ref().map(|f| &f.ground),
         };
         self.wind.update(&mut self.forces[slot], &input);
     }

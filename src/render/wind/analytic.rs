@@ -115,7 +115,7 @@ mod tests {
             cpu_corners: false,
             camera: glam::DVec3::ZERO,
             dt: 1.0 / 60.0,
-            relief: None,
+            ground: None,
         };
         let params = Params::new(&input);
         assert_eq!(params.calm[0], [0.0, 4.0, 2.0, 6.0]);

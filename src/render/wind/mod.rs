@@ -70,9 +70,9 @@ pub struct WindInput<'a> {
     pub camera: glam::DVec3,
     /// The simulation's fixed step (s): a stateful field steps by it once a frame.
     pub dt: f32,
-    /// A block field's relief, the ground a field's heights are measured from (`None`: a stored
+    /// A block field's ground, the ground a field's heights are measured from (`None`: a stored
     /// field, measured from y = 0).
-    pub relief: Option<&'a crate::scene::field::Relief>,
+    pub ground: Option<&'a crate::scene::FieldGround>,
 }
 
 /// What a wind field's passes are built with: the frames' buffers they write and read.

@@ -1,0 +1,108 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// The heightmap's fill of a block field's ground clipmap (`render::ground::HeightmapGround`,
+// `scene::heightmap`): as relief_fill.comp, the vertices that entered a level's window since the
+// last fill (`render::passes::ground_fill`), each with what depends on its world vertex alone:
+// the map's height there (bilinear between its texels, mirrored or held past its edges), the next
+// level's mesh's height there and the slope of the map's bilinear patch (its rise over 1 m).
+// The vertex is named by its place in half-metres on the world's period, so a texel is exact in
+// the world: the map is centred on the world's origin and its mirrored period divides the
+// world's (`scene::heightmap::TerrainScale::check_period`).
+#define GROUND_WRITER
+#include "common/bindings.glsl"
+#include "common/field.glsl"
+#include "common/camera_grid.glsl"
+
+layout(local_size_x = CAMERA_GRID_GROUP) in;
+
+layout(push_constant) uniform Fill {
+    CameraGridFill fill;
+};
+
+// The map (`render::ground::map_words`): `MAP_HEADER` words (width, height, extent x and z and
+// the height of white as f32 bits, mirrored), then its texels, two 16-bit texels a word.
+layout(set = SET_PASS, binding = 0, std430) readonly buffer GroundMap { uint map_words[]; };
+const uint MAP_HEADER = 8u; // render::ground::MAP_HEADER_WORDS
+
+uvec2 map_size() {
+    return uvec2(map_words[0], map_words[1]);
+}
+
+// Texel (x, z) of the map, held inside it, as a height in metres.
+float map_texel(ivec2 t) {
+    uvec2 size = map_size();
+    uvec2 c = uvec2(clamp(t, ivec2(0), ivec2(size) - 1));
+    uint i = c.y * size.x + c.x;
+    uint word = map_words[MAP_HEADER + i / 2u];
+    uint value = (i & 1u) == 0u ? word & 0xffffu : word >> 16u;
+    return float(value) / 65535.0 * uintBitsToFloat(map_words[4]);
+}
+
+// World (x or z, m, relative to the world's origin) on the map in texels along an axis of
+// `texels` over `extent` metres, and d(texel)/d(world) there (negative on a mirrored copy).
+float on_map(float world, float extent, uint texels, out float per_metre) {
+    float u = world / extent + 0.5;
+    float scale = float(texels - 1u);
+    per_metre = scale / extent;
+    if (map_words[5] != 0u) {
+        u = mod(u, 2.0);
+        if (u > 1.0) {
+            u = 2.0 - u;
+            per_metre = -per_metre;
+        }
+    } else if (u < 0.0 || u > 1.0) {
+        u = clamp(u, 0.0, 1.0);
+        per_metre = 0.0;
+    }
+    return u * scale;
+}
+
+// The map's height at world (x, z) (m, relative to the world's origin) and its slope there: the
+// bilinear patch through the texels around it, as `scene::heightmap::Heightmap::height_at`.
+float map_at(vec2 world, out vec2 slope) {
+    uvec2 size = map_size();
+    vec2 per_metre;
+    vec2 t = vec2(on_map(world.x, uintBitsToFloat(map_words[2]), size.x, per_metre.x),
+        on_map(world.y, uintBitsToFloat(map_words[3]), size.y, per_metre.y));
+    vec2 c = floor(t);
+    vec2 f = t - c;
+    ivec2 i = ivec2(c);
+    float h00 = map_texel(i), h10 = map_texel(i + ivec2(1, 0));
+    float h01 = map_texel(i + ivec2(0, 1)), h11 = map_texel(i + ivec2(1, 1));
+    float bottom = h00 + f.x * (h10 - h00);
+    float top = h01 + f.x * (h11 - h01);
+    slope = vec2(mix(h10 - h00, h11 - h01, f.y), mix(h01 - h00, h11 - h10, f.x)) * per_metre;
+    return bottom + f.y * (top - bottom);
+}
+
+// World vertex `at` (half-metres on the world's period) in metres relative to the world's
+// origin, the period's second half being the negative side.
+vec2 world_metres(uvec2 at) {
+    vec2 m = vec2(at) * 0.5;
+    float half_period = float(PERIOD_HALF_METRES) * 0.25;
+    return mix(m, m - 2.0 * half_period, greaterThanEqual(m, vec2(half_period)));
+}
+
+void main() {
+    uvec3 local = camera_grid_entered(fill, gl_GlobalInvocationID.x);
+    uint level = fill.base.w;
+    ivec4 window = frame_values.ground_windows[level];
+    uint step = uint(2.0 * ground_level_step(level)); // half-metres
+    uvec2 at = (uvec2(window.zw) + local.xz * step) % PERIOD_HALF_METRES;
+    vec2 slope;
+    float h = map_at(world_metres(at), slope);
+    // The next level's mesh at an odd vertex: the mean of the two even vertices it halves, as
+    // relief_fill.comp takes it.
+    float coarse = h;
+    uvec2 odd = local.xz & 1u;
+    if ((odd.x | odd.y) != 0u) {
+        uvec2 across = odd * step;
+        vec2 unused;
+        uvec2 before = (at + uvec2(PERIOD_HALF_METRES) - across) % PERIOD_HALF_METRES;
+        uvec2 after = (at + across) % PERIOD_HALF_METRES;
+        coarse = 0.5 * (map_at(world_metres(before), unused) + map_at(world_metres(after), unused));
+    }
+    uvec3 dims = fill.dims.xyz;
+    uint slot = level * dims.x * dims.z + camera_grid_slot(local, fill.base.xyz, dims);
+    ground_grid[slot] = vec4(h, coarse, slope);
+}
