@@ -56,6 +56,7 @@ soak: build
 MEADOW ?= ./target/release/meadow
 WIND_FEATURES = --blades 60000 --size 960x540 --camera 0,5,7,0,-42 --time 1.5 --calm=-5,-4,-1,0 \
 	--source 3,-1,0.25,2 --collider sphere:0,0.2,2.5,0.45 --attenuation blade --cluster-size 0.5
+LANDSCAPE = --field infinite --camera -15,22,60,0,-18 --size 960x540 --fog 0.002
 pictures: build
 	$(MEADOW) render --blades 1000000 --segments 4 --validation --out docs/meadow-1m.png
 	$(MEADOW) render --field infinite --out docs/prairie-field.png
@@ -66,6 +67,9 @@ pictures: build
 		--source -2,-3,0.6,0.8 --time 6 --camera 0,10,6.5,0,-62 --size 960x540 --out docs/wind-view-fluid.png
 	$(MEADOW) render --field infinite --wind-field perlin --debug-view wind --camera 0,30,30,0,-50 --time 2 \
 		--size 960x540 --fog 0.004 --out docs/wind-view-perlin.png
+	$(MEADOW) render $(LANDSCAPE) --out docs/landscape-procedural.png
+	$(MEADOW) render $(LANDSCAPE) --heightmap assets/landscape/heightmap.png --cover assets/landscape/cover.png \
+		--terrain-scale 200,12,200 --out docs/landscape-maps.png
 	xvfb-run -a -s "-screen 0 1280x720x24" $(MEADOW) view --size 960x540 --script scripts/viewer/showcase.txt
 
 # The benchmark results and charts in docs/ (docs/benchmarks.md, docs/gpu-timing.md): over half an

@@ -8,6 +8,7 @@ mod host_heap;
 pub mod input;
 pub mod interrupt;
 mod keyframe_report;
+pub mod landscape;
 mod limits;
 pub mod output;
 pub mod values;
@@ -143,8 +144,9 @@ pub struct RenderOptions {
     pub field: Option<crate::scene::field::FieldSpec>,
     /// The relief under a block field.
     pub relief: crate::scene::field::ReliefKind,
-    /// `--heightmap` and `--terrain-scale`: the ground from a map, loaded by `scene`.
-    pub heightmap: Option<(PathBuf, Option<crate::scene::heightmap::TerrainScale>)>,
+    /// `--heightmap`, `--terrain-scale`, `--cover` and `--slope-limit`: the ground and where
+    /// grass grows on it, loaded by `scene`.
+    pub landscape: landscape::Landscape,
     /// Fog density per metre.
     pub fog: f32,
     /// Draw the benchmark floor instead of the blades (`--mode floor`).
@@ -159,38 +161,22 @@ impl RenderOptions {
         self.field.map_or(self.blades, |f| f.block_blades() as u32)
     }
 
-    /// The scene of these options: stored blades, or a block field.
     /// The scene: stored blades or a block field, on the procedural ground or on the
-    /// `--heightmap`, which is loaded here (a bad map is bad input, refused in one line).
+    /// `--heightmap`, under the cover rules (`landscape`; the maps are loaded here, and a bad map
+    /// is bad input, refused in one line).
     pub fn scene(&self) -> Result<Scene> {
-        let Some((path, scale)) = &self.heightmap else {
-            return Ok(match self.field {
-                Some(spec) => Scene::blocks_on(spec, self.relief, self.seed),
-                None => Scene::generate(self.blades, self.seed),
-            });
+        let heightmap = self.landscape.heightmap(self.field)?;
+        let cover = self.landscape.cover(self.field)?;
+        let scene = match (self.field, heightmap) {
+            (Some(spec), None) => Scene::blocks_on(spec, self.relief, self.seed),
+            (None, None) => Scene::generate(self.blades, self.seed),
+            (Some(spec), Some(map)) => Scene::blocks_on_map(spec, std::sync::Arc::new(map), self.seed),
+            (None, Some(map)) => Scene::generate_on_map(self.blades, &map, self.seed),
         };
-        use crate::scene::heightmap::{Heightmap, TerrainScale, DEFAULT_SCALE};
-        let (given, scale) = (scale.is_some(), scale.unwrap_or(DEFAULT_SCALE));
-        match self.field {
-            // A bounded field: the map covers its square, held past its edges.
-            Some(spec @ crate::scene::field::FieldSpec { size: Some(size), .. }) => {
-                let size = f64::from(size);
-                if given && (scale.x != size || scale.z != size) {
-                    return Err(Error::bad_input(format!(
-                        "--terrain-scale {},{},{} with --field {size}: the map covers the field's square (give X and Z {size})",
-                        scale.x, scale.y, scale.z
-                    )));
-                }
-                let scale = TerrainScale { x: size, z: size, ..scale };
-                let map = Heightmap { mirrored: false, ..Heightmap::load(path, scale)? };
-                Ok(Scene::blocks_on_map(spec, std::sync::Arc::new(map), self.seed))
-            }
-            Some(spec) => {
-                scale.check_period()?;
-                Ok(Scene::blocks_on_map(spec, std::sync::Arc::new(Heightmap::load(path, scale)?), self.seed))
-            }
-            None => Ok(Scene::generate_on_map(self.blades, &Heightmap::load(path, scale)?, self.seed)),
-        }
+        Ok(match cover.active() {
+            true => scene.with_cover(cover, self.blades, self.seed),
+            false => scene,
+        })
     }
 
     /// Refuse more clusters than blades, for the strategies that split the blades into clusters

@@ -186,7 +186,11 @@ fn meadow_commands(line: &str) -> Vec<Vec<String>> {
                 Some(_) => words.map(String::from).collect(),
                 None => continue,
             },
-            Some("cargo") if command.iter().flatten().any(|w| w == "run") => {
+            // `cargo run --example` runs an example program, not meadow.
+            Some("cargo")
+                if command.iter().flatten().any(|w| w == "run")
+                    && !command.iter().flatten().any(|w| w == "--example") =>
+            {
                 words.skip_while(|w| *w != "--").skip(1).map(String::from).collect()
             }
             _ => continue,

@@ -74,6 +74,8 @@ const RENDER_CASES: &[Case] = &[
     ("relief", &[alt(&["--relief", "hills"])]),
     ("heightmap", &[alt(&["--heightmap", "map.png"])]),
     ("terrain_scale", &[with(&["--heightmap", "map.png"], &["--terrain-scale", "1000,20,1000"])]),
+    ("cover", &[with(&["--heightmap", "map.png"], &["--cover", "cover.png"])]),
+    ("slope_limit", &[with(&["--heightmap", "map.png"], &["--slope-limit", "3"])]),
     ("fog", &[alt(&["--fog", "0.5"])]),
     ("blades_per_instance", &[alt(&["--blades-per-instance", "4"])]),
     ("animation", &[alt(&["--animation", "sine-object"]), alt(&["--animation", "static"])]),
@@ -752,6 +754,8 @@ fn fixtures(dir: &Path) {
         .collect();
     let bytes: Vec<u8> = map.iter().flat_map(|v| v.to_ne_bytes()).collect();
     image::save_buffer(dir.join("map.png"), &bytes, 32, 32, image::ColorType::L16).expect("map");
+    // A covering map (`--cover`): bare on one diagonal, full on the other.
+    image::save_buffer(dir.join("cover.png"), &[0, 255, 255, 0], 2, 2, image::ColorType::L8).expect("cover");
     // The overlay is laid out by frame 5 (at 640x480 its timing window, with the capture button,
     // fits); the capture takes 60 frames.
     std::fs::write(dir.join("capture.txt"), "5 ui-click capture\n70 quit\n").expect("write");

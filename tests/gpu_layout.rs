@@ -151,6 +151,7 @@ fn every_frame_uniform_and_specialization_constant_reads_back_through_a_compute_
         lod_bucket: 2014,
         ground_cells: 2015,
         ground_levels: 2016,
+        ground_cover: 2017,
     };
     let input = (vk::DescriptorType::UNIFORM_BUFFER, bytemuck::bytes_of(&uniforms));
     let (result, messages) = with_device(&options(), false, |device| {
@@ -189,6 +190,7 @@ fn every_frame_uniform_and_specialization_constant_reads_back_through_a_compute_
     assert_eq!(seen("LOD_BUCKET"), spec.lod_bucket, "LOD_BUCKET");
     assert_eq!(seen("GROUND_CELLS"), spec.ground_cells, "GROUND_CELLS");
     assert_eq!(seen("GROUND_LEVELS"), spec.ground_levels, "GROUND_LEVELS");
+    assert_eq!(seen("GROUND_COVER"), spec.ground_cover, "GROUND_COVER");
     // The shaders see the constants build.rs generated for Rust.
     let shared = &words[FRAME_WORDS + specialization::COUNT..];
     let flags = gpu::FLAG_DEBUG_FORCE | gpu::FLAG_EVAL_BLADE | gpu::FLAG_CLUSTER_PUSH;

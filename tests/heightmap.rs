@@ -5,6 +5,8 @@
 //! the drawn ground, a stored field on it samples it; and bad maps and values are refused in one
 //! line, exit 2, before anything is written.
 
+#[path = "support/map_files.rs"]
+mod map_files;
 #[path = "support/roots.rs"]
 mod roots;
 mod support;
@@ -14,6 +16,7 @@ use std::sync::Arc;
 
 use ash::vk;
 use glam::{DVec2, I64Vec2, UVec2, UVec3, Vec3};
+use map_files::{ihdr, png, refused, render_cli};
 use meadow::app::{with_device, GpuOptions};
 use meadow::render::animation::{AnimationSettings, Mode};
 use meadow::render::camera_grid;
@@ -25,7 +28,7 @@ use meadow::scene::field::FieldSpec;
 use meadow::scene::heightmap::{Heightmap, TerrainScale};
 use meadow::scene::{Camera, Scene};
 use meadow::vk::DeviceSelector;
-use support::{meadow, scratch, transcript};
+use support::{scratch, transcript};
 
 const SCALE: TerrainScale = TerrainScale { x: 1000.0, y: 40.0, z: 1000.0 };
 const SIDE: u32 = 65;
@@ -192,84 +195,6 @@ fn a_block_field_on_the_map_fills_every_level_with_its_heights_and_stands_on_the
         );
         assert!(worst <= 1e-3, "a root {worst} m past its packing's step off the drawn ground");
     }
-}
-
-/// Run `meadow render` with `args` (and a device and an output) in a fresh scratch directory;
-/// returns the output and whether a picture was written.
-fn render_cli(case: &str, args: &[&str]) -> (std::process::Output, bool) {
-    let dir = scratch(&format!("heightmap-{case}"));
-    let out = dir.join("out.png");
-    let mut cmd = meadow();
-    cmd.arg("render").args(args).args(["--size", "32x32", "--device", support::DEVICE]);
-    if !args.contains(&"--field") {
-        cmd.args(["--blades", "500"]);
-    }
-    cmd.arg("--out");
-    let output = cmd.arg(&out).current_dir(&dir).output().expect("run meadow");
-    (output, out.exists())
-}
-
-/// Refused in one line, exit 2, nothing written, naming `why`.
-fn refused(case: &str, args: &[&str], why: &str) {
-    let (output, written) = render_cli(case, args);
-    let stderr = String::from_utf8_lossy(&output.stderr);
-    assert_eq!(output.status.code(), Some(2), "{case}: {}", transcript(&output));
-    assert_eq!(stderr.lines().count(), 1, "{case}: {}", transcript(&output));
-    assert!(stderr.starts_with("error: ") && stderr.contains(why), "{case}: {stderr}");
-    assert!(!stderr.contains("panicked") && !written, "{case}: {}", transcript(&output));
-}
-
-/// A PNG written chunk by chunk: `ihdr` (13 bytes), optional palette, the raw scanlines (each
-/// led by its filter byte 0) in a zlib stream of stored blocks.
-fn png(ihdr: [u8; 13], palette: Option<&[u8]>, scanlines: &[u8]) -> Vec<u8> {
-    fn crc32(bytes: &[u8]) -> u32 {
-        let mut crc = 0xffff_ffffu32;
-        for &b in bytes {
-            crc ^= u32::from(b);
-            for _ in 0..8 {
-                crc = if crc & 1 != 0 { (crc >> 1) ^ 0xedb8_8320 } else { crc >> 1 };
-            }
-        }
-        !crc
-    }
-    fn chunk(out: &mut Vec<u8>, kind: &[u8; 4], data: &[u8]) {
-        out.extend((data.len() as u32).to_be_bytes());
-        let mut body = kind.to_vec();
-        body.extend_from_slice(data);
-        out.extend_from_slice(&body);
-        out.extend(crc32(&body).to_be_bytes());
-    }
-    let mut zlib = vec![0x78, 0x01];
-    let blocks: Vec<&[u8]> = scanlines.chunks(65_535).collect();
-    for (i, block) in blocks.iter().enumerate() {
-        zlib.push(u8::from(i + 1 == blocks.len()));
-        let len = block.len() as u16;
-        zlib.extend(len.to_le_bytes());
-        zlib.extend((!len).to_le_bytes());
-        zlib.extend_from_slice(block);
-    }
-    let (mut a, mut b) = (1u32, 0u32);
-    for &byte in scanlines {
-        a = (a + u32::from(byte)) % 65_521;
-        b = (b + a) % 65_521;
-    }
-    zlib.extend(((b << 16) | a).to_be_bytes());
-    let mut out = vec![0x89, b'P', b'N', b'G', 0x0d, 0x0a, 0x1a, 0x0a];
-    chunk(&mut out, b"IHDR", &ihdr);
-    if let Some(p) = palette {
-        chunk(&mut out, b"PLTE", p);
-    }
-    chunk(&mut out, b"IDAT", &zlib);
-    chunk(&mut out, b"IEND", &[]);
-    out
-}
-
-fn ihdr(width: u32, height: u32, depth: u8, color: u8) -> [u8; 13] {
-    let mut h = [0u8; 13];
-    h[..4].copy_from_slice(&width.to_be_bytes());
-    h[4..8].copy_from_slice(&height.to_be_bytes());
-    (h[8], h[9]) = (depth, color);
-    h
 }
 
 #[test]

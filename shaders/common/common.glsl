@@ -27,7 +27,7 @@ struct FrameUniforms {
     vec4 relief_phases[RELIEF_WAVES / 2u]; // sin, cos of u_k · O + φ_k, two waves per vec4
     ivec4 field_cells;      // xy O's cell, z cells of a bounded field per side (0: unbounded), w unused
     vec4 field;             // x block edge (m), y relief slope bound, zw the force corners' origin relative to O
-    uvec4 ground;           // the ground's clipmap (`render::ground`, common/ground.glsl): x cells per side of a level, z levels, yw unused
+    uvec4 ground;           // the ground's clipmap (`render::ground`, common/ground.glsl): x cells per side of a level, z levels, y the slope limit (radians, f32 bits; 0: none), w its soft edge's width (radians, f32 bits)
     ivec4 relief_cycles[RELIEF_WAVES / 2u]; // per wave its whole periods in the world's (m, n), two waves per vector
     vec4 ground_levels[CAMERA_GRID_MAX_LEVELS]; // per clipmap level: xy its window's first vertex relative to O, z its cell edge, w the run (m) its texels' rise is over
     ivec4 ground_windows[CAMERA_GRID_MAX_LEVELS]; // per level: xy the window's toroidal base, zw the source's (the relief's: its first vertex in half-metres on the world's period)
@@ -64,6 +64,9 @@ layout(constant_id = SPEC(MODEL_SEGMENTS)) const uint MODEL_SEGMENTS = 4u;
 // distance rebuilds the pipelines.
 layout(constant_id = SPEC(GROUND_CELLS)) const uint GROUND_CELLS = 80u;
 layout(constant_id = SPEC(GROUND_LEVELS)) const uint GROUND_LEVELS = 1u;
+// Whether the ground's cover thins the grass and tints the terrain (`scene::cover`): without it
+// the cover is 1 everywhere and its reads are compiled out.
+layout(constant_id = SPEC(GROUND_COVER)) const uint GROUND_COVER = 0u;
 
 // Model level m0 below strip level `level` of a `segments`-segment strip, and how far towards
 // m0 + 1 it lies (0 when `segments` divides MODEL_SEGMENTS). The pose pass writes, and the levels

@@ -86,14 +86,22 @@ GroundLevel ground_level(uint level, uvec2 shape) {
     return l;
 }
 
-// The texel of local vertex v of level `l` (clamped to its window), from its slot in the camera
-// grid (the window's toroidal base; a stored terrain's is 0, its texels row by row).
-vec4 ground_grid_texel(GroundLevel l, ivec2 v) {
+// The slot of local vertex v of level `l` (clamped to its window) in the camera grid (the
+// window's toroidal base; a stored terrain's is 0, its texels row by row).
+int ground_slot(GroundLevel l, ivec2 v) {
     int n = int(l.cells) + 1;
     v = clamp(v, ivec2(0), ivec2(n - 1));
     uvec3 dims = uvec3(n, 1, n);
-    uint slot = l.level * uint(n * n) + camera_grid_slot(uvec3(v.x, 0, v.y), uvec3(l.base.x, 0u, l.base.y), dims);
-    return ground_texel(int(slot));
+    return int(l.level * uint(n * n) + camera_grid_slot(uvec3(v.x, 0, v.y), uvec3(l.base.x, 0u, l.base.y), dims));
+}
+
+vec4 ground_grid_texel(GroundLevel l, ivec2 v) {
+    return ground_texel(ground_slot(l, v));
+}
+
+// The ground's cover at local vertex v of level `l` (1 without cover rules: GROUND_COVER).
+float ground_vertex_cover(GroundLevel l, ivec2 v) {
+    return GROUND_COVER != 0u ? ground_cover_texel(ground_slot(l, v)) : 1.0;
 }
 
 // The drawn ground's height at local vertex v of level `l` from its texel `t`. Below the
@@ -140,6 +148,41 @@ float ground_height(vec2 p) {
     vec2 f;
     ivec2 c = ground_cell(p, l, f);
     return terrain_mesh_height(f, ground_cell_heights(l, c));
+}
+
+// The ground's cover at `p`: bilinear between its cell's vertices (`scene::cover`).
+float ground_cover(vec2 p) {
+    if (GROUND_COVER == 0u) {
+        return 1.0;
+    }
+    GroundLevel l;
+    vec2 f;
+    ivec2 c = ground_cell(p, l, f);
+    float bottom = mix(ground_vertex_cover(l, c), ground_vertex_cover(l, c + ivec2(1, 0)), f.x);
+    float top = mix(ground_vertex_cover(l, c + ivec2(0, 1)), ground_vertex_cover(l, c + ivec2(1, 1)), f.x);
+    return mix(bottom, top, f.y);
+}
+
+// The most cover over the square `lo`..`hi` (x, z, relative to O): the largest at the vertices of
+// the cells it overlaps in the level at its centre, and one vertex around them (a root near a
+// level's edge may stand on the next level's cell). A cell with none has no grass.
+float ground_cover_max(vec2 lo, vec2 hi) {
+    if (GROUND_COVER == 0u) {
+        return 1.0;
+    }
+    uvec2 shape = ground_shape();
+    vec2 g;
+    GroundLevel l = ground_level(ground_level_at(0.5 * (lo + hi), shape, g), shape);
+    ivec2 first = ivec2(floor((lo - ground_level_offset(l.level)) / l.step)) - 1;
+    ivec2 last = ivec2(ceil((hi - ground_level_offset(l.level)) / l.step)) + 1;
+    last = min(last, first + 7); // at most 8 × 8 vertices: a block over cells of half a metre
+    float most = 0.0;
+    for (int z = first.y; z <= last.y; z++) {
+        for (int x = first.x; x <= last.x; x++) {
+            most = max(most, ground_vertex_cover(l, ivec2(x, z)));
+        }
+    }
+    return most;
 }
 
 // The ground's normal at `p`: the bilinear patch's through the drawn heights of its cell

@@ -335,8 +335,20 @@ uint tile_candidates(Frustum f, BladeTile tile, vec3 normal, out bool tile_visib
     if (!tile_visible) {
         return 0u;
     }
+    // A block field's cell keeps the ranks under its cover at each root (`blade_bucket`): no
+    // more than its most cover's prefix, and none where it has none (bare ground is not visited).
+    float most = 1.0;
+    if (GROUND_COVER != 0u && (RENDER_FLAGS & FLAG_BLOCKS) != 0u) {
+        vec3 lo, hi;
+        field_cell_roots(tile, lo, hi);
+        most = ground_cover_max(lo.xz, hi.xz);
+        if (most <= 0.0) {
+            tile_visible = false;
+            return 0u;
+        }
+    }
     if (!culling(LOD_DENSITY)) {
-        return tile.count;
+        return uint(clamp(ceil(most * float(tile.count) - 0.5) + 1.0, 0.0, float(tile.count)));
     }
     // Blade r is kept when (r + 0.5) / count < keep: a prefix (one more for rounding). The bound
     // holds over the roots (the blade test measures from the root): a block field's cell gives
@@ -349,7 +361,7 @@ uint tile_candidates(Frustum f, BladeTile tile, vec3 normal, out bool tile_visib
     if ((RENDER_FLAGS & FLAG_BLOCKS) != 0u) {
         field_cell_roots(tile, lo, hi);
     }
-    float keep = density_keep_bound(normal, lo, hi, length(clamp(eye, lo, hi) - eye));
+    float keep = min(density_keep_bound(normal, lo, hi, length(clamp(eye, lo, hi) - eye)), most);
     return uint(clamp(ceil(keep * float(tile.count) - 0.5) + 1.0, 0.0, float(tile.count)));
 }
 
@@ -406,6 +418,14 @@ int blade_bucket(Frustum f, BladeInstance blade, uint rank, uint count, vec3 nor
     float d = max(length(to_eye), 1e-3);
     scale = vec2(1.0);
     failed = 0u;
+    // The ground's cover (`scene::cover`): a block field keeps the ranks under it at the root, a
+    // thinning that widens no survivor (a stored field's blades were scattered by it). Counted
+    // with the density LOD's (`STAT_DENSITY`).
+    if (GROUND_COVER != 0u && (RENDER_FLAGS & FLAG_BLOCKS) != 0u
+        && (float(rank) + 0.5) / float(count) >= ground_cover(blade.position.xz)) {
+        failed = STAT_DENSITY;
+        return -1;
+    }
     if (culling(LOD_DENSITY)) {
         float keep = density_keep(d, dot(normal, to_eye / d));
         float w = (float(rank) + 0.5) / float(count);

@@ -4,7 +4,8 @@
 // `scene::heightmap`): as relief_fill.comp, the vertices that entered a level's window since the
 // last fill (`render::passes::ground_fill`), each with what depends on its world vertex alone:
 // the map's height there (bilinear between its texels, mirrored or held past its edges), the next
-// level's mesh's height there and the slope of the map's bilinear patch (its rise over 1 m).
+// level's mesh's height there and the slope of the map's bilinear patch (its rise over 1 m), and
+// the cover there (cover_fill.glsl).
 // The vertex is named by its place in half-metres on the world's period, so a texel is exact in
 // the world: the map is centred on the world's origin and its mirrored period divides the
 // world's (`scene::heightmap::TerrainScale::check_period`).
@@ -12,6 +13,8 @@
 #include "common/bindings.glsl"
 #include "common/field.glsl"
 #include "common/camera_grid.glsl"
+#define COVER_MAP_BINDING 1
+#include "terrain/cover_fill.glsl"
 
 layout(local_size_x = CAMERA_GRID_GROUP) in;
 
@@ -38,32 +41,14 @@ float map_texel(ivec2 t) {
     return float(value) / 65535.0 * uintBitsToFloat(map_words[4]);
 }
 
-// World (x or z, m, relative to the world's origin) on the map in texels along an axis of
-// `texels` over `extent` metres, and d(texel)/d(world) there (negative on a mirrored copy).
-float on_map(float world, float extent, uint texels, out float per_metre) {
-    float u = world / extent + 0.5;
-    float scale = float(texels - 1u);
-    per_metre = scale / extent;
-    if (map_words[5] != 0u) {
-        u = mod(u, 2.0);
-        if (u > 1.0) {
-            u = 2.0 - u;
-            per_metre = -per_metre;
-        }
-    } else if (u < 0.0 || u > 1.0) {
-        u = clamp(u, 0.0, 1.0);
-        per_metre = 0.0;
-    }
-    return u * scale;
-}
-
 // The map's height at world (x, z) (m, relative to the world's origin) and its slope there: the
 // bilinear patch through the texels around it, as `scene::heightmap::Heightmap::height_at`.
 float map_at(vec2 world, out vec2 slope) {
     uvec2 size = map_size();
     vec2 per_metre;
-    vec2 t = vec2(on_map(world.x, uintBitsToFloat(map_words[2]), size.x, per_metre.x),
-        on_map(world.y, uintBitsToFloat(map_words[3]), size.y, per_metre.y));
+    bool mirrored = map_words[5] != 0u;
+    vec2 t = vec2(map_coordinate(world.x, uintBitsToFloat(map_words[2]), size.x, mirrored, per_metre.x),
+        map_coordinate(world.y, uintBitsToFloat(map_words[3]), size.y, mirrored, per_metre.y));
     vec2 c = floor(t);
     vec2 f = t - c;
     ivec2 i = ivec2(c);
@@ -75,14 +60,6 @@ float map_at(vec2 world, out vec2 slope) {
     return bottom + f.y * (top - bottom);
 }
 
-// World vertex `at` (half-metres on the world's period) in metres relative to the world's
-// origin, the period's second half being the negative side.
-vec2 world_metres(uvec2 at) {
-    vec2 m = vec2(at) * 0.5;
-    float half_period = float(PERIOD_HALF_METRES) * 0.25;
-    return mix(m, m - 2.0 * half_period, greaterThanEqual(m, vec2(half_period)));
-}
-
 void main() {
     uvec3 local = camera_grid_entered(fill, gl_GlobalInvocationID.x);
     uint level = fill.base.w;
@@ -90,7 +67,8 @@ void main() {
     uint step = uint(2.0 * ground_level_step(level)); // half-metres
     uvec2 at = (uvec2(window.zw) + local.xz * step) % PERIOD_HALF_METRES;
     vec2 slope;
-    float h = map_at(world_metres(at), slope);
+    vec2 world = world_metres(at);
+    float h = map_at(world, slope);
     // The next level's mesh at an odd vertex: the mean of the two even vertices it halves, as
     // relief_fill.comp takes it.
     float coarse = h;
@@ -105,4 +83,5 @@ void main() {
     uvec3 dims = fill.dims.xyz;
     uint slot = level * dims.x * dims.z + camera_grid_slot(local, fill.base.xyz, dims);
     ground_grid[slot] = vec4(h, coarse, slope);
+    ground_cover_grid[slot] = GROUND_COVER != 0u ? ground_cover_at(world, slope) : 1.0;
 }

@@ -17,6 +17,7 @@
 #include "common/bindings.glsl"
 #include "common/field.glsl"
 #include "common/camera_grid.glsl"
+#include "terrain/cover_fill.glsl"
 
 layout(local_size_x = CAMERA_GRID_GROUP) in;
 
@@ -64,4 +65,5 @@ void main() {
     uvec3 dims = fill.dims.xyz;
     uint slot = level * dims.x * dims.z + camera_grid_slot(local, fill.base.xyz, dims);
     ground_grid[slot] = vec4(h, coarse, slope);
+    ground_cover_grid[slot] = GROUND_COVER != 0u ? ground_cover_at(world_metres(at), slope) : 1.0;
 }

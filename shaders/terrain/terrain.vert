@@ -15,10 +15,14 @@
 // time on llvmpipe).
 layout(location = 0) out vec3 out_color;
 
-// Ground under the grass: earthy green, Lambert plus sky ambient, fogged like the blades.
-vec3 ground_color(vec3 normal, vec3 world) {
+// Ground under the grass: earthy green, Lambert plus sky ambient, fogged like the blades; with
+// cover rules (GROUND_COVER), bare earth where the cover is 0, the green where it is 1.
+vec3 ground_color(vec3 normal, vec3 world, float cover) {
     vec3 n = normalize(normal);
     vec3 albedo = vec3(0.07, 0.085, 0.03);
+    if (GROUND_COVER != 0u) {
+        albedo = mix(vec3(0.11, 0.085, 0.06), albedo, cover);
+    }
     float lambert = max(dot(n, frame.sun_direction.xyz), 0.0);
     vec3 color = albedo * (vec3(0.35, 0.38, 0.45) + vec3(1.2, 1.1, 0.95) * lambert);
     return apply_fog(color, world, frame.camera_position, frame.sky_color);
@@ -34,9 +38,10 @@ void main() {
     uvec2 shape = ground_shape();
     uvec2 grid = uvec2(uint(gl_VertexIndex) % (shape.x + 1u), uint(gl_VertexIndex) / (shape.x + 1u));
     uint level = uint(gl_InstanceIndex);
-    vec4 ground = ground_vertex(ground_level(level, shape), ivec2(grid));
+    GroundLevel at = ground_level(level, shape);
+    vec4 ground = ground_vertex(at, ivec2(grid));
     vec2 p = vec2(grid) * ground_level_step(level) + ground_level_offset(level);
     vec3 world = vec3(p.x, ground.x, p.y);
-    out_color = ground_color(ground.yzw, world);
+    out_color = ground_color(ground.yzw, world, ground_vertex_cover(at, ivec2(grid)));
     gl_Position = frame.view_proj * vec4(world, 1.0);
 }

@@ -166,6 +166,15 @@ pub fn terrain_scale(text: &str) -> Result<crate::scene::heightmap::TerrainScale
     Ok(crate::scene::heightmap::TerrainScale { x, y, z })
 }
 
+/// `--slope-limit`: degrees of slope, finite, from 0 to 90.
+pub fn slope_limit(text: &str) -> Result<f32, String> {
+    let degrees = finite_f32(text)?;
+    if !(0.0..=90.0).contains(&degrees) {
+        return Err(format!("a slope limit of {degrees}° is outside 0..=90"));
+    }
+    Ok(degrees)
+}
+
 /// The fastest `timing --fly`: a frame's step stays well inside a block field's cells.
 pub const MAX_FLY_SPEED: f32 = 1000.0;
 

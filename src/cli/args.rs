@@ -117,10 +117,19 @@ pub(crate) struct SceneArgs {
     /// under stored blades over its centre.
     #[arg(long, value_name = "PATH.png")]
     pub(crate) heightmap: Option<PathBuf>,
-    /// The --heightmap's extent in x and z and the height of white above black, in metres
-    /// (default 1000,50,1000; under a --field SIZE, X and Z are SIZE).
+    /// The --heightmap's (and the --cover's) extent in x and z and the height of white above
+    /// black, in metres (default 1000,50,1000; under a --field SIZE, X and Z are SIZE).
     #[arg(long, value_name = "X,Y,Z", value_parser = values::terrain_scale)]
     pub(crate) terrain_scale: Option<crate::scene::heightmap::TerrainScale>,
+    /// Where grass grows, from a PNG stretched over the --heightmap's extent (or the
+    /// --terrain-scale's X and Z): red, or a greyscale map's grey, is the grass's density (0
+    /// none, 255 full); green is kept for flowers, alpha ignored. Bare ground is earth.
+    #[arg(long, value_name = "PATH.png")]
+    pub(crate) cover: Option<PathBuf>,
+    /// Leave ground steeper than DEG degrees bare (a soft edge 4° wide across it): a block
+    /// field's cull skips its blades, a stored field's scatter places none there.
+    #[arg(long, value_name = "DEG", value_parser = values::slope_limit, allow_hyphen_values = true)]
+    pub(crate) slope_limit: Option<f32>,
     /// Fog density per metre (default 0.012; 0: no fog): a far view for tests and benchmarks.
     #[arg(long, value_name = "DENSITY", value_parser = values::fog, allow_hyphen_values = true)]
     pub(crate) fog: Option<f32>,
@@ -173,7 +182,12 @@ impl SceneArgs {
                 Some(ReliefArg::Gentle) | None => crate::scene::field::ReliefKind::Gentle,
             },
             fog: self.fog.unwrap_or(crate::render::frame::look::FOG_DENSITY),
-            heightmap: self.heightmap.clone().map(|path| (path, self.terrain_scale)),
+            landscape: crate::app::landscape::Landscape {
+                heightmap: self.heightmap.clone(),
+                terrain_scale: self.terrain_scale,
+                cover: self.cover.clone(),
+                slope_limit_deg: self.slope_limit,
+            },
             field: self.field.map(|size| crate::scene::field::FieldSpec {
                 size: size.0,
                 density: self.density.unwrap_or(crate::scene::blades::DENSITY_PER_M2),

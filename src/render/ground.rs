@@ -29,18 +29,22 @@
 use std::sync::atomic::AtomicU64;
 use std::sync::Arc;
 
+use ash::vk;
 use glam::{I64Vec3, IVec2, IVec4, UVec4, Vec4};
 
+use crate::error::{Error, Result};
 use crate::render::camera_grid::GridShape;
 use crate::render::gpu_constants as gpu;
 use crate::render::ground_clipmap::{self, Clipmap};
 use crate::render::shaders;
 use crate::render::terrain_chunks;
 use crate::render::uniforms::FrameUniforms;
+use crate::scene::cover::Cover;
 use crate::scene::heightmap::Heightmap;
 use crate::scene::{field, FieldGround, Scene, Terrain};
 use crate::vk::profile::Shader;
-use crate::vk::{Buffer, Device, TexelView};
+use crate::vk::upload::UploadBatch;
+use crate::vk::{Access, Buffer, BufferDesc, Destroy, Device, TexelView};
 
 /// Where the ground comes from: what the renderer needs of it.
 pub trait GroundSource: Send + Sync {
@@ -63,8 +67,15 @@ pub trait GroundSource: Send + Sync {
     fn fill_uniforms(&self, uniforms: &mut FrameUniforms, cell: IVec2, distances: (f32, f32));
     /// How the camera's moves fill it on the GPU; `None` when it is uploaded once.
     fn fill(&self) -> Option<Box<dyn GroundFill>>;
+    /// Where grass grows on it (`scene::cover`): its fill (or its uploaded `cover_texels`) writes
+    /// the cover channel.
+    fn cover(&self) -> &Cover;
+    /// The cover per texel uploaded with the scene (with `texels`), in the same slots.
+    fn cover_texels(&self) -> Option<Vec<f32>> {
+        None
+    }
     /// Read-only buffers its fill shader reads in its own set (`SET_PASS`), by the names it
-    /// declares them with, uploaded with the scene (`GroundGpu::extra`): a heightmap's texels.
+    /// declares them with, uploaded with the scene (`GroundGpu::extra`): a heightmap's texels, the covering map.
     fn buffers(&self) -> Vec<(&'static str, Vec<u32>)> {
         Vec::new()
     }
@@ -94,6 +105,8 @@ pub struct GroundGpu {
     pub texels: Buffer,
     /// The same texels as RGBA32F, as its readers fetch them under the lavapipe profile.
     pub texel_view: TexelView,
+    /// The cover per texel (`GroundCover`, f32), and as R32F texels.
+    pub cover: (Buffer, TexelView),
     /// The triangle list over a level's `(cells + 1)²` vertices, chunk by chunk
     /// (`render::terrain_chunks`). Indexed, a vertex shared by six triangles is shaded about once
     /// instead of six times.
@@ -115,6 +128,8 @@ impl GroundGpu {
         unsafe {
             self.texel_view.destroy(device);
             self.texels.destroy(device);
+            self.cover.1.destroy(device);
+            self.cover.0.destroy(device);
             self.indices.destroy(device);
             for (_, buffer) in self.extra {
                 buffer.destroy(device);
@@ -123,13 +138,104 @@ impl GroundGpu {
     }
 }
 
+/// What `GroundParts::upload` made so far, freed if a later step of the scene's upload fails;
+/// `finish` makes them a `GroundGpu`.
+#[derive(Default)]
+pub struct GroundParts {
+    texels: Option<Buffer>,
+    texel_view: Option<TexelView>,
+    cover: Option<Buffer>,
+    cover_view: Option<TexelView>,
+    indices: Option<Buffer>,
+    extra: Vec<(&'static str, Buffer)>,
+}
+
+impl GroundParts {
+    /// Upload `source`'s ground in `batch`: the clipmap's texels and cover (read back by
+    /// `Renderer::read_ground`; a stored terrain's uploaded, a filled source's made for its fill
+    /// pass) with their texel views, the terrain's triangle list, and the buffers its fill reads
+    /// (a heightmap's texels), refused past one storage binding's range.
+    pub fn upload(&mut self, device: &Device, batch: &mut UploadBatch, source: &dyn GroundSource) -> Result<()> {
+        let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
+        let usage = storage | vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC;
+        let count = source.texel_count();
+        self.texels = Some(match source.texels() {
+            Some(texels) => batch.buffer("ground texels", &texels, usage, device.profile.fetches())?,
+            None => Buffer::new(device, &BufferDesc::gpu_only("ground texels", 16 * count, usage))?,
+        });
+        self.cover = Some(match source.cover_texels() {
+            Some(cover) => batch.buffer("ground cover", &cover, usage, device.profile.fetches())?,
+            None => Buffer::new(device, &BufferDesc::gpu_only("ground cover", 4 * count, usage))?,
+        });
+        let texels = self.texels.as_ref().expect("made");
+        self.texel_view = Some(TexelView::new(device, texels, vk::Format::R32G32B32A32_SFLOAT, "ground texel view")?);
+        let cover = self.cover.as_ref().expect("made");
+        self.cover_view = Some(TexelView::new(device, cover, vk::Format::R32_SFLOAT, "ground cover view")?);
+        let list = terrain_chunks::chunked_indices(source.cells(), source.chunk_cells());
+        let index = vk::BufferUsageFlags::INDEX_BUFFER;
+        self.indices = Some(batch.buffer("terrain indices", &list, index, &[Access::IndexRead])?);
+        for (name, words) in source.buffers() {
+            let (bytes, range) = (4 * words.len() as u64, u64::from(device.limits().max_storage_buffer_range));
+            if bytes > range {
+                return Err(Error::bad_input(format!(
+                    "the ground's {name} needs {} MiB in one storage buffer; {} binds at most {} MiB (a smaller --heightmap)",
+                    bytes >> 20,
+                    device.info.name,
+                    range >> 20
+                )));
+            }
+            let buffer = batch.buffer(name, &words, storage, &[Access::ComputeShaderRead])?;
+            self.extra.push((name, buffer));
+        }
+        Ok(())
+    }
+
+    /// The uploaded ground of `source`.
+    pub fn finish(mut self, source: Box<dyn GroundSource>) -> GroundGpu {
+        GroundGpu {
+            texels: self.texels.take().expect("uploaded"),
+            texel_view: self.texel_view.take().expect("uploaded"),
+            cover: (self.cover.take().expect("uploaded"), self.cover_view.take().expect("uploaded")),
+            indices: self.indices.take().expect("uploaded"),
+            drawn: Arc::new(AtomicU64::new(2 * u64::from(source.cells()).pow(2))),
+            extra: std::mem::take(&mut self.extra),
+            source,
+        }
+    }
+}
+
+impl Destroy for GroundParts {
+    unsafe fn destroy(self, device: &Device) {
+        // SAFETY: per the contract.
+        unsafe {
+            for view in [self.texel_view, self.cover_view].into_iter().flatten() {
+                view.destroy(device);
+            }
+            let extra = self.extra.into_iter().map(|(_, buffer)| buffer);
+            for buffer in [self.texels, self.cover, self.indices].into_iter().flatten().chain(extra) {
+                buffer.destroy(device);
+            }
+        }
+    }
+}
+
 /// The ground source of `scene`: its relief for a block field, its stored terrain otherwise.
 pub fn source(scene: &Scene) -> Box<dyn GroundSource> {
+    let cover = scene.cover.clone();
     match scene.field.as_ref().map(|field| &field.ground) {
-        Some(FieldGround::Relief(relief)) => Box::new(ReliefGround { relief: relief.clone() }),
-        Some(FieldGround::Heightmap(map)) => Box::new(HeightmapGround { map: Arc::clone(map) }),
-        None => Box::new(StoredGround { terrain: scene.terrain.clone() }),
+        Some(FieldGround::Relief(relief)) => Box::new(ReliefGround { relief: relief.clone(), cover }),
+        Some(FieldGround::Heightmap(map)) => Box::new(HeightmapGround { map: Arc::clone(map), cover }),
+        None => Box::new(StoredGround { terrain: scene.terrain.clone(), cover }),
     }
+}
+
+/// The cover rules' part of the frame's `ground` (`shaders/terrain/cover_fill.glsl`): y the slope
+/// limit, w its soft edge's width, radians as f32 bits; without a limit, 10 radians (no slope
+/// reaches it).
+fn cover_uniforms(uniforms: &mut FrameUniforms, cover: &Cover) {
+    let limit = cover.slope_limit_deg.map_or(10.0, f32::to_radians);
+    uniforms.ground.y = limit.to_bits();
+    uniforms.ground.w = crate::scene::cover::SLOPE_SOFT_DEG.to_radians().to_bits();
 }
 
 /// A stored field's terrain as the clipmap's one level: its whole grid at its own step, placed at
@@ -137,6 +243,8 @@ pub fn source(scene: &Scene) -> Box<dyn GroundSource> {
 pub struct StoredGround {
     /// The height field.
     pub terrain: Terrain,
+    /// Where grass grows (its blades were scattered by it; the terrain is tinted by it).
+    pub cover: Cover,
 }
 
 impl GroundSource for StoredGround {
@@ -168,6 +276,7 @@ impl GroundSource for StoredGround {
     fn fill_uniforms(&self, uniforms: &mut FrameUniforms, _: IVec2, _: (f32, f32)) {
         let (origin, step) = (self.terrain.origin(), self.terrain.cell_size());
         uniforms.ground = UVec4::new(self.terrain.cells, 0, 1, 0);
+        cover_uniforms(uniforms, &self.cover);
         // Rise over two cells: the central differences (`stored_texels`).
         uniforms.ground_levels[0] = Vec4::new(origin, origin, step, 2.0 * step);
         uniforms.ground_windows[0] = IVec4::ZERO;
@@ -175,6 +284,24 @@ impl GroundSource for StoredGround {
 
     fn fill(&self) -> Option<Box<dyn GroundFill>> {
         None
+    }
+
+    fn cover(&self) -> &Cover {
+        &self.cover
+    }
+
+    fn cover_texels(&self) -> Option<Vec<f32>> {
+        // At each vertex (row by row from the terrain's origin), the slope by its central
+        // differences over two cells.
+        let (step, run) = (self.terrain.cell_size(), 2.0 * self.terrain.cell_size());
+        let (n, origin) = (self.terrain.cells + 1, self.terrain.origin());
+        let texels = stored_texels(&self.terrain);
+        let at = |i: u32| f64::from(origin + (i as f32) * step);
+        let density = |(i, t): (usize, &[f32; 4])| {
+            let slope = glam::Vec2::new(t[2], t[3]) / run;
+            self.cover.density(at(i as u32 % n), at(i as u32 / n), slope)
+        };
+        Some(texels.iter().enumerate().map(density).collect())
     }
 }
 
@@ -200,6 +327,8 @@ pub fn stored_texels(terrain: &Terrain) -> Vec<[f32; 4]> {
 pub struct ReliefGround {
     /// The relief, evaluated anywhere.
     pub relief: field::Relief,
+    /// Where grass grows on it.
+    pub cover: Cover,
 }
 
 impl ReliefGround {
@@ -238,6 +367,7 @@ impl GroundSource for ReliefGround {
 
     fn fill_uniforms(&self, uniforms: &mut FrameUniforms, cell: IVec2, distances: (f32, f32)) {
         clipmap_uniforms(uniforms, cell, distances);
+        cover_uniforms(uniforms, &self.cover);
         // Taken mod the period in half-metres, so the fill's products fit 32 bits unsigned.
         let residue = |c: i32| c.rem_euclid(ground_clipmap::PERIOD_HALF_METRES as i32);
         uniforms.relief_cycles = std::array::from_fn(|i| {
@@ -248,6 +378,14 @@ impl GroundSource for ReliefGround {
 
     fn fill(&self) -> Option<Box<dyn GroundFill>> {
         Some(Box::new(ClipmapFill { shader: shaders::RELIEF_FILL_COMP }))
+    }
+
+    fn buffers(&self) -> Vec<(&'static str, Vec<u32>)> {
+        vec![("CoverMap", cover_map_words(&self.cover))]
+    }
+
+    fn cover(&self) -> &Cover {
+        &self.cover
     }
 }
 
@@ -303,6 +441,8 @@ impl GroundFill for ClipmapFill {
 pub struct HeightmapGround {
     /// The map.
     pub map: Arc<Heightmap>,
+    /// Where grass grows on it.
+    pub cover: Cover,
 }
 
 /// Words of `GroundMap`'s header: width, height, the extent in x and z and the height of white
@@ -336,6 +476,11 @@ impl GroundSource for HeightmapGround {
 
     fn fill_uniforms(&self, uniforms: &mut FrameUniforms, cell: IVec2, distances: (f32, f32)) {
         clipmap_uniforms(uniforms, cell, distances);
+        cover_uniforms(uniforms, &self.cover);
+    }
+
+    fn cover(&self) -> &Cover {
+        &self.cover
     }
 
     fn fill(&self) -> Option<Box<dyn GroundFill>> {
@@ -343,7 +488,7 @@ impl GroundSource for HeightmapGround {
     }
 
     fn buffers(&self) -> Vec<(&'static str, Vec<u32>)> {
-        vec![("GroundMap", map_words(&self.map))]
+        vec![("GroundMap", map_words(&self.map)), ("CoverMap", cover_map_words(&self.cover))]
     }
 }
 
@@ -356,6 +501,25 @@ pub fn map_words(map: &Heightmap) -> Vec<u32> {
     words.extend_from_slice(&header);
     words.extend([u32::from(map.mirrored), 0, 0]);
     words.extend(map.texels.chunks(2).map(|t| u32::from(t[0]) | (u32::from(*t.get(1).unwrap_or(&0)) << 16)));
+    words
+}
+
+/// Words of `CoverMap`'s header: width, height, the extent in x and z (f32 bits), whether the
+/// map repeats mirrored (1) or is held past its edges (0).
+pub const COVER_MAP_HEADER_WORDS: usize = 8;
+
+/// `CoverMap`'s words for `cover`'s covering map (`shaders/terrain/cover_fill.glsl`):
+/// `COVER_MAP_HEADER_WORDS`, then its grass densities four a word, the first in the low byte.
+/// Without a map, a 1 × 1 map of full density.
+pub fn cover_map_words(cover: &Cover) -> Vec<u32> {
+    let (width, height, grass, placement) = match &cover.map {
+        Some(m) => (m.width, m.height, m.grass.as_slice(), m.placement),
+        None => (1, 1, &[255u8][..], crate::scene::cover::MapPlacement { x: 1.0, z: 1.0, mirrored: true }),
+    };
+    let (x, z) = ((placement.x as f32).to_bits(), (placement.z as f32).to_bits());
+    let mut words = Vec::with_capacity(COVER_MAP_HEADER_WORDS + grass.len().div_ceil(4));
+    words.extend([width, height, x, z, u32::from(placement.mirrored), 0, 0, 0]);
+    words.extend(grass.chunks(4).map(|c| c.iter().rev().fold(0u32, |w, &b| (w << 8) | u32::from(b))));
     words
 }
 
@@ -373,7 +537,7 @@ mod tests {
         // Inside: the differences over two cells; at the edge, clamped to the grid.
         assert_eq!(texels[2 * n + 3], [h(3, 2), h(3, 2), h(4, 2) - h(2, 2), h(3, 3) - h(3, 1)]);
         assert_eq!(texels[0], [h(0, 0), h(0, 0), h(1, 0) - h(0, 0), h(0, 1) - h(0, 0)]);
-        let source = StoredGround { terrain: terrain.clone() };
+        let source = StoredGround { terrain: terrain.clone(), cover: Cover::default() };
         assert_eq!(source.texel_count(), texels.len() as u64);
         let mut uniforms: FrameUniforms = bytemuck::Zeroable::zeroed();
         source.fill_uniforms(&mut uniforms, IVec2::ZERO, (150.0, 150.0));
@@ -384,7 +548,7 @@ mod tests {
     #[test]
     fn the_reliefs_buffer_holds_its_clipmap_at_any_view_distance() {
         let relief = field::Relief::generate(1);
-        let source = ReliefGround { relief };
+        let source = ReliefGround { relief, cover: Cover::default() };
         for view in [40.0, 150.0, 5000.0, 10_000.0] {
             let mut uniforms: FrameUniforms = bytemuck::Zeroable::zeroed();
             source.fill_uniforms(&mut uniforms, IVec2::new(3, -7), (view, view.min(150.0)));

@@ -4,15 +4,12 @@
 //! pass binds (the scene and one frame's uniforms and forces). What animates the blades is the
 //! blade response's (`render::animation::response`).
 
-use std::sync::atomic::AtomicU64;
-use std::sync::Arc;
-
 use ash::vk;
 
 use crate::error::Result;
 use crate::render::draw_rows::TileRows;
 use crate::render::gpu_constants::{self, FIELD_TERRAIN_CELLS};
-use crate::render::ground::{GroundGpu, GroundSource};
+use crate::render::ground::{GroundGpu, GroundParts, GroundSource};
 use crate::render::limits::BLADES_PER_INSTANCE_RANGE;
 use crate::scene::clusters::{BladeCluster, ClusterGrid};
 use crate::scene::tiles::{BladeTile, TileGrid, MAX_TILES_PER_SIDE};
@@ -217,9 +214,7 @@ const PYRAMID_BYTES: u64 = 4 * gpu_constants::PYRAMID_FLOATS as u64;
 #[derive(Default)]
 struct Partial {
     blades: Option<Buffer>,
-    ground_texels: Option<Buffer>,
-    ground_extra: Vec<(&'static str, Buffer)>,
-    terrain_indices: Option<Buffer>,
+    ground: GroundParts,
     clusters: Option<Buffer>,
     blade_alpha: Option<Image>,
     tiles: Option<Buffer>,
@@ -227,7 +222,6 @@ struct Partial {
     pyramid_texels: Option<TexelView>,
     blade_texels: Option<TexelView>,
     visible_texels: Option<TexelView>,
-    ground_view: Option<TexelView>,
     result_texels: Option<TexelView>,
 }
 
@@ -235,18 +229,16 @@ impl Destroy for Partial {
     unsafe fn destroy(self, device: &Device) {
         // SAFETY: per the contract.
         unsafe {
-            let scene = [self.blades, self.ground_texels, self.terrain_indices, self.clusters, self.tiles];
-            let extra = self.ground_extra.into_iter().map(|(_, buffer)| buffer);
-            for buffer in scene.into_iter().flatten().chain(self.cull).chain(extra) {
+            self.ground.destroy(device);
+            let scene = [self.blades, self.clusters, self.tiles];
+            for buffer in scene.into_iter().flatten().chain(self.cull) {
                 buffer.destroy(device);
             }
             if let Some(image) = self.blade_alpha {
                 image.destroy(device);
             }
             for view in
-                [self.pyramid_texels, self.blade_texels, self.visible_texels, self.ground_view, self.result_texels]
-                    .into_iter()
-                    .flatten()
+                [self.pyramid_texels, self.blade_texels, self.visible_texels, self.result_texels].into_iter().flatten()
             {
                 view.destroy(device);
             }
@@ -291,14 +283,7 @@ impl SceneGpu {
         let source = crate::render::ground::source(scene);
         let sampler = Self::upload_into(device, scene, source.as_ref(), (&grid, capacity), &mut partial)?;
         let mut partial = partial.take();
-        let ground = GroundGpu {
-            texels: partial.ground_texels.take().expect("created"),
-            texel_view: partial.ground_view.take().expect("created"),
-            indices: partial.terrain_indices.take().expect("uploaded"),
-            drawn: Arc::new(AtomicU64::new(2 * u64::from(source.cells()).pow(2))),
-            extra: std::mem::take(&mut partial.ground_extra),
-            source,
-        };
+        let ground = std::mem::take(&mut partial.ground).finish(source);
         Ok(Self {
             blades: partial.blades.take().expect("uploaded"),
             blade_texels: partial.blade_texels.take().expect("created"),
@@ -346,13 +331,7 @@ impl SceneGpu {
         partial.blades = Some(batch.buffer("blades", &scene.blades, texel_usage, device.profile.fetches())?);
         let blades = partial.blades.as_ref().expect("uploaded");
         partial.blade_texels = Some(TexelView::new(device, blades, vk::Format::R32G32B32A32_UINT, "blade texels")?);
-        Self::upload_ground(device, &mut batch, ground, partial)?;
-        let texels = partial.ground_texels.as_ref().expect("created");
-        partial.ground_view =
-            Some(TexelView::new(device, texels, vk::Format::R32G32B32A32_SFLOAT, "ground texel view")?);
-        let indices = crate::render::terrain_chunks::chunked_indices(ground.cells(), ground.chunk_cells());
-        let usage = vk::BufferUsageFlags::INDEX_BUFFER;
-        partial.terrain_indices = Some(batch.buffer("terrain indices", &indices, usage, &[Access::IndexRead])?);
+        partial.ground.upload(device, &mut batch, ground)?;
         let clusters = grid.assign(&scene.blades);
         partial.clusters = Some(batch.buffer("blade clusters", &clusters, storage, vertex_compute_read)?);
         let desc = ImageDesc::color(
@@ -393,39 +372,6 @@ impl SceneGpu {
         Ok(sampler)
     }
 
-    /// The ground's clipmap (read back by `Renderer::read_ground`): a stored terrain's texels
-    /// uploaded, a filled source's made for its fill pass; and the buffers its fill reads (a
-    /// heightmap's texels), refused past one storage binding's range.
-    fn upload_ground(
-        device: &Device,
-        batch: &mut UploadBatch,
-        ground: &dyn GroundSource,
-        partial: &mut Partial,
-    ) -> Result<()> {
-        let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
-        let ground_usage = storage | vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC;
-        partial.ground_texels = Some(match ground.texels() {
-            Some(texels) => batch.buffer("ground texels", &texels, ground_usage, device.profile.fetches())?,
-            None => {
-                Buffer::new(device, &BufferDesc::gpu_only("ground texels", 16 * ground.texel_count(), ground_usage))?
-            }
-        });
-        for (name, words) in ground.buffers() {
-            let (bytes, range) = (4 * words.len() as u64, u64::from(device.limits().max_storage_buffer_range));
-            if bytes > range {
-                return Err(crate::error::Error::bad_input(format!(
-                    "the ground's {name} needs {} MiB in one storage buffer; {} binds at most {} MiB (a smaller --heightmap)",
-                    bytes >> 20,
-                    device.info.name,
-                    range >> 20
-                )));
-            }
-            let buffer = batch.buffer(name, &words, storage, &[Access::ComputeShaderRead])?;
-            partial.ground_extra.push((name, buffer));
-        }
-        Ok(())
-    }
-
     /// Point `set` (of `layout`, `SET_SCENE`, reflected) at the scene's resources and at `frame`'s
     /// (one frame's own, given by their owners), each by the name its header declares it with
     /// (`layout(SCENE(Name), …)`: `shaders/blades/blade_records.glsl`, `terrain/ground_texels.glsl`,
@@ -454,6 +400,8 @@ impl SceneGpu {
             ("visible_texels", texels(&self.visible_texels)),
             ("GroundTexels", buffer(&self.ground.texels)),
             ("ground_texels", texels(&self.ground.texel_view)),
+            ("GroundCover", buffer(&self.ground.cover.0)),
+            ("ground_cover_texels", texels(&self.ground.cover.1)),
         ];
         let resources: Vec<_> = frame.iter().cloned().chain(resources).collect();
         layout.write_named(device, set, "scene set", &resources)

@@ -10,7 +10,7 @@ pub use crate::render::gpu_constants::{
 };
 
 /// Number of specialization constants the scene shaders declare.
-pub const COUNT: usize = 19;
+pub const COUNT: usize = 20;
 
 /// The constants; each field is the shaders' constant named in its doc (`Self::named`), whose id
 /// build.rs assigns (`SPEC(NAME)`): no id is kept in Rust.
@@ -58,6 +58,9 @@ pub struct Specialization {
     pub ground_cells: u32,
     /// `GROUND_LEVELS`: the clipmap's levels for the view distance.
     pub ground_levels: u32,
+    /// `GROUND_COVER`: 1 when the ground's cover thins the grass and tints the terrain
+    /// (`scene::cover::Cover::active`).
+    pub ground_cover: u32,
 }
 
 impl Specialization {
@@ -99,6 +102,7 @@ impl Specialization {
             lod_bucket: 0,
             ground_cells: gpu::FIELD_TERRAIN_CELLS,
             ground_levels: 1,
+            ground_cover: 0,
         }
     }
 
@@ -128,6 +132,7 @@ impl Specialization {
             ("LOD_BUCKET", self.lod_bucket),
             ("GROUND_CELLS", self.ground_cells),
             ("GROUND_LEVELS", self.ground_levels),
+            ("GROUND_COVER", self.ground_cover),
         ]
     }
 }

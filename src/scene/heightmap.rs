@@ -80,28 +80,10 @@ pub struct Heightmap {
 impl Heightmap {
     /// Load `path` as a heightmap of `scale`.
     pub fn load(path: &Path, scale: TerrainScale) -> Result<Self> {
-        let shown = quoted(&path.to_string_lossy()).into_owned();
-        let bad = |why: String| Error::bad_input(format!("--heightmap '{shown}': {why}"));
-        // Before opening: a FIFO would block the open, a directory read as garbage.
-        let meta = std::fs::metadata(path).map_err(|e| bad(format!("cannot read it ({e})")))?;
-        if !meta.is_file() {
-            return Err(bad("not a file".into()));
-        }
-        let file = std::fs::File::open(path).map_err(|e| bad(format!("cannot open it ({e})")))?;
-        let decoder = PngDecoder::new(BufReader::new(file)).map_err(|e| bad(format!("not a PNG image ({e})")))?;
-        let (width, height) = decoder.dimensions();
-        if width < 2 || height < 2 {
-            return Err(bad(format!("{width} × {height} texels: a heightmap has 2 × 2 at least")));
-        }
-        if width > MAX_SIDE || height > MAX_SIDE {
-            return Err(bad(format!("{width} × {height} texels: at most {MAX_SIDE} a side")));
-        }
-        let color = decoder.color_type();
-        let mut bytes = vec![0u8; decoder.total_bytes() as usize];
-        decoder.read_image(&mut bytes).map_err(|e| bad(format!("cannot decode it ({e})")))?;
-        let texels = grey_texels(color, &bytes).map_err(bad)?;
-        let bits = if color.bytes_per_pixel() / color.channel_count() == 2 { 16 } else { 8 };
-        Ok(Self { width, height, texels, bits, scale, mirrored: true })
+        let png = read_png(path, "--heightmap", 2)?;
+        let texels = grey_texels(png.color, &png.bytes).map_err(|why| png.bad(why))?;
+        let bits = if png.color.bytes_per_pixel() / png.color.channel_count() == 2 { 16 } else { 8 };
+        Ok(Self { width: png.width, height: png.height, texels, bits, scale, mirrored: true })
     }
 
     /// The map's texel (clamped to the map) as a height in metres.
@@ -113,22 +95,10 @@ impl Heightmap {
     /// Where world (x, z) falls on the map, in texels, mirrored past its edges (or held at them):
     /// the map's texel lattice spans [0, width − 1] × [0, height − 1] over the extent.
     pub fn texel_at(&self, x: f64, z: f64) -> (f64, f64) {
-        let on_map = |world: f64, extent: f64, texels: u32| {
-            let u = world / extent + 0.5;
-            let u = match self.mirrored {
-                true => {
-                    let u = u.rem_euclid(2.0);
-                    if u > 1.0 {
-                        2.0 - u
-                    } else {
-                        u
-                    }
-                }
-                false => u.clamp(0.0, 1.0),
-            };
-            u * f64::from(texels - 1)
-        };
-        (on_map(x, self.scale.x, self.width), on_map(z, self.scale.z, self.height))
+        (
+            map_coordinate(x, self.scale.x, self.width, self.mirrored),
+            map_coordinate(z, self.scale.z, self.height, self.mirrored),
+        )
     }
 
     /// The ground's height at world (x, z) (m): bilinear between the texels around it.
@@ -157,6 +127,69 @@ impl Heightmap {
         }
         sx.hypot(sz)
     }
+}
+
+/// Where `world` (m from the world's origin along an axis) falls on a map of `texels` along
+/// `extent` metres centred on the origin, in texels: its lattice spans [0, texels − 1], mirrored
+/// past its edges (or held at them). The heightmap and the covering map (`scene::cover`) are
+/// placed so; `shaders/terrain/map_coordinate.glsl` is the same on the GPU.
+pub fn map_coordinate(world: f64, extent: f64, texels: u32, mirrored: bool) -> f64 {
+    let u = world / extent + 0.5;
+    let u = match mirrored {
+        true => {
+            let u = u.rem_euclid(2.0);
+            if u > 1.0 {
+                2.0 - u
+            } else {
+                u
+            }
+        }
+        false => u.clamp(0.0, 1.0),
+    };
+    u * f64::from(texels.max(1) - 1)
+}
+
+/// A PNG map's decoded samples (`read_png`) and how to refuse them.
+pub(crate) struct PngMap {
+    pub width: u32,
+    pub height: u32,
+    pub color: ColorType,
+    pub bytes: Vec<u8>,
+    /// `--flag 'path': ` for a refusal's line.
+    prefix: String,
+}
+
+impl PngMap {
+    /// A refusal of this map for `why`, bad input.
+    pub fn bad(&self, why: String) -> Error {
+        Error::bad_input(format!("{}{why}", self.prefix))
+    }
+}
+
+/// Read `path`, given as `flag`, as a PNG of at least `min_side` texels a side and at most
+/// `MAX_SIDE`, refusing in one line before allocating for the size its header claims: a missing
+/// path, a directory or a FIFO, a file that is not a PNG or is cut short.
+pub(crate) fn read_png(path: &Path, flag: &str, min_side: u32) -> Result<PngMap> {
+    let prefix = format!("{flag} '{}': ", quoted(&path.to_string_lossy()));
+    let bad = |why: String| Error::bad_input(format!("{prefix}{why}"));
+    // Before opening: a FIFO would block the open, a directory read as garbage.
+    let meta = std::fs::metadata(path).map_err(|e| bad(format!("cannot read it ({e})")))?;
+    if !meta.is_file() {
+        return Err(bad("not a file".into()));
+    }
+    let file = std::fs::File::open(path).map_err(|e| bad(format!("cannot open it ({e})")))?;
+    let decoder = PngDecoder::new(BufReader::new(file)).map_err(|e| bad(format!("not a PNG image ({e})")))?;
+    let (width, height) = decoder.dimensions();
+    if width < min_side || height < min_side {
+        return Err(bad(format!("{width} × {height} texels: the map has {min_side} × {min_side} at least")));
+    }
+    if width > MAX_SIDE || height > MAX_SIDE {
+        return Err(bad(format!("{width} × {height} texels: at most {MAX_SIDE} a side")));
+    }
+    let color = decoder.color_type();
+    let mut bytes = vec![0u8; decoder.total_bytes() as usize];
+    decoder.read_image(&mut bytes).map_err(|e| bad(format!("cannot decode it ({e})")))?;
+    Ok(PngMap { width, height, color, bytes, prefix })
 }
 
 /// A decoded image's samples as heights: its grey (an alpha channel is ignored), or, for colour

@@ -5,6 +5,7 @@ pub mod bezier;
 pub mod blades;
 pub mod camera;
 pub mod clusters;
+pub mod cover;
 pub mod field;
 pub mod heightmap;
 pub mod rng;
@@ -30,6 +31,9 @@ pub struct Scene {
     /// camera on the relief; `terrain`, `tile_grid` and `tiles` are a one-cell stand-in the GPU
     /// never draws.
     pub field: Option<Field>,
+    /// Where grass grows: a stored field's blades were scattered by it, a block field's cull and
+    /// every terrain read it (`cover`).
+    pub cover: cover::Cover,
 }
 
 /// A block field's size and density and the ground under it.
@@ -88,10 +92,26 @@ impl Scene {
     /// Build the field for `blade_count` blades from `seed`.
     pub fn generate(blade_count: u32, seed: u64) -> Self {
         let terrain = Terrain::generate(blades::field_size(blade_count), seed);
+        Self::stored_on(terrain, blade_count, seed, cover::Cover::default())
+    }
+
+    /// `blade_count` blades from `seed` scattered over `terrain` where `cover` lets them grow
+    /// (`cover::kept` by the density under each), tiled.
+    pub fn stored_on(terrain: Terrain, blade_count: u32, seed: u64, cover: cover::Cover) -> Self {
         let mut blades = blades::scatter(&terrain, blade_count, seed);
+        if cover.active() {
+            let mut index = 0;
+            blades.retain(|b| {
+                let (x, z) = (b.position[0], b.position[2]);
+                let normal = terrain.normal_at(x, z);
+                let slope = glam::Vec2::new(-normal.x, -normal.z) / normal.y;
+                index += 1;
+                cover::kept(index - 1, seed, cover.density(f64::from(x), f64::from(z), slope))
+            });
+        }
         let tile_grid = tiles::TileGrid::new(terrain.size);
         let tiles = tiles::arrange(&tile_grid, &mut blades);
-        Self { terrain, blades, tile_grid, tiles, field: None }
+        Self { terrain, blades, tile_grid, tiles, field: None, cover }
     }
 
     /// A block field of `spec` from `seed` on the gentle relief: its stored block and its relief.
@@ -111,6 +131,7 @@ impl Scene {
             tile_grid,
             tiles,
             field: Some(Field { spec, ground: FieldGround::Relief(field::Relief::of_kind(relief, seed)) }),
+            cover: cover::Cover::default(),
         }
     }
 
@@ -125,10 +146,16 @@ impl Scene {
     /// stored terrain samples the map (`Terrain::from_heightmap`) and the blades stand on it.
     pub fn generate_on_map(blade_count: u32, map: &heightmap::Heightmap, seed: u64) -> Self {
         let terrain = Terrain::from_heightmap(blades::field_size(blade_count), map);
-        let mut blades = blades::scatter(&terrain, blade_count, seed);
-        let tile_grid = tiles::TileGrid::new(terrain.size);
-        let tiles = tiles::arrange(&tile_grid, &mut blades);
-        Self { terrain, blades, tile_grid, tiles, field: None }
+        Self::stored_on(terrain, blade_count, seed, cover::Cover::default())
+    }
+
+    /// The same scene with `cover`: a stored field's blades scattered again under it, a block
+    /// field's cull to thin by it.
+    pub fn with_cover(self, cover: cover::Cover, blade_count: u32, seed: u64) -> Self {
+        match self.field {
+            Some(_) => Self { cover, ..self },
+            None => Self::stored_on(self.terrain, blade_count, seed, cover),
+        }
     }
 
     /// The ground's height at world (x, z).

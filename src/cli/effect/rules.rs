@@ -311,9 +311,9 @@ pub(crate) const RULES: &[Rule] = &[
         flags: &["terrain_scale"],
         subject: None,
         commands: SCENE,
-        with: "no --heightmap",
-        when: |g| !g.given("heightmap"),
-        why: "it places a --heightmap",
+        with: "neither --heightmap nor --cover",
+        when: |g| !g.given("heightmap") && !g.given("cover"),
+        why: "it places a --heightmap or a --cover map",
     },
     Rule {
         flags: &["relief"],

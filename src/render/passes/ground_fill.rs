@@ -42,7 +42,9 @@ pub struct GroundFillPass {
     own: Option<PassSet>,
     /// Those buffers, read each fill.
     reads: Vec<vk::Buffer>,
+    /// The clipmap's texels and cover, written.
     buffer: vk::Buffer,
+    cover: vk::Buffer,
     fill: Box<dyn GroundFill>,
     /// The windows the buffer holds.
     grid: RefCell<CameraGrid>,
@@ -93,7 +95,8 @@ impl GroundFillPass {
         let (grid, key, fills) = (RefCell::new(grid), RefCell::new(None), RefCell::new(Ok(Vec::new())));
         let reads = extra.iter().map(|(_, b)| b.raw).collect();
         let (_, own, buffer) = (plain.map(Guard::take), own.map(Guard::take), scene.ground.texels.raw);
-        Ok(Some(Self { pipeline, layout, own, reads, buffer, fill, grid, key, fills }))
+        let cover = scene.ground.cover.0.raw;
+        Ok(Some(Self { pipeline, layout, own, reads, buffer, cover, fill, grid, key, fills }))
     }
 
     /// Move each level's window to this frame's and return the fills of the levels whose window
@@ -126,9 +129,9 @@ impl Pass for GroundFillPass {
         let count = fills.as_ref().map_or(1, Vec::len);
         let write = Access::ComputeShaderWrite;
         let first = self.reads.iter().fold(Declaration::compute(), |d, &b| d.buffer(b, Access::ComputeShaderRead));
-        let declaration = (1..count.max(1)).fold(first.buffer(self.buffer, write), |d, _| {
+        let declaration = (1..count.max(1)).fold(first.buffer(self.buffer, write).buffer(self.cover, write), |d, _| {
             let step = self.reads.iter().fold(d.then(), |d, &b| d.buffer(b, Access::ComputeShaderRead));
-            step.buffer(self.buffer, write)
+            step.buffer(self.buffer, write).buffer(self.cover, write)
         });
         *self.fills.borrow_mut() = fills;
         Some(declaration)

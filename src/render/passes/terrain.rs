@@ -23,8 +23,8 @@ use crate::vk::{pipeline, Access, Device};
 pub struct TerrainPass {
     pipeline: vk::Pipeline,
     layout: vk::PipelineLayout,
-    /// The ground's clipmap (`render::ground`), whose texels the vertex shader reads.
-    ground: vk::Buffer,
+    /// The ground's clipmap (`render::ground`), whose texels and cover the vertex shader reads.
+    ground: [vk::Buffer; 2],
     indices: vk::Buffer,
     /// A level's chunks, each a range of `indices`.
     chunks: Vec<TerrainChunk>,
@@ -67,7 +67,7 @@ impl TerrainPass {
         Ok(Self {
             pipeline,
             layout: target.layout,
-            ground: scene.ground.texels.raw,
+            ground: [scene.ground.texels.raw, scene.ground.cover.0.raw],
             indices: scene.ground.indices.raw,
             chunks: terrain_chunks::chunks(scene.ground.source.cells(), scene.ground.source.chunk_cells()),
             height_range: scene.ground.source.height_range(),
@@ -114,7 +114,8 @@ impl Pass for TerrainPass {
         let clear_depth = vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: 0.0, stencil: 0 } };
         rendering.color.as_mut().expect("scene colour").load = Load::Clear(clear_color);
         rendering.depth.as_mut().expect("scene depth").load = Load::Clear(clear_depth);
-        let declaration = Declaration::graphics(rendering).buffer(self.ground, ctx.device.profile.vertex_fetch());
+        let fetch = ctx.device.profile.vertex_fetch();
+        let declaration = Declaration::graphics(rendering).buffer(self.ground[0], fetch).buffer(self.ground[1], fetch);
         Some(declaration.buffer(self.indices, Access::IndexRead))
     }
 

@@ -53,6 +53,7 @@ impl Renderer {
         if scene.ground.source.fill().is_none() {
             // A ground uploaded once (a stored terrain); a filled one is first written by its pass.
             self.graph.import(Resource::Buffer(scene.ground.texels.raw), self.device.profile.fetches());
+            self.graph.import(Resource::Buffer(scene.ground.cover.0.raw), self.device.profile.fetches());
         }
         for (_, buffer) in &scene.ground.extra {
             self.graph.import(Resource::Buffer(buffer.raw), &[Access::ComputeShaderRead]);
@@ -133,6 +134,7 @@ impl Renderer {
             let distances = (settings.culling.view_distance, settings.culling.blade_range());
             specialization.ground_cells = scene.ground.source.cells();
             specialization.ground_levels = scene.ground.source.levels(distances);
+            specialization.ground_cover = u32::from(scene.ground.source.cover().active());
         }
         if settings.debug_tiles {
             specialization.flags |= crate::render::gpu_constants::FLAG_DEBUG_TILES;

@@ -13,7 +13,7 @@ layout(set = 0, binding = 1, std430) writeonly buffer Fields { uint fields[]; };
 layout(constant_id = SPEC(KEYFRAME_UVEC4S)) const uint KEYFRAME_UVEC4S = 4096u;
 
 const uint FRAME_WORDS = 240u;     // 960 bytes
-const uint SPEC_WORDS = 19u;       // SPEC_* ids 0..=18
+const uint SPEC_WORDS = 20u;       // SPEC_* ids 0..=19
 
 void put_vec4(inout uint o, vec4 v) {
     for (uint i = 0u; i < 4u; i++) {
@@ -91,6 +91,7 @@ void main() {
     fields[FRAME_WORDS + SPEC(LOD_BUCKET)] = LOD_BUCKET;
     fields[FRAME_WORDS + SPEC(GROUND_CELLS)] = GROUND_CELLS;
     fields[FRAME_WORDS + SPEC(GROUND_LEVELS)] = GROUND_LEVELS;
+    fields[FRAME_WORDS + SPEC(GROUND_COVER)] = GROUND_COVER;
 
     uint s = FRAME_WORDS + SPEC_WORDS;
     fields[s + 0u] = MAX_SEGMENTS;

@@ -19,8 +19,9 @@ pub fn pass(device: &Device, setup: &CullSetup, scene: &SceneGpu, set: &Rc<PassS
         (scene.tiles.raw, read),
         (scene.depth_pyramid.raw, device.profile.compute_fetch()),
         (scene.blades.raw, device.profile.compute_fetch()),
-        // The roots sit on the ground, its normal under the tile.
+        // The roots sit on the ground, its normal under the tile; its cover thins them.
         (scene.ground.texels.raw, device.profile.compute_fetch()),
+        (scene.ground.cover.0.raw, device.profile.compute_fetch()),
         (scene.slot_counts.raw, Access::ComputeShaderWrite),
         (scene.cull_results.raw, Access::ComputeShaderWrite),
         // The listed slots, their room and the dispatch over them.

@@ -19,8 +19,9 @@ pub fn pass(device: &Device, setup: &CullSetup, scene: &SceneGpu, set: &Rc<PassS
     let uses = vec![
         (scene.tiles.raw, read),
         (scene.depth_pyramid.raw, device.profile.compute_fetch()),
-        // The ground's normal under each tile.
+        // The ground's normal under each tile, and its cover.
         (scene.ground.texels.raw, device.profile.compute_fetch()),
+        (scene.ground.cover.0.raw, device.profile.compute_fetch()),
         (scene.slot_counts.raw, Access::ComputeShaderWrite),
         // Written, then read back by the invocation that wrote it.
         (scene.cull_alloc.raw, read),

@@ -1,0 +1,192 @@
+//! Where grass grows (issue #35 items 2 and 3): the ground's cover, a density in [0, 1] over the
+//! ground, the product of two rules.
+//! - `--cover PATH.png`, a covering map (Zhang Xia §5.5's covering map of model IDs, generalised
+//!   to densities): red, or a greyscale map's grey, is the grass's density, 0 none and 255 full;
+//!   green is the flowers' (not read yet: meadow draws no flowers), alpha is ignored and a
+//!   palette is expanded. It is stretched over the heightmap's extent (or `--terrain-scale`'s X
+//!   and Z without one) centred on the world's origin and placed as the heightmap is
+//!   (`heightmap::map_coordinate`): repeated mirrored under an unbounded field, held past its
+//!   edges over a bounded field's square or stored blades. Density is bilinear between texels;
+//!   a 1 × 1 map is a uniform density.
+//! - `--slope-limit DEG` leaves ground steeper than the limit bare, with a soft edge of
+//!   `SLOPE_SOFT_DEG` across it (smoothstep of the slope's angle from `limit − 2°` to `limit + 2°`).
+//!
+//! A block field's cull keeps a blade only where its rank in its cell is under the cover at its
+//! root (`render::ground`, `shaders/cull/cull.glsl`): the ground thins evenly and cuts no holes
+//! in the cells, and the survivors are not widened (bare ground is bare, unlike the distance
+//! LOD's thinning). A stored field applies it when its blades are scattered, so brute force draws
+//! the same field. The terrain is tinted by it: earth where bare.
+
+use std::path::Path;
+use std::sync::Arc;
+
+use glam::Vec2;
+use image::ColorType;
+
+use crate::error::Result;
+use crate::scene::heightmap::{map_coordinate, read_png};
+
+/// The width of the slope limit's soft edge, in degrees of slope.
+pub const SLOPE_SOFT_DEG: f32 = 4.0;
+
+/// The ground's cover rules.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Cover {
+    /// `--slope-limit`: the steepest slope covered, in degrees.
+    pub slope_limit_deg: Option<f32>,
+    /// `--cover`: the covering map.
+    pub map: Option<Arc<CoverMap>>,
+}
+
+impl Cover {
+    /// Whether any rule thins the grass (otherwise the cover is 1 everywhere, and the shaders
+    /// compile its reads out).
+    pub fn active(&self) -> bool {
+        self.slope_limit_deg.is_some() || self.map.is_some()
+    }
+
+    /// The cover at world (x, z) (m) over ground of slope `slope` (dh/dx, dh/dz).
+    pub fn density(&self, x: f64, z: f64, slope: Vec2) -> f32 {
+        let map = self.map.as_ref().map_or(1.0, |m| m.density_at(x, z));
+        map * self.slope_limit_deg.map_or(1.0, |limit| slope_density(limit, slope.length()))
+    }
+}
+
+/// Where a map lies: its extent in x and z (m), centred on the world's origin, and whether it
+/// repeats mirrored past its edges (otherwise its edge texels are held).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MapPlacement {
+    /// Extent along x (m).
+    pub x: f64,
+    /// Extent along z (m).
+    pub z: f64,
+    /// Repeated mirrored (an unbounded field's) or held past its edges.
+    pub mirrored: bool,
+}
+
+/// A loaded covering map.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CoverMap {
+    /// Texels along x.
+    pub width: u32,
+    /// Texels along z.
+    pub height: u32,
+    /// Row-major (z then x) grass densities, 0 none to 255 full (a 16-bit map's rounded).
+    pub grass: Vec<u8>,
+    /// Where it lies.
+    pub placement: MapPlacement,
+}
+
+impl CoverMap {
+    /// Load `path` as a covering map placed at `placement`: any PNG of 1 × 1 texels or more.
+    pub fn load(path: &Path, placement: MapPlacement) -> Result<Self> {
+        let png = read_png(path, "--cover", 1)?;
+        let grass = red_samples(png.color, &png.bytes).map_err(|why| png.bad(why))?;
+        Ok(Self { width: png.width, height: png.height, grass, placement })
+    }
+
+    /// The grass's density at world (x, z) (m): bilinear between the texels around it.
+    pub fn density_at(&self, x: f64, z: f64) -> f32 {
+        let p = self.placement;
+        let u = map_coordinate(x, p.x, self.width, p.mirrored);
+        let v = map_coordinate(z, p.z, self.height, p.mirrored);
+        let (x0, z0) = (u.floor(), v.floor());
+        let (fx, fz) = ((u - x0) as f32, (v - z0) as f32);
+        let texel = |dx: i64, dz: i64| {
+            let x = (x0 as i64 + dx).clamp(0, i64::from(self.width) - 1);
+            let z = (z0 as i64 + dz).clamp(0, i64::from(self.height) - 1);
+            f32::from(self.grass[(z * i64::from(self.width) + x) as usize]) / 255.0
+        };
+        let bottom = texel(0, 0) + fx * (texel(1, 0) - texel(0, 0));
+        let top = texel(0, 1) + fx * (texel(1, 1) - texel(0, 1));
+        bottom + fz * (top - bottom)
+    }
+
+    /// Whether the map has no grass anywhere.
+    pub fn bare(&self) -> bool {
+        self.grass.iter().all(|&g| g == 0)
+    }
+}
+
+/// A decoded image's first samples, as 8 bits: a greyscale map's grey, a colour map's red (a
+/// palette comes expanded to colour); alpha and the other channels are not read here.
+fn red_samples(color: ColorType, bytes: &[u8]) -> std::result::Result<Vec<u8>, String> {
+    let channels = usize::from(color.channel_count());
+    let sample_bytes = usize::from(color.bytes_per_pixel()) / channels;
+    if !matches!(sample_bytes, 1 | 2) || channels == 0 {
+        return Err(format!("its samples ({color:?}) are not 8- or 16-bit"));
+    }
+    let pixel = channels * sample_bytes;
+    Ok(bytes
+        .chunks_exact(pixel)
+        .map(|p| match sample_bytes {
+            2 => ((u32::from(u16::from_ne_bytes([p[0], p[1]])) * 255 + 32_767) / 65_535) as u8,
+            _ => p[0],
+        })
+        .collect())
+}
+
+/// The slope limit's factor for ground of slope `slope` (rise over run) under a limit of
+/// `limit_deg`: 1 below the soft edge, 0 above it, smoothstep across it
+/// (`slope_cover` in `shaders/terrain/cover_fill.glsl`).
+pub fn slope_density(limit_deg: f32, slope: f32) -> f32 {
+    let angle = slope.atan().to_degrees();
+    let t = ((angle - (limit_deg - 0.5 * SLOPE_SOFT_DEG)) / SLOPE_SOFT_DEG).clamp(0.0, 1.0);
+    1.0 - t * t * (3.0 - 2.0 * t)
+}
+
+/// Whether the stored blade `index` of a field from `seed` stands on ground of cover `density`:
+/// a hash of the index against the density, so the rest of the scatter does not change.
+pub fn kept(index: u32, seed: u64, density: f32) -> bool {
+    if density >= 1.0 {
+        return true;
+    }
+    let h = crate::scene::rng::mix(u64::from(index) ^ seed.rotate_left(17) ^ 0xc0ce);
+    ((h >> 40) as f32 / (1u64 << 24) as f32) < density
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_slope_limit_is_soft_across_its_edge() {
+        let slope = |deg: f32| deg.to_radians().tan();
+        assert_eq!(slope_density(30.0, slope(20.0)), 1.0);
+        assert_eq!(slope_density(30.0, slope(40.0)), 0.0);
+        assert!((slope_density(30.0, slope(30.0)) - 0.5).abs() < 1e-3);
+        let edge = slope_density(30.0, slope(29.0));
+        assert!(edge > 0.5 && edge < 1.0, "{edge}");
+        assert_eq!(Cover::default().density(0.0, 0.0, Vec2::new(10.0, 0.0)), 1.0);
+        // Half the blades kept at half the density, whatever the seed.
+        let share = (0..10_000).filter(|&i| kept(i, 3, 0.5)).count();
+        assert!((4_700..5_300).contains(&share), "{share}");
+        assert!((0..100).all(|i| kept(i, 3, 1.0)) && (0..100).all(|i| !kept(i, 3, 0.0)));
+    }
+
+    #[test]
+    fn a_covering_map_is_bilinear_and_placed_like_the_heightmap() {
+        // 3 × 2 texels over 100 × 50 m: (0, 51, 102) then (153, 204, 255).
+        let placement = MapPlacement { x: 100.0, z: 50.0, mirrored: true };
+        let map = CoverMap { width: 3, height: 2, grass: vec![0, 51, 102, 153, 204, 255], placement };
+        let near = |a: f32, b: f32| (a - b).abs() < 1e-6;
+        assert!(near(map.density_at(-50.0, -25.0), 0.0));
+        assert!(near(map.density_at(50.0, 25.0), 1.0));
+        assert!(near(map.density_at(-25.0, 0.0), 0.4), "{}", map.density_at(-25.0, 0.0));
+        // Mirrored past the edge; held when not.
+        assert!(near(map.density_at(60.0, 3.0), map.density_at(40.0, 3.0)));
+        let held = CoverMap { placement: MapPlacement { mirrored: false, ..placement }, ..map.clone() };
+        assert!(near(held.density_at(80.0, 30.0), 1.0));
+        // A 1 × 1 map: one density everywhere.
+        let uniform = CoverMap { width: 1, height: 1, grass: vec![128], placement };
+        assert!(near(uniform.density_at(1234.5, -77.0), 128.0 / 255.0));
+        // With a slope limit: the product.
+        let cover = Cover { slope_limit_deg: Some(30.0), map: Some(Arc::new(uniform)) };
+        let half_way = 30f32.to_radians().tan();
+        assert!((cover.density(0.0, 0.0, Vec2::new(half_way, 0.0)) - 0.5 * 128.0 / 255.0).abs() < 1e-3);
+        // Samples: grey, red of colour, 16-bit rounded.
+        assert_eq!(red_samples(ColorType::La8, &[7, 1, 9, 2]).unwrap(), [7, 9]);
+        assert_eq!(red_samples(ColorType::Rgba8, &[10, 20, 30, 40]).unwrap(), [10]);
+        assert_eq!(red_samples(ColorType::L16, &[0xff, 0xff, 0x80, 0x80]).unwrap(), [255, 128]);
+    }
+}
