@@ -8,6 +8,12 @@
 //!
 //! Drawn with: `meadow render --field infinite --heightmap assets/landscape/heightmap.png
 //! --cover assets/landscape/cover.png --terrain-scale 200,12,200`.
+//!
+//! `cargo run --release --example landscape_maps -- relief PATH.png [SEED]` writes instead the
+//! unbounded field's gentle relief of `SEED` (default 1, `meadow`'s `--seed`) exported as a
+//! 16-bit heightmap, 4 001 × 4 001 texels at 0.5 m over 2 km (`Heightmap::from_relief`; too large
+//! for the repository), and prints the `--terrain-scale` that draws it as the relief
+//! (`meadow bench --preset landscape` compares the two).
 
 use std::f64::consts::TAU;
 use std::path::Path;
@@ -59,7 +65,44 @@ fn cover(dir: &Path) -> Result<(), image::ImageError> {
     image::save_buffer(dir.join("cover.png"), &rgb, side, side, image::ColorType::Rgb8)
 }
 
+/// `relief PATH [SEED]`: the relief exported (see the module's comment).
+fn relief(args: &[String]) -> Result<String, String> {
+    let [path, rest @ ..] = args else {
+        return Err("relief needs an output PATH.png".into());
+    };
+    let seed = match rest {
+        [] => 1,
+        [seed] => seed.parse::<u64>().map_err(|e| format!("seed '{seed}': {e}"))?,
+        _ => return Err("relief takes PATH.png and at most a SEED".into()),
+    };
+    let relief = meadow::scene::field::Relief::of_kind(meadow::scene::field::ReliefKind::Gentle, seed);
+    let (map, low) = meadow::scene::heightmap::Heightmap::from_relief(&relief, 2000.0, 0.5);
+    let bytes: Vec<u8> = map.texels.iter().flat_map(|t| t.to_ne_bytes()).collect();
+    image::save_buffer(path, &bytes, map.width, map.height, image::ColorType::L16)
+        .map_err(|e| format!("{path}: {e}"))?;
+    Ok(format!(
+        "wrote {path}: {} x {} texels; draw it with --field infinite --heightmap {path} --terrain-scale 2000,{},2000 \
+         (its ground lies {:.3} m below the relief's)",
+        map.width, map.height, map.scale.y, -low
+    ))
+}
+
 fn main() {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    if let Some((mode, rest)) = args.split_first() {
+        let done = match mode.as_str() {
+            "relief" => relief(rest),
+            _ => Err(format!("unknown mode '{mode}' (none: the example maps; relief PATH.png [SEED])")),
+        };
+        match done {
+            Ok(line) => println!("{line}"),
+            Err(e) => {
+                eprintln!("error: {e}");
+                std::process::exit(2);
+            }
+        }
+        return;
+    }
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/landscape");
     let written = std::fs::create_dir_all(&dir).map_err(image::ImageError::IoError).and_then(|()| {
         heightmap(&dir)?;

@@ -134,6 +134,8 @@ pub struct RenderOptions {
     pub debug_tiles: bool,
     /// Show the Fresnel term alone on the blades.
     pub debug_fresnel: bool,
+    /// Show the ground's cover as colour.
+    pub debug_cover: bool,
     /// Multisample anti-aliasing.
     pub msaa: crate::render::msaa::Msaa,
     /// The cull and LOD, or brute force.
@@ -222,6 +224,7 @@ impl RenderOptions {
             debug_lod: self.debug_lod,
             debug_tiles: self.debug_tiles,
             debug_fresnel: self.debug_fresnel,
+            debug_cover: self.debug_cover,
             msaa: self.msaa,
             floor: self.floor,
             fog_density: self.fog,

@@ -443,6 +443,8 @@ fn bad_bench_arguments_exit_2() {
         &["bench", "--preset", "response", "--frames", "3"][..],
         &["bench", "--preset", "response", "--animations", "static,verlet"][..],
         &["bench", "--preset", "lod", "--wind-fields", "perlin"][..],
+        &["bench", "--preset", "landscape", "--blades", "1000"][..],
+        &["bench", "--preset", "landscape", "--segments", "4"][..],
     ] {
         let output = meadow().args(args).output().expect("run");
         assert_eq!(output.status.code(), Some(2), "{args:?}: {}", transcript(&output));
@@ -615,6 +617,38 @@ fn the_animations_preset_measures_each_response_against_static() {
     }
     let csv = std::fs::read_to_string(out.join("animations.csv")).expect("csv");
     assert_eq!(csv.lines().count(), 1 + 2 * 6 + 2 * 4, "a header and a line per row and response");
+}
+
+/// `--preset landscape`: the three pairs measured side by side, the exported relief drawing about
+/// what the relief draws and a picture within a few pixels of it, the split cover half the full
+/// one's blades.
+#[test]
+fn the_landscape_preset_measures_its_pairs_side_by_side() {
+    let out = scratch("bench-landscape").join("out");
+    let output = meadow()
+        .args(["bench", "--preset", "landscape", "--size", "160x90", "--warmup", "0", "--frames", "1", "--validation"])
+        .args(["--device", support::DEVICE, "--out"])
+        .arg(&out)
+        .output()
+        .expect("run");
+    support::assert_clean(&output);
+    let doc: Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("landscape.json")).expect("json")).expect("JSON");
+    assert_eq!(doc["export_texels"], 4001);
+    let pairs = doc["pairs"].as_array().expect("pairs");
+    assert_eq!(pairs.len(), 3);
+    let drawn = |p: &Value, side: &str| p[side]["drawn"].as_f64().expect("drawn");
+    for p in pairs {
+        assert!(p["ratio"].as_f64().expect("ratio") > 0.0 && drawn(p, "reference") > 1000.0, "{p}");
+    }
+    let export = &pairs[0];
+    let off = (drawn(export, "subject") - drawn(export, "reference")).abs() / drawn(export, "reference");
+    assert!(off < 0.02, "the export drew {off} off the relief's blades");
+    assert!(export["within_3"].as_f64().expect("within") > 0.98, "{export}");
+    for split in &pairs[1..] {
+        let share = drawn(split, "subject") / drawn(split, "reference");
+        assert!((0.4..0.65).contains(&share), "the split cover drew {share} of the full one's blades");
+    }
 }
 
 /// `--preset response`: every traced tip rests until the gust and leans downwind after it; a

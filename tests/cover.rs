@@ -269,3 +269,53 @@ fn bad_cover_maps_and_values_are_refused_in_one_line() {
         assert!(output.status.success() && written, "{case}: {}", transcript(&output));
     }
 }
+
+#[test]
+fn the_cover_view_colours_bare_ground_red_and_covered_ground_green() {
+    // A split map over the procedural relief seen from above (bare for x < 0: the picture's left
+    // half): `--debug-view cover` draws the cover unlit, red where bare and green where full.
+    let dir = scratch("cover-view");
+    let mut split = vec![0u8; 64];
+    split[32..].fill(255);
+    image::save_buffer(dir.join("split.png"), &split, 64, 1, image::ColorType::L8).expect("map");
+    let map = dir.join("split.png").to_string_lossy().into_owned();
+    let args = [
+        "--field",
+        "infinite",
+        "--density",
+        "40",
+        "--terrain-scale",
+        "200,1,200",
+        "--cover",
+        &map,
+        "--camera",
+        "0,30,0,0,-89",
+        "--fog",
+        "0",
+        "--size",
+        "160x90",
+    ];
+    let shot = |extra: &[&str], name: &str| {
+        support::render(&[&args[..], extra].concat(), &dir.join(name));
+        Picture::load(&dir.join(name))
+    };
+    // The mean red and green of the columns from `from` to `to` (fractions of the width).
+    let mean = |p: &Picture, from: f32, to: f32| {
+        let (mut r, mut g, mut n) = (0.0, 0.0, 0.0);
+        for y in 0..p.height {
+            for x in (from * p.width as f32) as u32..(to * p.width as f32) as u32 {
+                let [pr, pg, _] = p.pixel(x, y);
+                (r, g, n) = (r + f64::from(pr), g + f64::from(pg), n + 1.0);
+            }
+        }
+        (r / n, g / n)
+    };
+    let view = shot(&["--debug-view", "cover"], "cover.png");
+    let ((lr, lg), (rr, rg)) = (mean(&view, 0.05, 0.4), mean(&view, 0.6, 0.95));
+    assert!(lr > 3.0 * lg, "the bare half: red {lr:.0}, green {lg:.0}");
+    assert!(rg > 2.0 * rr, "the covered half: red {rr:.0}, green {rg:.0}");
+    // Shaded, the bare earth is not that red.
+    let shaded = shot(&[], "shaded.png");
+    let (sr, sg) = mean(&shaded, 0.05, 0.4);
+    assert!(sr < 2.0 * sg, "the shaded bare half: red {sr:.0}, green {sg:.0}");
+}

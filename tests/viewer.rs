@@ -371,3 +371,38 @@ fn without_timestamps_the_viewer_says_gpu_unavailable() {
     let stats = stdout.lines().find(|l| l.starts_with("stats: ")).unwrap_or_else(|| panic!("{}", transcript(&control)));
     assert!(stats.contains(", gpu ") && stats.contains(" ms (") && !stats.contains("unavailable"), "{stats}");
 }
+
+#[test]
+fn f4_toggles_the_slope_limit_and_t_reaches_the_cover_view() {
+    // A stored field (5 000 blades, 3.5 m a side) on a steep ramp (a 16-bit map rising at 44°
+    // along x past x = 0.65 m): F4 turns the 30° slope limit
+    // on (the ramp's blades are scattered away, the ground turns to earth) and off again; T four
+    // times is the cover view.
+    let dir = scratch("viewer-slope-limit");
+    let texels: Vec<u8> =
+        (0..32u32 * 32).flat_map(|i| (((i % 32).saturating_sub(16) * 4096).min(65_535) as u16).to_ne_bytes()).collect();
+    image::save_buffer(dir.join("ramp.png"), &texels, 32, 32, image::ColorType::L16).expect("map");
+    let path = dir.join("slope.txt");
+    std::fs::write(
+        &path,
+        "0 pause\n0 camera 0,3,4,0,-35\n3 screenshot plain.png\n4 press f4\n8 screenshot limited.png\n10 press f4\n\
+         14 screenshot again.png\n16 press t\n17 press t\n18 press t\n19 press t\n22 quit\n",
+    )
+    .expect("write script");
+    let map = dir.join("ramp.png");
+    let args = ["--heightmap", map.to_str().expect("utf-8"), "--terrain-scale", "40,20,40"];
+    let output = view(&dir, &[&args[..], &["--script", path.to_str().expect("utf-8")]].concat());
+    assert_clean(&output);
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(stdout.contains("slope limit 30°") && stdout.contains("cover view"), "{}", transcript(&output));
+    let load = |name: &str| Picture::load(&dir.join(name));
+    let (plain, limited, again) = (load("plain.png"), load("limited.png"), load("again.png"));
+    let changed =
+        |a: &Picture, b: &Picture| 1.0 - meadow::imagediff::compare_rgb(&a.rgb, &b.rgb, 8).0.within_fraction();
+    assert!(
+        changed(&plain, &limited) > 0.03,
+        "the slope limit changed {:.3} of the picture",
+        changed(&plain, &limited)
+    );
+    assert!(changed(&plain, &again) < 0.001, "turning it off again left {:.3} changed", changed(&plain, &again));
+}

@@ -163,6 +163,13 @@ float ground_cover(vec2 p) {
     return mix(bottom, top, f.y);
 }
 
+// The cover debug view's colour (`--debug-view cover`): red where bare, yellow at half, green
+// where full.
+vec3 cover_debug_color(float cover) {
+    return cover < 0.5 ? mix(vec3(0.8, 0.05, 0.02), vec3(0.8, 0.7, 0.05), 2.0 * cover)
+                       : mix(vec3(0.8, 0.7, 0.05), vec3(0.05, 0.6, 0.1), 2.0 * cover - 1.0);
+}
+
 // The most cover over the square `lo`..`hi` (x, z, relative to O): the largest at the vertices of
 // the cells it overlaps in the level at its centre, and one vertex around them (a root near a
 // level's edge may stand on the next level's cell). A cell with none has no grass.

@@ -35,6 +35,7 @@
 #define FLAG_DEBUG_FRESNEL 256u // Blades show Belyaev's Fresnel term alone (`--debug-view fresnel`).
 #define FLAG_BLOCKS 128u // A block field (`scene::field`): blades are a stored block's, placed per cell around the origin.
 #define FLAG_LEVELS 512u // blade.vert reads each drawn blade's levels placed and lit by blade_levels.comp (with the cull and pose records).
+#define FLAG_DEBUG_COVER 1024u // The ground's cover as colour, on the terrain and the blades (`--debug-view cover`).
 #define FLAG_SOLID_OUTLINE 32u // Far LOD buckets: the outline tapered in the geometry, no alpha test (early depth writes).
 
 // Culling and LOD switches (`cull_lod.z` of the frame uniforms, `render::culling::Culling`).

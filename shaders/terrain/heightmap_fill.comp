@@ -66,9 +66,17 @@ void main() {
     ivec4 window = frame_values.ground_windows[level];
     uint step = uint(2.0 * ground_level_step(level)); // half-metres
     uvec2 at = (uvec2(window.zw) + local.xz * step) % PERIOD_HALF_METRES;
-    vec2 slope;
     vec2 world = world_metres(at);
-    float h = map_at(world, slope);
+    vec2 unused;
+    float h = map_at(world, unused);
+    // The slope: the bilinear surface's central difference over a texel either side (at a texel,
+    // the mean of the gradients of the patches that meet there, as the stored terrain's central
+    // differences; the one-sided gradient of one patch lit the relief's export visibly apart from
+    // the relief).
+    vec2 texel = vec2(uintBitsToFloat(map_words[2]), uintBitsToFloat(map_words[3])) / vec2(map_size() - 1u);
+    vec2 slope = vec2(map_at(world + vec2(texel.x, 0.0), unused) - map_at(world - vec2(texel.x, 0.0), unused),
+                     map_at(world + vec2(0.0, texel.y), unused) - map_at(world - vec2(0.0, texel.y), unused))
+        / (2.0 * texel);
     // The next level's mesh at an odd vertex: the mean of the two even vertices it halves, as
     // relief_fill.comp takes it.
     float coarse = h;

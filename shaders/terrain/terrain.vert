@@ -42,6 +42,8 @@ void main() {
     vec4 ground = ground_vertex(at, ivec2(grid));
     vec2 p = vec2(grid) * ground_level_step(level) + ground_level_offset(level);
     vec3 world = vec3(p.x, ground.x, p.y);
-    out_color = ground_color(ground.yzw, world, ground_vertex_cover(at, ivec2(grid)));
+    float cover = ground_vertex_cover(at, ivec2(grid));
+    out_color = (RENDER_FLAGS & FLAG_DEBUG_COVER) != 0u ? 0.5 * cover_debug_color(cover) // unlit, unfogged
+                                                      : ground_color(ground.yzw, world, cover);
     gl_Position = frame.view_proj * vec4(world, 1.0);
 }

@@ -83,6 +83,8 @@ pub(crate) enum DebugViewArg {
     Tiles,
     /// Blades show Belyaev's Fresnel term alone (§2.3), unfogged: bright where the terrain is seen edge-on.
     Fresnel,
+    /// The ground's cover (--cover, --slope-limit) as colour on the terrain and the blades: red bare, yellow half, green full.
+    Cover,
 }
 
 #[derive(Clone, Copy, ValueEnum)]

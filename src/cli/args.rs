@@ -176,6 +176,7 @@ impl SceneArgs {
             debug_lod: self.debug_view == Some(DebugViewArg::Lod),
             debug_tiles: self.debug_view == Some(DebugViewArg::Tiles),
             debug_fresnel: self.debug_view == Some(DebugViewArg::Fresnel),
+            debug_cover: self.debug_view == Some(DebugViewArg::Cover),
             culling: self.culling.culling(self.segments),
             relief: match self.relief {
                 Some(ReliefArg::Hills) => crate::scene::field::ReliefKind::Hills,
@@ -244,7 +245,9 @@ pub(crate) struct BenchArgs {
     /// against the GPU-driven cull and LOD on a 1M-blade field from four cameras; msaa: the cost
     /// and the temporal stability (a slow pan) of --msaa with and without alpha to coverage;
     /// animations: the blade responses side by side, culled, unbounded and at the thesis' sizes;
-    /// response: each response's tips through a step gust, read back and charted.
+    /// response: each response's tips through a step gust, read back and charted; landscape: a
+    /// heightmap exported from the relief against the relief, and a half-bare covering map against
+    /// a full one.
     #[arg(long, value_enum, default_value = "quick")]
     pub(crate) preset: PresetArg,
     /// Blade counts (comma-separated), replacing the preset's (lod: one, the stored field's).
@@ -278,7 +281,7 @@ pub(crate) struct BenchArgs {
     pub(crate) frames: Option<u32>,
     /// Directory for bench.json, bench.csv and bench.png (lod: lod.json, lod.csv and lod.png;
     /// msaa: msaa.json, msaa.csv and msaa-far-field.png; animations: animations.json and
-    /// animations.csv).
+    /// animations.csv; landscape: landscape.json).
     #[arg(long, default_value = "bench-out")]
     pub(crate) out: PathBuf,
     /// Compare two bench.json files instead of measuring; exit 1 on a regression.
@@ -370,6 +373,7 @@ pub(crate) enum PresetArg {
     Msaa,
     Animations,
     Response,
+    Landscape,
 }
 
 #[derive(Clone, Copy, ValueEnum)]

@@ -133,6 +133,7 @@ pub(crate) fn bench(args: BenchArgs) -> crate::Result<(u8, Option<u64>)> {
         PresetArg::Msaa => return msaa(args),
         PresetArg::Animations => return animations(args),
         PresetArg::Response => return response(args),
+        PresetArg::Landscape => return landscape(args),
     };
     let preset_blades: Vec<u32> = options.rows.iter().map(|r| r.0).collect();
     let preset_segments: Vec<u32> = options.rows.iter().map(|r| r.1).collect();
@@ -276,6 +277,27 @@ fn response(args: BenchArgs) -> crate::Result<(u8, Option<u64>)> {
             Ok(doc)
         },
         |doc| print!("{}", response::table(&doc)),
+    ))
+}
+
+/// `meadow bench --preset landscape`: size, warm-up and frames can be changed; blade counts,
+/// segments, modes and evaluation placements cannot (`cli::effect` refuses them).
+fn landscape(args: BenchArgs) -> crate::Result<(u8, Option<u64>)> {
+    use crate::harness::bench::landscape::{self, LandscapeBenchOptions};
+    let mut options = LandscapeBenchOptions::preset(args.out.clone());
+    options.size = args.size.unwrap_or(options.size);
+    options.warmup = args.warmup.unwrap_or(options.warmup);
+    options.frames = args.frames.unwrap_or(options.frames);
+    Ok(measure(
+        &args.gpu,
+        "frames",
+        (&options.out, &landscape::FILES),
+        |device, progress| {
+            let doc = landscape::run(device, &options, progress)?;
+            landscape::write(&doc, &options.out)?;
+            Ok(doc)
+        },
+        |doc| print!("{}", landscape::table(&doc)),
     ))
 }
 

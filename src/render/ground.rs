@@ -542,7 +542,25 @@ mod tests {
         let mut uniforms: FrameUniforms = bytemuck::Zeroable::zeroed();
         source.fill_uniforms(&mut uniforms, IVec2::ZERO, (150.0, 150.0));
         assert_eq!(uniforms.ground_levels[0], Vec4::new(-3.0, -3.0, terrain.cell_size(), 2.0 * terrain.cell_size()));
-        assert_eq!(uniforms.ground, UVec4::new(terrain.cells, 0, 1, 0));
+        // No slope limit: 10 radians, which no slope reaches; the soft edge's width in radians.
+        let soft = crate::scene::cover::SLOPE_SOFT_DEG.to_radians().to_bits();
+        assert_eq!(uniforms.ground, UVec4::new(terrain.cells, 10f32.to_bits(), 1, soft));
+        // A limit's radians.
+        let limited = StoredGround { terrain, cover: Cover { slope_limit_deg: Some(30.0), map: None } };
+        limited.fill_uniforms(&mut uniforms, IVec2::ZERO, (150.0, 150.0));
+        assert_eq!(uniforms.ground.y, 30f32.to_radians().to_bits());
+    }
+
+    #[test]
+    fn the_cover_maps_words_hold_its_header_and_its_densities_four_a_word() {
+        let placement = crate::scene::cover::MapPlacement { x: 200.0, z: 100.0, mirrored: false };
+        let map = crate::scene::cover::CoverMap { width: 5, height: 1, grass: vec![1, 2, 3, 4, 5], placement };
+        let words = cover_map_words(&Cover { slope_limit_deg: None, map: Some(Arc::new(map)) });
+        assert_eq!(words[..5], [5, 1, 200f32.to_bits(), 100f32.to_bits(), 0]);
+        assert_eq!(words[COVER_MAP_HEADER_WORDS..], [0x0403_0201, 5]);
+        // No map: one texel of full density.
+        let none = cover_map_words(&Cover::default());
+        assert_eq!((none[0], none[1], none[COVER_MAP_HEADER_WORDS]), (1, 1, 255));
     }
 
     #[test]

@@ -41,6 +41,8 @@ pub struct RenderSettings {
     pub debug_tiles: bool,
     /// Show Belyaev's Fresnel term alone on the blades (`--debug-view fresnel`).
     pub debug_fresnel: bool,
+    /// The ground's cover as colour on the terrain and the blades (`--debug-view cover`).
+    pub debug_cover: bool,
     /// The GPU-driven cull and LOD, or brute force.
     pub culling: crate::render::culling::Culling,
     /// Multisample anti-aliasing (`--msaa`, `render::msaa`).
@@ -73,6 +75,7 @@ impl RenderSettings {
             debug_lod: false,
             debug_tiles: false,
             debug_fresnel: false,
+            debug_cover: false,
             culling,
             msaa: crate::render::msaa::Msaa::default(),
             floor: false,

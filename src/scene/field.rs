@@ -128,6 +128,31 @@ impl Relief {
         (TAU64 * (f64::from(m) * x + f64::from(n) * z) / period + f64::from(self.waves[k].w)).rem_euclid(TAU64)
     }
 
+    /// Heights on the square lattice of `side` × `side` points from (`first`, `first`) every
+    /// `spacing` metres, row by row (z then x): `height` at each, each wave split as
+    /// sin(a + b) = sin a cos b + cos a sin b into its x and z parts, so the trigonometry is per
+    /// row and column, not per point (a 4 001² export in a fraction of a second).
+    pub fn heights_on_lattice(&self, first: f64, spacing: f64, side: u32) -> Vec<f64> {
+        let period = f64::from(WORLD_PERIOD);
+        let at = |i: u32| first + f64::from(i) * spacing;
+        let mut heights = vec![0.0; side as usize * side as usize];
+        for (k, wave) in self.waves.iter().enumerate() {
+            let (m, n) = self.cycles[k];
+            let angle =
+                |cycles: i32, w: f64| (TAU64 * f64::from(cycles) * w.rem_euclid(period) / period).rem_euclid(TAU64);
+            let x: Vec<(f64, f64)> = (0..side).map(|i| angle(m, at(i)).sin_cos()).collect();
+            let z: Vec<(f64, f64)> =
+                (0..side).map(|j| (angle(n, at(j)) + f64::from(wave.w)).rem_euclid(TAU64).sin_cos()).collect();
+            let amplitude = f64::from(wave.z);
+            for (row, &(sz, cz)) in heights.chunks_exact_mut(side as usize).zip(&z) {
+                for (h, &(sx, cx)) in row.iter_mut().zip(&x) {
+                    *h += amplitude * (sx * cz + cx * sz);
+                }
+            }
+        }
+        heights
+    }
+
     /// Height at world (x, z), in f64 (the camera's ground, the CPU side of the GPU's relief).
     pub fn height(&self, x: f64, z: f64) -> f64 {
         (0..WAVES).map(|k| f64::from(self.waves[k].z) * self.phase(k, x, z).sin()).sum()

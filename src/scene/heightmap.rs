@@ -86,6 +86,21 @@ impl Heightmap {
         Ok(Self { width: png.width, height: png.height, texels, bits, scale, mirrored: true })
     }
 
+    /// A map of `relief` over `extent` × `extent` metres centred on the world's origin, a texel
+    /// every `spacing` metres (so `extent / spacing + 1` a side), black at the lowest height
+    /// sampled and white at the highest: the procedural relief exported as a heightmap (issue
+    /// #35's comparison of the two grounds; `examples/landscape_maps.rs` writes it as a PNG).
+    /// Its ground lies `lowest` below the relief's, where `(map, lowest)` is returned.
+    pub fn from_relief(relief: &crate::scene::field::Relief, extent: f64, spacing: f64) -> (Self, f64) {
+        let side = (extent / spacing).round() as u32 + 1;
+        let heights = relief.heights_on_lattice(-0.5 * extent, spacing, side);
+        let (low, high) = heights.iter().fold((f64::MAX, f64::MIN), |(l, h), &v| (l.min(v), h.max(v)));
+        let range = (high - low).max(1e-6);
+        let texels = heights.iter().map(|h| ((h - low) / range * 65_535.0).round() as u16).collect();
+        let scale = TerrainScale { x: extent, y: range, z: extent };
+        (Self { width: side, height: side, texels, bits: 16, scale, mirrored: true }, low)
+    }
+
     /// The map's texel (clamped to the map) as a height in metres.
     pub fn texel_height(&self, x: i64, z: i64) -> f64 {
         let (x, z) = (x.clamp(0, i64::from(self.width) - 1), z.clamp(0, i64::from(self.height) - 1));
@@ -247,6 +262,19 @@ mod tests {
         // Continuous across the mirror line.
         assert!((h(50.0 - 1e-7, 7.0) - h(50.0 + 1e-7, 7.0)).abs() < 1e-6);
         assert!(hm.slope_bound() > 0.0);
+    }
+
+    #[test]
+    fn a_relief_exported_holds_its_heights_at_the_texels() {
+        let relief = crate::scene::field::Relief::generate(5);
+        let (map, low) = Heightmap::from_relief(&relief, 100.0, 0.5);
+        assert_eq!((map.width, map.height), (201, 201));
+        for (x, z) in [(0u32, 0u32), (200, 200), (37, 151), (100, 100)] {
+            let world = (-50.0 + f64::from(x) * 0.5, -50.0 + f64::from(z) * 0.5);
+            let exported = map.height_at(world.0, world.1) + low;
+            // 16-bit steps of a few metres' range: well under a millimetre.
+            assert!((exported - relief.height(world.0, world.1)).abs() < 1e-4, "texel ({x}, {z})");
+        }
     }
 
     #[test]

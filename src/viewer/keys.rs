@@ -18,8 +18,11 @@ use crate::scene::Scene;
 use crate::wind::{Collider, PointSource};
 
 /// The keys whose control changes pipelines or the scene (`rebuild_for`).
-const REBUILT_BY: [&str; 16] =
-    ["m", "n", "b", "v", "x", "t", "o", "y", "f", "f2", "f3", "r", "plus", "minus", "[", "]"];
+const REBUILT_BY: [&str; 17] =
+    ["m", "n", "b", "v", "x", "t", "o", "y", "f", "f2", "f3", "f4", "r", "plus", "minus", "[", "]"];
+
+/// F4's slope limit when `--slope-limit` was not given, in degrees.
+pub(super) const DEFAULT_SLOPE_LIMIT_DEG: f32 = 30.0;
 
 /// The controls, printed at start and by H.
 pub(super) const HELP: &str = "\
@@ -35,10 +38,11 @@ meadow viewer controls
   U               gusts on/off           C                 calm areas on/off
   F2              wind field analytic / Perlin (Belyaev) / fluid (Zhang Xia)
   F3              wind view: arrows of the wind the grass feels, 0.5 m up
+  F4              slope limit on/off (--slope-limit, or 30 degrees): steep ground bare
   left click      drop a wind source (drag to move)   Delete  remove the last source
   arrow keys      drive the collider sphere through the grass
   V               force debug view       F                 wireframe
-  X               cluster bounds view    T                 LOD / tile / Fresnel view
+  X               cluster bounds view    T                 LOD / tile / Fresnel / cover view
   O               GPU culling / brute force             Y  LOD on/off
   Z               freeze the culling camera (fly out and look at what it keeps)
   R               MSAA: off, 4x alpha to coverage, 4x alpha test (the device's counts)
@@ -146,7 +150,8 @@ impl Viewer {
         }
         let mut animation = self.renderer.as_ref().expect("renderer built").animation().clone();
         let mut settings = self.settings;
-        let old_blades = self.scene.blades.len() as u32;
+        // The blades asked for (a stored field under cover rules keeps fewer).
+        let old_blades = self.options.scene.blades;
         let mut blades = old_blades;
         match name {
             // Static, texture, uniform, Pelzer's sine per object, vertex and cluster, Verlet, inertial,
@@ -193,11 +198,18 @@ impl Viewer {
             _ => {}
         }
         let what = format!("'{name}'");
+        if name == "f4" {
+            return self.toggle_slope_limit(settings, animation);
+        }
         if blades == old_blades {
             self.rebuild_passes(&what, settings, animation);
             return Ok(());
         }
-        self.replace_renderer(&what, blades, settings, animation).map(|_| ())
+        let scene = self.scene_with(blades)?;
+        if self.replace_renderer(&what, Some(scene), settings, animation)? {
+            self.options.scene.blades = blades;
+        }
+        Ok(())
     }
 
     /// Rebuild the passes (and the model, if `animation` changed) on the same scene with
@@ -230,29 +242,27 @@ impl Viewer {
         applied
     }
 
-    /// A new renderer for `blades` blades (a new scene when the count changes), `settings` and
-    /// `animation`: the old renderer's frames finish and its memory is freed before the new one
-    /// is built. One the device cannot take is reported (as `what`) and the previous scene,
-    /// settings and animation built again. Returns whether it applied.
+    /// A new renderer for `scene` (`None`: the same one), `settings` and `animation`: the old
+    /// renderer's frames finish and its memory is freed before the new one is built. One the
+    /// device cannot take is reported (as `what`) and the previous scene, settings and animation
+    /// built again. Returns whether it applied.
     pub(super) fn replace_renderer(
         &mut self,
         what: &str,
-        blades: u32,
+        scene: Option<Scene>,
         settings: RenderSettings,
         animation: AnimationSettings,
     ) -> Result<bool> {
         let old_animation = self.renderer.as_ref().expect("renderer built").animation().clone();
-        let (old_settings, old_blades) = (self.settings, self.scene.blades.len() as u32);
+        let old_settings = self.settings;
         self.renderer = None;
         self.settings = settings;
-        if blades != old_blades {
-            self.scene = Scene::generate(blades, self.options.scene.seed);
-        }
+        let old_scene = scene.map(|scene| std::mem::replace(&mut self.scene, scene));
         if let Err(e) = self.build_renderer(animation) {
             println!("cannot apply {what}: {e}");
             self.settings = old_settings;
-            if blades != old_blades {
-                self.scene = Scene::generate(old_blades, self.options.scene.seed);
+            if let Some(scene) = old_scene {
+                self.scene = scene;
             }
             return self.build_renderer(old_animation).map(|()| false);
         }
@@ -260,11 +270,33 @@ impl Viewer {
         Ok(true)
     }
 
+    /// The options' scene with `blades` stored blades (on the `--heightmap`, under the cover
+    /// rules, as at start).
+    fn scene_with(&self, blades: u32) -> Result<Scene> {
+        crate::app::RenderOptions { blades, ..self.options.scene.clone() }.scene()
+    }
+
+    /// F4: the slope limit on or off (`--slope-limit`, or `DEFAULT_SLOPE_LIMIT_DEG` when not
+    /// given): a new scene (a stored field scattered again) and renderer.
+    fn toggle_slope_limit(&mut self, settings: RenderSettings, animation: AnimationSettings) -> Result<()> {
+        let landscape = &mut self.options.scene.landscape;
+        let before = landscape.slope_limit_deg;
+        landscape.slope_limit_deg = match before {
+            Some(_) => None,
+            None => Some(self.slope_limit_deg),
+        };
+        let scene = self.scene_with(self.options.scene.blades)?;
+        if !self.replace_renderer("'f4'", Some(scene), settings, animation)? {
+            self.options.scene.landscape.slope_limit_deg = before;
+        }
+        Ok(())
+    }
+
     /// Print what the renderer now draws.
     fn report_rebuild(&self) {
         let a = self.renderer.as_ref().expect("built").animation();
         println!(
-            "mode {}, smoothing {:?}, eval {:?}, {} wind, {} segments, {} blades, {}{}{}{}{}{}{}",
+            "mode {}, smoothing {:?}, eval {:?}, {} wind, {} segments, {} blades, {}{}{}{}{}{}{}{}",
             if self.settings.floor { "Floor".to_string() } else { format!("{:?}", a.mode) },
             a.smoothing,
             a.eval,
@@ -279,6 +311,8 @@ impl Viewer {
                 ", tile view"
             } else if self.settings.debug_fresnel {
                 ", Fresnel view"
+            } else if self.settings.debug_cover {
+                ", cover view"
             } else {
                 ""
             },
@@ -293,6 +327,7 @@ impl Viewer {
                     if m.alpha_to_coverage { "alpha to coverage" } else { "alpha test" }
                 ),
             },
+            self.options.scene.landscape.slope_limit_deg.map_or(String::new(), |d| format!(", slope limit {d}°")),
         );
     }
 
@@ -374,13 +409,15 @@ fn next_msaa(m: crate::render::msaa::Msaa, supported: &[u32]) -> crate::render::
     }
 }
 
-/// T: the LOD bucket view, then the tile view, then the Fresnel term's, then none.
+/// T: the LOD bucket view, then the tile view, the Fresnel term's, the cover's, then none.
 fn cycle_cull_views(s: &mut crate::render::RenderSettings) {
-    (s.debug_lod, s.debug_tiles, s.debug_fresnel) = match (s.debug_lod, s.debug_tiles, s.debug_fresnel) {
-        (false, false, false) => (true, false, false),
-        (true, _, _) => (false, true, false),
-        (false, true, _) => (false, false, true),
-        (false, false, true) => (false, false, false),
+    let views = (s.debug_lod, s.debug_tiles, s.debug_fresnel, s.debug_cover);
+    (s.debug_lod, s.debug_tiles, s.debug_fresnel, s.debug_cover) = match views {
+        (true, ..) => (false, true, false, false),
+        (false, true, ..) => (false, false, true, false),
+        (false, false, true, _) => (false, false, false, true),
+        (false, false, false, true) => (false, false, false, false),
+        (false, false, false, false) => (true, false, false, false),
     };
 }
 
@@ -410,10 +447,10 @@ fn culling_state(culling: &crate::render::culling::Culling) -> String {
 }
 
 /// Every key name the viewer acts on (what `key_name` returns), for scripts to check against.
-pub(super) const KEY_NAMES: [&str; 41] = [
-    "[", "]", "a", "b", "c", "d", "delete", "down", "e", "escape", "f", "f1", "f12", "f2", "f3", "g", "h", "i", "j",
-    "k", "l", "left", "m", "minus", "n", "o", "p", "plus", "q", "r", "right", "s", "shift", "t", "u", "up", "v", "w",
-    "x", "y", "z",
+pub(super) const KEY_NAMES: [&str; 42] = [
+    "[", "]", "a", "b", "c", "d", "delete", "down", "e", "escape", "f", "f1", "f12", "f2", "f3", "f4", "g", "h", "i",
+    "j", "k", "l", "left", "m", "minus", "n", "o", "p", "plus", "q", "r", "right", "s", "shift", "t", "u", "up", "v",
+    "w", "x", "y", "z",
 ];
 
 /// Name of a key as the help and scripts spell it.
@@ -454,6 +491,7 @@ pub(super) fn key_name(code: KeyCode) -> Option<&'static str> {
         KeyCode::F1 => "f1",
         KeyCode::F2 => "f2",
         KeyCode::F3 => "f3",
+        KeyCode::F4 => "f4",
         KeyCode::Delete | KeyCode::Backspace => "delete",
         KeyCode::ArrowUp => "up",
         KeyCode::ArrowDown => "down",

@@ -129,6 +129,8 @@ struct Viewer {
     control: CameraControl,
     script: Script,
     calm_off: Option<Vec<CalmArea>>,
+    /// F4's slope limit, in degrees (`--slope-limit`, or `keys::DEFAULT_SLOPE_LIMIT_DEG`).
+    slope_limit_deg: f32,
     /// Simulated time, in whole steps of `--dt` (at most 4 a frame).
     clock: crate::render::animation::clock::StepPacer,
     paused: bool,
@@ -198,6 +200,7 @@ impl Viewer {
             control: CameraControl::new(camera),
             script: options.script.clone().unwrap_or_default(),
             calm_off: None,
+            slope_limit_deg: o.landscape.slope_limit_deg.unwrap_or(keys::DEFAULT_SLOPE_LIMIT_DEG),
             clock: crate::render::animation::clock::StepPacer::new(o.animation.clock, o.time.into()),
             paused: false,
             fixed_step,

@@ -65,6 +65,7 @@ impl Viewer {
             paused: self.paused,
             slowed: self.clock.slowed().then_some(self.clock.clock().dt),
             walk: self.control.walk,
+            slope_limit: (o.scene.landscape.slope_limit_deg.is_some(), self.slope_limit_deg),
             calm: self.calm_off.is_none(),
             budget: self.budget.as_ref().map(|b| (b.target_ms, b.scale)),
             present: (surface.swapchain.present_mode(), surface.swapchain.present_modes()),
@@ -157,7 +158,7 @@ impl Viewer {
                     let animation = self.renderer.as_ref().expect("renderer built").animation().clone();
                     let settings = crate::render::RenderSettings { frames_in_flight, ..self.settings };
                     let what = format!("{frames_in_flight} frames in flight");
-                    if self.replace_renderer(&what, self.scene.blades.len() as u32, settings, animation)? {
+                    if self.replace_renderer(&what, None, settings, animation)? {
                         self.options.frames_in_flight = frames_in_flight;
                         println!("{what}");
                     }

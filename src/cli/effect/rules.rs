@@ -427,6 +427,14 @@ pub(crate) const RULES: &[Rule] = &[
         why: "it traces a fixed field of 2000 blades through a fixed 3 s gust, one step a frame",
     },
     Rule {
+        flags: &["blades", "modes", "eval", "segments"],
+        subject: None,
+        commands: &["bench"],
+        with: "--preset landscape",
+        when: |g| g.one::<PresetArg>("preset") == Some(PresetArg::Landscape),
+        why: "it renders fixed unbounded fields: 400 blades/m², 4 segments, the default keyframes",
+    },
+    Rule {
         flags: &["modes", "eval", "segments"],
         subject: None,
         commands: &["bench"],

@@ -32,7 +32,7 @@ pub struct BladeLevelsPass {
     levels: vk::Buffer,
     /// The stored blades (a block field's are placed per cell) and the ground's clipmap (the
     /// ground's normal under each root).
-    reads: [vk::Buffer; 2],
+    reads: [vk::Buffer; 3],
     /// The cull's visible list (the buckets' ranges and dispatches are the `buckets`' reads).
     visible: vk::Buffer,
 }
@@ -54,7 +54,7 @@ impl BladeLevelsPass {
             pose_set: records.set,
             poses: records.poses.raw,
             levels: records.levels.raw,
-            reads: [scene.blades.raw, scene.ground.texels.raw],
+            reads: [scene.blades.raw, scene.ground.texels.raw, scene.ground.cover.0.raw],
             visible: scene.visible.raw,
         })
     }
@@ -72,6 +72,7 @@ impl Pass for BladeLevelsPass {
             .buffer(self.poses, Access::ComputeShaderRead)
             .buffer(self.reads[0], fetch)
             .buffer(self.reads[1], fetch)
+            .buffer(self.reads[2], fetch)
             .buffer(self.visible, fetch);
         Some(self.buckets.declare(declaration))
     }

@@ -132,6 +132,8 @@ impl BladePass {
         }
         // The ground's normal under each root (per vertex without placed levels).
         reads.push((scene.ground.texels.raw, device.profile.vertex_fetch()));
+        // And the cover there (`--debug-view cover` colours the blades by it).
+        reads.push((scene.ground.cover.0.raw, device.profile.vertex_fetch()));
         let mut pass = Guard::new(
             device,
             Self {

@@ -142,6 +142,9 @@ impl Renderer {
         if settings.debug_fresnel {
             specialization.flags |= crate::render::gpu_constants::FLAG_DEBUG_FRESNEL;
         }
+        if settings.debug_cover {
+            specialization.flags |= crate::render::gpu_constants::FLAG_DEBUG_COVER;
+        }
         // Where point sources are attenuated (thesis 4.5): the wind field's sampling, whichever
         // response reads it (`wind/wind_field.glsl`).
         specialization.attenuation = match self.animation.attenuation {

@@ -86,6 +86,8 @@ pub struct UiView<'a> {
     pub walk: bool,
     /// Calm areas are on (C).
     pub calm: bool,
+    /// The slope limit is on (F4), and its degrees.
+    pub slope_limit: (bool, f32),
     /// `--budget-ms` and the LOD scale it sets.
     pub budget: Option<(f32, f32)>,
     /// The present mode and those the surface supports.
@@ -305,13 +307,14 @@ pub fn animation(ui: &mut Ui, view: &UiView, out: &mut PanelOutput) {
 /// View: debug views, wireframe, MSAA, pause, walking; presentation as started.
 pub fn view(ui: &mut Ui, view: &UiView, out: &mut PanelOutput) {
     let s = view.settings;
-    let debug = match (s.debug_lod, s.debug_tiles, s.debug_fresnel) {
-        (true, _, _) => 1,
-        (_, true, _) => 2,
-        (_, _, true) => 3,
+    let debug = match (s.debug_lod, s.debug_tiles, s.debug_fresnel, s.debug_cover) {
+        (true, ..) => 1,
+        (_, true, ..) => 2,
+        (_, _, true, _) => 3,
+        (.., true) => 4,
         _ => 0,
     };
-    cycle(ui, out, "t", &["shaded", "LOD", "tiles", "Fresnel"], debug);
+    cycle(ui, out, "t", &["shaded", "LOD", "tiles", "Fresnel", "cover"], debug);
     toggle(ui, out, "v", s.debug_force, "force view");
     toggle(ui, out, "x", s.debug_bounds, "cluster bounds");
     toggle(ui, out, "f3", s.debug_wind, "wind arrows");
@@ -337,6 +340,8 @@ pub fn view(ui: &mut Ui, view: &UiView, out: &mut PanelOutput) {
         ui.label(format!("simulation slowed: {steps} steps of {:.1} ms a frame at most", dt * 1e3));
     }
     toggle(ui, out, "g", view.walk, "walk on the ground");
+    let (on, degrees) = view.slope_limit;
+    toggle(ui, out, "f4", on, &format!("slope limit {degrees}° (steep ground bare)"));
     let (present, supported) = &view.present;
     ui.horizontal(|ui| {
         for mode in supported {
