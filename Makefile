@@ -70,6 +70,7 @@ pictures: build
 	$(MEADOW) render $(LANDSCAPE) --out docs/landscape-procedural.png
 	$(MEADOW) render $(LANDSCAPE) --heightmap assets/landscape/heightmap.png --cover assets/landscape/cover.png \
 		--terrain-scale 200,12,200 --out docs/landscape-maps.png
+	$(MEADOW) render --field infinite --clumps 1.5 --camera 0,3,0,0,-25 --size 960x540 --out docs/landscape-clumps.png
 	xvfb-run -a -s "-screen 0 1280x720x24" $(MEADOW) view --size 960x540 --script scripts/viewer/showcase.txt
 
 # The benchmark results and charts in docs/ (docs/benchmarks.md, docs/gpu-timing.md): over half an

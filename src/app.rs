@@ -149,6 +149,8 @@ pub struct RenderOptions {
     /// `--heightmap`, `--terrain-scale`, `--cover` and `--slope-limit`: the ground and where
     /// grass grows on it, loaded by `scene`.
     pub landscape: landscape::Landscape,
+    /// `--clumps`: blades in clumps.
+    pub clumps: Option<crate::scene::clumps::Clumps>,
     /// Fog density per metre.
     pub fog: f32,
     /// Draw the benchmark floor instead of the blades (`--mode floor`).
@@ -175,9 +177,13 @@ impl RenderOptions {
             (Some(spec), Some(map)) => Scene::blocks_on_map(spec, std::sync::Arc::new(map), self.seed),
             (None, Some(map)) => Scene::generate_on_map(self.blades, &map, self.seed),
         };
-        Ok(match cover.active() {
+        let scene = match cover.active() {
             true => scene.with_cover(cover, self.blades, self.seed),
             false => scene,
+        };
+        Ok(match self.clumps {
+            Some(clumps) => scene.with_clumps(clumps),
+            None => scene,
         })
     }
 

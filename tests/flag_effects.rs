@@ -76,6 +76,7 @@ const RENDER_CASES: &[Case] = &[
     ("terrain_scale", &[with(&["--heightmap", "map.png"], &["--terrain-scale", "1000,20,1000"])]),
     ("cover", &[with(&["--heightmap", "map.png"], &["--cover", "cover.png"])]),
     ("slope_limit", &[with(&["--heightmap", "map.png"], &["--slope-limit", "3"])]),
+    ("clumps", &[alt(&["--clumps", "1"])]),
     ("fog", &[alt(&["--fog", "0.5"])]),
     ("blades_per_instance", &[alt(&["--blades-per-instance", "4"])]),
     ("animation", &[alt(&["--animation", "sine-object"]), alt(&["--animation", "static"])]),

@@ -6,6 +6,7 @@
 #include "common/camera_grid.glsl"
 #include "common/rings.glsl"
 #include "common/ground.glsl"
+#include "common/clumps.glsl"
 
 const float TALLEST_BLADE = 0.55; // scene::blades::TALLEST
 const float WIDEST_BLADE = 0.016; // scene::blades::WIDEST
@@ -60,6 +61,11 @@ BladeInstance field_blade(ivec2 cell, uint index) {
     vec2 at = vec2(cell - frame_values.field_cells.xy) * edge + p + vec2(0.5 * edge);
     blade.position = vec3(at.x, 0.0, at.y);
     blade.facing = facing;
+    if (CLUMP_SIZE_MM != 0u) {
+        // In clumps (`scene::clumps`): on the world's lattice, the cell modulo the world's period.
+        ivec2 wrapped = ((cell % PERIOD_CELLS) + PERIOD_CELLS) % PERIOD_CELLS;
+        blade = clumped(blade, vec2(wrapped) * edge + p + vec2(0.5 * edge));
+    }
     return blade;
 }
 

@@ -175,6 +175,16 @@ pub fn slope_limit(text: &str) -> Result<f32, String> {
     Ok(degrees)
 }
 
+/// `--clumps`: a clump size in metres, finite, within `scene::clumps::SIZE_RANGE_M`.
+pub fn clumps(text: &str) -> Result<crate::scene::clumps::Clumps, String> {
+    let size_m = finite_f32(text)?;
+    let (lo, hi) = crate::scene::clumps::SIZE_RANGE_M;
+    if !(lo..=hi).contains(&size_m) {
+        return Err(format!("clumps of {size_m} m: give {lo} to {hi} m"));
+    }
+    Ok(crate::scene::clumps::Clumps { size_m })
+}
+
 /// The fastest `timing --fly`: a frame's step stays well inside a block field's cells.
 pub const MAX_FLY_SPEED: f32 = 1000.0;
 

@@ -130,6 +130,10 @@ pub(crate) struct SceneArgs {
     /// field's cull skips its blades, a stored field's scatter places none there.
     #[arg(long, value_name = "DEG", value_parser = values::slope_limit, allow_hyphen_values = true)]
     pub(crate) slope_limit: Option<f32>,
+    /// Group the blades in clumps of about SIZE_M metres (0.1 to 50): a clump's blades lean
+    /// outwards together and share a tint and a height (off by default).
+    #[arg(long, value_name = "SIZE_M", value_parser = values::clumps, allow_hyphen_values = true)]
+    pub(crate) clumps: Option<crate::scene::clumps::Clumps>,
     /// Fog density per metre (default 0.012; 0: no fog): a far view for tests and benchmarks.
     #[arg(long, value_name = "DENSITY", value_parser = values::fog, allow_hyphen_values = true)]
     pub(crate) fog: Option<f32>,
@@ -182,6 +186,7 @@ impl SceneArgs {
                 Some(ReliefArg::Hills) => crate::scene::field::ReliefKind::Hills,
                 Some(ReliefArg::Gentle) | None => crate::scene::field::ReliefKind::Gentle,
             },
+            clumps: self.clumps,
             fog: self.fog.unwrap_or(crate::render::frame::look::FOG_DENSITY),
             landscape: crate::app::landscape::Landscape {
                 heightmap: self.heightmap.clone(),

@@ -110,6 +110,9 @@ pub struct SceneGpu {
     pub tile_grid: TileGrid,
     /// A block field's size, density and relief (`None`: a stored field).
     pub field: Option<crate::scene::Field>,
+    /// A block field's clump size in millimetres, the shaders' `CLUMP_SIZE_MM` (0: none; a
+    /// stored field's blades were clumped on the CPU).
+    pub clump_size_mm: u32,
     /// The cull's visible list: (blade index, packed scale) per drawn blade.
     pub visible: Buffer,
     /// The visible list as RG32UI texels, as its readers fetch it.
@@ -299,6 +302,10 @@ impl SceneGpu {
             tiles: partial.tiles.take().expect("uploaded"),
             tile_grid: scene.tile_grid,
             field: scene.field.clone(),
+            clump_size_mm: match (&scene.field, scene.clumps) {
+                (Some(_), Some(clumps)) => clumps.size_mm(),
+                _ => 0,
+            },
             verdict_capacity: verdict_capacity(scene),
             visible_capacity: capacity.1,
             slot_capacity: capacity.0,

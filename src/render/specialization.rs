@@ -10,7 +10,7 @@ pub use crate::render::gpu_constants::{
 };
 
 /// Number of specialization constants the scene shaders declare.
-pub const COUNT: usize = 20;
+pub const COUNT: usize = 21;
 
 /// The constants; each field is the shaders' constant named in its doc (`Self::named`), whose id
 /// build.rs assigns (`SPEC(NAME)`): no id is kept in Rust.
@@ -61,6 +61,8 @@ pub struct Specialization {
     /// `GROUND_COVER`: 1 when the ground's cover thins the grass and tints the terrain
     /// (`scene::cover::Cover::active`).
     pub ground_cover: u32,
+    /// `CLUMP_SIZE_MM`: a block field's clump size in millimetres (`scene::clumps`; 0: none).
+    pub clump_size_mm: u32,
 }
 
 impl Specialization {
@@ -103,6 +105,7 @@ impl Specialization {
             ground_cells: gpu::FIELD_TERRAIN_CELLS,
             ground_levels: 1,
             ground_cover: 0,
+            clump_size_mm: 0,
         }
     }
 
@@ -133,6 +136,7 @@ impl Specialization {
             ("GROUND_CELLS", self.ground_cells),
             ("GROUND_LEVELS", self.ground_levels),
             ("GROUND_COVER", self.ground_cover),
+            ("CLUMP_SIZE_MM", self.clump_size_mm),
         ]
     }
 }

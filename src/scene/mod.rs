@@ -4,6 +4,7 @@ pub mod alpha;
 pub mod bezier;
 pub mod blades;
 pub mod camera;
+pub mod clumps;
 pub mod clusters;
 pub mod cover;
 pub mod field;
@@ -34,6 +35,9 @@ pub struct Scene {
     /// Where grass grows: a stored field's blades were scattered by it, a block field's cull and
     /// every terrain read it (`cover`).
     pub cover: cover::Cover,
+    /// Blades in clumps: a stored field's blades were clumped when scattered, a block field's
+    /// are where the GPU places them (`clumps`).
+    pub clumps: Option<clumps::Clumps>,
 }
 
 /// A block field's size and density and the ground under it.
@@ -111,7 +115,7 @@ impl Scene {
         }
         let tile_grid = tiles::TileGrid::new(terrain.size);
         let tiles = tiles::arrange(&tile_grid, &mut blades);
-        Self { terrain, blades, tile_grid, tiles, field: None, cover }
+        Self { terrain, blades, tile_grid, tiles, field: None, cover, clumps: None }
     }
 
     /// A block field of `spec` from `seed` on the gentle relief: its stored block and its relief.
@@ -132,6 +136,7 @@ impl Scene {
             tiles,
             field: Some(Field { spec, ground: FieldGround::Relief(field::Relief::of_kind(relief, seed)) }),
             cover: cover::Cover::default(),
+            clumps: None,
         }
     }
 
@@ -156,6 +161,20 @@ impl Scene {
             Some(_) => Self { cover, ..self },
             None => Self::stored_on(self.terrain, blade_count, seed, cover),
         }
+    }
+
+    /// The same scene with its blades in `clumps`: a stored field's clumped now (each blade by
+    /// the clump at its root, its tiles arranged again), a block field's by the GPU.
+    pub fn with_clumps(mut self, clumps: clumps::Clumps) -> Self {
+        if self.field.is_none() {
+            for blade in &mut self.blades {
+                let at = glam::Vec2::new(blade.position[0], blade.position[2]);
+                *blade = clumps.apply(blade, at).1;
+            }
+            // The tiles' bounds and facing ranges from the clumped blades.
+            self.tiles = tiles::arrange(&self.tile_grid, &mut self.blades);
+        }
+        Self { clumps: Some(clumps), ..self }
     }
 
     /// The ground's height at world (x, z).

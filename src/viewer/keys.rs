@@ -10,19 +10,17 @@ use super::Viewer;
 use crate::error::Result;
 use crate::keyframes::Smoothing;
 use crate::render::animation::sine::SinePhase;
-use crate::render::animation::AnimationSettings;
 use crate::render::animation::{Eval, Mode};
-use crate::render::culling::Culling;
-use crate::render::RenderSettings;
-use crate::scene::Scene;
 use crate::wind::{Collider, PointSource};
 
 /// The keys whose control changes pipelines or the scene (`rebuild_for`).
-const REBUILT_BY: [&str; 17] =
-    ["m", "n", "b", "v", "x", "t", "o", "y", "f", "f2", "f3", "f4", "r", "plus", "minus", "[", "]"];
+const REBUILT_BY: [&str; 18] =
+    ["m", "n", "b", "v", "x", "t", "o", "y", "f", "f2", "f3", "f4", "f5", "r", "plus", "minus", "[", "]"];
 
 /// F4's slope limit when `--slope-limit` was not given, in degrees.
 pub(super) const DEFAULT_SLOPE_LIMIT_DEG: f32 = 30.0;
+/// F5's clump size when `--clumps` was not given, in metres.
+pub(super) const DEFAULT_CLUMP_SIZE_M: f32 = 1.5;
 
 /// The controls, printed at start and by H.
 pub(super) const HELP: &str = "\
@@ -39,6 +37,7 @@ meadow viewer controls
   F2              wind field analytic / Perlin (Belyaev) / fluid (Zhang Xia)
   F3              wind view: arrows of the wind the grass feels, 0.5 m up
   F4              slope limit on/off (--slope-limit, or 30 degrees): steep ground bare
+  F5              blades in clumps on/off (--clumps, or 1.5 m)
   left click      drop a wind source (drag to move)   Delete  remove the last source
   arrow keys      drive the collider sphere through the grass
   V               force debug view       F                 wireframe
@@ -201,6 +200,13 @@ impl Viewer {
         if name == "f4" {
             return self.toggle_slope_limit(settings, animation);
         }
+        if name == "f5" {
+            let clumps = match self.options.scene.clumps {
+                Some(_) => None,
+                None => Some(crate::scene::clumps::Clumps { size_m: self.clump_size_m }),
+            };
+            return self.set_clumps(clumps, settings, animation);
+        }
         if blades == old_blades {
             self.rebuild_passes(&what, settings, animation);
             return Ok(());
@@ -210,125 +216,6 @@ impl Viewer {
             self.options.scene.blades = blades;
         }
         Ok(())
-    }
-
-    /// Rebuild the passes (and the model, if `animation` changed) on the same scene with
-    /// `settings`: the old ones are freed behind the frames in flight (the frame ring's deletion
-    /// queue), the frames keep running. The LOD scale the frame budget or the overlay set live is
-    /// kept. A change the device cannot take is reported (as `what`) and the previous settings
-    /// kept. Returns whether it applied.
-    pub(super) fn rebuild_passes(
-        &mut self,
-        what: &str,
-        settings: RenderSettings,
-        animation: AnimationSettings,
-    ) -> bool {
-        let renderer = self.renderer.as_ref().expect("renderer built");
-        let lod_scale = renderer.settings().culling.lod_scale;
-        let settings = RenderSettings { culling: Culling { lod_scale, ..settings.culling }, ..settings };
-        let checked = self.check_scene(self.scene.blades.len() as u32, &animation);
-        let renderer = self.renderer.as_mut().expect("renderer built");
-        let applied = match checked.and_then(|()| renderer.rebuild(&self.scene, settings, animation)) {
-            Ok(()) => {
-                self.settings = settings;
-                true
-            }
-            Err(e) => {
-                println!("cannot apply {what}: {e}");
-                false
-            }
-        };
-        self.report_rebuild();
-        applied
-    }
-
-    /// A new renderer for `scene` (`None`: the same one), `settings` and `animation`: the old
-    /// renderer's frames finish and its memory is freed before the new one is built. One the
-    /// device cannot take is reported (as `what`) and the previous scene, settings and animation
-    /// built again. Returns whether it applied.
-    pub(super) fn replace_renderer(
-        &mut self,
-        what: &str,
-        scene: Option<Scene>,
-        settings: RenderSettings,
-        animation: AnimationSettings,
-    ) -> Result<bool> {
-        let old_animation = self.renderer.as_ref().expect("renderer built").animation().clone();
-        let old_settings = self.settings;
-        self.renderer = None;
-        self.settings = settings;
-        let old_scene = scene.map(|scene| std::mem::replace(&mut self.scene, scene));
-        if let Err(e) = self.build_renderer(animation) {
-            println!("cannot apply {what}: {e}");
-            self.settings = old_settings;
-            if let Some(scene) = old_scene {
-                self.scene = scene;
-            }
-            return self.build_renderer(old_animation).map(|()| false);
-        }
-        self.report_rebuild();
-        Ok(true)
-    }
-
-    /// The options' scene with `blades` stored blades (on the `--heightmap`, under the cover
-    /// rules, as at start).
-    fn scene_with(&self, blades: u32) -> Result<Scene> {
-        crate::app::RenderOptions { blades, ..self.options.scene.clone() }.scene()
-    }
-
-    /// F4: the slope limit on or off (`--slope-limit`, or `DEFAULT_SLOPE_LIMIT_DEG` when not
-    /// given): a new scene (a stored field scattered again) and renderer.
-    fn toggle_slope_limit(&mut self, settings: RenderSettings, animation: AnimationSettings) -> Result<()> {
-        let landscape = &mut self.options.scene.landscape;
-        let before = landscape.slope_limit_deg;
-        landscape.slope_limit_deg = match before {
-            Some(_) => None,
-            None => Some(self.slope_limit_deg),
-        };
-        let scene = self.scene_with(self.options.scene.blades)?;
-        if !self.replace_renderer("'f4'", Some(scene), settings, animation)? {
-            self.options.scene.landscape.slope_limit_deg = before;
-        }
-        Ok(())
-    }
-
-    /// Print what the renderer now draws.
-    fn report_rebuild(&self) {
-        let a = self.renderer.as_ref().expect("built").animation();
-        println!(
-            "mode {}, smoothing {:?}, eval {:?}, {} wind, {} segments, {} blades, {}{}{}{}{}{}{}{}",
-            if self.settings.floor { "Floor".to_string() } else { format!("{:?}", a.mode) },
-            a.smoothing,
-            a.eval,
-            a.wind_field.name(),
-            self.settings.segments,
-            self.scene.blades.len(),
-            culling_state(&self.settings.culling),
-            if self.settings.debug_force { ", force view" } else { "" },
-            if self.settings.debug_lod {
-                ", LOD view"
-            } else if self.settings.debug_tiles {
-                ", tile view"
-            } else if self.settings.debug_fresnel {
-                ", Fresnel view"
-            } else if self.settings.debug_cover {
-                ", cover view"
-            } else {
-                ""
-            },
-            if self.settings.debug_bounds { ", cluster bounds" } else { "" },
-            if self.settings.debug_wind { ", wind arrows" } else { "" },
-            if self.settings.wireframe { ", wireframe" } else { "" },
-            match self.settings.msaa {
-                m if !m.enabled() => String::new(),
-                m => format!(
-                    ", {}x MSAA {}",
-                    m.samples,
-                    if m.alpha_to_coverage { "alpha to coverage" } else { "alpha test" }
-                ),
-            },
-            self.options.scene.landscape.slope_limit_deg.map_or(String::new(), |d| format!(", slope limit {d}°")),
-        );
     }
 
     /// Left click at a pixel: drop a wind source where the ray hits the terrain.
@@ -431,26 +318,11 @@ fn toggle_culling(culling: &mut crate::render::culling::Culling, key: &str) {
     }
 }
 
-/// What the cull and LOD do, for the rebuild report.
-fn culling_state(culling: &crate::render::culling::Culling) -> String {
-    if !culling.enabled {
-        return "brute force".into();
-    }
-    let lod = match (culling.density, culling.segment_lod) {
-        (true, true) => "density and segment LOD",
-        (true, false) => "density LOD",
-        (false, true) => "segment LOD",
-        (false, false) => "no LOD",
-    };
-    let outline = if culling.solid_outline { ", outline as geometry" } else { "" };
-    format!("GPU culling, {lod} {:?}{outline}", culling.buckets())
-}
-
 /// Every key name the viewer acts on (what `key_name` returns), for scripts to check against.
-pub(super) const KEY_NAMES: [&str; 42] = [
-    "[", "]", "a", "b", "c", "d", "delete", "down", "e", "escape", "f", "f1", "f12", "f2", "f3", "f4", "g", "h", "i",
-    "j", "k", "l", "left", "m", "minus", "n", "o", "p", "plus", "q", "r", "right", "s", "shift", "t", "u", "up", "v",
-    "w", "x", "y", "z",
+pub(super) const KEY_NAMES: [&str; 43] = [
+    "[", "]", "a", "b", "c", "d", "delete", "down", "e", "escape", "f", "f1", "f12", "f2", "f3", "f4", "f5", "g", "h",
+    "i", "j", "k", "l", "left", "m", "minus", "n", "o", "p", "plus", "q", "r", "right", "s", "shift", "t", "u", "up",
+    "v", "w", "x", "y", "z",
 ];
 
 /// Name of a key as the help and scripts spell it.
@@ -492,6 +364,7 @@ pub(super) fn key_name(code: KeyCode) -> Option<&'static str> {
         KeyCode::F2 => "f2",
         KeyCode::F3 => "f3",
         KeyCode::F4 => "f4",
+        KeyCode::F5 => "f5",
         KeyCode::Delete | KeyCode::Backspace => "delete",
         KeyCode::ArrowUp => "up",
         KeyCode::ArrowDown => "down",

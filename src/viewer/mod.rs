@@ -7,6 +7,7 @@ mod events;
 mod keys;
 mod outputs;
 mod overlay;
+mod rebuild;
 pub mod script;
 mod session;
 mod stats;
@@ -131,6 +132,8 @@ struct Viewer {
     calm_off: Option<Vec<CalmArea>>,
     /// F4's slope limit, in degrees (`--slope-limit`, or `keys::DEFAULT_SLOPE_LIMIT_DEG`).
     slope_limit_deg: f32,
+    /// F5's clump size, in metres (`--clumps`, or `keys::DEFAULT_CLUMP_SIZE_M`).
+    clump_size_m: f32,
     /// Simulated time, in whole steps of `--dt` (at most 4 a frame).
     clock: crate::render::animation::clock::StepPacer,
     paused: bool,
@@ -201,6 +204,7 @@ impl Viewer {
             script: options.script.clone().unwrap_or_default(),
             calm_off: None,
             slope_limit_deg: o.landscape.slope_limit_deg.unwrap_or(keys::DEFAULT_SLOPE_LIMIT_DEG),
+            clump_size_m: o.clumps.map_or(keys::DEFAULT_CLUMP_SIZE_M, |c| c.size_m),
             clock: crate::render::animation::clock::StepPacer::new(o.animation.clock, o.time.into()),
             paused: false,
             fixed_step,

@@ -66,6 +66,7 @@ impl Viewer {
             slowed: self.clock.slowed().then_some(self.clock.clock().dt),
             walk: self.control.walk,
             slope_limit: (o.scene.landscape.slope_limit_deg.is_some(), self.slope_limit_deg),
+            clumps: (o.scene.clumps.is_some(), self.clump_size_m),
             calm: self.calm_off.is_none(),
             budget: self.budget.as_ref().map(|b| (b.target_ms, b.scale)),
             present: (surface.swapchain.present_mode(), surface.swapchain.present_modes()),
@@ -146,6 +147,7 @@ impl Viewer {
                     self.renderer.as_mut().expect("renderer built").set_fog_density(density);
                 }
                 UiAction::Budget(target) => self.set_budget(target)?,
+                UiAction::ClumpSize(size_m) => self.set_clump_size(size_m)?,
                 UiAction::Present(mode) => {
                     let surface = self.surface.as_mut().expect("surface exists");
                     surface.swapchain.set_present_mode(mode)?;
@@ -153,16 +155,7 @@ impl Viewer {
                     self.needs_recreate = true;
                     println!("present mode {mode:?}");
                 }
-                UiAction::FramesInFlight(frames_in_flight) => {
-                    // The frames are the renderer's: a new one.
-                    let animation = self.renderer.as_ref().expect("renderer built").animation().clone();
-                    let settings = crate::render::RenderSettings { frames_in_flight, ..self.settings };
-                    let what = format!("{frames_in_flight} frames in flight");
-                    if self.replace_renderer(&what, None, settings, animation)? {
-                        self.options.frames_in_flight = frames_in_flight;
-                        println!("{what}");
-                    }
-                }
+                UiAction::FramesInFlight(frames_in_flight) => self.set_frames_in_flight(frames_in_flight)?,
             }
         }
         Ok(())

@@ -23,7 +23,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::Result;
 use crate::harness::document::{to_json, Header, Summary};
-use crate::harness::measure::{measure, Offscreen, Schedule};
+use crate::harness::measure::{measure, Measured, Offscreen, Schedule};
 use crate::harness::Progress;
 use crate::imagediff::compare_rgb;
 use crate::render::animation::AnimationSettings;
@@ -162,45 +162,8 @@ pub fn run(
 ) -> Result<LandscapeDocument> {
     let (scenes, export_texels, export_ms) = scenes();
     let cameras = cameras(&scenes);
-    let extent = vk::Extent2D { width: options.size.0, height: options.size.1 };
-    let settings = RenderSettings {
-        pipeline_statistics: true,
-        ..RenderSettings::offscreen(SEGMENTS, Culling::default_for(SEGMENTS))
-    };
-    let mut renderers = Vec::new();
-    for scene in &scenes {
-        renderers.push(Renderer::new(device.clone(), scene, settings, AnimationSettings::default())?);
-    }
-    let mut targets = vec![OffscreenTarget::new(device, extent)?];
     let schedule = Schedule { warmup: options.warmup, frames: options.frames };
-    let mut progress = progress;
-    let mut frames = Progress::new(6 * u64::from(schedule.rounds()), &mut progress);
-    let mut pictures: Vec<Vec<u8>> = vec![Vec::new(); 6];
-    let last = schedule.rounds() - 1;
-    let mut round_of = [0u32; 6];
-    let measured = {
-        let mut after = |i: usize, target: &OffscreenTarget| {
-            if round_of[i] == last {
-                pictures[i] = target.pixels().chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect();
-            }
-            round_of[i] += 1;
-        };
-        let camera = |i: usize, _| cameras[i];
-        let mut subject = Offscreen {
-            renderers: &mut renderers,
-            targets: &mut targets,
-            camera: &camera,
-            time: &|_| 0.0,
-            after: Some(&mut after),
-        };
-        measure(&mut subject, schedule, &mut frames)
-    };
-    drop(renderers);
-    for target in targets {
-        // SAFETY: every renderer waited for its frames and is dropped.
-        unsafe { target.destroy(device) };
-    }
-    let measured = measured?;
+    let (measured, pictures) = render(device, (&scenes, &cameras), options.size, schedule, progress)?;
     let variant = |i: usize| {
         let gpu: Vec<f64> = measured.timings(i).map(|t| t.gpu_ms).collect();
         let drawn = measured.all(i).last().and_then(|f| f.timings.cull).map_or(0, |c| c.total_drawn());
@@ -237,6 +200,54 @@ pub fn run(
         export_ms,
         pairs,
     })
+}
+
+/// Render the six `scenes` from their `cameras` in turn, `schedule`'s rounds of `size` pictures:
+/// every frame's timings, and each variant's last picture (RGB8).
+fn render(
+    device: &Arc<Device>,
+    (scenes, cameras): (&[Scene; 6], &[Camera]),
+    size: (u32, u32),
+    schedule: Schedule,
+    mut progress: impl FnMut(u64, u64),
+) -> Result<(Measured, Vec<Vec<u8>>)> {
+    let settings = RenderSettings {
+        pipeline_statistics: true,
+        ..RenderSettings::offscreen(SEGMENTS, Culling::default_for(SEGMENTS))
+    };
+    let mut renderers = Vec::new();
+    for scene in scenes {
+        renderers.push(Renderer::new(device.clone(), scene, settings, AnimationSettings::default())?);
+    }
+    let mut targets = vec![OffscreenTarget::new(device, vk::Extent2D { width: size.0, height: size.1 })?];
+    let mut frames = Progress::new(6 * u64::from(schedule.rounds()), &mut progress);
+    let mut pictures: Vec<Vec<u8>> = vec![Vec::new(); 6];
+    let last = schedule.rounds() - 1;
+    let mut round_of = [0u32; 6];
+    let measured = {
+        let mut after = |i: usize, target: &OffscreenTarget| {
+            if round_of[i] == last {
+                pictures[i] = target.pixels().chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect();
+            }
+            round_of[i] += 1;
+        };
+        let camera = |i: usize, _| cameras[i];
+        let time = |_| 0.0;
+        let mut subject = Offscreen {
+            renderers: &mut renderers,
+            targets: &mut targets,
+            camera: &camera,
+            time: &time,
+            after: Some(&mut after),
+        };
+        measure(&mut subject, schedule, &mut frames)
+    };
+    drop(renderers);
+    for target in targets {
+        // SAFETY: every renderer waited for its frames and is dropped.
+        unsafe { target.destroy(device) };
+    }
+    Ok((measured?, pictures))
 }
 
 /// Write `landscape.json` into `dir`.

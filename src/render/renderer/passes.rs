@@ -135,6 +135,7 @@ impl Renderer {
             specialization.ground_cells = scene.ground.source.cells();
             specialization.ground_levels = scene.ground.source.levels(distances);
             specialization.ground_cover = u32::from(scene.ground.source.cover().active());
+            specialization.clump_size_mm = scene.clump_size_mm;
         }
         if settings.debug_tiles {
             specialization.flags |= crate::render::gpu_constants::FLAG_DEBUG_TILES;

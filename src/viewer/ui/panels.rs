@@ -38,6 +38,8 @@ pub enum UiAction {
     LodScale(f32),
     /// The fog's density per metre (no rebuild).
     Fog(f32),
+    /// Blades in clumps of this size (m): a new scene and renderer.
+    ClumpSize(f32),
     /// Hold the GPU frame near this many ms (`--budget-ms`), or stop.
     Budget(Option<f32>),
     /// Present with this mode (the swapchain is re-created).
@@ -88,6 +90,8 @@ pub struct UiView<'a> {
     pub calm: bool,
     /// The slope limit is on (F4), and its degrees.
     pub slope_limit: (bool, f32),
+    /// Blades are in clumps (F5), and their size (m).
+    pub clumps: (bool, f32),
     /// `--budget-ms` and the LOD scale it sets.
     pub budget: Option<(f32, f32)>,
     /// The present mode and those the surface supports.
@@ -342,6 +346,14 @@ pub fn view(ui: &mut Ui, view: &UiView, out: &mut PanelOutput) {
     toggle(ui, out, "g", view.walk, "walk on the ground");
     let (on, degrees) = view.slope_limit;
     toggle(ui, out, "f4", on, &format!("slope limit {degrees}° (steep ground bare)"));
+    let (on, mut size) = view.clumps;
+    ui.horizontal(|ui| {
+        toggle(ui, out, "f5", on, "clumps");
+        let slider = egui::Slider::new(&mut size, 0.5..=5.0).text("m");
+        if out.widget("clump size", ui.add(slider)).drag_stopped() {
+            out.act(UiAction::ClumpSize(size));
+        }
+    });
     let (present, supported) = &view.present;
     ui.horizontal(|ui| {
         for mode in supported {

@@ -1,0 +1,183 @@
+//! Rebuilding what the viewer draws: the passes on the same scene (a key that changes pipelines),
+//! a new renderer on a new scene (a blade count, the slope limit, clumps), and the line that
+//! reports what it now draws. A change the device cannot take is reported and undone.
+
+use super::Viewer;
+use crate::error::Result;
+use crate::render::animation::AnimationSettings;
+use crate::render::culling::Culling;
+use crate::render::RenderSettings;
+use crate::scene::Scene;
+
+impl Viewer {
+    /// The panel's clump size: blades in clumps of `size_m` metres.
+    pub(super) fn set_clump_size(&mut self, size_m: f32) -> Result<()> {
+        let animation = self.renderer.as_ref().expect("renderer built").animation().clone();
+        self.set_clumps(Some(crate::scene::clumps::Clumps { size_m }), self.settings, animation)
+    }
+
+    /// The panel's frames in flight: they are the renderer's, so a new one.
+    pub(super) fn set_frames_in_flight(&mut self, frames_in_flight: usize) -> Result<()> {
+        let animation = self.renderer.as_ref().expect("renderer built").animation().clone();
+        let settings = RenderSettings { frames_in_flight, ..self.settings };
+        let what = format!("{frames_in_flight} frames in flight");
+        if self.replace_renderer(&what, None, settings, animation)? {
+            self.options.frames_in_flight = frames_in_flight;
+            println!("{what}");
+        }
+        Ok(())
+    }
+
+    /// Rebuild the passes (and the model, if `animation` changed) on the same scene with
+    /// `settings`: the old ones are freed behind the frames in flight (the frame ring's deletion
+    /// queue), the frames keep running. The LOD scale the frame budget or the overlay set live is
+    /// kept. A change the device cannot take is reported (as `what`) and the previous settings
+    /// kept. Returns whether it applied.
+    pub(super) fn rebuild_passes(
+        &mut self,
+        what: &str,
+        settings: RenderSettings,
+        animation: AnimationSettings,
+    ) -> bool {
+        let renderer = self.renderer.as_ref().expect("renderer built");
+        let lod_scale = renderer.settings().culling.lod_scale;
+        let settings = RenderSettings { culling: Culling { lod_scale, ..settings.culling }, ..settings };
+        let checked = self.check_scene(self.scene.blades.len() as u32, &animation);
+        let renderer = self.renderer.as_mut().expect("renderer built");
+        let applied = match checked.and_then(|()| renderer.rebuild(&self.scene, settings, animation)) {
+            Ok(()) => {
+                self.settings = settings;
+                true
+            }
+            Err(e) => {
+                println!("cannot apply {what}: {e}");
+                false
+            }
+        };
+        self.report_rebuild();
+        applied
+    }
+
+    /// A new renderer for `scene` (`None`: the same one), `settings` and `animation`: the old
+    /// renderer's frames finish and its memory is freed before the new one is built. One the
+    /// device cannot take is reported (as `what`) and the previous scene, settings and animation
+    /// built again. Returns whether it applied.
+    pub(super) fn replace_renderer(
+        &mut self,
+        what: &str,
+        scene: Option<Scene>,
+        settings: RenderSettings,
+        animation: AnimationSettings,
+    ) -> Result<bool> {
+        let old_animation = self.renderer.as_ref().expect("renderer built").animation().clone();
+        let old_settings = self.settings;
+        self.renderer = None;
+        self.settings = settings;
+        let old_scene = scene.map(|scene| std::mem::replace(&mut self.scene, scene));
+        if let Err(e) = self.build_renderer(animation) {
+            println!("cannot apply {what}: {e}");
+            self.settings = old_settings;
+            if let Some(scene) = old_scene {
+                self.scene = scene;
+            }
+            return self.build_renderer(old_animation).map(|()| false);
+        }
+        self.report_rebuild();
+        Ok(true)
+    }
+
+    /// The options' scene with `blades` stored blades (on the `--heightmap`, under the cover
+    /// rules, as at start).
+    pub(super) fn scene_with(&self, blades: u32) -> Result<Scene> {
+        crate::app::RenderOptions { blades, ..self.options.scene.clone() }.scene()
+    }
+
+    /// F4: the slope limit on or off (`--slope-limit`, or `DEFAULT_SLOPE_LIMIT_DEG` when not
+    /// given): a new scene (a stored field scattered again) and renderer.
+    pub(super) fn toggle_slope_limit(&mut self, settings: RenderSettings, animation: AnimationSettings) -> Result<()> {
+        let landscape = &mut self.options.scene.landscape;
+        let before = landscape.slope_limit_deg;
+        landscape.slope_limit_deg = match before {
+            Some(_) => None,
+            None => Some(self.slope_limit_deg),
+        };
+        let scene = self.scene_with(self.options.scene.blades)?;
+        if !self.replace_renderer("'f4'", Some(scene), settings, animation)? {
+            self.options.scene.landscape.slope_limit_deg = before;
+        }
+        Ok(())
+    }
+
+    /// Blades in `clumps` (or none): a new scene (a stored field clumped again) and renderer.
+    pub(super) fn set_clumps(
+        &mut self,
+        clumps: Option<crate::scene::clumps::Clumps>,
+        settings: RenderSettings,
+        animation: AnimationSettings,
+    ) -> Result<()> {
+        let before = std::mem::replace(&mut self.options.scene.clumps, clumps);
+        if let Some(c) = clumps {
+            self.clump_size_m = c.size_m;
+        }
+        let scene = self.scene_with(self.options.scene.blades)?;
+        if !self.replace_renderer("clumps", Some(scene), settings, animation)? {
+            self.options.scene.clumps = before;
+        }
+        Ok(())
+    }
+
+    /// Print what the renderer now draws.
+    pub(super) fn report_rebuild(&self) {
+        let a = self.renderer.as_ref().expect("built").animation();
+        println!(
+            "mode {}, smoothing {:?}, eval {:?}, {} wind, {} segments, {} blades, {}{}{}{}{}{}{}{}",
+            if self.settings.floor { "Floor".to_string() } else { format!("{:?}", a.mode) },
+            a.smoothing,
+            a.eval,
+            a.wind_field.name(),
+            self.settings.segments,
+            self.scene.blades.len(),
+            culling_state(&self.settings.culling),
+            if self.settings.debug_force { ", force view" } else { "" },
+            if self.settings.debug_lod {
+                ", LOD view"
+            } else if self.settings.debug_tiles {
+                ", tile view"
+            } else if self.settings.debug_fresnel {
+                ", Fresnel view"
+            } else if self.settings.debug_cover {
+                ", cover view"
+            } else {
+                ""
+            },
+            if self.settings.debug_bounds { ", cluster bounds" } else { "" },
+            if self.settings.debug_wind { ", wind arrows" } else { "" },
+            if self.settings.wireframe { ", wireframe" } else { "" },
+            match self.settings.msaa {
+                m if !m.enabled() => String::new(),
+                m => format!(
+                    ", {}x MSAA {}",
+                    m.samples,
+                    if m.alpha_to_coverage { "alpha to coverage" } else { "alpha test" }
+                ),
+            },
+            self.options.scene.landscape.slope_limit_deg.map_or(String::new(), |d| format!(", slope limit {d}°"))
+                + &self.options.scene.clumps.map_or(String::new(), |c| format!(", clumps of {} m", c.size_m)),
+        );
+    }
+}
+
+/// What the cull and LOD do, for the rebuild report.
+fn culling_state(culling: &crate::render::culling::Culling) -> String {
+    if !culling.enabled {
+        return "brute force".into();
+    }
+    let lod = match (culling.density, culling.segment_lod) {
+        (true, true) => "density and segment LOD",
+        (true, false) => "density LOD",
+        (false, true) => "segment LOD",
+        (false, false) => "no LOD",
+    };
+    let outline = if culling.solid_outline { ", outline as geometry" } else { "" };
+    format!("GPU culling, {lod} {:?}{outline}", culling.buckets())
+}
