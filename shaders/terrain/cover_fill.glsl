@@ -10,14 +10,14 @@
 
 #include "terrain/map_coordinate.glsl"
 
-// The covering map (`render::ground::cover_map_words`) in the fill's own set: a header of
+// The covering map (`render::ground::cover::cover_map_words`) in the fill's own set: a header of
 // `COVER_HEADER` words (width, height, extent x and z as f32 bits, mirrored), then its grass
 // densities, four bytes a word. Without a map, 1 × 1 of 255. The including fill sets its binding.
 #ifndef COVER_MAP_BINDING
 #define COVER_MAP_BINDING 0
 #endif
 layout(set = SET_PASS, binding = COVER_MAP_BINDING, std430) readonly buffer CoverMap { uint cover_words[]; };
-const uint COVER_HEADER = 8u; // render::ground::COVER_MAP_HEADER_WORDS
+const uint COVER_HEADER = 8u; // render::ground::cover::COVER_MAP_HEADER_WORDS
 
 float slope_cover(vec2 slope) {
     float limit = uintBitsToFloat(frame_values.ground.y);

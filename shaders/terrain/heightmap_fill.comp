@@ -1,6 +1,6 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// The heightmap's fill of a block field's ground clipmap (`render::ground::HeightmapGround`,
+// The heightmap's fill of a block field's ground clipmap (`render::ground::heightmap::HeightmapGround`,
 // `scene::heightmap`): as relief_fill.comp, the vertices that entered a level's window since the
 // last fill (`render::passes::ground_fill`), each with what depends on its world vertex alone:
 // the map's height there (bilinear between its texels, mirrored or held past its edges), the next
@@ -22,10 +22,10 @@ layout(push_constant) uniform Fill {
     CameraGridFill fill;
 };
 
-// The map (`render::ground::map_words`): `MAP_HEADER` words (width, height, extent x and z and
+// The map (`render::ground::heightmap::map_words`): `MAP_HEADER` words (width, height, extent x and z and
 // the height of white as f32 bits, mirrored), then its texels, two 16-bit texels a word.
 layout(set = SET_PASS, binding = 0, std430) readonly buffer GroundMap { uint map_words[]; };
-const uint MAP_HEADER = 8u; // render::ground::MAP_HEADER_WORDS
+const uint MAP_HEADER = 8u; // render::ground::heightmap::MAP_HEADER_WORDS
 
 uvec2 map_size() {
     return uvec2(map_words[0], map_words[1]);

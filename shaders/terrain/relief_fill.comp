@@ -1,6 +1,6 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// The relief's fill of a block field's ground clipmap (`render::ground::ReliefGround`,
+// The relief's fill of a block field's ground clipmap (`render::ground::relief::ReliefGround`,
 // `render::ground_clipmap`): one level of a camera grid (`render::camera_grid`, (cells + 1)²
 // vertices on the world's lattice of the level's step), the vertices that entered its window since
 // the last fill (`render::passes::ground_fill`), each with what depends on its world vertex alone:

@@ -17,9 +17,9 @@ use crate::scene::field::WORLD_PERIOD;
 /// The smallest and largest clump (m).
 pub const SIZE_RANGE_M: (f32, f32) = (0.1, 50.0);
 /// How far a clump's centre strays from its grid cell's centre, as a share of the cell.
-const JITTER: f32 = 0.7;
+pub const JITTER: f32 = 0.7;
 /// How much of a blade's hue is its clump's.
-const TINT: f32 = 0.75;
+pub const TINT: f32 = 0.75;
 
 /// `--clumps SIZE_M`.
 #[derive(Clone, Copy, Debug, PartialEq)]
