@@ -171,16 +171,20 @@ impl RenderOptions {
     pub fn scene(&self) -> Result<Scene> {
         let heightmap = self.landscape.heightmap(self.field)?;
         let cover = self.landscape.cover(self.field)?;
-        let scene = match (self.field, heightmap) {
-            (Some(spec), None) => Scene::blocks_on(spec, self.relief, self.seed),
-            (None, None) => Scene::generate(self.blades, self.seed),
-            (Some(spec), Some(map)) => Scene::blocks_on_map(spec, std::sync::Arc::new(map), self.seed),
-            (None, Some(map)) => Scene::generate_on_map(self.blades, &map, self.seed),
+        let Some(spec) = self.field else {
+            // Stored blades: scattered once, under the cover rules and in clumps.
+            let size = crate::scene::blades::field_size(self.blades);
+            let terrain = match &heightmap {
+                Some(map) => crate::scene::Terrain::from_heightmap(size, map),
+                None => crate::scene::Terrain::generate(size, self.seed),
+            };
+            return Ok(Scene::stored_on(terrain, self.blades, self.seed, (cover, self.clumps)));
         };
-        let scene = match cover.active() {
-            true => scene.with_cover(cover, self.blades, self.seed),
-            false => scene,
+        let scene = match heightmap {
+            None => Scene::blocks_on(spec, self.relief, self.seed),
+            Some(map) => Scene::blocks_on_map(spec, std::sync::Arc::new(map), self.seed),
         };
+        let scene = Scene { cover, ..scene };
         Ok(match self.clumps {
             Some(clumps) => scene.with_clumps(clumps),
             None => scene,

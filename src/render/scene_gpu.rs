@@ -259,7 +259,7 @@ impl SceneGpu {
             * (std::mem::size_of::<crate::scene::BladeInstance>() + std::mem::size_of::<BladeCluster>() + 16 + 8 + 8)
                 as u64;
         // The ground's texels and triangles: a stored terrain's grid, or the relief's clipmap.
-        let relief = crate::render::ground::ReliefGround::clipmap_texels();
+        let relief = crate::render::ground::clipmap_texels();
         let heights =
             16 * ((terrain_cells + 1).pow(2) + relief) + 24 * terrain_cells.max(u64::from(FIELD_TERRAIN_CELLS)).pow(2);
         let alpha = u64::from(alpha::WIDTH * alpha::HEIGHT);

@@ -96,12 +96,17 @@ impl Scene {
     /// Build the field for `blade_count` blades from `seed`.
     pub fn generate(blade_count: u32, seed: u64) -> Self {
         let terrain = Terrain::generate(blades::field_size(blade_count), seed);
-        Self::stored_on(terrain, blade_count, seed, cover::Cover::default())
+        Self::stored_on(terrain, blade_count, seed, (cover::Cover::default(), None))
     }
 
     /// `blade_count` blades from `seed` scattered over `terrain` where `cover` lets them grow
-    /// (`cover::kept` by the density under each), tiled.
-    pub fn stored_on(terrain: Terrain, blade_count: u32, seed: u64, cover: cover::Cover) -> Self {
+    /// (`cover::kept` by the density under each), in `clumps` if any, tiled once.
+    pub fn stored_on(
+        terrain: Terrain,
+        blade_count: u32,
+        seed: u64,
+        (cover, clumps): (cover::Cover, Option<clumps::Clumps>),
+    ) -> Self {
         let mut blades = blades::scatter(&terrain, blade_count, seed);
         if cover.active() {
             let mut index = 0;
@@ -113,9 +118,14 @@ impl Scene {
                 cover::kept(index - 1, seed, cover.density(f64::from(x), f64::from(z), slope))
             });
         }
+        if let Some(clumps) = clumps {
+            for blade in &mut blades {
+                *blade = clumps.apply(blade, glam::Vec2::new(blade.position[0], blade.position[2])).1;
+            }
+        }
         let tile_grid = tiles::TileGrid::new(terrain.size);
         let tiles = tiles::arrange(&tile_grid, &mut blades);
-        Self { terrain, blades, tile_grid, tiles, field: None, cover, clumps: None }
+        Self { terrain, blades, tile_grid, tiles, field: None, cover, clumps }
     }
 
     /// A block field of `spec` from `seed` on the gentle relief: its stored block and its relief.
@@ -151,7 +161,7 @@ impl Scene {
     /// stored terrain samples the map (`Terrain::from_heightmap`) and the blades stand on it.
     pub fn generate_on_map(blade_count: u32, map: &heightmap::Heightmap, seed: u64) -> Self {
         let terrain = Terrain::from_heightmap(blades::field_size(blade_count), map);
-        Self::stored_on(terrain, blade_count, seed, cover::Cover::default())
+        Self::stored_on(terrain, blade_count, seed, (cover::Cover::default(), None))
     }
 
     /// The same scene with `cover`: a stored field's blades scattered again under it, a block
@@ -159,14 +169,15 @@ impl Scene {
     pub fn with_cover(self, cover: cover::Cover, blade_count: u32, seed: u64) -> Self {
         match self.field {
             Some(_) => Self { cover, ..self },
-            None => Self::stored_on(self.terrain, blade_count, seed, cover),
+            None => Self::stored_on(self.terrain, blade_count, seed, (cover, self.clumps)),
         }
     }
 
-    /// The same scene with its blades in `clumps`: a stored field's clumped now (each blade by
+    /// The same scene with its blades in `clumps` (a stored field already in clumps keeps its
+    /// blades: build it with `stored_on` instead): a stored field's clumped now (each blade by
     /// the clump at its root, its tiles arranged again), a block field's by the GPU.
     pub fn with_clumps(mut self, clumps: clumps::Clumps) -> Self {
-        if self.field.is_none() {
+        if self.field.is_none() && self.clumps.is_none() {
             for blade in &mut self.blades {
                 let at = glam::Vec2::new(blade.position[0], blade.position[2]);
                 *blade = clumps.apply(blade, at).1;

@@ -5,11 +5,9 @@ use std::sync::Arc;
 use glam::IVec2;
 
 use super::cover::{cover_map_words, cover_uniforms};
-use super::relief::{clipmap_uniforms, ClipmapFill, ReliefGround};
+use super::relief::{clipmap_uniforms, ClipmapFill};
 use super::{GroundFill, GroundSource};
-use crate::render::ground_clipmap::{self, Clipmap};
 use crate::render::shaders;
-use crate::render::terrain_chunks;
 use crate::render::uniforms::FrameUniforms;
 use crate::scene::cover::Cover;
 use crate::scene::heightmap::Heightmap;
@@ -29,28 +27,8 @@ pub struct HeightmapGround {
 pub const MAP_HEADER_WORDS: usize = 8;
 
 impl GroundSource for HeightmapGround {
-    fn cells(&self) -> u32 {
-        ground_clipmap::CELLS
-    }
-
-    fn levels(&self, (view_distance, blade_range): (f32, f32)) -> u32 {
-        Clipmap::for_view(view_distance, blade_range).levels
-    }
-
-    fn chunk_cells(&self) -> u32 {
-        terrain_chunks::GROUND_CHUNK_CELLS
-    }
-
-    fn texel_count(&self) -> u64 {
-        ReliefGround::clipmap_texels()
-    }
-
     fn height_range(&self) -> (f32, f32) {
         (0.0, self.map.scale.y as f32)
-    }
-
-    fn texels(&self) -> Option<Vec<[f32; 4]>> {
-        None
     }
 
     fn fill_uniforms(&self, uniforms: &mut FrameUniforms, cell: IVec2, distances: (f32, f32)) {

@@ -45,6 +45,7 @@ use glam::{I64Vec3, IVec2};
 
 use crate::error::{Error, Result};
 use crate::render::camera_grid::GridShape;
+use crate::render::ground_clipmap::{self, Clipmap};
 use crate::render::terrain_chunks;
 use crate::render::uniforms::FrameUniforms;
 use crate::scene::cover::Cover;
@@ -53,21 +54,40 @@ use crate::vk::profile::Shader;
 use crate::vk::upload::UploadBatch;
 use crate::vk::{Access, Buffer, BufferDesc, Destroy, Device, TexelView};
 
-/// Where the ground comes from: what the renderer needs of it.
+/// Texels of the camera-following clipmap of the most levels: any view distance fits.
+pub fn clipmap_texels() -> u64 {
+    let shape = Clipmap { step: 1.0, levels: crate::render::gpu_constants::CAMERA_GRID_MAX_LEVELS }.shape();
+    shape.cells_per_level() * u64::from(shape.levels)
+}
+
+/// Where the ground comes from: what the renderer needs of it. The shape's defaults are a block
+/// field's camera-following clipmap (`ground_clipmap`), filled on the GPU: the relief's and the
+/// heightmap's; a stored terrain's one uploaded level overrides them.
 pub trait GroundSource: Send + Sync {
     /// Cells per side of a level's window.
-    fn cells(&self) -> u32;
+    fn cells(&self) -> u32 {
+        ground_clipmap::CELLS
+    }
     /// Levels it holds for the (view distance, blade range): the `ground.z` its `fill_uniforms`
     /// writes (the shaders' `GROUND_LEVELS`, fixed per graph).
-    fn levels(&self, distances: (f32, f32)) -> u32;
+    fn levels(&self, (view_distance, blade_range): (f32, f32)) -> u32 {
+        Clipmap::for_view(view_distance, blade_range).levels
+    }
     /// Cells per side of a chunk of the terrain's index list (a level's hole is whole chunks).
-    fn chunk_cells(&self) -> u32;
-    /// Texels the clipmap's buffer holds, fixed at upload: every level the source can draw.
-    fn texel_count(&self) -> u64;
+    fn chunk_cells(&self) -> u32 {
+        terrain_chunks::GROUND_CHUNK_CELLS
+    }
+    /// Texels the clipmap's buffer holds, fixed at upload: every level the source can draw (by
+    /// default the clipmap of the most levels: any view distance fits).
+    fn texel_count(&self) -> u64 {
+        clipmap_texels()
+    }
     /// The lowest and highest height its ground can have (the terrain chunks' bounds).
     fn height_range(&self) -> (f32, f32);
     /// Texels uploaded with the scene, in slot order; `None` when its [`GroundFill`] writes them.
-    fn texels(&self) -> Option<Vec<[f32; 4]>>;
+    fn texels(&self) -> Option<Vec<[f32; 4]>> {
+        None
+    }
     /// This frame's clipmap for O's cell `cell` (a stored field's O is the world's origin) and
     /// the (view distance, blade range): `ground`, `ground_levels`, `ground_windows` and what its
     /// fill reads.

@@ -6,10 +6,8 @@ use glam::{I64Vec3, IVec2, IVec4, UVec4, Vec4};
 use super::cover::{cover_map_words, cover_uniforms};
 use super::{GroundFill, GroundSource};
 use crate::render::camera_grid::GridShape;
-use crate::render::gpu_constants as gpu;
 use crate::render::ground_clipmap::{self, Clipmap};
 use crate::render::shaders;
-use crate::render::terrain_chunks;
 use crate::render::uniforms::FrameUniforms;
 use crate::scene::cover::Cover;
 use crate::scene::field;
@@ -24,38 +22,10 @@ pub struct ReliefGround {
     pub cover: Cover,
 }
 
-impl ReliefGround {
-    /// Texels of the clipmap of the most levels: any view distance fits.
-    pub fn clipmap_texels() -> u64 {
-        let shape = Clipmap { step: 1.0, levels: gpu::CAMERA_GRID_MAX_LEVELS }.shape();
-        shape.cells_per_level() * u64::from(shape.levels)
-    }
-}
-
 impl GroundSource for ReliefGround {
-    fn cells(&self) -> u32 {
-        ground_clipmap::CELLS
-    }
-
-    fn levels(&self, (view_distance, blade_range): (f32, f32)) -> u32 {
-        Clipmap::for_view(view_distance, blade_range).levels
-    }
-
-    fn chunk_cells(&self) -> u32 {
-        terrain_chunks::GROUND_CHUNK_CELLS
-    }
-
-    fn texel_count(&self) -> u64 {
-        Self::clipmap_texels()
-    }
-
     fn height_range(&self) -> (f32, f32) {
         let bound = self.relief.height_bound();
         (-bound, bound)
-    }
-
-    fn texels(&self) -> Option<Vec<[f32; 4]>> {
-        None
     }
 
     fn fill_uniforms(&self, uniforms: &mut FrameUniforms, cell: IVec2, distances: (f32, f32)) {
