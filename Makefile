@@ -71,6 +71,9 @@ pictures: build
 	$(MEADOW) render $(LANDSCAPE) --heightmap assets/landscape/heightmap.png --cover assets/landscape/cover.png \
 		--terrain-scale 200,12,200 --out docs/landscape-maps.png
 	$(MEADOW) render --field infinite --clumps 1.5 --camera 0,3,0,0,-25 --size 960x540 --out docs/landscape-clumps.png
+	$(MEADOW) render --field infinite --flowers 20 --camera 0,3,0,0,-25 --size 960x540 --out docs/landscape-flowers.png
+	$(MEADOW) render --field infinite --camera 20,9,40,30,-22 --size 960x540 --fog 0.002 --heightmap assets/landscape/heightmap.png \
+		--cover assets/landscape/cover.png --terrain-scale 200,12,200 --flowers 100 --out docs/landscape-meadows.png
 	xvfb-run -a -s "-screen 0 1280x720x24" $(MEADOW) view --size 960x540 --script scripts/viewer/showcase.txt
 
 # The benchmark results and charts in docs/ (docs/benchmarks.md, docs/gpu-timing.md): over half an
@@ -80,5 +83,6 @@ bench-docs: build
 	$(MEADOW) bench --preset lod --out docs/bench-lod
 	$(MEADOW) bench --preset msaa --out docs/bench-msaa
 	$(MEADOW) bench --preset response --out docs/bench-response
+	$(MEADOW) bench --preset plants --out docs/bench-plants
 	$(MEADOW) overhead --out docs/overhead
 	$(MEADOW) timing --trace docs/timing/trace.json --out docs/timing

@@ -151,6 +151,8 @@ pub struct RenderOptions {
     pub landscape: landscape::Landscape,
     /// `--clumps`: blades in clumps.
     pub clumps: Option<crate::scene::clumps::Clumps>,
+    /// `--flowers`: flowers among the blades.
+    pub flowers: Option<crate::scene::flowers::Flowers>,
     /// Fog density per metre.
     pub fog: f32,
     /// Draw the benchmark floor instead of the blades (`--mode floor`).
@@ -169,6 +171,20 @@ impl RenderOptions {
     /// `--heightmap`, under the cover rules (`landscape`; the maps are loaded here, and a bad map
     /// is bad input, refused in one line).
     pub fn scene(&self) -> Result<Scene> {
+        // Flowers denser than the blades are refused before any map is read.
+        let density = self.field.map_or(crate::scene::blades::DENSITY_PER_M2, |f| f.density);
+        if let Some(flowers) = self.flowers {
+            flowers.share(density)?;
+        }
+        let scene = self.grass()?;
+        match self.flowers {
+            Some(flowers) => scene.with_flowers(flowers),
+            None => Ok(scene),
+        }
+    }
+
+    /// `scene`'s ground and grass, before the flowers.
+    fn grass(&self) -> Result<Scene> {
         let heightmap = self.landscape.heightmap(self.field)?;
         let cover = self.landscape.cover(self.field)?;
         let Some(spec) = self.field else {

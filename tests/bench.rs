@@ -445,6 +445,7 @@ fn bad_bench_arguments_exit_2() {
         &["bench", "--preset", "lod", "--wind-fields", "perlin"][..],
         &["bench", "--preset", "landscape", "--blades", "1000"][..],
         &["bench", "--preset", "landscape", "--segments", "4"][..],
+        &["bench", "--preset", "plants", "--blades", "1000"][..],
     ] {
         let output = meadow().args(args).output().expect("run");
         assert_eq!(output.status.code(), Some(2), "{args:?}: {}", transcript(&output));
@@ -649,6 +650,42 @@ fn the_landscape_preset_measures_its_pairs_side_by_side() {
         let share = drawn(split, "subject") / drawn(split, "reference");
         assert!((0.4..0.65).contains(&share), "the split cover drew {share} of the full one's blades");
     }
+}
+
+/// `--preset plants`: the four pairs measured side by side; the flowers' subjects draw flowers
+/// beside the blades (and the references none), taking the blades' places; clumps move no blade.
+#[test]
+fn the_plants_preset_measures_flowers_and_clumps_side_by_side() {
+    let out = scratch("bench-plants").join("out");
+    let output = meadow()
+        .args(["bench", "--preset", "plants", "--size", "160x90", "--warmup", "0", "--frames", "1", "--validation"])
+        .args(["--device", support::DEVICE, "--out"])
+        .arg(&out)
+        .output()
+        .expect("run");
+    support::assert_clean(&output);
+    let doc: Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("plants.json")).expect("json")).expect("JSON");
+    let pairs = doc["pairs"].as_array().expect("pairs");
+    assert_eq!(pairs.len(), 4);
+    let drawn = |v: &Value, class: &str| {
+        let classes = v["classes"].as_array().expect("classes");
+        classes.iter().find(|c| c["class"] == class).map_or(0, |c| c["drawn"].as_u64().expect("drawn"))
+    };
+    for p in pairs {
+        assert!(p["ratio"].as_f64().expect("ratio") > 0.0 && drawn(&p["reference"], "blades") > 1000, "{p}");
+        assert_eq!(drawn(&p["reference"], "flowers"), 0, "{p}");
+    }
+    for p in &pairs[..2] {
+        let (reference, subject) = (&p["reference"], &p["subject"]);
+        let flowers = drawn(subject, "flowers");
+        assert!(flowers > 50, "{p}");
+        // Each flower took a candidate blade's place (the edge-on test, which flowers skip, moves a few).
+        let total = drawn(subject, "blades") + flowers;
+        assert!(total.abs_diff(drawn(reference, "blades")) < flowers, "{p}");
+    }
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(stdout.contains("flowers 20/m² / none, default block field") && stdout.contains(" flowers |"), "{stdout}");
 }
 
 /// `--preset response`: every traced tip rests until the gust and leans downwind after it; a

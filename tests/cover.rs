@@ -95,7 +95,8 @@ fn the_slope_limit_leaves_a_steep_ramp_bare_and_flat_ground_covered() {
 /// A map of `grass` (`width` × `height`, row by row) over `RAMP`'s extent, mirrored.
 fn cover_map(width: u32, height: u32, grass: Vec<u8>) -> Cover {
     let placement = MapPlacement { x: RAMP.x, z: RAMP.z, mirrored: true };
-    Cover { slope_limit_deg: None, map: Some(Arc::new(CoverMap { width, height, grass, placement })) }
+    let flowers = grass.clone();
+    Cover { slope_limit_deg: None, map: Some(Arc::new(CoverMap { width, height, grass, flowers, placement })) }
 }
 
 #[test]

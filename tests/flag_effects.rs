@@ -77,6 +77,7 @@ const RENDER_CASES: &[Case] = &[
     ("cover", &[with(&["--heightmap", "map.png"], &["--cover", "cover.png"])]),
     ("slope_limit", &[with(&["--heightmap", "map.png"], &["--slope-limit", "3"])]),
     ("clumps", &[alt(&["--clumps", "1"])]),
+    ("flowers", &[alt(&["--flowers", "100"])]),
     ("fog", &[alt(&["--fog", "0.5"])]),
     ("blades_per_instance", &[alt(&["--blades-per-instance", "4"])]),
     ("animation", &[alt(&["--animation", "sine-object"]), alt(&["--animation", "static"])]),

@@ -153,6 +153,7 @@ fn every_frame_uniform_and_specialization_constant_reads_back_through_a_compute_
         ground_levels: 2016,
         ground_cover: 2017,
         clump_size_mm: 2027,
+        flower_share: 0.05f32.to_bits(),
     };
     let input = (vk::DescriptorType::UNIFORM_BUFFER, bytemuck::bytes_of(&uniforms));
     let (result, messages) = with_device(&options(), false, |device| {
@@ -193,6 +194,7 @@ fn every_frame_uniform_and_specialization_constant_reads_back_through_a_compute_
     assert_eq!(seen("GROUND_LEVELS"), spec.ground_levels, "GROUND_LEVELS");
     assert_eq!(seen("GROUND_COVER"), spec.ground_cover, "GROUND_COVER");
     assert_eq!(seen("CLUMP_SIZE_MM"), spec.clump_size_mm, "CLUMP_SIZE_MM");
+    assert_eq!(seen("FLOWER_SHARE"), spec.flower_share, "FLOWER_SHARE");
     // The shaders see the constants build.rs generated for Rust.
     let shared = &words[FRAME_WORDS + specialization::COUNT..];
     let flags = gpu::FLAG_DEBUG_FORCE | gpu::FLAG_EVAL_BLADE | gpu::FLAG_CLUSTER_PUSH;

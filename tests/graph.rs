@@ -512,7 +512,16 @@ fn wide_sparse_field() -> meadow::scene::Scene {
     let mut blades = blades::scatter(&terrain, 3000, 5);
     let tile_grid = tiles::TileGrid::new(terrain.size);
     let tiles = tiles::arrange(&tile_grid, &mut blades);
-    meadow::scene::Scene { terrain, blades, tile_grid, tiles, field: None, cover: Default::default(), clumps: None }
+    meadow::scene::Scene {
+        terrain,
+        blades,
+        tile_grid,
+        tiles,
+        field: None,
+        cover: Default::default(),
+        clumps: None,
+        flowers: None,
+    }
 }
 
 #[test]

@@ -231,6 +231,7 @@ const ORDER: &[&str] = &[
     "render::layouts",
     "render::passes",
     "render::draw_class",
+    "render::flowers",
     "render::renderer",
     "render",
     "app",

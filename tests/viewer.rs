@@ -373,11 +373,12 @@ fn without_timestamps_the_viewer_says_gpu_unavailable() {
 }
 
 #[test]
-fn f4_toggles_the_slope_limit_t_reaches_the_cover_view_and_f5_clumps() {
+fn f4_toggles_the_slope_limit_t_reaches_the_cover_view_f5_clumps_and_f6_flowers() {
     // A stored field (5 000 blades, 3.5 m a side) on a steep ramp (a 16-bit map rising at 44°
     // along x past x = 0.65 m): F4 turns the 30° slope limit
     // on (the ramp's blades are scattered away, the ground turns to earth) and off again; T four
-    // times is the cover view, and once more the shaded one; F5 puts the blades in clumps.
+    // times is the cover view, and once more the shaded one; F5 puts the blades in clumps, and F6
+    // adds flowers.
     let dir = scratch("viewer-slope-limit");
     let texels: Vec<u8> =
         (0..32u32 * 32).flat_map(|i| (((i % 32).saturating_sub(16) * 4096).min(65_535) as u16).to_ne_bytes()).collect();
@@ -387,7 +388,7 @@ fn f4_toggles_the_slope_limit_t_reaches_the_cover_view_and_f5_clumps() {
         &path,
         "0 pause\n0 camera 0,3,4,0,-35\n3 screenshot plain.png\n4 press f4\n8 screenshot limited.png\n10 press f4\n\
          14 screenshot again.png\n16 press t\n17 press t\n18 press t\n19 press t\n20 press t\n22 press f5\n\
-         26 screenshot clumped.png\n28 quit\n",
+         26 screenshot clumped.png\n28 press f6\n32 screenshot flowers.png\n34 quit\n",
     )
     .expect("write script");
     let map = dir.join("ramp.png");
@@ -396,7 +397,7 @@ fn f4_toggles_the_slope_limit_t_reaches_the_cover_view_and_f5_clumps() {
     assert_clean(&output);
     let stdout = String::from_utf8_lossy(&output.stdout);
     assert!(stdout.contains("slope limit 30°") && stdout.contains("cover view"), "{}", transcript(&output));
-    assert!(stdout.contains("clumps of 1.5 m"), "{}", transcript(&output));
+    assert!(stdout.contains("clumps of 1.5 m") && stdout.contains("20 flowers per m²"), "{}", transcript(&output));
     let load = |name: &str| Picture::load(&dir.join(name));
     let (plain, limited, again) = (load("plain.png"), load("limited.png"), load("again.png"));
     let changed =
@@ -409,4 +410,10 @@ fn f4_toggles_the_slope_limit_t_reaches_the_cover_view_and_f5_clumps() {
     assert!(changed(&plain, &again) < 0.001, "turning it off again left {:.3} changed", changed(&plain, &again));
     let clumped = load("clumped.png");
     assert!(changed(&again, &clumped) > 0.03, "F5's clumps changed {:.3} of the picture", changed(&again, &clumped));
+    let flowers = load("flowers.png");
+    assert!(
+        changed(&clumped, &flowers) > 0.005,
+        "F6's flowers changed {:.3} of the picture",
+        changed(&clumped, &flowers)
+    );
 }

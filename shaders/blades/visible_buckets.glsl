@@ -20,13 +20,17 @@ layout(set = SET_PASS, binding = DRAWS_BINDING, std430) readonly buffer Draws { 
 // segments (bucket counts strictly decrease: at most one bucket has them) plus the invocation's
 // index; false past the bucket's entries, or when this frame draws no such bucket. The bucket is
 // found by selects on the frame's values, not a branch (bindings.glsl says why a branch on
-// uniforms alone costs on lavapipe).
+// uniforms alone costs on lavapipe). A pipeline of FLAG_POSE_CLASS covers bucket LOD_BUCKET of a
+// further draw class instead (`render::draw_class::DrawClass::posed`: flowers' stems).
 bool bucket_entry(out uint i) {
     uint bucket = MAX_LOD_BUCKETS;
     for (uint b = 0u; b < MAX_LOD_BUCKETS; b++) {
         uint segments = ((frame_values.cull_lod.y >> (4u * b)) & 15u) + 1u;
         uint match = uint(b < frame_values.cull_lod.x) & uint(segments == SEGMENTS);
         bucket = match != 0u ? b : bucket;
+    }
+    if ((RENDER_FLAGS & FLAG_POSE_CLASS) != 0u) {
+        bucket = LOD_BUCKET;
     }
     uint at = min(bucket, MAX_LOD_BUCKETS - 1u) * DRAW_WORDS;
     uint first = draws[at + DRAW_FIRST_INSTANCE] * BLADES_PER_INSTANCE;

@@ -69,6 +69,9 @@ layout(constant_id = SPEC(GROUND_LEVELS)) const uint GROUND_LEVELS = 1u;
 layout(constant_id = SPEC(GROUND_COVER)) const uint GROUND_COVER = 0u;
 // A block field's clump size in millimetres (`scene::clumps`, `--clumps`; 0: no clumps).
 layout(constant_id = SPEC(CLUMP_SIZE_MM)) const uint CLUMP_SIZE_MM = 0u;
+// The share of candidate blades the flowers claim under full green and grass, an f32's bits
+// (`scene::flowers`, `--flowers`; 0: no flowers).
+layout(constant_id = SPEC(FLOWER_SHARE)) const uint FLOWER_SHARE = 0u;
 
 // Model level m0 below strip level `level` of a `segments`-segment strip, and how far towards
 // m0 + 1 it lies (0 when `segments` divides MODEL_SEGMENTS). The pose pass writes, and the levels

@@ -73,6 +73,8 @@ const float CELL_SPREAD_INSIDE = 0.7072; // render::ground_clipmap::CELL_SPREAD_
 const float CELL_SPREAD_OUTSIDE = 1.4143; // render::ground_clipmap::CELL_SPREAD_OUTSIDE
 
 #ifndef GROUND_WRITER
+#include "common/ground_bounds.glsl"
+
 // The box of every blade of `cell` in any pose, relative to O: the drawn ground at the cell's
 // centre (the clipmap's, whatever the ground's source) within twice the spread the slope bound
 // allows the drawn ground from the ground itself (each of the cell's points and its centre lies
@@ -98,14 +100,25 @@ void field_cell_bounds(ivec2 cell, out vec3 lo, out vec3 hi) {
     float up = TALLEST_BLADE + 0.5 * WIDEST_BLADE;
     float across = TALLEST_BLADE + 0.5 * WIDEST_BLADE * max(frame_values.lod.w, 1.0);
     float h = ground_height(centre);
-    lo = vec3(corner.x - across, h - spread - FIELD_ROOT_SINK, corner.y - across);
-    hi = vec3(corner.x + edge + across, h + spread + up, corner.y + edge + across);
+    vec2 range = vec2(h - spread, h + spread);
+    if ((RENDER_FLAGS & FLAG_GROUND_BOUNDS) != 0u) {
+        // A heightmap's min/max pyramid (`scene::height_bounds`) over the cell and the vertices
+        // its drawn ground interpolates (a drawn cell out, and a step more for a morphing
+        // vertex's neighbours): the map's range there rather than its steepest slope anywhere's.
+        // Both are bounds; a millimetre for the f32 heights.
+        vec2 world = vec2(cell) * edge;
+        float around = drawn + step;
+        vec2 map = ground_map_bounds(world - vec2(around), world + vec2(edge + around)) + vec2(-0.001, 0.001);
+        range = vec2(max(range.x, map.x), min(range.y, map.y));
+    }
+    lo = vec3(corner.x - across, range.x - FIELD_ROOT_SINK, corner.y - across);
+    hi = vec3(corner.x + edge + across, range.y + up, corner.y + edge + across);
 }
 
 #endif
 
 // The box of the roots of a cell whose box `field_cell_bounds` gave (lo, hi: replaced): the
-// cell's square, from the lowest root to the highest the relief's spread allows (the box's top
+// cell's square, from the lowest root to the highest the ground's bounds allow (the box's top
 // less the tallest reach up, less the sink).
 void field_cell_roots(BladeTile cell_box, out vec3 lo, out vec3 hi) {
     float up = TALLEST_BLADE + 0.5 * WIDEST_BLADE;

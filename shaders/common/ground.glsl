@@ -99,9 +99,15 @@ vec4 ground_grid_texel(GroundLevel l, ivec2 v) {
     return ground_texel(ground_slot(l, v));
 }
 
-// The ground's cover at local vertex v of level `l` (1 without cover rules: GROUND_COVER).
+// The ground's cover at local vertex v of level `l`: the grass's (x) and the flowers' (y)
+// densities (1 without cover rules: GROUND_COVER).
+vec2 ground_vertex_covers(GroundLevel l, ivec2 v) {
+    return GROUND_COVER != 0u ? ground_cover_texel(ground_slot(l, v)) : vec2(1.0);
+}
+
+// The grass's cover at local vertex v of level `l`.
 float ground_vertex_cover(GroundLevel l, ivec2 v) {
-    return GROUND_COVER != 0u ? ground_cover_texel(ground_slot(l, v)) : 1.0;
+    return ground_vertex_covers(l, v).x;
 }
 
 // The drawn ground's height at local vertex v of level `l` from its texel `t`. Below the
@@ -150,17 +156,23 @@ float ground_height(vec2 p) {
     return terrain_mesh_height(f, ground_cell_heights(l, c));
 }
 
-// The ground's cover at `p`: bilinear between its cell's vertices (`scene::cover`).
-float ground_cover(vec2 p) {
+// The ground's covers at `p`, the grass's (x) and the flowers' (y): bilinear between its
+// cell's vertices (`scene::cover`).
+vec2 ground_covers(vec2 p) {
     if (GROUND_COVER == 0u) {
-        return 1.0;
+        return vec2(1.0);
     }
     GroundLevel l;
     vec2 f;
     ivec2 c = ground_cell(p, l, f);
-    float bottom = mix(ground_vertex_cover(l, c), ground_vertex_cover(l, c + ivec2(1, 0)), f.x);
-    float top = mix(ground_vertex_cover(l, c + ivec2(0, 1)), ground_vertex_cover(l, c + ivec2(1, 1)), f.x);
+    vec2 bottom = mix(ground_vertex_covers(l, c), ground_vertex_covers(l, c + ivec2(1, 0)), f.x);
+    vec2 top = mix(ground_vertex_covers(l, c + ivec2(0, 1)), ground_vertex_covers(l, c + ivec2(1, 1)), f.x);
     return mix(bottom, top, f.y);
+}
+
+// The grass's cover at `p`.
+float ground_cover(vec2 p) {
+    return ground_covers(p).x;
 }
 
 // The cover debug view's colour (`--debug-view cover`): red where bare, yellow at half, green

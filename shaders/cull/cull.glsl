@@ -412,8 +412,9 @@ uvec2 bucket_draw(uint b) {
 
 // The blade tests. Returns the blade's LOD bucket, or -1 with the first test it failed in
 // `failed` (a `STAT_*` index: the counts after that test do not include it). `scale` is
-// (fade, widening) for the vertex shader.
-int blade_bucket(Frustum f, BladeInstance blade, uint rank, uint count, vec3 normal, out uint failed, out vec2 scale) {
+// (fade, widening) for the vertex shader. `seen_from_all_sides`: no edge-on test (a plant of a
+// further class that shows from every side, as a flower's head).
+int plant_bucket(Frustum f, BladeInstance blade, uint rank, uint count, vec3 normal, bool seen_from_all_sides, out uint failed, out vec2 scale) {
     vec3 to_eye = frame_values.cull_eye.xyz - blade.position;
     float d = max(length(to_eye), 1e-3);
     scale = vec2(1.0);
@@ -449,7 +450,7 @@ int blade_bucket(Frustum f, BladeInstance blade, uint rank, uint count, vec3 nor
         failed = STAT_FRUSTUM;
         return -1;
     }
-    if (culling(CULL_ORIENTATION)) {
+    if (culling(CULL_ORIENTATION) && !seen_from_all_sides) {
         vec2 across = vec2(cos(blade.facing), -sin(blade.facing));
         vec2 view = to_eye.xz / max(length(to_eye.xz), 1e-6);
         if (abs(dot(view, across)) > EDGE_ON) {
@@ -477,6 +478,11 @@ int blade_bucket(Frustum f, BladeInstance blade, uint rank, uint count, vec3 nor
         }
     }
     return int(bucket);
+}
+
+// The blade tests of a blade (`plant_bucket`, with the edge-on test).
+int blade_bucket(Frustum f, BladeInstance blade, uint rank, uint count, vec3 normal, out uint failed, out vec2 scale) {
+    return plant_bucket(f, blade, rank, count, normal, false, failed, scale);
 }
 
 #endif

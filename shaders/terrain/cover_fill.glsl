@@ -11,8 +11,9 @@
 #include "terrain/map_coordinate.glsl"
 
 // The covering map (`render::ground::cover::cover_map_words`) in the fill's own set: a header of
-// `COVER_HEADER` words (width, height, extent x and z as f32 bits, mirrored), then its grass
-// densities, four bytes a word. Without a map, 1 × 1 of 255. The including fill sets its binding.
+// `COVER_HEADER` words (width, height, extent x and z as f32 bits, mirrored, the flower plane's
+// first word), then its grass densities, four bytes a word, then its flower densities likewise.
+// Without a map, 1 × 1 of 255. The including fill sets its binding.
 #ifndef COVER_MAP_BINDING
 #define COVER_MAP_BINDING 0
 #endif
@@ -27,18 +28,22 @@ float slope_cover(vec2 slope) {
     return 1.0 - t * t * (3.0 - 2.0 * t);
 }
 
-// Texel (x, z) of the covering map, held inside it, as a density in [0, 1].
-float cover_texel(ivec2 t) {
+// Texel (x, z) of the covering map, held inside it, as the grass's (x) and flowers' (y)
+// densities in [0, 1].
+vec2 cover_texel(ivec2 t) {
     uvec2 size = uvec2(cover_words[0], cover_words[1]);
     uvec2 c = uvec2(clamp(t, ivec2(0), ivec2(size) - 1));
     uint i = c.y * size.x + c.x;
-    uint word = cover_words[COVER_HEADER + i / 4u];
-    return float((word >> (8u * (i & 3u))) & 0xffu) / 255.0;
+    uint shift = 8u * (i & 3u);
+    uint grass = cover_words[COVER_HEADER + i / 4u];
+    uint flowers = cover_words[cover_words[5] + i / 4u];
+    return vec2(float((grass >> shift) & 0xffu), float((flowers >> shift) & 0xffu)) / 255.0;
 }
 
-// The covering map's density at world (x, z) (m, relative to the world's origin): bilinear
-// between its texels (`scene::cover::CoverMap::density_at`).
-float cover_map_at(vec2 world) {
+// The covering map's densities at world (x, z) (m, relative to the world's origin), the grass's
+// (x) and the flowers' (y): bilinear between its texels (`scene::cover::CoverMap::density_at`,
+// `flower_density_at`).
+vec2 cover_map_at(vec2 world) {
     uvec2 size = uvec2(cover_words[0], cover_words[1]);
     bool mirrored = cover_words[4] != 0u;
     vec2 unused;
@@ -47,14 +52,15 @@ float cover_map_at(vec2 world) {
     vec2 c = floor(t);
     vec2 f = t - c;
     ivec2 i = ivec2(c);
-    float bottom = mix(cover_texel(i), cover_texel(i + ivec2(1, 0)), f.x);
-    float top = mix(cover_texel(i + ivec2(0, 1)), cover_texel(i + ivec2(1, 1)), f.x);
+    vec2 bottom = mix(cover_texel(i), cover_texel(i + ivec2(1, 0)), f.x);
+    vec2 top = mix(cover_texel(i + ivec2(0, 1)), cover_texel(i + ivec2(1, 1)), f.x);
     return mix(bottom, top, f.y);
 }
 
-// The cover at world (x, z) over ground of slope `slope`: the map's density times the slope's.
-float ground_cover_at(vec2 world, vec2 slope) {
-    return cover_map_at(world) * slope_cover(slope);
+// The cover at world (x, z) over ground of slope `slope`, packed as `GroundCover` holds it: the
+// map's densities times the slope's.
+uint ground_cover_at(vec2 world, vec2 slope) {
+    return packUnorm2x16(cover_map_at(world) * slope_cover(slope));
 }
 
 #endif

@@ -9,28 +9,28 @@
 // Per vertex of a level, in the slot of its vertex (a camera grid, camera_grid.glsl): x its
 // height, y the height of the next level's mesh there, zw the ground's rise along x and z over
 // the level's `ground_level_rise_run` metres (the normal is (-z, run, -w)).
-// And per vertex, in the same slot, the ground's cover (`scene::cover`): the density grass
-// grows at there, in [0, 1].
+// And per vertex, in the same slot, the ground's cover (`scene::cover`): the densities grass
+// (low half) and flowers (high half, `scene::flowers`) grow at there, two unorm16 in [0, 1].
 #ifdef GROUND_WRITER
 layout(SCENE(GroundTexels), std430) writeonly buffer GroundTexels { vec4 ground_grid[]; };
-layout(SCENE(GroundCover), std430) writeonly buffer GroundCover { float ground_cover_grid[]; };
+layout(SCENE(GroundCover), std430) writeonly buffer GroundCover { uint ground_cover_grid[]; };
 #elif defined(TEXEL_TWINS)
 layout(SCENE(ground_texels)) uniform samplerBuffer ground_texels;
 vec4 ground_texel(int i) {
     return texelFetch(ground_texels, i);
 }
-layout(SCENE(ground_cover_texels)) uniform samplerBuffer ground_cover_texels;
-float ground_cover_texel(int i) {
-    return texelFetch(ground_cover_texels, i).x;
+layout(SCENE(ground_cover_texels)) uniform usamplerBuffer ground_cover_texels;
+vec2 ground_cover_texel(int i) {
+    return unpackUnorm2x16(texelFetch(ground_cover_texels, i).x);
 }
 #else
 layout(SCENE(GroundTexels), std430) readonly buffer GroundTexels { vec4 ground_grid[]; };
 vec4 ground_texel(int i) {
     return ground_grid[i];
 }
-layout(SCENE(GroundCover), std430) readonly buffer GroundCover { float ground_cover_grid[]; };
-float ground_cover_texel(int i) {
-    return ground_cover_grid[i];
+layout(SCENE(GroundCover), std430) readonly buffer GroundCover { uint ground_cover_grid[]; };
+vec2 ground_cover_texel(int i) {
+    return unpackUnorm2x16(ground_cover_grid[i]);
 }
 #endif
 

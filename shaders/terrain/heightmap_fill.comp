@@ -91,5 +91,5 @@ void main() {
     uvec3 dims = fill.dims.xyz;
     uint slot = level * dims.x * dims.z + camera_grid_slot(local, fill.base.xyz, dims);
     ground_grid[slot] = vec4(h, coarse, slope);
-    ground_cover_grid[slot] = GROUND_COVER != 0u ? ground_cover_at(world, slope) : 1.0;
+    ground_cover_grid[slot] = GROUND_COVER != 0u ? ground_cover_at(world, slope) : packUnorm2x16(vec2(1.0));
 }

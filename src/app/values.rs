@@ -175,6 +175,11 @@ pub fn slope_limit(text: &str) -> Result<f32, String> {
     Ok(degrees)
 }
 
+/// `--flowers`: flowers per square metre, finite, positive, at most `scene::flowers::MOST_PER_M2`.
+pub fn flowers(text: &str) -> Result<crate::scene::flowers::Flowers, String> {
+    crate::scene::flowers::Flowers::new(finite_f32(text)?)
+}
+
 /// `--clumps`: a clump size in metres, finite, within `scene::clumps::SIZE_RANGE_M`.
 pub fn clumps(text: &str) -> Result<crate::scene::clumps::Clumps, String> {
     let size_m = finite_f32(text)?;

@@ -123,7 +123,8 @@ pub(crate) struct SceneArgs {
     pub(crate) terrain_scale: Option<crate::scene::heightmap::TerrainScale>,
     /// Where grass grows, from a PNG stretched over the --heightmap's extent (or the
     /// --terrain-scale's X and Z): red, or a greyscale map's grey, is the grass's density (0
-    /// none, 255 full); green is kept for flowers, alpha ignored. Bare ground is earth.
+    /// none, 255 full); green (or the grey) is the flowers' (--flowers), alpha ignored. Bare ground
+    /// is earth.
     #[arg(long, value_name = "PATH.png")]
     pub(crate) cover: Option<PathBuf>,
     /// Leave ground steeper than DEG degrees bare (a soft edge 4° wide across it): a block
@@ -134,6 +135,12 @@ pub(crate) struct SceneArgs {
     /// outwards together and share a tint and a height (off by default).
     #[arg(long, value_name = "SIZE_M", value_parser = values::clumps, allow_hyphen_values = true)]
     pub(crate) clumps: Option<crate::scene::clumps::Clumps>,
+    /// Flowers among the blades, PER_M2 per square metre where the --cover's green is full (a
+    /// flower takes a blade's place: at most the field's blade density): a head of petals on a
+    /// stem that bends with the blades; with the cull and the blades' pose records (not with
+    /// --brute-force, --mode floor or --eval vertex).
+    #[arg(long, value_name = "PER_M2", value_parser = values::flowers, allow_hyphen_values = true)]
+    pub(crate) flowers: Option<crate::scene::flowers::Flowers>,
     /// Fog density per metre (default 0.012; 0: no fog): a far view for tests and benchmarks.
     #[arg(long, value_name = "DENSITY", value_parser = values::fog, allow_hyphen_values = true)]
     pub(crate) fog: Option<f32>,
@@ -187,6 +194,7 @@ impl SceneArgs {
                 Some(ReliefArg::Gentle) | None => crate::scene::field::ReliefKind::Gentle,
             },
             clumps: self.clumps,
+            flowers: self.flowers,
             fog: self.fog.unwrap_or(crate::render::frame::look::FOG_DENSITY),
             landscape: crate::app::landscape::Landscape {
                 heightmap: self.heightmap.clone(),
@@ -379,6 +387,7 @@ pub(crate) enum PresetArg {
     Animations,
     Response,
     Landscape,
+    Plants,
 }
 
 #[derive(Clone, Copy, ValueEnum)]

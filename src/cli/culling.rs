@@ -84,6 +84,8 @@ impl CullArgs {
             // A row per tile only where the animation needs it (`--animation sine-cluster`,
             // `Mode::draw_rows`).
             rows: crate::render::draw_rows::DrawRows::PerBucket,
+            // A heightmap's cells are always bounded by its pyramid from the command line.
+            ground_bounds: true,
         }
     }
 }

@@ -133,7 +133,8 @@ pub(crate) fn bench(args: BenchArgs) -> crate::Result<(u8, Option<u64>)> {
         PresetArg::Msaa => return msaa(args),
         PresetArg::Animations => return animations(args),
         PresetArg::Response => return response(args),
-        PresetArg::Landscape => return landscape(args),
+        PresetArg::Landscape => return pair_preset(args, Pairs::Landscape),
+        PresetArg::Plants => return pair_preset(args, Pairs::Plants),
     };
     let preset_blades: Vec<u32> = options.rows.iter().map(|r| r.0).collect();
     let preset_segments: Vec<u32> = options.rows.iter().map(|r| r.1).collect();
@@ -280,24 +281,46 @@ fn response(args: BenchArgs) -> crate::Result<(u8, Option<u64>)> {
     ))
 }
 
-/// `meadow bench --preset landscape`: size, warm-up and frames can be changed; blade counts,
-/// segments, modes and evaluation placements cannot (`cli::effect` refuses them).
-fn landscape(args: BenchArgs) -> crate::Result<(u8, Option<u64>)> {
-    use crate::harness::bench::landscape::{self, LandscapeBenchOptions};
-    let mut options = LandscapeBenchOptions::preset(args.out.clone());
+/// A benchmark of pairs side by side (`harness::bench::pairs`).
+#[derive(Clone, Copy)]
+enum Pairs {
+    /// `--preset landscape` (issue #35).
+    Landscape,
+    /// `--preset plants` (issue #36).
+    Plants,
+}
+
+/// `meadow bench --preset landscape` or `plants`: size, warm-up and frames can be changed; blade
+/// counts, segments, modes and evaluation placements cannot (`cli::effect` refuses them).
+fn pair_preset(args: BenchArgs, preset: Pairs) -> crate::Result<(u8, Option<u64>)> {
+    use crate::harness::bench::{landscape, pairs::PairBenchOptions, plants};
+    let mut options = PairBenchOptions::preset(args.out.clone());
     options.size = args.size.unwrap_or(options.size);
     options.warmup = args.warmup.unwrap_or(options.warmup);
     options.frames = args.frames.unwrap_or(options.frames);
+    let files: &[&str] = match preset {
+        Pairs::Landscape => &landscape::FILES,
+        Pairs::Plants => &plants::FILES,
+    };
     Ok(measure(
         &args.gpu,
         "frames",
-        (&options.out, &landscape::FILES),
+        (&options.out, files),
         |device, progress| {
-            let doc = landscape::run(device, &options, progress)?;
-            landscape::write(&doc, &options.out)?;
-            Ok(doc)
+            Ok(match preset {
+                Pairs::Landscape => {
+                    let doc = landscape::run(device, &options, progress)?;
+                    landscape::write(&doc, &options.out)?;
+                    landscape::table(&doc)
+                }
+                Pairs::Plants => {
+                    let doc = plants::run(device, &options, progress)?;
+                    plants::write(&doc, &options.out)?;
+                    plants::table(&doc)
+                }
+            })
         },
-        |doc| print!("{}", landscape::table(&doc)),
+        |table| print!("{table}"),
     ))
 }
 

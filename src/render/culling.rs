@@ -136,6 +136,10 @@ pub struct Culling {
     /// How the blade class issues its draws: once per LOD bucket, or once per visible tile and
     /// bucket (`draw_rows`; `--animation sine-cluster` draws a row per tile).
     pub rows: DrawRows,
+    /// A block field's cell heights bounded by a heightmap's min/max pyramid
+    /// (`scene::height_bounds`, `FLAG_GROUND_BOUNDS`; off: by the ground's steepest slope alone,
+    /// as for the procedural relief). No effect on other grounds.
+    pub ground_bounds: bool,
 }
 
 impl Culling {
@@ -155,6 +159,7 @@ impl Culling {
             blade_distance: DEFAULT_BLADE_DISTANCE,
             lod_scale: 1.0,
             rows: DrawRows::PerBucket,
+            ground_bounds: true,
         }
     }
 

@@ -59,6 +59,10 @@ pub struct ClassSetup<'a> {
     pub first_bucket: u32,
     /// Entries of the visible list per instance of its draws (`BLADES_PER_INSTANCE`).
     pub blades_per_instance: u32,
+    /// The pose records' set (`SET_POSES`, bind with `recording::bind_pose_set`) and its buffers
+    /// (the records, the placed levels): a posed class's entries' records, by entry
+    /// (`DrawClass::posed`).
+    pub poses: (vk::DescriptorSet, [vk::Buffer; 2]),
 }
 
 /// A class the cull sorts candidates into, besides the blades.
@@ -78,6 +82,12 @@ pub trait DrawClass {
     /// Bucket `bucket`'s draw of one instance of `blades_per_instance` entries: its index count
     /// and first index in its pass's index buffer.
     fn bucket_draw(&self, bucket: u32, blades_per_instance: u32) -> (u32, u32);
+    /// The segments bucket `bucket`'s entries are posed with when the blade response poses them
+    /// as blades (its pose pass covers the bucket too, `FLAG_POSE_CLASS`, writing records by
+    /// entry, `ClassSetup::poses`); `None`, the default: not posed.
+    fn posed(&self, _bucket: u32) -> Option<u32> {
+        None
+    }
     /// The pass that draws its buckets (after the blade pass).
     fn pass(&self, device: &Device, setup: &ClassSetup) -> Result<Box<dyn Pass>>;
 }
@@ -119,6 +129,8 @@ pub struct PlacedClass {
     pub rows: DrawRows,
     /// Per bucket: index count and first index of one instance's draw.
     pub draws: Vec<(u32, u32)>,
+    /// Per bucket: the segments its entries are posed with (`DrawClass::posed`).
+    pub posed: Vec<Option<u32>>,
 }
 
 impl ClassLayout {
@@ -142,8 +154,9 @@ impl ClassLayout {
         for class in &classes.classes {
             let buckets = class.buckets();
             let draws = (0..buckets).map(|b| class.bucket_draw(b, blades_per_instance)).collect();
+            let posed = (0..buckets).map(|b| class.posed(b)).collect();
             let (name, order, rows) = (class.name(), class.order(), class.rows());
-            placed.push(PlacedClass { name, first, buckets, order, rows, draws });
+            placed.push(PlacedClass { name, first, buckets, order, rows, draws, posed });
             first += buckets;
         }
         if first > gpu::MAX_LOD_BUCKETS || placed.iter().any(|c| c.buckets == 0) {
@@ -188,6 +201,13 @@ impl ClassLayout {
         uniforms.cull_bucket_draws = std::array::from_fn(|i| {
             UVec4::new(draws[2 * i][0], draws[2 * i][1], draws[2 * i + 1][0], draws[2 * i + 1][1])
         });
+    }
+
+    /// The further classes' buckets the blade response poses, and their segments.
+    pub fn posed(&self) -> Vec<(u32, u32)> {
+        let buckets =
+            |c: &PlacedClass| c.posed.iter().enumerate().map(|(b, s)| (c.first + b as u32, *s)).collect::<Vec<_>>();
+        self.classes.iter().flat_map(buckets).filter_map(|(b, s)| s.map(|s| (b, s))).collect()
     }
 
     /// Per class, blades first: its name and its buckets (first, count), for the cull's counts.

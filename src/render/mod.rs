@@ -9,6 +9,7 @@ pub mod culling;
 pub mod draw_class;
 pub mod draw_rows;
 pub mod field_gpu;
+pub mod flowers;
 pub mod frame;
 pub mod gpu_constants;
 pub mod graph;

@@ -113,6 +113,9 @@ pub struct SceneGpu {
     /// A block field's clump size in millimetres, the shaders' `CLUMP_SIZE_MM` (0: none; a
     /// stored field's blades were clumped on the CPU).
     pub clump_size_mm: u32,
+    /// The share of candidate blades the flowers claim, the shaders' `FLOWER_SHARE`
+    /// (`scene::Scene::flower_share`; 0: no flowers).
+    pub flower_share: f32,
     /// The cull's visible list: (blade index, packed scale) per drawn blade.
     pub visible: Buffer,
     /// The visible list as RG32UI texels, as its readers fetch it.
@@ -306,6 +309,7 @@ impl SceneGpu {
                 (Some(_), Some(clumps)) => clumps.size_mm(),
                 _ => 0,
             },
+            flower_share: scene.flower_share(),
             verdict_capacity: verdict_capacity(scene),
             visible_capacity: capacity.1,
             slot_capacity: capacity.0,
@@ -409,6 +413,7 @@ impl SceneGpu {
             ("ground_texels", texels(&self.ground.texel_view)),
             ("GroundCover", buffer(&self.ground.cover.0)),
             ("ground_cover_texels", texels(&self.ground.cover.1)),
+            ("GroundBounds", buffer(&self.ground.bounds)),
         ];
         let resources: Vec<_> = frame.iter().cloned().chain(resources).collect();
         layout.write_named(device, set, "scene set", &resources)

@@ -49,6 +49,10 @@ pub const FLUID_STAGES_COMP: [Shader; 7] = [
     spirv_shader!("wind/fluid.comp.pressure"),
     spirv_shader!("wind/fluid.comp.project"),
 ];
+/// The flowers' pass (`render::flowers`): a head of petals on each posed stem.
+pub const FLOWER_VERT: Shader = spirv_shader!("flowers/flower.vert");
+/// The flowers' pass: the lit colour, fogged and encoded.
+pub const FLOWER_FRAG: Shader = spirv_shader!("flowers/flower.frag");
 /// Terrain vertex shader (height-field pulling).
 pub const TERRAIN_VERT: Shader = spirv_shader!("terrain/terrain.vert");
 /// Terrain fragment shader.

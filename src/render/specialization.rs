@@ -10,7 +10,7 @@ pub use crate::render::gpu_constants::{
 };
 
 /// Number of specialization constants the scene shaders declare.
-pub const COUNT: usize = 21;
+pub const COUNT: usize = 22;
 
 /// The constants; each field is the shaders' constant named in its doc (`Self::named`), whose id
 /// build.rs assigns (`SPEC(NAME)`): no id is kept in Rust.
@@ -63,6 +63,9 @@ pub struct Specialization {
     pub ground_cover: u32,
     /// `CLUMP_SIZE_MM`: a block field's clump size in millimetres (`scene::clumps`; 0: none).
     pub clump_size_mm: u32,
+    /// `FLOWER_SHARE`: an `f32`'s bits, the share of candidate blades the flowers claim
+    /// (`scene::flowers`; 0: none).
+    pub flower_share: u32,
 }
 
 impl Specialization {
@@ -106,6 +109,7 @@ impl Specialization {
             ground_levels: 1,
             ground_cover: 0,
             clump_size_mm: 0,
+            flower_share: 0,
         }
     }
 
@@ -137,6 +141,7 @@ impl Specialization {
             ("GROUND_LEVELS", self.ground_levels),
             ("GROUND_COVER", self.ground_cover),
             ("CLUMP_SIZE_MM", self.clump_size_mm),
+            ("FLOWER_SHARE", self.flower_share),
         ]
     }
 }

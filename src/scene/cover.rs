@@ -2,8 +2,8 @@
 //! ground, the product of two rules.
 //! - `--cover PATH.png`, a covering map (Zhang Xia §5.5's covering map of model IDs, generalised
 //!   to densities): red, or a greyscale map's grey, is the grass's density, 0 none and 255 full;
-//!   green is the flowers' (not read yet: meadow draws no flowers), alpha is ignored and a
-//!   palette is expanded. It is stretched over the heightmap's extent (or `--terrain-scale`'s X
+//!   green (a greyscale map's grey again) is the flowers' (`scene::flowers`), alpha is ignored
+//!   and a palette is expanded. It is stretched over the heightmap's extent (or `--terrain-scale`'s X
 //!   and Z without one) centred on the world's origin and placed as the heightmap is
 //!   (`heightmap::map_coordinate`): repeated mirrored under an unbounded field, held past its
 //!   edges over a bounded field's square or stored blades. Density is bilinear between texels;
@@ -48,7 +48,19 @@ impl Cover {
     /// The cover at world (x, z) (m) over ground of slope `slope` (dh/dx, dh/dz).
     pub fn density(&self, x: f64, z: f64, slope: Vec2) -> f32 {
         let map = self.map.as_ref().map_or(1.0, |m| m.density_at(x, z));
-        map * self.slope_limit_deg.map_or(1.0, |limit| slope_density(limit, slope.length()))
+        map * self.slope_factor(slope)
+    }
+
+    /// The flowers' cover at world (x, z) over ground of slope `slope`: the map's green (1
+    /// without a map) times the slope limit's factor.
+    pub fn flower_density(&self, x: f64, z: f64, slope: Vec2) -> f32 {
+        let map = self.map.as_ref().map_or(1.0, |m| m.flower_density_at(x, z));
+        map * self.slope_factor(slope)
+    }
+
+    /// The slope limit's factor over ground of slope `slope` (1 without a limit).
+    fn slope_factor(&self, slope: Vec2) -> f32 {
+        self.slope_limit_deg.map_or(1.0, |limit| slope_density(limit, slope.length()))
     }
 }
 
@@ -73,6 +85,8 @@ pub struct CoverMap {
     pub height: u32,
     /// Row-major (z then x) grass densities, 0 none to 255 full (a 16-bit map's rounded).
     pub grass: Vec<u8>,
+    /// Row-major flower densities (green, or a greyscale map's grey), as `grass`.
+    pub flowers: Vec<u8>,
     /// Where it lies.
     pub placement: MapPlacement,
 }
@@ -81,12 +95,23 @@ impl CoverMap {
     /// Load `path` as a covering map placed at `placement`: any PNG of 1 × 1 texels or more.
     pub fn load(path: &Path, placement: MapPlacement) -> Result<Self> {
         let png = read_png(path, "--cover", 1)?;
-        let grass = red_samples(png.color, &png.bytes).map_err(|why| png.bad(why))?;
-        Ok(Self { width: png.width, height: png.height, grass, placement })
+        let grass = channel_samples(png.color, &png.bytes, 0).map_err(|why| png.bad(why))?;
+        let flowers = channel_samples(png.color, &png.bytes, 1).map_err(|why| png.bad(why))?;
+        Ok(Self { width: png.width, height: png.height, grass, flowers, placement })
     }
 
     /// The grass's density at world (x, z) (m): bilinear between the texels around it.
     pub fn density_at(&self, x: f64, z: f64) -> f32 {
+        self.bilinear(&self.grass, x, z)
+    }
+
+    /// The flowers' density at world (x, z) (m), as `density_at`.
+    pub fn flower_density_at(&self, x: f64, z: f64) -> f32 {
+        self.bilinear(&self.flowers, x, z)
+    }
+
+    /// `plane` (`grass` or `flowers`) at world (x, z): bilinear between the texels around it.
+    fn bilinear(&self, plane: &[u8], x: f64, z: f64) -> f32 {
         let p = self.placement;
         let u = map_coordinate(x, p.x, self.width, p.mirrored);
         let v = map_coordinate(z, p.z, self.height, p.mirrored);
@@ -95,7 +120,7 @@ impl CoverMap {
         let texel = |dx: i64, dz: i64| {
             let x = (x0 as i64 + dx).clamp(0, i64::from(self.width) - 1);
             let z = (z0 as i64 + dz).clamp(0, i64::from(self.height) - 1);
-            f32::from(self.grass[(z * i64::from(self.width) + x) as usize]) / 255.0
+            f32::from(plane[(z * i64::from(self.width) + x) as usize]) / 255.0
         };
         let bottom = texel(0, 0) + fx * (texel(1, 0) - texel(0, 0));
         let top = texel(0, 1) + fx * (texel(1, 1) - texel(0, 1));
@@ -108,20 +133,22 @@ impl CoverMap {
     }
 }
 
-/// A decoded image's first samples, as 8 bits: a greyscale map's grey, a colour map's red (a
-/// palette comes expanded to colour); alpha and the other channels are not read here.
-fn red_samples(color: ColorType, bytes: &[u8]) -> std::result::Result<Vec<u8>, String> {
+/// A decoded image's samples of `channel` (0 red, 1 green), as 8 bits: a greyscale map's grey
+/// for either, a colour map's channel (a palette comes expanded to colour); alpha is not read.
+fn channel_samples(color: ColorType, bytes: &[u8], channel: usize) -> std::result::Result<Vec<u8>, String> {
     let channels = usize::from(color.channel_count());
     let sample_bytes = usize::from(color.bytes_per_pixel()) / channels;
     if !matches!(sample_bytes, 1 | 2) || channels == 0 {
         return Err(format!("its samples ({color:?}) are not 8- or 16-bit"));
     }
     let pixel = channels * sample_bytes;
+    // Grey (and grey with alpha) has one colour channel.
+    let at = if channels >= 3 { channel * sample_bytes } else { 0 };
     Ok(bytes
         .chunks_exact(pixel)
         .map(|p| match sample_bytes {
-            2 => ((u32::from(u16::from_ne_bytes([p[0], p[1]])) * 255 + 32_767) / 65_535) as u8,
-            _ => p[0],
+            2 => ((u32::from(u16::from_ne_bytes([p[at], p[at + 1]])) * 255 + 32_767) / 65_535) as u8,
+            _ => p[at],
         })
         .collect())
 }
@@ -168,7 +195,8 @@ mod tests {
     fn a_covering_map_is_bilinear_and_placed_like_the_heightmap() {
         // 3 × 2 texels over 100 × 50 m: (0, 51, 102) then (153, 204, 255).
         let placement = MapPlacement { x: 100.0, z: 50.0, mirrored: true };
-        let map = CoverMap { width: 3, height: 2, grass: vec![0, 51, 102, 153, 204, 255], placement };
+        let map =
+            CoverMap { width: 3, height: 2, grass: vec![0, 51, 102, 153, 204, 255], flowers: vec![0; 6], placement };
         let near = |a: f32, b: f32| (a - b).abs() < 1e-6;
         assert!(near(map.density_at(-50.0, -25.0), 0.0));
         assert!(near(map.density_at(50.0, 25.0), 1.0));
@@ -178,15 +206,26 @@ mod tests {
         let held = CoverMap { placement: MapPlacement { mirrored: false, ..placement }, ..map.clone() };
         assert!(near(held.density_at(80.0, 30.0), 1.0));
         // A 1 × 1 map: one density everywhere.
-        let uniform = CoverMap { width: 1, height: 1, grass: vec![128], placement };
+        let uniform = CoverMap { width: 1, height: 1, grass: vec![128], flowers: vec![7], placement };
         assert!(near(uniform.density_at(1234.5, -77.0), 128.0 / 255.0));
         // With a slope limit: the product.
         let cover = Cover { slope_limit_deg: Some(30.0), map: Some(Arc::new(uniform)) };
         let half_way = 30f32.to_radians().tan();
         assert!((cover.density(0.0, 0.0, Vec2::new(half_way, 0.0)) - 0.5 * 128.0 / 255.0).abs() < 1e-3);
-        // Samples: grey, red of colour, 16-bit rounded.
-        assert_eq!(red_samples(ColorType::La8, &[7, 1, 9, 2]).unwrap(), [7, 9]);
-        assert_eq!(red_samples(ColorType::Rgba8, &[10, 20, 30, 40]).unwrap(), [10]);
-        assert_eq!(red_samples(ColorType::L16, &[0xff, 0xff, 0x80, 0x80]).unwrap(), [255, 128]);
+        // Samples: grey (for either channel), red or green of colour, 16-bit rounded.
+        assert_eq!(channel_samples(ColorType::La8, &[7, 1, 9, 2], 0).unwrap(), [7, 9]);
+        assert_eq!(channel_samples(ColorType::La8, &[7, 1, 9, 2], 1).unwrap(), [7, 9]);
+        assert_eq!(channel_samples(ColorType::Rgba8, &[10, 20, 30, 40], 0).unwrap(), [10]);
+        assert_eq!(channel_samples(ColorType::Rgba8, &[10, 20, 30, 40], 1).unwrap(), [20]);
+        assert_eq!(channel_samples(ColorType::L16, &[0xff, 0xff, 0x80, 0x80], 0).unwrap(), [255, 128]);
+        assert_eq!(channel_samples(ColorType::Rgb16, &[0, 0, 0xff, 0xff, 0, 0], 1).unwrap(), [255]);
+        // The flowers' density is the green plane, bilinear as the grass's.
+        let flowers = CoverMap { flowers: vec![255, 0, 255, 0, 255, 0], ..map.clone() };
+        let as_grass = CoverMap { grass: flowers.flowers.clone(), ..map.clone() };
+        for (x, z) in [(-80.0, -30.0), (10.0, 5.0), (33.0, -12.5)] {
+            assert_eq!(flowers.flower_density_at(x, z), as_grass.density_at(x, z));
+            assert_eq!(flowers.density_at(x, z), map.density_at(x, z));
+        }
+        assert_ne!(flowers.flower_density_at(10.0, 5.0), map.density_at(10.0, 5.0));
     }
 }

@@ -8,6 +8,8 @@ pub mod clumps;
 pub mod clusters;
 pub mod cover;
 pub mod field;
+pub mod flowers;
+pub mod height_bounds;
 pub mod heightmap;
 pub mod rng;
 pub mod terrain;
@@ -38,6 +40,8 @@ pub struct Scene {
     /// Blades in clumps: a stored field's blades were clumped when scattered, a block field's
     /// are where the GPU places them (`clumps`).
     pub clumps: Option<clumps::Clumps>,
+    /// Flowers among the blades (`flowers`): the cull claims some of its candidate blades.
+    pub flowers: Option<flowers::Flowers>,
 }
 
 /// A block field's size and density and the ground under it.
@@ -125,7 +129,7 @@ impl Scene {
         }
         let tile_grid = tiles::TileGrid::new(terrain.size);
         let tiles = tiles::arrange(&tile_grid, &mut blades);
-        Self { terrain, blades, tile_grid, tiles, field: None, cover, clumps }
+        Self { terrain, blades, tile_grid, tiles, field: None, cover, clumps, flowers: None }
     }
 
     /// A block field of `spec` from `seed` on the gentle relief: its stored block and its relief.
@@ -147,6 +151,7 @@ impl Scene {
             field: Some(Field { spec, ground: FieldGround::Relief(field::Relief::of_kind(relief, seed)) }),
             cover: cover::Cover::default(),
             clumps: None,
+            flowers: None,
         }
     }
 
@@ -186,6 +191,23 @@ impl Scene {
             self.tiles = tiles::arrange(&self.tile_grid, &mut self.blades);
         }
         Self { clumps: Some(clumps), ..self }
+    }
+
+    /// The same scene with `flowers` among its blades; refused (bad input) when they are denser
+    /// than its blades (`flowers::Flowers::share`).
+    pub fn with_flowers(self, flowers: flowers::Flowers) -> crate::error::Result<Self> {
+        flowers.share(self.blade_density())?;
+        Ok(Self { flowers: Some(flowers), ..self })
+    }
+
+    /// Blades per m² before any cover: a block field's density, a stored field's scatter's.
+    pub fn blade_density(&self) -> f32 {
+        self.field.as_ref().map_or(blades::DENSITY_PER_M2, |f| f.spec.density)
+    }
+
+    /// The share of candidate blades the flowers claim under full green and grass (0: none).
+    pub fn flower_share(&self) -> f32 {
+        self.flowers.and_then(|f| f.share(self.blade_density()).ok()).unwrap_or(0.0)
     }
 
     /// The ground's height at world (x, z).

@@ -14,13 +14,15 @@ use crate::render::animation::{Eval, Mode};
 use crate::wind::{Collider, PointSource};
 
 /// The keys whose control changes pipelines or the scene (`rebuild_for`).
-const REBUILT_BY: [&str; 18] =
-    ["m", "n", "b", "v", "x", "t", "o", "y", "f", "f2", "f3", "f4", "f5", "r", "plus", "minus", "[", "]"];
+const REBUILT_BY: [&str; 19] =
+    ["m", "n", "b", "v", "x", "t", "o", "y", "f", "f2", "f3", "f4", "f5", "f6", "r", "plus", "minus", "[", "]"];
 
 /// F4's slope limit when `--slope-limit` was not given, in degrees.
 pub(super) const DEFAULT_SLOPE_LIMIT_DEG: f32 = 30.0;
 /// F5's clump size when `--clumps` was not given, in metres.
 pub(super) const DEFAULT_CLUMP_SIZE_M: f32 = 1.5;
+/// F6's flowers per m² when `--flowers` was not given.
+pub(super) const DEFAULT_FLOWERS_PER_M2: f32 = 20.0;
 
 /// The controls, printed at start and by H.
 pub(super) const HELP: &str = "\
@@ -38,6 +40,7 @@ meadow viewer controls
   F3              wind view: arrows of the wind the grass feels, 0.5 m up
   F4              slope limit on/off (--slope-limit, or 30 degrees): steep ground bare
   F5              blades in clumps on/off (--clumps, or 1.5 m)
+  F6              flowers on/off (--flowers, or 20 per square metre)
   left click      drop a wind source (drag to move)   Delete  remove the last source
   arrow keys      drive the collider sphere through the grass
   V               force debug view       F                 wireframe
@@ -197,15 +200,8 @@ impl Viewer {
             _ => {}
         }
         let what = format!("'{name}'");
-        if name == "f4" {
-            return self.toggle_slope_limit(settings, animation);
-        }
-        if name == "f5" {
-            let clumps = match self.options.scene.clumps {
-                Some(_) => None,
-                None => Some(crate::scene::clumps::Clumps { size_m: self.clump_size_m }),
-            };
-            return self.set_clumps(clumps, settings, animation);
+        if matches!(name, "f4" | "f5" | "f6") {
+            return self.toggle_landscape(name, settings, animation);
         }
         if blades == old_blades {
             self.rebuild_passes(&what, settings, animation);
@@ -319,10 +315,10 @@ fn toggle_culling(culling: &mut crate::render::culling::Culling, key: &str) {
 }
 
 /// Every key name the viewer acts on (what `key_name` returns), for scripts to check against.
-pub(super) const KEY_NAMES: [&str; 43] = [
-    "[", "]", "a", "b", "c", "d", "delete", "down", "e", "escape", "f", "f1", "f12", "f2", "f3", "f4", "f5", "g", "h",
-    "i", "j", "k", "l", "left", "m", "minus", "n", "o", "p", "plus", "q", "r", "right", "s", "shift", "t", "u", "up",
-    "v", "w", "x", "y", "z",
+pub(super) const KEY_NAMES: [&str; 44] = [
+    "[", "]", "a", "b", "c", "d", "delete", "down", "e", "escape", "f", "f1", "f12", "f2", "f3", "f4", "f5", "f6", "g",
+    "h", "i", "j", "k", "l", "left", "m", "minus", "n", "o", "p", "plus", "q", "r", "right", "s", "shift", "t", "u",
+    "up", "v", "w", "x", "y", "z",
 ];
 
 /// Name of a key as the help and scripts spell it.
@@ -365,6 +361,7 @@ pub(super) fn key_name(code: KeyCode) -> Option<&'static str> {
         KeyCode::F3 => "f3",
         KeyCode::F4 => "f4",
         KeyCode::F5 => "f5",
+        KeyCode::F6 => "f6",
         KeyCode::Delete | KeyCode::Backspace => "delete",
         KeyCode::ArrowUp => "up",
         KeyCode::ArrowDown => "down",

@@ -134,6 +134,8 @@ struct Viewer {
     slope_limit_deg: f32,
     /// F5's clump size, in metres (`--clumps`, or `keys::DEFAULT_CLUMP_SIZE_M`).
     clump_size_m: f32,
+    /// F6's flowers per m² (`--flowers`, or `keys::DEFAULT_FLOWERS_PER_M2`).
+    flowers_per_m2: f32,
     /// Simulated time, in whole steps of `--dt` (at most 4 a frame).
     clock: crate::render::animation::clock::StepPacer,
     paused: bool,
@@ -205,6 +207,7 @@ impl Viewer {
             calm_off: None,
             slope_limit_deg: o.landscape.slope_limit_deg.unwrap_or(keys::DEFAULT_SLOPE_LIMIT_DEG),
             clump_size_m: o.clumps.map_or(keys::DEFAULT_CLUMP_SIZE_M, |c| c.size_m),
+            flowers_per_m2: o.flowers.map_or(keys::DEFAULT_FLOWERS_PER_M2, |f| f.per_m2),
             clock: crate::render::animation::clock::StepPacer::new(o.animation.clock, o.time.into()),
             paused: false,
             fixed_step,

@@ -67,6 +67,7 @@ impl Viewer {
             walk: self.control.walk,
             slope_limit: (o.scene.landscape.slope_limit_deg.is_some(), self.slope_limit_deg),
             clumps: (o.scene.clumps.is_some(), self.clump_size_m),
+            flowers: (o.scene.flowers.is_some(), self.flowers_per_m2),
             calm: self.calm_off.is_none(),
             budget: self.budget.as_ref().map(|b| (b.target_ms, b.scale)),
             present: (surface.swapchain.present_mode(), surface.swapchain.present_modes()),
@@ -148,6 +149,7 @@ impl Viewer {
                 }
                 UiAction::Budget(target) => self.set_budget(target)?,
                 UiAction::ClumpSize(size_m) => self.set_clump_size(size_m)?,
+                UiAction::FlowerDensity(per_m2) => self.set_flower_density(per_m2)?,
                 UiAction::Present(mode) => {
                     let surface = self.surface.as_mut().expect("surface exists");
                     surface.swapchain.set_present_mode(mode)?;

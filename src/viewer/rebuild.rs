@@ -1,5 +1,5 @@
 //! Rebuilding what the viewer draws: the passes on the same scene (a key that changes pipelines),
-//! a new renderer on a new scene (a blade count, the slope limit, clumps), and the line that
+//! a new renderer on a new scene (a blade count, the slope limit, clumps, flowers), and the line that
 //! reports what it now draws. A change the device cannot take is reported and undone.
 
 use super::Viewer;
@@ -94,7 +94,7 @@ impl Viewer {
 
     /// F4: the slope limit on or off (`--slope-limit`, or `DEFAULT_SLOPE_LIMIT_DEG` when not
     /// given): a new scene (a stored field scattered again) and renderer.
-    pub(super) fn toggle_slope_limit(&mut self, settings: RenderSettings, animation: AnimationSettings) -> Result<()> {
+    fn toggle_slope_limit(&mut self, settings: RenderSettings, animation: AnimationSettings) -> Result<()> {
         let landscape = &mut self.options.scene.landscape;
         let before = landscape.slope_limit_deg;
         landscape.slope_limit_deg = match before {
@@ -108,6 +108,32 @@ impl Viewer {
         Ok(())
     }
 
+    /// F4 the slope limit, F5 clumps, F6 flowers, on or off: a new scene and renderer.
+    pub(super) fn toggle_landscape(
+        &mut self,
+        key: &str,
+        settings: RenderSettings,
+        animation: AnimationSettings,
+    ) -> Result<()> {
+        match key {
+            "f4" => self.toggle_slope_limit(settings, animation),
+            "f5" => {
+                let clumps = match self.options.scene.clumps {
+                    Some(_) => None,
+                    None => Some(crate::scene::clumps::Clumps { size_m: self.clump_size_m }),
+                };
+                self.set_clumps(clumps, settings, animation)
+            }
+            _ => {
+                let flowers = match self.options.scene.flowers {
+                    Some(_) => None,
+                    None => Some(crate::scene::flowers::Flowers { per_m2: self.flowers_per_m2 }),
+                };
+                self.set_flowers(flowers, settings, animation)
+            }
+        }
+    }
+
     /// Blades in `clumps` (or none): a new scene (a stored field clumped again) and renderer.
     pub(super) fn set_clumps(
         &mut self,
@@ -115,13 +141,52 @@ impl Viewer {
         settings: RenderSettings,
         animation: AnimationSettings,
     ) -> Result<()> {
-        let before = std::mem::replace(&mut self.options.scene.clumps, clumps);
         if let Some(c) = clumps {
             self.clump_size_m = c.size_m;
         }
-        let scene = self.scene_with(self.options.scene.blades)?;
-        if !self.replace_renderer("clumps", Some(scene), settings, animation)? {
-            self.options.scene.clumps = before;
+        self.replace_scene("clumps", |scene| scene.clumps = clumps, settings, animation)
+    }
+
+    /// The panel's flower density: `per_m2` flowers per m².
+    pub(super) fn set_flower_density(&mut self, per_m2: f32) -> Result<()> {
+        let animation = self.renderer.as_ref().expect("renderer built").animation().clone();
+        self.set_flowers(Some(crate::scene::flowers::Flowers { per_m2 }), self.settings, animation)
+    }
+
+    /// `flowers` among the blades (or none): a new scene and renderer.
+    pub(super) fn set_flowers(
+        &mut self,
+        flowers: Option<crate::scene::flowers::Flowers>,
+        settings: RenderSettings,
+        animation: AnimationSettings,
+    ) -> Result<()> {
+        if let Some(f) = flowers {
+            self.flowers_per_m2 = f.per_m2;
+        }
+        self.replace_scene("flowers", |scene| scene.flowers = flowers, settings, animation)
+    }
+
+    /// A new scene from the options `change` leaves, and a renderer for it; a scene that cannot
+    /// be made (flowers denser than the blades) or drawn is reported (as `what`) and the options
+    /// restored.
+    fn replace_scene(
+        &mut self,
+        what: &str,
+        change: impl FnOnce(&mut crate::app::RenderOptions),
+        settings: RenderSettings,
+        animation: AnimationSettings,
+    ) -> Result<()> {
+        let before = self.options.scene.clone();
+        change(&mut self.options.scene);
+        let applied = match self.scene_with(self.options.scene.blades) {
+            Ok(scene) => self.replace_renderer(what, Some(scene), settings, animation)?,
+            Err(e) => {
+                println!("cannot apply {what}: {e}");
+                false
+            }
+        };
+        if !applied {
+            self.options.scene = before;
         }
         Ok(())
     }
@@ -162,7 +227,8 @@ impl Viewer {
                 ),
             },
             self.options.scene.landscape.slope_limit_deg.map_or(String::new(), |d| format!(", slope limit {d}°"))
-                + &self.options.scene.clumps.map_or(String::new(), |c| format!(", clumps of {} m", c.size_m)),
+                + &self.options.scene.clumps.map_or(String::new(), |c| format!(", clumps of {} m", c.size_m))
+                + &self.options.scene.flowers.map_or(String::new(), |f| format!(", {} flowers per m²", f.per_m2)),
         );
     }
 }

@@ -2,6 +2,8 @@
 //! PNGs written chunk by chunk (a header the image crate would not write), and `meadow render`
 //! runs that must be refused in one line.
 
+#![allow(dead_code)] // each test crate that includes it uses a different subset
+
 use crate::support::{self, meadow, scratch, transcript};
 
 /// Run `meadow render` with `args` (and a device and an output) in a fresh scratch directory;

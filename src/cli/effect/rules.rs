@@ -435,6 +435,14 @@ pub(crate) const RULES: &[Rule] = &[
         why: "it renders fixed unbounded fields: 400 blades/m², 4 segments, the default keyframes",
     },
     Rule {
+        flags: &["blades", "modes", "eval", "segments"],
+        subject: None,
+        commands: &["bench"],
+        with: "--preset plants",
+        when: |g| g.one::<PresetArg>("preset") == Some(PresetArg::Plants),
+        why: "it renders the default block field and the default 100 000-blade field, 4 segments, the default keyframes",
+    },
+    Rule {
         flags: &["modes", "eval", "segments"],
         subject: None,
         commands: &["bench"],

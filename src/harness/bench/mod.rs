@@ -21,6 +21,8 @@ pub mod document;
 pub mod landscape;
 pub mod lod;
 pub mod msaa;
+pub mod pairs;
+pub mod plants;
 mod report;
 pub mod response;
 

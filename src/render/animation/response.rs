@@ -77,6 +77,10 @@ pub struct ResponseSetup<'a> {
     /// then covers only its visible list, bucket by bucket (`recording::bucket_dispatch`), and is
     /// added after the cull's passes. `None` without the cull.
     pub buckets: Option<&'a [u32]>,
+    /// With the cull, the buckets of further draw classes whose entries the response poses as
+    /// blades, and their segments (`render::draw_class::ClassLayout::posed`): a per-blade pass
+    /// dispatches over them too (flowers' stems).
+    pub posed: &'a [(u32, u32)],
 }
 
 impl ResponseSetup<'_> {
@@ -86,6 +90,7 @@ impl ResponseSetup<'_> {
         crate::render::recording::BladeSource {
             blades: self.scene.blade_count,
             buckets: self.buckets,
+            posed: self.posed,
             draws: self.scene.draws.raw,
             visible: self.scene.visible.raw,
         }

@@ -18,17 +18,23 @@ pub(super) fn cover_uniforms(uniforms: &mut FrameUniforms, cover: &Cover) {
 pub const COVER_MAP_HEADER_WORDS: usize = 8;
 
 /// `CoverMap`'s words for `cover`'s covering map (`shaders/terrain/cover_fill.glsl`):
-/// `COVER_MAP_HEADER_WORDS`, then its grass densities four a word, the first in the low byte.
-/// Without a map, a 1 × 1 map of full density.
+/// `COVER_MAP_HEADER_WORDS` (width, height, extent x and z as f32 bits, mirrored, the flower
+/// plane's first word), then its grass densities four a word, the first in the low byte, then its
+/// flower densities likewise. Without a map, a 1 × 1 map of full density.
 pub fn cover_map_words(cover: &Cover) -> Vec<u32> {
-    let (width, height, grass, placement) = match &cover.map {
-        Some(m) => (m.width, m.height, m.grass.as_slice(), m.placement),
-        None => (1, 1, &[255u8][..], crate::scene::cover::MapPlacement { x: 1.0, z: 1.0, mirrored: true }),
+    let full = [255u8];
+    let (width, height, grass, flowers, placement) = match &cover.map {
+        Some(m) => (m.width, m.height, m.grass.as_slice(), m.flowers.as_slice(), m.placement),
+        None => (1, 1, &full[..], &full[..], crate::scene::cover::MapPlacement { x: 1.0, z: 1.0, mirrored: true }),
     };
     let (x, z) = ((placement.x as f32).to_bits(), (placement.z as f32).to_bits());
-    let mut words = Vec::with_capacity(COVER_MAP_HEADER_WORDS + grass.len().div_ceil(4));
-    words.extend([width, height, x, z, u32::from(placement.mirrored), 0, 0, 0]);
-    words.extend(grass.chunks(4).map(|c| c.iter().rev().fold(0u32, |w, &b| (w << 8) | u32::from(b))));
+    let plane = grass.len().div_ceil(4);
+    let mut words = Vec::with_capacity(COVER_MAP_HEADER_WORDS + 2 * plane);
+    let flower_plane = (COVER_MAP_HEADER_WORDS + plane) as u32;
+    words.extend([width, height, x, z, u32::from(placement.mirrored), flower_plane, 0, 0]);
+    for densities in [grass, flowers] {
+        words.extend(densities.chunks(4).map(|c| c.iter().rev().fold(0u32, |w, &b| (w << 8) | u32::from(b))));
+    }
     words
 }
 
@@ -41,12 +47,19 @@ mod tests {
     #[test]
     fn the_cover_maps_words_hold_its_header_and_its_densities_four_a_word() {
         let placement = crate::scene::cover::MapPlacement { x: 200.0, z: 100.0, mirrored: false };
-        let map = crate::scene::cover::CoverMap { width: 5, height: 1, grass: vec![1, 2, 3, 4, 5], placement };
+        let map = crate::scene::cover::CoverMap {
+            width: 5,
+            height: 1,
+            grass: vec![1, 2, 3, 4, 5],
+            flowers: vec![6, 7, 8, 9, 10],
+            placement,
+        };
         let words = cover_map_words(&Cover { slope_limit_deg: None, map: Some(Arc::new(map)) });
-        assert_eq!(words[..5], [5, 1, 200f32.to_bits(), 100f32.to_bits(), 0]);
-        assert_eq!(words[COVER_MAP_HEADER_WORDS..], [0x0403_0201, 5]);
+        assert_eq!(words[..6], [5, 1, 200f32.to_bits(), 100f32.to_bits(), 0, 10]);
+        assert_eq!(words[COVER_MAP_HEADER_WORDS..], [0x0403_0201, 5, 0x0908_0706, 10]);
         // No map: one texel of full density.
         let none = cover_map_words(&Cover::default());
         assert_eq!((none[0], none[1], none[COVER_MAP_HEADER_WORDS]), (1, 1, 255));
+        assert_eq!(none[none[5] as usize], 255, "full flower density");
     }
 }

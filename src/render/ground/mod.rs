@@ -98,13 +98,19 @@ pub trait GroundSource: Send + Sync {
     /// the cover channel.
     fn cover(&self) -> &Cover;
     /// The cover per texel uploaded with the scene (with `texels`), in the same slots.
-    fn cover_texels(&self) -> Option<Vec<f32>> {
+    fn cover_texels(&self) -> Option<Vec<u32>> {
         None
     }
     /// Read-only buffers its fill shader reads in its own set (`SET_PASS`), by the names it
     /// declares them with, uploaded with the scene (`GroundGpu::extra`): a heightmap's texels, the covering map.
     fn buffers(&self) -> Vec<(&'static str, Vec<u32>)> {
         Vec::new()
+    }
+    /// The min/max pyramid the cull bounds its cells by (`scene::height_bounds`, set 0's
+    /// `GroundBounds`, `FLAG_GROUND_BOUNDS`): a heightmap's; `None` for a source whose cells are
+    /// bounded by its slope alone.
+    fn bounds(&self) -> Option<Vec<u32>> {
+        None
     }
 }
 
@@ -132,7 +138,7 @@ pub struct GroundGpu {
     pub texels: Buffer,
     /// The same texels as RGBA32F, as its readers fetch them under the lavapipe profile.
     pub texel_view: TexelView,
-    /// The cover per texel (`GroundCover`, f32), and as R32F texels.
+    /// The cover per texel (`GroundCover`, `pack_cover`'s two unorm16), and as R32UI texels.
     pub cover: (Buffer, TexelView),
     /// The triangle list over a level's `(cells + 1)²` vertices, chunk by chunk
     /// (`render::terrain_chunks`). Indexed, a vertex shared by six triangles is shaded about once
@@ -143,6 +149,10 @@ pub struct GroundGpu {
     pub drawn: Arc<AtomicU64>,
     /// The source's buffers its fill reads (`GroundSource::buffers`), by name.
     pub extra: Vec<(&'static str, Buffer)>,
+    /// Set 0's `GroundBounds` (`GroundSource::bounds`; without one, an empty header).
+    pub bounds: Buffer,
+    /// Whether `bounds` holds a pyramid (`FLAG_GROUND_BOUNDS`).
+    pub bounded: bool,
 }
 
 impl GroundGpu {
@@ -158,6 +168,7 @@ impl GroundGpu {
             self.cover.1.destroy(device);
             self.cover.0.destroy(device);
             self.indices.destroy(device);
+            self.bounds.destroy(device);
             for (_, buffer) in self.extra {
                 buffer.destroy(device);
             }
@@ -175,6 +186,8 @@ pub struct GroundParts {
     cover_view: Option<TexelView>,
     indices: Option<Buffer>,
     extra: Vec<(&'static str, Buffer)>,
+    bounds: Option<Buffer>,
+    bounded: bool,
 }
 
 impl GroundParts {
@@ -197,20 +210,18 @@ impl GroundParts {
         let texels = self.texels.as_ref().expect("made");
         self.texel_view = Some(TexelView::new(device, texels, vk::Format::R32G32B32A32_SFLOAT, "ground texel view")?);
         let cover = self.cover.as_ref().expect("made");
-        self.cover_view = Some(TexelView::new(device, cover, vk::Format::R32_SFLOAT, "ground cover view")?);
+        self.cover_view = Some(TexelView::new(device, cover, vk::Format::R32_UINT, "ground cover view")?);
         let list = terrain_chunks::chunked_indices(source.cells(), source.chunk_cells());
         let index = vk::BufferUsageFlags::INDEX_BUFFER;
         self.indices = Some(batch.buffer("terrain indices", &list, index, &[Access::IndexRead])?);
+        let empty = vec![0; crate::scene::height_bounds::HEADER_WORDS + 3 * crate::scene::height_bounds::MAX_LEVELS];
+        let pyramid = source.bounds();
+        self.bounded = pyramid.is_some();
+        let bounds = pyramid.unwrap_or(empty);
+        check_range(device, "GroundBounds", &bounds)?;
+        self.bounds = Some(batch.buffer("ground bounds", &bounds, storage, &[Access::ComputeShaderRead])?);
         for (name, words) in source.buffers() {
-            let (bytes, range) = (4 * words.len() as u64, u64::from(device.limits().max_storage_buffer_range));
-            if bytes > range {
-                return Err(Error::bad_input(format!(
-                    "the ground's {name} needs {} MiB in one storage buffer; {} binds at most {} MiB (a smaller --heightmap)",
-                    bytes >> 20,
-                    device.info.name,
-                    range >> 20
-                )));
-            }
+            check_range(device, name, &words)?;
             let buffer = batch.buffer(name, &words, storage, &[Access::ComputeShaderRead])?;
             self.extra.push((name, buffer));
         }
@@ -226,6 +237,8 @@ impl GroundParts {
             indices: self.indices.take().expect("uploaded"),
             drawn: Arc::new(AtomicU64::new(2 * u64::from(source.cells()).pow(2))),
             extra: std::mem::take(&mut self.extra),
+            bounds: self.bounds.take().expect("uploaded"),
+            bounded: self.bounded,
             source,
         }
     }
@@ -239,11 +252,32 @@ impl Destroy for GroundParts {
                 view.destroy(device);
             }
             let extra = self.extra.into_iter().map(|(_, buffer)| buffer);
-            for buffer in [self.texels, self.cover, self.indices].into_iter().flatten().chain(extra) {
+            for buffer in [self.texels, self.cover, self.indices, self.bounds].into_iter().flatten().chain(extra) {
                 buffer.destroy(device);
             }
         }
     }
+}
+
+/// Refuse `words` for the ground's `name` past one storage binding's range (bad input: the map).
+fn check_range(device: &Device, name: &str, words: &[u32]) -> Result<()> {
+    let (bytes, range) = (4 * words.len() as u64, u64::from(device.limits().max_storage_buffer_range));
+    if bytes > range {
+        return Err(Error::bad_input(format!(
+            "the ground's {name} needs {} MiB in one storage buffer; {} binds at most {} MiB (a smaller --heightmap)",
+            bytes >> 20,
+            device.info.name,
+            range >> 20
+        )));
+    }
+    Ok(())
+}
+
+/// A texel of `GroundCover`: the grass's density in the low half and the flowers' in the high
+/// half, as unorm16 (`packUnorm2x16`, `shaders/terrain/ground_texels.glsl`).
+pub fn pack_cover(grass: f32, flowers: f32) -> u32 {
+    let unorm = |v: f32| (v.clamp(0.0, 1.0) * 65_535.0).round() as u32;
+    unorm(grass) | (unorm(flowers) << 16)
 }
 
 /// The ground source of `scene`: its relief for a block field, its stored terrain otherwise.

@@ -61,7 +61,7 @@ impl GroundSource for StoredGround {
         &self.cover
     }
 
-    fn cover_texels(&self) -> Option<Vec<f32>> {
+    fn cover_texels(&self) -> Option<Vec<u32>> {
         // At each vertex (row by row from the terrain's origin), the slope by its central
         // differences over two cells.
         let (step, run) = (self.terrain.cell_size(), 2.0 * self.terrain.cell_size());
@@ -70,7 +70,8 @@ impl GroundSource for StoredGround {
         let at = |i: u32| f64::from(origin + (i as f32) * step);
         let density = |(i, t): (usize, &[f32; 4])| {
             let slope = glam::Vec2::new(t[2], t[3]) / run;
-            self.cover.density(at(i as u32 % n), at(i as u32 / n), slope)
+            let (x, z) = (at(i as u32 % n), at(i as u32 / n));
+            crate::render::ground::pack_cover(self.cover.density(x, z, slope), self.cover.flower_density(x, z, slope))
         };
         Some(texels.iter().enumerate().map(density).collect())
     }

@@ -45,7 +45,8 @@ impl BladeLevelsPass {
             return Err(crate::error::Error::Internal("the blade levels pass needs the cull's visible list".into()));
         };
         let (name, spirv) = ("blade levels", shaders::BLADE_LEVELS_COMP.code(device.profile));
-        let constants = (setup.constants, buckets);
+        // The blade class's buckets alone: a further class's entries have no placed levels.
+        let constants = (setup.constants, buckets, &[][..]);
         let own = Guard::new(device, bucket_dispatch::draws_set(device, name, spirv, &setup.sets, &scene.draws)?);
         let buckets = BucketDispatch::new(device, name, spirv, own.layout, constants, scene.draws.raw)?;
         Ok(Self {

@@ -21,6 +21,9 @@ pub struct BladeSource<'a> {
     pub blades: u32,
     /// With the cull, the segments of its LOD buckets; `None` without it.
     pub buckets: Option<&'a [u32]>,
+    /// With the cull, the buckets of further draw classes posed as blades, and their segments
+    /// (`render::draw_class::ClassLayout::posed`).
+    pub posed: &'a [(u32, u32)],
     /// The cull's `draws` buffer.
     pub draws: vk::Buffer,
     /// The cull's visible list.
@@ -58,7 +61,14 @@ impl BladeDispatch {
     ) -> Result<Self> {
         Ok(match source.buckets {
             Some(buckets) => BladeDispatch::Buckets {
-                buckets: BucketDispatch::new(device, name, spirv, layout, (constants, buckets), source.draws)?,
+                buckets: BucketDispatch::new(
+                    device,
+                    name,
+                    spirv,
+                    layout,
+                    (constants, buckets, source.posed),
+                    source.draws,
+                )?,
                 visible: source.visible,
             },
             None => BladeDispatch::Stored {

@@ -37,31 +37,44 @@ pub fn bucket_constants(constants: &Specialization, segments: u32) -> Specializa
     }
 }
 
-/// One compute pipeline per LOD bucket, and the `draws` buffer their dispatches come from.
+/// One compute pipeline per LOD bucket (and per bucket of a further draw class the response
+/// poses), and the `draws` buffer their dispatches come from.
 pub struct BucketDispatch {
+    /// Per bucket dispatched: its pipeline, and its index in the cull's bucket space.
     pipelines: Vec<vk::Pipeline>,
+    buckets: Vec<u32>,
     draws: vk::Buffer,
 }
 
 impl BucketDispatch {
     /// Build `spirv` once per bucket of `buckets` (segments each) on `layout`, from
-    /// `bucket_constants` of `constants`.
+    /// `bucket_constants` of `constants`; and once per bucket of `posed` (a further class's
+    /// bucket and the segments its entries are posed with, `DrawClass::posed`), specialised with
+    /// `FLAG_POSE_CLASS` and the bucket as `LOD_BUCKET` (`shaders/blades/visible_buckets.glsl`).
     pub fn new(
         device: &Device,
         name: &str,
         spirv: &[u8],
         layout: vk::PipelineLayout,
-        (constants, buckets): (&Specialization, &[u32]),
+        (constants, buckets, posed): (&Specialization, &[u32], &[(u32, u32)]),
         draws: vk::Buffer,
     ) -> Result<Self> {
         // The pipelines built so far were never recorded.
-        let mut pipelines = Guard::new(device, Vec::with_capacity(buckets.len()));
+        let mut pipelines = Guard::new(device, Vec::with_capacity(buckets.len() + posed.len()));
         for (b, &segments) in buckets.iter().enumerate() {
             let constants = bucket_constants(constants, segments);
             let label = format!("{name}, LOD bucket {b} ({segments} segments)");
             pipelines.push(pipeline::compute(device, &label, spirv, layout, &constants.named())?);
         }
-        Ok(Self { pipelines: pipelines.take(), draws })
+        for &(bucket, segments) in posed {
+            let mut constants = bucket_constants(constants, segments);
+            constants.flags |= gpu::FLAG_POSE_CLASS;
+            constants.lod_bucket = bucket;
+            let label = format!("{name}, class bucket {bucket} ({segments} segments)");
+            pipelines.push(pipeline::compute(device, &label, spirv, layout, &constants.named())?);
+        }
+        let buckets = (0..buckets.len() as u32).chain(posed.iter().map(|p| p.0)).collect();
+        Ok(Self { pipelines: pipelines.take(), buckets, draws })
     }
 
     /// Add what the dispatches read to a pass's declaration: `draws`, by the shaders (the buckets'
@@ -72,8 +85,8 @@ impl BucketDispatch {
 
     /// Record each bucket's dispatch; the sets are bound.
     pub fn record(&self, device: &Device, cmd: vk::CommandBuffer) {
-        for (b, &pipeline) in self.pipelines.iter().enumerate() {
-            let word = gpu::BUCKET_DISPATCH_WORD + 3 * b as u32;
+        for (&b, &pipeline) in self.buckets.iter().zip(&self.pipelines) {
+            let word = gpu::BUCKET_DISPATCH_WORD + 3 * b;
             // SAFETY: cmd is recording outside a rendering instance; the pipeline uses the bound
             // layout, and `draws` holds the scan's dispatch at `word`.
             unsafe {

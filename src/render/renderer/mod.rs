@@ -132,7 +132,7 @@ impl Renderer {
             animation,
             scene: None,
             response: None,
-            builders: Builders { response: models.response, classes: models.classes },
+            builders: Builders { response: models.response, classes: response::with_flowers(scene, models.classes)? },
             response_passes: Vec::new(),
             poses: None,
             layouts: SceneLayouts::default(),

@@ -55,6 +55,7 @@ impl Renderer {
             self.graph.import(Resource::Buffer(scene.ground.texels.raw), self.device.profile.fetches());
             self.graph.import(Resource::Buffer(scene.ground.cover.0.raw), self.device.profile.fetches());
         }
+        self.graph.import(Resource::Buffer(scene.ground.bounds.raw), &[Access::ComputeShaderRead]);
         for (_, buffer) in &scene.ground.extra {
             self.graph.import(Resource::Buffer(buffer.raw), &[Access::ComputeShaderRead]);
         }
@@ -136,6 +137,10 @@ impl Renderer {
             specialization.ground_levels = scene.ground.source.levels(distances);
             specialization.ground_cover = u32::from(scene.ground.source.cover().active());
             specialization.clump_size_mm = scene.clump_size_mm;
+            specialization.flower_share = scene.flower_share.to_bits();
+            if scene.ground.bounded && settings.culling.ground_bounds {
+                specialization.flags |= gpu::FLAG_GROUND_BOUNDS;
+            }
         }
         if settings.debug_tiles {
             specialization.flags |= crate::render::gpu_constants::FLAG_DEBUG_TILES;
@@ -195,7 +200,9 @@ impl Renderer {
             frames: self.ring.slots(),
         };
         let wind: Vec<vk::Buffer> = self.forces.iter().map(|f| f.corners.raw).collect();
-        let setup = ResponseSetup { sets, constants, scene, poses: (poses.set, poses.poses.raw), buckets, wind: &wind };
+        let posed = if culled { layout.posed() } else { Vec::new() };
+        let poses_of = (poses.set, poses.poses.raw);
+        let setup = ResponseSetup { sets, constants, scene, poses: poses_of, buckets, posed: &posed, wind: &wind };
         // Never recorded until the graph holds them.
         let mut response_passes = Guard::new(device, response.passes(device, &setup)?);
         self.response_passes = response_passes.iter().map(|pass| pass.name()).collect();
@@ -242,8 +249,8 @@ impl Renderer {
             // Each further draw class's pass, after the blades (`render::draw_class`).
             for (class, placed) in self.builders.classes.classes.iter().zip(&layout.classes) {
                 let (target, blades_per_instance) = (target, settings.blades_per_instance);
-                let setup =
-                    ClassSetup { target, sets, constants, scene, first_bucket: placed.first, blades_per_instance };
+                let (first_bucket, poses) = (placed.first, (poses.set, poses.buffers()));
+                let setup = ClassSetup { target, sets, constants, scene, first_bucket, blades_per_instance, poses };
                 self.graph.add_boxed(class.pass(device, &setup)?);
             }
         }

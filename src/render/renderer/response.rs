@@ -5,9 +5,9 @@
 use std::rc::Rc;
 
 use super::Renderer;
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::render::animation::poses::PoseRecords;
-use crate::render::animation::response::{BladeResponse, BuildResponse, ResponseContext};
+use crate::render::animation::response::{BladeInput, BladeResponse, BuildResponse, ResponseContext};
 use crate::render::animation::{self, AnimationSettings};
 use crate::render::draw_class::{ClassLayout, DrawClasses};
 use crate::render::scene_gpu::pose_records;
@@ -50,6 +50,35 @@ pub(super) fn class_layout(settings: &RenderSettings, classes: &DrawClasses) -> 
     ClassLayout::new(culling.buckets().len() as u32, culling.rows, classes, settings.blades_per_instance)
 }
 
+/// `classes`, with the flowers' (`render::flowers`) when `scene` has flowers; refused beside
+/// classes of the caller's (one count shader holds one selection).
+pub(super) fn with_flowers(scene: &crate::scene::Scene, classes: DrawClasses) -> Result<DrawClasses> {
+    match (scene.flowers.is_some(), classes.classes.is_empty() && classes.count_shader.is_none()) {
+        (false, _) => Ok(classes),
+        (true, true) => Ok(crate::render::flowers::FlowerClass::classes()),
+        (true, false) => Err(Error::Internal("flowers beside further draw classes: one count shader selects".into())),
+    }
+}
+
+/// Flowers (a share of `flower_share`) need the cull, which claims them, and stems posed by the
+/// response's pose records or drawn neutral: refused (bad input) with brute force, the floor or
+/// a per-vertex response (`--eval vertex`), whose poses the flowers' pass cannot read.
+fn check_flowers(flower_share: f32, settings: &RenderSettings, input: &BladeInput) -> Result<()> {
+    if flower_share <= 0.0 {
+        return Ok(());
+    }
+    let why = if !settings.culling.enabled {
+        "the cull claims them: not with --brute-force"
+    } else if settings.floor {
+        "not with --mode floor"
+    } else if matches!(input, BladeInput::PerVertex { .. }) {
+        "their stems are posed by the blades' pose records: not with --eval vertex"
+    } else {
+        return Ok(());
+    };
+    Err(Error::BadInput(format!("--flowers: {why}")))
+}
+
 impl Renderer {
     /// `class_layout` for the renderer's settings and classes.
     pub(super) fn class_layout(&self) -> Result<ClassLayout> {
@@ -75,6 +104,7 @@ impl Renderer {
         let response = (self.builders.response)(device, &context)?;
         // Destroyed if the records cannot be made: nothing has used it.
         let response = crate::vk::Guard::new(device, response);
+        check_flowers(scene.flower_share, settings, &response.blade_input())?;
         let room = match response.blade_input().pose_records() {
             true => {
                 let records = pose_records(device, scene, settings.segments).max(1);

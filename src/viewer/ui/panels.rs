@@ -40,6 +40,8 @@ pub enum UiAction {
     Fog(f32),
     /// Blades in clumps of this size (m): a new scene and renderer.
     ClumpSize(f32),
+    /// Flowers at this density (per m²): a new scene and renderer.
+    FlowerDensity(f32),
     /// Hold the GPU frame near this many ms (`--budget-ms`), or stop.
     Budget(Option<f32>),
     /// Present with this mode (the swapchain is re-created).
@@ -92,6 +94,8 @@ pub struct UiView<'a> {
     pub slope_limit: (bool, f32),
     /// Blades are in clumps (F5), and their size (m).
     pub clumps: (bool, f32),
+    /// Flowers are drawn (F6), and their density (per m²).
+    pub flowers: (bool, f32),
     /// `--budget-ms` and the LOD scale it sets.
     pub budget: Option<(f32, f32)>,
     /// The present mode and those the surface supports.
@@ -352,6 +356,14 @@ pub fn view(ui: &mut Ui, view: &UiView, out: &mut PanelOutput) {
         let slider = egui::Slider::new(&mut size, 0.5..=5.0).text("m");
         if out.widget("clump size", ui.add(slider)).drag_stopped() {
             out.act(UiAction::ClumpSize(size));
+        }
+    });
+    let (on, mut per_m2) = view.flowers;
+    ui.horizontal(|ui| {
+        toggle(ui, out, "f6", on, "flowers");
+        let slider = egui::Slider::new(&mut per_m2, 1.0..=100.0).text("per m²");
+        if out.widget("flower density", ui.add(slider)).drag_stopped() {
+            out.act(UiAction::FlowerDensity(per_m2));
         }
     });
     let (present, supported) = &view.present;

@@ -13,7 +13,7 @@ layout(set = 0, binding = 1, std430) writeonly buffer Fields { uint fields[]; };
 layout(constant_id = SPEC(KEYFRAME_UVEC4S)) const uint KEYFRAME_UVEC4S = 4096u;
 
 const uint FRAME_WORDS = 240u;     // 960 bytes
-const uint SPEC_WORDS = 21u;       // SPEC_* ids 0..=20
+const uint SPEC_WORDS = 22u;       // SPEC_* ids 0..=21
 
 void put_vec4(inout uint o, vec4 v) {
     for (uint i = 0u; i < 4u; i++) {
@@ -93,6 +93,7 @@ void main() {
     fields[FRAME_WORDS + SPEC(GROUND_LEVELS)] = GROUND_LEVELS;
     fields[FRAME_WORDS + SPEC(GROUND_COVER)] = GROUND_COVER;
     fields[FRAME_WORDS + SPEC(CLUMP_SIZE_MM)] = CLUMP_SIZE_MM;
+    fields[FRAME_WORDS + SPEC(FLOWER_SHARE)] = FLOWER_SHARE;
 
     uint s = FRAME_WORDS + SPEC_WORDS;
     fields[s + 0u] = MAX_SEGMENTS;

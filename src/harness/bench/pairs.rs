@@ -1,0 +1,195 @@
+//! Benchmarks of pairs side by side (`--preset landscape`, `--preset plants`): renderers of a few
+//! scenes render in turn (A B C D … A B …, warm-up rounds discarded), each pair a reference and a
+//! subject whose median GPU frame is measured against it, with their last pictures compared.
+
+use std::path::PathBuf;
+use std::sync::Arc;
+
+use ash::vk;
+use serde::{Deserialize, Serialize};
+
+use crate::error::Result;
+use crate::harness::document::{ClassDrawn, Summary};
+use crate::harness::measure::{measure, Measured, Offscreen, Schedule};
+use crate::harness::Progress;
+use crate::imagediff::compare_rgb;
+use crate::render::animation::AnimationSettings;
+use crate::render::culling::Culling;
+use crate::render::{OffscreenTarget, RenderSettings, Renderer};
+use crate::scene::{Camera, Scene};
+use crate::vk::Device;
+
+/// Segments of the blades.
+pub const SEGMENTS: u32 = 4;
+
+/// The options of a run.
+#[derive(Clone, Debug)]
+pub struct PairBenchOptions {
+    /// Picture size.
+    pub size: (u32, u32),
+    /// Rounds discarded first.
+    pub warmup: u32,
+    /// Rounds measured.
+    pub frames: u32,
+    /// Output directory.
+    pub out: PathBuf,
+}
+
+impl PairBenchOptions {
+    /// The presets': 1280×720, 2 + 10 rounds.
+    pub fn preset(out: PathBuf) -> Self {
+        Self { size: (1280, 720), warmup: 2, frames: 10, out }
+    }
+}
+
+/// A reference and a subject measured against it.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Pair {
+    /// What is compared.
+    pub label: String,
+    pub reference: Variant,
+    pub subject: Variant,
+    /// The subject's median GPU frame over the reference's.
+    pub ratio: f64,
+    /// The bound on the ratio, and whether the ratio is within it.
+    pub target: f64,
+    pub within_target: bool,
+    /// Of the last pictures: the fraction of pixels within ±3 and the largest difference (0–255).
+    pub within_3: f64,
+    pub max_diff: u8,
+}
+
+/// One renderer's measured frames.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Variant {
+    pub name: String,
+    /// x, y, z, yaw, pitch.
+    pub camera: [f32; 5],
+    pub gpu_ms: Summary,
+    /// Entries drawn in the last frame, every class.
+    pub drawn: u64,
+    /// Per draw class, the blades first, what it drew in the last frame.
+    #[serde(default)]
+    pub classes: Vec<ClassDrawn>,
+}
+
+/// A pair: its label, its reference's and subject's names, and the bound on their ratio.
+pub type PairSpec = (&'static str, &'static str, &'static str, f64);
+
+/// Measure `specs`' pairs: scenes `2p` (reference) and `2p + 1` (subject) of `scenes` from
+/// `cameras`, animated by `animation`, `schedule`'s rounds of `size` pictures;
+/// `progress(done, total)` after every frame.
+pub(crate) fn run(
+    device: &Arc<Device>,
+    (specs, scenes, cameras, animation): (&[PairSpec], &[Scene], &[Camera], AnimationSettings),
+    size: (u32, u32),
+    schedule: Schedule,
+    progress: impl FnMut(u64, u64),
+) -> Result<Vec<Pair>> {
+    let (measured, pictures) = render(device, (scenes, cameras, animation), size, schedule, progress)?;
+    let variant = |i: usize| {
+        let gpu: Vec<f64> = measured.timings(i).map(|t| t.gpu_ms).collect();
+        let cull = measured.all(i).last().and_then(|f| f.timings.cull);
+        let c = cameras[i];
+        let name = [specs[i / 2].1, specs[i / 2].2][i % 2].to_string();
+        let camera = [c.position.x, c.position.y, c.position.z, c.yaw_deg, c.pitch_deg];
+        let (drawn, classes) = cull.map_or((0, Vec::new()), |c| (c.total_drawn(), ClassDrawn::of(&c)));
+        Variant { name, camera, gpu_ms: Summary::of(&gpu), drawn, classes }
+    };
+    Ok(specs
+        .iter()
+        .enumerate()
+        .map(|(p, &(label, _, _, target))| {
+            let (reference, subject) = (variant(2 * p), variant(2 * p + 1));
+            let ratio = subject.gpu_ms.median / reference.gpu_ms.median;
+            let (stats, _) = compare_rgb(&pictures[2 * p], &pictures[2 * p + 1], 3);
+            let (within_3, max_diff) = (stats.within_fraction(), stats.max_diff);
+            Pair {
+                label: label.into(),
+                reference,
+                subject,
+                ratio,
+                target,
+                within_target: ratio <= target,
+                within_3,
+                max_diff,
+            }
+        })
+        .collect())
+}
+
+/// Render `scenes` from their `cameras` in turn, `schedule`'s rounds of `size` pictures: every
+/// frame's timings, and each variant's last picture (RGB8).
+fn render(
+    device: &Arc<Device>,
+    (scenes, cameras, animation): (&[Scene], &[Camera], AnimationSettings),
+    size: (u32, u32),
+    schedule: Schedule,
+    mut progress: impl FnMut(u64, u64),
+) -> Result<(Measured, Vec<Vec<u8>>)> {
+    let settings = RenderSettings {
+        pipeline_statistics: true,
+        ..RenderSettings::offscreen(SEGMENTS, Culling::default_for(SEGMENTS))
+    };
+    let mut renderers = Vec::new();
+    for scene in scenes {
+        renderers.push(Renderer::new(device.clone(), scene, settings, animation.clone())?);
+    }
+    let n = scenes.len();
+    let mut targets = vec![OffscreenTarget::new(device, vk::Extent2D { width: size.0, height: size.1 })?];
+    let mut frames = Progress::new(n as u64 * u64::from(schedule.rounds()), &mut progress);
+    let mut pictures: Vec<Vec<u8>> = vec![Vec::new(); n];
+    let last = schedule.rounds() - 1;
+    let mut round_of = vec![0u32; n];
+    let measured = {
+        let mut after = |i: usize, target: &OffscreenTarget| {
+            if round_of[i] == last {
+                pictures[i] = target.pixels().chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect();
+            }
+            round_of[i] += 1;
+        };
+        let camera = |i: usize, _| cameras[i];
+        let time = |_| 0.0;
+        let mut subject = Offscreen {
+            renderers: &mut renderers,
+            targets: &mut targets,
+            camera: &camera,
+            time: &time,
+            after: Some(&mut after),
+        };
+        measure(&mut subject, schedule, &mut frames)
+    };
+    drop(renderers);
+    for target in targets {
+        // SAFETY: every renderer waited for its frames and is dropped.
+        unsafe { target.destroy(device) };
+    }
+    Ok((measured?, pictures))
+}
+
+/// `pairs` as rows of a text table, after its header line.
+pub fn table_rows(pairs: &[Pair]) -> String {
+    let mut out = String::from(
+        "pair | reference ms | subject ms | ratio (target) | drawn | pixels within ±3, largest difference\n",
+    );
+    for p in pairs {
+        let met = if p.within_target { "met" } else { "missed" };
+        let classes = |v: &Variant| match v.classes.len() {
+            0 | 1 => v.drawn.to_string(),
+            _ => v.classes.iter().map(|c| format!("{} {}", c.drawn, c.class)).collect::<Vec<_>>().join(" + "),
+        };
+        out.push_str(&format!(
+            "{} | {:.1} | {:.1} | {:.3}x (<= {}, {met}) | {} / {} | {:.3} %, {}\n",
+            p.label,
+            p.reference.gpu_ms.median,
+            p.subject.gpu_ms.median,
+            p.ratio,
+            p.target,
+            classes(&p.reference),
+            classes(&p.subject),
+            100.0 * p.within_3,
+            p.max_diff
+        ));
+    }
+    out
+}
