@@ -183,6 +183,24 @@ impl RenderOptions {
         }
     }
 
+    /// The ground's and the plants' options as a line's tail (`render`'s scene line, the viewer's
+    /// rebuild line): ", heightmap, cover map, slope limit 30°, clumps of 1.5 m, 20 flowers per
+    /// m²", each only when given.
+    pub fn landscape_summary(&self) -> String {
+        let l = &self.landscape;
+        [
+            l.heightmap.as_ref().map(|_| "heightmap".to_string()),
+            l.cover.as_ref().map(|_| "cover map".to_string()),
+            l.slope_limit_deg.map(|d| format!("slope limit {d}°")),
+            self.clumps.map(|c| format!("clumps of {} m", c.size_m)),
+            self.flowers.map(|f| format!("{} flowers per m²", f.per_m2)),
+        ]
+        .into_iter()
+        .flatten()
+        .map(|part| format!(", {part}"))
+        .collect()
+    }
+
     /// `scene`'s ground and grass, before the flowers.
     fn grass(&self) -> Result<Scene> {
         let heightmap = self.landscape.heightmap(self.field)?;
@@ -297,6 +315,8 @@ pub struct RenderReport {
     /// instance of its draws (what `--submission`, `--clusters` and `--blades-per-instance`
     /// chose, as the renderer was built).
     pub submission: (crate::render::submission::Submission, u32),
+    /// The ground's and the plants' options (`RenderOptions::landscape_summary`).
+    pub landscape: String,
 }
 
 /// One line per setting the device made the renderer change (`Renderer::new`'s fallbacks).
@@ -401,6 +421,7 @@ pub fn render(device: &Arc<Device>, options: &RenderOptions) -> Result<RenderRep
         notes,
         submission,
         clock: (options.time, options.animation.clock),
+        landscape: options.landscape_summary(),
     })
 }
 

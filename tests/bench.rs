@@ -680,9 +680,10 @@ fn the_plants_preset_measures_flowers_and_clumps_side_by_side() {
         let (reference, subject) = (&p["reference"], &p["subject"]);
         let flowers = drawn(subject, "flowers");
         assert!(flowers > 50, "{p}");
-        // Each flower took a candidate blade's place (the edge-on test, which flowers skip, moves a few).
-        let total = drawn(subject, "blades") + flowers;
-        assert!(total.abs_diff(drawn(reference, "blades")) < flowers, "{p}");
+        // Each flower took a candidate blade's place; flowers skip the edge-on test, so a few more
+        // are drawn than the blades they took (measured: 17 to 19 % of the flowers).
+        let (total, blades) = (drawn(subject, "blades") + flowers, drawn(reference, "blades"));
+        assert!(total >= blades && total - blades < flowers / 3, "{p}");
     }
     let stdout = String::from_utf8_lossy(&output.stdout);
     assert!(stdout.contains("flowers 20/m² / none, default block field") && stdout.contains(" flowers |"), "{stdout}");

@@ -86,9 +86,14 @@ fn render(scene: &Scene, camera: &Camera, animation: AnimationSettings, wind: Wi
 
 /// The flowers' entries: (entry index, stored blade) of both their buckets, after the blades'.
 fn flower_entries(frame: &Frame) -> Vec<(usize, u32)> {
+    bucket_entries(frame, 0..2)
+}
+
+/// The entries of the flowers' buckets `buckets` (0 near, 1 far).
+fn bucket_entries(frame: &Frame, buckets: std::ops::Range<u32>) -> Vec<(usize, u32)> {
     let batch = RenderSettings::offscreen(SEGMENTS, culling()).blades_per_instance;
     let first_bucket = culling().buckets().len() as u32;
-    (first_bucket..first_bucket + 2)
+    (first_bucket + buckets.start..first_bucket + buckets.end)
         .flat_map(|bucket| {
             let draw = &frame.draws[(bucket * DRAW_WORDS) as usize..];
             let first = draw[DRAW_FIRST_INSTANCE as usize] * batch;
@@ -158,8 +163,12 @@ fn a_covering_map_without_green_grows_no_flower_there() {
 /// The mean downwind (+x) lean of the flowers' stem tips, in metres: each flower's tip in its
 /// pose records (by entry) turned into the world by its blade's frame.
 fn mean_tip_x(scene: &Scene, frame: &Frame) -> f32 {
-    let entries = flower_entries(frame);
-    assert!(entries.len() > 300, "{} flowers", entries.len());
+    mean_tip_x_of(scene, frame, &flower_entries(frame), 300)
+}
+
+/// The same over `entries`, at least `least` of them.
+fn mean_tip_x_of(scene: &Scene, frame: &Frame, entries: &[(usize, u32)], least: usize) -> f32 {
+    assert!(entries.len() > least, "{} flowers", entries.len());
     let sum: f32 = entries
         .iter()
         .map(|&(entry, blade)| {
@@ -194,6 +203,51 @@ fn the_flowers_bend_the_way_the_wind_blows_under_keyframes_and_verlet() {
 }
 
 #[test]
+fn near_flowers_are_posed_in_their_own_bucket_and_bend_downwind() {
+    // A metre above the ground looking down: heads 8 pixels across and more, the near bucket (a
+    // stem of 4 segments, its pose pipeline the response's at 4 segments).
+    let scene = Scene::generate(BLADES, 1).with_flowers(flowers()).expect("flowers");
+    let camera = Camera { position: Vec3::new(0.0, scene.ground(0.0, 0.0) + 1.0, 0.0), yaw_deg: 0.0, pitch_deg: -89.0 };
+    let east = render(&scene, &camera, keyframes(), towards(0.0));
+    let calm = render(&scene, &camera, keyframes(), Wind::default());
+    let near = bucket_entries(&east, 0..1);
+    assert_eq!(near, bucket_entries(&calm, 0..1), "the wind moves no flower between buckets");
+    let (lean, rest) = (mean_tip_x_of(&scene, &east, &near, 20), mean_tip_x_of(&scene, &calm, &near, 20));
+    assert!(lean > rest + 0.1, "near tips at x {lean} (east wind), {rest} (calm)");
+    // Every level of a near flower's stem is written: its mid-level leans with its tip.
+    let mid = |frame: &Frame| -> f32 {
+        near.iter()
+            .map(|&(entry, blade)| {
+                let b = &scene.blades[blade as usize];
+                let (across, normal) = bezier::frame(b);
+                let p = recorded_point(&frame.records, (entry, SEGMENTS / 2), SEGMENTS, b.height);
+                (across * p.x + normal * p.z).x
+            })
+            .sum::<f32>()
+            / near.len() as f32
+    };
+    assert!(mid(&east) > mid(&calm) + 0.02, "mid-levels at x {} (east), {} (calm)", mid(&east), mid(&calm));
+}
+
+#[test]
+fn render_names_the_flowers_in_its_scene_line_and_counts_them_beside_the_blades() {
+    let (output, written) =
+        map_files::render_cli("flowers-line", &["--flowers", "40", "--clumps", "2", "--validation"]);
+    support::assert_clean(&output);
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    let line = |start: &str| stdout.lines().find(|l| l.starts_with(start)).unwrap_or_default().to_string();
+    assert!(line("scene: ").ends_with(", clumps of 2 m, 40 flowers per m²"), "{stdout}");
+    let cull = line("cull: ");
+    let flowers: u32 = cull
+        .rsplit("; ")
+        .next()
+        .and_then(|t| t.strip_suffix(" flowers drawn"))
+        .and_then(|n| n.parse().ok())
+        .unwrap_or(0);
+    assert!(flowers > 0 && written, "{stdout}");
+}
+
+#[test]
 fn bad_flower_values_and_combinations_are_refused_in_one_line() {
     for (case, value) in [("negative", "-1"), ("nan", "NaN"), ("zero", "0"), ("huge", "1e12")] {
         refused(&format!("flowers-{case}"), &["--flowers", value], "--flowers");
@@ -208,4 +262,6 @@ fn bad_flower_values_and_combinations_are_refused_in_one_line() {
     refused("flowers-brute", &["--flowers", "20", "--brute-force"], "--brute-force");
     refused("flowers-vertex", &["--flowers", "20", "--eval", "vertex"], "--eval vertex");
     refused("flowers-floor", &["--flowers", "20", "--mode", "floor"], "--mode floor");
+    // The flowers' two buckets after seven of the blades': more than the cull's eight.
+    refused("flowers-buckets", &["--flowers", "20", "--lod-segments", "8,7,6,5,4,3,2"], "--lod-segments");
 }

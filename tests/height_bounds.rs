@@ -2,8 +2,9 @@
 //! block field's cells by the map under them (`FLAG_GROUND_BOUNDS`), not by the map's steepest
 //! slope anywhere. On lavapipe with validation and synchronization validation: a flat map with one
 //! spike far from the view culls exactly as the same map without it (the same tiles in view, the
-//! same blades drawn), where the spike's slope alone would have made every cell's box tens of
-//! metres tall; and near the spike, the cull still keeps the blades on its flanks.
+//! same blades drawn; by the origin, across the map's mirror edge and 100 km out), where the
+//! spike's slope alone makes every cell's box metres taller; and looking at the spike, the cull
+//! draws the same blades with the pyramid as with the slope's bounds.
 
 mod support;
 
@@ -23,7 +24,8 @@ use meadow::scene::{Camera, Scene};
 use meadow::vk::DeviceSelector;
 
 const SCALE: TerrainScale = TerrainScale { x: 1000.0, y: 40.0, z: 1000.0 };
-const SIDE: u32 = 65;
+/// 1.95 m texels: a cell's query spans several, and reads the pyramid's upper levels.
+const SIDE: u32 = 513;
 
 /// A flat map at a fifth of white, with a spike of white at texel `spike` if any.
 fn map(spike: Option<(u32, u32)>) -> Heightmap {
@@ -78,14 +80,18 @@ fn drawn_entries(visible: &[[u32; 2]], draws: &[u32]) -> Vec<u32> {
 
 #[test]
 fn a_spike_far_from_the_view_does_not_widen_the_cells_in_it() {
-    // The spike 430 m out: its slope (32 m over a 15.6 m texel) is the map's steepest, and bounds
-    // every cell's heights by ±2 m a metre of the cell's reach without the pyramid.
-    let spiked = map(Some((60, 60)));
-    assert!(spiked.slope_bound() > 2.0, "{}", spiked.slope_bound());
+    // The spike 476 m out along x and z: its slope (32 m over a 1.95 m texel) is the map's
+    // steepest, and bounds every cell's heights by ±16 m a metre of the cell's reach without the
+    // pyramid. The cameras: by the origin, across the map's mirror edge at x = 500 m, and 100 km
+    // out (50 mirrored periods: the origin's ground).
+    let spiked = map(Some((500, 500)));
+    assert!(spiked.slope_bound() > 10.0, "{}", spiked.slope_bound());
     let ground = 0.2 * SCALE.y as f32;
     let cameras = [
         Camera { position: Vec3::new(0.0, ground + 1.7, 0.0), yaw_deg: 0.0, pitch_deg: -12.0 },
         Camera { position: Vec3::new(10.0, ground + 6.0, -20.0), yaw_deg: 90.0, pitch_deg: -35.0 },
+        Camera { position: Vec3::new(492.0, ground + 3.0, -100.0), yaw_deg: -90.0, pitch_deg: -20.0 },
+        Camera { position: Vec3::new(100_000.0, ground + 1.7, 0.0), yaw_deg: 0.0, pitch_deg: -12.0 },
     ];
     let flat = counts(map(None), &cameras, true);
     let bounded = counts(spiked.clone(), &cameras, true);
@@ -105,7 +111,7 @@ fn a_spike_far_from_the_view_does_not_widen_the_cells_in_it() {
 #[test]
 fn the_pyramid_bounds_the_spike_where_it_stands_and_the_cull_keeps_its_blades() {
     // The pyramid over the spike's texel holds white; a rectangle away from it the flat fifth.
-    let spiked = map(Some((32, 32)));
+    let spiked = map(Some((256, 256)));
     let pyramid = HeightBounds::new(&spiked);
     let (lo, hi) = pyramid.bounds(DVec2::new(-2.0, -2.0), DVec2::new(2.0, 2.0));
     assert!((lo - 8.0).abs() < 1e-3 && (hi - 40.0).abs() < 1e-3, "{lo}..{hi}");

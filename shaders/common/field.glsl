@@ -14,6 +14,15 @@ const float WIDEST_BLADE = 0.016; // scene::blades::WIDEST
 // Roots are sunk this far below the drawn terrain (as a stored field's, `scene::blades::ROOT_SINK`).
 const float FIELD_ROOT_SINK = 0.01;
 
+// How far a flower's head reaches past its stem's tip (`scene::flowers`).
+const float FLOWER_HEAD_REACH = 0.06; // scene::flowers::HEAD_REACH_M
+
+// What the cull's boxes pad a blade's reach by past the tallest blade: half the widest blade, or
+// with flowers (FLOWER_SHARE) a head.
+float plant_pad() {
+    return FLOWER_SHARE != 0u ? max(FLOWER_HEAD_REACH, 0.5 * WIDEST_BLADE) : 0.5 * WIDEST_BLADE;
+}
+
 // Whether integer cell `cell` belongs to the field (a bounded field is centred on the world's
 // origin: cells -n/2 .. n/2 - 1).
 bool field_has_cell(ivec2 cell) {
@@ -97,16 +106,19 @@ void field_cell_bounds(ivec2 cell, out vec3 lo, out vec3 hi) {
     float spread = 2.0 * frame_values.field.y * reach;
     // `scene::tiles::blade_reach` of the tallest and widest blade: up, and across with the
     // density LOD's widest widening (`lod.w`).
-    float up = TALLEST_BLADE + 0.5 * WIDEST_BLADE;
-    float across = TALLEST_BLADE + 0.5 * WIDEST_BLADE * max(frame_values.lod.w, 1.0);
+    float up = TALLEST_BLADE + plant_pad();
+    float across = TALLEST_BLADE + plant_pad() * max(frame_values.lod.w, 1.0);
     float h = ground_height(centre);
     vec2 range = vec2(h - spread, h + spread);
     if ((RENDER_FLAGS & FLAG_GROUND_BOUNDS) != 0u) {
         // A heightmap's min/max pyramid (`scene::height_bounds`) over the cell and the vertices
         // its drawn ground interpolates (a drawn cell out, and a step more for a morphing
         // vertex's neighbours): the map's range there rather than its steepest slope anywhere's.
-        // Both are bounds; a millimetre for the f32 heights.
-        vec2 world = vec2(cell) * edge;
+        // Both are bounds; a millimetre for the f32 heights. A mirrored map repeats with the
+        // world (its period divides the world's): the cell modulo the world's period keeps the
+        // coordinates small, and exact, 100 km out.
+        bool mirrored = bounds_words[6] != 0u;
+        vec2 world = vec2(mirrored ? ((cell % PERIOD_CELLS) + PERIOD_CELLS) % PERIOD_CELLS : cell) * edge;
         float around = drawn + step;
         vec2 map = ground_map_bounds(world - vec2(around), world + vec2(edge + around)) + vec2(-0.001, 0.001);
         range = vec2(max(range.x, map.x), min(range.y, map.y));
@@ -121,8 +133,8 @@ void field_cell_bounds(ivec2 cell, out vec3 lo, out vec3 hi) {
 // cell's square, from the lowest root to the highest the ground's bounds allow (the box's top
 // less the tallest reach up, less the sink).
 void field_cell_roots(BladeTile cell_box, out vec3 lo, out vec3 hi) {
-    float up = TALLEST_BLADE + 0.5 * WIDEST_BLADE;
-    float across = TALLEST_BLADE + 0.5 * WIDEST_BLADE * max(frame_values.lod.w, 1.0);
+    float up = TALLEST_BLADE + plant_pad();
+    float across = TALLEST_BLADE + plant_pad() * max(frame_values.lod.w, 1.0);
     lo = cell_box.min + vec3(across, 0.0, across);
     hi = cell_box.max - vec3(across, up + FIELD_ROOT_SINK, across);
 }

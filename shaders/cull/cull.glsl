@@ -291,6 +291,13 @@ bool slot_record(uint slot, out BladeTile tile, out ivec2 cell) {
     tile.first = tiles[t].first;
     tile.max = tiles[t].max;
     tile.count = tiles[t].count;
+    if (FLOWER_SHARE != 0u) {
+        // A tile's box is padded by its own blades' reach (`scene::tiles`): a flower on a short
+        // blade stands taller (`scene::flowers`), up to the tallest blade and a head.
+        float reach = TALLEST_BLADE + FLOWER_HEAD_REACH;
+        tile.min -= vec3(reach, 0.0, reach);
+        tile.max += vec3(reach);
+    }
     return true;
 }
 

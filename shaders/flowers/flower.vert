@@ -7,7 +7,7 @@
 // - near bucket, codes 0.. : a stem of FLOWER_NEAR_STEM_SEGMENTS segments (2 vertices a level),
 //   then a head of FLOWER_NEAR_PETALS petals (`head_vertex`: a centre and 2 vertices a petal);
 // - far bucket, codes FLOWER_FAR_BASE.. : the head alone, a square of 4 vertices at the posed
-//   stem's tip (the stem, 4 mm wide, is under half a pixel there).
+//   stem's tip (the stem, 4 mm wide, is under a pixel wide there).
 // The stem is the blade the flower took, posed as that blade: the response's pose records of its
 // entry (the pose pass covers the flowers' buckets, `FLAG_POSE_CLASS`), or the neutral curve for a
 // response with none (static blades). Its level points scale with the stem's own height. The head

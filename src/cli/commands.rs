@@ -106,6 +106,25 @@ pub(crate) fn finish(result: crate::Result<()>) -> u8 {
     }
 }
 
+/// `render`'s scene line: the field, its blades and segments, and the ground's and plants' options.
+fn scene_line(report: &RenderReport) -> String {
+    match report.field {
+        Some(field) => format!(
+            "scene: {} field of {} m blocks at {} blades/m² ({} blades stored) x {} segments{}",
+            field.size.map_or("an unbounded".to_string(), |s| format!("a {s} m")),
+            crate::scene::field::BLOCK_SIZE,
+            field.density,
+            field.block_blades(),
+            report.segments,
+            report.landscape
+        ),
+        None => format!(
+            "scene: {} blades x {} segments on a {:.1} m field{}",
+            report.blades, report.segments, report.field_m, report.landscape
+        ),
+    }
+}
+
 /// What `meadow render` prints: device, scene, GPU and CPU cost of the last frame, the file.
 fn print_render(report: &RenderReport) {
     let d = &report.device;
@@ -116,22 +135,7 @@ fn print_render(report: &RenderReport) {
         "device: {} ({}, driver {} [{}]), profile {profile}",
         d.name, d.api_version, d.driver_version, d.driver_info
     );
-    match report.field {
-        Some(field) => println!(
-            "scene: {} field of {} m blocks at {} blades/m² ({} blades stored) x {} segments",
-            field.size.map_or("an unbounded".to_string(), |s| format!("a {s} m")),
-            crate::scene::field::BLOCK_SIZE,
-            field.density,
-            field.block_blades(),
-            report.segments
-        ),
-        None => {
-            println!(
-                "scene: {} blades x {} segments on a {:.1} m field",
-                report.blades, report.segments, report.field_m
-            )
-        }
-    }
+    println!("{}", scene_line(report));
     let last = report.frames.last().expect("at least one frame");
     // Drawn, not stored: the cull's count of the last frame when it ran.
     let blades = last.cull.map_or(report.triangles.0, |c| c.triangles());

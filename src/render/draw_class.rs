@@ -161,8 +161,9 @@ impl ClassLayout {
         }
         if first > gpu::MAX_LOD_BUCKETS || placed.iter().any(|c| c.buckets == 0) {
             let names: Vec<String> = placed.iter().map(|c| format!("{} {}", c.name, c.buckets)).collect();
-            return Err(Error::Internal(format!(
-                "the draw classes need {first} buckets (blades {blade_buckets}, {}): the cull holds {}",
+            // Bad input: the blade class's buckets are `--lod-segments`', the others' the classes'.
+            return Err(Error::BadInput(format!(
+                "the draw classes need {first} buckets (blades {blade_buckets}, {}): the cull holds {} (fewer --lod-segments)",
                 names.join(", "),
                 gpu::MAX_LOD_BUCKETS
             )));

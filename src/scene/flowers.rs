@@ -21,7 +21,7 @@
 //!   no flower), are never dropped for facing edge-on (a head shows from every side), and draw in
 //!   two buckets: `NEAR_PETALS` petals on a stem of `NEAR_STEM_SEGMENTS` segments while the head
 //!   spans `NEAR_PIXELS` pixels or more (20 triangles); past that the head alone, a square of two
-//!   triangles at the posed stem's tip (the stem is under half a pixel wide there): on lavapipe a
+//!   triangles at the posed stem's tip (the stem is under a pixel wide there): on lavapipe a
 //!   visible triangle is what costs, and a far flower then costs what the far blade it took did.
 
 use crate::error::{Error, Result};
@@ -30,7 +30,8 @@ use crate::scene::blades::TALLEST;
 /// The densest flowers (per m²) `--flowers` takes, before the field's own blade density bounds it.
 pub const MOST_PER_M2: f32 = 10_000.0;
 /// A flower's shortest stem (m); the tallest is the tallest blade's (`TALLEST`, which the cull's
-/// bounds pad by), and each flower's lies between by its hash.
+/// boxes pad by, and by a head's reach past it with flowers on: `HEAD_REACH_M`), and each
+/// flower's lies between by its hash.
 pub const STEM_SHORTEST_M: f32 = 0.40;
 /// The tallest stem (m).
 pub const STEM_TALLEST_M: f32 = TALLEST;
@@ -40,6 +41,9 @@ pub const HEAD_SMALLEST_M: f32 = 0.025;
 pub const HEAD_LARGEST_M: f32 = 0.045;
 /// A stem's width (m).
 pub const STEM_WIDTH_M: f32 = 0.004;
+/// How far a head reaches past its stem's tip (m): the largest radius, and its cup above, with a
+/// margin. The cull's boxes pad by it with flowers on (`plant_pad` in `shaders/common/field.glsl`).
+pub const HEAD_REACH_M: f32 = 0.06;
 /// The heads' colours (linear RGB): white, yellow, violet, red, blue.
 pub const HEAD_COLORS: [[f32; 3]; 5] =
     [[0.80, 0.80, 0.74], [0.85, 0.62, 0.06], [0.38, 0.16, 0.62], [0.75, 0.10, 0.16], [0.18, 0.28, 0.78]];

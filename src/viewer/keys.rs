@@ -169,7 +169,10 @@ impl Viewer {
                 (Mode::Sine(SinePhase::Cluster), false) => animation.mode = Mode::Verlet,
                 (Mode::Verlet, false) => animation.mode = Mode::Inertial,
                 (Mode::Inertial, false) => animation.mode = Mode::VirtualInertial,
-                (Mode::VirtualInertial, false) => (animation.mode, settings.floor) = (Mode::Static, true),
+                // The floor draws no flowers (refused with them): static blades instead.
+                (Mode::VirtualInertial, false) => {
+                    (animation.mode, settings.floor) = (Mode::Static, self.options.scene.flowers.is_none())
+                }
             },
             "n" => {
                 animation.smoothing = match animation.smoothing {

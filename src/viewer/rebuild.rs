@@ -226,9 +226,7 @@ impl Viewer {
                     if m.alpha_to_coverage { "alpha to coverage" } else { "alpha test" }
                 ),
             },
-            self.options.scene.landscape.slope_limit_deg.map_or(String::new(), |d| format!(", slope limit {d}°"))
-                + &self.options.scene.clumps.map_or(String::new(), |c| format!(", clumps of {} m", c.size_m))
-                + &self.options.scene.flowers.map_or(String::new(), |f| format!(", {} flowers per m²", f.per_m2)),
+            self.options.scene.landscape_summary(),
         );
     }
 }

@@ -61,6 +61,9 @@ pub struct BladePass {
     indices: Option<Buffer>,
     /// With a row per visible tile: the cull's rows and their layout (`draw_rows::TileRows`).
     tile_rows: Option<(vk::Buffer, TileRows)>,
+    /// Whether the scene's depth is stored after the pass: a further draw class's pass tests
+    /// against it (otherwise its contents may be discarded, `DONT_CARE`).
+    store_depth: bool,
 }
 
 /// The blade pass's vertex shader, its own set and what the shader reads of it.
@@ -93,6 +96,9 @@ pub struct BladeSetup<'a> {
     pub rows: DrawRows,
     /// Each frame's wind at the cluster corners (`PassSetup::wind`).
     pub wind: &'a [vk::Buffer],
+    /// Whether a further draw class's pass follows and depth-tests against the blades
+    /// (`render::draw_class`): the pass then stores the depth.
+    pub depth_after: bool,
 }
 
 impl BladePass {
@@ -158,6 +164,7 @@ impl BladePass {
                 draws: scene.draws.raw,
                 indices: None,
                 tile_rows,
+                store_depth: setup.depth_after,
             },
         );
         match setup.buckets {
@@ -396,7 +403,7 @@ impl Pass for BladePass {
     fn declare(&self, ctx: &PassContext) -> Option<Declaration> {
         let secondary = self.strategy == Strategy::Secondary;
         let first = self.buckets.first().copied().unwrap_or(self.pipeline);
-        let rendering = passes::scene_rendering(ctx, first, false, secondary);
+        let rendering = passes::scene_rendering(ctx, first, self.store_depth, secondary);
         // The frame's wind (per vertex without pose records; the shader names it either way).
         let declaration = Declaration::graphics(rendering).buffer(self.wind[ctx.slot], Access::VertexShaderStorageRead);
         let declaration = self.response_reads.iter().fold(declaration, |d, &(r, a)| d.uses(r, a));

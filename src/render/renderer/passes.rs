@@ -243,6 +243,7 @@ impl Renderer {
             buckets: culled.then(|| settings.culling.buckets()),
             rows: settings.culling.rows,
             wind: &wind,
+            depth_after: culled && !self.builders.classes.classes.is_empty(),
         };
         self.graph.add(BladePass::new(device, scene, &setup)?);
         if culled {
