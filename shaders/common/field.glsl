@@ -17,10 +17,16 @@ const float FIELD_ROOT_SINK = 0.01;
 // How far a flower's head reaches past its stem's tip (`scene::flowers`).
 const float FLOWER_HEAD_REACH = 0.06; // scene::flowers::HEAD_REACH_M
 
-// What the cull's boxes pad a blade's reach by past the tallest blade: half the widest blade, or
-// with flowers (FLOWER_SHARE) a head.
-float plant_pad() {
-    return FLOWER_SHARE != 0u ? max(FLOWER_HEAD_REACH, 0.5 * WIDEST_BLADE) : 0.5 * WIDEST_BLADE;
+// How far past its root a plant reaches, up and across (`scene::tiles::blade_reach` of the tallest
+// and widest blade, across with the density LOD's widest widening, `lod.w`), or with flowers
+// (FLOWER_SHARE) a head past the tallest stem, which no widening widens.
+float plant_up() {
+    return TALLEST_BLADE + (FLOWER_SHARE != 0u ? max(FLOWER_HEAD_REACH, 0.5 * WIDEST_BLADE) : 0.5 * WIDEST_BLADE);
+}
+
+float plant_across() {
+    float widest = 0.5 * WIDEST_BLADE * max(frame_values.lod.w, 1.0);
+    return TALLEST_BLADE + (FLOWER_SHARE != 0u ? max(FLOWER_HEAD_REACH, widest) : widest);
 }
 
 // Whether integer cell `cell` belongs to the field (a bounded field is centred on the world's
@@ -106,8 +112,8 @@ void field_cell_bounds(ivec2 cell, out vec3 lo, out vec3 hi) {
     float spread = 2.0 * frame_values.field.y * reach;
     // `scene::tiles::blade_reach` of the tallest and widest blade: up, and across with the
     // density LOD's widest widening (`lod.w`).
-    float up = TALLEST_BLADE + plant_pad();
-    float across = TALLEST_BLADE + plant_pad() * max(frame_values.lod.w, 1.0);
+    float up = plant_up();
+    float across = plant_across();
     float h = ground_height(centre);
     vec2 range = vec2(h - spread, h + spread);
     if ((RENDER_FLAGS & FLAG_GROUND_BOUNDS) != 0u) {
@@ -133,8 +139,8 @@ void field_cell_bounds(ivec2 cell, out vec3 lo, out vec3 hi) {
 // cell's square, from the lowest root to the highest the ground's bounds allow (the box's top
 // less the tallest reach up, less the sink).
 void field_cell_roots(BladeTile cell_box, out vec3 lo, out vec3 hi) {
-    float up = TALLEST_BLADE + plant_pad();
-    float across = TALLEST_BLADE + plant_pad() * max(frame_values.lod.w, 1.0);
+    float up = plant_up();
+    float across = plant_across();
     lo = cell_box.min + vec3(across, 0.0, across);
     hi = cell_box.max - vec3(across, up + FIELD_ROOT_SINK, across);
 }

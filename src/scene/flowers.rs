@@ -42,7 +42,7 @@ pub const HEAD_LARGEST_M: f32 = 0.045;
 /// A stem's width (m).
 pub const STEM_WIDTH_M: f32 = 0.004;
 /// How far a head reaches past its stem's tip (m): the largest radius, and its cup above, with a
-/// margin. The cull's boxes pad by it with flowers on (`plant_pad` in `shaders/common/field.glsl`).
+/// margin. The cull's boxes pad by it with flowers on (`plant_up` and `plant_across` in `shaders/common/field.glsl`).
 pub const HEAD_REACH_M: f32 = 0.06;
 /// The heads' colours (linear RGB): white, yellow, violet, red, blue.
 pub const HEAD_COLORS: [[f32; 3]; 5] =
