@@ -620,21 +620,27 @@ fn the_animations_preset_measures_each_response_against_static() {
     assert_eq!(csv.lines().count(), 1 + 2 * 6 + 2 * 4, "a header and a line per row and response");
 }
 
-/// `--preset landscape`: the three pairs measured side by side, the exported relief drawing about
-/// what the relief draws and a picture within a few pixels of it, the split cover half the full
-/// one's blades.
-#[test]
-fn the_landscape_preset_measures_its_pairs_side_by_side() {
-    let out = scratch("bench-landscape").join("out");
+/// Run `meadow bench --preset PRESET` (a benchmark of pairs) small, one round, under validation:
+/// its output, checked clean, and its `PRESET.json`.
+fn pair_preset(preset: &str) -> (std::process::Output, Value) {
+    let out = scratch(&format!("bench-{preset}")).join("out");
     let output = meadow()
-        .args(["bench", "--preset", "landscape", "--size", "160x90", "--warmup", "0", "--frames", "1", "--validation"])
+        .args(["bench", "--preset", preset, "--size", "160x90", "--warmup", "0", "--frames", "1", "--validation"])
         .args(["--device", support::DEVICE, "--out"])
         .arg(&out)
         .output()
         .expect("run");
     support::assert_clean(&output);
-    let doc: Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("landscape.json")).expect("json")).expect("JSON");
+    let json = std::fs::read_to_string(out.join(format!("{preset}.json"))).expect("json");
+    (output, serde_json::from_str(&json).expect("JSON"))
+}
+
+/// `--preset landscape`: the three pairs measured side by side, the exported relief drawing about
+/// what the relief draws and a picture within a few pixels of it, the split cover half the full
+/// one's blades.
+#[test]
+fn the_landscape_preset_measures_its_pairs_side_by_side() {
+    let (_, doc) = pair_preset("landscape");
     assert_eq!(doc["export_texels"], 4001);
     let pairs = doc["pairs"].as_array().expect("pairs");
     assert_eq!(pairs.len(), 3);
@@ -656,16 +662,7 @@ fn the_landscape_preset_measures_its_pairs_side_by_side() {
 /// beside the blades (and the references none), taking the blades' places; clumps move no blade.
 #[test]
 fn the_plants_preset_measures_flowers_and_clumps_side_by_side() {
-    let out = scratch("bench-plants").join("out");
-    let output = meadow()
-        .args(["bench", "--preset", "plants", "--size", "160x90", "--warmup", "0", "--frames", "1", "--validation"])
-        .args(["--device", support::DEVICE, "--out"])
-        .arg(&out)
-        .output()
-        .expect("run");
-    support::assert_clean(&output);
-    let doc: Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("plants.json")).expect("json")).expect("JSON");
+    let (output, doc) = pair_preset("plants");
     let pairs = doc["pairs"].as_array().expect("pairs");
     assert_eq!(pairs.len(), 4);
     let drawn = |v: &Value, class: &str| {

@@ -206,9 +206,10 @@ impl ClassLayout {
 
     /// The further classes' buckets the blade response poses, and their segments.
     pub fn posed(&self) -> Vec<(u32, u32)> {
-        let buckets =
-            |c: &PlacedClass| c.posed.iter().enumerate().map(|(b, s)| (c.first + b as u32, *s)).collect::<Vec<_>>();
-        self.classes.iter().flat_map(buckets).filter_map(|(b, s)| s.map(|s| (b, s))).collect()
+        self.classes
+            .iter()
+            .flat_map(|c| c.posed.iter().enumerate().filter_map(|(b, s)| s.map(|s| (c.first + b as u32, s))))
+            .collect()
     }
 
     /// Per class, blades first: its name and its buckets (first, count), for the cull's counts.
