@@ -178,6 +178,8 @@ pub struct Collider {
     pub center: Vec3,
     /// Radii (x, y, z); equal for a sphere.
     pub radii: Vec3,
+    /// Velocity in m/s: a collider may move (its centre at time t is `center + velocity · t`).
+    pub velocity: Vec3,
 }
 
 /// The keyframe force on a blade wholly inside a collider (its push per unit of blade, eq. C.2).
@@ -202,6 +204,21 @@ fn overlap(center: Vec3, radii: Vec3, root: Vec3, height: f32) -> Option<(f32, f
 }
 
 impl Collider {
+    /// A collider at rest.
+    pub fn at_rest(center: Vec3, radii: Vec3) -> Self {
+        Self { center, radii, velocity: Vec3::ZERO }
+    }
+
+    /// Centre at time `t`.
+    pub fn center_at(&self, t: f32) -> Vec3 {
+        self.center + self.velocity * t
+    }
+
+    /// Centre at time `t`, in f64: what the GPU's emitters are differenced from (relative to O).
+    pub fn center_f64(&self, t: f64) -> DVec3 {
+        self.center.as_dvec3() + self.velocity.as_dvec3() * t
+    }
+
     /// The reach-weighted keyframe force of a collider on a blade of backbone length `height`
     /// rooted at world `root` (eq. C.3): `COLLIDER_PUSH · n̂ · (s₁² − s₀²) / h²`, where [s₀, s₁]
     /// is the part of the upright backbone inside the ellipsoid. The CPU mirror of
@@ -348,12 +365,6 @@ impl Wind {
         self.sources.iter().map(|s| PointSource::force_from(s.position_at(t), s.power, s.sigma, p)).sum()
     }
 
-    /// Sum of the colliders' reach-weighted forces on a blade rooted at `root` of backbone length
-    /// `height` (`Collider::blade_force`).
-    pub fn colliders_force(&self, root: Vec3, height: f32) -> Vec2 {
-        self.colliders.iter().map(|c| Collider::blade_force(c.center, c.radii, root, height)).sum()
-    }
-
     /// The wind field at a cluster corner at world `p` and time `t` in f64, as the analytic field
     /// writes it (`render::wind::analytic`): velocity (x, z) in m/s and the exposure. With
     /// cluster attenuation the sources are in it; with delayed attenuation only the global wind
@@ -418,9 +429,9 @@ mod tests {
     #[test]
     fn the_closed_form_push_matches_its_quadrature() {
         let colliders = [
-            Collider { center: Vec3::new(0.0, 0.6, 0.0), radii: Vec3::splat(0.3) },
-            Collider { center: Vec3::new(0.3, 0.2, -0.1), radii: Vec3::new(0.4, 0.25, 0.6) },
-            Collider { center: Vec3::new(100_000.2, 10.3, 5.0), radii: Vec3::new(0.5, 0.2, 0.3) },
+            Collider::at_rest(Vec3::new(0.0, 0.6, 0.0), Vec3::splat(0.3)),
+            Collider::at_rest(Vec3::new(0.3, 0.2, -0.1), Vec3::new(0.4, 0.25, 0.6)),
+            Collider::at_rest(Vec3::new(100_000.2, 10.3, 5.0), Vec3::new(0.5, 0.2, 0.3)),
         ];
         let mut pushed = 0;
         for c in colliders {

@@ -87,7 +87,7 @@ fn blades_near_a_collider_lean_away_from_it() {
     let scene = Scene::generate(2000, 6);
     // A sphere sitting on the ground (its Y is a world height): every blade under it reaches in.
     let center = Vec3::new(0.2, scene.terrain.height_at(0.2, -0.4) + 0.25, -0.4);
-    let wind = Wind { colliders: vec![Collider { center, radii: Vec3::splat(0.3) }], ..Default::default() };
+    let wind = Wind { colliders: vec![Collider::at_rest(center, Vec3::splat(0.3))], ..Default::default() };
     let tips = tip_displacements(&scene, &wind, Attenuation::Blade);
     let mut near = 0;
     for (b, d) in scene.blades.iter().zip(&tips) {

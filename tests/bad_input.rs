@@ -112,6 +112,14 @@ fn animation_inputs() {
     let calm: Vec<&str> = (0..65).flat_map(|_| ["--calm", "0,0,1,1"]).collect();
     refused("calm-over-64", &calm, "65 calm areas: at most 64");
     refused("collider-radius-0", &["--collider", "sphere:0,0.2,0,0"], "radius");
+    // Issue 34: a radius 0, negative or NaN; a velocity that is NaN.
+    refused("collider-radius-negative", &["--collider", "ellipsoid:0,0.2,0,0.3,-0.2,0.3"], "radius");
+    refused("collider-radius-nan", &["--collider", "sphere:0,0.2,0,NaN"], "not a finite number");
+    refused("collider-velocity-nan", &["--collider", "sphere:0,0.2,0,0.3,1,NaN,0"], "not a finite number");
+    refused("collider-velocity-short", &["--collider", "sphere:0,0.2,0,0.3,1,0"], "VX,VY,VZ");
+    // Sources and colliders share the emitter buffers: 64 together.
+    let colliders: Vec<&str> = (0..65).flat_map(|_| ["--collider", "sphere:0,0.2,0,0.3"]).collect();
+    refused("colliders-over-64", &colliders, "65 sources and colliders: at most 64 together");
     refused("cluster-size-0", &["--cluster-size", "0"], "cluster size");
     refused("time-inf", &["--time", "inf"], "inf");
     // The fixed time step (issue 29 item 4): above 0, finite, at most 1/15 s.

@@ -107,7 +107,7 @@ fn three_steps_of_an_8_cubed_grid_match_the_cpu_reference() {
     let wind = Wind {
         global: Some(GlobalWind { direction_deg: 30.0, strength: 0.3, gusts: true }),
         sources: vec![source(cx + 1.0, cz + 0.5, 0.4, 1.0)],
-        colliders: vec![Collider { center: Vec3::new(cx - 1.5, 0.8, cz - 1.0), radii: Vec3::splat(0.9) }],
+        colliders: vec![Collider::at_rest(Vec3::new(cx - 1.5, 0.8, cz - 1.0), Vec3::splat(0.9))],
         ..Default::default()
     };
     let grid = FluidGrid { dims: [8, 8, 8], cell: [1.0, 0.5] };
@@ -231,7 +231,7 @@ fn the_corners_are_continuous_across_the_edge_and_lean_downwind() {
     let wind = Wind {
         global: Some(steady),
         sources: vec![source(cx + 1.0, cz, 0.5, 0.5)],
-        colliders: vec![Collider { center: Vec3::new(cx - 1.0, 0.5, cz + 1.0), radii: Vec3::splat(1.0) }],
+        colliders: vec![Collider::at_rest(Vec3::new(cx - 1.0, 0.5, cz + 1.0), Vec3::splat(1.0))],
         ..Default::default()
     };
     let frames = run(&scene, grid, &wind, &[camera; 12]);

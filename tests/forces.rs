@@ -156,7 +156,7 @@ fn gpu_blade_forces_equal_the_cpu_reference() {
             height: 0.5,
         }],
         calm: vec![CalmArea { min: Vec2::new(-1.0, 0.5), max: Vec2::new(0.5, 1.5) }],
-        colliders: vec![Collider { center: glam::Vec3::new(-1.0, 0.2, -1.0), radii: glam::Vec3::new(0.3, 0.2, 0.5) }],
+        colliders: vec![Collider::at_rest(glam::Vec3::new(-1.0, 0.2, -1.0), glam::Vec3::new(0.3, 0.2, 0.5))],
     };
     let (result, messages) = with_device(&options(), false, |device| {
         for attenuation in [Attenuation::Cluster, Attenuation::Blade] {
@@ -247,10 +247,8 @@ fn a_sphere_above_the_ground_bends_only_the_blades_that_reach_it() {
     let scene = Scene::generate(12000, 5);
     let (x, z, radius) = (0.2f32, -0.3f32, 1.0f32);
     let lowest = scene.terrain.height_at(x, z) + 0.35;
-    let sphere = |lift: f32| Collider {
-        center: glam::Vec3::new(x, lowest + radius + lift, z),
-        radii: glam::Vec3::splat(radius),
-    };
+    let sphere =
+        |lift: f32| Collider::at_rest(glam::Vec3::new(x, lowest + radius + lift, z), glam::Vec3::splat(radius));
     let global = Some(GlobalWind { direction_deg: 20.0, strength: 0.4, gusts: true });
     let bare = Wind { global, ..Default::default() };
     let low = Wind { colliders: vec![sphere(0.0)], ..bare.clone() };

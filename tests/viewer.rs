@@ -417,3 +417,32 @@ fn f4_toggles_the_slope_limit_t_reaches_the_cover_view_f5_clumps_and_f6_flowers(
         changed(&clumped, &flowers)
     );
 }
+
+#[test]
+fn shift_click_drops_a_collider_and_f7_tramples_under_the_eye() {
+    // Looking straight down from 1.2 m: F7 puts a sphere on the ground under the eye, which
+    // pushes the blades there aside (issue 34); F7 again takes it away. Shift + click drops a
+    // collider where the cursor meets the ground (a plain click drops a wind source).
+    let dir = scratch("viewer-trample");
+    let path = dir.join("trample.txt");
+    std::fs::write(
+        &path,
+        "0 pause\n0 camera 0,1.2,0,0,-89\n3 screenshot plain.png\n4 press f7\n8 screenshot trampled.png\n10 press f7\n\
+         14 screenshot again.png\n16 key shift down\n17 click 128,80\n18 key shift up\n19 click 60,40\n22 quit\n",
+    )
+    .expect("write script");
+    let output = view(&dir, &["--script", path.to_str().expect("utf-8")]);
+    assert_clean(&output);
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(
+        stdout.contains("trample as I walk on") && stdout.contains("trample as I walk off"),
+        "{}",
+        transcript(&output)
+    );
+    assert!(stdout.contains("collider at ") && stdout.contains("wind source at "), "{}", transcript(&output));
+    let load = |name: &str| Picture::load(&dir.join(name));
+    let (plain, trampled, again) = (load("plain.png"), load("trampled.png"), load("again.png"));
+    let changed = |a: &Picture, b: &Picture| 1.0 - compare_rgb(&a.rgb, &b.rgb, 8).0.within_fraction();
+    assert!(changed(&plain, &trampled) > 0.05, "trampling changed {:.3} of the picture", changed(&plain, &trampled));
+    assert!(changed(&plain, &again) < 0.001, "F7 off again left {:.3} changed", changed(&plain, &again));
+}

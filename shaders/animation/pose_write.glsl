@@ -1,6 +1,7 @@
 // What every pose pass of a blade response shares (`render::animation::pose_pass`): which blade
 // an invocation poses, and how a level's pose record is written (the format bindings.glsl gives).
-// The includer defines POSE_WRITER before including common/bindings.glsl.
+// The includer defines POSE_WRITER (or POSE_EDITOR, to read them too) before including
+// common/bindings.glsl.
 #ifndef MEADOW_POSE_WRITE_GLSL
 #define MEADOW_POSE_WRITE_GLSL
 #include "common/bindings.glsl"
@@ -50,6 +51,18 @@ void write_pose_level(uint base, uint level, vec3 unit, vec3 tangent, vec2 twist
         | (packSnorm4x8(vec4(0.0, 0.0, twist_cs)) & 0xffff0000u);
     poses[at + 2u] = packSnorm4x8(vec4(tangent, clamp(force, 0.0, 1.0)));
 }
+
+#ifdef POSE_EDITOR
+// Level `level` of the records at `base` as `write_pose_level` wrote it: its point over the blade's
+// height and POSE_SCALE, its twist's cos and sin, and its tangent with the force in w.
+void read_pose_level(uint base, uint level, out vec3 unit, out vec2 twist_cs, out vec4 tangent_force) {
+    uint at = base + level * POSE_WORDS;
+    uint w1 = poses[at + 1u];
+    unit = vec3(unpackSnorm2x16(poses[at]), unpackSnorm2x16(w1 & 0xffffu).x);
+    twist_cs = unpackSnorm4x8(w1).zw;
+    tangent_force = unpackSnorm4x8(poses[at + 2u]);
+}
+#endif
 
 // Whether a `segments`-segment strip reads model level `level` (`model_level`): every
 // MODEL_SEGMENTS / segments-th, or all of them when `segments` does not divide MODEL_SEGMENTS.

@@ -23,6 +23,9 @@
 // then the unit tangent and the force magnitude for the debug view (snorm8 x4).
 #ifdef POSE_WRITER
 layout(set = SET_POSES, binding = BINDING_POSES, std430) writeonly buffer Poses { uint poses[]; };
+#elif defined(POSE_EDITOR)
+// A pass that moves what a response wrote (animation/push_out.comp) reads and writes them.
+layout(set = SET_POSES, binding = BINDING_POSES, std430) buffer Poses { uint poses[]; };
 #else
 layout(set = SET_POSES, binding = BINDING_POSES, std430) readonly buffer Poses { uint poses[]; };
 #endif

@@ -308,26 +308,25 @@ pub fn calm(text: &str) -> Result<crate::wind::CalmArea, String> {
     Ok(crate::wind::CalmArea { min: Vec2::new(v[0], v[1]), max: Vec2::new(v[2], v[3]) })
 }
 
-/// `sphere:X,Y,Z,R` or `ellipsoid:X,Y,Z,RX,RY,RZ`, radii > 0.
+/// `sphere:X,Y,Z,R[,VX,VY,VZ]` or `ellipsoid:X,Y,Z,RX,RY,RZ[,VX,VY,VZ]`: radii > 0, an optional
+/// velocity in m/s (finite, as every number).
 pub fn collider(text: &str) -> Result<crate::wind::Collider, String> {
-    let (kind, rest) = text
-        .split_once(':')
-        .ok_or_else(|| format!("'{text}' is not sphere:X,Y,Z,R or ellipsoid:X,Y,Z,RX,RY,RZ", text = quoted(text)))?;
-    let (center, radii) = match kind {
-        "sphere" => {
-            let v = numbers(rest, &[4], "sphere:X,Y,Z,R")?;
-            (glam::Vec3::new(v[0], v[1], v[2]), glam::Vec3::splat(v[3]))
-        }
-        "ellipsoid" => {
-            let v = numbers(rest, &[6], "ellipsoid:X,Y,Z,RX,RY,RZ")?;
-            (glam::Vec3::new(v[0], v[1], v[2]), glam::Vec3::new(v[3], v[4], v[5]))
-        }
+    const SHAPES: &str = "sphere:X,Y,Z,R[,VX,VY,VZ] or ellipsoid:X,Y,Z,RX,RY,RZ[,VX,VY,VZ]";
+    let (kind, rest) = text.split_once(':').ok_or_else(|| format!("'{text}' is not {SHAPES}", text = quoted(text)))?;
+    let (v, radii_end) = match kind {
+        "sphere" => (numbers(rest, &[4, 7], "sphere:X,Y,Z,R[,VX,VY,VZ]")?, 4),
+        "ellipsoid" => (numbers(rest, &[6, 9], "ellipsoid:X,Y,Z,RX,RY,RZ[,VX,VY,VZ]")?, 6),
         other => return Err(format!("unknown collider '{other}': use sphere or ellipsoid", other = quoted(other))),
+    };
+    let radii = match radii_end {
+        4 => glam::Vec3::splat(v[3]),
+        _ => glam::Vec3::new(v[3], v[4], v[5]),
     };
     if radii.min_element() <= 0.0 {
         return Err(format!("collider radius in '{text}' must be positive", text = quoted(text)));
     }
-    Ok(crate::wind::Collider { center, radii })
+    let velocity = v.get(radii_end..).filter(|v| v.len() == 3).map_or(glam::Vec3::ZERO, glam::Vec3::from_slice);
+    Ok(crate::wind::Collider { center: glam::Vec3::new(v[0], v[1], v[2]), radii, velocity })
 }
 
 /// Keyframe poses over the full circle, 8..=1 000 000.
@@ -421,6 +420,20 @@ mod animation_tests {
         assert!(calm("1,0,0,1").is_err() && calm("0,0,1,1").is_ok());
         assert!(collider("sphere:0,0,0,0").is_err() && collider("cube:0,0,0,1").is_err());
         assert!(collider("ellipsoid:0,0.2,0,0.3,0.2,0.5").is_ok());
+        let moving = collider("sphere:1,0.3,2,0.3,1.5,0,-0.5").expect("a moving sphere");
+        assert_eq!(moving.velocity, glam::Vec3::new(1.5, 0.0, -0.5));
+        assert_eq!(moving.center_at(2.0), glam::Vec3::new(4.0, 0.3, 1.0));
+        let ellipsoid = collider("ellipsoid:0,0.2,0,0.3,0.2,0.5,0,0,1").expect("a moving ellipsoid");
+        assert_eq!((ellipsoid.radii, ellipsoid.velocity), (glam::Vec3::new(0.3, 0.2, 0.5), glam::Vec3::Z));
+        for bad in [
+            "sphere:0,0,0,NaN",
+            "sphere:0,0,0,-1",
+            "sphere:0,0,0,1,NaN,0,0",
+            "sphere:0,0,0,1,1",
+            "ellipsoid:0,0,0,1,1,1,1",
+        ] {
+            assert!(collider(bad).is_err(), "{bad}");
+        }
         assert!(poses("0").is_err() && poses("1000").is_ok());
         assert!(cluster_size("0").is_err() && cluster_size("inf").is_err());
         assert!(time("-1").is_err() && time("2.5").is_ok());

@@ -175,7 +175,7 @@ pub(crate) struct AnimationArgs {
     /// Calm area where the wind is blocked (thesis 5.1); repeatable.
     #[arg(long, value_name = "X0,Z0,X1,Z1", value_parser = values::calm, allow_hyphen_values = true)]
     pub(crate) calm: Vec<crate::wind::CalmArea>,
-    /// Collider pushing aside the part of each blade inside it (thesis 5.2 in 3-D; Y is a world height): sphere:X,Y,Z,R or ellipsoid:X,Y,Z,RX,RY,RZ; repeatable.
+    /// Collider pushing aside the part of each blade inside it (thesis 5.2 in 3-D; Y is a world height) and the blades out of it (Zhang Xia §6.2): sphere:X,Y,Z,R[,VX,VY,VZ] or ellipsoid:X,Y,Z,RX,RY,RZ[,VX,VY,VZ], moving at (VX, VY, VZ) m/s; repeatable.
     #[arg(long, value_name = "SHAPE", value_parser = values::collider, allow_hyphen_values = true)]
     pub(crate) collider: Vec<crate::wind::Collider>,
     /// Simulation time of the picture in seconds.

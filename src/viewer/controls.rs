@@ -43,6 +43,11 @@ impl CameraControl {
         true
     }
 
+    /// Whether key `name` is held down.
+    pub fn is_held(&self, name: &str) -> bool {
+        self.held.contains(name)
+    }
+
     /// The right button went down or up.
     pub fn look_button(&mut self, pressed: bool) {
         self.looking = pressed;

@@ -53,7 +53,16 @@ impl Viewer {
             self.needs_recreate = true;
         }
         event_loop.set_control_flow(ControlFlow::Poll);
-        self.render()?;
+        // F7's sphere under the eye, for this frame only (the panel and keys see the wind without it).
+        let trampler = self.trampler();
+        if let Some(sphere) = trampler {
+            self.renderer.as_mut().expect("renderer built").wind_mut().colliders.push(sphere);
+        }
+        let rendered = self.render();
+        if trampler.is_some() {
+            self.renderer.as_mut().expect("renderer built").wind_mut().colliders.pop();
+        }
+        rendered?;
         if self.options.frames.is_some_and(|n| self.frames >= n)
             || (self.options.script.is_some()
                 && self.script.is_empty()

@@ -1,9 +1,8 @@
-//! The viewer's keys and mouse clicks: named keys (from the window or a script) change the
-//! camera, wind, sources, colliders and render settings; a click drops a wind source.
+//! The viewer's keys: named keys (from the window or a script) change the camera, the wind and
+//! the render settings. What a click, the arrow keys and F7 place in the wind is `emitters`.
 
 use std::path::PathBuf;
 
-use glam::{Vec2, Vec3, Vec4};
 use winit::keyboard::KeyCode;
 
 use super::Viewer;
@@ -11,7 +10,6 @@ use crate::error::Result;
 use crate::keyframes::Smoothing;
 use crate::render::animation::sine::SinePhase;
 use crate::render::animation::{Eval, Mode};
-use crate::wind::{Collider, PointSource};
 
 /// The keys whose control changes pipelines or the scene (`rebuild_for`).
 const REBUILT_BY: [&str; 19] =
@@ -42,7 +40,9 @@ meadow viewer controls
   F5              blades in clumps on/off (--clumps, or 1.5 m)
   F6              flowers on/off (--flowers, or 20 per square metre)
   left click      drop a wind source (drag to move)   Delete  remove the last source
+  Shift + click   drop a collider sphere on the ground
   arrow keys      drive the collider sphere through the grass
+  F7              trample as I walk: a sphere on the ground under the eye pushes the grass aside
   V               force debug view       F                 wireframe
   X               cluster bounds view    T                 LOD / tile / Fresnel / cover view
   O               GPU culling / brute force             Y  LOD on/off
@@ -101,27 +101,10 @@ impl Viewer {
             "delete" => {
                 wind.sources.pop();
             }
-            "up" | "down" | "left" | "right" => {
-                if wind.colliders.is_empty() && emitters_full(wind) {
-                    return Ok(());
-                }
-                if wind.colliders.is_empty() {
-                    let p = self.control.camera.position + self.control.camera.forward() * 3.0;
-                    let ground = self.scene.ground(p.x, p.z);
-                    wind.colliders
-                        .push(Collider { center: Vec3::new(p.x, ground + 0.3, p.z), radii: Vec3::splat(0.3) });
-                }
-                let forward = self.control.camera.forward();
-                let flat = Vec3::new(forward.x, 0.0, forward.z).normalize_or_zero();
-                let step = match name {
-                    "up" => flat,
-                    "down" => -flat,
-                    "right" => flat.cross(Vec3::Y),
-                    _ => -flat.cross(Vec3::Y),
-                } * 0.25;
-                let c = wind.colliders.last_mut().expect("one collider");
-                c.center += step;
-                c.center.y = self.scene.ground(c.center.x, c.center.z) + c.radii.y;
+            "up" | "down" | "left" | "right" => self.drive_collider(name),
+            "f7" => {
+                self.trample = !self.trample;
+                println!("trample as I walk {}", if self.trample { "on" } else { "off" });
             }
             "z" => self.toggle_cull_freeze(),
             "f1" => self.toggle_overlay(),
@@ -216,64 +199,6 @@ impl Viewer {
         }
         Ok(())
     }
-
-    /// Left click at a pixel: drop a wind source where the ray hits the terrain.
-    pub(super) fn click(&mut self, x: f64, y: f64) {
-        if let Some(hit) = self.pick(x, y) {
-            let wind = self.renderer.as_mut().expect("renderer built").wind_mut();
-            if emitters_full(wind) {
-                return;
-            }
-            wind.sources.push(PointSource {
-                position: hit,
-                power: 0.12,
-                sigma: 2.0,
-                velocity: Vec2::ZERO,
-                height: 0.5,
-            });
-            self.dragging = true;
-            println!("wind source at {:.1}, {:.1}", hit.x, hit.y);
-        }
-    }
-
-    /// The terrain point under a pixel, marching the view ray.
-    pub(super) fn pick(&self, x: f64, y: f64) -> Option<Vec2> {
-        let extent = self.surface.as_ref()?.swapchain.extent;
-        let ndc = Vec2::new(
-            (2.0 * x / f64::from(extent.width) - 1.0) as f32,
-            (2.0 * y / f64::from(extent.height) - 1.0) as f32,
-        );
-        let inverse = self.control.camera.view_projection(extent.width as f32 / extent.height as f32).inverse();
-        let unproject = |z: f32| {
-            let p = inverse * Vec4::new(ndc.x, ndc.y, z, 1.0);
-            p.truncate() / p.w
-        };
-        // Any two depths give the ray: the picking does not depend on the drawn near plane.
-        let (near, mid) = (unproject(1.0), unproject(0.5));
-        let direction = (mid - near).normalize();
-        // Out to the ground's extent, in steps of 5 cm near the eye that grow with the distance
-        // (0.25 % of it: 2.5 m at 1 km, a pixel's footprint at the landscape camera's angle).
-        let (reach, mut travelled) = (self.settings.culling.view_distance, 0.0);
-        let mut p = near;
-        while travelled < reach {
-            let step = (0.0025 * travelled).max(0.05);
-            p += direction * step;
-            travelled += step;
-            if p.y <= self.scene.ground(p.x, p.z) {
-                return Some(Vec2::new(p.x, p.z));
-            }
-        }
-        None
-    }
-}
-
-/// Whether the emitter buffers hold no more sources or colliders; says so when they are full.
-fn emitters_full(wind: &crate::wind::Wind) -> bool {
-    let full = wind.sources.len() + wind.colliders.len() >= crate::render::animation::MAX_EMITTERS;
-    if full {
-        println!("at most {} sources and colliders", crate::render::animation::MAX_EMITTERS);
-    }
-    full
 }
 
 /// + / −: one segment more or fewer, the LOD buckets halving from the new count.
@@ -318,10 +243,10 @@ fn toggle_culling(culling: &mut crate::render::culling::Culling, key: &str) {
 }
 
 /// Every key name the viewer acts on (what `key_name` returns), for scripts to check against.
-pub(super) const KEY_NAMES: [&str; 44] = [
-    "[", "]", "a", "b", "c", "d", "delete", "down", "e", "escape", "f", "f1", "f12", "f2", "f3", "f4", "f5", "f6", "g",
-    "h", "i", "j", "k", "l", "left", "m", "minus", "n", "o", "p", "plus", "q", "r", "right", "s", "shift", "t", "u",
-    "up", "v", "w", "x", "y", "z",
+pub(super) const KEY_NAMES: [&str; 45] = [
+    "[", "]", "a", "b", "c", "d", "delete", "down", "e", "escape", "f", "f1", "f12", "f2", "f3", "f4", "f5", "f6",
+    "f7", "g", "h", "i", "j", "k", "l", "left", "m", "minus", "n", "o", "p", "plus", "q", "r", "right", "s", "shift",
+    "t", "u", "up", "v", "w", "x", "y", "z",
 ];
 
 /// Name of a key as the help and scripts spell it.
@@ -365,6 +290,7 @@ pub(super) fn key_name(code: KeyCode) -> Option<&'static str> {
         KeyCode::F4 => "f4",
         KeyCode::F5 => "f5",
         KeyCode::F6 => "f6",
+        KeyCode::F7 => "f7",
         KeyCode::Delete | KeyCode::Backspace => "delete",
         KeyCode::ArrowUp => "up",
         KeyCode::ArrowDown => "down",

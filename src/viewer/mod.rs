@@ -3,6 +3,7 @@
 //! controls; stats; a script for reproducible sessions.
 
 pub mod controls;
+mod emitters;
 mod events;
 mod keys;
 mod outputs;
@@ -30,7 +31,7 @@ use crate::render::graph::Outputs;
 use crate::render::{RenderSettings, Renderer};
 use crate::scene::Scene;
 use crate::vk::swapchain::{swapchain_counts, PresentMode, Swapchain};
-use crate::vk::{Buffer, BufferDesc, Device, Guard, Image, ImageDesc, Resource, SurfaceGuard};
+use crate::vk::{Device, Guard, Image, ImageDesc, Resource, SurfaceGuard};
 use crate::wind::CalmArea;
 use controls::CameraControl;
 use script::Script;
@@ -130,6 +131,8 @@ struct Viewer {
     control: CameraControl,
     script: Script,
     calm_off: Option<Vec<CalmArea>>,
+    /// F7: a sphere under the eye tramples the grass (`emitters`, added for each frame).
+    trample: bool,
     /// F4's slope limit, in degrees (`--slope-limit`, or `keys::DEFAULT_SLOPE_LIMIT_DEG`).
     slope_limit_deg: f32,
     /// F5's clump size, in metres (`--clumps`, or `keys::DEFAULT_CLUMP_SIZE_M`).
@@ -205,6 +208,7 @@ impl Viewer {
             control: CameraControl::new(camera),
             script: options.script.clone().unwrap_or_default(),
             calm_off: None,
+            trample: false,
             slope_limit_deg: o.landscape.slope_limit_deg.unwrap_or(keys::DEFAULT_SLOPE_LIMIT_DEG),
             clump_size_m: o.clumps.map_or(keys::DEFAULT_CLUMP_SIZE_M, |c| c.size_m),
             flowers_per_m2: o.flowers.map_or(keys::DEFAULT_FLOWERS_PER_M2, |f| f.per_m2),
@@ -384,31 +388,6 @@ impl Viewer {
         self.needs_recreate = false;
         self.recreations += 1;
         Ok(())
-    }
-
-    /// The host-visible buffer a requested screenshot is copied into. Allocated before the image
-    /// is acquired: a failure must not strand an acquired image.
-    fn screenshot_buffer(&self) -> Result<Option<Buffer>> {
-        Ok(match (&self.screenshot, &self.surface) {
-            (Some(path), Some(surface)) if !surface.swapchain.screenshots => {
-                return Err(Error::Environment(format!(
-                    "screenshot {}: this surface's images cannot be copied (no TRANSFER_SRC usage)",
-                    path.display()
-                )));
-            }
-            (Some(_), Some(surface)) => {
-                let e = surface.swapchain.extent;
-                Some(Buffer::new(
-                    &self.device,
-                    &BufferDesc::readback(
-                        "screenshot",
-                        4 * u64::from(e.width) * u64::from(e.height),
-                        vk::BufferUsageFlags::TRANSFER_DST,
-                    ),
-                )?)
-            }
-            _ => None,
-        })
     }
 
     /// Destroy `deletion` once the frames submitted so far have finished (now without a renderer:

@@ -65,6 +65,7 @@ impl Viewer {
             paused: self.paused,
             slowed: self.clock.slowed().then_some(self.clock.clock().dt),
             walk: self.control.walk,
+            trample: self.trample,
             slope_limit: (o.scene.landscape.slope_limit_deg.is_some(), self.slope_limit_deg),
             clumps: (o.scene.clumps.is_some(), self.clump_size_m),
             flowers: (o.scene.flowers.is_some(), self.flowers_per_m2),

@@ -14,6 +14,7 @@ pub mod keyframe_gpu;
 pub mod keyframed;
 pub mod pose_pass;
 pub mod poses;
+pub mod push_out;
 pub mod response;
 pub mod sine;
 pub mod still;
@@ -231,7 +232,7 @@ pub fn corner_forces_at(
 }
 
 /// The emitters of a frame: point sources at their positions at `time` as (x, z, power, sigma),
-/// then each collider as two elements, its centre (x, y, z, 0) and its radii (x, y, z, 0). At
+/// then each collider as two elements, its centre at `time` (x, y, z, 0) and its radii (x, y, z, 0). At
 /// least one element (a buffer cannot be empty); the shader reads only as many as the uniforms
 /// count.
 pub fn emitters(wind: &Wind, time: f32) -> Vec<Vec4> {
@@ -242,7 +243,7 @@ pub fn emitters(wind: &Wind, time: f32) -> Vec<Vec4> {
             let p = s.position_at(time);
             Vec4::new(p.x, p.y, s.power, s.sigma)
         })
-        .chain(wind.colliders.iter().flat_map(|c| [c.center.extend(0.0), c.radii.extend(0.0)]))
+        .chain(wind.colliders.iter().flat_map(|c| [c.center_at(time).extend(0.0), c.radii.extend(0.0)]))
         .collect();
     if out.is_empty() {
         out.push(Vec4::ZERO);

@@ -26,8 +26,8 @@ use crate::vk::Device;
 use crate::wind::Wind;
 
 /// The emitters of a frame relative to `origin`, differenced in f64: point sources at their
-/// positions at `time` as (x, z, power, sigma), then each collider as two elements, its centre
-/// (x, y, z, 0; y a world height) and its radii (x, y, z, 0); the first `MAX_EMITTERS` emitters
+/// positions at `time` as (x, z, power, sigma), then each collider as two elements, its centre at
+/// `time` (x, y, z, 0; y a world height) and its radii (x, y, z, 0); the first `MAX_EMITTERS` emitters
 /// (`animation::emitter_counts`), at least one element (a buffer cannot be empty).
 pub fn emitters_relative(wind: &Wind, origin: DVec2, time: f64) -> Vec<Vec4> {
     let relative = |p: DVec2| (p - origin).as_vec2();
@@ -38,8 +38,9 @@ pub fn emitters_relative(wind: &Wind, origin: DVec2, time: f64) -> Vec<Vec4> {
         .take(sources as usize)
         .map(|s| relative(s.position_f64(time)).extend(s.power).extend(s.sigma))
         .chain(wind.colliders.iter().take(colliders as usize).flat_map(|c| {
-            let centre = relative(DVec2::new(c.center.x.into(), c.center.z.into()));
-            [Vec4::new(centre.x, c.center.y, centre.y, 0.0), c.radii.extend(0.0)]
+            let at = c.center_f64(time);
+            let centre = relative(DVec2::new(at.x, at.z));
+            [Vec4::new(centre.x, at.y as f32, centre.y, 0.0), c.radii.extend(0.0)]
         }))
         .collect();
     if out.is_empty() {

@@ -88,6 +88,8 @@ pub struct UiView<'a> {
     pub slowed: Option<f64>,
     /// The camera walks on the ground (G).
     pub walk: bool,
+    /// A sphere under the eye tramples the grass (F7).
+    pub trample: bool,
     /// Calm areas are on (C).
     pub calm: bool,
     /// The slope limit is on (F4), and its degrees.
@@ -348,6 +350,7 @@ pub fn view(ui: &mut Ui, view: &UiView, out: &mut PanelOutput) {
         ui.label(format!("simulation slowed: {steps} steps of {:.1} ms a frame at most", dt * 1e3));
     }
     toggle(ui, out, "g", view.walk, "walk on the ground");
+    toggle(ui, out, "f7", view.trample, "trample as I walk");
     let (on, degrees) = view.slope_limit;
     toggle(ui, out, "f4", on, &format!("slope limit {degrees}° (steep ground bare)"));
     let (on, mut size) = view.clumps;

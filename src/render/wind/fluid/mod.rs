@@ -194,10 +194,11 @@ pub fn fill_params(params: &mut Params, grid: &FluidGrid, (first, base): (I64Vec
     }
     let colliders: Vec<_> = wind.colliders.iter().take(MAX_COLLIDERS).collect();
     for (i, c) in colliders.iter().enumerate() {
-        let at = DVec2::new(f64::from(c.center.x), f64::from(c.center.z));
+        let centre = c.center_f64(input.time);
+        let at = DVec2::new(centre.x, centre.z);
         let ground = input.ground.map_or(0.0, |g| g.height(at.x, at.y));
         let p = (at - o).as_vec2();
-        params.fluid_colliders[2 * i] = [p.x, (f64::from(c.center.y) - ground) as f32, p.y, 0.0];
+        params.fluid_colliders[2 * i] = [p.x, (centre.y - ground) as f32, p.y, 0.0];
         params.fluid_colliders[2 * i + 1] = c.radii.extend(0.0).to_array();
     }
     params.fluid_counts = [wind.sources.len().min(MAX_SOURCES) as u32, colliders.len() as u32, 0, 0];

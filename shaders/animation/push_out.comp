@@ -1,0 +1,97 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// Push-out (Zhang Xia §6.2; `render::animation::push_out`): after the blade response's pose pass,
+// over the same blades (the cull's LOD buckets and the posed classes' buckets, or every stored
+// blade), each blade whose root lies inside a collider's ground circle has its recorded backbone
+// moved out of the collider (animation/push_out.glsl), whichever response wrote it, stateless or
+// stateful. A blade no collider's circle holds is left to the bit; so is every level below the
+// first one moved. The pass declares nothing (is not recorded) on frames with no collider.
+#define POSE_EDITOR
+// The collider count decides the loops: read the frame as storage (bindings.glsl says why).
+#define FRAME_FROM_STORAGE
+#include "common/bindings.glsl"
+#include "animation/pose_write.glsl"
+#include "animation/push_out.glsl"
+
+layout(local_size_x = POSE_GROUP) in;
+
+// Whether the ground circle of the collider at emitter `e` holds `root` (Zhang Xia's step 2).
+bool circle_holds(uint e, vec3 root) {
+    vec2 q = (root.xz - emitters[e].xz) / emitters[e + 1u].xz;
+    return dot(q, q) < 1.0;
+}
+
+// Blade `record`'s recorded backbone walked out of every collider whose ground circle holds its
+// root; the levels from the first one moved written again.
+void push_blade(uint record, BladeInstance blade, uint first, uint colliders) {
+    // The recorded backbone in the world (relative to the origin, as the emitters are).
+    vec3 across = vec3(cos(blade.facing), 0.0, -sin(blade.facing));
+    vec3 normal_dir = vec3(sin(blade.facing), 0.0, cos(blade.facing));
+    float scale = POSE_SCALE * max(blade.height, 1e-6);
+    uint base = pose_base(record);
+    vec3 points[MAX_SEGMENTS + 1u];
+    vec2 twists[MAX_SEGMENTS + 1u];
+    float forces[MAX_SEGMENTS + 1u];
+    for (uint level = 0u; level <= MODEL_SEGMENTS; level++) {
+        points[level] = blade.position;
+        twists[level] = vec2(1.0, 0.0);
+        forces[level] = 0.0;
+        if (level_read(level)) {
+            vec3 unit;
+            vec4 tangent_force;
+            read_pose_level(base, level, unit, twists[level], tangent_force);
+            vec3 local = unit * scale;
+            points[level] = blade.position + across * local.x + vec3(0.0, local.y, 0.0) + normal_dir * local.z;
+            forces[level] = tangent_force.w;
+        }
+    }
+    uint moved = MODEL_SEGMENTS + 1u;
+    for (uint i = 0u; i < colliders; i++) {
+        uint e = first + 2u * i;
+        uint from;
+        if (circle_holds(e, blade.position) && push_out_points(points, emitters[e].xyz, emitters[e + 1u].xyz, from)) {
+            moved = min(moved, from);
+        }
+    }
+    // The moved levels again, their tangents from the read levels either side.
+    float inv = 1.0 / scale;
+    uint below = 0u;
+    for (uint level = 1u; level <= MODEL_SEGMENTS; level++) {
+        if (!level_read(level)) {
+            continue;
+        }
+        uint above = level;
+        for (uint next = MODEL_SEGMENTS; next > level; next--) {
+            above = level_read(next) ? next : above;
+        }
+        if (level >= moved) {
+            vec3 t = points[above] - points[below];
+            t = length(t) > 0.0 ? normalize(t) : vec3(0.0, 1.0, 0.0);
+            vec3 offset = points[level] - blade.position;
+            vec3 local = vec3(dot(offset, across), offset.y, dot(offset, normal_dir));
+            vec3 tangent = vec3(dot(t, across), t.y, dot(t, normal_dir));
+            write_pose_level(base, level, local * inv, tangent, twists[level], forces[level]);
+        }
+        below = level;
+    }
+}
+
+void main() {
+    uint record;
+    uvec2 entry;
+    BladeInstance blade;
+    uint blade_index;
+    bool posed = posed_blade(record, entry, blade, blade_index);
+    uint first = frame.wind_counts.x;
+    uint colliders = frame.wind_counts.y;
+    bool held = false;
+    for (uint i = 0u; i < colliders; i++) {
+        held = held || (posed && circle_holds(first + 2u * i, blade.position));
+    }
+    // llvmpipe runs a branch's body under a mask even when no lane takes it (1.1 ms of this pass
+    // at the default scene with no blade held), but leaves a loop once no lane is in it: the walk
+    // is a loop of at most one turn, which a group of lanes no circle holds skips.
+    for (uint turn = held ? 0u : 1u; turn < 1u; turn++) {
+        push_blade(record, blade, first, colliders);
+    }
+}
