@@ -74,6 +74,8 @@ pictures: build
 	$(MEADOW) render --field infinite --flowers 20 --camera 0,3,0,0,-25 --size 960x540 --out docs/landscape-flowers.png
 	$(MEADOW) render --field infinite --camera 20,9,40,30,-22 --size 960x540 --fog 0.002 --heightmap assets/landscape/heightmap.png \
 		--cover assets/landscape/cover.png --terrain-scale 200,12,200 --flowers 100 --out docs/landscape-meadows.png
+	for t in 1 2.5 6 14; do $(MEADOW) render --blades 20000 --camera 2.2,1.1,1.0,62,-28 --size 320x240 \
+		--collider sphere:-2.5,0.35,0,0.45,1.5,0,0 --recovery-s 8 --time $$t --out docs/trail-$$t.png || exit 1; done
 	xvfb-run -a -s "-screen 0 1280x720x24" $(MEADOW) view --size 960x540 --script scripts/viewer/showcase.txt
 
 # The benchmark results and charts in docs/ (docs/benchmarks.md, docs/gpu-timing.md): over half an

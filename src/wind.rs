@@ -337,6 +337,9 @@ pub struct Wind {
     pub calm: Vec<CalmArea>,
     /// Colliders.
     pub colliders: Vec<Collider>,
+    /// Cutters (`--cut`): colliders that push nothing but cut the blades they sweep to a stub,
+    /// which regrow (`render::animation::pressed`).
+    pub cuts: Vec<Collider>,
 }
 
 impl Wind {

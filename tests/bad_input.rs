@@ -126,6 +126,20 @@ fn animation_inputs() {
     refused("dt-0", &["--dt", "0"], "must be above 0");
     refused("dt-negative", &["--dt", "-0.01"], "must be above 0");
     refused("dt-nan", &["--dt", "NaN"], "not a finite number");
+    // The pressed map (issue 34): recovery and regrowth above 0 and finite; 64 colliders and
+    // cuts together; each only where it has an effect.
+    refused("recovery-0", &["--collider", "sphere:0,0.2,0,0.3", "--recovery-s", "0"], "must be above 0");
+    refused("recovery-negative", &["--collider", "sphere:0,0.2,0,0.3", "--recovery-s", "-2"], "must be above 0");
+    refused("recovery-nan", &["--collider", "sphere:0,0.2,0,0.3", "--recovery-s", "NaN"], "not a finite number");
+    refused("regrow-0", &["--cut", "sphere:0,0.2,0,0.3", "--regrow-s", "0"], "must be above 0");
+    refused("regrow-negative", &["--cut", "sphere:0,0.2,0,0.3", "--regrow-s", "-1"], "must be above 0");
+    refused("regrow-nan", &["--cut", "sphere:0,0.2,0,0.3", "--regrow-s", "NaN"], "not a finite number");
+    refused("cut-radius-nan", &["--cut", "sphere:0,0.2,0,NaN"], "not a finite number");
+    let cuts: Vec<&str> = (0..65).flat_map(|_| ["--cut", "sphere:0,0.2,0,0.3"]).collect();
+    refused("cuts-over-64", &cuts, "65 colliders and cuts: at most 64 together");
+    refused("recovery-without-collider", &["--recovery-s", "5"], "no --collider");
+    refused("regrow-without-cut", &["--regrow-s", "5"], "no --cut");
+    refused("cut-per-vertex", &["--cut", "sphere:0,0.2,0,0.3", "--eval", "vertex"], "posed per vertex or neutral");
     refused("dt-over-1-15", &["--dt", "0.1"], "over 1/15 s");
     refused("dt-fraction-over", &["--dt", "1/10"], "over 1/15 s");
     refused("poses-over-texture", &["--poses", "1000000"], "maxImageDimension2D");

@@ -100,6 +100,11 @@ const RENDER_CASES: &[Case] = &[
     ("source", &[alt(&["--source", "0,0,3,1"])]),
     ("calm", &[alt(&["--calm", "-9,-9,9,9"])]),
     ("collider", &[alt(&["--collider", "sphere:0,0,0,1.2"])]),
+    ("cut", &[alt(&["--cut", "sphere:0,0,0,1.2"])]),
+    // A sphere rolling across the field leaves a trail that recovers, or a cut that regrows, the
+    // faster the shorter the time.
+    ("recovery_s", &[with(&["--collider", "sphere:-1,0,0,0.6,1,0,0", "--time", "2"], &["--recovery-s", "0.5"])]),
+    ("regrow_s", &[with(&["--cut", "sphere:-1,0,0,0.6,1,0,0", "--time", "2"], &["--regrow-s", "1"])]),
     ("time", &[alt(&["--time", "2.5"])]),
     // A frame draws the last completed step: at 0.03 s, step 1 of 1/60 s, step 0 of 1/20 s.
     ("dt", &[alt(&["--dt", "1/20"]), with(&["--time", "0.03"], &["--dt", "1/20"])]),

@@ -157,6 +157,7 @@ fn gpu_blade_forces_equal_the_cpu_reference() {
         }],
         calm: vec![CalmArea { min: Vec2::new(-1.0, 0.5), max: Vec2::new(0.5, 1.5) }],
         colliders: vec![Collider::at_rest(glam::Vec3::new(-1.0, 0.2, -1.0), glam::Vec3::new(0.3, 0.2, 0.5))],
+        cuts: Vec::new(),
     };
     let (result, messages) = with_device(&options(), false, |device| {
         for attenuation in [Attenuation::Cluster, Attenuation::Blade] {

@@ -43,6 +43,7 @@ fn wind_around(at: Vec2) -> Wind {
         ],
         calm: vec![CalmArea { min: at + Vec2::new(-3.0, -3.0), max: at + Vec2::new(-1.0, -0.5) }],
         colliders: vec![Collider::at_rest(Vec3::new(at.x + 0.6, 0.2, at.y + 1.4), Vec3::new(0.9, 0.3, 1.2))],
+        cuts: Vec::new(),
     }
 }
 

@@ -4,14 +4,17 @@
 // over the same blades (the cull's LOD buckets and the posed classes' buckets, or every stored
 // blade), each blade whose root lies inside a collider's ground circle has its recorded backbone
 // moved out of the collider (animation/push_out.glsl), whichever response wrote it, stateless or
-// stateful. A blade no collider's circle holds is left to the bit; so is every level below the
-// first one moved. The pass declares nothing (is not recorded) on frames with no collider.
+// stateful. Before that, the pressed map's bend and cut (animation/pressed.glsl) are applied to
+// every blade whose cell holds one. A blade neither touches is left to the bit; so is every level
+// below the first one moved. The pass declares nothing (is not recorded) on frames with no
+// collider and a map that reads as empty.
 #define POSE_EDITOR
 // The collider count decides the loops: read the frame as storage (bindings.glsl says why).
 #define FRAME_FROM_STORAGE
 #include "common/bindings.glsl"
 #include "animation/pose_write.glsl"
 #include "animation/push_out.glsl"
+#include "animation/pressed.glsl"
 
 layout(local_size_x = POSE_GROUP) in;
 
@@ -23,7 +26,7 @@ bool circle_holds(uint e, vec3 root) {
 
 // Blade `record`'s recorded backbone walked out of every collider whose ground circle holds its
 // root; the levels from the first one moved written again.
-void push_blade(uint record, BladeInstance blade, uint first, uint colliders) {
+void push_blade(uint record, BladeInstance blade, uint first, uint colliders, vec3 pressed) {
     // The recorded backbone in the world (relative to the origin, as the emitters are).
     vec3 across = vec3(cos(blade.facing), 0.0, -sin(blade.facing));
     vec3 normal_dir = vec3(sin(blade.facing), 0.0, cos(blade.facing));
@@ -46,6 +49,11 @@ void push_blade(uint record, BladeInstance blade, uint first, uint colliders) {
         }
     }
     uint moved = MODEL_SEGMENTS + 1u;
+    // The pressed map's bend and cut first (render::animation::pressed), then the colliders.
+    if (pressed.z < 1.0 || dot(pressed.xy, pressed.xy) > 1e-10) {
+        press_points(points, pressed);
+        moved = 1u;
+    }
     for (uint i = 0u; i < colliders; i++) {
         uint e = first + 2u * i;
         uint from;
@@ -88,10 +96,15 @@ void main() {
     for (uint i = 0u; i < colliders; i++) {
         held = held || (posed && circle_holds(first + 2u * i, blade.position));
     }
+    vec3 pressed = vec3(0.0, 0.0, 1.0);
+    if (pressed_counts.y != 0u && posed) {
+        pressed = pressed_at(blade.position.xz);
+    }
+    held = held || pressed.z < 1.0 || dot(pressed.xy, pressed.xy) > 1e-10;
     // llvmpipe runs a branch's body under a mask even when no lane takes it (1.1 ms of this pass
     // at the default scene with no blade held), but leaves a loop once no lane is in it: the walk
     // is a loop of at most one turn, which a group of lanes no circle holds skips.
     for (uint turn = held ? 0u : 1u; turn < 1u; turn++) {
-        push_blade(record, blade, first, colliders);
+        push_blade(record, blade, first, colliders, pressed);
     }
 }

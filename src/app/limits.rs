@@ -131,6 +131,12 @@ pub fn check_scene(
     if emitters > MAX_EMITTERS {
         return Err(Error::bad_input(format!("{emitters} sources and colliders: at most {MAX_EMITTERS} together")));
     }
+    // The pressed map sweeps the colliders and the cuts each frame (`render::animation::pressed`).
+    let (sweeps, most) =
+        (animation.wind.colliders.len() + animation.wind.cuts.len(), crate::render::animation::pressed::MAX_SWEEPS);
+    if sweeps > most {
+        return Err(Error::bad_input(format!("{sweeps} colliders and cuts: at most {most} together")));
+    }
     let (calm, most) = (animation.wind.calm.len(), crate::render::wind::analytic::MAX_CALM_AREAS);
     if calm > most {
         return Err(Error::bad_input(format!("{calm} calm areas: at most {most}")));

@@ -178,6 +178,15 @@ pub(crate) struct AnimationArgs {
     /// Collider pushing aside the part of each blade inside it (thesis 5.2 in 3-D; Y is a world height) and the blades out of it (Zhang Xia §6.2): sphere:X,Y,Z,R[,VX,VY,VZ] or ellipsoid:X,Y,Z,RX,RY,RZ[,VX,VY,VZ], moving at (VX, VY, VZ) m/s; repeatable.
     #[arg(long, value_name = "SHAPE", value_parser = values::collider, allow_hyphen_values = true)]
     pub(crate) collider: Vec<crate::wind::Collider>,
+    /// Cutter: a sphere or ellipsoid (the shapes of --collider, optionally moving) that cuts the blades it sweeps to a stub, which regrow over --regrow-s; repeatable.
+    #[arg(long, value_name = "SHAPE", value_parser = values::collider, allow_hyphen_values = true)]
+    pub(crate) cut: Vec<crate::wind::Collider>,
+    /// Seconds a trampled blade takes to come back to 5 % of its pressed displacement (a critically damped spring).
+    #[arg(long, value_name = "SECONDS", default_value = "20", value_parser = values::positive_f32, allow_hyphen_values = true)]
+    pub(crate) recovery_s: f32,
+    /// Seconds a cut blade takes to regrow to its full length.
+    #[arg(long, value_name = "SECONDS", default_value = "30", value_parser = values::positive_f32, allow_hyphen_values = true)]
+    pub(crate) regrow_s: f32,
     /// Simulation time of the picture in seconds.
     #[arg(long, default_value = "0", value_parser = values::time, allow_hyphen_values = true)]
     pub(crate) time: f32,
@@ -232,12 +241,17 @@ impl AnimationArgs {
                 sources: self.source.clone(),
                 calm: self.calm.clone(),
                 colliders: self.collider.clone(),
+                cuts: self.cut.clone(),
             },
             wind_field: self.wind_field.kind(),
             fluid: crate::wind::FluidGrid { dims: self.fluid_grid, cell: self.fluid_cell },
             clock: crate::render::animation::clock::StepClock { dt: self.dt },
             verlet: crate::render::animation::verlet::VerletParams { stiffness: self.stiffness, damping: self.damping },
             chain: crate::render::animation::chain::ChainParams { stiffness: self.stiffness, damping: self.damping },
+            pressed: crate::render::animation::pressed::PressedParams {
+                recovery_s: self.recovery_s,
+                regrow_s: self.regrow_s,
+            },
         }
     }
 }

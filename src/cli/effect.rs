@@ -94,6 +94,25 @@ impl<'a> Given<'a> {
         matches!(self.debug_view(), Some(DebugViewArg::Force | DebugViewArg::Bounds | DebugViewArg::Wind))
     }
 
+    /// Whether the blades are posed from pose records, which the pressed map and push-out act on:
+    /// every response but static blades and the keyframes per vertex (`--eval vertex`, or `auto`
+    /// with `--brute-force`).
+    fn pose_records(&self) -> bool {
+        use crate::cli::animation::EvalArg;
+        if matches!(self.mode(), Some(ModeArg::Floor | ModeArg::Static)) {
+            return false;
+        }
+        match self.animation() {
+            Some(AnimationArg::Static) => false,
+            Some(AnimationArg::Keyframes) | None => match self.one::<EvalArg>("eval") {
+                Some(EvalArg::Blade) => true,
+                Some(EvalArg::Vertex) => false,
+                _ => !self.flag("brute_force"),
+            },
+            Some(_) => true,
+        }
+    }
+
     fn cull(&self) -> Vec<CullTest> {
         self.many("cull")
     }

@@ -21,6 +21,8 @@ pub const BLADE_LEVELS_COMP: Shader = spirv_shader!("blades/blade_levels.comp");
 pub const BLADE_POSE_COMP: Shader = spirv_shader!("animation/blade_pose.comp");
 /// Push-out (Zhang Xia §6.2, `render::animation::push_out`): recorded backbones moved out of the colliders.
 pub const PUSH_OUT_COMP: Shader = spirv_shader!("animation/push_out.comp");
+/// The pressed map's press pass (`render::animation::pressed`): colliders and cuts swept into it.
+pub const PRESS_COMP: Shader = spirv_shader!("animation/press.comp");
 /// Pelzer's sine animation (`render::animation::sine`), its phase per object: pose records.
 pub const SINE_COMP: Shader = spirv_shader!("animation/sine.comp");
 /// The same, its phase per vertex (the variant `vertex`).

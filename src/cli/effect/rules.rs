@@ -12,7 +12,6 @@ use crate::render::submission::Strategy;
 pub(super) const SCENE: &[&str] = &["render", "view", "timing"];
 /// The scene subcommands with a submission strategy (`SubmissionArgs`).
 const SUBMITTED: &[&str] = &["render", "timing"];
-
 /// The keyframe flags: what the keyframe table is and where it is evaluated.
 const KEYFRAME_FLAGS: &[&str] = &["poses", "smoothing", "encoding", "packing", "keyframes", "eval"];
 /// The keyframe flags and the keyframe table's place (`--mode texture|uniform`), which only
@@ -166,6 +165,30 @@ pub(crate) const RULES: &[Rule] = &[
         with: "--wind-field perlin",
         when: |g| g.wind_field() == Some(crate::cli::animation::WindFieldArg::Perlin),
         why: "the gusts are the analytic field's; the Perlin field's noise takes the global wind's place",
+    },
+    Rule {
+        flags: &["cut", "recovery_s", "regrow_s"],
+        subject: None,
+        commands: SCENE,
+        with: "blades posed per vertex or neutral (--eval vertex, --brute-force's keyframes, static blades, the floor)",
+        when: |g| !g.pose_records(),
+        why: "the pressed map bends and cuts the blades' pose records, which those do not write",
+    },
+    Rule {
+        flags: &["recovery_s"],
+        subject: None,
+        commands: SUBMITTED,
+        with: "no --collider",
+        when: |g| !g.given("collider"),
+        why: "it times how trampled blades recover, and nothing tramples them (the viewer's Shift + click and F7 can)",
+    },
+    Rule {
+        flags: &["regrow_s"],
+        subject: None,
+        commands: SCENE,
+        with: "no --cut",
+        when: |g| !g.given("cut"),
+        why: "it times how cut blades regrow, and nothing cuts them",
     },
     Rule {
         flags: &["fluid_grid", "fluid_cell"],

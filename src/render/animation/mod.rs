@@ -14,6 +14,7 @@ pub mod keyframe_gpu;
 pub mod keyframed;
 pub mod pose_pass;
 pub mod poses;
+pub mod pressed;
 pub mod push_out;
 pub mod response;
 pub mod sine;
@@ -156,6 +157,8 @@ pub struct AnimationSettings {
     pub verlet: verlet::VerletParams,
     /// The inertial chains' constants (`--stiffness`, `--damping`).
     pub chain: chain::ChainParams,
+    /// The pressed map's recovery and regrowth (`--recovery-s`, `--regrow-s`).
+    pub pressed: pressed::PressedParams,
 }
 
 impl Default for AnimationSettings {
@@ -176,6 +179,7 @@ impl Default for AnimationSettings {
             clock: clock::StepClock::default(),
             verlet: verlet::VerletParams::default(),
             chain: chain::ChainParams::default(),
+            pressed: pressed::PressedParams::default(),
         }
     }
 }

@@ -19,7 +19,8 @@ use ash::vk;
 use glam::Vec3;
 
 use crate::error::Result;
-use crate::render::animation::pose_pass::{PosePass, PoseShader};
+use crate::render::animation::pose_pass::{PosePass, PoseShader, PoseUniforms};
+use crate::render::animation::pressed::MapReader;
 use crate::render::animation::response::ResponseSetup;
 use crate::render::graph::{Declaration, Pass, PassContext};
 use crate::render::shaders;
@@ -28,20 +29,31 @@ use crate::vk::{Access, Device, Resource};
 /// The push-out pass: a pose pass of its own shader that reads and writes the records.
 pub struct PushOutPass {
     inner: PosePass,
+    map: MapReader,
 }
 
 impl PushOutPass {
-    /// Build it over the blades `setup`'s pose passes cover, on its records.
-    pub fn new(device: &Device, setup: &ResponseSetup) -> Result<Self> {
+    /// Build it over the blades `setup`'s pose passes cover, on its records, reading `map`.
+    pub fn new(device: &Device, setup: &ResponseSetup, map: MapReader) -> Result<Self> {
+        let reader = map.clone();
+        let frame = PoseUniforms {
+            name: "PressedFrame",
+            size: MapReader::FRAME_BYTES,
+            control: None,
+            fill: Box::new(move |_| reader.frame_bytes()),
+        };
         let shader = PoseShader {
             name: "push-out",
             spirv: shaders::PUSH_OUT_COMP.code(device.profile),
-            resources: Vec::new(),
-            uses: vec![(Resource::Buffer(setup.poses.1), Access::ComputeShaderRead)],
-            uniforms: None,
+            resources: vec![map.resource()],
+            uses: vec![
+                (Resource::Buffer(setup.poses.1), Access::ComputeShaderRead),
+                (Resource::Buffer(map.cells), Access::ComputeShaderRead),
+            ],
+            uniforms: Some(frame),
             store: None,
         };
-        Ok(Self { inner: PosePass::new(device, setup, shader)? })
+        Ok(Self { inner: PosePass::new(device, setup, shader)?, map })
     }
 }
 
@@ -51,12 +63,16 @@ impl Pass for PushOutPass {
     }
 
     fn declare(&self, ctx: &PassContext) -> Option<Declaration> {
-        // No collider this frame: not recorded.
-        (ctx.uniforms.wind_counts.y > 0).then(|| self.inner.declare(ctx)).flatten()
+        // No collider this frame and a map that reads as empty: not recorded.
+        (ctx.uniforms.wind_counts.y > 0 || self.map.read()).then(|| self.inner.declare(ctx)).flatten()
     }
 
     fn record(&self, ctx: &PassContext, cmd: vk::CommandBuffer) -> Result<()> {
         self.inner.record(ctx, cmd)
+    }
+
+    fn uniforms(&self, ctx: &PassContext) -> Option<(&crate::render::graph::PassUniforms, Vec<u8>)> {
+        self.inner.uniforms(ctx)
     }
 
     fn replay_key(&self, ctx: &PassContext) -> Option<u64> {

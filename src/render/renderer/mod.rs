@@ -5,6 +5,7 @@
 //! (`render::graph`); fences, per-frame buffers, queries and deferred deletion are the frame
 //! ring's (`render::frame`).
 
+mod configuration;
 mod extensions;
 mod inspect;
 mod multisample;
@@ -24,6 +25,7 @@ use ash::vk;
 
 use crate::error::{Error, Result};
 use crate::render::animation::poses::PoseRecords;
+use crate::render::animation::pressed::PressedMap;
 use crate::render::animation::response::{BladeResponse, ResponseStep};
 use crate::render::animation::{self, AnimationSettings};
 pub use crate::render::frame::{Deletion, FrameSync, FrameTimings, PassTime};
@@ -33,7 +35,6 @@ use crate::render::layouts::{scene_frames, scene_layouts, SceneFrame, SceneLayou
 use crate::render::msaa::{self, MultisampleTarget};
 use crate::render::overlay::OverlayGpu;
 use crate::render::passes::cull::CullFrame;
-use crate::render::passes::{BladePass, TerrainPass};
 use crate::render::scene_gpu::SceneGpu;
 use crate::render::settings::{check_pose_records, check_submission, polygon_mode};
 pub use crate::render::settings::{
@@ -92,6 +93,8 @@ pub struct Renderer {
     overlay: Option<Rc<RefCell<OverlayGpu>>>,
     /// The simulation's fixed step (`FrameClock::dt`).
     time_step: f32,
+    /// The pressed map (`render::animation::pressed`): trails and cuts, kept across rebuilds.
+    pressed: Option<PressedMap>,
 }
 
 impl Renderer {
@@ -147,12 +150,14 @@ impl Renderer {
             multisampled: None,
             overlay: None,
             time_step: DEFAULT_DT,
+            pressed: None,
         };
         // The cull's buffers and a block field's force corners cover the blades' range.
         let blade_range = settings.culling.blade_range();
         let scene_gpu = SceneGpu::upload(&device, scene, renderer.animation.cluster_size, blade_range)?;
         renderer.scene = Some(scene_gpu);
         renderer.layouts = scene_layouts(&device)?;
+        renderer.pressed = Some(PressedMap::new(&device)?);
         renderer.build_frames()?;
         let scene_gpu = renderer.scene.as_ref().expect("uploaded");
         let path = (settings.culling.enabled, settings.floor);
@@ -290,51 +295,6 @@ impl Renderer {
 
     fn scene_gpu(&self) -> &SceneGpu {
         self.scene.as_ref().expect("scene uploaded in new")
-    }
-
-    /// The settings the renderer was built with.
-    pub fn settings(&self) -> &RenderSettings {
-        &self.settings
-    }
-
-    /// The passes of a frame, in order.
-    pub fn pass_names(&self) -> Vec<&'static str> {
-        self.graph.pass_names()
-    }
-
-    /// Number of blades drawn.
-    pub fn blade_count(&self) -> u32 {
-        self.scene_gpu().blade_count
-    }
-
-    /// Triangles of one frame: (blades, terrain).
-    pub fn triangles(&self) -> (u64, u64) {
-        let scene = self.scene_gpu();
-        (BladePass::triangles(scene, self.settings.segments), TerrainPass::triangles(scene))
-    }
-
-    /// The LOD scale of the next frames (`--budget-ms` sets it each frame): uniforms only.
-    pub fn set_lod_scale(&mut self, scale: f32) {
-        self.settings.culling.lod_scale = scale;
-    }
-    /// Freeze the culling camera at `camera` (`None`: the view's camera again): fly out and look.
-    pub fn set_cull_camera(&mut self, camera: Option<Camera>) {
-        self.cull_camera = camera;
-    }
-    /// The frozen culling camera, if any.
-    pub fn cull_camera(&self) -> Option<Camera> {
-        self.cull_camera
-    }
-
-    /// The animation the renderer was built with.
-    pub fn animation(&self) -> &AnimationSettings {
-        &self.animation
-    }
-
-    /// The forces, editable between frames (they are uploaded per frame). At most
-    /// `MAX_EMITTERS` sources and colliders together are used; extra ones are ignored.
-    pub fn wind_mut(&mut self) -> &mut crate::wind::Wind {
-        &mut self.animation.wind
     }
 
     /// Place a raw timestamp of the queue, read before the frames, on their timeline (their
@@ -475,6 +435,9 @@ impl Drop for Renderer {
             std::mem::take(&mut self.scene_frames).destroy(device);
             std::mem::take(&mut self.forces).destroy(device);
             std::mem::take(&mut self.cull_frames).destroy(device);
+            if let Some(pressed) = self.pressed.take() {
+                pressed.destroy(device);
+            }
             if let Some(response) = self.response.take() {
                 response.destroy(device);
             }

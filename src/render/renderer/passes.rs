@@ -4,6 +4,7 @@ use ash::vk;
 
 use super::Renderer;
 use crate::error::Result;
+use crate::render::animation::pressed::PressPass;
 use crate::render::animation::push_out::PushOutPass;
 use crate::render::animation::response::ResponseSetup;
 use crate::render::draw_class::ClassSetup;
@@ -207,9 +208,11 @@ impl Renderer {
         // Never recorded until the graph holds them.
         let mut response_passes = Guard::new(device, response.passes(device, &setup)?);
         self.response_passes = response_passes.iter().map(|pass| pass.name()).collect();
-        if response.blade_input().pose_records() {
-            // Whatever the response wrote, moved out of the colliders (Zhang Xia §6.2).
-            response_passes.push(Box::new(PushOutPass::new(device, &setup)?));
+        if let (true, Some(map)) = (response.blade_input().pose_records(), self.pressed.as_ref()) {
+            // Whatever the response wrote, bent by the pressed map and moved out of the colliders
+            // (Zhang Xia §6.2), after the colliders and cuts are swept into the map.
+            response_passes.push(Box::new(PressPass::new(device, &setup, map.reader())?));
+            response_passes.push(Box::new(PushOutPass::new(device, &setup, map.reader())?));
         }
         if constants.flags & gpu::FLAG_LEVELS != 0 {
             response_passes.push(Box::new(BladeLevelsPass::new(device, &setup, poses)?));

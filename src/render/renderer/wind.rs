@@ -10,7 +10,7 @@ use crate::scene::Camera;
 impl Renderer {
     /// The wind field's per-frame CPU update into the frame's host-visible buffers (the emitters,
     /// and with `--brute-force` the thesis' corner forces, 3.2.2; with the cull its pass's
-    /// parameters); they are visible to the GPU at submission.
+    /// parameters); they are visible to the GPU at submission. Then the pressed map's sweeps.
     pub(super) fn update_wind(&mut self, slot: usize, camera: &Camera, time: f32) {
         let origin = self.origin_of(camera);
         let scene = self.scene.as_ref().expect("uploaded");
@@ -27,6 +27,10 @@ impl Renderer {
             ground: scene.field.as_ref().map(|f| &f.ground),
         };
         self.wind.update(&mut self.forces[slot], &input);
+        if let Some(map) = &self.pressed {
+            let eye = camera.position.as_dvec3();
+            map.update(&self.animation.wind, self.animation.pressed, origin, f64::from(time), eye);
+        }
     }
 
     /// World (x, z) the GPU's positions are relative to under `camera`: a block field's origin O
