@@ -86,5 +86,6 @@ bench-docs: build
 	$(MEADOW) bench --preset msaa --out docs/bench-msaa
 	$(MEADOW) bench --preset response --out docs/bench-response
 	$(MEADOW) bench --preset plants --out docs/bench-plants
+	$(MEADOW) bench --preset interaction --out docs/bench-interaction
 	$(MEADOW) overhead --out docs/overhead
 	$(MEADOW) timing --trace docs/timing/trace.json --out docs/timing

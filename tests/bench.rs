@@ -686,6 +686,25 @@ fn the_plants_preset_measures_flowers_and_clumps_side_by_side() {
     assert!(stdout.contains("flowers 20/m² / none, default block field") && stdout.contains(" flowers |"), "{stdout}");
 }
 
+/// `--preset interaction`: two pairs measured side by side, the subjects with 64 moving spheres
+/// near the camera, which change the picture (push-out and trails) and draw about the blades the
+/// references draw.
+#[test]
+fn the_interaction_preset_measures_moving_colliders_against_none() {
+    let (output, doc) = pair_preset("interaction");
+    assert_eq!((doc["colliders"].as_u64(), doc["speed_m_s"].as_f64()), (Some(64), Some(1.5)));
+    let pairs = doc["pairs"].as_array().expect("pairs");
+    assert_eq!(pairs.len(), 2);
+    for p in pairs {
+        let drawn = |side: &str| p[side]["drawn"].as_f64().expect("drawn");
+        assert!(p["ratio"].as_f64().expect("ratio") > 0.0 && drawn("reference") > 1000.0, "{p}");
+        assert!((drawn("subject") / drawn("reference") - 1.0).abs() < 0.1, "{p}");
+        assert!(p["within_3"].as_f64().expect("within") < 1.0, "the colliders changed nothing: {p}");
+    }
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(stdout.contains("64 moving colliders / none, default stored field"), "{stdout}");
+}
+
 /// `--preset response`: every traced tip rests until the gust and leans downwind after it; a
 /// stateful response swings, the inertial chain with its natural period 2π/√(k/J), and a
 /// stateless one's tip follows the wind at once.

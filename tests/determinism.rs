@@ -52,6 +52,22 @@ const SCENES: &[(&str, &[&str])] = &[
         "virtual-inertial",
         &["--animation", "virtual-inertial", "--field", "infinite", "--density", "150", "--view-distance", "40"],
     ),
+    // Issue 34: moving colliders and a cut at the fixed time (push-out and the pressed map's trails).
+    (
+        "interaction",
+        &[
+            "--blades",
+            "20000",
+            "--seed",
+            "10",
+            "--collider",
+            "sphere:-2,0.3,0,0.4,1.5,0,0.2",
+            "--collider",
+            "ellipsoid:1,0.2,-1,0.3,0.2,0.5,-0.5,0,1",
+            "--cut",
+            "sphere:0,0.2,2,0.3,0,0,-1",
+        ],
+    ),
 ];
 
 /// The picture's bytes and the cull's counts line (if any) of one run with `threads` threads.

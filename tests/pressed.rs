@@ -90,7 +90,7 @@ fn frames(scene: &Scene, wind: &Wind, times: &[f32], walk: f32) -> Vec<Vec<u32>>
 /// The blades between x = −1 and 1 whose map cell's centre lies within 5 cm of the path's centre
 /// line, and the last moment the sphere covered that centre (the press's, or the cut's, time).
 fn on_the_path(scene: &Scene) -> Vec<(usize, f32)> {
-    let centre = |v: f32| ((f64::from(v) / CELL_M).floor() + 0.5) * CELL_M;
+    let centre = |v: f32| ((f64::from(v) / f64::from(CELL_M)).floor() + 0.5) * f64::from(CELL_M);
     let blades: Vec<(usize, f32)> = (0..scene.blades.len())
         .filter_map(|b| {
             let p = scene.blades[b].position;

@@ -6,6 +6,7 @@
 #ifndef MEADOW_FORCES_GLSL
 #define MEADOW_FORCES_GLSL
 #include "wind/wind_field.glsl"
+#include "animation/collider_bins.glsl"
 
 const float COLLIDER_PUSH = 1.2; // wind::COLLIDER_PUSH: the force on a blade wholly inside
 
@@ -37,9 +38,12 @@ vec2 blade_force(uint blade_index, BladeInstance blade) {
     // Colliders: two emitters each (centre, radii) after the sources, under either attenuation.
     // Added only where they push, so a blade no collider reaches keeps its force to the bit
     // (-0 + 0 would be +0).
+    // Only the colliders whose ground ellipse may hold the root (animation/collider_bins.glsl), in
+    // ascending order as all of them were.
     uint first = frame.wind_counts.x;
-    for (uint i = 0u; i < frame.wind_counts.y; ++i) {
-        uint e = first + 2u * i;
+    uvec2 near = colliders_near(blade.position.xz);
+    while (near != uvec2(0u)) {
+        uint e = first + 2u * next_collider(near);
         vec2 push = collider_force(emitters[e].xyz, emitters[e + 1u].xyz, blade.position, blade.height);
         if (push != vec2(0.0)) {
             force += push;

@@ -3,8 +3,9 @@
 // The press pass (issue #34, `render::animation::pressed`): every collider, and every `--cut`,
 // sweeps its ground ellipse from where it was at the previous frame to where it is now; each cell
 // of the pressed map it covers in that sweep takes the press (or the cut) at the last moment it
-// was covered. One invocation per cell of the box the sweeps cover (within the window), in one
-// dispatch. A sweep over a whole interval makes the map the same at any frame rate: `--time T`
+// was covered. One dispatch: each sweep's box of cells (within the window) one after another, an
+// invocation per cell, which takes every sweep into account. A cell two boxes hold is written
+// twice, with the same value (a press or cut applied again leaves a cell as it was). A sweep over a whole interval makes the map the same at any frame rate: `--time T`
 // presses the path from 0 to T in its first frame.
 //
 // A press bends the blades of a cell: along the motion on the collider's path, turning outwards
@@ -51,8 +52,14 @@ void main() {
     if (i >= pressed_counts.z) {
         return;
     }
-    uint width = pressed_counts.w;
-    ivec2 w = pressed_window.zw + ivec2(i % width, i / width);
+    // The sweep whose box holds invocation i, and the cell.
+    uint k = 0u;
+    for (uint s = 1u; s < pressed_counts.x; s++) {
+        k = uint(pressed_boxes[s].w) <= i ? s : k;
+    }
+    ivec4 box = pressed_boxes[k];
+    uint j = i - uint(box.w);
+    ivec2 w = box.xy + ivec2(j % uint(box.z), j / uint(box.z));
     uint slot = pressed_slot(w);
     if (slot >= PRESSED_DIMS * PRESSED_DIMS) {
         return;

@@ -29,12 +29,13 @@ layout(set = SET_PASS, binding = PRESSED_BINDING, std430) buffer PressedCells { 
 
 // `render::animation::pressed::PressedFrame`, written by the CPU for the frame.
 layout(set = SET_PASS, binding = PRESSED_BINDING + 1, std430) readonly buffer PressedFrame {
-    uvec4 pressed_counts;  // x sweeps, y 1 when the map is read this frame, z the press box's cells, w its width
-    ivec4 pressed_window;  // xy the window's first world cell, zw the press box's first world cell
+    uvec4 pressed_counts;  // x sweeps, y 1 when the map is read this frame, z the press dispatch's cells, w unused
+    ivec4 pressed_window;  // xy the window's first world cell, zw unused
     ivec4 pressed_origin;  // xy O's world cell (of PRESSED_CELL), zw unused
     vec4 pressed_offset;   // xy O less its cell's corner (m), zw unused
     vec4 pressed_times;    // x now, y the previous frame's time, z the spring's rate ω (1/s), w the regrowth (s)
     vec4 pressed_sweeps[3u * PRESSED_SWEEPS]; // per collider: centre then and now (xyz relative to O), radii (w: 1 cuts)
+    ivec4 pressed_boxes[PRESSED_SWEEPS]; // per collider: the first world cell its sweep covers, the box's width, its first invocation
 };
 
 // The tag of world cell `w`: never 0.

@@ -15,6 +15,7 @@
 #include "animation/pose_write.glsl"
 #include "animation/push_out.glsl"
 #include "animation/pressed.glsl"
+#include "animation/collider_bins.glsl"
 
 layout(local_size_x = POSE_GROUP) in;
 
@@ -26,7 +27,7 @@ bool circle_holds(uint e, vec3 root) {
 
 // Blade `record`'s recorded backbone walked out of every collider whose ground circle holds its
 // root; the levels from the first one moved written again.
-void push_blade(uint record, BladeInstance blade, uint first, uint colliders, vec3 pressed) {
+void push_blade(uint record, BladeInstance blade, uint first, uvec2 near, vec3 pressed) {
     // The recorded backbone in the world (relative to the origin, as the emitters are).
     vec3 across = vec3(cos(blade.facing), 0.0, -sin(blade.facing));
     vec3 normal_dir = vec3(sin(blade.facing), 0.0, cos(blade.facing));
@@ -54,8 +55,8 @@ void push_blade(uint record, BladeInstance blade, uint first, uint colliders, ve
         press_points(points, pressed);
         moved = 1u;
     }
-    for (uint i = 0u; i < colliders; i++) {
-        uint e = first + 2u * i;
+    while (near != uvec2(0u)) {
+        uint e = first + 2u * next_collider(near);
         uint from;
         if (circle_holds(e, blade.position) && push_out_points(points, emitters[e].xyz, emitters[e + 1u].xyz, from)) {
             moved = min(moved, from);
@@ -91,10 +92,13 @@ void main() {
     uint blade_index;
     bool posed = posed_blade(record, entry, blade, blade_index);
     uint first = frame.wind_counts.x;
-    uint colliders = frame.wind_counts.y;
+    // The colliders whose ground ellipse may hold the root (animation/collider_bins.glsl).
+    uvec2 near = posed ? colliders_near(blade.position.xz) : uvec2(0u);
     bool held = false;
-    for (uint i = 0u; i < colliders; i++) {
-        held = held || (posed && circle_holds(first + 2u * i, blade.position));
+    uvec2 each = near;
+    while (each != uvec2(0u)) {
+        uint e = first + 2u * next_collider(each);
+        held = circle_holds(e, blade.position) || held;
     }
     vec3 pressed = vec3(0.0, 0.0, 1.0);
     if (pressed_counts.y != 0u && posed) {
@@ -105,6 +109,6 @@ void main() {
     // at the default scene with no blade held), but leaves a loop once no lane is in it: the walk
     // is a loop of at most one turn, which a group of lanes no circle holds skips.
     for (uint turn = held ? 0u : 1u; turn < 1u; turn++) {
-        push_blade(record, blade, first, colliders, pressed);
+        push_blade(record, blade, first, near, pressed);
     }
 }

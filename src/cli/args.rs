@@ -388,6 +388,7 @@ pub(crate) enum PresetArg {
     Response,
     Landscape,
     Plants,
+    Interaction,
 }
 
 #[derive(Clone, Copy, ValueEnum)]

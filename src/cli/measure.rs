@@ -135,6 +135,7 @@ pub(crate) fn bench(args: BenchArgs) -> crate::Result<(u8, Option<u64>)> {
         PresetArg::Response => return response(args),
         PresetArg::Landscape => return pair_preset(args, Pairs::Landscape),
         PresetArg::Plants => return pair_preset(args, Pairs::Plants),
+        PresetArg::Interaction => return pair_preset(args, Pairs::Interaction),
     };
     let preset_blades: Vec<u32> = options.rows.iter().map(|r| r.0).collect();
     let preset_segments: Vec<u32> = options.rows.iter().map(|r| r.1).collect();
@@ -288,12 +289,14 @@ enum Pairs {
     Landscape,
     /// `--preset plants` (issue #36).
     Plants,
+    /// `--preset interaction` (issue #34).
+    Interaction,
 }
 
-/// `meadow bench --preset landscape` or `plants`: size, warm-up and frames can be changed; blade
+/// `meadow bench --preset landscape`, `plants` or `interaction`: size, warm-up and frames can be changed; blade
 /// counts, segments, modes and evaluation placements cannot (`cli::effect` refuses them).
 fn pair_preset(args: BenchArgs, preset: Pairs) -> crate::Result<(u8, Option<u64>)> {
-    use crate::harness::bench::{landscape, pairs::PairBenchOptions, plants};
+    use crate::harness::bench::{interaction, landscape, pairs::PairBenchOptions, plants};
     let mut options = PairBenchOptions::preset(args.out.clone());
     options.size = args.size.unwrap_or(options.size);
     options.warmup = args.warmup.unwrap_or(options.warmup);
@@ -301,6 +304,7 @@ fn pair_preset(args: BenchArgs, preset: Pairs) -> crate::Result<(u8, Option<u64>
     let files: &[&str] = match preset {
         Pairs::Landscape => &landscape::FILES,
         Pairs::Plants => &plants::FILES,
+        Pairs::Interaction => &interaction::FILES,
     };
     Ok(measure(
         &args.gpu,
@@ -317,6 +321,11 @@ fn pair_preset(args: BenchArgs, preset: Pairs) -> crate::Result<(u8, Option<u64>
                     let doc = plants::run(device, &options, progress)?;
                     plants::write(&doc, &options.out)?;
                     plants::table(&doc)
+                }
+                Pairs::Interaction => {
+                    let doc = interaction::run(device, &options, progress)?;
+                    interaction::write(&doc, &options.out)?;
+                    interaction::table(&doc)
                 }
             })
         },

@@ -461,8 +461,8 @@ pub(crate) const RULES: &[Rule] = &[
         flags: &["blades", "modes", "eval", "segments"],
         subject: None,
         commands: &["bench"],
-        with: "--preset plants",
-        when: |g| g.one::<PresetArg>("preset") == Some(PresetArg::Plants),
+        with: "--preset plants or interaction",
+        when: |g| matches!(g.one::<PresetArg>("preset"), Some(PresetArg::Plants | PresetArg::Interaction)),
         why: "it renders the default block field and the default 100 000-blade field, 4 segments, the default keyframes",
     },
     Rule {

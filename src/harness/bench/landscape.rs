@@ -111,7 +111,8 @@ pub fn run(
     let schedule = Schedule { warmup: options.warmup, frames: options.frames };
     // The library's default animation, as this benchmark was first measured with.
     let animation = crate::render::animation::AnimationSettings::default();
-    let pairs = pairs::run(device, (&PAIRS, &scenes, &cameras, animation), options.size, schedule, progress)?;
+    let animated = pairs::Animated::still(&animation);
+    let pairs = pairs::run(device, (&PAIRS, &scenes, &cameras, animated), options.size, schedule, progress)?;
     Ok(LandscapeDocument {
         header: Header::new(device, "landscape", options.size),
         warmup: options.warmup,

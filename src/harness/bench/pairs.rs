@@ -1,4 +1,4 @@
-//! Benchmarks of pairs side by side (`--preset landscape`, `--preset plants`): renderers of a few
+//! Benchmarks of pairs side by side (`--preset landscape`, `plants`, `interaction`): renderers of a few
 //! scenes render in turn (A B C D … A B …, warm-up rounds discarded), each pair a reference and a
 //! subject whose median GPU frame is measured against it, with their last pictures compared.
 
@@ -76,17 +76,36 @@ pub struct Variant {
 /// A pair: its label, its reference's and subject's names, and the bound on their ratio.
 pub type PairSpec = (&'static str, &'static str, &'static str, f64);
 
+/// How the scenes of a run are animated: each scene's animation (one for all, or one each), and
+/// the simulation time of round r, `start + r · step` seconds.
+pub(crate) struct Animated<'a> {
+    pub animations: &'a [AnimationSettings],
+    pub start: f32,
+    pub step: f32,
+}
+
+impl<'a> Animated<'a> {
+    /// Every scene animated by `animation`, at t = 0.
+    pub fn still(animation: &'a AnimationSettings) -> Self {
+        Self { animations: std::slice::from_ref(animation), start: 0.0, step: 0.0 }
+    }
+
+    fn of(&self, scene: usize) -> &AnimationSettings {
+        &self.animations[scene.min(self.animations.len() - 1)]
+    }
+}
+
 /// Measure `specs`' pairs: scenes `2p` (reference) and `2p + 1` (subject) of `scenes` from
-/// `cameras`, animated by `animation`, `schedule`'s rounds of `size` pictures;
+/// `cameras`, animated as `animated` says, `schedule`'s rounds of `size` pictures;
 /// `progress(done, total)` after every frame.
 pub(crate) fn run(
     device: &Arc<Device>,
-    (specs, scenes, cameras, animation): (&[PairSpec], &[Scene], &[Camera], AnimationSettings),
+    (specs, scenes, cameras, animated): (&[PairSpec], &[Scene], &[Camera], Animated),
     size: (u32, u32),
     schedule: Schedule,
     progress: impl FnMut(u64, u64),
 ) -> Result<Vec<Pair>> {
-    let (measured, pictures) = render(device, (scenes, cameras, animation), size, schedule, progress)?;
+    let (measured, pictures) = render(device, (scenes, cameras, animated), size, schedule, progress)?;
     let variant = |i: usize| {
         let gpu: Vec<f64> = measured.timings(i).map(|t| t.gpu_ms).collect();
         let cull = measured.all(i).last().and_then(|f| f.timings.cull);
@@ -122,7 +141,7 @@ pub(crate) fn run(
 /// frame's timings, and each variant's last picture (RGB8).
 fn render(
     device: &Arc<Device>,
-    (scenes, cameras, animation): (&[Scene], &[Camera], AnimationSettings),
+    (scenes, cameras, animated): (&[Scene], &[Camera], Animated),
     size: (u32, u32),
     schedule: Schedule,
     mut progress: impl FnMut(u64, u64),
@@ -132,8 +151,8 @@ fn render(
         ..RenderSettings::offscreen(SEGMENTS, Culling::default_for(SEGMENTS))
     };
     let mut renderers = Vec::new();
-    for scene in scenes {
-        renderers.push(Renderer::new(device.clone(), scene, settings, animation.clone())?);
+    for (i, scene) in scenes.iter().enumerate() {
+        renderers.push(Renderer::new(device.clone(), scene, settings, animated.of(i).clone())?);
     }
     let n = scenes.len();
     let mut targets = vec![OffscreenTarget::new(device, vk::Extent2D { width: size.0, height: size.1 })?];
@@ -149,7 +168,7 @@ fn render(
             round_of[i] += 1;
         };
         let camera = |i: usize, _| cameras[i];
-        let time = |_| 0.0;
+        let time = |round: u32| animated.start + animated.step * round as f32;
         let mut subject = Offscreen {
             renderers: &mut renderers,
             targets: &mut targets,

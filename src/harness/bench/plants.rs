@@ -86,7 +86,8 @@ pub fn run(device: &Arc<Device>, options: &PairBenchOptions, progress: impl FnMu
     // The CLI's default: keyframes posed once per drawn blade with the cull, which the flowers'
     // stems need (`--eval auto`).
     let animation = AnimationSettings { eval: Eval::default_for(true), ..AnimationSettings::default() };
-    let pairs = pairs::run(device, (&PAIRS, &scenes, &cameras, animation), options.size, schedule, progress)?;
+    let animated = pairs::Animated::still(&animation);
+    let pairs = pairs::run(device, (&PAIRS, &scenes, &cameras, animated), options.size, schedule, progress)?;
     Ok(PlantsDocument {
         header: Header::new(device, "plants", options.size),
         warmup: options.warmup,

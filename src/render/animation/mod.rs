@@ -9,6 +9,7 @@
 pub mod blade_state;
 pub mod chain;
 pub mod clock;
+pub mod collider_bins;
 pub mod inertial;
 pub mod keyframe_gpu;
 pub mod keyframed;
@@ -236,9 +237,9 @@ pub fn corner_forces_at(
 }
 
 /// The emitters of a frame: point sources at their positions at `time` as (x, z, power, sigma),
-/// then each collider as two elements, its centre at `time` (x, y, z, 0) and its radii (x, y, z, 0). At
-/// least one element (a buffer cannot be empty); the shader reads only as many as the uniforms
-/// count.
+/// then each collider as two elements, its centre at `time` (x, y, z, 0) and its radii (x, y, z, 0),
+/// then from `collider_bins::COLLIDER_BINS` the colliders binned over the ground; the shader reads
+/// only as many as the uniforms count.
 pub fn emitters(wind: &Wind, time: f32) -> Vec<Vec4> {
     let mut out: Vec<Vec4> = wind
         .sources
@@ -249,9 +250,7 @@ pub fn emitters(wind: &Wind, time: f32) -> Vec<Vec4> {
         })
         .chain(wind.colliders.iter().flat_map(|c| [c.center_at(time).extend(0.0), c.radii.extend(0.0)]))
         .collect();
-    if out.is_empty() {
-        out.push(Vec4::ZERO);
-    }
+    collider_bins::append(&mut out, wind.sources.len());
     out
 }
 
@@ -331,7 +330,9 @@ pub fn blade_force(
     let root = Vec3::from(blade.position);
     let wind = blade_wind(grid, cluster, corners, emitters, sources, attenuation, Vec2::new(root.x, root.z));
     let mut force = wind * (1.0 / KEYFRAME_WIND_SCALE);
-    for pair in emitters[sources..].chunks_exact(2) {
+    // The colliders: the pairs after the sources, before the padding (a collider's radii are above 0).
+    let colliders = emitters[sources..collider_bins::COLLIDER_BINS.min(emitters.len())].chunks_exact(2);
+    for pair in colliders.take_while(|pair| pair[1] != Vec4::ZERO) {
         let push = crate::wind::Collider::blade_force(pair[0].truncate(), pair[1].truncate(), root, blade.height);
         // Only where it pushes, as the shader: -0 + 0 would be +0.
         if push != Vec2::ZERO {

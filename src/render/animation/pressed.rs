@@ -44,7 +44,7 @@ use crate::wind::{Collider, Wind};
 /// Cells per side of the map.
 pub const DIMS: u32 = 512;
 /// A cell's edge, in metres.
-pub const CELL_M: f64 = 0.25;
+pub const CELL_M: f32 = 0.25;
 /// Colliders and cuts the map sweeps each frame (colliders first).
 pub const MAX_SWEEPS: usize = 64;
 /// A cut blade's length, as a share of its own, when just cut.
@@ -82,6 +82,7 @@ pub struct PressedFrame {
     offset: [f32; 4],
     times: [f32; 4],
     sweeps: [[[f32; 4]; 3]; MAX_SWEEPS],
+    boxes: [[i32; 4]; MAX_SWEEPS],
 }
 
 /// What the map's passes do this frame, decided by [`PressedMap::update`].
@@ -153,32 +154,33 @@ impl PressedMap {
             Some(centres) if centres.len() == now.len() => centres[i],
             _ => c.center_f64(then),
         };
-        let cell = |p: DVec2| (p / CELL_M).floor().as_i64vec2();
+        let edge = f64::from(CELL_M);
+        let cell = |p: DVec2| (p / edge).floor().as_i64vec2();
         let window = cell(DVec2::new(eye.x, eye.z)) - i64::from(DIMS / 2);
-        let (mut lo, mut hi) = (glam::I64Vec2::MAX, glam::I64Vec2::MIN);
         let mut frame: PressedFrame = Zeroable::zeroed();
+        let mut press_cells = 0u32;
         for (i, (c, cut)) in sweeping.iter().enumerate() {
             let (p0, p1) = (start(i, c), now[i]);
             let r = DVec2::new(f64::from(c.radii.x), f64::from(c.radii.z));
             let (a, b) = (DVec2::new(p0.x, p0.z), DVec2::new(p1.x, p1.z));
-            lo = lo.min(cell(a.min(b) - r));
-            hi = hi.max(cell(a.max(b) + r));
+            // The cells the sweep's ground ellipse covers, within the window.
+            let lo = cell(a.min(b) - r).max(window);
+            let hi = cell(a.max(b) + r).min(window + i64::from(DIMS - 1));
+            let size = (hi - lo + 1).max(glam::I64Vec2::ZERO);
+            frame.boxes[i] = [lo.x as i32, lo.y as i32, size.x.max(1) as i32, press_cells as i32];
+            press_cells += (size.x * size.y) as u32;
             let relative = |p: DVec3| [(p.x - origin.x) as f32, p.y as f32, (p.z - origin.y) as f32, 0.0];
             frame.sweeps[i] = [relative(p0), relative(p1), [c.radii.x, c.radii.y, c.radii.z, *cut]];
         }
-        let lo = lo.max(window);
-        let hi = hi.min(window + i64::from(DIMS - 1));
-        let size = (hi - lo + 1).max(glam::I64Vec2::ZERO);
-        let press_cells = if sweeping.is_empty() { 0 } else { (size.x * size.y) as u32 };
         if !sweeping.is_empty() {
             let params = (f64::from(params.recovery_s), f64::from(params.regrow_s));
             state.active_until = time + (3.0 * params.0).max(params.1);
         }
         let read = !sweeping.is_empty() || time < state.active_until;
         let o = cell(origin);
-        let offset = origin - o.as_dvec2() * CELL_M;
-        frame.counts = [sweeping.len() as u32, u32::from(read), press_cells, size.x.max(1) as u32];
-        frame.window = [window.x as i32, window.y as i32, lo.x as i32, lo.y as i32];
+        let offset = origin - o.as_dvec2() * edge;
+        frame.counts = [sweeping.len() as u32, u32::from(read), press_cells, 0];
+        frame.window = [window.x as i32, window.y as i32, 0, 0];
         frame.origin = [o.x as i32, o.y as i32, 0, 0];
         frame.offset = [offset.x as f32, offset.y as f32, 0.0, 0.0];
         let rate = FIVE_PERCENT / f64::from(params.recovery_s);
@@ -350,7 +352,8 @@ mod tests {
 
     #[test]
     fn the_frame_block_is_what_the_shader_reads() {
-        // pressed.glsl: five vec4 of counts, window, origin, offset and times, then three per sweep.
-        assert_eq!(MapReader::FRAME_BYTES, 16 * (5 + 3 * MAX_SWEEPS as u64));
+        // pressed.glsl: five vec4 of counts, window, origin, offset and times, three per sweep,
+        // then a box per sweep.
+        assert_eq!(MapReader::FRAME_BYTES, 16 * (5 + 4 * MAX_SWEEPS as u64));
     }
 }

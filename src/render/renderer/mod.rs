@@ -175,7 +175,7 @@ impl Renderer {
         let (device, scene) = (&*self.device, self.scene.as_ref().expect("uploaded"));
         let (slots, statistics) = (self.settings.frames_in_flight, self.settings.pipeline_statistics);
         self.ring = FrameRing::new(PerFrame::new(device, slots, |i| Frame::new(device, i, statistics))?.into());
-        let (corners, emitters) = (scene.wind_corner_count(), animation::EMITTER_ELEMENTS as u32);
+        let (corners, emitters) = (scene.wind_corner_count(), animation::collider_bins::EMITTER_BUFFER_ELEMENTS as u32);
         self.forces = PerFrame::new(device, slots, |i| FrameForces::new(device, i, corners, emitters))?;
         self.cull_frames = PerFrame::new(device, slots, |i| CullFrame::new(device, i))?;
         let forces = &self.forces;

@@ -28,7 +28,8 @@ use crate::wind::Wind;
 /// The emitters of a frame relative to `origin`, differenced in f64: point sources at their
 /// positions at `time` as (x, z, power, sigma), then each collider as two elements, its centre at
 /// `time` (x, y, z, 0; y a world height) and its radii (x, y, z, 0); the first `MAX_EMITTERS` emitters
-/// (`animation::emitter_counts`), at least one element (a buffer cannot be empty).
+/// (`animation::emitter_counts`); then from `collider_bins::COLLIDER_BINS` the colliders binned
+/// over the ground (`animation::collider_bins`).
 pub fn emitters_relative(wind: &Wind, origin: DVec2, time: f64) -> Vec<Vec4> {
     let relative = |p: DVec2| (p - origin).as_vec2();
     let (sources, colliders) = animation::emitter_counts(wind);
@@ -43,9 +44,7 @@ pub fn emitters_relative(wind: &Wind, origin: DVec2, time: f64) -> Vec<Vec4> {
             [Vec4::new(centre.x, at.y as f32, centre.y, 0.0), c.radii.extend(0.0)]
         }))
         .collect();
-    if out.is_empty() {
-        out.push(Vec4::ZERO);
-    }
+    animation::collider_bins::append(&mut out, sources as usize);
     out
 }
 
