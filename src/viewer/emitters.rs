@@ -50,6 +50,27 @@ impl Viewer {
         Some(Collider::at_rest(Vec3::new(eye.x, ground + SPHERE_RADIUS, eye.z), Vec3::splat(SPHERE_RADIUS)))
     }
 
+    /// A script's collider: added, unless the emitter buffers are full (bad input).
+    pub(super) fn add_collider(&mut self, collider: Collider) -> crate::error::Result<()> {
+        let wind = self.renderer.as_mut().expect("renderer built").wind_mut();
+        if emitters_full(wind) {
+            return Err(crate::error::Error::bad_input("--script: collider: the emitter buffers are full"));
+        }
+        wind.colliders.push(collider);
+        Ok(())
+    }
+
+    /// A script's move: collider `index`'s centre at `at`, at rest (bad input if there is none).
+    pub(super) fn move_collider(&mut self, index: usize, at: Vec3) -> crate::error::Result<()> {
+        let wind = self.renderer.as_mut().expect("renderer built").wind_mut();
+        let count = wind.colliders.len();
+        let collider = wind.colliders.get_mut(index).ok_or_else(|| {
+            crate::error::Error::bad_input(format!("--script: move-collider {index}: there are {count} colliders"))
+        })?;
+        (collider.center, collider.velocity) = (at, Vec3::ZERO);
+        Ok(())
+    }
+
     /// Left click at a pixel: drop a wind source where the ray hits the terrain; with Shift held, a
     /// collider sphere resting on the ground there.
     pub(super) fn click(&mut self, x: f64, y: f64) {

@@ -89,6 +89,8 @@ impl Viewer {
                 self.click(x, y);
                 self.dragging = false;
             }
+            Action::Collider(collider) => self.add_collider(collider)?,
+            Action::MoveCollider(index, at) => self.move_collider(index, at)?,
             Action::Resize(w, h) => {
                 // What the device cannot render at (its largest image, the multisampled images'
                 // maxResourceSize, the budget) no swapchain can follow: refused, like --size.

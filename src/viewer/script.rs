@@ -9,6 +9,8 @@
 //! 40       key           w up
 //! 41       press         m                  # down and up
 //! 50       click         160,100            # left click at a pixel (drops a wind source)
+//! 52       collider      sphere:0,0.3,2,0.3,1.5,0,0   # add a collider (--collider's shapes)
+//! 54       move-collider 0 1,0.3,2.5        # put collider 0 there (at rest): a path, frame by frame
 //! 60       resize        640x360
 //! 70       minimise
 //! 80       restore
@@ -43,6 +45,10 @@ pub enum Action {
     Press(String),
     /// Left click at a pixel.
     Click(f64, f64),
+    /// Add a collider (`--collider`'s shapes, moving or not).
+    Collider(crate::wind::Collider),
+    /// Put collider `index`'s centre at a world point, at rest.
+    MoveCollider(usize, glam::Vec3),
     /// Ask the window for a new inner size.
     Resize(u32, u32),
     /// Minimise the window.
@@ -122,6 +128,25 @@ impl Script {
                     let parse = |v: &str| crate::app::values::finite_f32(v).map(f64::from).map_err(|e| fail(&e));
                     Action::Click(parse(x)?, parse(y)?)
                 }
+                "collider" => Action::Collider(
+                    crate::app::values::collider(one("collider sphere:X,Y,Z,R[,VX,VY,VZ] or ellipsoid:…")?)
+                        .map_err(|e| fail(&e))?,
+                ),
+                "move-collider" => match args.as_slice() {
+                    [index, at] => {
+                        let index = index.parse().map_err(|_| fail("move-collider INDEX X,Y,Z"))?;
+                        let v: Vec<f32> = at
+                            .split(',')
+                            .map(crate::app::values::finite_f32)
+                            .collect::<std::result::Result<_, _>>()
+                            .map_err(|e| fail(&e))?;
+                        match v.as_slice() {
+                            [x, y, z] => Action::MoveCollider(index, glam::Vec3::new(*x, *y, *z)),
+                            _ => return Err(fail("move-collider INDEX X,Y,Z")),
+                        }
+                    }
+                    _ => return Err(fail("move-collider INDEX X,Y,Z")),
+                },
                 "resize" => {
                     let (w, h) = crate::app::values::size(one("resize WxH")?).map_err(|e| fail(&e))?;
                     Action::Resize(w, h)
@@ -187,6 +212,18 @@ mod tests {
         assert!(Script::parse("x quit\n").is_err());
         assert!(Script::parse("3 dance\n").unwrap_err().contains("unknown action"));
         assert!(Script::parse("3 resize 0x0\n").is_err());
+        // Colliders (issue 34): --collider's shapes, and a move to a finite point.
+        let s = Script::parse("1 collider sphere:0,0.3,2,0.3,1.5,0,0\n2 move-collider 0 1,0.3,2.5\n").expect("valid");
+        assert!(matches!(s.actions[0].1, Action::Collider(c) if c.velocity.x == 1.5));
+        assert_eq!(s.actions[1].1, Action::MoveCollider(0, glam::Vec3::new(1.0, 0.3, 2.5)));
+        for bad in [
+            "1 collider sphere:0,0,0,0\n",
+            "1 move-collider 0 1,NaN,2\n",
+            "1 move-collider x 1,2,3\n",
+            "1 move-collider 0 1,2\n",
+        ] {
+            assert!(Script::parse(bad).is_err(), "{bad}");
+        }
         // Issue 11: extra arguments, unknown keys, and an overlong line echoed whole.
         assert!(Script::parse("3 quit now please\n").unwrap_err().contains("takes no arguments"));
         assert!(Script::parse("3 pause 2\n").is_err());
