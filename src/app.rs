@@ -136,6 +136,8 @@ pub struct RenderOptions {
     pub debug_fresnel: bool,
     /// Show the ground's cover as colour.
     pub debug_cover: bool,
+    /// Show the pressed map's bend and cut as colour.
+    pub debug_pressed: bool,
     /// Multisample anti-aliasing.
     pub msaa: crate::render::msaa::Msaa,
     /// The cull and LOD, or brute force.
@@ -269,6 +271,7 @@ impl RenderOptions {
             debug_tiles: self.debug_tiles,
             debug_fresnel: self.debug_fresnel,
             debug_cover: self.debug_cover,
+            debug_pressed: self.debug_pressed,
             msaa: self.msaa,
             floor: self.floor,
             fog_density: self.fog,

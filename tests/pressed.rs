@@ -206,3 +206,29 @@ fn walking_a_kilometre_with_a_collider_under_the_eye_allocates_nothing() {
     let bytes = result.expect("rendered");
     assert_eq!(bytes[0], bytes[1], "allocated bytes after 25 m and after 1 km");
 }
+
+/// `--debug-view pressed`: the trail is magenta on green; with no collider no blade is; blades
+/// posed per vertex (which the map does not bend) refuse the view in one line.
+#[test]
+fn the_pressed_view_colours_the_trail() {
+    let dir = support::scratch("pressed-view");
+    let base = ["--blades", "20000", "--size", "240x180", "--camera", "2.2,1.1,1.0,62,-28", "--time", "3"];
+    let magenta = |name: &str, extra: &[&str]| {
+        let path = dir.join(format!("{name}.png"));
+        support::render(&[&base[..], &["--debug-view", "pressed"], extra].concat(), &path);
+        let picture = support::Picture::load(&path);
+        picture.rgb.chunks_exact(3).filter(|p| p[0] > 2 * u16::from(p[1]) as u8 / 2 + 40 && p[2] > p[1] + 40).count()
+    };
+    let trail = magenta("trail", &["--collider", "sphere:-2.5,0.35,0,0.45,1.5,0,0"]);
+    let none = magenta("none", &[]);
+    assert!(trail > 500 && none == 0, "magenta pixels: {trail} with the trail, {none} without");
+    let output = support::meadow()
+        .args(["render", "--brute-force", "--blades", "2000", "--debug-view", "pressed", "--out"])
+        .arg(dir.join("refused.png"))
+        .output()
+        .expect("run");
+    assert_eq!(output.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(stderr.starts_with("error: --debug-view pressed:") && stderr.lines().count() == 1, "{stderr}");
+    assert!(!dir.join("refused.png").exists());
+}

@@ -420,9 +420,10 @@ fn f4_toggles_the_slope_limit_t_reaches_the_cover_view_f5_clumps_and_f6_flowers(
 
 #[test]
 fn shift_click_drops_a_collider_and_f7_tramples_under_the_eye() {
-    // Looking straight down from 1.2 m: F7 puts a sphere on the ground under the eye, which
-    // pushes the blades there aside (issue 34); F7 again takes it away. Shift + click drops a
-    // collider where the cursor meets the ground (a plain click drops a wind source).
+    // Looking straight down from 1.2 m, time paused: F7 puts a sphere on the ground under the eye,
+    // which pushes the blades there aside (issue 34); F7 again takes it away, and its trail in the
+    // pressed map stays (paused, it does not recover). Shift + click drops a collider where the
+    // cursor meets the ground (a plain click drops a wind source).
     let dir = scratch("viewer-trample");
     let path = dir.join("trample.txt");
     std::fs::write(
@@ -444,7 +445,7 @@ fn shift_click_drops_a_collider_and_f7_tramples_under_the_eye() {
     let (plain, trampled, again) = (load("plain.png"), load("trampled.png"), load("again.png"));
     let changed = |a: &Picture, b: &Picture| 1.0 - compare_rgb(&a.rgb, &b.rgb, 8).0.within_fraction();
     assert!(changed(&plain, &trampled) > 0.05, "trampling changed {:.3} of the picture", changed(&plain, &trampled));
-    assert!(changed(&plain, &again) < 0.001, "F7 off again left {:.3} changed", changed(&plain, &again));
+    assert!(changed(&plain, &again) > 0.01, "F7 off again left no trail: {:.3} changed", changed(&plain, &again));
 }
 
 #[test]

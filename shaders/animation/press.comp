@@ -4,8 +4,9 @@
 // sweeps its ground ellipse from where it was at the previous frame to where it is now; each cell
 // of the pressed map it covers in that sweep takes the press (or the cut) at the last moment it
 // was covered. One dispatch: each sweep's box of cells (within the window) one after another, an
-// invocation per cell, which takes every sweep into account. A cell two boxes hold is written
-// twice, with the same value (a press or cut applied again leaves a cell as it was). A sweep over a whole interval makes the map the same at any frame rate: `--time T`
+// invocation per cell, which takes every sweep into account; a cell two boxes hold is processed by
+// the invocation of the first box only, so no two invocations touch one cell. Dispatched in rows
+// of at most 65 535 workgroups (`render::animation::pressed::PressPass`). A sweep over a whole interval makes the map the same at any frame rate: `--time T`
 // presses the path from 0 to T in its first frame.
 //
 // A press bends the blades of a cell: along the motion on the collider's path, turning outwards
@@ -48,7 +49,7 @@ bool swept(uint k, vec2 c, out float s_last, out float closest) {
 }
 
 void main() {
-    uint i = gl_GlobalInvocationID.x;
+    uint i = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * gl_WorkGroupSize.x + gl_LocalInvocationID.x;
     if (i >= pressed_counts.z) {
         return;
     }
@@ -60,6 +61,15 @@ void main() {
     ivec4 box = pressed_boxes[k];
     uint j = i - uint(box.w);
     ivec2 w = box.xy + ivec2(j % uint(box.z), j / uint(box.z));
+    // The first box that holds the cell processes it.
+    for (uint s = 0u; s < k; s++) {
+        ivec4 other = pressed_boxes[s];
+        uint rows = (uint(s + 1u < pressed_counts.x ? pressed_boxes[s + 1u].w : int(pressed_counts.z)) - uint(other.w)) / uint(other.z);
+        ivec2 local = w - other.xy;
+        if (all(greaterThanEqual(local, ivec2(0))) && local.x < other.z && uint(local.y) < rows) {
+            return;
+        }
+    }
     uint slot = pressed_slot(w);
     if (slot >= PRESSED_DIMS * PRESSED_DIMS) {
         return;
@@ -105,8 +115,10 @@ void main() {
         vec2 lean = out_dir * closest + along * (1.0 - closest);
         vec2 dir = dot(lean, lean) > 1e-10 ? normalize(lean) : vec2(1.0, 0.0);
         vec2 press = dir * (1.0 - smoothstep(0.3, 1.0, closest));
-        float left = length(bend) * pressed_recovery(t - pressed_t);
-        if (length(press) >= left && length(press) > 0.0) {
+        // The two presses compared at the later of their times, whichever sweep came first.
+        float later = max(t, pressed_t);
+        float left = length(bend) * pressed_recovery(later - pressed_t);
+        if (length(press) * pressed_recovery(later - t) >= left && length(press) > 0.0) {
             bend = press;
             pressed_t = t;
             changed = true;

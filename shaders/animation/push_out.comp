@@ -49,7 +49,7 @@ void push_blade(uint record, BladeInstance blade, uint first, uvec2 near, vec3 p
             forces[level] = tangent_force.w;
         }
     }
-    uint moved = MODEL_SEGMENTS + 1u;
+    uint moved = (RENDER_FLAGS & FLAG_DEBUG_PRESSED) != 0u ? 1u : MODEL_SEGMENTS + 1u;
     // The pressed map's bend and cut first (render::animation::pressed), then the colliders.
     if (pressed.z < 1.0 || dot(pressed.xy, pressed.xy) > 1e-10) {
         press_points(points, pressed);
@@ -62,10 +62,18 @@ void push_blade(uint record, BladeInstance blade, uint first, uvec2 near, vec3 p
             moved = min(moved, from);
         }
     }
-    // The moved levels again, their tangents from the read levels either side.
+    if (moved > MODEL_SEGMENTS) {
+        return;
+    }
+    // The moved levels again, and the read level below the first one (its tangent turns too),
+    // their tangents from the read levels either side.
+    uint from = 0u;
+    for (uint level = 1u; level <= MODEL_SEGMENTS; level++) {
+        from = level_read(level) && level < moved ? level : from;
+    }
     float inv = 1.0 / scale;
     uint below = 0u;
-    for (uint level = 1u; level <= MODEL_SEGMENTS; level++) {
+    for (uint level = 0u; level <= MODEL_SEGMENTS; level++) {
         if (!level_read(level)) {
             continue;
         }
@@ -73,13 +81,17 @@ void push_blade(uint record, BladeInstance blade, uint first, uvec2 near, vec3 p
         for (uint next = MODEL_SEGMENTS; next > level; next--) {
             above = level_read(next) ? next : above;
         }
-        if (level >= moved) {
+        if (level >= from) {
+            // `--debug-view pressed`: every level again, the map's share in the force channel.
+            float shown = (RENDER_FLAGS & FLAG_DEBUG_PRESSED) != 0u
+                ? max(length(pressed.xy), (1.0 - pressed.z) / (1.0 - PRESSED_STUB))
+                : forces[level];
             vec3 t = points[above] - points[below];
             t = length(t) > 0.0 ? normalize(t) : vec3(0.0, 1.0, 0.0);
             vec3 offset = points[level] - blade.position;
             vec3 local = vec3(dot(offset, across), offset.y, dot(offset, normal_dir));
             vec3 tangent = vec3(dot(t, across), t.y, dot(t, normal_dir));
-            write_pose_level(base, level, local * inv, tangent, twists[level], forces[level]);
+            write_pose_level(base, level, local * inv, tangent, twists[level], shown);
         }
         below = level;
     }
@@ -105,6 +117,8 @@ void main() {
         pressed = pressed_at(blade.position.xz);
     }
     held = held || pressed.z < 1.0 || dot(pressed.xy, pressed.xy) > 1e-10;
+    // `--debug-view pressed` colours every posed blade by the map.
+    held = held || (posed && (RENDER_FLAGS & FLAG_DEBUG_PRESSED) != 0u);
     // llvmpipe runs a branch's body under a mask even when no lane takes it (1.1 ms of this pass
     // at the default scene with no blade held), but leaves a loop once no lane is in it: the walk
     // is a loop of at most one turn, which a group of lanes no circle holds skips.

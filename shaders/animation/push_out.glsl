@@ -19,14 +19,14 @@ bool unit_inside(vec3 p) {
 // The point at distance `len` from `a` on the unit sphere nearest its point straight out through
 // `q` (all in the collider's unit space, centre at 0). `a` outside or on it: the sphere of radius `len`
 // round `a` meets the unit sphere in a circle (q inside and |q − a| = len make sure it does); the
-// point of that circle towards q's radial point. `a` inside (nothing to walk from): the radial
-// point itself.
+// point of that circle towards q's radial point. `a` inside (a root under the collider's
+// surface): a segment's length straight out from the centre through q.
 vec3 unit_surface_from(vec3 a, vec3 q, float len) {
     vec3 radial = length(q) > 1e-6 ? normalize(q) : vec3(0.0, 1.0, 0.0);
     float d = length(a);
     // On the surface (a point moved before) counts as outside.
     if (d < 1.0 - 1e-4) {
-        return radial;
+        return a + len * radial;
     }
     vec3 u = -a / d;
     // The circle's plane lies h from a along u, its radius rho.

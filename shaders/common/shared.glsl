@@ -38,6 +38,7 @@
 #define FLAG_GROUND_BOUNDS 4096u // The ground is a heightmap whose min/max pyramid bounds the cull's cells (`scene::height_bounds`).
 #define FLAG_POSE_CLASS 2048u // A pose pipeline over bucket LOD_BUCKET of a further draw class whose entries the response poses (`render::draw_class::DrawClass::posed`).
 #define FLAG_DEBUG_COVER 1024u // The ground's cover as colour, on the terrain and the blades (`--debug-view cover`).
+#define FLAG_DEBUG_PRESSED 8192u // The pressed map's bend and cut as colour on the blades (`--debug-view pressed`).
 #define FLAG_SOLID_OUTLINE 32u // Far LOD buckets: the outline tapered in the geometry, no alpha test (early depth writes).
 
 // Culling and LOD switches (`cull_lod.z` of the frame uniforms, `render::culling::Culling`).

@@ -85,6 +85,8 @@ pub(crate) enum DebugViewArg {
     Fresnel,
     /// The ground's cover (--cover, --slope-limit) as colour on the terrain and the blades: red bare, yellow half, green full.
     Cover,
+    /// The pressed map on the blades: green untouched, to magenta where trampled or freshly cut (how far from its own pose the map takes a blade).
+    Pressed,
 }
 
 #[derive(Clone, Copy, ValueEnum)]

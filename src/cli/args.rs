@@ -188,6 +188,7 @@ impl SceneArgs {
             debug_tiles: self.debug_view == Some(DebugViewArg::Tiles),
             debug_fresnel: self.debug_view == Some(DebugViewArg::Fresnel),
             debug_cover: self.debug_view == Some(DebugViewArg::Cover),
+            debug_pressed: self.debug_view == Some(DebugViewArg::Pressed),
             culling: self.culling.culling(self.segments),
             relief: match self.relief {
                 Some(ReliefArg::Hills) => crate::scene::field::ReliefKind::Hills,

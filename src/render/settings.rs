@@ -43,6 +43,8 @@ pub struct RenderSettings {
     pub debug_fresnel: bool,
     /// The ground's cover as colour on the terrain and the blades (`--debug-view cover`).
     pub debug_cover: bool,
+    /// The pressed map's bend and cut as colour on the blades (`--debug-view pressed`).
+    pub debug_pressed: bool,
     /// The GPU-driven cull and LOD, or brute force.
     pub culling: crate::render::culling::Culling,
     /// Multisample anti-aliasing (`--msaa`, `render::msaa`).
@@ -76,6 +78,7 @@ impl RenderSettings {
             debug_tiles: false,
             debug_fresnel: false,
             debug_cover: false,
+            debug_pressed: false,
             culling,
             msaa: crate::render::msaa::Msaa::default(),
             floor: false,

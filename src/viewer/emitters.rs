@@ -41,8 +41,8 @@ impl Viewer {
     /// F7's sphere: resting on the ground under the eye, `None` when off or when the emitter
     /// buffers are full (the wind's own sources and colliders first).
     pub(super) fn trampler(&self) -> Option<Collider> {
-        let wind = self.renderer.as_ref()?.animation().wind.clone();
-        if !self.trample || emitters_full(&wind) {
+        let wind = &self.renderer.as_ref()?.animation().wind;
+        if !self.trample || full(wind) {
             return None;
         }
         let eye = self.control.camera.position;
@@ -130,11 +130,18 @@ impl Viewer {
     }
 }
 
-/// Whether the emitter buffers hold no more sources or colliders; says so when they are full.
+/// Whether the emitter buffers hold no more sources or colliders, or the pressed map's sweeps no
+/// more colliders and cuts.
+fn full(wind: &crate::wind::Wind) -> bool {
+    use crate::render::animation::{pressed::MAX_SWEEPS, MAX_EMITTERS};
+    wind.sources.len() + wind.colliders.len() >= MAX_EMITTERS || wind.colliders.len() + wind.cuts.len() >= MAX_SWEEPS
+}
+
+/// `full`, saying so when it is.
 pub(super) fn emitters_full(wind: &crate::wind::Wind) -> bool {
-    let full = wind.sources.len() + wind.colliders.len() >= crate::render::animation::MAX_EMITTERS;
+    let full = full(wind);
     if full {
-        println!("at most {} sources and colliders", crate::render::animation::MAX_EMITTERS);
+        println!("at most {} sources and colliders (and colliders and cuts)", crate::render::animation::MAX_EMITTERS);
     }
     full
 }

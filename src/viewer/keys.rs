@@ -12,8 +12,8 @@ use crate::render::animation::sine::SinePhase;
 use crate::render::animation::{Eval, Mode};
 
 /// The keys whose control changes pipelines or the scene (`rebuild_for`).
-const REBUILT_BY: [&str; 19] =
-    ["m", "n", "b", "v", "x", "t", "o", "y", "f", "f2", "f3", "f4", "f5", "f6", "r", "plus", "minus", "[", "]"];
+const REBUILT_BY: [&str; 20] =
+    ["m", "n", "b", "v", "x", "t", "o", "y", "f", "f2", "f3", "f4", "f5", "f6", "f8", "r", "plus", "minus", "[", "]"];
 
 /// F4's slope limit when `--slope-limit` was not given, in degrees.
 pub(super) const DEFAULT_SLOPE_LIMIT_DEG: f32 = 30.0;
@@ -43,6 +43,7 @@ meadow viewer controls
   Shift + click   drop a collider sphere on the ground
   arrow keys      drive the collider sphere through the grass
   F7              trample as I walk: a sphere on the ground under the eye pushes the grass aside
+  F8              pressed view: the trails and cuts of the pressed map, green to magenta
   V               force debug view       F                 wireframe
   X               cluster bounds view    T                 LOD / tile / Fresnel / cover view
   O               GPU culling / brute force             Y  LOD on/off
@@ -168,6 +169,7 @@ impl Viewer {
             "v" => settings.debug_force = !settings.debug_force,
             "x" => settings.debug_bounds = !settings.debug_bounds,
             "f3" => settings.debug_wind = !settings.debug_wind,
+            "f8" => settings.debug_pressed = !settings.debug_pressed,
             "t" => cycle_cull_views(&mut settings),
             "o" | "y" => toggle_culling(&mut settings.culling, name),
             "f" => settings.wireframe = !settings.wireframe,
@@ -243,10 +245,10 @@ fn toggle_culling(culling: &mut crate::render::culling::Culling, key: &str) {
 }
 
 /// Every key name the viewer acts on (what `key_name` returns), for scripts to check against.
-pub(super) const KEY_NAMES: [&str; 45] = [
+pub(super) const KEY_NAMES: [&str; 46] = [
     "[", "]", "a", "b", "c", "d", "delete", "down", "e", "escape", "f", "f1", "f12", "f2", "f3", "f4", "f5", "f6",
-    "f7", "g", "h", "i", "j", "k", "l", "left", "m", "minus", "n", "o", "p", "plus", "q", "r", "right", "s", "shift",
-    "t", "u", "up", "v", "w", "x", "y", "z",
+    "f7", "f8", "g", "h", "i", "j", "k", "l", "left", "m", "minus", "n", "o", "p", "plus", "q", "r", "right", "s",
+    "shift", "t", "u", "up", "v", "w", "x", "y", "z",
 ];
 
 /// Name of a key as the help and scripts spell it.
@@ -291,6 +293,7 @@ pub(super) fn key_name(code: KeyCode) -> Option<&'static str> {
         KeyCode::F5 => "f5",
         KeyCode::F6 => "f6",
         KeyCode::F7 => "f7",
+        KeyCode::F8 => "f8",
         KeyCode::Delete | KeyCode::Backspace => "delete",
         KeyCode::ArrowUp => "up",
         KeyCode::ArrowDown => "down",

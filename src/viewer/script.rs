@@ -65,6 +65,18 @@ pub enum Action {
     Quit,
 }
 
+/// `move-collider INDEX X,Y,Z`'s arguments.
+fn move_collider(args: &[&str]) -> std::result::Result<Action, String> {
+    const SHAPE: &str = "move-collider INDEX X,Y,Z";
+    let [index, at] = args else { return Err(SHAPE.into()) };
+    let index = index.parse().map_err(|_| SHAPE.to_string())?;
+    let v = at.split(',').map(crate::app::values::finite_f32).collect::<std::result::Result<Vec<f32>, _>>()?;
+    match v.as_slice() {
+        [x, y, z] => Ok(Action::MoveCollider(index, glam::Vec3::new(*x, *y, *z))),
+        _ => Err(SHAPE.into()),
+    }
+}
+
 /// Actions sorted by frame.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Script {
@@ -132,21 +144,7 @@ impl Script {
                     crate::app::values::collider(one("collider sphere:X,Y,Z,R[,VX,VY,VZ] or ellipsoid:…")?)
                         .map_err(|e| fail(&e))?,
                 ),
-                "move-collider" => match args.as_slice() {
-                    [index, at] => {
-                        let index = index.parse().map_err(|_| fail("move-collider INDEX X,Y,Z"))?;
-                        let v: Vec<f32> = at
-                            .split(',')
-                            .map(crate::app::values::finite_f32)
-                            .collect::<std::result::Result<_, _>>()
-                            .map_err(|e| fail(&e))?;
-                        match v.as_slice() {
-                            [x, y, z] => Action::MoveCollider(index, glam::Vec3::new(*x, *y, *z)),
-                            _ => return Err(fail("move-collider INDEX X,Y,Z")),
-                        }
-                    }
-                    _ => return Err(fail("move-collider INDEX X,Y,Z")),
-                },
+                "move-collider" => move_collider(&args).map_err(|e| fail(&e))?,
                 "resize" => {
                     let (w, h) = crate::app::values::size(one("resize WxH")?).map_err(|e| fail(&e))?;
                     Action::Resize(w, h)

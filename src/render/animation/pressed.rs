@@ -53,6 +53,9 @@ pub const STUB: f32 = 0.2;
 pub const REACH_M: f32 = 1.2;
 /// ω T of the critically damped spring's 5 % time T: the root of (1 + x) e^(−x) = 0.05.
 pub const FIVE_PERCENT: f64 = 4.743_864_518_390_579;
+/// Workgroups a row of the press dispatch holds (Vulkan's least `maxComputeWorkGroupCount[0]`).
+const MAX_GROUPS_X: u32 = 65_535;
+
 /// How far the press leans a blade at full amount, in degrees (of its chord from the root to each
 /// point: the tip's displacement is linear in the amount).
 pub const LEAN_DEG: f32 = 70.0;
@@ -196,14 +199,6 @@ impl PressedMap {
         MapReader { cells: self.cells.raw, cells_descriptor: self.cells.descriptor(), state: self.state.clone() }
     }
 
-    /// Forget the previous frame: the next one sweeps from t = 0 into a cleared map (a rebuilt
-    /// renderer, a new scene).
-    pub fn restart(&self) {
-        let mut state = self.state.borrow_mut();
-        state.previous = None;
-        state.clear = true;
-    }
-
     /// Destroy the cells.
     ///
     /// # Safety
@@ -274,9 +269,11 @@ impl PressPass {
         })
     }
 
-    /// Whether the map is cleared this frame (new, time went back, or a dropped frame's clear).
+    /// Whether the map is cleared this frame: new, time went back, or a frame dropped, and the map
+    /// is pressed or read this frame (a renderer with no collider never clears it).
     fn needs_clear(&self) -> bool {
-        self.map.state.borrow().clear
+        let state = self.map.state.borrow();
+        state.clear && (state.use_.press_cells > 0 || state.use_.read)
     }
 }
 
@@ -312,11 +309,13 @@ impl Pass for PressPass {
             self.map.state.borrow_mut().clear = false;
             return Ok(());
         }
-        let cells = self.map.state.borrow().use_.press_cells;
+        let groups = self.map.state.borrow().use_.press_cells.div_ceil(64);
         crate::render::recording::bind_blade_compute(ctx, cmd, (self.set.layout, self.pipeline), self.pose_set);
         self.set.bind(device, cmd, vk::PipelineBindPoint::COMPUTE, ctx.slot);
+        // Rows of at most 65 535 workgroups (the least maxComputeWorkGroupCount).
+        let row = groups.min(MAX_GROUPS_X);
         // SAFETY: as above; the sets and the pipeline are bound.
-        unsafe { device.raw.cmd_dispatch(cmd, cells.div_ceil(64), 1, 1) };
+        unsafe { device.raw.cmd_dispatch(cmd, row, groups.div_ceil(row), 1) };
         Ok(())
     }
 
@@ -325,8 +324,11 @@ impl Pass for PressPass {
     }
 
     fn frame_dropped(&self) {
-        // The clear may not have run: do it again (a trail the map held is lost with it).
-        self.map.state.borrow_mut().clear = true;
+        // The clear, or the frame's sweep, may not have run: clear again and sweep from t = 0 (the
+        // CLI's straight-line paths are drawn again whole; a viewer's trail is lost).
+        let mut state = self.map.state.borrow_mut();
+        state.clear = true;
+        state.previous = None;
     }
 
     unsafe fn destroy(self: Box<Self>, device: &Device) {

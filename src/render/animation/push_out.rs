@@ -30,6 +30,8 @@ use crate::vk::{Access, Device, Resource};
 pub struct PushOutPass {
     inner: PosePass,
     map: MapReader,
+    /// `--debug-view pressed`: recorded every frame, to colour every blade by the map.
+    shows_map: bool,
 }
 
 impl PushOutPass {
@@ -53,7 +55,8 @@ impl PushOutPass {
             uniforms: Some(frame),
             store: None,
         };
-        Ok(Self { inner: PosePass::new(device, setup, shader)?, map })
+        let shows_map = setup.constants.flags & crate::render::gpu_constants::FLAG_DEBUG_PRESSED != 0;
+        Ok(Self { inner: PosePass::new(device, setup, shader)?, map, shows_map })
     }
 }
 
@@ -64,7 +67,8 @@ impl Pass for PushOutPass {
 
     fn declare(&self, ctx: &PassContext) -> Option<Declaration> {
         // No collider this frame and a map that reads as empty: not recorded.
-        (ctx.uniforms.wind_counts.y > 0 || self.map.read()).then(|| self.inner.declare(ctx)).flatten()
+        let needed = ctx.uniforms.wind_counts.y > 0 || self.map.read() || self.shows_map;
+        needed.then(|| self.inner.declare(ctx)).flatten()
     }
 
     fn record(&self, ctx: &PassContext, cmd: vk::CommandBuffer) -> Result<()> {
@@ -92,13 +96,14 @@ pub fn circle_holds(center: Vec3, radii: Vec3, root: Vec3) -> bool {
 }
 
 /// The point at distance `len` from `a` on the unit sphere nearest its point straight out through
-/// `q` (the collider's unit space); the radial point when `a` is inside. `unit_surface_from` of
+/// `q` (the collider's unit space); a segment's length straight out from the centre through `q`
+/// when `a` is inside. `unit_surface_from` of
 /// `push_out.glsl`.
 fn unit_surface_from(a: Vec3, q: Vec3, len: f32) -> Vec3 {
     let radial = if q.length() > 1e-6 { q.normalize() } else { Vec3::Y };
     let d = a.length();
     if d < 1.0 - 1e-4 {
-        return radial;
+        return a + len * radial;
     }
     let u = -a / d;
     let h = (d * d + len * len - 1.0) / (2.0 * d);
@@ -174,6 +179,20 @@ mod tests {
             }
         }
         assert!(pushed > 300, "{pushed} of 400 blades pushed");
+    }
+
+    #[test]
+    fn a_blade_rooted_inside_a_sunk_sphere_keeps_its_segments() {
+        // The sphere reaches 0.1 m below the ground: roots near its centre are inside it.
+        let (center, radii) = (Vec3::new(0.05, 0.2, 0.0), Vec3::splat(0.3));
+        let before = backbone(Vec3::ZERO, 0.5, 8, Vec3::ZERO);
+        let mut after = before.clone();
+        assert_eq!(push_out(&mut after, center, radii), Some(1));
+        for (w, pair) in before.windows(2).zip(after.windows(2)) {
+            assert!(((w[1] - w[0]).length() - (pair[1] - pair[0]).length()).abs() < 1e-4);
+        }
+        // Out of the sphere where it can be, with the blade's length.
+        assert!((after[8] - center).length() >= 0.3 - 1e-4, "{:?}", after[8]);
     }
 
     #[test]

@@ -150,6 +150,9 @@ impl Renderer {
         if settings.debug_fresnel {
             specialization.flags |= crate::render::gpu_constants::FLAG_DEBUG_FRESNEL;
         }
+        if settings.debug_pressed {
+            specialization.flags |= crate::render::gpu_constants::FLAG_DEBUG_PRESSED;
+        }
         if settings.debug_cover {
             specialization.flags |= crate::render::gpu_constants::FLAG_DEBUG_COVER;
         }

@@ -105,6 +105,11 @@ impl Renderer {
         // Destroyed if the records cannot be made: nothing has used it.
         let response = crate::vk::Guard::new(device, response);
         check_flowers(scene.flower_share, settings, &response.blade_input())?;
+        if settings.debug_pressed && !response.blade_input().pose_records() {
+            let why =
+                "it colours the pose records the pressed map bends, and these blades are posed per vertex or neutral";
+            return Err(Error::BadInput(format!("--debug-view pressed: {why}")));
+        }
         let room = match response.blade_input().pose_records() {
             true => {
                 let records = pose_records(device, scene, settings.segments).max(1);
