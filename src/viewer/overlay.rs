@@ -81,9 +81,14 @@ impl Viewer {
         let (frame, actions) = ui.frame(&surface.window, &view);
         self.ui_actions.extend(actions);
         if screenshot {
-            // Where the screenshot shows the overlay (pixels), for whoever compares it.
-            let rects: Vec<String> =
-                ui.panels.iter().map(|r| format!("{:.0},{:.0},{:.0},{:.0}", r[0], r[1], r[2], r[3])).collect();
+            // Where the screenshot shows the overlay (pixels, within the picture: a panel taller
+            // than the window at a large scale factor starts above it), for whoever compares it.
+            let rects: Vec<String> = ui
+                .panels
+                .iter()
+                .map(|r| r.map(|v| v.max(0.0)))
+                .map(|r| format!("{:.0},{:.0},{:.0},{:.0}", r[0], r[1], r[2], r[3]))
+                .collect();
             println!("overlay panels in the screenshot: {}", rects.join(" "));
         }
         renderer.set_overlay(Some(frame))
