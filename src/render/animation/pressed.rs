@@ -88,25 +88,28 @@ pub struct PressedFrame {
     boxes: [[i32; 4]; MAX_SWEEPS],
 }
 
-/// What the map's passes do this frame, decided by [`PressedMap::update`].
-#[derive(Clone, Copy, Default)]
-struct FrameUse {
-    /// Cells the press dispatch covers (0: no press).
-    press_cells: u32,
-    /// The push-out pass reads the map.
-    read: bool,
-}
-
 /// What the CPU keeps between frames.
 struct PressState {
     /// The previous frame's time and the sweeps' centres then (world, f64).
     previous: Option<(f64, Vec<DVec3>)>,
     /// The map reads as empty from this time on (its last press recovered, its last cut regrown).
     active_until: f64,
+    /// This frame's block: its counts say what the passes do (`press_cells`, `read`).
     frame: PressedFrame,
-    use_: FrameUse,
     /// The map must be cleared before its next press (new, or time went back).
     clear: bool,
+}
+
+impl PressState {
+    /// Cells the press dispatch covers this frame (0: no press).
+    fn press_cells(&self) -> u32 {
+        self.frame.counts[2]
+    }
+
+    /// Whether the push-out pass reads the map this frame.
+    fn read(&self) -> bool {
+        self.frame.counts[1] != 0
+    }
 }
 
 /// The map's cells, owned by the renderer (they outlive the passes' rebuilds), and what its
@@ -123,13 +126,8 @@ impl PressedMap {
         let usage = vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST;
         let bytes = u64::from(DIMS * DIMS) * 16;
         let cells = Buffer::new(device, &BufferDesc::gpu_only("pressed map", bytes, usage))?;
-        let state = PressState {
-            previous: None,
-            active_until: f64::NEG_INFINITY,
-            frame: Zeroable::zeroed(),
-            use_: FrameUse::default(),
-            clear: true,
-        };
+        let state =
+            PressState { previous: None, active_until: f64::NEG_INFINITY, frame: Zeroable::zeroed(), clear: true };
         Ok(Self { cells, state: Rc::new(RefCell::new(state)) })
     }
 
@@ -189,7 +187,6 @@ impl PressedMap {
         let rate = FIVE_PERCENT / f64::from(params.recovery_s);
         frame.times = [time as f32, then as f32, rate as f32, params.regrow_s];
         state.frame = frame;
-        state.use_ = FrameUse { press_cells, read };
         state.previous = Some((time, now));
     }
 
@@ -226,7 +223,7 @@ impl MapReader {
 
     /// Whether the map is read this frame.
     pub fn read(&self) -> bool {
-        self.state.borrow().use_.read
+        self.state.borrow().read()
     }
 
     /// This frame's block.
@@ -273,7 +270,7 @@ impl PressPass {
     /// is pressed or read this frame (a renderer with no collider never clears it).
     fn needs_clear(&self) -> bool {
         let state = self.map.state.borrow();
-        state.clear && (state.use_.press_cells > 0 || state.use_.read)
+        state.clear && (state.press_cells() > 0 || state.read())
     }
 }
 
@@ -283,7 +280,7 @@ impl Pass for PressPass {
     }
 
     fn declare(&self, ctx: &PassContext) -> Option<Declaration> {
-        let press = self.map.state.borrow().use_.press_cells > 0;
+        let press = self.map.state.borrow().press_cells() > 0;
         let declaration = match (self.needs_clear(), press) {
             (false, false) => return None,
             (true, _) => Declaration::compute().step("clear").buffer(self.map.cells, Access::TransferWrite),
@@ -309,7 +306,7 @@ impl Pass for PressPass {
             self.map.state.borrow_mut().clear = false;
             return Ok(());
         }
-        let groups = self.map.state.borrow().use_.press_cells.div_ceil(64);
+        let groups = self.map.state.borrow().press_cells().div_ceil(64);
         crate::render::recording::bind_blade_compute(ctx, cmd, (self.set.layout, self.pipeline), self.pose_set);
         self.set.bind(device, cmd, vk::PipelineBindPoint::COMPUTE, ctx.slot);
         // Rows of at most 65 535 workgroups (the least maxComputeWorkGroupCount).
