@@ -138,6 +138,8 @@ pub struct RenderOptions {
     pub debug_cover: bool,
     /// Show the pressed map's bend and cut as colour.
     pub debug_pressed: bool,
+    /// Show the interaction patches as colour.
+    pub debug_patches: bool,
     /// Multisample anti-aliasing.
     pub msaa: crate::render::msaa::Msaa,
     /// The cull and LOD, or brute force.
@@ -272,6 +274,7 @@ impl RenderOptions {
             debug_fresnel: self.debug_fresnel,
             debug_cover: self.debug_cover,
             debug_pressed: self.debug_pressed,
+            debug_patches: self.debug_patches,
             msaa: self.msaa,
             floor: self.floor,
             fog_density: self.fog,
@@ -320,6 +323,18 @@ pub struct RenderReport {
     pub submission: (crate::render::submission::Submission, u32),
     /// The ground's and the plants' options (`RenderOptions::landscape_summary`).
     pub landscape: String,
+    /// With colliders, the blades the last frame listed for the interaction patches and those
+    /// holding a patch.
+    pub patches: Option<(u64, u64)>,
+}
+
+/// With colliders, the interaction patches after the last frame, which drew `step` (issue #34: how
+/// many blades hold state): the blades listed, and those holding a patch.
+fn patch_counts(renderer: &Renderer, step: u64) -> Result<Option<(u64, u64)>> {
+    match renderer.animation().wind.colliders.is_empty() {
+        true => Ok(None),
+        false => renderer.patch_counts(step),
+    }
 }
 
 /// One line per setting the device made the renderer change (`Renderer::new`'s fallbacks).
@@ -398,7 +413,7 @@ pub fn render(device: &Arc<Device>, options: &RenderOptions) -> Result<RenderRep
             frames.push(timings);
         }
         write_png(&options.out, options.size, target.pixels())?;
-        Ok((frames, warm_up))
+        Ok((frames, warm_up, patch_counts(&renderer, clock.steps_to(options.time.into()))?))
     })();
     let stateful = renderer.stateful();
     let triangles = renderer.triangles();
@@ -407,7 +422,7 @@ pub fn render(device: &Arc<Device>, options: &RenderOptions) -> Result<RenderRep
     drop(renderer);
     // SAFETY: render_offscreen waited for its fence; nothing else uses the target.
     unsafe { target.destroy(device) };
-    let (frames, warm_up) = result?;
+    let (frames, warm_up, patches) = result?;
     Ok(RenderReport {
         device: device.info.clone(),
         blades: options.blades,
@@ -425,12 +440,14 @@ pub fn render(device: &Arc<Device>, options: &RenderOptions) -> Result<RenderRep
         submission,
         clock: (options.time, options.animation.clock),
         landscape: options.landscape_summary(),
+        patches,
     })
 }
 
 /// Bring a stateful response to the step before `first`: one frame per step from step 0 (the
-/// equilibrium under the wind at t = 0), as the headless commands advance, so the state at
-/// `first` does not depend on how many frames follow. Returns the steps taken: 0 for a stateless
+/// equilibrium under the wind at t = 0; with only interaction patches keeping state, from
+/// `Renderer::warm_up_from`'s step), as the headless commands advance, so the state at `first`
+/// does not depend on how many frames follow. Returns the steps taken: 0 for a stateless
 /// response, which draws any step as it is.
 pub fn warm_up(
     renderer: &mut Renderer,
@@ -438,15 +455,15 @@ pub fn warm_up(
     camera: &crate::scene::Camera,
     first: u64,
 ) -> Result<u64> {
-    if !renderer.stateful() {
+    let Some(start) = renderer.warm_up_from(first) else {
         return Ok(0);
-    }
+    };
     let clock = renderer.animation().clock;
-    for step in 0..first {
+    for step in start..first {
         interrupt::check()?;
         renderer.render_offscreen(target, camera, clock.time_of(step) as f32)?;
     }
-    Ok(first)
+    Ok(first - start)
 }
 
 /// Median of a slice (empty → 0).

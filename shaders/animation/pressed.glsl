@@ -36,6 +36,10 @@ layout(set = SET_PASS, binding = PRESSED_BINDING + 1, std430) readonly buffer Pr
     vec4 pressed_times;    // x now, y the previous frame's time, z the spring's rate ω (1/s), w the regrowth (s)
     vec4 pressed_sweeps[3u * PRESSED_SWEEPS]; // per collider: centre then and now (xyz relative to O), radii (w: 1 cuts)
     ivec4 pressed_boxes[PRESSED_SWEEPS]; // per collider: the first world cell its sweep covers, the box's width, its first invocation
+    // The push-out pass's interaction patches (`render::animation::patches::PatchFrame`; zero for
+    // the press pass, animation/patches.glsl reads them).
+    uvec4 patch_steps;     // x the step the previous frame drew plus one (0: restart), y steps to take, z this frame's step plus one, w 1 when patches run
+    vec4 patch_chain;      // x the step (s), y the chain's stiffness k/J (1/s²), z its damper d/J (1/s), w unused
 };
 
 // The tag of world cell `w`: never 0.

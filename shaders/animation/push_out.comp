@@ -6,8 +6,10 @@
 // moved out of the collider (animation/push_out.glsl), whichever response wrote it, stateless or
 // stateful. Before that, the pressed map's bend and cut (animation/pressed.glsl) are applied to
 // every blade whose cell holds one. A blade neither touches is left to the bit; so is every level
-// below the first one moved. The pass declares nothing (is not recorded) on frames with no
-// collider and a map that reads as empty.
+// below the first one moved. A blade within reach of a collider, or where an interaction patch may
+// still live (animation/patches.glsl), is listed for the patch pass instead (animation/patch.comp),
+// which draws it by its patch and walks it the same way. The pass declares nothing (is not
+// recorded) on frames with no collider, no patch alive and a map that reads as empty.
 #define POSE_EDITOR
 // The collider count decides the loops: read the frame as storage (bindings.glsl says why).
 #define FRAME_FROM_STORAGE
@@ -16,6 +18,8 @@
 #include "animation/push_out.glsl"
 #include "animation/pressed.glsl"
 #include "animation/collider_bins.glsl"
+#include "animation/chain.glsl"
+#include "animation/patches.glsl"
 
 layout(local_size_x = POSE_GROUP) in;
 
@@ -49,7 +53,7 @@ void push_blade(uint record, BladeInstance blade, uint first, uvec2 near, vec3 p
             forces[level] = tangent_force.w;
         }
     }
-    uint moved = (RENDER_FLAGS & FLAG_DEBUG_PRESSED) != 0u ? 1u : MODEL_SEGMENTS + 1u;
+    uint moved = (RENDER_FLAGS & (FLAG_DEBUG_PRESSED | FLAG_DEBUG_PATCHES)) != 0u ? 1u : MODEL_SEGMENTS + 1u;
     // The pressed map's bend and cut first (render::animation::pressed), then the colliders.
     if (pressed.z < 1.0 || dot(pressed.xy, pressed.xy) > 1e-10) {
         press_points(points, pressed);
@@ -82,10 +86,12 @@ void push_blade(uint record, BladeInstance blade, uint first, uvec2 near, vec3 p
             above = level_read(next) ? next : above;
         }
         if (level >= from) {
-            // `--debug-view pressed`: every level again, the map's share in the force channel.
+            // `--debug-view pressed`: every level again, the map's share in the force channel;
+            // `--debug-view patches`: no chain's share (the patch pass writes the patched blades').
             float shown = (RENDER_FLAGS & FLAG_DEBUG_PRESSED) != 0u
                 ? max(length(pressed.xy), (1.0 - pressed.z) / (1.0 - PRESSED_STUB))
                 : forces[level];
+            shown = (RENDER_FLAGS & FLAG_DEBUG_PATCHES) != 0u ? 0.0 : shown;
             vec3 t = points[above] - points[below];
             t = length(t) > 0.0 ? normalize(t) : vec3(0.0, 1.0, 0.0);
             vec3 offset = points[level] - blade.position;
@@ -97,6 +103,20 @@ void push_blade(uint record, BladeInstance blade, uint first, uvec2 near, vec3 p
     }
 }
 
+// List blade `record` (visible entry `entry`, drawn with its bucket's segments; `reach`: a collider
+// reaches it, `held`: a collider's ground circle holds its root) for the patch pass; the dispatch
+// grows to cover it. False past the list's capacity: the blade is walked here.
+bool patch_append(uint record, uvec2 entry, bool reach, bool held) {
+    uint i = atomicAdd(patch_list_head.w, 1u);
+    if (i >= PATCH_CAPACITY) {
+        return false;
+    }
+    uint segments = (RENDER_FLAGS & FLAG_CULLED) != 0u ? SEGMENTS : MODEL_SEGMENTS;
+    patch_list[i] = uvec4(record, entry, segments | (reach ? PATCH_REACHED : 0u) | (held ? PATCH_HELD : 0u));
+    atomicMax(patch_list_head.x, i / PATCH_GROUP + 1u);
+    return true;
+}
+
 void main() {
     uint record;
     uvec2 entry;
@@ -104,21 +124,29 @@ void main() {
     uint blade_index;
     bool posed = posed_blade(record, entry, blade, blade_index);
     uint first = frame.wind_counts.x;
-    // The colliders whose ground ellipse may hold the root (animation/collider_bins.glsl).
+    // The colliders whose ground ellipse, grown by a patch's reach, may hold the root
+    // (animation/collider_bins.glsl).
     uvec2 near = posed ? colliders_near(blade.position.xz) : uvec2(0u);
     bool held = false;
+    bool reach = false;
     uvec2 each = near;
     while (each != uvec2(0u)) {
         uint e = first + 2u * next_collider(each);
         held = circle_holds(e, blade.position) || held;
+        reach = within_reach(e, blade) || reach;
+    }
+    // A patch where a collider reaches the blade, or where one may still live: the patch pass's.
+    bool patched = posed && patch_steps.w != 0u && (reach || patch_may_live(blade.position.xz));
+    if (patched && patch_append(record, entry, reach, held)) {
+        return;
     }
     vec3 pressed = vec3(0.0, 0.0, 1.0);
     if (pressed_counts.y != 0u && posed) {
         pressed = pressed_at(blade.position.xz);
     }
     held = held || pressed.z < 1.0 || dot(pressed.xy, pressed.xy) > 1e-10;
-    // `--debug-view pressed` colours every posed blade by the map.
-    held = held || (posed && (RENDER_FLAGS & FLAG_DEBUG_PRESSED) != 0u);
+    // `--debug-view pressed` colours every posed blade by the map, `patches` by its patch.
+    held = held || (posed && (RENDER_FLAGS & (FLAG_DEBUG_PRESSED | FLAG_DEBUG_PATCHES)) != 0u);
     // llvmpipe runs a branch's body under a mask even when no lane takes it (1.1 ms of this pass
     // at the default scene with no blade held), but leaves a loop once no lane is in it: the walk
     // is a loop of at most one turn, which a group of lanes no circle holds skips.

@@ -87,6 +87,8 @@ pub(crate) enum DebugViewArg {
     Cover,
     /// The pressed map on the blades: green untouched, to magenta where trampled or freshly cut (how far from its own pose the map takes a blade).
     Pressed,
+    /// The interaction patches on the blades: grey-green drawn by the response, to orange where a collider's patch draws a blade by its inertial chain (Belyaev §3.4).
+    Patches,
 }
 
 #[derive(Clone, Copy, ValueEnum)]

@@ -150,9 +150,15 @@ fn print_render(report: &RenderReport) {
     if let Some(cull) = &last.cull {
         println!("cull: {}", cull.summary());
     }
+    if let Some((listed, live)) = report.patches {
+        use crate::render::animation::patches::{RECORD_WORDS, STORE_BYTES};
+        let kib = (live * u64::from(RECORD_WORDS) * 4) as f64 / 1024.0;
+        let store = STORE_BYTES >> 20;
+        println!("patches: {live} blades hold state ({kib:.0} KiB of records in a {store} MiB store); {listed} listed");
+    }
     let (time, clock) = report.clock;
     let warm_up = match report.warm_up {
-        (steps, true) => format!("{steps} warm-up steps from t = 0"),
+        (steps, true) => format!("{steps} warm-up steps"),
         (_, false) => "0 warm-up steps (the model and the wind field are stateless)".to_owned(),
     };
     println!("time: step {} of {:.3} ms at --time {time} s; {warm_up}", clock.steps_to(time.into()), clock.dt * 1e3);

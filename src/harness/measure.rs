@@ -90,8 +90,8 @@ pub(crate) fn measure(subject: &mut dyn Subject, schedule: Schedule, progress: &
     Ok(Measured { schedule, frames })
 }
 
-/// What sees each frame's picture: the variant, and the target it rendered into.
-pub(crate) type AfterFrame<'a> = &'a mut dyn FnMut(usize, &OffscreenTarget);
+/// What sees each frame's picture: the variant, its renderer, and the target it rendered into.
+pub(crate) type AfterFrame<'a> = &'a mut dyn FnMut(usize, &Renderer, &OffscreenTarget);
 
 /// The common subject: renderers that each render a frame offscreen and wait for it, into one
 /// target they share or one target each, from `camera(i, round)` at simulation time
@@ -121,7 +121,7 @@ impl Subject for Offscreen<'_> {
         };
         let timings = self.renderers[i].render_offscreen(target, &(self.camera)(i, round), (self.time)(round))?;
         if let Some(after) = self.after.as_mut() {
-            after(i, target);
+            after(i, &self.renderers[i], target);
         }
         Ok(Some(Frame { index: round, timings }))
     }

@@ -45,6 +45,8 @@ pub struct RenderSettings {
     pub debug_cover: bool,
     /// The pressed map's bend and cut as colour on the blades (`--debug-view pressed`).
     pub debug_pressed: bool,
+    /// The interaction patches' chains' share as colour on the blades (`--debug-view patches`).
+    pub debug_patches: bool,
     /// The GPU-driven cull and LOD, or brute force.
     pub culling: crate::render::culling::Culling,
     /// Multisample anti-aliasing (`--msaa`, `render::msaa`).
@@ -79,6 +81,7 @@ impl RenderSettings {
             debug_fresnel: false,
             debug_cover: false,
             debug_pressed: false,
+            debug_patches: false,
             culling,
             msaa: crate::render::msaa::Msaa::default(),
             floor: false,

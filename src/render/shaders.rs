@@ -21,6 +21,8 @@ pub const BLADE_LEVELS_COMP: Shader = spirv_shader!("blades/blade_levels.comp");
 pub const BLADE_POSE_COMP: Shader = spirv_shader!("animation/blade_pose.comp");
 /// Push-out (Zhang Xia §6.2, `render::animation::push_out`): recorded backbones moved out of the colliders.
 pub const PUSH_OUT_COMP: Shader = spirv_shader!("animation/push_out.comp");
+/// The interaction patches (Belyaev §3.4, `render::animation::patch_pass`): listed blades' chains stepped.
+pub const PATCH_COMP: Shader = spirv_shader!("animation/patch.comp");
 /// The pressed map's press pass (`render::animation::pressed`): colliders and cuts swept into it.
 pub const PRESS_COMP: Shader = spirv_shader!("animation/press.comp");
 /// Pelzer's sine animation (`render::animation::sine`), its phase per object: pose records.

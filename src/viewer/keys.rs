@@ -169,7 +169,15 @@ impl Viewer {
             "v" => settings.debug_force = !settings.debug_force,
             "x" => settings.debug_bounds = !settings.debug_bounds,
             "f3" => settings.debug_wind = !settings.debug_wind,
-            "f8" => settings.debug_pressed = !settings.debug_pressed,
+            // Off, the pressed map, the interaction patches.
+            "f8" => {
+                (settings.debug_pressed, settings.debug_patches) =
+                    match (settings.debug_pressed, settings.debug_patches) {
+                        (false, false) => (true, false),
+                        (true, _) => (false, true),
+                        (false, true) => (false, false),
+                    }
+            }
             "t" => cycle_cull_views(&mut settings),
             "o" | "y" => toggle_culling(&mut settings.culling, name),
             "f" => settings.wireframe = !settings.wireframe,

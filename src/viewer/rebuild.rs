@@ -195,7 +195,7 @@ impl Viewer {
     pub(super) fn report_rebuild(&self) {
         let a = self.renderer.as_ref().expect("built").animation();
         println!(
-            "mode {}, smoothing {:?}, eval {:?}, {} wind, {} segments, {} blades, {}{}{}{}{}{}{}{}{}",
+            "mode {}, smoothing {:?}, eval {:?}, {} wind, {} segments, {} blades, {}{}{}{}{}{}{}{}{}{}",
             if self.settings.floor { "Floor".to_string() } else { format!("{:?}", a.mode) },
             a.smoothing,
             a.eval,
@@ -218,6 +218,7 @@ impl Viewer {
             if self.settings.debug_bounds { ", cluster bounds" } else { "" },
             if self.settings.debug_wind { ", wind arrows" } else { "" },
             if self.settings.debug_pressed { ", pressed view" } else { "" },
+            if self.settings.debug_patches { ", patches view" } else { "" },
             if self.settings.wireframe { ", wireframe" } else { "" },
             match self.settings.msaa {
                 m if !m.enabled() => String::new(),

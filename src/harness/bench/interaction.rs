@@ -1,14 +1,16 @@
 //! `meadow bench --preset interaction`: issue #34's cost side by side in one run (`pairs`). Four
 //! renderers render in turn, in two pairs, from each scene's default camera, animated as the CLI's
 //! default (keyframes posed once per drawn blade), the simulation time advancing one 1/60 s step a
-//! round from `START_S`:
+//! round, the measured rounds from `START_S` and the warm-up's before them:
 //!
 //! - **the default stored field** (100 000 blades): `COLLIDERS` moving spheres against none;
 //! - **the unbounded block field** (400 blades/m²): the same.
 //!
 //! The spheres are of `RADIUS_M`, resting on the ground, moving at `SPEED_M_S` along seeded
 //! directions from seeded points within `REACH_M` of the camera. Push-out and the pressed map are on
-//! (their trails from t = 0 to `START_S` swept into the map on the first frame). Target: ≤ 1.25×.
+//! (their trails from t = 0 swept into the map on the first frame), and so are the interaction
+//! patches (at least `PATCH_WARMUP_ROUNDS` rounds of warm-up, so that as many blades hold a patch
+//! as a walk keeps; the table reports how many, and their memory). Target: ≤ 1.25×.
 //!
 //! `interaction.json` holds every variant's GPU times and what each drew, and each pair's ratio and
 //! picture difference; `table` prints them.
@@ -37,8 +39,11 @@ pub const COLLIDERS: usize = 64;
 pub const RADIUS_M: f32 = 0.3;
 pub const SPEED_M_S: f32 = 1.5;
 pub const REACH_M: f32 = 20.0;
-/// The simulation time of the first round, in seconds: the spheres have left trails by then.
-pub const START_S: f32 = 2.0;
+/// The simulation time of the first measured round, in seconds: the spheres have left trails by
+/// then.
+pub const START_S: f32 = 2.2;
+/// Warm-up rounds at least: 2.1 s of steps, past `patches::TIMEOUT_S + BLEND_S`.
+pub const PATCH_WARMUP_ROUNDS: u32 = 126;
 /// The stored field's blades and the fields' seed.
 pub const STORED_BLADES: u32 = 100_000;
 pub const SEED: u64 = 1;
@@ -99,7 +104,10 @@ pub fn run(
     let (stored, block) = (Scene::generate(STORED_BLADES, SEED), Scene::blocks(spec, SEED));
     let scenes = vec![stored.clone(), stored, block.clone(), block];
     let cameras: Vec<Camera> = scenes.iter().map(Scene::default_camera).collect();
-    let schedule = Schedule { warmup: options.warmup, frames: options.frames };
+    // Warm-up rounds (one step each) past a patch's longest life out of reach: the patches
+    // measured are as many as a walk keeps, not the few of its first frames.
+    let warmup = options.warmup.max(PATCH_WARMUP_ROUNDS);
+    let schedule = Schedule { warmup, frames: options.frames };
     // The CLI's default: keyframes posed once per drawn blade with the cull (`--eval auto`).
     let plain = AnimationSettings { eval: Eval::default_for(true), ..AnimationSettings::default() };
     let animations: Vec<AnimationSettings> = (0..scenes.len())
@@ -111,11 +119,14 @@ pub fn run(
             animation
         })
         .collect();
-    let animated = Animated { animations: &animations, start: START_S, step: 1.0 / 60.0 };
+    // The measured rounds from `START_S`, the warm-up's steps before them.
+    let step = 1.0 / 60.0;
+    let start = (START_S - warmup as f32 * step).max(0.0);
+    let animated = Animated { animations: &animations, start, step };
     let pairs = pairs::run(device, (&PAIRS, &scenes, &cameras, animated), options.size, schedule, progress)?;
     Ok(InteractionDocument {
         header: Header::new(device, "interaction", options.size),
-        warmup: options.warmup,
+        warmup,
         frames: options.frames,
         colliders: COLLIDERS,
         radius_m: RADIUS_M,
@@ -132,5 +143,16 @@ pub fn write(doc: &InteractionDocument, dir: &Path) -> Result<()> {
 /// The pairs as a text table.
 pub fn table(doc: &InteractionDocument) -> String {
     let head = format!("interaction, {} rounds after {} of warm-up\n", doc.frames, doc.warmup);
-    head + &pairs::table_rows(&doc.pairs)
+    let record = u64::from(crate::render::animation::patches::RECORD_WORDS) * 4;
+    let store = crate::render::animation::patches::STORE_BYTES as f64 / (1 << 20) as f64;
+    let patches: String = doc
+        .pairs
+        .iter()
+        .filter_map(|p| p.subject.patches.map(|n| (&p.subject.name, n)))
+        .map(|(name, n)| {
+            let kib = (n * record) as f64 / 1024.0;
+            format!("{name}: {n} blades hold patch state, {kib:.0} KiB of records (the store: {store:.0} MiB)\n")
+        })
+        .collect();
+    head + &pairs::table_rows(&doc.pairs) + &patches
 }

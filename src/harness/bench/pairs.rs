@@ -71,6 +71,10 @@ pub struct Variant {
     /// Per draw class, the blades first, what it drew in the last frame.
     #[serde(default)]
     pub classes: Vec<ClassDrawn>,
+    /// With colliders, the blades holding an interaction patch's state after the last frame
+    /// (`render::animation::patches`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub patches: Option<u64>,
 }
 
 /// A pair: its label, its reference's and subject's names, and the bound on their ratio.
@@ -105,7 +109,7 @@ pub(crate) fn run(
     schedule: Schedule,
     progress: impl FnMut(u64, u64),
 ) -> Result<Vec<Pair>> {
-    let (measured, pictures) = render(device, (scenes, cameras, animated), size, schedule, progress)?;
+    let (measured, pictures, patches) = render(device, (scenes, cameras, animated), size, schedule, progress)?;
     let variant = |i: usize| {
         let gpu: Vec<f64> = measured.timings(i).map(|t| t.gpu_ms).collect();
         let cull = measured.all(i).last().and_then(|f| f.timings.cull);
@@ -113,7 +117,7 @@ pub(crate) fn run(
         let name = [specs[i / 2].1, specs[i / 2].2][i % 2].to_string();
         let camera = [c.position.x, c.position.y, c.position.z, c.yaw_deg, c.pitch_deg];
         let (drawn, classes) = cull.map_or((0, Vec::new()), |c| (c.total_drawn(), ClassDrawn::of(&c)));
-        Variant { name, camera, gpu_ms: Summary::of(&gpu), drawn, classes }
+        Variant { name, camera, gpu_ms: Summary::of(&gpu), drawn, classes, patches: patches[i] }
     };
     Ok(specs
         .iter()
@@ -137,15 +141,20 @@ pub(crate) fn run(
         .collect())
 }
 
+/// What `render` measured: every frame's timings, each variant's last picture (RGB8), and with
+/// colliders the blades holding a patch after its last frame.
+type Rendered = (Measured, Vec<Vec<u8>>, Vec<Option<u64>>);
+
 /// Render `scenes` from their `cameras` in turn, `schedule`'s rounds of `size` pictures: every
-/// frame's timings, and each variant's last picture (RGB8).
+/// frame's timings, each variant's last picture (RGB8), and with colliders the blades holding a
+/// patch after its last frame.
 fn render(
     device: &Arc<Device>,
     (scenes, cameras, animated): (&[Scene], &[Camera], Animated),
     size: (u32, u32),
     schedule: Schedule,
     mut progress: impl FnMut(u64, u64),
-) -> Result<(Measured, Vec<Vec<u8>>)> {
+) -> Result<Rendered> {
     let settings = RenderSettings {
         pipeline_statistics: true,
         ..RenderSettings::offscreen(SEGMENTS, Culling::default_for(SEGMENTS))
@@ -158,17 +167,28 @@ fn render(
     let mut targets = vec![OffscreenTarget::new(device, vk::Extent2D { width: size.0, height: size.1 })?];
     let mut frames = Progress::new(n as u64 * u64::from(schedule.rounds()), &mut progress);
     let mut pictures: Vec<Vec<u8>> = vec![Vec::new(); n];
+    let mut patches: Vec<Option<u64>> = vec![None; n];
+    let mut failed = None;
     let last = schedule.rounds() - 1;
     let mut round_of = vec![0u32; n];
     let measured = {
-        let mut after = |i: usize, target: &OffscreenTarget| {
+        let time = |round: u32| animated.start + animated.step * round as f32;
+        let mut after = |i: usize, renderer: &Renderer, target: &OffscreenTarget| {
             if round_of[i] == last {
                 pictures[i] = target.pixels().chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect();
+                if !renderer.animation().wind.colliders.is_empty() {
+                    let step = renderer.animation().clock.steps_to(f64::from(time(last)));
+                    match renderer.read_patches() {
+                        Ok(words) => {
+                            patches[i] = Some(crate::render::animation::patches::live(&words, step).len() as u64)
+                        }
+                        Err(e) => failed = Some(e),
+                    }
+                }
             }
             round_of[i] += 1;
         };
         let camera = |i: usize, _| cameras[i];
-        let time = |round: u32| animated.start + animated.step * round as f32;
         let mut subject = Offscreen {
             renderers: &mut renderers,
             targets: &mut targets,
@@ -183,7 +203,10 @@ fn render(
         // SAFETY: every renderer waited for its frames and is dropped.
         unsafe { target.destroy(device) };
     }
-    Ok((measured?, pictures))
+    if let Some(e) = failed {
+        return Err(e);
+    }
+    Ok((measured?, pictures, patches))
 }
 
 /// `pairs` as rows of a text table, after its header line.

@@ -1,8 +1,9 @@
 //! The colliders binned over the ground (issue #34): a blade tests only the colliders whose ground
 //! ellipse may hold its root, not all of them. Both the colliders' force (`blade_force`,
 //! `shaders/animation/forces.glsl`: every response) and push-out act only on blades whose root lies
-//! inside a collider's ground ellipse, so a grid of `BIN_DIMS`² bins over the box of every
-//! collider's ellipse, each with a 64-bit mask of the colliders whose ellipse's box overlaps it,
+//! inside a collider's ground ellipse (and the interaction patches, `patches`, only within
+//! `patches::REACH_M` of it), so a grid of `BIN_DIMS`² bins over the box of every
+//! collider's ellipse, each with a 64-bit mask of the colliders whose ellipse's box, grown by that reach, overlaps it,
 //! tells a blade the few it must test (`shaders/animation/collider_bins.glsl`). A blade outside the
 //! grid tests none.
 //!
@@ -10,8 +11,8 @@
 //! `Emitters`, from element `COLLIDER_BINS`): a header (the grid's first corner x, z relative to
 //! O, its bin edge, `BIN_DIMS`; 0 there when no collider), then per bin its mask as four 16-bit
 //! integers in floats (exact, and no bit pattern a float load may change). The bins are found with
-//! the f32 positions the GPU reads, and the boxes padded by a millimetre, so no root inside an
-//! ellipse is missed; a blade's colliders are taken in ascending order, as before, so the forces
+//! the f32 positions the GPU reads, and the boxes padded by a millimetre more, so no root within
+//! reach is missed; a blade's colliders are taken in ascending order, as before, so the forces
 //! are the same to the bit.
 
 use glam::{Vec2, Vec4};
@@ -24,8 +25,9 @@ pub const COLLIDER_BINS: usize = super::EMITTER_ELEMENTS;
 pub const EMITTER_BUFFER_ELEMENTS: usize = COLLIDER_BINS + 1 + BIN_DIMS * BIN_DIMS;
 /// The smallest bin edge, in metres.
 const MIN_BIN_M: f32 = 0.25;
-/// The padding of each ellipse's box, in metres.
-const PAD_M: f32 = 1e-3;
+/// The padding of each ellipse's box, in metres: the interaction patches' reach
+/// (`patches::REACH_M`), and a millimetre.
+const PAD_M: f32 = super::patches::REACH_M + 1e-3;
 
 /// Pad `emitters` (the sources, then `(len − sources) / 2` colliders) to `COLLIDER_BINS` and
 /// append the grid over its colliders.

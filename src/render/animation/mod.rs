@@ -13,6 +13,8 @@ pub mod collider_bins;
 pub mod inertial;
 pub mod keyframe_gpu;
 pub mod keyframed;
+pub mod patch_pass;
+pub mod patches;
 pub mod pose_pass;
 pub mod poses;
 pub mod pressed;

@@ -146,19 +146,7 @@ impl Pass for PosePass {
             }
             _ => Declaration::compute(),
         };
-        let declaration = match &self.store {
-            Some((store, _)) => {
-                declaration.buffer(*store, Access::ComputeShaderRead).buffer(*store, Access::ComputeShaderWrite)
-            }
-            None => declaration,
-        };
-        let declaration = declaration
-            .buffer(self.poses.1, Access::ComputeShaderWrite)
-            .buffer(self.reads[0], ctx.device.profile.compute_fetch())
-            .buffer(self.reads[1], Access::ComputeShaderRead)
-            .buffer(self.wind[ctx.slot], Access::ComputeShaderRead);
-        let declaration = self.uses.iter().fold(declaration, |d, &(resource, access)| d.uses(resource, access));
-        Some(self.dispatch.declare(ctx, declaration))
+        Some(self.declare_from(ctx, declaration))
     }
 
     fn record(&self, ctx: &PassContext, cmd: vk::CommandBuffer) -> Result<()> {
@@ -171,8 +159,7 @@ impl Pass for PosePass {
                 cleared.set(true);
             }
         }
-        self.set.bind(ctx.device, cmd, vk::PipelineBindPoint::COMPUTE, ctx.slot);
-        self.dispatch.record(ctx, cmd, self.set.layout, self.poses.0);
+        self.record_dispatch(ctx, cmd);
         Ok(())
     }
 
@@ -202,5 +189,31 @@ impl Pass for PosePass {
                 buffers.destroy(device);
             }
         }
+    }
+}
+
+impl PosePass {
+    /// `declaration` (any steps before the dispatch; the current step is the dispatch's) with what
+    /// the dispatch uses: for a pass that wraps this one with steps of its own before it.
+    pub fn declare_from(&self, ctx: &PassContext, declaration: Declaration) -> Declaration {
+        let declaration = match &self.store {
+            Some((store, _)) => {
+                declaration.buffer(*store, Access::ComputeShaderRead).buffer(*store, Access::ComputeShaderWrite)
+            }
+            None => declaration,
+        };
+        let declaration = declaration
+            .buffer(self.poses.1, Access::ComputeShaderWrite)
+            .buffer(self.reads[0], ctx.device.profile.compute_fetch())
+            .buffer(self.reads[1], Access::ComputeShaderRead)
+            .buffer(self.wind[ctx.slot], Access::ComputeShaderRead);
+        let declaration = self.uses.iter().fold(declaration, |d, &(resource, access)| d.uses(resource, access));
+        self.dispatch.declare(ctx, declaration)
+    }
+
+    /// Bind the pass's sets and record its dispatches (a wrapping pass's dispatch step).
+    pub fn record_dispatch(&self, ctx: &PassContext, cmd: vk::CommandBuffer) {
+        self.set.bind(ctx.device, cmd, vk::PipelineBindPoint::COMPUTE, ctx.slot);
+        self.dispatch.record(ctx, cmd, self.set.layout, self.poses.0);
     }
 }

@@ -86,6 +86,8 @@ pub struct PressedFrame {
     times: [f32; 4],
     sweeps: [[[f32; 4]; 3]; MAX_SWEEPS],
     boxes: [[i32; 4]; MAX_SWEEPS],
+    /// The push-out pass's interaction patches (zero for the press pass).
+    pub patches: super::patches::PatchFrame,
 }
 
 /// What the CPU keeps between frames.
@@ -117,6 +119,8 @@ impl PressState {
 pub struct PressedMap {
     /// `DIMS`² cells of 16 bytes.
     pub cells: Buffer,
+    /// The interaction patches, whose presence grid is over the same cells (`patches`).
+    pub patches: super::patches::PatchStore,
     state: Rc<RefCell<PressState>>,
 }
 
@@ -125,10 +129,11 @@ impl PressedMap {
     pub fn new(device: &Device) -> Result<Self> {
         let usage = vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST;
         let bytes = u64::from(DIMS * DIMS) * 16;
-        let cells = Buffer::new(device, &BufferDesc::gpu_only("pressed map", bytes, usage))?;
+        let cells = Guard::new(device, Buffer::new(device, &BufferDesc::gpu_only("pressed map", bytes, usage))?);
+        let patches = super::patches::PatchStore::new(device)?;
         let state =
             PressState { previous: None, active_until: f64::NEG_INFINITY, frame: Zeroable::zeroed(), clear: true };
-        Ok(Self { cells, state: Rc::new(RefCell::new(state)) })
+        Ok(Self { cells: cells.take(), patches, state: Rc::new(RefCell::new(state)) })
     }
 
     /// The frame at `time` (s) with `wind`'s colliders and cuts, positions relative to `origin`
@@ -193,7 +198,15 @@ impl PressedMap {
     /// The push-out pass's view of the map: its cells and each frame's block (`PressedCells`,
     /// `PressedFrame`), and whether it reads them this frame.
     pub fn reader(&self) -> MapReader {
-        MapReader { cells: self.cells.raw, cells_descriptor: self.cells.descriptor(), state: self.state.clone() }
+        MapReader {
+            cells: self.cells.raw,
+            cells_descriptor: self.cells.descriptor(),
+            patches: self.patches.buffer.raw,
+            patches_descriptor: self.patches.buffer.descriptor(),
+            patch_list: self.patches.list.raw,
+            patch_list_descriptor: self.patches.list.descriptor(),
+            state: self.state.clone(),
+        }
     }
 
     /// Destroy the cells.
@@ -202,7 +215,10 @@ impl PressedMap {
     /// No pending GPU work may use them.
     pub unsafe fn destroy(self, device: &Device) {
         // SAFETY: per the contract.
-        unsafe { crate::vk::Destroy::destroy(self.cells, device) };
+        unsafe {
+            crate::vk::Destroy::destroy(self.cells, device);
+            self.patches.destroy(device);
+        }
     }
 }
 
@@ -212,6 +228,11 @@ pub struct MapReader {
     /// The cells.
     pub cells: vk::Buffer,
     cells_descriptor: vk::DescriptorBufferInfo,
+    /// The interaction patches' store and list (`patches::PatchStore`).
+    pub patches: vk::Buffer,
+    patches_descriptor: vk::DescriptorBufferInfo,
+    pub patch_list: vk::Buffer,
+    patch_list_descriptor: vk::DescriptorBufferInfo,
     state: Rc<RefCell<PressState>>,
 }
 
@@ -221,14 +242,24 @@ impl MapReader {
         ("PressedCells", Descriptor::Buffer(self.cells_descriptor))
     }
 
+    /// The patches' store and list by the names `patches.glsl` declares them with.
+    pub fn patches_resources(&self) -> [(&'static str, Descriptor); 2] {
+        [
+            ("Patches", Descriptor::Buffer(self.patches_descriptor)),
+            ("PatchList", Descriptor::Buffer(self.patch_list_descriptor)),
+        ]
+    }
+
     /// Whether the map is read this frame.
     pub fn read(&self) -> bool {
         self.state.borrow().read()
     }
 
-    /// This frame's block.
-    pub fn frame_bytes(&self) -> Vec<u8> {
-        bytemuck::bytes_of(&self.state.borrow().frame).to_vec()
+    /// This frame's block, with the push-out pass's interaction patches (`PatchFrame::default()`
+    /// for the press pass).
+    pub fn frame_bytes(&self, patches: super::patches::PatchFrame) -> Vec<u8> {
+        let frame = PressedFrame { patches, ..self.state.borrow().frame };
+        bytemuck::bytes_of(&frame).to_vec()
     }
 
     /// The block's size.
@@ -317,7 +348,7 @@ impl Pass for PressPass {
     }
 
     fn uniforms(&self, _: &PassContext) -> Option<(&PassUniforms, Vec<u8>)> {
-        Some((&self.uniforms, self.map.frame_bytes()))
+        Some((&self.uniforms, self.map.frame_bytes(Default::default())))
     }
 
     fn frame_dropped(&self) {
@@ -344,6 +375,11 @@ mod tests {
     use super::*;
 
     #[test]
+    fn the_patches_presence_grid_has_the_maps_cells() {
+        assert_eq!(crate::render::animation::patches::PRESENCE_DIMS, DIMS);
+    }
+
+    #[test]
     fn the_spring_is_at_five_percent_at_the_recovery_time() {
         let x = FIVE_PERCENT;
         assert!(((1.0 + x) * (-x).exp() - 0.05).abs() < 1e-12);
@@ -353,6 +389,6 @@ mod tests {
     fn the_frame_block_is_what_the_shader_reads() {
         // pressed.glsl: five vec4 of counts, window, origin, offset and times, three per sweep,
         // then a box per sweep.
-        assert_eq!(MapReader::FRAME_BYTES, 16 * (5 + 4 * MAX_SWEEPS as u64));
+        assert_eq!(MapReader::FRAME_BYTES, 16 * (5 + 4 * MAX_SWEEPS as u64 + 2));
     }
 }

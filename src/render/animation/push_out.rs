@@ -15,10 +15,14 @@
 //! The pass is in every graph whose response writes pose records (the viewer adds colliders to a
 //! running renderer) and declares nothing on a frame with no collider, so it costs nothing there.
 
+use std::cell::Cell;
+use std::rc::Rc;
+
 use ash::vk;
 use glam::Vec3;
 
 use crate::error::Result;
+use crate::render::animation::patches::PatchClock;
 use crate::render::animation::pose_pass::{PosePass, PoseShader, PoseUniforms};
 use crate::render::animation::pressed::MapReader;
 use crate::render::animation::response::ResponseSetup;
@@ -26,37 +30,53 @@ use crate::render::graph::{Declaration, Pass, PassContext};
 use crate::render::shaders;
 use crate::vk::{Access, Device, Resource};
 
-/// The push-out pass: a pose pass of its own shader that reads and writes the records.
+/// The push-out pass: a pose pass of its own shader that reads and writes the records, with a
+/// step before it that empties the patch list (and, on its first frame or after a dropped one,
+/// clears the patches' store).
 pub struct PushOutPass {
     inner: PosePass,
     map: MapReader,
-    /// `--debug-view pressed`: recorded every frame, to colour every blade by the map.
+    /// `--debug-view pressed` or `patches`: recorded every frame, to colour every blade.
     shows_map: bool,
+    /// The interaction patches' steps, shared with the patch pass.
+    patches: Rc<PatchClock>,
+    /// Whether a submitted frame has cleared the patches' store.
+    cleared: Cell<bool>,
 }
 
 impl PushOutPass {
-    /// Build it over the blades `setup`'s pose passes cover, on its records, reading `map`.
-    pub fn new(device: &Device, setup: &ResponseSetup, map: MapReader) -> Result<Self> {
-        let reader = map.clone();
+    /// Build it over the blades `setup`'s pose passes cover, on its records, reading `map`, listing
+    /// the blades to patch by `patches`.
+    pub fn new(device: &Device, setup: &ResponseSetup, map: MapReader, patches: Rc<PatchClock>) -> Result<Self> {
+        let (reader, clock) = (map.clone(), patches.clone());
         let frame = PoseUniforms {
             name: "PressedFrame",
             size: MapReader::FRAME_BYTES,
             control: None,
-            fill: Box::new(move |_| reader.frame_bytes()),
+            fill: Box::new(move |ctx| {
+                reader.frame_bytes(clock.frame(ctx.clock.index, ctx.clock.time, ctx.uniforms.wind_counts.y))
+            }),
         };
+        let mut resources = vec![map.resource()];
+        resources.extend(map.patches_resources());
         let shader = PoseShader {
             name: "push-out",
             spirv: shaders::PUSH_OUT_COMP.code(device.profile),
-            resources: vec![map.resource()],
+            resources,
             uses: vec![
                 (Resource::Buffer(setup.poses.1), Access::ComputeShaderRead),
                 (Resource::Buffer(map.cells), Access::ComputeShaderRead),
+                (Resource::Buffer(map.patches), Access::ComputeShaderRead),
+                (Resource::Buffer(map.patch_list), Access::ComputeShaderRead),
+                (Resource::Buffer(map.patch_list), Access::ComputeShaderWrite),
             ],
             uniforms: Some(frame),
             store: None,
         };
-        let shows_map = setup.constants.flags & crate::render::gpu_constants::FLAG_DEBUG_PRESSED != 0;
-        Ok(Self { inner: PosePass::new(device, setup, shader)?, map, shows_map })
+        let views = crate::render::gpu_constants::FLAG_DEBUG_PRESSED | crate::render::gpu_constants::FLAG_DEBUG_PATCHES;
+        let shows_map = setup.constants.flags & views != 0;
+        let inner = PosePass::new(device, setup, shader)?;
+        Ok(Self { inner, map, shows_map, patches, cleared: Cell::new(false) })
     }
 }
 
@@ -66,21 +86,46 @@ impl Pass for PushOutPass {
     }
 
     fn declare(&self, ctx: &PassContext) -> Option<Declaration> {
-        // No collider this frame and a map that reads as empty: not recorded.
-        let needed = ctx.uniforms.wind_counts.y > 0 || self.map.read() || self.shows_map;
-        needed.then(|| self.inner.declare(ctx)).flatten()
+        let colliders = ctx.uniforms.wind_counts.y;
+        let patches = self.patches.frame(ctx.clock.index, ctx.clock.time, colliders).steps[3] != 0;
+        // No collider this frame, no patch alive and a map that reads as empty: not recorded.
+        if !(colliders > 0 || patches || self.map.read() || self.shows_map) {
+            return None;
+        }
+        // The list emptied (the store cleared first), then the walk that fills it.
+        let reset = Declaration::compute().step("patch list").buffer(self.map.patch_list, Access::TransferWrite);
+        let reset = match self.cleared.get() {
+            true => reset,
+            false => reset.buffer(self.map.patches, Access::TransferWrite),
+        };
+        Some(self.inner.declare_from(ctx, reset.step("push-out")))
     }
 
     fn record(&self, ctx: &PassContext, cmd: vk::CommandBuffer) -> Result<()> {
-        self.inner.record(ctx, cmd)
+        if ctx.step > 0 {
+            self.inner.record_dispatch(ctx, cmd);
+            return Ok(());
+        }
+        let device = ctx.device;
+        // SAFETY: cmd is recording outside a rendering instance; both buffers allow transfers. An
+        // empty list: no workgroups (x 0, y 1, z 1), no blade.
+        unsafe {
+            if !self.cleared.get() {
+                device.raw.cmd_fill_buffer(cmd, self.map.patches, 0, vk::WHOLE_SIZE, 0);
+                self.cleared.set(true);
+            }
+            device.raw.cmd_update_buffer(cmd, self.map.patch_list, 0, bytemuck::cast_slice(&[0u32, 1, 1, 0]));
+        }
+        Ok(())
     }
 
     fn uniforms(&self, ctx: &PassContext) -> Option<(&crate::render::graph::PassUniforms, Vec<u8>)> {
         self.inner.uniforms(ctx)
     }
 
-    fn replay_key(&self, ctx: &PassContext) -> Option<u64> {
-        self.inner.replay_key(ctx)
+    fn frame_dropped(&self) {
+        // The clear may not have run: do it again.
+        self.cleared.set(false);
     }
 
     unsafe fn destroy(self: Box<Self>, device: &Device) {

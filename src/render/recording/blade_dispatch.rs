@@ -127,3 +127,10 @@ impl BladeDispatch {
         }
     }
 }
+
+impl crate::vk::Destroy for BladeDispatch {
+    unsafe fn destroy(self, device: &Device) {
+        // SAFETY: per the contract.
+        unsafe { BladeDispatch::destroy(self, device) };
+    }
+}

@@ -85,6 +85,30 @@ impl Renderer {
         Ok(bytes.chunks_exact(4).map(|w| u32::from_le_bytes([w[0], w[1], w[2], w[3]])).collect())
     }
 
+    /// The interaction patches' store as the last frame left it (`animation::patches`): its words,
+    /// the presence grid then the records (`patches::live` reads them); empty without a pressed
+    /// map. Call it between frames, as `read_ground`.
+    pub fn read_patches(&self) -> Result<Vec<u32>> {
+        let Some(map) = self.pressed.as_ref() else { return Ok(Vec::new()) };
+        let bytes = self.read_bytes(
+            "interaction patches",
+            map.patches.buffer.raw,
+            crate::render::animation::patches::STORE_BYTES,
+        )?;
+        Ok(bytes.chunks_exact(4).map(|w| u32::from_le_bytes([w[0], w[1], w[2], w[3]])).collect())
+    }
+
+    /// After a frame that drew step `step`: the blades the push-out walk listed for the patches,
+    /// and those that hold a patch (`patches::live`); `None` without a pressed map. Call it between
+    /// frames, as `read_ground`.
+    pub fn patch_counts(&self, step: u64) -> Result<Option<(u64, u64)>> {
+        let Some(map) = self.pressed.as_ref() else { return Ok(None) };
+        let head = self.read_bytes("patch list", map.patches.list.raw, 16)?;
+        let listed = u32::from_le_bytes([head[12], head[13], head[14], head[15]]);
+        let live = crate::render::animation::patches::live(&self.read_patches()?, step).len();
+        Ok(Some((u64::from(listed), live as u64)))
+    }
+
     /// The names of the blade response's own passes, as frame timings name them (`PassTime`):
     /// what the response costs, apart from the renderer's passes (the blade-levels pass that
     /// places pose records is the renderer's).

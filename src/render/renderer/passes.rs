@@ -4,6 +4,8 @@ use ash::vk;
 
 use super::Renderer;
 use crate::error::Result;
+use crate::render::animation::patch_pass::PatchPass;
+use crate::render::animation::patches::PatchClock;
 use crate::render::animation::pressed::PressPass;
 use crate::render::animation::push_out::PushOutPass;
 use crate::render::animation::response::ResponseSetup;
@@ -153,6 +155,9 @@ impl Renderer {
         if settings.debug_pressed {
             specialization.flags |= crate::render::gpu_constants::FLAG_DEBUG_PRESSED;
         }
+        if settings.debug_patches {
+            specialization.flags |= crate::render::gpu_constants::FLAG_DEBUG_PATCHES;
+        }
         if settings.debug_cover {
             specialization.flags |= crate::render::gpu_constants::FLAG_DEBUG_COVER;
         }
@@ -212,10 +217,8 @@ impl Renderer {
         let mut response_passes = Guard::new(device, response.passes(device, &setup)?);
         self.response_passes = response_passes.iter().map(|pass| pass.name()).collect();
         if let (true, Some(map)) = (response.blade_input().pose_records(), self.pressed.as_ref()) {
-            // Whatever the response wrote, bent by the pressed map and moved out of the colliders
-            // (Zhang Xia §6.2), after the colliders and cuts are swept into the map.
-            response_passes.push(Box::new(PressPass::new(device, &setup, map.reader())?));
-            response_passes.push(Box::new(PushOutPass::new(device, &setup, map.reader())?));
+            let clock = PatchClock::new(self.animation.clock, self.animation.chain);
+            response_passes.extend(interaction_passes(device, &setup, map, clock)?);
         }
         if constants.flags & gpu::FLAG_LEVELS != 0 {
             response_passes.push(Box::new(BladeLevelsPass::new(device, &setup, poses)?));
@@ -286,4 +289,22 @@ fn add_terrain(
     }
     graph.add(TerrainPass::new(device, target, constants, scene, sky)?);
     Ok(())
+}
+
+/// Whatever the response wrote, bent by the pressed map and moved out of the colliders (Zhang Xia
+/// §6.2), after the colliders and cuts are swept into the map; the blades a collider reaches, or
+/// whose patch still lives, listed by the push-out walk and drawn by their patches' chains
+/// (Belyaev §3.4, stepped by `clock`).
+fn interaction_passes(
+    device: &Device,
+    setup: &ResponseSetup,
+    map: &crate::render::animation::pressed::PressedMap,
+    clock: PatchClock,
+) -> Result<Vec<Box<dyn crate::render::graph::Pass>>> {
+    let clock = std::rc::Rc::new(clock);
+    let mut passes: Guard<Vec<Box<dyn crate::render::graph::Pass>>> = Guard::new(device, Vec::new());
+    passes.push(Box::new(PressPass::new(device, setup, map.reader())?));
+    passes.push(Box::new(PushOutPass::new(device, setup, map.reader(), clock.clone())?));
+    passes.push(Box::new(PatchPass::new(device, setup, map.reader(), clock)?));
+    Ok(passes.take())
 }

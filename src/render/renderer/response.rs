@@ -105,10 +105,15 @@ impl Renderer {
         // Destroyed if the records cannot be made: nothing has used it.
         let response = crate::vk::Guard::new(device, response);
         check_flowers(scene.flower_share, settings, &response.blade_input())?;
-        if settings.debug_pressed && !response.blade_input().pose_records() {
-            let why =
-                "it colours the pose records the pressed map bends, and these blades are posed per vertex or neutral";
-            return Err(Error::BadInput(format!("--debug-view pressed: {why}")));
+        for (on, view, what) in [
+            (settings.debug_pressed, "pressed", "the pressed map bends"),
+            (settings.debug_patches, "patches", "the interaction patches draw"),
+        ] {
+            if on && !response.blade_input().pose_records() {
+                let why =
+                    format!("it colours the pose records {what}, and these blades are posed per vertex or neutral");
+                return Err(Error::BadInput(format!("--debug-view {view}: {why}")));
+            }
         }
         let room = match response.blade_input().pose_records() {
             true => {

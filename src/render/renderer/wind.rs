@@ -41,9 +41,25 @@ impl Renderer {
     }
 
     /// Whether the blade response or the wind field (when its passes run) keeps state from step
-    /// to step: reaching a time then takes every step from t = 0 (`app::warm_up`).
+    /// to step, or interaction patches may (colliders, and a response that writes pose records):
+    /// reaching a time then takes steps before it (`warm_up_from`, `app::warm_up`).
     pub fn stateful(&self) -> bool {
-        self.response.as_deref().is_some_and(|r| r.stateful()) || (self.wind.stateful() && self.wind_passes_run())
+        self.warm_up_from(0).is_some()
+    }
+
+    /// The step a warm-up to `first` starts from: 0 when the response or the wind field keeps
+    /// state; `patches::WARM_UP_S` before `first` when only interaction patches do (a patch hands
+    /// back within `TIMEOUT_S + BLEND_S` of its last contact, and what it holds longer, under a
+    /// collider at rest, is its chain's settling under it); `None` when nothing keeps state.
+    pub fn warm_up_from(&self, first: u64) -> Option<u64> {
+        let response = self.response.as_deref();
+        if response.is_some_and(|r| r.stateful()) || (self.wind.stateful() && self.wind_passes_run()) {
+            return Some(0);
+        }
+        let posed = response.is_some_and(|r| r.blade_input().pose_records());
+        let patched = posed && self.pressed.is_some() && !self.animation.wind.colliders.is_empty();
+        let window = self.animation.clock.steps_to(f64::from(crate::render::animation::patches::WARM_UP_S));
+        patched.then(|| first.saturating_sub(window))
     }
 
     /// Whether the wind field's passes run: with the cull, when something samples the wind (a

@@ -328,7 +328,8 @@ pub fn view(ui: &mut Ui, view: &UiView, out: &mut PanelOutput) {
     toggle(ui, out, "v", s.debug_force, "force view");
     toggle(ui, out, "x", s.debug_bounds, "cluster bounds");
     toggle(ui, out, "f3", s.debug_wind, "wind arrows");
-    toggle(ui, out, "f8", s.debug_pressed, "pressed view (trails, cuts)");
+    let interaction = usize::from(s.debug_pressed) + 2 * usize::from(s.debug_patches && !s.debug_pressed);
+    cycle(ui, out, "f8", &["no interaction view", "pressed (trails, cuts)", "patches"], interaction);
     toggle(ui, out, "f", s.wireframe, "wireframe");
     ui.horizontal(|ui| {
         let msaa = match s.msaa {

@@ -234,7 +234,7 @@ fn pan(
     let (w, h) = options.size;
     let mut previous: Vec<Option<Vec<u8>>> = vec![None; renderers.len()];
     let mut changes = vec![Vec::new(); renderers.len()];
-    let mut compare = |i: usize, target: &OffscreenTarget| {
+    let mut compare = |i: usize, _: &crate::render::Renderer, target: &OffscreenTarget| {
         let picture = rgb(target);
         if let Some(before) = &previous[i] {
             changes[i].push(box_filtered_difference(before, &picture, w, h, DIFF_BLOCK).mean_percent);
