@@ -117,16 +117,18 @@ fn animation_inputs() {
     refused("collider-radius-nan", &["--collider", "sphere:0,0.2,0,NaN"], "not a finite number");
     refused("collider-velocity-nan", &["--collider", "sphere:0,0.2,0,0.3,1,NaN,0"], "not a finite number");
     refused("collider-velocity-short", &["--collider", "sphere:0,0.2,0,0.3,1,0"], "VX,VY,VZ");
-    // Sources and colliders share the emitter buffers: 64 together.
-    let colliders: Vec<&str> = (0..65).flat_map(|_| ["--collider", "sphere:0,0.2,0,0.3"]).collect();
-    refused("colliders-over-64", &colliders, "65 sources and colliders: at most 64 together");
+    // Sources and colliders have room of their own in the emitter buffers: 64 and 128.
+    let colliders: Vec<&str> = (0..129).flat_map(|_| ["--collider", "sphere:0,0.2,0,0.3"]).collect();
+    refused("colliders-over-128", &colliders, "129 colliders: at most 128");
+    let sources: Vec<&str> = (0..65).flat_map(|_| ["--source", "0,0,1,2"]).collect();
+    refused("sources-over-64", &sources, "65 wind sources: at most 64");
     refused("cluster-size-0", &["--cluster-size", "0"], "cluster size");
     refused("time-inf", &["--time", "inf"], "inf");
     // The fixed time step (issue 29 item 4): above 0, finite, at most 1/15 s.
     refused("dt-0", &["--dt", "0"], "must be above 0");
     refused("dt-negative", &["--dt", "-0.01"], "must be above 0");
     refused("dt-nan", &["--dt", "NaN"], "not a finite number");
-    // The pressed map (issue 34): recovery and regrowth above 0 and finite; 64 colliders and
+    // The pressed map (issue 34): recovery and regrowth above 0 and finite; 256 colliders and
     // cuts together; each only where it has an effect.
     refused("recovery-0", &["--collider", "sphere:0,0.2,0,0.3", "--recovery-s", "0"], "must be above 0");
     refused("recovery-negative", &["--collider", "sphere:0,0.2,0,0.3", "--recovery-s", "-2"], "must be above 0");
@@ -135,8 +137,9 @@ fn animation_inputs() {
     refused("regrow-negative", &["--cut", "sphere:0,0.2,0,0.3", "--regrow-s", "-1"], "must be above 0");
     refused("regrow-nan", &["--cut", "sphere:0,0.2,0,0.3", "--regrow-s", "NaN"], "not a finite number");
     refused("cut-radius-nan", &["--cut", "sphere:0,0.2,0,NaN"], "not a finite number");
-    let cuts: Vec<&str> = (0..65).flat_map(|_| ["--cut", "sphere:0,0.2,0,0.3"]).collect();
-    refused("cuts-over-64", &cuts, "65 colliders and cuts: at most 64 together");
+    let cuts: Vec<&str> = (0..129).flat_map(|_| ["--cut", "sphere:0,0.2,0,0.3"]).collect();
+    let both: Vec<&str> = [&colliders[..256], &cuts[..]].concat();
+    refused("cuts-over-256", &both, "257 colliders and cuts: at most 256 together");
     refused("recovery-without-collider", &["--recovery-s", "5"], "no --collider");
     refused("regrow-without-cut", &["--regrow-s", "5"], "no --cut");
     refused("cut-per-vertex", &["--cut", "sphere:0,0.2,0,0.3", "--eval", "vertex"], "posed per vertex or neutral");

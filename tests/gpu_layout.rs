@@ -198,8 +198,8 @@ fn every_frame_uniform_and_specialization_constant_reads_back_through_a_compute_
     // The shaders see the constants build.rs generated for Rust.
     let shared = &words[FRAME_WORDS + specialization::COUNT..];
     let flags = gpu::FLAG_DEBUG_FORCE | gpu::FLAG_EVAL_BLADE | gpu::FLAG_CLUSTER_PUSH;
-    let generated = [gpu::MAX_SEGMENTS, gpu::MAX_EMITTERS, gpu::POSE_WORDS, flags, gpu::BINDING_POSES, gpu::SET_POSES];
-    assert_eq!(shared, &generated, "MAX_SEGMENTS, MAX_EMITTERS, POSE_WORDS, FLAG_*, BINDING_POSES, SET_POSES");
+    let generated = [gpu::MAX_SEGMENTS, gpu::MAX_COLLIDERS, gpu::POSE_WORDS, flags, gpu::BINDING_POSES, gpu::SET_POSES];
+    assert_eq!(shared, &generated, "MAX_SEGMENTS, MAX_COLLIDERS, POSE_WORDS, FLAG_*, BINDING_POSES, SET_POSES");
 }
 
 #[test]

@@ -1,7 +1,7 @@
 //! Interaction patches (Belyaev §3.4, issue #34; `render::animation::patches`), on lavapipe with
 //! validation and synchronization validation, by brute force (every stored blade posed each frame),
 //! the keyframes per blade as the cheap response, the store read back:
-//! - the blades a resting sphere reaches, and only they, hold a patch, and the chain draws them
+//! - the blades a resting sphere (the 100th collider) reaches, and only they, hold a patch, and the chain draws them
 //!   (their records differ from the keyframes'); the same sphere 50 m up gives none; through the
 //!   cull, the drawn blades within reach hold them;
 //! - with no wind, once the sphere is taken away the patches hand back by settling: each is freed
@@ -72,7 +72,9 @@ fn run_with(
         let mut target = OffscreenTarget::new(device, vk::Extent2D { width: 320, height: 180 })?;
         let mut out = Vec::new();
         for k in 0..frames {
-            let colliders = if k < until { vec![collider] } else { Vec::new() };
+            // `wind`'s colliders, then `collider` until `until`.
+            let mut colliders = wind.colliders.clone();
+            colliders.extend((k < until).then_some(collider));
             *renderer.wind_mut() = Wind { colliders, ..wind.clone() };
             // Half a step in: an f32 time at step k exactly could round to the step before.
             renderer.render_offscreen(&mut target, &camera, ((k as f64 + 0.5) * DT) as f32)?;
@@ -111,7 +113,10 @@ fn reached(scene: &Scene, collider: &Collider) -> (Vec<u32>, Vec<u32>) {
 #[test]
 fn the_blades_a_collider_reaches_and_only_they_hold_patches() {
     let scene = scene();
-    let still = Wind::default();
+    // 99 colliders far away first: the sphere is the 100th, past the 64 that sources and
+    // colliders shared before (the bins' masks hold 128).
+    let far = |i: usize| Collider::at_rest(Vec3::new(100.0 + i as f32, 0.0, 0.0), Vec3::splat(0.2));
+    let still = Wind { colliders: (0..99).map(far).collect(), ..Default::default() };
     let resting = sphere(&scene, 0.0);
     let (inside, edge) = reached(&scene, &resting);
     assert!(inside.len() > 100, "{} blades within reach", inside.len());
@@ -123,7 +128,7 @@ fn the_blades_a_collider_reaches_and_only_they_hold_patches() {
     assert_eq!(patched, inside, "the patched blades are those within reach");
     // The chain draws them: its records are not the keyframes' (the sphere 50 m up reaches none,
     // and the keyframes alone draw every blade).
-    let high = run(&scene, &still, sphere(&scene, 50.0), (4, 4), &[3]);
+    let high = run(&scene, &Wind::default(), sphere(&scene, 50.0), (4, 4), &[3]);
     assert!(high[0].patches.is_empty(), "{} patches under a sphere 50 m up", high[0].patches.len());
     let words = (SEGMENTS as usize + 1) * meadow::render::gpu_constants::POSE_WORDS as usize;
     let record = |r: &Read, b: u32| r.records[b as usize * words..(b as usize + 1) * words].to_vec();

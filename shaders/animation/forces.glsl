@@ -41,8 +41,8 @@ vec2 blade_force(uint blade_index, BladeInstance blade) {
     // Only the colliders whose ground ellipse may hold the root (animation/collider_bins.glsl), in
     // ascending order as all of them were.
     uint first = frame.wind_counts.x;
-    uvec2 near = colliders_near(blade.position.xz);
-    while (near != uvec2(0u)) {
+    uvec4 near = colliders_near(blade.position.xz);
+    while (near != uvec4(0u)) {
         uint e = first + 2u * next_collider(near);
         vec2 push = collider_force(emitters[e].xyz, emitters[e + 1u].xyz, blade.position, blade.height);
         if (push != vec2(0.0)) {

@@ -46,10 +46,10 @@ vec3 to_world(BladeFrame f, vec3 l) {
 // holds the root, as the push-out pass walks a blade (animation/push_out.glsl; this pipeline's
 // SEGMENTS is MODEL_SEGMENTS, so every level is walked): the first level moved (MODEL_SEGMENTS + 1:
 // none).
-uint push_all(inout vec3 points[MAX_SEGMENTS + 1u], vec3 root, uvec2 near) {
+uint push_all(inout vec3 points[MAX_SEGMENTS + 1u], vec3 root, uvec4 near) {
     uint first = frame.wind_counts.x;
     uint moved = MODEL_SEGMENTS + 1u;
-    while (near != uvec2(0u)) {
+    while (near != uvec4(0u)) {
         uint e = first + 2u * next_collider(near);
         vec2 q = (root.xz - emitters[e].xz) / emitters[e + 1u].xz;
         uint from;

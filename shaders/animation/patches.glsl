@@ -185,10 +185,10 @@ bool within_reach(uint e, BladeInstance blade) {
 }
 
 // Whether a collider of `near` (collider_bins.glsl) has `blade` within reach.
-bool reached(uvec2 near, BladeInstance blade) {
+bool reached(uvec4 near, BladeInstance blade) {
     uint first = frame.wind_counts.x;
     bool reach = false;
-    while (near != uvec2(0u)) {
+    while (near != uvec4(0u)) {
         reach = within_reach(first + 2u * next_collider(near), blade) || reach;
     }
     return reach;

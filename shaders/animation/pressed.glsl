@@ -18,7 +18,7 @@
 
 const uint PRESSED_DIMS = 512u;     // render::animation::pressed::DIMS
 const float PRESSED_CELL = 0.25;    // render::animation::pressed::CELL_M
-const uint PRESSED_SWEEPS = 64u;    // render::animation::pressed::MAX_SWEEPS
+const uint PRESSED_SWEEPS = 2u * MAX_COLLIDERS; // render::animation::pressed::MAX_SWEEPS
 const float PRESSED_STUB = 0.2;     // render::animation::pressed::STUB: a cut blade's length, of its own
 const float PRESSED_REACH = 1.2;    // render::animation::pressed::REACH_M: a collider presses below this height
 const float PRESSED_LEAN_DEG = 70.0; // render::animation::pressed::LEAN_DEG: a full press's lean

@@ -31,7 +31,7 @@ bool circle_holds(uint e, vec3 root) {
 
 // Blade `record`'s recorded backbone walked out of every collider whose ground circle holds its
 // root; the levels from the first one moved written again.
-void push_blade(uint record, BladeInstance blade, uint first, uvec2 near, vec3 pressed) {
+void push_blade(uint record, BladeInstance blade, uint first, uvec4 near, vec3 pressed) {
     // The recorded backbone in the world (relative to the origin, as the emitters are).
     vec3 across = vec3(cos(blade.facing), 0.0, -sin(blade.facing));
     vec3 normal_dir = vec3(sin(blade.facing), 0.0, cos(blade.facing));
@@ -59,7 +59,7 @@ void push_blade(uint record, BladeInstance blade, uint first, uvec2 near, vec3 p
         press_points(points, pressed);
         moved = 1u;
     }
-    while (near != uvec2(0u)) {
+    while (near != uvec4(0u)) {
         uint e = first + 2u * next_collider(near);
         uint from;
         if (circle_holds(e, blade.position) && push_out_points(points, emitters[e].xyz, emitters[e + 1u].xyz, from)) {
@@ -126,11 +126,11 @@ void main() {
     uint first = frame.wind_counts.x;
     // The colliders whose ground ellipse, grown by a patch's reach, may hold the root
     // (animation/collider_bins.glsl).
-    uvec2 near = posed ? colliders_near(blade.position.xz) : uvec2(0u);
+    uvec4 near = posed ? colliders_near(blade.position.xz) : uvec4(0u);
     bool held = false;
     bool reach = false;
-    uvec2 each = near;
-    while (each != uvec2(0u)) {
+    uvec4 each = near;
+    while (each != uvec4(0u)) {
         uint e = first + 2u * next_collider(each);
         held = circle_holds(e, blade.position) || held;
         reach = within_reach(e, blade) || reach;

@@ -101,7 +101,9 @@
 
 // Limits.
 #define MAX_SEGMENTS 16u // Segments per blade; shader arrays of levels hold `MAX_SEGMENTS + 1`.
-#define MAX_EMITTERS 64u // Point sources plus colliders a renderer can hold (the per-frame emitter buffers' capacity).
+#define MAX_SOURCES 64u // Point sources a renderer can hold.
+#define MAX_COLLIDERS 128u // Colliders a renderer can hold, apart from the sources (issue #34).
+#define EMITTER_ELEMENTS 320u // The per-frame emitter buffers' vec4s before the collider bins: a source takes one, a collider two (MAX_SOURCES + 2 MAX_COLLIDERS).
 #define MAX_CALM_AREAS 64u // Calm areas the analytic wind field holds (its parameter block's capacity).
 #define PERLIN_TEXELS 128u // Texels per side of the Perlin wind's noise at its finest level (`render::wind::perlin`).
 #define WIND_GROUP 64u // Invocations per workgroup of the analytic wind field's corner pass.

@@ -96,7 +96,7 @@ pub fn check_scene(
     floor: bool,
     (culled, msaa): (bool, Msaa),
 ) -> Result<()> {
-    use crate::render::animation::{Mode, MAX_EMITTERS};
+    use crate::render::animation::{Mode, MAX_COLLIDERS, MAX_SOURCES};
     let field_m = crate::scene::blades::field_size(blades);
     check_limits(device, blades, (size, msaa), crate::scene::terrain::Terrain::cells_for(field_m))?;
     KeyframeTexture::check_limits(device, animation.poses)?;
@@ -127,9 +127,13 @@ pub fn check_scene(
         }
         device.check_budget(bytes, &format!("{writer} with {blades} blades x {segments} segments"))?;
     }
-    let emitters = animation.wind.sources.len() + animation.wind.colliders.len();
-    if emitters > MAX_EMITTERS {
-        return Err(Error::bad_input(format!("{emitters} sources and colliders: at most {MAX_EMITTERS} together")));
+    // Sources and colliders have room of their own in the emitter buffers.
+    let (sources, colliders) = (animation.wind.sources.len(), animation.wind.colliders.len());
+    if sources > MAX_SOURCES {
+        return Err(Error::bad_input(format!("{sources} wind sources: at most {MAX_SOURCES}")));
+    }
+    if colliders > MAX_COLLIDERS {
+        return Err(Error::bad_input(format!("{colliders} colliders: at most {MAX_COLLIDERS}")));
     }
     // The pressed map sweeps the colliders and the cuts each frame (`render::animation::pressed`).
     let (sweeps, most) =

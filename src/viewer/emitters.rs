@@ -133,15 +133,18 @@ impl Viewer {
 /// Whether the emitter buffers hold no more sources or colliders, or the pressed map's sweeps no
 /// more colliders and cuts.
 fn full(wind: &crate::wind::Wind) -> bool {
-    use crate::render::animation::{pressed::MAX_SWEEPS, MAX_EMITTERS};
-    wind.sources.len() + wind.colliders.len() >= MAX_EMITTERS || wind.colliders.len() + wind.cuts.len() >= MAX_SWEEPS
+    use crate::render::animation::{pressed::MAX_SWEEPS, MAX_COLLIDERS, MAX_SOURCES};
+    wind.sources.len() >= MAX_SOURCES
+        || wind.colliders.len() >= MAX_COLLIDERS
+        || wind.colliders.len() + wind.cuts.len() >= MAX_SWEEPS
 }
 
 /// `full`, saying so when it is.
 pub(super) fn emitters_full(wind: &crate::wind::Wind) -> bool {
     let full = full(wind);
     if full {
-        println!("at most {} sources and colliders (and colliders and cuts)", crate::render::animation::MAX_EMITTERS);
+        use crate::render::animation::{pressed::MAX_SWEEPS, MAX_COLLIDERS, MAX_SOURCES};
+        println!("at most {MAX_SOURCES} sources, {MAX_COLLIDERS} colliders and {MAX_SWEEPS} colliders and cuts");
     }
     full
 }

@@ -204,12 +204,15 @@ impl AnimationSettings {
     }
 }
 
-/// Point sources plus colliders a renderer can hold (the per-frame emitter buffers' capacity).
-pub const MAX_EMITTERS: usize = crate::render::gpu_constants::MAX_EMITTERS as usize;
+/// Point sources a renderer can hold.
+pub const MAX_SOURCES: usize = crate::render::gpu_constants::MAX_SOURCES as usize;
+/// Colliders a renderer can hold, apart from the sources (issue #34).
+pub const MAX_COLLIDERS: usize = crate::render::gpu_constants::MAX_COLLIDERS as usize;
 
-/// The emitter buffers' elements (vec4): a point source takes one, a collider two (centre and
-/// radii), so `MAX_EMITTERS` colliders fit.
-pub const EMITTER_ELEMENTS: usize = 2 * MAX_EMITTERS;
+/// The emitter buffers' elements (vec4) before the collider bins: a point source takes one, a
+/// collider two (centre and radii).
+pub const EMITTER_ELEMENTS: usize = crate::render::gpu_constants::EMITTER_ELEMENTS as usize;
+const _: () = assert!(EMITTER_ELEMENTS == MAX_SOURCES + 2 * MAX_COLLIDERS);
 
 /// The corner winds of a frame on the CPU, the thesis' path (`--brute-force`): (vx, vy, vz,
 /// calm-area exposure) per corner, in m/s (`wind::KEYFRAME_WIND_SCALE` times the keyframe force).
@@ -344,10 +347,10 @@ pub fn blade_force(
     force
 }
 
-/// Sources and colliders the shaders read: the first `MAX_EMITTERS` of them, sources first (the
-/// emitter buffers hold `EMITTER_ELEMENTS`: a source takes one, a collider two).
+/// Sources and colliders the shaders read: the first `MAX_SOURCES` and `MAX_COLLIDERS` of them,
+/// sources first (the emitter buffers hold `EMITTER_ELEMENTS`: a source takes one, a collider two).
 pub fn emitter_counts(wind: &crate::wind::Wind) -> (u32, u32) {
-    let sources = wind.sources.len().min(MAX_EMITTERS);
-    let colliders = wind.colliders.len().min(MAX_EMITTERS - sources);
+    let sources = wind.sources.len().min(MAX_SOURCES);
+    let colliders = wind.colliders.len().min(MAX_COLLIDERS);
     (sources as u32, colliders as u32)
 }

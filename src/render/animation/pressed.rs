@@ -45,8 +45,9 @@ use crate::wind::{Collider, Wind};
 pub const DIMS: u32 = 512;
 /// A cell's edge, in metres.
 pub const CELL_M: f32 = 0.25;
-/// Colliders and cuts the map sweeps each frame (colliders first).
-pub const MAX_SWEEPS: usize = 64;
+/// Colliders and cuts the map sweeps each frame (colliders first): every collider
+/// (`MAX_COLLIDERS`) and as many cuts.
+pub const MAX_SWEEPS: usize = 2 * super::MAX_COLLIDERS;
 /// A cut blade's length, as a share of its own, when just cut.
 pub const STUB: f32 = 0.2;
 /// A collider presses (or cuts) only where its lowest point is within this of the ground, in metres.

@@ -48,7 +48,7 @@ impl Renderer {
     }
 
     /// The forces, editable between frames (they are uploaded per frame). At most
-    /// `MAX_EMITTERS` sources and colliders together are used; extra ones are ignored.
+    /// `MAX_SOURCES` sources and `MAX_COLLIDERS` colliders are used; extra ones are ignored.
     pub fn wind_mut(&mut self) -> &mut crate::wind::Wind {
         &mut self.animation.wind
     }

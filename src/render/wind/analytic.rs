@@ -27,7 +27,7 @@ use crate::wind::Wind;
 
 /// The emitters of a frame relative to `origin`, differenced in f64: point sources at their
 /// positions at `time` as (x, z, power, sigma), then each collider as two elements, its centre at
-/// `time` (x, y, z, 0; y a world height) and its radii (x, y, z, 0); the first `MAX_EMITTERS` emitters
+/// `time` (x, y, z, 0; y a world height) and its radii (x, y, z, 0); the first `MAX_SOURCES` sources and `MAX_COLLIDERS` colliders
 /// (`animation::emitter_counts`); then from `collider_bins::COLLIDER_BINS` the colliders binned
 /// over the ground (`animation::collider_bins`).
 pub fn emitters_relative(wind: &Wind, origin: DVec2, time: f64) -> Vec<Vec4> {

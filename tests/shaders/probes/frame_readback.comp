@@ -97,7 +97,7 @@ void main() {
 
     uint s = FRAME_WORDS + SPEC_WORDS;
     fields[s + 0u] = MAX_SEGMENTS;
-    fields[s + 1u] = MAX_EMITTERS;
+    fields[s + 1u] = MAX_COLLIDERS;
     fields[s + 2u] = POSE_WORDS;
     fields[s + 3u] = FLAG_DEBUG_FORCE | FLAG_EVAL_BLADE | FLAG_CLUSTER_PUSH;
     fields[s + 4u] = BINDING_POSES;
