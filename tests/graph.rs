@@ -349,9 +349,10 @@ fn rebuilt_passes_are_freed_behind_the_frames_in_flight() {
     // evaluated on the GPU first (`render::wind`); static blades without the bounds view read none.
     assert_eq!(pending[0].1, [&["wind field"][..], &with_cull(&["terrain"], &["blades", "cluster bounds"])].concat());
     // With the cull, the per-blade evaluation reads its visible list: after it, and the drawn
-    // blades' levels are placed from its records (bent by the pressed map, `press`, and moved out
-    // of any collider, `push-out`) before the blade pass.
-    let per_blade = with_cull(&["terrain"], &["blade poses", "press", "push-out", "blade levels", "blades"]);
+    // blades' levels are placed from its records (bent by the pressed map, `press`, moved out of
+    // any collider, `push-out`, and drawn by their interaction patches, `patches`) before the blade
+    // pass.
+    let per_blade = with_cull(&["terrain"], &["blade poses", "press", "push-out", "patches", "blade levels", "blades"]);
     assert_eq!(pending[1].1, [&["wind field"][..], &per_blade].concat());
     assert_eq!(pending[2].1, with_cull(&["terrain"], &["blades"]));
     assert_eq!(pending[3].1, ["terrain", "blades"], "the floor stands in for the blade pass");
