@@ -330,7 +330,7 @@ pub struct RenderReport {
 
 /// With colliders, the interaction patches after the last frame, which drew `step` (issue #34: how
 /// many blades hold state): the blades listed, and those holding a patch.
-fn patch_counts(renderer: &Renderer, step: u64) -> Result<Option<(u64, u64)>> {
+pub(crate) fn patch_counts(renderer: &Renderer, step: u64) -> Result<Option<(u64, u64)>> {
     match renderer.animation().wind.colliders.is_empty() {
         true => Ok(None),
         false => renderer.patch_counts(step),

@@ -42,24 +42,6 @@ vec3 to_world(BladeFrame f, vec3 l) {
     return f.root + f.across * l.x + vec3(0.0, l.y, 0.0) + f.normal * l.z;
 }
 
-// `points` (world, every model level) pushed out of every collider of `near` whose ground circle
-// holds the root, as the push-out pass walks a blade (animation/push_out.glsl; this pipeline's
-// SEGMENTS is MODEL_SEGMENTS, so every level is walked): the first level moved (MODEL_SEGMENTS + 1:
-// none).
-uint push_all(inout vec3 points[MAX_SEGMENTS + 1u], vec3 root, uvec4 near) {
-    uint first = frame.wind_counts.x;
-    uint moved = MODEL_SEGMENTS + 1u;
-    while (near != uvec4(0u)) {
-        uint e = first + 2u * next_collider(near);
-        vec2 q = (root.xz - emitters[e].xz) / emitters[e + 1u].xz;
-        uint from;
-        if (dot(q, q) < 1.0 && push_out_points(points, emitters[e].xyz, emitters[e + 1u].xyz, from)) {
-            moved = min(moved, from);
-        }
-    }
-    return moved;
-}
-
 // The patch of `blade` at record `base` (`carried`: it holds the previous frame's step; `reach.x`: a
 // collider reaches the blade, `reach.y`: a ground circle holds its root) a frame on:
 // its chain stepped from the record, or at hand-in fitted to the cheap pose `cheap` (blade frame,
@@ -120,7 +102,7 @@ float patch_step(uint base, bool carried, bvec2 reach, BladeInstance blade, uint
         for (uint level = 0u; level <= MODEL_SEGMENTS; level++) {
             held[level] = to_world(f, local[level]);
         }
-        uint moved = push_all(held, f.root, colliders_near(f.root.xz));
+        uint moved = push_out_colliders(held, colliders_near(f.root.xz));
         for (uint fit = moved <= MODEL_SEGMENTS ? 0u : 1u; fit < 1u; fit++) {
             for (uint level = 0u; level <= MODEL_SEGMENTS; level++) {
                 held[level] = to_local(f, held[level]);
@@ -190,7 +172,9 @@ void main() {
     if (pressed.z < 1.0 || dot(pressed.xy, pressed.xy) > 1e-10) {
         press_points(points, pressed);
     }
-    push_all(points, blade.position, colliders_near(blade.position.xz));
+    // (push_out_points walks the levels level_read holds: every one, this pipeline's SEGMENTS being
+    // MODEL_SEGMENTS.)
+    push_out_colliders(points, colliders_near(blade.position.xz));
     // Every level the bucket reads, its tangent from the read levels either side; the debug views'
     // shares in the force channel.
     float inv = 1.0 / scale;

@@ -122,12 +122,6 @@ void patch_write(uint base, ChainState c, float blend, float idle) {
     patches[base + 4u] = floatBitsToUint(idle);
 }
 
-// Whether a blade drawn with `segments` segments reads model level `level` (pose_write.glsl's
-// `level_read`, for a bucket known only at run time).
-bool level_read_in(uint segments, uint level) {
-    return (MODEL_SEGMENTS % segments) != 0u || (level * segments) % MODEL_SEGMENTS == 0u;
-}
-
 // The backbone `local` (blade frame, root at 0; the levels a blade of `segments` segments reads) at
 // `f` of its levels, linear between the read levels either side.
 vec3 backbone_at(vec3 local[MAX_SEGMENTS + 1u], uint segments, float f) {
@@ -182,16 +176,6 @@ void chain_points(Chain c, ChainState s, out vec3 local[MAX_SEGMENTS + 1u]) {
 bool within_reach(uint e, BladeInstance blade) {
     vec2 q = (blade.position.xz - emitters[e].xz) / (emitters[e + 1u].xz + PATCH_REACH);
     return dot(q, q) < 1.0 && emitters[e].y - emitters[e + 1u].y < blade.position.y + blade.height + PATCH_REACH;
-}
-
-// Whether a collider of `near` (collider_bins.glsl) has `blade` within reach.
-bool reached(uvec4 near, BladeInstance blade) {
-    uint first = frame.wind_counts.x;
-    bool reach = false;
-    while (near != uvec4(0u)) {
-        reach = within_reach(first + 2u * next_collider(near), blade) || reach;
-    }
-    return reach;
 }
 
 // The list the push-out walk appends to and the patch dispatch runs over

@@ -64,14 +64,19 @@ void read_pose_level(uint base, uint level, out vec3 unit, out vec2 twist_cs, ou
 }
 #endif
 
+// Whether a strip of `segments` segments reads model level `level` (`level_read`, for a bucket
+// known only at run time: the interaction patches' list, animation/patch.comp).
+bool level_read_in(uint segments, uint level) {
+    return (MODEL_SEGMENTS % segments) != 0u || (level * segments) % MODEL_SEGMENTS == 0u;
+}
+
 // Whether a `segments`-segment strip reads model level `level` (`model_level`): every
 // MODEL_SEGMENTS / segments-th, or all of them when `segments` does not divide MODEL_SEGMENTS.
 // `segments` is a specialization constant (its bucket's with the cull; MODEL_SEGMENTS without),
 // so in an unrolled loop over the levels each test folds away and the pipeline stores only what
 // its bucket reads.
 bool level_read(uint level) {
-    uint segments = (RENDER_FLAGS & FLAG_CULLED) != 0u ? SEGMENTS : MODEL_SEGMENTS;
-    return (MODEL_SEGMENTS % segments) != 0u || (level * segments) % MODEL_SEGMENTS == 0u;
+    return level_read_in((RENDER_FLAGS & FLAG_CULLED) != 0u ? SEGMENTS : MODEL_SEGMENTS, level);
 }
 
 #endif

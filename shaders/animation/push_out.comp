@@ -23,15 +23,9 @@
 
 layout(local_size_x = POSE_GROUP) in;
 
-// Whether the ground circle of the collider at emitter `e` holds `root` (Zhang Xia's step 2).
-bool circle_holds(uint e, vec3 root) {
-    vec2 q = (root.xz - emitters[e].xz) / emitters[e + 1u].xz;
-    return dot(q, q) < 1.0;
-}
-
 // Blade `record`'s recorded backbone walked out of every collider whose ground circle holds its
 // root; the levels from the first one moved written again.
-void push_blade(uint record, BladeInstance blade, uint first, uvec4 near, vec3 pressed) {
+void push_blade(uint record, BladeInstance blade, uvec4 near, vec3 pressed) {
     // The recorded backbone in the world (relative to the origin, as the emitters are).
     vec3 across = vec3(cos(blade.facing), 0.0, -sin(blade.facing));
     vec3 normal_dir = vec3(sin(blade.facing), 0.0, cos(blade.facing));
@@ -59,13 +53,7 @@ void push_blade(uint record, BladeInstance blade, uint first, uvec4 near, vec3 p
         press_points(points, pressed);
         moved = 1u;
     }
-    while (near != uvec4(0u)) {
-        uint e = first + 2u * next_collider(near);
-        uint from;
-        if (circle_holds(e, blade.position) && push_out_points(points, emitters[e].xyz, emitters[e + 1u].xyz, from)) {
-            moved = min(moved, from);
-        }
-    }
+    moved = min(moved, push_out_colliders(points, near));
     if (moved > MODEL_SEGMENTS) {
         return;
     }
@@ -151,6 +139,6 @@ void main() {
     // at the default scene with no blade held), but leaves a loop once no lane is in it: the walk
     // is a loop of at most one turn, which a group of lanes no circle holds skips.
     for (uint turn = held ? 0u : 1u; turn < 1u; turn++) {
-        push_blade(record, blade, first, near, pressed);
+        push_blade(record, blade, near, pressed);
     }
 }

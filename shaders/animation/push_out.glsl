@@ -10,6 +10,7 @@
 // aspect). The CPU mirror is `render::animation::push_out::push_out`.
 #ifndef MEADOW_PUSH_OUT_GLSL
 #define MEADOW_PUSH_OUT_GLSL
+#include "animation/collider_bins.glsl"
 
 // Whether `p` lies inside the unit sphere: `p` in the collider's unit space.
 bool unit_inside(vec3 p) {
@@ -68,6 +69,29 @@ bool push_out_points(inout vec3 points[MAX_SEGMENTS + 1u], vec3 center, vec3 rad
         }
     }
     return moved <= MODEL_SEGMENTS;
+}
+
+// Whether the ground circle of the collider at emitter `e` holds `root` (Zhang Xia's step 2;
+// `render::animation::push_out::circle_holds`).
+bool circle_holds(uint e, vec3 root) {
+    vec2 q = (root.xz - emitters[e].xz) / emitters[e + 1u].xz;
+    return dot(q, q) < 1.0;
+}
+
+// `points` (world, the root first) walked out of every collider of `near`
+// (animation/collider_bins.glsl) whose ground circle holds the root, in ascending order: the first
+// level moved (MODEL_SEGMENTS + 1: none).
+uint push_out_colliders(inout vec3 points[MAX_SEGMENTS + 1u], uvec4 near) {
+    uint first = frame.wind_counts.x;
+    uint moved = MODEL_SEGMENTS + 1u;
+    while (near != uvec4(0u)) {
+        uint e = first + 2u * next_collider(near);
+        uint from;
+        if (circle_holds(e, points[0]) && push_out_points(points, emitters[e].xyz, emitters[e + 1u].xyz, from)) {
+            moved = min(moved, from);
+        }
+    }
+    return moved;
 }
 
 #endif

@@ -176,14 +176,10 @@ fn render(
         let mut after = |i: usize, renderer: &Renderer, target: &OffscreenTarget| {
             if round_of[i] == last {
                 pictures[i] = target.pixels().chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect();
-                if !renderer.animation().wind.colliders.is_empty() {
-                    let step = renderer.animation().clock.steps_to(f64::from(time(last)));
-                    match renderer.read_patches() {
-                        Ok(words) => {
-                            patches[i] = Some(crate::render::animation::patches::live(&words, step).len() as u64)
-                        }
-                        Err(e) => failed = Some(e),
-                    }
+                let step = renderer.animation().clock.steps_to(f64::from(time(last)));
+                match crate::app::patch_counts(renderer, step) {
+                    Ok(counts) => patches[i] = counts.map(|(_, live)| live),
+                    Err(e) => failed = Some(e),
                 }
             }
             round_of[i] += 1;
