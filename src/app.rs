@@ -326,6 +326,8 @@ pub struct RenderReport {
     /// With colliders, the blades the last frame listed for the interaction patches and those
     /// holding a patch.
     pub patches: Option<(u64, u64)>,
+    /// With a far field, what the last frame drew of it.
+    pub far: Option<crate::render::far_field::FarCounts>,
 }
 
 /// With colliders, the interaction patches after the last frame, which drew `step` (issue #34: how
@@ -413,7 +415,8 @@ pub fn render(device: &Arc<Device>, options: &RenderOptions) -> Result<RenderRep
             frames.push(timings);
         }
         write_png(&options.out, options.size, target.pixels())?;
-        Ok((frames, warm_up, patch_counts(&renderer, clock.steps_to(options.time.into()))?))
+        let patches = patch_counts(&renderer, clock.steps_to(options.time.into()))?;
+        Ok((frames, warm_up, (patches, renderer.far_counts()?)))
     })();
     let stateful = renderer.stateful();
     let triangles = renderer.triangles();
@@ -422,7 +425,7 @@ pub fn render(device: &Arc<Device>, options: &RenderOptions) -> Result<RenderRep
     drop(renderer);
     // SAFETY: render_offscreen waited for its fence; nothing else uses the target.
     unsafe { target.destroy(device) };
-    let (frames, warm_up, patches) = result?;
+    let (frames, warm_up, (patches, far)) = result?;
     Ok(RenderReport {
         device: device.info.clone(),
         blades: options.blades,
@@ -441,6 +444,7 @@ pub fn render(device: &Arc<Device>, options: &RenderOptions) -> Result<RenderRep
         clock: (options.time, options.animation.clock),
         landscape: options.landscape_summary(),
         patches,
+        far,
     })
 }
 

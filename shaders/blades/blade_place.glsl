@@ -101,6 +101,17 @@ vec3 blade_terrain_normal(BladeInstance blade) {
     return ground_normal(blade.position.xz);
 }
 
+// A blade's diffuse colour at height t (thesis 4.1: darker at the root, brighter towards the
+// tip), from its variation's hue and brightness strayed from their means by `spread` (1: the
+// blade's own; the far field's atlas bakes it, `shaders/far_field/atlas_bake.frag`).
+vec3 blade_diffuse(uint variation, float t, float spread) {
+    float hue = 0.5 + (unpack_variation(variation, 0) - 0.5) * spread;
+    float brightness = 0.75 + 0.5 * (0.5 + (unpack_variation(variation, 1) - 0.5) * spread);
+    vec3 root_color = mix(vec3(0.045, 0.12, 0.02), vec3(0.08, 0.13, 0.02), hue);
+    vec3 tip_color = mix(vec3(0.22, 0.42, 0.06), vec3(0.42, 0.45, 0.10), hue);
+    return mix(root_color, tip_color, t) * brightness;
+}
+
 // The colour at height t of `blade` (a strip of `segments` segments) at `world`, its width along
 // `width_dir` and its centre line along `world_tangent`, under force `force_magnitude`: rgb the
 // lit colour times the fog's transmittance, a the transmittance (blade.frag adds the sky's part).
@@ -112,12 +123,7 @@ vec4 shade_blade(BladeInstance blade, float t, vec3 world, vec3 width_dir, vec3 
     // density LOD widened covers for `represents` blades, whose hues and brightnesses would have
     // averaged out over its area: its own stray from the mean by 1/sqrt(represents), the spread of
     // such a mean, so a thinned patch keeps the whole patch's average colour and its variation.
-    float spread = inversesqrt(max(represents, 1.0));
-    float hue = 0.5 + (unpack_variation(blade.variation, 0) - 0.5) * spread;
-    float brightness = 0.75 + 0.5 * (0.5 + (unpack_variation(blade.variation, 1) - 0.5) * spread);
-    vec3 root_color = mix(vec3(0.045, 0.12, 0.02), vec3(0.08, 0.13, 0.02), hue);
-    vec3 tip_color = mix(vec3(0.22, 0.42, 0.06), vec3(0.42, 0.45, 0.10), hue);
-    vec3 diffuse = mix(root_color, tip_color, t) * brightness;
+    vec3 diffuse = blade_diffuse(blade.variation, t, inversesqrt(max(represents, 1.0)));
     if ((RENDER_FLAGS & FLAG_DEBUG_FORCE) != 0u) {
         // Debug view: force magnitude from green (none) to red (the table's strongest pose).
         diffuse = mix(vec3(0.05, 0.25, 0.03), vec3(0.8, 0.02, 0.01), clamp(force_magnitude, 0.0, 1.0)) * mix(0.6, 1.0, t);

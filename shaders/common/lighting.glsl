@@ -7,15 +7,27 @@
 // C tints light that traverses the blade (translucency).
 // `l6`: l^6, or its mean over the stretch of blade a coarse strip level stands for
 // (`height_six`).
-vec3 blade_radiance_l6(vec3 ka, vec3 kd, vec3 n, vec3 l_dir, float l, float l6) {
+const vec3 BLADE_TRANSLUCENCY = vec3(0.55, 0.75, 0.25); // C
+
+// The direction terms max(N·L, 0) + C max(-N·L, 0) of a surface of normal `n`.
+vec3 blade_sun_terms(vec3 n, vec3 l_dir) {
+    float ndl = dot(n, l_dir);
+    return vec3(max(ndl, 0.0)) + BLADE_TRANSLUCENCY * max(-ndl, 0.0);
+}
+
+// I from the direction terms `sun` (`blade_sun_terms`): a surface lit per vertex in direction and
+// per fragment in height (the far field, far.frag) takes them apart.
+vec3 blade_radiance_terms(vec3 ka, vec3 kd, vec3 sun, float l, float l6) {
     const vec3 ambient_tip = vec3(0.55, 0.60, 0.70);   // Ia*
     const vec3 ambient_base = vec3(0.10, 0.12, 0.12);  // Ia**
     const vec3 sun_tip = vec3(1.55, 1.45, 1.25);       // Id*
-    const vec3 translucency = vec3(0.55, 0.75, 0.25);  // C
     vec3 ia = ambient_base + l * (ambient_tip - ambient_base);
     vec3 id = sun_tip * l6;
-    float ndl = dot(n, l_dir);
-    return ka * ia + kd * id * (max(ndl, 0.0) + translucency * max(-ndl, 0.0));
+    return ka * ia + kd * id * sun;
+}
+
+vec3 blade_radiance_l6(vec3 ka, vec3 kd, vec3 n, vec3 l_dir, float l, float l6) {
+    return blade_radiance_terms(ka, kd, blade_sun_terms(n, l_dir), l, l6);
 }
 
 // The height factor l^6 of the terms above at strip level t of a blade drawn with `segments`

@@ -448,6 +448,18 @@ int plant_bucket(Frustum f, BladeInstance blade, uint rank, uint count, vec3 nor
         float covered = min(keep * (1.0 - 0.5 * FADE_BAND), 1.0);
         scale = vec2(fade, min(1.0 / covered, frame_values.lod.w));
     }
+    // The far field's band (`render::far_field`, a dither): from the band's start to the
+    // blade range the blades thin out, each at its own threshold (rank times the golden ratio,
+    // mod 1: spread evenly over any run of ranks, apart from the density LOD's prefix), while the
+    // far field's plants fade in (far.frag). Unwidened: the far field takes the coverage over.
+    float band_start = uintBitsToFloat(frame.params.z);
+    if (band_start > 0.0 && d > band_start) {
+        float ramp = (d - band_start) / max(frame_values.lod.x - band_start, 1e-3);
+        if (fract(float(rank) * 0.61803398875) < ramp) {
+            failed = STAT_DENSITY;
+            return -1;
+        }
+    }
     float reach = blade.height + 0.5 * blade.width * scale.x * scale.y;
     if (culling(CULL_FRUSTUM) && !sphere_in_frustum(f, blade.position, reach)) {
         failed = STAT_FRUSTUM;

@@ -125,6 +125,22 @@ fn scene_line(report: &RenderReport) -> String {
     }
 }
 
+/// `render`'s far-field line: the plants and triangles the last frame drew, the rings, the band,
+/// and the atlas bake's GPU time (its passes, in the frame that ran them).
+fn far_line(far: &crate::render::far_field::FarCounts, frames: &[crate::render::FrameTimings]) -> String {
+    let rings = &far.rings;
+    let bake = frames.iter().find_map(|frame| {
+        let passes: Vec<f64> = frame.passes.iter().filter(|p| p.name.starts_with("far atlas")).map(|p| p.ms).collect();
+        (!passes.is_empty()).then(|| passes.iter().sum::<f64>())
+    });
+    let bake =
+        bake.map_or("baked in a warm-up frame".to_owned(), |ms| format!("atlas baked in {ms:.1} ms of GPU time"));
+    format!(
+        "far field: {} plants, {} triangles, on {} rings from {:.0} m to {:.0} m (lattice {:.0} m); band {:.0}–{:.0} m; {bake}",
+        far.plants, far.triangles, rings.rings, rings.start, rings.view_distance, rings.step, rings.band_start, rings.blade_range
+    )
+}
+
 /// What `meadow render` prints: device, scene, GPU and CPU cost of the last frame, the file.
 fn print_render(report: &RenderReport) {
     let d = &report.device;
@@ -155,6 +171,9 @@ fn print_render(report: &RenderReport) {
         let kib = (live * u64::from(RECORD_WORDS) * 4) as f64 / 1024.0;
         let store = STORE_BYTES >> 20;
         println!("patches: {live} blades hold state ({kib:.0} KiB of records in a {store} MiB store); {listed} listed");
+    }
+    if let Some(far) = &report.far {
+        println!("{}", far_line(far, &report.frames));
     }
     let (time, clock) = report.clock;
     let warm_up = match report.warm_up {

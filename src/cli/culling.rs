@@ -5,6 +5,7 @@ use clap::{Args, ValueEnum};
 
 use crate::app::values;
 use crate::render::culling::{Culling, LodSegments, DEFAULT_BLADE_DISTANCE, DEFAULT_VIEW_DISTANCE};
+use crate::render::far_field::FarField;
 
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub(crate) enum CullTest {
@@ -32,6 +33,16 @@ pub(crate) enum LodKind {
     None,
 }
 
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub(crate) enum FarFieldArg {
+    /// Zhang Xia's billboards: six half-planes round a vertical axis (§4.1).
+    Billboards,
+    /// Pelzer's stars: three crossed quads (§7.3).
+    Stars,
+    /// None: the grass ends at the blade distance.
+    Off,
+}
+
 #[derive(Args)]
 pub(crate) struct CullArgs {
     /// Draw every stored blade at --segments in one instanced draw: no cull pass, no LOD (the
@@ -55,6 +66,10 @@ pub(crate) struct CullArgs {
     /// shorter; at most the view distance): it sizes a block field's rings of blade cells.
     #[arg(long, value_name = "M", value_parser = values::positive_f32, allow_hyphen_values = true)]
     pub(crate) blade_distance: Option<f32>,
+    /// The plants past the blades, out to --view-distance (a --field's): textured from an atlas
+    /// of meadow's own blades, leaning in the same wind.
+    #[arg(long, value_enum, default_value = "billboards")]
+    pub(crate) far_field: FarFieldArg,
     /// Hold the GPU frame near this many milliseconds by adjusting the LOD scale each frame from
     /// the measured GPU time (a closed loop; needs the GPU-driven path).
     #[arg(long, value_name = "MS", value_parser = values::positive_f32, allow_hyphen_values = true)]
@@ -80,6 +95,11 @@ impl CullArgs {
             lod_segments: self.lod_segments.unwrap_or_else(|| LodSegments::halving(segments)),
             view_distance: self.view_distance,
             blade_distance: self.blade_distance.unwrap_or(DEFAULT_BLADE_DISTANCE),
+            far_field: match self.far_field {
+                FarFieldArg::Billboards => FarField::Billboards,
+                FarFieldArg::Stars => FarField::Stars,
+                FarFieldArg::Off => FarField::Off,
+            },
             lod_scale: self.lod_scale,
             // A row per tile only where the animation needs it (`--animation sine-cluster`,
             // `Mode::draw_rows`).

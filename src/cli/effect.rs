@@ -19,6 +19,23 @@ mod rules;
 
 pub(crate) use rules::RULES;
 
+/// A configuration in which some flags have no effect.
+pub(crate) struct Rule {
+    /// The flags (clap ids, the field names) that have no effect there.
+    pub(crate) flags: &'static [&'static str],
+    /// How the error names the flag, when it is one of its values rather than the flag (`--cull
+    /// none`); `None`: `--long`.
+    pub(crate) subject: Option<&'static str>,
+    /// The subcommands it applies to.
+    pub(crate) commands: &'static [&'static str],
+    /// The configuration, as the error names it.
+    pub(crate) with: &'static str,
+    /// Whether the command line is in that configuration.
+    pub(crate) when: fn(&Given) -> bool,
+    /// Why the flags have no effect there.
+    pub(crate) why: &'static str,
+}
+
 /// The parsed command line of one subcommand, as the rules read it. Reading an id the
 /// subcommand does not have reads as absent (the unit test checks that every id a rule reads
 /// exists where it applies).

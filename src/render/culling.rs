@@ -131,6 +131,9 @@ pub struct Culling {
     pub view_distance: f32,
     /// Metres beyond which no blade is drawn (`blade_range`: at most `view_distance`).
     pub blade_distance: f32,
+    /// The plants drawn past the blade range out to the view distance (a block field's,
+    /// `render::far_field`).
+    pub far_field: crate::render::far_rings::FarField,
     /// Scales the full-density distance and divides the pixels per segment: above 1, more detail.
     pub lod_scale: f32,
     /// How the blade class issues its draws: once per LOD bucket, or once per visible tile and
@@ -157,6 +160,7 @@ impl Culling {
             lod_segments: LodSegments::halving(segments),
             view_distance: DEFAULT_VIEW_DISTANCE,
             blade_distance: DEFAULT_BLADE_DISTANCE,
+            far_field: Default::default(),
             lod_scale: 1.0,
             rows: DrawRows::PerBucket,
             ground_bounds: true,
@@ -173,6 +177,18 @@ impl Culling {
     /// cells and force corners are sized by it; the ground by `view_distance`.
     pub fn blade_range(&self) -> f32 {
         self.blade_distance.min(self.view_distance)
+    }
+
+    /// The far field's rings when it draws: a far field chosen and the ground reaching past the
+    /// blades (a block field's; `Renderer` checks the field).
+    pub fn far_rings(&self) -> Option<crate::render::far_rings::FarRings> {
+        let on = self.enabled && self.far_field != crate::render::far_rings::FarField::Off;
+        on.then(|| crate::render::far_rings::FarRings::new(self.blade_range(), self.view_distance)).flatten()
+    }
+
+    /// How far a block field's wind reaches: the blades, or the far field's plants.
+    pub fn wind_reach(&self) -> f32 {
+        self.far_rings().map_or(self.blade_range(), |rings| rings.view_distance)
     }
 
     /// The `CULL_*` / `LOD_*` bits of the tests that are on.

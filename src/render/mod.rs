@@ -8,6 +8,8 @@ pub mod cull_reference;
 pub mod culling;
 pub mod draw_class;
 pub mod draw_rows;
+pub mod far_field;
+pub mod far_rings;
 pub mod field_gpu;
 pub mod flowers;
 pub mod frame;

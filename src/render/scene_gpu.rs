@@ -276,13 +276,19 @@ impl SceneGpu {
     }
 
     /// Upload the scene and its cluster records (clusters of about `cluster_size` metres) in one
-    /// batch, the cull's buffers and a block field's force corners for blades out to `blade_range`.
-    pub fn upload(device: &Device, scene: &Scene, cluster_size: f32, blade_range: f32) -> Result<Self> {
+    /// batch, the cull's buffers for blades out to `blade_range` and a block field's force corners
+    /// for plants out to `wind_reach` (the far field's, `Culling::wind_reach`).
+    pub fn upload(
+        device: &Device,
+        scene: &Scene,
+        cluster_size: f32,
+        (blade_range, wind_reach): (f32, f32),
+    ) -> Result<Self> {
         // The batch waits for its submission or never submits.
         let mut partial = crate::vk::guard::empty::<Partial>(device);
         let (grid, wind_levels) = match &scene.field {
             // A block field's corners follow the camera over the cells it sees.
-            Some(_) => crate::render::field_gpu::wind_grid(cluster_size, blade_range),
+            Some(_) => crate::render::field_gpu::wind_grid(cluster_size, wind_reach),
             None => (ClusterGrid::new(scene.terrain.size, cluster_size), 1),
         };
         let capacity = cull_capacity(scene, blade_range);

@@ -59,6 +59,18 @@ pub const FLUID_STAGES_COMP: [Shader; 7] = [
 pub const FLOWER_VERT: Shader = spirv_shader!("flowers/flower.vert");
 /// The flowers' pass: the lit colour, fogged and encoded.
 pub const FLOWER_FRAG: Shader = spirv_shader!("flowers/flower.frag");
+/// The far field's placement (`render::far_field`): the plants of every ring that stand and are seen.
+pub const FAR_PLACE_COMP: Shader = spirv_shader!("far_field/far_place.comp");
+/// The far field's plants: billboards or stars, leaning in the wind.
+pub const FAR_VERT: Shader = spirv_shader!("far_field/far.vert");
+/// The far field's plants: the atlas lit with the height terms, the dither's fades.
+pub const FAR_FRAG: Shader = spirv_shader!("far_field/far.frag");
+/// The far field's atlas bake: the block's blades from the side.
+pub const ATLAS_BAKE_VERT: Shader = spirv_shader!("far_field/atlas_bake.vert");
+/// The far field's atlas bake: albedo or height, alpha-tested.
+pub const ATLAS_BAKE_FRAG: Shader = spirv_shader!("far_field/atlas_bake.frag");
+/// The far field's atlas mips: the mean of 2 × 2 texels.
+pub const ATLAS_MIPS_COMP: Shader = spirv_shader!("far_field/atlas_mips.comp");
 /// Terrain vertex shader (height-field pulling).
 pub const TERRAIN_VERT: Shader = spirv_shader!("terrain/terrain.vert");
 /// Terrain fragment shader.

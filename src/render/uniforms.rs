@@ -19,7 +19,8 @@ pub struct FrameUniforms {
     /// A stored terrain: x grid origin, y cell size (read by the CPU's cull mirror); a block
     /// field: y the innermost wind level's cluster edge. The ground itself is `ground`.
     pub terrain: Vec4,
-    /// x segments, y blade count, zw unused. (The blade geometry and
+    /// x segments, y blade count, z the far field's band start (m, f32 bits; 0: none,
+    /// `render::far_field`), w unused. (The blade geometry and
     /// the sRGB encoding are specialization constants, `render::specialization`.)
     pub params: UVec4,
     /// x point sources, y colliders (their emitters after the sources'), z cluster corners per

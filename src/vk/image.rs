@@ -1,7 +1,9 @@
 //! Images: an `ImageDesc` value describes a 2-D image, or a 3-D one (`ImageDesc::volume`: a
 //! simulation's grid, a wind field, read and written as a storage image and sampled), `Image`
-//! owns the handle, its default view and its gpu-allocator allocation. Both have one mip level
-//! and one layer: `vk::tracker` tracks either as a whole (`Resource::color`).
+//! owns the handle, its default view and its gpu-allocator allocation. Both have one layer and
+//! one mip level unless made with mips (`ImageDesc::with_mips`: an atlas), whose default view
+//! spans them all and whose levels `vk::tracker` tracks apart (`Resource::Image`'s `base_mip`);
+//! a single-mip image is tracked as a whole (`Resource::color`).
 
 use ash::vk;
 use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme};
@@ -28,13 +30,15 @@ pub struct ImageDesc<'a> {
     pub samples: vk::SampleCountFlags,
     /// `Some(depth)`: a 3-D image (`VK_IMAGE_TYPE_3D`, a 3-D view) `depth` texels deep; `None`: 2-D.
     pub volume: Option<u32>,
+    /// Mip levels (1 unless `with_mips`).
+    pub mips: u32,
 }
 
 impl<'a> ImageDesc<'a> {
     /// A colour image of `format`.
     pub fn color(name: &'a str, format: vk::Format, extent: vk::Extent2D, usage: vk::ImageUsageFlags) -> Self {
         let (aspect, samples) = (vk::ImageAspectFlags::COLOR, vk::SampleCountFlags::TYPE_1);
-        Self { format, extent, usage, aspect, name, samples, volume: None }
+        Self { format, extent, usage, aspect, name, samples, volume: None, mips: 1 }
     }
 
     /// A 3-D colour image of `format` (e.g. a grid of velocities, `R16G16B16A16_SFLOAT`, written
@@ -43,6 +47,11 @@ impl<'a> ImageDesc<'a> {
     pub fn volume(name: &'a str, format: vk::Format, extent: vk::Extent3D, usage: vk::ImageUsageFlags) -> Self {
         let flat = vk::Extent2D { width: extent.width, height: extent.height };
         Self { volume: Some(extent.depth), ..Self::color(name, format, flat, usage) }
+    }
+
+    /// The same 2-D image with `mips` mip levels (each half the one before, at least a texel).
+    pub fn with_mips(self, mips: u32) -> Self {
+        Self { mips, ..self }
     }
 
     /// The same image with `samples` samples per texel.
@@ -60,6 +69,7 @@ impl<'a> ImageDesc<'a> {
             name,
             samples: vk::SampleCountFlags::TYPE_1,
             volume: None,
+            mips: 1,
         }
     }
 
@@ -78,7 +88,7 @@ impl<'a> ImageDesc<'a> {
 
     /// Subresource range of the whole image.
     pub fn range(&self) -> vk::ImageSubresourceRange {
-        vk::ImageSubresourceRange { aspect_mask: self.aspect, ..COLOR_RANGE }
+        vk::ImageSubresourceRange { aspect_mask: self.aspect, level_count: self.mips, ..COLOR_RANGE }
     }
 }
 
@@ -165,7 +175,7 @@ impl Image {
             .image_type(image_type)
             .format(desc.format)
             .extent(desc.extent_3d())
-            .mip_levels(1)
+            .mip_levels(desc.mips)
             .array_layers(1)
             .samples(desc.samples)
             .tiling(vk::ImageTiling::OPTIMAL)
@@ -207,6 +217,22 @@ impl Image {
     /// Width, height and depth (1 for a 2-D image).
     pub fn extent_3d(&self) -> vk::Extent3D {
         vk::Extent3D { width: self.extent.width, height: self.extent.height, depth: self.depth }
+    }
+
+    /// A 2-D view of mip `level` alone (a storage image's level, an attachment's), named after
+    /// the image; the caller destroys it before the image.
+    pub fn mip_view(&self, device: &Device, level: u32, name: &str) -> Result<vk::ImageView> {
+        let range = vk::ImageSubresourceRange { base_mip_level: level, level_count: 1, ..self.range };
+        let info = vk::ImageViewCreateInfo::default()
+            .image(self.raw)
+            .view_type(vk::ImageViewType::TYPE_2D)
+            .format(self.format)
+            .subresource_range(range);
+        // SAFETY: the image is bound to memory and has the level.
+        let view = unsafe { device.raw.create_image_view(&info, None) }.vk("vkCreateImageView")?;
+        let view = super::live::created(view);
+        device.set_name(view, &format!("{name} level {level}"));
+        Ok(view)
     }
 
     /// Destroy the view, the image, and free the memory.

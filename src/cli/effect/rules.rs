@@ -2,7 +2,7 @@
 //! flags, the subcommands, the test of the parsed command line and the reason
 //! (`cli::effect` applies it). A new flag, or a new mode that makes some flags moot, adds a row.
 
-use super::Given;
+use super::Rule;
 use crate::cli::animation::{AnimationArg, DebugViewArg, ModeArg};
 use crate::cli::args::PresetArg;
 use crate::cli::culling::{CullTest, LodKind};
@@ -22,24 +22,7 @@ const FORCE_FLAGS: &[&str] =
     &["wind", "wind_field", "no_gusts", "source", "calm", "collider", "attenuation", "cluster_size", "time", "dt"];
 /// The GPU-driven path's flags: the cull, the LOD and what steers them.
 const CULL_FLAGS: &[&str] =
-    &["cull", "lod", "lod_segments", "view_distance", "blade_distance", "budget_ms", "lod_scale"];
-
-/// A configuration in which some flags have no effect.
-pub(crate) struct Rule {
-    /// The flags (clap ids, the field names) that have no effect there.
-    pub(crate) flags: &'static [&'static str],
-    /// How the error names the flag, when it is one of its values rather than the flag (`--cull
-    /// none`); `None`: `--long`.
-    pub(crate) subject: Option<&'static str>,
-    /// The subcommands it applies to.
-    pub(crate) commands: &'static [&'static str],
-    /// The configuration, as the error names it.
-    pub(crate) with: &'static str,
-    /// Whether the command line is in that configuration.
-    pub(crate) when: fn(&Given) -> bool,
-    /// Why the flags have no effect there.
-    pub(crate) why: &'static str,
-}
+    &["cull", "lod", "lod_segments", "view_distance", "blade_distance", "far_field", "budget_ms", "lod_scale"];
 
 /// Every case of the rule. Order matters only for which of several violations is reported.
 pub(crate) const RULES: &[Rule] = &[
@@ -289,6 +272,14 @@ pub(crate) const RULES: &[Rule] = &[
         with: "--blade-distance on stored blades",
         when: |g| g.given("blade_distance") && !g.given("field"),
         why: "the stored terrain is drawn whole, and the blades end at --blade-distance",
+    },
+    Rule {
+        flags: &["far_field"],
+        subject: None,
+        commands: SCENE,
+        with: "stored blades",
+        when: |g| !g.given("field"),
+        why: "the far field stands past a --field's blades, on its ground out to --view-distance",
     },
     Rule {
         flags: &["no_alpha_to_coverage"],

@@ -109,6 +109,83 @@ impl Renderer {
         Ok(Some((u64::from(listed), live as u64)))
     }
 
+    /// What the far field drew in the last frame (`render::far_field`): its plants, read back from
+    /// the placement's draw, their triangles and its rings; `None` without a far field. Call it
+    /// between frames, as `read_ground`.
+    pub fn far_counts(&self) -> Result<Option<crate::render::far_field::FarCounts>> {
+        let Some(far) = self.far else { return Ok(None) };
+        let head = self.read_bytes("far draw", far.draw, 20)?;
+        let plants = u32::from_le_bytes([head[4], head[5], head[6], head[7]]);
+        let triangles = plants * 2 * far.mesh.rectangles();
+        Ok(Some(crate::render::far_field::FarCounts { plants, triangles, rings: far.rings }))
+    }
+
+    /// The mean coverage of each level of the far field's atlas (`far_field::atlas`: the albedo
+    /// image's alpha) as the bake left it; `None` without a far field. Call it between frames,
+    /// after a frame that drew the far field (the atlas is then sampled-read, as it is left).
+    pub fn far_atlas_coverage(&self) -> Result<Option<Vec<f64>>> {
+        use crate::render::far_field::atlas::{EXTENT, MIPS};
+        let Some(far) = self.far else { return Ok(None) };
+        let image = far.atlas.image(0);
+        let sizes: Vec<(u32, u32)> =
+            (0..MIPS).map(|l| ((EXTENT.width >> l).max(1), (EXTENT.height >> l).max(1))).collect();
+        let bytes: u64 = sizes.iter().map(|&(w, h)| u64::from(w * h * 4)).sum();
+        let usage = ash::vk::BufferUsageFlags::TRANSFER_DST;
+        let out = Buffer::new(&self.device, &BufferDesc::readback("far atlas read-back", bytes, usage))?;
+        let range = ash::vk::ImageSubresourceRange {
+            aspect_mask: ash::vk::ImageAspectFlags::COLOR,
+            base_mip_level: 0,
+            level_count: MIPS,
+            base_array_layer: 0,
+            layer_count: 1,
+        };
+        let copied = commands::submit_and_wait(&self.device, "far atlas read-back", |cmd| {
+            let sampled = [Access::FragmentShaderSampledRead];
+            let before = sync::image_barrier(image, range, &sampled, &[Access::TransferRead]);
+            sync::cmd_barriers(&self.device, cmd, &[], &[before]);
+            let mut offset = 0;
+            let regions: Vec<ash::vk::BufferImageCopy> = sizes
+                .iter()
+                .enumerate()
+                .map(|(level, &(w, h))| {
+                    let region = ash::vk::BufferImageCopy::default()
+                        .buffer_offset(offset)
+                        .image_subresource(ash::vk::ImageSubresourceLayers {
+                            aspect_mask: ash::vk::ImageAspectFlags::COLOR,
+                            mip_level: level as u32,
+                            base_array_layer: 0,
+                            layer_count: 1,
+                        })
+                        .image_extent(ash::vk::Extent3D { width: w, height: h, depth: 1 });
+                    offset += u64::from(w * h * 4);
+                    region
+                })
+                .collect();
+            let layout = ash::vk::ImageLayout::TRANSFER_SRC_OPTIMAL;
+            // SAFETY: the image holds every level copied, in TRANSFER_SRC_OPTIMAL after the
+            // barrier; the buffer holds them all.
+            unsafe { self.device.raw.cmd_copy_image_to_buffer(cmd, image, layout, out.raw, &regions) };
+            let back = sync::image_barrier(image, range, &[Access::TransferRead], &sampled);
+            let host = sync::buffer_barrier(out.raw, &[Access::TransferWrite], &[Access::HostRead]);
+            sync::cmd_barriers(&self.device, cmd, &[host], &[back]);
+            Ok(())
+        });
+        let texels = out.mapped()[..bytes as usize].to_vec();
+        // SAFETY: submit_and_wait waited for the copy (or never submitted it).
+        unsafe { out.destroy(&self.device) };
+        copied?;
+        let mut at = 0;
+        let means = sizes
+            .iter()
+            .map(|&(w, h)| {
+                let level = &texels[at..at + (w * h * 4) as usize];
+                at += level.len();
+                level.chunks_exact(4).map(|t| f64::from(t[3]) / 255.0).sum::<f64>() / f64::from(w * h)
+            })
+            .collect();
+        Ok(Some(means))
+    }
+
     /// The names of the blade response's own passes, as frame timings name them (`PassTime`):
     /// what the response costs, apart from the renderer's passes (the blade-levels pass that
     /// places pose records is the renderer's).

@@ -95,6 +95,9 @@ pub struct Renderer {
     time_step: f32,
     /// The pressed map (`render::animation::pressed`): trails and cuts, kept across rebuilds.
     pressed: Option<PressedMap>,
+    /// The far field's placed draw and what it draws, when the graph has a far field
+    /// (`Renderer::far_counts`).
+    far: Option<crate::render::far_field::FarDraw>,
 }
 
 impl Renderer {
@@ -137,6 +140,7 @@ impl Renderer {
             response: None,
             builders: Builders { response: models.response, classes: response::with_flowers(scene, models.classes)? },
             response_passes: Vec::new(),
+            far: None,
             poses: None,
             layouts: SceneLayouts::default(),
             graph: Graph::new(),
@@ -152,9 +156,10 @@ impl Renderer {
             time_step: DEFAULT_DT,
             pressed: None,
         };
-        // The cull's buffers and a block field's force corners cover the blades' range.
-        let blade_range = settings.culling.blade_range();
-        let scene_gpu = SceneGpu::upload(&device, scene, renderer.animation.cluster_size, blade_range)?;
+        // The cull's buffers cover the blades' range, a block field's force corners the far
+        // field's too.
+        let reach = (settings.culling.blade_range(), settings.culling.wind_reach());
+        let scene_gpu = SceneGpu::upload(&device, scene, renderer.animation.cluster_size, reach)?;
         renderer.scene = Some(scene_gpu);
         renderer.layouts = scene_layouts(&device)?;
         renderer.pressed = Some(PressedMap::new(&device)?);

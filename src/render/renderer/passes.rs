@@ -11,6 +11,7 @@ use crate::render::animation::push_out::PushOutPass;
 use crate::render::animation::response::ResponseSetup;
 use crate::render::draw_class::ClassSetup;
 use crate::render::draw_rows::DrawRows;
+use crate::render::far_field;
 use crate::render::gpu_constants as gpu;
 use crate::render::graph::Graph;
 use crate::render::msaa::MSAA_COLOR_FORMAT;
@@ -88,6 +89,7 @@ impl Renderer {
             self.graph.add(FloorPass::new(device, target, &constants, &cpu_scene.blades, settings.segments)?);
         } else {
             self.add_blade_passes(target, &constants)?;
+            self.add_far_passes(target, &constants, cpu_scene)?;
         }
         if self.settings.debug_bounds {
             let (set_layout, scene) = (self.layouts.scene.raw, self.scene.as_ref().expect("uploaded"));
@@ -268,6 +270,38 @@ impl Renderer {
                 let setup = ClassSetup { target, sets, constants, scene, first_bucket, blades_per_instance, poses };
                 self.graph.add_boxed(class.pass(device, &setup)?);
             }
+        }
+        Ok(())
+    }
+}
+
+impl Renderer {
+    /// The far field's passes after the blades (`render::far_field`): a block field's, when a far
+    /// field is chosen and the ground reaches past the blades.
+    fn add_far_passes(&mut self, target: PipelineTarget, constants: &Specialization, cpu_scene: &Scene) -> Result<()> {
+        let scene = self.scene.as_ref().expect("uploaded");
+        let culling = &self.settings.culling;
+        self.far = None;
+        let Some(rings) = culling.far_rings().filter(|_| scene.field.is_some()) else {
+            return Ok(());
+        };
+        let response = self.response.as_deref().expect("built");
+        let tips = far_field::TipTable::of(response);
+        let sets = SceneSets {
+            before: [&self.layouts.scene, &self.layouts.poses],
+            push: crate::render::submission::push_constant_range(),
+            frames: self.ring.slots(),
+        };
+        let wind: Vec<vk::Buffer> = self.forces.iter().map(|f| f.corners.raw).collect();
+        let setup = far_field::FarSetup { target, sets, constants, scene, wind: &wind };
+        let key = far_field::atlas::bake_key(&cpu_scene.blades);
+        let built = far_field::passes(&self.device, &setup, (&rings, culling.far_field, &tips), key)?;
+        self.far = Some(built.draw);
+        for pass in built.passes {
+            self.graph.add_boxed(pass);
+        }
+        for resource in built.fresh {
+            self.graph.import(resource, &[Access::Nothing]);
         }
         Ok(())
     }

@@ -48,7 +48,7 @@ impl Renderer {
             sun_direction: look::sun_direction().extend(0.0),
             sky_color: look::SKY.extend(self.settings.fog_density),
             terrain: Vec4::new(scene.terrain_origin, scene.terrain_cell_size, 0.0, 0.0),
-            params: UVec4::new(self.settings.segments, scene.blade_count, 0, 0),
+            params: UVec4::new(self.settings.segments, scene.blade_count, self.far_band_start().to_bits(), 0),
             wind_counts: UVec4::new(sources, colliders, scene.grid.corners_per_side(), scene.wind_levels),
             cull_lod: UVec4::new(0, 0, 0, self.visible_limit()),
             ..bytemuck::Zeroable::zeroed()
@@ -69,6 +69,14 @@ impl Renderer {
             uniforms.cull_tiles.y = uniforms.cull_tiles.y.min(scene.slot_capacity);
         }
         uniforms
+    }
+
+    /// Where the blades start to thin out for the far field (m; 0: no far field): the cull's
+    /// band dither (`shaders/cull/cull.glsl`, the frame's `params.z`).
+    pub(super) fn far_band_start(&self) -> f32 {
+        let field = self.scene.as_ref().is_some_and(|scene| scene.field.is_some());
+        let rings = self.settings.culling.far_rings().filter(|_| field && !self.settings.floor);
+        rings.map_or(0.0, |rings| rings.band_start)
     }
 
     /// The fog's density per metre of the next frames (`--fog`, the viewer's slider): uniforms only.

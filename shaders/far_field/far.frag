@@ -1,0 +1,61 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// The far field's plants (`render::far_field::pass::FarPass`): the atlas's premultiplied albedo,
+// coverage and mean height (`render::far_field::atlas`) at this point of the rectangle, lit with
+// Belyaev's height terms (§2.3) at that height, fogged and encoded. A fragment is kept when a
+// world-anchored hash lies under the coverage (per texel of the mip sampled, so every level keeps
+// the mean coverage) and, per stretch of the rectangle a blade's place wide, another lies under
+// the band's ramp and the view distance's end (a dither): no blending, no order.
+#include "common/bindings.glsl"
+#include "common/lighting.glsl"
+#include "far_field/far_field.glsl"
+
+// The atlas's two images (`render::far_field::atlas`): the premultiplied albedo and coverage, the
+// premultiplied height along the blade and coverage.
+layout(set = SET_PASS, binding = 3) uniform sampler2D far_atlas;
+layout(set = SET_PASS, binding = 4) uniform sampler2D far_heights;
+
+layout(location = 0) in vec2 in_along;
+layout(location = 1) flat in uvec2 in_ids;
+layout(location = 2) in vec3 in_sun;
+layout(location = 3) in vec2 in_fresnel_fog;
+layout(location = 4) in float in_distance;
+
+layout(location = 0) out vec4 out_color;
+
+void main() {
+    uint rectangle = in_ids.y >> 2;
+    float fade = far_band(in_distance) * far_end(in_distance);
+    float stretch = floor(in_along.x * FAR_TILE_WIDTH / FAR_STRETCH);
+    if (far_unit(far_hash(ivec2(int(in_ids.x), int(stretch)), 16u + rectangle)) >= fade) {
+        discard;
+    }
+    // The top of a tile is the plants' top.
+    float tile = float(in_ids.y & 3u);
+    vec2 unwrapped = vec2((tile + in_along.x) / float(FAR_TILES), 1.0 - in_along.y);
+    // A tile repeats across: a footprint wider than a tile averages the tile, so it is clamped to
+    // one (a rectangle seen edge-on keeps its height profile instead of taking the coarsest level).
+    const float TILE = 1.0 / float(FAR_TILES);
+    vec2 gx = dFdx(unwrapped);
+    vec2 gy = dFdy(unwrapped);
+    gx.x = clamp(gx.x, -TILE, TILE);
+    gy.x = clamp(gy.x, -TILE, TILE);
+    vec2 uv = vec2((tile + fract(in_along.x)) / float(FAR_TILES), unwrapped.y);
+    vec4 color = textureGrad(far_atlas, uv, gx, gy);
+    float mean_height = textureGrad(far_heights, uv, gx, gy).r;
+    vec2 size = vec2(textureSize(far_atlas, 0));
+    float lod = max(0.0, floor(0.5 + 0.5 * log2(max(dot(gx * size, gx * size), dot(gy * size, gy * size)))));
+    ivec2 texel = ivec2(floor(uv * size / exp2(lod)));
+    uint h = far_hash(texel, in_ids.x ^ (rectangle * 0x68e31da4u) ^ (uint(lod) << 24));
+    if (far_unit(h) >= color.a) {
+        discard;
+    }
+    float a = max(color.a, 1.0 / 255.0);
+    vec3 albedo = color.rgb / a;
+    float l = clamp(mean_height / a, 0.0, 1.0);
+    float l2 = l * l;
+    float l6 = l2 * l2 * l2;
+    vec3 lit = blade_radiance_terms(albedo, albedo, in_sun, l, l6);
+    lit += FRESNEL_KS * l6 * in_fresnel_fog.x;
+    out_color = vec4(encode_output(mix(frame_values.sky_color.rgb, lit, in_fresnel_fog.y)), 1.0);
+}

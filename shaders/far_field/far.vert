@@ -1,0 +1,74 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// The far field's plants (`render::far_field::pass::FarPass`): instance i is placed plant i
+// (far_place.comp), vertex 4 k + c corner c of its rectangle k. Billboards (Zhang Xia §4.1): six
+// half-planes from the plant's axis, 60° apart; stars (Pelzer §7.3): three quads crossing at it.
+// Each rectangle stands on the ground at both its bottom corners, a plant's height tall; its top
+// corners lean by the blade response's tip offset for the wind the field gives there (Zhang Xia
+// §4.2: the segment points of the bottom and top of the plants), so the far field sways with the
+// blades in the same wind. Lit per vertex with the rectangle's normal (Belyaev §2.3, its Fresnel
+// term over the ground's normal): the direction terms here, the height terms per fragment from
+// the atlas's mean height (far.frag).
+#include "common/bindings.glsl"
+#include "common/ground.glsl"
+#include "common/lighting.glsl"
+#include "wind/wind_field.glsl"
+#include "far_field/far_field.glsl"
+
+layout(set = SET_PASS, binding = 1, std430) readonly buffer FarPlants { FarPlant plants[]; };
+
+layout(location = 0) out vec2 out_along;   // x along the rectangle in atlas tiles (unwrapped), y 0 bottom to 1 top
+layout(location = 1) flat out uvec2 out_ids; // x the plant's hash, y tile (low 2 bits) | rectangle << 2
+layout(location = 2) out vec3 out_sun;     // the direction terms: max(N·L, 0) + C max(-N·L, 0)
+layout(location = 3) out vec2 out_fresnel_fog; // x (1 - N_L·V)^10, y the fog's transmittance
+layout(location = 4) out float out_distance; // from the camera (m)
+
+// The tip's move per metre of height under wind `w` (m/s, xz), from the response's table.
+vec3 tip_lean(vec2 w) {
+    float speed = length(w);
+    float at = clamp(speed / FAR_TIP_MAX, 0.0, 1.0) * float(FAR_TIP_TABLE - 1u);
+    uint i = min(uint(at), FAR_TIP_TABLE - 2u);
+    vec2 entry = mix(far.tips[i].xy, far.tips[i + 1u].xy, at - float(i));
+    vec2 along = speed > 1e-4 ? w / speed : vec2(0.0);
+    return vec3(along.x * entry.x, entry.y, along.y * entry.x);
+}
+
+void main() {
+    FarPlant plant = plants[gl_InstanceIndex];
+    uint rectangle = uint(gl_VertexIndex) >> 2;
+    uint corner = uint(gl_VertexIndex) & 3u;
+    float width = plant.centre_width.w;
+    float turn = uintBitsToFloat(plant.hash_turn_ring.y) + float(rectangle) * (PI / 3.0);
+    vec2 dir = vec2(cos(turn), sin(turn));
+    bool outer = (corner & 1u) != 0u;
+    bool top = corner >= 2u;
+    // Along the rectangle from its first edge (m): a half-plane from the axis, a quad across it.
+    float along;
+    float from_axis;
+    if (far.counts.y == FAR_MESH_STARS) {
+        along = outer ? width : 0.0;
+        from_axis = along - 0.5 * width;
+    } else {
+        along = outer ? 0.5 * width : 0.0;
+        from_axis = along;
+    }
+    vec2 root = plant.centre_width.xz + dir * from_axis;
+    vec3 world = vec3(root.x, ground_height(root), root.y);
+    float height = far.reach.y;
+    if (top) {
+        vec4 wind = with_point_sources(levels_wind(root), root);
+        world += (vec3(0.0, 1.0, 0.0) + tip_lean(wind.xz)) * height;
+    }
+    uint tile = (plant.hash_turn_ring.x >> (2u * rectangle)) & 3u;
+    out_along = vec2(along / FAR_TILE_WIDTH, top ? 1.0 : 0.0);
+    out_ids = uvec2(plant.hash_turn_ring.x, tile | (rectangle << 2));
+    vec3 to_camera = frame_values.camera_position.xyz - world;
+    vec3 n = vec3(-dir.y, 0.0, dir.x);
+    n = dot(n, to_camera) < 0.0 ? -n : n;
+    out_sun = blade_sun_terms(n, frame_values.sun_direction.xyz);
+    float c = 1.0 - clamp(dot(ground_normal(root), normalize(to_camera)), 0.0, 1.0);
+    float c2 = c * c;
+    out_fresnel_fog = vec2(c2 * c2 * c2 * c2 * c2, fog_transmittance(world, frame_values.camera_position, frame_values.sky_color));
+    out_distance = length(to_camera);
+    gl_Position = frame.view_proj * vec4(world, 1.0);
+}

@@ -1,0 +1,172 @@
+//! The far field's draw (`shaders/far_field/far.vert`, `far.frag`): after the blades, one
+//! `vkCmdDrawIndexedIndirect` of the placed plants (its instance count the placement's), the
+//! plant's rectangles from an index list of one plant, each instance one plant.
+//!
+//! Reads: the placed plants and their draw, the atlas (every level, sampled), the ground, this
+//! frame's wind at the cluster corners and the emitters (the lean), its parameters. Writes: the
+//! scene's colour and depth (opaque, depth-tested: the dither needs no order).
+
+use ash::vk;
+
+use super::atlas::AtlasHandles;
+use super::{plant_indices, FarField, FarParams};
+use crate::error::Result;
+use crate::render::graph::{Declaration, Pass, PassContext, PassUniforms};
+use crate::render::passes::{self, PipelineTarget};
+use crate::render::recording::{PassSet, SceneSets};
+use crate::render::scene_gpu::SceneGpu;
+use crate::render::shaders;
+use crate::render::specialization::Specialization;
+use crate::vk::descriptor::Resource as Descriptor;
+use crate::vk::upload::UploadBatch;
+use crate::vk::{pipeline, Access, Buffer, Device, Guard, Resource};
+
+/// The draw's pipeline, its set and uniforms, its index list and what it reads.
+pub struct FarPass {
+    pipeline: vk::Pipeline,
+    set: PassSet,
+    uniforms: PassUniforms,
+    params: FarParams,
+    indices: Buffer,
+    /// The placement's plants and draw.
+    placed: (vk::Buffer, vk::Buffer),
+    atlas: Vec<Resource>,
+    ground: [vk::Buffer; 2],
+    /// Each frame's wind at the cluster corners.
+    wind: Vec<vk::Buffer>,
+}
+
+/// What the far pass is built from.
+pub struct FarSetup<'a> {
+    /// The scene pipelines' target.
+    pub target: PipelineTarget,
+    /// The scene's sets.
+    pub sets: SceneSets<'a>,
+    /// Specialization constants.
+    pub constants: &'a Specialization,
+    /// The scene on the GPU.
+    pub scene: &'a SceneGpu,
+    /// Each frame's corner buffer.
+    pub wind: &'a [vk::Buffer],
+}
+
+impl FarPass {
+    /// Build the draw of `mesh` over the plants and the draw the placement writes (`placed`),
+    /// textured by `atlas`.
+    pub fn new(
+        device: &Device,
+        setup: &FarSetup,
+        (placed, atlas): ((vk::DescriptorBufferInfo, vk::Buffer), &AtlasHandles),
+        mesh: FarField,
+        params: FarParams,
+    ) -> Result<Self> {
+        let name = "far field";
+        let vertex = shaders::FAR_VERT.code(device.profile);
+        let fragment = shaders::FAR_FRAG.code(device.profile);
+        let size = std::mem::size_of::<FarParams>() as u64;
+        let uniforms = Guard::new(device, PassUniforms::new(device, name, size, setup.sets.frames)?);
+        let set = PassSet::new(
+            device,
+            &setup.sets.desc(name, &[("far vertex", vertex), ("far fragment", fragment)]),
+            |slot| {
+                vec![
+                    ("FarParamsBlock", uniforms.resource(slot)),
+                    ("FarPlants", Descriptor::Buffer(placed.0)),
+                    ("far_atlas", atlas.sampled(0)),
+                    ("far_heights", atlas.sampled(1)),
+                ]
+            },
+        )?;
+        let set = Guard::new(device, set);
+        let mut batch = UploadBatch::new(device);
+        let list = plant_indices(mesh);
+        let indices = batch.buffer("far indices", &list, vk::BufferUsageFlags::INDEX_BUFFER, &[Access::IndexRead])?;
+        // Not submitted yet: the batch waits for its submission, or never submits.
+        let indices = Guard::new(device, indices);
+        batch.submit()?;
+        let target = setup.target;
+        let pipeline = pipeline::graphics(
+            device,
+            &pipeline::GraphicsDesc {
+                name,
+                vertex,
+                fragment,
+                topology: vk::PrimitiveTopology::TRIANGLE_LIST,
+                // The rectangles are seen from both sides.
+                cull: vk::CullModeFlags::NONE,
+                polygon: target.polygon,
+                depth_compare: vk::CompareOp::GREATER,
+                depth_write: true,
+                color_format: target.color,
+                depth_format: target.depth,
+                layout: set.layout,
+                constants: &setup.constants.named(),
+                vertex_stride: 0,
+                samples: target.samples,
+                blend: pipeline::Blend::Opaque,
+            },
+        )?;
+        let scene = setup.scene;
+        Ok(Self {
+            pipeline,
+            set: set.take(),
+            uniforms: uniforms.take(),
+            params,
+            indices: indices.take(),
+            placed: (placed.0.buffer, placed.1),
+            atlas: atlas.levels().collect(),
+            ground: [scene.ground.texels.raw, scene.ground.cover.0.raw],
+            wind: setup.wind.to_vec(),
+        })
+    }
+}
+
+impl Pass for FarPass {
+    fn name(&self) -> &'static str {
+        "far field"
+    }
+
+    fn declare(&self, ctx: &PassContext) -> Option<Declaration> {
+        let fetch = ctx.device.profile.vertex_fetch();
+        let rendering = passes::scene_rendering(ctx, self.pipeline, true, false);
+        let mut declaration = Declaration::graphics(rendering)
+            .buffer(self.placed.0, Access::VertexShaderStorageRead)
+            .buffer(self.placed.1, Access::IndirectCommandRead)
+            .buffer(self.indices.raw, Access::IndexRead)
+            .buffer(self.ground[0], fetch)
+            .buffer(self.ground[1], fetch)
+            .buffer(self.wind[ctx.slot], Access::VertexShaderStorageRead);
+        for &level in &self.atlas {
+            declaration = declaration.uses(level, Access::FragmentShaderSampledRead);
+        }
+        Some(declaration)
+    }
+
+    fn record(&self, ctx: &PassContext, cmd: vk::CommandBuffer) -> Result<()> {
+        let device = ctx.device;
+        passes::bind_graphics(device, ctx, cmd, self.set.layout, self.pipeline);
+        self.set.bind(device, cmd, vk::PipelineBindPoint::GRAPHICS, ctx.slot);
+        // SAFETY: cmd is recording inside this pass's rendering instance; the sets and the
+        // pipeline are bound; the placement wrote the draw before this pass (the graph's barrier).
+        unsafe {
+            device.raw.cmd_bind_index_buffer(cmd, self.indices.raw, 0, vk::IndexType::UINT32);
+            device.raw.cmd_draw_indexed_indirect(cmd, self.placed.1, 0, 1, 20);
+        }
+        Ok(())
+    }
+
+    fn uniforms(&self, _ctx: &PassContext) -> Option<(&PassUniforms, Vec<u8>)> {
+        Some((&self.uniforms, bytemuck::bytes_of(&self.params).to_vec()))
+    }
+
+    unsafe fn destroy(self: Box<Self>, device: &Device) {
+        // SAFETY: per the contract.
+        unsafe {
+            crate::vk::live::destroyed(self.pipeline);
+            device.raw.destroy_pipeline(self.pipeline, None);
+            self.set.destroy(device);
+            self.uniforms.destroy(device);
+            self.indices.destroy(device);
+        }
+    }
+}

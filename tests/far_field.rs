@@ -1,0 +1,240 @@
+//! The far field (issue #37, `render::far_field`), on lavapipe with validation and
+//! synchronization validation: from the landscape camera it draws plants past 1 km and changes
+//! the picture there against `--far-field off`, the same on every run and thread count, and out
+//! to 10 km clean; under opposite winds its plants shift the way the blades do; a covering map of
+//! 0 grows none; its atlas is baked once, and every level of it keeps level 0's mean coverage;
+//! bad input is refused in one line.
+
+mod support;
+
+use std::sync::Arc;
+
+use ash::vk;
+use meadow::app::{with_device, GpuOptions};
+use meadow::render::animation::{AnimationSettings, Mode};
+use meadow::render::culling::Culling;
+use meadow::render::{OffscreenTarget, RenderSettings, Renderer};
+use meadow::scene::camera::{rows_below_horizon, FOV_Y_DEG, LANDSCAPE_HEIGHT, LANDSCAPE_PITCH_DEG};
+use meadow::scene::field::FieldSpec;
+use meadow::scene::{CameraChoice, Scene};
+use meadow::vk::DeviceSelector;
+use support::{scratch, Picture};
+
+const ROWS: u32 = 720;
+
+/// The landscape camera over an unbounded field under a light fog (at 2 km a surface keeps two
+/// thirds of its colour), static blades, the ground to 2.5 km.
+const LANDSCAPE: &[&str] =
+    &["--field", "infinite", "--camera", "landscape", "--mode", "static", "--fog", "0.0002", "--view-distance", "2500"];
+
+/// The landscape at 1280 × 720.
+const FULL: &[&str] = &["--size", "1280x720"];
+
+/// `meadow render --validation` of `args` (and `env`): its standard output and picture.
+fn render(name: &str, args: &[&str], env: &[(&str, &str)]) -> (String, Picture) {
+    let out = scratch(&format!("far-field-{name}")).join("out.png");
+    let output = support::meadow()
+        .envs(env.iter().copied())
+        .args(["render", "--validation", "--device", support::DEVICE])
+        .args(args)
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .expect("run meadow");
+    support::assert_clean(&output);
+    (String::from_utf8_lossy(&output.stdout).to_string(), Picture::load(&out))
+}
+
+/// The row where flat ground `distance` metres ahead lies from the landscape camera.
+fn row_at(distance: f32) -> f32 {
+    let focal = 0.5 * ROWS as f32 / (0.5 * FOV_Y_DEG.to_radians()).tan();
+    let horizon = 0.5 * ROWS as f32 - focal * (-LANDSCAPE_PITCH_DEG).to_radians().tan();
+    horizon + rows_below_horizon(LANDSCAPE_HEIGHT, LANDSCAPE_PITCH_DEG, distance, ROWS)
+}
+
+/// The far field's line of `render`: its plant count.
+fn far_plants(stdout: &str) -> u32 {
+    let line =
+        stdout.lines().find(|l| l.starts_with("far field: ")).unwrap_or_else(|| panic!("no far field line:\n{stdout}"));
+    line["far field: ".len()..].split(' ').next().and_then(|n| n.parse().ok()).expect("a count")
+}
+
+/// The share of the blocks 8 pixels wide across `rows` whose mean colour differs between `a`
+/// and `b` by more than one level.
+fn differing_blocks(a: &Picture, b: &Picture, rows: std::ops::RangeInclusive<u32>) -> f64 {
+    let blocks = a.width / 8;
+    let differing = (0..blocks)
+        .filter(|&block| {
+            let mean = |p: &Picture| -> [f64; 3] {
+                let mut sum = [0.0; 3];
+                for y in rows.clone() {
+                    for x in block * 8..block * 8 + 8 {
+                        let px = p.pixel(x, y);
+                        (0..3).for_each(|c| sum[c] += f64::from(px[c]));
+                    }
+                }
+                let n = f64::from(8 * rows.clone().count() as u32);
+                sum.map(|s| s / n)
+            };
+            let (ma, mb) = (mean(a), mean(b));
+            (0..3).any(|c| (ma[c] - mb[c]).abs() > 1.0)
+        })
+        .count();
+    differing as f64 / f64::from(blocks)
+}
+
+#[test]
+fn past_1_km_the_far_field_draws_plants_the_same_on_every_run_and_thread_count() {
+    let landscape = [LANDSCAPE, FULL].concat();
+    let (stdout, far) = render("far", &landscape, &[("LP_NUM_THREADS", "4")]);
+    let (_, off) = render("off", &[&landscape, ["--far-field", "off"].as_slice()].concat(), &[]);
+    let plants = far_plants(&stdout);
+    assert!(plants > 100, "{stdout}");
+    // Between 1 and 2 km ahead: a row under the 2 km line to a row over the 1 km one.
+    let rows = row_at(2000.0).ceil() as u32..=row_at(1000.0).floor() as u32;
+    assert!(rows.clone().count() >= 4, "{rows:?}");
+    let share = differing_blocks(&far, &off, rows.clone());
+    assert!(share >= 0.5, "only {:.0} % of the blocks between 1 and 2 km differ from --far-field off", 100.0 * share);
+    // Nothing of the far field nearer than its band: the rows under 100 m are the same.
+    let near = row_at(100.0).ceil() as u32..=ROWS - 1;
+    assert_eq!(differing_blocks(&far, &off, near), 0.0);
+    // The same picture on one thread and on a second run.
+    let (again, one) = render("one-thread", &landscape, &[("LP_NUM_THREADS", "1")]);
+    assert_eq!(one.rgb, far.rgb, "the far field differs between LP_NUM_THREADS 4 and 1");
+    assert_eq!(far_plants(&again), plants);
+}
+
+#[test]
+fn the_far_field_reaches_10_km_clean_with_either_mesh() {
+    let wide = &["--field", "infinite", "--camera", "landscape", "--fog", "0.0002", "--size", "320x180"];
+    for mesh in ["billboards", "stars"] {
+        let args = [wide.as_slice(), &["--view-distance", "10000", "--far-field", mesh]].concat();
+        let (stdout, _) = render(&format!("10km-{mesh}"), &args, &[]);
+        let line = stdout.lines().find(|l| l.starts_with("far field: ")).expect("a far field line");
+        assert!(line.contains("to 10000 m"), "{line}");
+        // Zhang Xia's eq. 9: a ring's plants are as many as the next one's, so the count grows
+        // with log(distance): well under the 20 000-triangle budget at the landscape camera.
+        let triangles: u32 =
+            line.split(", ").nth(1).and_then(|t| t.split(' ').next()).and_then(|n| n.parse().ok()).unwrap();
+        assert!(triangles > 0 && triangles <= 20_000, "{line}");
+    }
+}
+
+#[test]
+fn under_opposite_winds_the_far_plants_shift_the_way_the_blades_do() {
+    // Far plants from 5 m (blades to 6 m), or blades to 60 m: a steady strong wind across the
+    // view, towards +x (right on screen) and towards -x.
+    let base = &[
+        "--field",
+        "infinite",
+        "--view-distance",
+        "60",
+        "--camera",
+        "0,1.5,0,0,-12",
+        "--fog",
+        "0.001",
+        "--no-gusts",
+        "--size",
+        "320x180",
+    ];
+    // The horizontal centre of the pixels `run` draws over the ground alone (blades to 6 m, no far
+    // field) in the top third, where only plants past 6 m stand.
+    let centre = |name: &str, extra: &[&str], wind: &str| -> f64 {
+        let args = [base.as_slice(), extra, &["--wind", wind]].concat();
+        let (_, picture) = render(&format!("{name}-{wind}"), &args, &[]);
+        let ground = [base.as_slice(), &["--blade-distance", "6", "--far-field", "off", "--wind", wind]].concat();
+        let (_, bare) = render(&format!("bare-{wind}"), &ground, &[]);
+        let (mut sum, mut count) = (0.0, 0u32);
+        for y in 0..picture.height / 3 {
+            for x in 0..picture.width {
+                let (a, b) = (picture.pixel(x, y), bare.pixel(x, y));
+                if a.iter().zip(b).map(|(&p, q)| p.abs_diff(q) as u32).sum::<u32>() > 6 {
+                    sum += f64::from(x);
+                    count += 1;
+                }
+            }
+        }
+        assert!(count > 100, "{name} {wind}: {count} pixels");
+        sum / f64::from(count)
+    };
+    let far = centre("far", &["--blade-distance", "6"], "0,1") - centre("far", &["--blade-distance", "6"], "180,1");
+    let blades = centre("blades", &["--blade-distance", "60", "--far-field", "off"], "0,1")
+        - centre("blades", &["--blade-distance", "60", "--far-field", "off"], "180,1");
+    assert!(far > 1.0 && blades > 1.0, "shift right under +x wind: far field {far:.2} px, blades {blades:.2} px");
+}
+
+#[test]
+fn a_covering_map_of_zero_grows_no_far_plant() {
+    let dir = scratch("far-field-cover");
+    for (name, grey) in [("bare", 0u8), ("full", 255u8)] {
+        let map = dir.join(format!("{name}.png"));
+        image::save_buffer(&map, &[grey; 64], 8, 8, image::ExtendedColorType::L8).expect("write map");
+        let cover = ["--size", "320x180", "--terrain-scale", "5000,1,5000", "--cover", map.to_str().unwrap()];
+        let args = [LANDSCAPE, &cover].concat();
+        let (stdout, _) = render(&format!("cover-{name}"), &args, &[]);
+        let plants = far_plants(&stdout);
+        match grey {
+            0 => assert_eq!(plants, 0, "{stdout}"),
+            _ => assert!(plants > 100, "{stdout}"),
+        }
+    }
+}
+
+#[test]
+fn the_atlas_is_baked_once_and_its_levels_keep_the_coverage() {
+    // Three frames: the bake's passes run in the first alone.
+    let args = [LANDSCAPE, &["--size", "320x180", "--frames", "3"]].concat();
+    let (stdout, _) = render("frames", &args, &[]);
+    let gpu = stdout.lines().find(|l| l.starts_with("gpu: ")).expect("a gpu line");
+    assert!(!gpu.contains("far atlas") && gpu.contains("far field"), "the last of 3 frames baked again: {gpu}");
+    let far = stdout.lines().find(|l| l.starts_with("far field: ")).expect("a far field line");
+    assert!(far.contains("atlas baked in"), "{far}");
+    // Every level's mean coverage is level 0's (box-filtered, premultiplied).
+    let options = GpuOptions { validation: true, device: DeviceSelector::parse(support::DEVICE) };
+    let (coverage, messages) = with_device(&options, false, |device| {
+        let scene = Scene::blocks(FieldSpec { size: None, density: 100.0 }, 3);
+        let culling = Culling { view_distance: 400.0, ..Culling::default_for(4) };
+        let animation = AnimationSettings { mode: Mode::Static, ..Default::default() };
+        let mut renderer = Renderer::new(Arc::clone(device), &scene, RenderSettings::offscreen(4, culling), animation)?;
+        let mut target = OffscreenTarget::new(device, vk::Extent2D { width: 64, height: 36 })?;
+        let camera = scene.camera(Some(CameraChoice::Landscape));
+        renderer.render_offscreen(&mut target, &camera, 0.0)?;
+        let coverage = renderer.far_atlas_coverage()?.expect("a far field");
+        drop(renderer);
+        // SAFETY: render_offscreen waited for its frame.
+        unsafe { target.destroy(device) };
+        Ok(coverage)
+    });
+    let coverage = coverage.expect("render");
+    assert_eq!(messages, Some(0));
+    let base = coverage[0];
+    assert!(base > 0.1 && base < 0.95, "level 0's coverage {base}");
+    for (level, &mean) in coverage.iter().enumerate() {
+        assert!((mean - base).abs() <= 0.02 * base, "level {level}: {mean:.4} against level 0's {base:.4}");
+    }
+}
+
+#[test]
+fn bad_far_fields_are_refused_in_one_line() {
+    let cases: [(&[&str], &str); 3] = [
+        (&["--field", "infinite", "--far-field", "trees"], "invalid value 'trees'"),
+        (&["--blades", "500", "--far-field", "stars"], "--far-field has no effect with stored blades"),
+        (&["--field", "infinite", "--blade-distance", "300", "--view-distance", "200"], "--blade-distance 300 is over"),
+    ];
+    for (args, why) in cases {
+        let out = scratch("far-field-bad").join("never.png");
+        let output = support::meadow()
+            .arg("render")
+            .args(args)
+            .args(["--device", support::DEVICE])
+            .arg("--out")
+            .arg(&out)
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(2), "{args:?}: {stderr}");
+        assert_eq!(stderr.trim().lines().count(), 1, "{args:?}: {stderr}");
+        assert!(stderr.starts_with("error: ") && stderr.contains(why), "{args:?}: {stderr}");
+        assert!(!out.exists());
+    }
+}
