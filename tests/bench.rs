@@ -446,6 +446,7 @@ fn bad_bench_arguments_exit_2() {
         &["bench", "--preset", "landscape", "--blades", "1000"][..],
         &["bench", "--preset", "landscape", "--segments", "4"][..],
         &["bench", "--preset", "plants", "--blades", "1000"][..],
+        &["bench", "--preset", "far", "--segments", "4"][..],
     ] {
         let output = meadow().args(args).output().expect("run");
         assert_eq!(output.status.code(), Some(2), "{args:?}: {}", transcript(&output));
@@ -656,6 +657,22 @@ fn the_landscape_preset_measures_its_pairs_side_by_side() {
         let share = drawn(split, "subject") / drawn(split, "reference");
         assert!((0.4..0.65).contains(&share), "the split cover drew {share} of the full one's blades");
     }
+}
+
+/// `--preset far`: the landscape to 2 km, with billboards, stars and no far field, each measured
+/// against the blades alone to 150 m; every subject's picture shows ground the reference's does not.
+#[test]
+fn the_far_preset_measures_the_landscape_against_the_blades_alone() {
+    let (output, doc) = pair_preset("far");
+    let pairs = doc["pairs"].as_array().expect("pairs");
+    assert_eq!(pairs.len(), 3);
+    for p in pairs {
+        assert!(p["ratio"].as_f64().expect("ratio") > 0.0, "{p}");
+        assert_eq!(p["reference"]["name"], "blades to 150 m", "{p}");
+        assert!(p["within_3"].as_f64().expect("within") < 0.99, "the landscape drew the reference's picture: {p}");
+    }
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(stdout.contains("landscape to 2 km, billboards / blades alone to 150 m"), "{stdout}");
 }
 
 /// `--preset plants`: the four pairs measured side by side; the flowers' subjects draw flowers

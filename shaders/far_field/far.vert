@@ -53,6 +53,20 @@ void main() {
         from_axis = along;
     }
     vec2 root = plant.centre_width.xz + dir * from_axis;
+    // A rectangle wholly nearer than the band's start would be wholly discarded by the fade
+    // (far.frag): not rasterized at all (both its ends are within the band's start).
+    vec2 eye = frame_values.camera_position.xz;
+    float first = far.counts.y == FAR_MESH_STARS ? -0.5 * width : 0.0;
+    float last = far.counts.y == FAR_MESH_STARS ? 0.5 * width : 0.5 * width;
+    float farther_end = max(length(plant.centre_width.xz + dir * first - eye), length(plant.centre_width.xz + dir * last - eye));
+    // A rectangle seen nearly edge-on covers a sliver of pixels at the cost of whole quads: the
+    // plant's other rectangles, 60° away, cover for it.
+    vec2 to_eye = normalize(eye - plant.centre_width.xz);
+    bool edge_on = abs(dot(vec2(-dir.y, dir.x), to_eye)) < FAR_EDGE_ON;
+    if (farther_end < far.rings.z || edge_on) {
+        gl_Position = vec4(2.0, 2.0, 2.0, 1.0);
+        return;
+    }
     vec3 world = vec3(root.x, ground_height(root), root.y);
     float height = far.reach.y;
     if (top) {

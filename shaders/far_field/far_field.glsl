@@ -9,7 +9,7 @@
 const uint FAR_TIP_TABLE = 32u;        // render::far_field::TIP_TABLE_SIZE
 const float FAR_TIP_MAX = 24.0;        // render::far_field::TIP_TABLE_MAX (m/s)
 const uint FAR_RING_SIDE = 36u;        // render::far_rings::RING_SIDE
-const float FAR_WIDTH_STEPS = 1.25;    // render::far_field::WIDTH_STEPS
+const float FAR_WIDTH_STEPS = 1.0;     // render::far_field::WIDTH_STEPS
 const float FAR_BLOCK = 4.0;           // scene::field::BLOCK_SIZE
 const uint FAR_TILES = 4u;             // render::far_field::atlas::TILES
 const float FAR_TILE_WIDTH = 1.0;      // render::far_field::atlas::TILE_WIDTH_M
@@ -18,6 +18,9 @@ const uint FAR_MESH_BILLBOARDS = 0u;   // six half-planes round the axis
 const uint FAR_MESH_STARS = 1u;        // three crossed quads
 // The share of a ring over which the plants the next ring's lattice drops fade out (its outer half).
 const float FAR_RING_FADE = 0.5;
+// A far rectangle whose normal's cosine to the view (across the ground) is under this is not
+// drawn: seen within 15° of edge-on.
+const float FAR_EDGE_ON = 0.26;
 // A far rectangle's fade in the band is decided per stretch this wide (m): about a blade's place.
 const float FAR_STRETCH = 0.25;
 

@@ -262,7 +262,7 @@ pub(crate) struct BenchArgs {
     /// animations: the blade responses side by side, culled, unbounded and at the thesis' sizes;
     /// response: each response's tips through a step gust, read back and charted; landscape: a
     /// heightmap exported from the relief against the relief, and a half-bare covering map against
-    /// a full one.
+    /// a full one; far: the landscape to 2 km with the far field against the blades alone to 150 m.
     #[arg(long, value_enum, default_value = "quick")]
     pub(crate) preset: PresetArg,
     /// Blade counts (comma-separated), replacing the preset's (lod: one, the stored field's).
@@ -391,6 +391,7 @@ pub(crate) enum PresetArg {
     Landscape,
     Plants,
     Interaction,
+    Far,
 }
 
 #[derive(Clone, Copy, ValueEnum)]

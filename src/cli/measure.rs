@@ -136,6 +136,7 @@ pub(crate) fn bench(args: BenchArgs) -> crate::Result<(u8, Option<u64>)> {
         PresetArg::Landscape => return pair_preset(args, Pairs::Landscape),
         PresetArg::Plants => return pair_preset(args, Pairs::Plants),
         PresetArg::Interaction => return pair_preset(args, Pairs::Interaction),
+        PresetArg::Far => return pair_preset(args, Pairs::Far),
     };
     let preset_blades: Vec<u32> = options.rows.iter().map(|r| r.0).collect();
     let preset_segments: Vec<u32> = options.rows.iter().map(|r| r.1).collect();
@@ -291,12 +292,14 @@ enum Pairs {
     Plants,
     /// `--preset interaction` (issue #34).
     Interaction,
+    /// `--preset far` (issue #37).
+    Far,
 }
 
-/// `meadow bench --preset landscape`, `plants` or `interaction`: size, warm-up and frames can be changed; blade
+/// `meadow bench --preset landscape`, `plants`, `interaction` or `far`: size, warm-up and frames can be changed; blade
 /// counts, segments, modes and evaluation placements cannot (`cli::effect` refuses them).
 fn pair_preset(args: BenchArgs, preset: Pairs) -> crate::Result<(u8, Option<u64>)> {
-    use crate::harness::bench::{interaction, landscape, pairs::PairBenchOptions, plants};
+    use crate::harness::bench::{far, interaction, landscape, pairs::PairBenchOptions, plants};
     let mut options = PairBenchOptions::preset(args.out.clone());
     options.size = args.size.unwrap_or(options.size);
     options.warmup = args.warmup.unwrap_or(options.warmup);
@@ -305,6 +308,7 @@ fn pair_preset(args: BenchArgs, preset: Pairs) -> crate::Result<(u8, Option<u64>
         Pairs::Landscape => &landscape::FILES,
         Pairs::Plants => &plants::FILES,
         Pairs::Interaction => &interaction::FILES,
+        Pairs::Far => &far::FILES,
     };
     Ok(measure(
         &args.gpu,
@@ -326,6 +330,11 @@ fn pair_preset(args: BenchArgs, preset: Pairs) -> crate::Result<(u8, Option<u64>
                     let doc = interaction::run(device, &options, progress)?;
                     interaction::write(&doc, &options.out)?;
                     interaction::table(&doc)
+                }
+                Pairs::Far => {
+                    let doc = far::run(device, &options, progress)?;
+                    far::write(&doc, &options.out)?;
+                    far::table(&doc)
                 }
             })
         },

@@ -444,8 +444,8 @@ pub(crate) const RULES: &[Rule] = &[
         flags: &["blades", "modes", "eval", "segments"],
         subject: None,
         commands: &["bench"],
-        with: "--preset landscape",
-        when: |g| g.one::<PresetArg>("preset") == Some(PresetArg::Landscape),
+        with: "--preset landscape or far",
+        when: |g| matches!(g.one::<PresetArg>("preset"), Some(PresetArg::Landscape | PresetArg::Far)),
         why: "it renders fixed unbounded fields: 400 blades/m², 4 segments, the default keyframes",
     },
     Rule {

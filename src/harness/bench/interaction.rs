@@ -122,7 +122,7 @@ pub fn run(
     // The measured rounds from `START_S`, the warm-up's steps before them.
     let step = 1.0 / 60.0;
     let start = (START_S - warmup as f32 * step).max(0.0);
-    let animated = Animated { animations: &animations, start, step };
+    let animated = Animated { animations: &animations, start, step, settings: &[] };
     let pairs = pairs::run(device, (&PAIRS, &scenes, &cameras, animated), options.size, schedule, progress)?;
     Ok(InteractionDocument {
         header: Header::new(device, "interaction", options.size),

@@ -18,6 +18,7 @@ use crate::vk::{Device, Guard};
 pub mod animations;
 mod compare;
 pub mod document;
+pub mod far;
 pub mod interaction;
 pub mod landscape;
 pub mod lod;

@@ -86,17 +86,31 @@ pub(crate) struct Animated<'a> {
     pub animations: &'a [AnimationSettings],
     pub start: f32,
     pub step: f32,
+    /// Each scene's render settings (one for all, or one each); empty: `default_settings`.
+    pub settings: &'a [RenderSettings],
 }
 
 impl<'a> Animated<'a> {
     /// Every scene animated by `animation`, at t = 0.
     pub fn still(animation: &'a AnimationSettings) -> Self {
-        Self { animations: std::slice::from_ref(animation), start: 0.0, step: 0.0 }
+        Self { animations: std::slice::from_ref(animation), start: 0.0, step: 0.0, settings: &[] }
     }
 
     fn of(&self, scene: usize) -> &AnimationSettings {
         &self.animations[scene.min(self.animations.len() - 1)]
     }
+
+    fn settings_of(&self, scene: usize) -> RenderSettings {
+        match self.settings.len() {
+            0 => default_settings(),
+            n => self.settings[scene.min(n - 1)],
+        }
+    }
+}
+
+/// The presets' render settings: the cull and LOD on, pipeline statistics counted.
+pub(crate) fn default_settings() -> RenderSettings {
+    RenderSettings { pipeline_statistics: true, ..RenderSettings::offscreen(SEGMENTS, Culling::default_for(SEGMENTS)) }
 }
 
 /// Measure `specs`' pairs: scenes `2p` (reference) and `2p + 1` (subject) of `scenes` from
@@ -155,13 +169,9 @@ fn render(
     schedule: Schedule,
     mut progress: impl FnMut(u64, u64),
 ) -> Result<Rendered> {
-    let settings = RenderSettings {
-        pipeline_statistics: true,
-        ..RenderSettings::offscreen(SEGMENTS, Culling::default_for(SEGMENTS))
-    };
     let mut renderers = Vec::new();
     for (i, scene) in scenes.iter().enumerate() {
-        renderers.push(Renderer::new(device.clone(), scene, settings, animated.of(i).clone())?);
+        renderers.push(Renderer::new(device.clone(), scene, animated.settings_of(i), animated.of(i).clone())?);
     }
     let n = scenes.len();
     let mut targets = vec![OffscreenTarget::new(device, vk::Extent2D { width: size.0, height: size.1 })?];

@@ -46,7 +46,7 @@ pub use place_pass::FarPlacePass;
 use crate::render::animation::response::BladeResponse;
 
 /// A plant's rectangles are this many lattice steps wide: neighbours' rectangles overlap a little.
-pub const WIDTH_STEPS: f32 = 1.25;
+pub const WIDTH_STEPS: f32 = 1.0;
 /// Invocations per workgroup of the placement.
 pub const PLACE_GROUP: u32 = 64;
 /// Wind speeds the tip table holds, from 0 to `TIP_TABLE_MAX` m/s.

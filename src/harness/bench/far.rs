@@ -1,0 +1,107 @@
+//! `meadow bench --preset far`: issue #37's cost side by side in one run (`pairs`). Renderers of
+//! the default unbounded field (400 blades/m², the gentle relief) render in turn from the landscape
+//! camera under one light fog (`FOG`, at 1 km a surface keeps 37 % of its colour), in pairs
+//! against the blades alone to their 150 m (the ground to 150 m too):
+//!
+//! - **the landscape to 2 km with billboards** (the blades to 150 m, then the far field). Target:
+//!   ≤ 1.10×.
+//! - **the same with stars**. Target: ≤ 1.10×.
+//! - **the ground to 2 km and no far field**: what the longer ground costs alone (no target of the
+//!   issue; 1.10× as the others').
+//!
+//! `far.json` holds every variant's GPU times and each pair's ratio and picture difference;
+//! `table` prints them.
+
+use std::path::Path;
+use std::sync::Arc;
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::Result;
+use crate::harness::bench::pairs::{self, Pair, PairBenchOptions, PairSpec};
+use crate::harness::document::{to_json, Header};
+use crate::harness::measure::Schedule;
+use crate::render::culling::Culling;
+use crate::render::far_field::FarField;
+use crate::render::RenderSettings;
+use crate::scene::field::FieldSpec;
+use crate::scene::{CameraChoice, Scene};
+use crate::vk::Device;
+
+/// The files of a run.
+pub const FILES: [&str; 1] = ["far.json"];
+/// The fog's density (1/m).
+pub const FOG: f32 = 0.001;
+/// The landscape's view distance (m).
+pub const LANDSCAPE_M: f32 = 2000.0;
+/// The seed of the field.
+pub const SEED: u64 = 1;
+
+/// A `far.json`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct FarDocument {
+    /// The fields every document carries.
+    #[serde(flatten)]
+    pub header: Header,
+    /// Rounds discarded, rounds measured.
+    pub warmup: u32,
+    pub frames: u32,
+    /// The pairs, in order.
+    pub pairs: Vec<Pair>,
+}
+
+/// The pairs' (label, reference name, subject name, target).
+const PAIRS: [PairSpec; 3] = [
+    ("landscape to 2 km, billboards / blades alone to 150 m", "blades to 150 m", "billboards to 2 km", 1.10),
+    ("landscape to 2 km, stars / blades alone to 150 m", "blades to 150 m", "stars to 2 km", 1.10),
+    ("ground to 2 km, no far field / blades alone to 150 m", "blades to 150 m", "ground to 2 km", 1.10),
+];
+
+/// Each variant's settings, in `PAIRS`' order.
+fn settings() -> Vec<RenderSettings> {
+    let base = pairs::default_settings();
+    let with = |view_distance: f32, far_field: FarField| RenderSettings {
+        culling: Culling { view_distance, far_field, ..base.culling },
+        fog_density: FOG,
+        ..base
+    };
+    let alone = with(crate::render::culling::DEFAULT_VIEW_DISTANCE, FarField::Off);
+    vec![
+        alone,
+        with(LANDSCAPE_M, FarField::Billboards),
+        alone,
+        with(LANDSCAPE_M, FarField::Stars),
+        alone,
+        with(LANDSCAPE_M, FarField::Off),
+    ]
+}
+
+/// Run the benchmark; `progress(done, total)` after every frame.
+pub fn run(device: &Arc<Device>, options: &PairBenchOptions, progress: impl FnMut(u64, u64)) -> Result<FarDocument> {
+    let spec = FieldSpec { size: None, density: crate::scene::blades::DENSITY_PER_M2 };
+    let scene = Scene::blocks(spec, SEED);
+    let scenes = vec![scene.clone(); 2 * PAIRS.len()];
+    let cameras = vec![scene.camera(Some(CameraChoice::Landscape)); scenes.len()];
+    let schedule = Schedule { warmup: options.warmup, frames: options.frames };
+    let animation = crate::render::animation::AnimationSettings::default();
+    let settings = settings();
+    let animated = pairs::Animated { settings: &settings, ..pairs::Animated::still(&animation) };
+    let pairs = pairs::run(device, (&PAIRS, &scenes, &cameras, animated), options.size, schedule, progress)?;
+    Ok(FarDocument {
+        header: Header::new(device, "far", options.size),
+        warmup: options.warmup,
+        frames: options.frames,
+        pairs,
+    })
+}
+
+/// Write `far.json` into `dir`.
+pub fn write(doc: &FarDocument, dir: &Path) -> Result<()> {
+    crate::app::write_text(&dir.join(FILES[0]), &to_json(doc))
+}
+
+/// The pairs as a text table.
+pub fn table(doc: &FarDocument) -> String {
+    let head = format!("far field, {} rounds after {} of warm-up\n", doc.frames, doc.warmup);
+    head + &pairs::table_rows(&doc.pairs)
+}
