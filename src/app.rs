@@ -140,6 +140,8 @@ pub struct RenderOptions {
     pub debug_pressed: bool,
     /// Show the interaction patches as colour.
     pub debug_patches: bool,
+    /// Show the far field apart from the blades.
+    pub debug_far: bool,
     /// Multisample anti-aliasing.
     pub msaa: crate::render::msaa::Msaa,
     /// The cull and LOD, or brute force.
@@ -275,6 +277,7 @@ impl RenderOptions {
             debug_cover: self.debug_cover,
             debug_pressed: self.debug_pressed,
             debug_patches: self.debug_patches,
+            debug_far: self.debug_far,
             msaa: self.msaa,
             floor: self.floor,
             fog_density: self.fog,

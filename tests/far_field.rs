@@ -215,6 +215,39 @@ fn the_atlas_is_baked_once_and_its_levels_keep_the_coverage() {
 }
 
 #[test]
+fn the_band_matches_the_blades_alone_shows_no_seam_and_no_flicker() {
+    // `meadow bench --preset far`'s picture figures at 1280 × 720 (its costs are its own): the
+    // bounds are what the first implementation reached (0.50 % / 1.25 %, 0.41 % / 1.42 %, 1.39×),
+    // with a margin, inside the (1.5 % / 8 %, 0.5 % / 4 %, 1.5×).
+    let out = scratch("far-field-bench").join("out");
+    let output = support::meadow()
+        .args([
+            "bench",
+            "--preset",
+            "far",
+            "--warmup",
+            "0",
+            "--frames",
+            "1",
+            "--validation",
+            "--device",
+            support::DEVICE,
+        ])
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .expect("run meadow");
+    support::assert_clean(&output);
+    let doc: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("far.json")).expect("far.json")).expect("JSON");
+    let p = &doc["pictures"];
+    let f = |key: &str| p[key].as_f64().unwrap_or_else(|| panic!("{key}: {p}"));
+    assert!(f("band_mean") <= 0.75 && f("band_p99") <= 2.5, "the band against the blades alone: {p}");
+    assert!(f("seam_mean") <= 0.5 && f("seam_p99") <= 2.5, "the boundary moved by 20 %: {p}");
+    assert!(f("flicker_blades") > 0.0 && f("flicker_far") <= 1.5 * f("flicker_blades"), "the creep: {p}");
+}
+
+#[test]
 fn bad_far_fields_are_refused_in_one_line() {
     let cases: [(&[&str], &str); 3] = [
         (&["--field", "infinite", "--far-field", "trees"], "invalid value 'trees'"),

@@ -145,6 +145,13 @@ vec4 shade_blade(BladeInstance blade, float t, vec3 world, vec3 width_dir, vec3 
         // The push-out pass left the pressed map's share in the force channel (push_out.comp).
         diffuse = mix(vec3(0.05, 0.3, 0.04), vec3(0.85, 0.05, 0.75), clamp(force_magnitude, 0.0, 1.0)) * mix(0.5, 1.0, t);
     }
+    if ((RENDER_FLAGS & FLAG_DEBUG_FAR) != 0u) {
+        // The far field's band (`render::far_field`): the blades there thin out by the cull's dither.
+        float band_start = uintBitsToFloat(frame_values.params.z);
+        float d = length(blade.position - frame_values.camera_position.xyz);
+        bool band = band_start > 0.0 && d > band_start;
+        diffuse = (band ? vec3(0.85, 0.45, 0.05) : vec3(0.05, 0.45, 0.4)) * mix(0.5, 1.0, t);
+    }
     if ((RENDER_FLAGS & FLAG_DEBUG_PATCHES) != 0u) {
         // The patch pass left the chain's share in the force channel, 0 elsewhere (patch.comp).
         diffuse = mix(vec3(0.12, 0.2, 0.1), vec3(0.95, 0.45, 0.02), clamp(force_magnitude, 0.0, 1.0)) * mix(0.5, 1.0, t);
@@ -164,7 +171,7 @@ vec4 shade_blade(BladeInstance blade, float t, vec3 world, vec3 width_dir, vec3 
         l6 *= STRIP_L6;
     }
     vec3 lit = blade_radiance_l6(diffuse, diffuse, n, frame_values.sun_direction.xyz, t, l6);
-    if ((RENDER_FLAGS & (FLAG_DEBUG_FORCE | FLAG_DEBUG_LOD | FLAG_DEBUG_TILES | FLAG_DEBUG_COVER | FLAG_DEBUG_PRESSED | FLAG_DEBUG_PATCHES)) == 0u) {
+    if ((RENDER_FLAGS & (FLAG_DEBUG_FORCE | FLAG_DEBUG_LOD | FLAG_DEBUG_TILES | FLAG_DEBUG_COVER | FLAG_DEBUG_PRESSED | FLAG_DEBUG_PATCHES | FLAG_DEBUG_FAR)) == 0u) {
         // Belyaev §2.3's Fresnel term on contour areas, over the terrain normal under the root.
         vec3 fresnel = blade_fresnel_l6(terrain_normal, normalize(frame_values.camera_position.xyz - world), l6);
         lit = lit + fresnel;

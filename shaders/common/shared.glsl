@@ -39,6 +39,7 @@
 #define FLAG_POSE_CLASS 2048u // A pose pipeline over bucket LOD_BUCKET of a further draw class whose entries the response poses (`render::draw_class::DrawClass::posed`).
 #define FLAG_DEBUG_COVER 1024u // The ground's cover as colour, on the terrain and the blades (`--debug-view cover`).
 #define FLAG_DEBUG_PRESSED 8192u // The pressed map's bend and cut as colour on the blades (`--debug-view pressed`).
+#define FLAG_DEBUG_FAR 32768u // The far field apart from the blades (`--debug-view far`): blades blue-green, those in the band where they thin out orange, the far field's plants magenta.
 #define FLAG_DEBUG_PATCHES 16384u // The interaction patches' chains' share as colour on the blades (`--debug-view patches`).
 #define FLAG_SOLID_OUTLINE 32u // Far LOD buckets: the outline tapered in the geometry, no alpha test (early depth writes).
 

@@ -52,6 +52,10 @@ void main() {
     }
     float a = max(color.a, 1.0 / 255.0);
     vec3 albedo = color.rgb / a;
+    if ((RENDER_FLAGS & FLAG_DEBUG_FAR) != 0u) {
+        // The far field's plants (`--debug-view far`), lighter in the band.
+        albedo = far_band(in_distance) < 1.0 ? vec3(0.9, 0.35, 0.8) : vec3(0.6, 0.05, 0.5);
+    }
     float l = clamp(mean_height / a, 0.0, 1.0);
     float l2 = l * l;
     float l6 = l2 * l2 * l2;

@@ -82,7 +82,8 @@ void main() {
     out_sun = blade_sun_terms(n, frame_values.sun_direction.xyz);
     float c = 1.0 - clamp(dot(ground_normal(root), normalize(to_camera)), 0.0, 1.0);
     float c2 = c * c;
-    out_fresnel_fog = vec2(c2 * c2 * c2 * c2 * c2, fog_transmittance(world, frame_values.camera_position, frame_values.sky_color));
     out_distance = length(to_camera);
+    float fog = fog_transmittance(world, frame_values.camera_position, frame_values.sky_color);
+    out_fresnel_fog = vec2(c2 * c2 * c2 * c2 * c2, fog * horizon_haze(out_distance, far.reach.x));
     gl_Position = frame.view_proj * vec4(world, 1.0);
 }

@@ -15,6 +15,11 @@
 // time on llvmpipe).
 layout(location = 0) out vec3 out_color;
 
+// The far grass's tint on the ground: the blades' diffuse colour (blades/blade_place.glsl's
+// blade_diffuse) at mean hue and brightness two thirds up the blade, darkened by the shade the
+// blades cast on each other.
+const vec3 GROUND_GRASS_TINT = vec3(0.14, 0.2, 0.04);
+
 // Ground under the grass: earthy green, Lambert plus sky ambient, fogged like the blades; with
 // cover rules (GROUND_COVER), bare earth where the cover is 0, the green where it is 1.
 vec3 ground_color(vec3 normal, vec3 world, float cover) {
@@ -23,9 +28,21 @@ vec3 ground_color(vec3 normal, vec3 world, float cover) {
     if (GROUND_COVER != 0u) {
         albedo = mix(vec3(0.11, 0.085, 0.06), albedo, cover);
     }
+    // With a far field (`render::far_field`, the frame's `params.z`): where its plants fade out
+    // at the view distance (the last tenth, far.frag's `far_end`), the ground takes on what they
+    // leave, the grass's tint over about half of it where the cover grows grass, so the field
+    // ends in haze and not at a line (item 5 of issue #37). Nearer, the ground is the blades':
+    // the far field's band matches the blades alone (`meadow bench --preset far`).
+    if (uintBitsToFloat(frame.params.z) > 0.0) {
+        float d = length(world - frame.camera_position.xyz);
+        float view = uintBitsToFloat(frame.params.w);
+        float beyond = clamp((d - 0.9 * view) / (0.1 * view), 0.0, 1.0);
+        albedo = mix(albedo, GROUND_GRASS_TINT, 0.5 * beyond * cover);
+    }
     float lambert = max(dot(n, frame.sun_direction.xyz), 0.0);
     vec3 color = albedo * (vec3(0.35, 0.38, 0.45) + vec3(1.2, 1.1, 0.95) * lambert);
-    return apply_fog(color, world, frame.camera_position, frame.sky_color);
+    float haze = horizon_haze(length(world - frame.camera_position.xyz), uintBitsToFloat(frame.params.w));
+    return mix(frame.sky_color.rgb, apply_fog(color, world, frame.camera_position, frame.sky_color), haze);
 }
 
 

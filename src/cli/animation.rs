@@ -89,6 +89,8 @@ pub(crate) enum DebugViewArg {
     Pressed,
     /// The interaction patches on the blades: grey-green drawn by the response, to orange where a collider's patch draws a blade by its inertial chain (Belyaev §3.4).
     Patches,
+    /// The far field apart from the blades: blades blue-green, those in the band where they thin out orange, the far field's plants magenta (render::far_field).
+    Far,
 }
 
 #[derive(Clone, Copy, ValueEnum)]

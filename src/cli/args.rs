@@ -190,6 +190,7 @@ impl SceneArgs {
             debug_cover: self.debug_view == Some(DebugViewArg::Cover),
             debug_pressed: self.debug_view == Some(DebugViewArg::Pressed),
             debug_patches: self.debug_view == Some(DebugViewArg::Patches),
+            debug_far: self.debug_view == Some(DebugViewArg::Far),
             culling: self.culling.culling(self.segments),
             relief: match self.relief {
                 Some(ReliefArg::Hills) => crate::scene::field::ReliefKind::Hills,

@@ -47,6 +47,8 @@ pub struct RenderSettings {
     pub debug_pressed: bool,
     /// The interaction patches' chains' share as colour on the blades (`--debug-view patches`).
     pub debug_patches: bool,
+    /// The far field apart from the blades and their band as colour (`--debug-view far`).
+    pub debug_far: bool,
     /// The GPU-driven cull and LOD, or brute force.
     pub culling: crate::render::culling::Culling,
     /// Multisample anti-aliasing (`--msaa`, `render::msaa`).
@@ -82,6 +84,7 @@ impl RenderSettings {
             debug_cover: false,
             debug_pressed: false,
             debug_patches: false,
+            debug_far: false,
             culling,
             msaa: crate::render::msaa::Msaa::default(),
             floor: false,

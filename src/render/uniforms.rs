@@ -20,7 +20,7 @@ pub struct FrameUniforms {
     /// field: y the innermost wind level's cluster edge. The ground itself is `ground`.
     pub terrain: Vec4,
     /// x segments, y blade count, z the far field's band start (m, f32 bits; 0: none,
-    /// `render::far_field`), w unused. (The blade geometry and
+    /// `render::far_field`), w with a far field the view distance (m, f32 bits). (The blade geometry and
     /// the sRGB encoding are specialization constants, `render::specialization`.)
     pub params: UVec4,
     /// x point sources, y colliders (their emitters after the sources'), z cluster corners per

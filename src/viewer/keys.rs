@@ -232,13 +232,14 @@ fn next_msaa(m: crate::render::msaa::Msaa, supported: &[u32]) -> crate::render::
 
 /// T: the LOD bucket view, then the tile view, the Fresnel term's, the cover's, then none.
 fn cycle_cull_views(s: &mut crate::render::RenderSettings) {
-    let views = (s.debug_lod, s.debug_tiles, s.debug_fresnel, s.debug_cover);
-    (s.debug_lod, s.debug_tiles, s.debug_fresnel, s.debug_cover) = match views {
-        (true, ..) => (false, true, false, false),
-        (false, true, ..) => (false, false, true, false),
-        (false, false, true, _) => (false, false, false, true),
-        (false, false, false, true) => (false, false, false, false),
-        (false, false, false, false) => (true, false, false, false),
+    let views = (s.debug_lod, s.debug_tiles, s.debug_fresnel, s.debug_cover, s.debug_far);
+    (s.debug_lod, s.debug_tiles, s.debug_fresnel, s.debug_cover, s.debug_far) = match views {
+        (true, ..) => (false, true, false, false, false),
+        (false, true, ..) => (false, false, true, false, false),
+        (false, false, true, ..) => (false, false, false, true, false),
+        (false, false, false, true, _) => (false, false, false, false, true),
+        (false, false, false, false, true) => (false, false, false, false, false),
+        (false, false, false, false, false) => (true, false, false, false, false),
     };
 }
 

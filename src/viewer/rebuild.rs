@@ -212,6 +212,8 @@ impl Viewer {
                 ", Fresnel view"
             } else if self.settings.debug_cover {
                 ", cover view"
+            } else if self.settings.debug_far {
+                ", far-field view"
             } else {
                 ""
             },

@@ -9,8 +9,9 @@
 //! - **the ground to 2 km and no far field**: what the longer ground costs alone (no target of the
 //!   issue; 1.10× as the others').
 //!
-//! `far.json` holds every variant's GPU times and each pair's ratio and picture difference;
-//! `table` prints them.
+//! Then the picture figures (`far_pictures`): the band against the blades alone, the boundary
+//! moved, a creep. `far.json` holds every variant's GPU times, each pair's ratio and picture
+//! difference and the figures; `table` prints them.
 
 use std::path::Path;
 use std::sync::Arc;
@@ -18,6 +19,7 @@ use std::sync::Arc;
 use serde::{Deserialize, Serialize};
 
 use crate::error::Result;
+use crate::harness::bench::far_pictures;
 use crate::harness::bench::pairs::{self, Pair, PairBenchOptions, PairSpec};
 use crate::harness::document::{to_json, Header};
 use crate::harness::measure::Schedule;
@@ -48,6 +50,8 @@ pub struct FarDocument {
     pub frames: u32,
     /// The pairs, in order.
     pub pairs: Vec<Pair>,
+    /// The picture figures (`far_pictures`).
+    pub pictures: far_pictures::FarPictures,
 }
 
 /// The pairs' (label, reference name, subject name, target).
@@ -87,12 +91,10 @@ pub fn run(device: &Arc<Device>, options: &PairBenchOptions, progress: impl FnMu
     let settings = settings();
     let animated = pairs::Animated { settings: &settings, ..pairs::Animated::still(&animation) };
     let pairs = pairs::run(device, (&PAIRS, &scenes, &cameras, animated), options.size, schedule, progress)?;
-    Ok(FarDocument {
-        header: Header::new(device, "far", options.size),
-        warmup: options.warmup,
-        frames: options.frames,
-        pairs,
-    })
+    let height = crate::scene::camera::LANDSCAPE_HEIGHT;
+    let pictures = far_pictures::measure(device, &scene, (cameras[0], height), options.size, FOG)?;
+    let (header, warmup, frames) = (Header::new(device, "far", options.size), options.warmup, options.frames);
+    Ok(FarDocument { header, warmup, frames, pairs, pictures })
 }
 
 /// Write `far.json` into `dir`.
@@ -103,5 +105,21 @@ pub fn write(doc: &FarDocument, dir: &Path) -> Result<()> {
 /// The pairs as a text table.
 pub fn table(doc: &FarDocument) -> String {
     let head = format!("far field, {} rounds after {} of warm-up\n", doc.frames, doc.warmup);
-    head + &pairs::table_rows(&doc.pairs)
+    let p = &doc.pictures;
+    let pictures = format!(
+        "band (rows {}-{}), 8x8 mean / p99: far field against blades alone {:.2} % / {:.2} %; boundary moved 20 % {:.2} % / {:.2} %\n\
+         creep of {} m a frame over {} frames, mean frame-to-frame change: far field {:.3} %, blades alone {:.3} % ({:.2}x)\n",
+        p.band_rows[0],
+        p.band_rows[1],
+        p.band_mean,
+        p.band_p99,
+        p.seam_mean,
+        p.seam_p99,
+        far_pictures::CREEP_M,
+        far_pictures::CREEP_FRAMES,
+        p.flicker_far,
+        p.flicker_blades,
+        p.flicker_far / p.flicker_blades.max(1e-9)
+    );
+    head + &pairs::table_rows(&doc.pairs) + &pictures
 }

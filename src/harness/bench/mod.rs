@@ -19,6 +19,7 @@ pub mod animations;
 mod compare;
 pub mod document;
 pub mod far;
+pub mod far_pictures;
 pub mod interaction;
 pub mod landscape;
 pub mod lod;

@@ -157,6 +157,9 @@ impl Renderer {
         if settings.debug_pressed {
             specialization.flags |= crate::render::gpu_constants::FLAG_DEBUG_PRESSED;
         }
+        if settings.debug_far {
+            specialization.flags |= crate::render::gpu_constants::FLAG_DEBUG_FAR;
+        }
         if settings.debug_patches {
             specialization.flags |= crate::render::gpu_constants::FLAG_DEBUG_PATCHES;
         }

@@ -42,13 +42,14 @@ impl Renderer {
         let culling = &self.settings.culling;
         let near = near_plane(depth_steps(self.device.depth_format), culling.view_distance);
         let (sources, colliders) = animation::emitter_counts(&self.animation.wind);
+        let far = self.far_band();
         let mut uniforms = FrameUniforms {
             view_proj: camera.view_projection_near(aspect, near),
             camera_position: camera.position.extend(time),
             sun_direction: look::sun_direction().extend(0.0),
             sky_color: look::SKY.extend(self.settings.fog_density),
             terrain: Vec4::new(scene.terrain_origin, scene.terrain_cell_size, 0.0, 0.0),
-            params: UVec4::new(self.settings.segments, scene.blade_count, self.far_band_start().to_bits(), 0),
+            params: UVec4::new(self.settings.segments, scene.blade_count, far.0.to_bits(), far.1.to_bits()),
             wind_counts: UVec4::new(sources, colliders, scene.grid.corners_per_side(), scene.wind_levels),
             cull_lod: UVec4::new(0, 0, 0, self.visible_limit()),
             ..bytemuck::Zeroable::zeroed()
@@ -71,12 +72,13 @@ impl Renderer {
         uniforms
     }
 
-    /// Where the blades start to thin out for the far field (m; 0: no far field): the cull's
-    /// band dither (`shaders/cull/cull.glsl`, the frame's `params.z`).
-    pub(super) fn far_band_start(&self) -> f32 {
+    /// Where the blades start to thin out for the far field and where it ends (m; 0, 0: no far
+    /// field): the cull's band dither (`shaders/cull/cull.glsl`) and the ground's haze
+    /// (`shaders/terrain/terrain.vert`), the frame's `params.z` and `params.w`.
+    pub(super) fn far_band(&self) -> (f32, f32) {
         let field = self.scene.as_ref().is_some_and(|scene| scene.field.is_some());
         let rings = self.settings.culling.far_rings().filter(|_| field && !self.settings.floor);
-        rings.map_or(0.0, |rings| rings.band_start)
+        rings.map_or((0.0, 0.0), |rings| (rings.band_start, rings.view_distance))
     }
 
     /// The fog's density per metre of the next frames (`--fog`, the viewer's slider): uniforms only.

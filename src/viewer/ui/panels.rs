@@ -189,6 +189,17 @@ fn culling(ui: &mut Ui, c: Culling, out: &mut PanelOutput) {
         .logarithmic(true)
         .text("blade distance m");
     let blade_slider = out.widget("blade distance m", ui.add(blades));
+    ui.horizontal(|ui| {
+        use crate::render::far_field::FarField;
+        ui.label("far field:");
+        for (id, label, mesh) in [
+            ("far field billboards", "billboards", FarField::Billboards),
+            ("far field stars", "stars", FarField::Stars),
+            ("far field off", "off", FarField::Off),
+        ] {
+            out.widget(id, ui.radio_value(&mut next.far_field, mesh, label));
+        }
+    });
     let released = |s: &egui::Response| s.drag_stopped() || !s.dragged();
     if next != c && released(&slider) && released(&blade_slider) {
         out.act(UiAction::Culling(next));
@@ -317,14 +328,15 @@ pub fn animation(ui: &mut Ui, view: &UiView, out: &mut PanelOutput) {
 /// View: debug views, wireframe, MSAA, pause, walking; presentation as started.
 pub fn view(ui: &mut Ui, view: &UiView, out: &mut PanelOutput) {
     let s = view.settings;
-    let debug = match (s.debug_lod, s.debug_tiles, s.debug_fresnel, s.debug_cover) {
+    let debug = match (s.debug_lod, s.debug_tiles, s.debug_fresnel, s.debug_cover, s.debug_far) {
         (true, ..) => 1,
         (_, true, ..) => 2,
-        (_, _, true, _) => 3,
-        (.., true) => 4,
+        (_, _, true, ..) => 3,
+        (_, _, _, true, _) => 4,
+        (.., true) => 5,
         _ => 0,
     };
-    cycle(ui, out, "t", &["shaded", "LOD", "tiles", "Fresnel", "cover"], debug);
+    cycle(ui, out, "t", &["shaded", "LOD", "tiles", "Fresnel", "cover", "far field"], debug);
     toggle(ui, out, "v", s.debug_force, "force view");
     toggle(ui, out, "x", s.debug_bounds, "cluster bounds");
     toggle(ui, out, "f3", s.debug_wind, "wind arrows");

@@ -1,0 +1,128 @@
+//! The far field's picture figures of `meadow bench --preset far` (issue #37), from the landscape
+//! camera at the bench's size, static blades at t = 0, over the 8 × 8 blocks of the rows where
+//! the flat ground ahead lies in the band (from its start to the blade range):
+//!
+//! - **in the band**: the far field (blades to 150 m, then plants to 500 m) against the blades
+//!   alone to 500 m (a block field's farthest), 8 × 8 mean and 99th-percentile block;
+//! - **no seam**: the far field with its boundary moved 20 % nearer (blades to 120 m) against
+//!   the same at 150 m, over both bands' rows;
+//! - **no flicker**: a creep of `CREEP_M` a frame for `CREEP_FRAMES` frames towards the band,
+//!   time fixed: the mean frame-to-frame change of the band's 8 × 8-filtered picture, the far
+//!   field's over the blades alone's.
+
+use std::sync::Arc;
+
+use ash::vk;
+use serde::{Deserialize, Serialize};
+
+use crate::error::Result;
+use crate::imagediff::box_filtered_difference;
+use crate::render::animation::{AnimationSettings, Mode};
+use crate::render::culling::Culling;
+use crate::render::far_field::FarField;
+use crate::render::{OffscreenTarget, RenderSettings, Renderer};
+use crate::scene::camera::{rows_below_horizon, FOV_Y_DEG};
+use crate::scene::{Camera, Scene};
+use crate::vk::Device;
+
+/// How far the far field reaches in these figures (m): a block field's blades reach 504 m.
+pub const REACH_M: f32 = 500.0;
+/// The creep a frame (m) and its frames.
+pub const CREEP_M: f32 = 0.05;
+pub const CREEP_FRAMES: u32 = 20;
+
+/// The picture figures, in % of full scale.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct FarPictures {
+    /// Rows of the band (first, last) at the bench's size.
+    pub band_rows: [u32; 2],
+    /// The far field against the blades alone, 8 × 8 mean and p99.
+    pub band_mean: f64,
+    pub band_p99: f64,
+    /// The boundary moved by 20 %, 8 × 8 mean and p99.
+    pub seam_mean: f64,
+    pub seam_p99: f64,
+    /// The mean frame-to-frame change over the creep: the far field's, the blades alone's.
+    pub flicker_far: f64,
+    pub flicker_blades: f64,
+}
+
+/// The row of flat ground `distance` m ahead from `camera` in a picture `rows` high.
+fn row_at(camera: &Camera, height: f32, distance: f32, rows: u32) -> f32 {
+    let focal = 0.5 * rows as f32 / (0.5 * FOV_Y_DEG.to_radians()).tan();
+    let horizon = 0.5 * rows as f32 - focal * (-camera.pitch_deg).to_radians().tan();
+    horizon + rows_below_horizon(height, camera.pitch_deg, distance, rows)
+}
+
+/// The rows of whole blocks of 8 between `rows[0]` and `rows[1]` (none at a small size).
+fn whole_blocks(rows: [u32; 2]) -> u32 {
+    (rows[1] + 1).saturating_sub(rows[0]) / 8 * 8
+}
+
+/// Rows `rows` (whole blocks of 8 inside them) of an RGBA picture `width` wide, as RGB.
+fn band(pixels: &[u8], width: u32, rows: [u32; 2]) -> Vec<u8> {
+    let (first, last) = (rows[0], rows[0] + whole_blocks(rows));
+    let line = 4 * width as usize;
+    pixels[first as usize * line..last as usize * line].chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect()
+}
+
+/// Measure the figures for `scene` from `camera`, `height` m above the ground, at `size`.
+pub fn measure(
+    device: &Arc<Device>,
+    scene: &Scene,
+    (camera, height): (Camera, f32),
+    size: (u32, u32),
+    fog: f32,
+) -> Result<FarPictures> {
+    let extent = vk::Extent2D { width: size.0, height: size.1 };
+    let mut target = OffscreenTarget::new(device, extent)?;
+    let result = (|| {
+        let settings = |blades: f32, far_field: FarField| {
+            let culling =
+                Culling { view_distance: REACH_M, blade_distance: blades, far_field, ..Culling::default_for(4) };
+            RenderSettings { fog_density: fog, ..RenderSettings::offscreen(4, culling) }
+        };
+        let animation = AnimationSettings { mode: Mode::Static, ..Default::default() };
+        // Pictures of `frames` frames creeping from `camera`, each its band's rows.
+        let mut frames = |settings: RenderSettings, frames: u32, rows: [u32; 2]| -> Result<Vec<Vec<u8>>> {
+            let mut renderer = Renderer::new(device.clone(), scene, settings, animation.clone())?;
+            let forward = glam::Vec3::new(0.0, 0.0, -1.0);
+            (0..frames)
+                .map(|f| {
+                    let at = Camera { position: camera.position + forward * (CREEP_M * f as f32), ..camera };
+                    renderer.render_offscreen(&mut target, &at, 0.0)?;
+                    Ok(band(target.pixels(), size.0, rows))
+                })
+                .collect()
+        };
+        let rows_of = |near: f32, far: f32| {
+            [row_at(&camera, height, far, size.1).ceil() as u32, row_at(&camera, height, near, size.1).floor() as u32]
+        };
+        let range = Culling::default_for(4).blade_range();
+        let rows = rows_of(crate::render::far_field::BAND_START * range, range);
+        let count = whole_blocks(rows);
+        let diff = |a: &[u8], b: &[u8]| box_filtered_difference(a, b, size.0, count, 8);
+        let far = frames(settings(range, FarField::Billboards), CREEP_FRAMES, rows)?;
+        let blades = frames(settings(REACH_M, FarField::Off), CREEP_FRAMES, rows)?;
+        let in_band = diff(&far[0], &blades[0]);
+        let both = rows_of(0.8 * crate::render::far_field::BAND_START * range, range);
+        let moved = frames(settings(0.8 * range, FarField::Billboards), 1, both)?;
+        let here = frames(settings(range, FarField::Billboards), 1, both)?;
+        let seam = box_filtered_difference(&moved[0], &here[0], size.0, whole_blocks(both), 8);
+        let change = |pictures: &[Vec<u8>]| {
+            pictures.windows(2).map(|w| diff(&w[1], &w[0]).mean_percent).sum::<f64>() / (pictures.len() - 1) as f64
+        };
+        Ok(FarPictures {
+            band_rows: rows,
+            band_mean: in_band.mean_percent,
+            band_p99: in_band.p99_percent,
+            seam_mean: seam.mean_percent,
+            seam_p99: seam.p99_percent,
+            flicker_far: change(&far),
+            flicker_blades: change(&blades),
+        })
+    })();
+    // SAFETY: every renderer waited for its frames and is dropped.
+    unsafe { target.destroy(device) };
+    result
+}
