@@ -57,6 +57,9 @@ MEADOW ?= ./target/release/meadow
 WIND_FEATURES = --blades 60000 --size 960x540 --camera 0,5,7,0,-42 --time 1.5 --calm=-5,-4,-1,0 \
 	--source 3,-1,0.25,2 --collider sphere:0,0.2,2.5,0.45 --attenuation blade --cluster-size 0.5
 LANDSCAPE = --field infinite --camera -15,22,60,0,-18 --size 960x540 --fog 0.002
+FAR_FIELD = --field infinite --view-distance 2000 --fog 0.001 --size 960x540
+FAR_GUST = --field infinite --camera landscape --view-distance 1500 --fog 0.0005 --no-gusts --wind 0,0.05 \
+	--source 0,-60,40,1,0,-60 --debug-view force --size 640x360
 pictures: build
 	$(MEADOW) render --blades 1000000 --segments 4 --validation --out docs/meadow-1m.png
 	$(MEADOW) render --field infinite --out docs/prairie-field.png
@@ -77,6 +80,8 @@ pictures: build
 	for t in 1 2.5 6 14; do $(MEADOW) render --blades 20000 --camera 2.2,1.1,1.0,62,-28 --size 320x240 \
 		--collider sphere:-2.5,0.35,0,0.45,1.5,0,0 --recovery-s 8 --time $$t --out docs/trail-$$t.png || exit 1; done
 	xvfb-run -a -s "-screen 0 1280x720x24" $(MEADOW) view --size 960x540 --script scripts/viewer/showcase.txt
+	xvfb-run -a -s "-screen 0 1280x720x24" $(MEADOW) view $(FAR_FIELD) --script scripts/viewer/far-field.txt
+	for t in 0 2 4 6; do $(MEADOW) render $(FAR_GUST) --time $$t --out docs/far-gust-$$t.png || exit 1; done
 
 # The benchmark results and charts in docs/ (docs/benchmarks.md, docs/gpu-timing.md): over half an
 # hour on lavapipe, most of it the thesis preset. Run it on a quiet machine.

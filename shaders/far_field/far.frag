@@ -20,6 +20,7 @@ layout(location = 1) flat in uvec2 in_ids;
 layout(location = 2) in vec3 in_sun;
 layout(location = 3) in vec2 in_fresnel_fog;
 layout(location = 4) in float in_distance;
+layout(location = 5) in float in_force;
 
 layout(location = 0) out vec4 out_color;
 
@@ -52,6 +53,10 @@ void main() {
     }
     float a = max(color.a, 1.0 / 255.0);
     vec3 albedo = color.rgb / a;
+    if ((RENDER_FLAGS & FLAG_DEBUG_FORCE) != 0u) {
+        // The blades' force view (blade_place.glsl): the wind's magnitude, green (none) to red.
+        albedo = mix(vec3(0.05, 0.25, 0.03), vec3(0.8, 0.02, 0.01), clamp(in_force, 0.0, 1.0));
+    }
     if ((RENDER_FLAGS & FLAG_DEBUG_FAR) != 0u) {
         // The far field's plants (`--debug-view far`), lighter in the band.
         albedo = far_band(in_distance) < 1.0 ? vec3(0.9, 0.35, 0.8) : vec3(0.6, 0.05, 0.5);

@@ -22,6 +22,7 @@ layout(location = 1) flat out uvec2 out_ids; // x the plant's hash, y tile (low 
 layout(location = 2) out vec3 out_sun;     // the direction terms: max(N·L, 0) + C max(-N·L, 0)
 layout(location = 3) out vec2 out_fresnel_fog; // x (1 - N_L·V)^10, y the fog's transmittance
 layout(location = 4) out float out_distance; // from the camera (m)
+layout(location = 5) out float out_force;    // `--debug-view force`: the wind's speed in the keyframes' force units
 
 // The tip's move per metre of height under wind `w` (m/s, xz), from the response's table.
 vec3 tip_lean(vec2 w) {
@@ -69,9 +70,13 @@ void main() {
     }
     vec3 world = vec3(root.x, ground_height(root), root.y);
     float height = far.reach.y;
-    if (top) {
+    out_force = 0.0;
+    if (top || (RENDER_FLAGS & FLAG_DEBUG_FORCE) != 0u) {
         vec4 wind = with_point_sources(levels_wind(root), root);
-        world += (vec3(0.0, 1.0, 0.0) + tip_lean(wind.xz)) * height;
+        out_force = length(wind.xz) / KEYFRAME_WIND_SCALE;
+        if (top) {
+            world += (vec3(0.0, 1.0, 0.0) + tip_lean(wind.xz)) * height;
+        }
     }
     uint tile = (plant.hash_turn_ring.x >> (2u * rectangle)) & 3u;
     out_along = vec2(along / FAR_TILE_WIDTH, top ? 1.0 : 0.0);
