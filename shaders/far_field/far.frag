@@ -42,15 +42,18 @@ void main() {
     gx.x = clamp(gx.x, -TILE, TILE);
     gy.x = clamp(gy.x, -TILE, TILE);
     vec2 uv = vec2((tile + fract(in_along.x)) / float(FAR_TILES), unwrapped.y);
-    vec4 color = textureGrad(far_atlas, uv, gx, gy);
-    float mean_height = textureGrad(far_heights, uv, gx, gy).r;
-    vec2 size = vec2(textureSize(far_atlas, 0));
-    float lod = max(0.0, floor(0.5 + 0.5 * log2(max(dot(gx * size, gx * size), dot(gy * size, gy * size)))));
-    ivec2 texel = ivec2(floor(uv * size / exp2(lod)));
+    // One level of detail for both images, from the clamped footprint (llvmpipe derives a level
+    // per sample from gradients: twice the work, and the height only after the coverage test).
+    const vec2 SIZE = vec2(float(FAR_TILES) * FAR_TILE_TEXELS.x, FAR_TILE_TEXELS.y);
+    float level = max(0.0, 0.5 * log2(max(dot(gx * SIZE, gx * SIZE), dot(gy * SIZE, gy * SIZE))));
+    vec4 color = textureLod(far_atlas, uv, level);
+    float lod = floor(0.5 + level);
+    ivec2 texel = ivec2(floor(uv * SIZE / exp2(lod)));
     uint h = far_hash(texel, in_ids.x ^ (rectangle * 0x68e31da4u) ^ (uint(lod) << 24));
     if (far_unit(h) >= color.a) {
         discard;
     }
+    float mean_height = textureLod(far_heights, uv, level).r;
     float a = max(color.a, 1.0 / 255.0);
     vec3 albedo = color.rgb / a;
     if ((RENDER_FLAGS & FLAG_DEBUG_FORCE) != 0u) {

@@ -14,6 +14,7 @@ const float FAR_BLOCK = 4.0;           // scene::field::BLOCK_SIZE
 const uint FAR_TILES = 4u;             // render::far_field::atlas::TILES
 const float FAR_TILE_WIDTH = 1.0;      // render::far_field::atlas::TILE_WIDTH_M
 const float FAR_TILE_HEIGHT = 0.6;     // render::far_field::atlas::TILE_HEIGHT_M
+const vec2 FAR_TILE_TEXELS = vec2(512.0, 256.0); // render::far_field::atlas::TILE_TEXELS
 const uint FAR_MESH_BILLBOARDS = 0u;   // six half-planes round the axis
 const uint FAR_MESH_STARS = 1u;        // three crossed quads
 // The share of a ring over which the plants the next ring's lattice drops fade out (its outer half).

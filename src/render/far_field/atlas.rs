@@ -356,3 +356,20 @@ impl Pass for AtlasMipsPass {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::field::FieldSpec;
+    use crate::scene::Scene;
+
+    #[test]
+    fn the_bake_runs_again_when_the_blades_change_and_only_then() {
+        // The key is a digest of the block's blades: another density (or seed) is another look,
+        // the same scene built again the same key (the graph's `Runs::OnChange` reruns on it).
+        let key = |density, seed| bake_key(&Scene::blocks(FieldSpec { size: None, density }, seed).blades);
+        assert_eq!(key(400.0, 1), key(400.0, 1));
+        assert_ne!(key(400.0, 1), key(200.0, 1));
+        assert_ne!(key(400.0, 1), key(400.0, 2));
+    }
+}

@@ -207,6 +207,11 @@ mod tests {
             format!("const uint FAR_TIP_TABLE = {TIP_TABLE_SIZE}u;"),
             format!("const uint FAR_RING_SIDE = {RING_SIDE}u;"),
             format!("const uint FAR_TILES = {}u;", atlas::TILES),
+            format!(
+                "const vec2 FAR_TILE_TEXELS = vec2({:.1}, {:.1});",
+                atlas::TILE_TEXELS.0 as f32,
+                atlas::TILE_TEXELS.1 as f32
+            ),
         ] {
             assert!(glsl.contains(&line), "{line}");
         }
