@@ -164,6 +164,56 @@ fn under_opposite_winds_the_far_plants_shift_the_way_the_blades_do() {
 }
 
 #[test]
+fn around_a_point_source_the_far_plants_lean_away_as_the_blades_do() {
+    // A source 25 m straight ahead in a calm, among far plants (blades to 6 m) or blades (to
+    // 60 m): the plants left of it lean left and those right of it right, so the pixels they draw
+    // over the bare ground spread apart (the distance between the left half's and the right half's
+    // horizontal centres grows).
+    let base = &[
+        "--field",
+        "infinite",
+        "--view-distance",
+        "60",
+        "--camera",
+        "0,1.5,0,0,-12",
+        "--fog",
+        "0.001",
+        "--no-gusts",
+        "--wind",
+        "0,0",
+        "--size",
+        "320x180",
+    ];
+    let bare_args = [base.as_slice(), &["--blade-distance", "6", "--far-field", "off"]].concat();
+    let (_, bare) = render("source-bare", &bare_args, &[]);
+    let spread = |name: &str, extra: &[&str]| -> f64 {
+        let (_, picture) = render(name, &[base.as_slice(), extra].concat(), &[]);
+        let (mut sums, mut counts) = ([0.0; 2], [0u32; 2]);
+        for y in 0..picture.height / 3 {
+            for x in 0..picture.width {
+                let (a, b) = (picture.pixel(x, y), bare.pixel(x, y));
+                if a.iter().zip(b).map(|(&p, q)| p.abs_diff(q) as u32).sum::<u32>() > 6 {
+                    let half = usize::from(x >= picture.width / 2);
+                    sums[half] += f64::from(x);
+                    counts[half] += 1;
+                }
+            }
+        }
+        assert!(counts.iter().all(|&n| n > 50), "{name}: {counts:?}");
+        sums[1] / f64::from(counts[1]) - sums[0] / f64::from(counts[0])
+    };
+    let source = ["--source", "0,-25,3,1"];
+    let far = ["--blade-distance", "6"];
+    let blades = ["--blade-distance", "60", "--far-field", "off"];
+    let far_gain = spread("source-far", &[far.as_slice(), &source].concat()) - spread("calm-far", &far);
+    let blades_gain = spread("source-blades", &[blades.as_slice(), &source].concat()) - spread("calm-blades", &blades);
+    assert!(
+        far_gain > 1.0 && blades_gain > 1.0,
+        "spread by the source: far field {far_gain:.2} px, blades {blades_gain:.2} px"
+    );
+}
+
+#[test]
 fn a_covering_map_of_zero_grows_no_far_plant() {
     let dir = scratch("far-field-cover");
     for (name, grey) in [("bare", 0u8), ("full", 255u8)] {
