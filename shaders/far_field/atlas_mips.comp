@@ -5,8 +5,8 @@
 // mean is the right filter for every channel and each level's mean coverage is level 0's.
 layout(local_size_x = 8, local_size_y = 8) in;
 
-layout(set = 0, binding = 0, rgba8) uniform readonly image2D finer;
-layout(set = 0, binding = 1, rgba8) uniform writeonly image2D coarser;
+layout(set = 0, binding = 0, rgba16f) uniform readonly image2D finer;
+layout(set = 0, binding = 1, rgba16f) uniform writeonly image2D coarser;
 
 void main() {
     ivec2 at = ivec2(gl_GlobalInvocationID.xy);

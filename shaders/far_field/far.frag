@@ -26,11 +26,7 @@ layout(location = 0) out vec4 out_color;
 
 void main() {
     uint rectangle = in_ids.y >> 2;
-    float fade = far_band(in_distance) * far_end(in_distance);
-    float stretch = floor(in_along.x * FAR_TILE_WIDTH / FAR_STRETCH);
-    if (far_unit(far_hash(ivec2(int(in_ids.x), int(stretch)), 16u + rectangle)) >= fade) {
-        discard;
-    }
+    // The footprint first: derivatives are defined only while every fragment of the quad runs.
     // The top of a tile is the plants' top.
     float tile = float(in_ids.y & 3u);
     vec2 unwrapped = vec2((tile + in_along.x) / float(FAR_TILES), 1.0 - in_along.y);
@@ -41,13 +37,18 @@ void main() {
     vec2 gy = dFdy(unwrapped);
     gx.x = clamp(gx.x, -TILE, TILE);
     gy.x = clamp(gy.x, -TILE, TILE);
+    float fade = far_band(in_distance) * far_end(in_distance);
+    float stretch = floor(in_along.x * FAR_TILE_WIDTH / FAR_STRETCH);
+    if (far_unit(far_hash(ivec2(int(in_ids.x), int(stretch)), 16u + rectangle)) >= fade) {
+        discard;
+    }
     vec2 uv = vec2((tile + fract(in_along.x)) / float(FAR_TILES), unwrapped.y);
     // One level of detail for both images, from the clamped footprint (llvmpipe derives a level
     // per sample from gradients: twice the work, and the height only after the coverage test).
     const vec2 SIZE = vec2(float(FAR_TILES) * FAR_TILE_TEXELS.x, FAR_TILE_TEXELS.y);
     float level = max(0.0, 0.5 * log2(max(dot(gx * SIZE, gx * SIZE), dot(gy * SIZE, gy * SIZE))));
     vec4 color = textureLod(far_atlas, uv, level);
-    float lod = floor(0.5 + level);
+    float lod = min(floor(0.5 + level), float(FAR_MIPS - 1u));
     ivec2 texel = ivec2(floor(uv * SIZE / exp2(lod)));
     uint h = far_hash(texel, in_ids.x ^ (rectangle * 0x68e31da4u) ^ (uint(lod) << 24));
     if (far_unit(h) >= color.a) {

@@ -17,7 +17,7 @@
 
 layout(set = SET_PASS, binding = 1, std430) readonly buffer FarPlants { FarPlant plants[]; };
 
-layout(location = 0) out vec2 out_along;   // x along the rectangle in atlas tiles (unwrapped), y 0 bottom to 1 top
+layout(location = 0) out vec2 out_along;   // x from the axis in atlas tiles (unwrapped), y 0 bottom to 1 top
 layout(location = 1) flat out uvec2 out_ids; // x the plant's hash, y tile (low 2 bits) | rectangle << 2
 layout(location = 2) out vec3 out_sun;     // the direction terms: max(N·L, 0) + C max(-N·L, 0)
 layout(location = 3) out vec2 out_fresnel_fog; // x (1 - N_L·V)^10, y the fog's transmittance
@@ -43,23 +43,18 @@ void main() {
     vec2 dir = vec2(cos(turn), sin(turn));
     bool outer = (corner & 1u) != 0u;
     bool top = corner >= 2u;
-    // Along the rectangle from its first edge (m): a half-plane from the axis, a quad across it.
-    float along;
-    float from_axis;
-    if (far.counts.y == FAR_MESH_STARS) {
-        along = outer ? width : 0.0;
-        from_axis = along - 0.5 * width;
-    } else {
-        along = outer ? 0.5 * width : 0.0;
-        from_axis = along;
-    }
+    // The corner's signed distance from the axis (m): a half-plane from it, a quad across it.
+    bool star = far.counts.y == FAR_MESH_STARS;
+    float from_axis = (outer ? 0.5 : (star ? -0.5 : 0.0)) * width;
     vec2 root = plant.centre_width.xz + dir * from_axis;
     // A rectangle wholly nearer than the band's start would be wholly discarded by the fade
-    // (far.frag): not rasterized at all (both its ends are within the band's start).
+    // (far.frag, by the distance in 3-D): not rasterized at all. Its ends' distance across the
+    // ground, and the eye's height over its top at most.
     vec2 eye = frame_values.camera_position.xz;
     float first = far.counts.y == FAR_MESH_STARS ? -0.5 * width : 0.0;
-    float last = far.counts.y == FAR_MESH_STARS ? 0.5 * width : 0.5 * width;
-    float farther_end = max(length(plant.centre_width.xz + dir * first - eye), length(plant.centre_width.xz + dir * last - eye));
+    float across = max(length(plant.centre_width.xz + dir * first - eye), length(plant.centre_width.xz + dir * 0.5 * width - eye));
+    float up = abs(frame_values.camera_position.y - plant.centre_width.y) + far.reach.y;
+    float farther_end = sqrt(across * across + up * up);
     // A rectangle seen nearly edge-on covers a sliver of pixels at the cost of whole quads: the
     // plant's other rectangles, 60° away, cover for it.
     vec2 to_eye = normalize(eye - plant.centre_width.xz);
@@ -79,7 +74,9 @@ void main() {
         }
     }
     uint tile = (plant.hash_turn_ring.x >> (2u * rectangle)) & 3u;
-    out_along = vec2(along / FAR_TILE_WIDTH, top ? 1.0 : 0.0);
+    // Metres from the axis: a point of the rectangle keeps its texel and its fade stretch as the
+    // width grows with the distance (world-anchored, like the plant).
+    out_along = vec2(from_axis / FAR_TILE_WIDTH, top ? 1.0 : 0.0);
     out_ids = uvec2(plant.hash_turn_ring.x, tile | (rectangle << 2));
     vec3 to_camera = frame_values.camera_position.xyz - world;
     vec3 n = vec3(-dir.y, 0.0, dir.x);

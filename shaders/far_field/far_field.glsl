@@ -12,6 +12,7 @@ const uint FAR_RING_SIDE = 36u;        // render::far_rings::RING_SIDE
 const float FAR_WIDTH_STEPS = 1.0;     // render::far_field::WIDTH_STEPS
 const float FAR_BLOCK = 4.0;           // scene::field::BLOCK_SIZE
 const uint FAR_TILES = 4u;             // render::far_field::atlas::TILES
+const uint FAR_MIPS = 9u;              // render::far_field::atlas::MIPS
 const float FAR_TILE_WIDTH = 1.0;      // render::far_field::atlas::TILE_WIDTH_M
 const float FAR_TILE_HEIGHT = 0.6;     // render::far_field::atlas::TILE_HEIGHT_M
 const vec2 FAR_TILE_TEXELS = vec2(512.0, 256.0); // render::far_field::atlas::TILE_TEXELS

@@ -52,7 +52,7 @@ void main() {
     int blocks = int(far.rings.y / FAR_BLOCK + 0.5) << ring; // the ring's step in blocks
     vec2 eye = frame_values.cull_eye.xz;
     ivec2 origin = frame_values.field_cells.xy;
-    // The ring's first lattice point: two steps inside its square's corner.
+    // The ring's first lattice point: one to two steps outside its square's corner.
     ivec2 corner = origin + ivec2(floor((eye - vec2(2.0 * start)) / FAR_BLOCK));
     ivec2 lattice = ivec2(floor_div(corner.x, blocks), floor_div(corner.y, blocks)) - 1
         + ivec2(at % FAR_RING_SIDE, at / FAR_RING_SIDE);

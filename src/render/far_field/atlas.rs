@@ -5,17 +5,18 @@
 //!   diffuse colour and rim (`shaders/far_field/atlas_bake.vert`, `.frag`, sharing
 //!   `blades/blade_place.glsl` and the outline texture with the blade pass): `TILES` tiles, tile k
 //!   the blades rooted in the block's metre k along z, their roots folded into one metre across
-//!   so a tile repeats without a seam. Row 0 holds the premultiplied albedo and the coverage, row 1
-//!   the premultiplied height along the blade (Belyaev's l of §2.3, for the far field's l⁶
-//!   terms). Level 0 is supersampled: about 2 mm a texel, five texels across the widest blade,
+//!   so a tile repeats without a seam. One image holds the premultiplied albedo and the coverage,
+//!   the other the premultiplied height along the blade (Belyaev's l of §2.3, for the far field's
+//!   l⁶ terms). Level 0 is supersampled: about 2 mm a texel, eight texels across the widest blade,
 //!   where the far field samples its coarser levels.
 //! - [`AtlasMipsPass`] box-filters each level from the one before, one step per level
 //!   (`atlas_mips.comp`): the atlas is premultiplied, so the mean is right for every channel and
 //!   each level's mean coverage is level 0's (the far field's hashed coverage test keeps it on
 //!   screen too, `far.frag`; no alpha scaling per level is needed).
 //!
-//! Both run once (`Runs::OnChange`), keyed on the blades they draw: a renderer rebuilt for another
-//! blade look (density, segments, a new scene) bakes again. The bake's GPU time is the first
+//! Both run once per graph (`Runs::OnChange`, keyed on the blades they draw): every rebuild of the
+//! renderer (another blade look, density or scene, and any setting the viewer changes) bakes a new
+//! atlas. The bake's GPU time is the first
 //! frame's `far atlas` and `far atlas mips` passes (`meadow render` prints it).
 
 use std::rc::Rc;
@@ -45,8 +46,9 @@ pub const TILE_TEXELS: (u32, u32) = (512, 256);
 pub const EXTENT: vk::Extent2D = vk::Extent2D { width: TILES * TILE_TEXELS.0, height: TILE_TEXELS.1 };
 /// Mip levels: down to 8 × 1 texels.
 pub const MIPS: u32 = 9;
-/// The texels' format: premultiplied, linear.
-pub const FORMAT: vk::Format = vk::Format::R8G8B8A8_UNORM;
+/// The texels' format: premultiplied, linear, half floats (8-bit steps would be a third of a
+/// root's premultiplied albedo at 30 % coverage).
+pub const FORMAT: vk::Format = vk::Format::R16G16B16A16_SFLOAT;
 /// Segments of a baked blade.
 pub const BAKE_SEGMENTS: u32 = 8;
 /// What each image holds, in the order of `Atlas::images`: the bake's `output`.
@@ -57,8 +59,8 @@ const _: () = assert!(TILE_TEXELS.1 >> (MIPS - 1) >= 1);
 /// The atlas: two images of the same tiles (the albedo and coverage; the height along the blade
 /// and coverage: two images, not two rows of one, so no level blends one into the other), a view
 /// of each level of each, the bake's depth and the sampler the far field reads them with
-/// (trilinear; the tiles repeat across in the shader). Shared by the passes that bake and read
-/// it (`Rc`): the last to go destroys it.
+/// (trilinear; the tiles repeat across in the shader). Owned by the passes that bake it (`Rc`):
+/// the last to go destroys it; the far field's draw names its handles (`AtlasHandles`).
 pub struct Atlas {
     images: [Image; 2],
     levels: [Vec<vk::ImageView>; 2],
@@ -74,7 +76,10 @@ impl Atlas {
             | vk::ImageUsageFlags::STORAGE
             | vk::ImageUsageFlags::TRANSFER_SRC; // read back by `Renderer::far_atlas_coverage`
         let image = |name| Image::new(device, &ImageDesc::color(name, FORMAT, EXTENT, usage).with_mips(MIPS));
-        let images = Guard::new(device, (image(OUTPUTS[0])?, image(OUTPUTS[1])?));
+        let albedo = Guard::new(device, image(OUTPUTS[0])?);
+        // If the second fails, the guard destroys the first.
+        let height = image(OUTPUTS[1])?;
+        let images = Guard::new(device, (albedo.take(), height));
         let mut levels = Guard::new(device, (Vec::new(), Vec::new()));
         for level in 0..MIPS {
             levels.0.push(images.0.mip_view(device, level, OUTPUTS[0])?);

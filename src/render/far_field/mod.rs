@@ -207,6 +207,7 @@ mod tests {
             format!("const uint FAR_TIP_TABLE = {TIP_TABLE_SIZE}u;"),
             format!("const uint FAR_RING_SIDE = {RING_SIDE}u;"),
             format!("const uint FAR_TILES = {}u;", atlas::TILES),
+            format!("const uint FAR_MIPS = {}u;", atlas::MIPS),
             format!(
                 "const vec2 FAR_TILE_TEXELS = vec2({:.1}, {:.1});",
                 atlas::TILE_TEXELS.0 as f32,
@@ -215,6 +216,8 @@ mod tests {
         ] {
             assert!(glsl.contains(&line), "{line}");
         }
+        let place = include_str!("../../../shaders/far_field/far_place.comp");
+        assert!(place.contains(&format!("layout(local_size_x = {PLACE_GROUP}) in;")));
         let bake = include_str!("../../../shaders/far_field/atlas_bake.vert");
         assert!(bake.contains(&format!("const uint BAKE_SEGMENTS = {}u;", atlas::BAKE_SEGMENTS)));
     }

@@ -129,7 +129,8 @@ impl Renderer {
         let image = far.atlas.image(0);
         let sizes: Vec<(u32, u32)> =
             (0..MIPS).map(|l| ((EXTENT.width >> l).max(1), (EXTENT.height >> l).max(1))).collect();
-        let bytes: u64 = sizes.iter().map(|&(w, h)| u64::from(w * h * 4)).sum();
+        // RGBA16F texels: 8 bytes, the coverage the last half float.
+        let bytes: u64 = sizes.iter().map(|&(w, h)| u64::from(w * h * 8)).sum();
         let usage = ash::vk::BufferUsageFlags::TRANSFER_DST;
         let out = Buffer::new(&self.device, &BufferDesc::readback("far atlas read-back", bytes, usage))?;
         let range = ash::vk::ImageSubresourceRange {
@@ -157,7 +158,7 @@ impl Renderer {
                             layer_count: 1,
                         })
                         .image_extent(ash::vk::Extent3D { width: w, height: h, depth: 1 });
-                    offset += u64::from(w * h * 4);
+                    offset += u64::from(w * h * 8);
                     region
                 })
                 .collect();
@@ -178,9 +179,10 @@ impl Renderer {
         let means = sizes
             .iter()
             .map(|&(w, h)| {
-                let level = &texels[at..at + (w * h * 4) as usize];
+                let level = &texels[at..at + (w * h * 8) as usize];
                 at += level.len();
-                level.chunks_exact(4).map(|t| f64::from(t[3]) / 255.0).sum::<f64>() / f64::from(w * h)
+                level.chunks_exact(8).map(|t| half_to_f64(u16::from_le_bytes([t[6], t[7]]))).sum::<f64>()
+                    / f64::from(w * h)
             })
             .collect();
         Ok(Some(means))
@@ -251,5 +253,31 @@ impl Renderer {
         // SAFETY: submit_and_wait waited for the copy (or never submitted it).
         unsafe { out.destroy(&self.device) };
         copied.map(|()| texels)
+    }
+}
+
+/// An IEEE 754 half float's value (the far atlas's texels).
+fn half_to_f64(bits: u16) -> f64 {
+    let (sign, exponent, fraction) = (bits >> 15, i32::from((bits >> 10) & 0x1f), f64::from(bits & 0x3ff));
+    let magnitude = match exponent {
+        0 => fraction * 2f64.powi(-24),
+        31 => f64::INFINITY,
+        e => (1.0 + fraction / 1024.0) * 2f64.powi(e - 15),
+    };
+    if sign == 1 {
+        -magnitude
+    } else {
+        magnitude
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn half_floats_decode() {
+        let cases = [(0x0000, 0.0), (0x3c00, 1.0), (0x3800, 0.5), (0xc000, -2.0), (0x0001, 2f64.powi(-24))];
+        for (bits, value) in cases {
+            assert_eq!(super::half_to_f64(bits), value, "{bits:#06x}");
+        }
     }
 }

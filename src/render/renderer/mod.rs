@@ -251,6 +251,7 @@ impl Renderer {
         // graph; the field itself holds no GPU object).
         let kind = self.animation.wind_field;
         let old_wind = new_wind.map(|wind| (std::mem::replace(&mut self.wind, wind), self.library_wind.replace(kind)));
+        let old_far = self.far;
         let built = self.build_graph(scene, polygon);
         // Pre-recorded command buffers name the old pipelines: record again.
         self.ring.forget_replays();
@@ -260,6 +261,7 @@ impl Renderer {
             Err(e) => {
                 // Back to the previous passes and response; the half-built ones are retired.
                 self.settings = old_settings;
+                self.far = old_far;
                 self.animation = old_animation;
                 if let Some((wind, kind)) = old_wind {
                     (self.wind, self.library_wind) = (wind, kind);

@@ -36,6 +36,8 @@ impl Renderer {
     /// blade response's compute passes (before the terrain without the cull), blades (or the floor), the debug views asked for,
     /// the resolve with `--msaa`, and the overlay's passes once there is an overlay.
     pub(super) fn build_graph(&mut self, cpu_scene: &Scene, polygon: vk::PolygonMode) -> Result<()> {
+        // The far field's draw is the new graph's, if it has one.
+        self.far = None;
         let device = &*self.device;
         let settings = &self.settings;
         let scene = self.scene.as_ref().expect("uploaded");
@@ -284,7 +286,6 @@ impl Renderer {
     fn add_far_passes(&mut self, target: PipelineTarget, constants: &Specialization, cpu_scene: &Scene) -> Result<()> {
         let scene = self.scene.as_ref().expect("uploaded");
         let culling = &self.settings.culling;
-        self.far = None;
         let Some(rings) = culling.far_rings().filter(|_| scene.field.is_some()) else {
             return Ok(());
         };
