@@ -230,11 +230,11 @@ impl Renderer {
             std::mem::replace(&mut self.settings, settings),
             std::mem::replace(&mut self.animation, animation),
             built.map(|(response, poses)| self.swap_response(Some((response, poses)))),
-            std::mem::take(&mut self.graph),
+            (std::mem::take(&mut self.graph), self.far),
         );
         // The scene's resources keep their states; a replaced response's and pose records' go
         // with them.
-        let mut states = previous.3.states().clone();
+        let mut states = previous.3 .0.states().clone();
         if let Some((old_response, old_poses)) = &previous.2 {
             for (resource, _) in old_response.iter().flat_map(|r| r.tracked()) {
                 states.forget(resource);
@@ -245,23 +245,21 @@ impl Renderer {
         }
         self.graph.set_states(states);
         // The passes added from outside, the temporal pairs and the clock carry over.
-        let kept = previous.3.keep();
+        let kept = previous.3 .0.keep();
         self.graph.adopt(kept);
         // The library's field follows the animation's `wind_field` (its passes go with the old
         // graph; the field itself holds no GPU object).
         let kind = self.animation.wind_field;
         let old_wind = new_wind.map(|wind| (std::mem::replace(&mut self.wind, wind), self.library_wind.replace(kind)));
-        let old_far = self.far;
         let built = self.build_graph(scene, polygon);
         // Pre-recorded command buffers name the old pipelines: record again.
         self.ring.forget_replays();
-        let (old_settings, old_animation, old_response, old_graph) = previous;
+        let (old_settings, old_animation, old_response, (old_graph, old_far)) = previous;
         let (retired_response, retired_graph) = match built {
             Ok(()) => (old_response, old_graph),
             Err(e) => {
                 // Back to the previous passes and response; the half-built ones are retired.
-                self.settings = old_settings;
-                self.far = old_far;
+                (self.settings, self.far) = (old_settings, old_far);
                 self.animation = old_animation;
                 if let Some((wind, kind)) = old_wind {
                     (self.wind, self.library_wind) = (wind, kind);
