@@ -30,6 +30,22 @@ const LANDSCAPE: &[&str] =
 /// The landscape at 1280 × 720.
 const FULL: &[&str] = &["--size", "1280x720"];
 
+/// A camera 1.5 m up looking at the ground to 60 m, under a light fog and no gusts, small: the
+/// lean tests' view of far plants from 5 m (blades to 6 m) or of blades to 60 m.
+const CLOSE: &[&str] = &[
+    "--field",
+    "infinite",
+    "--view-distance",
+    "60",
+    "--camera",
+    "0,1.5,0,0,-12",
+    "--fog",
+    "0.001",
+    "--no-gusts",
+    "--size",
+    "320x180",
+];
+
 /// `meadow render --validation` of `args` (and `env`): its standard output and picture.
 fn render(name: &str, args: &[&str], env: &[(&str, &str)]) -> (String, Picture) {
     let out = scratch(&format!("far-field-{name}")).join("out.png");
@@ -124,19 +140,7 @@ fn the_far_field_reaches_10_km_clean_with_either_mesh() {
 fn under_opposite_winds_the_far_plants_shift_the_way_the_blades_do() {
     // Far plants from 5 m (blades to 6 m), or blades to 60 m: a steady strong wind across the
     // view, towards +x (right on screen) and towards -x.
-    let base = &[
-        "--field",
-        "infinite",
-        "--view-distance",
-        "60",
-        "--camera",
-        "0,1.5,0,0,-12",
-        "--fog",
-        "0.001",
-        "--no-gusts",
-        "--size",
-        "320x180",
-    ];
+    let base = CLOSE.to_vec();
     // The horizontal centre of the pixels `run` draws over the ground alone (blades to 6 m, no far
     // field) in the top third, where only plants past 6 m stand.
     let centre = |name: &str, extra: &[&str], wind: &str| -> f64 {
@@ -169,21 +173,7 @@ fn around_a_point_source_the_far_plants_lean_away_as_the_blades_do() {
     // 60 m): the plants left of it lean left and those right of it right, so the pixels they draw
     // over the bare ground spread apart (the distance between the left half's and the right half's
     // horizontal centres grows).
-    let base = &[
-        "--field",
-        "infinite",
-        "--view-distance",
-        "60",
-        "--camera",
-        "0,1.5,0,0,-12",
-        "--fog",
-        "0.001",
-        "--no-gusts",
-        "--wind",
-        "0,0",
-        "--size",
-        "320x180",
-    ];
+    let base = [CLOSE, &["--wind", "0,0"]].concat();
     let bare_args = [base.as_slice(), &["--blade-distance", "6", "--far-field", "off"]].concat();
     let (_, bare) = render("source-bare", &bare_args, &[]);
     let spread = |name: &str, extra: &[&str]| -> f64 {
