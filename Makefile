@@ -62,6 +62,7 @@ FAR_GUST = --field infinite --camera landscape --view-distance 1500 --fog 0.0005
 	--source 0,-60,40,1,0,-60 --debug-view force --size 640x360
 pictures: build
 	$(MEADOW) render --blades 1000000 --segments 4 --validation --out docs/meadow-1m.png
+	$(MEADOW) render --out docs/landscape-default.png
 	$(MEADOW) render --field infinite --out docs/prairie-field.png
 	$(MEADOW) render --field infinite --debug-view lod --out docs/prairie-field-lod.png
 	$(MEADOW) render $(WIND_FEATURES) --wind 0,0.9 --out docs/wind-features.png
@@ -79,7 +80,7 @@ pictures: build
 		--cover assets/landscape/cover.png --terrain-scale 200,12,200 --flowers 100 --out docs/landscape-meadows.png
 	for t in 1 2.5 6 14; do $(MEADOW) render --blades 20000 --camera 2.2,1.1,1.0,62,-28 --size 320x240 \
 		--collider sphere:-2.5,0.35,0,0.45,1.5,0,0 --recovery-s 8 --time $$t --out docs/trail-$$t.png || exit 1; done
-	xvfb-run -a -s "-screen 0 1280x720x24" $(MEADOW) view --size 960x540 --script scripts/viewer/showcase.txt
+	xvfb-run -a -s "-screen 0 1280x720x24" $(MEADOW) view --blades 100000 --size 960x540 --script scripts/viewer/showcase.txt
 	xvfb-run -a -s "-screen 0 1280x720x24" $(MEADOW) view $(FAR_FIELD) --script scripts/viewer/far-field.txt
 	for t in 0 2 4 6; do $(MEADOW) render $(FAR_GUST) --time $$t --out docs/far-gust-$$t.png || exit 1; done
 

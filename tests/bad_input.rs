@@ -87,7 +87,7 @@ fn fog_and_relief() {
     refused("fog-negative", &["--fog", "-0.01"], "negative");
     refused("fog-nan", &["--fog", "NaN"], "NaN");
     refused("relief-unknown", &["--field", "infinite", "--relief", "alps"], "alps");
-    refused("relief-without-field", &["--relief", "hills"], "--field");
+    refused("relief-without-field", &["--blades", "1000", "--relief", "hills"], "--field");
 }
 
 #[test]

@@ -163,7 +163,7 @@ fn bad_field_input_is_refused() {
     refused(&["--field", "infinite", "--density", "0"], "above 0");
     refused(&["--field", "infinite", "--density", "5000"], "4096");
     refused(&["--field", "infinite", "--blades", "1000"], "--blades");
-    refused(&["--density", "100"], "--field");
+    refused(&["--blades", "1000", "--density", "100"], "--field");
     refused(&["--field", "infinite", "--brute-force"], "--brute-force");
     refused(&["--field", "infinite", "--view-distance", "1000", "--blade-distance", "600"], "--blade-distance 600");
     refused(&["--field", "infinite", "--view-distance", "NaN"], "NaN");

@@ -1187,12 +1187,12 @@ fn the_cases_the_issue_names_are_refused() {
         cases.push((vec![sub, "--lod", "none,density"], "--lod none has no effect with other levels"));
         cases.push((vec![sub, "--no-alpha-to-coverage"], "--no-alpha-to-coverage has no effect with --msaa 1"));
         cases.push((vec![sub, "--blades", "100", "--density", "5"], "--density has no effect with stored blades"));
-        cases.push((vec![sub, "--relief", "hills"], "--relief has no effect with stored blades"));
+        cases.push((vec![sub, "--blades", "100", "--relief", "hills"], "--relief has no effect with stored blades"));
         cases.push((
             vec![sub, "--brute-force", "--blade-distance", "50"],
             "--blade-distance has no effect with --brute-force",
         ));
-        let both = vec![sub, "--view-distance", "300", "--blade-distance", "100"];
+        let both = vec![sub, "--blades", "100", "--view-distance", "300", "--blade-distance", "100"];
         cases.push((both, "--view-distance has no effect with --blade-distance on stored blades"));
     }
     for sub in ["render", "timing"] {

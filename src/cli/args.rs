@@ -84,15 +84,18 @@ impl SubmissionArgs {
 /// Scene, animation and picture flags shared by `render` and `view`.
 #[derive(Args)]
 pub(crate) struct SceneArgs {
-    /// Number of grass blades (the field grows at a fixed density).
-    #[arg(long, default_value = "100000", value_parser = values::blade_count)]
-    pub(crate) blades: u32,
+    /// Number of grass blades, stored on a square field that grows at a fixed density (default
+    /// 100000). With none of --blades, --field, --brute-force, --mode floor and --submission,
+    /// `render` and `view` draw the landscape: an unbounded field from the landscape camera, the
+    /// far field to a --view-distance of 2000 m.
+    #[arg(long, value_parser = values::blade_count)]
+    pub(crate) blades: Option<u32>,
     /// A field of camera-following blocks instead of stored blades: its side in metres, or
     /// `infinite` (Belyaev §2.1; with --density, not with --blades).
     #[arg(long, value_name = "SIZE_M|infinite", value_parser = values::field, conflicts_with = "blades", allow_hyphen_values = true)]
     pub(crate) field: Option<crate::render::field_gpu::FieldSize>,
-    /// Blades per square metre of a --field (default 400).
-    #[arg(long, value_name = "BLADES_PER_M2", value_parser = values::density, requires = "field", allow_hyphen_values = true)]
+    /// Blades per square metre of a --field or the default landscape (default 400).
+    #[arg(long, value_name = "BLADES_PER_M2", value_parser = values::density, allow_hyphen_values = true)]
     pub(crate) density: Option<f32>,
     /// Bézier segments per blade (1..=16).
     #[arg(long, default_value = "4", value_parser = values::segments)]
@@ -141,7 +144,7 @@ pub(crate) struct SceneArgs {
     /// --brute-force, --mode floor or --eval vertex).
     #[arg(long, value_name = "PER_M2", value_parser = values::flowers, allow_hyphen_values = true)]
     pub(crate) flowers: Option<crate::scene::flowers::Flowers>,
-    /// Fog density per metre (default 0.012; 0: no fog): a far view for tests and benchmarks.
+    /// Fog density per metre (default 0.001: at 1 km a surface keeps 37 % of its colour; 0: no fog).
     #[arg(long, value_name = "DENSITY", value_parser = values::fog, allow_hyphen_values = true)]
     pub(crate) fog: Option<f32>,
     /// Blades per instance of the blade draws (1 = classic per-blade instancing; default 1 with
@@ -164,16 +167,21 @@ pub(crate) struct SceneArgs {
     /// sample coverage (alpha to coverage, the default).
     #[arg(long)]
     pub(crate) no_alpha_to_coverage: bool,
+    /// Whether the command line draws the default landscape (`default_scene::draws_landscape`,
+    /// set after parsing).
+    #[arg(skip)]
+    pub(crate) landscape: bool,
 }
 
 impl SceneArgs {
     pub(crate) fn options(&self, out: PathBuf, frames: u32) -> RenderOptions {
+        let landscape = self.landscape.then_some(crate::render::field_gpu::FieldSize(None));
         RenderOptions {
-            blades: self.blades,
+            blades: self.blades.unwrap_or(crate::scene::blades::DEFAULT_BLADES),
             segments: self.segments,
             size: self.size,
             seed: self.seed,
-            camera: self.camera,
+            camera: self.camera.or(self.landscape.then_some(CameraChoice::Landscape)),
             out,
             frames,
             blades_per_instance: self
@@ -191,7 +199,7 @@ impl SceneArgs {
             debug_pressed: self.debug_view == Some(DebugViewArg::Pressed),
             debug_patches: self.debug_view == Some(DebugViewArg::Patches),
             debug_far: self.debug_view == Some(DebugViewArg::Far),
-            culling: self.culling.culling(self.segments),
+            culling: self.culling.culling(self.segments, self.landscape),
             relief: match self.relief {
                 Some(ReliefArg::Hills) => crate::scene::field::ReliefKind::Hills,
                 Some(ReliefArg::Gentle) | None => crate::scene::field::ReliefKind::Gentle,
@@ -205,7 +213,7 @@ impl SceneArgs {
                 cover: self.cover.clone(),
                 slope_limit_deg: self.slope_limit,
             },
-            field: self.field.map(|size| crate::scene::field::FieldSpec {
+            field: self.field.or(landscape).map(|size| crate::scene::field::FieldSpec {
                 size: size.0,
                 density: self.density.unwrap_or(crate::scene::blades::DENSITY_PER_M2),
             }),

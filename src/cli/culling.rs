@@ -4,7 +4,7 @@
 use clap::{Args, ValueEnum};
 
 use crate::app::values;
-use crate::render::culling::{Culling, LodSegments, DEFAULT_BLADE_DISTANCE, DEFAULT_VIEW_DISTANCE};
+use crate::render::culling::{Culling, LodSegments, DEFAULT_BLADE_DISTANCE};
 use crate::render::far_field::FarField;
 
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -59,9 +59,10 @@ pub(crate) struct CullArgs {
     /// halvings of --segments down to 1 that divide it: 8,4,2,1; 6,3,1; 7,1).
     #[arg(long, value_name = "N,N,…", value_parser = values::lod_segments)]
     pub(crate) lod_segments: Option<LodSegments>,
-    /// Nothing beyond this many metres is drawn: the ground's extent (at most 10 000 m).
-    #[arg(long, default_value_t = DEFAULT_VIEW_DISTANCE, value_parser = values::view_distance, allow_hyphen_values = true)]
-    pub(crate) view_distance: f32,
+    /// Nothing beyond this many metres is drawn: the ground's extent (at most 10 000 m; default
+    /// 150, and 2000 for the landscape `render` and `view` draw with no scene flag).
+    #[arg(long, value_name = "M", value_parser = values::view_distance, allow_hyphen_values = true)]
+    pub(crate) view_distance: Option<f32>,
     /// Blades are drawn out to this many metres (default 150, or the view distance when it is
     /// shorter; at most the view distance): it sizes a block field's rings of blade cells.
     #[arg(long, value_name = "M", value_parser = values::positive_f32, allow_hyphen_values = true)]
@@ -80,7 +81,8 @@ pub(crate) struct CullArgs {
 }
 
 impl CullArgs {
-    pub(crate) fn culling(&self, segments: u32) -> Culling {
+    /// The cull of these flags; `landscape`: the command line draws the default landscape.
+    pub(crate) fn culling(&self, segments: u32, landscape: bool) -> Culling {
         let tests = |t: CullTest| self.cull.contains(&t);
         let lod = |l: LodKind| self.lod.contains(&l);
         Culling {
@@ -93,7 +95,7 @@ impl CullArgs {
             segment_lod: lod(LodKind::Segments),
             solid_outline: lod(LodKind::Outline),
             lod_segments: self.lod_segments.unwrap_or_else(|| LodSegments::halving(segments)),
-            view_distance: self.view_distance,
+            view_distance: super::default_scene::view_distance(self.view_distance, landscape),
             blade_distance: self.blade_distance.unwrap_or(DEFAULT_BLADE_DISTANCE),
             far_field: match self.far_field {
                 FarFieldArg::Billboards => FarField::Billboards,
@@ -110,20 +112,26 @@ impl CullArgs {
     }
 }
 
-/// Refuse a `--blade-distance` over the `--view-distance` of the same command line (one line,
-/// before any work): blades stand on the ground, which ends at the view distance.
+/// Refuse a `--blade-distance` over the view distance of the same command line (typed, or the
+/// scene's default; one line, before any work): blades stand on the ground, which ends at the
+/// view distance.
 pub(crate) fn check_distances(matches: &clap::ArgMatches) -> Result<(), String> {
-    let Some((_, sub)) = matches.subcommand() else {
+    let Some((name, sub)) = matches.subcommand() else {
         return Ok(());
     };
     let has = |id: &str| sub.try_contains_id(id).unwrap_or(false);
-    if !has("blade_distance") || !has("view_distance") {
+    let Some(&blades) = sub.try_get_one::<f32>("blade_distance").ok().flatten() else {
         return Ok(());
-    }
-    match (sub.get_one::<f32>("blade_distance"), sub.get_one::<f32>("view_distance")) {
-        (Some(&blades), Some(&view)) if blades > view => {
+    };
+    let typed = if has("view_distance") { sub.get_one::<f32>("view_distance").copied() } else { None };
+    let view = super::default_scene::view_distance(typed, super::default_scene::draws_landscape(name, sub));
+    match typed {
+        Some(view) if blades > view => {
             Err(format!("--blade-distance {blades} is over --view-distance {view}: blades end where the ground does"))
         }
+        None if blades > view => Err(format!(
+            "--blade-distance {blades} is over the view distance, {view} m by default: blades end where the ground does (give --view-distance)"
+        )),
         _ => Ok(()),
     }
 }

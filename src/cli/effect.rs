@@ -41,14 +41,17 @@ pub(crate) struct Rule {
 /// exists where it applies).
 pub(crate) struct Given<'a> {
     matches: &'a ArgMatches,
+    /// The command line draws the default landscape (`default_scene::draws_landscape`).
+    landscape: bool,
     #[cfg(test)]
     read: std::cell::RefCell<Vec<&'static str>>,
 }
 
 impl<'a> Given<'a> {
-    fn new(matches: &'a ArgMatches) -> Self {
+    fn new(name: &str, matches: &'a ArgMatches) -> Self {
         Given {
             matches,
+            landscape: super::default_scene::draws_landscape(name, matches),
             #[cfg(test)]
             read: Default::default(),
         }
@@ -63,6 +66,11 @@ impl<'a> Given<'a> {
     pub(crate) fn given(&self, id: &'static str) -> bool {
         self.note(id);
         self.matches.value_source(id) == Some(ValueSource::CommandLine)
+    }
+
+    /// Whether the scene is stored blades: no `--field`, and not the default landscape.
+    pub(crate) fn stored(&self) -> bool {
+        !self.given("field") && !self.landscape
     }
 
     /// A boolean flag's value (false when absent).
@@ -142,7 +150,7 @@ impl<'a> Given<'a> {
 /// The first flag of `command` (a subcommand's parsed matches) that the rules refuse, as the
 /// message of its error line (without `error: `).
 pub(crate) fn refused(command: &clap::Command, name: &str, matches: &ArgMatches) -> Option<String> {
-    let given = Given::new(matches);
+    let given = Given::new(name, matches);
     for rule in RULES.iter().filter(|r| r.commands.contains(&name)) {
         let Some(flag) = rule.flags.iter().find(|f| given.given(f)) else { continue };
         if !(rule.when)(&given) {
@@ -190,7 +198,7 @@ mod tests {
                 }
                 let matches = root.clone().try_get_matches_from(["meadow", name]).expect("defaults parse");
                 let (_, sub) = matches.subcommand().expect("a subcommand");
-                let given = Given::new(sub);
+                let given = Given::new(name, sub);
                 let _ = (rule.when)(&given);
                 for id in given.read.borrow().iter() {
                     assert!(ids.contains(id), "rule {i}: its condition reads {id}, which {name} has not");

@@ -9,6 +9,7 @@ pub mod animation;
 pub mod args;
 pub mod commands;
 mod culling;
+mod default_scene;
 mod effect;
 pub mod measure;
 pub mod reference;
@@ -51,6 +52,17 @@ pub(crate) enum Command {
     Completions(CompletionsArgs),
 }
 
+impl Command {
+    /// Mark a `render` or `view` that draws the default landscape (`default_scene`).
+    fn set_landscape(&mut self, landscape: bool) {
+        match self {
+            Command::Render(args) => args.scene.landscape = landscape,
+            Command::View(args) => args.scene.landscape = landscape,
+            _ => {}
+        }
+    }
+}
+
 /// The whole command line as clap sees it: what `meadow` parses, and what its completion
 /// scripts and `docs/cli.md` ([`reference`]) are written from.
 pub fn command() -> clap::Command {
@@ -85,7 +97,10 @@ fn parse_checked() -> Result<Cli, Refusal> {
     use clap::FromArgMatches;
     let command = command();
     let matches = command.clone().try_get_matches().map_err(Clap)?;
-    let cli = Cli::from_arg_matches(&matches).map_err(Clap)?;
+    let mut cli = Cli::from_arg_matches(&matches).map_err(Clap)?;
+    if let Some((name, sub)) = matches.subcommand() {
+        cli.command.set_landscape(default_scene::draws_landscape(name, sub));
+    }
     crate::vk::fault::check_environment().map_err(|e| Refused(e.to_string()))?;
     effect::check(&command, &matches).map_err(Refused)?;
     culling::check_distances(&matches).map_err(Refused)?;

@@ -15,6 +15,9 @@ use crate::scene::Camera;
 pub const MAX_LOD_BUCKETS: usize = gpu::MAX_LOD_BUCKETS as usize;
 /// Default view distance in metres (`--view-distance`).
 pub const DEFAULT_VIEW_DISTANCE: f32 = 150.0;
+/// The view distance of the default landscape (`meadow render` and `view` with no scene flag), in
+/// metres: the ground and the far field end there, in haze.
+pub const LANDSCAPE_VIEW_DISTANCE: f32 = 2000.0;
 /// Default blade distance in metres (`--blade-distance`): blades are drawn out to it, or to the
 /// view distance when that is shorter (`Culling::blade_range`).
 pub const DEFAULT_BLADE_DISTANCE: f32 = 150.0;

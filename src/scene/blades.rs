@@ -10,6 +10,8 @@ use crate::scene::terrain::Terrain;
 
 /// Blades per square metre; the field grows with the blade count.
 pub const DENSITY_PER_M2: f32 = 400.0;
+/// The stored field's blade count when `--blades` is not given.
+pub const DEFAULT_BLADES: u32 = 100_000;
 /// Blade heights are drawn from this range (metres).
 pub const HEIGHT_RANGE: (f32, f32) = (0.25, TALLEST);
 /// Blade widths (metres).

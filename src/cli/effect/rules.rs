@@ -262,7 +262,7 @@ pub(crate) const RULES: &[Rule] = &[
         subject: None,
         commands: SCENE,
         with: "a --cull without distance on stored blades",
-        when: |g| !g.cull().contains(&CullTest::Distance) && !g.given("field"),
+        when: |g| !g.cull().contains(&CullTest::Distance) && g.stored(),
         why: "only the distance test reads it (a --field also sizes its ground and its blocks' rings by them)",
     },
     Rule {
@@ -270,7 +270,7 @@ pub(crate) const RULES: &[Rule] = &[
         subject: None,
         commands: SCENE,
         with: "--blade-distance on stored blades",
-        when: |g| g.given("blade_distance") && !g.given("field"),
+        when: |g| g.given("blade_distance") && g.stored(),
         why: "the stored terrain is drawn whole, and the blades end at --blade-distance",
     },
     Rule {
@@ -278,7 +278,7 @@ pub(crate) const RULES: &[Rule] = &[
         subject: None,
         commands: SCENE,
         with: "stored blades",
-        when: |g| !g.given("field"),
+        when: |g| g.stored(),
         why: "the far field stands past a --field's blades, on its ground out to --view-distance",
     },
     Rule {
@@ -310,7 +310,7 @@ pub(crate) const RULES: &[Rule] = &[
         subject: None,
         commands: SCENE,
         with: "stored blades (no --field)",
-        when: |g| !g.given("field"),
+        when: |g| g.stored(),
         why: "it is the blades per m² of a --field's blocks; stored blades are --blades",
     },
     Rule {
@@ -334,7 +334,7 @@ pub(crate) const RULES: &[Rule] = &[
         subject: None,
         commands: SCENE,
         with: "stored blades (no --field)",
-        when: |g| !g.given("field"),
+        when: |g| g.stored(),
         why: "it is the relief under a --field's blocks; stored blades lie on their stored terrain",
     },
     Rule {

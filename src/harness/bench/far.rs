@@ -32,10 +32,10 @@ use crate::vk::Device;
 
 /// The files of a run.
 pub const FILES: [&str; 1] = ["far.json"];
-/// The fog's density (1/m).
-pub const FOG: f32 = 0.001;
-/// The landscape's view distance (m).
-pub const LANDSCAPE_M: f32 = 2000.0;
+/// The fog's density (1/m): the default's.
+pub const FOG: f32 = crate::render::frame::look::FOG_DENSITY;
+/// The landscape's view distance (m): the default landscape's.
+pub const LANDSCAPE_M: f32 = crate::render::culling::LANDSCAPE_VIEW_DISTANCE;
 /// The seed of the field.
 pub const SEED: u64 = 1;
 
