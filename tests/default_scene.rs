@@ -2,7 +2,8 @@
 //! validation and synchronization validation: the landscape, an unbounded field from the
 //! landscape camera with the far field to 2 km, under a fog that leaves a surface 1 km away at
 //! least 30 % of its colour; `--brute-force`, `--mode floor` and `--submission` keep the stored
-//! 100 000-blade field; a blade distance over the default view distance is refused in one line.
+//! 100 000-blade field; a block field ends in haze at its view distance; a blade distance over
+//! the default view distance is refused in one line.
 
 mod support;
 
@@ -96,4 +97,29 @@ fn a_blade_distance_over_the_default_view_distance_is_refused() {
         assert!(stderr.starts_with("error: ") && stderr.contains(why), "{args:?}: {stderr}");
         assert!(!out.exists());
     }
+}
+
+#[test]
+fn a_block_field_ends_in_haze_at_its_view_distance() {
+    // No fog, the landscape camera, no far field: a block field's ground, blades and flowers
+    // fade into the sky's colour over the last fifth of the view distance (`horizon_haze`), so
+    // at 150 m the field ends in haze and not at a line. Against the same view to 300 m (the
+    // blades still to 150 m, so the same blades), the rows of 142–148 m keep 5 % of their
+    // difference from the sky (measured; the haze there is 0.07–0.27) and the rows of 90–110 m
+    // all of it (1.000). Without the haze the edge kept all of it and ended at a line.
+    let base = ["--field", "infinite", "--camera", "landscape", "--fog", "0", "--far-field", "off", "--flowers", "20"];
+    let (_, hazy) = render("haze-150", &[&base[..], &["--view-distance", "150"]].concat());
+    let (_, clear) = render("haze-300", &[&base[..], &["--view-distance", "300"]].concat());
+    let rows = clear.height as f32;
+    let horizon =
+        0.5 * rows - 0.5 * rows / (0.5 * FOV_Y_DEG.to_radians()).tan() * (-LANDSCAPE_PITCH_DEG).to_radians().tan();
+    let row =
+        |d: f32| (horizon + rows_below_horizon(LANDSCAPE_HEIGHT, LANDSCAPE_PITCH_DEG, d, clear.height)).round() as u32;
+    let kept = |near: f32, far: f32| {
+        let band = row(far)..=row(near);
+        green_over_sky(&hazy, band.clone(), 400) / green_over_sky(&clear, band, 400)
+    };
+    let (edge, inside) = (kept(142.0, 148.0), kept(90.0, 110.0));
+    assert!(edge < 0.4, "at 142–148 m the haze keeps {edge:.3} of the colour");
+    assert!((0.97..=1.03).contains(&inside), "at 90–110 m the haze keeps {inside:.3} of the colour");
 }

@@ -161,7 +161,10 @@ vec4 shade_blade(BladeInstance blade, float t, vec3 world, vec3 width_dir, vec3 
     // fog: colour = lit * rim + sky * (1 - fog) in blade.frag.
     vec3 n = normalize(cross(width_dir, world_tangent));
     n = dot(n, frame_values.camera_position.xyz - world) < 0.0 ? -n : n;
-    float fog = fog_transmittance(world, frame_values.camera_position, frame_values.sky_color);
+    // The haze of a block field's last fifth (the frame's params.w: its view distance), as the
+    // ground's: blades to the view distance end in it with the ground, not at a line.
+    float fog = fog_transmittance(world, frame_values.camera_position, frame_values.sky_color)
+        * horizon_haze(length(world - frame_values.camera_position.xyz), uintBitsToFloat(frame_values.params.w));
     float l6 = height_six(t, segments, MODEL_SEGMENTS);
     if ((RENDER_FLAGS & FLAG_SOLID_OUTLINE) != 0u) {
         // The strip's colour is linear between levels over its straight-edged width, where brute

@@ -13,7 +13,7 @@ struct FrameUniforms {
     vec4 sun_direction;     // xyz unit vector towards the sun, w unused
     vec4 sky_color;         // rgb linear sky, w fog density (1/m)
     vec4 terrain;           // a stored terrain: x grid origin (x = z), y cell size (m) (the CPU's cull mirror); a block field: y the innermost wind level's cluster edge; the ground itself is `ground`
-    uvec4 params;           // x segments, y blade count, z the far field's band start (m, f32 bits; 0: no far field, `render::far_field`), w with a far field the view distance (m, f32 bits) (the ground's cells: `ground.x`)
+    uvec4 params;           // x segments, y blade count, z the far field's band start (m, f32 bits; 0: no far field, `render::far_field`), w a block field's view distance, where its haze ends (m, f32 bits; 0: stored blades) (the ground's cells: `ground.x`)
     uvec4 wind_counts;      // x point sources, y colliders (emitters after the sources), z cluster corners per side, w wind levels
     mat4 cull_view_proj;    // world -> clip of the culling camera (the view's, or a frozen one)
     vec4 cull_eye;          // xyz culling camera position, w pixels per metre at 1 m (viewport height / (2 tan(fov_y / 2)))

@@ -82,10 +82,10 @@ float fog_transmittance(vec3 world, vec4 camera_position, vec4 sky) {
     return exp(-sky.w * length(world - camera_position.xyz));
 }
 
-// With a far field (`render::far_field`), the haze where the ground ends: the share of a
-// surface `d` metres away left after the fog's, falling from 1 at 80 % of the view distance `view`
-// (m; 0: no far field, nothing changes) to 0 at it, so the landscape ends in the sky's colour and
-// not at a line (issue #37 item 5).
+// Under a block field, the haze where the ground ends: the share of a surface `d` metres away
+// left after the fog's, falling from 1 at 80 % of the view distance `view` (m; 0: stored blades,
+// nothing changes) to 0 at it, so the ground, the blades, the flowers and the far field end in the
+// sky's colour and not at a line (issue #37 item 5; `Renderer::far_band`).
 float horizon_haze(float d, float view) {
     return view > 0.0 ? clamp((view - d) / (0.2 * view), 0.0, 1.0) : 1.0;
 }

@@ -113,7 +113,8 @@ void main() {
     normal = dot(normal, frame_values.camera_position.xyz - world) < 0.0 ? -normal : normal;
     float l2 = l * l;
     vec3 lit = blade_radiance_l6(color, color, normal, frame_values.sun_direction.xyz, l, l2 * l2 * l2);
-    float fog = fog_transmittance(world, frame_values.camera_position, frame_values.sky_color);
+    float fog = fog_transmittance(world, frame_values.camera_position, frame_values.sky_color)
+        * horizon_haze(length(world - frame_values.camera_position.xyz), uintBitsToFloat(frame_values.params.w));
     out_lit = vec4(lit * fog, fog);
     gl_Position = frame.view_proj * vec4(world, 1.0);
 }

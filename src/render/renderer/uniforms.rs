@@ -72,13 +72,18 @@ impl Renderer {
         uniforms
     }
 
-    /// Where the blades start to thin out for the far field and where it ends (m; 0, 0: no far
-    /// field): the cull's band dither (`shaders/cull/cull.glsl`) and the ground's haze
-    /// (`shaders/terrain/terrain.vert`), the frame's `params.z` and `params.w`.
+    /// Where the blades start to thin out for the far field (m; 0: no far field) and where a block
+    /// field's ground ends (m; 0: stored blades or the floor): the cull's band dither
+    /// (`shaders/cull/cull.glsl`) and the haze of the view's last fifth (`horizon_haze` of
+    /// `shaders/common/lighting.glsl`, on the ground, the blades, the flowers and the far field),
+    /// the frame's `params.z` and `params.w`.
     pub(super) fn far_band(&self) -> (f32, f32) {
         let field = self.scene.as_ref().is_some_and(|scene| scene.field.is_some());
-        let rings = self.settings.culling.far_rings().filter(|_| field && !self.settings.floor);
-        rings.map_or((0.0, 0.0), |rings| (rings.band_start, rings.view_distance))
+        if !field || self.settings.floor {
+            return (0.0, 0.0);
+        }
+        let culling = &self.settings.culling;
+        culling.far_rings().map_or((0.0, culling.view_distance), |rings| (rings.band_start, rings.view_distance))
     }
 
     /// The fog's density per metre of the next frames (`--fog`, the viewer's slider): uniforms only.
