@@ -14,10 +14,12 @@
 //!   each level's mean coverage is level 0's (the far field's hashed coverage test keeps it on
 //!   screen too, `far.frag`; no alpha scaling per level is needed).
 //!
-//! Both run once per graph (`Runs::OnChange`, keyed on the blades they draw): every rebuild of the
-//! renderer (another blade look, density or scene, and any setting the viewer changes) bakes a new
-//! atlas. The bake's GPU time is the first
-//! frame's `far atlas` and `far atlas mips` passes (`meadow render` prints it).
+//! Both run once (`Runs::OnChange`), keyed on the blades they draw (`bake_key`: their count, shape,
+//! colours and density): a rebuild of the renderer whose blades have the same key keeps the baked
+//! atlas and adds no bake (`Atlas::baked`; the viewer's view distance, far-field mesh, wind or
+//! LOD), one with another key (another scene, density, clumps or segments) bakes a new one. The
+//! bake's GPU time is the first frame's `far atlas` and `far atlas mips` passes (`meadow render`
+//! prints it).
 
 use std::rc::Rc;
 
@@ -66,6 +68,9 @@ pub struct Atlas {
     levels: [Vec<vk::ImageView>; 2],
     depth: Image,
     sampler: vk::Sampler,
+    /// The key of the bake whose frame was recorded (the mips, its last pass), `None` before it or
+    /// when that frame was dropped: a rebuilt graph keeps the atlas only if it holds this bake.
+    baked: std::cell::Cell<Option<u64>>,
 }
 
 impl Atlas {
@@ -100,7 +105,13 @@ impl Atlas {
         let sampler = crate::vk::live::created(sampler);
         device.set_name(sampler, "far atlas sampler");
         let (images, levels) = (images.take(), levels.take());
-        Ok(Self { images: [images.0, images.1], levels: [levels.0, levels.1], depth: depth.take(), sampler })
+        let (depth, baked) = (depth.take(), Default::default());
+        Ok(Self { images: [images.0, images.1], levels: [levels.0, levels.1], depth, sampler, baked })
+    }
+
+    /// The key of the bake it holds, once that bake's frame is recorded (`AtlasMipsPass`).
+    pub fn baked(&self) -> Option<u64> {
+        self.baked.get()
     }
 
     /// Its handles, for the passes that read it.
@@ -291,6 +302,8 @@ pub struct AtlasMipsPass {
     sets: PassSet,
     atlas: Rc<Atlas>,
     key: u64,
+    /// The frame being recorded holds the bake (reset when the next frame is planned).
+    recording: std::cell::Cell<bool>,
 }
 
 impl AtlasMipsPass {
@@ -312,7 +325,7 @@ impl AtlasMipsPass {
         })?;
         let sets = Guard::new(device, sets);
         let pipeline = pipeline::compute(device, "far atlas mips", shader, sets.layout, &[])?;
-        Ok(Self { pipeline, sets: sets.take(), atlas, key })
+        Ok(Self { pipeline, sets: sets.take(), atlas, key, recording: Default::default() })
     }
 }
 
@@ -322,6 +335,8 @@ impl Pass for AtlasMipsPass {
     }
 
     fn runs(&self, _ctx: &PassContext) -> Runs {
+        // A frame is planned: the one before was submitted, or told it was dropped.
+        self.recording.set(false);
         Runs::OnChange(self.key)
     }
 
@@ -348,7 +363,17 @@ impl Pass for AtlasMipsPass {
         self.sets.bind(device, cmd, vk::PipelineBindPoint::COMPUTE, ctx.step);
         // SAFETY: as above.
         unsafe { device.raw.cmd_dispatch(cmd, extent.0.div_ceil(8), extent.1.div_ceil(8), 1) };
+        self.atlas.baked.set(Some(self.key));
+        self.recording.set(true);
         Ok(())
+    }
+
+    fn frame_dropped(&self) {
+        // The bake's frame will not run: the graph runs it again, and until then the atlas holds
+        // no bake. (A later frame dropped leaves the bake.)
+        if self.recording.get() {
+            self.atlas.baked.set(None);
+        }
     }
 
     unsafe fn destroy(self: Box<Self>, device: &Device) {

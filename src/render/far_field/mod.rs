@@ -35,6 +35,8 @@ pub mod atlas;
 mod pass;
 mod place_pass;
 
+use std::rc::Rc;
+
 use glam::Vec3;
 
 pub use crate::render::far_rings::{
@@ -160,38 +162,51 @@ pub struct FarPasses {
     pub fresh: Vec<crate::vk::Resource>,
     /// The draw, for the counts.
     pub draw: FarDraw,
+    /// The atlas the draw samples, for a rebuilt graph to keep (`Atlas::baked`).
+    pub atlas: std::rc::Weak<atlas::Atlas>,
 }
 
-/// The far field's passes. `bake_key`: `atlas::bake_key` of the blades the bake draws.
+/// The far field's passes. `bake_key`: `atlas::bake_key` of the blades the bake draws; `baked`: an
+/// atlas that holds that bake already (a rebuilt graph's), drawn from with no bake passes.
 pub fn passes(
     device: &crate::vk::Device,
     setup: &FarSetup,
     (rings, mesh, tips): (&FarRings, FarField, &TipTable),
-    bake_key: u64,
+    (bake_key, baked): (u64, Option<std::rc::Rc<atlas::Atlas>>),
 ) -> crate::error::Result<FarPasses> {
     let params = FarParams::new(rings, mesh, tips);
     let mut passes: crate::vk::Guard<Vec<Box<dyn crate::render::graph::Pass>>> =
         crate::vk::Guard::new(device, Vec::new());
-    // Shared by the bakes and the mips: the last owner to go destroys it, the guard too if the
-    // passes are not all built.
-    let shared = crate::vk::Guard::new(device, std::rc::Rc::new(atlas::Atlas::new(device)?));
+    let baked = baked.filter(|atlas| atlas.baked() == Some(bake_key));
+    let fresh_atlas = baked.is_none();
+    // Shared by the bakes, the mips and the draw: the last owner to go destroys it, the guard too
+    // if the passes are not all built.
+    let shared = crate::vk::Guard::new(device, baked.map_or_else(|| atlas::Atlas::new(device).map(Rc::new), Ok)?);
     let (atlas, depth) = (shared.handles(), shared.depth());
-    let target = (setup.target, setup.constants);
-    for output in 0..2 {
-        let bake = atlas::AtlasBakePass::new(device, target, setup.scene, ((*shared).clone(), output), bake_key)?;
-        passes.push(Box::new(bake));
+    if fresh_atlas {
+        let target = (setup.target, setup.constants);
+        for output in 0..2 {
+            let bake = atlas::AtlasBakePass::new(device, target, setup.scene, ((*shared).clone(), output), bake_key)?;
+            passes.push(Box::new(bake));
+        }
+        passes.push(Box::new(atlas::AtlasMipsPass::new(device, (*shared).clone(), bake_key)?));
     }
-    passes.push(Box::new(atlas::AtlasMipsPass::new(device, (*shared).clone(), bake_key)?));
     let index_count = 6 * mesh.rectangles();
     let counts = (rings.points(), index_count);
     let place = FarPlacePass::new(device, (setup.sets, setup.constants), setup.scene, params, counts)?;
     let placed = (place.plants(), place.draw());
     passes.push(Box::new(place));
-    passes.push(Box::new(FarPass::new(device, setup, (placed, &atlas), mesh, params)?));
-    let mut fresh: Vec<crate::vk::Resource> = atlas.levels().chain([depth]).collect();
+    passes.push(Box::new(FarPass::new(device, setup, (placed, (*shared).clone()), mesh, params)?));
+    // A kept atlas's levels keep the states the old graph left them in.
+    let mut fresh: Vec<crate::vk::Resource> = match fresh_atlas {
+        true => atlas.levels().chain([depth]).collect(),
+        false => Vec::new(),
+    };
     fresh.extend([placed.0.buffer, placed.1].map(crate::vk::Resource::Buffer));
+    let weak = Rc::downgrade(&shared);
     drop(shared.take());
-    Ok(FarPasses { passes: passes.take(), fresh, draw: FarDraw { draw: placed.1, mesh, rings: *rings, atlas } })
+    let draw = FarDraw { draw: placed.1, mesh, rings: *rings, atlas };
+    Ok(FarPasses { passes: passes.take(), fresh, draw, atlas: weak })
 }
 
 #[cfg(test)]

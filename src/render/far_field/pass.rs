@@ -8,7 +8,9 @@
 
 use ash::vk;
 
-use super::atlas::AtlasHandles;
+use std::rc::Rc;
+
+use super::atlas::Atlas;
 use super::{plant_indices, FarField, FarParams};
 use crate::error::Result;
 use crate::render::graph::{Declaration, Pass, PassContext, PassUniforms};
@@ -31,6 +33,8 @@ pub struct FarPass {
     /// The placement's plants and draw.
     placed: (vk::Buffer, vk::Buffer),
     atlas: Vec<Resource>,
+    /// Its share of the atlas: the last owner destroys it.
+    owned: Rc<Atlas>,
     ground: [vk::Buffer; 2],
     /// Each frame's wind at the cluster corners.
     wind: Vec<vk::Buffer>,
@@ -56,11 +60,14 @@ impl FarPass {
     pub fn new(
         device: &Device,
         setup: &FarSetup,
-        (placed, atlas): ((vk::DescriptorBufferInfo, vk::Buffer), &AtlasHandles),
+        (placed, owned): ((vk::DescriptorBufferInfo, vk::Buffer), Rc<Atlas>),
         mesh: FarField,
         params: FarParams,
     ) -> Result<Self> {
         let name = "far field";
+        // Its own share of the atlas (with the bake's passes when it is baked in this graph).
+        let owned = Guard::new(device, owned);
+        let atlas = owned.handles();
         let vertex = shaders::FAR_VERT.code(device.profile);
         let fragment = shaders::FAR_FRAG.code(device.profile);
         let size = std::mem::size_of::<FarParams>() as u64;
@@ -115,6 +122,7 @@ impl FarPass {
             indices: indices.take(),
             placed: (placed.0.buffer, placed.1),
             atlas: atlas.levels().collect(),
+            owned: owned.take(),
             ground: [scene.ground.texels.raw, scene.ground.cover.0.raw],
             wind: setup.wind.to_vec(),
         })
@@ -167,6 +175,7 @@ impl Pass for FarPass {
             self.set.destroy(device);
             self.uniforms.destroy(device);
             self.indices.destroy(device);
+            crate::vk::Destroy::destroy(self.owned, device);
         }
     }
 }

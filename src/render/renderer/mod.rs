@@ -98,6 +98,9 @@ pub struct Renderer {
     /// The far field's placed draw and what it draws, when the graph has a far field
     /// (`Renderer::far_counts`).
     far: Option<crate::render::far_field::FarDraw>,
+    /// The atlas of the far field last built: a rebuilt graph whose blades bake the same atlas
+    /// draws from it with no bake (`far_field::passes`).
+    far_atlas: std::rc::Weak<crate::render::far_field::atlas::Atlas>,
 }
 
 impl Renderer {
@@ -141,6 +144,7 @@ impl Renderer {
             builders: Builders { response: models.response, classes: response::with_flowers(scene, models.classes)? },
             response_passes: Vec::new(),
             far: None,
+            far_atlas: std::rc::Weak::new(),
             poses: None,
             layouts: SceneLayouts::default(),
             graph: Graph::new(),
@@ -230,7 +234,7 @@ impl Renderer {
             std::mem::replace(&mut self.settings, settings),
             std::mem::replace(&mut self.animation, animation),
             built.map(|(response, poses)| self.swap_response(Some((response, poses)))),
-            (std::mem::take(&mut self.graph), self.far),
+            (std::mem::take(&mut self.graph), (self.far, self.far_atlas.clone())),
         );
         // The scene's resources keep their states; a replaced response's and pose records' go
         // with them.
@@ -259,7 +263,7 @@ impl Renderer {
             Ok(()) => (old_response, old_graph),
             Err(e) => {
                 // Back to the previous passes and response; the half-built ones are retired.
-                (self.settings, self.far) = (old_settings, old_far);
+                (self.settings, (self.far, self.far_atlas)) = (old_settings, old_far);
                 self.animation = old_animation;
                 if let Some((wind, kind)) = old_wind {
                     (self.wind, self.library_wind) = (wind, kind);

@@ -299,8 +299,10 @@ impl Renderer {
         let wind: Vec<vk::Buffer> = self.forces.iter().map(|f| f.corners.raw).collect();
         let setup = far_field::FarSetup { target, sets, constants, scene, wind: &wind };
         let key = far_field::atlas::bake_key(&cpu_scene.blades);
-        let built = far_field::passes(&self.device, &setup, (&rings, culling.far_field, &tips), key)?;
+        let kept = (key, self.far_atlas.upgrade());
+        let built = far_field::passes(&self.device, &setup, (&rings, culling.far_field, &tips), kept)?;
         self.far = Some(built.draw);
+        self.far_atlas = built.atlas;
         for pass in built.passes {
             self.graph.add_boxed(pass);
         }
