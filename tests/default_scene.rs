@@ -1,9 +1,9 @@
 //! What `meadow render` draws when no flag names a scene (issue #37, item 6), on lavapipe with
 //! validation and synchronization validation: the landscape, an unbounded field from the
 //! landscape camera with the far field to 2 km, under a fog that leaves a surface 1 km away at
-//! least 30 % of its colour; `--brute-force`, `--mode floor` and `--submission` keep the stored
-//! 100 000-blade field; a block field ends in haze at its view distance; a blade distance over
-//! the default view distance is refused in one line.
+//! least 30 % of its colour; `--brute-force`, `--mode floor`, `--submission` and `--debug-view
+//! bounds` keep the stored 100 000-blade field; a block field ends in haze at its view distance;
+//! a blade distance over the default view distance is refused in one line.
 
 mod support;
 
@@ -72,7 +72,9 @@ fn with_no_flags_render_draws_the_landscape_and_its_fog_lets_1_km_show() {
 
 #[test]
 fn the_reference_paths_keep_the_stored_field_without_blades() {
-    for args in [&["--brute-force"][..], &["--mode", "floor"], &["--submission", "instanced"]] {
+    let stored: [&[&str]; 4] =
+        [&["--brute-force"], &["--mode", "floor"], &["--submission", "instanced"], &["--debug-view", "bounds"]];
+    for args in stored {
         let (stdout, _) = render("stored", &[args, &["--size", "160x90"]].concat());
         let scene = line(&stdout, "scene: ");
         assert!(scene.starts_with("scene: 100000 blades"), "{args:?}: {scene}");

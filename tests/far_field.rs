@@ -325,8 +325,9 @@ fn the_band_matches_the_blades_alone_shows_no_seam_and_no_flicker() {
 
 #[test]
 fn bad_far_fields_are_refused_in_one_line() {
-    let cases: [(&[&str], &str); 3] = [
+    let cases: [(&[&str], &str); 4] = [
         (&["--field", "infinite", "--far-field", "trees"], "invalid value 'trees'"),
+        (&["--blade-distance", "3", "--view-distance", "10000"], "past the far field's reach"),
         (&["--blades", "500", "--far-field", "stars"], "--far-field has no effect with stored blades"),
         (&["--field", "infinite", "--blade-distance", "300", "--view-distance", "200"], "--blade-distance 300 is over"),
     ];

@@ -85,9 +85,9 @@ impl SubmissionArgs {
 #[derive(Args)]
 pub(crate) struct SceneArgs {
     /// Number of grass blades, stored on a square field that grows at a fixed density (default
-    /// 100000). With none of --blades, --field, --brute-force, --mode floor and --submission,
-    /// `render` and `view` draw the landscape: an unbounded field from the landscape camera, the
-    /// far field to a --view-distance of 2000 m.
+    /// 100000). With none of --blades, --field, --brute-force, --mode floor, --submission and
+    /// --debug-view bounds, `render` and `view` draw the landscape: an unbounded field from the
+    /// landscape camera, the far field to a --view-distance of 2000 m.
     #[arg(long, value_parser = values::blade_count)]
     pub(crate) blades: Option<u32>,
     /// A field of camera-following blocks instead of stored blades: its side in metres, or

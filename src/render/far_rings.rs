@@ -83,6 +83,12 @@ impl FarRings {
         Some(Self { start, step, rings, band_start, blade_range, view_distance })
     }
 
+    /// How far `MAX_RINGS` rings reach from a blade range of `blade_range` m: the outermost ring's
+    /// outer Chebyshev distance (2 317 times the blade range).
+    pub fn reach(blade_range: f32) -> f32 {
+        RING_START * BAND_START * blade_range * (1u32 << MAX_RINGS) as f32
+    }
+
     /// Lattice points the placement visits: `RING_SIDE`² per ring.
     pub fn points(&self) -> u32 {
         self.rings * RING_SIDE * RING_SIDE
@@ -107,5 +113,9 @@ mod tests {
         // (every ring holds the same count at its own step).
         assert!(4.0 * rings.start / rings.step + 2.0 <= RING_SIDE as f32, "{rings:?}");
         assert!(FarRings::new(150.0, 150.0).is_none());
+        // The rings' reach: 5 m of blades (the viewer's least) reach past 10 km, 4 m do not.
+        assert!(FarRings::reach(5.0) > 10_000.0 && FarRings::reach(4.0) < 10_000.0);
+        let short = FarRings::new(4.0, 10_000.0).expect("a far field");
+        assert!(short.rings == MAX_RINGS && short.start * 2f32.powi(MAX_RINGS as i32) < 10_000.0);
     }
 }

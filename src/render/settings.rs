@@ -210,6 +210,19 @@ pub fn check_field(settings: &RenderSettings) -> Result<()> {
     if settings.debug_bounds {
         return refuse("has no fixed cluster grid to draw: drop --debug-view bounds");
     }
+    if let Some(rings) = settings.culling.far_rings() {
+        let reach = crate::render::far_rings::FarRings::reach(rings.blade_range);
+        if rings.view_distance > reach {
+            return Err(Error::bad_input(format!(
+                "--view-distance {} is past the far field's reach from a blade distance of {} m: its {} rings end at {:.0} m (give a blade distance of {:.2} m or more, a shorter view, or --far-field off)",
+                rings.view_distance,
+                rings.blade_range,
+                crate::render::far_rings::MAX_RINGS,
+                reach,
+                rings.blade_range * rings.view_distance / reach
+            )));
+        }
+    }
     let most = crate::render::field_gpu::max_blade_distance();
     if settings.culling.blade_range() > most {
         return refuse(&format!(
