@@ -85,7 +85,7 @@ float fog_transmittance(vec3 world, vec4 camera_position, vec4 sky) {
 // Under a block field, the haze where the ground ends: the share of a surface `d` metres away
 // left after the fog's, falling from 1 at 80 % of the view distance `view` (m; 0: stored blades,
 // nothing changes) to 0 at it, so the ground, the blades, the flowers and the far field end in the
-// sky's colour and not at a line (issue #37 item 5; `Renderer::far_band`).
+// sky's colour and not at a line (issue #37 item 5; the value: `render::renderer::uniforms`).
 float horizon_haze(float d, float view) {
     return view > 0.0 ? clamp((view - d) / (0.2 * view), 0.0, 1.0) : 1.0;
 }

@@ -2,9 +2,8 @@
 //! an unbounded field from the landscape camera with blades to 150 m and the far field to
 //! `LANDSCAPE_VIEW_DISTANCE`. `--blades`, `--brute-force`, `--mode floor`, `--submission` and
 //! `--debug-view bounds` keep the stored field of 100 000 blades (the reference paths and the
-//! fixed cluster grid have no block field), and
-//! `timing` always draws stored blades unless given `--field`, so its figures compare with the
-//! runs before.
+//! fixed cluster grid have no block field), and `timing` always draws stored blades unless given
+//! `--field`, so its figures compare with the runs before.
 //!
 //! One decision, [`draws_landscape`], read from the parsed command line: the scene flags take it
 //! (`SceneArgs::landscape`), and so do the rules of which flags have an effect (`effect`) and the
