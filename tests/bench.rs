@@ -659,13 +659,14 @@ fn the_landscape_preset_measures_its_pairs_side_by_side() {
     }
 }
 
-/// `--preset far`: the landscape to 2 km, with billboards, stars and no far field, each measured
-/// against the blades alone to 150 m; every subject's picture shows ground the reference's does not.
+/// `--preset far`: the landscape to 2 km, with billboards, stars, billboards blended and no far
+/// field, each measured against the blades alone to 150 m; every subject's picture shows ground
+/// the reference's does not.
 #[test]
 fn the_far_preset_measures_the_landscape_against_the_blades_alone() {
     let (output, doc) = pair_preset("far");
     let pairs = doc["pairs"].as_array().expect("pairs");
-    assert_eq!(pairs.len(), 3);
+    assert_eq!(pairs.len(), 4);
     for p in pairs {
         assert!(p["ratio"].as_f64().expect("ratio") > 0.0, "{p}");
         assert_eq!(p["reference"]["name"], "blades to 150 m", "{p}");
@@ -673,6 +674,7 @@ fn the_far_preset_measures_the_landscape_against_the_blades_alone() {
     }
     let stdout = String::from_utf8_lossy(&output.stdout);
     assert!(stdout.contains("landscape to 2 km, billboards / blades alone to 150 m"), "{stdout}");
+    assert!(stdout.contains("landscape to 2 km, billboards blended / blades alone to 150 m"), "{stdout}");
 }
 
 /// `--preset plants`: the four pairs measured side by side; the flowers' subjects draw flowers

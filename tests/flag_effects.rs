@@ -115,6 +115,7 @@ const RENDER_CASES: &[Case] = &[
     ("view_distance", &[alt(&["--view-distance", "1"])]),
     ("blade_distance", &[alt(&["--blade-distance", "1"])]),
     ("far_field", &[alt(&["--far-field", "off"]), alt(&["--far-field", "stars"])]),
+    ("fade", &[alt(&["--fade", "blend"])]),
     ("budget_ms", &[alt(&["--budget-ms", "5"])]),
     ("lod_scale", &[alt(&["--lod-scale", "0.2"])]),
     (
@@ -299,7 +300,7 @@ const RENDER_CONFIGS: &[Config] = &[
             "--out",
             "out.png",
         ],
-        only: Some(&["far_field"]),
+        only: Some(&["far_field", "fade"]),
     },
     Config {
         name: "uniform keyframes",

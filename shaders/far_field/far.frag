@@ -6,6 +6,10 @@
 // world-anchored hash lies under the coverage (per texel of the mip sampled, so every level keeps
 // the mean coverage) and, per stretch of the rectangle a blade's place wide, another lies under
 // the band's ramp and the view distance's end (a dither): no blending, no order.
+//
+// Its variant `blend` (`--fade blend`): no hashed test; the coverage times the fades is the
+// alpha, the colour premultiplied by it, blended into the linear scene in the placement's order.
+// variant blend: FAR_BLEND
 #include "common/bindings.glsl"
 #include "common/lighting.glsl"
 #include "far_field/far_field.glsl"
@@ -38,22 +42,31 @@ void main() {
     gx.x = clamp(gx.x, -TILE, TILE);
     gy.x = clamp(gy.x, -TILE, TILE);
     float fade = far_band(in_distance) * far_end(in_distance);
+#ifndef FAR_BLEND
     float stretch = floor(in_along.x * FAR_TILE_WIDTH / FAR_STRETCH);
     if (far_unit(far_hash(ivec2(int(in_ids.x), int(stretch)), 16u + rectangle)) >= fade) {
         discard;
     }
+#endif
     vec2 uv = vec2((tile + fract(in_along.x)) / float(FAR_TILES), unwrapped.y);
     // One level of detail for both images, from the clamped footprint (llvmpipe derives a level
     // per sample from gradients: twice the work, and the height only after the coverage test).
     const vec2 SIZE = vec2(float(FAR_TILES) * FAR_TILE_TEXELS.x, FAR_TILE_TEXELS.y);
     float level = max(0.0, 0.5 * log2(max(dot(gx * SIZE, gx * SIZE), dot(gy * SIZE, gy * SIZE))));
     vec4 color = textureLod(far_atlas, uv, level);
+#ifdef FAR_BLEND
+    float alpha = color.a * fade;
+    if (alpha < 1.0 / 255.0) {
+        discard;
+    }
+#else
     float lod = min(floor(0.5 + level), float(FAR_MIPS - 1u));
     ivec2 texel = ivec2(floor(uv * SIZE / exp2(lod)));
     uint h = far_hash(texel, in_ids.x ^ (rectangle * 0x68e31da4u) ^ (uint(lod) << 24));
     if (far_unit(h) >= color.a) {
         discard;
     }
+#endif
     float mean_height = textureLod(far_heights, uv, level).r;
     float a = max(color.a, 1.0 / 255.0);
     vec3 albedo = color.rgb / a;
@@ -70,5 +83,11 @@ void main() {
     float l6 = l2 * l2 * l2;
     vec3 lit = blade_radiance_terms(albedo, albedo, in_sun, l, l6);
     lit += FRESNEL_KS * l6 * in_fresnel_fog.x;
-    out_color = vec4(encode_output(mix(frame_values.sky_color.rgb, lit, in_fresnel_fog.y)), 1.0);
+    vec3 fogged = mix(frame_values.sky_color.rgb, lit, in_fresnel_fog.y);
+#ifdef FAR_BLEND
+    // The scene is linear here (`RenderSettings::linear_scene`): encode_output leaves it so.
+    out_color = vec4(encode_output(fogged) * alpha, alpha);
+#else
+    out_color = vec4(encode_output(fogged), 1.0);
+#endif
 }

@@ -9,6 +9,13 @@
 // blades in the same wind. Lit per vertex with the rectangle's normal (Belyaev §2.3, its Fresnel
 // term over the ground's normal): the direction terms here, the height terms per fragment from
 // the atlas's mean height (far.frag).
+//
+// Its variant `blend` (`--fade blend`, Zhang Xia §5.4): a plant's pieces far to near. Either mesh
+// is drawn as six half-planes from the axis (a star's three quads as their halves: the same
+// surface), the one turned most away from the eye first, then its neighbours by turns, the one
+// facing the eye last: half-planes on one side of the axis cover those behind them on that side
+// and never those on the other.
+// variant blend: FAR_BLEND
 #include "common/bindings.glsl"
 #include "common/ground.glsl"
 #include "common/lighting.glsl"
@@ -36,23 +43,39 @@ vec3 tip_lean(vec2 w) {
 
 void main() {
     FarPlant plant = plants[gl_InstanceIndex];
-    uint rectangle = uint(gl_VertexIndex) >> 2;
+    uint piece = uint(gl_VertexIndex) >> 2;
     uint corner = uint(gl_VertexIndex) & 3u;
     float width = plant.centre_width.w;
-    float turn = uintBitsToFloat(plant.hash_turn_ring.y) + float(rectangle) * (PI / 3.0);
-    vec2 dir = vec2(cos(turn), sin(turn));
+    float turn = uintBitsToFloat(plant.hash_turn_ring.y);
     bool outer = (corner & 1u) != 0u;
     bool top = corner >= 2u;
-    // The corner's signed distance from the axis (m): a half-plane from it, a quad across it.
     bool star = far.counts.y == FAR_MESH_STARS;
-    float from_axis = (outer ? 0.5 : (star ? -0.5 : 0.0)) * width;
+    vec2 eye = frame_values.camera_position.xz;
+#ifdef FAR_BLEND
+    // The half-plane nearest the direction away from the eye, then the others alternately.
+    const int AWAY_FIRST[6] = int[6](0, 1, -1, 2, -2, 3);
+    vec2 away = plant.centre_width.xz - eye;
+    int farthest = int(round((atan(away.y, away.x) - turn) / (PI / 3.0)));
+    uint half_plane = uint(((farthest + AWAY_FIRST[piece]) % 6 + 6) % 6);
+    // A star's quad, and the side of its axis the half is.
+    uint rectangle = star ? half_plane % 3u : half_plane;
+    float side = half_plane >= 3u && star ? -1.0 : 1.0;
+    // Its ends' signed distances from the axis (m) along the rectangle.
+    vec2 ends = vec2(0.0, 0.5 * side * width);
+#else
+    uint rectangle = piece;
+    // A half-plane from the axis, a quad across it.
+    vec2 ends = vec2(star ? -0.5 * width : 0.0, 0.5 * width);
+#endif
+    turn += float(rectangle) * (PI / 3.0);
+    vec2 dir = vec2(cos(turn), sin(turn));
+    // The corner's signed distance from the axis (m).
+    float from_axis = outer ? ends.y : ends.x;
     vec2 root = plant.centre_width.xz + dir * from_axis;
     // A rectangle wholly nearer than the band's start would be wholly discarded by the fade
     // (far.frag, by the distance in 3-D): not rasterized at all. Its ends' distance across the
     // ground, and the eye's height over its top at most.
-    vec2 eye = frame_values.camera_position.xz;
-    float first = far.counts.y == FAR_MESH_STARS ? -0.5 * width : 0.0;
-    float across = max(length(plant.centre_width.xz + dir * first - eye), length(plant.centre_width.xz + dir * 0.5 * width - eye));
+    float across = max(length(plant.centre_width.xz + dir * ends.x - eye), length(plant.centre_width.xz + dir * ends.y - eye));
     float up = abs(frame_values.camera_position.y - plant.centre_width.y) + far.reach.y;
     float farther_end = sqrt(across * across + up * up);
     // A rectangle seen nearly edge-on covers a sliver of pixels at the cost of whole quads: the

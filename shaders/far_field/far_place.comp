@@ -10,6 +10,13 @@
 // ground's cover keeps it (a hashed threshold under the cover: none where it is 0), in the
 // culling camera's frustum and nearer than the view distance; kept plants are appended to
 // `plants` and counted into the draw's instance count.
+//
+// Its variant `ordered` (`--fade blend`, Zhang Xia §5.4's pre-computed sorting): invocation o is
+// the o-th point far to near, the outermost ring first and in each ring the pre-computed order of
+// its lattice (`render::far_field::order`, the same for every ring: each ring's lattice holds the
+// camera at the same place); every point writes its slot of `staged` (width 0: no plant), and
+// far_order.comp compacts them in that order.
+// variant ordered: FAR_ORDERED
 #include "common/bindings.glsl"
 #include "common/field.glsl"
 #include "common/ground.glsl"
@@ -21,6 +28,11 @@ layout(set = SET_PASS, binding = 1, std430) writeonly buffer FarPlants { FarPlan
 // VkDrawIndexedIndirectCommand: index count, instance count (the kept plants), first index,
 // vertex offset, first instance.
 layout(set = SET_PASS, binding = 2, std430) buffer FarDraw { uint draw[5]; };
+#ifdef FAR_ORDERED
+// The lattice's points far to near: order[rank] is the point's index in its ring's lattice.
+layout(set = SET_PASS, binding = 3, std430) readonly buffer FarOrder { uint order[]; };
+layout(set = SET_PASS, binding = 4, std430) writeonly buffer FarStaged { FarPlant staged[]; };
+#endif
 
 int floor_div(int a, int b) {
     return a >= 0 ? a / b : -((-a + b - 1) / b);
@@ -40,14 +52,8 @@ bool sphere_in_view(vec3 c, float r) {
     return true;
 }
 
-void main() {
-    uint point = gl_GlobalInvocationID.x;
-    uint per_ring = FAR_RING_SIDE * FAR_RING_SIDE;
-    uint ring = point / per_ring;
-    if (ring >= far.counts.x) {
-        return;
-    }
-    uint at = point % per_ring;
+// The plant at point `at` of ring `ring`'s lattice, if one stands there and is seen.
+bool place(uint ring, uint at, out FarPlant plant) {
     float start = far.rings.x * float(1u << ring);
     int blocks = int(far.rings.y / FAR_BLOCK + 0.5) << ring; // the ring's step in blocks
     vec2 eye = frame_values.cull_eye.xz;
@@ -63,39 +69,63 @@ void main() {
     vec2 jitter = (vec2(far_unit(h), far_unit(far_hash(id, 1u))) - 0.5) * 0.5 * step0;
     vec2 p = vec2((lattice * blocks - origin) * int(FAR_BLOCK)) + jitter;
     if (!field_has_cell(origin + ivec2(floor(p / FAR_BLOCK)))) {
-        return; // past a bounded field's edge
+        return false; // past a bounded field's edge
     }
     vec2 offset = abs(p - eye);
     float cheb = max(offset.x, offset.y);
     if (cheb < start || cheb >= 2.0 * start) {
-        return;
+        return false;
     }
     float lambda = log2(cheb / far.rings.x);
     bool next = ((lattice.x | lattice.y) & 1) == 0;
     if (!next && ring + 1u < far.counts.x) {
         float keep = clamp((float(ring + 1u) - lambda) / FAR_RING_FADE, 0.0, 1.0);
         if (far_unit(far_hash(id, 2u)) >= keep) {
-            return;
+            return false;
         }
     }
     if (far_unit(far_hash(id, 3u)) >= ground_cover(p)) {
-        return;
+        return false;
     }
     float width = FAR_WIDTH_STEPS * step0 * exp2(lambda);
     vec3 centre = vec3(p.x, ground_height(p), p.y);
     float radius = 0.5 * width + far.reach.y;
     float d = length(centre - frame_values.cull_eye.xyz);
     if (d - radius > far.reach.x || d + radius < far.rings.z) {
-        return;
+        return false;
     }
     if (!sphere_in_view(centre + vec3(0.0, 0.5 * far.reach.y, 0.0), radius)) {
+        return false;
+    }
+    float turn = far_unit(far_hash(id, 4u)) * 2.0 * PI;
+    plant.centre_width = vec4(centre, width);
+    plant.hash_turn_ring = uvec4(h, floatBitsToUint(turn), floatBitsToUint(lambda), 0u);
+    return true;
+}
+
+void main() {
+    uint point = gl_GlobalInvocationID.x;
+    uint per_ring = FAR_RING_SIDE * FAR_RING_SIDE;
+    if (point >= far.counts.x * per_ring) {
+        return;
+    }
+    FarPlant plant;
+#ifdef FAR_ORDERED
+    // The outermost ring first; the key (ring from the outside, rank) is kept with the plant.
+    uint ring = far.counts.x - 1u - point / per_ring;
+    uint rank = point % per_ring;
+    if (!place(ring, order[rank], plant)) {
+        plant = FarPlant(vec4(0.0), uvec4(0u));
+    }
+    plant.hash_turn_ring.w = point;
+    staged[point] = plant;
+#else
+    if (!place(point / per_ring, point % per_ring, plant)) {
         return;
     }
     uint slot = atomicAdd(draw[1], 1u);
-    if (slot >= far.counts.z) {
-        return;
+    if (slot < far.counts.z) {
+        plants[slot] = plant;
     }
-    float turn = far_unit(far_hash(id, 4u)) * 2.0 * PI;
-    plants[slot].centre_width = vec4(centre, width);
-    plants[slot].hash_turn_ring = uvec4(h, floatBitsToUint(turn), floatBitsToUint(lambda), 0u);
+#endif
 }

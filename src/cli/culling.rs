@@ -5,7 +5,7 @@ use clap::{Args, ValueEnum};
 
 use crate::app::values;
 use crate::render::culling::{Culling, LodSegments, DEFAULT_BLADE_DISTANCE};
-use crate::render::far_field::FarField;
+use crate::render::far_field::{FarFade, FarField};
 
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub(crate) enum CullTest {
@@ -43,6 +43,14 @@ pub(crate) enum FarFieldArg {
     Off,
 }
 
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub(crate) enum FadeArg {
+    /// A hashed threshold per plant: opaque, in any order.
+    Dither,
+    /// The far field alpha-blended far to near into a linear RGBA16F scene, resolved as --msaa is.
+    Blend,
+}
+
 #[derive(Args)]
 pub(crate) struct CullArgs {
     /// Draw every stored blade at --segments in one instanced draw: no cull pass, no LOD (the
@@ -71,6 +79,9 @@ pub(crate) struct CullArgs {
     /// of meadow's own blades, leaning in the same wind.
     #[arg(long, value_enum, default_value = "billboards")]
     pub(crate) far_field: FarFieldArg,
+    /// How the far field meets the blades across the band where the blades thin out.
+    #[arg(long, value_enum, default_value = "dither")]
+    pub(crate) fade: FadeArg,
     /// Hold the GPU frame near this many milliseconds by adjusting the LOD scale each frame from
     /// the measured GPU time (a closed loop; needs the GPU-driven path).
     #[arg(long, value_name = "MS", value_parser = values::positive_f32, allow_hyphen_values = true)]
@@ -101,6 +112,10 @@ impl CullArgs {
                 FarFieldArg::Billboards => FarField::Billboards,
                 FarFieldArg::Stars => FarField::Stars,
                 FarFieldArg::Off => FarField::Off,
+            },
+            far_fade: match self.fade {
+                FadeArg::Dither => FarFade::Dither,
+                FadeArg::Blend => FarFade::Blend,
             },
             lod_scale: self.lod_scale,
             // A row per tile only where the animation needs it (`--animation sine-cluster`,

@@ -137,6 +137,8 @@ pub struct Culling {
     /// The plants drawn past the blade range out to the view distance (a block field's,
     /// `render::far_field`).
     pub far_field: crate::render::far_rings::FarField,
+    /// How the far field meets the blades across the band.
+    pub far_fade: crate::render::far_rings::FarFade,
     /// Scales the full-density distance and divides the pixels per segment: above 1, more detail.
     pub lod_scale: f32,
     /// How the blade class issues its draws: once per LOD bucket, or once per visible tile and
@@ -164,6 +166,7 @@ impl Culling {
             view_distance: DEFAULT_VIEW_DISTANCE,
             blade_distance: DEFAULT_BLADE_DISTANCE,
             far_field: Default::default(),
+            far_fade: Default::default(),
             lod_scale: 1.0,
             rows: DrawRows::PerBucket,
             ground_bounds: true,
@@ -187,6 +190,12 @@ impl Culling {
     pub fn far_rings(&self) -> Option<crate::render::far_rings::FarRings> {
         let on = self.enabled && self.far_field != crate::render::far_rings::FarField::Off;
         on.then(|| crate::render::far_rings::FarRings::new(self.blade_range(), self.view_distance)).flatten()
+    }
+
+    /// Whether the far field is blended (`FarFade::Blend`): the scene is then drawn in linear
+    /// light into the RGBA16F intermediate a resolve encodes (`RenderSettings::linear_scene`).
+    pub fn blends_far_field(&self) -> bool {
+        self.far_rings().is_some() && self.far_fade == crate::render::far_rings::FarFade::Blend
     }
 
     /// How far a block field's wind reaches: the blades, or the far field's plants.

@@ -34,6 +34,17 @@ impl FarField {
     }
 }
 
+/// How the far field meets the blades across the band (`--fade`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum FarFade {
+    /// A hashed threshold per plant and per stretch of a rectangle: opaque, in any order.
+    #[default]
+    Dither,
+    /// Alpha-blended into the linear RGBA16F scene (resolved as `--msaa` is), the plants placed
+    /// far to near (Zhang Xia §5.4) and each plant's rectangles far to near.
+    Blend,
+}
+
 /// The band where blades thin out and the far field fades in starts at this share of the blade
 /// range and ends at the blade range.
 pub const BAND_START: f32 = 0.8;

@@ -60,12 +60,15 @@ const SAMPLE_BYTES: [u64; 2] = [8, 4];
 /// without multisampling): counted by every budget check with the frame's other targets.
 pub fn target_bytes(extent: vk::Extent2D, msaa: &Msaa) -> u64 {
     match msaa.enabled() {
-        true => {
-            let samples = u64::from(extent.width) * u64::from(extent.height) * u64::from(msaa.samples);
-            samples * SAMPLE_BYTES.iter().sum::<u64>()
-        }
+        true => linear_bytes(extent) * u64::from(msaa.samples),
         false => 0,
     }
+}
+
+/// Bytes of device memory a single-sampled linear colour and depth pair of `extent` takes
+/// (`--fade blend`'s, checked when it is made).
+pub fn linear_bytes(extent: vk::Extent2D) -> u64 {
+    u64::from(extent.width) * u64::from(extent.height) * SAMPLE_BYTES.iter().sum::<u64>()
 }
 
 /// Refuse a frame of `extent` whose multisampled images the device cannot create (past a

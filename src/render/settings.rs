@@ -93,6 +93,16 @@ impl RenderSettings {
     }
 }
 
+impl RenderSettings {
+    /// Whether the scene passes draw in linear light into an RGBA16F intermediate that the
+    /// resolve pass encodes into the target (`render::msaa`): with `--msaa`, and with the far
+    /// field blended (`--fade blend`: blending the UNORM target's encoded values would mix them
+    /// in the wrong space).
+    pub fn linear_scene(&self) -> bool {
+        self.msaa.enabled() || (!self.floor && self.culling.blends_far_field())
+    }
+}
+
 /// Default blades per instance without the cull: one (classic instancing, the thesis' path).
 pub const DEFAULT_BLADES_PER_INSTANCE: u32 = 1;
 /// Default blades per instance of the cull's indirect draws: 32 entries of the visible list per

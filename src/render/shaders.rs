@@ -61,10 +61,18 @@ pub const FLOWER_VERT: Shader = spirv_shader!("flowers/flower.vert");
 pub const FLOWER_FRAG: Shader = spirv_shader!("flowers/flower.frag");
 /// The far field's placement (`render::far_field`): the plants of every ring that stand and are seen.
 pub const FAR_PLACE_COMP: Shader = spirv_shader!("far_field/far_place.comp");
+/// Its variant `ordered` (`--fade blend`): every lattice point's slot, far to near.
+pub const FAR_PLACE_ORDERED_COMP: Shader = spirv_shader!("far_field/far_place.comp.ordered");
+/// `--fade blend`: the ordered slots compacted in their order, one workgroup.
+pub const FAR_ORDER_COMP: Shader = spirv_shader!("far_field/far_order.comp");
 /// The far field's plants: billboards or stars, leaning in the wind.
 pub const FAR_VERT: Shader = spirv_shader!("far_field/far.vert");
 /// The far field's plants: the atlas lit with the height terms, the dither's fades.
 pub const FAR_FRAG: Shader = spirv_shader!("far_field/far.frag");
+/// Its variant `blend` (`--fade blend`): each plant's rectangles far to near.
+pub const FAR_BLEND_VERT: Shader = spirv_shader!("far_field/far.vert.blend");
+/// Its variant `blend` (`--fade blend`): the coverage and the fades as alpha, premultiplied.
+pub const FAR_BLEND_FRAG: Shader = spirv_shader!("far_field/far.frag.blend");
 /// The far field's atlas bake: the block's blades from the side.
 pub const ATLAS_BAKE_VERT: Shader = spirv_shader!("far_field/atlas_bake.vert");
 /// The far field's atlas bake: albedo or height, alpha-tested.
@@ -106,6 +114,8 @@ pub const CULL_EMIT_COMP: Shader = spirv_shader!("cull/cull_emit.comp");
 pub const RESOLVE_VERT: Shader = spirv_shader!("resolve/resolve.vert");
 /// `--msaa`: the resolve in linear space, then the target's encoding.
 pub const RESOLVE_FRAG: Shader = spirv_shader!("resolve/resolve.frag");
+/// Its variant `single`: the single-sampled linear scene of `--fade blend`.
+pub const RESOLVE_SINGLE_FRAG: Shader = spirv_shader!("resolve/resolve.frag.single");
 /// The egui overlay: egui's vertices pulled from a storage buffer, points to clip space.
 pub const OVERLAY_VERT: Shader = spirv_shader!("overlay/overlay.vert");
 /// The egui overlay: vertex colour times texel, gamma-space sRGB, premultiplied alpha.

@@ -5,7 +5,7 @@
 use super::Rule;
 use crate::cli::animation::{AnimationArg, DebugViewArg, ModeArg};
 use crate::cli::args::PresetArg;
-use crate::cli::culling::{CullTest, LodKind};
+use crate::cli::culling::{CullTest, FarFieldArg, LodKind};
 use crate::render::submission::Strategy;
 
 /// The subcommands that draw the scene of `SceneArgs`.
@@ -22,7 +22,7 @@ const FORCE_FLAGS: &[&str] =
     &["wind", "wind_field", "no_gusts", "source", "calm", "collider", "attenuation", "cluster_size", "time", "dt"];
 /// The GPU-driven path's flags: the cull, the LOD and what steers them.
 const CULL_FLAGS: &[&str] =
-    &["cull", "lod", "lod_segments", "view_distance", "blade_distance", "far_field", "budget_ms", "lod_scale"];
+    &["cull", "lod", "lod_segments", "view_distance", "blade_distance", "far_field", "fade", "budget_ms", "lod_scale"];
 
 /// Every case of the rule. Order matters only for which of several violations is reported.
 pub(crate) const RULES: &[Rule] = &[
@@ -280,6 +280,14 @@ pub(crate) const RULES: &[Rule] = &[
         with: "stored blades",
         when: |g| g.stored(),
         why: "the far field stands past a --field's blades, on its ground out to --view-distance",
+    },
+    Rule {
+        flags: &["fade"],
+        subject: None,
+        commands: SCENE,
+        with: "stored blades or --far-field off",
+        when: |g| g.stored() || g.one::<FarFieldArg>("far_field") == Some(FarFieldArg::Off),
+        why: "the fade is where a --field's blades meet its far field",
     },
     Rule {
         flags: &["no_alpha_to_coverage"],

@@ -6,6 +6,8 @@
 //! - **the landscape to 2 km with billboards** (the blades to 150 m, then the far field). Target:
 //!   ≤ 1.10×.
 //! - **the same with stars**. Target: ≤ 1.10×.
+//! - **the same with billboards blended** (`--fade blend`: the ordered placement, the blended
+//!   draw, the linear scene and its resolve). Target: ≤ 1.10×.
 //! - **the ground to 2 km and no far field**: what the longer ground costs alone (no target of the
 //!   issue; 1.10× as the others').
 //!
@@ -24,7 +26,7 @@ use crate::harness::bench::pairs::{self, Pair, PairBenchOptions, PairSpec};
 use crate::harness::document::{to_json, Header};
 use crate::harness::measure::Schedule;
 use crate::render::culling::Culling;
-use crate::render::far_field::FarField;
+use crate::render::far_field::{FarFade, FarField};
 use crate::render::RenderSettings;
 use crate::scene::field::FieldSpec;
 use crate::scene::{CameraChoice, Scene};
@@ -55,28 +57,37 @@ pub struct FarDocument {
 }
 
 /// The pairs' (label, reference name, subject name, target).
-const PAIRS: [PairSpec; 3] = [
+const PAIRS: [PairSpec; 4] = [
     ("landscape to 2 km, billboards / blades alone to 150 m", "blades to 150 m", "billboards to 2 km", 1.10),
     ("landscape to 2 km, stars / blades alone to 150 m", "blades to 150 m", "stars to 2 km", 1.10),
+    (
+        "landscape to 2 km, billboards blended / blades alone to 150 m",
+        "blades to 150 m",
+        "billboards blended to 2 km",
+        1.10,
+    ),
     ("ground to 2 km, no far field / blades alone to 150 m", "blades to 150 m", "ground to 2 km", 1.10),
 ];
 
 /// Each variant's settings, in `PAIRS`' order.
 fn settings() -> Vec<RenderSettings> {
     let base = pairs::default_settings();
-    let with = |view_distance: f32, far_field: FarField| RenderSettings {
-        culling: Culling { view_distance, far_field, ..base.culling },
+    let with = |view_distance: f32, far_field: FarField, far_fade: FarFade| RenderSettings {
+        culling: Culling { view_distance, far_field, far_fade, ..base.culling },
         fog_density: FOG,
         ..base
     };
-    let alone = with(crate::render::culling::DEFAULT_VIEW_DISTANCE, FarField::Off);
+    let alone = with(crate::render::culling::DEFAULT_VIEW_DISTANCE, FarField::Off, FarFade::Dither);
+    let landscape = |far_field: FarField, fade: FarFade| with(LANDSCAPE_M, far_field, fade);
     vec![
         alone,
-        with(LANDSCAPE_M, FarField::Billboards),
+        landscape(FarField::Billboards, FarFade::Dither),
         alone,
-        with(LANDSCAPE_M, FarField::Stars),
+        landscape(FarField::Stars, FarFade::Dither),
         alone,
-        with(LANDSCAPE_M, FarField::Off),
+        landscape(FarField::Billboards, FarFade::Blend),
+        alone,
+        landscape(FarField::Off, FarFade::Dither),
     ]
 }
 
@@ -108,7 +119,8 @@ pub fn table(doc: &FarDocument) -> String {
     let p = &doc.pictures;
     let pictures = format!(
         "band (rows {}-{}), 8x8 mean / p99: far field against blades alone {:.2} % / {:.2} %; boundary moved 20 % {:.2} % / {:.2} %\n\
-         creep of {} m a frame over {} frames, mean frame-to-frame change: far field {:.3} %, blades alone {:.3} % ({:.2}x)\n",
+         creep of {} m a frame over {} frames, mean frame-to-frame change: far field {:.3} %, blades alone {:.3} % ({:.2}x)\n\
+         blended (--fade blend): band {:.2} % / {:.2} %; boundary moved 20 % {:.2} % / {:.2} %; creep {:.3} % ({:.2}x)\n",
         p.band_rows[0],
         p.band_rows[1],
         p.band_mean,
@@ -119,7 +131,13 @@ pub fn table(doc: &FarDocument) -> String {
         far_pictures::CREEP_FRAMES,
         p.flicker_far,
         p.flicker_blades,
-        p.flicker_far / p.flicker_blades.max(1e-9)
+        p.flicker_far / p.flicker_blades.max(1e-9),
+        p.blend.band_mean,
+        p.blend.band_p99,
+        p.blend.seam_mean,
+        p.blend.seam_p99,
+        p.blend.flicker_far,
+        p.blend.flicker_far / p.flicker_blades.max(1e-9)
     );
     head + &pairs::table_rows(&doc.pairs) + &pictures
 }

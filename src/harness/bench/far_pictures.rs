@@ -9,6 +9,8 @@
 //! - **no flicker**: a creep of `CREEP_M` a frame for `CREEP_FRAMES` frames towards the band,
 //!   time fixed: the mean frame-to-frame change of the band's 8 × 8-filtered picture, the far
 //!   field's over the blades alone's.
+//!
+//! Each for the dither (`--fade dither`, the default) and again blended (`--fade blend`).
 
 use std::sync::Arc;
 
@@ -19,7 +21,7 @@ use crate::error::Result;
 use crate::imagediff::box_filtered_difference;
 use crate::render::animation::{AnimationSettings, Mode};
 use crate::render::culling::Culling;
-use crate::render::far_field::FarField;
+use crate::render::far_field::{FarFade, FarField};
 use crate::render::{OffscreenTarget, RenderSettings, Renderer};
 use crate::scene::camera::{rows_below_horizon, FOV_Y_DEG};
 use crate::scene::{Camera, Scene};
@@ -45,6 +47,18 @@ pub struct FarPictures {
     /// The mean frame-to-frame change over the creep: the far field's, the blades alone's.
     pub flicker_far: f64,
     pub flicker_blades: f64,
+    /// The far field's figures blended (`--fade blend`).
+    pub blend: FadeFigures,
+}
+
+/// The far field's own figures for one fade, in % of full scale (as `FarPictures`').
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct FadeFigures {
+    pub band_mean: f64,
+    pub band_p99: f64,
+    pub seam_mean: f64,
+    pub seam_p99: f64,
+    pub flicker_far: f64,
 }
 
 /// The row of flat ground `distance` m ahead from `camera` in a picture `rows` high.
@@ -77,9 +91,9 @@ pub fn measure(
     let extent = vk::Extent2D { width: size.0, height: size.1 };
     let mut target = OffscreenTarget::new(device, extent)?;
     let result = (|| {
-        let settings = |blades: f32, far_field: FarField| {
-            let culling =
-                Culling { view_distance: REACH_M, blade_distance: blades, far_field, ..Culling::default_for(4) };
+        let settings = |blades: f32, far_field: FarField, far_fade: FarFade| {
+            let (view_distance, blade_distance) = (REACH_M, blades);
+            let culling = Culling { view_distance, blade_distance, far_field, far_fade, ..Culling::default_for(4) };
             RenderSettings { fog_density: fog, ..RenderSettings::offscreen(4, culling) }
         };
         let animation = AnimationSettings { mode: Mode::Static, ..Default::default() };
@@ -102,24 +116,36 @@ pub fn measure(
         let rows = rows_of(crate::render::far_field::BAND_START * range, range);
         let count = whole_blocks(rows);
         let diff = |a: &[u8], b: &[u8]| box_filtered_difference(a, b, size.0, count, 8);
-        let far = frames(settings(range, FarField::Billboards), CREEP_FRAMES, rows)?;
-        let blades = frames(settings(REACH_M, FarField::Off), CREEP_FRAMES, rows)?;
-        let in_band = diff(&far[0], &blades[0]);
+        let blades = frames(settings(REACH_M, FarField::Off, FarFade::Dither), CREEP_FRAMES, rows)?;
         let both = rows_of(0.8 * crate::render::far_field::BAND_START * range, range);
-        let moved = frames(settings(0.8 * range, FarField::Billboards), 1, both)?;
-        let here = frames(settings(range, FarField::Billboards), 1, both)?;
-        let seam = box_filtered_difference(&moved[0], &here[0], size.0, whole_blocks(both), 8);
         let change = |pictures: &[Vec<u8>]| {
             pictures.windows(2).map(|w| diff(&w[1], &w[0]).mean_percent).sum::<f64>() / (pictures.len() - 1) as f64
         };
+        let mut figures = |fade: FarFade| -> Result<FadeFigures> {
+            let far = frames(settings(range, FarField::Billboards, fade), CREEP_FRAMES, rows)?;
+            let in_band = diff(&far[0], &blades[0]);
+            let moved = frames(settings(0.8 * range, FarField::Billboards, fade), 1, both)?;
+            let here = frames(settings(range, FarField::Billboards, fade), 1, both)?;
+            let seam = box_filtered_difference(&moved[0], &here[0], size.0, whole_blocks(both), 8);
+            Ok(FadeFigures {
+                band_mean: in_band.mean_percent,
+                band_p99: in_band.p99_percent,
+                seam_mean: seam.mean_percent,
+                seam_p99: seam.p99_percent,
+                flicker_far: change(&far),
+            })
+        };
+        let dither = figures(FarFade::Dither)?;
+        let blend = figures(FarFade::Blend)?;
         Ok(FarPictures {
             band_rows: rows,
-            band_mean: in_band.mean_percent,
-            band_p99: in_band.p99_percent,
-            seam_mean: seam.mean_percent,
-            seam_p99: seam.p99_percent,
-            flicker_far: change(&far),
+            band_mean: dither.band_mean,
+            band_p99: dither.band_p99,
+            seam_mean: dither.seam_mean,
+            seam_p99: dither.seam_p99,
+            flicker_far: dither.flicker_far,
             flicker_blades: change(&blades),
+            blend,
         })
     })();
     // SAFETY: every renderer waited for its frames and is dropped.

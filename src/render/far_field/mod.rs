@@ -32,6 +32,7 @@
 //!   alpha scaling is needed.
 
 pub mod atlas;
+pub mod order;
 mod pass;
 mod place_pass;
 
@@ -40,7 +41,7 @@ use std::rc::Rc;
 use glam::Vec3;
 
 pub use crate::render::far_rings::{
-    FarField, FarRings, BAND_START, CAPACITY, MAX_RINGS, RING_SIDE, RING_START, STEP_SHARE,
+    FarFade, FarField, FarRings, BAND_START, CAPACITY, MAX_RINGS, RING_SIDE, RING_START, STEP_SHARE,
 };
 pub use pass::{FarPass, FarSetup};
 pub use place_pass::FarPlacePass;
@@ -51,6 +52,8 @@ use crate::render::animation::response::BladeResponse;
 pub const WIDTH_STEPS: f32 = 1.0;
 /// Invocations per workgroup of the placement.
 pub const PLACE_GROUP: u32 = 64;
+/// Invocations of the ordered compaction's one workgroup (`far_order.comp`).
+pub const ORDER_GROUP: u32 = 256;
 /// Wind speeds the tip table holds, from 0 to `TIP_TABLE_MAX` m/s.
 pub const TIP_TABLE_SIZE: usize = 32;
 /// The tip table's fastest wind (m/s); faster winds take its last entry.
@@ -97,12 +100,34 @@ impl TipTable {
 pub struct FarDraw {
     /// The placement's `VkDrawIndexedIndirectCommand`.
     pub draw: ash::vk::Buffer,
+    /// The plants it placed, in their drawn order.
+    pub plants: ash::vk::Buffer,
     /// Its mesh.
     pub mesh: FarField,
+    /// Rectangles a plant is drawn as (`pieces`).
+    pub pieces: u32,
     /// Its rings.
     pub rings: FarRings,
     /// Its atlas.
     pub atlas: atlas::AtlasHandles,
+}
+
+/// A placed plant as the placement wrote it (`FarPlant` of `far_field.glsl`; `Renderer::far_plants`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct PlacedPlant {
+    /// Its centre on the ground, relative to O (m).
+    pub centre: [f32; 3],
+    /// Its rectangles' width (m).
+    pub width: f32,
+    /// Its identity's hash.
+    pub hash: u32,
+    /// Its turn about its axis (radians).
+    pub turn: f32,
+    /// Its continuous ring λ.
+    pub ring: f32,
+    /// With `--fade blend`, its key in the far-to-near order (`order::key_of`); 0 otherwise.
+    pub key: u32,
 }
 
 /// What the far field drew in a frame (`Renderer::far_counts`).
@@ -147,10 +172,21 @@ impl FarParams {
     }
 }
 
-/// The index list of one plant of `mesh`: two triangles per rectangle, its vertices
+/// Rectangles one plant of `mesh` is drawn as: its own, but with `--fade blend` a star's three
+/// crossed quads as their six halves from the axis (the billboard's half-planes, the same
+/// surface), which, unlike whole crossed quads, have an order far to near (`far.vert`).
+pub fn pieces(mesh: FarField, fade: FarFade) -> u32 {
+    match (mesh, fade) {
+        (FarField::Off, _) => 0,
+        (_, FarFade::Blend) => 6,
+        (_, FarFade::Dither) => mesh.rectangles(),
+    }
+}
+
+/// The index list of one plant of `pieces` rectangles: two triangles per rectangle, its vertices
 /// `4 · rectangle + corner` (corner 0, 1 at the root, 2, 3 at the top).
-pub fn plant_indices(mesh: FarField) -> Vec<u32> {
-    (0..mesh.rectangles()).flat_map(|r| [0, 1, 2, 2, 1, 3].map(|c| 4 * r + c)).collect()
+pub fn plant_indices(pieces: u32) -> Vec<u32> {
+    (0..pieces).flat_map(|r| [0, 1, 2, 2, 1, 3].map(|c| 4 * r + c)).collect()
 }
 
 /// The far field's passes and what the renderer keeps of them.
@@ -171,7 +207,7 @@ pub struct FarPasses {
 pub fn passes(
     device: &crate::vk::Device,
     setup: &FarSetup,
-    (rings, mesh, tips): (&FarRings, FarField, &TipTable),
+    (rings, (mesh, fade), tips): (&FarRings, (FarField, FarFade), &TipTable),
     (bake_key, baked): (u64, Option<std::rc::Rc<atlas::Atlas>>),
 ) -> crate::error::Result<FarPasses> {
     let params = FarParams::new(rings, mesh, tips);
@@ -191,21 +227,24 @@ pub fn passes(
         }
         passes.push(Box::new(atlas::AtlasMipsPass::new(device, (*shared).clone(), bake_key)?));
     }
-    let index_count = 6 * mesh.rectangles();
+    let blend = fade == FarFade::Blend;
+    let index_count = 6 * pieces(mesh, fade);
     let counts = (rings.points(), index_count);
-    let place = FarPlacePass::new(device, (setup.sets, setup.constants), setup.scene, params, counts)?;
+    let place = FarPlacePass::new(device, (setup.sets, setup.constants), setup.scene, (params, rings, blend), counts)?;
     let placed = (place.plants(), place.draw());
+    let staged = place.staged();
     passes.push(Box::new(place));
-    passes.push(Box::new(FarPass::new(device, setup, (placed, (*shared).clone()), mesh, params)?));
+    passes.push(Box::new(FarPass::new(device, setup, (placed, (*shared).clone()), (mesh, fade), params)?));
     // A kept atlas's levels keep the states the old graph left them in.
     let mut fresh: Vec<crate::vk::Resource> = match fresh_atlas {
         true => atlas.levels().chain([depth]).collect(),
         false => Vec::new(),
     };
-    fresh.extend([placed.0.buffer, placed.1].map(crate::vk::Resource::Buffer));
+    fresh.extend([placed.0.buffer, placed.1].into_iter().chain(staged).map(crate::vk::Resource::Buffer));
     let weak = Rc::downgrade(&shared);
     drop(shared.take());
-    let draw = FarDraw { draw: placed.1, mesh, rings: *rings, atlas };
+    let draw =
+        FarDraw { draw: placed.1, plants: placed.0.buffer, mesh, pieces: pieces(mesh, fade), rings: *rings, atlas };
     Ok(FarPasses { passes: passes.take(), fresh, draw, atlas: weak })
 }
 
@@ -233,6 +272,9 @@ mod tests {
         }
         let place = include_str!("../../../shaders/far_field/far_place.comp");
         assert!(place.contains(&format!("layout(local_size_x = {PLACE_GROUP}) in;")));
+        let compact = include_str!("../../../shaders/far_field/far_order.comp");
+        assert!(compact.contains(&format!("const uint GROUP = {ORDER_GROUP}u;")));
+        assert!(compact.contains(&format!("layout(local_size_x = {ORDER_GROUP}) in;")));
         let bake = include_str!("../../../shaders/far_field/atlas_bake.vert");
         assert!(bake.contains(&format!("const uint BAKE_SEGMENTS = {}u;", atlas::BAKE_SEGMENTS)));
     }
@@ -248,8 +290,12 @@ mod tests {
 
     #[test]
     fn the_meshes_are_six_and_three_rectangles() {
-        assert_eq!(plant_indices(FarField::Billboards).len(), 36);
-        assert_eq!(plant_indices(FarField::Stars).len(), 18);
+        let indices = |mesh, fade| plant_indices(pieces(mesh, fade)).len();
+        assert_eq!(indices(FarField::Billboards, FarFade::Dither), 36);
+        assert_eq!(indices(FarField::Stars, FarFade::Dither), 18);
+        // Blended, a star is drawn as the six halves of its quads.
+        assert_eq!(indices(FarField::Billboards, FarFade::Blend), 36);
+        assert_eq!(indices(FarField::Stars, FarFade::Blend), 36);
         assert_eq!(std::mem::size_of::<FarParams>(), 48 + 16 * TIP_TABLE_SIZE);
     }
 }

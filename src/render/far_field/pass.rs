@@ -4,14 +4,17 @@
 //!
 //! Reads: the placed plants and their draw, the atlas (every level, sampled), the ground, this
 //! frame's wind at the cluster corners and the emitters (the lean), its parameters. Writes: the
-//! scene's colour and depth (opaque, depth-tested: the dither needs no order).
+//! scene's colour and depth (opaque, depth-tested: the dither needs no order). With `--fade
+//! blend`, the colour alone: blended with premultiplied alpha into the linear scene, the plants
+//! in the placement's far-to-near order and each plant's rectangles far to near (the shaders'
+//! variant `blend`), depth-tested against the blades and the ground but not written.
 
 use ash::vk;
 
 use std::rc::Rc;
 
 use super::atlas::Atlas;
-use super::{plant_indices, FarField, FarParams};
+use super::{pieces, plant_indices, FarFade, FarField, FarParams};
 use crate::error::Result;
 use crate::render::graph::{Declaration, Pass, PassContext, PassUniforms};
 use crate::render::passes::{self, PipelineTarget};
@@ -38,6 +41,8 @@ pub struct FarPass {
     ground: [vk::Buffer; 2],
     /// Each frame's wind at the cluster corners.
     wind: Vec<vk::Buffer>,
+    /// Blended (`--fade blend`): the depth is read, not written.
+    blend: bool,
 }
 
 /// What the far pass is built from.
@@ -56,20 +61,24 @@ pub struct FarSetup<'a> {
 
 impl FarPass {
     /// Build the draw of `mesh` over the plants and the draw the placement writes (`placed`),
-    /// textured by `atlas`.
+    /// textured by `atlas`, meeting the blades by `fade`.
     pub fn new(
         device: &Device,
         setup: &FarSetup,
         (placed, owned): ((vk::DescriptorBufferInfo, vk::Buffer), Rc<Atlas>),
-        mesh: FarField,
+        (mesh, fade): (FarField, FarFade),
         params: FarParams,
     ) -> Result<Self> {
         let name = "far field";
         // Its own share of the atlas (with the bake's passes when it is baked in this graph).
         let owned = Guard::new(device, owned);
         let atlas = owned.handles();
-        let vertex = shaders::FAR_VERT.code(device.profile);
-        let fragment = shaders::FAR_FRAG.code(device.profile);
+        let blend = fade == FarFade::Blend;
+        let (vertex, fragment) = match blend {
+            true => (shaders::FAR_BLEND_VERT, shaders::FAR_BLEND_FRAG),
+            false => (shaders::FAR_VERT, shaders::FAR_FRAG),
+        };
+        let (vertex, fragment) = (vertex.code(device.profile), fragment.code(device.profile));
         let size = std::mem::size_of::<FarParams>() as u64;
         let uniforms = Guard::new(device, PassUniforms::new(device, name, size, setup.sets.frames)?);
         let set = PassSet::new(
@@ -86,7 +95,7 @@ impl FarPass {
         )?;
         let set = Guard::new(device, set);
         let mut batch = UploadBatch::new(device);
-        let list = plant_indices(mesh);
+        let list = plant_indices(pieces(mesh, fade));
         let indices = batch.buffer("far indices", &list, vk::BufferUsageFlags::INDEX_BUFFER, &[Access::IndexRead])?;
         // Not submitted yet: the batch waits for its submission, or never submits.
         let indices = Guard::new(device, indices);
@@ -103,14 +112,14 @@ impl FarPass {
                 cull: vk::CullModeFlags::NONE,
                 polygon: target.polygon,
                 depth_compare: vk::CompareOp::GREATER,
-                depth_write: true,
+                depth_write: !blend,
                 color_format: target.color,
                 depth_format: target.depth,
                 layout: set.layout,
                 constants: &setup.constants.named(),
                 vertex_stride: 0,
                 samples: target.samples,
-                blend: pipeline::Blend::Opaque,
+                blend: if blend { pipeline::Blend::PremultipliedAlpha } else { pipeline::Blend::Opaque },
             },
         )?;
         let scene = setup.scene;
@@ -125,6 +134,7 @@ impl FarPass {
             owned: owned.take(),
             ground: [scene.ground.texels.raw, scene.ground.cover.0.raw],
             wind: setup.wind.to_vec(),
+            blend,
         })
     }
 }
@@ -136,7 +146,8 @@ impl Pass for FarPass {
 
     fn declare(&self, ctx: &PassContext) -> Option<Declaration> {
         let fetch = ctx.device.profile.vertex_fetch();
-        let rendering = passes::scene_rendering(ctx, self.pipeline, true, false);
+        let mut rendering = passes::scene_rendering(ctx, self.pipeline, true, false);
+        rendering.depth_write = !self.blend;
         let mut declaration = Declaration::graphics(rendering)
             .buffer(self.placed.0, Access::VertexShaderStorageRead)
             .buffer(self.placed.1, Access::IndirectCommandRead)

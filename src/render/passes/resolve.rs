@@ -1,6 +1,6 @@
-//! Resolve pass (`--msaa`, `render::msaa`): the last scene pass. One triangle over the frame's
-//! target reads the multisampled colour the scene passes drew (`ctx.target`), averages each
-//! pixel's samples in linear space and writes the encoded result into the target
+//! Resolve pass (`--msaa` or `--fade blend`, `render::msaa`): the last scene pass. One triangle
+//! over the frame's target reads the linear colour the scene passes drew (`ctx.target`), averages
+//! each pixel's samples in linear space and writes the encoded result into the target
 //! (`ctx.output`). Like the depth pyramid, its set (one per frame in flight) is pointed at the
 //! frame's image when the pass is recorded: that set's previous use ended with the slot's fence.
 
@@ -24,12 +24,19 @@ pub struct ResolvePass {
 }
 
 impl ResolvePass {
-    /// Build the pipeline for targets of `format`; `constants` decide the encoding
-    /// (`ENCODE_SRGB`: the target's, not the multisampled scene's).
-    pub fn new(device: &Device, format: vk::Format, constants: &Specialization, frames: usize) -> Result<Self> {
+    /// Build the pipeline for targets of `format` from a scene of `samples` samples per pixel
+    /// (1: `--fade blend`'s single-sampled one); `constants` decide the encoding (`ENCODE_SRGB`:
+    /// the target's, not the linear scene's).
+    pub fn new(
+        device: &Device,
+        (format, samples): (vk::Format, u32),
+        constants: &Specialization,
+        frames: usize,
+    ) -> Result<Self> {
+        let fragment = if samples > 1 { shaders::RESOLVE_FRAG } else { shaders::RESOLVE_SINGLE_FRAG };
         let stages = [
             ("resolve.vert", shaders::RESOLVE_VERT.code(device.profile)),
-            ("resolve.frag", shaders::RESOLVE_FRAG.code(device.profile)),
+            ("resolve.frag", fragment.code(device.profile)),
         ];
         let desc = PassSetDesc { name: "resolve", shaders: &stages, before: &[], push: &[], frames };
         let sets = Guard::new(device, PassSet::unwritten(device, &desc)?);
@@ -39,7 +46,7 @@ impl ResolvePass {
             &pipeline::GraphicsDesc {
                 name: "resolve",
                 vertex: shaders::RESOLVE_VERT.code(device.profile),
-                fragment: shaders::RESOLVE_FRAG.code(device.profile),
+                fragment: fragment.code(device.profile),
                 topology: vk::PrimitiveTopology::TRIANGLE_LIST,
                 cull: vk::CullModeFlags::NONE,
                 polygon: vk::PolygonMode::FILL,

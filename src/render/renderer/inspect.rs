@@ -116,8 +116,25 @@ impl Renderer {
         let Some(far) = self.far else { return Ok(None) };
         let head = self.read_bytes("far draw", far.draw, 20)?;
         let plants = u32::from_le_bytes([head[4], head[5], head[6], head[7]]);
-        let triangles = plants * 2 * far.mesh.rectangles();
+        let triangles = plants * 2 * far.pieces;
         Ok(Some(crate::render::far_field::FarCounts { plants, triangles, rings: far.rings }))
+    }
+
+    /// The far field's plants as the last frame placed them, in their drawn order; `None`
+    /// without a far field. Call it between frames, as `read_ground`.
+    pub fn far_plants(&self) -> Result<Option<Vec<crate::render::far_field::PlacedPlant>>> {
+        let Some(far) = self.far else { return Ok(None) };
+        let Some(counts) = self.far_counts()? else { return Ok(None) };
+        if counts.plants == 0 {
+            return Ok(Some(Vec::new()));
+        }
+        let bytes = u64::from(counts.plants) * std::mem::size_of::<crate::render::far_field::PlacedPlant>() as u64;
+        let read = self.read_bytes("far plants", far.plants, bytes)?;
+        Ok(Some(
+            read.chunks_exact(std::mem::size_of::<crate::render::far_field::PlacedPlant>())
+                .map(bytemuck::pod_read_unaligned)
+                .collect(),
+        ))
     }
 
     /// The mean coverage of each level of the far field's atlas (`far_field::atlas`: the albedo

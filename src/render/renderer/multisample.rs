@@ -1,5 +1,6 @@
-//! The renderer's multisampled images (`--msaa`, `render::msaa`): what the scene passes draw
-//! into, made to fit each frame's target.
+//! The renderer's linear intermediate (`render::msaa`): the multisampled images with `--msaa`,
+//! single-sampled ones with `--fade blend`, what the scene passes draw into, made to fit each
+//! frame's target.
 
 use super::Renderer;
 use crate::error::Result;
@@ -9,11 +10,11 @@ use crate::vk::{Access, Resource};
 
 impl Renderer {
     /// What the scene passes draw into for a frame into `target`: the target itself, or with
-    /// `--msaa` the multisampled pair, (re)made to fit it. A replaced pair is destroyed once the
+    /// `--msaa` or `--fade blend` the linear pair, (re)made to fit it. A replaced pair is destroyed once the
     /// frames that used it have finished, and the graph forgets it.
     pub(super) fn scene_view(&mut self, target: &TargetView) -> Result<TargetView> {
-        let msaa = self.settings.msaa;
-        let fits = |m: &MultisampleTarget| msaa.enabled() && m.fits(target.extent, msaa.flag());
+        let (msaa, linear) = (self.settings.msaa, self.settings.linear_scene());
+        let fits = |m: &MultisampleTarget| linear && m.fits(target.extent, msaa.flag());
         if !self.multisampled.as_ref().is_none_or(fits) {
             let old = self.multisampled.take().expect("checked");
             let view = old.view();
@@ -23,10 +24,17 @@ impl Renderer {
             // SAFETY: the frames that used it have finished (the deletion queue's rule).
             self.ring.defer(&self.device, Box::new(move |device| unsafe { old.destroy(device) }));
         }
-        if !msaa.enabled() {
+        if !linear {
             return Ok(*target);
         }
         if self.multisampled.is_none() {
+            if !msaa.enabled() {
+                // `--fade blend`'s single-sampled pair, which the checks before the renderer do
+                // not count (they count the multisampled one): checked before it is made.
+                let bytes = crate::render::msaa::linear_bytes(target.extent);
+                let what = format!("--fade blend's linear scene at {}x{}", target.extent.width, target.extent.height);
+                self.device.check_budget(bytes, &what)?;
+            }
             self.multisampled = Some(MultisampleTarget::new(&self.device, target.extent, msaa.flag())?);
         }
         let view = self.multisampled.as_ref().expect("made").view();
@@ -41,9 +49,10 @@ impl Renderer {
         Ok(view)
     }
 
-    /// Whether frames draw into the target's depth image (not with `--msaa`: the scene's depth
-    /// is the multisampled one). A target that tracks its depth's last access needs to know.
+    /// Whether frames draw into the target's depth image (not with `--msaa` or `--fade blend`:
+    /// the scene's depth is the intermediate's). A target that tracks its depth's last access
+    /// needs to know.
     pub fn uses_target_depth(&self) -> bool {
-        !self.settings.msaa.enabled()
+        !self.settings.linear_scene()
     }
 }

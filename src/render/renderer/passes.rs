@@ -34,7 +34,7 @@ use crate::vk::{Access, Device, Guard, Resource};
 impl Renderer {
     /// The passes, in order: a block field's ground fill, terrain, the cull's passes, the
     /// blade response's compute passes (before the terrain without the cull), blades (or the floor), the debug views asked for,
-    /// the resolve with `--msaa`, and the overlay's passes once there is an overlay.
+    /// the resolve with `--msaa` or `--fade blend`, and the overlay's passes once there is an overlay.
     pub(super) fn build_graph(&mut self, cpu_scene: &Scene, polygon: vk::PolygonMode) -> Result<()> {
         // The far field's draw is the new graph's, if it has one.
         self.far = None;
@@ -46,7 +46,7 @@ impl Renderer {
         let msaa = settings.msaa;
         let target = PipelineTarget {
             layout: self.layouts.pipeline_layout,
-            color: if msaa.enabled() { MSAA_COLOR_FORMAT } else { settings.color_format },
+            color: if settings.linear_scene() { MSAA_COLOR_FORMAT } else { settings.color_format },
             depth: self.device.depth_format,
             polygon,
             samples: msaa.flag(),
@@ -103,13 +103,13 @@ impl Renderer {
             let wind: Vec<vk::Buffer> = self.forces.iter().map(|f| f.corners.raw).collect();
             self.graph.add(WindArrowsPass::new(&self.device, (set_layout, target), &constants, scene, &wind)?);
         }
-        if msaa.enabled() {
-            // The target's encoding, not the multisampled scene's.
+        if self.settings.linear_scene() {
+            // The target's encoding, not the linear scene's.
             let resolve = Specialization { encode_srgb: u32::from(self.settings.encode_srgb), ..constants };
-            let format = self.settings.color_format;
-            self.graph.add(ResolvePass::new(&self.device, format, &resolve, self.ring.slots())?);
+            let (format, samples) = (self.settings.color_format, msaa.samples);
+            self.graph.add(ResolvePass::new(&self.device, (format, samples), &resolve, self.ring.slots())?);
         }
-        // Last, over the frame's output (the resolved one with `--msaa`).
+        // Last, over the frame's output (the resolved one with `--msaa` or `--fade blend`).
         self.add_overlay_passes();
         Ok(())
     }
@@ -117,7 +117,7 @@ impl Renderer {
     /// The terrain's clear colour as the scene's colour attachment stores it: encoded for an
     /// UNORM target the shaders encode for, linear for the multisampled scene or an sRGB format.
     fn sky(&self) -> [f32; 4] {
-        sky_clear_color(self.settings.encode_srgb && !self.settings.msaa.enabled())
+        sky_clear_color(self.settings.encode_srgb && !self.settings.linear_scene())
     }
 
     /// The specialization constants of every scene pipeline for the settings and the response.
@@ -128,8 +128,8 @@ impl Renderer {
             settings.segments,
             settings.blades_per_instance,
             settings.submission.strategy.pushes_first_blade(),
-            // Multisampled, the scene is drawn in linear light; the resolve pass encodes.
-            settings.encode_srgb && !settings.msaa.enabled(),
+            // Multisampled or blended, the scene is drawn in linear light; the resolve pass encodes.
+            settings.encode_srgb && !settings.linear_scene(),
         );
         specialization.msaa_samples = settings.msaa.samples;
         if settings.debug_lod {
@@ -300,7 +300,8 @@ impl Renderer {
         let setup = far_field::FarSetup { target, sets, constants, scene, wind: &wind };
         let key = far_field::atlas::bake_key(&cpu_scene.blades);
         let kept = (key, self.far_atlas.upgrade());
-        let built = far_field::passes(&self.device, &setup, (&rings, culling.far_field, &tips), kept)?;
+        let built =
+            far_field::passes(&self.device, &setup, (&rings, (culling.far_field, culling.far_fade), &tips), kept)?;
         self.far = Some(built.draw);
         self.far_atlas = built.atlas;
         for pass in built.passes {

@@ -200,6 +200,13 @@ fn culling(ui: &mut Ui, c: Culling, out: &mut PanelOutput) {
             out.widget(id, ui.radio_value(&mut next.far_field, mesh, label));
         }
     });
+    ui.horizontal(|ui| {
+        use crate::render::far_field::FarFade;
+        ui.label("fade:");
+        for (id, label, fade) in [("fade dither", "dither", FarFade::Dither), ("fade blend", "blend", FarFade::Blend)] {
+            out.widget(id, ui.radio_value(&mut next.far_fade, fade, label));
+        }
+    });
     let released = |s: &egui::Response| s.drag_stopped() || !s.dragged();
     if next != c && released(&slider) && released(&blade_slider) {
         out.act(UiAction::Culling(next));
