@@ -361,6 +361,54 @@ fn the_blended_far_field_is_placed_far_to_near_in_the_keys_cpu_order() {
 }
 
 #[test]
+fn the_band_trails_the_camera_on_a_leash_and_holds_still_while_it_jitters() {
+    // The hysteresis of the band (`far_rings::BandEye`): a camera that crept up to a place sees
+    // the band measured from a point a leash behind it, so its picture there differs from a
+    // fresh renderer's; stepping back by less than the leash and forward again moves the band
+    // not at all (the same picture to the bit, time fixed). A leash of 0 (stateless) sees the
+    // fresh renderer's picture after the same creep.
+    use meadow::render::far_rings::BAND_LEASH;
+    let options = GpuOptions { validation: true, device: DeviceSelector::parse(support::DEVICE) };
+    let (result, messages) = with_device(&options, false, |device| {
+        let scene = Scene::blocks(FieldSpec { size: None, density: 100.0 }, 3);
+        let animation = AnimationSettings { mode: Mode::Static, ..Default::default() };
+        let mut target = OffscreenTarget::new(device, vk::Extent2D { width: 320, height: 180 })?;
+        let camera = scene.camera(Some(CameraChoice::Landscape));
+        let at =
+            |dz: f32| meadow::scene::Camera { position: camera.position + glam::Vec3::new(0.0, 0.0, dz), ..camera };
+        let mut pictures = Vec::new();
+        for leash in [BAND_LEASH, 0.0] {
+            let culling = Culling { view_distance: 600.0, band_leash: leash, ..Culling::default_for(4) };
+            let settings = RenderSettings::offscreen(4, culling);
+            let mut fresh = Renderer::new(Arc::clone(device), &scene, settings, animation.clone())?;
+            fresh.render_offscreen(&mut target, &at(0.0), 0.0)?;
+            let still = target.pixels().to_vec();
+            drop(fresh);
+            let mut crept = Renderer::new(Arc::clone(device), &scene, settings, animation.clone())?;
+            // Up from 3 m behind in 0.25 m steps (the leash is 0.6 m), then 0.4 m back and on again.
+            for step in (0..=12).rev() {
+                crept.render_offscreen(&mut target, &at(0.25 * step as f32), 0.0)?;
+            }
+            let arrived = target.pixels().to_vec();
+            crept.render_offscreen(&mut target, &at(0.4), 0.0)?;
+            crept.render_offscreen(&mut target, &at(0.0), 0.0)?;
+            pictures.push((still, arrived, target.pixels().to_vec()));
+        }
+        // SAFETY: render_offscreen waited for its frames.
+        unsafe { target.destroy(device) };
+        Ok(pictures)
+    });
+    let pictures = result.expect("render");
+    assert_eq!(messages, Some(0));
+    let (still, arrived, jittered) = &pictures[0];
+    assert_ne!(arrived, still, "with a leash, the band trails a camera that crept up");
+    assert_eq!(jittered, arrived, "a step back within the leash and forward again moved the band");
+    let (still, arrived, jittered) = &pictures[1];
+    assert_eq!(arrived, still, "without a leash, the band is the camera's own");
+    assert_eq!(jittered, still);
+}
+
+#[test]
 fn the_band_matches_the_blades_alone_shows_no_seam_and_no_flicker() {
     // `meadow bench --preset far`'s picture figures at 1280 × 720 (its costs are its own), for
     // the dither and blended: the bounds are what the first implementation reached (0.50 % /

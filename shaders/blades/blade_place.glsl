@@ -148,7 +148,7 @@ vec4 shade_blade(BladeInstance blade, float t, vec3 world, vec3 width_dir, vec3 
     if ((RENDER_FLAGS & FLAG_DEBUG_FAR) != 0u) {
         // The far field's band (`render::far_field`): the blades there thin out by the cull's dither.
         float band_start = uintBitsToFloat(frame_values.params.z);
-        float d = length(blade.position - frame_values.camera_position.xyz);
+        float d = length(blade.position - frame_values.band_eye.xyz);
         bool band = band_start > 0.0 && d > band_start;
         diffuse = (band ? vec3(0.85, 0.45, 0.05) : vec3(0.05, 0.45, 0.4)) * mix(0.5, 1.0, t);
     }

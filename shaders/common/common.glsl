@@ -6,7 +6,7 @@
 #include "common/shared.glsl"
 #include "generated/spec_ids.glsl"
 
-// Per-frame constants (std140, 960 bytes).
+// Per-frame constants (std140, 976 bytes).
 struct FrameUniforms {
     mat4 view_proj;         // world -> clip (reversed infinite Z, Vulkan y down)
     vec4 camera_position;   // xyz eye, w simulation time (s)
@@ -36,6 +36,7 @@ struct FrameUniforms {
     uvec4 cull_classes;     // x buckets of every class, y buckets drawn far to near (a bit each), z buckets drawn a row per visible tile, w further classes
     uvec4 cull_class_first; // the first bucket of further class 1, 2, 3, 4
     uvec4 cull_bucket_draws[MAX_LOD_BUCKETS / 2u]; // per bucket of a further class: its draw's index count per instance and first index, two buckets per vector
+    vec4 band_eye;          // xyz the point the far field's band is measured from (`render::far_rings::BandEye`: the culling camera on a leash), w the leash (m)
 };
 
 

@@ -16,4 +16,12 @@ layout(SCENE(Frame), std140) uniform Frame { FrameUniforms frame; };
 #define frame_values frame
 #endif
 
+// The far field's band at distance `d` from the band's eye (`render::far_rings::BandEye`): 0
+// where the blades are whole, from `band_start` to a leash (`band_eye.w`) short of the blade
+// range, 1 past it. The cull thins the blades by it, the far field fades in by it.
+float far_band_ramp(float d, float band_start) {
+    float end = frame_values.lod.x - frame_values.band_eye.w;
+    return clamp((d - band_start) / max(end - band_start, 1e-3), 0.0, 1.0);
+}
+
 #endif

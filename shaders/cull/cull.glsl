@@ -452,9 +452,11 @@ int plant_bucket(Frustum f, BladeInstance blade, uint rank, uint count, vec3 nor
     // blade range the blades thin out, each at its own threshold (rank times the golden ratio,
     // mod 1: spread evenly over any run of ranks, apart from the density LOD's prefix), while the
     // far field's plants fade in (far.frag). Unwidened: the far field takes the coverage over.
+    // Measured from the band's eye (`render::far_rings::BandEye`, the hysteresis), the ramp
+    // ending a leash short of the blade range, so that it ends before the distance test.
     float band_start = uintBitsToFloat(frame.params.z);
-    if (band_start > 0.0 && d > band_start) {
-        float ramp = (d - band_start) / max(frame_values.lod.x - band_start, 1e-3);
+    if (band_start > 0.0) {
+        float ramp = far_band_ramp(distance(blade.position, frame_values.band_eye.xyz), band_start);
         if (fract(float(rank) * 0.61803398875) < ramp) {
             failed = STAT_DENSITY;
             return -1;

@@ -25,6 +25,7 @@ layout(location = 2) in vec3 in_sun;
 layout(location = 3) in vec2 in_fresnel_fog;
 layout(location = 4) in float in_distance;
 layout(location = 5) in float in_force;
+layout(location = 6) in float in_band;
 
 layout(location = 0) out vec4 out_color;
 
@@ -41,7 +42,7 @@ void main() {
     vec2 gy = dFdy(unwrapped);
     gx.x = clamp(gx.x, -TILE, TILE);
     gy.x = clamp(gy.x, -TILE, TILE);
-    float fade = far_band(in_distance) * far_end(in_distance);
+    float fade = far_band(in_band) * far_end(in_distance);
 #ifndef FAR_BLEND
     float stretch = floor(in_along.x * FAR_TILE_WIDTH / FAR_STRETCH);
     if (far_unit(far_hash(ivec2(int(in_ids.x), int(stretch)), 16u + rectangle)) >= fade) {
@@ -76,7 +77,7 @@ void main() {
     }
     if ((RENDER_FLAGS & FLAG_DEBUG_FAR) != 0u) {
         // The far field's plants (`--debug-view far`), lighter in the band.
-        albedo = far_band(in_distance) < 1.0 ? vec3(0.9, 0.35, 0.8) : vec3(0.6, 0.05, 0.5);
+        albedo = far_band(in_band) < 1.0 ? vec3(0.9, 0.35, 0.8) : vec3(0.6, 0.05, 0.5);
     }
     float l = clamp(mean_height / a, 0.0, 1.0);
     float l2 = l * l;
@@ -85,7 +86,7 @@ void main() {
     lit += FRESNEL_KS * l6 * in_fresnel_fog.x;
     vec3 fogged = mix(frame_values.sky_color.rgb, lit, in_fresnel_fog.y);
 #ifdef FAR_BLEND
-    // The scene is linear here (`RenderSettings::linear_scene`): encode_output leaves it so.
+    // The scene is linear here (`render::settings::RenderSettings::linear_scene`): encode_output leaves it so.
     out_color = vec4(encode_output(fogged) * alpha, alpha);
 #else
     out_color = vec4(encode_output(fogged), 1.0);

@@ -30,6 +30,7 @@ layout(location = 2) out vec3 out_sun;     // the direction terms: max(N·L, 0) 
 layout(location = 3) out vec2 out_fresnel_fog; // x (1 - N_L·V)^10, y the fog's transmittance
 layout(location = 4) out float out_distance; // from the camera (m)
 layout(location = 5) out float out_force;    // `--debug-view force`: the wind's speed in the keyframes' force units
+layout(location = 6) out float out_band;     // from the band's eye (m, `render::far_rings::BandEye`)
 
 // The tip's move per metre of height under wind `w` (m/s, xz), from the response's table.
 vec3 tip_lean(vec2 w) {
@@ -73,10 +74,11 @@ void main() {
     float from_axis = outer ? ends.y : ends.x;
     vec2 root = plant.centre_width.xz + dir * from_axis;
     // A rectangle wholly nearer than the band's start would be wholly discarded by the fade
-    // (far.frag, by the distance in 3-D): not rasterized at all. Its ends' distance across the
-    // ground, and the eye's height over its top at most.
-    float across = max(length(plant.centre_width.xz + dir * ends.x - eye), length(plant.centre_width.xz + dir * ends.y - eye));
-    float up = abs(frame_values.camera_position.y - plant.centre_width.y) + far.reach.y;
+    // (far.frag, by the distance in 3-D from the band's eye): not rasterized at all. Its ends'
+    // distance across the ground, and the band's eye's height over its top at most.
+    vec3 band = frame_values.band_eye.xyz;
+    float across = max(length(plant.centre_width.xz + dir * ends.x - band.xz), length(plant.centre_width.xz + dir * ends.y - band.xz));
+    float up = abs(band.y - plant.centre_width.y) + far.reach.y;
     float farther_end = sqrt(across * across + up * up);
     // A rectangle seen nearly edge-on covers a sliver of pixels at the cost of whole quads: the
     // plant's other rectangles, 60° away, cover for it.
@@ -108,6 +110,7 @@ void main() {
     float c = 1.0 - clamp(dot(ground_normal(root), normalize(to_camera)), 0.0, 1.0);
     float c2 = c * c;
     out_distance = length(to_camera);
+    out_band = length(world - band);
     float fog = fog_transmittance(world, frame_values.camera_position, frame_values.sky_color);
     out_fresnel_fog = vec2(c2 * c2 * c2 * c2 * c2, fog * horizon_haze(out_distance, far.reach.x));
     gl_Position = frame.view_proj * vec4(world, 1.0);

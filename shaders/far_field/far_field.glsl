@@ -57,9 +57,10 @@ float far_unit(uint h) {
     return float(h >> 8u) / 16777216.0;
 }
 
-// The band's ramp at distance d: 0 where the blades are whole, 1 at the blade range and past it.
+// The band's ramp at distance d from the band's eye: 0 where the blades are whole, 1 a leash short
+// of the blade range and past it (the cull's, `far_band_ramp` of common/frame.glsl).
 float far_band(float d) {
-    return clamp((d - far.rings.z) / max(far.rings.w - far.rings.z, 1e-3), 0.0, 1.0);
+    return far_band_ramp(d, far.rings.z);
 }
 
 // The far field's end: whole to 90 % of the view distance, gone at it.

@@ -91,7 +91,8 @@ bool place(uint ring, uint at, out FarPlant plant) {
     vec3 centre = vec3(p.x, ground_height(p), p.y);
     float radius = 0.5 * width + far.reach.y;
     float d = length(centre - frame_values.cull_eye.xyz);
-    if (d - radius > far.reach.x || d + radius < far.rings.z) {
+    float from_band = length(centre - frame_values.band_eye.xyz);
+    if (d - radius > far.reach.x || from_band + radius < far.rings.z) {
         return false;
     }
     if (!sphere_in_view(centre + vec3(0.0, 0.5 * far.reach.y, 0.0), radius)) {

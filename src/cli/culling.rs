@@ -117,6 +117,7 @@ impl CullArgs {
                 FadeArg::Dither => FarFade::Dither,
                 FadeArg::Blend => FarFade::Blend,
             },
+            band_leash: crate::render::far_rings::BAND_LEASH,
             lod_scale: self.lod_scale,
             // A row per tile only where the animation needs it (`--animation sine-cluster`,
             // `Mode::draw_rows`).

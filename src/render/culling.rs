@@ -139,6 +139,9 @@ pub struct Culling {
     pub far_field: crate::render::far_rings::FarField,
     /// How the far field meets the blades across the band.
     pub far_fade: crate::render::far_rings::FarFade,
+    /// How far the band's eye trails the culling camera, as a share of the band's width
+    /// (`far_rings::BandEye`, `FarRings::leash`; 0: stateless).
+    pub band_leash: f32,
     /// Scales the full-density distance and divides the pixels per segment: above 1, more detail.
     pub lod_scale: f32,
     /// How the blade class issues its draws: once per LOD bucket, or once per visible tile and
@@ -167,6 +170,7 @@ impl Culling {
             blade_distance: DEFAULT_BLADE_DISTANCE,
             far_field: Default::default(),
             far_fade: Default::default(),
+            band_leash: crate::render::far_rings::BAND_LEASH,
             lod_scale: 1.0,
             rows: DrawRows::PerBucket,
             ground_bounds: true,

@@ -45,6 +45,38 @@ pub enum FarFade {
     Blend,
 }
 
+/// How far the band's eye trails the culling camera, as a share of the band's width
+/// (`Culling::band_leash`'s default): 0.6 m for the default 150 m of blades.
+pub const BAND_LEASH: f32 = 0.02;
+
+/// The point the band is measured from (the hysteresis of `--fade`): the culling camera on a
+/// leash. It stays put while the camera moves within the leash of it and trails the camera at the
+/// leash's length beyond, so a camera that creeps back and forth by less than the leash crosses no
+/// plant's threshold twice, and one that moves on shifts the band with it. State, one point kept
+/// by the renderer; a leash of 0 is the stateless band (the camera's own distances).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct BandEye {
+    at: Option<glam::DVec3>,
+}
+
+impl BandEye {
+    /// Follow `eye` (world) on a leash of `leash` m; returns where the band's eye now is.
+    pub fn follow(&mut self, eye: glam::DVec3, leash: f64) -> glam::DVec3 {
+        let at = match self.at {
+            Some(at) if at.distance(eye) <= leash => at,
+            Some(at) => eye + (at - eye).normalize_or_zero() * leash,
+            None => eye,
+        };
+        self.at = Some(at);
+        at
+    }
+
+    /// Where it is, if it has followed a camera.
+    pub fn at(&self) -> Option<glam::DVec3> {
+        self.at
+    }
+}
+
 /// The band where blades thin out and the far field fades in starts at this share of the blade
 /// range and ends at the blade range.
 pub const BAND_START: f32 = 0.8;
@@ -79,6 +111,12 @@ pub struct FarRings {
 }
 
 impl FarRings {
+    /// How far the band's eye trails the culling camera (m) on a leash of `share` of the band's
+    /// width (`BandEye`).
+    pub fn leash(&self, share: f32) -> f32 {
+        share * (self.blade_range - self.band_start)
+    }
+
     /// The rings for blades out to `blade_range` and the ground out to `view_distance`; `None`
     /// when the ground ends where the blades do.
     pub fn new(blade_range: f32, view_distance: f32) -> Option<Self> {
@@ -109,6 +147,24 @@ impl FarRings {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_band_eye_stays_within_its_leash_and_trails_beyond_it() {
+        use glam::DVec3;
+        let mut eye = BandEye::default();
+        let start = DVec3::new(10.0, 2.0, -5.0);
+        assert_eq!(eye.follow(start, 0.5), start, "the first camera is where it starts");
+        // Back and forth within the leash: it stays.
+        for x in [0.3, -0.2, 0.45, 0.0] {
+            assert_eq!(eye.follow(start + DVec3::X * x, 0.5), start);
+        }
+        // On past the leash: it trails at the leash's length.
+        let far = start + DVec3::new(3.0, 0.0, 4.0);
+        let at = eye.follow(far, 0.5);
+        assert!((at.distance(far) - 0.5).abs() < 1e-12 && at.distance(start) > 4.0, "{at}");
+        // A leash of 0 is the camera itself.
+        assert_eq!(eye.follow(start, 0.0), start);
+    }
 
     #[test]
     fn rings_keep_their_plants_and_reach_the_view_distance() {

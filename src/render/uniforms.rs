@@ -67,6 +67,9 @@ pub struct FrameUniforms {
     /// Per bucket of a further class: its instance's index count and first index, two buckets
     /// per vector.
     pub cull_bucket_draws: [UVec4; 4],
+    /// xyz the point the far field's band is measured from (`render::far_rings::BandEye`: the
+    /// culling camera on a leash), relative to O for a block field; w the leash (m).
+    pub band_eye: Vec4,
 }
 
 impl FrameUniforms {
@@ -86,7 +89,7 @@ impl FrameUniforms {
     }
 }
 
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 960);
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 976);
 const _: () = assert!(std::mem::offset_of!(FrameUniforms, cull_view_proj) == 160);
 const _: () = assert!(std::mem::offset_of!(FrameUniforms, cull_lod) == 288);
 const _: () = assert!(std::mem::offset_of!(FrameUniforms, camera_position) == 64);

@@ -101,6 +101,9 @@ pub struct Renderer {
     /// The atlas of the far field last built: a rebuilt graph whose blades bake the same atlas
     /// draws from it with no bake (`far_field::passes`).
     far_atlas: std::rc::Weak<crate::render::far_field::atlas::Atlas>,
+    /// The point the far field's band is measured from: the culling camera on a leash (world),
+    /// kept across frames and rebuilds.
+    band_eye: crate::render::far_rings::BandEye,
 }
 
 impl Renderer {
@@ -145,6 +148,7 @@ impl Renderer {
             response_passes: Vec::new(),
             far: None,
             far_atlas: std::rc::Weak::new(),
+            band_eye: Default::default(),
             poses: None,
             layouts: SceneLayouts::default(),
             graph: Graph::new(),
@@ -402,6 +406,8 @@ impl Renderer {
 
     /// Write the uniforms, forces and overlay of `slot`'s frame; returns the uniforms.
     fn prepare_frame(&mut self, slot: usize, target: &TargetView, camera: &Camera, time: f32) -> Result<FrameUniforms> {
+        let eye = self.cull_camera.as_ref().unwrap_or(camera).position.as_dvec3();
+        self.band_eye.follow(eye, f64::from(self.band_leash()));
         let uniforms = self.frame_uniforms(camera, time, target.extent);
         self.scene_frames[slot].uniforms.write(0, &[uniforms]);
         self.update_wind(slot, camera, time);

@@ -57,6 +57,12 @@ impl Renderer {
         let cull_camera = self.cull_camera.as_ref().map_or(*camera, relative);
         let frozen = self.cull_camera.is_some();
         culling.fill_uniforms(&mut uniforms, &scene.tile_grid, &cull_camera, frozen, (aspect, near), extent.height);
+        // The band's eye (`far_rings::BandEye`), the culling camera's own before any frame.
+        let band = self.band_eye.at().map_or(cull_camera.position, |at| {
+            let o = origin.map_or(glam::DVec2::ZERO, |o| o.world);
+            glam::DVec3::new(at.x - o.x, at.y, at.z - o.y).as_vec3()
+        });
+        uniforms.band_eye = band.extend(self.band_leash());
         // Every draw class's buckets (`build_graph` placed them without error).
         if let Ok(layout) = self.class_layout() {
             layout.fill_uniforms(&mut uniforms);
@@ -84,6 +90,15 @@ impl Renderer {
         }
         let culling = &self.settings.culling;
         culling.far_rings().map_or((0.0, culling.view_distance), |rings| (rings.band_start, rings.view_distance))
+    }
+
+    /// How far the far field's band's eye trails the culling camera (m; 0 without a far field).
+    pub(super) fn band_leash(&self) -> f32 {
+        let culling = &self.settings.culling;
+        match self.far_band().0 > 0.0 {
+            true => culling.far_rings().map_or(0.0, |rings| rings.leash(culling.band_leash)),
+            false => 0.0,
+        }
     }
 
     /// The fog's density per metre of the next frames (`--fog`, the viewer's slider): uniforms only.

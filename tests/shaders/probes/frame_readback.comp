@@ -1,7 +1,7 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // Test shader: reads every field of `FrameUniforms` through the std140 declaration in common.glsl
-// and writes them as 240 words, then the specialization constants as the shaders see them (by
+// and writes them as 244 words, then the specialization constants as the shaders see them (by
 // `SPEC(NAME)` id, build.rs's) and a few shared.glsl constants, so the test can compare them with what Rust wrote
 // and with the constants build.rs generated (`render::gpu_constants`).
 #include "common/common.glsl"
@@ -12,7 +12,7 @@ layout(set = 0, binding = 0, std140) uniform Frame { FrameUniforms frame; };
 layout(set = 0, binding = 1, std430) writeonly buffer Fields { uint fields[]; };
 layout(constant_id = SPEC(KEYFRAME_UVEC4S)) const uint KEYFRAME_UVEC4S = 4096u;
 
-const uint FRAME_WORDS = 240u;     // 960 bytes
+const uint FRAME_WORDS = 244u;     // 976 bytes
 const uint SPEC_WORDS = 22u;       // SPEC_* ids 0..=21
 
 void put_vec4(inout uint o, vec4 v) {
@@ -71,6 +71,7 @@ void main() {
     for (uint i = 0u; i < MAX_LOD_BUCKETS / 2u; i++) {
         put_uvec4(o, frame.cull_bucket_draws[i]);
     }
+    put_vec4(o, frame.band_eye);
 
     fields[FRAME_WORDS + SPEC(KEYFRAME_UVEC4S)] = KEYFRAME_UVEC4S;
     fields[FRAME_WORDS + SPEC(ANIMATION_MODE)] = ANIMATION_MODE;
