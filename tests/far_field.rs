@@ -213,6 +213,40 @@ fn around_a_point_source_the_far_plants_lean_away_as_the_blades_do() {
 }
 
 #[test]
+fn a_cut_across_the_far_field_shortens_its_plants() {
+    // Blades to 12 m, far plants from 7 m; a cut 8 m wide sweeps across the view 25 m ahead, past
+    // the blades. With the far field the picture changes where it passed (the far plants read the
+    // pressed map); without it nothing changes at all (the blades end short of the trail).
+    let view = [
+        "--field",
+        "infinite",
+        "--blade-distance",
+        "12",
+        "--view-distance",
+        "200",
+        "--camera",
+        "0,3,0,0,-8",
+        "--fog",
+        "0.001",
+        "--no-gusts",
+        "--size",
+        "320x180",
+        "--time",
+        "4",
+    ];
+    let cut: &[&str] = &["--cut", "sphere:-30,0,-25,4,15,0,0"];
+    let changed = |extra: &[&str], name: &str| {
+        let (_, whole) = render(&format!("{name}-whole"), &[view.as_slice(), extra].concat(), &[]);
+        let (_, trail) = render(&format!("{name}-cut"), &[view.as_slice(), extra, cut].concat(), &[]);
+        whole.rgb.chunks_exact(3).zip(trail.rgb.chunks_exact(3)).filter(|(a, b)| a != b).count()
+    };
+    let far = changed(&[], "far-cut");
+    let off = changed(&["--far-field", "off"], "off-cut");
+    assert!(far > 200, "the cut changed {far} pixels of the far field");
+    assert_eq!(off, 0, "without a far field the cut, past the blades, changed the picture");
+}
+
+#[test]
 fn a_covering_map_of_zero_grows_no_far_plant() {
     let dir = scratch("far-field-cover");
     for (name, grey) in [("bare", 0u8), ("full", 255u8)] {

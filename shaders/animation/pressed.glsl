@@ -6,7 +6,8 @@
 // direction times its amount, 0 to 1), that press's time, and the time of the last cut; the
 // bend recovers as a critically damped spring and the cut regrows, both in closed form
 // (`pressed_bend`, `pressed_length`), so any frame rate gives the same map. The press pass writes
-// it (animation/press.comp), the push-out pass reads it for every posed blade (push_out.comp).
+// it (animation/press.comp), the push-out pass reads it for every posed blade (push_out.comp),
+// the far field for its plants' fragments (far_field/far.frag, variant `pressed`).
 // Its two resources are in the includer's own set, from binding PRESSED_BINDING, by name
 // (`PressedCells`, `PressedFrame`).
 #ifndef MEADOW_PRESSED_GLSL
@@ -14,6 +15,10 @@
 
 #ifndef PRESSED_BINDING
 #define PRESSED_BINDING 1
+#endif
+// `readonly` for a reader in a stage that may not write storage (the far field's fragments).
+#ifndef PRESSED_ACCESS
+#define PRESSED_ACCESS
 #endif
 
 const uint PRESSED_DIMS = 512u;     // render::animation::pressed::DIMS
@@ -25,7 +30,7 @@ const float PRESSED_LEAN_DEG = 70.0; // render::animation::pressed::LEAN_DEG: a 
 
 // A cell: the bend at the press (x, z as half floats), the press's time, the cut's time, and its
 // tag (0: never written).
-layout(set = SET_PASS, binding = PRESSED_BINDING, std430) buffer PressedCells { uvec4 pressed_cells[]; };
+layout(set = SET_PASS, binding = PRESSED_BINDING, std430) PRESSED_ACCESS buffer PressedCells { uvec4 pressed_cells[]; };
 
 // `render::animation::pressed::PressedFrame`, written by the CPU for the frame.
 layout(set = SET_PASS, binding = PRESSED_BINDING + 1, std430) readonly buffer PressedFrame {

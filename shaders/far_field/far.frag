@@ -9,10 +9,20 @@
 //
 // Its variant `blend` (`--fade blend`): no hashed test; the coverage times the fades is the
 // alpha, the colour premultiplied by it, blended into the linear scene in the placement's order.
+// Its variant `pressed` (a pressed map, `render::animation::pressed`, with colliders or cuts): the
+// plants are as tall as the map leaves the blades at the ground under each point, cut to their
+// length and lowered by the press's lean, the atlas squeezed into that height.
 // variant blend: FAR_BLEND
+// variant pressed: FAR_PRESSED
+// variant blend_pressed: FAR_BLEND FAR_PRESSED
 #include "common/bindings.glsl"
 #include "common/lighting.glsl"
 #include "far_field/far_field.glsl"
+#ifdef FAR_PRESSED
+#define PRESSED_BINDING 5
+#define PRESSED_ACCESS readonly
+#include "animation/pressed.glsl"
+#endif
 
 // The atlas's two images (`render::far_field::atlas`): the premultiplied albedo and coverage, the
 // premultiplied height along the blade and coverage.
@@ -26,6 +36,7 @@ layout(location = 3) in vec2 in_fresnel_fog;
 layout(location = 4) in float in_distance;
 layout(location = 5) in float in_force;
 layout(location = 6) in float in_band;
+layout(location = 7) in vec2 in_root;
 
 layout(location = 0) out vec4 out_color;
 
@@ -34,7 +45,17 @@ void main() {
     // The footprint first: derivatives are defined only while every fragment of the quad runs.
     // The top of a tile is the plants' top.
     float tile = float(in_ids.y & 3u);
-    vec2 unwrapped = vec2((tile + in_along.x) / float(FAR_TILES), 1.0 - in_along.y);
+    // The plants' top over the ground here, a share of theirs (1: as grown, unpressed).
+    float top = 1.0;
+#ifdef FAR_PRESSED
+    if (pressed_counts.y != 0u) {
+        vec3 pressed = pressed_at(in_root);
+        // press_points' lean: the chord turned by 2 asin(amount sin(lean / 2)).
+        float lean = 2.0 * asin(min(length(pressed.xy), 1.0) * sin(0.5 * radians(PRESSED_LEAN_DEG)));
+        top = max(pressed.z * cos(lean), 1e-3);
+    }
+#endif
+    vec2 unwrapped = vec2((tile + in_along.x) / float(FAR_TILES), 1.0 - in_along.y / top);
     // A tile repeats across: a footprint wider than a tile averages the tile, so it is clamped to
     // one (a rectangle seen edge-on keeps its height profile instead of taking the coarsest level).
     const float TILE = 1.0 / float(FAR_TILES);
@@ -43,6 +64,9 @@ void main() {
     gx.x = clamp(gx.x, -TILE, TILE);
     gy.x = clamp(gy.x, -TILE, TILE);
     float fade = far_band(in_band) * far_end(in_distance);
+    if (in_along.y > top) {
+        discard;
+    }
 #ifndef FAR_BLEND
     float stretch = floor(in_along.x * FAR_TILE_WIDTH / FAR_STRETCH);
     if (far_unit(far_hash(ivec2(int(in_ids.x), int(stretch)), 16u + rectangle)) >= fade) {

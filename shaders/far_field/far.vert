@@ -31,6 +31,7 @@ layout(location = 3) out vec2 out_fresnel_fog; // x (1 - N_L·V)^10, y the fog's
 layout(location = 4) out float out_distance; // from the camera (m)
 layout(location = 5) out float out_force;    // `--debug-view force`: the wind's speed in the keyframes' force units
 layout(location = 6) out float out_band;     // from the band's eye (m, `render::far_rings::BandEye`)
+layout(location = 7) out vec2 out_root;      // the ground under the point (x, z relative to O): the pressed map's place
 
 // The tip's move per metre of height under wind `w` (m/s, xz), from the response's table.
 vec3 tip_lean(vec2 w) {
@@ -111,6 +112,7 @@ void main() {
     float c2 = c * c;
     out_distance = length(to_camera);
     out_band = length(world - band);
+    out_root = root;
     float fog = fog_transmittance(world, frame_values.camera_position, frame_values.sky_color);
     out_fresnel_fog = vec2(c2 * c2 * c2 * c2 * c2, fog * horizon_haze(out_distance, far.reach.x));
     gl_Position = frame.view_proj * vec4(world, 1.0);

@@ -73,6 +73,9 @@ pub const FAR_FRAG: Shader = spirv_shader!("far_field/far.frag");
 pub const FAR_BLEND_VERT: Shader = spirv_shader!("far_field/far.vert.blend");
 /// Its variant `blend` (`--fade blend`): the coverage and the fades as alpha, premultiplied.
 pub const FAR_BLEND_FRAG: Shader = spirv_shader!("far_field/far.frag.blend");
+/// Its variants `pressed` and `blend_pressed`: the plants as tall as the pressed map leaves them.
+pub const FAR_PRESSED_FRAG: Shader = spirv_shader!("far_field/far.frag.pressed");
+pub const FAR_BLEND_PRESSED_FRAG: Shader = spirv_shader!("far_field/far.frag.blend_pressed");
 /// The far field's atlas bake: the block's blades from the side.
 pub const ATLAS_BAKE_VERT: Shader = spirv_shader!("far_field/atlas_bake.vert");
 /// The far field's atlas bake: albedo or height, alpha-tested.

@@ -28,6 +28,8 @@ pub enum Access {
     VertexShaderSampledRead,
     /// Image sampled in the fragment shader.
     FragmentShaderSampledRead,
+    /// Storage buffer read in the fragment shader.
+    FragmentShaderStorageRead,
     /// Storage buffer or image read in a compute shader.
     ComputeShaderRead,
     /// Image sampled, or uniform texel buffer fetched, in a compute shader.
@@ -84,6 +86,7 @@ impl Access {
             Access::FragmentShaderSampledRead => {
                 (S::FRAGMENT_SHADER, A::SHADER_SAMPLED_READ, L::SHADER_READ_ONLY_OPTIMAL)
             }
+            Access::FragmentShaderStorageRead => (S::FRAGMENT_SHADER, A::SHADER_STORAGE_READ, L::GENERAL),
             Access::ComputeShaderRead => (S::COMPUTE_SHADER, A::SHADER_STORAGE_READ, L::GENERAL),
             Access::ComputeShaderSampledRead => {
                 (S::COMPUTE_SHADER, A::SHADER_SAMPLED_READ, L::SHADER_READ_ONLY_OPTIMAL)

@@ -3,7 +3,9 @@
 //! plant's rectangles from an index list of one plant, each instance one plant.
 //!
 //! Reads: the placed plants and their draw, the atlas (every level, sampled), the ground, this
-//! frame's wind at the cluster corners and the emitters (the lean), its parameters. Writes: the
+//! frame's wind at the cluster corners and the emitters (the lean), its parameters; with a
+//! pressed map (colliders or cuts), its cells and its frame block (after the parameters, in the
+//! pass's one uniform block). Writes: the
 //! scene's colour and depth (opaque, depth-tested: the dither needs no order). With `--fade
 //! blend`, the colour alone: blended with premultiplied alpha into the linear scene, the plants
 //! in the placement's far-to-near order and each plant's rectangles far to near (the shaders'
@@ -16,6 +18,7 @@ use std::rc::Rc;
 use super::atlas::Atlas;
 use super::{pieces, plant_indices, FarFade, FarField, FarParams};
 use crate::error::Result;
+use crate::render::animation::pressed::MapReader;
 use crate::render::graph::{Declaration, Pass, PassContext, PassUniforms};
 use crate::render::passes::{self, PipelineTarget};
 use crate::render::recording::{PassSet, SceneSets};
@@ -43,7 +46,13 @@ pub struct FarPass {
     wind: Vec<vk::Buffer>,
     /// Blended (`--fade blend`): the depth is read, not written.
     blend: bool,
+    /// The pressed map, when there is one.
+    pressed: Option<MapReader>,
 }
+
+/// Where the pressed map's frame block starts in the pass's uniform block: after the parameters,
+/// at the largest storage-buffer offset alignment Vulkan allows.
+const PRESSED_OFFSET: u64 = 256 * (std::mem::size_of::<FarParams>() as u64).div_ceil(256);
 
 /// What the far pass is built from.
 pub struct FarSetup<'a> {
@@ -57,6 +66,46 @@ pub struct FarSetup<'a> {
     pub scene: &'a SceneGpu,
     /// Each frame's corner buffer.
     pub wind: &'a [vk::Buffer],
+    /// The pressed map, when the graph has one (`render::animation::pressed`).
+    pub pressed: Option<MapReader>,
+}
+
+/// The draw's shaders: blended or dithered, reading a pressed map or not.
+fn stages(blend: bool, pressed: bool) -> (crate::vk::profile::Shader, crate::vk::profile::Shader) {
+    let vertex = if blend { shaders::FAR_BLEND_VERT } else { shaders::FAR_VERT };
+    let fragment = match (blend, pressed) {
+        (false, false) => shaders::FAR_FRAG,
+        (true, false) => shaders::FAR_BLEND_FRAG,
+        (false, true) => shaders::FAR_PRESSED_FRAG,
+        (true, true) => shaders::FAR_BLEND_PRESSED_FRAG,
+    };
+    (vertex, fragment)
+}
+
+/// The draw's set: its parameters and, with a pressed map, the map's frame block (both in the
+/// pass's uniform block), the plants, the atlas's images and the map's cells.
+fn pass_set(
+    device: &Device,
+    desc: &crate::render::recording::PassSetDesc,
+    uniforms: &PassUniforms,
+    (plants, atlas): (vk::DescriptorBufferInfo, &super::atlas::AtlasHandles),
+    pressed: Option<&MapReader>,
+) -> Result<PassSet> {
+    PassSet::new(device, desc, |slot| {
+        let block = |offset, range| vk::DescriptorBufferInfo { offset, range, ..uniforms.descriptor(slot) };
+        let params = block(0, std::mem::size_of::<FarParams>() as u64);
+        let mut named = vec![
+            ("FarParamsBlock", Descriptor::Buffer(params)),
+            ("FarPlants", Descriptor::Buffer(plants)),
+            ("far_atlas", atlas.sampled(0)),
+            ("far_heights", atlas.sampled(1)),
+        ];
+        if let Some(map) = pressed {
+            named.push(map.resource());
+            named.push(("PressedFrame", Descriptor::Buffer(block(PRESSED_OFFSET, MapReader::FRAME_BYTES))));
+        }
+        named
+    })
 }
 
 impl FarPass {
@@ -74,25 +123,16 @@ impl FarPass {
         let owned = Guard::new(device, owned);
         let atlas = owned.handles();
         let blend = fade == FarFade::Blend;
-        let (vertex, fragment) = match blend {
-            true => (shaders::FAR_BLEND_VERT, shaders::FAR_BLEND_FRAG),
-            false => (shaders::FAR_VERT, shaders::FAR_FRAG),
-        };
+        let pressed = setup.pressed.clone();
+        let (vertex, fragment) = stages(blend, pressed.is_some());
         let (vertex, fragment) = (vertex.code(device.profile), fragment.code(device.profile));
-        let size = std::mem::size_of::<FarParams>() as u64;
+        let size = match pressed {
+            Some(_) => PRESSED_OFFSET + MapReader::FRAME_BYTES,
+            None => std::mem::size_of::<FarParams>() as u64,
+        };
         let uniforms = Guard::new(device, PassUniforms::new(device, name, size, setup.sets.frames)?);
-        let set = PassSet::new(
-            device,
-            &setup.sets.desc(name, &[("far vertex", vertex), ("far fragment", fragment)]),
-            |slot| {
-                vec![
-                    ("FarParamsBlock", uniforms.resource(slot)),
-                    ("FarPlants", Descriptor::Buffer(placed.0)),
-                    ("far_atlas", atlas.sampled(0)),
-                    ("far_heights", atlas.sampled(1)),
-                ]
-            },
-        )?;
+        let stages = [("far vertex", vertex), ("far fragment", fragment)];
+        let set = pass_set(device, &setup.sets.desc(name, &stages), &uniforms, (placed.0, &atlas), pressed.as_ref())?;
         let set = Guard::new(device, set);
         let mut batch = UploadBatch::new(device);
         let list = plant_indices(pieces(mesh, fade));
@@ -135,6 +175,7 @@ impl FarPass {
             ground: [scene.ground.texels.raw, scene.ground.cover.0.raw],
             wind: setup.wind.to_vec(),
             blend,
+            pressed,
         })
     }
 }
@@ -158,6 +199,9 @@ impl Pass for FarPass {
         for &level in &self.atlas {
             declaration = declaration.uses(level, Access::FragmentShaderSampledRead);
         }
+        if let Some(map) = &self.pressed {
+            declaration = declaration.buffer(map.cells, Access::FragmentShaderStorageRead);
+        }
         Some(declaration)
     }
 
@@ -175,7 +219,12 @@ impl Pass for FarPass {
     }
 
     fn uniforms(&self, _ctx: &PassContext) -> Option<(&PassUniforms, Vec<u8>)> {
-        Some((&self.uniforms, bytemuck::bytes_of(&self.params).to_vec()))
+        let mut bytes = bytemuck::bytes_of(&self.params).to_vec();
+        if let Some(map) = &self.pressed {
+            bytes.resize(PRESSED_OFFSET as usize, 0);
+            bytes.extend(map.frame_bytes(Default::default()));
+        }
+        Some((&self.uniforms, bytes))
     }
 
     unsafe fn destroy(self: Box<Self>, device: &Device) {

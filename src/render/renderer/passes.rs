@@ -297,7 +297,9 @@ impl Renderer {
             frames: self.ring.slots(),
         };
         let wind: Vec<vk::Buffer> = self.forces.iter().map(|f| f.corners.raw).collect();
-        let setup = far_field::FarSetup { target, sets, constants, scene, wind: &wind };
+        // The pressed map, where the blades read it (the push-out pass is in the graph).
+        let pressed = self.pressed.as_ref().filter(|_| response.blade_input().pose_records()).map(|map| map.reader());
+        let setup = far_field::FarSetup { target, sets, constants, scene, wind: &wind, pressed };
         let key = far_field::atlas::bake_key(&cpu_scene.blades);
         let kept = (key, self.far_atlas.upgrade());
         let built =
