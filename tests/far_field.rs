@@ -298,6 +298,41 @@ fn the_atlas_is_baked_once_and_its_levels_keep_the_coverage() {
 }
 
 #[test]
+fn flowers_are_baked_into_the_atlas() {
+    // `--flowers`: the blades the flowers claim are baked as stems under heads, so the atlas is
+    // another (its coverage moves), and its levels still keep level 0's mean coverage.
+    let options = GpuOptions { validation: true, device: DeviceSelector::parse(support::DEVICE) };
+    let (result, messages) = with_device(&options, false, |device| {
+        let mut coverages = Vec::new();
+        for flowers in [None, Some(60.0)] {
+            let mut scene = Scene::blocks(FieldSpec { size: None, density: 100.0 }, 3);
+            if let Some(per_m2) = flowers {
+                let flowers = meadow::scene::flowers::Flowers::new(per_m2).expect("flowers");
+                scene = scene.with_flowers(flowers)?;
+            }
+            let culling = Culling { view_distance: 400.0, ..Culling::default_for(4) };
+            let animation = AnimationSettings { mode: Mode::Static, ..Default::default() };
+            let settings = RenderSettings::offscreen(4, culling);
+            let mut renderer = Renderer::new(Arc::clone(device), &scene, settings, animation)?;
+            let mut target = OffscreenTarget::new(device, vk::Extent2D { width: 64, height: 36 })?;
+            renderer.render_offscreen(&mut target, &scene.camera(Some(CameraChoice::Landscape)), 0.0)?;
+            coverages.push(renderer.far_atlas_coverage()?.expect("a far field"));
+            drop(renderer);
+            // SAFETY: render_offscreen waited for its frame.
+            unsafe { target.destroy(device) };
+        }
+        Ok(coverages)
+    });
+    let coverages = result.expect("render");
+    assert_eq!(messages, Some(0));
+    let (grass, flowers) = (coverages[0][0], coverages[1][0]);
+    assert!((grass - flowers).abs() > 0.005 * grass, "the atlas with flowers: {flowers:.4} against {grass:.4}");
+    for (level, &mean) in coverages[1].iter().enumerate() {
+        assert!((mean - flowers).abs() <= 0.02 * flowers, "level {level}: {mean:.4} against {flowers:.4}");
+    }
+}
+
+#[test]
 fn a_rebuilt_renderer_keeps_the_baked_atlas() {
     // The viewer rebuilds the renderer for a new view distance or mesh: the blades, and so the
     // bake's key, are the same, so the new graph draws from the atlas the old one baked, with no

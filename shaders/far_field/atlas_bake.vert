@@ -7,9 +7,20 @@
 // root's place in the metre. One blade per instance, a strip of BAKE_SEGMENTS segments (thesis
 // 4.1's two Bézier splines). The push constant says the tile (low byte) and what is written
 // (`output`, high byte: 0 the albedo, 1 the height along the blade).
+//
+// With flowers (`--flowers`, FLOWER_SHARE), the blades the flowers claim at their share are
+// flowers here too (`scene::flowers`): a stem, 4 mm wide and of the flower's own height, in the
+// blade's place; and the variant `heads` draws each one's head, the far head of the flowers' pass
+// (a square as wide as the star's mean radius, facing along the stem's tip), 4 vertices a blade.
+// The claim is a hash of the blade in the block at the share under full cover: the atlas holds the
+// flowers' mean mix, as the far field stands for the mean of the grass.
+// variant heads: BAKE_HEADS
 #include "common/bindings.glsl"
 #include "common/bezier.glsl"
+#include "common/field.glsl"
+#include "common/ground.glsl"
 #include "blades/blade_place.glsl"
+#include "flowers/flowers.glsl"
 #include "far_field/far_field.glsl"
 
 layout(push_constant) uniform BakePush {
@@ -19,32 +30,66 @@ layout(push_constant) uniform BakePush {
 const uint BAKE_SEGMENTS = 8u;
 
 layout(location = 0) out vec2 out_uv;        // u across the blade, v root to tip
-layout(location = 1) flat out uvec2 out_blade; // x the blade's variation, y what is written
+layout(location = 1) flat out uvec2 out_blade; // x the blade's variation (a head: its colour), y what is written (| BAKE_STEM)
+
+// Bit of out_blade.y: a flower's stem, no outline.
+const uint BAKE_STEM = 0x100u;
+
+// Whether the block's blade `index` is a flower in the atlas, and its looks.
+bool baked_flower(uint index, out FlowerLooks looks) {
+    uint hash = flower_hash(FLOWER_STORED_KEY ^ 0xa71a5u, index);
+    looks = flower_looks(hash);
+    return FLOWER_SHARE != 0u && float(hash >> 8u) / 16777216.0 < uintBitsToFloat(FLOWER_SHARE);
+}
 
 void main() {
     uint tile = bake.code & 0xffu;
     uint blade_index = uint(gl_InstanceIndex) / 3u;
     float copy = float(int(uint(gl_InstanceIndex) % 3u) - 1);
     BladeInstance blade = blade_record(blade_index);
+    FlowerLooks looks;
+    bool flower = baked_flower(blade_index, looks);
+#ifdef BAKE_HEADS
+    uint level = BAKE_SEGMENTS;
+    float side = 0.0;
+#else
     uint level = uint(gl_VertexIndex) >> 1;
     float side = float(uint(gl_VertexIndex) & 1u);
+#endif
     float t = float(level) / float(BAKE_SEGMENTS);
     out_uv = vec2(side, t);
-    out_blade = uvec2(blade.variation, bake.code >> 8);
+    out_blade = uvec2(blade.variation, (bake.code >> 8) | (flower ? BAKE_STEM : 0u));
     float slab = blade.position.z - float(tile);
-    if (slab < 0.0 || slab >= 1.0) {
+#ifdef BAKE_HEADS
+    bool drawn = flower;
+#else
+    bool drawn = true;
+#endif
+    if (slab < 0.0 || slab >= 1.0 || !drawn) {
         gl_Position = vec4(2.0, 2.0, 2.0, 1.0);
         return;
     }
     vec3 p[4];
-    neutral_control_points(blade.height, unpack_variation(blade.variation, 2), p);
+    neutral_control_points(flower ? looks.stem_height : blade.height, unpack_variation(blade.variation, 2), p);
     LevelPose pose;
     pose.local = bezier_point(p[0], p[1], p[2], p[3], t);
     pose.tangent = bezier_tangent(p[0], p[1], p[2], p[3], t);
     pose.twist_cs = vec2(1.0, 0.0);
     pose.force = 0.0;
     blade.position = vec3(fract(blade.position.x) + copy, 0.0, slab);
-    PlacedLevel placed = place_level(blade, pose, vec2(1.0));
+    vec2 width = vec2(flower ? FLOWER_STEM_WIDTH / blade.width : 1.0, 1.0);
+    PlacedLevel placed = place_level(blade, pose, width);
+#ifdef BAKE_HEADS
+    // The far head's square about the stem's tip, its corners in strip order (0, 1, 3, 2).
+    vec3 axis = normalize(placed.tangent);
+    vec3 ref = abs(axis.y) < 0.9 ? vec3(0.0, 1.0, 0.0) : vec3(1.0, 0.0, 0.0);
+    vec3 u = normalize(cross(axis, ref));
+    const uint CORNERS[4] = uint[4](0u, 1u, 3u, 2u);
+    float a = looks.turn + 0.5 * PI * float(CORNERS[uint(gl_VertexIndex) & 3u]);
+    vec3 at = placed.centre + (cos(a) * u + sin(a) * cross(axis, u)) * (0.8 * looks.head_radius);
+    out_blade.x = looks.color;
+#else
     vec3 at = placed.centre + placed.width_dir * ((side - 0.5) * placed.width);
+#endif
     gl_Position = vec4(2.0 * at.x / FAR_TILE_WIDTH - 1.0, 1.0 - 2.0 * at.y / FAR_TILE_HEIGHT, clamp(at.z, 0.0, 1.0), 1.0);
 }

@@ -80,6 +80,9 @@ pub const FAR_BLEND_PRESSED_FRAG: Shader = spirv_shader!("far_field/far.frag.ble
 pub const ATLAS_BAKE_VERT: Shader = spirv_shader!("far_field/atlas_bake.vert");
 /// The far field's atlas bake: albedo or height, alpha-tested.
 pub const ATLAS_BAKE_FRAG: Shader = spirv_shader!("far_field/atlas_bake.frag");
+/// Their variants `heads`: the flowers' heads (`--flowers`).
+pub const ATLAS_BAKE_HEADS_VERT: Shader = spirv_shader!("far_field/atlas_bake.vert.heads");
+pub const ATLAS_BAKE_HEADS_FRAG: Shader = spirv_shader!("far_field/atlas_bake.frag.heads");
 /// The far field's atlas mips: the mean of 2 × 2 texels.
 pub const ATLAS_MIPS_COMP: Shader = spirv_shader!("far_field/atlas_mips.comp");
 /// Terrain vertex shader (height-field pulling).

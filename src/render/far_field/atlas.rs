@@ -180,15 +180,20 @@ impl AtlasHandles {
     }
 }
 
-/// A digest of the blades a bake draws: the key it runs again on.
-pub fn bake_key(blades: &[crate::scene::blades::BladeInstance]) -> u64 {
+/// A digest of the blades a bake draws and the share of them the flowers claim: the key it runs
+/// again on.
+pub fn bake_key(blades: &[crate::scene::blades::BladeInstance], flower_share: f32) -> u64 {
     let bytes: &[u8] = bytemuck::cast_slice(blades);
-    bytes.iter().fold(0xcbf2_9ce4_8422_2325u64, |h, &b| (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3))
+    let share = flower_share.to_bits().to_le_bytes();
+    let all = bytes.iter().chain(&share);
+    all.fold(0xcbf2_9ce4_8422_2325u64, |h, &b| (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3))
 }
 
 /// One image's bake (`output`: 0 the albedo, 1 the height): its pipeline and the atlas.
 pub struct AtlasBakePass {
     pipeline: vk::Pipeline,
+    /// With flowers: their heads' (the shaders' variant `heads`), drawn after the blades.
+    heads: Option<vk::Pipeline>,
     layout: vk::PipelineLayout,
     atlas: Rc<Atlas>,
     output: u32,
@@ -205,28 +210,47 @@ impl AtlasBakePass {
         (atlas, output): (Rc<Atlas>, u32),
         key: u64,
     ) -> Result<Self> {
-        let pipeline = pipeline::graphics(
-            device,
-            &pipeline::GraphicsDesc {
-                name: OUTPUTS[output as usize],
-                vertex: shaders::ATLAS_BAKE_VERT.code(device.profile),
-                fragment: shaders::ATLAS_BAKE_FRAG.code(device.profile),
-                topology: vk::PrimitiveTopology::TRIANGLE_STRIP,
-                cull: vk::CullModeFlags::NONE,
-                polygon: vk::PolygonMode::FILL,
-                depth_compare: vk::CompareOp::LESS,
-                depth_write: true,
-                color_format: FORMAT,
-                depth_format: device.depth_format,
-                layout: target.layout,
-                constants: &constants.named(),
-                vertex_stride: 0,
-                samples: vk::SampleCountFlags::TYPE_1,
-                blend: pipeline::Blend::Opaque,
-            },
-        )?;
-        Ok(Self { pipeline, layout: target.layout, atlas, output, blades: (scene.blades.raw, scene.blade_count), key })
+        let bake = |heads: bool| {
+            let (vertex, fragment) = match heads {
+                true => (shaders::ATLAS_BAKE_HEADS_VERT, shaders::ATLAS_BAKE_HEADS_FRAG),
+                false => (shaders::ATLAS_BAKE_VERT, shaders::ATLAS_BAKE_FRAG),
+            };
+            bake_pipeline(device, (target, constants), OUTPUTS[output as usize], (vertex, fragment))
+        };
+        let pipeline = Guard::new(device, bake(false)?);
+        let heads = (constants.flower_share != 0).then(|| bake(true)).transpose()?;
+        let blades = (scene.blades.raw, scene.blade_count);
+        Ok(Self { pipeline: pipeline.take(), heads, layout: target.layout, atlas, output, blades, key })
     }
+}
+
+/// A bake's pipeline (`name`), of `stages`: the blades' or the flowers' heads'.
+fn bake_pipeline(
+    device: &Device,
+    (target, constants): (PipelineTarget, &Specialization),
+    name: &str,
+    (vertex, fragment): (crate::vk::profile::Shader, crate::vk::profile::Shader),
+) -> Result<vk::Pipeline> {
+    pipeline::graphics(
+        device,
+        &pipeline::GraphicsDesc {
+            name,
+            vertex: vertex.code(device.profile),
+            fragment: fragment.code(device.profile),
+            topology: vk::PrimitiveTopology::TRIANGLE_STRIP,
+            cull: vk::CullModeFlags::NONE,
+            polygon: vk::PolygonMode::FILL,
+            depth_compare: vk::CompareOp::LESS,
+            depth_write: true,
+            color_format: FORMAT,
+            depth_format: device.depth_format,
+            layout: target.layout,
+            constants: &constants.named(),
+            vertex_stride: 0,
+            samples: vk::SampleCountFlags::TYPE_1,
+            blend: pipeline::Blend::Opaque,
+        },
+    )
 }
 
 impl Pass for AtlasBakePass {
@@ -280,6 +304,12 @@ impl Pass for AtlasBakePass {
                 device.raw.cmd_set_scissor(cmd, 0, &[area]);
                 device.raw.cmd_push_constants(cmd, self.layout, vk::ShaderStageFlags::VERTEX, 0, &code.to_ne_bytes());
                 device.raw.cmd_draw(cmd, 2 * (BAKE_SEGMENTS + 1), 3 * self.blades.1, 0, 0);
+                if let Some(heads) = self.heads {
+                    // The flowers' heads over the tile's stems: a square of 4 vertices a blade.
+                    device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, heads);
+                    device.raw.cmd_draw(cmd, 4, 3 * self.blades.1, 0, 0);
+                    device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline);
+                }
             }
         }
         Ok(())
@@ -290,6 +320,7 @@ impl Pass for AtlasBakePass {
         unsafe {
             crate::vk::live::destroyed(self.pipeline);
             device.raw.destroy_pipeline(self.pipeline, None);
+            crate::vk::Destroy::destroy(self.heads, device);
             crate::vk::Destroy::destroy(self.atlas, device);
         }
     }
@@ -397,9 +428,12 @@ mod tests {
     fn the_bake_runs_again_when_the_blades_change_and_only_then() {
         // The key is a digest of the block's blades: another density (or seed) is another look,
         // the same scene built again the same key (the graph's `Runs::OnChange` reruns on it).
-        let key = |density, seed| bake_key(&Scene::blocks(FieldSpec { size: None, density }, seed).blades);
+        let key = |density, seed| bake_key(&Scene::blocks(FieldSpec { size: None, density }, seed).blades, 0.0);
         assert_eq!(key(400.0, 1), key(400.0, 1));
         assert_ne!(key(400.0, 1), key(200.0, 1));
         assert_ne!(key(400.0, 1), key(400.0, 2));
+        // Flowers claim blades: another look.
+        let blades = Scene::blocks(FieldSpec { size: None, density: 400.0 }, 1).blades;
+        assert_ne!(bake_key(&blades, 0.0), bake_key(&blades, 0.05));
     }
 }
