@@ -58,6 +58,8 @@ WIND_FEATURES = --blades 60000 --size 960x540 --camera 0,5,7,0,-42 --time 1.5 --
 	--source 3,-1,0.25,2 --collider sphere:0,0.2,2.5,0.45 --attenuation blade --cluster-size 0.5
 LANDSCAPE = --field infinite --camera -15,22,60,0,-18 --size 960x540 --fog 0.002
 FAR_FIELD = --field infinite --view-distance 2000 --fog 0.001 --size 960x540
+FAR_CLOSE = --field infinite --view-distance 60 --blade-distance 6 --camera 0,1.5,0,0,-12 --fog 0.001 --no-gusts \
+	--size 640x360
 FAR_GUST = --field infinite --camera landscape --view-distance 1500 --fog 0.0005 --no-gusts --wind 0,0.05 \
 	--source 0,-60,40,1,0,-60 --debug-view force --size 640x360
 pictures: build
@@ -83,6 +85,9 @@ pictures: build
 	xvfb-run -a -s "-screen 0 1280x720x24" $(MEADOW) view --blades 100000 --size 960x540 --script scripts/viewer/showcase.txt
 	xvfb-run -a -s "-screen 0 1280x720x24" $(MEADOW) view $(FAR_FIELD) --script scripts/viewer/far-field.txt
 	for t in 0 2 4 6; do $(MEADOW) render $(FAR_GUST) --time $$t --out docs/far-gust-$$t.png || exit 1; done
+	$(MEADOW) render $(FAR_CLOSE) --out docs/far-fade-dither.png
+	$(MEADOW) render $(FAR_CLOSE) --fade blend --out docs/far-fade-blend.png
+	$(MEADOW) render $(FAR_CLOSE) --flowers 40 --out docs/far-flowers.png
 
 # The benchmark results and charts in docs/ (docs/benchmarks.md, docs/gpu-timing.md): over half an
 # hour on lavapipe, most of it the thesis preset. Run it on a quiet machine.
