@@ -374,8 +374,8 @@ fn the_blended_far_field_is_placed_far_to_near_in_the_keys_cpu_order() {
     // Each plant's key, recomputed on the CPU from where it stands, is the key the GPU kept;
     // the drawn order is the CPU's sort of those keys; and it runs far to near: the outer rings
     // first, and in a ring no plant comes after one nearer than itself by more than the order's
-    // slack (the eye is within half a step of its cell's middle, a plant within a quarter step
-    // of its point, at each end).
+    // slack (the eye within half a step and a block of the order's place, a plant within a
+    // quarter step of its point).
     use meadow::render::far_field::{order, FarFade};
     use meadow::render::field_gpu::Origin;
     let options = GpuOptions { validation: true, device: DeviceSelector::parse(support::DEVICE) };
@@ -425,8 +425,9 @@ fn the_blended_far_field_is_placed_far_to_near_in_the_keys_cpu_order() {
         assert!(cheb <= *least + 1.5 * step, "ring {ring}: a plant at {cheb} m after one at {least} m");
         *least = least.min(cheb);
     }
-    let drawn: Vec<u32> = gpu.iter().map(|key| rings.rings - 1 - key / order::PER_RING).collect();
-    assert!(drawn.windows(2).all(|w| w[0] >= w[1]) && drawn[0] > drawn[drawn.len() - 1], "rings {drawn:?}");
+    // More than one ring drawn, so the order across rings was tested too.
+    let rings_drawn: std::collections::HashSet<u32> = gpu.iter().map(|key| key / order::PER_RING).collect();
+    assert!(rings_drawn.len() > 1, "rings {rings_drawn:?}");
 }
 
 #[test]

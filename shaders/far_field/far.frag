@@ -9,7 +9,8 @@
 //
 // Its variant `blend` (`--fade blend`): no hashed test; the coverage times the fades is the
 // alpha, the colour premultiplied by it, blended into the linear scene in the placement's order.
-// Its variant `pressed` (a pressed map, `render::animation::pressed`, with colliders or cuts): the
+// Its variant `pressed` (where the blades read the pressed map, `render::animation::pressed`: it
+// holds marks on frames with colliders or cuts and until they recover, `pressed_counts.y`): the
 // plants are as tall as the map leaves the blades at the ground under each point, cut to their
 // length and lowered by the press's lean, the atlas squeezed into that height.
 // variant blend: FAR_BLEND
@@ -55,12 +56,15 @@ void main() {
         top = max(pressed.z * cos(lean), 1e-3);
     }
 #endif
-    vec2 unwrapped = vec2((tile + in_along.x) / float(FAR_TILES), 1.0 - in_along.y / top);
+    vec2 unwrapped = vec2((tile + in_along.x) / float(FAR_TILES), 1.0 - in_along.y);
     // A tile repeats across: a footprint wider than a tile averages the tile, so it is clamped to
     // one (a rectangle seen edge-on keeps its height profile instead of taking the coarsest level).
+    // The footprint up the tile is the unpressed one squeezed by this point's top: `top` steps
+    // from one pressed cell to the next, so its own derivative would spike at their edges.
     const float TILE = 1.0 / float(FAR_TILES);
-    vec2 gx = dFdx(unwrapped);
-    vec2 gy = dFdy(unwrapped);
+    vec2 gx = dFdx(unwrapped) / vec2(1.0, top);
+    vec2 gy = dFdy(unwrapped) / vec2(1.0, top);
+    unwrapped.y = 1.0 - in_along.y / top;
     gx.x = clamp(gx.x, -TILE, TILE);
     gy.x = clamp(gy.x, -TILE, TILE);
     float fade = far_band(in_band) * far_end(in_distance);

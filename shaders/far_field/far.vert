@@ -58,7 +58,9 @@ void main() {
     const int AWAY_FIRST[6] = int[6](0, 1, -1, 2, -2, 3);
     vec2 away = plant.centre_width.xz - eye;
     int farthest = int(round((atan(away.y, away.x) - turn) / (PI / 3.0)));
-    uint half_plane = uint(((farthest + AWAY_FIRST[piece]) % 6 + 6) % 6);
+    // farthest lies in [-9, 3] (atan's range less the turn's), the sum in [-11, 6]: made positive
+    // before the modulo.
+    uint half_plane = uint(farthest + AWAY_FIRST[piece] + 18) % 6u;
     // A star's quad, and the side of its axis the half is.
     uint rectangle = star ? half_plane % 3u : half_plane;
     float side = half_plane >= 3u && star ? -1.0 : 1.0;

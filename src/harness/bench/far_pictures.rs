@@ -7,8 +7,9 @@
 //! - **no seam**: the far field with its boundary moved 20 % nearer (blades to 120 m) against
 //!   the same at 150 m, over both bands' rows;
 //! - **no flicker**: a creep of `CREEP_M` a frame for `CREEP_FRAMES` frames towards the band,
-//!   time fixed: the mean frame-to-frame change of the band's 8 × 8-filtered picture, the far
-//!   field's over the blades alone's.
+//!   time fixed, after `PREROLL` unrecorded frames (the band's eye then trails the camera on its
+//!   leash throughout): the mean frame-to-frame change of the band's 8 × 8-filtered picture, the
+//!   far field's over the blades alone's.
 //!
 //! Each for the dither (`--fade dither`, the default) and again blended (`--fade blend`).
 
@@ -32,6 +33,9 @@ pub const REACH_M: f32 = 500.0;
 /// The creep a frame (m) and its frames.
 pub const CREEP_M: f32 = 0.05;
 pub const CREEP_FRAMES: u32 = 20;
+/// Frames the creep runs before its first recorded one: 0.8 m, past the band's leash (0.6 m at
+/// the default 150 m of blades).
+pub const PREROLL: u32 = 16;
 
 /// The picture figures, in % of full scale.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -97,17 +101,22 @@ pub fn measure(
             RenderSettings { fog_density: fog, ..RenderSettings::offscreen(4, culling) }
         };
         let animation = AnimationSettings { mode: Mode::Static, ..Default::default() };
-        // Pictures of `frames` frames creeping from `camera`, each its band's rows.
+        // Pictures of `frames` frames creeping from `camera`, each its band's rows. A creep of more
+        // than one frame starts `PREROLL` frames earlier, unrecorded, so that the band's eye trails
+        // the camera on its leash (`far_rings::BandEye`) through every recorded frame.
         let mut frames = |settings: RenderSettings, frames: u32, rows: [u32; 2]| -> Result<Vec<Vec<u8>>> {
             let mut renderer = Renderer::new(device.clone(), scene, settings, animation.clone())?;
             let forward = glam::Vec3::new(0.0, 0.0, -1.0);
-            (0..frames)
-                .map(|f| {
-                    let at = Camera { position: camera.position + forward * (CREEP_M * f as f32), ..camera };
-                    renderer.render_offscreen(&mut target, &at, 0.0)?;
-                    Ok(band(target.pixels(), size.0, rows))
-                })
-                .collect()
+            let first = if frames > 1 { -(PREROLL as i32) } else { 0 };
+            let mut pictures = Vec::new();
+            for f in first..frames as i32 {
+                let at = Camera { position: camera.position + forward * (CREEP_M * f as f32), ..camera };
+                renderer.render_offscreen(&mut target, &at, 0.0)?;
+                if f >= 0 {
+                    pictures.push(band(target.pixels(), size.0, rows));
+                }
+            }
+            Ok(pictures)
         };
         let rows_of = |near: f32, far: f32| {
             [row_at(&camera, height, far, size.1).ceil() as u32, row_at(&camera, height, near, size.1).floor() as u32]

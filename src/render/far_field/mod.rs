@@ -25,8 +25,11 @@
 //! - **Fade** (a dither, Zhang Xia §6.1's fade as a hashed threshold): across the band from `BAND_START` of
 //!   the blade range to the blade range, blades thin out by a hashed threshold per blade (the
 //!   cull, `shaders/cull/cull.glsl`) while the far field's fragments fade in by a hashed threshold
-//!   per stretch of a rectangle a blade wide; both thresholds are world-anchored, so the band is
-//!   stateless and a creeping camera changes only the few plants whose threshold it crosses.
+//!   per stretch of a rectangle a blade wide; both thresholds are world-anchored, so a creeping
+//!   camera changes only the few plants whose threshold it crosses. Both ramps are measured from
+//!   the band's eye, the culling camera on a leash (`far_rings::BandEye`, the hysteresis: state,
+//!   one point), so a camera jittering within the leash crosses none. `--fade blend` blends the
+//!   far field instead (`order`).
 //!   The coverage test is hashed too (a fragment is kept when a world-anchored hash lies under
 //!   the atlas's coverage times the fades): every mip keeps the mean coverage, so no per-level
 //!   alpha scaling is needed.

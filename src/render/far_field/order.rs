@@ -4,8 +4,9 @@
 //!
 //! Zhang Xia sorts the grass grids by their offset from the camera's grid and draws the plants of
 //! each grid in one of eight orders computed once (§5.4.2, Figure 16). meadow's rings are that in
-//! one: every ring's lattice of `RING_SIDE`² points holds the camera at the same place, in the
-//! same lattice cell (`eye_in_lattice`), whatever the ring and wherever the camera stands. So one
+//! one: every ring's lattice of `RING_SIDE`² points holds the camera at nearly the same place,
+//! within half a step and a block of `eye_in_lattice` along each axis, whatever the ring and
+//! wherever the camera stands. So one
 //! order of the lattice, computed once per set of rings ([`far_to_near`]), sorts every ring's
 //! points far to near, and the rings go outermost first:
 //!
@@ -13,9 +14,9 @@
 //!   2^(r+1))`). Along one direction from the eye, the Chebyshev distance is the Euclidean one
 //!   times a constant, so plants that can cover one another on screen (those in one direction)
 //!   are in Euclidean order too.
-//! - **Inside a ring**, by the Chebyshev distance from the lattice cell's centre, which is within
-//!   half a step of the camera's place: points a step or more apart along one direction keep
-//!   their order.
+//! - **Inside a ring**, by the Chebyshev distance from `eye_in_lattice`, within half a step and a
+//!   block of the camera's place (0.83 of a step for 150 m of blades): along one direction from
+//!   the eye every point's distance is off by the same amount, so points there keep their order.
 //!
 //! The placement (`shaders/far_field/far_place.comp`, variant `ordered`) visits the points in
 //! this order and `far_order.comp` compacts the kept ones without reordering them. Each plant
@@ -30,8 +31,9 @@ use crate::scene::field::BLOCK_SIZE;
 pub const PER_RING: u32 = RING_SIDE * RING_SIDE;
 
 /// Where the camera stands in every ring's lattice, in lattice steps from its first point, along
-/// each axis: in `[K + 1, K + 2)` for K = 2 r0 / s0 (the lattice's first point lies one to two
-/// steps outside its square's corner, 2 r0 from the camera), so the middle of that cell.
+/// each axis: in `[K + 1, K + 2 + 1 / blocks)` for K = 2 r0 / s0 (the lattice's first point lies
+/// one to two steps outside its square's corner, 2 r0 from the camera, floored to whole blocks),
+/// taken as K + 1.5.
 pub fn eye_in_lattice(rings: &FarRings) -> f64 {
     2.0 * f64::from(rings.start) / f64::from(rings.step) + 1.5
 }
@@ -117,7 +119,7 @@ mod tests {
     }
 
     #[test]
-    fn every_ring_holds_the_eye_in_the_same_cell() {
+    fn every_ring_holds_the_eye_at_the_same_place() {
         // far_place.comp's first point of a ring, for cameras across a few cells and rings.
         let rings = FarRings::new(150.0, 2000.0).expect("a far field");
         let lattice = eye_in_lattice(&rings) - 0.5;

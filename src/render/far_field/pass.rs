@@ -3,13 +3,15 @@
 //! plant's rectangles from an index list of one plant, each instance one plant.
 //!
 //! Reads: the placed plants and their draw, the atlas (every level, sampled), the ground, this
-//! frame's wind at the cluster corners and the emitters (the lean), its parameters; with a
-//! pressed map (colliders or cuts), its cells and its frame block (after the parameters, in the
-//! pass's one uniform block). Writes: the
+//! frame's wind at the cluster corners and the emitters (the lean), its parameters; where the
+//! blades read the pressed map (a response with pose records), its cells and its frame block
+//! (after the parameters, in the pass's one uniform block), marked on frames with colliders or
+//! cuts and until they recover. Writes: the
 //! scene's colour and depth (opaque, depth-tested: the dither needs no order). With `--fade
 //! blend`, the colour alone: blended with premultiplied alpha into the linear scene, the plants
 //! in the placement's far-to-near order and each plant's rectangles far to near (the shaders'
-//! variant `blend`), depth-tested against the blades and the ground but not written.
+//! variant `blend`), depth-tested against the blades and the ground; the pipeline writes no depth
+//! (the attachment's store still counts as a write to the barriers).
 
 use ash::vk;
 
@@ -44,8 +46,6 @@ pub struct FarPass {
     ground: [vk::Buffer; 2],
     /// Each frame's wind at the cluster corners.
     wind: Vec<vk::Buffer>,
-    /// Blended (`--fade blend`): the depth is read, not written.
-    blend: bool,
     /// The pressed map, when there is one.
     pressed: Option<MapReader>,
 }
@@ -174,7 +174,6 @@ impl FarPass {
             owned: owned.take(),
             ground: [scene.ground.texels.raw, scene.ground.cover.0.raw],
             wind: setup.wind.to_vec(),
-            blend,
             pressed,
         })
     }
@@ -187,8 +186,9 @@ impl Pass for FarPass {
 
     fn declare(&self, ctx: &PassContext) -> Option<Declaration> {
         let fetch = ctx.device.profile.vertex_fetch();
-        let mut rendering = passes::scene_rendering(ctx, self.pipeline, true, false);
-        rendering.depth_write = !self.blend;
+        // Blended, the pipeline tests depth without writing it, but the attachment's store (kept for
+        // the passes after it) is a write: declared as one.
+        let rendering = passes::scene_rendering(ctx, self.pipeline, true, false);
         let mut declaration = Declaration::graphics(rendering)
             .buffer(self.placed.0, Access::VertexShaderStorageRead)
             .buffer(self.placed.1, Access::IndirectCommandRead)

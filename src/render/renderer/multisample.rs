@@ -13,7 +13,7 @@ impl Renderer {
     /// `--msaa` or `--fade blend` the linear pair, (re)made to fit it. A replaced pair is destroyed once the
     /// frames that used it have finished, and the graph forgets it.
     pub(super) fn scene_view(&mut self, target: &TargetView) -> Result<TargetView> {
-        let (msaa, linear) = (self.settings.msaa, self.settings.linear_scene());
+        let (msaa, linear) = (self.settings.msaa, self.linear_scene());
         let fits = |m: &MultisampleTarget| linear && m.fits(target.extent, msaa.flag());
         if !self.multisampled.as_ref().is_none_or(fits) {
             let old = self.multisampled.take().expect("checked");
@@ -49,10 +49,17 @@ impl Renderer {
         Ok(view)
     }
 
+    /// Whether the scene passes draw into the linear intermediate (`RenderSettings::linear_scene`):
+    /// with `--msaa`, or blending a far field, which only a block field has.
+    pub(super) fn linear_scene(&self) -> bool {
+        let field = self.scene.as_ref().is_some_and(|scene| scene.field.is_some());
+        self.settings.msaa.enabled() || (field && self.settings.linear_scene())
+    }
+
     /// Whether frames draw into the target's depth image (not with `--msaa` or `--fade blend`:
     /// the scene's depth is the intermediate's). A target that tracks its depth's last access
     /// needs to know.
     pub fn uses_target_depth(&self) -> bool {
-        !self.settings.linear_scene()
+        !self.linear_scene()
     }
 }

@@ -46,7 +46,7 @@ impl Renderer {
         let msaa = settings.msaa;
         let target = PipelineTarget {
             layout: self.layouts.pipeline_layout,
-            color: if settings.linear_scene() { MSAA_COLOR_FORMAT } else { settings.color_format },
+            color: if self.linear_scene() { MSAA_COLOR_FORMAT } else { settings.color_format },
             depth: self.device.depth_format,
             polygon,
             samples: msaa.flag(),
@@ -103,7 +103,7 @@ impl Renderer {
             let wind: Vec<vk::Buffer> = self.forces.iter().map(|f| f.corners.raw).collect();
             self.graph.add(WindArrowsPass::new(&self.device, (set_layout, target), &constants, scene, &wind)?);
         }
-        if self.settings.linear_scene() {
+        if self.linear_scene() {
             // The target's encoding, not the linear scene's.
             let resolve = Specialization { encode_srgb: u32::from(self.settings.encode_srgb), ..constants };
             let (format, samples) = (self.settings.color_format, msaa.samples);
@@ -117,7 +117,7 @@ impl Renderer {
     /// The terrain's clear colour as the scene's colour attachment stores it: encoded for an
     /// UNORM target the shaders encode for, linear for the multisampled scene or an sRGB format.
     fn sky(&self) -> [f32; 4] {
-        sky_clear_color(self.settings.encode_srgb && !self.settings.linear_scene())
+        sky_clear_color(self.settings.encode_srgb && !self.linear_scene())
     }
 
     /// The specialization constants of every scene pipeline for the settings and the response.
@@ -129,7 +129,7 @@ impl Renderer {
             settings.blades_per_instance,
             settings.submission.strategy.pushes_first_blade(),
             // Multisampled or blended, the scene is drawn in linear light; the resolve pass encodes.
-            settings.encode_srgb && !settings.linear_scene(),
+            settings.encode_srgb && !self.linear_scene(),
         );
         specialization.msaa_samples = settings.msaa.samples;
         if settings.debug_lod {
