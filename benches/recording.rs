@@ -48,7 +48,7 @@ fn bench_variants(c: &mut Criterion, device: &std::sync::Arc<Device>) -> meadow:
             let global = windy.then_some(GlobalWind { direction_deg: 30.0, strength: 0.3, gusts: true });
             let animation =
                 AnimationSettings { mode, eval, wind: Wind { global, ..Default::default() }, ..Default::default() };
-            check_scene(device, BLADES, SEGMENTS, SIZE, &animation, false, (false, Default::default()))?;
+            check_scene(device, BLADES, SEGMENTS, SIZE, &animation, false, (false, Default::default(), false))?;
             // Recording cost of the thesis path: every stored blade, no cull pass.
             let brute_force = meadow::render::culling::Culling::brute_force(SEGMENTS);
             let settings = RenderSettings { blades_per_instance, ..RenderSettings::offscreen(SEGMENTS, brute_force) };

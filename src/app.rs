@@ -383,7 +383,7 @@ pub fn render(device: &Arc<Device>, options: &RenderOptions) -> Result<RenderRep
         options.size,
         &options.animation,
         options.floor,
-        (culled, options.msaa),
+        (culled, options.msaa, options.offscreen_settings(1).linear_scene()),
     )?;
     options.check_clusters()?;
     check_timestamps_for_budget(device, options.budget_ms)?;

@@ -522,13 +522,26 @@ fn the_band_matches_the_blades_alone_shows_no_seam_and_no_flicker() {
 
 #[test]
 fn bad_far_fields_are_refused_in_one_line() {
-    let cases: [(&[&str], &str); 6] = [
+    let cases: [(&[&str], &str); 9] = [
         (&["--field", "infinite", "--far-field", "trees"], "invalid value 'trees'"),
         (&["--field", "infinite", "--fade", "sorted"], "invalid value 'sorted'"),
-        (&["--fade", "blend", "--far-field", "off"], "--fade has no effect with stored blades or --far-field off"),
+        (
+            &["--field", "infinite", "--view-distance", "600", "--fade", "blend", "--far-field", "off"],
+            "--fade has no effect with --far-field off",
+        ),
+        (
+            &["--field", "infinite", "--fade", "blend"],
+            "--fade has no effect with stored blades or no ground past the blades",
+        ),
+        (&["--field", "infinite", "--far-field", "stars"], "--far-field has no effect with stored blades or no ground"),
         (&["--blade-distance", "3", "--view-distance", "10000"], "past the far field's reach"),
         (&["--blades", "500", "--far-field", "stars"], "--far-field has no effect with stored blades"),
         (&["--field", "infinite", "--blade-distance", "300", "--view-distance", "200"], "--blade-distance 300 is over"),
+        // The blend's linear pair counts in the budget before anything is allocated.
+        (
+            &["--field", "infinite", "--view-distance", "600", "--fade", "blend", "--size", "10000x10000"],
+            "with --fade blend's linear scene needs",
+        ),
     ];
     for (args, why) in cases {
         let out = scratch("far-field-bad").join("never.png");

@@ -32,8 +32,14 @@ pub fn check_timestamps_for_budget(device: &Device, budget_ms: Option<f32>) -> R
 
 /// Check the picture size, its multisampling and the blade count against the device before
 /// allocating anything; the memory budget counts the scene and every target of a frame (the
-/// offscreen pair and its readback, and the multisampled pair: `msaa::target_bytes`).
-pub fn check_limits(device: &Device, blades: u32, (size, msaa): ((u32, u32), Msaa), terrain_cells: u32) -> Result<()> {
+/// offscreen pair and its readback, and the multisampled pair: `msaa::target_bytes`, or with
+/// `linear` and no multisampling `--fade blend`'s linear pair: `msaa::linear_bytes`).
+pub fn check_limits(
+    device: &Device,
+    blades: u32,
+    (size, msaa, linear): ((u32, u32), Msaa, bool),
+    terrain_cells: u32,
+) -> Result<()> {
     let limits = device.limits();
     let max_dim = limits.max_image_dimension2_d.min(limits.max_framebuffer_width).min(limits.max_framebuffer_height);
     if size.0 > max_dim || size.1 > max_dim {
@@ -72,21 +78,28 @@ pub fn check_limits(device: &Device, blades: u32, (size, msaa): ((u32, u32), Msa
     let extent = vk::Extent2D { width: size.0, height: size.1 };
     crate::render::msaa::check(device, &msaa)?;
     let total = crate::render::scene_gpu::SceneGpu::memory_bytes(u64::from(blades), u64::from(terrain_cells))
-        + frame_target_bytes(extent, &msaa);
-    let msaa_said = if msaa.enabled() { format!(" with --msaa {}", msaa.samples) } else { String::new() };
+        + frame_target_bytes(extent, &msaa, linear);
+    let msaa_said = match (msaa.enabled(), linear) {
+        (true, _) => format!(" with --msaa {}", msaa.samples),
+        (false, true) => " with --fade blend's linear scene".to_owned(),
+        (false, false) => String::new(),
+    };
     device.check_budget(total, &format!("rendering {blades} blades at {}x{}{msaa_said}", size.0, size.1))?;
     crate::render::msaa::check_target(device, extent, &msaa, &format!("--size {}x{}", size.0, size.1))
 }
 
 /// Bytes of device memory a frame's targets of `extent` take: the offscreen colour, depth and
-/// readback, and the multisampled colour and depth with `msaa`.
-pub fn frame_target_bytes(extent: vk::Extent2D, msaa: &Msaa) -> u64 {
-    offscreen_bytes(extent) + crate::render::msaa::target_bytes(extent, msaa)
+/// readback, and the multisampled colour and depth with `msaa`, or the linear pair when the scene
+/// is `linear` without multisampling (`RenderSettings::linear_scene`: `--fade blend`).
+pub fn frame_target_bytes(extent: vk::Extent2D, msaa: &Msaa, linear: bool) -> u64 {
+    let linear_pair = if linear && !msaa.enabled() { crate::render::msaa::linear_bytes(extent) } else { 0 };
+    offscreen_bytes(extent) + crate::render::msaa::target_bytes(extent, msaa) + linear_pair
 }
 
 /// Every check of a scene against the device and meadow's limits, before anything is allocated:
 /// shared by `render`, the viewer (also when a control rebuilds it) and `bench`. `culled`: the
-/// cull draws the blades (`--eval blade` then needs records for the drawn blades only).
+/// cull draws the blades (`--eval blade` then needs records for the drawn blades only); `linear`:
+/// the scene is drawn into the linear intermediate (`RenderSettings::linear_scene`).
 pub fn check_scene(
     device: &Device,
     blades: u32,
@@ -94,11 +107,11 @@ pub fn check_scene(
     size: (u32, u32),
     animation: &AnimationSettings,
     floor: bool,
-    (culled, msaa): (bool, Msaa),
+    (culled, msaa, linear): (bool, Msaa, bool),
 ) -> Result<()> {
     use crate::render::animation::{Mode, MAX_COLLIDERS, MAX_SOURCES};
     let field_m = crate::scene::blades::field_size(blades);
-    check_limits(device, blades, (size, msaa), crate::scene::terrain::Terrain::cells_for(field_m))?;
+    check_limits(device, blades, (size, msaa, linear), crate::scene::terrain::Terrain::cells_for(field_m))?;
     KeyframeTexture::check_limits(device, animation.poses)?;
     if floor {
         // Pre-expanded vertices (12 bytes) and triangle-list indices (4 bytes), plus their
@@ -160,4 +173,22 @@ pub fn check_scene(
         )));
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_linear_scene_counts_its_pair_unless_multisampled() {
+        // `--fade blend` without `--msaa` adds the single-sampled linear pair; with `--msaa` the
+        // multisampled pair is that scene already.
+        let extent = vk::Extent2D { width: 1280, height: 720 };
+        let plain = Msaa::default();
+        let linear = crate::render::msaa::linear_bytes(extent);
+        assert_eq!(frame_target_bytes(extent, &plain, true), frame_target_bytes(extent, &plain, false) + linear);
+        assert_eq!(linear, 1280 * 720 * 12);
+        let four = Msaa { samples: 4, alpha_to_coverage: true };
+        assert_eq!(frame_target_bytes(extent, &four, true), frame_target_bytes(extent, &four, false));
+    }
 }

@@ -73,6 +73,14 @@ impl<'a> Given<'a> {
         !self.given("field") && !self.landscape
     }
 
+    /// Whether the ground reaches past the blades (the view distance, typed or the scene's, over
+    /// the blade distance): where a far field can stand.
+    pub(crate) fn ground_past_blades(&self) -> bool {
+        let view = super::default_scene::view_distance(self.one::<f32>("view_distance"), self.landscape);
+        let blades = self.one::<f32>("blade_distance").unwrap_or(crate::render::culling::DEFAULT_BLADE_DISTANCE);
+        view > blades.min(view) + 1e-3
+    }
+
     /// A boolean flag's value (false when absent).
     pub(crate) fn flag(&self, id: &'static str) -> bool {
         self.one::<bool>(id).unwrap_or(false)

@@ -96,8 +96,13 @@ impl Viewer {
                 // maxResourceSize, the budget) no swapchain can follow: refused, like --size.
                 let blades = self.scene.blades.len() as u32;
                 let cells = crate::scene::Terrain::cells_for(crate::scene::blades::field_size(blades));
-                crate::app::check_limits(&self.device, blades, ((w, h), self.settings.msaa), cells)
-                    .map_err(|e| Error::bad_input(format!("--script: resize {w}x{h}: {e}")))?;
+                crate::app::check_limits(
+                    &self.device,
+                    blades,
+                    ((w, h), self.settings.msaa, self.settings.linear_scene()),
+                    cells,
+                )
+                .map_err(|e| Error::bad_input(format!("--script: resize {w}x{h}: {e}")))?;
                 let _ = window.request_inner_size(PhysicalSize::new(w, h));
                 self.needs_recreate = true;
             }

@@ -186,7 +186,7 @@ impl Viewer {
         crate::app::check_limits(
             &device,
             o.stored_blades(),
-            (o.size, o.msaa),
+            (o.size, o.msaa, o.offscreen_settings(1).linear_scene()),
             crate::scene::Terrain::cells_for(crate::scene::blades::field_size(o.stored_blades())),
         )?;
         let scene = o.scene()?;
@@ -304,7 +304,7 @@ impl Viewer {
             size,
             animation,
             settings.floor,
-            (settings.culling.enabled, settings.msaa),
+            (settings.culling.enabled, settings.msaa, settings.linear_scene()),
         )
     }
 

@@ -180,7 +180,7 @@ pub fn run(device: &Arc<Device>, options: &BenchOptions, mut progress: impl FnMu
     // Every row's limits before the output directory exists: bad input leaves no empty directory.
     for &(blades, _) in &options.rows {
         let cells = crate::scene::Terrain::cells_for(crate::scene::blades::field_size(blades));
-        crate::app::check_limits(device, blades, (options.size, Default::default()), cells)?;
+        crate::app::check_limits(device, blades, (options.size, Default::default(), false), cells)?;
     }
     let extent = vk::Extent2D { width: options.size.0, height: options.size.1 };
     let total = (options.rows.len() * variants.len()) as u64 * u64::from(options.warmup + options.frames);
@@ -209,7 +209,7 @@ fn measure_row(
     frames: &mut Progress,
 ) -> Result<BenchRow> {
     let cells = crate::scene::Terrain::cells_for(crate::scene::blades::field_size(blades));
-    crate::app::check_limits(device, blades, (options.size, Default::default()), cells)?;
+    crate::app::check_limits(device, blades, (options.size, Default::default(), false), cells)?;
     let scene = Scene::generate(blades, 1);
     let camera = scene.default_camera();
     let extent = vk::Extent2D { width: options.size.0, height: options.size.1 };
@@ -229,7 +229,7 @@ fn measure_row(
                 options.size,
                 &animation_of(v),
                 v.mode == Column::Floor,
-                (false, Default::default()),
+                (false, Default::default(), false),
             ) {
                 Err(Error::BadInput(why)) => {
                     unsupported

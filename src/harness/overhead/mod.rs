@@ -54,7 +54,7 @@ pub fn run(
 ) -> Result<OverheadDocument> {
     check(options)?;
     let cells = crate::scene::Terrain::cells_for(crate::scene::blades::field_size(options.blades));
-    crate::app::check_limits(device, options.blades, (options.size, Default::default()), cells)?;
+    crate::app::check_limits(device, options.blades, (options.size, Default::default(), false), cells)?;
     // Created only once the input is known good: bad input leaves no empty directory.
     let scene = Scene::generate(options.blades, 1);
     let camera = scene.default_camera();

@@ -293,7 +293,7 @@ pub fn run(
         render.size,
         &render.animation,
         render.floor,
-        (render.culling.enabled, render.msaa),
+        (render.culling.enabled, render.msaa, render.offscreen_settings(1).linear_scene()),
     )?;
     let scene = render.scene()?;
     const IN_FLIGHT: [usize; 3] = [1, 2, 3];

@@ -270,12 +270,12 @@ fn check(device: &Device, options: &AnimationsBenchOptions, rows: &[Row], respon
         let responses = row.responses(responses);
         for &(mode, field) in &responses {
             let animation = animation(mode, row.culled, field);
-            let culling = (row.culled, Default::default());
+            let culling = (row.culled, Default::default(), false);
             crate::app::check_scene(device, blades, row.segments, options.size, &animation, false, culling)?;
         }
         let cells = crate::scene::Terrain::cells_for(crate::scene::blades::field_size(blades));
         let one = crate::render::scene_gpu::SceneGpu::memory_bytes(u64::from(blades), u64::from(cells));
-        let all = responses.len() as u64 * one + crate::app::frame_target_bytes(extent, &Default::default());
+        let all = responses.len() as u64 * one + crate::app::frame_target_bytes(extent, &Default::default(), false);
         let what = format!("--preset animations: {} ({} renderers)", row.label, responses.len());
         device.check_budget(all, &what)?;
     }

@@ -112,7 +112,15 @@ impl Field {
         // Each row's brute-force renderer (per vertex, no cull) and GPU-driven one (culled).
         let scene = |blades: u32, culled: bool| {
             let animation = animation(culled);
-            crate::app::check_scene(device, blades, segments, size, &animation, false, (culled, Default::default()))
+            crate::app::check_scene(
+                device,
+                blades,
+                segments,
+                size,
+                &animation,
+                false,
+                (culled, Default::default(), false),
+            )
         };
         match self {
             Field::Stored { blades, .. } => {

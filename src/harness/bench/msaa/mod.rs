@@ -151,13 +151,14 @@ fn check(device: &Device, options: &MsaaBenchOptions, samples: u32) -> Result<()
     for (_, culled) in ROWS {
         for (_, msaa) in variants(samples) {
             let animation = AnimationSettings::default();
-            crate::app::check_scene(device, blades, SEGMENTS, size, &animation, false, (culled, msaa))?;
+            crate::app::check_scene(device, blades, SEGMENTS, size, &animation, false, (culled, msaa, false))?;
         }
     }
     let extent = vk::Extent2D { width: size.0, height: size.1 };
     let cells = crate::scene::Terrain::cells_for(crate::scene::blades::field_size(blades));
     let scene = crate::render::scene_gpu::SceneGpu::memory_bytes(u64::from(blades), u64::from(cells));
-    let row: u64 = variants(samples).iter().map(|(_, msaa)| scene + crate::app::frame_target_bytes(extent, msaa)).sum();
+    let row: u64 =
+        variants(samples).iter().map(|(_, msaa)| scene + crate::app::frame_target_bytes(extent, msaa, false)).sum();
     device.check_budget(row, &format!("--preset msaa with {blades} blades at {}x{} (three renderers)", size.0, size.1))
 }
 
