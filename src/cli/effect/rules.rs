@@ -278,7 +278,7 @@ pub(crate) const RULES: &[Rule] = &[
         subject: None,
         commands: SCENE,
         with: "stored blades or no ground past the blades",
-        when: |g| g.stored() || !g.ground_past_blades(),
+        when: |g| g.stored() || (!g.ground_past_blades() && g.one::<FarFieldArg>("far_field") != Some(FarFieldArg::Off)),
         why: "the far field stands past a --field's blades, on its ground out to a longer --view-distance",
     },
     Rule {
