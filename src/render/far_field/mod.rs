@@ -149,7 +149,8 @@ pub struct FarCounts {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct FarParams {
-    /// x ring 0's inner distance, y its lattice step, z the band's start, w the blade range (m).
+    /// x ring 0's inner distance, y its lattice step, z the band's start (m), w unused (the band's
+    /// ramp reads the blade range from the frame: `far_band_ramp` of `shaders/common/frame.glsl`).
     pub rings: [f32; 4],
     /// x the view distance (m), y a plant's height (m), z, w unused.
     pub reach: [f32; 4],
@@ -163,7 +164,7 @@ impl FarParams {
     /// The block for `rings`, drawing `mesh`, leaning by `tips`.
     pub fn new(rings: &FarRings, mesh: FarField, tips: &TipTable) -> Self {
         let mut block = Self {
-            rings: [rings.start, rings.step, rings.band_start, rings.blade_range],
+            rings: [rings.start, rings.step, rings.band_start, 0.0],
             reach: [rings.view_distance, atlas::TILE_HEIGHT_M, 0.0, 0.0],
             counts: [rings.rings, mesh.mesh_code(), CAPACITY, 0],
             tips: [[0.0; 4]; TIP_TABLE_SIZE],
