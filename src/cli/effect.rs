@@ -78,7 +78,7 @@ impl<'a> Given<'a> {
     pub(crate) fn ground_past_blades(&self) -> bool {
         let view = super::default_scene::view_distance(self.one::<f32>("view_distance"), self.landscape);
         let blades = self.one::<f32>("blade_distance").unwrap_or(crate::render::culling::DEFAULT_BLADE_DISTANCE);
-        view > blades.min(view) + 1e-3
+        view > blades + 1e-3
     }
 
     /// A boolean flag's value (false when absent).

@@ -94,14 +94,19 @@ pub fn colliders(scene: &Scene, camera: &Camera) -> Vec<Collider> {
         .collect()
 }
 
+/// The two scenes of the pairs: the default stored field and the unbounded block field.
+pub fn scenes() -> (Scene, Scene) {
+    let spec = FieldSpec { size: None, density: crate::scene::blades::DENSITY_PER_M2 };
+    (Scene::generate(STORED_BLADES, SEED), Scene::blocks(spec, SEED))
+}
+
 /// Run the benchmark; `progress(done, total)` after every frame.
 pub fn run(
     device: &Arc<Device>,
     options: &PairBenchOptions,
     progress: impl FnMut(u64, u64),
 ) -> Result<InteractionDocument> {
-    let spec = FieldSpec { size: None, density: crate::scene::blades::DENSITY_PER_M2 };
-    let (stored, block) = (Scene::generate(STORED_BLADES, SEED), Scene::blocks(spec, SEED));
+    let (stored, block) = scenes();
     let scenes = vec![stored.clone(), stored, block.clone(), block];
     let cameras: Vec<Camera> = scenes.iter().map(Scene::default_camera).collect();
     // Warm-up rounds (one step each) past a patch's longest life out of reach: the patches
