@@ -88,9 +88,10 @@ fn texel(frame: &Frame, windows: &[I64Vec2], level: u32, v: UVec2) -> [f32; 4] {
     frame.grid[(level * cells + camera_grid::slot(UVec3::new(v.x, 0, v.y), base, dims)) as usize]
 }
 
-/// The relief's height and slope (x, z) at world `p`, in f64 (the slope by central differences).
+/// The relief's height and slope (x, z) at world `p`, in f64: the slope by central differences half a
+/// metre either side, as relief_fill.comp takes it.
 fn relief_at(relief: &Relief, p: DVec2) -> (f64, DVec2) {
-    let h = 1e-3;
+    let h = 0.5;
     let dx = relief.height(p.x + h, p.y) - relief.height(p.x - h, p.y);
     let dz = relief.height(p.x, p.y + h) - relief.height(p.x, p.y - h);
     (relief.height(p.x, p.y), DVec2::new(dx, dz) / (2.0 * h))

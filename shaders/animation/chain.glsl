@@ -72,9 +72,11 @@ vec3 quat_scaled_axis(vec4 q) {
 }
 
 struct Chain {
-    float rest_angle[CHAIN_SEGMENTS]; // R⁰ₖ: the rotation about x from the segment below
+    vec4 rest[CHAIN_SEGMENTS];        // R⁰ₖ: the rotation about x from the segment below
+    vec4 rest_frames[CHAIN_SEGMENTS]; // Tₖ at ψ = 0 (the neutral curve's segments)
     float half_length[CHAIN_SEGMENTS]; // l (metres)
     vec3 controls[3];                 // the neutral curve's P1..P3
+    vec3 carried[2];                  // P1 in T⁰₀'s frame, P2 − the rest tip in T⁰ of the last
     float rest_arc;                   // its arc length over CHAIN_ARC_SAMPLES chords
 };
 
@@ -83,8 +85,11 @@ struct ChainState {
     vec3 omega[CHAIN_SEGMENTS];
 };
 
+// R⁰ₖ, and everything else that depends on the neutral curve alone (the rest frames, the controls
+// carried by the first and last segments), is computed once per chain (`chain_of`): the solve,
+// the frames and the controls read it up to 20 times a blade.
 vec4 chain_rest(Chain c, uint k) {
-    return vec4(sin(0.5 * c.rest_angle[k]), 0.0, 0.0, cos(0.5 * c.rest_angle[k]));
+    return c.rest[k];
 }
 
 float chain_arc_length(vec3 p[3]) {
@@ -101,17 +106,31 @@ float chain_arc_length(vec3 p[3]) {
 // The chain of the neutral cubic n (n[0] the root at 0).
 Chain chain_of(vec3 n[4]) {
     Chain c;
-    float below = 0.0;
+    vec3 joints[CHAIN_SEGMENTS + 1u];
+    for (uint k = 0u; k <= CHAIN_SEGMENTS; k++) {
+        joints[k] = bezier_point(n[0], n[1], n[2], n[3], float(k) / float(CHAIN_SEGMENTS));
+    }
+    vec4 frame = vec4(0.0, 0.0, 0.0, 1.0);
+    vec3 rest_tip = vec3(0.0);
+    // R⁰ₖ turns the direction a of the segment below (ŷ below the first) onto this one's, b, about
+    // x: for unit a, b in the y-z plane the half-angle quaternion normalize((a × b)ₓ, 0, 0, 1 + a·b)
+    // = (sin θ/2, 0, 0, cos θ/2), without an atan, a sin and a cos (the neutral curve turns by
+    // far less than 180° a segment).
+    vec2 below = vec2(1.0, 0.0); // (y, z) of the direction below
     for (uint k = 0u; k < CHAIN_SEGMENTS; k++) {
-        vec3 a = bezier_point(n[0], n[1], n[2], n[3], float(k) / float(CHAIN_SEGMENTS));
-        vec3 b = bezier_point(n[0], n[1], n[2], n[3], float(k + 1u) / float(CHAIN_SEGMENTS));
-        vec3 s = b - a;
-        float angle = atan(s.z, s.y);
-        c.rest_angle[k] = angle - below;
-        c.half_length[k] = 0.5 * length(s);
-        below = angle;
+        vec3 s = joints[k + 1u] - joints[k];
+        float len = length(s);
+        vec2 dir = len > 0.0 ? s.yz / len : vec2(1.0, 0.0);
+        c.rest[k] = normalize(vec4(below.x * dir.y - below.y * dir.x, 0.0, 0.0, 1.0 + dot(below, dir)));
+        c.half_length[k] = 0.5 * len;
+        below = dir;
+        frame = quat_mul(frame, c.rest[k]);
+        c.rest_frames[k] = frame;
+        rest_tip += quat_rotate(frame, vec3(0.0, 2.0 * c.half_length[k], 0.0));
     }
     c.controls = vec3[3](n[1], n[2], n[3]);
+    c.carried[0] = quat_rotate(quat_inverse(c.rest_frames[0]), c.controls[0]);
+    c.carried[1] = quat_rotate(quat_inverse(c.rest_frames[CHAIN_SEGMENTS - 1u]), c.controls[1] - rest_tip);
     c.rest_arc = chain_arc_length(c.controls);
     return c;
 }
@@ -135,19 +154,24 @@ void chain_frames(Chain c, ChainState s, out vec4 frames[CHAIN_SEGMENTS]) {
 }
 
 // The static equilibrium at rest under a force per joint (per unit mass, blade frame), §3.3's
-// solve: per joint from the root, k·ψ = l × (Tₖ₋₁ R⁰ₖ M(ψ))' fₖ by fixed-point iteration.
-ChainState chain_equilibrium_forces(Chain c, vec3 force[CHAIN_SEGMENTS], float stiffness) {
+// solve: per joint from the root, k·ψ = l × (Tₖ₋₁ R⁰ₖ M(ψ))' fₖ by fixed-point iteration. The
+// frames Tₖ it ends at (what `chain_frames` gives for it) in `frames`.
+ChainState chain_equilibrium_framed(Chain c, vec3 force[CHAIN_SEGMENTS], float stiffness, out vec4 frames[CHAIN_SEGMENTS]) {
     ChainState s;
     vec4 frame = vec4(0.0, 0.0, 0.0, 1.0);
     for (uint k = 0u; k < CHAIN_SEGMENTS; k++) {
-        vec3 psi = vec3(0.0);
-        for (uint i = 0u; i < CHAIN_EQUILIBRIUM_ITERATIONS; i++) {
-            vec4 q = quat_mul(quat_mul(frame, chain_rest(c, k)), quat_from_scaled_axis(psi));
+        vec4 rest = quat_mul(frame, chain_rest(c, k));
+        // The first iteration from ψ = 0, where M(ψ) is the identity (exactly: the product with
+        // it rounds nothing), then the others.
+        vec3 psi = chain_moment(c.half_length[k], rest, force[k]) / stiffness;
+        for (uint i = 1u; i < CHAIN_EQUILIBRIUM_ITERATIONS; i++) {
+            vec4 q = quat_mul(rest, quat_from_scaled_axis(psi));
             psi = chain_moment(c.half_length[k], q, force[k]) / stiffness;
         }
         s.psi[k] = psi;
         s.omega[k] = vec3(0.0);
-        frame = quat_mul(quat_mul(frame, chain_rest(c, k)), quat_from_scaled_axis(psi));
+        frame = quat_mul(rest, quat_from_scaled_axis(psi));
+        frames[k] = frame;
     }
     return s;
 }
@@ -159,7 +183,8 @@ ChainState chain_equilibrium(Chain c, vec3 w, float stiffness) {
     for (uint k = 0u; k < CHAIN_SEGMENTS; k++) {
         force[k] = f;
     }
-    return chain_equilibrium_forces(c, force, stiffness);
+    vec4 frames[CHAIN_SEGMENTS];
+    return chain_equilibrium_framed(c, force, stiffness, frames);
 }
 
 // §3.3's virtual moments of a chain: mₖ = k·ψₖ on each segment (gravity left out), given as the
@@ -207,23 +232,13 @@ void chain_step(Chain c, inout ChainState s, vec3 w, vec2 constants, float dt) {
 
 // The drawn curve's controls P1..P3 (blade frame, the root at 0) from the frames `now` of a state.
 void chain_controls(Chain c, vec4 now[CHAIN_SEGMENTS], out vec3 p[3]) {
-    ChainState rest_state;
-    for (uint k = 0u; k < CHAIN_SEGMENTS; k++) {
-        rest_state.psi[k] = vec3(0.0);
-        rest_state.omega[k] = vec3(0.0);
-    }
-    vec4 rest[CHAIN_SEGMENTS];
-    chain_frames(c, rest_state, rest);
-    vec3 rest_tip = vec3(0.0);
     vec3 tip = vec3(0.0);
     for (uint k = 0u; k < CHAIN_SEGMENTS; k++) {
-        vec3 segment = vec3(0.0, 2.0 * c.half_length[k], 0.0);
-        rest_tip += quat_rotate(rest[k], segment);
-        tip += quat_rotate(now[k], segment);
+        tip += quat_rotate(now[k], vec3(0.0, 2.0 * c.half_length[k], 0.0));
     }
     const uint last = CHAIN_SEGMENTS - 1u;
-    p[0] = quat_rotate(now[0], quat_rotate(quat_inverse(rest[0]), c.controls[0]));
-    p[1] = tip + quat_rotate(now[last], quat_rotate(quat_inverse(rest[last]), c.controls[1] - rest_tip));
+    p[0] = quat_rotate(now[0], c.carried[0]);
+    p[1] = tip + quat_rotate(now[last], c.carried[1]);
     p[2] = tip;
     float scale = c.rest_arc / max(chain_arc_length(p), 1e-6);
     for (uint i = 0u; i < 3u; i++) {

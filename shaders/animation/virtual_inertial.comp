@@ -5,7 +5,7 @@
 // wind corners (animation/virtual_blades.comp wrote it this frame: the virtual blades' moments as
 // forces), weighted as the wind itself is (wind/wind_field.glsl: the cluster's bilinear weights,
 // or a block field's levels and their blend), and draws its static equilibrium under it
-// (`chain_equilibrium_forces`, §3.3's solve, 3 iterations), with its own chain at t = k / 4 of its
+// (`chain_equilibrium_framed`, §3.3's solve, 3 iterations), with its own chain at t = k / 4 of its
 // neutral curve and its own facing. No state per drawn blade. The colliders' push and, with
 // delayed attenuation, the point sources at the blade are what the corners do not carry: they
 // add their still drag (a local wind, no inertia). Mirrored on the CPU by
@@ -100,9 +100,8 @@ void main() {
     vec3 n[4];
     neutral_control_points(blade.height, unpack_variation(blade.variation, 2), n);
     Chain chain = chain_of(n);
-    ChainState state = chain_equilibrium_forces(chain, force, virtual_shape.x);
     vec4 frames[CHAIN_SEGMENTS];
-    chain_frames(chain, state, frames);
+    chain_equilibrium_framed(chain, force, virtual_shape.x, frames);
     vec3 p[3];
     chain_controls(chain, frames, p);
     write_chain_pose(pose_base(i), blade.height, n[3], p, frames);

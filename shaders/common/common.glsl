@@ -23,7 +23,7 @@ struct FrameUniforms {
     uvec4 cull_lod;         // x LOD buckets, y their segment counts minus 1 (4 bits each, bucket 0 lowest), z CULL_* / LOD_* bits, w entries of the visible list
     // Block fields: positions are relative to an origin O, the corner of the block cell under
     // the camera (the camera, the view matrix and the emitters too).
-    vec4 relief_waves[RELIEF_WAVES]; // xy wave vector (2π / wavelength), z amplitude, w unused
+    vec4 relief_waves[RELIEF_WAVES]; // xy wave vector (2π / wavelength), z amplitude, w phase
     vec4 relief_phases[RELIEF_WAVES / 2u]; // sin, cos of u_k · O + φ_k, two waves per vec4
     ivec4 field_cells;      // xy O's cell, z cells of a bounded field per side (0: unbounded), w unused
     vec4 field;             // x block edge (m), y relief slope bound, zw the force corners' origin relative to O

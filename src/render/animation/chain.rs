@@ -106,15 +106,19 @@ impl Chain {
     pub fn from_controls(n: [Vec3; 4]) -> Self {
         let mut rest = [Quat::IDENTITY; CHAIN_SEGMENTS];
         let mut half = [0.0; CHAIN_SEGMENTS];
-        let mut below_angle = 0.0f32;
+        // R⁰ₖ turns the direction of the segment below (ŷ below the first) onto this one's, about
+        // x: the half-angle quaternion normalize((a × b)ₓ, 0, 0, 1 + a·b), as `chain_of` takes it.
+        let mut below = glam::Vec2::X; // (y, z)
         for k in 0..CHAIN_SEGMENTS {
             let a = bezier::point(&n, k as f32 / CHAIN_SEGMENTS as f32);
             let b = bezier::point(&n, (k + 1) as f32 / CHAIN_SEGMENTS as f32);
             let s = b - a;
-            let angle = s.z.atan2(s.y);
-            rest[k] = Quat::from_rotation_x(angle - below_angle);
-            half[k] = 0.5 * s.length();
-            below_angle = angle;
+            let len = s.length();
+            let dir = if len > 0.0 { glam::Vec2::new(s.y, s.z) / len } else { glam::Vec2::X };
+            let turn = glam::Vec4::new(below.x * dir.y - below.y * dir.x, 0.0, 0.0, 1.0 + below.dot(dir)).normalize();
+            rest[k] = Quat::from_vec4(turn);
+            half[k] = 0.5 * len;
+            below = dir;
         }
         let controls = [n[1], n[2], n[3]];
         Self { rest, half, controls, rest_arc: arc_length(&controls) }
