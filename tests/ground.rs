@@ -16,6 +16,7 @@ use meadow::render::animation::{AnimationSettings, Mode};
 use meadow::render::camera_grid;
 use meadow::render::culling::Culling;
 use meadow::render::field_gpu::Origin;
+use meadow::render::ground::tiles;
 use meadow::render::ground_clipmap::{self, Clipmap, CELLS};
 use meadow::render::terrain_chunks::{self, GridPlacement, TerrainChunk};
 use meadow::render::{OffscreenTarget, RenderSettings, Renderer};
@@ -234,6 +235,33 @@ fn hit(t: &[glam::DVec3; 3], p: DVec2) -> Option<f64> {
 }
 
 #[test]
+fn every_levels_tiles_hold_the_range_and_cover_of_their_vertices_and_a_scroll_renews_them() {
+    let clipmap = clipmap();
+    // Near the origin, then 11 blocks on (level 0's window moved: its tiles are written anew).
+    let moved = render(&[camera(1.5, 2.5, 30.0), camera(45.5, 2.5, 30.0)]);
+    let texel_count = |frame: &Frame| frame.grid.len();
+    let mut spans = 0.0f32;
+    for frame in &moved {
+        let windows = clipmap.windows(Origin::under(&frame.camera).cell);
+        let n = (CELLS + 1) as usize;
+        for level in 0..clipmap.levels {
+            // The level's vertices row by row from its window's first, as an uploaded level's.
+            let vertices: Vec<[f32; 4]> =
+                (0..n * n).map(|i| texel(frame, &windows, level, UVec2::new((i % n) as u32, (i / n) as u32))).collect();
+            let expected = tiles::tiles_of(CELLS, &vertices, &vec![(1.0, 1.0); n * n]);
+            let side = tiles::per_side(CELLS);
+            for (k, want) in expected.iter().enumerate() {
+                let at = tiles::texel(clipmap.levels, CELLS, level, (k as u32 % side, k as u32 / side));
+                assert!(at < texel_count(frame), "tile texel {at} past the clipmap's {}", texel_count(frame));
+                assert_eq!(frame.grid[at], *want, "level {level}'s tile {k} at {}", frame.camera.position);
+                spans = spans.max(want[1] - want[0]);
+            }
+        }
+    }
+    assert!(spans > 0.1, "every tile flat ({spans} m): the check means nothing");
+}
+
+#[test]
 fn vertical_rays_find_no_crack_where_the_levels_meet() {
     let clipmap = clipmap();
     let frames = render(&[camera(1.5, 2.5, 30.0), camera(100_037.5, -99_021.5, 200.0)]);
@@ -314,9 +342,12 @@ fn a_stored_fields_one_level_is_its_terrains_heights_and_central_differences() {
     let grid = grid.expect("read back");
     let terrain = &scene.terrain;
     let n = terrain.cells as usize + 1;
-    assert_eq!(grid.len(), n * n);
+    assert_eq!(grid.len() as u64, (n * n) as u64 + tiles::count(1, terrain.cells));
     let h = |x: usize, z: usize| terrain.heights[z.min(n - 1) * n + x.min(n - 1)];
-    for (z, row) in grid.chunks(n).enumerate() {
+    // After its vertices, its tiles: the range of each tile's vertices, full cover (none given).
+    let (vertices, tile_texels) = grid.split_at(n * n);
+    assert_eq!(tile_texels, &tiles::tiles_of(terrain.cells, vertices, &vec![(1.0, 1.0); n * n])[..]);
+    for (z, row) in vertices.chunks(n).enumerate() {
         for (x, t) in row.iter().enumerate() {
             // The same bits: the pictures drawn from it are the ones drawn from the heights.
             assert_eq!(t[0].to_bits(), h(x, z).to_bits(), "({x}, {z})");

@@ -61,6 +61,19 @@ uvec2 ground_shape() {
     return uvec2(ground_cells(), ground_levels());
 }
 
+// The clipmap's tiles (`render::ground::tiles`): GROUND_TILE_CELLS² cells of a level each, from
+// its window's first vertex, row by row; their texels follow every level's vertices.
+uint ground_tiles_per_side() {
+    return (ground_cells() + GROUND_TILE_CELLS - 1u) / GROUND_TILE_CELLS;
+}
+
+// The texel of tile `tile` of level `level`.
+int ground_tile_texel(uint level, uvec2 tile) {
+    uint n = ground_cells() + 1u;
+    uint t = ground_tiles_per_side();
+    return int(ground_levels() * n * n + (level * t + tile.y) * t + tile.x);
+}
+
 #ifndef GROUND_WRITER
 // A level as a point's reads need it, read once: its index, its window's cells and toroidal base,
 // whether a coarser level follows (its odd vertices morph), its step and its texels' run.
@@ -182,26 +195,65 @@ vec3 cover_debug_color(float cover) {
                        : mix(vec3(0.8, 0.7, 0.05), vec3(0.05, 0.6, 0.1), 2.0 * cover - 1.0);
 }
 
-// The most cover over the square `lo`..`hi` (x, z, relative to O): the largest at the vertices of
-// the cells it overlaps in the level at its centre, and one vertex around them (a root near a
-// level's edge may stand on the next level's cell). A cell with none has no grass.
-float ground_cover_max(vec2 lo, vec2 hi) {
-    if (GROUND_COVER == 0u) {
-        return 1.0;
-    }
-    uvec2 shape = ground_shape();
-    vec2 g;
-    GroundLevel l = ground_level(ground_level_at(0.5 * (lo + hi), shape, g), shape);
-    ivec2 first = ivec2(floor((lo - ground_level_offset(l.level)) / l.step)) - 1;
-    ivec2 last = ivec2(ceil((hi - ground_level_offset(l.level)) / l.step)) + 1;
-    last = min(last, first + 7); // at most 8 × 8 vertices: a block over cells of half a metre
-    float most = 0.0;
+// Tile `tile` of level `l` as the source's tiles pass writes it (terrain/ground_tiles.comp): the
+// lowest and highest height of its vertices' texels (their own and the next level's mesh there,
+// between which a drawn vertex slides), the most grass and flower cover at them.
+vec4 ground_tile_of(GroundLevel l, uvec2 tile) {
+    ivec2 first = ivec2(tile * GROUND_TILE_CELLS);
+    ivec2 last = min(first + int(GROUND_TILE_CELLS), ivec2(l.cells));
+    vec4 bounds = vec4(1e30, -1e30, 0.0, 0.0);
     for (int z = first.y; z <= last.y; z++) {
         for (int x = first.x; x <= last.x; x++) {
-            most = max(most, ground_vertex_cover(l, ivec2(x, z)));
+            vec4 t = ground_grid_texel(l, ivec2(x, z));
+            bounds.x = min(bounds.x, min(t.x, t.y));
+            bounds.y = max(bounds.y, max(t.x, t.y));
+            bounds.zw = max(bounds.zw, ground_vertex_covers(l, ivec2(x, z)));
         }
     }
-    return most;
+    return bounds;
+}
+
+// The drawn ground over the square `lo`..`hi` (x, z, relative to O) from the clipmap's tiles: x the
+// lowest height, y the highest, z the most grass cover and w the most flower cover, over the
+// tiles under it in every level that draws a point of it (the levels of its corners: a window is
+// larger than any square asked, so one of its corners lies in the finest). A drawn point lies in
+// a cell whose corners are its tile's vertices, each drawn between its texel's own height and the
+// next level's mesh there (the morph), both of which the tile bounds: the bounds hold for the
+// ground as drawn. Past the coarsest window, its edge tiles (the drawn ground is held there).
+vec4 ground_tile_bounds(vec2 lo, vec2 hi) {
+    uvec2 shape = ground_shape();
+    vec2 g;
+    uint a = ground_level_at(lo, shape, g);
+    uint b = ground_level_at(hi, shape, g);
+    uint c = ground_level_at(vec2(lo.x, hi.y), shape, g);
+    uint d = ground_level_at(vec2(hi.x, lo.y), shape, g);
+    uint finest = min(min(a, b), min(c, d));
+    uint coarsest = max(max(a, b), max(c, d));
+    int last = int(shape.x) - 1;
+    vec4 bounds = vec4(1e30, -1e30, 0.0, 0.0);
+    for (uint level = finest; level <= coarsest; level++) {
+        vec2 offset = ground_level_offset(level);
+        float step = ground_level_step(level);
+        // The cells from lo's to the last that starts before hi: a point on a cell's far edge is
+        // the next cell's corner, in this tile too (a tile holds its edge vertices), so a block
+        // cell on level 0's lattice reads the one tile it fills.
+        ivec2 from = clamp(ivec2(floor((lo - offset) / step)), ivec2(0), ivec2(last));
+        ivec2 to = clamp(max(ivec2(ceil((hi - offset) / step)) - 1, from), ivec2(0), ivec2(last));
+        uvec2 first = uvec2(from) / GROUND_TILE_CELLS;
+        uvec2 end = uvec2(to) / GROUND_TILE_CELLS;
+        for (uint z = first.y; z <= end.y; z++) {
+            for (uint x = first.x; x <= end.x; x++) {
+                vec4 t = ground_texel(ground_tile_texel(level, uvec2(x, z)));
+                bounds = vec4(min(bounds.x, t.x), max(bounds.y, t.y), max(bounds.zw, t.zw));
+            }
+        }
+    }
+    return bounds;
+}
+
+// The most grass cover over the square `lo`..`hi`: none, no grass (`ground_tile_bounds`).
+float ground_cover_max(vec2 lo, vec2 hi) {
+    return GROUND_COVER != 0u ? ground_tile_bounds(lo, hi).z : 1.0;
 }
 
 // The ground's normal at `p`: the bilinear patch's through the drawn heights of its cell

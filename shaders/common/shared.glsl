@@ -78,6 +78,7 @@
 #define RELIEF_WAVES 8u // Sine waves of the relief.
 #define FIELD_TERRAIN_CELLS 80u // Cells per side of a level of a block field's ground clipmap (`render::ground_clipmap`).
 #define GROUND_SNAP_CELLS 16u // A ground clipmap level's window moves by whole multiples of this many of its cells (`render::ground_clipmap`).
+#define GROUND_TILE_CELLS 2u // Cells per side of a ground clipmap tile (a block cell at level 0's usual 2 m): the source keeps each tile's lowest and highest height and most cover (`render::ground::tiles`).
 #define GROUND_MORPH_FULL 1u // Within this many cells of a level's window edge its odd vertices lie on the next level's mesh,
 #define GROUND_MORPH_END 8u // and from this many on they are the relief's.
 #define PERIOD_CELLS 5000 // Block cells in the world's period (`scene::field::PERIOD_CELLS`).

@@ -11,9 +11,22 @@
 // the level's `ground_level_rise_run` metres (the normal is (-z, run, -w)).
 // And per vertex, in the same slot, the ground's cover (`scene::cover`): the densities grass
 // (low half) and flowers (high half, `scene::flowers`) grow at there, two unorm16 in [0, 1].
+// After every level's vertices, per level its tiles (`render::ground::tiles`): GROUND_TILE_CELLS²
+// cells each, row by row from the window's first vertex, x the lowest height of its vertices, y
+// the highest, z the most grass cover and w the most flower cover at them. Written by
+// terrain/ground_tiles.comp (GROUND_TILER: the vertices read, the tiles written) after a fill.
 #ifdef GROUND_WRITER
 layout(SCENE(GroundTexels), std430) writeonly buffer GroundTexels { vec4 ground_grid[]; };
 layout(SCENE(GroundCover), std430) writeonly buffer GroundCover { uint ground_cover_grid[]; };
+#elif defined(GROUND_TILER)
+layout(SCENE(GroundTexels), std430) buffer GroundTexels { vec4 ground_grid[]; };
+vec4 ground_texel(int i) {
+    return ground_grid[i];
+}
+layout(SCENE(GroundCover), std430) readonly buffer GroundCover { uint ground_cover_grid[]; };
+vec2 ground_cover_texel(int i) {
+    return unpackUnorm2x16(ground_cover_grid[i]);
+}
 #elif defined(TEXEL_TWINS)
 layout(SCENE(ground_texels)) uniform samplerBuffer ground_texels;
 vec4 ground_texel(int i) {

@@ -8,7 +8,7 @@ use ash::vk;
 
 use crate::error::Result;
 use crate::render::draw_rows::TileRows;
-use crate::render::gpu_constants::{self, FIELD_TERRAIN_CELLS};
+use crate::render::gpu_constants::{self, FIELD_TERRAIN_CELLS, GROUND_TILE_CELLS};
 use crate::render::ground::{GroundGpu, GroundParts, GroundSource};
 use crate::render::limits::BLADES_PER_INSTANCE_RANGE;
 use crate::scene::clusters::{BladeCluster, ClusterGrid};
@@ -261,10 +261,11 @@ impl SceneGpu {
         let blades = blade_count
             * (std::mem::size_of::<crate::scene::BladeInstance>() + std::mem::size_of::<BladeCluster>() + 16 + 8 + 8)
                 as u64;
-        // The ground's texels and triangles: a stored terrain's grid, or the relief's clipmap.
+        // The ground's texels and triangles: a stored terrain's grid and its tiles, or the
+        // relief's clipmap (its tiles included).
         let relief = crate::render::ground::clipmap_texels();
-        let heights =
-            16 * ((terrain_cells + 1).pow(2) + relief) + 24 * terrain_cells.max(u64::from(FIELD_TERRAIN_CELLS)).pow(2);
+        let stored = (terrain_cells + 1).pow(2) + terrain_cells.div_ceil(u64::from(GROUND_TILE_CELLS)).pow(2);
+        let heights = 16 * (stored + relief) + 24 * terrain_cells.max(u64::from(FIELD_TERRAIN_CELLS)).pow(2);
         let alpha = u64::from(alpha::WIDTH * alpha::HEIGHT);
         let tiles = u64::from(MAX_TILES_PER_SIDE).pow(2) * std::mem::size_of::<BladeTile>() as u64
             + cull_bytes(0, max_ring_slots(MAX_TILES_PER_SIDE), 0)[1]

@@ -94,6 +94,9 @@ pub const TERRAIN_FRAG: Shader = spirv_shader!("terrain/terrain.frag");
 pub const RELIEF_FILL_COMP: Shader = spirv_shader!("terrain/relief_fill.comp");
 /// The same from a heightmap's texels (`render::ground::HeightmapGround`).
 pub const HEIGHTMAP_FILL_COMP: Shader = spirv_shader!("terrain/heightmap_fill.comp");
+/// The ground's tiles after a fill: each tile's lowest and highest height and most cover
+/// (`render::ground::tiles`, `passes::ground_fill`).
+pub const GROUND_TILES_COMP: Shader = spirv_shader!("terrain/ground_tiles.comp");
 /// Floor reference: transform only.
 pub const FLOOR_VERT: Shader = spirv_shader!("debug/floor.vert");
 /// Floor reference: flat colour.

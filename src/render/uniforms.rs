@@ -40,7 +40,7 @@ pub struct FrameUniforms {
     pub cull_tiles: UVec4,
     /// x LOD buckets, y their segment counts minus 1 (4 bits each), z `CULL_*` / `LOD_*` bits.
     pub cull_lod: UVec4,
-    /// Block fields: per relief wave, the wave vector and amplitude.
+    /// Block fields: per relief wave, the wave vector, the amplitude and the phase.
     pub relief_waves: [Vec4; 8],
     /// Block fields: sin and cos of each wave's phase at the origin O, two waves per vector.
     pub relief_phases: [Vec4; 4],

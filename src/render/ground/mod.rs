@@ -4,6 +4,9 @@
 //! roots and tile normals, the blades' lighting and the debug views. No reader asks which source
 //! it is.
 //!
+//! After every level's vertices, the clipmap holds per level its tiles' lowest and highest height
+//! and most cover ([`tiles`]), which the cull bounds its cells by.
+//!
 //! A texel is what its grid vertex alone decides: x the ground's height, y the height of the next
 //! level's mesh there (the morph's target, `render::ground_clipmap`), zw the ground's rise along x
 //! and z over the level's run (`ground_levels[l].w`), so the normal at the vertex is
@@ -31,6 +34,7 @@ mod cover;
 mod heightmap;
 mod relief;
 mod stored;
+pub mod tiles;
 
 pub use cover::{cover_map_words, COVER_MAP_HEADER_WORDS};
 pub use heightmap::{map_words, HeightmapGround, MAP_HEADER_WORDS};
@@ -54,10 +58,11 @@ use crate::vk::profile::Shader;
 use crate::vk::upload::UploadBatch;
 use crate::vk::{Access, Buffer, BufferDesc, Destroy, Device, TexelView};
 
-/// Texels of the camera-following clipmap of the most levels: any view distance fits.
+/// Texels of the camera-following clipmap of the most levels, its tiles after its vertices: any
+/// view distance fits.
 pub fn clipmap_texels() -> u64 {
     let shape = Clipmap { step: 1.0, levels: crate::render::gpu_constants::CAMERA_GRID_MAX_LEVELS }.shape();
-    shape.cells_per_level() * u64::from(shape.levels)
+    shape.cells_per_level() * u64::from(shape.levels) + tiles::count(shape.levels, ground_clipmap::CELLS)
 }
 
 /// Where the ground comes from: what the renderer needs of it. The shape's defaults are a block
@@ -278,6 +283,11 @@ fn check_range(device: &Device, name: &str, words: &[u32]) -> Result<()> {
 pub fn pack_cover(grass: f32, flowers: f32) -> u32 {
     let unorm = |v: f32| (v.clamp(0.0, 1.0) * 65_535.0).round() as u32;
     unorm(grass) | (unorm(flowers) << 16)
+}
+
+/// `pack_cover`'s (grass, flowers) back, as `unpackUnorm2x16` gives them.
+pub fn unpack_cover(packed: u32) -> (f32, f32) {
+    ((packed & 0xffff) as f32 / 65_535.0, (packed >> 16) as f32 / 65_535.0)
 }
 
 /// The ground source of `scene`: its relief for a block field, its stored terrain otherwise.

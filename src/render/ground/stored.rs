@@ -32,7 +32,7 @@ impl GroundSource for StoredGround {
     }
 
     fn texel_count(&self) -> u64 {
-        u64::from(self.terrain.cells + 1).pow(2)
+        u64::from(self.terrain.cells + 1).pow(2) + super::tiles::count(1, self.terrain.cells)
     }
 
     fn height_range(&self) -> (f32, f32) {
@@ -41,7 +41,15 @@ impl GroundSource for StoredGround {
     }
 
     fn texels(&self) -> Option<Vec<[f32; 4]>> {
-        Some(stored_texels(&self.terrain))
+        // The level's vertices, then its tiles (`tiles`), from the vertices and their covers.
+        let mut texels = stored_texels(&self.terrain);
+        let covers: Vec<(f32, f32)> = match self.cover_texels() {
+            Some(packed) => packed.iter().map(|&c| super::unpack_cover(c)).collect(),
+            None => vec![(1.0, 1.0); texels.len()],
+        };
+        let tiles = super::tiles::tiles_of(self.terrain.cells, &texels, &covers);
+        texels.extend(tiles);
+        Some(texels)
     }
 
     fn fill_uniforms(&self, uniforms: &mut FrameUniforms, _: IVec2, _: (f32, f32)) {
@@ -109,7 +117,14 @@ mod tests {
         assert_eq!(texels[2 * n + 3], [h(3, 2), h(3, 2), h(4, 2) - h(2, 2), h(3, 3) - h(3, 1)]);
         assert_eq!(texels[0], [h(0, 0), h(0, 0), h(1, 0) - h(0, 0), h(0, 1) - h(0, 0)]);
         let source = StoredGround { terrain: terrain.clone(), cover: Cover::default() };
-        assert_eq!(source.texel_count(), texels.len() as u64);
+        let uploaded = source.texels().expect("uploaded");
+        assert_eq!(source.texel_count(), uploaded.len() as u64);
+        assert_eq!(uploaded[..n * n], texels[..], "the vertices come first");
+        // Then the tiles: the first, over the grid's first 2 × 2 cells, bounds their vertices.
+        let first: Vec<f32> = (0..=2).flat_map(|z| (0..=2).map(move |x| h(x, z))).collect();
+        let lo = first.iter().copied().fold(f32::INFINITY, f32::min);
+        let hi = first.iter().copied().fold(f32::NEG_INFINITY, f32::max);
+        assert_eq!(uploaded[n * n], [lo, hi, 1.0, 1.0]);
         let mut uniforms: FrameUniforms = bytemuck::Zeroable::zeroed();
         source.fill_uniforms(&mut uniforms, IVec2::ZERO, (150.0, 150.0));
         assert_eq!(uniforms.ground_levels[0], Vec4::new(-3.0, -3.0, terrain.cell_size(), 2.0 * terrain.cell_size()));

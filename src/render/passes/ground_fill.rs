@@ -10,6 +10,10 @@
 //! `shaders/common/ground.glsl`. Writes `GroundGpu::texels`; the graph orders this frame's write
 //! after the previous frame's reads, and each level's fill after the one before (a step each).
 //!
+//! After the levels' fills, one more step writes the moved levels' tiles (`render::ground::tiles`,
+//! `shaders/terrain/ground_tiles.comp`): each tile's lowest and highest height and most cover,
+//! which the cull bounds its cells by.
+//!
 //! A frame whose windows are the last filled ones skips the pass (`declare` returns `None`: no
 //! barrier, no dispatch, no timestamps); the relief's level 0 moves once the camera has gone 8 of
 //! its cells, 16 m at 2 m cells. A change of what the
@@ -21,13 +25,17 @@
 use std::cell::RefCell;
 
 use ash::vk;
+use bytemuck::{Pod, Zeroable};
+use glam::UVec4;
 
 use crate::error::{Error, Result};
 use crate::render::camera_grid::{self, CameraGrid, Scroll};
+use crate::render::gpu_constants as gpu;
 use crate::render::graph::{Declaration, Pass, PassContext};
-use crate::render::ground::GroundFill;
+use crate::render::ground::{tiles, GroundFill};
 use crate::render::recording::{self, PassSet, PassSetDesc};
 use crate::render::scene_gpu::SceneGpu;
+use crate::render::shaders;
 use crate::render::specialization::Specialization;
 use crate::render::uniforms::FrameUniforms;
 use crate::vk::descriptor::{Resource, SetLayout};
@@ -37,6 +45,8 @@ use crate::vk::{pipeline, Access, Destroy, Device, Guard};
 /// set when its fill reads buffers of its own) and the grid it fills.
 pub struct GroundFillPass {
     pipeline: vk::Pipeline,
+    /// The tiles' pipeline (`ground_tiles.comp`), on the same layout.
+    tiles: vk::Pipeline,
     layout: vk::PipelineLayout,
     /// The source's own set (`GroundSource::buffers`, `SET_PASS`), if it has buffers.
     own: Option<PassSet>,
@@ -91,12 +101,15 @@ impl GroundFillPass {
             None => Some(Guard::new(device, pipeline::layout(device, "ground fill layout", &[sets[0].raw], &[range])?)),
         };
         let layout = own.as_ref().map_or_else(|| **plain.as_ref().expect("made"), |set| set.layout);
-        let pipeline = pipeline::compute(device, "ground fill", spirv, layout, &constants.named())?;
+        let pipeline = Guard::new(device, pipeline::compute(device, "ground fill", spirv, layout, &constants.named())?);
+        let tiles_spirv = shaders::GROUND_TILES_COMP.code(device.profile);
+        let tiles = pipeline::compute(device, "ground tiles", tiles_spirv, layout, &constants.named())?;
+        let pipeline = pipeline.take();
         let (grid, key, fills) = (RefCell::new(grid), RefCell::new(None), RefCell::new(Ok(Vec::new())));
         let reads = extra.iter().map(|(_, b)| b.raw).collect();
         let (_, own, buffer) = (plain.map(Guard::take), own.map(Guard::take), scene.ground.texels.raw);
         let cover = scene.ground.cover.0.raw;
-        Ok(Some(Self { pipeline, layout, own, reads, buffer, cover, fill, grid, key, fills }))
+        Ok(Some(Self { pipeline, tiles, layout, own, reads, buffer, cover, fill, grid, key, fills }))
     }
 
     /// Move each level's window to this frame's and return the fills of the levels whose window
@@ -113,6 +126,48 @@ impl GroundFillPass {
         Ok(windows.into_iter().enumerate().filter_map(|(level, window)| grid.scroll_to(level as u32, window)).collect())
     }
 }
+
+impl GroundFillPass {
+    /// The tiles of the levels `fills` moved, in a clipmap of `cells` cells a level: one
+    /// invocation a tile.
+    fn record_tiles(&self, device: &Device, cmd: vk::CommandBuffer, fills: &[Scroll], cells: u32) {
+        let mut push = TilesPush::zeroed();
+        for (k, scroll) in fills.iter().enumerate() {
+            push.levels[k / 4][k % 4] = scroll.level;
+        }
+        let per = tiles::per_side(cells).pow(2);
+        push.count = UVec4::new(fills.len() as u32, per, 0, 0);
+        let groups = (push.count.x * per).div_ceil(gpu::CAMERA_GRID_GROUP);
+        // SAFETY: cmd is recording outside a rendering instance; the layout's compute push range
+        // (`FillPush`'s) holds `TilesPush` at offset 0.
+        unsafe {
+            device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.tiles);
+            device.raw.cmd_push_constants(
+                cmd,
+                self.layout,
+                vk::ShaderStageFlags::COMPUTE,
+                0,
+                bytemuck::bytes_of(&push),
+            );
+            device.raw.cmd_dispatch(cmd, groups, 1, 1);
+        }
+    }
+}
+
+/// The tiles' push constants (`Tiles` in `shaders/terrain/ground_tiles.comp`): the levels to tile,
+/// four a vector, and x how many, y the tiles of a level.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+struct TilesPush {
+    levels: [UVec4; 4],
+    count: UVec4,
+}
+
+const _: () = assert!(
+    std::mem::size_of::<TilesPush>() <= std::mem::size_of::<camera_grid::FillPush>()
+        && gpu::CAMERA_GRID_MAX_LEVELS <= 16
+        && gpu::FIELD_TERRAIN_CELLS.is_multiple_of(gpu::GROUND_TILE_CELLS)
+);
 
 impl Pass for GroundFillPass {
     fn name(&self) -> &'static str {
@@ -133,23 +188,26 @@ impl Pass for GroundFillPass {
             let step = self.reads.iter().fold(d.then(), |d, &b| d.buffer(b, Access::ComputeShaderRead));
             step.buffer(self.buffer, write).buffer(self.cover, write)
         });
+        // The tiles: the filled vertices and covers read, the tile texels written.
+        let read = Access::ComputeShaderRead;
+        let tiles = declaration.then().buffer(self.buffer, read).buffer(self.cover, read).buffer(self.buffer, write);
         *self.fills.borrow_mut() = fills;
-        Some(declaration)
+        Some(tiles)
     }
 
     fn record(&self, ctx: &PassContext, cmd: vk::CommandBuffer) -> Result<()> {
         let fills = self.fills.borrow();
         let fills = fills.as_ref().map_err(|e| Error::Internal(e.clone()))?;
-        let Some(scroll) = fills.get(ctx.step) else {
-            return Ok(());
-        };
         let device = ctx.device;
         let dims = self.grid.borrow().shape().dims;
         recording::bind_scene_set(device, ctx, cmd, self.layout, vk::PipelineBindPoint::COMPUTE);
         if let Some(own) = &self.own {
             own.bind(device, cmd, vk::PipelineBindPoint::COMPUTE, ctx.slot);
         }
-        camera_grid::record_fill(device, cmd, (self.layout, self.pipeline), scroll, dims);
+        match fills.get(ctx.step) {
+            Some(scroll) => camera_grid::record_fill(device, cmd, (self.layout, self.pipeline), scroll, dims),
+            None => self.record_tiles(device, cmd, fills, dims.x - 1),
+        }
         Ok(())
     }
 
@@ -161,8 +219,10 @@ impl Pass for GroundFillPass {
     unsafe fn destroy(self: Box<Self>, device: &Device) {
         // SAFETY: per the contract.
         unsafe {
-            crate::vk::live::destroyed(self.pipeline);
-            device.raw.destroy_pipeline(self.pipeline, None);
+            for pipeline in [self.pipeline, self.tiles] {
+                crate::vk::live::destroyed(pipeline);
+                device.raw.destroy_pipeline(pipeline, None);
+            }
             match self.own {
                 Some(own) => own.destroy(device),
                 None => {
