@@ -94,8 +94,9 @@ const float CELL_SPREAD_OUTSIDE = 1.4143; // render::ground_clipmap::CELL_SPREAD
 // centre (the clipmap's, whatever the ground's source) within twice the spread the slope bound
 // allows the drawn ground from the ground itself (each of the cell's points and its centre lies
 // within one spread of the ground at the centre), within a heightmap's pyramid's range there, and
-// within the clipmap's tiles' under the cell (`ground_tile_bounds`), padded by the longest blade.
-void field_cell_bounds(ivec2 cell, out vec3 lo, out vec3 hi) {
+// within the clipmap's tiles' under the cell (`ground_tile_bounds`), padded by the longest blade;
+// and the most grass cover at its roots, from the same tiles (none: no grass).
+void field_cell_bounds(ivec2 cell, out vec3 lo, out vec3 hi, out float cover) {
     float edge = frame_values.field.x;
     vec2 corner = vec2(cell - frame_values.field_cells.xy) * edge;
     vec2 centre = corner + vec2(0.5 * edge);
@@ -132,8 +133,9 @@ void field_cell_bounds(ivec2 cell, out vec3 lo, out vec3 hi) {
     }
     // The ground source's tiles under the cell's square (`ground_tile_bounds`: the drawn ground,
     // at every level that draws a root of it): another bound, a millimetre for the f32 heights.
-    vec2 tiles = ground_tile_bounds(corner, corner + vec2(edge)).xy + vec2(-0.001, 0.001);
-    range = vec2(max(range.x, tiles.x), min(range.y, tiles.y));
+    vec4 tiles = ground_tile_bounds(corner, corner + vec2(edge));
+    range = vec2(max(range.x, tiles.x - 0.001), min(range.y, tiles.y + 0.001));
+    cover = GROUND_COVER != 0u ? tiles.z : 1.0;
     lo = vec3(corner.x - across, range.x - FIELD_ROOT_SINK, corner.y - across);
     hi = vec3(corner.x + edge + across, range.y + up, corner.y + edge + across);
 }

@@ -251,11 +251,6 @@ vec4 ground_tile_bounds(vec2 lo, vec2 hi) {
     return bounds;
 }
 
-// The most grass cover over the square `lo`..`hi`: none, no grass (`ground_tile_bounds`).
-float ground_cover_max(vec2 lo, vec2 hi) {
-    return GROUND_COVER != 0u ? ground_tile_bounds(lo, hi).z : 1.0;
-}
-
 // The ground's normal at `p`: the bilinear patch's through the drawn heights of its cell
 // (ground_patch.glsl), Belyaev §2.3's N_L under a blade's root.
 vec3 ground_normal(vec2 p) {

@@ -272,11 +272,16 @@ float density_keep_bound(vec3 n, vec3 box_lo, vec3 box_hi, float nearest) {
 }
 
 // The tile of ring slot `slot`: a tile of the stored field, or in a block field (FLAG_BLOCKS) the
-// cell around O's cell with the block's blades and bounds. False when the slot holds nothing.
+// cell around O's cell with the block's blades, its box only its square in x and z (the count
+// and emit passes read no more of it; the tiles pass takes its heights from `slot_bounds`).
+// False when the slot holds nothing.
 bool slot_record(uint slot, out BladeTile tile, out ivec2 cell) {
     cell = frame_values.field_cells.xy + ring_cell(slot);
     if ((RENDER_FLAGS & FLAG_BLOCKS) != 0u) {
-        field_cell_bounds(cell, tile.min, tile.max);
+        float edge = frame_values.field.x;
+        vec2 corner = vec2(cell - frame_values.field_cells.xy) * edge;
+        tile.min = vec3(corner.x, 0.0, corner.y);
+        tile.max = vec3(corner.x + edge, 0.0, corner.y + edge);
         tile.first = 0u;
         tile.count = frame.params.y;
         return field_has_cell(cell);
@@ -299,6 +304,16 @@ bool slot_record(uint slot, out BladeTile tile, out ivec2 cell) {
         tile.max += vec3(reach);
     }
     return true;
+}
+
+// A slot's box for the tile tests and its most grass cover (`slot_record`'s tile): a block
+// field's cell's bounds (`field_cell_bounds`), a stored tile's own box and full cover (its blades
+// were scattered by the cover).
+void slot_bounds(ivec2 cell, inout BladeTile tile, out float cover) {
+    cover = 1.0;
+    if ((RENDER_FLAGS & FLAG_BLOCKS) != 0u) {
+        field_cell_bounds(cell, tile.min, tile.max, cover);
+    }
 }
 
 // The ground's normal under a tile (Belyaev's n of §2.2).
@@ -325,7 +340,7 @@ uint visible_blade(BladeTile tile, uint slot, uint rank) {
 }
 
 // What the tile tests (frustum, distance, occlusion) leave of a tile: how many of its blades (a prefix) go to the blade tests.
-uint tile_candidates(Frustum f, BladeTile tile, vec3 normal, out bool tile_visible) {
+uint tile_candidates(Frustum f, BladeTile tile, vec3 normal, float cover, out bool tile_visible) {
     vec3 eye = frame_values.cull_eye.xyz;
     float nearest = length(clamp(eye, tile.min, tile.max) - eye);
     tile_visible = tile.count > 0u;
@@ -343,16 +358,12 @@ uint tile_candidates(Frustum f, BladeTile tile, vec3 normal, out bool tile_visib
         return 0u;
     }
     // A block field's cell keeps the ranks under its cover at each root (`blade_bucket`): no
-    // more than its most cover's prefix, and none where it has none (bare ground is not visited).
-    float most = 1.0;
-    if (GROUND_COVER != 0u && (RENDER_FLAGS & FLAG_BLOCKS) != 0u) {
-        vec3 lo, hi;
-        field_cell_roots(tile, lo, hi);
-        most = ground_cover_max(lo.xz, hi.xz);
-        if (most <= 0.0) {
-            tile_visible = false;
-            return 0u;
-        }
+    // more than its most cover's prefix (`slot_bounds`), and none where it has none (bare ground
+    // is not visited).
+    float most = cover;
+    if (most <= 0.0) {
+        tile_visible = false;
+        return 0u;
     }
     if (!culling(LOD_DENSITY)) {
         return uint(clamp(ceil(most * float(tile.count) - 0.5) + 1.0, 0.0, float(tile.count)));

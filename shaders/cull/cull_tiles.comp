@@ -46,8 +46,12 @@ void main() {
         BladeTile tile;
         ivec2 cell;
         bool recorded = slot_record(slot, tile, cell);
+        float cover = 1.0;
+        if (recorded) {
+            slot_bounds(cell, tile, cover);
+        }
         bool tile_visible = false;
-        uint candidates = recorded ? tile_candidates(f, tile, tile_normal(tile), tile_visible) : 0u;
+        uint candidates = recorded ? tile_candidates(f, tile, tile_normal(tile), cover, tile_visible) : 0u;
         alloc_words[slots + slot] = candidates;
         if (candidates == 0u) {
             write_empty_slot(slot, recorded, tile, tile_visible);
