@@ -1,30 +1,30 @@
-//! A heightmap's min/max pyramid (issue #35 item 1, `scene::height_bounds`): the cull bounds a
-//! block field's cells by the map under them (`FLAG_GROUND_BOUNDS`), not by the map's steepest
-//! slope anywhere. On lavapipe with validation and synchronization validation: a flat map with one
-//! spike far from the view culls exactly as the same map without it (the same tiles in view, the
-//! same blades drawn; by the origin, across the map's mirror edge and 100 km out), where the
-//! spike's slope alone makes every cell's box metres taller; and looking at the spike, the cull
-//! draws the same blades with the pyramid as with the slope's bounds.
+//! The cull's cell heights from the ground's tiles (issue #30 item 2, `render::ground::tiles`):
+//! the cull bounds a block field's cells by the clipmap's tiles under them (`FLAG_GROUND_BOUNDS`),
+//! not by the ground's steepest slope anywhere. On lavapipe with validation and synchronization
+//! validation, on a heightmap (issue #35): a flat map with one spike far from the view culls
+//! exactly as the same map without it (the same tiles in view, the same blades drawn; by the
+//! origin, across the map's mirror edge and 100 km out), where the spike's slope alone makes every
+//! cell's box metres taller; and looking at the spike, the cull draws the same blades with the
+//! tiles' bounds as with the slope's.
 
 mod support;
 
 use std::sync::Arc;
 
 use ash::vk;
-use glam::{DVec2, Vec3};
+use glam::Vec3;
 use meadow::app::{with_device, GpuOptions};
 use meadow::render::animation::{AnimationSettings, Mode};
 use meadow::render::culling::{CullCounts, Culling};
 use meadow::render::gpu_constants::{DRAW_FIRST_INSTANCE, DRAW_INSTANCES, DRAW_WORDS, MAX_LOD_BUCKETS};
 use meadow::render::{OffscreenTarget, RenderSettings, Renderer};
 use meadow::scene::field::FieldSpec;
-use meadow::scene::height_bounds::HeightBounds;
 use meadow::scene::heightmap::{Heightmap, TerrainScale};
 use meadow::scene::{Camera, Scene};
 use meadow::vk::DeviceSelector;
 
 const SCALE: TerrainScale = TerrainScale { x: 1000.0, y: 40.0, z: 1000.0 };
-/// 1.95 m texels: a cell's query spans several, and reads the pyramid's upper levels.
+/// 1.95 m texels: the spike's one texel is steeper than any relief.
 const SIDE: u32 = 513;
 
 /// A flat map at a fifth of white, with a spike of white at texel `spike` if any.
@@ -37,13 +37,13 @@ fn map(spike: Option<(u32, u32)>) -> Heightmap {
 }
 
 /// The cull's counts and visible list of one frame of a block field on `map` from each of
-/// `cameras`, its cells bounded by the map's pyramid or (`pyramid` false) its steepest slope.
-fn counts(map: Heightmap, cameras: &[Camera], pyramid: bool) -> Vec<(CullCounts, Vec<u32>)> {
+/// `cameras`, its cells bounded by the ground's tiles or (`tiles` false) its steepest slope.
+fn counts(map: Heightmap, cameras: &[Camera], tiles: bool) -> Vec<(CullCounts, Vec<u32>)> {
     let scene = Scene::blocks_on_map(FieldSpec { size: None, density: 100.0 }, Arc::new(map), 1);
     let options = GpuOptions { validation: true, device: DeviceSelector::parse(support::DEVICE) };
     let (result, messages) = with_device(&options, false, |device| {
         let animation = AnimationSettings { mode: Mode::Static, ..Default::default() };
-        let settings = RenderSettings::offscreen(4, Culling { ground_bounds: pyramid, ..Culling::default_for(4) });
+        let settings = RenderSettings::offscreen(4, Culling { ground_bounds: tiles, ..Culling::default_for(4) });
         let mut renderer = Renderer::new(device.clone(), &scene, settings, animation)?;
         let mut target = OffscreenTarget::new(device, vk::Extent2D { width: 160, height: 90 })?;
         let mut counts = Vec::new();
@@ -82,7 +82,7 @@ fn drawn_entries(visible: &[[u32; 2]], draws: &[u32]) -> Vec<u32> {
 fn a_spike_far_from_the_view_does_not_widen_the_cells_in_it() {
     // The spike 476 m out along x and z: its slope (32 m over a 1.95 m texel) is the map's
     // steepest, and bounds every cell's heights by ±16 m a metre of the cell's reach without the
-    // pyramid. The cameras: by the origin, across the map's mirror edge at x = 500 m, and 100 km
+    // tiles. The cameras: by the origin, across the map's mirror edge at x = 500 m, and 100 km
     // out (50 mirrored periods: the origin's ground).
     let spiked = map(Some((500, 500)));
     assert!(spiked.slope_bound() > 10.0, "{}", spiked.slope_bound());
@@ -97,7 +97,7 @@ fn a_spike_far_from_the_view_does_not_widen_the_cells_in_it() {
     let bounded = counts(spiked.clone(), &cameras, true);
     let sloped = counts(spiked, &cameras, false);
     for ((flat, _), ((bounded, _), (sloped, _))) in flat.iter().zip(bounded.iter().zip(&sloped)) {
-        // With the pyramid, the spiked map's cells are the flat map's: the same tiles, the same blades.
+        // With the tiles, the spiked map's cells are the flat map's: the same tiles, the same blades.
         let tiles = |c: &CullCounts| (c.tiles_visible, c.after_tiles);
         assert_eq!(tiles(bounded), tiles(flat), "{} | {}", bounded.summary(), flat.summary());
         assert_eq!(bounded.total_drawn(), flat.total_drawn(), "{} | {}", bounded.summary(), flat.summary());
@@ -109,16 +109,10 @@ fn a_spike_far_from_the_view_does_not_widen_the_cells_in_it() {
 }
 
 #[test]
-fn the_pyramid_bounds_the_spike_where_it_stands_and_the_cull_keeps_its_blades() {
-    // The pyramid over the spike's texel holds white; a rectangle away from it the flat fifth.
+fn the_tiles_bound_the_spike_where_it_stands_and_the_cull_keeps_its_blades() {
     let spiked = map(Some((256, 256)));
-    let pyramid = HeightBounds::new(&spiked);
-    let (lo, hi) = pyramid.bounds(DVec2::new(-2.0, -2.0), DVec2::new(2.0, 2.0));
-    assert!((lo - 8.0).abs() < 1e-3 && (hi - 40.0).abs() < 1e-3, "{lo}..{hi}");
-    let (lo, hi) = pyramid.bounds(DVec2::new(100.0, 100.0), DVec2::new(104.0, 104.0));
-    assert!((lo - 8.0).abs() < 1e-3 && (hi - 8.0).abs() < 1e-3, "{lo}..{hi}");
     // Looking at the spike from 30 m and from above it: the cull draws the same blades with the
-    // pyramid's bounds as with the slope's (which hold wherever the ground is), on its flanks too.
+    // tiles' bounds as with the slope's (which hold wherever the ground is), on its flanks too.
     let cameras = [
         Camera { position: Vec3::new(0.0, 25.0, 30.0), yaw_deg: 0.0, pitch_deg: -30.0 },
         Camera { position: Vec3::new(0.0, 60.0, 0.0), yaw_deg: 0.0, pitch_deg: -89.0 },

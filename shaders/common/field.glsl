@@ -88,13 +88,12 @@ const float CELL_SPREAD_INSIDE = 0.7072; // render::ground_clipmap::CELL_SPREAD_
 const float CELL_SPREAD_OUTSIDE = 1.4143; // render::ground_clipmap::CELL_SPREAD_OUTSIDE
 
 #ifndef GROUND_WRITER
-#include "common/ground_bounds.glsl"
 
 // The box of every blade of `cell` in any pose, relative to O: the drawn ground at the cell's
 // centre (the clipmap's, whatever the ground's source) within twice the spread the slope bound
 // allows the drawn ground from the ground itself (each of the cell's points and its centre lies
-// within one spread of the ground at the centre), within a heightmap's pyramid's range there, and
-// within the clipmap's tiles' under the cell (`ground_tile_bounds`), padded by the longest blade;
+// within one spread of the ground at the centre) and within the clipmap's tiles' range under the
+// cell (`ground_tile_bounds`), padded by the longest blade;
 // and the most grass cover at its roots, from the same tiles (none: no grass).
 void field_cell_bounds(ivec2 cell, out vec3 lo, out vec3 hi, out float cover) {
     float edge = frame_values.field.x;
@@ -118,23 +117,13 @@ void field_cell_bounds(ivec2 cell, out vec3 lo, out vec3 hi, out float cover) {
     float across = plant_across();
     float h = ground_height(centre);
     vec2 range = vec2(h - spread, h + spread);
-    if ((RENDER_FLAGS & FLAG_GROUND_BOUNDS) != 0u) {
-        // A heightmap's min/max pyramid (`scene::height_bounds`) over the cell and the vertices
-        // its drawn ground interpolates (a drawn cell out, and a step more for a morphing
-        // vertex's neighbours): the map's range there rather than its steepest slope anywhere's.
-        // Both are bounds; a millimetre for the f32 heights. A mirrored map repeats with the
-        // world (its period divides the world's): the cell modulo the world's period keeps the
-        // coordinates small, and exact, 100 km out.
-        bool mirrored = bounds_words[6] != 0u;
-        vec2 world = vec2(mirrored ? ((cell % PERIOD_CELLS) + PERIOD_CELLS) % PERIOD_CELLS : cell) * edge;
-        float around = drawn + step;
-        vec2 map = ground_map_bounds(world - vec2(around), world + vec2(edge + around)) + vec2(-0.001, 0.001);
-        range = vec2(max(range.x, map.x), min(range.y, map.y));
-    }
     // The ground source's tiles under the cell's square (`ground_tile_bounds`: the drawn ground,
     // at every level that draws a root of it): another bound, a millimetre for the f32 heights.
+    // (FLAG_GROUND_BOUNDS: off, the slope's spread alone: `render::culling::Culling`'s ground_bounds.)
     vec4 tiles = ground_tile_bounds(corner, corner + vec2(edge));
-    range = vec2(max(range.x, tiles.x - 0.001), min(range.y, tiles.y + 0.001));
+    if ((RENDER_FLAGS & FLAG_GROUND_BOUNDS) != 0u) {
+        range = vec2(max(range.x, tiles.x - 0.001), min(range.y, tiles.y + 0.001));
+    }
     cover = GROUND_COVER != 0u ? tiles.z : 1.0;
     lo = vec3(corner.x - across, range.x - FIELD_ROOT_SINK, corner.y - across);
     hi = vec3(corner.x + edge + across, range.y + up, corner.y + edge + across);

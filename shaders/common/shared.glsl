@@ -35,7 +35,7 @@
 #define FLAG_DEBUG_FRESNEL 256u // Blades show Belyaev's Fresnel term alone (`--debug-view fresnel`).
 #define FLAG_BLOCKS 128u // A block field (`scene::field`): blades are a stored block's, placed per cell around the origin.
 #define FLAG_LEVELS 512u // blade.vert reads each drawn blade's levels placed and lit by blade_levels.comp (with the cull and pose records).
-#define FLAG_GROUND_BOUNDS 4096u // The ground is a heightmap whose min/max pyramid bounds the cull's cells (`scene::height_bounds`).
+#define FLAG_GROUND_BOUNDS 4096u // The clipmap's tiles bound the heights of a block field's cells in the cull (`render::ground::tiles`; off: the slope's spread alone).
 #define FLAG_POSE_CLASS 2048u // A pose pipeline over bucket LOD_BUCKET of a further draw class whose entries the response poses (`render::draw_class::DrawClass::posed`).
 #define FLAG_DEBUG_COVER 1024u // The ground's cover as colour, on the terrain and the blades (`--debug-view cover`).
 #define FLAG_DEBUG_PRESSED 8192u // The pressed map's bend and cut as colour on the blades (`--debug-view pressed`).

@@ -147,9 +147,10 @@ pub struct Culling {
     /// How the blade class issues its draws: once per LOD bucket, or once per visible tile and
     /// bucket (`draw_rows`; `--animation sine-cluster` draws a row per tile).
     pub rows: DrawRows,
-    /// A block field's cell heights bounded by a heightmap's min/max pyramid
-    /// (`scene::height_bounds`, `FLAG_GROUND_BOUNDS`; off: by the ground's steepest slope alone,
-    /// as for the procedural relief). No effect on other grounds.
+    /// A block field's cell heights bounded by the clipmap's tiles under the cell
+    /// (`render::ground::tiles`, `FLAG_GROUND_BOUNDS`; off: by the spread the ground's steepest
+    /// slope allows alone). The tiles' cover skips bare cells either way. No effect on stored
+    /// fields.
     pub ground_bounds: bool,
 }
 

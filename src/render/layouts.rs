@@ -284,7 +284,7 @@ mod reflect_tests {
             let pyramid = if profile == Profile::Lavapipe { "pyramid_texels" } else { "Pyramid" };
             assert!(own.contains(&pyramid), "{profile:?}: {own:?}");
             let (scene, _) = scene_bindings(profile).unwrap();
-            // The ground's three (its texels, its cover, a heightmap's min/max pyramid) among them.
+            // The ground's two (its texels and its cover, each with its texel view) among them.
             assert!(scene.len() <= 15, "set 0 holds the scene and the frame only: {scene:?}");
         }
         // One binding, two names: two resources, refused.

@@ -420,7 +420,6 @@ impl SceneGpu {
             ("ground_texels", texels(&self.ground.texel_view)),
             ("GroundCover", buffer(&self.ground.cover.0)),
             ("ground_cover_texels", texels(&self.ground.cover.1)),
-            ("GroundBounds", buffer(&self.ground.bounds)),
         ];
         let resources: Vec<_> = frame.iter().cloned().chain(resources).collect();
         layout.write_named(device, set, "scene set", &resources)

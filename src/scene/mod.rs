@@ -9,7 +9,6 @@ pub mod clusters;
 pub mod cover;
 pub mod field;
 pub mod flowers;
-pub mod height_bounds;
 pub mod heightmap;
 pub mod rng;
 pub mod terrain;

@@ -47,10 +47,6 @@ impl GroundSource for HeightmapGround {
     fn buffers(&self) -> Vec<(&'static str, Vec<u32>)> {
         vec![("GroundMap", map_words(&self.map)), ("CoverMap", cover_map_words(&self.cover))]
     }
-
-    fn bounds(&self) -> Option<Vec<u32>> {
-        Some(crate::scene::height_bounds::HeightBounds::new(&self.map).words())
-    }
 }
 
 /// `GroundMap`'s words for `map` (`MAP_HEADER_WORDS`, then its texels two a word, the first in

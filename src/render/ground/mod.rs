@@ -111,12 +111,6 @@ pub trait GroundSource: Send + Sync {
     fn buffers(&self) -> Vec<(&'static str, Vec<u32>)> {
         Vec::new()
     }
-    /// The min/max pyramid the cull bounds its cells by (`scene::height_bounds`, set 0's
-    /// `GroundBounds`, `FLAG_GROUND_BOUNDS`): a heightmap's; `None` for a source whose cells are
-    /// bounded by its slope alone.
-    fn bounds(&self) -> Option<Vec<u32>> {
-        None
-    }
 }
 
 /// A source's fill on the GPU (`passes::ground_fill`): the shader that writes the texels of the
@@ -154,10 +148,6 @@ pub struct GroundGpu {
     pub drawn: Arc<AtomicU64>,
     /// The source's buffers its fill reads (`GroundSource::buffers`), by name.
     pub extra: Vec<(&'static str, Buffer)>,
-    /// Set 0's `GroundBounds` (`GroundSource::bounds`; without one, an empty header).
-    pub bounds: Buffer,
-    /// Whether `bounds` holds a pyramid (`FLAG_GROUND_BOUNDS`).
-    pub bounded: bool,
 }
 
 impl GroundGpu {
@@ -173,7 +163,6 @@ impl GroundGpu {
             self.cover.1.destroy(device);
             self.cover.0.destroy(device);
             self.indices.destroy(device);
-            self.bounds.destroy(device);
             for (_, buffer) in self.extra {
                 buffer.destroy(device);
             }
@@ -191,8 +180,6 @@ pub struct GroundParts {
     cover_view: Option<TexelView>,
     indices: Option<Buffer>,
     extra: Vec<(&'static str, Buffer)>,
-    bounds: Option<Buffer>,
-    bounded: bool,
 }
 
 impl GroundParts {
@@ -219,12 +206,6 @@ impl GroundParts {
         let list = terrain_chunks::chunked_indices(source.cells(), source.chunk_cells());
         let index = vk::BufferUsageFlags::INDEX_BUFFER;
         self.indices = Some(batch.buffer("terrain indices", &list, index, &[Access::IndexRead])?);
-        let empty = vec![0; crate::scene::height_bounds::HEADER_WORDS + 3 * crate::scene::height_bounds::MAX_LEVELS];
-        let pyramid = source.bounds();
-        self.bounded = pyramid.is_some();
-        let bounds = pyramid.unwrap_or(empty);
-        check_range(device, "GroundBounds", &bounds)?;
-        self.bounds = Some(batch.buffer("ground bounds", &bounds, storage, &[Access::ComputeShaderRead])?);
         for (name, words) in source.buffers() {
             check_range(device, name, &words)?;
             let buffer = batch.buffer(name, &words, storage, &[Access::ComputeShaderRead])?;
@@ -242,8 +223,6 @@ impl GroundParts {
             indices: self.indices.take().expect("uploaded"),
             drawn: Arc::new(AtomicU64::new(2 * u64::from(source.cells()).pow(2))),
             extra: std::mem::take(&mut self.extra),
-            bounds: self.bounds.take().expect("uploaded"),
-            bounded: self.bounded,
             source,
         }
     }
@@ -257,7 +236,7 @@ impl Destroy for GroundParts {
                 view.destroy(device);
             }
             let extra = self.extra.into_iter().map(|(_, buffer)| buffer);
-            for buffer in [self.texels, self.cover, self.indices, self.bounds].into_iter().flatten().chain(extra) {
+            for buffer in [self.texels, self.cover, self.indices].into_iter().flatten().chain(extra) {
                 buffer.destroy(device);
             }
         }

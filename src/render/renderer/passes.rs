@@ -62,7 +62,6 @@ impl Renderer {
             self.graph.import(Resource::Buffer(scene.ground.texels.raw), self.device.profile.fetches());
             self.graph.import(Resource::Buffer(scene.ground.cover.0.raw), self.device.profile.fetches());
         }
-        self.graph.import(Resource::Buffer(scene.ground.bounds.raw), &[Access::ComputeShaderRead]);
         for (_, buffer) in &scene.ground.extra {
             self.graph.import(Resource::Buffer(buffer.raw), &[Access::ComputeShaderRead]);
         }
@@ -146,7 +145,7 @@ impl Renderer {
             specialization.ground_cover = u32::from(scene.ground.source.cover().active());
             specialization.clump_size_mm = scene.clump_size_mm;
             specialization.flower_share = scene.flower_share.to_bits();
-            if scene.ground.bounded && settings.culling.ground_bounds {
+            if settings.culling.ground_bounds {
                 specialization.flags |= gpu::FLAG_GROUND_BOUNDS;
             }
         }

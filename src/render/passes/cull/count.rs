@@ -22,8 +22,6 @@ pub fn pass(device: &Device, setup: &CullSetup, scene: &SceneGpu, set: &Rc<PassS
         // The roots sit on the ground, its normal under the tile; its cover thins them.
         (scene.ground.texels.raw, device.profile.compute_fetch()),
         (scene.ground.cover.0.raw, device.profile.compute_fetch()),
-        // A heightmap's min/max pyramid, the cells' height bounds.
-        (scene.ground.bounds.raw, read),
         (scene.slot_counts.raw, Access::ComputeShaderWrite),
         (scene.cull_results.raw, Access::ComputeShaderWrite),
         // The listed slots, their room and the dispatch over them.

@@ -21,9 +21,8 @@ pub fn pass(device: &Device, setup: &CullSetup, scene: &SceneGpu, set: &Rc<PassS
         // A stored field's tiles (where a slot's blades start); the tile tests' result is the
         // tiles pass's, in `cull_alloc`.
         (scene.tiles.raw, read),
-        // A block field's cell bounds (the slot's record): the ground and its min/max pyramid.
+        // A block field's roots on the ground (the slot's blades).
         (scene.ground.texels.raw, device.profile.compute_fetch()),
-        (scene.ground.bounds.raw, read),
         // The count pass's verdicts, fetched as texels in the lavapipe profile.
         (scene.cull_results.raw, device.profile.compute_fetch()),
         (scene.cull_alloc.raw, read),

@@ -22,8 +22,6 @@ pub fn pass(device: &Device, setup: &CullSetup, scene: &SceneGpu, set: &Rc<PassS
         // The ground's normal under each tile, and its cover.
         (scene.ground.texels.raw, device.profile.compute_fetch()),
         (scene.ground.cover.0.raw, device.profile.compute_fetch()),
-        // A heightmap's min/max pyramid, the cells' height bounds.
-        (scene.ground.bounds.raw, read),
         (scene.slot_counts.raw, Access::ComputeShaderWrite),
         // Written, then read back by the invocation that wrote it.
         (scene.cull_alloc.raw, read),
