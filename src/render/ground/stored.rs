@@ -41,12 +41,10 @@ impl GroundSource for StoredGround {
     }
 
     fn texels(&self) -> Option<Vec<[f32; 4]>> {
-        // The level's vertices, then its tiles (`tiles`), from the vertices and their covers.
+        // The level's vertices, then its tiles (`tiles`), from the vertices and their covers as
+        // the GPU reads them (packed).
         let mut texels = stored_texels(&self.terrain);
-        let covers: Vec<(f32, f32)> = match self.cover_texels() {
-            Some(packed) => packed.iter().map(|&c| super::unpack_cover(c)).collect(),
-            None => vec![(1.0, 1.0); texels.len()],
-        };
+        let covers: Vec<(f32, f32)> = self.packed_covers(&texels).into_iter().map(super::unpack_cover).collect();
         let tiles = super::tiles::tiles_of(self.terrain.cells, &texels, &covers);
         texels.extend(tiles);
         Some(texels)
@@ -70,18 +68,24 @@ impl GroundSource for StoredGround {
     }
 
     fn cover_texels(&self) -> Option<Vec<u32>> {
-        // At each vertex (row by row from the terrain's origin), the slope by its central
-        // differences over two cells.
+        Some(self.packed_covers(&stored_texels(&self.terrain)))
+    }
+}
+
+impl StoredGround {
+    /// The covers at the vertices of `texels` (`stored_texels`, row by row from the terrain's
+    /// origin), packed (`pack_cover`): at each, the slope by its central differences over two
+    /// cells.
+    fn packed_covers(&self, texels: &[[f32; 4]]) -> Vec<u32> {
         let (step, run) = (self.terrain.cell_size(), 2.0 * self.terrain.cell_size());
         let (n, origin) = (self.terrain.cells + 1, self.terrain.origin());
-        let texels = stored_texels(&self.terrain);
         let at = |i: u32| f64::from(origin + (i as f32) * step);
         let density = |(i, t): (usize, &[f32; 4])| {
             let slope = glam::Vec2::new(t[2], t[3]) / run;
             let (x, z) = (at(i as u32 % n), at(i as u32 / n));
             crate::render::ground::pack_cover(self.cover.density(x, z, slope), self.cover.flower_density(x, z, slope))
         };
-        Some(texels.iter().enumerate().map(density).collect())
+        texels.iter().enumerate().map(density).collect()
     }
 }
 
