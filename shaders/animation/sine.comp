@@ -4,7 +4,7 @@
 // once per blade into the renderer's pose records. Pelzer moves a grass object's upper vertices by
 // a translation vector (Listings 7-2 to 7-4: position + translation, normal · height +
 // translation) and leaves its `CalcTranslation` open. meadow's, in blade heights:
-//   T(p) = clamp_length(g·w + a·|w|·sin θ(p)·ŵ, MOST)
+//   T(p) = clamp_length(g·w + a·|w|·sin θ(p)·ŵ, MOST) = ŵ·clamp(|w|·(g + a·sin θ(p)), ±MOST)
 //   θ(p) = ω·t − κ·d̂·p   (a sine wave running along the global wind's direction d̂)
 // with w the wind at the blade's root (m/s, horizontal): the wind field's (wind/wind_field.glsl)
 // plus each collider's push as a local wind (thesis 5.2; animation/forces.glsl's reach-weighted
@@ -42,14 +42,16 @@ layout(set = SET_PASS, binding = 1, std140) uniform SineShape {
     vec4 wave;  // xy d̂ (x, z), z ω·t − κ·d̂·O mod 2π, w unused
 } sine;
 
-// T at the phase point `p` (relative to O) under the wind `w` (m/s, xz): heights, world xz.
-vec2 translation(vec2 p, vec2 w) {
-    float speed = length(w);
-    vec2 along = speed > 0.0 ? w / speed : vec2(0.0);
-    float theta = sine.wave.z - sine.gains.w * dot(sine.wave.xy, p);
-    vec2 t = sine.gains.x * w + sine.gains.y * speed * sin(theta) * along;
-    float reach = length(t);
-    return reach > sine.gains.z ? t * (sine.gains.z / reach) : t;
+// T = g·w + a·|w|·sin θ·ŵ = ŵ·|w|·(g + a·sin θ): T lies along the wind, so only its signed length
+// depends on the phase. That length at phase θ under a wind of `speed` m/s, clamped to MOST.
+float sway(float theta, float speed) {
+    float reach = speed * (sine.gains.x + sine.gains.y * sin(theta));
+    return clamp(reach, -sine.gains.z, sine.gains.z);
+}
+
+// θ at the phase point `p` (relative to O).
+float phase_at(vec2 p) {
+    return sine.wave.z - sine.gains.w * dot(sine.wave.xy, p);
 }
 
 #ifdef SINE_PER_TILE
@@ -76,15 +78,22 @@ void main() {
         return;
     }
     vec2 w = blade_force(blade_index, blade) * KEYFRAME_WIND_SCALE;
+    float speed = length(w);
+    vec2 along = speed > 0.0 ? w / speed : vec2(0.0);
     vec3 p[4];
     neutral_control_points(blade.height, unpack_variation(blade.variation, 2), p);
     // The blade's frame in the world (place_level: x across, z along the normal).
     vec2 across = vec2(cos(blade.facing), -sin(blade.facing));
     vec2 normal_dir = vec2(sin(blade.facing), cos(blade.facing));
 #ifdef SINE_PER_TILE
-    vec2 t = translation(tile_centre(entry, blade), w);
-#elif !defined(SINE_PER_VERTEX)
-    vec2 t = translation(blade.position.xz, w);
+    vec2 t = along * sway(phase_at(tile_centre(entry, blade)), speed);
+#elif defined(SINE_PER_VERTEX)
+    // θ at a level's rest point root + across·x + normal·z: θ(root) less its slope along the
+    // blade's frame, taken once per blade.
+    float theta = phase_at(blade.position.xz);
+    vec2 slope = sine.gains.w * vec2(dot(sine.wave.xy, across), dot(sine.wave.xy, normal_dir));
+#else
+    vec2 t = along * sway(phase_at(blade.position.xz), speed);
 #endif
     float inv = 1.0 / (POSE_SCALE * max(blade.height, 1e-6));
     uint base = pose_base(i);
@@ -95,7 +104,7 @@ void main() {
         float s = float(level) / float(MODEL_SEGMENTS);
         vec3 rest = bezier_point(p[0], p[1], p[2], p[3], s);
 #ifdef SINE_PER_VERTEX
-        vec2 t = translation(blade.position.xz + across * rest.x + normal_dir * rest.z, w);
+        vec2 t = along * sway(theta - dot(slope, rest.xz), speed);
 #endif
         // Into the blade's frame, in metres: the displacement and its derivative along s.
         vec2 d = t * (s * s * blade.height);

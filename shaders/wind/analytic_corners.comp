@@ -58,8 +58,8 @@ vec4 fluid_wind_at(vec2 q) {
 }
 #endif
 
-float exposure_at(vec2 q) {
-    for (uint i = 0u; i < control.counts.z; ++i) {
+float exposure_at(vec2 q, uint calm) {
+    for (uint i = 0u; i < calm; ++i) {
         vec4 c = wind.calm[i];
         if (all(greaterThanEqual(q, c.xy)) && all(lessThanEqual(q, c.zw))) {
             return 0.0;
@@ -69,31 +69,41 @@ float exposure_at(vec2 q) {
 }
 
 void main() {
-    uint index = gl_GlobalInvocationID.x;
 #ifdef FLUID_WIND
     fluid_load_control();
 #endif
-    if (index >= control.shape.y) {
+    // A row of workgroups per level (`render::wind::corners_pass`), so the level and all that
+    // follows from it (its grid, the noise's mips) is the same across a workgroup.
+    // The values its branches test, through storage (wind/params.glsl), each block in one load: on
+    // llvmpipe a storage load is a loop over the lanes.
+    uvec4 shape = control.shape;
+    uvec4 counts = control.counts;
+    uint n = shape.x;
+    uint level = gl_WorkGroupID.y;
+    uint local = gl_GlobalInvocationID.x;
+    if (local >= n * n) {
         return;
     }
-    uint n = wind.shape.x;
     // The level's corner (innermost level first, n² corners each), as
     // `scene::clusters::ClusterGrid::corner_position` on `render::field_gpu::wind_level`.
-    uint level = index / (n * n);
-    uint local = index % (n * n);
+    uint index = level * n * n + local;
     vec4 g = wind.levels[level];
     vec2 q = vec2(g.x + float(local % n) * g.z, g.y + float(local / n) * g.z);
-    float exposure = exposure_at(q);
+    float exposure = exposure_at(q, counts.z);
+#ifdef PERLIN_WIND
+    // The noise in place of the global wind and its gusts (`perlin::fill_params` leaves no global
+    // wind): not compiled in, since llvmpipe runs an `if`'s body under a lane mask even when no
+    // lane takes it (the pass read 0.41-0.44 ms with it, 0.36 without).
+    vec2 v = perlin_wind(q, level);
+#else
     vec2 v = vec2(0.0);
     float global = control.global.w;
     if (global > 0.5) {
         v = global_wind(wind.global.xy, wind.global.z, global > 1.5, wind.phases, wind.waves01, wind.waves23, q);
     }
-#ifdef PERLIN_WIND
-    v += perlin_wind(q, level);
 #endif
-    if (control.shape.z == 0u) {
-        for (uint s = 0u; s < control.counts.x; ++s) {
+    if (shape.z == 0u) {
+        for (uint s = 0u; s < counts.x; ++s) {
             vec4 e = emitters[s];
             v += source_wind(e.xy, e.z, e.w, q);
         }

@@ -57,7 +57,8 @@ pub struct AnalyticCornersPass {
     uniforms: PassUniforms,
     /// Each frame's corner buffer.
     corners: Vec<vk::Buffer>,
-    groups: u32,
+    /// Corners the buffers hold (every level's).
+    capacity: u32,
     params: Rc<RefCell<Params>>,
 }
 
@@ -108,7 +109,7 @@ impl AnalyticCornersPass {
             set: set.take(),
             uniforms: uniforms.take(),
             corners: setup.frames.iter().map(|(corners, _)| corners.buffer).collect(),
-            groups: setup.corners.div_ceil(gpu::WIND_GROUP),
+            capacity: setup.corners,
             params,
         })
     }
@@ -149,8 +150,12 @@ impl Pass for AnalyticCornersPass {
         // SAFETY: cmd is recording; the pipeline and the set are live and match.
         unsafe { device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipeline) };
         self.set.bind(device, cmd, vk::PipelineBindPoint::COMPUTE, ctx.slot);
+        // A row of workgroups per level this frame holds (`Params::shape`: corners a side, levels).
+        let shape = self.params.borrow().shape;
+        let corners = (shape[0] * shape[0]).max(1);
+        let levels = shape[3].max(1).min(self.capacity / corners);
         // SAFETY: as above.
-        unsafe { device.raw.cmd_dispatch(cmd, self.groups, 1, 1) };
+        unsafe { device.raw.cmd_dispatch(cmd, corners.div_ceil(gpu::WIND_GROUP), levels, 1) };
         Ok(())
     }
 

@@ -83,7 +83,7 @@ impl AnimationsBenchOptions {
             brute_force: vec![(360_000, 8), (1_000_000, 4)],
             size: (1280, 720),
             warmup: 2,
-            frames: 8,
+            frames: 24,
             out,
             wind_fields: Vec::new(),
         }
