@@ -40,6 +40,8 @@ layout(set = 0, binding = 4) uniform samplerBuffer noise_texels;
 #ifdef FLUID_WIND
 // The fluid's velocities after this frame's step (`render::wind::fluid::pass`), GENERAL layout.
 layout(set = 0, binding = 5, rgba32f) uniform readonly image3D Src;
+// The upwind ghosts' analytic wind, from the same step (wind/fluid.glsl's `fluid_ring_texel`).
+layout(set = 0, binding = 6, rgba32f) uniform readonly image3D Inflow;
 #include "wind/fluid.glsl"
 
 // The fluid's wind at corner `q` (relative to O) and its weight: 1 inside the grid, falling

@@ -2,8 +2,8 @@
 #extension GL_GOOGLE_include_directive : require
 // One step of the fluid wind (`render::wind::fluid`; Zhang Xia §2 after Stam 1999, eq. 2:
 // ∂u/∂t = −(u·∇)u + ν∇²u + f, with ∇·u = 0), one variant per stage, each a dispatch over the
-// window's cells (`render::wind::fluid::pass`): the cells that entered the window start from the
-// analytic field (`enter`), the sources, calm areas and colliders (`forces`, f), the implicit
+// window's cells (`render::wind::fluid::pass`): the upwind ghosts' analytic wind (`inflow`), the
+// cells that entered the window start from the analytic field (`enter`), the sources, calm areas and colliders (`forces`, f), the implicit
 // diffusion of eq. 4 by Jacobi iterations (`diffuse`, in place of Zhang Xia's Gauss–Seidel, which
 // a GPU cannot run in place), the semi-Lagrangian self-advection of §2.3.3 (`advect`), the
 // divergence (`divergence`), the pressure's Poisson equation by Jacobi iterations with the
@@ -18,6 +18,7 @@
 // variant divergence: STEP_DIVERGENCE
 // variant pressure: STEP_PRESSURE
 // variant project: STEP_PROJECT
+// variant inflow: STEP_INFLOW
 #include "common/shared.glsl"
 #include "common/camera_grid.glsl"
 #include "wind/params.glsl"
@@ -34,6 +35,9 @@ layout(set = 0, binding = 4, rgba32f) uniform writeonly image3D Dst;
 layout(set = 0, binding = 5, r32f) uniform readonly image3D PIn;
 layout(set = 0, binding = 6, r32f) uniform writeonly image3D POut;
 layout(set = 0, binding = 7, rg32f) uniform image3D DivDiag;
+// The analytic wind of the ghost columns around the window (`fluid_ring_texel`), written by the
+// inflow stage at the step's start.
+layout(set = 0, binding = 8, rgba32f) uniform image3D Inflow;
 #ifdef STEP_PRESSURE
 // The iteration's weight ω_k (x, `render::wind::fluid::pressure_weight`), over the first bytes
 // of the range the enter stage's fill takes (no other stage reads push constants).
@@ -154,7 +158,17 @@ vec3 forced(ivec3 c, vec3 u) {
 void main() {
     fluid_load_control();
     ivec3 d = fluid_n;
-#ifdef STEP_ENTER
+#if defined(STEP_INFLOW)
+    // Each texel of the ring (`fluid_ring_texel`, its inverse): the analytic wind at its column.
+    ivec3 size = imageSize(Inflow);
+    uint index = gl_GlobalInvocationID.x;
+    if (index >= uint(size.x * size.y)) {
+        return;
+    }
+    int col = int(index % uint(size.x)), row = int(index / uint(size.x));
+    ivec2 xz = row == 0 ? ivec2(col - 1, -1) : (row == 1 ? ivec2(col - 1, d.z) : (row == 2 ? ivec2(-1, col) : ivec2(d.x, col)));
+    imageStore(Inflow, ivec3(col, row, 0), vec4(fluid_analytic(ivec3(xz.x, 0, xz.y)), 0.0));
+#elif defined(STEP_ENTER)
     ivec3 c = ivec3(camera_grid_entered(push.fill, gl_GlobalInvocationID.x));
     imageStore(Dst, fluid_texel(c), vec4(fluid_analytic(c), 0.0));
     imageStore(POut, fluid_texel(c), vec4(0.0));

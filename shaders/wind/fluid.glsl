@@ -6,7 +6,8 @@
 // inwards) takes the analytic wind, a downwind face the edge cell's (zero gradient), and the
 // ground and the top mirror the cell inside with its vertical component negated (no
 // penetration, free slip). Mirrored on the CPU by `render::wind::fluid::scheme`. The includer
-// declares `wind` and `control` (`wind/params.glsl`) and `Src`, the velocities read.
+// declares `wind` and `control` (`wind/params.glsl`), `Src`, the velocities read, and `Inflow`,
+// the upwind ghosts' analytic wind (`fluid_ring_texel`).
 #ifndef MEADOW_WIND_FLUID_GLSL
 #define MEADOW_WIND_FLUID_GLSL
 #include "wind/analytic.glsl"
@@ -66,10 +67,24 @@ ivec3 fluid_inside(ivec3 c, out bool mirrored) {
     return clamp(ivec3(c.x, y, c.z), ivec3(0), d - 1);
 }
 
-// The velocity of local cell `c` (m/s), ghosts included.
+// The ring of ghost columns around the window (x in [-1, nx], z in [-1, nz], outside it): the
+// texel of `Inflow` that holds column `xz`'s analytic wind. Rows 0 and 1 are the faces z = -1
+// and z = nz by x + 1, rows 2 and 3 the faces x = -1 and x = nx by z (`fluid.comp`'s inflow stage
+// writes them). A column past the ring (a zero weight of `fluid_sample` at the grid's far edge)
+// reads its nearest.
+ivec3 fluid_ring_texel(ivec2 xz) {
+    ivec2 d = fluid_n.xz;
+    xz = clamp(xz, ivec2(-1), d);
+    int row = xz.y < 0 ? 0 : (xz.y >= d.y ? 1 : (xz.x < 0 ? 2 : 3));
+    return ivec3(row < 2 ? xz.x + 1 : xz.y, row, 0);
+}
+
+// The velocity of local cell `c` (m/s), ghosts included. An upwind ghost's analytic wind is read
+// from `Inflow`, written once a step: llvmpipe runs an `if`'s body under a lane mask whether a
+// lane takes it or not, so evaluating it here cost every call its four `sin`.
 vec3 fluid_velocity(ivec3 c) {
     if (fluid_upwind(c)) {
-        return fluid_analytic(c);
+        return imageLoad(Inflow, fluid_ring_texel(c.xz)).xyz;
     }
     bool mirrored;
     vec3 v = imageLoad(Src, fluid_texel(fluid_inside(c, mirrored))).xyz;

@@ -46,7 +46,7 @@ pub const PERLIN_CORNERS_COMP: Shader = spirv_shader!("wind/analytic_corners.com
 /// Its variant `fluid`: the fluid wind's grid blended into the analytic field (`render::wind::fluid`).
 pub const FLUID_CORNERS_COMP: Shader = spirv_shader!("wind/analytic_corners.comp.fluid");
 /// One stage of the fluid wind's step, a variant each (`render::wind::fluid::pass`).
-pub const FLUID_STAGES_COMP: [Shader; 7] = [
+pub const FLUID_STAGES_COMP: [Shader; 8] = [
     spirv_shader!("wind/fluid.comp.enter"),
     spirv_shader!("wind/fluid.comp.forces"),
     spirv_shader!("wind/fluid.comp.diffuse"),
@@ -54,6 +54,7 @@ pub const FLUID_STAGES_COMP: [Shader; 7] = [
     spirv_shader!("wind/fluid.comp.divergence"),
     spirv_shader!("wind/fluid.comp.pressure"),
     spirv_shader!("wind/fluid.comp.project"),
+    spirv_shader!("wind/fluid.comp.inflow"),
 ];
 /// The flowers' pass (`render::flowers`): a head of petals on each posed stem.
 pub const FLOWER_VERT: Shader = spirv_shader!("flowers/flower.vert");

@@ -44,8 +44,9 @@ pub enum CornerVariant<'a> {
     Analytic,
     /// The Perlin field's, over its noise's texels (`perlin::Noise`).
     Perlin(&'a [[f32; 2]]),
-    /// The fluid field's (`FLUID_WIND`), over the view of its velocity grid (GENERAL layout).
-    Fluid(vk::ImageView),
+    /// The fluid field's (`FLUID_WIND`), over the views of its velocity grid and of its upwind
+    /// ghosts' wind (GENERAL layout).
+    Fluid(vk::ImageView, vk::ImageView),
 }
 
 /// The corners' pipeline, its set per frame in flight and its parameter blocks.
@@ -75,7 +76,7 @@ impl AnalyticCornersPass {
             _ => None,
         };
         let fluid = match variant {
-            CornerVariant::Fluid(view) => Some(view),
+            CornerVariant::Fluid(view, inflow) => Some((view, inflow)),
             _ => None,
         };
         let frames = setup.frames.len();
@@ -98,7 +99,9 @@ impl AnalyticCornersPass {
                 ("Corners", Resource::Buffer(corners)),
             ];
             resources.extend(uploaded.as_ref().map(|(_, view)| ("noise_texels", Resource::Texels(view.raw))));
-            resources.extend(fluid.map(|view| ("Src", storage_image(view))));
+            if let Some((view, inflow)) = fluid {
+                resources.extend([("Src", storage_image(view)), ("Inflow", storage_image(inflow))]);
+            }
             resources
         })?;
         let set = Guard::new(device, set);

@@ -101,7 +101,8 @@ pub fn grid_shape(grid: &FluidGrid) -> GridShape {
 /// Bytes the fluid's images hold on the GPU: three velocity grids (RGBA32F), two pressures
 /// (R32F) and the divergence with its row's diagonal (RG32F).
 pub fn grid_bytes(grid: &FluidGrid) -> u64 {
-    grid_shape(grid).cells_per_level() * (3 * 16 + 2 * 4 + 8)
+    let inflow = pass::inflow_extent(grid);
+    grid_shape(grid).cells_per_level() * (3 * 16 + 2 * 4 + 8) + u64::from(inflow.width * inflow.height) * 16
 }
 
 /// The window and what entered it this frame, shared by the field's update and its pass.

@@ -9,6 +9,7 @@
 //!
 //! ```text
 //!  stage          set  Src  Rhs  Dst   PIn  POut
+//!  inflow         0    -    -    -     -    -      writes Inflow, the upwind ghosts' wind
 //!  enter          0    -    -    U     -    P0     the cells that entered (push constants)
 //!  forces         1    U    -    A
 //!  diffuse 1, 2   2,3  A,B  A    B,U
@@ -18,6 +19,11 @@
 //!  project        4    A    -    U     P0
 //!  corners             U (its own set)             writes the frame's corners
 //! ```
+//!
+//! Every stage that reads velocities through `fluid_velocity` (diffuse, advect, divergence,
+//! corners) reads Inflow too: the analytic wind of the ghost columns round the window, one
+//! texel each (`shaders/wind/fluid.glsl`'s `fluid_ring_texel`), written once a step where each
+//! ghost read used to evaluate it.
 //! Only the corners step is measured apart (`corners`); the pass's time less it is the step's.
 
 use std::cell::RefCell;
@@ -60,6 +66,8 @@ pub struct FluidImages {
     pub pressure: [vk::Image; 2],
     /// RG32F divergence and diagonal.
     pub divergence: vk::Image,
+    /// RGBA32F: the ghost columns' analytic wind.
+    pub inflow: vk::Image,
     /// Cells per axis (the images' extent).
     pub extent: vk::Extent3D,
 }
@@ -67,6 +75,7 @@ pub struct FluidImages {
 /// The pass's stages, in order.
 #[derive(Clone, Copy, PartialEq, Debug)]
 enum Stage {
+    Inflow,
     Enter,
     Forces,
     Diffuse(u32),
@@ -85,7 +94,9 @@ pub struct FluidPass {
     set: PassSet,
     frames: usize,
     pipelines: Vec<vk::Pipeline>,
+    /// Workgroups of a stage over the cells, and of the inflow stage over the ring.
     groups: u32,
+    inflow_groups: u32,
     dims: UVec3,
     shared: Shared,
 }
@@ -99,6 +110,15 @@ const IMAGES: [(&str, vk::Format); 6] = [
     ("fluid pressure P1", vk::Format::R32_SFLOAT),
     ("fluid divergence", vk::Format::R32G32_SFLOAT),
 ];
+
+/// The ring of ghost columns' texels (`fluid_ring_texel`): a row per face of the window's sides,
+/// as long as the longer side and its two corners.
+const INFLOW_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
+
+/// The inflow image's extent for `grid`.
+pub fn inflow_extent(grid: &FluidGrid) -> vk::Extent3D {
+    vk::Extent3D { width: grid.dims[0].max(grid.dims[2]) + 2, height: 4, depth: 1 }
+}
 
 /// Per set assignment: the images (indices into `IMAGES`) bound as Src, Rhs, Dst, PIn, POut.
 const ASSIGNMENTS: [[usize; 5]; 5] =
@@ -118,8 +138,10 @@ impl FluidPass {
         for (name, format) in IMAGES {
             images.push(Image::new(device, &ImageDesc::volume(name, format, extent, usage))?);
         }
+        images.push(Image::new(device, &ImageDesc::volume("fluid inflow", INFLOW_FORMAT, inflow_extent(grid), usage))?);
         let views: Vec<vk::ImageView> = images.iter().map(|i| i.view).collect();
-        let corners = AnalyticCornersPass::new(device, setup, shared.params.clone(), CornerVariant::Fluid(views[0]))?;
+        let variant = CornerVariant::Fluid(views[0], views[6]);
+        let corners = AnalyticCornersPass::new(device, setup, shared.params.clone(), variant)?;
         let corners = Guard::new(device, corners);
         let codes: Vec<&[u8]> = shaders::FLUID_STAGES_COMP.iter().map(|s| s.code(device.profile)).collect();
         let named: Vec<(&str, &[u8])> = codes.iter().map(|c| ("fluid.comp", *c)).collect();
@@ -133,6 +155,7 @@ impl FluidPass {
             let mut resources: Vec<(&str, crate::vk::descriptor::Resource)> =
                 names.iter().zip(assignment).map(|(n, i)| (*n, storage_image(views[i]))).collect();
             resources.push(("DivDiag", storage_image(views[5])));
+            resources.push(("Inflow", storage_image(views[6])));
             resources.push(("WindValues", corners.params_resource(slot)));
             resources.push(("WindControl", corners.params_resource(slot)));
             resources
@@ -144,8 +167,8 @@ impl FluidPass {
         }
         let cells = u32::try_from(u64::from(x) * u64::from(y) * u64::from(z)).unwrap_or(u32::MAX);
         let raw: Vec<vk::Image> = images.iter().map(|i| i.raw).collect();
-        let handles =
-            FluidImages { velocity: [raw[0], raw[1], raw[2]], pressure: [raw[3], raw[4]], divergence: raw[5], extent };
+        let (velocity, pressure) = ([raw[0], raw[1], raw[2]], [raw[3], raw[4]]);
+        let handles = FluidImages { velocity, pressure, divergence: raw[5], inflow: raw[6], extent };
         *shared.images.borrow_mut() = Some(handles);
         Ok(Self {
             corners: corners.take(),
@@ -155,6 +178,7 @@ impl FluidPass {
             frames,
             pipelines: pipelines.take(),
             groups: cells.div_ceil(gpu::FLUID_GROUP),
+            inflow_groups: (inflow_extent(grid).width * 4).div_ceil(gpu::FLUID_GROUP),
             dims: UVec3::new(x, y, z),
             shared,
         })
@@ -168,7 +192,8 @@ impl FluidPass {
     /// This frame's stages: the enter stage only when cells entered.
     fn stages(&self) -> Vec<Stage> {
         let entered = self.shared.window.borrow().scroll.is_some();
-        let mut stages: Vec<Stage> = entered.then_some(Stage::Enter).into_iter().collect();
+        let mut stages = vec![Stage::Inflow];
+        stages.extend(entered.then_some(Stage::Enter));
         stages.extend([Stage::Forces, Stage::Diffuse(0), Stage::Diffuse(1), Stage::Advect, Stage::Divergence]);
         stages.extend((0..PRESSURE_ITERATIONS).map(Stage::Pressure));
         stages.extend([Stage::Project, Stage::Corners]);
@@ -178,6 +203,7 @@ impl FluidPass {
     /// A stage's pipeline (an index into `FLUID_STAGES_COMP`) and set assignment.
     fn binding(stage: Stage) -> (usize, usize) {
         match stage {
+            Stage::Inflow => (7, 0),
             Stage::Enter => (0, 0),
             Stage::Forces => (1, 1),
             Stage::Diffuse(k) => (2, 2 + k as usize),
@@ -190,21 +216,24 @@ impl FluidPass {
 
     fn declare_stage(&self, d: Declaration, stage: Stage, slot: usize) -> Declaration {
         let h = &self.handles;
-        let ([u, a, b], [p0, p1], div) = (h.velocity, h.pressure, h.divergence);
+        let ([u, a, b], [p0, p1], div, inflow) = (h.velocity, h.pressure, h.divergence, h.inflow);
         let (read, write) = (Access::ComputeShaderRead, Access::ComputeShaderWrite);
         match stage {
+            Stage::Inflow => d.then().image(inflow, write),
             Stage::Enter => d.then().image(u, write).image(p0, write),
             Stage::Forces => d.then().image(u, read).image(a, write),
-            Stage::Diffuse(0) => d.then().image(a, read).image(b, write),
-            Stage::Diffuse(_) => d.then().image(b, read).image(a, read).image(u, write),
-            Stage::Advect => d.then().image(u, read).image(a, write),
-            Stage::Divergence => d.then().image(a, read).image(p0, read).image(div, write),
+            Stage::Diffuse(0) => d.then().image(a, read).image(inflow, read).image(b, write),
+            Stage::Diffuse(_) => d.then().image(b, read).image(a, read).image(inflow, read).image(u, write),
+            Stage::Advect => d.then().image(u, read).image(inflow, read).image(a, write),
+            Stage::Divergence => d.then().image(a, read).image(inflow, read).image(p0, read).image(div, write),
             Stage::Pressure(k) => {
                 let (from, to) = if k % 2 == 0 { (p0, p1) } else { (p1, p0) };
                 d.then().image(from, read).image(div, read).image(to, write)
             }
             Stage::Project => d.then().image(a, read).image(p0, read).image(u, write),
-            Stage::Corners => d.step("corners").image(u, read).buffer(self.corners.corners(slot), write),
+            Stage::Corners => {
+                d.step("corners").image(u, read).image(inflow, read).buffer(self.corners.corners(slot), write)
+            }
         }
     }
 }
@@ -244,7 +273,8 @@ impl Pass for FluidPass {
                 let bytes = bytemuck::bytes_of(&weight);
                 device.raw.cmd_push_constants(cmd, self.set.layout, vk::ShaderStageFlags::COMPUTE, 0, bytes);
             }
-            device.raw.cmd_dispatch(cmd, self.groups, 1, 1);
+            let groups = if stage == Stage::Inflow { self.inflow_groups } else { self.groups };
+            device.raw.cmd_dispatch(cmd, groups, 1, 1);
         }
         Ok(())
     }
