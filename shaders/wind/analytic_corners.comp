@@ -93,9 +93,9 @@ void main() {
     vec2 q = vec2(g.x + float(local % n) * g.z, g.y + float(local / n) * g.z);
     float exposure = exposure_at(q, counts.z);
 #ifdef PERLIN_WIND
-    // The noise in place of the global wind and its gusts (`perlin::fill_params` leaves no global
-    // wind): not compiled in, since llvmpipe runs an `if`'s body under a lane mask even when no
-    // lane takes it (the pass read 0.41-0.44 ms with it, 0.36 without).
+    // The noise in place of the global wind and its gusts (`render::wind::perlin::fill_params`
+    // leaves no global wind): not compiled in, since llvmpipe runs an `if`'s body under a lane
+    // mask even when no lane takes it (the pass read 0.41-0.44 ms with it, 0.36 without).
     vec2 v = perlin_wind(q, level);
 #else
     vec2 v = vec2(0.0);
