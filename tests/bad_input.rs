@@ -281,6 +281,8 @@ fn responses_refuse_what_only_keyframes_have() {
     refused("wind-field-unknown", &["--wind-field", "fluidd"], "fluidd");
     refused("fluid-grid-zero", &["--wind-field", "fluid", "--fluid-grid", "0,16,32"], "0 cells");
     refused("fluid-grid-limit", &["--wind-field", "fluid", "--fluid-grid", "60000,4,4"], "3-D image limit");
+    // At lavapipe's limit of 4 096 the grid fits, and the inflow's ring of ghost columns (two more) does not.
+    refused("fluid-grid-ring", &["--wind-field", "fluid", "--fluid-grid", "4096,4,4"], "inflow ring is 4098 texels");
     refused(
         "fluid-grid-budget",
         &["--wind-field", "fluid", "--fluid-grid", "2048,64,2048"],

@@ -3,14 +3,14 @@
 // One step of the fluid wind (`render::wind::fluid`; Zhang Xia §2 after Stam 1999, eq. 2:
 // ∂u/∂t = −(u·∇)u + ν∇²u + f, with ∇·u = 0), one variant per stage, each a dispatch over the
 // window's cells (`render::wind::fluid::pass`): the upwind ghosts' analytic wind (`inflow`), the
-// cells that entered the window start from the analytic field (`enter`), the sources, calm areas and colliders (`forces`, f), the implicit
-// diffusion of eq. 4 by Jacobi iterations (`diffuse`, in place of Zhang Xia's Gauss–Seidel, which
-// a GPU cannot run in place), the semi-Lagrangian self-advection of §2.3.3 (`advect`), the
-// divergence (`divergence`), the pressure's Poisson equation by Jacobi iterations with the
-// Chebyshev semi-iteration's weights (`pressure`) and the subtraction of its gradient (`project`, §2.3.6). The divergence and the
-// gradient are central differences, and the pressure solves ∇·∇p = ∇·u for that very pair (the
-// row of D·G, ghosts included), so a converged solve leaves no divergence by the solver's own
-// operator. The CPU mirror is `render::wind::fluid::scheme`, line for line.
+// cells that entered the window start from the analytic field (`enter`), the sources, calm areas
+// and colliders (`forces`, f), the implicit diffusion of eq. 4 by Jacobi iterations (`diffuse`,
+// in place of Zhang Xia's Gauss–Seidel, which a GPU cannot run in place), the semi-Lagrangian
+// self-advection of §2.3.3 (`advect`), the divergence (`divergence`), the pressure's Poisson
+// equation by Jacobi iterations with the Chebyshev semi-iteration's weights (`pressure`) and the
+// subtraction of its gradient (`project`, §2.3.6). The divergence and the gradient are central
+// differences, and the pressure solves ∇·∇p = ∇·u for that very pair (the row of D·G, ghosts
+// included), so a converged solve leaves no divergence by the solver's own operator. The CPU mirror is `render::wind::fluid::scheme`, line for line.
 // variant enter: STEP_ENTER
 // variant forces: STEP_FORCES
 // variant diffuse: STEP_DIFFUSE

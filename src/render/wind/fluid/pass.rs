@@ -111,11 +111,11 @@ const IMAGES: [(&str, vk::Format); 6] = [
     ("fluid divergence", vk::Format::R32G32_SFLOAT),
 ];
 
-/// The ring of ghost columns' texels (`fluid_ring_texel`): a row per face of the window's sides,
-/// as long as the longer side and its two corners.
+/// The inflow's texels: the analytic wind (x, y, z) of a ghost column.
 const INFLOW_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
 
-/// The inflow image's extent for `grid`.
+/// The inflow image's extent for `grid`: the ring of ghost columns round the window
+/// (`fluid_ring_texel`), a row per side, each as long as the longer side and its two corners.
 pub fn inflow_extent(grid: &FluidGrid) -> vk::Extent3D {
     vk::Extent3D { width: grid.dims[0].max(grid.dims[2]) + 2, height: 4, depth: 1 }
 }
@@ -131,6 +131,13 @@ impl FluidPass {
         let most = device.limits().max_image_dimension3_d;
         grid.check(most).map_err(|e| crate::error::Error::bad_input(format!("--fluid-grid: {e}")))?;
         device.check_budget(super::grid_bytes(grid), "the fluid wind's grid")?;
+        let ring = inflow_extent(grid).width;
+        if ring > most {
+            let what = format!(
+                "--fluid-grid: its inflow ring is {ring} texels across, over the device's 3-D image limit of {most}"
+            );
+            return Err(crate::error::Error::bad_input(what));
+        }
         let [x, y, z] = grid.dims;
         let extent = vk::Extent3D { width: x, height: y, depth: z };
         let usage = vk::ImageUsageFlags::STORAGE | vk::ImageUsageFlags::TRANSFER_SRC;
