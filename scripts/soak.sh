@@ -18,9 +18,28 @@ meadow=${MEADOW:-target/release/meadow}
 # The soaks run on the lavapipe profile (`vk::profile`), whatever the environment says: its rule
 # (a value that decides control flow is read through storage) is what keeps lavapipe's memory flat.
 export MEADOW_PROFILE=lavapipe
+# The viewer under an Xvfb of its own (not xvfb-run, which at exit can replace the viewer's
+# status with its own when it fails to remove its temporary folder). -displayfd picks a free
+# display and writes its number once the server accepts clients.
 run() {
-    xvfb-run -a -s "-screen 0 640x480x24" "$meadow" view --blades 2000 --size 96x64 --frames "$frames" \
-        --inject-out-of-date 47 --sample-every "$every" "$@" | grep '^sample:'
+    local ready server status=0
+    ready=$(mktemp)
+    Xvfb -displayfd 3 -screen 0 640x480x24 -nolisten tcp -noreset 3>"$ready" 2>/dev/null &
+    server=$!
+    until [[ -s $ready ]]; do
+        if ! kill -0 "$server" 2>/dev/null; then
+            echo "soak: Xvfb did not start" >&2
+            rm -f "$ready"
+            return 1
+        fi
+        sleep 0.1
+    done
+    DISPLAY=":$(<"$ready")" "$meadow" view --blades 2000 --size 96x64 --frames "$frames" \
+        --inject-out-of-date 47 --sample-every "$every" "$@" | grep '^sample:' || status=$?
+    kill "$server" 2>/dev/null
+    wait "$server" 2>/dev/null || true
+    rm -f "$ready"
+    return "$status"
 }
 # sample: frame F rss_kib R live_vulkan_objects L  ->  "F R L"
 fields() { awk '{print $3, $5, $7}'; }

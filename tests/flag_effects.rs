@@ -17,10 +17,11 @@ mod support;
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
-use std::process::{Command, Output};
+use std::process::Output;
 use std::sync::Mutex;
 
 use clap::CommandFactory;
+use support::xvfb::Xvfb;
 use support::{meadow, scratch, transcript};
 
 /// One way to set a flag away from its default: `context` goes into the configuration's own run
@@ -953,39 +954,14 @@ enum Verdict {
     Ignored(String),
 }
 
-/// Start an Xvfb server of our own for the `view` runs; its display name.
-struct Xvfb(std::process::Child, String);
-
-impl Xvfb {
-    fn start() -> Xvfb {
-        use std::io::BufRead;
-        let mut child = Command::new("Xvfb")
-            .args(["-displayfd", "1", "-screen", "0", "1280x1024x24", "-nolisten", "tcp"])
-            .stdout(std::process::Stdio::piped())
-            .stderr(std::process::Stdio::null())
-            .spawn()
-            .expect("Xvfb is installed by the test command (package xvfb)");
-        let mut line = String::new();
-        std::io::BufReader::new(child.stdout.take().expect("stdout")).read_line(&mut line).expect("display");
-        Xvfb(child, format!(":{}", line.trim()))
-    }
-}
-
-impl Drop for Xvfb {
-    fn drop(&mut self) {
-        let _ = self.0.kill();
-        let _ = self.0.wait();
-    }
-}
-
 /// Every (subcommand, configuration, flag) of the subcommands `names`: run the configuration twice
 /// (it must repeat), then each of the flag's ways until one changes the output; refused or
 /// changed, else ignored. Each #[test] below takes a few subcommands, so that cargo runs them side
 /// by side.
 fn every_flag_changes_the_output_or_is_refused(names: &[&str]) {
     let root = scratch(&format!("flag-effects-{}", names.join("-")));
-    let xvfb = SUBCOMMANDS.iter().any(|s| s.display && names.contains(&s.name)).then(Xvfb::start);
-    let display = xvfb.as_ref().map(|x| x.1.clone());
+    let xvfb = SUBCOMMANDS.iter().any(|s| s.display && names.contains(&s.name)).then(|| Xvfb::start("1280x1024x24"));
+    let display = xvfb.as_ref().map(|x| x.display().to_string());
     let display = display.as_deref();
     // (subcommand, configuration, flag, alternatives)
     let mut jobs = Vec::new();

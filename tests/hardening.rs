@@ -120,21 +120,14 @@ fn an_output_name_of_255_bytes_is_written() {
 
 // ---- 2. Big windows ------------------------------------------------------------------------
 
-fn which(program: &str) -> Option<PathBuf> {
-    std::env::var_os("PATH")?.to_str()?.split(':').map(|d| Path::new(d).join(program)).find(|p| p.is_file())
-}
-
-/// `xvfb-run meadow view ARGS` (validation on), in `dir`.
+/// `meadow view ARGS` (validation on) under an Xvfb of its own, in `dir`.
 fn xvfb_view(dir: &Path, args: &[&str]) -> Output {
-    let xvfb = which("xvfb-run").expect("xvfb-run is installed by the test command (package xvfb)");
-    let mut cmd = Command::new(xvfb);
-    cmd.args(["-a", "-s", "-screen 0 1280x1024x24"])
-        .arg(env!("CARGO_BIN_EXE_meadow"))
+    let xvfb = support::xvfb::Xvfb::start("1280x1024x24");
+    let mut cmd = meadow();
+    xvfb.on(&mut cmd)
         .args(["view", "--validation", "--device", support::DEVICE, "--blades", "2000"])
         .args(args)
-        .current_dir(dir)
-        .env_remove("WAYLAND_DISPLAY")
-        .env_remove("VK_LAYER_PATH");
+        .current_dir(dir);
     within(cmd, Duration::from_secs(120))
 }
 

@@ -6,36 +6,30 @@
 mod support;
 
 use std::path::Path;
-use std::process::{Command, Output};
+use std::process::Output;
 
 use meadow::imagediff::compare_rgb;
+use support::xvfb::Xvfb;
 use support::{assert_clean, meadow, scratch, transcript, Picture};
 
 const SCENE: [&str; 6] = ["--blades", "5000", "--size", "256x160", "--device", support::DEVICE];
 
-/// `xvfb-run meadow view --validation ARGS` in `dir`.
+/// `meadow view --validation ARGS` under an Xvfb of its own, in `dir`.
 fn view(dir: &Path, args: &[&str]) -> Output {
     view_with(dir, args, &[])
 }
 
 /// `view` with environment variables `env` set (fault injection).
 fn view_with(dir: &Path, args: &[&str], env: &[(&str, &str)]) -> Output {
-    let xvfb = which("xvfb-run").expect("xvfb-run is installed by the test command (package xvfb)");
-    Command::new(xvfb)
+    let xvfb = Xvfb::start("1280x1024x24");
+    xvfb.on(&mut meadow())
         .envs(env.iter().copied())
-        .args(["-a", "-s", "-screen 0 1280x1024x24"])
-        .arg(env!("CARGO_BIN_EXE_meadow"))
         .args(["view", "--validation"])
         .args(SCENE)
         .args(args)
         .current_dir(dir)
-        .env_remove("WAYLAND_DISPLAY")
         .output()
-        .expect("run xvfb-run")
-}
-
-fn which(program: &str) -> Option<std::path::PathBuf> {
-    std::env::var_os("PATH")?.to_str()?.split(':').map(|d| Path::new(d).join(program)).find(|p| p.is_file())
+        .expect("run meadow")
 }
 
 fn script(name: &str) -> String {
@@ -203,15 +197,13 @@ fn a_device_whose_queue_cannot_present_to_the_window_is_not_chosen() {
     // no --device none is chosen, each in one line (exit 1), validation clean, nothing leaked.
     let dir = scratch("viewer-no-present");
     let named = view_with(&dir, &["--frames", "2"], &[("MEADOW_HIDE", "present")]);
-    let xvfb = which("xvfb-run").expect("xvfb-run");
-    let best = Command::new(xvfb)
+    let xvfb = Xvfb::start("640x480x24");
+    let best = xvfb
+        .on(&mut meadow())
         .env("MEADOW_HIDE", "present")
-        .args(["-a", "-s", "-screen 0 640x480x24"])
-        .arg(env!("CARGO_BIN_EXE_meadow"))
         .args(["view", "--validation", "--blades", "1000", "--size", "64x64", "--frames", "2"])
-        .env_remove("WAYLAND_DISPLAY")
         .output()
-        .expect("run xvfb-run");
+        .expect("run meadow");
     for (output, said) in [
         (named, "its graphics+compute queue cannot present to this window's surface"),
         (best, "no Vulkan 1.3 device with VK_KHR_swapchain can present to this window"),

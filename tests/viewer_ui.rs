@@ -6,27 +6,26 @@
 mod support;
 
 use std::path::Path;
-use std::process::{Command, Output};
+use std::process::Output;
 
-use support::{assert_clean, scratch, transcript, Picture};
+use support::xvfb::Xvfb;
+use support::{assert_clean, meadow, scratch, transcript, Picture};
 
-/// `xvfb-run meadow view --validation` at 1280x720 with `args`, in `dir`.
+/// `meadow view --validation` under an Xvfb of its own, at 1280x720 with `args`, in `dir`.
 fn view(dir: &Path, args: &[&str]) -> Output {
     view_scaled(dir, args, "1")
 }
 
 /// `view` with winit's X11 scale factor (the display's DPI scale) set to `scale`.
 fn view_scaled(dir: &Path, args: &[&str], scale: &str) -> Output {
-    Command::new("xvfb-run")
+    let xvfb = Xvfb::start("1280x1024x24");
+    xvfb.on(&mut meadow())
         .env("WINIT_X11_SCALE_FACTOR", scale)
-        .args(["-a", "-s", "-screen 0 1280x1024x24"])
-        .arg(env!("CARGO_BIN_EXE_meadow"))
         .args(["view", "--validation", "--device", support::DEVICE, "--blades", "3000", "--size", "1280x720"])
         .args(args)
         .current_dir(dir)
-        .env_remove("WAYLAND_DISPLAY")
         .output()
-        .expect("run xvfb-run")
+        .expect("run meadow")
 }
 
 fn script(dir: &Path, name: &str, lines: &str) -> String {
@@ -157,15 +156,14 @@ fn renderer_replacements_keep_the_overlay_s_texture_copies_validation_clean() {
     let dir = scratch("ui-replace");
     let presses: String = (1..=13).map(|frame| format!("{} press ]\n", frame + 1)).collect();
     let s = script(&dir, "double.txt", &format!("{presses}20 quit\n"));
-    let output = Command::new("xvfb-run")
-        .args(["-a", "-s", "-screen 0 1280x1024x24"])
-        .arg(env!("CARGO_BIN_EXE_meadow"))
+    let xvfb = Xvfb::start("1280x1024x24");
+    let output = xvfb
+        .on(&mut meadow())
         .args(["view", "--validation", "--device", support::DEVICE, "--blades", "1", "--size", "640x360"])
         .args(["--script", &s])
         .current_dir(&dir)
-        .env_remove("WAYLAND_DISPLAY")
         .output()
-        .expect("run xvfb-run");
+        .expect("run meadow");
     assert_clean(&output);
     // Each press replaced the renderer: 2, 4, ... 8192 blades.
     let stdout = String::from_utf8_lossy(&output.stdout);

@@ -3,6 +3,7 @@
 #![allow(dead_code)] // each test crate uses a different subset of these helpers
 
 pub mod schema;
+pub mod xvfb;
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
