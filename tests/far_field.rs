@@ -79,8 +79,18 @@ fn far_plants(stdout: &str) -> u32 {
 /// The share of the blocks 8 pixels wide across `rows` whose mean colour differs between `a`
 /// and `b` by more than one level.
 fn differing_blocks(a: &Picture, b: &Picture, rows: std::ops::RangeInclusive<u32>) -> f64 {
-    let blocks = a.width / 8;
-    let differing = (0..blocks)
+    differing_blocks_in(a, b, rows, 0..a.width / 8)
+}
+
+/// `differing_blocks` over the blocks `blocks` (8 pixels wide, from the left) alone.
+fn differing_blocks_in(
+    a: &Picture,
+    b: &Picture,
+    rows: std::ops::RangeInclusive<u32>,
+    blocks: std::ops::Range<u32>,
+) -> f64 {
+    let count = blocks.len() as u32;
+    let differing = blocks
         .filter(|&block| {
             let mean = |p: &Picture| -> [f64; 3] {
                 let mut sum = [0.0; 3];
@@ -97,7 +107,7 @@ fn differing_blocks(a: &Picture, b: &Picture, rows: std::ops::RangeInclusive<u32
             (0..3).any(|c| (ma[c] - mb[c]).abs() > 1.0)
         })
         .count();
-    differing as f64 / f64::from(blocks)
+    differing as f64 / f64::from(count)
 }
 
 #[test]
@@ -260,6 +270,42 @@ fn a_covering_map_of_zero_grows_no_far_plant() {
             0 => assert_eq!(plants, 0, "{stdout}"),
             _ => assert!(plants > 100, "{stdout}"),
         }
+    }
+}
+
+#[test]
+fn the_far_flowers_follow_the_covering_map_s_green() {
+    // Covering maps full of grass whose green (the flowers' density) is full west of x = 0 and
+    // none east of it, the other way round, and full everywhere. All three bake one atlas (its
+    // flower tiles at the share of full green), and a far plant takes the flower tiles where the
+    // green is (`far.vert`): on a split map's green side its far rows are the all-green map's,
+    // and on its other side they are not.
+    let dir = scratch("far-field-flower-cover");
+    let map = |name: &str, green: &dyn Fn(u32) -> u8| {
+        let path = dir.join(format!("{name}.png"));
+        let pixels: Vec<u8> = (0..64).flat_map(|x| [255, green(x), 0]).collect();
+        image::save_buffer(&path, &pixels, 64, 1, image::ExtendedColorType::Rgb8).expect("write map");
+        path
+    };
+    let west = map("west", &|x| if x < 32 { 255 } else { 0 });
+    let east = map("east", &|x| if x < 32 { 0 } else { 255 });
+    let all = map("all", &|_| 255);
+    let picture = |name: &str, map: &std::path::Path| {
+        let cover = ["--terrain-scale", "5000,1,5000", "--cover", map.to_str().expect("utf-8"), "--flowers", "20"];
+        render(&format!("flower-cover-{name}"), &[LANDSCAPE, FULL, &cover].concat(), &[]).1
+    };
+    let (west, east, all) = (picture("west", &west), picture("east", &east), picture("all", &all));
+    // The ground from 300 m to 1 km, in the left and right quarters of the picture (the camera
+    // looks along -z: west is left), past the maps' seam.
+    let rows = row_at(1000.0).ceil() as u32..=row_at(300.0).floor() as u32;
+    let quarter = all.width / 8 / 4;
+    let (left, right) = (0..quarter, 3 * quarter..4 * quarter);
+    for (name, split, green, other) in [("west", &west, &left, &right), ("east", &east, &right, &left)] {
+        let same = differing_blocks_in(split, &all, rows.clone(), green.clone());
+        let apart = differing_blocks_in(split, &all, rows.clone(), other.clone());
+        eprintln!("{name}: green side {same:.3}, other side {apart:.3} of the blocks differ");
+        assert!(same <= 0.0, "{name}: the green side differs from the all-green map in {same:.3} of its blocks");
+        assert!(apart >= 0.5, "{name}: the side without green differs in only {apart:.3} of its blocks");
     }
 }
 

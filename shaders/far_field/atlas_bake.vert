@@ -5,15 +5,17 @@
 // blades rooted in the block's metre k along z, their roots' x folded into the tile's metre (each
 // blade drawn three times, a metre apart, so the tile repeats without a seam); depth is the
 // root's place in the metre. One blade per instance, a strip of BAKE_SEGMENTS segments (thesis
-// 4.1's two Bézier splines). The push constant says the tile (low byte) and what is written
-// (`output`, high byte: 0 the albedo, 1 the height along the blade).
+// 4.1's two Bézier splines). The push constant says the tile (bits 0-7), what is written (bits
+// 8-15, `output`: 0 the albedo, 1 the height along the blade) and the flower tiles' share (bits
+// 16-31, in 65535ths).
 //
-// With flowers (`--flowers`, FLOWER_SHARE), the blades the flowers claim at their share are
-// flowers here too (`scene::flowers`): a stem, 4 mm wide and of the flower's own height, in the
-// blade's place; and the variant `heads` draws each one's head, the far head of the flowers' pass
-// (a square as wide as the star's mean radius, facing along the stem's tip), 4 vertices a blade.
-// The claim is a hash of the blade in the block at the share under full cover: the atlas holds the
-// flowers' mean mix, as the far field stands for the mean of the grass.
+// With flowers (`--flowers`, FLOWER_SHARE), tiles 0 and 1 are grass alone, and in tiles 2 and 3
+// the blades the flowers claim at the flower tiles' share are flowers (`scene::flowers`): a stem,
+// 4 mm wide and of the flower's own height, in the blade's place; and the variant `heads` draws
+// each one's head, the far head of the flowers' pass (a square as wide as the star's mean radius,
+// facing along the stem's tip), 4 vertices a blade. The share is the most the cover grows for a
+// grass's worth (`scene::Scene::far_flower_share`), and a far plant takes the flower tiles where
+// the share at its place calls for them (far.vert): the far field's flowers follow the map's green.
 // variant heads: BAKE_HEADS
 #include "common/bindings.glsl"
 #include "common/bezier.glsl"
@@ -35,11 +37,12 @@ layout(location = 1) flat out uvec2 out_blade; // x the blade's variation (a hea
 // Bit of out_blade.y: a flower's stem, no outline.
 const uint BAKE_STEM = 0x100u;
 
-// Whether the block's blade `index` is a flower in the atlas, and its looks.
-bool baked_flower(uint index, out FlowerLooks looks) {
+// Whether the block's blade `index` is a flower in tile `tile` of the atlas, and its looks.
+bool baked_flower(uint index, uint tile, out FlowerLooks looks) {
     uint hash = flower_hash(FLOWER_STORED_KEY ^ 0xa71a5u, index);
     looks = flower_looks(hash);
-    return FLOWER_SHARE != 0u && float(hash >> 8u) / 16777216.0 < uintBitsToFloat(FLOWER_SHARE);
+    float share = float(bake.code >> 16u) / 65535.0;
+    return FLOWER_SHARE != 0u && tile >= FAR_TILES / 2u && float(hash >> 8u) / 16777216.0 < share;
 }
 
 void main() {
@@ -48,7 +51,7 @@ void main() {
     float copy = float(int(uint(gl_InstanceIndex) % 3u) - 1);
     BladeInstance blade = blade_record(blade_index);
     FlowerLooks looks;
-    bool flower = baked_flower(blade_index, looks);
+    bool flower = baked_flower(blade_index, tile, looks);
 #ifdef BAKE_HEADS
     uint level = BAKE_SEGMENTS;
     float side = 0.0;
@@ -58,7 +61,7 @@ void main() {
 #endif
     float t = float(level) / float(BAKE_SEGMENTS);
     out_uv = vec2(side, t);
-    out_blade = uvec2(blade.variation, (bake.code >> 8) | (flower ? BAKE_STEM : 0u));
+    out_blade = uvec2(blade.variation, ((bake.code >> 8) & 0xffu) | (flower ? BAKE_STEM : 0u));
     float slab = blade.position.z - float(tile);
 #ifdef BAKE_HEADS
     bool drawn = flower;

@@ -102,6 +102,17 @@ void main() {
         }
     }
     uint tile = (plant.hash_turn_ring.x >> (2u * rectangle)) & 3u;
+    if (FLOWER_SHARE != 0u) {
+        // With flowers, tiles 0 and 1 are grass alone and tiles 2 and 3 flowers at the share
+        // far.rings.w (`render::far_field::atlas`): this rectangle takes them with the chance that
+        // gives the share of the flowers here, flowers.glsl's `flower_claimed` (FLOWER_SHARE times
+        // the green over the red of the cover), so the far flowers follow the covering map.
+        vec2 covers = ground_covers(plant.centre_width.xz);
+        float here = min(uintBitsToFloat(FLOWER_SHARE) * covers.y / max(covers.x, 1.0 / 255.0), 1.0);
+        float chance = far.rings.w > 0.0 ? here / far.rings.w : 0.0;
+        bool flowers = far_unit(far_hash(ivec2(int(plant.hash_turn_ring.x), int(rectangle)), 5u)) < chance;
+        tile = (tile & 1u) + (flowers ? 2u : 0u);
+    }
     // Metres from the axis: a point of the rectangle keeps its texel and its fade stretch as the
     // width grows with the distance (world-anchored, like the plant).
     out_along = vec2(from_axis / FAR_TILE_WIDTH, top ? 1.0 : 0.0);

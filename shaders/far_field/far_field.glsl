@@ -27,7 +27,8 @@ const float FAR_EDGE_ON = 0.26;
 const float FAR_STRETCH = 0.25;
 
 struct FarParams {
-    vec4 rings;   // x ring 0's inner Chebyshev distance, y its lattice step, z the band's start (m), w unused
+    vec4 rings;   // x ring 0's inner Chebyshev distance, y its lattice step, z the band's start (m),
+                  // w the flower tiles' share (render::far_field::atlas; 0: no flowers)
     vec4 reach;   // x the view distance (m), y a plant's height (m)
     uvec4 counts; // x rings, y mesh (FAR_MESH_*), z plants the placement may write
     vec4 tips[FAR_TIP_TABLE]; // per wind speed: the tip's move along the wind (x) and up (y) per metre of height

@@ -116,6 +116,8 @@ pub struct SceneGpu {
     /// The share of candidate blades the flowers claim, the shaders' `FLOWER_SHARE`
     /// (`scene::Scene::flower_share`; 0: no flowers).
     pub flower_share: f32,
+    /// The share the far field's flower tiles are baked at (`scene::Scene::far_flower_share`).
+    pub far_flower_share: f32,
     /// The cull's visible list: (blade index, packed scale) per drawn blade.
     pub visible: Buffer,
     /// The visible list as RG32UI texels, as its readers fetch it.
@@ -317,6 +319,7 @@ impl SceneGpu {
                 _ => 0,
             },
             flower_share: scene.flower_share(),
+            far_flower_share: scene.far_flower_share(),
             verdict_capacity: verdict_capacity(scene),
             visible_capacity: capacity.1,
             slot_capacity: capacity.0,

@@ -58,6 +58,18 @@ impl Cover {
         map * self.slope_factor(slope)
     }
 
+    /// The most flowers the cover grows for one grass's worth anywhere: the map's largest ratio
+    /// of green to red over its texels (a texel of no grass counted as one step of it, as the
+    /// shaders' `flower_claimed` divides), 1 without a map; the slope limit thins both alike. A
+    /// bilinear mix of texels has a ratio between theirs, so no place the grass grows exceeds it
+    /// (the far field's flower tiles are baked at the share this allows, `render::far_field`).
+    pub fn flower_ratio_bound(&self) -> f32 {
+        self.map.as_ref().map_or(1.0, |map| {
+            let ratio = |(&g, &f): (&u8, &u8)| f32::from(f) / f32::from(g.max(1));
+            map.grass.iter().zip(&map.flowers).map(ratio).fold(0.0, f32::max)
+        })
+    }
+
     /// The slope limit's factor over ground of slope `slope` (1 without a limit).
     fn slope_factor(&self, slope: Vec2) -> f32 {
         self.slope_limit_deg.map_or(1.0, |limit| slope_density(limit, slope.length()))
@@ -175,6 +187,32 @@ pub fn kept(index: u32, seed: u64, density: f32) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_flower_ratio_bound_is_the_largest_green_to_red_of_the_map() {
+        let placement = MapPlacement { x: 10.0, z: 10.0, mirrored: false };
+        let map = |grass: Vec<u8>, flowers: Vec<u8>| Cover {
+            slope_limit_deg: Some(30.0),
+            map: Some(Arc::new(CoverMap { width: 2, height: 2, grass, flowers, placement })),
+        };
+        assert_eq!(Cover::default().flower_ratio_bound(), 1.0);
+        assert_eq!(map(vec![255; 4], vec![0, 255, 51, 0]).flower_ratio_bound(), 1.0);
+        assert_eq!(map(vec![255, 100, 255, 0], vec![0, 200, 0, 0]).flower_ratio_bound(), 2.0);
+        // No grass where flowers grow: one step of grass, as the shaders divide.
+        assert_eq!(map(vec![255, 0, 255, 255], vec![0, 3, 0, 0]).flower_ratio_bound(), 3.0);
+        assert_eq!(map(vec![255; 4], vec![0; 4]).flower_ratio_bound(), 0.0);
+        // Past any texel's ratio, no bilinear mix of the map exceeds it.
+        let m = map(vec![255, 100, 40, 255], vec![0, 200, 30, 10]);
+        let bound = m.flower_ratio_bound();
+        for i in 0..=40 {
+            for j in 0..=40 {
+                let (x, z) = (-5.0 + 0.25 * f64::from(i), -5.0 + 0.25 * f64::from(j));
+                let cover = m.map.as_ref().unwrap();
+                let ratio = cover.flower_density_at(x, z) / cover.density_at(x, z).max(1.0 / 255.0);
+                assert!(ratio <= bound * 1.0001, "{ratio} at ({x}, {z}) over {bound}");
+            }
+        }
+    }
 
     #[test]
     fn the_slope_limit_is_soft_across_its_edge() {

@@ -209,6 +209,13 @@ impl Scene {
         self.flowers.and_then(|f| f.share(self.blade_density()).ok()).unwrap_or(0.0)
     }
 
+    /// The share of the blades the flowers claim where the cover grows the most flowers for its
+    /// grass (`cover::Cover::flower_ratio_bound`), at most 1: the far field's flower tiles are
+    /// baked at it, and a far plant takes them where the share there calls for it (0: no flowers).
+    pub fn far_flower_share(&self) -> f32 {
+        (self.flower_share() * self.cover.flower_ratio_bound()).min(1.0)
+    }
+
     /// The ground's height at world (x, z).
     pub fn ground(&self, x: f32, z: f32) -> f32 {
         match &self.field {

@@ -14,8 +14,13 @@
 //!   each level's mean coverage is level 0's (the far field's hashed coverage test keeps it on
 //!   screen too, `far.frag`; no alpha scaling per level is needed).
 //!
+//! With flowers, tiles 0 and 1 are grass alone and tiles 2 and 3 hold flowers at the share the
+//! cover allows at most (`scene::Scene::far_flower_share`): a far plant takes the flower tiles
+//! where the share at its place calls for them (`far.vert`), so the far field's flowers follow the
+//! covering map's green as the near ones do.
+//!
 //! Both run once (`Runs::OnChange`), keyed on the blades they draw (`bake_key`: their count, shape,
-//! colours and density): a rebuild of the renderer whose blades have the same key keeps the baked
+//! colours and density, and the flower tiles' share): a rebuild of the renderer whose blades have the same key keeps the baked
 //! atlas and adds no bake (`Atlas::baked`; the viewer's view distance, far-field mesh, wind or
 //! LOD), one with another key (another scene, density, clumps or segments) bakes a new one. The
 //! bake's GPU time is the first frame's `far atlas` and `far atlas mips` passes (`meadow render`
@@ -180,8 +185,8 @@ impl AtlasHandles {
     }
 }
 
-/// A digest of the blades a bake draws and the share of them the flowers claim: the key it runs
-/// again on.
+/// A digest of the blades a bake draws and the share of them the flowers claim in the flower
+/// tiles (`scene::Scene::far_flower_share`): the key it runs again on.
 pub fn bake_key(blades: &[crate::scene::blades::BladeInstance], flower_share: f32) -> u64 {
     let bytes: &[u8] = bytemuck::cast_slice(blades);
     let share = flower_share.to_bits().to_le_bytes();
@@ -198,6 +203,8 @@ pub struct AtlasBakePass {
     atlas: Rc<Atlas>,
     output: u32,
     blades: (vk::Buffer, u32),
+    /// The flower tiles' share in 16 bits (`atlas_bake.vert`'s `BakePush`), 0 without flowers.
+    flower_tiles: u32,
     key: u64,
 }
 
@@ -220,7 +227,9 @@ impl AtlasBakePass {
         let pipeline = Guard::new(device, bake(false)?);
         let heads = (constants.flower_share != 0).then(|| bake(true)).transpose()?;
         let blades = (scene.blades.raw, scene.blade_count);
-        Ok(Self { pipeline: pipeline.take(), heads, layout: target.layout, atlas, output, blades, key })
+        let flower_tiles = (scene.far_flower_share.clamp(0.0, 1.0) * 65535.0).round() as u32;
+        let layout = target.layout;
+        Ok(Self { pipeline: pipeline.take(), heads, layout, atlas, output, blades, flower_tiles, key })
     }
 }
 
@@ -297,7 +306,7 @@ impl Pass for AtlasBakePass {
                 offset: vk::Offset2D { x: (tile * w) as i32, y: 0 },
                 extent: vk::Extent2D { width: w, height: h },
             };
-            let code = tile | (self.output << 8);
+            let code = tile | (self.output << 8) | (self.flower_tiles << 16);
             // SAFETY: as above; the push range is the scene layout's (vertex, 4 bytes).
             unsafe {
                 device.raw.cmd_set_viewport(cmd, 0, &[viewport]);

@@ -149,8 +149,9 @@ pub struct FarCounts {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct FarParams {
-    /// x ring 0's inner distance, y its lattice step, z the band's start (m), w unused (the band's
-    /// ramp reads the blade range from the frame: `far_band_ramp` of `shaders/common/frame.glsl`).
+    /// x ring 0's inner distance, y its lattice step, z the band's start (m) (the band's ramp
+    /// reads the blade range from the frame: `far_band_ramp` of `shaders/common/frame.glsl`), w
+    /// the share of flowers the atlas's flower tiles are baked at (`atlas`; 0: none).
     pub rings: [f32; 4],
     /// x the view distance (m), y a plant's height (m), z, w unused.
     pub reach: [f32; 4],
@@ -161,10 +162,11 @@ pub struct FarParams {
 }
 
 impl FarParams {
-    /// The block for `rings`, drawing `mesh`, leaning by `tips`.
-    pub fn new(rings: &FarRings, mesh: FarField, tips: &TipTable) -> Self {
+    /// The block for `rings`, drawing `mesh`, leaning by `tips`, the atlas's flower tiles baked at
+    /// `flower_tiles` (`scene::Scene::far_flower_share`).
+    pub fn new(rings: &FarRings, mesh: FarField, tips: &TipTable, flower_tiles: f32) -> Self {
         let mut block = Self {
-            rings: [rings.start, rings.step, rings.band_start, 0.0],
+            rings: [rings.start, rings.step, rings.band_start, flower_tiles],
             reach: [rings.view_distance, atlas::TILE_HEIGHT_M, 0.0, 0.0],
             counts: [rings.rings, mesh.mesh_code(), CAPACITY, 0],
             tips: [[0.0; 4]; TIP_TABLE_SIZE],
@@ -214,7 +216,7 @@ pub fn passes(
     (rings, (mesh, fade), tips): (&FarRings, (FarField, FarFade), &TipTable),
     (bake_key, baked): (u64, Option<std::rc::Rc<atlas::Atlas>>),
 ) -> crate::error::Result<FarPasses> {
-    let params = FarParams::new(rings, mesh, tips);
+    let params = FarParams::new(rings, mesh, tips, setup.scene.far_flower_share);
     let mut passes: crate::vk::Guard<Vec<Box<dyn crate::render::graph::Pass>>> =
         crate::vk::Guard::new(device, Vec::new());
     let baked = baked.filter(|atlas| atlas.baked() == Some(bake_key));

@@ -299,7 +299,7 @@ impl Renderer {
         // The pressed map, where the blades read it (the push-out pass is in the graph).
         let pressed = self.pressed.as_ref().filter(|_| response.blade_input().pose_records()).map(|map| map.reader());
         let setup = far_field::FarSetup { target, sets, constants, scene, wind: &wind, pressed };
-        let key = far_field::atlas::bake_key(&cpu_scene.blades, f32::from_bits(constants.flower_share));
+        let key = far_field::atlas::bake_key(&cpu_scene.blades, scene.far_flower_share);
         let kept = (key, self.far_atlas.upgrade());
         let built =
             far_field::passes(&self.device, &setup, (&rings, (culling.far_field, culling.far_fade), &tips), kept)?;
