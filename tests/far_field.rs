@@ -387,7 +387,7 @@ fn a_rebuilt_renderer_keeps_the_baked_atlas() {
     let options = GpuOptions { validation: true, device: DeviceSelector::parse(support::DEVICE) };
     let (result, messages) = with_device(&options, false, |device| {
         let scene = Scene::blocks(FieldSpec { size: None, density: 100.0 }, 3);
-        let culling = Culling { view_distance: 400.0, ..Culling::default_for(4) };
+        let culling = Culling { view_distance: 900.0, ..Culling::default_for(4) };
         let animation = AnimationSettings { mode: Mode::Static, ..Default::default() };
         let settings = RenderSettings::offscreen(4, culling);
         let mut renderer = Renderer::new(Arc::clone(device), &scene, settings, animation.clone())?;
@@ -397,8 +397,9 @@ fn a_rebuilt_renderer_keeps_the_baked_atlas() {
             |t: &meadow::render::FrameTimings| t.passes.iter().filter(|p| p.name.starts_with("far atlas")).count();
         let first = bakes(&renderer.render_offscreen(&mut target, &camera, 0.0)?);
         let before = renderer.far_atlas_coverage()?.expect("a far field");
-        let wider = Culling { view_distance: 900.0, far_field: meadow::render::far_field::FarField::Stars, ..culling };
-        renderer.rebuild(&scene, RenderSettings { culling: wider, ..settings }, animation)?;
+        // Shorter: a longer view than the upload's needs a new renderer (`Renderer::fits_upload`).
+        let nearer = Culling { view_distance: 400.0, far_field: meadow::render::far_field::FarField::Stars, ..culling };
+        renderer.rebuild(&scene, RenderSettings { culling: nearer, ..settings }, animation)?;
         let timings = renderer.render_offscreen(&mut target, &camera, 0.0)?;
         let plants = renderer.far_counts()?.expect("a far field").plants;
         let after = renderer.far_atlas_coverage()?.expect("a far field");
@@ -412,6 +413,49 @@ fn a_rebuilt_renderer_keeps_the_baked_atlas() {
     assert_eq!((first, rebuilt), (3, 0), "bake passes in the first frame, and after the rebuild");
     assert!(plants > 0, "the rebuilt far field draws");
     assert_eq!(before, after, "the kept atlas's levels");
+}
+
+#[test]
+fn a_rebuild_past_the_uploaded_reach_is_refused_for_a_new_renderer() {
+    // The cull's ring slots (the blade distance) and a block field's wind levels (the far
+    // field's reach) are sized when the scene is uploaded: a rebuild that needs more is refused
+    // (the viewer makes a new renderer instead, `Viewer::rebuild_passes`), so no far plant reads
+    // the wind clamped at the old levels' edge and no ring is cut to the old capacity. Shorter
+    // distances rebuild as before, and the refused rebuild leaves the renderer drawing.
+    let options = GpuOptions { validation: true, device: DeviceSelector::parse(support::DEVICE) };
+    let (result, messages) = with_device(&options, false, |device| {
+        let scene = Scene::blocks(FieldSpec { size: None, density: 100.0 }, 3);
+        let culling = Culling { view_distance: 1000.0, ..Culling::default_for(4) };
+        let animation = AnimationSettings { mode: Mode::Static, ..Default::default() };
+        let settings = RenderSettings::offscreen(4, culling);
+        let mut renderer = Renderer::new(Arc::clone(device), &scene, settings, animation.clone())?;
+        let with = |culling| RenderSettings { culling, ..settings };
+        let farther = with(Culling { view_distance: 8000.0, ..culling });
+        let blades = with(Culling { blade_distance: 300.0, ..culling });
+        let nearer = with(Culling { view_distance: 400.0, blade_distance: 100.0, ..culling });
+        let fits = [farther, blades, nearer].map(|s| renderer.fits_upload(&scene, &s));
+        let refused = renderer.rebuild(&scene, farther, animation.clone()).err().map(|e| e.to_string());
+        let mut target = OffscreenTarget::new(device, vk::Extent2D { width: 64, height: 36 })?;
+        let camera = scene.camera(Some(CameraChoice::Landscape));
+        renderer.render_offscreen(&mut target, &camera, 0.0)?;
+        let kept = renderer.far_counts()?.expect("a far field").rings.view_distance;
+        renderer.rebuild(&scene, nearer, animation.clone())?;
+        renderer.render_offscreen(&mut target, &camera, 0.0)?;
+        let levels = renderer.wind_levels().len();
+        drop(renderer);
+        let wider = Renderer::new(Arc::clone(device), &scene, farther, animation)?;
+        let wider_levels = wider.wind_levels().len();
+        drop(wider);
+        // SAFETY: render_offscreen waited for its frames.
+        unsafe { target.destroy(device) };
+        Ok((fits, refused, kept, levels, wider_levels))
+    });
+    let (fits, refused, kept, levels, wider_levels) = result.expect("render");
+    assert_eq!(messages, Some(0));
+    assert_eq!(fits, [false, false, true], "8 km view, 300 m of blades, then shorter, against an upload for 1 km");
+    assert!(refused.as_deref().is_some_and(|e| e.contains("a new renderer")), "{refused:?}");
+    assert_eq!(kept, 1000.0, "the refused rebuild kept the renderer's far field");
+    assert!(wider_levels > levels, "a renderer for 8 km holds {wider_levels} wind levels, one for 1 km {levels}");
 }
 
 #[test]

@@ -218,11 +218,11 @@ fn a_bounded_field_ends_where_its_size_says() {
 }
 
 #[test]
-fn a_longer_view_distance_set_live_stops_at_the_rings_the_buffers_hold() {
-    // The viewer's slider rebuilds the passes, not the cull's buffers, which hold the rings of
-    // the view distance the field was uploaded with: past it the rings stop (the frame's ring
-    // count is clamped) instead of the cull writing past its buffers. The control: uploaded with
-    // the longer distance, the frame has more rings.
+fn a_longer_view_distance_set_live_needs_a_new_renderer_for_its_rings() {
+    // A rebuild keeps the cull's buffers, which hold the rings of the distance the field was
+    // uploaded with: a rebuild for a longer one is refused (`Renderer::fits_upload`; the viewer
+    // then makes a new renderer), and the renderer keeps drawing its rings. The control:
+    // uploaded with the longer distance, the frame has more rings.
     let options = GpuOptions { validation: true, device: DeviceSelector::parse("llvmpipe") };
     let (result, messages) = with_device(&options, false, |device| {
         let scene = Scene::blocks(FieldSpec { size: None, density: 400.0 }, 1);
@@ -237,7 +237,8 @@ fn a_longer_view_distance_set_live_stops_at_the_rings_the_buffers_hold() {
         let mut target = OffscreenTarget::new(device, EXTENT)?;
         let mut renderer = Renderer::new(device.clone(), &scene, with_distance(40.0), animation.clone())?;
         let uploaded = rings(&renderer);
-        renderer.rebuild(&scene, with_distance(300.0), animation.clone())?;
+        let refused = renderer.rebuild(&scene, with_distance(300.0), animation.clone()).err().map(|e| e.to_string());
+        assert!(refused.as_deref().is_some_and(|e| e.contains("a new renderer")), "{refused:?}");
         let live = rings(&renderer);
         let drawn: u32 =
             renderer.render_offscreen(&mut target, &camera, 0.0)?.cull.expect("the cull ran").drawn.iter().sum();
@@ -249,7 +250,7 @@ fn a_longer_view_distance_set_live_stops_at_the_rings_the_buffers_hold() {
     });
     assert_eq!(messages, Some(0), "validation messages");
     let (uploaded, live, drawn, control) = result.expect("rendered");
-    assert_eq!(live, uploaded, "the rings stop at the uploaded ones");
+    assert_eq!(live, uploaded, "the renderer keeps its rings");
     assert!(control > uploaded, "uploaded for 300 m: {control} rings against {uploaded}");
     assert!(drawn > 0);
 }

@@ -28,9 +28,45 @@ fn view_scaled(dir: &Path, args: &[&str], scale: &str) -> Output {
         .expect("run meadow")
 }
 
+/// `meadow view --validation` of the landscape (no scene flag) at 1280x720, running `script`.
+fn xvfb_landscape(dir: &Path, script: &str) -> Output {
+    let xvfb = Xvfb::start("1280x1024x24");
+    xvfb.on(&mut meadow())
+        .env("WINIT_X11_SCALE_FACTOR", "1")
+        .args(["view", "--validation", "--device", support::DEVICE, "--size", "1280x720", "--script", script])
+        .current_dir(dir)
+        .output()
+        .expect("run meadow")
+}
+
 fn script(dir: &Path, name: &str, lines: &str) -> String {
     std::fs::write(dir.join(name), lines).expect("write script");
     name.to_string()
+}
+
+#[test]
+fn a_dragged_distance_applies_when_the_drag_ends_and_a_longer_one_makes_a_new_renderer() {
+    // The landscape (blades to 150 m, the view to 2 km): the blade distance slider dragged to its
+    // end (504 m) applies when the drag ends, and, past the cull's rings uploaded at start,
+    // through a new renderer (`Renderer::fits_upload`); then the view distance dragged a little
+    // way shorter rebuilds the passes alone. Before, the sliders sprang back while dragged and a
+    // drag applied nothing. Validation and synchronization validation stay clean.
+    let dir = scratch("ui-distances");
+    let s = script(&dir, "distances.txt", "5 ui-drag 400 blade distance m\n25 ui-drag -10 view distance m\n45 quit\n");
+    let output = xvfb_landscape(&dir, &s);
+    assert_clean(&output);
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    let field = |line: &str, name: &str| -> Option<f32> { line.split(name).nth(1)?.split(',').next()?.parse().ok() };
+    let applied: Vec<(f32, f32)> = stdout
+        .lines()
+        .filter(|l| l.starts_with("culling Culling {"))
+        .filter_map(|l| Some((field(l, "view_distance: ")?, field(l, "blade_distance: ")?)))
+        .collect();
+    assert_eq!(applied.len(), 2, "{}", transcript(&output));
+    assert_eq!(applied[0], (2000.0, 504.0), "the blade distance's drag: {}", transcript(&output));
+    assert!((100.0..2000.0).contains(&applied[1].0), "the view distance's drag: {}", transcript(&output));
+    let replaced = stdout.lines().filter(|l| l.contains("longer than the scene was uploaded for")).count();
+    assert_eq!(replaced, 1, "one new renderer, for the blade distance: {}", transcript(&output));
 }
 
 #[test]

@@ -200,7 +200,7 @@ impl Viewer {
             return self.toggle_landscape(name, settings, animation);
         }
         if blades == old_blades {
-            self.rebuild_passes(&what, settings, animation);
+            self.rebuild_passes(&what, settings, animation)?;
             return Ok(());
         }
         let scene = self.scene_with(blades)?;

@@ -144,7 +144,7 @@ impl Viewer {
                 UiAction::Culling(culling) => {
                     let animation = self.renderer.as_ref().expect("renderer built").animation().clone();
                     let settings = crate::render::RenderSettings { culling, ..self.settings };
-                    if self.rebuild_passes("the culling settings", settings, animation) {
+                    if self.rebuild_passes("the culling settings", settings, animation)? {
                         println!("culling {:?}", self.settings.culling);
                     }
                 }

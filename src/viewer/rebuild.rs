@@ -31,17 +31,25 @@ impl Viewer {
     /// Rebuild the passes (and the model, if `animation` changed) on the same scene with
     /// `settings`: the old ones are freed behind the frames in flight (the frame ring's deletion
     /// queue), the frames keep running. The LOD scale the frame budget or the overlay set live is
-    /// kept. A change the device cannot take is reported (as `what`) and the previous settings
-    /// kept. Returns whether it applied.
+    /// kept. A blade distance or view distance longer than the scene was uploaded for (the
+    /// cull's rings, the wind's levels: `Renderer::fits_upload`) makes a new renderer instead. A
+    /// change the device cannot take is reported (as `what`) and the previous settings kept.
+    /// Returns whether it applied.
     pub(super) fn rebuild_passes(
         &mut self,
         what: &str,
         settings: RenderSettings,
         animation: AnimationSettings,
-    ) -> bool {
+    ) -> Result<bool> {
         let renderer = self.renderer.as_ref().expect("renderer built");
         let lod_scale = renderer.settings().culling.lod_scale;
         let settings = RenderSettings { culling: Culling { lod_scale, ..settings.culling }, ..settings };
+        if !renderer.fits_upload(&self.scene, &settings) {
+            println!(
+                "{what}: longer than the scene was uploaded for (the cull's rings, the wind's levels): a new renderer"
+            );
+            return self.replace_renderer(what, None, settings, animation);
+        }
         let checked = self.check_scene(self.scene.blades.len() as u32, &animation);
         let renderer = self.renderer.as_mut().expect("renderer built");
         let applied = match checked.and_then(|()| renderer.rebuild(&self.scene, settings, animation)) {
@@ -55,7 +63,7 @@ impl Viewer {
             }
         };
         self.report_rebuild();
-        applied
+        Ok(applied)
     }
 
     /// A new renderer for `scene` (`None`: the same one), `settings` and `animation`: the old

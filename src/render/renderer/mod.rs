@@ -201,7 +201,8 @@ impl Renderer {
     /// model are destroyed once the frames already submitted have finished — the frame ring's
     /// deletion queue, no queue idle. `scene` must be the one the renderer was built with.
     /// What the frames or the uploaded scene depend on (frames in flight, colour format,
-    /// statistics, cluster size) needs a new renderer: refused. On failure the renderer keeps
+    /// statistics, cluster size, a blade distance or far-field reach past the upload's,
+    /// `fits_upload`) needs a new renderer: refused. On failure the renderer keeps
     /// its previous passes and model.
     pub fn rebuild(&mut self, scene: &Scene, settings: RenderSettings, animation: AnimationSettings) -> Result<()> {
         let settings = crate::render::settings::with_mode_rows(settings, &animation);
@@ -217,6 +218,11 @@ impl Renderer {
         msaa::check(&device, &settings.msaa)?;
         if scene.field.is_some() {
             crate::render::settings::check_field(&settings)?;
+        }
+        if !self.fits_upload(scene, &settings) {
+            return Err(Error::Internal(
+                "rebuild cannot grow the cull's rings or the wind's levels: a new renderer".into(),
+            ));
         }
         // The same animation at the same segment count keeps its response (and its state): only
         // the passes are rebuilt, with no upload. (With the cull or without it, the pose records

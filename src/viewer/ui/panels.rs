@@ -159,7 +159,12 @@ pub fn scene(ui: &mut Ui, view: &UiView, out: &mut PanelOutput) {
 /// The cull's tests and LOD kinds, one checkbox each, the view distance and the blade distance
 /// (blades end at the shorter of the two, `Culling::blade_range`).
 fn culling(ui: &mut Ui, c: Culling, out: &mut PanelOutput) {
-    let mut next = c;
+    // While a distance slider is dragged, the panel draws the dragged settings, kept in egui's
+    // memory from frame to frame; they apply when the drag ends (a rebuild per dragged step would
+    // be slow). Drawn from the renderer's settings, the slider sprang back each frame and a drag
+    // applied nothing.
+    let draft = egui::Id::new("culling settings while a distance is dragged");
+    let mut next = ui.data(|d| d.get_temp::<Culling>(draft)).unwrap_or(c);
     ui.horizontal_wrapped(|ui| {
         ui.label("cull:");
         for (label, on) in [
@@ -183,7 +188,6 @@ fn culling(ui: &mut Ui, c: Culling, out: &mut PanelOutput) {
     });
     let most = crate::render::limits::MAX_VIEW_DISTANCE;
     let distance = egui::Slider::new(&mut next.view_distance, 10.0..=most).logarithmic(true).text("view distance m");
-    // A rebuild per dragged step would be slow: the distance applies when the drag ends.
     let slider = out.widget("view distance m", ui.add(distance));
     let blades = egui::Slider::new(&mut next.blade_distance, 5.0..=crate::render::field_gpu::max_blade_distance())
         .logarithmic(true)
@@ -207,8 +211,12 @@ fn culling(ui: &mut Ui, c: Culling, out: &mut PanelOutput) {
             out.widget(id, ui.radio_value(&mut next.far_fade, fade, label));
         }
     });
-    let released = |s: &egui::Response| s.drag_stopped() || !s.dragged();
-    if next != c && released(&slider) && released(&blade_slider) {
+    if slider.dragged() || blade_slider.dragged() {
+        ui.data_mut(|d| d.insert_temp(draft, next));
+        return;
+    }
+    ui.data_mut(|d| d.remove::<Culling>(draft));
+    if next != c {
         out.act(UiAction::Culling(next));
     }
 }
