@@ -241,22 +241,6 @@ impl Renderer {
         }
     }
 
-    /// Whether `settings` fit `scene` as `new` uploaded it: the cull's ring slots for the blade
-    /// distance and a block field's wind levels for the far field's reach were sized then, and a
-    /// rebuild cannot grow them (a longer distance needs a new renderer; the viewer makes one).
-    pub fn fits_upload(&self, scene: &crate::scene::Scene, settings: &crate::render::RenderSettings) -> bool {
-        let uploaded = self.scene_gpu();
-        let slots = crate::render::scene_gpu::cull_capacity(scene, settings.culling.blade_range()).0;
-        let levels = match scene.field {
-            Some(_) => {
-                let cluster = uploaded.grid.cluster_size;
-                crate::render::field_gpu::wind_grid(cluster, settings.culling.wind_reach()).1
-            }
-            None => uploaded.wind_levels,
-        };
-        slots <= uploaded.slot_capacity && levels <= uploaded.wind_levels
-    }
-
     /// `size` bytes of `buffer` as vec4s (`read_bytes`).
     fn read_buffer(&self, name: &str, buffer: ash::vk::Buffer, size: u64) -> Result<Vec<[f32; 4]>> {
         let bytes = self.read_bytes(name, buffer, size)?;

@@ -207,23 +207,8 @@ impl Renderer {
     pub fn rebuild(&mut self, scene: &Scene, settings: RenderSettings, animation: AnimationSettings) -> Result<()> {
         let settings = crate::render::settings::with_mode_rows(settings, &animation);
         let animation = for_device(&self.device, animation);
-        let (old, device) = (&self.settings, self.device.clone());
-        let same_frames = (old.frames_in_flight, old.color_format, old.pipeline_statistics, old.encode_srgb)
-            == (settings.frames_in_flight, settings.color_format, settings.pipeline_statistics, settings.encode_srgb);
-        if !same_frames || animation.cluster_size != self.animation.cluster_size {
-            return Err(Error::Internal("rebuild cannot change the frames or the cluster grid".into()));
-        }
-        let polygon = polygon_mode(&device, settings.wireframe)?;
-        check_submission(&device, &settings)?;
-        msaa::check(&device, &settings.msaa)?;
-        if scene.field.is_some() {
-            crate::render::settings::check_field(&settings)?;
-        }
-        if !self.fits_upload(scene, &settings) {
-            return Err(Error::Internal(
-                "rebuild cannot grow the cull's rings or the wind's levels: a new renderer".into(),
-            ));
-        }
+        let polygon = self.check_rebuild(scene, &settings, &animation)?;
+        let device = self.device.clone();
         // The same animation at the same segment count keeps its response (and its state): only
         // the passes are rebuilt, with no upload. (With the cull or without it, the pose records
         // have room for placed levels or none.)
