@@ -9,6 +9,12 @@
 //! - the markers' entries in the visible list are the reference's claimed blades, farthest slot
 //!   first, while the blade class's run nearest first;
 //! - the markers are drawn (red squares in the picture), and the blades they took are not.
+//!
+//! And a class with a candidate source of its own (`render::draw_class::CandidateSource`):
+//! beacons, a few per stored tile (`tests/shaders/draw_class/beacons.glsl`), placed by their own
+//! tiles and count shaders. Their counts and visible entries equal the CPU reference's (the slots
+//! the tile tests keep, `cull_reference::reference_slots`), the blades are culled as without them,
+//! and they are drawn (blue squares).
 
 mod support;
 
@@ -16,9 +22,9 @@ use std::rc::Rc;
 
 use ash::vk;
 use meadow::app::{with_device, GpuOptions};
-use meadow::render::cull_reference::reference_kept;
+use meadow::render::cull_reference::{reference_kept, reference_slots};
 use meadow::render::culling::{CullCounts, Culling};
-use meadow::render::draw_class::{draw_word, ClassSetup, DrawClass, DrawClasses, Order};
+use meadow::render::draw_class::{draw_word, CandidateSource, ClassSetup, DrawClass, DrawClasses, Order};
 use meadow::render::graph::{Declaration, Pass, PassContext};
 use meadow::render::passes::{self, PipelineTarget};
 use meadow::render::uniforms::FrameUniforms;
@@ -31,6 +37,9 @@ use meadow::vk::{pipeline, Access, Buffer, Device, DeviceSelector, Guard};
 const MARKERS_COUNT: Shader = meadow::spirv_shader!("tests/draw_class/markers_count.comp");
 const MARKER_VERT: Shader = meadow::spirv_shader!("tests/draw_class/marker.vert");
 const MARKER_FRAG: Shader = meadow::spirv_shader!("tests/draw_class/marker.frag");
+const BEACONS_TILES: Shader = meadow::spirv_shader!("tests/draw_class/beacons_tiles.comp");
+const BEACONS_COUNT: Shader = meadow::spirv_shader!("tests/draw_class/beacons_count.comp");
+const BEACON_VERT: Shader = meadow::spirv_shader!("tests/draw_class/beacon.vert");
 
 const EXTENT: vk::Extent2D = vk::Extent2D { width: 320, height: 180 };
 
@@ -60,12 +69,36 @@ impl DrawClass for Markers {
     }
 
     fn pass(&self, device: &Device, setup: &ClassSetup) -> meadow::Result<Box<dyn Pass>> {
-        Ok(Box::new(MarkerPass::new(device, setup)?))
+        Ok(Box::new(MarkerPass::new(device, setup, MARKER_VERT)?))
     }
 }
 
-/// The markers' pass: its pipeline, its index list (two triangles per entry of an instance), and
-/// the cull's buffers it reads.
+/// The beacons: one bucket, near to far, from their own candidate source.
+struct Beacons;
+
+/// The beacons' source: most per slot (beacons.glsl places 2 to 7 a tile).
+const BEACONS_MOST: u32 = 5;
+
+impl DrawClass for Beacons {
+    fn name(&self) -> &'static str {
+        "beacons"
+    }
+
+    fn buckets(&self) -> u32 {
+        1
+    }
+
+    fn bucket_draw(&self, _: u32, blades_per_instance: u32) -> (u32, u32) {
+        (6 * blades_per_instance, 0)
+    }
+
+    fn pass(&self, device: &Device, setup: &ClassSetup) -> meadow::Result<Box<dyn Pass>> {
+        Ok(Box::new(MarkerPass::new(device, setup, BEACON_VERT)?))
+    }
+}
+
+/// A class's pass of squares (the markers', the beacons'): its pipeline, its index list (two
+/// triangles per entry of an instance), and the cull's buffers it reads.
 struct MarkerPass {
     pipeline: vk::Pipeline,
     layout: vk::PipelineLayout,
@@ -76,7 +109,7 @@ struct MarkerPass {
 }
 
 impl MarkerPass {
-    fn new(device: &Device, setup: &ClassSetup) -> meadow::Result<Self> {
+    fn new(device: &Device, setup: &ClassSetup, vertex: Shader) -> meadow::Result<Self> {
         let quads: Vec<u32> =
             (0..setup.blades_per_instance).flat_map(|m| [0, 1, 2, 2, 1, 3].map(|v| 4 * m + v)).collect();
         let mut batch = UploadBatch::new(device);
@@ -90,7 +123,7 @@ impl MarkerPass {
             device,
             &pipeline::GraphicsDesc {
                 name: "markers",
-                vertex: MARKER_VERT.code(device.profile),
+                vertex: vertex.code(device.profile),
                 fragment: MARKER_FRAG.code(device.profile),
                 topology: vk::PrimitiveTopology::TRIANGLE_LIST,
                 cull: vk::CullModeFlags::NONE,
@@ -164,12 +197,27 @@ struct Frame {
     uniforms: FrameUniforms,
 }
 
-fn render(scene: &Scene, camera: &Camera, markers: bool) -> Frame {
+/// The classes a test culls besides the blades.
+#[derive(Clone, Copy, PartialEq)]
+enum With {
+    Nothing,
+    Markers,
+    Beacons,
+}
+
+fn render(scene: &Scene, camera: &Camera, with: With) -> Frame {
     let options = GpuOptions { validation: true, device: DeviceSelector::parse(support::DEVICE) };
     let (result, messages) = with_device(&options, false, |device| {
-        let classes = match markers {
-            true => DrawClasses { classes: vec![Rc::new(Markers)], count_shader: Some(MARKERS_COUNT) },
-            false => DrawClasses::default(),
+        let classes = match with {
+            With::Markers => {
+                DrawClasses { classes: vec![Rc::new(Markers)], count_shader: Some(MARKERS_COUNT), source: None }
+            }
+            With::Beacons => DrawClasses {
+                classes: vec![Rc::new(Beacons)],
+                count_shader: Some(BEACONS_COUNT),
+                source: Some(CandidateSource { tiles_shader: BEACONS_TILES, most_per_slot: BEACONS_MOST }),
+            },
+            With::Nothing => DrawClasses::default(),
         };
         let models = Models { classes, ..Models::default() };
         // No occlusion test: the CPU reference has no depth pyramid.
@@ -197,6 +245,11 @@ fn red(pixels: &[u8]) -> usize {
     pixels.chunks(4).filter(|p| p[0] > 200 && p[1] < 40 && p[2] < 40).count()
 }
 
+/// Pixels of the beacons' blue.
+fn blue(pixels: &[u8]) -> usize {
+    pixels.chunks(4).filter(|p| p[2] > 200 && p[0] < 40 && p[1] < 40).count()
+}
+
 /// The entries of bucket `bucket` (its draw's instances, padding left out).
 fn bucket_entries(frame: &Frame, bucket: u32, blades_per_instance: u32) -> Vec<u32> {
     let draw = &frame.draws[(bucket * meadow::render::gpu_constants::DRAW_WORDS) as usize..];
@@ -209,8 +262,8 @@ fn bucket_entries(frame: &Frame, bucket: u32, blades_per_instance: u32) -> Vec<u
 fn a_class_from_tests_culls_with_the_blades_counts_as_the_reference_and_draws_far_to_near() {
     let scene = Scene::generate(20_000, 1);
     let camera = scene.default_camera();
-    let with = render(&scene, &camera, true);
-    let without = render(&scene, &camera, false);
+    let with = render(&scene, &camera, With::Markers);
+    let without = render(&scene, &camera, With::Nothing);
     let kept = reference_kept(&scene, &with.uniforms);
     let (marked, blades): (Vec<&(u32, u32, usize)>, Vec<_>) = kept.iter().partition(|(_, blade, _)| claimed(*blade));
     assert!(marked.len() > 100 && blades.len() > 1000, "{} markers, {} blades", marked.len(), blades.len());
@@ -249,6 +302,47 @@ fn a_class_from_tests_culls_with_the_blades_counts_as_the_reference_and_draws_fa
 }
 
 #[test]
+fn a_class_with_its_own_candidate_source_culls_with_the_blades_as_the_reference() {
+    let scene = Scene::generate(20_000, 1);
+    let camera = scene.default_camera();
+    let with = render(&scene, &camera, With::Beacons);
+    let without = render(&scene, &camera, With::Nothing);
+
+    // The reference: in each slot the tile tests keep, near to far, its beacons (beacons.glsl:
+    // 2 to 7 a tile, clamped to the source's most), those kept in their order.
+    let slots = reference_slots(&scene, &with.uniforms);
+    let mut expected = Vec::new();
+    let mut clamped = 0;
+    for (slot, tile) in &slots {
+        let placed = 2 + (tile.first / 7) % 6;
+        clamped += usize::from(placed > BEACONS_MOST);
+        let kept = (0..placed.min(BEACONS_MOST)).filter(|rank| (tile.first + rank) % 3 != 0);
+        expected.extend(kept.map(|rank| (slot << 16) | rank));
+    }
+    assert!(expected.len() > 15 && clamped > 0, "{} beacons, {clamped} slots clamped", expected.len());
+
+    // Counts: the beacons in their class, the blades' buckets and tests as without the class.
+    let buckets = with.counts.segments.iter().filter(|&&s| s > 0).count();
+    assert_eq!(with.counts.classes[0].name, "beacons");
+    assert_eq!(with.counts.classes[0].drawn as usize, expected.len(), "{}", with.counts.summary());
+    assert_eq!(with.counts.drawn[..buckets], without.counts.drawn[..buckets], "the blades' buckets");
+    assert_eq!(with.counts.considered, without.counts.considered);
+    assert_eq!(with.counts.after_occlusion, without.counts.after_occlusion);
+
+    // The beacons' entries: (slot, rank) near to far, after the blades' buckets.
+    let batch = RenderSettings::offscreen(4, Culling::default_for(4)).blades_per_instance;
+    assert_eq!(bucket_entries(&with, buckets as u32, batch), expected, "the beacons' entries");
+    assert_eq!(bucket_entries(&with, 0, batch), bucket_entries(&without, 0, batch), "the blades' entries");
+
+    // Drawn: blue squares where there were none.
+    let (blue_with, blue_without) = (blue(&with.pixels), blue(&without.pixels));
+    if let Ok(path) = std::env::var("MEADOW_SOURCE_CLASS_PNG") {
+        image::save_buffer(path, &with.pixels, EXTENT.width, EXTENT.height, image::ColorType::Rgba8).expect("saved");
+    }
+    assert!(blue_without == 0 && blue_with > 200, "blue pixels: {blue_with} with the beacons, {blue_without} without");
+}
+
+#[test]
 fn more_buckets_than_the_cull_holds_are_refused() {
     struct Wide;
     impl DrawClass for Wide {
@@ -268,7 +362,7 @@ fn more_buckets_than_the_cull_holds_are_refused() {
     let scene = Scene::generate(2_000, 1);
     let options = GpuOptions { validation: true, device: DeviceSelector::parse(support::DEVICE) };
     let (result, messages) = with_device(&options, false, |device| {
-        let classes = DrawClasses { classes: vec![Rc::new(Wide)], count_shader: Some(MARKERS_COUNT) };
+        let classes = DrawClasses { classes: vec![Rc::new(Wide)], count_shader: Some(MARKERS_COUNT), source: None };
         let models = Models { classes, ..Models::default() };
         let settings = RenderSettings::offscreen(4, Culling::default_for(4));
         Ok(Renderer::with_models(device.clone(), &scene, settings, Default::default(), models).err())

@@ -94,7 +94,7 @@ fn every_blade_field_reads_back_through_a_compute_shader() {
 
 /// Words `frame_readback.comp` writes: the uniforms, one per specialization-constant id, six
 /// shared constants.
-const FRAME_WORDS: usize = 244;
+const FRAME_WORDS: usize = 248;
 const READBACK_WORDS: usize = FRAME_WORDS + specialization::COUNT + 6;
 
 #[test]
@@ -131,6 +131,7 @@ fn every_frame_uniform_and_specialization_constant_reads_back_through_a_compute_
         cull_class_first: UVec4::new(4005, 4006, 4007, 4008),
         cull_bucket_draws: std::array::from_fn(|i| UVec4::new(5000, 5001, 5002, 5003) + UVec4::splat(10 * i as u32)),
         band_eye: Vec4::new(f(100), f(101), f(102), f(103)),
+        cull_room: UVec4::new(6001, 6002, 6003, 6004),
     };
     let spec = Specialization {
         keyframe_uvec4s: 2000,

@@ -6,7 +6,7 @@
 #include "common/shared.glsl"
 #include "generated/spec_ids.glsl"
 
-// Per-frame constants (std140, 976 bytes).
+// Per-frame constants (std140, 992 bytes).
 struct FrameUniforms {
     mat4 view_proj;         // world -> clip (reversed infinite Z, Vulkan y down)
     vec4 camera_position;   // xyz eye, w simulation time (s)
@@ -19,7 +19,7 @@ struct FrameUniforms {
     vec4 cull_eye;          // xyz culling camera position, w pixels per metre at 1 m (viewport height / (2 tan(fov_y / 2)))
     vec4 lod;               // x blade range (m, `render::culling::Culling::blade_range`), y full-density distance (m, LOD scale applied), z pixels per segment (LOD scale applied), w largest widening
     vec4 tile_grid;         // x origin (x = z), y tile edge (m), z and w the view's projection P00 and P11 (occlusion)
-    uvec4 cull_tiles;       // x tiles per side (a block field: verdicts cull_results holds), y ring slots, z centre tile x, w centre tile z
+    uvec4 cull_tiles;       // x a stored field's tiles per side, y ring slots, z centre tile x, w centre tile z
     uvec4 cull_lod;         // x LOD buckets, y their segment counts minus 1 (4 bits each, bucket 0 lowest), z CULL_* / LOD_* bits, w entries of the visible list
     // Block fields: positions are relative to an origin O, the corner of the block cell under
     // the camera (the camera, the view matrix and the emitters too).
@@ -37,6 +37,7 @@ struct FrameUniforms {
     uvec4 cull_class_first; // the first bucket of further class 1, 2, 3, 4
     uvec4 cull_bucket_draws[MAX_LOD_BUCKETS / 2u]; // per bucket of a further class: its draw's index count per instance and first index, two buckets per vector
     vec4 band_eye;          // xyz the point the far field's band is measured from (`render::far_rings::BandEye`: the culling camera on a leash), w the leash (m)
+    uvec4 cull_room;        // x verdicts cull_results holds, y most candidates a draw-class set's own source adds to a slot (`render::draw_class::CandidateSource`), zw unused
 };
 
 

@@ -141,6 +141,27 @@ void field_cell_roots(BladeTile cell_box, out vec3 lo, out vec3 hi) {
     hi = cell_box.max - vec3(across, up + FIELD_ROOT_SINK, across);
 }
 
+// A stored field's tile of ring slot `slot` (the rings around the centre tile,
+// `frame.cull_tiles`), or -1 when the slot lies outside the grid: the cull's, and a draw-class
+// source's pass's (`source_entry`).
+int slot_tile(uint slot) {
+    ivec2 cell = ivec2(frame.cull_tiles.zw) + ring_cell(slot);
+    int n = int(frame.cull_tiles.x);
+    if (any(lessThan(cell, ivec2(0))) || any(greaterThanEqual(cell, ivec2(n)))) {
+        return -1;
+    }
+    return cell.y * n + cell.x;
+}
+
+// A visible entry of a draw-class set's own source (`visible_source` of cull.glsl,
+// `render::draw_class::CandidateSource`): its ring slot, and its rank in the source in `rank`.
+// The class's pass finds its candidate from the slot: a block field's cell
+// (`frame_values.field_cells.xy + ring_cell(slot)`) or a stored field's tile (`slot_tile`).
+uint source_entry(uvec2 entry, out uint rank) {
+    rank = entry.x & 0xffffu;
+    return entry.x >> 16;
+}
+
 // The blade of a visible entry of the cull's list (`visible_blade` of cull.glsl) and the index
 // its force weights use: a stored blade, or in a block field (FLAG_BLOCKS) the ring slot (high
 // bits) and the block's blade, at the root height the cull found. Shared by blade.vert and

@@ -21,15 +21,15 @@ layout(set = SET_PASS, binding = 0, std430) buffer SlotCounts { uint slot_counts
 layout(set = SET_PASS, binding = 1, std430) buffer Draws { uint draws[]; };
 // Per frame in flight, host-visible: the frame's counts (`render::frame::slot::Frame`, its `cull_stats`).
 layout(set = SET_PASS, binding = 2, std430) buffer CullStats { uint cull_stats[]; };
-// Per candidate blade (a stored field's indexed like the blade buffer; a block field's from its
-// slot's first verdict, `cull_alloc`): x its LOD bucket or NOT_DRAWN, y the visible entry's
-// second word (`visible_scale`).
+// Per candidate (from its slot's first verdict, `cull_alloc`; a slot's blades, then its own
+// source's): x its bucket or NOT_DRAWN, y the visible entry's second word (`visible_scale`).
 layout(set = SET_PASS, binding = 3, std430) buffer CullResults { uvec2 cull_results[]; };
 const uint NOT_DRAWN = 0xffffffffu;
 // Written by the tiles pass (cull_tiles.comp): the count pass's indirect dispatch (x, y, z, and
-// x again), then per ring slot its first verdict (a block field's), then per ring slot its
-// candidates (the tile tests' result, read by the count and emit passes), then the slots with
-// candidates in slot order.
+// x again), then per ring slot its first verdict, then per ring slot its candidates (the tile
+// tests' result, read by the count and emit passes), then the slots with candidates in slot
+// order, then per ring slot how many of its candidates are the blade tiles' (the rest are a
+// draw-class set's own source's, `CLASS_SOURCE`: ranks from there on).
 layout(set = SET_PASS, binding = 4, std430) buffer CullAlloc { uvec4 count_dispatch; uint alloc_words[]; };
 uint verdict_base(uint slot) {
     return alloc_words[slot];
@@ -40,6 +40,11 @@ uint slot_candidates(uint slot) {
 // The k-th slot with candidates.
 uint listed_slot(uint k) {
     return alloc_words[2u * frame.cull_tiles.y + k];
+}
+// How many of a slot's candidates are blades of its tile (ranks 0 on); the rest, ranks from
+// there on, are its own source's (`render::draw_class::CandidateSource`).
+uint slot_blade_candidates(uint slot) {
+    return alloc_words[3u * frame.cull_tiles.y + slot];
 }
 
 // Workgroup k of n visits item `spread(k, n)`: k * s mod n, with s near n / golden ratio and prime
@@ -93,11 +98,12 @@ bool thin_kept(uint k, uint scale) {
     return scale == SCALE_ONE || thin_position(k + 1u, scale) > thin_position(k, scale);
 }
 
-// Where blade `rank`'s verdict goes: after the tile's first blade (a stored field), or after
-// the slot's first verdict (a block field).
-uint verdict_index(BladeTile tile, uint base, uint rank) {
-    return ((RENDER_FLAGS & FLAG_BLOCKS) != 0u ? base : tile.first) + rank;
+// Where candidate `rank`'s verdict goes: after its slot's first verdict (the tiles pass gives
+// each slot its room by a prefix sum, in slot order, for either field).
+uint verdict_index(uint base, uint rank) {
+    return base + rank;
 }
+
 // The depth pyramid (hiz.comp writes it as a storage buffer), in the lavapipe profile read as
 // texels: a vector gather on llvmpipe instead of a load per SIMD lane (`vk::buffer::TexelView`).
 #ifdef TEXEL_TWINS
@@ -123,16 +129,6 @@ const float FADE_BAND = 0.3; // render::culling::FADE_BAND
 // above which a blade is culled (Jahrmann & Wimmer 2017 use 0.9; meadow's blades twist in the wind,
 // so only nearly exact edge-on views are dropped).
 const float EDGE_ON = 0.97;
-
-// The tile of ring slot `slot`, or -1 when the slot lies outside the grid.
-int slot_tile(uint slot) {
-    ivec2 cell = ivec2(frame.cull_tiles.zw) + ring_cell(slot);
-    int n = int(frame.cull_tiles.x);
-    if (any(lessThan(cell, ivec2(0))) || any(greaterThanEqual(cell, ivec2(n)))) {
-        return -1;
-    }
-    return cell.y * n + cell.x;
-}
 
 // The frame's cull toggles and LOD buckets (`frame.cull_lod`), read once per invocation by
 // `read_cull_settings` before any test: a storage load is a loop over the SIMD lanes on llvmpipe,
@@ -337,6 +333,14 @@ BladeInstance tile_blade(BladeTile tile, ivec2 cell, uint rank) {
 // field the slot (high 16 bits) and the block's blade (low 16 bits).
 uint visible_blade(BladeTile tile, uint slot, uint rank) {
     return (RENDER_FLAGS & FLAG_BLOCKS) != 0u ? (slot << 16) | rank : tile.first + rank;
+}
+
+// The visible list's first word for candidate `rank` of a slot's own source (`CLASS_SOURCE`), in
+// either field: the slot (high 16 bits) and the rank in the source (low 16 bits;
+// `render::draw_class::MOST_SOURCE_CANDIDATES` bounds it). Its class's pass reads it with
+// `source_entry` (common/field.glsl).
+uint visible_source(uint slot, uint rank) {
+    return (slot << 16) | rank;
 }
 
 // What the tile tests (frustum, distance, occlusion) leave of a tile: how many of its blades (a prefix) go to the blade tests.

@@ -1,9 +1,9 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // Cull, step 2 of 4: one workgroup per ring slot the tiles pass listed (cull_tiles.comp: the
-// slots with candidates, and how many) runs the blade tests, writes each candidate blade's verdict to `cull_results`
-// (a block field's from the slot's first verdict, `cull_alloc`), and how many blades of its slot
-// each LOD bucket draws, and the counts after each test, to its `SLOT_WORDS` words of
+// slots with candidates, and how many) runs the blade tests, writes each candidate's verdict to
+// `cull_results` (from the slot's first verdict, `cull_alloc`), and how many candidates of its
+// slot each bucket draws, and the counts after each test, to its `SLOT_WORDS` words of
 // `slot_counts` (the tiles pass wrote the other slots'). Every word of every slot is written
 // each frame: nothing accumulates across frames or workgroups, so there is no counter to clear.
 // Each invocation counts in registers, then adds its counts into shared memory once: integer

@@ -6,8 +6,9 @@
 // of its bucket. Invocation i takes the i-th contiguous run of the slot's candidates: it counts
 // its run per bucket, one prefix sum over the runs gives each run its start, and it writes its
 // run in order. The list is the same on every run and thread count: buckets, then slots near to
-// far, then stored order (the order brute force draws a tile in). When the scan's capacity scale
-// is under one, each bucket's sequence is thinned evenly by it (`thin_kept`, cull.glsl).
+// far, then stored order (the order brute force draws a tile in), a slot's own source's
+// candidates after its blades. When the scan's capacity scale is under one, each bucket's
+// sequence is thinned evenly by it (`thin_kept`, cull.glsl).
 #define CULL_WRITER
 #include "cull/cull.glsl"
 
@@ -41,15 +42,16 @@ void main() {
     if (!slot_record(slot, tile, cell)) {
         return;
     }
-    // The tile tests' result, from the tiles pass.
+    // The tile tests' result, from the tiles pass: the blades' ranks, then the own source's.
     uint candidates = slot_candidates(slot);
-    uint base = (RENDER_FLAGS & FLAG_BLOCKS) != 0u && candidates > 0u ? verdict_base(slot) : 0u;
-    if (base == NO_ROOM) {
-        return;
-    }
     if (candidates == 0u) {
         return;
     }
+    uint base = verdict_base(slot);
+    if (base == NO_ROOM) {
+        return;
+    }
+    uint blades = slot_blade_candidates(slot);
     uint run = (candidates + CULL_GROUP - 1u) / CULL_GROUP;
     uint begin = min(lane * run, candidates);
     uint end = min(begin + run, candidates);
@@ -58,7 +60,7 @@ void main() {
         own[b] = 0u;
     }
     for (uint rank = begin; rank < end; rank++) {
-        uint bucket = verdict(verdict_index(tile, base, rank)).x;
+        uint bucket = verdict(verdict_index(base, rank)).x;
         // Constant indices only: llvmpipe keeps the counters in registers.
         for (uint b = 0u; b < MAX_LOD_BUCKETS; b++) {
             own[b] += bucket == b ? 1u : 0u;
@@ -91,7 +93,7 @@ void main() {
         at[b] = slot_counts[slot * SLOT_WORDS + b] + prefix[b][lane];
     }
     for (uint rank = begin; rank < end; rank++) {
-        uvec2 result = verdict(verdict_index(tile, base, rank));
+        uvec2 result = verdict(verdict_index(base, rank));
         uint bucket_first = 0u;
         uint k = 0u;
         for (uint b = 0u; b < MAX_LOD_BUCKETS; b++) {
@@ -101,7 +103,8 @@ void main() {
         }
         uint position = bucket_first + thin_position(k, scale);
         if (result.x != NOT_DRAWN && thin_kept(k, scale) && position < cull_settings.w) {
-            visible[position] = uvec2(visible_blade(tile, slot, rank), result.y);
+            uint entry = rank < blades ? visible_blade(tile, slot, rank) : visible_source(slot, rank - blades);
+            visible[position] = uvec2(entry, result.y);
         }
     }
 }

@@ -28,8 +28,8 @@ shared uint totals[SLOT_WORDS];
 // Per run: the slots of the run that draw, then (after the scan) where the run's go in the list.
 shared uint run_slots[SCAN];
 shared uint drawing_slots;
-// The capacity scale (`THIN_WORD`), the blades the blade tests kept, and a block field's
-// candidates without room for their verdicts (`NO_ROOM`).
+// The capacity scale (`THIN_WORD`), the blades the blade tests kept, and the candidates
+// without room for their verdicts (`NO_ROOM`).
 shared uint thin_scale;
 shared uint wanted;
 shared uint lost_to_room;
@@ -188,9 +188,8 @@ void main() {
             }
         }
         own_slots += slot_draws(slot) ? 1u : 0u;
-        // A block field's slot past the verdicts' room (cull_tiles.comp): its candidates were
-        // not tested.
-        bool no_room = (RENDER_FLAGS & FLAG_BLOCKS) != 0u && verdict_base(slot) == NO_ROOM;
+        // A slot past the verdicts' room (cull_tiles.comp): its candidates were not tested.
+        bool no_room = verdict_base(slot) == NO_ROOM;
         own_lost += no_room ? slot_candidates(slot) : 0u;
     }
     run_slots[lane] = own_slots;

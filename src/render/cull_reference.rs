@@ -94,6 +94,17 @@ pub fn reference_kept(scene: &Scene, uniforms: &FrameUniforms) -> Vec<(u32, u32,
     kept
 }
 
+/// The ring slots whose tile passes the tile tests, near to far, with their tile: where a
+/// draw-class set's own source places its candidates (`render::draw_class::CandidateSource`). For
+/// uniforms without `CULL_OCCLUSION`, as `reference_counts`.
+pub fn reference_slots(scene: &Scene, uniforms: &FrameUniforms) -> Vec<(u32, BladeTile)> {
+    assert_eq!(uniforms.cull_lod.z & gpu::CULL_OCCLUSION, 0, "the CPU reference has no depth pyramid");
+    let cull = Cull { scene, u: uniforms, planes: planes(uniforms.cull_view_proj) };
+    (0..uniforms.cull_tiles.y)
+        .filter_map(|slot| cull.slot_tile(slot).filter(|tile| cull.candidates(tile).is_some()).map(|tile| (slot, tile)))
+        .collect()
+}
+
 struct Cull<'a> {
     scene: &'a Scene,
     u: &'a FrameUniforms,

@@ -15,6 +15,11 @@
 //! frame's uniforms (`cull_classes`, `cull_class_first`, `cull_bucket_draws`), from which the
 //! shaders read every class's buckets: no word of the draws buffer is laid out by hand per class.
 //! `tests/draw_class.rs` adds a class from `tests/` this way.
+//!
+//! A class selects from the blade tiles' candidates (claiming blades, as the flowers do), or a set
+//! of classes brings a candidate source of its own ([`CandidateSource`]): candidates a ring slot
+//! holds besides its blades, ranked after them, with the tiles and count shaders that place and
+//! select them.
 
 use std::rc::Rc;
 
@@ -92,14 +97,59 @@ pub trait DrawClass {
     fn pass(&self, device: &Device, setup: &ClassSetup) -> Result<Box<dyn Pass>>;
 }
 
-/// The classes a renderer culls besides the blades, and the count shader that selects for them.
+/// The classes a renderer culls besides the blades, the count shader that selects for them, and
+/// their own candidate source.
 #[derive(Clone, Default)]
 pub struct DrawClasses {
     /// The further classes, in bucket order.
     pub classes: Vec<Rc<dyn DrawClass>>,
-    /// `cull_count.comp` built with their selection (`class_bucket`); `None`: the library's, the
-    /// blade class alone.
+    /// `cull_count.comp` built with their selection (`class_bucket`, and with a source
+    /// `source_bucket`); `None`: the library's, the blade class alone.
     pub count_shader: Option<Shader>,
+    /// Candidates of their own, besides the blade tiles'; `None`: they select from the blades.
+    pub source: Option<CandidateSource>,
+}
+
+/// The most candidates a source adds to a ring slot: a visible entry holds its rank in 16 bits
+/// (`visible_source`, `shaders/cull/cull.glsl`).
+pub const MOST_SOURCE_CANDIDATES: u32 = 1 << 16;
+
+/// A set of draw classes' own candidate source (issue #30 item 1): candidates a ring slot holds
+/// besides its blades, such as a flower's or a far cell's places, which the classes' selection
+/// sorts into their buckets instead of claiming blades.
+/// - **Where they are**: in the slots the tile tests keep, within the slot's box (the tests are
+///   the blades' tile's: a source's candidates must lie in it). The tiles pass asks each kept slot
+///   how many it holds (`source_candidates`, its shader's), clamped to `most_per_slot`.
+/// - **Their ranks** follow the slot's blade candidates: their verdicts sit after the blades' in
+///   the slot's room, the emit pass writes them after the slot's blades, and their visible entry
+///   is (slot, rank in the source) in 16 bits each (`visible_source`), in either field. Their
+///   class's pass finds the candidate from it (`source_entry` of `shaders/common/field.glsl`).
+/// - **Their selection** is the count shader's `source_bucket` (after `#define CLASS_SOURCE`):
+///   a bucket of a class or none, the fade and widening, the root's height. They are counted in
+///   their buckets, and not in the blade tests' counts (considered, after each test).
+///
+/// `tests/draw_class.rs` adds one from `tests/`.
+#[derive(Clone, Copy, Debug)]
+pub struct CandidateSource {
+    /// `cull_tiles.comp` with the source's `source_candidates`: `#define CLASS_SOURCE`, include
+    /// `cull/cull.glsl`, define it, include `cull/tiles_main.glsl`.
+    pub tiles_shader: Shader,
+    /// The most candidates it adds to a slot, at most `MOST_SOURCE_CANDIDATES`: a stored field's
+    /// verdicts get that much more room per ring slot (a block field's share their room).
+    pub most_per_slot: u32,
+}
+
+impl DrawClasses {
+    /// The cull's count and tiles shaders for these classes (the library's where they bring none).
+    pub fn cull_shaders(&self) -> (Shader, Shader) {
+        let count = self.count_shader.unwrap_or(crate::render::shaders::CULL_COUNT_COMP);
+        (count, self.source.map_or(crate::render::shaders::CULL_TILES_COMP, |s| s.tiles_shader))
+    }
+
+    /// The most candidates their own source adds to a slot (0: none), the frame's `cull_room.y`.
+    pub fn source_room(&self) -> u32 {
+        self.source.map_or(0, |s| s.most_per_slot)
+    }
 }
 
 /// Where every class's buckets lie: the blade class's `blade_buckets` first, then each further
@@ -143,6 +193,14 @@ impl ClassLayout {
         blades_per_instance: u32,
     ) -> Result<Self> {
         let further = gpu::MAX_DRAW_CLASSES - 1;
+        if let Some(source) = classes.source {
+            if !(1..=MOST_SOURCE_CANDIDATES).contains(&source.most_per_slot) {
+                return Err(Error::Internal(format!(
+                    "a candidate source of {} a slot: 1 to {MOST_SOURCE_CANDIDATES}",
+                    source.most_per_slot
+                )));
+            }
+        }
         if classes.classes.len() > further as usize {
             return Err(Error::Internal(format!(
                 "{} draw classes besides the blades: the cull holds {further}",
@@ -255,6 +313,7 @@ mod tests {
         let classes = DrawClasses {
             classes: vec![Rc::new(Markers(2, Order::FarToNear)), Rc::new(Markers(1, Order::NearToFar))],
             count_shader: None,
+            source: None,
         };
         let layout = ClassLayout::new(3, DrawRows::PerTile, &classes, 32).unwrap();
         assert_eq!(layout.buckets(), 6);
@@ -267,9 +326,11 @@ mod tests {
         assert_eq!(u.cull_bucket_draws[1], UVec4::new(0, 0, 6 * 32, 0));
         assert_eq!(u.cull_bucket_draws[2], UVec4::new(6 * 32, 100, 6 * 32, 0));
         // More buckets than the cull holds, or a class of none, are refused.
-        let many = DrawClasses { classes: vec![Rc::new(Markers(6, Order::NearToFar))], count_shader: None };
+        let many =
+            DrawClasses { classes: vec![Rc::new(Markers(6, Order::NearToFar))], count_shader: None, source: None };
         assert!(ClassLayout::new(3, DrawRows::PerBucket, &many, 32).is_err());
-        let none = DrawClasses { classes: vec![Rc::new(Markers(0, Order::NearToFar))], count_shader: None };
+        let none =
+            DrawClasses { classes: vec![Rc::new(Markers(0, Order::NearToFar))], count_shader: None, source: None };
         assert!(ClassLayout::new(3, DrawRows::PerBucket, &none, 32).is_err());
     }
 }

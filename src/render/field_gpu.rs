@@ -116,7 +116,6 @@ pub fn fill_uniforms(
     origin: &Origin,
     grid: &ClusterGrid,
     blade_range: f32,
-    verdicts: u32,
 ) {
     if let Some(relief) = field.ground.relief() {
         // The relief's fill (`relief_fill.comp`) and its cells' bounds read its waves.
@@ -127,7 +126,7 @@ pub fn fill_uniforms(
     uniforms.field_cells = IVec4::new(origin.cell.x, origin.cell.y, cells, 0);
     uniforms.field = Vec4::new(BLOCK_SIZE, field.ground.slope_bound(), grid.origin, grid.origin);
     uniforms.terrain = Vec4::new(0.0, grid.cluster_size, 0.0, 0.0);
-    uniforms.cull_tiles = glam::UVec4::new(verdicts, ring_slots(blade_range), 0, 0);
+    uniforms.cull_tiles = glam::UVec4::new(0, ring_slots(blade_range), 0, 0);
 }
 
 #[cfg(test)]

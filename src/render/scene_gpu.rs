@@ -157,9 +157,10 @@ pub fn max_ring_slots(tiles: u32) -> u32 {
 }
 
 /// Bytes of `cull_alloc` for `slots` ring slots: the count pass's dispatch (4 words), each slot's
-/// first verdict, each slot's candidates, the listed slots (`shaders/cull/cull_tiles.comp`).
+/// first verdict, each slot's candidates, the listed slots, each slot's blade candidates
+/// (`shaders/cull/tiles_main.glsl`).
 fn cull_alloc_bytes(slots: u32) -> u64 {
-    4 * (4 + 3 * u64::from(slots))
+    4 * (4 + 4 * u64::from(slots))
 }
 
 /// Bytes of the cull's buffers for `blades` stored blades, `slots` ring slots and a visible list
@@ -187,12 +188,17 @@ pub const FIELD_VISIBLE: u32 = 1 << 22;
 /// each frame, and a slot finding none draws nothing (`shaders/cull/cull_count.comp`).
 pub const FIELD_VERDICTS: u32 = 1 << 22;
 
-/// Verdicts `cull_results` holds for `scene`: one per stored blade, or `FIELD_VERDICTS`.
-pub fn verdict_capacity(scene: &Scene) -> u32 {
+/// Verdicts `cull_results` holds for `scene` over `slots` ring slots, where a draw-class set's own
+/// source adds up to `source_room` candidates a slot (`render::draw_class::CandidateSource`): a
+/// block field's `FIELD_VERDICTS`, shared by its slots' candidates; a stored field's one per blade
+/// (a tile is one slot's) and the source's room, up to `FIELD_VERDICTS` past the blades (the
+/// slots past it draw nothing, and the cull reports their candidates as lost).
+pub fn verdict_capacity(scene: &Scene, slots: u32, source_room: u32) -> u32 {
     if scene.field.is_some() {
         FIELD_VERDICTS
     } else {
-        scene.blades.len() as u32
+        let room = u64::from(slots) * u64::from(source_room);
+        scene.blades.len() as u32 + room.min(u64::from(FIELD_VERDICTS)) as u32
     }
 }
 
@@ -286,6 +292,7 @@ impl SceneGpu {
         scene: &Scene,
         cluster_size: f32,
         (blade_range, wind_reach): (f32, f32),
+        source_room: u32,
     ) -> Result<Self> {
         // The batch waits for its submission or never submits.
         let mut partial = crate::vk::guard::empty::<Partial>(device);
@@ -294,9 +301,15 @@ impl SceneGpu {
             Some(_) => crate::render::field_gpu::wind_grid(cluster_size, wind_reach),
             None => (ClusterGrid::new(scene.terrain.size, cluster_size), 1),
         };
-        let capacity = cull_capacity(scene, blade_range);
+        let mut capacity = cull_capacity(scene, blade_range);
+        let verdicts = verdict_capacity(scene, capacity.0, source_room);
+        if scene.field.is_none() {
+            // A stored field's visible list holds what its verdicts may keep.
+            capacity.1 += verdicts - scene.blades.len() as u32;
+        }
         let source = crate::render::ground::source(scene);
-        let sampler = Self::upload_into(device, scene, source.as_ref(), (&grid, capacity), &mut partial)?;
+        let room = (capacity.0, capacity.1, verdicts);
+        let sampler = Self::upload_into(device, scene, source.as_ref(), (&grid, room), &mut partial)?;
         let mut partial = partial.take();
         let ground = std::mem::take(&mut partial.ground).finish(source);
         Ok(Self {
@@ -320,7 +333,7 @@ impl SceneGpu {
             },
             flower_share: scene.flower_share(),
             far_flower_share: scene.far_flower_share(),
-            verdict_capacity: verdict_capacity(scene),
+            verdict_capacity: verdicts,
             visible_capacity: capacity.1,
             slot_capacity: capacity.0,
             tile_rows: partial.cull.pop().expect("created"),
@@ -340,7 +353,7 @@ impl SceneGpu {
         device: &Device,
         scene: &Scene,
         ground: &dyn GroundSource,
-        (grid, (slots, visible_entries)): (&ClusterGrid, (u32, u32)),
+        (grid, (slots, visible_entries, verdicts)): (&ClusterGrid, (u32, u32, u32)),
         partial: &mut Partial,
     ) -> Result<vk::Sampler> {
         let mut batch = UploadBatch::new(device);
@@ -365,7 +378,6 @@ impl SceneGpu {
         partial.tiles = Some(batch.buffer("blade tiles", &scene.tiles, storage, &[Access::ComputeShaderRead])?);
         batch.submit()?;
         let slots_count = slots;
-        let verdicts = verdict_capacity(scene);
         let [visible, slots, draws, results] = cull_bytes(u64::from(verdicts), slots, visible_entries);
         let indirect = storage | vk::BufferUsageFlags::INDIRECT_BUFFER;
         // The visible list and the draws are read back by `Renderer::read_*`.

@@ -70,6 +70,9 @@ pub struct FrameUniforms {
     /// xyz the point the far field's band is measured from (`render::far_rings::BandEye`: the
     /// culling camera on a leash), relative to O for a block field; w the leash (m).
     pub band_eye: Vec4,
+    /// x verdicts the cull's `cull_results` holds, y the most candidates a draw-class set's own
+    /// source adds to a ring slot (`render::draw_class::CandidateSource`; 0: none).
+    pub cull_room: UVec4,
 }
 
 impl FrameUniforms {
@@ -89,7 +92,7 @@ impl FrameUniforms {
     }
 }
 
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 976);
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 992);
 const _: () = assert!(std::mem::offset_of!(FrameUniforms, cull_view_proj) == 160);
 const _: () = assert!(std::mem::offset_of!(FrameUniforms, cull_lod) == 288);
 const _: () = assert!(std::mem::offset_of!(FrameUniforms, camera_position) == 64);

@@ -74,7 +74,7 @@ pub struct FlowerClass;
 impl FlowerClass {
     /// The draw classes of a scene with flowers: this class and its count shader.
     pub fn classes() -> DrawClasses {
-        DrawClasses { classes: vec![std::rc::Rc::new(FlowerClass)], count_shader: Some(COUNT_SHADER) }
+        DrawClasses { classes: vec![std::rc::Rc::new(FlowerClass)], count_shader: Some(COUNT_SHADER), source: None }
     }
 }
 

@@ -167,7 +167,8 @@ impl Renderer {
         // The cull's buffers cover the blades' range, a block field's force corners the far
         // field's too.
         let reach = (settings.culling.blade_range(), settings.culling.wind_reach());
-        let scene_gpu = SceneGpu::upload(&device, scene, renderer.animation.cluster_size, reach)?;
+        let room = renderer.builders.classes.source_room();
+        let scene_gpu = SceneGpu::upload(&device, scene, renderer.animation.cluster_size, reach, room)?;
         renderer.scene = Some(scene_gpu);
         renderer.layouts = scene_layouts(&device)?;
         renderer.pressed = Some(PressedMap::new(&device)?);

@@ -243,8 +243,8 @@ impl Renderer {
             }
             if culled {
                 let stats = self.cull_frames.iter().map(|frame| frame.stats.raw).collect();
-                let count = self.builders.classes.count_shader.unwrap_or(crate::render::shaders::CULL_COUNT_COMP);
-                let setup = CullSetup { sets, constants, frame_stats: stats, count_shader: count };
+                let (count_shader, tiles_shader) = self.builders.classes.cull_shaders();
+                let setup = CullSetup { sets, constants, frame_stats: stats, count_shader, tiles_shader };
                 cull::add_passes(graph, device, &setup, scene)?;
             }
             Ok(())

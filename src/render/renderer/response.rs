@@ -53,7 +53,8 @@ pub(super) fn class_layout(settings: &RenderSettings, classes: &DrawClasses) -> 
 /// `classes`, with the flowers' (`render::flowers`) when `scene` has flowers; refused beside
 /// classes of the caller's (one count shader holds one selection).
 pub(super) fn with_flowers(scene: &crate::scene::Scene, classes: DrawClasses) -> Result<DrawClasses> {
-    match (scene.flowers.is_some(), classes.classes.is_empty() && classes.count_shader.is_none()) {
+    let none = classes.classes.is_empty() && classes.count_shader.is_none() && classes.source.is_none();
+    match (scene.flowers.is_some(), none) {
         (false, _) => Ok(classes),
         (true, true) => Ok(crate::render::flowers::FlowerClass::classes()),
         (true, false) => Err(Error::Internal("flowers beside further draw classes: one count shader selects".into())),

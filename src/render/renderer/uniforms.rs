@@ -52,6 +52,7 @@ impl Renderer {
             params: UVec4::new(self.settings.segments, scene.blade_count, far.0.to_bits(), far.1.to_bits()),
             wind_counts: UVec4::new(sources, colliders, scene.grid.corners_per_side(), scene.wind_levels),
             cull_lod: UVec4::new(0, 0, 0, self.visible_limit()),
+            cull_room: UVec4::new(scene.verdict_capacity, self.builders.classes.source_room(), 0, 0),
             ..bytemuck::Zeroable::zeroed()
         };
         let cull_camera = self.cull_camera.as_ref().map_or(*camera, relative);
@@ -70,7 +71,7 @@ impl Renderer {
         let distances = (culling.view_distance, culling.blade_range());
         scene.ground.source.fill_uniforms(&mut uniforms, origin.map_or(IVec2::ZERO, |o| o.cell), distances);
         if let (Some(field), Some(origin)) = (&scene.field, &origin) {
-            field_gpu::fill_uniforms(&mut uniforms, field, origin, &scene.grid, distances.1, scene.verdict_capacity);
+            field_gpu::fill_uniforms(&mut uniforms, field, origin, &scene.grid, distances.1);
             // A longer blade range set live (the viewer) than the one the cull's buffers were
             // made for: the rings stop where the buffers do.
             uniforms.cull_tiles.y = uniforms.cull_tiles.y.min(scene.slot_capacity);

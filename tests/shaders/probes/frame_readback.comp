@@ -12,7 +12,7 @@ layout(set = 0, binding = 0, std140) uniform Frame { FrameUniforms frame; };
 layout(set = 0, binding = 1, std430) writeonly buffer Fields { uint fields[]; };
 layout(constant_id = SPEC(KEYFRAME_UVEC4S)) const uint KEYFRAME_UVEC4S = 4096u;
 
-const uint FRAME_WORDS = 244u;     // 976 bytes
+const uint FRAME_WORDS = 248u;     // 992 bytes
 const uint SPEC_WORDS = 22u;       // SPEC_* ids 0..=21
 
 void put_vec4(inout uint o, vec4 v) {
@@ -72,6 +72,7 @@ void main() {
         put_uvec4(o, frame.cull_bucket_draws[i]);
     }
     put_vec4(o, frame.band_eye);
+    put_uvec4(o, frame.cull_room);
 
     fields[FRAME_WORDS + SPEC(KEYFRAME_UVEC4S)] = KEYFRAME_UVEC4S;
     fields[FRAME_WORDS + SPEC(ANIMATION_MODE)] = ANIMATION_MODE;

@@ -40,6 +40,10 @@ pub struct CullSetup<'a> {
     /// The count pass's shader: the library's `cull_count.comp` (the blade class alone), or a
     /// set of draw classes' with their selection (`render::draw_class::DrawClasses`).
     pub count_shader: crate::vk::profile::Shader,
+    /// The tiles pass's shader: the library's `cull_tiles.comp` (the blade tiles' candidates
+    /// alone), or a set of draw classes' with its own candidate source's
+    /// (`render::draw_class::CandidateSource`).
+    pub tiles_shader: crate::vk::profile::Shader,
 }
 
 /// The cull's part of one frame in flight (`frame::PerFrame`): the counts its scan writes for
@@ -95,7 +99,7 @@ impl Destroy for CullFrame {
 /// The cull's own set (`SET_PASS`, declared in `shaders/cull/cull.glsl` and `cull_emit.comp`),
 /// one per frame in flight: the resources only the cull binds, by the names its GLSL gives them.
 fn cull_set(device: &Device, setup: &CullSetup, scene: &SceneGpu) -> Result<PassSet> {
-    let code: Vec<(&str, &[u8])> = [shaders::CULL_TILES_COMP, setup.count_shader, shaders::CULL_SCAN_COMP]
+    let code: Vec<(&str, &[u8])> = [setup.tiles_shader, setup.count_shader, shaders::CULL_SCAN_COMP]
         .iter()
         .chain([&shaders::CULL_EMIT_COMP])
         .map(|s| (s.path, s.code(device.profile)))

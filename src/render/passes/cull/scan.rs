@@ -20,7 +20,7 @@ pub fn pass(device: &Device, setup: &CullSetup, scene: &SceneGpu, set: &Rc<PassS
         (scene.slot_counts.raw, Access::ComputeShaderRead),
         (scene.slot_counts.raw, Access::ComputeShaderWrite),
         (scene.draws.raw, Access::ComputeShaderWrite),
-        // A block field's slots without room for their verdicts, counted (`STAT_NO_ROOM`).
+        // The slots without room for their verdicts, counted (`STAT_NO_ROOM`).
         (scene.cull_alloc.raw, Access::ComputeShaderRead),
         // The padding of each bucket's last instance.
         (scene.visible.raw, Access::ComputeShaderWrite),

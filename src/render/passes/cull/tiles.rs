@@ -10,7 +10,6 @@ use super::{CullSetup, CullStep, Groups};
 use crate::error::Result;
 use crate::render::recording::PassSet;
 use crate::render::scene_gpu::SceneGpu;
-use crate::render::shaders;
 use crate::vk::{Access, Device};
 
 /// The tile tests' dispatch: one workgroup.
@@ -27,11 +26,5 @@ pub fn pass(device: &Device, setup: &CullSetup, scene: &SceneGpu, set: &Rc<PassS
         (scene.cull_alloc.raw, read),
         (scene.cull_alloc.raw, Access::ComputeShaderWrite),
     ];
-    CullStep::new(
-        device,
-        ("cull tiles", shaders::CULL_TILES_COMP.code(device.profile)),
-        (setup, set),
-        uses,
-        Groups::One,
-    )
+    CullStep::new(device, ("cull tiles", setup.tiles_shader.code(device.profile)), (setup, set), uses, Groups::One)
 }
