@@ -33,13 +33,12 @@ vec2 collider_force(vec3 center, vec3 radii, vec3 root, float height) {
     return n * (COLLIDER_PUSH * (s1 * s1 - s0 * s0) / (height * height));
 }
 
-vec2 blade_force(uint blade_index, BladeInstance blade) {
-    vec2 force = wind_at_blade(blade_index, blade.position.xz).xz * (1.0 / KEYFRAME_WIND_SCALE);
-    // Colliders: two emitters each (centre, radii) after the sources, under either attenuation.
-    // Added only where they push, so a blade no collider reaches keeps its force to the bit
-    // (-0 + 0 would be +0).
-    // Only the colliders whose ground ellipse may hold the root (animation/collider_bins.glsl), in
-    // ascending order as all of them were.
+// `force` with the colliders' push at the blade added: two emitters each (centre, radii) after
+// the sources, under either attenuation. Added only where they push, so a blade no collider
+// reaches keeps its force to the bit (-0 + 0 would be +0). Only the colliders whose ground
+// ellipse may hold the root (animation/collider_bins.glsl), in ascending order as all of them
+// were.
+vec2 add_collider_push(vec2 force, BladeInstance blade) {
     uint first = frame.wind_counts.x;
     uvec4 near = colliders_near(blade.position.xz);
     while (near != uvec4(0u)) {
@@ -50,6 +49,10 @@ vec2 blade_force(uint blade_index, BladeInstance blade) {
         }
     }
     return force;
+}
+
+vec2 blade_force(uint blade_index, BladeInstance blade) {
+    return add_collider_push(wind_at_blade(blade_index, blade.position.xz).xz * (1.0 / KEYFRAME_WIND_SCALE), blade);
 }
 
 #endif

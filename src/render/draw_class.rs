@@ -126,7 +126,8 @@ pub const MOST_SOURCE_CANDIDATES: u32 = 1 << 16;
 ///   class's pass finds the candidate from it (`source_entry` of `shaders/common/field.glsl`).
 /// - **Their selection** is the count shader's `source_bucket` (after `#define CLASS_SOURCE`):
 ///   a bucket of a class or none, the fade and widening, the root's height. They are counted in
-///   their buckets, and not in the blade tests' counts (considered, after each test).
+///   their buckets, and not in the blade tests' counts (considered, after each test). A bucket
+///   that takes them is not posed as blades (`DrawClass::posed`): its entries are not blades.
 ///
 /// `tests/draw_class.rs` adds one from `tests/`.
 #[derive(Clone, Copy, Debug)]
@@ -332,5 +333,16 @@ mod tests {
         let none =
             DrawClasses { classes: vec![Rc::new(Markers(0, Order::NearToFar))], count_shader: None, source: None };
         assert!(ClassLayout::new(3, DrawRows::PerBucket, &none, 32).is_err());
+        // A source's room per slot: 1 to MOST_SOURCE_CANDIDATES (a rank is 16 bits of an entry).
+        let with_room = |most_per_slot| DrawClasses {
+            classes: vec![Rc::new(Markers(1, Order::NearToFar))],
+            count_shader: None,
+            source: Some(CandidateSource { tiles_shader: crate::render::shaders::CULL_TILES_COMP, most_per_slot }),
+        };
+        assert!(ClassLayout::new(3, DrawRows::PerBucket, &with_room(0), 32).is_err());
+        assert!(ClassLayout::new(3, DrawRows::PerBucket, &with_room(MOST_SOURCE_CANDIDATES + 1), 32).is_err());
+        let layout = ClassLayout::new(3, DrawRows::PerBucket, &with_room(MOST_SOURCE_CANDIDATES), 32).unwrap();
+        assert_eq!(layout.buckets(), 4);
+        assert_eq!(with_room(5).source_room(), 5);
     }
 }
