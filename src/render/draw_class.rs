@@ -126,8 +126,9 @@ pub const MOST_SOURCE_CANDIDATES: u32 = 1 << 16;
 ///   class's pass finds the candidate from it (`source_entry` of `shaders/common/field.glsl`).
 /// - **Their selection** is the count shader's `source_bucket` (after `#define CLASS_SOURCE`):
 ///   a bucket of a class or none, the fade and widening, the root's height. They are counted in
-///   their buckets, and not in the blade tests' counts (considered, after each test). A bucket
-///   that takes them is not posed as blades (`DrawClass::posed`): its entries are not blades.
+///   their buckets, and not in the blade tests' counts (considered, after each test). They go to
+///   buckets of the further classes, never the blade class's, and a bucket that takes them is
+///   not posed as blades (`DrawClass::posed`): their entries are not blades.
 ///
 /// `tests/draw_class.rs` adds one from `tests/`.
 #[derive(Clone, Copy, Debug)]
