@@ -240,14 +240,18 @@ fn render(scene: &Scene, camera: &Camera, with: With) -> Frame {
     result.expect("rendered")
 }
 
-/// Pixels of the markers' red.
-fn red(pixels: &[u8]) -> usize {
-    pixels.chunks(4).filter(|p| p[0] > 200 && p[1] < 40 && p[2] < 40).count()
+/// Pixels of one saturated channel (0 the markers' red, 2 the beacons' blue), the others dark.
+fn saturated(pixels: &[u8], channel: usize) -> usize {
+    pixels.chunks(4).filter(|p| (0..3).all(|c| if c == channel { p[c] > 200 } else { p[c] < 40 })).count()
 }
 
-/// Pixels of the beacons' blue.
-fn blue(pixels: &[u8]) -> usize {
-    pixels.chunks(4).filter(|p| p[2] > 200 && p[0] < 40 && p[1] < 40).count()
+/// Pixels of `channel` with the class and without it; the picture with it saved to the path in
+/// the environment variable `save`, if set.
+fn class_pixels(with: &Frame, without: &Frame, channel: usize, save: &str) -> (usize, usize) {
+    if let Ok(path) = std::env::var(save) {
+        image::save_buffer(path, &with.pixels, EXTENT.width, EXTENT.height, image::ColorType::Rgba8).expect("saved");
+    }
+    (saturated(&with.pixels, channel), saturated(&without.pixels, channel))
 }
 
 /// The entries of bucket `bucket` (its draw's instances, padding left out).
@@ -294,10 +298,7 @@ fn a_class_from_tests_culls_with_the_blades_counts_as_the_reference_and_draws_fa
     assert!(near.windows(2).all(|w| w[0] <= w[1]) && near.first() < near.last(), "the blades run near to far");
 
     // Drawn: red squares where there were none, and the pictures differ only through them.
-    let (red_with, red_without) = (red(&with.pixels), red(&without.pixels));
-    if let Ok(path) = std::env::var("MEADOW_DRAW_CLASS_PNG") {
-        image::save_buffer(path, &with.pixels, EXTENT.width, EXTENT.height, image::ColorType::Rgba8).expect("saved");
-    }
+    let (red_with, red_without) = class_pixels(&with, &without, 0, "MEADOW_DRAW_CLASS_PNG");
     assert!(red_without == 0 && red_with > 200, "red pixels: {red_with} with the markers, {red_without} without");
 }
 
@@ -335,10 +336,7 @@ fn a_class_with_its_own_candidate_source_culls_with_the_blades_as_the_reference(
     assert_eq!(bucket_entries(&with, 0, batch), bucket_entries(&without, 0, batch), "the blades' entries");
 
     // Drawn: blue squares where there were none.
-    let (blue_with, blue_without) = (blue(&with.pixels), blue(&without.pixels));
-    if let Ok(path) = std::env::var("MEADOW_SOURCE_CLASS_PNG") {
-        image::save_buffer(path, &with.pixels, EXTENT.width, EXTENT.height, image::ColorType::Rgba8).expect("saved");
-    }
+    let (blue_with, blue_without) = class_pixels(&with, &without, 2, "MEADOW_SOURCE_CLASS_PNG");
     assert!(blue_without == 0 && blue_with > 200, "blue pixels: {blue_with} with the beacons, {blue_without} without");
 }
 
