@@ -20,6 +20,7 @@
 #include "common/ground.glsl"
 #include "common/lighting.glsl"
 #include "wind/wind_field.glsl"
+#include "animation/forces.glsl"
 #include "far_field/far_field.glsl"
 
 layout(set = SET_PASS, binding = 1, std430) readonly buffer FarPlants { FarPlant plants[]; };
@@ -32,6 +33,22 @@ layout(location = 4) out float out_distance; // from the camera (m)
 layout(location = 5) out float out_force;    // `--debug-view force`: the wind's speed in the keyframes' force units
 layout(location = 6) out float out_band;     // from the band's eye (m, `render::far_rings::BandEye`)
 layout(location = 7) out vec2 out_root;      // the ground under the point (x, z relative to O): the pressed map's place
+
+// The colliders' push on a plant's upright of `height` m rooted at `root` (relative to O), as the
+// wind that would push as hard (m/s): each collider's reach-weighted force (animation/forces.glsl's
+// `collider_force`, eq. C.1–C.3, in the keyframes' units) joins the wind its tip leans by, as it
+// joins a blade's force, so a far plant leans away from a collider as a near blade at the same
+// place does. Only the colliders whose ground ellipse may hold the root (collider_bins.glsl).
+vec2 collider_wind(vec3 root, float height) {
+    vec2 push = vec2(0.0);
+    uint first = frame.wind_counts.x;
+    uvec4 near = colliders_near(root.xz);
+    while (near != uvec4(0u)) {
+        uint e = first + 2u * next_collider(near);
+        push += collider_force(emitters[e].xyz, emitters[e + 1u].xyz, root, height);
+    }
+    return push * KEYFRAME_WIND_SCALE;
+}
 
 // The tip's move per metre of height under wind `w` (m/s, xz), from the response's table.
 vec3 tip_lean(vec2 w) {
@@ -96,6 +113,7 @@ void main() {
     out_force = 0.0;
     if (top || (RENDER_FLAGS & FLAG_DEBUG_FORCE) != 0u) {
         vec4 wind = with_point_sources(levels_wind(root), root);
+        wind.xz += collider_wind(world, height);
         out_force = length(wind.xz) / KEYFRAME_WIND_SCALE;
         if (top) {
             world += (vec3(0.0, 1.0, 0.0) + tip_lean(wind.xz)) * height;
