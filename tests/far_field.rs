@@ -590,9 +590,12 @@ fn the_band_trails_the_camera_on_a_leash_and_holds_still_while_it_jitters() {
 #[test]
 fn the_band_matches_the_blades_alone_shows_no_seam_and_no_flicker() {
     // `meadow bench --preset far`'s picture figures at 1280 × 720 (its costs are its own), for
-    // the dither and blended: the bounds are what the first implementation reached (0.50 % /
-    // 1.25 %, 0.41 % / 1.42 %, 1.39×), with a margin, inside the (1.5 % / 8 %, 0.5 % / 4 %,
-    // 1.5×).
+    // the dither and blended, inside the bounds (1.5 % / 8 %, 0.5 % / 4 %, 1.5×). The
+    // first implementation reached 0.50 % / 1.25 %, 0.41 % / 1.42 %, 1.39× (the bounds were then
+    // 0.75 % / 2.5 %, 0.5 % / 2.5 %); with the first rings' plants half as long (2026-12-08,
+    // `render::far_field::NEAR_WIDTH`) 0.30 % / 0.91 %, 0.25 % / 0.98 %, 0.92×, and past the band,
+    // where the far field stands alone against the blades alone to 500 m, 0.28 % / 1.20 % (whole
+    // length: 0.43 % / 1.47 %). The bounds are tightened to those with a margin.
     let out = scratch("far-field-bench").join("out");
     let output = support::meadow()
         .args([
@@ -616,15 +619,18 @@ fn the_band_matches_the_blades_alone_shows_no_seam_and_no_flicker() {
         serde_json::from_str(&std::fs::read_to_string(out.join("far.json")).expect("far.json")).expect("JSON");
     let p = &doc["pictures"];
     let f = |key: &str| p[key].as_f64().unwrap_or_else(|| panic!("{key}: {p}"));
-    assert!(f("band_mean") <= 0.75 && f("band_p99") <= 2.5, "the band against the blades alone: {p}");
-    assert!(f("seam_mean") <= 0.5 && f("seam_p99") <= 2.5, "the boundary moved by 20 %: {p}");
-    assert!(f("flicker_blades") > 0.0 && f("flicker_far") <= 1.5 * f("flicker_blades"), "the creep: {p}");
+    assert!(f("band_mean") <= 0.5 && f("band_p99") <= 1.5, "the band against the blades alone: {p}");
+    assert!(f("seam_mean") <= 0.4 && f("seam_p99") <= 1.5, "the boundary moved by 20 %: {p}");
+    assert!(f("past_mean") <= 0.4 && f("past_p99") <= 1.6, "past the band against the blades alone: {p}");
+    assert!(f("flicker_blades") > 0.0 && f("flicker_far") <= 1.2 * f("flicker_blades"), "the creep: {p}");
     // Blended (`--fade blend`), under the same bounds: first measured 0.49 % / 1.15 %,
-    // 0.37 % / 1.15 %, 0.65×.
+    // 0.37 % / 1.15 %, 0.65×; now 0.30 % / 0.85 %, 0.24 % / 0.83 %, past the band 0.27 % / 1.10 %,
+    // 0.54×.
     let b = |key: &str| p["blend"][key].as_f64().unwrap_or_else(|| panic!("blend {key}: {p}"));
-    assert!(b("band_mean") <= 0.75 && b("band_p99") <= 2.5, "blended, the band against the blades alone: {p}");
-    assert!(b("seam_mean") <= 0.5 && b("seam_p99") <= 2.5, "blended, the boundary moved by 20 %: {p}");
-    assert!(b("flicker_far") <= 1.5 * f("flicker_blades"), "blended, the creep: {p}");
+    assert!(b("band_mean") <= 0.5 && b("band_p99") <= 1.5, "blended, the band against the blades alone: {p}");
+    assert!(b("seam_mean") <= 0.4 && b("seam_p99") <= 1.5, "blended, the boundary moved by 20 %: {p}");
+    assert!(b("past_mean") <= 0.4 && b("past_p99") <= 1.6, "blended, past the band: {p}");
+    assert!(b("flicker_far") <= 1.2 * f("flicker_blades"), "blended, the creep: {p}");
     // The blend is not the dither: its band differs from the blades alone otherwise.
     assert_ne!(b("band_mean"), f("band_mean"), "{p}");
 }

@@ -10,6 +10,7 @@ const uint FAR_TIP_TABLE = 32u;        // render::far_field::TIP_TABLE_SIZE
 const float FAR_TIP_MAX = 24.0;        // render::far_field::TIP_TABLE_MAX (m/s)
 const uint FAR_RING_SIDE = 36u;        // render::far_rings::RING_SIDE
 const float FAR_WIDTH_STEPS = 1.0;     // render::far_field::WIDTH_STEPS
+const float FAR_NEAR_WIDTH = 0.5;      // render::far_field::NEAR_WIDTH
 const float FAR_BLOCK = 4.0;           // scene::field::BLOCK_SIZE
 const uint FAR_TILES = 4u;             // render::far_field::atlas::TILES
 const uint FAR_MIPS = 9u;              // render::far_field::atlas::MIPS

@@ -87,7 +87,9 @@ bool place(uint ring, uint at, out FarPlant plant) {
     if (far_unit(far_hash(id, 3u)) >= ground_cover(p)) {
         return false;
     }
-    float width = FAR_WIDTH_STEPS * step0 * exp2(lambda);
+    // Half as long in the first rings (`render::far_field::NEAR_WIDTH`), whole from λ = 2.5.
+    float near = mix(FAR_NEAR_WIDTH, 1.0, clamp(lambda - 1.5, 0.0, 1.0));
+    float width = FAR_WIDTH_STEPS * step0 * exp2(lambda) * near;
     vec3 centre = vec3(p.x, ground_height(p), p.y);
     float radius = 0.5 * width + far.reach.y;
     float d = length(centre - frame_values.cull_eye.xyz);

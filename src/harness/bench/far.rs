@@ -119,14 +119,20 @@ pub fn table(doc: &FarDocument) -> String {
     let p = &doc.pictures;
     let pictures = format!(
         "band (rows {}-{}), 8x8 mean / p99: far field against blades alone {:.2} % / {:.2} %; boundary moved 20 % {:.2} % / {:.2} %\n\
+         past the band (rows {}-{}, to {} m), 8x8 mean / p99: far field against blades alone {:.2} % / {:.2} %\n\
          creep of {} m a frame over {} frames, mean frame-to-frame change: far field {:.3} %, blades alone {:.3} % ({:.2}x)\n\
-         blended (--fade blend): band {:.2} % / {:.2} %; boundary moved 20 % {:.2} % / {:.2} %; creep {:.3} % ({:.2}x)\n",
+         blended (--fade blend): band {:.2} % / {:.2} %; boundary moved 20 % {:.2} % / {:.2} %; past the band {:.2} % / {:.2} %; creep {:.3} % ({:.2}x)\n",
         p.band_rows[0],
         p.band_rows[1],
         p.band_mean,
         p.band_p99,
         p.seam_mean,
         p.seam_p99,
+        p.past_rows[0],
+        p.past_rows[1],
+        far_pictures::PAST_M,
+        p.past_mean,
+        p.past_p99,
         far_pictures::CREEP_M,
         far_pictures::CREEP_FRAMES,
         p.flicker_far,
@@ -136,6 +142,8 @@ pub fn table(doc: &FarDocument) -> String {
         p.blend.band_p99,
         p.blend.seam_mean,
         p.blend.seam_p99,
+        p.blend.past_mean,
+        p.blend.past_p99,
         p.blend.flicker_far,
         p.blend.flicker_far / p.flicker_blades.max(1e-9)
     );

@@ -4,6 +4,8 @@
 //!
 //! - **in the band**: the far field (blades to 150 m, then plants to 500 m) against the blades
 //!   alone to 500 m (a block field's farthest), 8 × 8 mean and 99th-percentile block;
+//! - **past the band**: the same pictures over the rows from the blade range to `PAST_M`, where
+//!   the far field stands alone (the blades alone to 500 m are what it stands for);
 //! - **no seam**: the far field with its boundary moved 20 % nearer (blades to 120 m) against
 //!   the same at 150 m, over both bands' rows;
 //! - **no flicker**: a creep of `CREEP_M` a frame for `CREEP_FRAMES` frames towards the band,
@@ -30,6 +32,9 @@ use crate::vk::Device;
 
 /// How far the far field reaches in these figures (m): a block field's blades reach 504 m.
 pub const REACH_M: f32 = 500.0;
+/// How far the figure past the band reaches (m): short of the far field's end, whose last tenth
+/// fades into the haze.
+pub const PAST_M: f32 = 400.0;
 /// The creep a frame (m) and its frames.
 pub const CREEP_M: f32 = 0.05;
 pub const CREEP_FRAMES: u32 = 20;
@@ -48,6 +53,11 @@ pub struct FarPictures {
     /// The boundary moved by 20 %, 8 × 8 mean and p99.
     pub seam_mean: f64,
     pub seam_p99: f64,
+    /// Rows past the band (first, last), and the far field against the blades alone over them,
+    /// 8 × 8 mean and p99.
+    pub past_rows: [u32; 2],
+    pub past_mean: f64,
+    pub past_p99: f64,
     /// The mean frame-to-frame change over the creep: the far field's, the blades alone's.
     pub flicker_far: f64,
     pub flicker_blades: f64,
@@ -62,6 +72,8 @@ pub struct FadeFigures {
     pub band_p99: f64,
     pub seam_mean: f64,
     pub seam_p99: f64,
+    pub past_mean: f64,
+    pub past_p99: f64,
     pub flicker_far: f64,
 }
 
@@ -126,6 +138,8 @@ pub fn measure(
         let count = whole_blocks(rows);
         let diff = |a: &[u8], b: &[u8]| box_filtered_difference(a, b, size.0, count, 8);
         let blades = frames(settings(REACH_M, FarField::Off, FarFade::Dither), CREEP_FRAMES, rows)?;
+        let past = rows_of(range, PAST_M);
+        let blades_past = frames(settings(REACH_M, FarField::Off, FarFade::Dither), 1, past)?;
         let both = rows_of(0.8 * crate::render::far_field::BAND_START * range, range);
         let change = |pictures: &[Vec<u8>]| {
             pictures.windows(2).map(|w| diff(&w[1], &w[0]).mean_percent).sum::<f64>() / (pictures.len() - 1) as f64
@@ -136,11 +150,15 @@ pub fn measure(
             let moved = frames(settings(0.8 * range, FarField::Billboards, fade), 1, both)?;
             let here = frames(settings(range, FarField::Billboards, fade), 1, both)?;
             let seam = box_filtered_difference(&moved[0], &here[0], size.0, whole_blocks(both), 8);
+            let alone = frames(settings(range, FarField::Billboards, fade), 1, past)?;
+            let beyond = box_filtered_difference(&alone[0], &blades_past[0], size.0, whole_blocks(past), 8);
             Ok(FadeFigures {
                 band_mean: in_band.mean_percent,
                 band_p99: in_band.p99_percent,
                 seam_mean: seam.mean_percent,
                 seam_p99: seam.p99_percent,
+                past_mean: beyond.mean_percent,
+                past_p99: beyond.p99_percent,
                 flicker_far: change(&far),
             })
         };
@@ -152,6 +170,9 @@ pub fn measure(
             band_p99: dither.band_p99,
             seam_mean: dither.seam_mean,
             seam_p99: dither.seam_p99,
+            past_rows: past,
+            past_mean: dither.past_mean,
+            past_p99: dither.past_p99,
             flicker_far: dither.flicker_far,
             flicker_blades: change(&blades),
             blend,

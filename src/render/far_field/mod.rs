@@ -51,8 +51,15 @@ pub use place_pass::FarPlacePass;
 
 use crate::render::animation::response::BladeResponse;
 
-/// A plant's rectangles are this many lattice steps wide: neighbours' rectangles overlap a little.
+/// A plant's rectangles are this many lattice steps wide (times 2^λ, λ its continuous ring): Zhang
+/// Xia's billboards are as long as their spacing (eq. 8–9).
 pub const WIDTH_STEPS: f32 = 1.0;
+/// ... and in the first rings (λ under 1.5, then ramping to 1 at λ = 2.5) half that: there the
+/// plants are a few pixels tall at grazing angles, where whole-length ones line up as horizontal
+/// dashes, and the far field matches the blades drawn that far better half as long (`meadow bench
+/// --preset far`'s band and past-the-band figures) at two thirds of the fragments. Past the ramp
+/// the plants keep covering the ground to the horizon.
+pub const NEAR_WIDTH: f32 = 0.5;
 /// Invocations per workgroup of the placement.
 pub const PLACE_GROUP: u32 = 64;
 /// Invocations of the ordered compaction's one workgroup (`far_order.comp`).
