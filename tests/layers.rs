@@ -220,6 +220,7 @@ const ORDER: &[&str] = &[
     "render::draw_rows",
     "render::far_rings",
     "render::culling",
+    "render::occlusion",
     "render::cull_reference",
     "render::graph",
     "render::frame",

@@ -251,6 +251,33 @@ fn blades_behind_a_hill_are_culled_by_occlusion_and_the_picture_keeps() {
 }
 
 #[test]
+fn looking_down_on_a_gentle_field_builds_no_depth_pyramid_and_draws_the_same() {
+    // From 41 m straight down, every line of sight descends more steeply than the gentle relief's
+    // drawn slope can rise (`render::occlusion`): the frame skips the occlusion test and its
+    // depth pyramid, and draws what it draws with the test turned off. The landscape camera looks
+    // to the horizon: it builds the pyramid.
+    let dir = scratch("prairie-unoccludable");
+    let run = |camera: &str, extra: &[&str], name: &str| {
+        let args: Vec<&str> = ["--field", "infinite", "--size", "320x180", "--mode", "static", "--camera", camera]
+            .into_iter()
+            .chain(extra.iter().copied())
+            .collect();
+        let output = render(&args, &dir.join(name));
+        let stdout = String::from_utf8_lossy(&output.stdout).to_string();
+        let gpu = stdout.lines().find(|l| l.starts_with("gpu:")).expect("a gpu line").to_string();
+        let cull = stdout.lines().find(|l| l.starts_with("cull:")).expect("a cull line").to_string();
+        (gpu.contains("depth pyramid"), cull, Picture::load(&dir.join(name)))
+    };
+    let (pyramid, cull, picture) = run("0,41,0,0,-89", &[], "above.png");
+    let (_, cull_off, picture_off) = run("0,41,0,0,-89", &["--cull", "frustum,distance,orientation"], "above-off.png");
+    assert!(!pyramid, "no depth pyramid from above");
+    assert_eq!(cull, cull_off, "the same blades as without the occlusion test");
+    assert_eq!(picture.rgb, picture_off.rgb, "the same picture as without the occlusion test");
+    let (pyramid, _, _) = run("landscape", &[], "landscape.png");
+    assert!(pyramid, "the landscape camera, to the horizon, builds the depth pyramid");
+}
+
+#[test]
 fn lod_transitions_do_not_pop_over_a_camera_sweep() {
     // Walking backwards in 5 cm steps, blades cross the density LOD's fade band and the segment
     // buckets' thresholds (LOD scale 0.5 puts both inside the sweep). The largest change between

@@ -20,6 +20,7 @@ pub mod ground_clipmap;
 pub mod layouts;
 pub mod limits;
 pub mod msaa;
+pub mod occlusion;
 pub mod overlay;
 pub mod passes;
 pub mod recording;

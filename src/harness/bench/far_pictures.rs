@@ -96,6 +96,33 @@ fn band(pixels: &[u8], width: u32, rows: [u32; 2]) -> Vec<u8> {
     pixels[first as usize * line..last as usize * line].chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect()
 }
 
+/// A figure's renderer: blades to `blades` m, then `far_field` to `REACH_M` under `fog`.
+fn settings(blades: f32, far_field: FarField, far_fade: FarFade, fog: f32) -> RenderSettings {
+    let (view_distance, blade_distance) = (REACH_M, blades);
+    let culling = Culling { view_distance, blade_distance, far_field, far_fade, ..Culling::default_for(4) };
+    RenderSettings { fog_density: fog, ..RenderSettings::offscreen(4, culling) }
+}
+
+impl FarPictures {
+    /// The figures of the band's and the past rows (`rows`), the dither's and the blend's, and
+    /// the blades' own change over the creep.
+    fn of(rows: [[u32; 2]; 2], dither: FadeFigures, blend: FadeFigures, flicker_blades: f64) -> Self {
+        Self {
+            band_rows: rows[0],
+            band_mean: dither.band_mean,
+            band_p99: dither.band_p99,
+            seam_mean: dither.seam_mean,
+            seam_p99: dither.seam_p99,
+            past_rows: rows[1],
+            past_mean: dither.past_mean,
+            past_p99: dither.past_p99,
+            flicker_far: dither.flicker_far,
+            flicker_blades,
+            blend,
+        }
+    }
+}
+
 /// Measure the figures for `scene` from `camera`, `height` m above the ground, at `size`.
 pub fn measure(
     device: &Arc<Device>,
@@ -107,11 +134,7 @@ pub fn measure(
     let extent = vk::Extent2D { width: size.0, height: size.1 };
     let mut target = OffscreenTarget::new(device, extent)?;
     let result = (|| {
-        let settings = |blades: f32, far_field: FarField, far_fade: FarFade| {
-            let (view_distance, blade_distance) = (REACH_M, blades);
-            let culling = Culling { view_distance, blade_distance, far_field, far_fade, ..Culling::default_for(4) };
-            RenderSettings { fog_density: fog, ..RenderSettings::offscreen(4, culling) }
-        };
+        let settings = |blades: f32, far_field: FarField, far_fade: FarFade| settings(blades, far_field, far_fade, fog);
         let animation = AnimationSettings { mode: Mode::Static, ..Default::default() };
         // Pictures of `frames` frames creeping from `camera`, each its band's rows. A creep of more
         // than one frame starts `PREROLL` frames earlier, unrecorded, so that the band's eye trails
@@ -164,19 +187,7 @@ pub fn measure(
         };
         let dither = figures(FarFade::Dither)?;
         let blend = figures(FarFade::Blend)?;
-        Ok(FarPictures {
-            band_rows: rows,
-            band_mean: dither.band_mean,
-            band_p99: dither.band_p99,
-            seam_mean: dither.seam_mean,
-            seam_p99: dither.seam_p99,
-            past_rows: past,
-            past_mean: dither.past_mean,
-            past_p99: dither.past_p99,
-            flicker_far: dither.flicker_far,
-            flicker_blades: change(&blades),
-            blend,
-        })
+        Ok(FarPictures::of([rows, past], dither, blend, change(&blades)))
     })();
     // SAFETY: every renderer waited for its frames and is dropped.
     unsafe { target.destroy(device) };

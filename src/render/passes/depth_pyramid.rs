@@ -45,6 +45,11 @@ impl Pass for DepthPyramidPass {
     }
 
     fn declare(&self, ctx: &PassContext) -> Option<Declaration> {
+        // Not built on a frame without the occlusion test: the setting off, a frozen culling
+        // camera, or a view the terrain provably cannot hide anything in (`render::occlusion`).
+        if ctx.uniforms.cull_lod.z & gpu::CULL_OCCLUSION == 0 {
+            return None;
+        }
         let declaration = Declaration::compute()
             .uses(Resource::depth(ctx.target.depth), Access::ComputeShaderSampledRead)
             .buffer(self.pyramid.buffer, Access::ComputeShaderWrite);

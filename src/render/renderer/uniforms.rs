@@ -9,6 +9,8 @@ use super::Renderer;
 use crate::render::animation;
 use crate::render::field_gpu::{self, Origin};
 use crate::render::frame::{look, FrameUniforms};
+use crate::render::gpu_constants as gpu;
+use crate::render::occlusion;
 use crate::scene::camera::near_plane;
 use crate::scene::Camera;
 
@@ -58,6 +60,11 @@ impl Renderer {
         let cull_camera = self.cull_camera.as_ref().map_or(*camera, relative);
         let frozen = self.cull_camera.is_some();
         culling.fill_uniforms(&mut uniforms, &scene.tile_grid, &cull_camera, frozen, (aspect, near), extent.height);
+        // Looking down more steeply than a block field's ground can rise, its terrain hides
+        // nothing: no occlusion test, and no depth pyramid, this frame (`render::occlusion`).
+        if scene.ground_slope.is_some_and(|slope| occlusion::terrain_cannot_occlude(uniforms.cull_view_proj, slope)) {
+            uniforms.cull_lod.z &= !gpu::CULL_OCCLUSION;
+        }
         // The band's eye (`far_rings::BandEye`), the culling camera's own before any frame.
         let band = self.band_eye.at().map_or(cull_camera.position, |at| {
             let o = origin.map_or(glam::DVec2::ZERO, |o| o.world);
