@@ -251,15 +251,19 @@ fn blades_behind_a_hill_are_culled_by_occlusion_and_the_picture_keeps() {
 }
 
 #[test]
-fn looking_down_on_a_gentle_field_builds_no_depth_pyramid_and_draws_the_same() {
-    // From 41 m straight down, every line of sight descends more steeply than the gentle relief's
-    // drawn slope can rise (`render::occlusion`): the frame skips the occlusion test and its
-    // depth pyramid, and draws what it draws with the test turned off. The landscape camera looks
-    // to the horizon: it builds the pyramid.
+fn looking_down_on_a_gentle_ground_builds_no_depth_pyramid_and_draws_the_same() {
+    // From 41 m straight down over the gentle relief, or 5 m down over the stored terrain,
+    // every line of sight descends more steeply than the drawn ground can rise
+    // (`render::occlusion`): the frame skips the occlusion test and its depth pyramid, and draws
+    // what it draws with the test turned off. The landscape camera, and the stored field's
+    // default camera, look to the horizon: they build the pyramid.
     let dir = scratch("prairie-unoccludable");
-    let run = |camera: &str, extra: &[&str], name: &str| {
-        let args: Vec<&str> = ["--field", "infinite", "--size", "320x180", "--mode", "static", "--camera", camera]
+    let run = |field: &[&str], camera: Option<&str>, extra: &[&str], name: &str| {
+        let camera = camera.map(|c| ["--camera", c]);
+        let args: Vec<&str> = ["--size", "320x180", "--mode", "static"]
             .into_iter()
+            .chain(field.iter().copied())
+            .chain(camera.iter().flatten().copied())
             .chain(extra.iter().copied())
             .collect();
         let output = render(&args, &dir.join(name));
@@ -268,13 +272,18 @@ fn looking_down_on_a_gentle_field_builds_no_depth_pyramid_and_draws_the_same() {
         let cull = stdout.lines().find(|l| l.starts_with("cull:")).expect("a cull line").to_string();
         (gpu.contains("depth pyramid"), cull, Picture::load(&dir.join(name)))
     };
-    let (pyramid, cull, picture) = run("0,41,0,0,-89", &[], "above.png");
-    let (_, cull_off, picture_off) = run("0,41,0,0,-89", &["--cull", "frustum,distance,orientation"], "above-off.png");
-    assert!(!pyramid, "no depth pyramid from above");
-    assert_eq!(cull, cull_off, "the same blades as without the occlusion test");
-    assert_eq!(picture.rgb, picture_off.rgb, "the same picture as without the occlusion test");
-    let (pyramid, _, _) = run("landscape", &[], "landscape.png");
-    assert!(pyramid, "the landscape camera, to the horizon, builds the depth pyramid");
+    let fields: [(&[&str], &str, &str); 2] =
+        [(&["--field", "infinite"], "0,41,0,0,-89", "landscape"), (&["--blades", "20000"], "0,5,0,0,-89", "")];
+    for (i, (field, above, horizon)) in fields.into_iter().enumerate() {
+        let (pyramid, cull, picture) = run(field, Some(above), &[], &format!("{i}-above.png"));
+        let off = ["--cull", "frustum,distance,orientation"];
+        let (_, cull_off, picture_off) = run(field, Some(above), &off, &format!("{i}-above-off.png"));
+        assert!(!pyramid, "{field:?}: no depth pyramid from above");
+        assert_eq!(cull, cull_off, "{field:?}: the same blades as without the occlusion test");
+        assert_eq!(picture.rgb, picture_off.rgb, "{field:?}: the same picture as without the occlusion test");
+        let (pyramid, _, _) = run(field, (!horizon.is_empty()).then_some(horizon), &[], &format!("{i}-horizon.png"));
+        assert!(pyramid, "{field:?}: a view to the horizon builds the depth pyramid");
+    }
 }
 
 #[test]

@@ -10,10 +10,12 @@
 //! corners do. Looking down from above (the landscape bench's camera 40 m up, a viewer's overview)
 //! the test holds; at the horizon it never does.
 //!
-//! The ground drawn is the clipmap's triangles between exact samples of the ground (`render::
-//! ground`): each has one edge along x and one along z, whose rises are each at most the ground's
-//! slope bound (`scene::FieldGround::slope_bound`, which bounds the gradient's length), so a
-//! triangle's slope is at most √2 times it. Blades and far plants stand on that drawn surface.
+//! The ground drawn is triangles between exact samples of the ground: a block field's clipmap
+//! (`render::ground`) or a stored terrain's grid. Each has one edge along x and one along z, whose
+//! rises per metre are each at most the ground's slope bound (`scene::FieldGround::slope_bound`,
+//! which bounds the gradient's length; `scene::terrain::Terrain::slope_bound`, the steepest rise
+//! along an axis), so a triangle's slope is at most √2 times it. Blades and far plants stand on
+//! that drawn surface.
 
 use glam::{Mat4, Vec3, Vec3Swizzles, Vec4Swizzles};
 

@@ -110,10 +110,10 @@ pub struct SceneGpu {
     pub tile_grid: TileGrid,
     /// A block field's size, density and relief (`None`: a stored field).
     pub field: Option<crate::scene::Field>,
-    /// A block field's ground's steepest slope (`scene::FieldGround::slope_bound`, once: a
-    /// heightmap's visits every texel), which tells a frame whether its terrain can hide anything
-    /// (`render::occlusion`).
-    pub ground_slope: Option<f32>,
+    /// The ground's steepest slope: a block field's (`scene::FieldGround::slope_bound`) or the
+    /// stored terrain's (`scene::terrain::Terrain::slope_bound`), once (a heightmap's visits every
+    /// texel). It tells a frame whether its terrain can hide anything (`render::occlusion`).
+    pub ground_slope: f32,
     /// A block field's clump size in millimetres, the shaders' `CLUMP_SIZE_MM` (0: none; a
     /// stored field's blades were clumped on the CPU).
     pub clump_size_mm: u32,
@@ -331,7 +331,7 @@ impl SceneGpu {
             tiles: partial.tiles.take().expect("uploaded"),
             tile_grid: scene.tile_grid,
             field: scene.field.clone(),
-            ground_slope: scene.field.as_ref().map(|f| f.ground.slope_bound()),
+            ground_slope: scene.field.as_ref().map_or_else(|| scene.terrain.slope_bound(), |f| f.ground.slope_bound()),
             clump_size_mm: match (&scene.field, scene.clumps) {
                 (Some(_), Some(clumps)) => clumps.size_mm(),
                 _ => 0,

@@ -103,6 +103,26 @@ impl Terrain {
         glam::Vec3::new(-dx, step, -dz).normalize()
     }
 
+    /// The steepest rise between neighbouring vertices along x or z, per metre: each triangle of
+    /// the mesh has one edge along x and one along z, so its slope is at most √2 times this
+    /// (`render::occlusion`).
+    pub fn slope_bound(&self) -> f32 {
+        let n = self.cells + 1;
+        let mut rise = 0.0f32;
+        for z in 0..n {
+            for x in 0..n {
+                let h = self.grid(x, z);
+                if x + 1 < n {
+                    rise = rise.max((self.grid(x + 1, z) - h).abs());
+                }
+                if z + 1 < n {
+                    rise = rise.max((self.grid(x, z + 1) - h).abs());
+                }
+            }
+        }
+        rise / self.cell_size()
+    }
+
     /// Number of triangles of the mesh.
     pub fn triangles(&self) -> u64 {
         2 * u64::from(self.cells) * u64::from(self.cells)
@@ -156,6 +176,19 @@ mod tests {
         assert!(
             (t.height_at(t.origin() + 2.0 * step - e, z0) - t.height_at(t.origin() + 2.0 * step + e, z0)).abs() < 1e-2
         );
+    }
+
+    #[test]
+    fn the_slope_bound_is_the_steepest_rise_along_an_axis() {
+        // A ramp rising 0.3 m a metre along x, with one vertex 0.5 m higher than the ramp there
+        // (its neighbours along z then rise 0.5 m over a 1 m cell).
+        let cells = 4;
+        let mut heights: Vec<f32> = (0..=cells).flat_map(|_| (0..=cells).map(|x| 0.3 * x as f32)).collect();
+        let flat = Terrain { size: cells as f32, cells, heights: heights.clone() };
+        assert!((flat.slope_bound() - 0.3).abs() < 1e-6, "{}", flat.slope_bound());
+        heights[2 * (cells as usize + 1) + 2] += 0.5;
+        let bumped = Terrain { size: cells as f32, cells, heights };
+        assert!((bumped.slope_bound() - 0.8).abs() < 1e-6, "{}", bumped.slope_bound());
     }
 
     #[test]

@@ -60,9 +60,9 @@ impl Renderer {
         let cull_camera = self.cull_camera.as_ref().map_or(*camera, relative);
         let frozen = self.cull_camera.is_some();
         culling.fill_uniforms(&mut uniforms, &scene.tile_grid, &cull_camera, frozen, (aspect, near), extent.height);
-        // Looking down more steeply than a block field's ground can rise, its terrain hides
-        // nothing: no occlusion test, and no depth pyramid, this frame (`render::occlusion`).
-        if scene.ground_slope.is_some_and(|slope| occlusion::terrain_cannot_occlude(uniforms.cull_view_proj, slope)) {
+        // Looking down more steeply than the ground can rise, the terrain hides nothing: no
+        // occlusion test, and no depth pyramid, this frame (`render::occlusion`).
+        if occlusion::terrain_cannot_occlude(uniforms.cull_view_proj, scene.ground_slope) {
             uniforms.cull_lod.z &= !gpu::CULL_OCCLUSION;
         }
         // The band's eye (`far_rings::BandEye`), the culling camera's own before any frame.
