@@ -119,9 +119,9 @@ pub fn table(doc: &FarDocument) -> String {
     let p = &doc.pictures;
     let pictures = format!(
         "band (rows {}-{}), 8x8 mean / p99: far field against blades alone {:.2} % / {:.2} %; boundary moved 20 % {:.2} % / {:.2} %\n\
-         past the band (rows {}-{}, to {} m), 8x8 mean / p99: far field against blades alone {:.2} % / {:.2} %\n\
+         past the band (rows {}-{}, to {} m), 8x8 mean / p99: far field against blades alone {:.2} % / {:.2} %; creep {:.3} % against {:.3} % ({:.2}x)\n\
          creep of {} m a frame over {} frames, mean frame-to-frame change: far field {:.3} %, blades alone {:.3} % ({:.2}x)\n\
-         blended (--fade blend): band {:.2} % / {:.2} %; boundary moved 20 % {:.2} % / {:.2} %; past the band {:.2} % / {:.2} %; creep {:.3} % ({:.2}x)\n",
+         blended (--fade blend): band {:.2} % / {:.2} %; boundary moved 20 % {:.2} % / {:.2} %; past the band {:.2} % / {:.2} %, creep {:.3} % ({:.2}x); creep {:.3} % ({:.2}x)\n",
         p.band_rows[0],
         p.band_rows[1],
         p.band_mean,
@@ -133,6 +133,9 @@ pub fn table(doc: &FarDocument) -> String {
         far_pictures::PAST_M,
         p.past_mean,
         p.past_p99,
+        p.past_flicker_far,
+        p.past_flicker_blades,
+        p.past_flicker_far / p.past_flicker_blades.max(1e-9),
         far_pictures::CREEP_M,
         far_pictures::CREEP_FRAMES,
         p.flicker_far,
@@ -144,6 +147,8 @@ pub fn table(doc: &FarDocument) -> String {
         p.blend.seam_p99,
         p.blend.past_mean,
         p.blend.past_p99,
+        p.blend.past_flicker_far,
+        p.blend.past_flicker_far / p.past_flicker_blades.max(1e-9),
         p.blend.flicker_far,
         p.blend.flicker_far / p.flicker_blades.max(1e-9)
     );

@@ -58,6 +58,10 @@ pub struct FarPictures {
     pub past_rows: [u32; 2],
     pub past_mean: f64,
     pub past_p99: f64,
+    /// The mean frame-to-frame change over the creep past the band (its rows cross the rings'
+    /// edges at 170 and 340 m): the far field's, the blades alone's.
+    pub past_flicker_far: f64,
+    pub past_flicker_blades: f64,
     /// The mean frame-to-frame change over the creep: the far field's, the blades alone's.
     pub flicker_far: f64,
     pub flicker_blades: f64,
@@ -74,6 +78,7 @@ pub struct FadeFigures {
     pub seam_p99: f64,
     pub past_mean: f64,
     pub past_p99: f64,
+    pub past_flicker_far: f64,
     pub flicker_far: f64,
 }
 
@@ -96,6 +101,13 @@ fn band(pixels: &[u8], width: u32, rows: [u32; 2]) -> Vec<u8> {
     pixels[first as usize * line..last as usize * line].chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect()
 }
 
+/// Rows `r` of a crop of rows `span` (each as `band` keeps them) of a picture `width` wide.
+fn sliced(crop: &[u8], width: u32, span: [u32; 2], r: [u32; 2]) -> &[u8] {
+    let line = 3 * width as usize;
+    let start = (r[0] - span[0]) as usize * line;
+    &crop[start..start + whole_blocks(r) as usize * line]
+}
+
 /// A figure's renderer: blades to `blades` m, then `far_field` to `REACH_M` under `fog`.
 fn settings(blades: f32, far_field: FarField, far_fade: FarFade, fog: f32) -> RenderSettings {
     let (view_distance, blade_distance) = (REACH_M, blades);
@@ -105,8 +117,8 @@ fn settings(blades: f32, far_field: FarField, far_fade: FarFade, fog: f32) -> Re
 
 impl FarPictures {
     /// The figures of the band's and the past rows (`rows`), the dither's and the blend's, and
-    /// the blades' own change over the creep.
-    fn of(rows: [[u32; 2]; 2], dither: FadeFigures, blend: FadeFigures, flicker_blades: f64) -> Self {
+    /// the blades' own change over the creep in either.
+    fn of(rows: [[u32; 2]; 2], dither: FadeFigures, blend: FadeFigures, flicker_blades: [f64; 2]) -> Self {
         Self {
             band_rows: rows[0],
             band_mean: dither.band_mean,
@@ -116,8 +128,10 @@ impl FarPictures {
             past_rows: rows[1],
             past_mean: dither.past_mean,
             past_p99: dither.past_p99,
+            past_flicker_far: dither.past_flicker_far,
+            past_flicker_blades: flicker_blades[1],
             flicker_far: dither.flicker_far,
-            flicker_blades,
+            flicker_blades: flicker_blades[0],
             blend,
         }
     }
@@ -158,18 +172,22 @@ pub fn measure(
         };
         let range = Culling::default_for(4).blade_range();
         let rows = rows_of(crate::render::far_field::BAND_START * range, range);
-        let count = whole_blocks(rows);
-        let diff = |a: &[u8], b: &[u8]| box_filtered_difference(a, b, size.0, count, 8);
-        let blades = frames(settings(REACH_M, FarField::Off, FarFade::Dither), CREEP_FRAMES, rows)?;
         let past = rows_of(range, PAST_M);
+        // The creeps keep the rows past the band and the band's: `slice` takes either out.
+        let span = [past[0].min(rows[0]), past[1].max(rows[1])];
+        let slice = |picture: &[u8], r: [u32; 2]| sliced(picture, size.0, span, r).to_vec();
+        let diff = |a: &[u8], b: &[u8], r: [u32; 2]| {
+            box_filtered_difference(&slice(a, r), &slice(b, r), size.0, whole_blocks(r), 8)
+        };
+        let change = |pictures: &[Vec<u8>], r: [u32; 2]| {
+            pictures.windows(2).map(|w| diff(&w[1], &w[0], r).mean_percent).sum::<f64>() / (pictures.len() - 1) as f64
+        };
+        let blades = frames(settings(REACH_M, FarField::Off, FarFade::Dither), CREEP_FRAMES, span)?;
         let blades_past = frames(settings(REACH_M, FarField::Off, FarFade::Dither), 1, past)?;
         let both = rows_of(0.8 * crate::render::far_field::BAND_START * range, range);
-        let change = |pictures: &[Vec<u8>]| {
-            pictures.windows(2).map(|w| diff(&w[1], &w[0]).mean_percent).sum::<f64>() / (pictures.len() - 1) as f64
-        };
         let mut figures = |fade: FarFade| -> Result<FadeFigures> {
-            let far = frames(settings(range, FarField::Billboards, fade), CREEP_FRAMES, rows)?;
-            let in_band = diff(&far[0], &blades[0]);
+            let far = frames(settings(range, FarField::Billboards, fade), CREEP_FRAMES, span)?;
+            let in_band = diff(&far[0], &blades[0], rows);
             let moved = frames(settings(0.8 * range, FarField::Billboards, fade), 1, both)?;
             let here = frames(settings(range, FarField::Billboards, fade), 1, both)?;
             let seam = box_filtered_difference(&moved[0], &here[0], size.0, whole_blocks(both), 8);
@@ -182,12 +200,13 @@ pub fn measure(
                 seam_p99: seam.p99_percent,
                 past_mean: beyond.mean_percent,
                 past_p99: beyond.p99_percent,
-                flicker_far: change(&far),
+                past_flicker_far: change(&far, past),
+                flicker_far: change(&far, rows),
             })
         };
         let dither = figures(FarFade::Dither)?;
         let blend = figures(FarFade::Blend)?;
-        Ok(FarPictures::of([rows, past], dither, blend, change(&blades)))
+        Ok(FarPictures::of([rows, past], dither, blend, [change(&blades, rows), change(&blades, past)]))
     })();
     // SAFETY: every renderer waited for its frames and is dropped.
     unsafe { target.destroy(device) };
