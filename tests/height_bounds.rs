@@ -2,10 +2,10 @@
 //! the cull bounds a block field's cells by the clipmap's tiles under them (`FLAG_GROUND_BOUNDS`),
 //! not by the ground's steepest slope anywhere. On lavapipe with validation and synchronization
 //! validation, on a heightmap (issue #35): a flat map with one spike far from the view culls
-//! exactly as the same map without it (the same tiles in view, the same blades drawn; by the
-//! origin, across the map's mirror edge and 100 km out), where the spike's slope alone makes every
-//! cell's box metres taller; and looking at the spike, the cull draws the same blades with the
-//! tiles' bounds as with the slope's.
+//! exactly as the same map without it (the same tiles in view, the same blades up to the
+//! occlusion test; by the origin, across the map's mirror edge and 100 km out), where the spike's
+//! slope alone makes every cell's box metres taller; and looking at the spike, the cull draws the
+//! same blades with the tiles' bounds as with the slope's.
 
 mod support;
 
@@ -100,7 +100,12 @@ fn a_spike_far_from_the_view_does_not_widen_the_cells_in_it() {
         // With the tiles, the spiked map's cells are the flat map's: the same tiles, the same blades.
         let tiles = |c: &CullCounts| (c.tiles_visible, c.after_tiles);
         assert_eq!(tiles(bounded), tiles(flat), "{} | {}", bounded.summary(), flat.summary());
-        assert_eq!(bounded.total_drawn(), flat.total_drawn(), "{} | {}", bounded.summary(), flat.summary());
+        // The same blades up to the occlusion test. A frame over the flat map may skip that test
+        // (its ground provably hides nothing from a camera looking down, `render::occlusion`)
+        // where the same frame over the spiked map, whose slope bound is 16, runs it.
+        let kept = |c: &CullCounts| c.after_orientation;
+        assert_eq!(kept(bounded), kept(flat), "{} | {}", bounded.summary(), flat.summary());
+        assert!(bounded.total_drawn() <= flat.total_drawn(), "{} | {}", bounded.summary(), flat.summary());
         assert!(bounded.total_drawn() > 1_000, "{}", bounded.summary());
         // Without it, taller boxes: more candidates in visible tiles for the same blades drawn.
         assert!(sloped.after_tiles > bounded.after_tiles, "{} | {}", sloped.summary(), bounded.summary());
