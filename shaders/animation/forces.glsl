@@ -33,22 +33,27 @@ vec2 collider_force(vec3 center, vec3 radii, vec3 root, float height) {
     return n * (COLLIDER_PUSH * (s1 * s1 - s0 * s0) / (height * height));
 }
 
-// `force` with the colliders' push at the blade added: two emitters each (centre, radii) after
-// the sources, under either attenuation. Added only where they push, so a blade no collider
-// reaches keeps its force to the bit (-0 + 0 would be +0). Only the colliders whose ground
-// ellipse may hold the root (animation/collider_bins.glsl), in ascending order as all of them
-// were.
-vec2 add_collider_push(vec2 force, BladeInstance blade) {
+// `force` with the colliders' push on an upright of `height` m at `root` added: two emitters
+// each (centre, radii) after the sources, under either attenuation. Added only where they push,
+// so a blade no collider reaches keeps its force to the bit (-0 + 0 would be +0). Only the
+// colliders whose ground ellipse may hold the root (animation/collider_bins.glsl), in ascending
+// order as all of them were. The far plants' lean reads it too (far_field/far.vert).
+vec2 add_collider_push_at(vec2 force, vec3 root, float height) {
     uint first = frame.wind_counts.x;
-    uvec4 near = colliders_near(blade.position.xz);
+    uvec4 near = colliders_near(root.xz);
     while (near != uvec4(0u)) {
         uint e = first + 2u * next_collider(near);
-        vec2 push = collider_force(emitters[e].xyz, emitters[e + 1u].xyz, blade.position, blade.height);
+        vec2 push = collider_force(emitters[e].xyz, emitters[e + 1u].xyz, root, height);
         if (push != vec2(0.0)) {
             force += push;
         }
     }
     return force;
+}
+
+// The same for a blade: at its root, over its backbone's length.
+vec2 add_collider_push(vec2 force, BladeInstance blade) {
+    return add_collider_push_at(force, blade.position, blade.height);
 }
 
 vec2 blade_force(uint blade_index, BladeInstance blade) {

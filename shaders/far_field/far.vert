@@ -40,14 +40,7 @@ layout(location = 7) out vec2 out_root;      // the ground under the point (x, z
 // joins a blade's force, so a far plant leans away from a collider as a near blade at the same
 // place does. Only the colliders whose ground ellipse may hold the root (collider_bins.glsl).
 vec2 collider_wind(vec3 root, float height) {
-    vec2 push = vec2(0.0);
-    uint first = frame.wind_counts.x;
-    uvec4 near = colliders_near(root.xz);
-    while (near != uvec4(0u)) {
-        uint e = first + 2u * next_collider(near);
-        push += collider_force(emitters[e].xyz, emitters[e + 1u].xyz, root, height);
-    }
-    return push * KEYFRAME_WIND_SCALE;
+    return add_collider_push_at(vec2(0.0), root, height) * KEYFRAME_WIND_SCALE;
 }
 
 // The tip's move per metre of height under wind `w` (m/s, xz), from the response's table.
